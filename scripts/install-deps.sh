@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs what Penumbra needs to build, test and run on Debian 12: all from Debian's packages.
+set -euo pipefail
+
+packages=(
+    cmake ninja-build g++ pkg-config git python3
+    libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
+    libopenimageio-dev libnifti2-dev zlib1g-dev nlohmann-json3-dev libboost-dev
+    libgtest-dev libgmock-dev
+    mricron-data
+)
+
+missing=()
+for package in "${packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+        missing+=("$package")
+    fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+    echo "install-deps: all ${#packages[@]} Debian packages present"
+    exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+    sudo="sudo"
+fi
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# The README's second command: install, build, and run every test through CTest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+ctest --preset release --parallel "$(nproc)"

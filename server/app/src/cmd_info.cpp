@@ -1,0 +1,54 @@
+#include "arguments.hpp"
+#include "commands.hpp"
+
+#include <penumbra/volume/volume.hpp>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace penumbra::app {
+
+int run_info(const std::vector<std::string>& args) {
+    auto parsed = Arguments::parse(args, {"volume"}, {"help"});
+    if (!parsed) {
+        std::fprintf(stderr, "penumbra info: %s\n", parsed.error().to_string().c_str());
+        return 2;
+    }
+    if (parsed->has("help")) {
+        std::puts("usage: penumbra info [--volume FILE]   (default: the ch2 MRI head)");
+        return 0;
+    }
+    const std::string path = parsed->get("volume").value_or(default_volume_path);
+    auto volume = volume::load_volume(path);
+    if (!volume) {
+        std::fprintf(stderr, "penumbra info: %s\n", volume.error().to_string().c_str());
+        return 1;
+    }
+    const volume::Volume& v = *volume;
+    std::printf("volume:      %s (%s)\n", v.name.c_str(), path.c_str());
+    std::printf("dimensions:  %u x %u x %u (%zu voxels)\n", v.dims.x, v.dims.y, v.dims.z,
+                v.voxel_count());
+    std::printf("spacing:     %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
+    std::printf("extent:      %g x %g x %g\n", v.extent().x, v.extent().y, v.extent().z);
+    std::printf("voxel type:  %s\n", volume::to_string(v.type));
+    std::printf("range:       %g .. %g\n", v.range.min, v.range.max);
+    if (v.nonfinite_voxels > 0) {
+        std::printf("non-finite:  %llu voxels replaced by the minimum\n",
+                    static_cast<unsigned long long>(v.nonfinite_voxels));
+    }
+    const volume::Histogram histogram = volume::compute_histogram(v, 16);
+    const std::uint64_t peak = *std::max_element(histogram.bins.begin(), histogram.bins.end());
+    std::puts("histogram (16 bins, log-free bar length relative to the fullest bin):");
+    const double bin_width = (histogram.range.max - histogram.range.min) / 16.0;
+    for (std::size_t i = 0; i < histogram.bins.size(); ++i) {
+        const int bar = peak > 0 ? static_cast<int>(50.0 * static_cast<double>(histogram.bins[i]) /
+                                                    static_cast<double>(peak))
+                                 : 0;
+        std::printf("  %10.4g %12llu %s\n", histogram.range.min + bin_width * static_cast<double>(i),
+                    static_cast<unsigned long long>(histogram.bins[i]),
+                    std::string(static_cast<std::size_t>(bar), '#').c_str());
+    }
+    return 0;
+}
+
+}  // namespace penumbra::app

@@ -1,0 +1,130 @@
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "render_options.hpp"
+
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <memory>
+
+namespace penumbra::app {
+namespace {
+
+int fail(const base::Error& error) {
+    std::fprintf(stderr, "penumbra render: %s\n", error.to_string().c_str());
+    return 1;
+}
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+}  // namespace
+
+int run_render(const std::vector<std::string>& args) {
+    std::vector<std::string> valued = frame_option_names();
+    valued.insert(valued.end(), {"volume", "spacing", "out", "quality", "repeat"});
+    auto parsed = Arguments::parse(args, valued, {"help", "debug-gl"});
+    if (!parsed) {
+        std::fprintf(stderr, "penumbra render: %s (see --help)\n",
+                     parsed.error().to_string().c_str());
+        return 2;
+    }
+    if (parsed->has("help")) {
+        std::printf("usage: penumbra render [options]\n\n"
+                    "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz]\n"
+                    "                                 (default %s)\n"
+                    "  --spacing X,Y,Z                override the voxel spacing\n"
+                    "  --out FILE                     .png or .jpg (default frame.png)\n"
+                    "  --quality Q                    JPEG quality 1..100 (default 90)\n"
+                    "  --repeat N                     render N times, report median times\n"
+                    "  --debug-gl                     GL debug output to the log\n%s",
+                    default_volume_path, frame_options_help());
+        return 0;
+    }
+    const Arguments& a = *parsed;
+    const std::string path = a.get("volume").value_or(default_volume_path);
+    auto loaded = volume::load_volume(path);
+    if (!loaded) {
+        return fail(loaded.error());
+    }
+    if (a.has("spacing")) {
+        auto spacing = a.vec3("spacing", {});
+        if (!spacing) {
+            return fail(spacing.error());
+        }
+        if (spacing->x <= 0.0 || spacing->y <= 0.0 || spacing->z <= 0.0) {
+            return fail(base::make_error("invalid_argument", "spacing must be positive",
+                                         "--spacing"));
+        }
+        loaded->spacing = *spacing;
+    }
+    auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+    auto request = frame_request_from(a, *volume);
+    if (!request) {
+        return fail(request.error());
+    }
+    const std::string out = a.get("out").value_or("frame.png");
+    if (!encode::format_for_path(out)) {
+        return fail(base::make_error("invalid_argument", "output must end in .png or .jpg",
+                                     "--out"));
+    }
+    auto quality = a.integer("quality", 90);
+    auto repeat = a.integer("repeat", 1);
+    if (!quality || !repeat || *repeat < 1 || *repeat > 10000) {
+        return fail(!quality ? quality.error()
+                             : base::make_error("invalid_argument", "expects 1..10000", "--repeat"));
+    }
+
+    auto renderer = render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+    if (!renderer) {
+        return fail(renderer.error());
+    }
+    const render::RendererInfo& info = (*renderer)->info();
+    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
+                info.platform.c_str());
+    std::printf("volume:   %s %ux%ux%u %s, range %g..%g\n", volume->name.c_str(), volume->dims.x,
+                volume->dims.y, volume->dims.z, volume::to_string(volume->type),
+                volume->range.min, volume->range.max);
+    if (auto status = (*renderer)->set_volume(volume); !status) {
+        return fail(status.error());
+    }
+    std::map<std::string, std::vector<double>> gpu_ms;
+    std::map<std::string, std::vector<double>> wall_ms;
+    std::vector<std::string> order;
+    render::Frame frame;
+    for (int i = 0; i < *repeat; ++i) {
+        auto rendered = (*renderer)->render(*request);
+        if (!rendered) {
+            return fail(rendered.error());
+        }
+        frame = std::move(rendered.value());
+        for (const auto& pass : frame.report.passes) {
+            if (!gpu_ms.contains(pass.name)) {
+                order.push_back(pass.name);
+            }
+            gpu_ms[pass.name].push_back(pass.gpu_ms);
+            wall_ms[pass.name].push_back(pass.wall_ms);
+        }
+    }
+    std::printf("mode:     %s, %dx%d, %s compositing, variant %s\n",
+                scene::to_string(request->settings.mode), request->settings.width,
+                request->settings.height, scene::to_string(request->settings.compositing),
+                frame.report.variant.c_str());
+    for (const auto& name : order) {
+        std::printf("pass:     %-18s gpu %9.3f ms   wall %9.3f ms   (median of %zu)\n", name.c_str(),
+                    median(gpu_ms[name]), median(wall_ms[name]), gpu_ms[name].size());
+    }
+    if (auto status = encode::write_image(out, frame.image, *quality); !status) {
+        return fail(status.error());
+    }
+    std::printf("output:   %s (%dx%d)\n", out.c_str(), frame.image.width, frame.image.height);
+    return 0;
+}
+
+}  // namespace penumbra::app

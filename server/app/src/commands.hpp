@@ -1,0 +1,16 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace penumbra::app {
+
+// Each subcommand takes the arguments after its name and returns the process exit status.
+int run_render(const std::vector<std::string>& args);
+int run_info(const std::vector<std::string>& args);
+
+// The volume every command uses when none is given: the Colin27 MRI head that Debian's
+// mricron-data package installs.
+inline constexpr const char* default_volume_path = "/usr/share/mricron/templates/ch2.nii.gz";
+
+}  // namespace penumbra::app

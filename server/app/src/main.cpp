@@ -1,0 +1,42 @@
+#include "commands.hpp"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+void print_usage() {
+    std::puts(
+            "usage: penumbra <command> [options]\n"
+            "\n"
+            "commands:\n"
+            "  render   render one frame of a volume to a PNG or JPEG file\n"
+            "  info     print a volume's dimensions, spacing, type, range and histogram\n"
+            "\n"
+            "`penumbra <command> --help` lists the options of a command.");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        print_usage();
+        return 2;
+    }
+    const std::string command = argv[1];
+    const std::vector<std::string> args(argv + 2, argv + argc);
+    if (command == "render") {
+        return penumbra::app::run_render(args);
+    }
+    if (command == "info") {
+        return penumbra::app::run_info(args);
+    }
+    if (command == "--help" || command == "-h" || command == "help") {
+        print_usage();
+        return 0;
+    }
+    std::fprintf(stderr, "penumbra: unknown command '%s'\n\n", command.c_str());
+    print_usage();
+    return 2;
+}

@@ -1,0 +1,3 @@
+#include <penumbra/optics/compositing.hpp>
+#include <penumbra/optics/ray.hpp>
+#include <penumbra/optics/shading.hpp>

@@ -1,0 +1,17 @@
+#pragma once
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/volume.hpp>
+
+namespace penumbra::reference {
+
+// A double-precision CPU renderer of the same integral the GPU ray caster computes: same camera
+// rays, sample positions, trilinear sampling, TF table, opacity correction and lighting model
+// (server/optics). It is slow and meant for small images in tests and for accuracy measurements.
+// Supports the modes dvr and phong.
+base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
+                                          const scene::FrameRequest& request);
+
+}  // namespace penumbra::reference

@@ -1,0 +1,97 @@
+#include "penumbra/reference/cpu_renderer.hpp"
+
+#include <penumbra/optics/compositing.hpp>
+#include <penumbra/optics/ray.hpp>
+#include <penumbra/optics/shading.hpp>
+#include <penumbra/reference/volume_sampler.hpp>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <string>
+
+namespace penumbra::reference {
+namespace {
+
+glm::dvec3 direction_to_light(const scene::Light& light, glm::dvec3 position) {
+    return light.type == scene::LightType::point ? glm::normalize(light.position - position)
+                                                 : glm::normalize(light.direction);
+}
+
+glm::dvec3 normal_from_gradient(glm::dvec3 gradient, glm::dvec3 voxel_size) {
+    if (glm::length(gradient * voxel_size) < optics::min_gradient_per_voxel) {
+        return glm::dvec3(0.0);
+    }
+    return -glm::normalize(gradient);
+}
+
+}  // namespace
+
+base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
+                                          const scene::FrameRequest& request) {
+    if (auto status = scene::validate(request); !status) {
+        return status.error();
+    }
+    const scene::RenderSettings& s = request.settings;
+    if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong) {
+        return base::make_error("unsupported_mode",
+                                std::string("the CPU renderer does not implement mode '") +
+                                        scene::to_string(s.mode) + "' yet",
+                                "mode");
+    }
+    const bool phong = s.mode == scene::Mode::phong;
+    const bool extinction = s.compositing == scene::Compositing::extinction;
+    const VolumeSampler sampler(volume);
+    const TransferFunctionTable tf(request.transfer_function);
+    const scene::CameraFrame camera =
+            scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
+
+    base::ImageRgbaF image(s.width, s.height);
+    for (int y = 0; y < s.height; ++y) {
+        for (int x = 0; x < s.width; ++x) {
+            const glm::dvec3 direction = optics::pixel_ray_direction(camera, x, y, s.width, s.height);
+            const optics::BoxHit hit = optics::intersect_box(camera.eye, direction, sampler.box());
+            glm::dvec4 accumulated(0.0);
+            const optics::Marching marching =
+                    hit.hit ? optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance)
+                            : optics::Marching{};
+            for (int i = 0; i < marching.count; ++i) {
+                const glm::dvec3 position =
+                        camera.eye + (hit.t_near + (i + 0.5) * marching.step) * direction;
+                const glm::dvec4 classified = tf.classify(sampler.value(position));
+                if (classified.a <= 0.0) {
+                    continue;
+                }
+                glm::dvec3 color(classified);
+                if (phong) {
+                    const glm::dvec3 normal =
+                            normal_from_gradient(sampler.gradient(position), sampler.voxel_size());
+                    const optics::LightTerms terms =
+                            optics::blinn_phong(normal, direction_to_light(request.light, position),
+                                                -direction, s.shading.shininess);
+                    color = optics::shade(color, terms, request.light, s.shading);
+                }
+                const double alpha =
+                        extinction ? optics::extinction_opacity(classified.a, marching.step,
+                                                                s.opacity_unit_distance)
+                                   : optics::corrected_opacity(classified.a, marching.step,
+                                                               s.opacity_unit_distance);
+                optics::composite_front_to_back(accumulated, color, alpha);
+                if (accumulated.a >= s.early_termination) {
+                    break;
+                }
+            }
+            float* out = image.pixel(x, y);
+            // Clamped like the GPU's UNORM8 frame, so highlights above 1 compare as displayed.
+            const glm::dvec3 final_color = glm::clamp(
+                    glm::dvec3(accumulated) + (1.0 - accumulated.a) * s.background, 0.0, 1.0);
+            out[0] = static_cast<float>(final_color.r);
+            out[1] = static_cast<float>(final_color.g);
+            out[2] = static_cast<float>(final_color.b);
+            out[3] = 1.0f;
+        }
+    }
+    return image;
+}
+
+}  // namespace penumbra::reference

@@ -1,0 +1,78 @@
+#include "penumbra/reference/volume_sampler.hpp"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::reference {
+namespace {
+
+// Texel index and weight along one axis for texture coordinate `t` (GL_LINEAR, clamp to edge).
+struct AxisSample {
+    int i0;
+    int i1;
+    double f;
+};
+
+AxisSample axis_sample(double t, int n) {
+    const double c = t * n - 0.5;
+    const double floor_c = std::floor(c);
+    const int i = static_cast<int>(floor_c);
+    return {std::clamp(i, 0, n - 1), std::clamp(i + 1, 0, n - 1), c - floor_c};
+}
+
+}  // namespace
+
+VolumeSampler::VolumeSampler(const volume::Volume& volume)
+    : dims_(glm::ivec3(volume.dims))
+    , box_(scene::box_for_extent(volume.extent()))
+    , voxel_size_(box_.size() / glm::dvec3(volume.dims))
+    , normalized_(volume.voxel_count()) {
+    const double width = volume.range.max - volume.range.min;
+    std::size_t i = 0;
+    for (std::uint32_t z = 0; z < volume.dims.z; ++z) {
+        for (std::uint32_t y = 0; y < volume.dims.y; ++y) {
+            for (std::uint32_t x = 0; x < volume.dims.x; ++x) {
+                normalized_[i++] = width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width
+                                               : 0.0;
+            }
+        }
+    }
+}
+
+double VolumeSampler::normalized_voxel(int x, int y, int z) const {
+    return normalized_[(static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x];
+}
+
+double VolumeSampler::value(glm::dvec3 world) const {
+    const glm::dvec3 t = (world - box_.min) / box_.size();
+    const AxisSample sx = axis_sample(t.x, dims_.x);
+    const AxisSample sy = axis_sample(t.y, dims_.y);
+    const AxisSample sz = axis_sample(t.z, dims_.z);
+    const auto along_x = [&](int y, int z) {
+        return glm::mix(normalized_voxel(sx.i0, y, z), normalized_voxel(sx.i1, y, z), sx.f);
+    };
+    const double z0 = glm::mix(along_x(sy.i0, sz.i0), along_x(sy.i1, sz.i0), sy.f);
+    const double z1 = glm::mix(along_x(sy.i0, sz.i1), along_x(sy.i1, sz.i1), sy.f);
+    return glm::mix(z0, z1, sz.f);
+}
+
+glm::dvec3 VolumeSampler::gradient(glm::dvec3 world) const {
+    const glm::dvec3 h = voxel_size_;
+    return glm::dvec3(value(world + glm::dvec3(h.x, 0, 0)) - value(world - glm::dvec3(h.x, 0, 0)),
+                      value(world + glm::dvec3(0, h.y, 0)) - value(world - glm::dvec3(0, h.y, 0)),
+                      value(world + glm::dvec3(0, 0, h.z)) - value(world - glm::dvec3(0, 0, h.z))) /
+           (2.0 * h);
+}
+
+TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf)
+    : table_(scene::bake(tf, scene::default_table_size)) {}
+
+glm::dvec4 TransferFunctionTable::classify(double normalized_value) const {
+    const AxisSample s =
+            axis_sample(std::clamp(normalized_value, 0.0, 1.0), static_cast<int>(table_.size()));
+    return glm::mix(glm::dvec4(table_[s.i0]), glm::dvec4(table_[s.i1]), s.f);
+}
+
+}  // namespace penumbra::reference

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <penumbra/base/image.hpp>
+
+#include <string>
+#include <vector>
+
+namespace penumbra::render {
+
+// One pass that ran for a frame. `gpu_ms` comes from a GL timer query (0 for passes that issue no
+// GPU work); `wall_ms` is the CPU-side time from issuing the pass until the GPU finished it
+// (glFinish), which is the figure to trust on llvmpipe, whose timer queries do not cover compute
+// dispatches.
+struct PassTiming {
+    std::string name;
+    double gpu_ms = 0.0;
+    double wall_ms = 0.0;
+};
+
+struct FrameReport {
+    std::vector<PassTiming> passes;
+    std::string variant;  // the shader variant's defines, e.g. "PHONG=1 EXTINCTION=0"
+    std::string stage;    // "compute" or "fragment"
+
+    [[nodiscard]] double gpu_total_ms() const;
+};
+
+struct Frame {
+    base::ImageRgba8 image;  // opaque, rows top to bottom
+    FrameReport report;
+};
+
+}  // namespace penumbra::render

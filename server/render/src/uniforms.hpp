@@ -1,0 +1,35 @@
+#pragma once
+
+#include <glm/vec4.hpp>
+
+#include <cstddef>
+
+namespace penumbra::render {
+
+// Mirrors the FrameUniforms block of shaders/include/uniforms.glsl (std140: every member here is
+// a vec4 or ivec4, so the C++ layout matches without padding rules).
+struct FrameUniforms {
+    glm::vec4 eye;
+    glm::vec4 camera_forward;
+    glm::vec4 camera_right;
+    glm::vec4 camera_up;
+    glm::vec4 box_min;
+    glm::vec4 box_max;
+    glm::vec4 voxel_size;
+    glm::vec4 background;
+    glm::vec4 light_radiance;
+    glm::vec4 light_vector;
+    glm::vec4 shading;
+    glm::vec4 value_map;
+    glm::vec4 march;
+    glm::ivec4 image_size;
+};
+
+static_assert(offsetof(FrameUniforms, eye) == 0);
+static_assert(offsetof(FrameUniforms, box_min) == 64);
+static_assert(offsetof(FrameUniforms, light_radiance) == 128);
+static_assert(offsetof(FrameUniforms, march) == 192);
+static_assert(offsetof(FrameUniforms, image_size) == 208);
+static_assert(sizeof(FrameUniforms) == 224);
+
+}  // namespace penumbra::render

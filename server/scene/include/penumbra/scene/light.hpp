@@ -1,0 +1,25 @@
+#pragma once
+
+#include <glm/vec3.hpp>
+
+namespace penumbra::scene {
+
+enum class LightType { directional, point };
+
+struct Light {
+    LightType type = LightType::directional;
+    glm::dvec3 direction{0.0, 0.0, 1.0};  // toward the light (directional)
+    glm::dvec3 position{0.0, 0.0, 3.0};   // world position (point)
+    glm::dvec3 color{1.0};
+    double intensity = 1.0;
+    double ambient = 0.25;  // fraction of the light colour that reaches every sample unshadowed
+};
+
+// Blinn–Phong material applied when a mode shades with gradients.
+struct Shading {
+    double diffuse = 0.75;
+    double specular = 0.3;
+    double shininess = 32.0;
+};
+
+}  // namespace penumbra::scene

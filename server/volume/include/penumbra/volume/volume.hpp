@@ -1,0 +1,83 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace penumbra::volume {
+
+// The voxel types kept on the GPU without losing precision. Files with other types (int8, int16,
+// int32, float64, or a NIfTI scale/offset) are converted to float32 at load time.
+enum class VoxelType { uint8, uint16, float32 };
+
+[[nodiscard]] std::size_t bytes_per_voxel(VoxelType type);
+
+[[nodiscard]] const char* to_string(VoxelType type);
+
+struct ValueRange {
+    double min = 0.0;
+    double max = 0.0;
+};
+
+struct Histogram {
+    ValueRange range;                 // the range the bins cover (the volume's finite range)
+    std::vector<std::uint64_t> bins;  // equal-width bins over [range.min, range.max]
+};
+
+// A scalar volume in memory: x varies fastest, then y, then z (the order of raw, NRRD and NIfTI).
+struct Volume {
+    std::string name;              // shown to users, e.g. the file stem
+    glm::uvec3 dims{0};            // voxels per axis
+    glm::dvec3 spacing{1.0};       // physical size of one voxel (mm for medical data)
+    VoxelType type = VoxelType::uint8;
+    std::vector<std::byte> data;   // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
+    ValueRange range;              // over finite voxels
+    std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
+
+    [[nodiscard]] std::size_t voxel_count() const {
+        return static_cast<std::size_t>(dims.x) * dims.y * dims.z;
+    }
+
+    // Physical size of the volume: dims * spacing.
+    [[nodiscard]] glm::dvec3 extent() const { return glm::dvec3(dims) * spacing; }
+
+    // The voxel at integer coordinates, as a double (no normalisation).
+    [[nodiscard]] double value(std::uint32_t x, std::uint32_t y, std::uint32_t z) const;
+};
+
+// Builds a Volume from values already in memory (tests, synthetic data, converters): checks the
+// size, replaces non-finite float voxels and computes the range.
+base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
+                                 VoxelType type, std::vector<std::byte> data);
+
+// Convenience for float data.
+base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
+                                 const std::vector<float>& values);
+
+[[nodiscard]] Histogram compute_histogram(const Volume& volume, std::size_t bin_count = 256);
+
+// Loaders. Each validates everything it reads and returns an Error naming the file and, where it
+// applies, the byte offset or header line that was wrong.
+//   raw:   Open SciVis naming name_XxYxZ_type.raw[.gz], type uint8|uint16|int16|float32|float64;
+//          spacing 1 unless the file name carries none (the caller may override it).
+//   NRRD:  .nrrd (attached) and .nhdr (detached "data file"), encodings raw and gzip, spacings
+//          or space directions.
+//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2) through the reference nifti library.
+base::Result<Volume> load_raw(const std::filesystem::path& path);
+base::Result<Volume> load_nrrd(const std::filesystem::path& path);
+base::Result<Volume> load_nifti(const std::filesystem::path& path);
+
+// Chooses the loader from the file name.
+base::Result<Volume> load_volume(const std::filesystem::path& path);
+
+// Limits that protect the process from absurd headers (checked before any allocation).
+inline constexpr std::uint64_t max_voxels = std::uint64_t{1} << 31;
+
+}  // namespace penumbra::volume

@@ -1,0 +1,863 @@
+// NRRD (teem's "nearly raw raster data"): a text header, then the samples in the same file
+// (.nrrd) or in the file that "data file" names (.nhdr). Format reference:
+// https://teem.sourceforge.net/nrrd/format.html
+
+#include "file_io.hpp"
+#include "file_name.hpp"
+#include "samples.hpp"
+
+#include <penumbra/volume/volume.hpp>
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+namespace penumbra::volume {
+namespace {
+
+using detail::SampleType;
+
+// Real headers are a few KB even with long DWI gradient tables; the cap stops a binary file that
+// happens to start with the magic from being read whole as "header".
+constexpr std::uint64_t max_header_bytes = std::uint64_t{16} << 20;
+
+enum class Encoding { raw, gzip, ascii };
+
+// A header value and the line it came from, for error messages.
+template <class T>
+struct Field {
+    std::optional<T> value;
+    std::size_t line = 0;
+};
+
+struct Header {
+    Field<SampleType> type;
+    Field<int> dimension;
+    Field<std::vector<std::uint32_t>> sizes;
+    Field<Encoding> encoding;
+    Field<bool> big_endian;
+    Field<std::vector<double>> spacings;
+    Field<std::vector<double>> direction_lengths;  // NaN for a "none" axis
+    Field<std::string> data_file;
+    Field<std::int64_t> byte_skip;
+    Field<std::int64_t> line_skip;
+    bool ended_by_blank_line = false;
+    std::uint64_t data_offset = 0;  // where attached data starts
+};
+
+std::string_view trim(std::string_view text) {
+    constexpr std::string_view space = " \t\r\n";
+    const std::size_t first = text.find_first_not_of(space);
+    if (first == std::string_view::npos) {
+        return {};
+    }
+    const std::size_t last = text.find_last_not_of(space);
+    return text.substr(first, last - first + 1);
+}
+
+std::string lower(std::string_view text) {
+    std::string out(text);
+    for (char& c : out) {
+        if (c >= 'A' && c <= 'Z') {
+            c = static_cast<char>(c - 'A' + 'a');
+        }
+    }
+    return out;
+}
+
+std::vector<std::string_view> split_words(std::string_view text) {
+    std::vector<std::string_view> words;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) {
+            ++i;
+        }
+        const std::size_t start = i;
+        while (i < text.size() && text[i] != ' ' && text[i] != '\t') {
+            ++i;
+        }
+        if (i > start) {
+            words.push_back(text.substr(start, i - start));
+        }
+    }
+    return words;
+}
+
+template <class T>
+std::optional<T> parse_number(std::string_view text) {
+    text = trim(text);
+    if (!text.empty() && text.front() == '+') {
+        text.remove_prefix(1);
+    }
+    T value{};
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc{} || end != text.data() + text.size()) {
+        return std::nullopt;
+    }
+    return value;
+}
+
+std::optional<SampleType> parse_type(std::string_view text) {
+    static const std::map<std::string, SampleType, std::less<>> spellings{
+            {"signed char", SampleType::int8},
+            {"int8", SampleType::int8},
+            {"int8_t", SampleType::int8},
+            {"uchar", SampleType::uint8},
+            {"unsigned char", SampleType::uint8},
+            {"uint8", SampleType::uint8},
+            {"uint8_t", SampleType::uint8},
+            {"short", SampleType::int16},
+            {"short int", SampleType::int16},
+            {"signed short", SampleType::int16},
+            {"signed short int", SampleType::int16},
+            {"int16", SampleType::int16},
+            {"int16_t", SampleType::int16},
+            {"ushort", SampleType::uint16},
+            {"unsigned short", SampleType::uint16},
+            {"unsigned short int", SampleType::uint16},
+            {"uint16", SampleType::uint16},
+            {"uint16_t", SampleType::uint16},
+            {"int", SampleType::int32},
+            {"signed int", SampleType::int32},
+            {"int32", SampleType::int32},
+            {"int32_t", SampleType::int32},
+            {"uint", SampleType::uint32},
+            {"unsigned int", SampleType::uint32},
+            {"uint32", SampleType::uint32},
+            {"uint32_t", SampleType::uint32},
+            {"longlong", SampleType::int64},
+            {"long long", SampleType::int64},
+            {"long long int", SampleType::int64},
+            {"signed long long", SampleType::int64},
+            {"signed long long int", SampleType::int64},
+            {"int64", SampleType::int64},
+            {"int64_t", SampleType::int64},
+            {"ulonglong", SampleType::uint64},
+            {"unsigned long long", SampleType::uint64},
+            {"unsigned long long int", SampleType::uint64},
+            {"uint64", SampleType::uint64},
+            {"uint64_t", SampleType::uint64},
+            {"float", SampleType::float32},
+            {"double", SampleType::float64},
+    };
+    // Writers differ in spacing ("unsigned  char"), so compare word by word.
+    std::string normal;
+    for (std::string_view word : split_words(text)) {
+        normal += normal.empty() ? "" : " ";
+        normal += lower(word);
+    }
+    const auto found = spellings.find(normal);
+    if (found == spellings.end()) {
+        return std::nullopt;
+    }
+    return found->second;
+}
+
+// Parses "(x,y,z)" vectors or "none" entries and returns each vector's length (NaN for none).
+std::optional<std::vector<double>> parse_direction_lengths(std::string_view text) {
+    std::vector<double> lengths;
+    std::size_t components = 0;
+    while (true) {
+        text = trim(text);
+        if (text.empty()) {
+            return lengths;
+        }
+        if (text.substr(0, 4) == "none") {
+            lengths.push_back(std::nan(""));
+            text.remove_prefix(4);
+            continue;
+        }
+        if (text.front() != '(') {
+            return std::nullopt;
+        }
+        const std::size_t close = text.find(')');
+        if (close == std::string_view::npos) {
+            return std::nullopt;
+        }
+        std::string_view inside = text.substr(1, close - 1);
+        text.remove_prefix(close + 1);
+        double sum = 0.0;
+        std::size_t count = 0;
+        while (true) {
+            const std::size_t comma = inside.find(',');
+            const auto component = parse_number<double>(inside.substr(0, comma));
+            if (!component || !std::isfinite(*component)) {
+                return std::nullopt;
+            }
+            sum += *component * *component;
+            ++count;
+            if (comma == std::string_view::npos) {
+                break;
+            }
+            inside.remove_prefix(comma + 1);
+        }
+        if (components != 0 && count != components) {
+            return std::nullopt;  // every vector lives in the same space
+        }
+        components = count;
+        lengths.push_back(std::sqrt(sum));
+    }
+}
+
+class HeaderParser {
+public:
+    HeaderParser(std::FILE* file, const std::filesystem::path& path)
+        : file_(file)
+        , path_(path) {}
+
+    base::Result<Header> parse() {
+        auto magic = read_line();
+        if (!magic) {
+            return magic.error();
+        }
+        const std::string first_line = magic->value_or("");
+        const std::string_view text = trim(first_line);
+        if (text.size() != 8 || text.substr(0, 7) != "NRRD000" || text[7] < '1' || text[7] > '9') {
+            return base::make_error("bad_header",
+                                    "not a NRRD file: it must start with the magic NRRD0001 to "
+                                    "NRRD0005",
+                                    detail::at_line(path_, 1));
+        }
+        for (;;) {
+            auto line = read_line();
+            if (!line) {
+                return line.error();
+            }
+            if (!line->has_value()) {
+                break;  // the end of a detached header
+            }
+            const std::string_view content = **line;
+            if (trim(content).empty()) {
+                header_.ended_by_blank_line = true;
+                header_.data_offset = offset_;
+                break;
+            }
+            if (content.front() == '#') {
+                continue;
+            }
+            if (auto status = parse_line(content); !status) {
+                return status.error();
+            }
+        }
+        return std::move(header_);
+    }
+
+private:
+    // The next line without its end-of-line, or nullopt at the end of the file.
+    base::Result<std::optional<std::string>> read_line() {
+        std::string line;
+        for (;;) {
+            const int c = std::fgetc(file_);
+            if (c == EOF) {
+                if (std::ferror(file_)) {
+                    return base::make_error("read_failed", "read error in the header",
+                                            detail::at_byte(path_, offset_));
+                }
+                if (line.empty()) {
+                    return std::optional<std::string>{};
+                }
+                break;
+            }
+            ++offset_;
+            if (offset_ > max_header_bytes) {
+                return base::make_error("bad_header",
+                                        "no end of the header within the first " +
+                                                std::to_string(max_header_bytes) + " bytes",
+                                        detail::at_byte(path_, offset_));
+            }
+            if (c == '\n') {
+                break;
+            }
+            line.push_back(static_cast<char>(c));
+        }
+        ++line_number_;
+        if (!line.empty() && line.back() == '\r') {
+            line.pop_back();
+        }
+        return std::optional<std::string>(std::move(line));
+    }
+
+    base::Error error(const std::string& code, const std::string& message) const {
+        return base::make_error(code, message, detail::at_line(path_, line_number_));
+    }
+
+    template <class T>
+    base::Status claim(Field<T>& field, const std::string& name) {
+        if (field.line != 0) {
+            return error("bad_header", "field '" + name + "' appears twice (first on line " +
+                                               std::to_string(field.line) + ")");
+        }
+        field.line = line_number_;
+        return base::Ok{};
+    }
+
+    base::Status parse_line(std::string_view content) {
+        const std::size_t colon = content.find(':');
+        if (colon == std::string_view::npos) {
+            return error("bad_header", "expected 'field: value' or 'key:=value', got '" +
+                                               std::string(content) + "'");
+        }
+        if (colon + 1 < content.size() && content[colon + 1] == '=') {
+            return base::Ok{};  // key/value pairs carry metadata Penumbra does not use
+        }
+        const std::string name = lower(trim(content.substr(0, colon)));
+        const std::string_view value = trim(content.substr(colon + 1));
+
+        if (name == "type") {
+            return parse_type_field(value);
+        }
+        if (name == "dimension") {
+            return parse_dimension(value);
+        }
+        if (name == "sizes") {
+            return parse_sizes(value);
+        }
+        if (name == "encoding") {
+            return parse_encoding(value);
+        }
+        if (name == "endian") {
+            if (auto status = claim(header_.big_endian, name); !status) {
+                return status;
+            }
+            const std::string endian = lower(value);
+            if (endian != "little" && endian != "big") {
+                return error("bad_header",
+                             "endian must be 'little' or 'big', got '" + std::string(value) + "'");
+            }
+            header_.big_endian.value = endian == "big";
+            return base::Ok{};
+        }
+        if (name == "spacings") {
+            return parse_spacings(value);
+        }
+        if (name == "space directions") {
+            if (auto status = claim(header_.direction_lengths, name); !status) {
+                return status;
+            }
+            header_.direction_lengths.value = parse_direction_lengths(value);
+            if (!header_.direction_lengths.value) {
+                return error("bad_header",
+                             "space directions must be '(x,y,z)' vectors of finite numbers or "
+                             "'none', got '" +
+                                     std::string(value) + "'");
+            }
+            return base::Ok{};
+        }
+        if (name == "data file" || name == "datafile") {
+            if (auto status = claim(header_.data_file, "data file"); !status) {
+                return status;
+            }
+            header_.data_file.value = std::string(value);
+            return base::Ok{};
+        }
+        if (name == "byte skip" || name == "byteskip") {
+            return parse_skip(header_.byte_skip, "byte skip", value, -1);
+        }
+        if (name == "line skip" || name == "lineskip") {
+            return parse_skip(header_.line_skip, "line skip", value, 0);
+        }
+        // Other fields (content, space, space origin, kinds, centers, units, min, max, ...) only
+        // describe the data.
+        return base::Ok{};
+    }
+
+    base::Status parse_type_field(std::string_view value) {
+        if (auto status = claim(header_.type, "type"); !status) {
+            return status;
+        }
+        header_.type.value = parse_type(value);
+        if (!header_.type.value) {
+            return error("unsupported_type",
+                         "unknown or unsupported type '" + std::string(value) +
+                                 "' (supported: the integer types up to 64 bits, float, double)");
+        }
+        return base::Ok{};
+    }
+
+    base::Status parse_dimension(std::string_view value) {
+        if (auto status = claim(header_.dimension, "dimension"); !status) {
+            return status;
+        }
+        const auto dimension = parse_number<int>(value);
+        if (!dimension || *dimension < 1) {
+            return error("bad_header",
+                         "dimension must be a positive integer, got '" + std::string(value) + "'");
+        }
+        if (*dimension != 3) {
+            return error("unsupported_dimension",
+                         "dimension " + std::to_string(*dimension) +
+                                 " is not supported: Penumbra reads 3-D scalar volumes "
+                                 "(dimension: 3)");
+        }
+        header_.dimension.value = *dimension;
+        return base::Ok{};
+    }
+
+    base::Status parse_sizes(std::string_view value) {
+        if (auto status = claim(header_.sizes, "sizes"); !status) {
+            return status;
+        }
+        std::vector<std::uint32_t> sizes;
+        std::uint64_t voxels = 1;
+        for (std::string_view word : split_words(value)) {
+            const auto size = parse_number<std::int64_t>(word);
+            if (!size || *size < 1) {
+                return error("bad_header",
+                             "sizes must be positive integers, got '" + std::string(value) + "'");
+            }
+            // Checked before anything is allocated: an absurd header must not cost memory.
+            if (static_cast<std::uint64_t>(*size) > max_voxels / voxels) {
+                return error("too_large", "sizes '" + std::string(value) +
+                                                  "' exceed the limit of " +
+                                                  std::to_string(max_voxels) + " voxels");
+            }
+            voxels *= static_cast<std::uint64_t>(*size);
+            sizes.push_back(static_cast<std::uint32_t>(*size));
+        }
+        if (sizes.empty()) {
+            return error("bad_header", "sizes has no values");
+        }
+        header_.sizes.value = std::move(sizes);
+        return base::Ok{};
+    }
+
+    base::Status parse_encoding(std::string_view value) {
+        if (auto status = claim(header_.encoding, "encoding"); !status) {
+            return status;
+        }
+        const std::string encoding = lower(value);
+        if (encoding == "raw") {
+            header_.encoding.value = Encoding::raw;
+        } else if (encoding == "gzip" || encoding == "gz") {
+            header_.encoding.value = Encoding::gzip;
+        } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
+            header_.encoding.value = Encoding::ascii;
+        } else {
+            return error("unsupported_encoding",
+                         "encoding '" + std::string(value) +
+                                 "' is not supported (supported: raw, gzip, ascii)");
+        }
+        return base::Ok{};
+    }
+
+    base::Status parse_spacings(std::string_view value) {
+        if (auto status = claim(header_.spacings, "spacings"); !status) {
+            return status;
+        }
+        std::vector<double> spacings;
+        for (std::string_view word : split_words(value)) {
+            const std::string token = lower(word);
+            if (token == "nan") {
+                spacings.push_back(std::nan(""));
+                continue;
+            }
+            const auto spacing = parse_number<double>(word);
+            if (!spacing || !std::isfinite(*spacing) || *spacing == 0.0) {
+                return error("bad_header",
+                             "spacings must be non-zero finite numbers or nan, got '" +
+                                     std::string(value) + "'");
+            }
+            spacings.push_back(std::abs(*spacing));
+        }
+        header_.spacings.value = std::move(spacings);
+        return base::Ok{};
+    }
+
+    base::Status parse_skip(Field<std::int64_t>& field, const std::string& name,
+                            std::string_view value, std::int64_t minimum) {
+        if (auto status = claim(field, name); !status) {
+            return status;
+        }
+        const auto skip = parse_number<std::int64_t>(value);
+        if (!skip || *skip < minimum) {
+            return error("bad_header", name + " must be an integer of at least " +
+                                               std::to_string(minimum) + ", got '" +
+                                               std::string(value) + "'");
+        }
+        field.value = *skip;
+        return base::Ok{};
+    }
+
+    std::FILE* file_;
+    const std::filesystem::path& path_;
+    Header header_;
+    std::uint64_t offset_ = 0;
+    std::size_t line_number_ = 0;
+};
+
+// The geometry and sample layout a complete header describes.
+struct Layout {
+    glm::uvec3 dims{0};
+    glm::dvec3 spacing{1.0};
+    SampleType type = SampleType::uint8;
+    Encoding encoding = Encoding::raw;
+    bool big_endian = false;
+    std::uint64_t voxels = 0;
+    std::uint64_t bytes = 0;
+};
+
+base::Result<Layout> check_header(const Header& header, const std::filesystem::path& path) {
+    const auto missing = [&](const char* field) {
+        return base::make_error("bad_header",
+                                std::string("the header has no '") + field + "' field",
+                                detail::at_file(path));
+    };
+    if (!header.type.value) {
+        return missing("type");
+    }
+    if (!header.dimension.value) {
+        return missing("dimension");
+    }
+    if (!header.sizes.value) {
+        return missing("sizes");
+    }
+    if (!header.encoding.value) {
+        return missing("encoding");
+    }
+    const auto at = [&](std::size_t line) { return detail::at_line(path, line); };
+    const auto& sizes = *header.sizes.value;
+    if (sizes.size() != 3) {
+        return base::make_error(
+                "bad_header",
+                "sizes lists " + std::to_string(sizes.size()) + " values but the dimension is 3",
+                at(header.sizes.line));
+    }
+    Layout layout;
+    layout.dims = glm::uvec3(sizes[0], sizes[1], sizes[2]);
+    layout.type = *header.type.value;
+    layout.encoding = *header.encoding.value;
+    layout.voxels = std::uint64_t{layout.dims.x} * layout.dims.y * layout.dims.z;
+    layout.bytes = layout.voxels * detail::sample_size(layout.type);
+
+    const bool endian_matters =
+            detail::sample_size(layout.type) > 1 && layout.encoding != Encoding::ascii;
+    if (endian_matters && !header.big_endian.value) {
+        return base::make_error("bad_header",
+                                std::string("the header has no 'endian' field, which ") +
+                                        detail::sample_name(layout.type) + " data needs",
+                                detail::at_file(path));
+    }
+    layout.big_endian = header.big_endian.value.value_or(false);
+
+    if (header.byte_skip.value == -1 && layout.encoding != Encoding::raw) {
+        return base::make_error("bad_header", "byte skip -1 is only allowed with raw encoding",
+                                at(header.byte_skip.line));
+    }
+
+    // "space directions" supersedes "spacings" (NRRD0004+ files write one or the other).
+    if (header.direction_lengths.value) {
+        const auto& lengths = *header.direction_lengths.value;
+        if (lengths.size() != 3) {
+            return base::make_error("bad_header",
+                                    "space directions lists " + std::to_string(lengths.size()) +
+                                            " entries but the dimension is 3",
+                                    at(header.direction_lengths.line));
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            const double length = lengths[static_cast<std::size_t>(axis)];
+            if (length == 0.0) {
+                return base::make_error(
+                        "bad_header",
+                        "space direction " + std::to_string(axis) + " is the zero vector",
+                        at(header.direction_lengths.line));
+            }
+            layout.spacing[axis] = std::isnan(length) ? 1.0 : length;
+        }
+    } else if (header.spacings.value) {
+        const auto& spacings = *header.spacings.value;
+        if (spacings.size() != 3) {
+            return base::make_error("bad_header",
+                                    "spacings lists " + std::to_string(spacings.size()) +
+                                            " values but the dimension is 3",
+                                    at(header.spacings.line));
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            const double spacing = spacings[static_cast<std::size_t>(axis)];
+            layout.spacing[axis] = std::isnan(spacing) ? 1.0 : spacing;
+        }
+    }
+    return layout;
+}
+
+// Resolves the file that holds the samples: the header file itself, or "data file" relative to
+// the header's folder.
+base::Result<std::filesystem::path> data_path(const Header& header,
+                                              const std::filesystem::path& path) {
+    if (!header.data_file.value) {
+        if (!header.ended_by_blank_line) {
+            return base::make_error("bad_header",
+                                    "the header has neither a blank line followed by data nor a "
+                                    "'data file' field",
+                                    detail::at_file(path));
+        }
+        return path;
+    }
+    const std::string& name = *header.data_file.value;
+    const auto words = split_words(name);
+    if (!words.empty() && words.front() == "LIST") {
+        return base::make_error("unsupported_data_file",
+                                "'data file: LIST' (data split over several files) is not "
+                                "supported; name a single data file",
+                                detail::at_line(path, header.data_file.line));
+    }
+    if (words.size() >= 4 && words.front().find('%') != std::string_view::npos) {
+        return base::make_error("unsupported_data_file",
+                                "a numbered 'data file' pattern (data split over several files) "
+                                "is not supported; name a single data file",
+                                detail::at_line(path, header.data_file.line));
+    }
+    if (name.empty()) {
+        return base::make_error("bad_header", "'data file' names no file",
+                                detail::at_line(path, header.data_file.line));
+    }
+    const std::filesystem::path data(name);
+    return data.is_absolute() ? data : path.parent_path() / data;
+}
+
+// Skips `lines` newline-terminated lines of the data file, as "line skip" asks.
+base::Status skip_lines(std::FILE* file, const std::filesystem::path& path, std::int64_t lines,
+                        std::uint64_t& offset) {
+    for (std::int64_t skipped = 0; skipped < lines;) {
+        const int c = std::fgetc(file);
+        if (c == EOF) {
+            return base::make_error("truncated",
+                                    "the data file ended after " + std::to_string(skipped) +
+                                            " of the " + std::to_string(lines) +
+                                            " lines that 'line skip' asks to skip",
+                                    detail::at_byte(path, offset));
+        }
+        ++offset;
+        if (c == '\n') {
+            ++skipped;
+        }
+    }
+    return base::Ok{};
+}
+
+base::Result<std::vector<std::byte>> read_raw(std::FILE* file, const std::filesystem::path& path,
+                                              const Layout& layout, std::int64_t byte_skip,
+                                              std::uint64_t offset) {
+    auto size = detail::regular_file_size(path);
+    if (!size) {
+        return size.error();
+    }
+    if (byte_skip == -1) {
+        // "byte skip: -1" means the data are the last bytes of the file.
+        if (*size < offset + layout.bytes) {
+            return base::make_error("truncated",
+                                    "expected " + std::to_string(layout.bytes) +
+                                            " bytes of data at the end of the file, after byte " +
+                                            std::to_string(offset) + ", but the file holds " +
+                                            std::to_string(*size) + " bytes",
+                                    detail::at_byte(path, *size));
+        }
+        offset = *size - layout.bytes;
+    } else {
+        offset += static_cast<std::uint64_t>(byte_skip);
+    }
+    if (*size < offset || *size - offset < layout.bytes) {
+        const std::uint64_t available = *size > offset ? *size - offset : 0;
+        return base::make_error("truncated",
+                                "expected " + std::to_string(layout.bytes) +
+                                        " bytes of data from byte " + std::to_string(offset) +
+                                        ", the file holds only " + std::to_string(available),
+                                detail::at_byte(path, *size));
+    }
+    if (auto status = detail::seek_to(file, path, offset); !status) {
+        return status.error();
+    }
+    std::vector<std::byte> samples(layout.bytes);
+    auto got = detail::read_some(file, path, offset, samples);
+    if (!got) {
+        return got.error();
+    }
+    if (*got != layout.bytes) {
+        return base::make_error("truncated",
+                                "expected " + std::to_string(layout.bytes) +
+                                        " bytes of data from byte " + std::to_string(offset) +
+                                        ", read only " + std::to_string(*got),
+                                detail::at_byte(path, offset + *got));
+    }
+    return samples;
+}
+
+base::Result<std::vector<std::byte>> read_gzip(std::FILE* file, const std::filesystem::path& path,
+                                               const Layout& layout, std::int64_t byte_skip,
+                                               std::uint64_t offset) {
+    std::vector<std::byte> samples(layout.bytes);
+    // For compressed encodings NRRD applies "byte skip" to the decompressed data.
+    auto inflated = detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip),
+                                         samples);
+    if (!inflated) {
+        return inflated.error();
+    }
+    if (inflated->produced < layout.bytes) {
+        return base::make_error("truncated",
+                                "expected " + std::to_string(layout.bytes) +
+                                        " bytes of decompressed data, got " +
+                                        std::to_string(inflated->produced),
+                                detail::at_byte(path, offset));
+    }
+    if (!inflated->complete) {
+        return base::make_error("truncated", "the gzip data is cut short before its end marker",
+                                detail::at_byte(path, offset));
+    }
+    return samples;
+}
+
+// ASCII samples are stored in the type a Volume keeps for them, so the result is already in
+// stored form (not in the file's sample type).
+base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::filesystem::path& path,
+                                                const Layout& layout, std::int64_t byte_skip,
+                                                std::uint64_t offset) {
+    offset += static_cast<std::uint64_t>(byte_skip);
+    if (auto status = detail::seek_to(file, path, offset); !status) {
+        return status.error();
+    }
+    std::string text;
+    std::array<char, 1 << 16> chunk{};
+    for (;;) {
+        const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
+        text.append(chunk.data(), got);
+        if (got < chunk.size()) {
+            if (std::ferror(file)) {
+                return base::make_error("read_failed", "read error",
+                                        detail::at_byte(path, offset + text.size()));
+            }
+            break;
+        }
+    }
+    const VoxelType stored = detail::stored_type(layout.type);
+    std::vector<std::byte> samples(layout.voxels * bytes_per_voxel(stored));
+    std::size_t position = 0;
+    const auto is_separator = [](char c) {
+        return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',';
+    };
+    for (std::uint64_t i = 0; i < layout.voxels; ++i) {
+        while (position < text.size() && is_separator(text[position])) {
+            ++position;
+        }
+        if (position == text.size()) {
+            return base::make_error("truncated",
+                                    "expected " + std::to_string(layout.voxels) +
+                                            " ASCII values, found " + std::to_string(i),
+                                    detail::at_byte(path, offset + position));
+        }
+        std::size_t end = position;
+        while (end < text.size() && !is_separator(text[end])) {
+            ++end;
+        }
+        const auto token = std::string_view(text).substr(position, end - position);
+        const auto value = parse_number<double>(token);
+        const double limit = stored == VoxelType::uint8 ? 255.0 : 65535.0;
+        if (!value || (stored != VoxelType::float32 &&
+                       (*value != std::floor(*value) || *value < 0.0 || *value > limit))) {
+            return base::make_error("bad_data",
+                                    "'" + std::string(token) + "' is not a " +
+                                            detail::sample_name(layout.type) + " value",
+                                    detail::at_byte(path, offset + position));
+        }
+        switch (stored) {
+            case VoxelType::uint8:
+                samples[i] = static_cast<std::byte>(*value);
+                break;
+            case VoxelType::uint16: {
+                const auto sample = static_cast<std::uint16_t>(*value);
+                std::memcpy(samples.data() + i * 2, &sample, 2);
+                break;
+            }
+            case VoxelType::float32: {
+                const auto sample = static_cast<float>(*value);
+                std::memcpy(samples.data() + i * 4, &sample, 4);
+                break;
+            }
+        }
+        position = end;
+    }
+    return samples;
+}
+
+}  // namespace
+
+base::Result<Volume> load_nrrd(const std::filesystem::path& path) {
+    auto file = detail::open_file(path);
+    if (!file) {
+        return file.error();
+    }
+    auto header = HeaderParser(file->get(), path).parse();
+    if (!header) {
+        return header.error();
+    }
+    auto layout = check_header(*header, path);
+    if (!layout) {
+        return layout.error();
+    }
+    auto source = data_path(*header, path);
+    if (!source) {
+        return source.error();
+    }
+
+    detail::File data_file;
+    std::FILE* data = file->get();
+    std::uint64_t offset = header->data_offset;
+    if (header->data_file.value) {
+        auto opened = detail::open_file(*source);
+        if (!opened) {
+            base::Error error = opened.error();
+            error.message += " (named by 'data file' in " + path.string() + ")";
+            return error;
+        }
+        data_file = std::move(opened.value());
+        data = data_file.get();
+        offset = 0;
+    } else if (auto status = detail::seek_to(data, path, offset); !status) {
+        return status.error();
+    }
+    if (auto status = skip_lines(data, *source, header->line_skip.value.value_or(0), offset);
+        !status) {
+        return status.error();
+    }
+
+    const std::int64_t byte_skip = header->byte_skip.value.value_or(0);
+    base::Result<std::vector<std::byte>> samples = std::vector<std::byte>{};
+    switch (layout->encoding) {
+        case Encoding::raw:
+            samples = read_raw(data, *source, *layout, byte_skip, offset);
+            break;
+        case Encoding::gzip:
+            samples = read_gzip(data, *source, *layout, byte_skip, offset);
+            break;
+        case Encoding::ascii:
+            samples = read_ascii(data, *source, *layout, byte_skip, offset);
+            break;
+    }
+    if (!samples) {
+        return samples.error();
+    }
+    std::vector<std::byte> stored;
+    if (layout->encoding == Encoding::ascii) {
+        stored = std::move(samples.value());
+    } else {
+        if (layout->big_endian) {
+            detail::byteswap_samples(samples.value(), detail::sample_size(layout->type));
+        }
+        stored = detail::to_stored(layout->type, std::move(samples.value()));
+    }
+
+    const std::string name =
+            detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
+    auto volume = make_volume(name, layout->dims, layout->spacing,
+                              detail::stored_type(layout->type), std::move(stored));
+    if (!volume) {
+        base::Error error = volume.error();
+        error.where = detail::at_file(path);
+        return error;
+    }
+    return volume;
+}
+
+}  // namespace penumbra::volume

@@ -1,0 +1,27 @@
+// Ray set-up; mirrors server/optics/include/penumbra/optics/ray.hpp.
+
+// Entry and exit of the ray with the volume box (slab method). x = t_near (>= 0), y = t_far.
+vec2 intersect_box(vec3 origin, vec3 direction) {
+    vec3 inverse = 1.0 / direction;
+    vec3 t0 = (u.box_min.xyz - origin) * inverse;
+    vec3 t1 = (u.box_max.xyz - origin) * inverse;
+    vec3 t_small = min(t0, t1);
+    vec3 t_large = max(t0, t1);
+    // An axis-parallel ray starting on a slab plane gives NaN, which max/min below ignore the
+    // same way the C++ version skips it: GLSL's max(x, NaN) is undefined, so test explicitly.
+    float t_near = 0.0;
+    float t_far = 3.0e38;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!isnan(t_small[axis])) t_near = max(t_near, t_small[axis]);
+        if (!isnan(t_large[axis])) t_far = min(t_far, t_large[axis]);
+    }
+    return vec2(t_near, t_far);
+}
+
+// The ray through the centre of pixel `pixel`, row 0 at the top of the image.
+vec3 pixel_ray_direction(ivec2 pixel) {
+    vec2 size = vec2(u.image_size.xy);
+    float ndc_x = (float(pixel.x) + 0.5) / size.x * 2.0 - 1.0;
+    float ndc_y = 1.0 - (float(pixel.y) + 0.5) / size.y * 2.0;
+    return normalize(u.camera_forward.xyz + ndc_x * u.camera_right.xyz + ndc_y * u.camera_up.xyz);
+}

@@ -1,0 +1,36 @@
+// Blinn–Phong; mirrors server/optics/include/penumbra/optics/shading.hpp.
+// POINT_LIGHT (0|1): light_vector is a position rather than a direction.
+
+const float min_gradient_per_voxel = 1e-3;
+
+vec3 direction_to_light(vec3 world) {
+#if POINT_LIGHT
+    return normalize(u.light_vector.xyz - world);
+#else
+    return normalize(u.light_vector.xyz);
+#endif
+}
+
+// The unit normal from a gradient in value per world unit, or zero where the gradient is too
+// small to define one (compared per voxel so the threshold does not depend on the volume size).
+vec3 normal_from_gradient(vec3 gradient) {
+    vec3 per_voxel = gradient * u.voxel_size.xyz;
+    if (length(per_voxel) < min_gradient_per_voxel) return vec3(0.0);
+    return -normalize(gradient);
+}
+
+// x: diffuse term, y: specular term.
+vec2 blinn_phong(vec3 normal, vec3 to_light, vec3 to_eye) {
+    if (dot(normal, normal) == 0.0) return vec2(1.0, 0.0);
+    if (dot(normal, to_eye) < 0.0) normal = -normal;
+    vec3 half_vector = normalize(to_light + to_eye);
+    return vec2(max(dot(normal, to_light), 0.0),
+                pow(max(dot(normal, half_vector), 0.0), u.shading.z));
+}
+
+vec3 shade(vec3 tf_color, vec2 terms) {
+    vec3 radiance = u.light_radiance.rgb;
+    float ambient = u.light_radiance.w;
+    return tf_color * radiance * (ambient + u.shading.x * terms.x) +
+           radiance * u.shading.y * terms.y;
+}

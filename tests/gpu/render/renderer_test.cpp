@@ -1,0 +1,234 @@
+// The GPU ray caster against the double-precision CPU renderer (server/reference), which
+// computes the same integral independently. Tolerances are stated per case; on failure the
+// actual, expected and difference images are written next to the test binary.
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/reference/cpu_renderer.hpp>
+#include <penumbra/render/renderer.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <cmath>
+#include <filesystem>
+
+#include "synthetic_volumes.hpp"
+
+namespace penumbra::render {
+namespace {
+
+struct Tolerance {
+    double max_error;  // largest channel difference, [0, 1]
+    double mean_error;
+};
+
+class RendererTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto created = Renderer::create();
+        ASSERT_TRUE(created.ok()) << created.error().to_string();
+        renderer_ = std::move(created.value());
+    }
+
+    static scene::FrameRequest small_request(scene::Mode mode, int size = 64) {
+        scene::FrameRequest request;
+        request.camera = scene::orbit_camera(30.0, 20.0, 2.4);
+        request.light.direction = scene::direction_from_angles(-60.0, 35.0);
+        request.settings.mode = mode;
+        request.settings.width = size;
+        request.settings.height = size;
+        request.settings.sample_distance = 1.0 / 128.0;
+        request.settings.background = {0.2, 0.4, 0.6};
+        request.transfer_function = {"test",
+                                     {{0.0, {0.2, 0.4, 1.0}}, {0.5, {1.0, 0.6, 0.2}}, {1.0, {1.0, 1.0, 1.0}}},
+                                     {{0.0, 0.0}, {0.2, 0.0}, {0.6, 0.1}, {1.0, 0.6}}};
+        return request;
+    }
+
+    Frame render(const volume::Volume& volume, const scene::FrameRequest& request) {
+        auto shared = std::make_shared<const volume::Volume>(volume);
+        EXPECT_TRUE(renderer_->set_volume(shared).ok());
+        auto frame = renderer_->render(request);
+        EXPECT_TRUE(frame.ok()) << frame.error().to_string();
+        return frame.ok() ? std::move(frame.value()) : Frame{};
+    }
+
+    // Renders on the GPU and the CPU and checks the difference.
+    void expect_matches_cpu(const volume::Volume& volume, const scene::FrameRequest& request,
+                            Tolerance tolerance, const std::string& label) {
+        const Frame frame = render(volume, request);
+        auto expected = reference::render_cpu(volume, request);
+        ASSERT_TRUE(expected.ok()) << expected.error().to_string();
+        const base::ImageRgbaF actual = base::to_rgba_f(frame.image);
+        auto difference = encode::compare_images(actual, *expected);
+        ASSERT_TRUE(difference.ok());
+        const bool ok = difference->max_error <= tolerance.max_error &&
+                        difference->mean_error <= tolerance.mean_error;
+        EXPECT_TRUE(ok) << label << ": max error " << difference->max_error << " (allowed "
+                        << tolerance.max_error << "), mean error " << difference->mean_error
+                        << " (allowed " << tolerance.mean_error << ")";
+        if (!ok) {
+            const auto dir = std::filesystem::current_path() / "golden";
+            std::filesystem::create_directories(dir);
+            (void)encode::write_image(dir / (label + "_actual.png"), frame.image);
+            (void)encode::write_image(dir / (label + "_expected.png"), base::to_rgba8(*expected));
+        }
+    }
+
+    std::unique_ptr<Renderer> renderer_;
+};
+
+// Float volumes are filtered in float on every GL implementation, so differences come from float
+// vs double arithmetic and the final rounding to 8 bits: half a level plus a margin.
+constexpr Tolerance float_volume{3.0 / 255.0, 0.6 / 255.0};
+
+TEST_F(RendererTest, DvrMatchesCpuReference) {
+    expect_matches_cpu(test::radial_volume(32), small_request(scene::Mode::dvr), float_volume,
+                       "dvr");
+}
+
+TEST_F(RendererTest, DvrWithExtinctionCompositingMatchesCpuReference) {
+    auto request = small_request(scene::Mode::dvr);
+    request.settings.compositing = scene::Compositing::extinction;
+    expect_matches_cpu(test::radial_volume(32), request, float_volume, "dvr_extinction");
+}
+
+TEST_F(RendererTest, PhongMatchesCpuReference) {
+    expect_matches_cpu(test::radial_volume(32), small_request(scene::Mode::phong), float_volume,
+                       "phong");
+}
+
+TEST_F(RendererTest, PhongWithPointLightMatchesCpuReference) {
+    auto request = small_request(scene::Mode::phong);
+    request.light.type = scene::LightType::point;
+    request.light.position = {0.8, 0.9, 0.7};
+    expect_matches_cpu(test::radial_volume(32), request, float_volume, "phong_point");
+}
+
+TEST_F(RendererTest, FragmentStageGivesTheComputeImage) {
+    const volume::Volume volume = test::radial_volume(32);
+    auto request = small_request(scene::Mode::phong);
+    const Frame compute = render(volume, request);
+    request.settings.stage = scene::RaycastStage::fragment;
+    const Frame fragment = render(volume, request);
+    EXPECT_EQ(fragment.report.stage, "fragment");
+    auto difference = encode::compare_images(base::to_rgba_f(compute.image),
+                                             base::to_rgba_f(fragment.image));
+    ASSERT_TRUE(difference.ok());
+    EXPECT_LE(difference->max_error, 1.0 / 255.0 + 1e-6);
+}
+
+TEST_F(RendererTest, CameraInsideTheVolumeMatchesCpuReference) {
+    auto request = small_request(scene::Mode::dvr);
+    request.camera.eye = {0.05, 0.3, 0.1};
+    request.camera.target = {0.0, -1.0, 0.0};
+    request.camera.fov_y_degrees = 70.0;
+    expect_matches_cpu(test::radial_volume(32), request, float_volume, "camera_inside");
+}
+
+TEST_F(RendererTest, AnisotropicVolumeKeepsItsShape) {
+    volume::Volume volume = test::radial_volume(24);
+    volume.spacing = {1.0, 1.0, 0.25};  // a flat disc-like box
+    auto request = small_request(scene::Mode::dvr);
+    request.camera = scene::orbit_camera(0.0, 0.0, 2.4);
+    expect_matches_cpu(volume, request, float_volume, "anisotropic");
+    // Seen from the side, the box is a quarter as tall as it is wide: rows far from the centre
+    // show only background.
+    const Frame frame = render(volume, request);
+    const std::uint8_t* top = frame.image.pixel(32, 8);
+    EXPECT_EQ(top[2], 153);
+}
+
+TEST_F(RendererTest, EmptyTransferFunctionGivesExactlyTheBackground) {
+    auto request = small_request(scene::Mode::phong);
+    request.transfer_function = {"empty", {}, {}};
+    const Frame frame = render(test::radial_volume(16), request);
+    for (int y = 0; y < frame.image.height; ++y) {
+        for (int x = 0; x < frame.image.width; ++x) {
+            const std::uint8_t* p = frame.image.pixel(x, y);
+            ASSERT_EQ(p[0], 51);
+            ASSERT_EQ(p[1], 102);
+            ASSERT_EQ(p[2], 153);
+        }
+    }
+}
+
+TEST_F(RendererTest, FullyOpaqueTransferFunctionStaysFiniteAndMatchesCpu) {
+    auto request = small_request(scene::Mode::phong);
+    request.transfer_function = {"opaque", {{0.0, {0.9, 0.8, 0.7}}}, {{0.0, 1.0}}};
+    request.settings.compositing = scene::Compositing::alpha;
+    expect_matches_cpu(test::radial_volume(32), request, float_volume, "opaque_phong");
+    request.settings.compositing = scene::Compositing::extinction;
+    expect_matches_cpu(test::radial_volume(32), request, float_volume, "opaque_extinction");
+}
+
+TEST_F(RendererTest, Uint16AndUint8VolumesMatchCpuReference) {
+    const volume::Volume radial = test::radial_volume(32);
+    std::vector<std::byte> bytes16(radial.voxel_count() * 2);
+    std::vector<std::byte> bytes8(radial.voxel_count());
+    for (std::size_t i = 0; i < radial.voxel_count(); ++i) {
+        float v = 0.0f;
+        std::memcpy(&v, &radial.data[i * 4], 4);
+        const auto v16 = static_cast<std::uint16_t>(std::lround(v * 60000.0f) + 1000);
+        std::memcpy(&bytes16[i * 2], &v16, 2);
+        bytes8[i] = static_cast<std::byte>(std::lround(v * 250.0f));
+    }
+    auto volume16 = volume::make_volume("u16", radial.dims, radial.spacing,
+                                        volume::VoxelType::uint16, bytes16);
+    auto volume8 = volume::make_volume("u8", radial.dims, radial.spacing, volume::VoxelType::uint8,
+                                       bytes8);
+    ASSERT_TRUE(volume16.ok() && volume8.ok());
+    const auto request = small_request(scene::Mode::phong);
+    expect_matches_cpu(*volume16, request, float_volume, "uint16");
+    // Mesa's llvmpipe filters 8-bit textures with 8-bit interpolation weights, which moves
+    // samples by up to 1/512 of a voxel step in value; the budget is therefore wider.
+    expect_matches_cpu(*volume8, request, {8.0 / 255.0, 1.0 / 255.0}, "uint8");
+}
+
+TEST_F(RendererTest, CachesTheVolumeAndTransferFunctionUploads) {
+    const volume::Volume volume = test::radial_volume(16);
+    auto request = small_request(scene::Mode::dvr, 16);
+    const auto names = [](const Frame& frame) {
+        std::vector<std::string> out;
+        for (const auto& pass : frame.report.passes) {
+            out.push_back(pass.name);
+        }
+        return out;
+    };
+    auto shared = std::make_shared<const volume::Volume>(volume);
+    ASSERT_TRUE(renderer_->set_volume(shared).ok());
+    auto first = renderer_->render(request);
+    ASSERT_TRUE(first.ok());
+    EXPECT_EQ(names(*first), (std::vector<std::string>{"upload_volume", "transfer_function",
+                                                       "raycast", "readback"}));
+    request.camera = scene::orbit_camera(100.0, -20.0, 2.0);
+    auto second = renderer_->render(request);
+    ASSERT_TRUE(second.ok());
+    EXPECT_EQ(names(*second), (std::vector<std::string>{"raycast", "readback"}));
+    request.transfer_function.opacities[3].alpha = 0.9;
+    auto third = renderer_->render(request);
+    ASSERT_TRUE(third.ok());
+    EXPECT_EQ(names(*third), (std::vector<std::string>{"transfer_function", "raycast", "readback"}));
+    EXPECT_GE(third->report.passes[1].wall_ms, 0.0);
+}
+
+TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
+    auto request = small_request(scene::Mode::dvr, 16);
+    auto no_volume = renderer_->render(request);
+    ASSERT_FALSE(no_volume.ok());
+    EXPECT_EQ(no_volume.error().code, "no_volume");
+    ASSERT_TRUE(renderer_->set_volume(std::make_shared<const volume::Volume>(
+                                              test::radial_volume(8)))
+                        .ok());
+    request.settings.sample_distance = -1.0;
+    EXPECT_EQ(renderer_->render(request).error().where, "sample_distance");
+    request = small_request(scene::Mode::half_angle, 16);
+    EXPECT_EQ(renderer_->render(request).error().code, "unsupported_mode");
+    request = small_request(scene::Mode::dvr, 16);
+    EXPECT_TRUE(renderer_->render(request).ok());
+}
+
+}  // namespace
+}  // namespace penumbra::render

@@ -1,0 +1,55 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "arguments.hpp"
+#include "render_options.hpp"
+#include "synthetic_volumes.hpp"
+
+namespace penumbra::app {
+namespace {
+
+TEST(Arguments, ParsesValuesFlagsAndInlineValues) {
+    auto args = Arguments::parse({"--size", "64x32", "--fov=45", "--help"}, {"size", "fov"},
+                                 {"help"});
+    ASSERT_TRUE(args.ok());
+    EXPECT_TRUE(args->has("help"));
+    EXPECT_EQ(args->size("size", {1, 1}).value(), (std::pair{64, 32}));
+    EXPECT_DOUBLE_EQ(args->number("fov", 0.0).value(), 45.0);
+}
+
+TEST(Arguments, RejectsUnknownMissingAndMalformedValues) {
+    EXPECT_EQ(Arguments::parse({"--colour", "red"}, {"size"}, {}).error().where, "--colour");
+    EXPECT_EQ(Arguments::parse({"--size"}, {"size"}, {}).error().message, "needs a value");
+    EXPECT_FALSE(Arguments::parse({"stray"}, {"size"}, {}).ok());
+    auto args = Arguments::parse({"--size", "64by32", "--fov", "nan", "--eye", "1,2"},
+                                 {"size", "fov", "eye"}, {});
+    ASSERT_TRUE(args.ok());
+    EXPECT_FALSE(args->size("size", {1, 1}).ok());
+    EXPECT_FALSE(args->number("fov", 0.0).ok());
+    EXPECT_FALSE(args->vec3("eye", {}).ok());
+}
+
+TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    auto args = Arguments::parse({"--mode", "dvr", "--size", "64x48", "--camera", "90,10,3",
+                                  "--tf", "grey_ramp", "--light-position", "1,2,3"},
+                                 frame_option_names(), {});
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    auto request = frame_request_from(*args, volume);
+    ASSERT_TRUE(request.ok()) << request.error().to_string();
+    EXPECT_EQ(request->settings.mode, scene::Mode::dvr);
+    EXPECT_EQ(request->settings.width, 64);
+    EXPECT_EQ(request->light.type, scene::LightType::point);
+    EXPECT_NEAR(request->camera.eye.x, 3.0 * std::cos(10.0 * M_PI / 180.0), 1e-9);
+
+    auto bad_mode = Arguments::parse({"--mode", "magic"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*bad_mode, volume).error().where, "--mode");
+    auto bad_tf = Arguments::parse({"--tf", "nope"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, "unknown_preset");
+    auto bad_distance = Arguments::parse({"--sample-distance", "0"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*bad_distance, volume).error().where, "sample_distance");
+}
+
+}  // namespace
+}  // namespace penumbra::app

@@ -1,0 +1,119 @@
+#include <penumbra/reference/cpu_renderer.hpp>
+#include <penumbra/reference/volume_sampler.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "synthetic_volumes.hpp"
+
+namespace penumbra::reference {
+namespace {
+
+// A TF that is the same everywhere, so the integral along a ray has a closed form.
+scene::TransferFunction uniform_tf(glm::dvec3 color, double alpha) {
+    return {"uniform", {{0.0, color}}, {{0.0, alpha}}};
+}
+
+scene::FrameRequest axis_view(int size) {
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(0.0, 0.0, 3.0);
+    request.settings.width = size;
+    request.settings.height = size;
+    request.settings.early_termination = 1.0;
+    request.settings.background = {0.0, 0.0, 1.0};
+    return request;
+}
+
+TEST(CpuRenderer, AlphaCompositingOfAUniformMediumMatchesTheClosedForm) {
+    const volume::Volume volume = test::constant_volume({8, 8, 8}, 1.0f);
+    scene::FrameRequest request = axis_view(33);
+    request.transfer_function = uniform_tf({1.0, 0.5, 0.0}, 0.02);
+    request.settings.sample_distance = 1.0 / 100.0;
+    request.settings.opacity_unit_distance = 1.0 / 256.0;
+    const auto image = render_cpu(volume, request);
+    ASSERT_TRUE(image.ok());
+    // The centre ray crosses the whole box (length 1) along y.
+    const double transmittance = std::pow(1.0 - 0.02, 1.0 / (1.0 / 256.0));
+    const float* centre = image->pixel(16, 16);
+    EXPECT_NEAR(centre[0], 1.0 - transmittance, 1e-6);
+    EXPECT_NEAR(centre[1], 0.5 * (1.0 - transmittance), 1e-6);
+    EXPECT_NEAR(centre[2], transmittance, 1e-6);  // background seen through the medium
+    // A corner ray misses the box and sees only the background.
+    EXPECT_EQ(image->pixel(0, 0)[2], 1.0f);
+    EXPECT_EQ(image->pixel(0, 0)[0], 0.0f);
+}
+
+TEST(CpuRenderer, ResultDoesNotDependOnTheSampleDistanceForAUniformMedium) {
+    const volume::Volume volume = test::constant_volume({8, 8, 8}, 1.0f);
+    scene::FrameRequest request = axis_view(9);
+    request.transfer_function = uniform_tf({1.0, 1.0, 1.0}, 0.05);
+    request.settings.sample_distance = 1.0 / 37.0;
+    const auto coarse = render_cpu(volume, request);
+    request.settings.sample_distance = 1.0 / 512.0;
+    const auto fine = render_cpu(volume, request);
+    ASSERT_TRUE(coarse.ok() && fine.ok());
+    EXPECT_NEAR(coarse->pixel(4, 4)[0], fine->pixel(4, 4)[0], 1e-9);
+}
+
+TEST(CpuRenderer, ExtinctionCompositingTransmitsExponentially) {
+    const volume::Volume volume = test::constant_volume({8, 8, 8}, 1.0f);
+    scene::FrameRequest request = axis_view(33);
+    request.transfer_function = uniform_tf({1.0, 0.0, 0.0}, 0.01);
+    request.settings.compositing = scene::Compositing::extinction;
+    request.settings.opacity_unit_distance = 1.0 / 128.0;
+    const auto image = render_cpu(volume, request);
+    ASSERT_TRUE(image.ok());
+    EXPECT_NEAR(image->pixel(16, 16)[2], std::exp(-0.01 * 128.0), 1e-6);
+}
+
+TEST(CpuRenderer, PhongWithoutGradientLightsAmbientPlusDiffuse) {
+    const volume::Volume volume = test::constant_volume({8, 8, 8}, 1.0f);
+    scene::FrameRequest request = axis_view(33);
+    request.settings.mode = scene::Mode::phong;
+    request.settings.background = glm::dvec3(0.0);
+    request.transfer_function = uniform_tf({0.5, 0.5, 0.5}, 1.0);  // first sample is opaque
+    request.light.ambient = 0.2;
+    request.settings.shading.diffuse = 0.6;
+    const auto image = render_cpu(volume, request);
+    ASSERT_TRUE(image.ok());
+    EXPECT_NEAR(image->pixel(16, 16)[0], 0.5 * (0.2 + 0.6), 1e-6);
+}
+
+TEST(CpuRenderer, EmptyTransferFunctionShowsOnlyTheBackground) {
+    const volume::Volume volume = test::sphere_volume(16, 0.8f);
+    scene::FrameRequest request = axis_view(17);
+    request.transfer_function = {"empty", {}, {}};
+    const auto image = render_cpu(volume, request);
+    ASSERT_TRUE(image.ok());
+    for (int y = 0; y < 17; ++y) {
+        for (int x = 0; x < 17; ++x) {
+            ASSERT_EQ(image->pixel(x, y)[2], 1.0f);
+        }
+    }
+}
+
+TEST(VolumeSampler, InterpolatesBetweenVoxelCentresAndClampsAtEdges) {
+    // Two voxels along x with values 0 and 1: centres at x = -0.25 and 0.25 in world space.
+    const volume::Volume volume =
+            volume::make_volume("pair", {2, 1, 1}, glm::dvec3(1.0), std::vector<float>{0.0f, 1.0f})
+                    .value();
+    const VolumeSampler sampler(volume);
+    EXPECT_DOUBLE_EQ(sampler.value({0.0, 0.0, 0.0}), 0.5);
+    EXPECT_DOUBLE_EQ(sampler.value({-0.25, 0.0, 0.0}), 0.0);
+    EXPECT_DOUBLE_EQ(sampler.value({-0.5, 0.0, 0.0}), 0.0);
+    EXPECT_DOUBLE_EQ(sampler.value({0.5, 0.0, 0.0}), 1.0);
+    EXPECT_DOUBLE_EQ(sampler.value({0.125, 0.0, 0.0}), 0.75);
+}
+
+TEST(CpuRenderer, RejectsModesItDoesNotImplement) {
+    const volume::Volume volume = test::constant_volume({2, 2, 2}, 1.0f);
+    scene::FrameRequest request = axis_view(4);
+    request.settings.mode = scene::Mode::half_angle;
+    const auto image = render_cpu(volume, request);
+    ASSERT_FALSE(image.ok());
+    EXPECT_EQ(image.error().code, "unsupported_mode");
+}
+
+}  // namespace
+}  // namespace penumbra::reference

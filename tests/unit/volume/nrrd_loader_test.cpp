@@ -1,0 +1,516 @@
+#include "fixture_files.hpp"
+
+#include <penumbra/volume/volume.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::volume {
+namespace {
+
+using fixtures::as_bytes;
+using fixtures::concat;
+using fixtures::text_bytes;
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+// The 2x2x2 uint8 volume 1..8 most tests attach behind their header.
+std::vector<std::byte> cube_uint8() {
+    return as_bytes(std::vector<std::uint8_t>{1, 2, 3, 4, 5, 6, 7, 8});
+}
+
+constexpr const char* cube_header =
+        "NRRD0004\n"
+        "type: uint8\n"
+        "dimension: 3\n"
+        "sizes: 2 2 2\n"
+        "encoding: raw\n";
+
+// Writes `header` + blank line + `data` as an attached .nrrd and loads it.
+base::Result<Volume> load_attached(const fixtures::TempDir& dir, const std::string& header,
+                                   std::span<const std::byte> data,
+                                   const char* name = "cube.nrrd") {
+    fixtures::write_bytes(dir / name, concat(text_bytes(header + "\n"), data));
+    return load_nrrd(dir / name);
+}
+
+TEST(NrrdLoader, AttachedRawUint8) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir, cube_header, cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "cube");
+    EXPECT_EQ(volume->dims, glm::uvec3(2, 2, 2));
+    EXPECT_EQ(volume->type, VoxelType::uint8);
+    EXPECT_EQ(volume->spacing, glm::dvec3(1.0));
+    EXPECT_EQ(volume->data, cube_uint8());
+    EXPECT_EQ(volume->value(1, 0, 1), 6.0);
+    EXPECT_EQ(volume->range.min, 1.0);
+    EXPECT_EQ(volume->range.max, 8.0);
+}
+
+TEST(NrrdLoader, AttachedGzipFloat) {
+    fixtures::TempDir dir;
+    std::vector<float> values(4 * 3 * 2);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = static_cast<float>(i) * 0.5f - 3.0f;
+    }
+    auto volume = load_attached(dir,
+                                "NRRD0005\n"
+                                "type: float\n"
+                                "dimension: 3\n"
+                                "sizes: 4 3 2\n"
+                                "endian: little\n"
+                                "encoding: gzip\n",
+                                fixtures::gzip_bytes(as_bytes(values)));
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->dims, glm::uvec3(4, 3, 2));
+    EXPECT_EQ(volume->data, as_bytes(values));
+    EXPECT_EQ(volume->range.min, -3.0);
+}
+
+TEST(NrrdLoader, GzSpellingAndByteSkipAppliesToDecompressedData) {
+    fixtures::TempDir dir;
+    const auto data = concat(text_bytes("JUNK"), cube_uint8());
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\n"
+                                "encoding: gz\nbyte skip: 4\n",
+                                fixtures::gzip_bytes(data));
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, cube_uint8());
+}
+
+TEST(NrrdLoader, DetachedHeaderReadsTheDataFileNextToIt) {
+    fixtures::TempDir dir;
+    std::filesystem::create_directory(dir / "data");
+    const std::vector<std::uint16_t> values{10, 20, 30, 40, 50, 60, 70, 80};
+    fixtures::write_bytes(dir / "data" / "cube.raw", as_bytes(values));
+    fixtures::write_text(dir / "data" / "cube.nhdr",
+                         "NRRD0004\n"
+                         "type: unsigned short\n"
+                         "dimension: 3\n"
+                         "sizes: 2 2 2\n"
+                         "endian: little\n"
+                         "encoding: raw\n"
+                         "data file: cube.raw\n");
+    auto volume = load_nrrd(dir / "data" / "cube.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "cube");
+    EXPECT_EQ(volume->type, VoxelType::uint16);
+    EXPECT_EQ(volume->data, as_bytes(values));
+
+    // The same through load_volume, and with an absolute data file path.
+    fixtures::write_text(dir / "absolute.nhdr",
+                         "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 2 2 2\n"
+                         "endian: little\nencoding: raw\ndatafile: " +
+                                 (dir / "data" / "cube.raw").string() + "\n");
+    auto absolute = load_volume(dir / "absolute.nhdr");
+    ASSERT_TRUE(absolute.ok()) << absolute.error().to_string();
+    EXPECT_EQ(absolute->data, as_bytes(values));
+}
+
+TEST(NrrdLoader, DetachedGzipData) {
+    fixtures::TempDir dir;
+    fixtures::write_gzip_file(dir / "cube.raw.gz", cube_uint8());
+    fixtures::write_text(dir / "cube.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\n"
+                         "data file: ./cube.raw.gz\n");
+    auto volume = load_nrrd(dir / "cube.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, cube_uint8());
+}
+
+TEST(NrrdLoader, BigEndianSamplesAreSwapped) {
+    fixtures::TempDir dir;
+    const std::vector<std::byte> big{std::byte{0x01}, std::byte{0x02}, std::byte{0xff},
+                                     std::byte{0x00}};
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: ushort\ndimension: 3\nsizes: 2 1 1\n"
+                                "endian: big\nencoding: raw\n",
+                                big);
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->value(0, 0, 0), 0x0102);
+    EXPECT_EQ(volume->value(1, 0, 0), 0xff00);
+
+    // float 1.5 is 0x3fc00000; big endian puts 0x3f first.
+    const std::vector<std::byte> big_float{std::byte{0x3f}, std::byte{0xc0}, std::byte{0x00},
+                                           std::byte{0x00}};
+    auto floats = load_attached(dir,
+                                "NRRD0004\ntype: float\ndimension: 3\nsizes: 1 1 1\n"
+                                "endian: big\nencoding: raw\n",
+                                big_float, "float.nrrd");
+    ASSERT_TRUE(floats.ok()) << floats.error().to_string();
+    EXPECT_EQ(floats->value(0, 0, 0), 1.5);
+}
+
+TEST(NrrdLoader, Int16BigEndianIsConvertedToFloat32) {
+    fixtures::TempDir dir;
+    const std::vector<std::byte> big{std::byte{0xff}, std::byte{0xfe}, std::byte{0x01},
+                                     std::byte{0x00}};
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: signed short int\ndimension: 3\n"
+                                "sizes: 1 2 1\nendian: big\nencoding: raw\n",
+                                big);
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->value(0, 0, 0), -2.0);
+    EXPECT_EQ(volume->value(0, 1, 0), 256.0);
+}
+
+TEST(NrrdLoader, SpacingsGiveTheVoxelSize) {
+    fixtures::TempDir dir;
+    auto volume =
+            load_attached(dir, std::string(cube_header) + "spacings: 0.5 2 -3\n", cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->spacing, glm::dvec3(0.5, 2.0, 3.0));
+
+    auto with_nan =
+            load_attached(dir, std::string(cube_header) + "spacings: 0.5 NaN 2\n", cube_uint8());
+    ASSERT_TRUE(with_nan.ok()) << with_nan.error().to_string();
+    EXPECT_EQ(with_nan->spacing, glm::dvec3(0.5, 1.0, 2.0));
+}
+
+TEST(NrrdLoader, SpaceDirectionsGiveTheVectorLengths) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                std::string(cube_header) +
+                                        "space: right-anterior-superior\n"
+                                        "space directions: (0.6,0.8,0) (0, -2, 0) (0,0,0.25)\n"
+                                        "space origin: (1,2,3)\n",
+                                cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_DOUBLE_EQ(volume->spacing.x, 1.0);
+    EXPECT_DOUBLE_EQ(volume->spacing.y, 2.0);
+    EXPECT_DOUBLE_EQ(volume->spacing.z, 0.25);
+}
+
+TEST(NrrdLoader, CommentsKeyValuesAndOtherFieldsAreIgnored) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                "NRRD0004\r\n"
+                                "# Complete NRRD file format specification at:\r\n"
+                                "type: unsigned char\r\n"
+                                "content: a head: with colons\r\n"
+                                "dimension: 3\r\n"
+                                "DWMRI_b-value:=1000\r\n"
+                                "sizes: 2 2 2\r\n"
+                                "kinds: domain domain domain\r\n"
+                                "encoding: raw\r\n",
+                                cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, cube_uint8());
+}
+
+TEST(NrrdLoader, TypeSpellingsAreAllAccepted) {
+    fixtures::TempDir dir;
+
+    struct Case {
+        const char* spelling;
+        std::size_t size;
+        VoxelType stored;
+    };
+
+    const Case cases[] = {
+            {"uchar", 1, VoxelType::uint8},           {"unsigned char", 1, VoxelType::uint8},
+            {"uint8_t", 1, VoxelType::uint8},         {"signed char", 1, VoxelType::float32},
+            {"int8", 1, VoxelType::float32},          {"short", 2, VoxelType::float32},
+            {"int16_t", 2, VoxelType::float32},       {"unsigned short int", 2, VoxelType::uint16},
+            {"uint16", 2, VoxelType::uint16},         {"int", 4, VoxelType::float32},
+            {"unsigned int", 4, VoxelType::float32},  {"uint32_t", 4, VoxelType::float32},
+            {"long long int", 8, VoxelType::float32}, {"ulonglong", 8, VoxelType::float32},
+            {"float", 4, VoxelType::float32},         {"double", 8, VoxelType::float32},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::byte> data(8 * c.size, std::byte{0});
+        for (std::size_t i = 0; i < 8; ++i) {
+            // Small integers 0..7 for the integer types; the float types read them as tiny
+            // denormals or zero, which is fine: only the type mapping is checked here.
+            data[i * c.size] = static_cast<std::byte>(i);
+        }
+        auto volume = load_attached(dir,
+                                    std::string("NRRD0004\ntype: ") + c.spelling +
+                                            "\ndimension: 3\nsizes: 2 2 2\nendian: little\n"
+                                            "encoding: raw\n",
+                                    data);
+        ASSERT_TRUE(volume.ok()) << c.spelling << ": " << volume.error().to_string();
+        EXPECT_EQ(volume->type, c.stored) << c.spelling;
+        if (std::string(c.spelling) != "float" && std::string(c.spelling) != "double") {
+            EXPECT_EQ(volume->value(1, 1, 1), 7.0) << c.spelling;
+        }
+    }
+}
+
+TEST(NrrdLoader, AsciiEncoding) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 1\n"
+                                "encoding: ascii\n",
+                                text_bytes("1.5 -2\n3e2\t4\n"));
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->value(0, 0, 0), 1.5);
+    EXPECT_EQ(volume->value(1, 0, 0), -2.0);
+    EXPECT_EQ(volume->value(0, 1, 0), 300.0);
+
+    auto bytes = load_attached(dir,
+                               "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 1 1\n"
+                               "encoding: text\n",
+                               text_bytes("7 255\n"), "bytes.nrrd");
+    ASSERT_TRUE(bytes.ok()) << bytes.error().to_string();
+    EXPECT_EQ(bytes->type, VoxelType::uint8);
+    EXPECT_EQ(bytes->value(1, 0, 0), 255.0);
+
+    auto out_of_range = load_attached(dir,
+                                      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 1 1\n"
+                                      "encoding: txt\n",
+                                      text_bytes("7 256\n"), "range.nrrd");
+    ASSERT_FALSE(out_of_range.ok());
+    EXPECT_EQ(out_of_range.error().code, "bad_data");
+
+    auto short_text = load_attached(dir,
+                                    "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 1\n"
+                                    "encoding: ascii\n",
+                                    text_bytes("1 2 3\n"), "short.nrrd");
+    ASSERT_FALSE(short_text.ok());
+    EXPECT_EQ(short_text.error().code, "truncated");
+}
+
+TEST(NrrdLoader, LineSkipAndByteSkipInADetachedFile) {
+    fixtures::TempDir dir;
+    fixtures::write_bytes(dir / "cube.pgm",
+                          concat(text_bytes("P5\n# made by hand\n2 4\n255\nXYZ"), cube_uint8()));
+    fixtures::write_text(dir / "cube.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                         "data file: cube.pgm\nline skip: 4\nbyte skip: 3\n");
+    auto volume = load_nrrd(dir / "cube.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, cube_uint8());
+}
+
+TEST(NrrdLoader, ByteSkipMinusOneReadsTheLastBytes) {
+    fixtures::TempDir dir;
+    fixtures::write_bytes(dir / "tail.bin", concat(text_bytes("some preamble"), cube_uint8()));
+    fixtures::write_text(dir / "tail.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                         "data file: tail.bin\nbyte skip: -1\n");
+    auto volume = load_nrrd(dir / "tail.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, cube_uint8());
+}
+
+// Malformed headers: each is rejected with a code, the file name and, where there is one, the
+// header line.
+
+struct Rejection {
+    const char* what;
+    std::string header;
+    std::string code;
+    std::string where;  // expected suffix of Error::where ("" when only the file is named)
+};
+
+TEST(NrrdLoader, MalformedHeadersAreRejected) {
+    const std::string h = "NRRD0004\n";
+    const Rejection cases[] = {
+            {"bad magic", "NRRD004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n",
+             "bad_header", ":line 1"},
+            {"not NRRD at all", "P5\n2 2\n255\n", "bad_header", ":line 1"},
+            {"missing sizes", h + "type: uint8\ndimension: 3\nencoding: raw\n", "bad_header",
+             "cube.nrrd"},
+            {"missing type", h + "dimension: 3\nsizes: 2 2 2\nencoding: raw\n", "bad_header",
+             "cube.nrrd"},
+            {"missing dimension", h + "type: uint8\nsizes: 2 2 2\nencoding: raw\n", "bad_header",
+             "cube.nrrd"},
+            {"missing encoding", h + "type: uint8\ndimension: 3\nsizes: 2 2 2\n", "bad_header",
+             "cube.nrrd"},
+            {"dimension 4", h + "type: uint8\ndimension: 4\nsizes: 1 2 2 2\nencoding: raw\n",
+             "unsupported_dimension", ":line 3"},
+            {"dimension 2", h + "type: uint8\ndimension: 2\nsizes: 4 2\nencoding: raw\n",
+             "unsupported_dimension", ":line 3"},
+            {"dimension not a number", h + "type: uint8\ndimension: three\n", "bad_header",
+             ":line 3"},
+            {"unknown type", h + "type: uint12\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n",
+             "unsupported_type", ":line 2"},
+            {"block type", h + "type: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n",
+             "unsupported_type", ":line 2"},
+            {"bzip2 encoding", h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n",
+             "unsupported_encoding", ":line 5"},
+            {"hex encoding", h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: hex\n",
+             "unsupported_encoding", ":line 5"},
+            {"sizes count", h + "type: uint8\ndimension: 3\nsizes: 2 2\nencoding: raw\n",
+             "bad_header", ":line 4"},
+            {"negative size", h + "type: uint8\ndimension: 3\nsizes: 2 -2 2\nencoding: raw\n",
+             "bad_header", ":line 4"},
+            {"zero size", h + "type: uint8\ndimension: 3\nsizes: 2 0 2\nencoding: raw\n",
+             "bad_header", ":line 4"},
+            {"size not a number", h + "type: uint8\ndimension: 3\nsizes: 2 x 2\nencoding: raw\n",
+             "bad_header", ":line 4"},
+            {"absurd sizes",
+             h + "type: uint8\ndimension: 3\nsizes: 100000 100000 100000\nencoding: raw\n",
+             "too_large", ":line 4"},
+            {"sizes beyond int64",
+             h + "type: uint8\ndimension: 3\nsizes: 99999999999999999999 2 2\nencoding: raw\n",
+             "bad_header", ":line 4"},
+            {"missing endian", h + "type: short\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n",
+             "bad_header", "cube.nrrd"},
+            {"bad endian",
+             h + "type: short\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nendian: middle\n",
+             "bad_header", ":line 6"},
+            {"duplicate field", h + "type: uint8\ntype: uint8\n", "bad_header", ":line 3"},
+            {"line without colon", h + "type uint8\n", "bad_header", ":line 2"},
+            {"negative byte skip",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nbyte skip: -2\n",
+             "bad_header", ":line 6"},
+            {"byte skip -1 with gzip",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\nbyte skip: -1\n",
+             "bad_header", ":line 6"},
+            {"zero spacing", h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nspacings: 1 0 1\n",
+             "bad_header", ":line 5"},
+            {"spacings count",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nspacings: 1 1\n",
+             "bad_header", ":line 6"},
+            {"bad space direction",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nspace directions: (1,0,0) (0,1)\n",
+             "bad_header", ":line 5"},
+            {"zero space direction",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                 "space directions: (1,0,0) (0,0,0) (0,0,1)\n",
+             "bad_header", ":line 6"},
+            {"data file LIST",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: LIST\n",
+             "unsupported_data_file", ":line 6"},
+            {"numbered data files",
+             h + "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                 "data file: slice%03d.raw 0 1 1\n",
+             "unsupported_data_file", ":line 6"},
+    };
+    fixtures::TempDir dir;
+    for (const Rejection& c : cases) {
+        auto volume = load_attached(dir, c.header, cube_uint8());
+        ASSERT_FALSE(volume.ok()) << c.what;
+        EXPECT_EQ(volume.error().code, c.code) << c.what << ": " << volume.error().to_string();
+        const std::string& where = volume.error().where;
+        EXPECT_TRUE(contains(where, "cube.nrrd")) << c.what << ": " << where;
+        EXPECT_TRUE(where.size() >= c.where.size() &&
+                    where.compare(where.size() - c.where.size(), c.where.size(), c.where) == 0)
+                << c.what << ": where is '" << where << "', expected it to end in '" << c.where
+                << "'";
+    }
+}
+
+TEST(NrrdLoader, ErrorMessagesNameWhatWasWrong) {
+    fixtures::TempDir dir;
+    auto dimension = load_attached(dir, "NRRD0004\ndimension: 4\n", {});
+    ASSERT_FALSE(dimension.ok());
+    EXPECT_TRUE(contains(dimension.error().message, "dimension 4")) << dimension.error().message;
+
+    auto encoding = load_attached(dir, "NRRD0004\nencoding: bzip2\n", {});
+    ASSERT_FALSE(encoding.ok());
+    EXPECT_TRUE(contains(encoding.error().message, "'bzip2'")) << encoding.error().message;
+    EXPECT_TRUE(contains(encoding.error().message, "raw, gzip")) << encoding.error().message;
+
+    auto type = load_attached(dir, "NRRD0004\ntype: quaternion\n", {});
+    ASSERT_FALSE(type.ok());
+    EXPECT_TRUE(contains(type.error().message, "'quaternion'")) << type.error().message;
+
+    auto sizes = load_attached(dir, "NRRD0004\ntype: uint8\ndimension: 3\nencoding: raw\n", {});
+    ASSERT_FALSE(sizes.ok());
+    EXPECT_TRUE(contains(sizes.error().message, "'sizes'")) << sizes.error().message;
+}
+
+TEST(NrrdLoader, TruncatedRawDataReportsExpectedAndActualSizes) {
+    fixtures::TempDir dir;
+    const std::string header =
+            "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 4 4 4\n"
+            "endian: little\nencoding: raw\n";
+    auto volume = load_attached(dir, header, std::vector<std::byte>(100));
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_TRUE(contains(volume.error().message, "expected 128 bytes")) << volume.error().message;
+    EXPECT_TRUE(contains(volume.error().message, "only 100")) << volume.error().message;
+    const std::string offset = std::to_string(header.size() + 1 + 100);
+    EXPECT_TRUE(contains(volume.error().where, "cube.nrrd:byte " + offset)) << volume.error().where;
+}
+
+TEST(NrrdLoader, TruncatedGzipDataIsRejected) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\n"
+                                "encoding: gzip\n",
+                                fixtures::gzip_bytes(std::vector<std::byte>(60)));
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_TRUE(contains(volume.error().message, "expected 64")) << volume.error().message;
+    EXPECT_TRUE(contains(volume.error().message, "got 60")) << volume.error().message;
+}
+
+TEST(NrrdLoader, CorruptGzipDataIsRejected) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                                "encoding: gzip\n",
+                                cube_uint8());
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "corrupt_data");
+}
+
+TEST(NrrdLoader, HeaderWithoutDataOrDataFileIsRejected) {
+    fixtures::TempDir dir;
+    fixtures::write_text(dir / "cube.nrrd",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n");
+    auto volume = load_nrrd(dir / "cube.nrrd");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "bad_header");
+    EXPECT_TRUE(contains(volume.error().message, "data file")) << volume.error().message;
+}
+
+TEST(NrrdLoader, MissingDataFileIsNotFound) {
+    fixtures::TempDir dir;
+    fixtures::write_text(dir / "cube.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                         "data file: nowhere.raw\n");
+    auto volume = load_nrrd(dir / "cube.nhdr");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "not_found");
+    EXPECT_TRUE(contains(volume.error().where, "nowhere.raw")) << volume.error().where;
+    EXPECT_TRUE(contains(volume.error().message, "cube.nhdr")) << volume.error().message;
+}
+
+TEST(NrrdLoader, TruncatedDetachedDataNamesTheDataFile) {
+    fixtures::TempDir dir;
+    fixtures::write_bytes(dir / "cube.raw", std::vector<std::byte>(5));
+    fixtures::write_text(dir / "cube.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                         "data file: cube.raw\n");
+    auto volume = load_nrrd(dir / "cube.nhdr");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_TRUE(contains(volume.error().where, "cube.raw:byte 5")) << volume.error().where;
+}
+
+TEST(NrrdLoader, LineSkipPastTheEndIsTruncated) {
+    fixtures::TempDir dir;
+    fixtures::write_text(dir / "short.txt", "one line\n");
+    fixtures::write_text(dir / "cube.nhdr",
+                         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+                         "data file: short.txt\nline skip: 3\n");
+    auto volume = load_nrrd(dir / "cube.nhdr");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated");
+}
+
+TEST(NrrdLoader, HeaderWithoutEndIsCapped) {
+    fixtures::TempDir dir;
+    // 17 MiB of text without a newline after the magic: the reader gives up at 16 MiB.
+    std::string text = "NRRD0004\n";
+    text.append(std::size_t{17} << 20, 'a');
+    fixtures::write_text(dir / "endless.nrrd", text);
+    auto volume = load_nrrd(dir / "endless.nrrd");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "bad_header");
+}
+
+}  // namespace
+}  // namespace penumbra::volume

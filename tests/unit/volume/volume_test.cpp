@@ -1,0 +1,209 @@
+#include "fixture_files.hpp"
+
+#include <penumbra/volume/volume.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace penumbra::volume {
+namespace {
+
+using fixtures::as_bytes;
+
+TEST(VoxelType, SizesAndNames) {
+    EXPECT_EQ(bytes_per_voxel(VoxelType::uint8), 1u);
+    EXPECT_EQ(bytes_per_voxel(VoxelType::uint16), 2u);
+    EXPECT_EQ(bytes_per_voxel(VoxelType::float32), 4u);
+    EXPECT_STREQ(to_string(VoxelType::uint8), "uint8");
+    EXPECT_STREQ(to_string(VoxelType::uint16), "uint16");
+    EXPECT_STREQ(to_string(VoxelType::float32), "float32");
+}
+
+TEST(MakeVolume, KeepsDataAndComputesIntegerRange) {
+    const std::vector<std::uint16_t> values{7, 300, 65535, 12, 9, 1000};
+    auto volume = make_volume("v", {3, 2, 1}, glm::dvec3(0.5, 1.0, 2.0), VoxelType::uint16,
+                              as_bytes(values));
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "v");
+    EXPECT_EQ(volume->voxel_count(), 6u);
+    EXPECT_EQ(volume->range.min, 7.0);
+    EXPECT_EQ(volume->range.max, 65535.0);
+    EXPECT_EQ(volume->nonfinite_voxels, 0u);
+    EXPECT_EQ(volume->extent(), glm::dvec3(1.5, 2.0, 2.0));
+}
+
+TEST(MakeVolume, RejectsZeroDimension) {
+    auto volume = make_volume("v", {4, 0, 4}, glm::dvec3(1.0), VoxelType::uint8, {});
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "invalid_volume");
+    EXPECT_NE(volume.error().message.find("4x0x4"), std::string::npos);
+}
+
+TEST(MakeVolume, RejectsMoreThanMaxVoxelsBeforeLookingAtData) {
+    auto volume = make_volume("v", {2048, 2048, 1024}, glm::dvec3(1.0), VoxelType::uint8, {});
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "too_large");
+}
+
+TEST(MakeVolume, RejectsDataOfTheWrongSize) {
+    auto volume = make_volume("v", {2, 2, 2}, glm::dvec3(1.0), VoxelType::uint16,
+                              std::vector<std::byte>(8));
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "invalid_volume");
+    EXPECT_NE(volume.error().message.find("16 bytes expected"), std::string::npos)
+            << volume.error().message;
+}
+
+TEST(MakeVolume, RejectsSpacingThatIsNotFiniteAndPositive) {
+    const double bad[] = {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()};
+    for (double spacing : bad) {
+        auto volume = make_volume("v", {1, 1, 1}, glm::dvec3(1.0, spacing, 1.0), VoxelType::uint8,
+                                  std::vector<std::byte>(1));
+        ASSERT_FALSE(volume.ok()) << spacing;
+        EXPECT_EQ(volume.error().code, "invalid_volume");
+    }
+}
+
+TEST(MakeVolume, ReplacesNonFiniteFloatsByTheFiniteMinimum) {
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::vector<float> values{3.0f, std::nanf(""), -2.0f, inf, 5.0f, -inf};
+    auto volume = make_volume("v", {6, 1, 1}, glm::dvec3(1.0), values);
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->nonfinite_voxels, 3u);
+    EXPECT_EQ(volume->range.min, -2.0);
+    EXPECT_EQ(volume->range.max, 5.0);
+    const double expected[] = {3.0, -2.0, -2.0, -2.0, 5.0, -2.0};
+    for (std::uint32_t x = 0; x < 6; ++x) {
+        EXPECT_EQ(volume->value(x, 0, 0), expected[x]) << "x=" << x;
+    }
+}
+
+TEST(MakeVolume, AllNonFiniteBecomesZero) {
+    const std::vector<float> values(8, std::nanf(""));
+    auto volume = make_volume("v", {2, 2, 2}, glm::dvec3(1.0), values);
+    ASSERT_TRUE(volume.ok());
+    EXPECT_EQ(volume->nonfinite_voxels, 8u);
+    EXPECT_EQ(volume->range.min, 0.0);
+    EXPECT_EQ(volume->range.max, 0.0);
+    EXPECT_EQ(volume->value(1, 1, 1), 0.0);
+}
+
+TEST(Volume, ValueIndexesXFastestThenYThenZ) {
+    const glm::uvec3 dims{3, 4, 5};
+    std::vector<float> values;
+    for (unsigned z = 0; z < dims.z; ++z) {
+        for (unsigned y = 0; y < dims.y; ++y) {
+            for (unsigned x = 0; x < dims.x; ++x) {
+                values.push_back(static_cast<float>(x + 10 * y + 100 * z));
+            }
+        }
+    }
+    auto volume = make_volume("v", dims, glm::dvec3(1.0), values);
+    ASSERT_TRUE(volume.ok());
+    EXPECT_EQ(volume->value(0, 0, 0), 0.0);
+    EXPECT_EQ(volume->value(2, 0, 0), 2.0);
+    EXPECT_EQ(volume->value(0, 3, 0), 30.0);
+    EXPECT_EQ(volume->value(0, 0, 4), 400.0);
+    EXPECT_EQ(volume->value(2, 3, 4), 432.0);
+    EXPECT_EQ(volume->value(1, 2, 3), 321.0);
+}
+
+TEST(VolumeDeathTest, ValueOutsideTheVolumeAborts) {
+    auto volume = make_volume("v", {2, 2, 2}, glm::dvec3(1.0), std::vector<float>(8, 0.0f));
+    ASSERT_TRUE(volume.ok());
+    EXPECT_DEATH((void)volume->value(2, 0, 0), "outside the volume");
+}
+
+TEST(Histogram, EqualWidthBinsOverTheRange) {
+    auto volume = make_volume("v", {5, 1, 1}, glm::dvec3(1.0),
+                              std::vector<float>{0.0f, 1.0f, 2.0f, 3.0f, 4.0f});
+    ASSERT_TRUE(volume.ok());
+    const Histogram histogram = compute_histogram(*volume, 4);
+    EXPECT_EQ(histogram.range.min, 0.0);
+    EXPECT_EQ(histogram.range.max, 4.0);
+    // Width 1: 0, 1, 2 fall in their own bins; 3 and the maximum 4 share the last one.
+    EXPECT_EQ(histogram.bins, (std::vector<std::uint64_t>{1, 1, 1, 2}));
+}
+
+TEST(Histogram, Uint8VolumeWithEveryValueOnce) {
+    std::vector<std::uint8_t> values(256);
+    std::iota(values.begin(), values.end(), std::uint8_t{0});
+    auto volume =
+            make_volume("v", {16, 16, 1}, glm::dvec3(1.0), VoxelType::uint8, as_bytes(values));
+    ASSERT_TRUE(volume.ok());
+    const Histogram histogram = compute_histogram(*volume, 4);
+    EXPECT_EQ(histogram.bins, (std::vector<std::uint64_t>{64, 64, 64, 64}));
+    EXPECT_EQ(compute_histogram(*volume).bins, std::vector<std::uint64_t>(256, 1));
+}
+
+TEST(Histogram, Uint16UsesTheVolumeRangeNotTheTypeRange) {
+    const std::vector<std::uint16_t> values{1000, 1000, 1001, 2000};
+    auto volume = make_volume("v", {2, 2, 1}, glm::dvec3(1.0), VoxelType::uint16, as_bytes(values));
+    ASSERT_TRUE(volume.ok());
+    const Histogram histogram = compute_histogram(*volume, 2);
+    EXPECT_EQ(histogram.range.min, 1000.0);
+    EXPECT_EQ(histogram.range.max, 2000.0);
+    EXPECT_EQ(histogram.bins, (std::vector<std::uint64_t>{3, 1}));
+}
+
+TEST(Histogram, ConstantVolumePutsEverythingInBinZero) {
+    auto volume = make_volume("v", {2, 2, 2}, glm::dvec3(1.0), std::vector<float>(8, 7.5f));
+    ASSERT_TRUE(volume.ok());
+    const Histogram histogram = compute_histogram(*volume, 16);
+    ASSERT_EQ(histogram.bins.size(), 16u);
+    EXPECT_EQ(histogram.bins[0], 8u);
+    EXPECT_EQ(std::accumulate(histogram.bins.begin(), histogram.bins.end(), std::uint64_t{0}), 8u);
+}
+
+TEST(Histogram, ReplacedNonFiniteVoxelsCountAtTheMinimum) {
+    auto volume = make_volume("v", {4, 1, 1}, glm::dvec3(1.0),
+                              std::vector<float>{1.0f, std::nanf(""), 2.0f, 3.0f});
+    ASSERT_TRUE(volume.ok());
+    EXPECT_EQ(compute_histogram(*volume, 2).bins, (std::vector<std::uint64_t>{2, 2}));
+}
+
+TEST(LoadVolume, UnknownExtensionListsTheSupportedOnes) {
+    fixtures::TempDir dir;
+    fixtures::write_text(dir / "head.mha", "not a volume");
+    auto volume = load_volume(dir / "head.mha");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "unknown_format");
+    for (const char* extension : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".raw", ".raw.gz"}) {
+        EXPECT_NE(volume.error().message.find(extension), std::string::npos) << extension;
+    }
+}
+
+TEST(LoadVolume, MissingFileIsNotFound) {
+    fixtures::TempDir dir;
+    for (const char* name : {"a_2x2x2_uint8.raw", "a.nrrd", "a.nii.gz"}) {
+        auto volume = load_volume(dir / name);
+        ASSERT_FALSE(volume.ok()) << name;
+        EXPECT_EQ(volume.error().code, "not_found") << name;
+        EXPECT_NE(volume.error().to_string().find("not found"), std::string::npos);
+        EXPECT_NE(volume.error().where.find(name), std::string::npos);
+    }
+}
+
+TEST(LoadVolume, ChoosesTheLoaderFromTheFileName) {
+    fixtures::TempDir dir;
+    const std::vector<std::uint8_t> values{1, 2, 3, 4, 5, 6, 7, 8};
+    fixtures::write_bytes(dir / "cube_2x2x2_uint8.RAW", as_bytes(values));
+    fixtures::write_bytes(dir / "cube.nrrd",
+                          fixtures::concat(fixtures::text_bytes("NRRD0004\ntype: uint8\n"
+                                                                "dimension: 3\nsizes: 2 2 2\n"
+                                                                "encoding: raw\n\n"),
+                                           as_bytes(values)));
+    for (const char* name : {"cube_2x2x2_uint8.RAW", "cube.nrrd"}) {
+        auto volume = load_volume(dir / name);
+        ASSERT_TRUE(volume.ok()) << name << ": " << volume.error().to_string();
+        EXPECT_EQ(volume->name, "cube");
+        EXPECT_EQ(volume->value(1, 1, 1), 8.0);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::volume
