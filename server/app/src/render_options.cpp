@@ -20,10 +20,10 @@ const char* frame_options_help() {
            "  --size WxH                     image size (default 512x512)\n"
            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees about\n"
            "                                 the volume centre (z up, azimuth 0 = +y), distance in\n"
-           "                                 units of the volume's longest side (default 30,15,2.6)\n"
+           "                                 units of the volume's longest side (default 25,10,2.6)\n"
            "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
            "  --fov DEG                      vertical field of view (default 30)\n"
-           "  --light AZ,EL                  directional light from these angles (default -45,40)\n"
+           "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
            "  --light-position X,Y,Z         point light at this position instead\n"
            "  --light-color R,G,B --intensity I --ambient A   (defaults 1,1,1  1  0.25)\n"
            "  --diffuse KD --specular KS --shininess N        Blinn-Phong (0.75 0.3 32)\n"
@@ -71,7 +71,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         request.camera.target = *target;
         request.camera.up = *up;
     } else {
-        auto orbit = args.vec3("camera", {30.0, 15.0, 2.6});
+        auto orbit = args.vec3("camera", {25.0, 10.0, 2.6});
         if (!orbit) {
             return orbit.error();
         }
@@ -92,7 +92,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         light.type = scene::LightType::point;
         light.position = *position;
     } else {
-        auto numbers = parse_numbers(args.get("light").value_or("-45,40"), "light");
+        auto numbers = parse_numbers(args.get("light").value_or("10,45"), "light");
         if (!numbers) {
             return numbers.error();
         }

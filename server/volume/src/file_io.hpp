@@ -103,9 +103,8 @@ struct Inflated {
 // Decompresses the gzip (or zlib) stream that starts at the file's current position, drops the
 // first `skip` bytes of output and fills `out`. It decompresses at most one byte past skip +
 // out.size(), so a small file that expands to terabytes (a gzip bomb) costs neither memory nor
-// much time. Concatenated gzip members are read as one stream, as gzip(1) does; other bytes
-// after the stream are ignored, as gzip(1) does. `start_offset` is the stream's offset in the file,
-// for error messages.
+// much time. As with gzip(1), concatenated gzip members are read as one stream and other bytes
+// after the stream are ignored. `start_offset` is the stream's offset in the file, for errors.
 inline base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path& path,
                                            std::uint64_t start_offset, std::uint64_t skip,
                                            std::span<std::byte> out) {

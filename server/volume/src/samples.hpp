@@ -116,12 +116,12 @@ void convert_samples_to_float32(std::span<const std::byte> in, std::span<std::by
         if (!identity) {
             value = value * slope + inter;
         }
-        // A double beyond float's range has no float value (the cast would be undefined), so
-        // it becomes the infinity it would round to on IEEE hardware.
+        // A finite double beyond float's range has no float value (the cast would be
+        // undefined), so it becomes the infinity IEEE rounding gives; NaN stays NaN.
         constexpr float infinity = std::numeric_limits<float>::infinity();
-        const float converted = std::abs(value) <= std::numeric_limits<float>::max()
-                                        ? static_cast<float>(value)
-                                        : (value > 0 ? infinity : -infinity);
+        const float converted = std::abs(value) > std::numeric_limits<float>::max()
+                                        ? (value > 0 ? infinity : -infinity)
+                                        : static_cast<float>(value);
         std::memcpy(out.data() + i * sizeof(float), &converted, sizeof(float));
     }
 }
