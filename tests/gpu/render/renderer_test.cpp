@@ -232,3 +232,47 @@ TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
 
 }  // namespace
 }  // namespace penumbra::render
+
+namespace penumbra::render {
+namespace {
+
+// The real Colin27 head: seen from the front with the skin preset, the face covers the middle of
+// the image in skin tones and the corners stay background.
+TEST(RendererRealData, RendersTheCh2HeadFromTheFront) {
+    auto loaded = volume::load_volume("/usr/share/mricron/templates/ch2.nii.gz");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string()
+                             << " (the install step gets it from Debian's mricron-data)";
+    auto renderer = Renderer::create();
+    ASSERT_TRUE(renderer.ok()) << renderer.error().to_string();
+    ASSERT_TRUE((*renderer)->set_volume(std::make_shared<const volume::Volume>(*loaded)).ok());
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(0.0, 0.0, 2.6);
+    request.light.direction = scene::direction_from_angles(0.0, 30.0);
+    request.settings.mode = scene::Mode::phong;
+    request.settings.width = 64;
+    request.settings.height = 64;
+    request.transfer_function = scene::preset("mri_skin").value();
+    auto frame = (*renderer)->render(request);
+    ASSERT_TRUE(frame.ok()) << frame.error().to_string();
+    int covered = 0;
+    double red = 0.0;
+    double blue = 0.0;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            const std::uint8_t* p = frame->image.pixel(x, y);
+            if (p[0] + p[1] + p[2] > 0) {
+                ++covered;
+                red += p[0];
+                blue += p[2];
+            }
+        }
+    }
+    EXPECT_GT(covered, 64 * 64 / 4);
+    EXPECT_LT(covered, 64 * 64 * 9 / 10);
+    EXPECT_GT(red, 1.2 * blue);  // skin tones
+    EXPECT_EQ(frame->image.pixel(0, 0)[0], 0);
+    EXPECT_GT(frame->image.pixel(32, 32)[0], 40);
+}
+
+}  // namespace
+}  // namespace penumbra::render
