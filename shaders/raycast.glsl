@@ -1,9 +1,18 @@
 // THE march loop: one source for every ray-cast mode; effects are compiled in or out by defines.
 //
 // Defines (injected by the renderer; see shaders/README.md):
+//   SHADOWS      SHADOWS_NONE | SHADOWS_LIGHT_BUFFER | SHADOWS_RAYS
+//   SCATTERING   SCATTERING_NONE | SCATTERING_SHELL | SCATTERING_CONE (with the light buffer)
 //   PHONG        0|1  Blinn–Phong shading from central-difference gradients
 //   EXTINCTION   0|1  extinction compositing (paper eq. 6) instead of corrected alpha
 //   POINT_LIGHT  0|1  the light is a point at light_vector rather than a direction
+
+#define SHADOWS_NONE 0
+#define SHADOWS_LIGHT_BUFFER 1
+#define SHADOWS_RAYS 2
+#define SCATTERING_NONE 0
+#define SCATTERING_SHELL 1
+#define SCATTERING_CONE 2
 
 #include "include/uniforms.glsl"
 #include "include/ray.glsl"
@@ -11,6 +20,27 @@
 #include "include/transfer_function.glsl"
 #include "include/compositing.glsl"
 #include "include/shading.glsl"
+#if SHADOWS == SHADOWS_LIGHT_BUFFER
+#include "include/light_buffer.glsl"
+#include "include/scattering.glsl"
+#elif SHADOWS == SHADOWS_RAYS
+#include "include/shadow_ray.glsl"
+#endif
+
+// The fraction of the light that reaches `position` (1 without shadows).
+float light_reaching(vec3 position, vec3 to_eye) {
+#if SHADOWS == SHADOWS_LIGHT_BUFFER && SCATTERING == SCATTERING_SHELL
+    return shell_transmittance(position);
+#elif SHADOWS == SHADOWS_LIGHT_BUFFER && SCATTERING == SCATTERING_CONE
+    return cone_transmittance(position, to_eye);
+#elif SHADOWS == SHADOWS_LIGHT_BUFFER
+    return light_transmittance(position);
+#elif SHADOWS == SHADOWS_RAYS
+    return shadow_ray_transmittance(position);
+#else
+    return 1.0;
+#endif
+}
 
 // Front-to-back emission–absorption along the ray of `pixel`, composited over the background.
 vec4 march(ivec2 pixel) {
@@ -28,9 +58,13 @@ vec4 march(ivec2 pixel) {
             vec4 classified = classify(sample_value(position));
             if (classified.a <= 0.0) continue;
             vec3 color = classified.rgb;
+#if PHONG || SHADOWS != SHADOWS_NONE
+            vec2 terms = vec2(1.0, 0.0);
 #if PHONG
             vec3 normal = normal_from_gradient(value_gradient(position));
-            color = shade(color, blinn_phong(normal, direction_to_light(position), -direction));
+            terms = blinn_phong(normal, direction_to_light(position), -direction);
+#endif
+            color = shade(color, terms, light_reaching(position, -direction));
 #endif
             composite_front_to_back(accumulated, color, sample_opacity(classified.a, step_length));
             if (accumulated.a >= u.march.z) break;

@@ -28,9 +28,11 @@ vec2 blinn_phong(vec3 normal, vec3 to_light, vec3 to_eye) {
                 pow(max(dot(normal, half_vector), 0.0), u.shading.z));
 }
 
-vec3 shade(vec3 tf_color, vec2 terms) {
+// `light` is the fraction of the light that reaches the sample (1 without shadows); ambient light
+// is unshadowed.
+vec3 shade(vec3 tf_color, vec2 terms, float light) {
     vec3 radiance = u.light_radiance.rgb;
     float ambient = u.light_radiance.w;
-    return tf_color * radiance * (ambient + u.shading.x * terms.x) +
-           radiance * u.shading.y * terms.y;
+    return tf_color * radiance * (ambient + u.shading.x * terms.x * light) +
+           radiance * u.shading.y * terms.y * light;
 }

@@ -15,4 +15,16 @@ layout(std140, binding = 0) uniform FrameUniforms {
     vec4 value_map;         // x: scale, y: offset: normalised value = texel * scale + offset
     vec4 march;             // x: sample distance, y: opacity unit distance, z: early termination
     ivec4 image_size;       // xy: output size in pixels
+    // The light attenuation buffer (light_buffer.glsl, light_buffer.comp, light_buffer_slice.*).
+    mat4 light_view_projection;          // world -> light clip space (paper eq. 9)
+    mat4 light_inverse_view_projection;
+    vec4 light_travel;      // xyz: L, the direction light travels (unit); w: 1 for a point light
+    vec4 light_slicing;     // x: min, y: max of L.V over the box corners (eq. 7), z: n, w: spacing
+    vec4 light_buffer_info; // x: resolution R, y: compensation exponent
+    vec4 scattering;        // x: shell radius, y: shell rings, z: shell centre weight
+    vec4 cone;              // x: tan(cone angle), y: cone centre weight
+    // Half-angle slicing (half_angle.*).
+    mat4 camera_view_projection;  // world -> camera clip space, image row 0 at the top
+    vec4 half_angle_axis;         // xyz: slice axis h; w: slice spacing along h
+    vec4 half_angle_range;        // x: min of h.V over the box corners
 } u;

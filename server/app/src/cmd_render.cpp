@@ -28,8 +28,10 @@ double median(std::vector<double> values) {
 
 int run_render(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volume", "spacing", "out", "quality", "repeat"});
-    auto parsed = Arguments::parse(args, valued, {"help", "debug-gl"});
+    valued.insert(valued.end(), {"volume", "spacing", "out", "quality", "repeat", "light-inset"});
+    std::vector<std::string> flags = frame_flag_names();
+    flags.insert(flags.end(), {"help", "debug-gl"});
+    auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {
         std::fprintf(stderr, "penumbra render: %s (see --help)\n",
                      parsed.error().to_string().c_str());
@@ -43,6 +45,8 @@ int run_render(const std::vector<std::string>& args) {
                     "  --out FILE                     .png or .jpg (default frame.png)\n"
                     "  --quality Q                    JPEG quality 1..100 (default 90)\n"
                     "  --repeat N                     render N times, report median times\n"
+                    "  --light-inset FILE             also write the last light-buffer layer (sbrc\n"
+                    "                                 modes) or half-angle's light buffer (.png)\n"
                     "  --debug-gl                     GL debug output to the log\n%s",
                     default_volume_path, frame_options_help());
         return 0;
@@ -117,13 +121,28 @@ int run_render(const std::vector<std::string>& args) {
                 request->settings.height, scene::to_string(request->settings.compositing),
                 frame.report.variant.c_str());
     for (const auto& name : order) {
-        std::printf("pass:     %-18s gpu %9.3f ms   wall %9.3f ms   (median of %zu)\n", name.c_str(),
-                    median(gpu_ms[name]), median(wall_ms[name]), gpu_ms[name].size());
+        const double gpu = median(gpu_ms[name]);
+        const std::string gpu_text = gpu < 0.0 ? "      n/a" : std::to_string(gpu).substr(0, 9);
+        std::printf("pass:     %-24s gpu %9s ms   wall %9.3f ms   (median of %zu)\n", name.c_str(),
+                    gpu_text.c_str(), median(wall_ms[name]), gpu_ms[name].size());
     }
     if (auto status = encode::write_image(out, frame.image, *quality); !status) {
         return fail(status.error());
     }
+    std::printf("light:    buffer %s, %llu build(s) in %d frame(s)\n",
+                frame.report.light_buffer.c_str(),
+                static_cast<unsigned long long>((*renderer)->light_buffer_builds()), *repeat);
     std::printf("output:   %s (%dx%d)\n", out.c_str(), frame.image.width, frame.image.height);
+    if (const auto inset_path = a.get("light-inset")) {
+        auto inset = (*renderer)->light_inset();
+        if (!inset) {
+            return fail(inset.error());
+        }
+        if (auto status = encode::write_image(*inset_path, *inset); !status) {
+            return fail(status.error());
+        }
+        std::printf("inset:    %s (%dx%d)\n", inset_path->c_str(), inset->width, inset->height);
+    }
     return 0;
 }
 

@@ -11,12 +11,27 @@ const std::vector<std::string>& frame_option_names() {
             "mode",       "size",          "camera",     "eye",      "target",    "up",
             "fov",        "light",         "light-position", "light-color", "intensity",
             "ambient",    "diffuse",       "specular",   "shininess", "tf",       "sample-distance",
-            "opacity-unit", "compositing", "stage",      "background", "early-termination"};
+            "opacity-unit", "compositing", "stage",      "background", "early-termination",
+            "slices",     "light-res",     "builder",    "compensation", "shell-radius",
+            "shell-rings", "shell-weight", "cone-angle", "cone-weight"};
+    return names;
+}
+
+const std::vector<std::string>& frame_flag_names() {
+    static const std::vector<std::string> names = {"phong"};
     return names;
 }
 
 const char* frame_options_help() {
-    return "  --mode dvr|phong               rendering method (default phong)\n"
+    return "  --mode MODE                    dvr | phong | half_angle | sbrc | sbrc_shell | sbrc_cone |\n"
+           "                                 reference (default phong)\n"
+           "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
+           "  --slices N                     light slices, also half-angle's slices (default 128)\n"
+           "  --light-res R                  light buffer R x R texels (default 256)\n"
+           "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
+           "  --compensation N               darkening compensation (1+alpha)^N, 0 = off\n"
+           "  --shell-radius D --shell-rings K --shell-weight W   sbrc_shell (2/256, 1, 0.4)\n"
+           "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
            "  --size WxH                     image size (default 512x512)\n"
            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees about\n"
            "                                 the volume centre (z up, azimuth 0 = +y), distance in\n"
@@ -123,6 +138,11 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
             {"sample-distance", &s.sample_distance},
             {"opacity-unit", &s.opacity_unit_distance},
             {"early-termination", &s.early_termination},
+            {"compensation", &s.light_buffer.compensation},
+            {"shell-radius", &s.scattering.shell_radius},
+            {"shell-weight", &s.scattering.shell_center_weight},
+            {"cone-angle", &s.scattering.cone_angle_degrees},
+            {"cone-weight", &s.scattering.cone_center_weight},
     };
     for (const auto& option : numbers) {
         auto value = args.number(option.name, *option.target);
@@ -130,6 +150,31 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
             return value.error();
         }
         *option.target = *value;
+    }
+    struct IntegerOption {
+        const char* name;
+        int* target;
+    };
+    const IntegerOption integers[] = {
+            {"slices", &s.light_buffer.slices},
+            {"light-res", &s.light_buffer.resolution},
+            {"shell-rings", &s.scattering.shell_rings},
+    };
+    for (const auto& option : integers) {
+        auto value = args.integer(option.name, *option.target);
+        if (!value) {
+            return value.error();
+        }
+        *option.target = *value;
+    }
+    s.phong = args.has("phong");
+    if (const auto builder = args.get("builder")) {
+        const auto parsed = scene::parse_light_buffer_builder(*builder);
+        if (!parsed) {
+            return base::make_error("invalid_argument", "expects per_slice or multi_slice",
+                                    "--builder");
+        }
+        s.light_buffer.builder = *parsed;
     }
     if (const auto compositing = args.get("compositing")) {
         const auto parsed = scene::parse_compositing(*compositing);

@@ -11,8 +11,10 @@
 
 namespace penumbra::app {
 
-// The options that describe a frame, shared by every command that renders.
+// The options that describe a frame, shared by every command that renders: those with a value,
+// and the flags.
 const std::vector<std::string>& frame_option_names();
+const std::vector<std::string>& frame_flag_names();
 
 // Builds a frame request from those options; defaults give a useful view of a head.
 base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,

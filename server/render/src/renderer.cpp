@@ -1,6 +1,11 @@
 #include "penumbra/render/renderer.hpp"
 
+#include "frame_planner.hpp"
+#include "frame_target.hpp"
+#include "half_angle_slicer.hpp"
+#include "light_buffer.hpp"
 #include "raycast_pass.hpp"
+#include "slice_geometry.hpp"
 #include "uniforms.hpp"
 #include "volume_texture.hpp"
 
@@ -8,11 +13,15 @@
 #include <penumbra/gpu/context.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
+#include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/scene/box.hpp>
 
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 namespace penumbra::render {
@@ -25,6 +34,38 @@ double milliseconds_since(Clock::time_point start) {
 }
 
 glm::vec4 v4(glm::dvec3 v, double w = 0.0) { return glm::vec4(glm::dvec4(v, w)); }
+
+// Everything the light buffer's content depends on; a camera move changes none of it.
+struct LightBufferKey {
+    std::uint64_t volume_generation = 0;
+    std::uint64_t tf_generation = 0;
+    glm::dvec3 travel{0.0};
+    glm::dvec3 position{0.0};
+    bool point = false;
+    int slices = 0;
+    int resolution = 0;
+    scene::LightBufferBuilder builder = scene::LightBufferBuilder::multi_slice;
+    bool extinction = false;
+    double opacity_unit_distance = 0.0;
+    double compensation = 0.0;
+
+    bool operator==(const LightBufferKey&) const = default;
+};
+
+// The camera's view-projection for rasterised slices, flipped vertically so that image row 0 (the
+// top) lands in framebuffer row 0, like the ray caster's output.
+glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::CameraFrame& frame,
+                                  double aspect, const scene::Box& box) {
+    double far = 0.0;
+    for (const auto& corner : optics::box_corners(box)) {
+        far = std::max(far, glm::length(corner - camera.eye));
+    }
+    const glm::dvec3 up = glm::normalize(frame.up);
+    const glm::dmat4 view = glm::lookAt(camera.eye, camera.eye + frame.forward, up);
+    const glm::dmat4 projection =
+            glm::perspective(glm::radians(camera.fov_y_degrees), aspect, 1e-3, far + 1.0);
+    return glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, -1.0, 1.0)) * projection * view;
+}
 
 }  // namespace
 
@@ -40,21 +81,43 @@ struct Renderer::Impl {
     gpu::Context context;
     RendererInfo info;
     gpu::ShaderLibrary shaders;
+    gpu::Buffer uniform_buffer;
+    FrameTarget target;
     RaycastPass raycast;
-    gpu::GpuTimer timer;
+    LightBuffer light_buffer;
+    HalfAngleSlicer half_angle;
+    SliceMesh slices;
+    gpu::GpuTimer light_timer;
+    gpu::GpuTimer render_timer;
 
     std::shared_ptr<const volume::Volume> volume;
+    std::uint64_t volume_generation = 0;
     std::optional<VolumeTexture> volume_texture;
     bool volume_uploaded_this_frame = false;
     double volume_upload_ms = 0.0;
 
     gpu::Texture tf_texture;
     std::vector<glm::vec4> tf_table;  // what tf_texture holds, to skip re-uploading it
+    std::uint64_t tf_generation = 0;
+
+    std::optional<LightBufferKey> light_buffer_key;
+    std::uint64_t light_buffer_builds = 0;
+    enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
 
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
         : context(std::move(c))
         , shaders(std::move(shader_dir))
-        , raycast(shaders) {}
+        , uniform_buffer(gpu::create_buffer())
+        , raycast(shaders)
+        , light_buffer(shaders)
+        , half_angle(shaders) {
+        glNamedBufferStorage(uniform_buffer.name(), sizeof(FrameUniforms), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
+    }
+
+    [[nodiscard]] scene::Limits limits() const {
+        return {info.max_texture_size, info.max_array_texture_layers, info.max_texture_size};
+    }
 
     // Returns the time spent when the table changed and had to be uploaded.
     std::optional<double> update_transfer_function(const scene::TransferFunction& tf) {
@@ -73,14 +136,14 @@ struct Renderer::Impl {
         glTextureSubImage1D(tf_texture.name(), 0, 0, scene::default_table_size, GL_RGBA, GL_FLOAT,
                             table.data());
         tf_table = std::move(table);
+        ++tf_generation;
         return milliseconds_since(start);
     }
 
-    FrameUniforms uniforms_for(const scene::FrameRequest& request) const {
+    FrameUniforms uniforms_for(const scene::FrameRequest& request, const scene::Box& box) const {
         const scene::RenderSettings& s = request.settings;
         const double aspect = static_cast<double>(s.width) / s.height;
         const scene::CameraFrame camera = scene::camera_frame(request.camera, aspect);
-        const scene::Box box = scene::box_for_extent(volume->extent());
         const scene::Light& light = request.light;
         FrameUniforms u{};
         u.eye = v4(camera.eye);
@@ -102,7 +165,25 @@ struct Renderer::Impl {
                             static_cast<float>(s.opacity_unit_distance),
                             static_cast<float>(s.early_termination), 0.0f);
         u.image_size = glm::ivec4(s.width, s.height, 0, 0);
+        u.light_buffer_info = glm::vec4(static_cast<float>(s.light_buffer.resolution),
+                                        static_cast<float>(s.light_buffer.compensation), 0.0f,
+                                        0.0f);
+        u.scattering = glm::vec4(static_cast<float>(s.scattering.shell_radius),
+                                 static_cast<float>(s.scattering.shell_rings),
+                                 static_cast<float>(s.scattering.shell_center_weight), 0.0f);
+        u.cone = glm::vec4(static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))),
+                           static_cast<float>(s.scattering.cone_center_weight), 0.0f, 0.0f);
+        u.camera_view_projection = glm::mat4(camera_view_projection(request.camera, camera, aspect, box));
         return u;
+    }
+
+    [[nodiscard]] double gpu_ms(const gpu::GpuTimer& timer) const {
+        return info.gpu_timer_queries ? timer.milliseconds() : -1.0;
+    }
+
+    void upload(const FrameUniforms& u) const {
+        glNamedBufferSubData(uniform_buffer.name(), 0, sizeof(FrameUniforms), &u);
+        glBindBufferBase(GL_UNIFORM_BUFFER, 0, uniform_buffer.name());
     }
 };
 
@@ -126,6 +207,8 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     std::filesystem::path shader_dir =
             options.shader_dir.empty() ? gpu::default_shader_dir() : options.shader_dir;
     auto impl = std::make_unique<Impl>(std::move(context.value()), std::move(shader_dir));
+    info.gpu_timer_queries = info.renderer.find("llvmpipe") == std::string::npos &&
+                             info.renderer.find("softpipe") == std::string::npos;
     impl->info = std::move(info);
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
                                      " via " + impl->info.platform);
@@ -133,6 +216,8 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
 }
 
 const RendererInfo& Renderer::info() const { return impl_->info; }
+
+std::uint64_t Renderer::light_buffer_builds() const { return impl_->light_buffer_builds; }
 
 base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) {
     PENUMBRA_ASSERT(volume != nullptr, "set_volume needs a volume");
@@ -149,6 +234,7 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
     impl_->volume_uploaded_this_frame = true;
     impl_->volume_texture = std::move(texture.value());
     impl_->volume = std::move(volume);
+    ++impl_->volume_generation;
     return base::Ok{};
 }
 
@@ -157,16 +243,21 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
     if (!impl.volume) {
         return base::make_error("no_volume", "no volume has been set", "volume");
     }
-    if (auto status = scene::validate(request, impl.info.max_texture_size); !status) {
+    if (auto status = scene::validate(request, impl.limits()); !status) {
         return status.error();
     }
-    const scene::Mode mode = request.settings.mode;
-    if (mode != scene::Mode::dvr && mode != scene::Mode::phong) {
-        return base::make_error("unsupported_mode",
-                                std::string("mode '") + scene::to_string(mode) +
-                                        "' is not available in this renderer yet",
-                                "mode");
+    const scene::RenderSettings& s = request.settings;
+    const FramePlan plan = plan_frame(request);
+    const scene::Box box = scene::box_for_extent(impl.volume->extent());
+    std::optional<optics::LightView> light_view;
+    if (plan.needs_light_view) {
+        auto view = optics::make_light_view(request.light, box);
+        if (!view) {
+            return view.error();
+        }
+        light_view = *view;
     }
+
     Frame frame;
     if (impl.volume_uploaded_this_frame) {
         frame.report.passes.push_back({"upload_volume", 0.0, impl.volume_upload_ms});
@@ -176,32 +267,135 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
         frame.report.passes.push_back({"transfer_function", 0.0, *tf_ms});
     }
 
-    RaycastVariant variant;
-    variant.phong = mode == scene::Mode::phong;
-    variant.extinction = request.settings.compositing == scene::Compositing::extinction;
-    variant.point_light = variant.phong && request.light.type == scene::LightType::point;
-    variant.stage = request.settings.stage;
-
+    FrameUniforms uniforms = impl.uniforms_for(request, box);
+    const glm::dvec3 travel = optics::light_travel_direction(request.light, box);
+    if (light_view) {
+        uniforms.light_view_projection = glm::mat4(light_view->view_projection);
+        uniforms.light_inverse_view_projection = glm::mat4(light_view->inverse_view_projection);
+        uniforms.light_travel = v4(travel, light_view->perspective ? 1.0 : 0.0);
+        const optics::LightSlicing slicing =
+                optics::make_light_slicing(box, travel, s.light_buffer.slices);
+        uniforms.light_slicing = glm::vec4(static_cast<float>(slicing.min),
+                                           static_cast<float>(slicing.max),
+                                           static_cast<float>(slicing.count),
+                                           static_cast<float>(slicing.spacing()));
+    }
+    bool front_to_back = true;
+    if (plan.half_angle) {
+        // Slice along the half vector of the view and the light; when they point apart, the
+        // view vector is flipped and the eye composites back to front.
+        const glm::dvec3 view = glm::normalize(request.camera.target - request.camera.eye);
+        front_to_back = glm::dot(view, travel) >= 0.0;
+        const glm::dvec3 axis = glm::normalize(front_to_back ? view + travel : travel - view);
+        const optics::LightSlicing along_axis =
+                optics::make_light_slicing(box, axis, s.light_buffer.slices);
+        uniforms.half_angle_axis = v4(axis, along_axis.spacing());
+        uniforms.half_angle_range = glm::vec4(static_cast<float>(along_axis.min), 0.0f, 0.0f, 0.0f);
+        impl.slices.upload(make_slice_geometry(box, axis, along_axis.min, along_axis.max,
+                                               along_axis.count));
+    }
+    impl.upload(uniforms);
     glBindTextureUnit(0, impl.volume_texture->texture.name());
     glBindTextureUnit(1, impl.tf_texture.name());
-    const auto raycast_start = Clock::now();
-    if (auto status = impl.raycast.run(variant, impl.uniforms_for(request), impl.timer); !status) {
+    const gpu::Defines defines = plan.variant.defines();
+
+    if (plan.needs_light_buffer) {
+        LightBufferKey key{impl.volume_generation,
+                           impl.tf_generation,
+                           travel,
+                           request.light.position,
+                           request.light.type == scene::LightType::point,
+                           s.light_buffer.slices,
+                           s.light_buffer.resolution,
+                           s.light_buffer.builder,
+                           plan.variant.extinction,
+                           s.opacity_unit_distance,
+                           s.light_buffer.compensation};
+        if (!key.point) {
+            key.position = glm::dvec3(0.0);
+        }
+        if (impl.light_buffer_key == key) {
+            frame.report.light_buffer = "reused";
+        } else {
+            impl.light_buffer_key.reset();
+            if (s.light_buffer.builder == scene::LightBufferBuilder::per_slice) {
+                impl.slices.upload(make_slice_geometry(box, travel,
+                                                       uniforms.light_slicing.x,
+                                                       uniforms.light_slicing.y,
+                                                       s.light_buffer.slices));
+            }
+            const auto start = Clock::now();
+            if (auto status = impl.light_buffer.build(
+                        s.light_buffer.builder, s.light_buffer.slices, s.light_buffer.resolution,
+                        impl.slices, {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}},
+                        impl.light_timer);
+                !status) {
+                return status.error();
+            }
+            glFinish();
+            frame.report.passes.push_back(
+                    {std::string("light_buffer_") + scene::to_string(s.light_buffer.builder),
+                     impl.gpu_ms(impl.light_timer), milliseconds_since(start)});
+            impl.light_buffer_key = key;
+            ++impl.light_buffer_builds;
+            frame.report.light_buffer = "built";
+        }
+        glBindTextureUnit(2, impl.light_buffer.texture());
+        impl.last_inset = Impl::LastInset::light_buffer;
+    }
+
+    const auto render_start = Clock::now();
+    std::string pass_name = "raycast";
+    if (plan.half_angle) {
+        pass_name = "half_angle";
+        if (auto status = impl.half_angle.run(impl.slices, front_to_back, s.width, s.height,
+                                              s.light_buffer.resolution, defines, impl.target,
+                                              impl.render_timer);
+            !status) {
+            return status.error();
+        }
+        impl.last_inset = Impl::LastInset::half_angle;
+    } else if (auto status = impl.raycast.run(plan.variant, s.width, s.height, impl.target,
+                                              impl.render_timer);
+               !status) {
         return status.error();
     }
     glFinish();  // the frame is read back next anyway; finishing here splits render from readback
-    const double raycast_wall_ms = milliseconds_since(raycast_start);
+    const double render_wall_ms = milliseconds_since(render_start);
     const auto readback_start = Clock::now();
-    impl.raycast.read_back(frame.image);
+    impl.target.read_back(frame.image);
     const double readback_ms = milliseconds_since(readback_start);
-    frame.report.passes.push_back({"raycast", impl.timer.milliseconds(), raycast_wall_ms});
+    frame.report.passes.push_back({pass_name, impl.gpu_ms(impl.render_timer), render_wall_ms});
     frame.report.passes.push_back({"readback", 0.0, readback_ms});
-    frame.report.variant = variant.key();
-    frame.report.stage = scene::to_string(variant.stage);
+    frame.report.variant = plan.variant.key();
+    frame.report.stage = plan.half_angle ? "slices" : scene::to_string(plan.variant.stage);
     if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
         return base::make_error("gl_error", "OpenGL reported error " + std::to_string(error),
                                 "render");
     }
     return frame;
+}
+
+base::Result<Renderer::LightBufferContents> Renderer::read_light_buffer() const {
+    if (!impl_->light_buffer_key) {
+        return base::make_error("no_light_buffer", "no frame has built a light buffer yet",
+                                "light_buffer");
+    }
+    return LightBufferContents{impl_->light_buffer.slices(), impl_->light_buffer.resolution(),
+                               impl_->light_buffer.read()};
+}
+
+base::Result<base::ImageRgba8> Renderer::light_inset() const {
+    switch (impl_->last_inset) {
+        case Impl::LastInset::light_buffer:
+            return impl_->light_buffer.layer_image(impl_->light_buffer.slices() - 1);
+        case Impl::LastInset::half_angle: return impl_->half_angle.light_image();
+        case Impl::LastInset::none: break;
+    }
+    return base::make_error("no_light_buffer",
+                            "only sbrc, sbrc_shell, sbrc_cone and half_angle frames have a light "
+                            "buffer to show",
+                            "light_inset");
 }
 
 }  // namespace penumbra::render

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstddef>
@@ -23,6 +24,16 @@ struct FrameUniforms {
     glm::vec4 value_map;
     glm::vec4 march;
     glm::ivec4 image_size;
+    glm::mat4 light_view_projection;
+    glm::mat4 light_inverse_view_projection;
+    glm::vec4 light_travel;
+    glm::vec4 light_slicing;
+    glm::vec4 light_buffer_info;
+    glm::vec4 scattering;
+    glm::vec4 cone;
+    glm::mat4 camera_view_projection;
+    glm::vec4 half_angle_axis;
+    glm::vec4 half_angle_range;
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -30,6 +41,9 @@ static_assert(offsetof(FrameUniforms, box_min) == 64);
 static_assert(offsetof(FrameUniforms, light_radiance) == 128);
 static_assert(offsetof(FrameUniforms, march) == 192);
 static_assert(offsetof(FrameUniforms, image_size) == 208);
-static_assert(sizeof(FrameUniforms) == 224);
+static_assert(offsetof(FrameUniforms, light_view_projection) == 224);
+static_assert(offsetof(FrameUniforms, light_travel) == 352);
+static_assert(offsetof(FrameUniforms, camera_view_projection) == 432);
+static_assert(sizeof(FrameUniforms) == 528);
 
 }  // namespace penumbra::render

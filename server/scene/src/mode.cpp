@@ -74,8 +74,31 @@ std::optional<RaycastStage> parse_raycast_stage(std::string_view text) {
     return std::nullopt;
 }
 
-base::Status validate(const FrameRequest& request, int max_image_side) {
+const char* to_string(LightBufferBuilder builder) {
+    return builder == LightBufferBuilder::per_slice ? "per_slice" : "multi_slice";
+}
+
+std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view text) {
+    if (text == "per_slice") {
+        return LightBufferBuilder::per_slice;
+    }
+    if (text == "multi_slice") {
+        return LightBufferBuilder::multi_slice;
+    }
+    return std::nullopt;
+}
+
+bool uses_light_buffer(Mode mode) {
+    return mode == Mode::sbrc || mode == Mode::sbrc_shell || mode == Mode::sbrc_cone;
+}
+
+bool uses_gradients(const RenderSettings& settings) {
+    return settings.mode == Mode::phong || (settings.phong && settings.mode != Mode::dvr);
+}
+
+base::Status validate(const FrameRequest& request, const Limits& limits) {
     const RenderSettings& s = request.settings;
+    const int max_image_side = limits.max_image_side;
     if (s.width < 1 || s.height < 1 || s.width > max_image_side || s.height > max_image_side) {
         return invalid("size", "image size must be within 1.." + std::to_string(max_image_side) +
                                        " pixels per side");
@@ -121,6 +144,39 @@ base::Status validate(const FrameRequest& request, int max_image_side) {
     if (!std::isfinite(sh.diffuse) || !std::isfinite(sh.specular) || !std::isfinite(sh.shininess) ||
         sh.diffuse < 0.0 || sh.specular < 0.0 || sh.shininess < 1.0 || sh.shininess > 1024.0) {
         return invalid("shading", "diffuse/specular must be >= 0 and shininess within [1, 1024]");
+    }
+    const LightBufferSettings& lb = s.light_buffer;
+    if (lb.slices < 1 || lb.slices > limits.max_slices) {
+        return invalid("light_buffer.slices",
+                       "slices must be within 1.." + std::to_string(limits.max_slices) +
+                               " (this GPU's array-texture layer limit)");
+    }
+    if (lb.resolution < 1 || lb.resolution > limits.max_light_resolution) {
+        return invalid("light_buffer.resolution",
+                       "light-buffer resolution must be within 1.." +
+                               std::to_string(limits.max_light_resolution));
+    }
+    if (!std::isfinite(lb.compensation) || lb.compensation < 0.0 || lb.compensation > 1000.0) {
+        return invalid("light_buffer.compensation", "compensation must be within [0, 1000]");
+    }
+    const ScatteringSettings& sc = s.scattering;
+    if (!std::isfinite(sc.shell_radius) || sc.shell_radius <= 0.0 || sc.shell_radius > 0.5) {
+        return invalid("scattering.shell_radius", "shell radius must be within (0, 0.5]");
+    }
+    if (sc.shell_rings < 1 || sc.shell_rings > 4) {
+        return invalid("scattering.shell_rings", "shell rings must be within 1..4");
+    }
+    if (!std::isfinite(sc.shell_center_weight) || sc.shell_center_weight < 0.0 ||
+        sc.shell_center_weight > 1.0) {
+        return invalid("scattering.shell_center_weight", "weight must be within [0, 1]");
+    }
+    if (!std::isfinite(sc.cone_angle_degrees) || sc.cone_angle_degrees <= 0.0 ||
+        sc.cone_angle_degrees > 80.0) {
+        return invalid("scattering.cone_angle", "cone angle must be within (0, 80] degrees");
+    }
+    if (!std::isfinite(sc.cone_center_weight) || sc.cone_center_weight < 0.0 ||
+        sc.cone_center_weight > 1.0) {
+        return invalid("scattering.cone_center_weight", "weight must be within [0, 1]");
     }
     return validate(request.transfer_function);
 }

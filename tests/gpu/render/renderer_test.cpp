@@ -224,8 +224,13 @@ TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
                         .ok());
     request.settings.sample_distance = -1.0;
     EXPECT_EQ(renderer_->render(request).error().where, "sample_distance");
-    request = small_request(scene::Mode::half_angle, 16);
-    EXPECT_EQ(renderer_->render(request).error().code, "unsupported_mode");
+    request = small_request(scene::Mode::sbrc, 16);
+    request.settings.light_buffer.slices = renderer_->info().max_array_texture_layers + 1;
+    EXPECT_EQ(renderer_->render(request).error().where, "light_buffer.slices");
+    request = small_request(scene::Mode::sbrc, 16);
+    request.light.type = scene::LightType::point;
+    request.light.position = {0.1, 0.0, 0.0};  // inside the volume
+    EXPECT_EQ(renderer_->render(request).error().code, "unsupported_light");
     request = small_request(scene::Mode::dvr, 16);
     EXPECT_TRUE(renderer_->render(request).ok());
 }

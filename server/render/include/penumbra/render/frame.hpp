@@ -8,7 +8,7 @@
 namespace penumbra::render {
 
 // One pass that ran for a frame. `gpu_ms` comes from a GL timer query (0 for passes that issue no
-// GPU work); `wall_ms` is the CPU-side time from issuing the pass until the GPU finished it
+// GPU work, -1 where the GL implementation's timer queries mean nothing); `wall_ms` is the CPU-side time from issuing the pass until the GPU finished it
 // (glFinish), which is the figure to trust on llvmpipe, whose timer queries do not cover compute
 // dispatches.
 struct PassTiming {
@@ -21,6 +21,9 @@ struct FrameReport {
     std::vector<PassTiming> passes;
     std::string variant;  // the shader variant's defines, e.g. "PHONG=1 EXTINCTION=0"
     std::string stage;    // "compute" or "fragment"
+    // "none" (the mode casts no light-buffer shadows), "built", or "reused" (its inputs had not
+    // changed since it was last built: camera moves never rebuild it).
+    std::string light_buffer = "none";
 
     [[nodiscard]] double gpu_total_ms() const;
 };

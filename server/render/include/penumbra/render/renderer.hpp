@@ -5,9 +5,11 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace penumbra::render {
 
@@ -25,6 +27,9 @@ struct RendererInfo {
     int max_3d_texture_size = 0;
     int max_texture_size = 0;
     int max_array_texture_layers = 0;
+    // False on Mesa's software rasterisers, whose timer queries do not measure compute dispatches
+    // and return garbage for draws; pass times then carry gpu_ms = -1 and only wall times count.
+    bool gpu_timer_queries = true;
 };
 
 // The GPU renderer. It owns the headless GL context, so it is created, used and destroyed on one
@@ -43,9 +48,24 @@ public:
     // Uploads the volume (once per distinct volume object) without losing 16-bit/float precision.
     base::Status set_volume(std::shared_ptr<const volume::Volume> volume);
 
-    // Renders one frame of the current volume. Modes not implemented by this renderer return an
-    // Error with code "unsupported_mode".
+    // Renders one frame of the current volume in any mode of DESIGN.md §1.
     base::Result<Frame> render(const scene::FrameRequest& request);
+
+    // How many times the light attenuation buffer was built since the renderer was created.
+    [[nodiscard]] std::uint64_t light_buffer_builds() const;
+
+    struct LightBufferContents {
+        int slices = 0;
+        int resolution = 0;
+        std::vector<float> values;  // layer after layer, R x R each, rows bottom-up
+    };
+
+    // The light buffer the last light-buffer frame used (for tests and tools).
+    base::Result<LightBufferContents> read_light_buffer() const;
+
+    // The paper's inset image: the last light-buffer layer after an sbrc frame, or the final
+    // light buffer after a half_angle frame.
+    base::Result<base::ImageRgba8> light_inset() const;
 
 private:
     struct Impl;

@@ -31,6 +31,34 @@ std::optional<Mode> parse_mode(std::string_view text);
 std::optional<Compositing> parse_compositing(std::string_view text);
 std::optional<RaycastStage> parse_raycast_stage(std::string_view text);
 
+// How the light attenuation buffer is filled: `per_slice` is the paper's (one pass per slice,
+// blending, then a copy into layer k); `multi_slice` is ours (one compute dispatch marching every
+// light-space texel through all slices), the paper's "multi-slice per pass" future work.
+enum class LightBufferBuilder { per_slice, multi_slice };
+
+const char* to_string(LightBufferBuilder builder);
+std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view text);
+
+struct LightBufferSettings {
+    int slices = 128;        // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
+    int resolution = 256;    // R: each layer is R x R texels
+    LightBufferBuilder builder = LightBufferBuilder::multi_slice;
+    double compensation = 0.0;  // the paper's (1 + alpha)^n darkening compensation; 0 = off
+};
+
+// Soft shadows from the light buffer. Shell: the light at a sample averaged with its 6 axis
+// neighbours at `shell_radius`, 2·radius, ... (`shell_rings` rings), the centre weighted
+// `shell_center_weight` and ring i by 1/i. Cone: 8 samples on a disc perpendicular to the light,
+// one slice toward it, of radius slice spacing · tan(`cone_angle_degrees`), mixed with the disc
+// centre by `cone_center_weight`.
+struct ScatteringSettings {
+    double shell_radius = 2.0 / 256.0;  // world units
+    int shell_rings = 1;                // 1..4
+    double shell_center_weight = 0.4;
+    double cone_angle_degrees = 30.0;   // (0, 80]
+    double cone_center_weight = 0.2;
+};
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
@@ -42,7 +70,14 @@ struct RenderSettings {
     double early_termination = 0.99;             // stop a ray once its opacity reaches this
     glm::dvec3 background{0.0};
     Shading shading;
+    bool phong = false;  // Blinn-Phong on top of shadows (the shadow modes; `phong` mode always)
+    LightBufferSettings light_buffer;
+    ScatteringSettings scattering;
 };
+
+// What a mode computes: whether it needs the light buffer, shadow rays, gradients.
+bool uses_light_buffer(Mode mode);
+bool uses_gradients(const RenderSettings& settings);
 
 // Everything one frame depends on besides the volume itself.
 struct FrameRequest {
@@ -52,8 +87,16 @@ struct FrameRequest {
     RenderSettings settings;
 };
 
+// Device limits that bound what a request may ask for.
+struct Limits {
+    int max_image_side = 8192;
+    int max_slices = 2048;              // GL_MAX_ARRAY_TEXTURE_LAYERS
+    int max_light_resolution = 16384;   // GL_MAX_TEXTURE_SIZE
+};
+
 // Rejects what would make a frame meaningless or unbounded: sizes outside [1, max_image_side],
-// non-finite or non-positive distances, a degenerate camera, invalid TF.
-base::Status validate(const FrameRequest& request, int max_image_side = 8192);
+// non-finite or non-positive distances, a degenerate camera, invalid TF, slices or light-buffer
+// sizes beyond the limits, scattering parameters out of range.
+base::Status validate(const FrameRequest& request, const Limits& limits = {});
 
 }  // namespace penumbra::scene

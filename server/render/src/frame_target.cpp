@@ -1,0 +1,42 @@
+#include "frame_target.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace penumbra::render {
+
+void FrameTarget::ensure(int width, int height) {
+    if (texture_ && width == width_ && height == height_) {
+        return;
+    }
+    texture_ = gpu::create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture_.name(), 1, GL_RGBA8, width, height);
+    framebuffer_ = gpu::create_framebuffer();
+    glNamedFramebufferTexture(framebuffer_.name(), GL_COLOR_ATTACHMENT0, texture_.name(), 0);
+    width_ = width;
+    height_ = height;
+}
+
+void FrameTarget::read_back(base::ImageRgba8& image) const {
+    image = base::ImageRgba8(width_, height_);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureImage(texture_.name(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                      static_cast<GLsizei>(image.pixels.size()), image.pixels.data());
+}
+
+base::ImageRgba8 transmittance_image(std::span<const float> values, int size) {
+    base::ImageRgba8 image(size, size);
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const float v = values[static_cast<std::size_t>(size - 1 - y) * size + x];
+            const auto grey =
+                    static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+            std::uint8_t* p = image.pixel(x, y);
+            p[0] = p[1] = p[2] = grey;
+            p[3] = 255;
+        }
+    }
+    return image;
+}
+
+}  // namespace penumbra::render

@@ -1,0 +1,51 @@
+#pragma once
+
+#include "frame_target.hpp"
+#include "slice_geometry.hpp"
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+#include <penumbra/gpu/objects.hpp>
+#include <penumbra/gpu/shader_library.hpp>
+#include <penumbra/gpu/timer.hpp>
+
+#include <map>
+#include <string>
+
+namespace penumbra::render {
+
+// Half-angle slicing (Kniss et al. 2002), the baseline the paper beats: slices perpendicular to
+// the half vector of view and light, each drawn into the eye buffer lit by the light buffer, then
+// into the light buffer. 2n draws per frame. Expects the frame's uniform block bound (with the
+// half-angle axis and the camera's view-projection filled in) and the volume and TF textures on
+// units 0 and 1.
+class HalfAngleSlicer {
+public:
+    explicit HalfAngleSlicer(const gpu::ShaderLibrary& shaders);
+
+    // `front_to_back`: the eye and the light are on the same side, composite with "under";
+    // otherwise back to front with "over".
+    base::Status run(const SliceMesh& mesh, bool front_to_back, int width, int height,
+                     int light_resolution, const gpu::Defines& defines, FrameTarget& target,
+                     gpu::GpuTimer& timer);
+
+    // The light buffer after the last slice, as a grey image.
+    [[nodiscard]] base::ImageRgba8 light_image() const;
+
+private:
+    base::Result<const gpu::Program*> program(const std::string& file_key, const gpu::Defines& defines,
+                                              int kind);
+    void ensure_buffers(int width, int height, int light_resolution);
+
+    const gpu::ShaderLibrary& shaders_;
+    std::map<std::string, gpu::Program> programs_;
+    gpu::Texture eye_;
+    gpu::Framebuffer eye_framebuffer_;
+    gpu::Texture light_;
+    gpu::Framebuffer light_framebuffer_;
+    int width_ = 0;
+    int height_ = 0;
+    int light_resolution_ = 0;
+};
+
+}  // namespace penumbra::render

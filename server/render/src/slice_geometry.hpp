@@ -1,0 +1,45 @@
+#pragma once
+
+#include <penumbra/gpu/objects.hpp>
+#include <penumbra/scene/box.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <vector>
+
+namespace penumbra::render {
+
+// Triangles (a flat list of world positions) of every slice polygon, and where each slice's
+// triangles start in that list: the geometry both slicers draw.
+struct SliceGeometry {
+    std::vector<float> positions;  // x, y, z per vertex
+    std::vector<GLint> first;      // first vertex of slice k
+    std::vector<GLsizei> count;    // vertex count of slice k (0 when the plane misses the box)
+};
+
+// The n slice polygons perpendicular to `normal` at min + (k + 0.5)·(max - min)/n, each a triangle
+// fan turned into a triangle list.
+SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min,
+                                  double max, int count);
+
+// The geometry on the GPU: a vertex buffer and the vertex array reading it as attribute 0.
+class SliceMesh {
+public:
+    SliceMesh();
+
+    void upload(SliceGeometry geometry);
+
+    // Binds the vertex array; then draw(k) draws slice k.
+    void bind() const;
+    void draw(int slice) const;
+
+    [[nodiscard]] int slices() const { return static_cast<int>(geometry_.first.size()); }
+
+private:
+    gpu::Buffer buffer_;
+    gpu::VertexArray vertex_array_;
+    SliceGeometry geometry_;
+    std::size_t capacity_ = 0;
+};
+
+}  // namespace penumbra::render

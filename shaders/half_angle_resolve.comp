@@ -1,0 +1,14 @@
+// Half-angle slicing's last step: the premultiplied eye buffer over the background, into the
+// RGBA8 frame (rows top to bottom, like the ray caster's).
+#include "include/uniforms.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D eye_buffer;
+layout(binding = 0, rgba8) uniform writeonly image2D frame_image;
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, u.image_size.xy))) return;
+    vec4 eye = texelFetch(eye_buffer, pixel, 0);
+    imageStore(frame_image, pixel, vec4(eye.rgb + (1.0 - eye.a) * u.background.rgb, 1.0));
+}

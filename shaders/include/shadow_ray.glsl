@@ -1,0 +1,21 @@
+// Ground truth for shadows: a ray marched from the sample to the light through the volume with
+// the camera's sample distance and the same opacity correction. Mirrors the CPU reference.
+
+const float shadow_ray_cutoff = 1e-4;  // below this transmittance the rest cannot matter
+
+float shadow_ray_transmittance(vec3 world) {
+    vec3 to_light = direction_to_light(world);
+    float t_end = intersect_box(world, to_light).y;
+#if POINT_LIGHT
+    t_end = min(t_end, distance(u.light_vector.xyz, world));
+#endif
+    if (t_end <= 0.0) return 1.0;
+    int count = int(max(1.0, ceil(t_end / u.march.x)));
+    float step_length = t_end / float(count);
+    float transmittance = 1.0;
+    for (int i = 0; i < count && transmittance >= shadow_ray_cutoff; ++i) {
+        vec3 p = world + (float(i) + 0.5) * step_length * to_light;
+        transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step_length);
+    }
+    return transmittance;
+}

@@ -1,0 +1,35 @@
+// Builder B: one dispatch fills every layer. Each invocation follows one light-buffer texel's
+// ray from the light through all n slice planes, storing the transmittance that reaches each
+// plane before attenuating it by that slice.
+#include "include/uniforms.glsl"
+#include "include/volume.glsl"
+#include "include/transfer_function.glsl"
+#include "include/compositing.glsl"
+#include "include/light_slab.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, r16f) uniform writeonly image2DArray light_layers;
+
+void main() {
+    int resolution = int(u.light_buffer_info.x);
+    ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(texel, ivec2(resolution)))) return;
+    vec2 ndc = (vec2(texel) + 0.5) / float(resolution) * 2.0 - 1.0;
+    vec4 near_point = u.light_inverse_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far_point = u.light_inverse_view_projection * vec4(ndc, 1.0, 1.0);
+    vec3 origin = near_point.xyz / near_point.w;
+    vec3 ray = normalize(far_point.xyz / far_point.w - origin);
+    vec3 travel = u.light_travel.xyz;
+    float along_axis = dot(travel, ray);  // > 0: the light view looks along L
+    float path_length = u.light_slicing.w / along_axis;
+    float compensation = u.light_buffer_info.y;
+    int count = int(u.light_slicing.z);
+    float transmittance = 1.0;
+    for (int k = 0; k < count; ++k) {
+        imageStore(light_layers, ivec3(texel, k), vec4(transmittance));
+        if (transmittance <= 0.0) continue;
+        float plane = u.light_slicing.x + (float(k) + 0.5) * u.light_slicing.w;
+        vec3 p = origin + (plane - dot(travel, origin)) / along_axis * ray;
+        transmittance *= slab_transmittance(p, path_length, compensation);
+    }
+}
