@@ -51,4 +51,16 @@ volume::Volume slab_volume(glm::uvec3 dims, unsigned z_begin, unsigned z_end) {
     });
 }
 
+volume::Volume shadow_scene(unsigned n) {
+    return generate("shadow_scene", glm::uvec3(n), [&](unsigned x, unsigned y, unsigned) {
+        if (x >= n / 8 && x < 3 * n / 8) {
+            return 1.0f;
+        }
+        if (x >= 3 * n / 4 && x < 7 * n / 8 && y < n / 2) {
+            return 0.5f;
+        }
+        return 0.0f;
+    });
+}
+
 }  // namespace penumbra::test

@@ -20,4 +20,9 @@ volume::Volume constant_volume(glm::uvec3 dims, float value);
 // A float volume with value 1 for voxels whose z index lies in [z_begin, z_end) and 0 elsewhere.
 volume::Volume slab_volume(glm::uvec3 dims, unsigned z_begin, unsigned z_end);
 
+// A shadow-test scene of n^3 float voxels, lit along -x: a "receiver" column (value 1) for x in
+// [n/8, 3n/8), and a "slab" (value 0.5) for x in [3n/4, 7n/8) that covers only y < n/2, so half
+// of the receiver lies in the slab's shadow.
+volume::Volume shadow_scene(unsigned n);
+
 }  // namespace penumbra::test

@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <string>
 
 namespace penumbra::reference {
@@ -25,6 +26,38 @@ glm::dvec3 normal_from_gradient(glm::dvec3 gradient, glm::dvec3 voxel_size) {
     return -glm::normalize(gradient);
 }
 
+// Below this transmittance a shadow ray stops: the rest cannot matter (shadow_ray.glsl).
+constexpr double shadow_ray_cutoff = 1e-4;
+
+double sample_opacity(double alpha, double step, const scene::RenderSettings& s) {
+    return s.compositing == scene::Compositing::extinction
+                   ? optics::extinction_opacity(alpha, step, s.opacity_unit_distance)
+                   : optics::corrected_opacity(alpha, step, s.opacity_unit_distance);
+}
+
+// The ground truth for shadows: the transmittance along a ray from `position` to the light,
+// marched with the camera's sample distance and the same opacity correction.
+double shadow_ray_transmittance(const VolumeSampler& sampler, const TransferFunctionTable& tf,
+                                const scene::FrameRequest& request, glm::dvec3 position) {
+    const glm::dvec3 to_light = direction_to_light(request.light, position);
+    double t_end = optics::intersect_box(position, to_light, sampler.box()).t_far;
+    if (request.light.type == scene::LightType::point) {
+        t_end = std::min(t_end, glm::length(request.light.position - position));
+    }
+    if (!(t_end > 0.0)) {
+        return 1.0;
+    }
+    const optics::Marching marching =
+            optics::plan_marching(0.0, t_end, request.settings.sample_distance);
+    double transmittance = 1.0;
+    for (int i = 0; i < marching.count && transmittance >= shadow_ray_cutoff; ++i) {
+        const glm::dvec3 p = position + (i + 0.5) * marching.step * to_light;
+        transmittance *= 1.0 - sample_opacity(tf.classify(sampler.value(p)).a, marching.step,
+                                              request.settings);
+    }
+    return transmittance;
+}
+
 }  // namespace
 
 base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
@@ -33,14 +66,16 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
         return status.error();
     }
     const scene::RenderSettings& s = request.settings;
-    if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong) {
+    if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong &&
+        s.mode != scene::Mode::reference) {
         return base::make_error("unsupported_mode",
-                                std::string("the CPU renderer does not implement mode '") +
-                                        scene::to_string(s.mode) + "' yet",
+                                std::string("the CPU renderer computes dvr, phong and reference, "
+                                            "not '") +
+                                        scene::to_string(s.mode) + "'",
                                 "mode");
     }
-    const bool phong = s.mode == scene::Mode::phong;
-    const bool extinction = s.compositing == scene::Compositing::extinction;
+    const bool phong = scene::uses_gradients(s);
+    const bool shadows = s.mode == scene::Mode::reference;
     const VolumeSampler sampler(volume);
     const TransferFunctionTable tf(request.transfer_function);
     const scene::CameraFrame camera =
@@ -63,20 +98,24 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                     continue;
                 }
                 glm::dvec3 color(classified);
-                if (phong) {
-                    const glm::dvec3 normal =
-                            normal_from_gradient(sampler.gradient(position), sampler.voxel_size());
-                    const optics::LightTerms terms =
-                            optics::blinn_phong(normal, direction_to_light(request.light, position),
-                                                -direction, s.shading.shininess);
-                    color = optics::shade(color, terms, request.light, s.shading);
+                if (phong || shadows) {
+                    optics::LightTerms terms;
+                    if (phong) {
+                        const glm::dvec3 normal = normal_from_gradient(sampler.gradient(position),
+                                                                       sampler.voxel_size());
+                        terms = optics::blinn_phong(normal,
+                                                    direction_to_light(request.light, position),
+                                                    -direction, s.shading.shininess);
+                    } else {
+                        terms = {1.0, 0.0};
+                    }
+                    const double light =
+                            shadows ? shadow_ray_transmittance(sampler, tf, request, position)
+                                    : 1.0;
+                    color = optics::shade(color, terms, request.light, s.shading, light);
                 }
-                const double alpha =
-                        extinction ? optics::extinction_opacity(classified.a, marching.step,
-                                                                s.opacity_unit_distance)
-                                   : optics::corrected_opacity(classified.a, marching.step,
-                                                               s.opacity_unit_distance);
-                optics::composite_front_to_back(accumulated, color, alpha);
+                optics::composite_front_to_back(accumulated, color,
+                                                sample_opacity(classified.a, marching.step, s));
                 if (accumulated.a >= s.early_termination) {
                     break;
                 }

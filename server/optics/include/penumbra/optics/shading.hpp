@@ -35,12 +35,14 @@ inline LightTerms blinn_phong(glm::dvec3 normal, glm::dvec3 to_light, glm::dvec3
             glm::pow(glm::max(glm::dot(normal, half_vector), 0.0), shininess)};
 }
 
-// The colour a lit sample emits: TF colour × light × (ambient + diffuse) + light × specular.
+// The colour a lit sample emits: TF colour × light × (ambient + diffuse × T) + light × specular
+// × T, where T (`light_reaching`, 1 without shadows) is the fraction of the direct light that
+// arrives; ambient light is unshadowed.
 inline glm::dvec3 shade(glm::dvec3 tf_color, const LightTerms& terms, const scene::Light& light,
-                        const scene::Shading& shading) {
+                        const scene::Shading& shading, double light_reaching = 1.0) {
     const glm::dvec3 radiance = light.color * light.intensity;
-    return tf_color * radiance * (light.ambient + shading.diffuse * terms.diffuse) +
-           radiance * shading.specular * terms.specular;
+    return tf_color * radiance * (light.ambient + shading.diffuse * terms.diffuse * light_reaching) +
+           radiance * shading.specular * terms.specular * light_reaching;
 }
 
 }  // namespace penumbra::optics

@@ -10,7 +10,8 @@ namespace penumbra::reference {
 // A double-precision CPU renderer of the same integral the GPU ray caster computes: same camera
 // rays, sample positions, trilinear sampling, TF table, opacity correction and lighting model
 // (server/optics). It is slow and meant for small images in tests and for accuracy measurements.
-// Supports the modes dvr and phong.
+// Supports the modes dvr, phong and reference (a shadow ray marched to the light per sample);
+// the light-buffer and slicing modes are what it measures.
 base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                                           const scene::FrameRequest& request);
 

@@ -1,0 +1,300 @@
+// The shadowing modes: the light attenuation buffer and its two builders, sbrc and its
+// scattering variants, half-angle slicing and the shadow-ray reference, checked against analytic
+// transmittance, against the CPU reference, and against each other.
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/reference/cpu_renderer.hpp>
+#include <penumbra/render/renderer.hpp>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "synthetic_volumes.hpp"
+
+namespace penumbra::render {
+namespace {
+
+class ShadowTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto created = Renderer::create();
+        ASSERT_TRUE(created.ok()) << created.error().to_string();
+        renderer_ = std::move(created.value());
+    }
+
+    void use(const volume::Volume& volume) {
+        volume_ = std::make_shared<const volume::Volume>(volume);
+        ASSERT_TRUE(renderer_->set_volume(volume_).ok());
+    }
+
+    Frame render(const scene::FrameRequest& request) {
+        auto frame = renderer_->render(request);
+        EXPECT_TRUE(frame.ok()) << frame.error().to_string();
+        return frame.ok() ? std::move(frame.value()) : Frame{};
+    }
+
+    double error_against(const Frame& frame, const base::ImageRgbaF& reference) {
+        auto difference = encode::compare_images(base::to_rgba_f(frame.image), reference);
+        EXPECT_TRUE(difference.ok());
+        return difference.ok() ? difference->rms_error : 1.0;
+    }
+
+    std::unique_ptr<Renderer> renderer_;
+    std::shared_ptr<const volume::Volume> volume_;
+};
+
+// A soft medium lit from the side, seen at an angle: shadows everywhere, no surfaces.
+scene::FrameRequest radial_scene(scene::Mode mode, int size = 48) {
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(20.0, 25.0, 2.4);
+    request.light.direction = scene::direction_from_angles(-70.0, 30.0);
+    request.light.ambient = 0.1;
+    request.settings.mode = mode;
+    request.settings.width = size;
+    request.settings.height = size;
+    request.settings.sample_distance = 1.0 / 96.0;
+    request.transfer_function = {"soft",
+                                 {{0.0, {1.0, 0.9, 0.8}}, {1.0, {1.0, 1.0, 1.0}}},
+                                 {{0.0, 0.0}, {0.3, 0.0}, {1.0, 0.08}}};
+    return request;
+}
+
+TEST_F(ShadowTest, BothLightBufferBuildersGiveTheSameLayers) {
+    use(test::radial_volume(32));
+    for (const bool point_light : {false, true}) {
+        SCOPED_TRACE(point_light ? "point light" : "directional light");
+        auto request = radial_scene(scene::Mode::sbrc, 16);
+        if (point_light) {
+            request.light.type = scene::LightType::point;
+            request.light.position = {1.2, -0.9, 1.0};
+        }
+        request.settings.light_buffer.slices = 48;
+        request.settings.light_buffer.resolution = 40;
+        request.settings.light_buffer.builder = scene::LightBufferBuilder::per_slice;
+        render(request);
+        auto per_slice = renderer_->read_light_buffer();
+        request.settings.light_buffer.builder = scene::LightBufferBuilder::multi_slice;
+        render(request);
+        auto multi_slice = renderer_->read_light_buffer();
+        ASSERT_TRUE(per_slice.ok() && multi_slice.ok());
+        ASSERT_EQ(per_slice->values.size(), multi_slice->values.size());
+        ASSERT_EQ(per_slice->values.size(), 48u * 40u * 40u);
+        double sum = 0.0;
+        double largest = 0.0;
+        std::size_t far_off = 0;
+        double darkest = 1.0;
+        for (std::size_t i = 0; i < per_slice->values.size(); ++i) {
+            const double d = std::abs(per_slice->values[i] - multi_slice->values[i]);
+            sum += d;
+            largest = std::max(largest, d);
+            far_off += d > 0.01 ? 1 : 0;
+            darkest = std::min(darkest, static_cast<double>(multi_slice->values[i]));
+        }
+        // Both write half floats (about 3 significant digits); rasterisation may decide a
+        // texel on the box silhouette differently from the compute builder's inside test.
+        EXPECT_LT(sum / static_cast<double>(per_slice->values.size()), 1e-3);
+        EXPECT_LT(static_cast<double>(far_off), 0.002 * static_cast<double>(per_slice->values.size()))
+                << "largest difference " << largest;
+        EXPECT_LT(darkest, 0.5);  // the medium really casts a shadow
+    }
+}
+
+TEST_F(ShadowTest, FirstLayerIsUnlitAndLayersNeverBrighten) {
+    use(test::radial_volume(24));
+    auto request = radial_scene(scene::Mode::sbrc, 16);
+    request.settings.light_buffer.slices = 20;
+    request.settings.light_buffer.resolution = 24;
+    render(request);
+    auto buffer = renderer_->read_light_buffer();
+    ASSERT_TRUE(buffer.ok());
+    const std::size_t layer = 24u * 24u;
+    for (std::size_t i = 0; i < layer; ++i) {
+        ASSERT_FLOAT_EQ(buffer->values[i], 1.0f);
+        for (std::size_t k = 1; k < 20; ++k) {
+            ASSERT_LE(buffer->values[k * layer + i], buffer->values[(k - 1) * layer + i] + 1e-3f);
+        }
+    }
+}
+
+// Light travels along -x through a slab of known optical depth onto a receiver; half the receiver
+// is behind the slab. With extinction compositing and a TF linear in the value up to the slab's
+// value, the slab transmits exactly exp(-alpha / dt0 * thickness), and the ratio of shadowed to
+// lit receiver pixels must equal that.
+class SlabShadowTest : public ShadowTest, public ::testing::WithParamInterface<scene::Mode> {};
+
+TEST_P(SlabShadowTest, SlabCastsAShadowOfThePredictedStrength) {
+    constexpr unsigned n = 32;
+    use(test::shadow_scene(n));
+    const double slab_alpha = 0.03;
+    scene::FrameRequest request;
+    request.camera.eye = {0.0, 0.0, 3.0};
+    request.camera.target = {0.0, 0.0, 0.0};
+    request.camera.up = {0.0, 1.0, 0.0};
+    request.light.direction = {1.0, 0.0, 0.0};  // toward the light: light travels along -x
+    request.light.ambient = 0.0;
+    request.settings.shading.diffuse = 1.0;
+    request.settings.mode = GetParam();
+    request.settings.width = 64;
+    request.settings.height = 64;
+    request.settings.compositing = scene::Compositing::extinction;
+    request.settings.sample_distance = 1.0 / 128.0;
+    request.settings.light_buffer.slices = 256;
+    request.settings.light_buffer.resolution = 64;
+    request.transfer_function = {"slab",
+                                 {{0.0, {1.0, 1.0, 1.0}}},
+                                 {{0.0, 0.0}, {0.5, slab_alpha}, {1.0, 0.004}}};
+    const Frame frame = render(request);
+    // The receiver's middle (world x = -0.25) projects to column 22; world y = ∓0.3 to rows 44 and
+    // 20 (the camera looks down -z with +y up).
+    const auto mean_red = [&](int row0, int row1) {
+        double sum = 0.0;
+        int count = 0;
+        for (int y = row0; y <= row1; ++y) {
+            for (int x = 20; x <= 24; ++x) {
+                sum += frame.image.pixel(x, y)[0];
+                ++count;
+            }
+        }
+        return sum / count;
+    };
+    const double shadowed = mean_red(40, 47);
+    const double lit = mean_red(17, 24);
+    ASSERT_GT(lit, 40.0);
+    const double thickness = 4.0 / n;
+    const double expected = std::exp(-slab_alpha / request.settings.opacity_unit_distance * thickness);
+    EXPECT_NEAR(shadowed / lit, expected, 0.01)
+            << scene::to_string(GetParam()) << ": shadowed " << shadowed << ", lit " << lit;
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, SlabShadowTest,
+                         ::testing::Values(scene::Mode::reference, scene::Mode::sbrc,
+                                           scene::Mode::half_angle),
+                         [](const auto& param_info) { return std::string(scene::to_string(param_info.param)); });
+
+TEST_F(ShadowTest, GpuReferenceMatchesCpuReference) {
+    const volume::Volume volume = test::radial_volume(32);
+    use(volume);
+    for (const bool point_light : {false, true}) {
+        SCOPED_TRACE(point_light ? "point light" : "directional light");
+        auto request = radial_scene(scene::Mode::reference);
+        request.settings.phong = true;
+        if (point_light) {
+            request.light.type = scene::LightType::point;
+            request.light.position = {1.0, -1.1, 0.9};
+        }
+        const Frame frame = render(request);
+        auto expected = reference::render_cpu(volume, request);
+        ASSERT_TRUE(expected.ok()) << expected.error().to_string();
+        auto difference =
+                encode::compare_images(base::to_rgba_f(frame.image), *expected);
+        ASSERT_TRUE(difference.ok());
+        EXPECT_LE(difference->max_error, 3.0 / 255.0);
+        EXPECT_LE(difference->mean_error, 0.6 / 255.0);
+    }
+}
+
+TEST_F(ShadowTest, SbrcConvergesTowardTheReferenceAsSlicesAndResolutionGrow) {
+    use(test::radial_volume(32));
+    const Frame reference_frame = render(radial_scene(scene::Mode::reference));
+    const base::ImageRgbaF reference = base::to_rgba_f(reference_frame.image);
+    const Frame unshadowed = render(radial_scene(scene::Mode::dvr));
+    std::vector<double> errors;
+    for (const auto& [slices, resolution] : {std::pair{4, 8}, std::pair{16, 24}, std::pair{96, 96}}) {
+        auto request = radial_scene(scene::Mode::sbrc);
+        request.settings.light_buffer.slices = slices;
+        request.settings.light_buffer.resolution = resolution;
+        errors.push_back(error_against(render(request), reference));
+    }
+    EXPECT_LT(errors[1], errors[0]);
+    EXPECT_LT(errors[2], 0.7 * errors[1]);
+    EXPECT_LT(errors[2], 0.02);
+    // Shadows matter here: ignoring them is far worse than a fine light buffer.
+    EXPECT_GT(error_against(unshadowed, reference), 3.0 * errors[2]);
+}
+
+TEST_F(ShadowTest, ScatteringModesStayCloseToSbrcAndSoftenIt) {
+    use(test::radial_volume(32));
+    auto request = radial_scene(scene::Mode::sbrc);
+    request.settings.light_buffer.slices = 64;
+    request.settings.light_buffer.resolution = 64;
+    const Frame hard = render(request);
+    for (const scene::Mode mode : {scene::Mode::sbrc_shell, scene::Mode::sbrc_cone}) {
+        request.settings.mode = mode;
+        const Frame soft = render(request);
+        EXPECT_EQ(soft.report.light_buffer, "reused") << scene::to_string(mode);
+        const double difference = error_against(soft, base::to_rgba_f(hard.image));
+        EXPECT_GT(difference, 0.0) << scene::to_string(mode);
+        EXPECT_LT(difference, 0.05) << scene::to_string(mode);
+    }
+}
+
+TEST_F(ShadowTest, CameraMovesNeverRebuildTheLightBuffer) {
+    use(test::radial_volume(24));
+    auto request = radial_scene(scene::Mode::sbrc_cone, 16);
+    render(request);
+    const std::uint64_t builds = renderer_->light_buffer_builds();
+    for (int i = 0; i < 5; ++i) {
+        request.camera = scene::orbit_camera(20.0 + 30.0 * i, 10.0 * i, 2.0 + 0.1 * i);
+        request.settings.mode = i % 2 == 0 ? scene::Mode::sbrc : scene::Mode::sbrc_shell;
+        request.settings.width = 16 + i;  // image size is a camera matter too
+        EXPECT_EQ(render(request).report.light_buffer, "reused");
+    }
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds);
+    // Anything the buffer depends on does rebuild it.
+    request.light.direction = scene::direction_from_angles(10.0, 10.0);
+    EXPECT_EQ(render(request).report.light_buffer, "built");
+    request.settings.light_buffer.slices = 33;
+    EXPECT_EQ(render(request).report.light_buffer, "built");
+    request.transfer_function.opacities.back().alpha = 0.2;
+    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 3);
+    // Modes without light-buffer shadows do not touch it.
+    request.settings.mode = scene::Mode::phong;
+    EXPECT_EQ(render(request).report.light_buffer, "none");
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 3);
+}
+
+TEST_F(ShadowTest, HalfAngleHandlesLightEqualAndOppositeToTheView) {
+    use(test::radial_volume(32));
+    for (const double sign : {1.0, -1.0}) {
+        SCOPED_TRACE(sign > 0 ? "light behind the viewer" : "light facing the viewer");
+        auto request = radial_scene(scene::Mode::half_angle);
+        request.settings.light_buffer.slices = 64;
+        request.settings.light_buffer.resolution = 48;
+        // direction points toward the light: +eye puts the light behind the camera.
+        request.light.direction = sign * glm::normalize(request.camera.eye - request.camera.target);
+        const Frame half_angle = render(request);
+        request.settings.mode = scene::Mode::reference;
+        const Frame reference = render(request);
+        int lit = 0;
+        for (int y = 0; y < 48; ++y) {
+            for (int x = 0; x < 48; ++x) {
+                lit += half_angle.image.pixel(x, y)[0] > 20 ? 1 : 0;
+            }
+        }
+        EXPECT_GT(lit, 48 * 48 / 10);
+        EXPECT_LT(error_against(half_angle, base::to_rgba_f(reference.image)), 0.05);
+    }
+}
+
+TEST_F(ShadowTest, InsetShowsTheLastLayer) {
+    use(test::radial_volume(24));
+    auto request = radial_scene(scene::Mode::sbrc, 16);
+    request.settings.light_buffer.resolution = 20;
+    render(request);
+    auto inset = renderer_->light_inset();
+    ASSERT_TRUE(inset.ok());
+    EXPECT_EQ(inset->width, 20);
+    // The medium's shadow is darkest in the middle of the last layer, unlit corners stay white.
+    EXPECT_LT(inset->pixel(10, 10)[0], inset->pixel(0, 0)[0]);
+    request.settings.mode = scene::Mode::dvr;
+    render(request);
+    auto none = renderer_->light_inset();
+    EXPECT_TRUE(none.ok());  // still the last light buffer; dvr did not replace it
+}
+
+}  // namespace
+}  // namespace penumbra::render
