@@ -280,6 +280,51 @@ TEST_F(ShadowTest, HalfAngleHandlesLightEqualAndOppositeToTheView) {
     }
 }
 
+TEST_F(ShadowTest, OneSliceAndTheLayerLimitBothWork) {
+    use(test::radial_volume(16));
+    for (const auto builder :
+         {scene::LightBufferBuilder::per_slice, scene::LightBufferBuilder::multi_slice}) {
+        for (const int slices : {1, renderer_->info().max_array_texture_layers}) {
+            SCOPED_TRACE(std::string(scene::to_string(builder)) + " " + std::to_string(slices));
+            auto request = radial_scene(scene::Mode::sbrc, 12);
+            request.settings.light_buffer.slices = slices;
+            request.settings.light_buffer.resolution = 8;
+            request.settings.light_buffer.builder = builder;
+            const Frame frame = render(request);
+            EXPECT_EQ(frame.report.light_buffer, "built");
+            auto buffer = renderer_->read_light_buffer();
+            ASSERT_TRUE(buffer.ok());
+            EXPECT_EQ(buffer->slices, slices);
+            for (const float v : buffer->values) {
+                ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << v;
+            }
+        }
+    }
+}
+
+TEST_F(ShadowTest, CompensationBrightensShadowsButNeverAboveUnlit) {
+    use(test::radial_volume(24));
+    auto request = radial_scene(scene::Mode::sbrc, 24);
+    request.settings.light_buffer.slices = 64;
+    request.settings.light_buffer.resolution = 32;
+    std::vector<double> mean_transmittance;
+    for (const double compensation : {0.0, 1.0, 4.0, 1000.0}) {
+        request.settings.light_buffer.compensation = compensation;
+        render(request);
+        auto buffer = renderer_->read_light_buffer();
+        ASSERT_TRUE(buffer.ok());
+        double sum = 0.0;
+        for (const float v : buffer->values) {
+            ASSERT_TRUE(std::isfinite(v) && v <= 1.0f) << "compensation " << compensation;
+            sum += v;
+        }
+        mean_transmittance.push_back(sum / static_cast<double>(buffer->values.size()));
+    }
+    EXPECT_LT(mean_transmittance[0], mean_transmittance[1]);
+    EXPECT_LT(mean_transmittance[1], mean_transmittance[2]);
+    EXPECT_LE(mean_transmittance[3], 1.0);
+}
+
 TEST_F(ShadowTest, InsetShowsTheLastLayer) {
     use(test::radial_volume(24));
     auto request = radial_scene(scene::Mode::sbrc, 16);
