@@ -9,5 +9,7 @@ bool inside_box(vec3 world) {
 float slab_transmittance(vec3 world, float path_length, float compensation) {
     if (!inside_box(world)) return 1.0;
     float alpha = sample_opacity(classify(sample_value(world)).a, path_length);
+    // An opaque slice stays opaque: 0 * (1 + a)^c overflows to 0 * inf = NaN for large c.
+    if (alpha >= 1.0) return 0.0;
     return min(1.0, (1.0 - alpha) * pow(1.0 + alpha, compensation));
 }

@@ -125,6 +125,15 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
         // Depth covers the box with room to spare: the eye is 2 radii from the centre.
         out.view_projection = glm::ortho(x0, x1, y0, y1, radius * 0.5, radius * 3.5) * view;
     } else {
+        // Checked first: at the centre itself the view below would be NaN, not an error.
+        const glm::dvec3 at = light.position;
+        if (at.x >= box.min.x && at.x <= box.max.x && at.y >= box.min.y && at.y <= box.max.y &&
+            at.z >= box.min.z && at.z <= box.max.z) {
+            return base::make_error("unsupported_light",
+                                    "a point light inside or beside the volume cannot be "
+                                    "used by the light-buffer modes; move it outside the box",
+                                    "light.position");
+        }
         const glm::dvec3 axis = glm::normalize(centre - light.position);
         const glm::dmat4 view = glm::lookAt(light.position, centre, up_for(axis));
         double near = std::numeric_limits<double>::infinity();
@@ -165,6 +174,9 @@ glm::dvec2 light_uv(const LightView& view, glm::dvec3 world) {
 
 double compensated_transmittance(double alpha, double compensation) {
     const double a = glm::clamp(alpha, 0.0, 1.0);
+    if (a >= 1.0) {
+        return 0.0;  // an opaque slice stays opaque: 0 · (1 + a)^n would be 0 · inf for large n
+    }
     return std::min(1.0, (1.0 - a) * std::pow(1.0 + a, compensation));
 }
 
