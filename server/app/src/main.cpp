@@ -13,6 +13,7 @@ void print_usage() {
             "commands:\n"
             "  render   render one frame of a volume to a PNG or JPEG file\n"
             "  info     print a volume's dimensions, spacing, type, range and histogram\n"
+            "  bench    benchmarks: `penumbra bench modes` times every mode side by side\n"
             "\n"
             "`penumbra <command> --help` lists the options of a command.");
 }
@@ -31,6 +32,9 @@ int main(int argc, char** argv) {
     }
     if (command == "info") {
         return penumbra::app::run_info(args);
+    }
+    if (command == "bench") {
+        return penumbra::app::run_bench(args);
     }
     if (command == "--help" || command == "-h" || command == "help") {
         print_usage();
