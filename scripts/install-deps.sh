@@ -6,7 +6,7 @@ packages=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev zlib1g-dev nlohmann-json3-dev libboost-dev
-    libgtest-dev libgmock-dev
+    libgtest-dev libgmock-dev python3-jsonschema
     mricron-data
 )
 

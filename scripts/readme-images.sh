@@ -11,12 +11,12 @@ for volume in ch2 ch2better; do
     tiles=()
     for mode in "${modes[@]}"; do
         "$penumbra" render --volume "/usr/share/mricron/templates/$volume.nii.gz" --mode "$mode" \
-            --phong --size 256x256 --camera 35,5,2.4 --light -60,25 --intensity 1.2 \
+            --phong --size 256x256 --camera 35,5,2.4 --light 75,35 --intensity 1.2 \
             --slices 256 --light-res 256 --out "out/modes/${volume}_$mode.png" >/dev/null
         tiles+=("out/modes/${volume}_$mode.png")
     done
     oiiotool "${tiles[@]}" --mosaic 7x1 -o "$out/${volume}_modes.png"
 done
-"$penumbra" render --mode sbrc --phong --size 512x512 --camera 35,5,2.4 --light -60,25 \
+"$penumbra" render --mode sbrc --phong --size 512x512 --camera 35,5,2.4 --light 75,35 \
     --intensity 1.2 --slices 256 --light-res 256 --out "$out/ch2_sbrc.png" \
     --light-inset "$out/ch2_sbrc_inset.png" >/dev/null

@@ -8,6 +8,7 @@ namespace penumbra::app {
 // Each subcommand takes the arguments after its name and returns the process exit status.
 int run_render(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
+int run_serve(const std::vector<std::string>& args);
 // `bench modes`: frame times of the rendering modes measured side by side, and their ratios.
 int run_bench(const std::vector<std::string>& args);
 

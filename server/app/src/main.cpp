@@ -12,6 +12,7 @@ void print_usage() {
             "\n"
             "commands:\n"
             "  render   render one frame of a volume to a PNG or JPEG file\n"
+            "  serve    run the rendering service (HTTP + WebSocket) on a folder of volumes\n"
             "  info     print a volume's dimensions, spacing, type, range and histogram\n"
             "  bench    benchmarks: `penumbra bench modes` times every mode side by side\n"
             "\n"
@@ -29,6 +30,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 2, argv + argc);
     if (command == "render") {
         return penumbra::app::run_render(args);
+    }
+    if (command == "serve") {
+        return penumbra::app::run_serve(args);
     }
     if (command == "info") {
         return penumbra::app::run_info(args);

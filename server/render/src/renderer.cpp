@@ -20,7 +20,9 @@
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <list>
 #include <cmath>
 #include <optional>
 
@@ -90,9 +92,19 @@ struct Renderer::Impl {
     gpu::GpuTimer light_timer;
     gpu::GpuTimer render_timer;
 
-    std::shared_ptr<const volume::Volume> volume;
+    // Volume textures, most recently used first; the first is the current volume.
+    struct CachedVolume {
+        std::shared_ptr<const volume::Volume> volume;
+        VolumeTexture texture;
+        std::uint64_t generation = 0;
+        std::size_t bytes = 0;
+    };
+    std::list<CachedVolume> volumes;
+    std::size_t volume_memory_budget = 0;
+    std::uint64_t next_generation = 0;
+    std::shared_ptr<const volume::Volume> volume;  // the current one
     std::uint64_t volume_generation = 0;
-    std::optional<VolumeTexture> volume_texture;
+    const VolumeTexture* volume_texture = nullptr;
     bool volume_uploaded_this_frame = false;
     double volume_upload_ms = 0.0;
 
@@ -113,6 +125,21 @@ struct Renderer::Impl {
         , half_angle(shaders) {
         glNamedBufferStorage(uniform_buffer.name(), sizeof(FrameUniforms), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
+    }
+
+    [[nodiscard]] std::size_t volume_bytes() const {
+        std::size_t total = 0;
+        for (const auto& v : volumes) {
+            total += v.bytes;
+        }
+        return total;
+    }
+
+    // Evicts least recently used textures beyond the budget; the current one always stays.
+    void evict_volumes() {
+        while (volumes.size() > 1 && volume_bytes() > volume_memory_budget) {
+            volumes.pop_back();
+        }
     }
 
     [[nodiscard]] scene::Limits limits() const {
@@ -210,6 +237,7 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     info.gpu_timer_queries = info.renderer.find("llvmpipe") == std::string::npos &&
                              info.renderer.find("softpipe") == std::string::npos;
     impl->info = std::move(info);
+    impl->volume_memory_budget = options.volume_memory_budget;
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
                                      " via " + impl->info.platform);
     return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
@@ -221,21 +249,42 @@ std::uint64_t Renderer::light_buffer_builds() const { return impl_->light_buffer
 
 base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) {
     PENUMBRA_ASSERT(volume != nullptr, "set_volume needs a volume");
-    if (volume == impl_->volume) {
+    Impl& impl = *impl_;
+    if (volume == impl.volume) {
         return base::Ok{};
     }
-    const auto start = Clock::now();
-    auto texture = upload_volume(*volume, impl_->info.max_3d_texture_size);
-    if (!texture) {
-        return texture.error();
+    auto cached = std::find_if(impl.volumes.begin(), impl.volumes.end(),
+                               [&](const Impl::CachedVolume& v) { return v.volume == volume; });
+    if (cached == impl.volumes.end()) {
+        const auto start = Clock::now();
+        auto texture = upload_volume(*volume, impl.info.max_3d_texture_size);
+        if (!texture) {
+            return texture.error();
+        }
+        glFinish();
+        impl.volume_upload_ms = milliseconds_since(start);
+        impl.volume_uploaded_this_frame = true;
+        const std::size_t bytes = volume->data.size();
+        impl.volumes.push_front({volume, std::move(texture.value()), ++impl.next_generation, bytes});
+    } else {
+        impl.volumes.splice(impl.volumes.begin(), impl.volumes, cached);
     }
-    glFinish();
-    impl_->volume_upload_ms = milliseconds_since(start);
-    impl_->volume_uploaded_this_frame = true;
-    impl_->volume_texture = std::move(texture.value());
-    impl_->volume = std::move(volume);
-    ++impl_->volume_generation;
+    impl.evict_volumes();
+    impl.volume = impl.volumes.front().volume;
+    impl.volume_texture = &impl.volumes.front().texture;
+    impl.volume_generation = impl.volumes.front().generation;
     return base::Ok{};
+}
+
+std::size_t Renderer::gpu_bytes_held() const {
+    const Impl& impl = *impl_;
+    std::size_t bytes = impl.volume_bytes();
+    if (impl.light_buffer_key) {
+        bytes += static_cast<std::size_t>(impl.light_buffer.resolution()) *
+                 static_cast<std::size_t>(impl.light_buffer.resolution()) *
+                 static_cast<std::size_t>(impl.light_buffer.slices()) * 2;
+    }
+    return bytes;
 }
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {

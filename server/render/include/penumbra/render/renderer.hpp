@@ -16,6 +16,8 @@ namespace penumbra::render {
 struct RendererOptions {
     std::filesystem::path shader_dir;  // empty: the default search (gpu::default_shader_dir)
     bool debug_context = false;        // GL debug output routed to the log
+    // Volume textures stay on the GPU, least recently used evicted first, while they fit this.
+    std::size_t volume_memory_budget = std::size_t{2} << 30;
 };
 
 // What the renderer runs on, for logs, CLI output and the protocol's hello.
@@ -32,10 +34,26 @@ struct RendererInfo {
     bool gpu_timer_queries = true;
 };
 
+// What the scheduler renders through, so that scheduling can be tested with a fake.
+class FrameRenderer {
+public:
+    virtual ~FrameRenderer() = default;
+
+    [[nodiscard]] virtual const RendererInfo& info() const = 0;
+
+    virtual base::Status set_volume(std::shared_ptr<const volume::Volume> volume) = 0;
+
+    virtual base::Result<Frame> render(const scene::FrameRequest& request) = 0;
+
+    // Bytes of GPU memory held by cached volume textures and light buffers.
+    [[nodiscard]] virtual std::size_t gpu_bytes_held() const = 0;
+};
+
 // The GPU renderer. It owns the headless GL context, so it is created, used and destroyed on one
-// thread. GPU objects are cached by what they depend on: the volume texture until another volume
-// is set, the TF table until the TF changes, compiled shader variants for the renderer's life.
-class Renderer {
+// thread. GPU objects are cached by what they depend on: volume textures (several, LRU under a
+// memory budget), the TF table until the TF changes, the light buffer until its inputs change,
+// compiled shader variants for the renderer's life.
+class Renderer final : public FrameRenderer {
 public:
     static base::Result<std::unique_ptr<Renderer>> create(const RendererOptions& options = {});
 
@@ -43,13 +61,16 @@ public:
     Renderer& operator=(const Renderer&) = delete;
     ~Renderer();
 
-    [[nodiscard]] const RendererInfo& info() const;
+    [[nodiscard]] const RendererInfo& info() const override;
 
-    // Uploads the volume (once per distinct volume object) without losing 16-bit/float precision.
-    base::Status set_volume(std::shared_ptr<const volume::Volume> volume);
+    // Makes the volume current, uploading it unless its texture is still cached, without losing
+    // 16-bit/float precision.
+    base::Status set_volume(std::shared_ptr<const volume::Volume> volume) override;
 
     // Renders one frame of the current volume in any mode of DESIGN.md §1.
-    base::Result<Frame> render(const scene::FrameRequest& request);
+    base::Result<Frame> render(const scene::FrameRequest& request) override;
+
+    [[nodiscard]] std::size_t gpu_bytes_held() const override;
 
     // How many times the light attenuation buffer was built since the renderer was created.
     [[nodiscard]] std::uint64_t light_buffer_builds() const;

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/metrics/registry.hpp>
+#include <penumbra/protocol/limits.hpp>
+#include <penumbra/session/scheduler.hpp>
+#include <penumbra/session/session.hpp>
+#include <penumbra/session/volume_store.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace penumbra::net {
+
+struct ServerConfig {
+    std::string address = "127.0.0.1";
+    unsigned short port = 8080;  // 0: any free port (see Server::port)
+    int io_threads = 2;
+    std::filesystem::path web_root;  // the built web client; empty: a small built-in page
+    protocol::Limits limits;
+    std::string default_transfer_function = "mri_skin";
+};
+
+// What the server serves; owned by the caller and outliving the server.
+struct Services {
+    session::VolumeStore& volumes;
+    session::SessionRegistry& sessions;
+    session::Scheduler& scheduler;
+    metrics::Registry& metrics;
+};
+
+// One port for everything: the web client and /healthz, /metrics over HTTP, and the protocol of
+// proto/README.md over a WebSocket at /ws. I/O runs on `io_threads` Asio threads; each connection
+// works on its own strand.
+class Server {
+public:
+    static base::Result<std::unique_ptr<Server>> start(const ServerConfig& config,
+                                                       Services services);
+
+    Server(const Server&) = delete;
+    Server& operator=(const Server&) = delete;
+    ~Server();
+
+    [[nodiscard]] unsigned short port() const;
+
+    // Blocks until SIGINT or SIGTERM (or stop() from another thread).
+    void wait_for_shutdown_signal();
+
+    // Closes the listener and every connection, then joins the I/O threads.
+    void stop();
+
+private:
+    struct Impl;
+    explicit Server(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace penumbra::net

@@ -1,0 +1,358 @@
+#include "connection_handler.hpp"
+
+#include <penumbra/base/log.hpp>
+#include <penumbra/protocol/frame_header.hpp>
+#include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/camera.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <algorithm>
+
+namespace penumbra::net {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Beyond this many queued replies a flooding client gets no more error messages, only the
+// count of what was dropped once it calms down.
+constexpr std::uint64_t max_unanswered_errors = 64;
+
+protocol::SessionState to_protocol(const session::SessionState& s) {
+    protocol::SessionState out;
+    out.frame = s.frame;
+    out.output.encoding = s.output.format == encode::ImageFormat::png ? "png" : "jpeg";
+    out.output.jpeg_quality = s.output.jpeg_quality;
+    return out;
+}
+
+session::SessionState from_protocol(const protocol::SessionState& s) {
+    session::SessionState out;
+    out.frame = s.frame;
+    out.output.format = s.output.encoding == "png" ? encode::ImageFormat::png
+                                                   : encode::ImageFormat::jpeg;
+    out.output.jpeg_quality = s.output.jpeg_quality;
+    return out;
+}
+
+protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* v) {
+    protocol::VolumeSummary out;
+    out.id = id;
+    out.name = v != nullptr ? v->name : id;
+    out.loaded = v != nullptr;
+    if (v != nullptr) {
+        out.dims[0] = v->dims.x;
+        out.dims[1] = v->dims.y;
+        out.dims[2] = v->dims.z;
+        out.spacing[0] = v->spacing.x;
+        out.spacing[1] = v->spacing.y;
+        out.spacing[2] = v->spacing.z;
+        out.voxel_type = volume::to_string(v->type);
+        out.range[0] = v->range.min;
+        out.range[1] = v->range.max;
+    }
+    return out;
+}
+
+session::SessionState default_state(const ServerConfig& config) {
+    session::SessionState state;
+    state.frame.camera = scene::orbit_camera(25.0, 10.0, 2.6);
+    state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
+    auto tf = scene::preset(config.default_transfer_function);
+    state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
+    scene::RenderSettings& s = state.frame.settings;
+    s.mode = scene::Mode::sbrc;
+    s.phong = true;
+    s.width = std::min(512, config.limits.max_image_side);
+    s.height = s.width;
+    s.light_buffer.slices = std::min(128, config.limits.max_slices);
+    s.light_buffer.resolution = std::min(256, config.limits.max_light_resolution);
+    return state;
+}
+
+std::vector<std::uint8_t> pack(const session::EncodedFrame& f, const std::string& session_id,
+                               std::uint64_t number) {
+    protocol::FrameHeader h;
+    h.frame = number;
+    h.request = f.request_id;
+    h.session = session_id;
+    h.width = f.width;
+    h.height = f.height;
+    h.encoding = f.format == encode::ImageFormat::png ? "png" : "jpeg";
+    h.mode = scene::to_string(f.mode);
+    h.interactive = f.interactive;
+    h.light_buffer = f.report.light_buffer;
+    for (const auto& pass : f.report.passes) {
+        h.passes.push_back({pass.name, pass.gpu_ms, pass.wall_ms});
+    }
+    h.queued_ms = f.queued_ms;
+    h.render_ms = f.render_ms;
+    h.readback_ms = f.readback_ms;
+    h.encode_ms = f.encode_ms;
+    h.quality = f.quality;
+    return protocol::pack_frame(h, f.image);
+}
+
+}  // namespace
+
+ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection> connection)
+    : context_(context)
+    , connection_(std::move(connection))
+    , viewer_(context.next_viewer.fetch_add(1))
+    , tokens_(context.config.limits.max_requests_per_second)
+    , last_refill_(Clock::now()) {}
+
+void ConnectionHandler::send(std::string text) {
+    if (auto connection = connection_.lock()) {
+        connection->send_text(std::move(text));
+    }
+}
+
+void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
+    context_.errors.add();
+    if (dropped_replies_ >= max_unanswered_errors) {
+        return;
+    }
+    send(protocol::error_message(id, error));
+}
+
+bool ConnectionHandler::take_token() {
+    const double rate = context_.config.limits.max_requests_per_second;
+    const Clock::time_point now = Clock::now();
+    tokens_ = std::min(rate, tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
+    last_refill_ = now;
+    if (tokens_ >= 1.0) {
+        tokens_ -= 1.0;
+        dropped_replies_ = 0;
+        return true;
+    }
+    ++dropped_replies_;
+    return false;
+}
+
+void ConnectionHandler::on_open() {
+    std::vector<std::string> modes;
+    for (const auto mode : {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle,
+                            scene::Mode::sbrc, scene::Mode::sbrc_shell, scene::Mode::sbrc_cone,
+                            scene::Mode::reference}) {
+        modes.emplace_back(scene::to_string(mode));
+    }
+    const render::RendererInfo& info = context_.services.scheduler.renderer_info();
+    send(protocol::hello_message(context_.config.limits,
+                                 {info.renderer, info.version, info.platform}, modes));
+}
+
+void ConnectionHandler::on_binary() {
+    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
+                                               "clients send text (JSON) messages only", "/"));
+}
+
+void ConnectionHandler::on_text(std::string_view text) {
+    context_.messages.add();
+    if (!take_token()) {
+        reply_error(protocol::request_id_of(text),
+                    base::make_error(protocol::code::rate_limited,
+                                     "more than " +
+                                             std::to_string(static_cast<int>(
+                                                     context_.config.limits.max_requests_per_second)) +
+                                             " requests per second",
+                                     "/"));
+        return;
+    }
+    auto request = protocol::parse_request(text, context_.config.limits);
+    if (!request) {
+        reply_error(text.size() <= context_.config.limits.max_message_bytes
+                            ? protocol::request_id_of(text)
+                            : std::nullopt,
+                    request.error());
+        return;
+    }
+    handle(*request);
+}
+
+void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s) {
+    std::weak_ptr<Connection> weak = connection_;
+    std::weak_ptr<session::Session> weak_session = s;
+    Context* context = &context_;
+    s->add_viewer(viewer_, [weak, weak_session, context](
+                                   const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
+                                   std::uint64_t number) {
+        auto connection = weak.lock();
+        auto shared_session = weak_session.lock();
+        if (!connection || !shared_session) {
+            return;
+        }
+        if (!r) {
+            const std::string& code = r.error().code;
+            if (code == "superseded" || code == "shutting_down") {
+                return;  // a newer frame answers, or nobody will
+            }
+            context->errors.add();
+            connection->send_text(protocol::error_message(
+                    std::nullopt, base::make_error(protocol::code::render_failed,
+                                                   r.error().to_string(), "/")));
+            return;
+        }
+        const session::EncodedFrame& frame = **r;
+        context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
+                                         frame.encode_ms);
+        connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
+                pack(frame, shared_session->id(), number)));
+    });
+}
+
+void ConnectionHandler::leave_session() {
+    if (!session_) {
+        return;
+    }
+    const std::size_t remaining = session_->remove_viewer(viewer_);
+    if (remaining == 0) {
+        context_.services.scheduler.cancel(session_->id());
+        context_.services.sessions.remove(session_->id());
+        context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+        base::log_info("session", "closed " + session_->id());
+    }
+    session_.reset();
+    owner_ = false;
+}
+
+void ConnectionHandler::on_close() { leave_session(); }
+
+void ConnectionHandler::handle(const protocol::Request& request) {
+    const auto id = request.id;
+    const auto need_session = [&]() {
+        if (!session_) {
+            reply_error(id, base::make_error(protocol::code::no_session,
+                                             "open a volume or join a session first", "/type"));
+            return false;
+        }
+        return true;
+    };
+    std::visit(
+            [&](const auto& message) {
+                using T = std::decay_t<decltype(message)>;
+                if constexpr (std::is_same_v<T, protocol::ListVolumes>) {
+                    if (auto status = context_.services.volumes.scan(); !status) {
+                        base::log_error("volumes", status.error().to_string());
+                        reply_error(id, base::make_error(protocol::code::internal_error,
+                                                         "the server's data folder is unreadable",
+                                                         "/"));
+                        return;
+                    }
+                    std::vector<protocol::VolumeSummary> list;
+                    for (const auto& entry : context_.services.volumes.list()) {
+                        list.push_back(summary_of(entry.id, entry.loaded.get()));
+                    }
+                    send(protocol::volumes_message(id, list));
+                } else if constexpr (std::is_same_v<T, protocol::Open>) {
+                    auto volume = context_.services.volumes.acquire(message.volume);
+                    if (!volume) {
+                        base::Error error = volume.error();
+                        if (error.code != protocol::code::unknown_volume) {
+                            // The loader's own code and location go into the message.
+                            error.message = "volume '" + message.volume +
+                                            "' could not be loaded: " + error.to_string();
+                            error.code = protocol::code::volume_unreadable;
+                        }
+                        error.where = "/volume";
+                        reply_error(id, error);
+                        return;
+                    }
+                    auto created = context_.services.sessions.create(
+                            message.volume, *volume, default_state(context_.config), viewer_);
+                    if (!created) {
+                        reply_error(id, created.error());
+                        return;
+                    }
+                    leave_session();
+                    session_ = *created;
+                    owner_ = true;
+                    watch(session_);
+                    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+                    base::log_info("session", "opened " + session_->id() + " on " + message.volume);
+                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
+                    send(protocol::opened_message(
+                            id, session_->id(), summary_of(message.volume, volume->get()),
+                            histogram, protocol::state_to_json(to_protocol(session_->state())),
+                            false));
+                } else if constexpr (std::is_same_v<T, protocol::Join>) {
+                    auto target = context_.services.sessions.find(message.session);
+                    if (!target) {
+                        reply_error(id, base::make_error(protocol::code::unknown_session,
+                                                         "no session '" + message.session + "'",
+                                                         "/session"));
+                        return;
+                    }
+                    if (target != session_) {
+                        leave_session();
+                        session_ = target;
+                        owner_ = false;
+                        watch(session_);
+                    }
+                    const auto histogram = volume::compute_histogram(*session_->volume(), 256).bins;
+                    send(protocol::opened_message(
+                            id, session_->id(),
+                            summary_of(session_->volume_id(), session_->volume().get()), histogram,
+                            protocol::state_to_json(to_protocol(session_->state())), true));
+                } else if constexpr (std::is_same_v<T, protocol::Set>) {
+                    if (!need_session()) {
+                        return;
+                    }
+                    if (!owner_) {
+                        reply_error(id, base::make_error(protocol::code::invalid_message,
+                                                         "only the session's owner can change it; "
+                                                         "viewers who joined watch",
+                                                         "/type"));
+                        return;
+                    }
+                    protocol::SessionState state = to_protocol(session_->state());
+                    if (auto status = protocol::apply_patch(message.patch, state,
+                                                            context_.config.limits);
+                        !status) {
+                        reply_error(id, status.error());
+                        return;
+                    }
+                    session_->set_state(from_protocol(state));
+                    send(protocol::ack_message(id, "set"));
+                } else if constexpr (std::is_same_v<T, protocol::Render>) {
+                    if (!need_session()) {
+                        return;
+                    }
+                    std::weak_ptr<session::Session> weak = session_;
+                    context_.services.scheduler.submit(
+                            session_->id(), session_->make_job(id.value_or(-1), message.interactive),
+                            [weak](base::Result<std::shared_ptr<const session::EncodedFrame>> r) {
+                                if (auto s = weak.lock()) {
+                                    s->deliver(r);
+                                }
+                            });
+                } else if constexpr (std::is_same_v<T, protocol::Stats>) {
+                    protocol::StatsReport report;
+                    if (session_) {
+                        report.session = session_->id();
+                        report.viewers = session_->viewer_count();
+                        report.session_frames = session_->frame_count();
+                    }
+                    report.sessions = context_.services.sessions.count();
+                    report.connections = context_.connections.value();
+                    report.queue_depth = context_.services.scheduler.queue_depth();
+                    report.frame_server_p50_ms = context_.frame_server_ms.quantile(0.50);
+                    report.frame_server_p95_ms = context_.frame_server_ms.quantile(0.95);
+                    report.frame_server_p99_ms = context_.frame_server_ms.quantile(0.99);
+                    metrics::Registry& m = context_.services.metrics;
+                    report.frames_total = m.counter("penumbra_frames_total", "").value();
+                    report.light_buffer_builds =
+                            m.counter("penumbra_light_buffer_builds_total", "").value();
+                    report.light_buffer_reuses =
+                            m.counter("penumbra_light_buffer_reuses_total", "").value();
+                    report.gpu_bytes_held = m.gauge("penumbra_gpu_bytes_held", "").value();
+                    report.renderer = context_.services.scheduler.renderer_info().renderer;
+                    send(protocol::stats_message(id, report));
+                } else if constexpr (std::is_same_v<T, protocol::Close>) {
+                    leave_session();
+                    send(protocol::ack_message(id, "close"));
+                }
+            },
+            request.message);
+}
+
+}  // namespace penumbra::net

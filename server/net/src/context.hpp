@@ -1,0 +1,77 @@
+#pragma once
+
+#include <penumbra/metrics/registry.hpp>
+#include <penumbra/net/server.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace penumbra::net {
+
+class Connection;
+
+// What every connection of one server shares.
+struct Context {
+    ServerConfig config;
+    Services services;
+    std::atomic<std::uint64_t> next_viewer{1};
+    metrics::Gauge& connections;
+    metrics::Counter& messages;
+    metrics::Counter& errors;
+    metrics::Counter& frames_sent;
+    metrics::Counter& frames_dropped;
+    metrics::Histogram& frame_server_ms;
+    metrics::Gauge& sessions;
+
+    Context(ServerConfig c, Services s)
+        : config(std::move(c))
+        , services(s)
+        , connections(s.metrics.gauge("penumbra_connections", "Open WebSocket connections"))
+        , messages(s.metrics.counter("penumbra_messages_total", "Protocol messages received"))
+        , errors(s.metrics.counter("penumbra_errors_total", "Error messages sent to clients"))
+        , frames_sent(s.metrics.counter("penumbra_frames_sent_total", "Frames sent to viewers"))
+        , frames_dropped(s.metrics.counter(
+                  "penumbra_frames_dropped_total",
+                  "Frames not sent because a newer one replaced them in a slow client's queue"))
+        , frame_server_ms(s.metrics.histogram(
+                  "penumbra_frame_server_ms",
+                  "Server time per frame: queued + render + readback + encode (ms)",
+                  metrics::latency_buckets_ms()))
+        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions")) {}
+
+    // Open connections, so that shutdown can close them.
+    void track(std::weak_ptr<Connection> connection) {
+        const std::lock_guard lock(connections_mutex);
+        std::erase_if(open_connections, [](const auto& c) { return c.expired(); });
+        open_connections.push_back(std::move(connection));
+    }
+
+    std::vector<std::weak_ptr<Connection>> tracked() {
+        const std::lock_guard lock(connections_mutex);
+        return open_connections;
+    }
+
+    std::mutex connections_mutex;
+    std::vector<std::weak_ptr<Connection>> open_connections;
+};
+
+// The sending side of a WebSocket connection. Both calls are thread-safe and never block: they
+// queue the message for the connection's strand.
+class Connection {
+public:
+    virtual ~Connection() = default;
+
+    virtual void send_text(std::string text) = 0;
+
+    // A frame may be dropped in favour of a newer one while the client is slow.
+    virtual void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) = 0;
+
+    // Closes the connection politely (server shutdown, or a client that stopped reading).
+    virtual void close() = 0;
+};
+
+}  // namespace penumbra::net

@@ -1,0 +1,104 @@
+#include "http_session.hpp"
+
+#include "static_files.hpp"
+#include "websocket_session.hpp"
+
+#include <chrono>
+
+namespace penumbra::net {
+namespace {
+
+http::response<http::string_body> make_response(http::status status, unsigned version,
+                                                bool keep_alive, std::string body,
+                                                const std::string& content_type) {
+    http::response<http::string_body> response{status, version};
+    response.set(http::field::server, "penumbra");
+    response.set(http::field::content_type, content_type);
+    response.keep_alive(keep_alive);
+    response.body() = std::move(body);
+    response.prepare_payload();
+    return response;
+}
+
+}  // namespace
+
+HttpSession::HttpSession(tcp::socket&& socket, Context& context)
+    : stream_(std::move(socket))
+    , context_(context) {}
+
+void HttpSession::run() {
+    asio::dispatch(stream_.get_executor(),
+                   beast::bind_front_handler(&HttpSession::do_read, shared_from_this()));
+}
+
+void HttpSession::do_read() {
+    parser_.emplace();
+    parser_->body_limit(64 * 1024);  // requests carry no bodies worth more
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, *parser_,
+                     beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+}
+
+void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
+    if (ec) {
+        beast::error_code ignored;
+        stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+        return;
+    }
+    http::request<http::string_body> request = parser_->release();
+    const std::string target(request.target());
+    if (websocket::is_upgrade(request)) {
+        if (target == "/ws") {
+            stream_.expires_never();
+            std::make_shared<WebSocketSession>(stream_.release_socket(), context_)
+                    ->run(std::move(request));
+            return;
+        }
+    }
+    const bool keep_alive = request.keep_alive();
+    const unsigned version = request.version();
+    if (request.method() != http::verb::get && request.method() != http::verb::head) {
+        response_ = std::make_shared<http::response<http::string_body>>(
+                make_response(http::status::method_not_allowed, version, keep_alive,
+                              "only GET and HEAD\n", "text/plain"));
+    } else if (target == "/healthz") {
+        response_ = std::make_shared<http::response<http::string_body>>(
+                make_response(http::status::ok, version, keep_alive, "ok\n", "text/plain"));
+    } else if (target == "/metrics") {
+        context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+        response_ = std::make_shared<http::response<http::string_body>>(make_response(
+                http::status::ok, version, keep_alive, context_.services.metrics.prometheus_text(),
+                "text/plain; version=0.0.4"));
+    } else if (auto file = read_static_file(context_.config.web_root, target)) {
+        response_ = std::make_shared<http::response<http::string_body>>(make_response(
+                http::status::ok, version, keep_alive, std::move(file->body), file->content_type));
+    } else if (target == "/" || target == "/index.html") {
+        response_ = std::make_shared<http::response<http::string_body>>(
+                make_response(http::status::ok, version, keep_alive, built_in_index_page(),
+                              "text/html; charset=utf-8"));
+    } else {
+        response_ = std::make_shared<http::response<http::string_body>>(make_response(
+                http::status::not_found, version, keep_alive, "not found\n", "text/plain"));
+    }
+    if (request.method() == http::verb::head) {
+        response_->body().clear();
+    }
+    http::async_write(stream_, *response_,
+                      beast::bind_front_handler(&HttpSession::on_write, shared_from_this(),
+                                                keep_alive));
+}
+
+void HttpSession::on_write(bool keep_alive, beast::error_code ec, std::size_t /*bytes*/) {
+    if (ec) {
+        return;
+    }
+    if (!keep_alive) {
+        beast::error_code ignored;
+        stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+        return;
+    }
+    response_.reset();
+    do_read();
+}
+
+}  // namespace penumbra::net

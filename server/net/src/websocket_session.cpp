@@ -1,0 +1,166 @@
+#include "websocket_session.hpp"
+
+#include <penumbra/base/log.hpp>
+
+#include <algorithm>
+
+namespace penumbra::net {
+namespace {
+
+// Text replies waiting beyond this many mean the client does not read; it is disconnected.
+constexpr std::size_t max_queued_text = 512;
+
+}  // namespace
+
+WebSocketSession::WebSocketSession(tcp::socket&& socket, Context& context)
+    : ws_(std::move(socket))
+    , context_(context) {}
+
+WebSocketSession::~WebSocketSession() = default;
+
+void WebSocketSession::run(http::request<http::string_body> upgrade) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
+        response.set(http::field::server, "penumbra");
+    }));
+    // Messages up to the announced limit are parsed; larger ones up to this hard cap get an
+    // error reply and the connection stays; beyond it Beast closes the connection (1009).
+    ws_.read_message_max(std::max<std::size_t>(1 << 20, 4 * context_.config.limits.max_message_bytes));
+    ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept,
+                                                        shared_from_this()));
+}
+
+void WebSocketSession::on_accept(beast::error_code ec) {
+    if (ec) {
+        base::log_warning("net", "websocket handshake failed: " + ec.message());
+        return;
+    }
+    context_.connections.add(1.0);
+    context_.track(weak_from_this());
+    handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this());
+    handler_->on_open();
+    do_read();
+}
+
+void WebSocketSession::do_read() {
+    ws_.async_read(buffer_,
+                   beast::bind_front_handler(&WebSocketSession::on_read, shared_from_this()));
+}
+
+void WebSocketSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
+    if (ec) {
+        if (ec != websocket::error::closed && ec != asio::error::operation_aborted &&
+            ec != asio::error::eof) {
+            base::log_debug("net", "websocket read ended: " + ec.message());
+        }
+        finish();
+        return;
+    }
+    if (ws_.got_text()) {
+        const auto data = buffer_.cdata();
+        handler_->on_text(std::string_view(static_cast<const char*>(data.data()), data.size()));
+    } else {
+        handler_->on_binary();
+    }
+    buffer_.consume(buffer_.size());
+    do_read();
+}
+
+void WebSocketSession::finish() {
+    if (finished_) {
+        return;
+    }
+    finished_ = true;
+    if (handler_) {
+        handler_->on_close();
+        context_.connections.add(-1.0);
+    }
+    // The queue is left alone: a write in flight still reads its front element.
+}
+
+void WebSocketSession::send_text(std::string text) {
+    auto shared = std::make_shared<const std::string>(std::move(text));
+    asio::post(ws_.get_executor(), [self = shared_from_this(), shared] {
+        self->enqueue({shared, nullptr});
+    });
+}
+
+void WebSocketSession::send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) {
+    asio::post(ws_.get_executor(), [self = shared_from_this(), bytes = std::move(bytes)] {
+        self->enqueue({nullptr, bytes});
+    });
+}
+
+void WebSocketSession::enqueue(Outgoing message) {
+    if (finished_) {
+        return;
+    }
+    if (message.frame) {
+        // The element at the front is being written while `writing_`; everything after it waits.
+        const auto first_waiting = queue_.begin() + (writing_ ? 1 : 0);
+        const auto waiting_frame = std::find_if(first_waiting, queue_.end(),
+                                                [](const Outgoing& o) { return o.frame != nullptr; });
+        if (waiting_frame != queue_.end()) {
+            waiting_frame->frame = std::move(message.frame);  // the newer frame supersedes it
+            context_.frames_dropped.add();
+            return;
+        }
+        const auto frames = static_cast<std::size_t>(std::count_if(
+                queue_.begin(), queue_.end(), [](const Outgoing& o) { return o.frame != nullptr; }));
+        if (frames >= static_cast<std::size_t>(std::max(1, context_.config.limits.max_send_queue))) {
+            context_.frames_dropped.add();
+            return;
+        }
+        context_.frames_sent.add();
+    } else if (queue_.size() >= max_queued_text) {
+        base::log_warning("net", "a client stopped reading its replies; disconnecting it");
+        close();
+        return;
+    }
+    queue_.push_back(std::move(message));
+    if (!writing_) {
+        do_write();
+    }
+}
+
+void WebSocketSession::do_write() {
+    if (queue_.empty() || finished_) {
+        writing_ = false;
+        return;
+    }
+    writing_ = true;
+    const Outgoing& next = queue_.front();
+    if (next.text) {
+        ws_.text(true);
+        ws_.async_write(asio::buffer(*next.text), beast::bind_front_handler(
+                                                          &WebSocketSession::on_write,
+                                                          shared_from_this()));
+    } else {
+        ws_.binary(true);
+        ws_.async_write(asio::buffer(*next.frame), beast::bind_front_handler(
+                                                           &WebSocketSession::on_write,
+                                                           shared_from_this()));
+    }
+}
+
+void WebSocketSession::on_write(beast::error_code ec, std::size_t /*bytes*/) {
+    if (ec) {
+        finish();
+        return;
+    }
+    if (!queue_.empty()) {
+        queue_.pop_front();
+    }
+    do_write();
+}
+
+void WebSocketSession::close() {
+    asio::dispatch(ws_.get_executor(), [self = shared_from_this()] {
+        if (self->ws_.is_open()) {
+            self->ws_.async_close(websocket::close_code::going_away,
+                                  [self](beast::error_code) { self->finish(); });
+        }
+    });
+}
+
+}  // namespace penumbra::net

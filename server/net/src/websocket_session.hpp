@@ -1,0 +1,51 @@
+#pragma once
+
+#include "beast.hpp"
+#include "connection_handler.hpp"
+#include "context.hpp"
+
+#include <deque>
+#include <memory>
+
+namespace penumbra::net {
+
+// One WebSocket connection: a read loop feeding the ConnectionHandler, and a bounded write queue
+// in which a frame not yet being written is replaced by a newer one, so a slow reader only slows
+// itself. All work runs on the connection's strand.
+class WebSocketSession : public Connection,
+                         public std::enable_shared_from_this<WebSocketSession> {
+public:
+    WebSocketSession(tcp::socket&& socket, Context& context);
+    ~WebSocketSession() override;
+
+    void run(http::request<http::string_body> upgrade);
+
+    void send_text(std::string text) override;
+    void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) override;
+
+    void close() override;
+
+private:
+    struct Outgoing {
+        std::shared_ptr<const std::string> text;
+        std::shared_ptr<const std::vector<std::uint8_t>> frame;
+    };
+
+    void on_accept(beast::error_code ec);
+    void do_read();
+    void on_read(beast::error_code ec, std::size_t bytes);
+    void enqueue(Outgoing message);
+    void do_write();
+    void on_write(beast::error_code ec, std::size_t bytes);
+    void finish();
+
+    websocket::stream<beast::tcp_stream> ws_;
+    Context& context_;
+    beast::flat_buffer buffer_;
+    std::deque<Outgoing> queue_;
+    bool writing_ = false;
+    bool finished_ = false;
+    std::unique_ptr<ConnectionHandler> handler_;
+};
+
+}  // namespace penumbra::net

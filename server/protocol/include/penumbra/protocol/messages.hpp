@@ -1,0 +1,125 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/protocol/limits.hpp>
+#include <penumbra/scene/frame_request.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace penumbra::protocol {
+
+// Error codes sent in `error` messages (proto/README.md lists them).
+namespace code {
+inline constexpr const char* malformed_json = "malformed_json";
+inline constexpr const char* invalid_message = "invalid_message";
+inline constexpr const char* unknown_type = "unknown_type";
+inline constexpr const char* unknown_field = "unknown_field";
+inline constexpr const char* unsupported_version = "unsupported_version";
+inline constexpr const char* invalid_value = "invalid_value";
+inline constexpr const char* out_of_range = "out_of_range";
+inline constexpr const char* message_too_large = "message_too_large";
+inline constexpr const char* rate_limited = "rate_limited";
+inline constexpr const char* unknown_volume = "unknown_volume";
+inline constexpr const char* volume_unreadable = "volume_unreadable";
+inline constexpr const char* unknown_session = "unknown_session";
+inline constexpr const char* no_session = "no_session";
+inline constexpr const char* too_many_sessions = "too_many_sessions";
+inline constexpr const char* render_failed = "render_failed";
+inline constexpr const char* internal_error = "internal_error";
+}  // namespace code
+
+// Client -> server. Every message carries "v": 1, a "type" and an optional client-chosen "id"
+// that the answer repeats.
+struct ListVolumes {};
+
+struct Open {
+    std::string volume;
+};
+
+// Any subset of the session's state (camera, light, transfer_function, settings, output); absent
+// parts keep their value. Already validated; apply it with apply_patch (scene_json.hpp).
+struct Set {
+    std::string patch;
+};
+
+struct Render {
+    bool interactive = false;  // reduced quality while the user drags; a still follows
+};
+
+struct Stats {};
+
+struct Join {
+    std::string session;
+};
+
+struct Close {};
+
+using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close>;
+
+struct Request {
+    std::optional<std::int64_t> id;
+    ClientMessage message;
+};
+
+// Parses and validates one text message. Errors carry a code from `code::` and, in `where`, the
+// JSON pointer of the offending field ("/camera/eye/1").
+base::Result<Request> parse_request(std::string_view text, const Limits& limits);
+
+// The id of a message that failed to parse, if one could be read, so the error can echo it.
+std::optional<std::int64_t> request_id_of(std::string_view text);
+
+// Server -> client text messages, serialised to JSON.
+struct VolumeSummary {
+    std::string id;
+    std::string name;
+    std::uint32_t dims[3] = {0, 0, 0};
+    double spacing[3] = {1, 1, 1};
+    std::string voxel_type;
+    double range[2] = {0, 0};
+    bool loaded = false;
+};
+
+struct RendererSummary {
+    std::string renderer;
+    std::string version;
+    std::string platform;
+};
+
+std::string hello_message(const Limits& limits, const RendererSummary& renderer,
+                          const std::vector<std::string>& modes);
+std::string volumes_message(std::optional<std::int64_t> id,
+                            const std::vector<VolumeSummary>& volumes);
+// `state` is the session's full state (what `set` can change), as the client should show it.
+std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
+                           const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
+                           const std::string& state_json, bool joined);
+std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
+std::string error_message(std::optional<std::int64_t> id, const base::Error& error);
+std::string stats_message(std::optional<std::int64_t> id, const std::string& stats_json);
+
+// What `stats` reports: the asking connection's session and the server as a whole.
+struct StatsReport {
+    std::optional<std::string> session;
+    std::uint64_t session_frames = 0;
+    std::size_t viewers = 0;
+    std::size_t sessions = 0;
+    double connections = 0;
+    std::size_t queue_depth = 0;
+    double frame_server_p50_ms = 0;  // queued + render + readback + encode, from the histogram
+    double frame_server_p95_ms = 0;
+    double frame_server_p99_ms = 0;
+    std::uint64_t frames_total = 0;
+    std::uint64_t light_buffer_builds = 0;
+    std::uint64_t light_buffer_reuses = 0;
+    double gpu_bytes_held = 0;
+    std::string renderer;
+};
+
+std::string stats_message(std::optional<std::int64_t> id, const StatsReport& report);
+
+}  // namespace penumbra::protocol

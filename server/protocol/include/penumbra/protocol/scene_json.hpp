@@ -1,0 +1,42 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/protocol/limits.hpp>
+#include <penumbra/scene/frame_request.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+namespace penumbra::protocol {
+
+// How frames leave the server.
+struct OutputOptions {
+    std::string encoding = "jpeg";  // "jpeg" | "png"
+    int jpeg_quality = 85;
+};
+
+// Everything a `set` can change.
+struct SessionState {
+    scene::FrameRequest frame;
+    OutputOptions output;
+};
+
+// Applies a validated `set` patch (a JSON object with any of "camera", "light",
+// "transfer_function", "settings", "output") onto `state`, field by field. Unknown fields,
+// wrong types, non-finite numbers and values outside the limits are errors naming the JSON
+// pointer of the field; on error `state` is unchanged.
+base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits);
+
+// The state in the shapes `set` accepts.
+std::string state_to_json(const SessionState& state);
+
+// A transfer function as JSON: {"colors": [{"x", "rgb"}], "opacities": [{"x", "alpha"}],
+// "space": "normalized" | "data", "name"} or {"preset": NAME}. "data" positions need the
+// volume's value range. `where` prefixes error locations (a file name or a JSON pointer).
+base::Result<scene::TransferFunction> parse_transfer_function(
+        std::string_view json_text, std::optional<std::pair<double, double>> data_range,
+        const std::string& where);
+
+}  // namespace penumbra::protocol

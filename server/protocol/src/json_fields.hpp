@@ -1,0 +1,56 @@
+#pragma once
+
+// Strict reading of JSON fields: every failure names the JSON pointer of the field.
+
+#include <penumbra/base/result.hpp>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include <initializer_list>
+#include <string>
+
+namespace penumbra::protocol::json_fields {
+
+using nlohmann::json;
+
+inline base::Error field_error(const char* code, const std::string& pointer,
+                               const std::string& message) {
+    return base::make_error(code, message, pointer.empty() ? "/" : pointer);
+}
+
+// Rejects members other than `allowed`.
+base::Status only_fields(const json& object, const std::string& pointer,
+                         std::initializer_list<const char*> allowed);
+
+base::Status expect_object(const json& value, const std::string& pointer);
+
+base::Result<double> number(const json& value, const std::string& pointer, double min,
+                            double max);
+
+base::Result<int> integer(const json& value, const std::string& pointer, int min, int max);
+
+base::Result<bool> boolean(const json& value, const std::string& pointer);
+
+base::Result<std::string> string(const json& value, const std::string& pointer,
+                                 std::size_t max_length = 256);
+
+base::Result<glm::dvec3> vec3(const json& value, const std::string& pointer, double min,
+                              double max);
+
+// Reads `object[key]` with `read` into `target` when the member exists.
+template <class T, class Read>
+base::Status optional_member(const json& object, const std::string& pointer, const char* key,
+                             T& target, Read&& read) {
+    if (!object.contains(key)) {
+        return base::Ok{};
+    }
+    auto value = read(object.at(key), pointer + "/" + key);
+    if (!value) {
+        return value.error();
+    }
+    target = *value;
+    return base::Ok{};
+}
+
+}  // namespace penumbra::protocol::json_fields

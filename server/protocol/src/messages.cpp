@@ -1,0 +1,267 @@
+#include "penumbra/protocol/messages.hpp"
+
+#include "json_fields.hpp"
+
+#include <penumbra/protocol/scene_json.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
+namespace penumbra::protocol {
+namespace {
+
+using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSON vocabulary
+
+json with_id(json message, std::optional<std::int64_t> id) {
+    message["v"] = protocol_version;
+    if (id) {
+        message["id"] = *id;
+    }
+    return message;
+}
+
+base::Result<std::string> required_string(const json& j, const char* key, std::size_t max) {
+    const std::string pointer = std::string("/") + key;
+    if (!j.contains(key)) {
+        return field_error(code::invalid_message, pointer, std::string("missing '") + key + "'");
+    }
+    return string(j.at(key), pointer, max);
+}
+
+// An integer that fits std::int64_t (nlohmann also stores integers up to 2^64 - 1, unsigned).
+bool is_int64(const json& value) {
+    return value.is_number_integer() &&
+           (!value.is_number_unsigned() ||
+            value.get<std::uint64_t>() <=
+                    static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()));
+}
+
+}  // namespace
+
+std::optional<std::int64_t> request_id_of(std::string_view text) {
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_object() && j.contains("id") && is_int64(j.at("id"))) {
+        return j.at("id").get<std::int64_t>();
+    }
+    return std::nullopt;
+}
+
+base::Result<Request> parse_request(std::string_view text, const Limits& limits) {
+    if (text.size() > limits.max_message_bytes) {
+        return field_error(code::message_too_large, "",
+                           "message of " + std::to_string(text.size()) + " bytes exceeds " +
+                                   std::to_string(limits.max_message_bytes));
+    }
+    const json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) {
+        return field_error(code::malformed_json, "", "not valid JSON");
+    }
+    if (!j.is_object()) {
+        return field_error(code::invalid_message, "", "a message is a JSON object");
+    }
+    if (!j.contains("v")) {
+        return field_error(code::invalid_message, "/v", "missing protocol version 'v'");
+    }
+    if (!j.at("v").is_number_integer() || j.at("v").get<std::int64_t>() != protocol_version) {
+        return field_error(code::unsupported_version, "/v",
+                           "this server speaks protocol version " +
+                                   std::to_string(protocol_version));
+    }
+    Request request;
+    if (j.contains("id")) {
+        if (!is_int64(j.at("id"))) {
+            return field_error(code::invalid_value, "/id", "id must be a 64-bit signed integer");
+        }
+        request.id = j.at("id").get<std::int64_t>();
+    }
+    auto type = required_string(j, "type", 32);
+    if (!type) {
+        return type.error();
+    }
+    const auto fields = [&](std::initializer_list<const char*> extra) {
+        std::vector<const char*> allowed = {"v", "type", "id"};
+        allowed.insert(allowed.end(), extra.begin(), extra.end());
+        for (const auto& [key, value] : j.items()) {
+            if (std::find_if(allowed.begin(), allowed.end(),
+                             [&](const char* a) { return key == a; }) == allowed.end()) {
+                return base::Status(field_error(code::unknown_field, "/" + key,
+                                                "unknown field '" + key + "' in " + *type));
+            }
+        }
+        return base::Status(base::Ok{});
+    };
+    if (*type == "list_volumes" || *type == "stats" || *type == "close") {
+        if (auto status = fields({}); !status) {
+            return status.error();
+        }
+        if (*type == "list_volumes") {
+            request.message = ListVolumes{};
+        } else if (*type == "stats") {
+            request.message = Stats{};
+        } else {
+            request.message = Close{};
+        }
+        return request;
+    }
+    if (*type == "open") {
+        if (auto status = fields({"volume"}); !status) {
+            return status.error();
+        }
+        auto volume = required_string(j, "volume", 256);
+        if (!volume) {
+            return volume.error();
+        }
+        request.message = Open{*volume};
+        return request;
+    }
+    if (*type == "join") {
+        if (auto status = fields({"session"}); !status) {
+            return status.error();
+        }
+        auto session = required_string(j, "session", 64);
+        if (!session) {
+            return session.error();
+        }
+        request.message = Join{*session};
+        return request;
+    }
+    if (*type == "render") {
+        if (auto status = fields({"interactive"}); !status) {
+            return status.error();
+        }
+        Render render;
+        if (j.contains("interactive")) {
+            auto interactive = boolean(j.at("interactive"), "/interactive");
+            if (!interactive) {
+                return interactive.error();
+            }
+            render.interactive = *interactive;
+        }
+        request.message = render;
+        return request;
+    }
+    if (*type == "set") {
+        if (auto status = fields({"camera", "light", "transfer_function", "settings", "output"});
+            !status) {
+            return status.error();
+        }
+        json patch = j;
+        patch.erase("v");
+        patch.erase("type");
+        patch.erase("id");
+        std::string patch_text = patch.dump();
+        // Validated against a default state now, so that a bad `set` is rejected whole and
+        // the session never sees it.
+        SessionState scratch;
+        scratch.frame.transfer_function = scene::preset("grey_ramp").value();
+        // Defaults inside the limits, so that a server configured below them still takes patches.
+        scene::RenderSettings& s = scratch.frame.settings;
+        s.width = std::min(s.width, limits.max_image_side);
+        s.height = std::min(s.height, limits.max_image_side);
+        s.light_buffer.slices = std::min(s.light_buffer.slices, limits.max_slices);
+        s.light_buffer.resolution =
+                std::min(s.light_buffer.resolution, limits.max_light_resolution);
+        if (auto status = apply_patch(patch_text, scratch, limits); !status) {
+            return status.error();
+        }
+        request.message = Set{std::move(patch_text)};
+        return request;
+    }
+    return field_error(code::unknown_type, "/type", "unknown message type '" + *type + "'");
+}
+
+std::string hello_message(const Limits& limits, const RendererSummary& renderer,
+                          const std::vector<std::string>& modes) {
+    return with_id({{"type", "hello"},
+                    {"server", "penumbra"},
+                    {"modes", modes},
+                    {"encodings", {"jpeg", "png"}},
+                    {"renderer",
+                     {{"renderer", renderer.renderer},
+                      {"version", renderer.version},
+                      {"platform", renderer.platform}}},
+                    {"limits",
+                     {{"max_message_bytes", limits.max_message_bytes},
+                      {"max_image_side", limits.max_image_side},
+                      {"max_slices", limits.max_slices},
+                      {"max_light_resolution", limits.max_light_resolution},
+                      {"max_sessions", limits.max_sessions},
+                      {"max_requests_per_second", limits.max_requests_per_second},
+                      {"max_send_queue", limits.max_send_queue}}}},
+                   std::nullopt)
+            .dump();
+}
+
+namespace {
+
+json volume_json(const VolumeSummary& v) {
+    return {{"id", v.id},
+            {"name", v.name},
+            {"dims", {v.dims[0], v.dims[1], v.dims[2]}},
+            {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
+            {"voxel_type", v.voxel_type},
+            {"range", {v.range[0], v.range[1]}},
+            {"loaded", v.loaded}};
+}
+
+}  // namespace
+
+std::string volumes_message(std::optional<std::int64_t> id,
+                            const std::vector<VolumeSummary>& volumes) {
+    json list = json::array();
+    for (const auto& v : volumes) {
+        list.push_back(volume_json(v));
+    }
+    return with_id({{"type", "volumes"}, {"volumes", list}}, id).dump();
+}
+
+std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
+                           const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
+                           const std::string& state_json, bool joined) {
+    return with_id({{"type", joined ? "joined" : "opened"},
+                    {"session", session},
+                    {"volume", volume_json(volume)},
+                    {"histogram", histogram},
+                    {"state", json::parse(state_json)}},
+                   id)
+            .dump();
+}
+
+std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {
+    return with_id({{"type", "ack"}, {"of", what}}, id).dump();
+}
+
+std::string error_message(std::optional<std::int64_t> id, const base::Error& error) {
+    return with_id({{"type", "error"},
+                    {"code", error.code},
+                    {"message", error.message},
+                    {"field", error.where}},
+                   id)
+            .dump();
+}
+
+std::string stats_message(std::optional<std::int64_t> id, const std::string& stats_json) {
+    return with_id({{"type", "stats"}, {"stats", json::parse(stats_json)}}, id).dump();
+}
+
+std::string stats_message(std::optional<std::int64_t> id, const StatsReport& r) {
+    json stats = {{"session", r.session ? json(*r.session) : json(nullptr)},
+                  {"session_frames", r.session_frames},
+                  {"viewers", r.viewers},
+                  {"sessions", r.sessions},
+                  {"connections", r.connections},
+                  {"queue_depth", r.queue_depth},
+                  {"frame_server_ms",
+                   {{"p50", r.frame_server_p50_ms},
+                    {"p95", r.frame_server_p95_ms},
+                    {"p99", r.frame_server_p99_ms}}},
+                  {"frames_total", r.frames_total},
+                  {"light_buffer", {{"builds", r.light_buffer_builds},
+                                    {"reuses", r.light_buffer_reuses}}},
+                  {"gpu_bytes_held", r.gpu_bytes_held},
+                  {"renderer", r.renderer}};
+    return with_id({{"type", "stats"}, {"stats", stats}}, id).dump();
+}
+
+}  // namespace penumbra::protocol

@@ -1,0 +1,456 @@
+#include "penumbra/protocol/scene_json.hpp"
+
+#include "json_fields.hpp"
+
+#include <penumbra/scene/camera.hpp>
+
+#include <algorithm>
+
+namespace penumbra::protocol {
+namespace {
+
+using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSON vocabulary
+
+constexpr double max_coordinate = 1000.0;
+constexpr std::size_t max_tf_points = 256;
+
+#define PENUMBRA_TRY(expression)                  \
+    do {                                          \
+        if (auto status_ = (expression); !status_) { \
+            return status_.error();               \
+        }                                         \
+    } while (false)
+
+base::Status apply_camera(const json& j, const std::string& p, scene::Camera& camera) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"eye", "target", "up", "fov", "orbit"}));
+    const auto coordinates = [](const json& v, const std::string& q) {
+        return vec3(v, q, -max_coordinate, max_coordinate);
+    };
+    if (j.contains("orbit")) {
+        if (j.contains("eye")) {
+            return field_error("invalid_value", p + "/orbit", "give either orbit or eye, not both");
+        }
+        const json& o = j.at("orbit");
+        const std::string op = p + "/orbit";
+        PENUMBRA_TRY(expect_object(o, op));
+        PENUMBRA_TRY(only_fields(o, op, {"azimuth", "elevation", "distance"}));
+        double azimuth = 0.0;
+        double elevation = 0.0;
+        double distance = 2.6;
+        const auto deg = [](double lo, double hi) {
+            return [lo, hi](const json& v, const std::string& q) { return number(v, q, lo, hi); };
+        };
+        PENUMBRA_TRY(optional_member(o, op, "azimuth", azimuth, deg(-36000.0, 36000.0)));
+        PENUMBRA_TRY(optional_member(o, op, "elevation", elevation, deg(-90.0, 90.0)));
+        PENUMBRA_TRY(optional_member(o, op, "distance", distance, deg(0.01, 100.0)));
+        // The orbit is around the patch's target if it has one, else the current target.
+        glm::dvec3 target = camera.target;
+        PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
+        const double fov = camera.fov_y_degrees;
+        camera = scene::orbit_camera(azimuth, elevation, distance, target);
+        camera.fov_y_degrees = fov;
+    }
+    PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
+    PENUMBRA_TRY(optional_member(j, p, "target", camera.target, coordinates));
+    PENUMBRA_TRY(optional_member(j, p, "up", camera.up, coordinates));
+    PENUMBRA_TRY(optional_member(j, p, "fov", camera.fov_y_degrees,
+                                 [](const json& v, const std::string& q) {
+                                     return number(v, q, 1.0, 170.0);
+                                 }));
+    return base::Ok{};
+}
+
+base::Status apply_light(const json& j, const std::string& p, scene::Light& light) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"type", "direction", "position", "color", "intensity",
+                                    "ambient"}));
+    if (j.contains("type")) {
+        auto type = string(j.at("type"), p + "/type");
+        if (!type) {
+            return type.error();
+        }
+        if (*type != "directional" && *type != "point") {
+            return field_error("invalid_value", p + "/type", "expected directional or point");
+        }
+        light.type = *type == "point" ? scene::LightType::point : scene::LightType::directional;
+    }
+    const auto coordinates = [](const json& v, const std::string& q) {
+        return vec3(v, q, -max_coordinate, max_coordinate);
+    };
+    PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
+    PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
+    PENUMBRA_TRY(optional_member(j, p, "color", light.color, [](const json& v, const std::string& q) {
+        return vec3(v, q, 0.0, 1.0);
+    }));
+    PENUMBRA_TRY(optional_member(j, p, "intensity", light.intensity,
+                                 [](const json& v, const std::string& q) {
+                                     return number(v, q, 0.0, 100.0);
+                                 }));
+    PENUMBRA_TRY(optional_member(j, p, "ambient", light.ambient,
+                                 [](const json& v, const std::string& q) {
+                                     return number(v, q, 0.0, 1.0);
+                                 }));
+    return base::Ok{};
+}
+
+base::Result<scene::TransferFunction> transfer_function_from(
+        const json& j, const std::string& p, std::optional<std::pair<double, double>> range) {
+    PENUMBRA_TRY(expect_object(j, p));
+    if (j.contains("preset")) {
+        PENUMBRA_TRY(only_fields(j, p, {"preset"}));
+        auto name = string(j.at("preset"), p + "/preset");
+        if (!name) {
+            return name.error();
+        }
+        auto tf = scene::preset(*name);
+        if (!tf) {
+            return field_error("invalid_value", p + "/preset", tf.error().message);
+        }
+        return tf;
+    }
+    PENUMBRA_TRY(only_fields(j, p, {"name", "space", "colors", "opacities"}));
+    scene::TransferFunction tf;
+    tf.name = "custom";
+    PENUMBRA_TRY(optional_member(j, p, "name", tf.name, [](const json& v, const std::string& q) {
+        return string(v, q, 64);
+    }));
+    std::string space = "normalized";
+    PENUMBRA_TRY(optional_member(j, p, "space", space, [](const json& v, const std::string& q) {
+        return string(v, q, 16);
+    }));
+    if (space != "normalized" && space != "data") {
+        return field_error("invalid_value", p + "/space", "expected normalized or data");
+    }
+    if (space == "data" && !range) {
+        return field_error("invalid_value", p + "/space", "data positions need a volume range");
+    }
+    // Positions outside the range are accepted and clamped by validation's own message below.
+    const auto to_unit = [&](double x) {
+        if (space == "normalized") {
+            return x;
+        }
+        const double width = range->second - range->first;
+        return width > 0.0 ? (x - range->first) / width : 0.0;
+    };
+    const double position_limit = space == "data" ? 1e30 : 1.0;
+    const double position_low = space == "data" ? -1e30 : 0.0;
+    for (const char* list : {"colors", "opacities"}) {
+        if (!j.contains(list)) {
+            continue;
+        }
+        const json& points = j.at(list);
+        const std::string lp = p + "/" + list;
+        if (!points.is_array()) {
+            return field_error("invalid_value", lp, "expected an array");
+        }
+        if (points.size() > max_tf_points) {
+            return field_error("out_of_range", lp,
+                               "at most " + std::to_string(max_tf_points) + " points");
+        }
+        const bool colors = std::string(list) == "colors";
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const json& point = points[i];
+            const std::string pp = lp + "/" + std::to_string(i);
+            PENUMBRA_TRY(expect_object(point, pp));
+            PENUMBRA_TRY(only_fields(point, pp, {"x", colors ? "rgb" : "alpha"}));
+            if (!point.contains("x")) {
+                return field_error("invalid_value", pp + "/x", "missing");
+            }
+            auto x = number(point.at("x"), pp + "/x", position_low, position_limit);
+            if (!x) {
+                return x.error();
+            }
+            if (colors) {
+                if (!point.contains("rgb")) {
+                    return field_error("invalid_value", pp + "/rgb", "missing");
+                }
+                auto rgb = vec3(point.at("rgb"), pp + "/rgb", 0.0, 1.0);
+                if (!rgb) {
+                    return rgb.error();
+                }
+                tf.colors.push_back({to_unit(*x), *rgb});
+            } else {
+                if (!point.contains("alpha")) {
+                    return field_error("invalid_value", pp + "/alpha", "missing");
+                }
+                auto alpha = number(point.at("alpha"), pp + "/alpha", 0.0, 1.0);
+                if (!alpha) {
+                    return alpha.error();
+                }
+                tf.opacities.push_back({to_unit(*x), *alpha});
+            }
+        }
+    }
+    if (auto status = scene::validate(tf); !status) {
+        // scene names the list and index ("transfer_function.opacities[2]"); as a pointer:
+        // p + "/opacities/2".
+        const std::string& where = status.error().where;
+        const auto dot = where.find('.');
+        const auto bracket = where.find('[');
+        std::string pointer = p;
+        if (dot != std::string::npos && bracket != std::string::npos && bracket > dot &&
+            where.back() == ']') {
+            pointer += "/" + where.substr(dot + 1, bracket - dot - 1) + "/" +
+                       where.substr(bracket + 1, where.size() - bracket - 2);
+        }
+        return field_error("invalid_value", pointer, status.error().message);
+    }
+    return tf;
+}
+
+template <class Enum, class Parse>
+base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target,
+                        Parse&& parse, const char* expected) {
+    if (!j.contains(key)) {
+        return base::Ok{};
+    }
+    auto text = string(j.at(key), p + "/" + key, 32);
+    if (!text) {
+        return text.error();
+    }
+    auto parsed = parse(*text);
+    if (!parsed) {
+        return field_error("invalid_value", p + "/" + key, std::string("expected ") + expected);
+    }
+    target = *parsed;
+    return base::Ok{};
+}
+
+auto range_of(double lo, double hi) {
+    return [lo, hi](const json& v, const std::string& q) { return number(v, q, lo, hi); };
+}
+
+auto int_range_of(int lo, int hi) {
+    return [lo, hi](const json& v, const std::string& q) { return integer(v, q, lo, hi); };
+}
+
+base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
+                            const Limits& limits) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"mode", "compositing", "stage", "size", "sample_distance",
+                                    "opacity_unit_distance", "early_termination", "background",
+                                    "phong", "shading", "light_buffer", "scattering"}));
+    PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
+                            "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
+    PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
+                            "alpha or extinction"));
+    PENUMBRA_TRY(apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage,
+                            "compute or fragment"));
+    if (j.contains("size")) {
+        const json& size = j.at("size");
+        if (!size.is_array() || size.size() != 2) {
+            return field_error("invalid_value", p + "/size", "expected [width, height]");
+        }
+        auto w = integer(size[0], p + "/size/0", 1, limits.max_image_side);
+        auto h = integer(size[1], p + "/size/1", 1, limits.max_image_side);
+        if (!w || !h) {
+            return !w ? w.error() : h.error();
+        }
+        s.width = *w;
+        s.height = *h;
+    }
+    PENUMBRA_TRY(optional_member(j, p, "sample_distance", s.sample_distance,
+                                 range_of(1.0 / 4096.0, 0.5)));
+    PENUMBRA_TRY(optional_member(j, p, "opacity_unit_distance", s.opacity_unit_distance,
+                                 range_of(1e-4, 1.0)));
+    PENUMBRA_TRY(optional_member(j, p, "early_termination", s.early_termination,
+                                 range_of(0.01, 1.0)));
+    PENUMBRA_TRY(optional_member(j, p, "background", s.background,
+                                 [](const json& v, const std::string& q) {
+                                     return vec3(v, q, 0.0, 1.0);
+                                 }));
+    PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
+    if (j.contains("shading")) {
+        const json& sh = j.at("shading");
+        const std::string sp = p + "/shading";
+        PENUMBRA_TRY(expect_object(sh, sp));
+        PENUMBRA_TRY(only_fields(sh, sp, {"diffuse", "specular", "shininess"}));
+        PENUMBRA_TRY(optional_member(sh, sp, "diffuse", s.shading.diffuse, range_of(0.0, 4.0)));
+        PENUMBRA_TRY(optional_member(sh, sp, "specular", s.shading.specular, range_of(0.0, 4.0)));
+        PENUMBRA_TRY(optional_member(sh, sp, "shininess", s.shading.shininess,
+                                     range_of(1.0, 1024.0)));
+    }
+    if (j.contains("light_buffer")) {
+        const json& lb = j.at("light_buffer");
+        const std::string lp = p + "/light_buffer";
+        PENUMBRA_TRY(expect_object(lb, lp));
+        PENUMBRA_TRY(only_fields(lb, lp, {"slices", "resolution", "builder", "compensation"}));
+        PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
+                                     int_range_of(1, limits.max_slices)));
+        PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
+                                     int_range_of(1, limits.max_light_resolution)));
+        PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder,
+                                scene::parse_light_buffer_builder, "per_slice or multi_slice"));
+        PENUMBRA_TRY(optional_member(lb, lp, "compensation", s.light_buffer.compensation,
+                                     range_of(0.0, 1000.0)));
+    }
+    if (j.contains("scattering")) {
+        const json& sc = j.at("scattering");
+        const std::string cp = p + "/scattering";
+        PENUMBRA_TRY(expect_object(sc, cp));
+        PENUMBRA_TRY(only_fields(sc, cp, {"shell_radius", "shell_rings", "shell_center_weight",
+                                          "cone_angle", "cone_center_weight"}));
+        PENUMBRA_TRY(optional_member(sc, cp, "shell_radius", s.scattering.shell_radius,
+                                     range_of(1e-4, 0.5)));
+        PENUMBRA_TRY(optional_member(sc, cp, "shell_rings", s.scattering.shell_rings,
+                                     int_range_of(1, 4)));
+        PENUMBRA_TRY(optional_member(sc, cp, "shell_center_weight",
+                                     s.scattering.shell_center_weight, range_of(0.0, 1.0)));
+        PENUMBRA_TRY(optional_member(sc, cp, "cone_angle", s.scattering.cone_angle_degrees,
+                                     range_of(0.1, 80.0)));
+        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight",
+                                     s.scattering.cone_center_weight, range_of(0.0, 1.0)));
+    }
+    return base::Ok{};
+}
+
+base::Status apply_output(const json& j, const std::string& p, OutputOptions& output) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
+    if (j.contains("encoding")) {
+        auto encoding = string(j.at("encoding"), p + "/encoding", 8);
+        if (!encoding) {
+            return encoding.error();
+        }
+        if (*encoding != "jpeg" && *encoding != "png") {
+            return field_error("invalid_value", p + "/encoding", "expected jpeg or png");
+        }
+        output.encoding = *encoding;
+    }
+    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality, int_range_of(1, 100)));
+    return base::Ok{};
+}
+
+json vec3_json(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
+    const json patch = json::parse(patch_json, nullptr, false);
+    if (patch.is_discarded()) {
+        return field_error("malformed_json", "", "not valid JSON");
+    }
+    PENUMBRA_TRY(expect_object(patch, ""));
+    PENUMBRA_TRY(only_fields(patch, "", {"camera", "light", "transfer_function", "settings",
+                                         "output"}));
+    SessionState next = state;
+    if (patch.contains("camera")) {
+        PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame.camera));
+    }
+    if (patch.contains("light")) {
+        PENUMBRA_TRY(apply_light(patch.at("light"), "/light", next.frame.light));
+    }
+    if (patch.contains("transfer_function")) {
+        auto tf = transfer_function_from(patch.at("transfer_function"), "/transfer_function",
+                                         std::nullopt);
+        if (!tf) {
+            return tf.error();
+        }
+        next.frame.transfer_function = std::move(tf.value());
+    }
+    if (patch.contains("settings")) {
+        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame.settings, limits));
+    }
+    if (patch.contains("output")) {
+        PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
+    }
+    const scene::Limits scene_limits{limits.max_image_side, limits.max_slices,
+                                     limits.max_light_resolution};
+    if (auto status = scene::validate(next.frame, scene_limits); !status) {
+        // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
+        // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
+        std::string where = status.error().where;
+        if (where == "camera.fov_y") {
+            where = "camera.fov";
+        }
+        const auto is_part = [&](std::string_view part) {
+            return where == part || where.starts_with(std::string(part) + ".");
+        };
+        const bool settings = !is_part("camera") && !is_part("light") &&
+                              !is_part("transfer_function");
+        std::string pointer = (settings ? "/settings/" : "/") + where;
+        std::replace(pointer.begin(), pointer.end(), '.', '/');
+        return field_error("invalid_value", pointer, status.error().message);
+    }
+    state = std::move(next);
+    return base::Ok{};
+}
+
+std::string state_to_json(const SessionState& state) {
+    const scene::FrameRequest& f = state.frame;
+    const scene::RenderSettings& s = f.settings;
+    json colors = json::array();
+    for (const auto& c : f.transfer_function.colors) {
+        colors.push_back({{"x", c.x}, {"rgb", vec3_json(c.rgb)}});
+    }
+    json opacities = json::array();
+    for (const auto& o : f.transfer_function.opacities) {
+        opacities.push_back({{"x", o.x}, {"alpha", o.alpha}});
+    }
+    json out = {
+            {"camera",
+             {{"eye", vec3_json(f.camera.eye)},
+              {"target", vec3_json(f.camera.target)},
+              {"up", vec3_json(f.camera.up)},
+              {"fov", f.camera.fov_y_degrees}}},
+            {"light",
+             {{"type", f.light.type == scene::LightType::point ? "point" : "directional"},
+              {"direction", vec3_json(f.light.direction)},
+              {"position", vec3_json(f.light.position)},
+              {"color", vec3_json(f.light.color)},
+              {"intensity", f.light.intensity},
+              {"ambient", f.light.ambient}}},
+            {"transfer_function",
+             {{"name", f.transfer_function.name},
+              {"space", "normalized"},
+              {"colors", colors},
+              {"opacities", opacities}}},
+            {"settings",
+             {{"mode", scene::to_string(s.mode)},
+              {"compositing", scene::to_string(s.compositing)},
+              {"stage", scene::to_string(s.stage)},
+              {"size", json::array({s.width, s.height})},
+              {"sample_distance", s.sample_distance},
+              {"opacity_unit_distance", s.opacity_unit_distance},
+              {"early_termination", s.early_termination},
+              {"background", vec3_json(s.background)},
+              {"phong", s.phong},
+              {"shading",
+               {{"diffuse", s.shading.diffuse},
+                {"specular", s.shading.specular},
+                {"shininess", s.shading.shininess}}},
+              {"light_buffer",
+               {{"slices", s.light_buffer.slices},
+                {"resolution", s.light_buffer.resolution},
+                {"builder", scene::to_string(s.light_buffer.builder)},
+                {"compensation", s.light_buffer.compensation}}},
+              {"scattering",
+               {{"shell_radius", s.scattering.shell_radius},
+                {"shell_rings", s.scattering.shell_rings},
+                {"shell_center_weight", s.scattering.shell_center_weight},
+                {"cone_angle", s.scattering.cone_angle_degrees},
+                {"cone_center_weight", s.scattering.cone_center_weight}}}}},
+            {"output",
+             {{"encoding", state.output.encoding}, {"jpeg_quality", state.output.jpeg_quality}}},
+    };
+    return out.dump();
+}
+
+base::Result<scene::TransferFunction> parse_transfer_function(
+        std::string_view json_text, std::optional<std::pair<double, double>> data_range,
+        const std::string& where) {
+    const json document = json::parse(json_text, nullptr, false);
+    if (document.is_discarded()) {
+        return base::make_error("malformed_json", "not valid JSON", where);
+    }
+    auto tf = transfer_function_from(document, "", data_range);
+    if (!tf) {
+        base::Error error = tf.error();
+        error.where = where + (error.where == "/" ? "" : error.where);
+        return error;
+    }
+    return tf;
+}
+
+}  // namespace penumbra::protocol

@@ -1,0 +1,143 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/metrics/registry.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace penumbra::session {
+
+using Clock = std::chrono::steady_clock;
+
+struct OutputFormat {
+    encode::ImageFormat format = encode::ImageFormat::jpeg;
+    int jpeg_quality = 85;
+};
+
+struct RenderJob {
+    std::shared_ptr<const volume::Volume> volume;
+    scene::FrameRequest request;
+    OutputFormat output;
+    std::int64_t request_id = -1;
+    bool interactive = false;
+    std::string quality;  // how the request was reduced, for the frame header
+    Clock::time_point submitted = Clock::now();
+};
+
+struct EncodedFrame {
+    std::vector<std::uint8_t> image;  // JPEG or PNG bytes
+    int width = 0;
+    int height = 0;
+    encode::ImageFormat format = encode::ImageFormat::jpeg;
+    scene::Mode mode = scene::Mode::dvr;
+    render::FrameReport report;
+    std::int64_t request_id = -1;
+    bool interactive = false;
+    std::string quality;
+    double queued_ms = 0.0;    // submitted -> the render thread took it
+    double render_ms = 0.0;    // GPU passes, wall time
+    double readback_ms = 0.0;
+    double encode_ms = 0.0;
+};
+
+// Called once per submitted job: with the frame, or with an Error ("superseded" when a newer job
+// of the same session replaced it before it was rendered, or why rendering failed). Called on a
+// scheduler thread: it must only hand the result on.
+using FrameCallback =
+        std::function<void(base::Result<std::shared_ptr<const EncodedFrame>> result)>;
+
+struct SchedulerOptions {
+    int encode_threads = 2;
+};
+
+// One render thread owns the renderer (and so the GL context) for all sessions. Each session
+// has at most one pending job: a newer one replaces an unrendered older one (latest wins).
+// Sessions with pending jobs are served round-robin, so a busy session cannot starve others.
+// Encoding runs on a pool of worker threads, overlapping the next render.
+class Scheduler {
+public:
+    using RendererFactory =
+            std::function<base::Result<std::unique_ptr<render::FrameRenderer>>()>;
+
+    // Creates the renderer on the render thread and waits for it; fails if it cannot be created.
+    static base::Result<std::unique_ptr<Scheduler>> create(RendererFactory factory,
+                                                           SchedulerOptions options,
+                                                           metrics::Registry& metrics);
+
+    Scheduler(const Scheduler&) = delete;
+    Scheduler& operator=(const Scheduler&) = delete;
+    ~Scheduler();
+
+    void submit(const std::string& session, RenderJob job, FrameCallback done);
+
+    // Drops the session's pending job, if any (its callback gets "superseded").
+    void cancel(const std::string& session);
+
+    [[nodiscard]] const render::RendererInfo& renderer_info() const { return renderer_info_; }
+
+    [[nodiscard]] std::size_t queue_depth() const;
+
+    // Stops accepting work, drops pending jobs, finishes the frame in flight and the encodes.
+    void stop();
+
+private:
+    Scheduler(SchedulerOptions options, metrics::Registry& metrics);
+
+    void render_loop(RendererFactory factory, std::promise<base::Status>& ready);
+    void encode_loop();
+    void render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done);
+
+    struct Pending {
+        RenderJob job;
+        FrameCallback done;
+    };
+
+    SchedulerOptions options_;
+    render::RendererInfo renderer_info_;
+    mutable std::mutex mutex_;
+    std::condition_variable work_ready_;
+    std::map<std::string, Pending> pending_;
+    std::deque<std::string> order_;  // sessions with a pending job, in the order they are served
+    bool stopping_ = false;
+
+    std::mutex encode_mutex_;
+    std::condition_variable encode_ready_;
+    std::deque<std::function<void()>> encode_queue_;
+    bool encode_stopping_ = false;
+
+    std::thread render_thread_;
+    std::vector<std::thread> encode_threads_;
+
+    metrics::Counter& frames_;
+    metrics::Counter& superseded_;
+    metrics::Counter& failures_;
+    metrics::Counter& light_buffer_built_;
+    metrics::Counter& light_buffer_reused_;
+    metrics::Gauge& queue_depth_;
+    metrics::Gauge& gpu_bytes_;
+    metrics::Histogram& render_ms_;
+    metrics::Histogram& encode_ms_;
+    metrics::Histogram& queued_ms_;
+};
+
+// The request a session renders while its user is interacting: half the image size (at least
+// 64 pixels a side) and twice the sample distance; light-buffer settings are kept so the cached
+// buffer stays valid. Returns the reduced request and a description of it.
+std::pair<scene::FrameRequest, std::string> interactive_request(const scene::FrameRequest& full);
+
+}  // namespace penumbra::session

@@ -1,0 +1,98 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/session/scheduler.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+namespace penumbra::session {
+
+// A connection that receives a session's frames.
+using ViewerId = std::uint64_t;
+
+// Receives each result of the session with the session's frame number (the same for every
+// viewer of that frame). Called on a scheduler thread: it must only hand the frame on.
+using ViewerSink = std::function<void(
+        const base::Result<std::shared_ptr<const EncodedFrame>>& result, std::uint64_t frame)>;
+
+struct SessionState {
+    scene::FrameRequest frame;
+    OutputFormat output;
+};
+
+// One user's view of one volume: camera, light, TF, mode and quality, and the connections that
+// watch it (its owner and anyone who joined). Thread-safe.
+class Session {
+public:
+    Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
+            SessionState state, ViewerId owner);
+
+    [[nodiscard]] const std::string& id() const { return id_; }
+
+    [[nodiscard]] const std::string& volume_id() const { return volume_id_; }
+
+    [[nodiscard]] const std::shared_ptr<const volume::Volume>& volume() const { return volume_; }
+
+    [[nodiscard]] ViewerId owner() const { return owner_; }
+
+    [[nodiscard]] SessionState state() const;
+
+    void set_state(SessionState state);
+
+    // Frames go to every viewer; `sink` is called on a scheduler thread.
+    void add_viewer(ViewerId viewer, ViewerSink sink);
+
+    // Returns how many viewers remain.
+    std::size_t remove_viewer(ViewerId viewer);
+
+    [[nodiscard]] std::size_t viewer_count() const;
+
+    // Numbers the frame and hands it to every viewer.
+    void deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result);
+
+    // A job for the current state, at full or interactive quality.
+    [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive) const;
+
+    [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
+
+private:
+    const std::string id_;
+    const std::string volume_id_;
+    const std::shared_ptr<const volume::Volume> volume_;
+    const ViewerId owner_;
+    mutable std::mutex mutex_;
+    SessionState state_;
+    std::map<ViewerId, ViewerSink> viewers_;
+    std::atomic<std::uint64_t> frames_{0};
+};
+
+// All sessions of a server, by id, up to a limit.
+class SessionRegistry {
+public:
+    explicit SessionRegistry(int max_sessions);
+
+    base::Result<std::shared_ptr<Session>> create(std::string volume_id,
+                                                  std::shared_ptr<const volume::Volume> volume,
+                                                  SessionState state, ViewerId owner);
+
+    [[nodiscard]] std::shared_ptr<Session> find(const std::string& id) const;
+
+    void remove(const std::string& id);
+
+    [[nodiscard]] std::size_t count() const;
+
+private:
+    int max_sessions_;
+    mutable std::mutex mutex_;
+    std::map<std::string, std::shared_ptr<Session>> sessions_;
+};
+
+}  // namespace penumbra::session

@@ -1,0 +1,258 @@
+#include "penumbra/session/scheduler.hpp"
+
+#include <penumbra/base/log.hpp>
+
+#include <algorithm>
+#include <future>
+
+namespace penumbra::session {
+namespace {
+
+double milliseconds_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+Scheduler::Scheduler(SchedulerOptions options, metrics::Registry& metrics)
+    : options_(options)
+    , frames_(metrics.counter("penumbra_frames_total", "Frames rendered and encoded"))
+    , superseded_(metrics.counter("penumbra_frames_superseded_total",
+                                  "Render requests replaced by a newer one before rendering"))
+    , failures_(metrics.counter("penumbra_render_failures_total", "Render requests that failed"))
+    , light_buffer_built_(metrics.counter("penumbra_light_buffer_builds_total",
+                                          "Frames that built the light attenuation buffer"))
+    , light_buffer_reused_(metrics.counter("penumbra_light_buffer_reuses_total",
+                                           "Frames that reused a cached light buffer"))
+    , queue_depth_(metrics.gauge("penumbra_render_queue_depth",
+                                 "Sessions waiting for the render thread"))
+    , gpu_bytes_(metrics.gauge("penumbra_gpu_bytes_held",
+                               "GPU memory held by cached volumes and light buffers"))
+    , render_ms_(metrics.histogram("penumbra_render_ms", "Render wall time per frame (ms)",
+                                   metrics::latency_buckets_ms()))
+    , encode_ms_(metrics.histogram("penumbra_encode_ms", "Encode time per frame (ms)",
+                                   metrics::latency_buckets_ms()))
+    , queued_ms_(metrics.histogram("penumbra_queued_ms",
+                                   "Time a request waited for the render thread (ms)",
+                                   metrics::latency_buckets_ms())) {}
+
+base::Result<std::unique_ptr<Scheduler>> Scheduler::create(RendererFactory factory,
+                                                           SchedulerOptions options,
+                                                           metrics::Registry& metrics) {
+    std::unique_ptr<Scheduler> scheduler(new Scheduler(options, metrics));
+    std::promise<base::Status> ready;
+    auto started = ready.get_future();
+    scheduler->render_thread_ = std::thread(
+            [s = scheduler.get(), f = std::move(factory), r = std::move(ready)]() mutable {
+                s->render_loop(std::move(f), r);
+            });
+    auto status = started.get();
+    if (!status) {
+        scheduler->render_thread_.join();
+        return status.error();
+    }
+    for (int i = 0; i < std::max(1, options.encode_threads); ++i) {
+        scheduler->encode_threads_.emplace_back([s = scheduler.get()] { s->encode_loop(); });
+    }
+    return scheduler;
+}
+
+Scheduler::~Scheduler() { stop(); }
+
+void Scheduler::stop() {
+    std::map<std::string, Pending> dropped;
+    {
+        const std::lock_guard lock(mutex_);
+        if (stopping_ && !render_thread_.joinable()) {
+            return;
+        }
+        stopping_ = true;
+        dropped.swap(pending_);
+        order_.clear();
+    }
+    work_ready_.notify_all();
+    for (auto& [session, pending] : dropped) {
+        pending.done(base::make_error("shutting_down", "the server is shutting down", "render"));
+    }
+    if (render_thread_.joinable()) {
+        render_thread_.join();
+    }
+    {
+        const std::lock_guard lock(encode_mutex_);
+        encode_stopping_ = true;
+    }
+    encode_ready_.notify_all();
+    for (auto& thread : encode_threads_) {
+        thread.join();
+    }
+    encode_threads_.clear();
+}
+
+void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback done) {
+    FrameCallback replaced;
+    {
+        const std::lock_guard lock(mutex_);
+        if (stopping_) {
+            done(base::make_error("shutting_down", "the server is shutting down", "render"));
+            return;
+        }
+        auto found = pending_.find(session);
+        if (found != pending_.end()) {
+            replaced = std::move(found->second.done);
+            found->second = Pending{std::move(job), std::move(done)};
+        } else {
+            pending_.emplace(session, Pending{std::move(job), std::move(done)});
+            order_.push_back(session);
+        }
+        queue_depth_.set(static_cast<double>(order_.size()));
+    }
+    if (replaced) {
+        superseded_.add();
+        replaced(base::make_error("superseded", "a newer render request replaced this one",
+                                  "render"));
+    }
+    work_ready_.notify_one();
+}
+
+void Scheduler::cancel(const std::string& session) {
+    FrameCallback dropped;
+    {
+        const std::lock_guard lock(mutex_);
+        auto found = pending_.find(session);
+        if (found == pending_.end()) {
+            return;
+        }
+        dropped = std::move(found->second.done);
+        pending_.erase(found);
+        order_.erase(std::remove(order_.begin(), order_.end(), session), order_.end());
+        queue_depth_.set(static_cast<double>(order_.size()));
+    }
+    superseded_.add();
+    dropped(base::make_error("superseded", "the session was closed", "render"));
+}
+
+std::size_t Scheduler::queue_depth() const {
+    const std::lock_guard lock(mutex_);
+    return order_.size();
+}
+
+void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>& ready) {
+    auto created = factory();
+    if (!created) {
+        ready.set_value(created.error());
+        return;
+    }
+    std::unique_ptr<render::FrameRenderer> renderer = std::move(created.value());
+    renderer_info_ = renderer->info();
+    ready.set_value(base::Ok{});
+    while (true) {
+        Pending next;
+        {
+            std::unique_lock lock(mutex_);
+            work_ready_.wait(lock, [&] { return stopping_ || !order_.empty(); });
+            if (stopping_) {
+                break;
+            }
+            const std::string session = order_.front();
+            order_.pop_front();
+            auto found = pending_.find(session);
+            next = std::move(found->second);
+            pending_.erase(found);
+            queue_depth_.set(static_cast<double>(order_.size()));
+        }
+        render_one(*renderer, std::move(next.job), std::move(next.done));
+        gpu_bytes_.set(static_cast<double>(renderer->gpu_bytes_held()));
+    }
+    // The renderer (and its GL context) is destroyed on the thread that created it.
+    renderer.reset();
+}
+
+void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done) {
+    const Clock::time_point taken = Clock::now();
+    const double queued_ms = milliseconds_between(job.submitted, taken);
+    queued_ms_.observe(queued_ms);
+    if (auto status = renderer.set_volume(job.volume); !status) {
+        failures_.add();
+        done(status.error());
+        return;
+    }
+    auto rendered = renderer.render(job.request);
+    if (!rendered) {
+        failures_.add();
+        done(rendered.error());
+        return;
+    }
+    auto frame = std::make_shared<EncodedFrame>();
+    frame->report = std::move(rendered->report);
+    frame->width = rendered->image.width;
+    frame->height = rendered->image.height;
+    frame->format = job.output.format;
+    frame->mode = job.request.settings.mode;
+    frame->request_id = job.request_id;
+    frame->interactive = job.interactive;
+    frame->quality = job.quality;
+    frame->queued_ms = queued_ms;
+    for (const auto& pass : frame->report.passes) {
+        if (pass.name == "readback") {
+            frame->readback_ms += pass.wall_ms;
+        } else {
+            frame->render_ms += pass.wall_ms;
+        }
+    }
+    render_ms_.observe(frame->render_ms);
+    if (frame->report.light_buffer == "built") {
+        light_buffer_built_.add();
+    } else if (frame->report.light_buffer == "reused") {
+        light_buffer_reused_.add();
+    }
+    auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
+    {
+        const std::lock_guard lock(encode_mutex_);
+        encode_queue_.emplace_back([this, frame, image, output = job.output,
+                                    done = std::move(done)]() mutable {
+            const Clock::time_point start = Clock::now();
+            auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
+            if (!bytes) {
+                failures_.add();
+                done(bytes.error());
+                return;
+            }
+            frame->image = std::move(bytes.value());
+            frame->encode_ms = milliseconds_between(start, Clock::now());
+            encode_ms_.observe(frame->encode_ms);
+            frames_.add();
+            done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+        });
+    }
+    encode_ready_.notify_one();
+}
+
+void Scheduler::encode_loop() {
+    while (true) {
+        std::function<void()> task;
+        {
+            std::unique_lock lock(encode_mutex_);
+            encode_ready_.wait(lock, [&] { return encode_stopping_ || !encode_queue_.empty(); });
+            if (encode_queue_.empty()) {
+                return;  // stopping, and everything queued has been encoded
+            }
+            task = std::move(encode_queue_.front());
+            encode_queue_.pop_front();
+        }
+        task();
+    }
+}
+
+std::pair<scene::FrameRequest, std::string> interactive_request(const scene::FrameRequest& full) {
+    scene::FrameRequest reduced = full;
+    scene::RenderSettings& s = reduced.settings;
+    const auto halve = [](int side) { return std::max(std::min(side, 64), side / 2); };
+    s.width = halve(full.settings.width);
+    s.height = halve(full.settings.height);
+    s.sample_distance = std::min(0.5, full.settings.sample_distance * 2.0);
+    const std::string description = "interactive: " + std::to_string(s.width) + "x" +
+                                    std::to_string(s.height) + ", sample distance x2";
+    return {std::move(reduced), description};
+}
+
+}  // namespace penumbra::session

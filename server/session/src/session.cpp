@@ -1,0 +1,122 @@
+#include "penumbra/session/session.hpp"
+
+#include <cstdio>
+#include <random>
+
+namespace penumbra::session {
+namespace {
+
+// Unguessable, so that knowing the server does not let anyone join a session uninvited.
+std::string random_session_id() {
+    static std::mutex mutex;
+    static std::mt19937_64 generator{std::random_device{}()};
+    const std::lock_guard lock(mutex);
+    char text[33];
+    std::snprintf(text, sizeof text, "%016llx%016llx",
+                  static_cast<unsigned long long>(generator()),
+                  static_cast<unsigned long long>(generator()));
+    return text;
+}
+
+}  // namespace
+
+Session::Session(std::string id, std::string volume_id,
+                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner)
+    : id_(std::move(id))
+    , volume_id_(std::move(volume_id))
+    , volume_(std::move(volume))
+    , owner_(owner)
+    , state_(std::move(state)) {}
+
+SessionState Session::state() const {
+    const std::lock_guard lock(mutex_);
+    return state_;
+}
+
+void Session::set_state(SessionState state) {
+    const std::lock_guard lock(mutex_);
+    state_ = std::move(state);
+}
+
+void Session::add_viewer(ViewerId viewer, ViewerSink sink) {
+    const std::lock_guard lock(mutex_);
+    viewers_[viewer] = std::move(sink);
+}
+
+std::size_t Session::remove_viewer(ViewerId viewer) {
+    const std::lock_guard lock(mutex_);
+    viewers_.erase(viewer);
+    return viewers_.size();
+}
+
+std::size_t Session::viewer_count() const {
+    const std::lock_guard lock(mutex_);
+    return viewers_.size();
+}
+
+void Session::deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result) {
+    std::map<ViewerId, ViewerSink> viewers;
+    {
+        const std::lock_guard lock(mutex_);
+        viewers = viewers_;
+    }
+    const std::uint64_t number = result.ok() ? ++frames_ : frames_.load();
+    for (const auto& [viewer, sink] : viewers) {
+        sink(result, number);
+    }
+}
+
+RenderJob Session::make_job(std::int64_t request_id, bool interactive) const {
+    const SessionState current = state();
+    RenderJob job;
+    job.volume = volume_;
+    job.output = current.output;
+    job.request_id = request_id;
+    job.interactive = interactive;
+    if (interactive) {
+        auto [reduced, description] = interactive_request(current.frame);
+        job.request = std::move(reduced);
+        job.quality = std::move(description);
+    } else {
+        job.request = current.frame;
+        job.quality = "still: full quality";
+    }
+    job.submitted = Clock::now();
+    return job;
+}
+
+SessionRegistry::SessionRegistry(int max_sessions) : max_sessions_(max_sessions) {}
+
+base::Result<std::shared_ptr<Session>> SessionRegistry::create(
+        std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
+        ViewerId owner) {
+    const std::lock_guard lock(mutex_);
+    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+        return base::make_error("too_many_sessions",
+                                "the server already holds its maximum of " +
+                                        std::to_string(max_sessions_) + " sessions",
+                                "/volume");
+    }
+    auto session = std::make_shared<Session>(random_session_id(), std::move(volume_id),
+                                             std::move(volume), std::move(state), owner);
+    sessions_.emplace(session->id(), session);
+    return session;
+}
+
+std::shared_ptr<Session> SessionRegistry::find(const std::string& id) const {
+    const std::lock_guard lock(mutex_);
+    const auto found = sessions_.find(id);
+    return found == sessions_.end() ? nullptr : found->second;
+}
+
+void SessionRegistry::remove(const std::string& id) {
+    const std::lock_guard lock(mutex_);
+    sessions_.erase(id);
+}
+
+std::size_t SessionRegistry::count() const {
+    const std::lock_guard lock(mutex_);
+    return sessions_.size();
+}
+
+}  // namespace penumbra::session

@@ -1,0 +1,131 @@
+#include "penumbra/session/volume_store.hpp"
+
+#include <penumbra/base/log.hpp>
+
+#include <algorithm>
+
+namespace penumbra::session {
+namespace {
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+    return text.size() >= suffix.size() &&
+           text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+bool is_volume_file(const std::filesystem::path& path) {
+    const std::string name = path.filename().string();
+    for (const char* suffix : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".raw", ".raw.gz"}) {
+        if (ends_with(name, suffix)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget)
+    : data_dir_(std::move(data_dir))
+    , memory_budget_(memory_budget) {}
+
+base::Status VolumeStore::scan() {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(data_dir_, ec)) {
+        return base::make_error("not_found", "the data directory does not exist",
+                                data_dir_.string());
+    }
+    std::vector<VolumeEntry> found;
+    for (auto it = std::filesystem::recursive_directory_iterator(
+                 data_dir_, std::filesystem::directory_options::skip_permission_denied, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+        // Links could lead outside the data directory; only plain files inside it are offered.
+        if (!it->is_regular_file(ec) || it->is_symlink(ec) || !is_volume_file(it->path())) {
+            continue;
+        }
+        VolumeEntry entry;
+        entry.path = it->path();
+        entry.id = std::filesystem::relative(it->path(), data_dir_, ec).generic_string();
+        entry.file_bytes = it->file_size(ec);
+        found.push_back(std::move(entry));
+    }
+    std::sort(found.begin(), found.end(),
+              [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
+    const std::lock_guard lock(mutex_);
+    for (auto& entry : found) {
+        const auto old = std::find_if(entries_.begin(), entries_.end(),
+                                      [&](const VolumeEntry& e) { return e.id == entry.id; });
+        if (old != entries_.end()) {
+            entry.loaded = old->loaded;
+        }
+    }
+    entries_ = std::move(found);
+    return base::Ok{};
+}
+
+std::vector<VolumeEntry> VolumeStore::list() const {
+    const std::lock_guard lock(mutex_);
+    return entries_;
+}
+
+std::size_t VolumeStore::loads() const {
+    const std::lock_guard lock(mutex_);
+    return loads_;
+}
+
+base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const std::string& id) {
+    // Loads are serialised, so two sessions opening the same new volume read it once; the second
+    // finds it loaded when it gets the lock.
+    const std::lock_guard loading(load_mutex_);
+    std::filesystem::path path;
+    {
+        const std::lock_guard lock(mutex_);
+        // Only ids from the scan are accepted, so "../x" or "/etc/passwd" cannot name a file.
+        const auto entry = std::find_if(entries_.begin(), entries_.end(),
+                                        [&](const VolumeEntry& e) { return e.id == id; });
+        if (entry == entries_.end()) {
+            return base::make_error("unknown_volume", "no volume '" + id + "' on this server",
+                                    "/volume");
+        }
+        if (entry->loaded) {
+            recent_.remove(id);
+            recent_.push_front(id);
+            return entry->loaded;
+        }
+        path = entry->path;
+    }
+    // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
+    auto loaded = volume::load_volume(path);
+    if (!loaded) {
+        return loaded.error();
+    }
+    auto shared = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+    const std::lock_guard lock(mutex_);
+    ++loads_;
+    auto entry = std::find_if(entries_.begin(), entries_.end(),
+                              [&](const VolumeEntry& e) { return e.id == id; });
+    if (entry == entries_.end()) {
+        return shared;  // rescanned away meanwhile; still usable by this caller
+    }
+    entry->loaded = shared;
+    base::log_info("volumes", "loaded " + id);
+    recent_.remove(id);
+    recent_.push_front(id);
+    std::size_t held = 0;
+    for (const auto& e : entries_) {
+        held += e.loaded ? e.loaded->data.size() : 0;
+    }
+    while (held > memory_budget_ && recent_.size() > 1) {
+        const std::string victim = recent_.back();
+        recent_.pop_back();
+        for (auto& e : entries_) {
+            if (e.id == victim && e.loaded) {
+                held -= e.loaded->data.size();
+                e.loaded.reset();
+                base::log_info("volumes", "dropped " + victim + " (memory budget)");
+            }
+        }
+    }
+    return entry->loaded;
+}
+
+}  // namespace penumbra::session

@@ -1,0 +1,424 @@
+// The service end to end: a real server on 127.0.0.1 and a free port, real WebSocket clients.
+
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/metrics/registry.hpp>
+#include <penumbra/net/client.hpp>
+#include <penumbra/net/server.hpp>
+#include <penumbra/protocol/frame_header.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/session/scheduler.hpp>
+#include <penumbra/session/session.hpp>
+#include <penumbra/session/volume_store.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+namespace penumbra::integration {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Appends every message the server sent to a JSONL file that a later CTest validates against
+// proto/v1's schemas.
+void record(const std::string& kind, const std::string& json) {
+    static std::mutex mutex;
+    const std::lock_guard lock(mutex);
+    const fs::path dir = PENUMBRA_SENT_MESSAGES;
+    fs::create_directories(dir);
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::ofstream out(dir / (std::string(test->test_suite_name()) + "." + test->name() + ".jsonl"),
+                      std::ios::app);
+    out << R"({"kind":")" << kind << R"(","message":)" << json << "}\n";
+}
+
+// A top-level string member of a JSON message ("" when absent or not a string).
+std::string field(const std::string& text, const std::string& name) {
+    const auto json = nlohmann::json::parse(text, nullptr, false);
+    if (!json.is_object() || !json.contains(name) || !json.at(name).is_string()) {
+        return "";
+    }
+    return json.at(name).get<std::string>();
+}
+
+class TestClient {
+public:
+    explicit TestClient(unsigned short port) {
+        auto connected = net::Client::connect("127.0.0.1", port);
+        EXPECT_TRUE(connected.ok()) << connected.error().to_string();
+        client_ = std::move(connected.value());
+        hello = next_text();
+    }
+
+    void send(const std::string& text) {
+        auto status = client_->send_text(text);
+        ASSERT_TRUE(status.ok()) << status.error().to_string();
+    }
+
+    // The next text message (frames in between are kept for next_frame).
+    std::string next_text(std::chrono::milliseconds timeout = std::chrono::seconds(30)) {
+        while (true) {
+            auto message = client_->receive(timeout);
+            if (!message.ok()) {
+                ADD_FAILURE() << message.error().to_string();
+                return {};
+            }
+            if (message->binary) {
+                frames_.push_back(std::move(message->bytes));
+                continue;
+            }
+            record("text", message->text);
+            return message->text;
+        }
+    }
+
+    protocol::UnpackedFrame next_frame(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+        while (frames_.empty()) {
+            auto message = client_->receive(timeout);
+            if (!message.ok()) {
+                ADD_FAILURE() << message.error().to_string();
+                return {};
+            }
+            if (message->binary) {
+                frames_.push_back(std::move(message->bytes));
+            } else {
+                record("text", message->text);
+                texts_.push_back(message->text);
+            }
+        }
+        auto frame = protocol::unpack_frame(frames_.front());
+        frames_.erase(frames_.begin());
+        EXPECT_TRUE(frame.ok()) << frame.error().to_string();
+        if (!frame.ok()) {
+            return {};
+        }
+        record("frame_header", frame->header_json);
+        return std::move(frame.value());
+    }
+
+    // Sends a request and returns the reply (text).
+    std::string request(const std::string& text) {
+        send(text);
+        if (!texts_.empty()) {
+            std::string first = texts_.front();
+            texts_.erase(texts_.begin());
+            return first;
+        }
+        return next_text();
+    }
+
+    std::string open(const std::string& volume, int size = 64) {
+        const std::string opened = request(R"({"v":1,"type":"open","id":1,"volume":")" + volume + "\"}");
+        session = field(opened, "session");
+        EXPECT_FALSE(session.empty()) << opened;
+        const std::string ack = request(R"({"v":1,"type":"set","id":2,"settings":{"size":[)" +
+                                        std::to_string(size) + "," + std::to_string(size) +
+                                        R"(],"light_buffer":{"slices":32,"resolution":64}}})");
+        EXPECT_EQ(field(ack, "type"), "ack") << ack;
+        return opened;
+    }
+
+    net::Client& raw() { return *client_; }
+
+    std::string hello;
+    std::string session;
+
+private:
+    std::unique_ptr<net::Client> client_;
+    std::vector<std::vector<std::uint8_t>> frames_;
+    std::vector<std::string> texts_;
+};
+
+class ServerTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        data_ = fs::temp_directory_path() /
+                ("penumbra_it_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(data_ / "heads");
+        const fs::path ch2 = "/usr/share/mricron/templates/ch2.nii.gz";
+        ASSERT_TRUE(fs::exists(ch2)) << "install mricron-data (scripts/install-deps.sh does)";
+        fs::copy_file(ch2, data_ / "heads" / "ch2.nii.gz");
+        std::ofstream(data_ / "broken_4x4x4_uint8.raw") << "too short";
+        start(protocol::Limits{});
+    }
+
+    void start(protocol::Limits limits) {
+        server_.reset();
+        scheduler_.reset();
+        volumes_ = std::make_unique<session::VolumeStore>(data_, std::size_t{1} << 30);
+        ASSERT_TRUE(volumes_->scan().ok());
+        metrics_ = std::make_unique<metrics::Registry>();
+        auto scheduler = session::Scheduler::create(
+                []() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                    auto renderer = render::Renderer::create();
+                    if (!renderer) {
+                        return renderer.error();
+                    }
+                    return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
+                },
+                {}, *metrics_);
+        ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
+        scheduler_ = std::move(scheduler.value());
+        sessions_ = std::make_unique<session::SessionRegistry>(limits.max_sessions);
+        net::ServerConfig config;
+        config.port = 0;
+        config.limits = limits;
+        auto server = net::Server::start(config, {*volumes_, *sessions_, *scheduler_, *metrics_});
+        ASSERT_TRUE(server.ok()) << server.error().to_string();
+        server_ = std::move(server.value());
+        port_ = server_->port();
+    }
+
+    void TearDown() override {
+        if (server_) {
+            server_->stop();
+        }
+        if (scheduler_) {
+            scheduler_->stop();
+        }
+        std::error_code ec;
+        fs::remove_all(data_, ec);
+    }
+
+    fs::path data_;
+    std::unique_ptr<session::VolumeStore> volumes_;
+    std::unique_ptr<metrics::Registry> metrics_;
+    std::unique_ptr<session::Scheduler> scheduler_;
+    std::unique_ptr<session::SessionRegistry> sessions_;
+    std::unique_ptr<net::Server> server_;
+    unsigned short port_ = 0;
+};
+
+TEST_F(ServerTest, HelloAnnouncesLimitsAndListVolumesFindsTheData) {
+    TestClient client(port_);
+    EXPECT_EQ(field(client.hello, "type"), "hello");
+    EXPECT_NE(client.hello.find("\"max_image_side\""), std::string::npos);
+    EXPECT_NE(client.hello.find("sbrc_cone"), std::string::npos);
+    const std::string volumes = client.request(R"({"v":1,"type":"list_volumes","id":7})");
+    EXPECT_EQ(field(volumes, "type"), "volumes");
+    EXPECT_NE(volumes.find("\"heads/ch2.nii.gz\""), std::string::npos) << volumes;
+    EXPECT_NE(volumes.find("\"id\":7"), std::string::npos);
+}
+
+TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
+    TestClient client(port_);
+    const std::string opened = client.open("heads/ch2.nii.gz");
+    EXPECT_NE(opened.find("\"dims\":[181,217,181]"), std::string::npos) << opened.substr(0, 300);
+    client.send(R"({"v":1,"type":"render","id":42})");
+    const auto frame = client.next_frame();
+    EXPECT_EQ(frame.header.request, 42);
+    EXPECT_EQ(frame.header.width, 64);
+    EXPECT_EQ(frame.header.encoding, "jpeg");
+    EXPECT_EQ(frame.header.mode, "sbrc");
+    EXPECT_EQ(frame.header.light_buffer, "built");
+    EXPECT_GT(frame.header.render_ms, 0.0);
+    auto image = encode::decode_image(frame.image);
+    ASSERT_TRUE(image.ok()) << image.error().to_string();
+    EXPECT_EQ(image->width, 64);
+    EXPECT_EQ(image->height, 64);
+    int lit = 0;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            lit += image->pixel(x, y)[0] > 40 ? 1 : 0;
+        }
+    }
+    EXPECT_GT(lit, 64 * 64 / 5) << "the head should cover a good part of the frame";
+}
+
+TEST_F(ServerTest, CameraOnlyChangesReuseTheLightBuffer) {
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 48);
+    client.send(R"({"v":1,"type":"render","id":1})");
+    EXPECT_EQ(client.next_frame().header.light_buffer, "built");
+    for (int i = 0; i < 3; ++i) {
+        const std::string ack = client.request(
+                R"({"v":1,"type":"set","camera":{"orbit":{"azimuth":)" + std::to_string(40 * i) +
+                R"(,"elevation":10,"distance":2.5}}})");
+        ASSERT_EQ(field(ack, "type"), "ack") << ack;
+        client.send(R"({"v":1,"type":"render"})");
+        EXPECT_EQ(client.next_frame().header.light_buffer, "reused");
+    }
+    client.request(R"({"v":1,"type":"set","light":{"direction":[1,0,0]}})");
+    client.send(R"({"v":1,"type":"render"})");
+    EXPECT_EQ(client.next_frame().header.light_buffer, "built");
+}
+
+TEST_F(ServerTest, TwoSessionsOnOneVolumeLoadItOnce) {
+    TestClient first(port_);
+    TestClient second(port_);
+    first.open("heads/ch2.nii.gz", 32);
+    second.open("heads/ch2.nii.gz", 32);
+    EXPECT_NE(first.session, second.session);
+    EXPECT_EQ(volumes_->loads(), 1u);
+    first.send(R"({"v":1,"type":"render"})");
+    second.send(R"({"v":1,"type":"render"})");
+    EXPECT_EQ(first.next_frame().header.session, first.session);
+    EXPECT_EQ(second.next_frame().header.session, second.session);
+}
+
+TEST_F(ServerTest, JoinedViewerReceivesTheSameFramesAndTheSessionSurvivesViewersLeaving) {
+    TestClient owner(port_);
+    owner.open("heads/ch2.nii.gz", 32);
+    {
+        TestClient viewer(port_);
+        const std::string joined = viewer.request(R"({"v":1,"type":"join","id":3,"session":")" +
+                                                  owner.session + "\"}");
+        EXPECT_EQ(field(joined, "type"), "joined") << joined;
+        const std::string refused = viewer.request(R"({"v":1,"type":"set","id":4,"camera":{"fov":40}})");
+        EXPECT_EQ(field(refused, "type"), "error");
+        owner.send(R"({"v":1,"type":"render","id":9})");
+        const auto mine = owner.next_frame();
+        const auto theirs = viewer.next_frame();
+        EXPECT_EQ(mine.header.frame, theirs.header.frame);
+        EXPECT_EQ(mine.image, theirs.image);
+        viewer.raw().close();
+    }
+    owner.send(R"({"v":1,"type":"render","id":10})");
+    EXPECT_EQ(owner.next_frame().header.request, 10);
+    // The viewer's goodbye reaches the server asynchronously.
+    std::string stats;
+    for (int i = 0; i < 50 && stats.find("\"viewers\":1") == std::string::npos; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        stats = owner.request(R"({"v":1,"type":"stats","id":11})");
+    }
+    EXPECT_NE(stats.find("\"viewers\":1"), std::string::npos) << stats;
+}
+
+TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 32);
+    struct Case {
+        std::string message;
+        std::string code;
+        std::string field;
+    };
+    const std::vector<Case> cases = {
+            {"{not json", "malformed_json", "/"},
+            {"[1,2,3]", "invalid_message", "/"},
+            {R"({"type":"stats"})", "invalid_message", "/v"},
+            {R"({"v":2,"type":"stats"})", "unsupported_version", "/v"},
+            {R"({"v":1,"type":"teleport"})", "unknown_type", "/type"},
+            {R"({"v":1,"type":"stats","colour":1})", "unknown_field", "/colour"},
+            {R"({"v":1,"type":"set","camera":{"eye":[0,0,1e999]}})", "malformed_json", "/"},
+            {R"({"v":1,"type":"set","camera":{"eye":[0,0,"far"]}})", "invalid_value", "/camera/eye/2"},
+            {R"({"v":1,"type":"set","light":{"intensity":-1}})", "out_of_range", "/light/intensity"},
+            {R"({"v":1,"type":"set","settings":{"size":[100000,64]}})", "out_of_range", "/settings/size/0"},
+            {R"({"v":1,"type":"set","settings":{"mode":"raytrace"}})", "invalid_value", "/settings/mode"},
+            {R"({"v":1,"type":"set","settings":{"light_buffer":{"slices":99999}}})", "out_of_range",
+             "/settings/light_buffer/slices"},
+            {R"({"v":1,"type":"set","camera":{"eye":[0,0,0],"target":[0,0,0]}})", "invalid_value",
+             "/camera"},
+            {R"({"v":1,"type":"open","volume":"nope.nii"})", "unknown_volume", "/volume"},
+            {R"({"v":1,"type":"open","volume":"../../etc/passwd"})", "unknown_volume", "/volume"},
+            {R"({"v":1,"type":"open","volume":"/etc/passwd"})", "unknown_volume", "/volume"},
+            {R"({"v":1,"type":"open","volume":"broken_4x4x4_uint8.raw"})", "volume_unreadable", "/volume"},
+            {R"({"v":1,"type":"join","session":"0000"})", "unknown_session", "/session"},
+            {R"({"v":1,"type":"open","volume":")" + std::string(100000, 'x') + "\"}",
+             "message_too_large", "/"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.message.substr(0, 80));
+        const std::string reply = client.request(c.message);
+        EXPECT_EQ(field(reply, "type"), "error") << reply;
+        EXPECT_EQ(field(reply, "code"), c.code) << reply;
+        EXPECT_EQ(field(reply, "field"), c.field) << reply;
+        const std::string stats = client.request(R"({"v":1,"type":"stats"})");
+        EXPECT_EQ(field(stats, "type"), "stats");
+    }
+    ASSERT_TRUE(client.raw().send_binary(std::vector<std::uint8_t>{1, 2, 3}).ok());
+    EXPECT_EQ(field(client.next_text(), "code"), "invalid_message");
+    client.send(R"({"v":1,"type":"render","id":5})");
+    EXPECT_EQ(client.next_frame().header.request, 5);
+}
+
+TEST_F(ServerTest, RequestsWithoutASessionAreRefused) {
+    TestClient client(port_);
+    for (const char* type : {"render", "set"}) {
+        const std::string reply =
+                client.request(std::string(R"({"v":1,"type":")") + type + R"("})");
+        EXPECT_EQ(field(reply, "code"), "no_session") << reply;
+    }
+}
+
+TEST_F(ServerTest, FloodsAreRateLimitedAndServiceResumes) {
+    protocol::Limits limits;
+    limits.max_requests_per_second = 20;
+    start(limits);
+    TestClient client(port_);
+    for (int i = 0; i < 200; ++i) {
+        client.send(R"({"v":1,"type":"stats"})");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    // After a second the allowance is back: a request is answered, behind what the flood got.
+    client.send(R"({"v":1,"type":"list_volumes","id":99})");
+    int limited = 0;
+    int answered = 0;
+    std::string reply;
+    while (field(reply, "type") != "volumes") {
+        reply = client.next_text(std::chrono::seconds(10));
+        ASSERT_FALSE(reply.empty());
+        limited += field(reply, "code") == "rate_limited" ? 1 : 0;
+        answered += field(reply, "type") == "stats" ? 1 : 0;
+    }
+    EXPECT_GT(limited, 0);
+    EXPECT_LE(answered, 25);  // the 20-request allowance, plus what refilled while sending
+    EXPECT_LT(limited, 200 - answered) << "a flood gets a bounded number of error replies";
+}
+
+TEST_F(ServerTest, ClientVanishingMidFrameLeavesTheServerHealthy) {
+    {
+        TestClient leaving(port_);
+        leaving.open("heads/ch2.nii.gz", 64);
+        leaving.send(R"({"v":1,"type":"render"})");
+        leaving.raw().abort();
+    }
+    TestClient staying(port_);
+    staying.open("heads/ch2.nii.gz", 32);
+    staying.send(R"({"v":1,"type":"render","id":2})");
+    EXPECT_EQ(staying.next_frame().header.request, 2);
+    auto health = net::http_get("127.0.0.1", port_, "/healthz");
+    ASSERT_TRUE(health.ok());
+    EXPECT_EQ(health->status, 200);
+    EXPECT_EQ(health->body, "ok\n");
+}
+
+TEST_F(ServerTest, ASlowReaderDoesNotDelayAnotherSession) {
+    TestClient slow(port_);
+    slow.open("heads/ch2.nii.gz", 128);
+    // Many requests, never read: its frames pile up only in its own bounded queue.
+    for (int i = 0; i < 30; ++i) {
+        slow.send(R"({"v":1,"type":"render"})");
+    }
+    TestClient fast(port_);
+    fast.open("heads/ch2.nii.gz", 32);
+    for (int i = 0; i < 3; ++i) {
+        fast.send(R"({"v":1,"type":"render","id":)" + std::to_string(i) + "}");
+        EXPECT_EQ(fast.next_frame(std::chrono::seconds(30)).header.request, i);
+    }
+}
+
+TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 32);
+    client.send(R"({"v":1,"type":"render"})");
+    client.next_frame();
+    auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_EQ(metrics->status, 200);
+    EXPECT_NE(metrics->body.find("penumbra_frames_total 1"), std::string::npos) << metrics->body;
+    EXPECT_NE(metrics->body.find("penumbra_render_ms_bucket{le="), std::string::npos);
+    EXPECT_NE(metrics->body.find("penumbra_sessions 1"), std::string::npos);
+    auto index = net::http_get("127.0.0.1", port_, "/");
+    ASSERT_TRUE(index.ok());
+    EXPECT_EQ(index->status, 200);
+    auto escape = net::http_get("127.0.0.1", port_, "/../../etc/passwd");
+    ASSERT_TRUE(escape.ok());
+    EXPECT_EQ(escape->status, 404);
+}
+
+}  // namespace
+}  // namespace penumbra::integration

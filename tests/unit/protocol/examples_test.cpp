@@ -1,0 +1,113 @@
+#include "examples.hpp"
+
+#include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+namespace penumbra::protocol {
+namespace {
+
+using nlohmann::json;
+using test::example_files;
+using test::invalid_examples;
+using test::read_text;
+
+// The variant alternative each client message type parses to.
+std::size_t expected_index(const std::string& type) {
+    static const std::map<std::string, std::size_t> index = {
+            {"list_volumes", 0}, {"open", 1}, {"set", 2},  {"render", 3},
+            {"stats", 4},        {"join", 5}, {"close", 6}};
+    return index.at(type);
+}
+
+TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
+    const auto files = example_files("valid");
+    ASSERT_GE(files.size(), 20U);
+    std::set<std::string> types;
+    for (const auto& path : files) {
+        SCOPED_TRACE(path.filename().string());
+        const std::string text = read_text(path);
+        const auto request = parse_request(text, Limits{});
+        ASSERT_TRUE(request.ok()) << request.error().to_string();
+        const auto j = json::parse(text);
+        const std::string type = j.at("type").get<std::string>();
+        types.insert(type);
+        EXPECT_EQ(request->message.index(), expected_index(type));
+        if (j.contains("id")) {
+            ASSERT_TRUE(request->id.has_value());
+            EXPECT_EQ(*request->id, j.at("id").get<std::int64_t>());
+        } else {
+            EXPECT_FALSE(request->id.has_value());
+        }
+    }
+    EXPECT_EQ(types.size(), 7U) << "every client message type has a valid example";
+}
+
+TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {
+    for (const auto& path : example_files("valid")) {
+        const auto request = parse_request(read_text(path), Limits{});
+        ASSERT_TRUE(request.ok());
+        if (const auto* set = std::get_if<Set>(&request->message)) {
+            SCOPED_TRACE(path.filename().string());
+            SessionState state;
+            state.frame.transfer_function = scene::preset("grey_ramp").value();
+            const auto status = apply_patch(set->patch, state, Limits{});
+            EXPECT_TRUE(status.ok()) << status.error().to_string();
+        }
+    }
+}
+
+TEST(ProtocolExamples, EveryInvalidExampleFailsWithItsCodeAndField) {
+    const auto examples = invalid_examples();
+    ASSERT_GE(examples.size(), 30U);
+    for (const auto& example : examples) {
+        SCOPED_TRACE(example.name + ": " + example.text);
+        const auto request = parse_request(example.text, Limits{});
+        ASSERT_FALSE(request.ok());
+        EXPECT_EQ(request.error().code, example.code) << request.error().to_string();
+        EXPECT_EQ(request.error().where, example.field) << request.error().to_string();
+        EXPECT_FALSE(request.error().message.empty());
+    }
+}
+
+TEST(ProtocolExamples, InvalidExamplesUseOnlyDeclaredErrorCodes) {
+    const std::set<std::string> codes = {
+            code::malformed_json,    code::invalid_message,     code::unknown_type,
+            code::unknown_field,     code::unsupported_version, code::invalid_value,
+            code::out_of_range,      code::message_too_large,   code::rate_limited,
+            code::unknown_volume,    code::unknown_session,     code::no_session,
+            code::too_many_sessions, code::render_failed,       code::internal_error};
+    for (const auto& example : invalid_examples()) {
+        EXPECT_TRUE(codes.contains(example.code)) << example.name << ": " << example.code;
+    }
+}
+
+TEST(ProtocolExamples, InvalidSetPatchesLeaveTheSessionUnchanged) {
+    for (const auto& example : invalid_examples()) {
+        auto j = json::parse(example.text, nullptr, false);
+        if (j.is_discarded() || !j.is_object() || j.value("type", json()) != "set" ||
+            example.field == "/v" || example.field == "/id") {
+            continue;
+        }
+        SCOPED_TRACE(example.name);
+        j.erase("v");
+        j.erase("type");
+        j.erase("id");
+        SessionState state;
+        state.frame.transfer_function = scene::preset("ct_bone").value();
+        state.frame.settings.mode = scene::Mode::sbrc;
+        const std::string before = state_to_json(state);
+        const auto status = apply_patch(j.dump(), state, Limits{});
+        ASSERT_FALSE(status.ok());
+        EXPECT_EQ(status.error().code, example.code);
+        EXPECT_EQ(status.error().where, example.field);
+        EXPECT_EQ(state_to_json(state), before);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::protocol

@@ -1,0 +1,156 @@
+#include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace penumbra::protocol {
+namespace {
+
+using nlohmann::json;
+
+TEST(ParseRequest, ReadsTheMembersOfEachMessage) {
+    const Limits limits;
+    const auto open = parse_request(R"({"v":1,"type":"open","id":7,"volume":"colin27"})", limits);
+    ASSERT_TRUE(open.ok());
+    EXPECT_EQ(open->id, 7);
+    EXPECT_EQ(std::get<Open>(open->message).volume, "colin27");
+
+    const auto join = parse_request(R"({"v":1,"type":"join","session":"s9"})", limits);
+    ASSERT_TRUE(join.ok());
+    EXPECT_FALSE(join->id.has_value());
+    EXPECT_EQ(std::get<Join>(join->message).session, "s9");
+
+    const auto still = parse_request(R"({"v":1,"type":"render"})", limits);
+    ASSERT_TRUE(still.ok());
+    EXPECT_FALSE(std::get<Render>(still->message).interactive);
+    const auto drag = parse_request(R"({"v":1,"type":"render","interactive":true})", limits);
+    ASSERT_TRUE(drag.ok());
+    EXPECT_TRUE(std::get<Render>(drag->message).interactive);
+}
+
+TEST(ParseRequest, SetCarriesOnlyThePatch) {
+    const auto request = parse_request(
+            R"({"v":1,"type":"set","id":3,"light":{"intensity":2},"output":{"encoding":"png"}})",
+            Limits{});
+    ASSERT_TRUE(request.ok());
+    const json patch = json::parse(std::get<Set>(request->message).patch);
+    EXPECT_EQ(patch, json::parse(R"({"light":{"intensity":2},"output":{"encoding":"png"}})"));
+}
+
+TEST(ParseRequest, AcceptsTheExtremeIds) {
+    for (const char* id : {"-9223372036854775808", "9223372036854775807", "0"}) {
+        const auto request =
+                parse_request(std::string(R"({"v":1,"type":"stats","id":)") + id + "}", Limits{});
+        ASSERT_TRUE(request.ok()) << id;
+        EXPECT_EQ(std::to_string(*request->id), id);
+    }
+}
+
+TEST(ParseRequest, RejectsMessagesLongerThanTheLimit) {
+    Limits limits;
+    const std::string message = R"({"v":1,"type":"render","id":12345})";
+    limits.max_message_bytes = message.size();
+    EXPECT_TRUE(parse_request(message, limits).ok()) << "a message of exactly the limit passes";
+
+    limits.max_message_bytes = message.size() - 1;
+    const auto request = parse_request(message, limits);
+    ASSERT_FALSE(request.ok());
+    EXPECT_EQ(request.error().code, code::message_too_large);
+    EXPECT_EQ(request.error().where, "/");
+}
+
+TEST(ParseRequest, ChecksSizeAgainstTheGivenLimitsNotTheDefaults) {
+    Limits small;
+    small.max_image_side = 256;
+    small.max_slices = 16;
+    const std::string size = R"({"v":1,"type":"set","settings":{"size":[512,128]}})";
+    const std::string slices = R"({"v":1,"type":"set","settings":{"light_buffer":{"slices":32}}})";
+    EXPECT_TRUE(parse_request(size, Limits{}).ok());
+    EXPECT_TRUE(parse_request(slices, Limits{}).ok());
+    const auto big_size = parse_request(size, small);
+    ASSERT_FALSE(big_size.ok());
+    EXPECT_EQ(big_size.error().code, code::out_of_range);
+    EXPECT_EQ(big_size.error().where, "/settings/size/0");
+    const auto many_slices = parse_request(slices, small);
+    ASSERT_FALSE(many_slices.ok());
+    EXPECT_EQ(many_slices.error().where, "/settings/light_buffer/slices");
+
+    Limits large;
+    large.max_image_side = 4096;
+    EXPECT_TRUE(
+            parse_request(R"({"v":1,"type":"set","settings":{"size":[4096,4096]}})", large).ok());
+}
+
+TEST(ParseRequest, RejectsTooManyTransferFunctionPoints) {
+    json points = json::array();
+    for (int i = 0; i <= 256; ++i) {
+        points.push_back({{"x", i / 256.0}, {"alpha", 0.5}});
+    }
+    json message = {{"v", 1}, {"type", "set"}, {"transfer_function", {{"opacities", points}}}};
+    auto request = parse_request(message.dump(), Limits{});
+    ASSERT_FALSE(request.ok());
+    EXPECT_EQ(request.error().code, code::out_of_range);
+    EXPECT_EQ(request.error().where, "/transfer_function/opacities");
+
+    message["transfer_function"]["opacities"].erase(0);
+    EXPECT_TRUE(parse_request(message.dump(), Limits{}).ok()) << "256 points are allowed";
+}
+
+TEST(RequestIdOf, EchoesTheIdOfAMessageThatFailedToParse) {
+    EXPECT_EQ(request_id_of(R"({"v":1,"type":"teleport","id":42})"), 42);
+    EXPECT_EQ(request_id_of(R"({"v":2,"type":"render","id":-5})"), -5);
+}
+
+TEST(RequestIdOf, HasNoIdForMalformedOrNonIntegerIds) {
+    EXPECT_FALSE(request_id_of(R"({"v":1,"id":4)").has_value());
+    EXPECT_FALSE(request_id_of(R"([{"id":4}])").has_value());
+    EXPECT_FALSE(request_id_of(R"({"v":1,"id":"4"})").has_value());
+    EXPECT_FALSE(request_id_of(R"({"v":1,"id":4.5})").has_value());
+    EXPECT_FALSE(request_id_of(R"({"v":1,"id":18446744073709551615})").has_value());
+}
+
+TEST(ServerMessages, CarryVersionTypeAndTheRequestId) {
+    const json ack = json::parse(ack_message(9, "set"));
+    EXPECT_EQ(ack, json::parse(R"({"v":1,"type":"ack","id":9,"of":"set"})"));
+    const json no_id = json::parse(ack_message(std::nullopt, "close"));
+    EXPECT_FALSE(no_id.contains("id"));
+
+    const json error = json::parse(
+            error_message(4, base::make_error(code::unknown_volume, "no such volume", "/volume")));
+    EXPECT_EQ(error, json::parse(R"({"v":1,"type":"error","id":4,"code":"unknown_volume",
+                                     "message":"no such volume","field":"/volume"})"));
+}
+
+TEST(ServerMessages, HelloAnnouncesTheLimits) {
+    Limits limits;
+    limits.max_image_side = 1000;
+    limits.max_requests_per_second = 30.5;
+    const json hello = json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux"}, {"dvr"}));
+    EXPECT_EQ(hello.at("type"), "hello");
+    EXPECT_EQ(hello.at("v"), 1);
+    EXPECT_FALSE(hello.contains("id"));
+    EXPECT_EQ(hello.at("limits").at("max_image_side"), 1000);
+    EXPECT_EQ(hello.at("limits").at("max_message_bytes"), limits.max_message_bytes);
+    EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
+    EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
+}
+
+TEST(ServerMessages, OpenedAndJoinedCarryTheSessionState) {
+    SessionState state;
+    state.frame.transfer_function = scene::preset("mri_skin").value();
+    VolumeSummary volume;
+    volume.id = "colin27";
+    const std::string state_json = state_to_json(state);
+    const json opened = json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, false));
+    EXPECT_EQ(opened.at("type"), "opened");
+    EXPECT_EQ(opened.at("state"), json::parse(state_json));
+    EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));
+    const json joined = json::parse(opened_message(1, "s1", volume, {}, state_json, true));
+    EXPECT_EQ(joined.at("type"), "joined");
+}
+
+}  // namespace
+}  // namespace penumbra::protocol

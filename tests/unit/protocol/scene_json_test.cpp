@@ -1,0 +1,178 @@
+#include "examples.hpp"
+
+#include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace penumbra::protocol {
+namespace {
+
+SessionState preset_state(const char* preset) {
+    SessionState state;
+    state.frame.transfer_function = scene::preset(preset).value();
+    return state;
+}
+
+std::string patch_of(const std::string& set_message) {
+    auto request = parse_request(set_message, Limits{});
+    EXPECT_TRUE(request.ok()) << set_message;
+    return request.ok() ? std::get<Set>(request->message).patch : std::string("{}");
+}
+
+// Sessions in many shapes: defaults, every preset, and the result of every valid set example.
+std::vector<SessionState> sample_states() {
+    std::vector<SessionState> states = {SessionState{}};
+    for (const auto& name : scene::preset_names()) {
+        states.push_back(preset_state(name.c_str()));
+    }
+    for (const auto& path : test::example_files("valid")) {
+        const std::string text = test::read_text(path);
+        if (text.find("\"set\"") == std::string::npos) {
+            continue;
+        }
+        SessionState state = preset_state("mri_brain");
+        EXPECT_TRUE(apply_patch(patch_of(text), state, Limits{}).ok()) << path;
+        states.push_back(state);
+    }
+    return states;
+}
+
+TEST(StateJson, RoundTripsThroughApplyPatch) {
+    for (const SessionState& state : sample_states()) {
+        const std::string json = state_to_json(state);
+        SCOPED_TRACE(json);
+        SessionState copy = preset_state("grey_ramp");
+        const auto status = apply_patch(json, copy, Limits{});
+        ASSERT_TRUE(status.ok()) << status.error().to_string();
+        EXPECT_EQ(state_to_json(copy), json);
+    }
+}
+
+TEST(StateJson, IsAValidSetOnItsOwn) {
+    const std::string message =
+            R"({"v":1,"type":"set",)" + state_to_json(preset_state("ct_skin")).substr(1);
+    EXPECT_TRUE(parse_request(message, Limits{}).ok()) << message;
+}
+
+TEST(ApplyPatch, ChangesOnlyTheMembersItNames) {
+    SessionState state = preset_state("ct_bone");
+    const SessionState before = state;
+    ASSERT_TRUE(
+            apply_patch(R"({"light":{"intensity":2.5},"settings":{"light_buffer":{"slices":64}}})",
+                        state, Limits{})
+                    .ok());
+    EXPECT_EQ(state.frame.light.intensity, 2.5);
+    EXPECT_EQ(state.frame.settings.light_buffer.slices, 64);
+    state.frame.light.intensity = before.frame.light.intensity;
+    state.frame.settings.light_buffer.slices = before.frame.settings.light_buffer.slices;
+    EXPECT_EQ(state_to_json(state), state_to_json(before));
+}
+
+TEST(ApplyPatch, ReplacesTheWholeTransferFunction) {
+    SessionState state = preset_state("ct_bone");
+    ASSERT_TRUE(apply_patch(R"({"transfer_function":{"opacities":[{"x":0.5,"alpha":1}]}})", state,
+                            Limits{})
+                        .ok());
+    EXPECT_TRUE(state.frame.transfer_function.colors.empty());
+    ASSERT_EQ(state.frame.transfer_function.opacities.size(), 1U);
+    EXPECT_EQ(state.frame.transfer_function.name, "custom");
+    ASSERT_TRUE(
+            apply_patch(R"({"transfer_function":{"preset":"mri_skin"}})", state, Limits{}).ok());
+    EXPECT_EQ(state_to_json(state), state_to_json(preset_state("mri_skin")));
+}
+
+TEST(ApplyPatch, LeavesStateUnchangedWhenALaterPartFails) {
+    SessionState state = preset_state("mri_skin");
+    const std::string before = state_to_json(state);
+    // camera, light and transfer_function are valid and applied first; settings then fails.
+    const auto status = apply_patch(
+            R"({"camera":{"fov":45},"light":{"intensity":3},
+                "transfer_function":{"preset":"ct_bone"},
+                "settings":{"size":[640,480],"mode":"mip"}})",
+            state, Limits{});
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().where, "/settings/mode");
+    EXPECT_EQ(state_to_json(state), before);
+
+    // A failure found only when the whole state is checked (eye == target) changes nothing either.
+    const auto degenerate =
+            apply_patch(R"({"light":{"intensity":3},"camera":{"eye":[0,0,0]}})", state, Limits{});
+    ASSERT_FALSE(degenerate.ok());
+    EXPECT_EQ(degenerate.error().code, code::invalid_value);
+    EXPECT_EQ(degenerate.error().where, "/camera");
+    EXPECT_EQ(state_to_json(state), before);
+}
+
+TEST(ApplyPatch, RejectsMalformedAndNonObjectPatches) {
+    SessionState state;
+    const auto malformed = apply_patch("{", state, Limits{});
+    ASSERT_FALSE(malformed.ok());
+    EXPECT_EQ(malformed.error().code, code::malformed_json);
+    const auto array = apply_patch("[]", state, Limits{});
+    ASSERT_FALSE(array.ok());
+    EXPECT_EQ(array.error().code, code::invalid_value);
+    EXPECT_EQ(array.error().where, "/");
+}
+
+TEST(ApplyPatch, NamesSettingsThatBreakTheLimitsByTheirPointer) {
+    // A state valid under the defaults checked against smaller limits: the whole-state check
+    // names the settings member as a pointer into a set message.
+    Limits small;
+    small.max_slices = 16;
+    SessionState state = preset_state("grey_ramp");
+    const auto status = apply_patch(R"({"camera":{"fov":40}})", state, small);
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, code::invalid_value);
+    EXPECT_EQ(status.error().where, "/settings/light_buffer/slices");
+}
+
+TEST(ParseRequest, AcceptsPatchesUnderLimitsBelowTheDefaults) {
+    Limits small;
+    small.max_image_side = 256;
+    small.max_slices = 16;
+    small.max_light_resolution = 64;
+    EXPECT_TRUE(parse_request(R"({"v":1,"type":"set","camera":{"fov":40}})", small).ok());
+}
+
+TEST(ApplyPatch, OrbitsAroundThePatchTargetOrTheCurrentOne) {
+    SessionState state = preset_state("grey_ramp");
+    ASSERT_TRUE(apply_patch(R"({"camera":{"orbit":{"azimuth":90,"elevation":0,"distance":2},
+                                          "target":[0.1,0,0]}})",
+                            state, Limits{})
+                        .ok());
+    const scene::Camera& camera = state.frame.camera;
+    EXPECT_NEAR(glm::distance(camera.eye, glm::dvec3(2.1, 0.0, 0.0)), 0.0, 1e-12);
+    EXPECT_EQ(camera.target, glm::dvec3(0.1, 0.0, 0.0));
+
+    ASSERT_TRUE(apply_patch(R"({"camera":{"orbit":{"azimuth":0,"distance":1.5}}})", state, Limits{})
+                        .ok());
+    EXPECT_EQ(camera.target, glm::dvec3(0.1, 0.0, 0.0));
+    EXPECT_NEAR(glm::distance(camera.eye, glm::dvec3(0.1, 1.5, 0.0)), 0.0, 1e-12);
+    EXPECT_EQ(camera.up, glm::dvec3(0.0, 0.0, 1.0));
+}
+
+TEST(ApplyPatch, OrbitKeepsTheFieldOfView) {
+    SessionState state = preset_state("grey_ramp");
+    ASSERT_TRUE(apply_patch(R"({"camera":{"fov":50}})", state, Limits{}).ok());
+    ASSERT_TRUE(apply_patch(R"({"camera":{"orbit":{"azimuth":30}}})", state, Limits{}).ok());
+    EXPECT_EQ(state.frame.camera.fov_y_degrees, 50.0);
+}
+
+TEST(ApplyPatch, NamesADecreasingTransferFunctionPoint) {
+    SessionState state = preset_state("grey_ramp");
+    const auto status = apply_patch(
+            R"({"transfer_function":{"colors":[{"x":0.5,"rgb":[1,1,1]},
+                                               {"x":0.25,"rgb":[0,0,0]}]}})",
+            state, Limits{});
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, code::invalid_value);
+    EXPECT_EQ(status.error().where, "/transfer_function/colors/1");
+}
+
+}  // namespace
+}  // namespace penumbra::protocol

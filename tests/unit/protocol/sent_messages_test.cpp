@@ -1,0 +1,182 @@
+// Builds every server->client message the protocol module can produce and writes them to
+// PENUMBRA_SENT_MESSAGES (one {"kind", "message"} a line) for validate_messages.py, which checks
+// them against proto/v1 (the protocol_schema_validation test).
+
+#include "examples.hpp"
+
+#include <penumbra/protocol/frame_header.hpp>
+#include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace penumbra::protocol {
+namespace {
+
+using nlohmann::json;
+
+std::vector<std::string> text_messages() {
+    std::vector<std::string> out;
+    const std::vector<std::string> all_modes = {"dvr",        "phong",     "half_angle", "sbrc",
+                                                "sbrc_shell", "sbrc_cone", "reference"};
+    out.push_back(hello_message(Limits{},
+                                {"llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core)", "Linux x86_64"},
+                                all_modes));
+    Limits configured;
+    configured.max_message_bytes = 1 << 20;
+    configured.max_requests_per_second = 0.5;
+    out.push_back(hello_message(configured, {"NVIDIA H100", "4.6.0 NVIDIA", "Linux"}, {"dvr"}));
+
+    VolumeSummary colin;
+    colin.id = "colin27";
+    colin.name = "Colin27 T1 MRI";
+    colin.dims[0] = 181;
+    colin.dims[1] = 217;
+    colin.dims[2] = 181;
+    colin.voxel_type = "uint8";
+    colin.range[1] = 254;
+    colin.loaded = true;
+    VolumeSummary ct;
+    ct.id = "ct/head_256x256x113_uint16.raw.gz";
+    ct.name = "CT head";
+    ct.dims[0] = 256;
+    ct.dims[1] = 256;
+    ct.dims[2] = 113;
+    ct.spacing[2] = 2.0;
+    ct.voxel_type = "uint16";
+    VolumeSummary floats = colin;
+    floats.id = "float";
+    floats.voxel_type = "float32";
+    floats.range[0] = -1.5;
+    floats.range[1] = 1e6;
+    VolumeSummary unloaded;  // as net lists a volume it has not loaded yet
+    unloaded.id = "visible_human.nrrd";
+    unloaded.name = unloaded.id;
+    out.push_back(volumes_message(1, {colin, ct, floats, unloaded}));
+    out.push_back(volumes_message(std::nullopt, {}));
+
+    std::vector<std::string> states;
+    for (const auto& name : scene::preset_names()) {
+        SessionState state;
+        state.frame.transfer_function = scene::preset(name).value();
+        states.push_back(state_to_json(state));
+    }
+    states.push_back(state_to_json(SessionState{}));
+    for (const auto& path : test::example_files("valid")) {
+        const auto request = parse_request(test::read_text(path), Limits{});
+        if (request.ok() && std::holds_alternative<Set>(request->message)) {
+            SessionState state;
+            state.frame.transfer_function = scene::preset("grey_ramp").value();
+            EXPECT_TRUE(apply_patch(std::get<Set>(request->message).patch, state, Limits{}).ok());
+            states.push_back(state_to_json(state));
+        }
+    }
+    std::vector<std::uint64_t> histogram(256, 7);
+    histogram[0] = 4'000'000'000ULL;
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        out.push_back(opened_message(static_cast<std::int64_t>(i), "s" + std::to_string(i), colin,
+                                     histogram, states[i], i % 2 == 1));
+    }
+    out.push_back(opened_message(std::nullopt, "s0", ct, {}, states[0], false));
+
+    for (const char* of : {"set", "close"}) {
+        out.push_back(ack_message(5, of));
+        out.push_back(ack_message(std::nullopt, of));
+    }
+    for (const char* c :
+         {code::malformed_json, code::invalid_message, code::unknown_type, code::unknown_field,
+          code::unsupported_version, code::invalid_value, code::out_of_range,
+          code::message_too_large, code::rate_limited, code::unknown_volume, code::unknown_session,
+          code::no_session, code::too_many_sessions, code::render_failed, code::internal_error}) {
+        out.push_back(error_message(-3, base::make_error(c, "something went wrong", "")));
+    }
+    // The errors the server sends for each invalid example, as net would build them.
+    for (const auto& example : test::invalid_examples()) {
+        const auto request = parse_request(example.text, Limits{});
+        EXPECT_FALSE(request.ok()) << example.name;
+        if (!request.ok()) {
+            out.push_back(error_message(request_id_of(example.text), request.error()));
+        }
+    }
+    out.push_back(stats_message(6, "{}"));
+    out.push_back(stats_message(std::nullopt, R"({"sessions":2,"frames":{"sent":10}})"));
+    return out;
+}
+
+std::vector<std::string> frame_headers() {
+    FrameHeader h;
+    h.frame = 0;
+    h.request = 4;
+    h.session = "s1";
+    h.width = 512;
+    h.height = 512;
+    h.encoding = "jpeg";
+    h.mode = "dvr";
+    h.light_buffer = "none";
+    h.quality = "full";
+    std::vector<FrameHeader> headers = {h};
+    h.frame = 18'446'744'073'709'551'615ULL;
+    h.request = -1;
+    h.encoding = "png";
+    h.mode = "sbrc_shell";
+    h.interactive = true;
+    h.light_buffer = "built";
+    h.passes = {{"light_buffer", -1.0, 2.5}, {"raycast", 4.0, 4.5}};
+    h.queued_ms = 0.1;
+    h.render_ms = 6.5;
+    h.readback_ms = 0.4;
+    h.encode_ms = 1.2;
+    headers.push_back(h);
+    h.light_buffer = "reused";
+    h.width = 1;
+    headers.push_back(h);
+
+    std::vector<std::string> out;
+    const std::vector<std::uint8_t> image = {0x89, 'P', 'N', 'G'};
+    for (const auto& header : headers) {
+        const auto frame = unpack_frame(pack_frame(header, image));
+        EXPECT_TRUE(frame.ok());
+        if (frame.ok()) {
+            out.push_back(frame->header_json);
+        }
+    }
+    return out;
+}
+
+TEST(SentMessages, EveryServerMessageIsWrittenForSchemaValidation) {
+    std::string lines;
+    std::size_t count = 0;
+    for (const std::string& text : text_messages()) {
+        ASSERT_TRUE(json::accept(text)) << text;
+        lines += R"({"kind":"text","message":)" + text + "}\n";
+        ++count;
+    }
+    for (const std::string& header : frame_headers()) {
+        ASSERT_TRUE(json::accept(header)) << header;
+        lines += R"({"kind":"frame_header","message":)" + header + "}\n";
+        ++count;
+    }
+    EXPECT_GT(count, 100U);
+
+    // Written whole and renamed, so that concurrent runs (the discovered test and the fixture)
+    // never leave a partial file for the validator.
+    const std::filesystem::path target(PENUMBRA_SENT_MESSAGES);
+    const std::filesystem::path temporary =
+            target.string() + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out << lines;
+        ASSERT_TRUE(out.good()) << temporary;
+    }
+    std::filesystem::rename(temporary, target);
+}
+
+}  // namespace
+}  // namespace penumbra::protocol
