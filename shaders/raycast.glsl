@@ -42,18 +42,19 @@ float light_reaching(vec3 position, vec3 to_eye) {
 #endif
 }
 
-// Front-to-back emission–absorption along the ray of `pixel`, composited over the background.
-vec4 march(ivec2 pixel) {
+// Front-to-back emission–absorption of samples [first, first + budget) of the ray of `pixel`,
+// composited into `accumulated` (premultiplied). The ray is cut into equal steps no longer than
+// the sample distance, sampled at their midpoints.
+void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec3 origin = u.eye.xyz;
     vec3 direction = pixel_ray_direction(pixel);
     vec2 hit = intersect_box(origin, direction);
-    vec4 accumulated = vec4(0.0);
     float length_inside = hit.y - hit.x;
     if (length_inside > 0.0) {
-        // Equal steps no longer than the sample distance, sampled at their midpoints.
         int count = int(max(1.0, ceil(length_inside / u.march.x)));
         float step_length = length_inside / float(count);
-        for (int i = 0; i < count; ++i) {
+        int last = min(count, first + budget);
+        for (int i = first; i < last; ++i) {
             vec3 position = origin + (hit.x + (float(i) + 0.5) * step_length) * direction;
             vec4 classified = classify(sample_value(position));
             if (classified.a <= 0.0) continue;
@@ -70,5 +71,11 @@ vec4 march(ivec2 pixel) {
             if (accumulated.a >= u.march.z) break;
         }
     }
+}
+
+// The whole ray, composited over the background.
+vec4 march(ivec2 pixel) {
+    vec4 accumulated = vec4(0.0);
+    march_range(pixel, 0, 0x7fffffff, accumulated);
     return vec4(accumulated.rgb + (1.0 - accumulated.a) * u.background.rgb, 1.0);
 }

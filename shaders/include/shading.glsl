@@ -23,9 +23,12 @@ vec3 normal_from_gradient(vec3 gradient) {
 vec2 blinn_phong(vec3 normal, vec3 to_light, vec3 to_eye) {
     if (dot(normal, normal) == 0.0) return vec2(1.0, 0.0);
     if (dot(normal, to_eye) < 0.0) normal = -normal;
-    vec3 half_vector = normalize(to_light + to_eye);
-    return vec2(max(dot(normal, to_light), 0.0),
-                pow(max(dot(normal, half_vector), 0.0), u.shading.z));
+    vec3 sum = to_light + to_eye;
+    float diffuse = max(dot(normal, to_light), 0.0);
+    // Light exactly opposite the eye has no half vector (normalize(0) is undefined in GLSL).
+    if (dot(sum, sum) < 1e-12) return vec2(diffuse, 0.0);
+    vec3 half_vector = sum / length(sum);
+    return vec2(diffuse, pow(max(dot(normal, half_vector), 0.0), u.shading.z));
 }
 
 // `light` is the fraction of the light that reaches the sample (1 without shadows); ambient light

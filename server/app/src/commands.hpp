@@ -9,6 +9,7 @@ namespace penumbra::app {
 int run_render(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
 int run_serve(const std::vector<std::string>& args);
+int run_load(const std::vector<std::string>& args);
 // `bench modes`: frame times of the rendering modes measured side by side, and their ratios.
 int run_bench(const std::vector<std::string>& args);
 

@@ -13,6 +13,7 @@ void print_usage() {
             "commands:\n"
             "  render   render one frame of a volume to a PNG or JPEG file\n"
             "  serve    run the rendering service (HTTP + WebSocket) on a folder of volumes\n"
+            "  load     N simulated clients against a running server: latency p50/p95/p99\n"
             "  info     print a volume's dimensions, spacing, type, range and histogram\n"
             "  bench    benchmarks: `penumbra bench modes` times every mode side by side\n"
             "\n"
@@ -30,6 +31,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 2, argv + argc);
     if (command == "render") {
         return penumbra::app::run_render(args);
+    }
+    if (command == "load") {
+        return penumbra::app::run_load(args);
     }
     if (command == "serve") {
         return penumbra::app::run_serve(args);

@@ -19,7 +19,7 @@ base::Result<const gpu::Program*> HalfAngleSlicer::program(const std::string& va
     }
     gpu::Defines all = defines;
     all.emplace_back("HALF_ANGLE_LIGHT_PASS", kind == light_pass ? "1" : "0");
-    auto built = kind == resolve ? shaders_.build_compute("half_angle_resolve.comp", {})
+    auto built = kind == resolve ? shaders_.build_compute("resolve.comp", {})
                                  : shaders_.build_graphics("half_angle.vert", "half_angle.frag", all);
     if (!built) {
         return built.error();

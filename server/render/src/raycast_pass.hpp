@@ -25,6 +25,8 @@ struct RaycastVariant {
     bool point_light = false;
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
+    bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it
+
     [[nodiscard]] gpu::Defines defines() const;
     [[nodiscard]] std::string key() const;  // "SHADOWS=1 SCATTERING=0 PHONG=1 ... compute"
 };
@@ -32,19 +34,31 @@ struct RaycastVariant {
 // Runs shaders/raycast.{comp,frag} into the frame target. Programs are compiled on first use of
 // a variant and kept. Expects the frame's uniform block bound, the volume and TF textures on units
 // 0 and 1 and, for light-buffer shadows, the light buffer on unit 2.
+// How many loop iterations one ray may need, against the GL implementation's cap.
+struct MarchBudget {
+    int max_samples_per_ray = 0;     // samples along the longest ray through the box
+    int iterations_per_sample = 1;   // 1 + the inner loops' iterations (shadow rays, shells)
+    int loop_cap = 0;                // 0: no cap
+};
+
 class RaycastPass {
 public:
     explicit RaycastPass(const gpu::ShaderLibrary& shaders);
 
-    base::Status run(const RaycastVariant& variant, int width, int height, FrameTarget& target,
-                     gpu::GpuTimer& timer);
+    // Returns how many dispatches the frame took (1 unless the rays were marched in chunks).
+    base::Result<int> run(RaycastVariant variant, int width, int height, const MarchBudget& budget,
+                          FrameTarget& target, gpu::GpuTimer& timer);
 
 private:
     base::Result<const gpu::Program*> program_for(const RaycastVariant& variant);
+    base::Result<const gpu::Program*> resolve_program();
 
     const gpu::ShaderLibrary& shaders_;
     std::map<std::string, gpu::Program> programs_;
     gpu::VertexArray empty_vertex_array_;
+    gpu::Texture accumulation_;
+    int accumulation_width_ = 0;
+    int accumulation_height_ = 0;
 };
 
 }  // namespace penumbra::render

@@ -234,8 +234,10 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     std::filesystem::path shader_dir =
             options.shader_dir.empty() ? gpu::default_shader_dir() : options.shader_dir;
     auto impl = std::make_unique<Impl>(std::move(context.value()), std::move(shader_dir));
-    info.gpu_timer_queries = info.renderer.find("llvmpipe") == std::string::npos &&
-                             info.renderer.find("softpipe") == std::string::npos;
+    const bool software = info.renderer.find("llvmpipe") != std::string::npos ||
+                          info.renderer.find("softpipe") != std::string::npos;
+    info.gpu_timer_queries = !software;
+    info.max_shader_loop_iterations = software ? 65535 : 0;
     impl->info = std::move(info);
     impl->volume_memory_budget = options.volume_memory_budget;
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
@@ -398,6 +400,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
 
     const auto render_start = Clock::now();
     std::string pass_name = "raycast";
+    int chunks = 1;
     if (plan.half_angle) {
         pass_name = "half_angle";
         if (auto status = impl.half_angle.run(impl.slices, front_to_back, s.width, s.height,
@@ -407,10 +410,29 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
             return status.error();
         }
         impl.last_inset = Impl::LastInset::half_angle;
-    } else if (auto status = impl.raycast.run(plan.variant, s.width, s.height, impl.target,
-                                              impl.render_timer);
-               !status) {
-        return status.error();
+    } else {
+        // The longest ray crosses the box's diagonal; a shadow ray at most the same again.
+        const double diagonal = glm::length(box.size());
+        MarchBudget budget;
+        budget.max_samples_per_ray =
+                static_cast<int>(std::ceil(diagonal / s.sample_distance)) + 1;
+        switch (plan.variant.shadows) {
+            case Shadows::rays: budget.iterations_per_sample = 2 + budget.max_samples_per_ray; break;
+            case Shadows::light_buffer:
+                budget.iterations_per_sample =
+                        plan.variant.scattering == Scattering::shell ? 4 + 2 * s.scattering.shell_rings
+                        : plan.variant.scattering == Scattering::cone ? 10
+                                                                       : 1;
+                break;
+            case Shadows::none: budget.iterations_per_sample = 1; break;
+        }
+        budget.loop_cap = impl.info.max_shader_loop_iterations;
+        auto dispatches = impl.raycast.run(plan.variant, s.width, s.height, budget, impl.target,
+                                           impl.render_timer);
+        if (!dispatches) {
+            return dispatches.error();
+        }
+        chunks = *dispatches;
     }
     glFinish();  // the frame is read back next anyway; finishing here splits render from readback
     const double render_wall_ms = milliseconds_since(render_start) + slice_geometry_ms;
@@ -421,6 +443,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
     frame.report.passes.push_back({"readback", 0.0, readback_ms});
     frame.report.variant = plan.variant.key();
     frame.report.stage = plan.half_angle ? "slices" : scene::to_string(plan.variant.stage);
+    if (chunks > 1) {
+        frame.report.stage += " (" + std::to_string(chunks) + " chunks)";
+    }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
         return base::make_error("gl_error", "OpenGL reported error " + std::to_string(error),
                                 "render");

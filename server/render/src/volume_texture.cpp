@@ -1,6 +1,7 @@
 #include "volume_texture.hpp"
 
 #include <string>
+#include <vector>
 
 namespace penumbra::render {
 
@@ -30,6 +31,22 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
             type = GL_FLOAT;
             break;
     }
+    const double width = volume.range.max - volume.range.min;
+    // Float volumes are stored already mapped to [0, 1]: a range near ±3e38 makes 1/width a
+    // denormal that shaders flush to zero, and at a huge offset the raw floats are too coarse.
+    std::vector<float> normalized;
+    const void* pixels = volume.data.data();
+    if (volume.type == volume::VoxelType::float32) {
+        normalized.resize(volume.voxel_count());
+        const auto* raw = reinterpret_cast<const float*>(volume.data.data());
+        for (std::size_t i = 0; i < normalized.size(); ++i) {
+            normalized[i] = width > 0.0 ? static_cast<float>(
+                                                  (static_cast<double>(raw[i]) - volume.range.min) /
+                                                  width)
+                                        : 0.0f;
+        }
+        pixels = normalized.data();
+    }
     VolumeTexture out;
     out.texture = gpu::create_texture(GL_TEXTURE_3D);
     const GLuint name = out.texture.name();
@@ -38,7 +55,7 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(name, 0, 0, 0, 0, static_cast<GLsizei>(dims.x),
                         static_cast<GLsizei>(dims.y), static_cast<GLsizei>(dims.z), GL_RED, type,
-                        volume.data.data());
+                        pixels);
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -48,8 +65,9 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
         return base::make_error("gpu_out_of_memory", "not enough GPU memory for the volume",
                                 volume.name);
     }
-    const double width = volume.range.max - volume.range.min;
-    if (width > 0.0) {
+    if (volume.type == volume::VoxelType::float32) {
+        out.value_map = glm::vec2(1.0f, 0.0f);
+    } else if (width > 0.0) {
         out.value_map = glm::vec2(static_cast<float>(texel_max / width),
                                   static_cast<float>(-volume.range.min / width));
     } else {

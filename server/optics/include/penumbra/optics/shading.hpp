@@ -30,9 +30,14 @@ inline LightTerms blinn_phong(glm::dvec3 normal, glm::dvec3 to_light, glm::dvec3
     if (glm::dot(normal, to_eye) < 0.0) {
         normal = -normal;
     }
-    const glm::dvec3 half_vector = glm::normalize(to_light + to_eye);
-    return {glm::max(glm::dot(normal, to_light), 0.0),
-            glm::pow(glm::max(glm::dot(normal, half_vector), 0.0), shininess)};
+    const glm::dvec3 sum = to_light + to_eye;
+    const double diffuse = glm::max(glm::dot(normal, to_light), 0.0);
+    // Light exactly opposite the eye has no half vector; such a light never shows a highlight.
+    if (glm::dot(sum, sum) < 1e-12) {
+        return {diffuse, 0.0};
+    }
+    const glm::dvec3 half_vector = sum / glm::length(sum);
+    return {diffuse, glm::pow(glm::max(glm::dot(normal, half_vector), 0.0), shininess)};
 }
 
 // The colour a lit sample emits: TF colour × light × (ambient + diffuse × T) + light × specular

@@ -32,6 +32,10 @@ struct RendererInfo {
     // False on Mesa's software rasterisers, whose timer queries do not measure compute dispatches
     // and return garbage for draws; pass times then carry gpu_ms = -1 and only wall times count.
     bool gpu_timer_queries = true;
+    // Mesa's llvmpipe stops a shader invocation after 65535 loop iterations in all (its
+    // LP_MAX_TGSI_LOOP_ITERATIONS); the compute ray caster then marches long rays in several
+    // dispatches. 0 = no such limit.
+    int max_shader_loop_iterations = 0;
 };
 
 // What the scheduler renders through, so that scheduling can be tested with a fake.

@@ -1,5 +1,6 @@
-// Half-angle slicing's last step: the premultiplied eye buffer over the background, into the
-// RGBA8 frame (rows top to bottom, like the ray caster's).
+// The last step of passes that accumulate in float (half-angle slicing's eye buffer, the chunked
+// ray caster): premultiplied colour over the background, into the RGBA8 frame (rows top to
+// bottom).
 #include "include/uniforms.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
