@@ -54,6 +54,7 @@ base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host,
     if (ec) {
         return network_error("cannot connect to " + host + ":" + std::to_string(port), ec);
     }
+    stream.socket().set_option(tcp::no_delay(true), ec);
     stream.expires_after(timeout);
     impl->ws.async_handshake(host + ":" + std::to_string(port), path,
                              [&](beast::error_code e) { ec = e; });

@@ -38,6 +38,10 @@ struct Server::Impl {
                     return;
                 }
             } else {
+                // Small messages (a camera move, a render request) must not wait for Nagle's
+                // algorithm to meet the peer's delayed ACK: that costs 40 ms a round trip.
+                beast::error_code ignored;
+                socket.set_option(tcp::no_delay(true), ignored);
                 std::make_shared<HttpSession>(std::move(socket), context)->run();
             }
             do_accept();
