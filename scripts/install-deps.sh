@@ -7,8 +7,13 @@ packages=(
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev zlib1g-dev nlohmann-json3-dev libboost-dev
     libgtest-dev libgmock-dev python3-jsonschema
-    mricron-data
+    mricron-data gnuplot-nox
+    chromium nodejs
 )
+# npm: Debian's package, unless a nodejs that bundles npm (e.g. NodeSource's) is installed already.
+if ! command -v npm >/dev/null 2>&1; then
+    packages+=(npm)
+fi
 
 missing=()
 for package in "${packages[@]}"; do

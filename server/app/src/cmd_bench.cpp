@@ -54,6 +54,9 @@ void print_bench_usage() {
             "benchmarks:\n"
             "  modes    frame time of every rendering mode over slices x light-buffer resolution,\n"
             "           light-buffer reuse vs rebuild, and the two light-buffer builders\n"
+            "  accuracy error vs the reference (RMSE, PSNR, SSIM) against frame time over\n"
+            "           modes x slices x light-buffer resolution x sample distance; quality\n"
+            "           presets per frame-time budget; CSV, JSON and a plot\n"
             "\n"
             "`penumbra bench <benchmark> --help` lists its options.");
 }
@@ -235,8 +238,11 @@ public:
                                                  orbit_.elevation, orbit_.distance, orbit_.target);
             request.camera.fov_y_degrees = orbit_.fov_y_degrees;
             if (use == LightBufferUse::rebuild) {
-                // Alternating keeps every frame's light different from the frame before it.
-                request.light = nudged(base_.light, i % 2 == 0 ? -1.0 : 1.0);
+                // A light never used before: the renderer caches light buffers by their inputs,
+                // so returning to an earlier light would reuse its buffer.
+                ++nudges_;
+                request.light = nudged(base_.light, (nudges_ % 2 == 0 ? 1.0 : -1.0) *
+                                                            static_cast<double>(nudges_ % 4096));
             }
             auto frame = renderer_.render(request);
             if (!frame) {
@@ -293,6 +299,7 @@ private:
     scene::FrameRequest base_;
     Orbit orbit_;
     int repeat_;
+    std::uint64_t nudges_ = 0;  // distinct lights the rebuild frames have used so far
     bool gpu_timers_;
 };
 
@@ -636,6 +643,9 @@ int run_bench_modes(const std::vector<std::string>& args) {
 
 }  // namespace
 
+// In cmd_bench_accuracy.cpp.
+int run_bench_accuracy(const std::vector<std::string>& args);
+
 int run_bench(const std::vector<std::string>& args) {
     if (args.empty()) {
         print_bench_usage();
@@ -644,6 +654,9 @@ int run_bench(const std::vector<std::string>& args) {
     if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
         print_bench_usage();
         return 0;
+    }
+    if (args[0] == "accuracy") {
+        return run_bench_accuracy({args.begin() + 1, args.end()});
     }
     if (args[0] != "modes") {
         std::fprintf(stderr, "penumbra bench: unknown benchmark '%s'\n\n", args[0].c_str());

@@ -15,7 +15,8 @@ void print_usage() {
             "  serve    run the rendering service (HTTP + WebSocket) on a folder of volumes\n"
             "  load     N simulated clients against a running server: latency p50/p95/p99\n"
             "  info     print a volume's dimensions, spacing, type, range and histogram\n"
-            "  bench    benchmarks: `penumbra bench modes` times every mode side by side\n"
+            "  bench    benchmarks: `bench modes` times every mode side by side; `bench accuracy`\n"
+            "           measures error against the reference vs frame time\n"
             "\n"
             "`penumbra <command> --help` lists the options of a command.");
 }

@@ -2,107 +2,17 @@
 
 #include "frame_target.hpp"
 
-
 namespace penumbra::render {
 
-LightBuffer::LightBuffer(const gpu::ShaderLibrary& shaders) : shaders_(shaders) {}
-
-void LightBuffer::allocate(int slices, int resolution) {
-    if (layers_ && slices == slices_ && resolution == resolution_) {
-        return;
-    }
-    layers_ = gpu::create_texture(GL_TEXTURE_2D_ARRAY);
+LightBuffer::LightBuffer(int slices, int resolution)
+    : layers_(gpu::create_texture(GL_TEXTURE_2D_ARRAY))
+    , slices_(slices)
+    , resolution_(resolution) {
     glTextureStorage3D(layers_.name(), 1, GL_R16F, resolution, resolution, slices);
     glTextureParameteri(layers_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(layers_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(layers_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(layers_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    scratch_.reset();
-    scratch_framebuffer_.reset();
-    slices_ = slices;
-    resolution_ = resolution;
-}
-
-base::Result<const gpu::Program*> LightBuffer::program(const std::string& key,
-                                                       const gpu::Defines& defines,
-                                                       bool per_slice) {
-    if (auto found = programs_.find(key); found != programs_.end()) {
-        return &found->second;
-    }
-    auto built = per_slice ? shaders_.build_graphics("light_buffer_slice.vert",
-                                                     "light_buffer_slice.frag", defines)
-                           : shaders_.build_compute("light_buffer.comp", defines);
-    if (!built) {
-        return built.error();
-    }
-    return &programs_.emplace(key, std::move(built.value())).first->second;
-}
-
-base::Status LightBuffer::build(scene::LightBufferBuilder builder, int slices, int resolution,
-                                const SliceMesh& mesh, const gpu::Defines& defines,
-                                gpu::GpuTimer& timer) {
-    allocate(slices, resolution);
-    const bool per_slice = builder == scene::LightBufferBuilder::per_slice;
-    std::string key = per_slice ? "per_slice" : "multi_slice";
-    for (const auto& [name, value] : defines) {
-        key += " " + name + "=" + value;
-    }
-    auto built = program(key, defines, per_slice);
-    if (!built) {
-        return built.error();
-    }
-    timer.begin();
-    if (per_slice) {
-        if (auto status = build_per_slice(mesh, **built); !status) {
-            timer.end();
-            return status;
-        }
-    } else {
-        glUseProgram((*built)->name());
-        glBindImageTexture(0, layers_.name(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
-        const auto groups = static_cast<GLuint>((resolution + 7) / 8);
-        glDispatchCompute(groups, groups, 1);
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    }
-    timer.end();
-    return base::Ok{};
-}
-
-// The paper's builder: the framebuffer holds the transmittance so far; each slice is blended in
-// multiplicatively and the result copied into the next layer.
-base::Status LightBuffer::build_per_slice(const SliceMesh& mesh, const gpu::Program& program) {
-    if (!scratch_) {
-        scratch_ = gpu::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(scratch_.name(), 1, GL_R16F, resolution_, resolution_);
-        scratch_framebuffer_ = gpu::create_framebuffer();
-        glNamedFramebufferTexture(scratch_framebuffer_.name(), GL_COLOR_ATTACHMENT0,
-                                  scratch_.name(), 0);
-    }
-    if (glCheckNamedFramebufferStatus(scratch_framebuffer_.name(), GL_FRAMEBUFFER) !=
-        GL_FRAMEBUFFER_COMPLETE) {
-        return base::make_error("gl_error", "the light-buffer framebuffer is incomplete",
-                                "light_buffer");
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, scratch_framebuffer_.name());
-    glViewport(0, 0, resolution_, resolution_);
-    const float one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-    glClearNamedFramebufferfv(scratch_framebuffer_.name(), GL_COLOR, 0, one);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ZERO, GL_SRC_COLOR);
-    glUseProgram(program.name());
-    mesh.bind();
-    for (int k = 0; k < slices_; ++k) {
-        glCopyImageSubData(scratch_.name(), GL_TEXTURE_2D, 0, 0, 0, 0, layers_.name(),
-                           GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, resolution_, resolution_, 1);
-        if (k + 1 < slices_) {
-            mesh.draw(k);
-        }
-    }
-    glDisable(GL_BLEND);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return base::Ok{};
 }
 
 std::vector<float> LightBuffer::read() const {
@@ -120,6 +30,91 @@ base::ImageRgba8 LightBuffer::layer_image(int layer) const {
                          GL_FLOAT, static_cast<GLsizei>(values.size() * sizeof(float)),
                          values.data());
     return transmittance_image(values, resolution_);
+}
+
+LightBufferBuilder::LightBufferBuilder(const gpu::ShaderLibrary& shaders) : shaders_(shaders) {}
+
+base::Result<const gpu::Program*> LightBufferBuilder::program(const gpu::Defines& defines,
+                                                              bool per_slice) {
+    std::string key = per_slice ? "per_slice" : "multi_slice";
+    for (const auto& [name, value] : defines) {
+        key += " " + name + "=" + value;
+    }
+    if (auto found = programs_.find(key); found != programs_.end()) {
+        return &found->second;
+    }
+    auto built = per_slice ? shaders_.build_graphics("light_buffer_slice.vert",
+                                                     "light_buffer_slice.frag", defines)
+                           : shaders_.build_compute("light_buffer.comp", defines);
+    if (!built) {
+        return built.error();
+    }
+    return &programs_.emplace(key, std::move(built.value())).first->second;
+}
+
+base::Status LightBufferBuilder::build(LightBuffer& target, scene::LightBufferBuilder builder,
+                                       const SliceMesh& mesh, const gpu::Defines& defines,
+                                       gpu::GpuTimer& timer) {
+    const bool per_slice = builder == scene::LightBufferBuilder::per_slice;
+    auto built = program(defines, per_slice);
+    if (!built) {
+        return built.error();
+    }
+    timer.begin();
+    if (per_slice) {
+        if (auto status = build_per_slice(target, mesh, **built); !status) {
+            timer.end();
+            return status;
+        }
+    } else {
+        glUseProgram((*built)->name());
+        glBindImageTexture(0, target.texture(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+        const auto groups = static_cast<GLuint>((target.resolution() + 7) / 8);
+        glDispatchCompute(groups, groups, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    }
+    timer.end();
+    return base::Ok{};
+}
+
+// The paper's builder: the framebuffer holds the transmittance so far; each slice is blended in
+// multiplicatively and the result copied into the next layer.
+base::Status LightBufferBuilder::build_per_slice(LightBuffer& target, const SliceMesh& mesh,
+                                                 const gpu::Program& program) {
+    const int resolution = target.resolution();
+    if (!scratch_ || scratch_resolution_ != resolution) {
+        scratch_ = gpu::create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(scratch_.name(), 1, GL_R16F, resolution, resolution);
+        scratch_framebuffer_ = gpu::create_framebuffer();
+        glNamedFramebufferTexture(scratch_framebuffer_.name(), GL_COLOR_ATTACHMENT0,
+                                  scratch_.name(), 0);
+        scratch_resolution_ = resolution;
+    }
+    if (glCheckNamedFramebufferStatus(scratch_framebuffer_.name(), GL_FRAMEBUFFER) !=
+        GL_FRAMEBUFFER_COMPLETE) {
+        return base::make_error("gl_error", "the light-buffer framebuffer is incomplete",
+                                "light_buffer");
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, scratch_framebuffer_.name());
+    glViewport(0, 0, resolution, resolution);
+    const float one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glClearNamedFramebufferfv(scratch_framebuffer_.name(), GL_COLOR, 0, one);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ZERO, GL_SRC_COLOR);
+    glUseProgram(program.name());
+    mesh.bind();
+    for (int k = 0; k < target.slices(); ++k) {
+        glCopyImageSubData(scratch_.name(), GL_TEXTURE_2D, 0, 0, 0, 0, target.texture(),
+                           GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, resolution, resolution, 1);
+        if (k + 1 < target.slices()) {
+            mesh.draw(k);
+        }
+    }
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return base::Ok{};
 }
 
 }  // namespace penumbra::render

@@ -86,7 +86,7 @@ struct Renderer::Impl {
     gpu::Buffer uniform_buffer;
     FrameTarget target;
     RaycastPass raycast;
-    LightBuffer light_buffer;
+    LightBufferBuilder light_buffer_builder;
     HalfAngleSlicer half_angle;
     SliceMesh slices;
     gpu::GpuTimer light_timer;
@@ -112,8 +112,29 @@ struct Renderer::Impl {
     std::vector<glm::vec4> tf_table;  // what tf_texture holds, to skip re-uploading it
     std::uint64_t tf_generation = 0;
 
-    std::optional<LightBufferKey> light_buffer_key;
+    // Light buffers by what they depend on, most recently used first, so that sessions with
+    // different lights or transfer functions each keep theirs; the first is the current one.
+    struct CachedLightBuffer {
+        LightBufferKey key;
+        LightBuffer buffer;
+    };
+    std::list<CachedLightBuffer> light_buffers;
+    std::size_t light_buffer_memory_budget = 0;
     std::uint64_t light_buffer_builds = 0;
+
+    [[nodiscard]] std::size_t light_buffer_bytes() const {
+        std::size_t total = 0;
+        for (const auto& entry : light_buffers) {
+            total += entry.buffer.bytes();
+        }
+        return total;
+    }
+
+    void evict_light_buffers() {
+        while (light_buffers.size() > 1 && light_buffer_bytes() > light_buffer_memory_budget) {
+            light_buffers.pop_back();
+        }
+    }
     enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
 
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
@@ -121,7 +142,7 @@ struct Renderer::Impl {
         , shaders(std::move(shader_dir))
         , uniform_buffer(gpu::create_buffer())
         , raycast(shaders)
-        , light_buffer(shaders)
+        , light_buffer_builder(shaders)
         , half_angle(shaders) {
         glNamedBufferStorage(uniform_buffer.name(), sizeof(FrameUniforms), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
@@ -240,6 +261,7 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     info.max_shader_loop_iterations = software ? 65535 : 0;
     impl->info = std::move(info);
     impl->volume_memory_budget = options.volume_memory_budget;
+    impl->light_buffer_memory_budget = options.light_buffer_memory_budget;
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
                                      " via " + impl->info.platform);
     return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
@@ -280,13 +302,7 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
 
 std::size_t Renderer::gpu_bytes_held() const {
     const Impl& impl = *impl_;
-    std::size_t bytes = impl.volume_bytes();
-    if (impl.light_buffer_key) {
-        bytes += static_cast<std::size_t>(impl.light_buffer.resolution()) *
-                 static_cast<std::size_t>(impl.light_buffer.resolution()) *
-                 static_cast<std::size_t>(impl.light_buffer.slices()) * 2;
-    }
-    return bytes;
+    return impl.volume_bytes() + impl.light_buffer_bytes();
 }
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
@@ -368,10 +384,12 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
         if (!key.point) {
             key.position = glm::dvec3(0.0);
         }
-        if (impl.light_buffer_key == key) {
+        auto cached = std::find_if(impl.light_buffers.begin(), impl.light_buffers.end(),
+                                   [&](const Impl::CachedLightBuffer& e) { return e.key == key; });
+        if (cached != impl.light_buffers.end()) {
+            impl.light_buffers.splice(impl.light_buffers.begin(), impl.light_buffers, cached);
             frame.report.light_buffer = "reused";
         } else {
-            impl.light_buffer_key.reset();
             const auto start = Clock::now();
             if (s.light_buffer.builder == scene::LightBufferBuilder::per_slice) {
                 impl.slices.upload(make_slice_geometry(box, travel,
@@ -379,10 +397,17 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
                                                        uniforms.light_slicing.y,
                                                        s.light_buffer.slices));
             }
-            if (auto status = impl.light_buffer.build(
-                        s.light_buffer.builder, s.light_buffer.slices, s.light_buffer.resolution,
-                        impl.slices, {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}},
-                        impl.light_timer);
+            LightBuffer buffer(s.light_buffer.slices, s.light_buffer.resolution);
+            if (glGetError() == GL_OUT_OF_MEMORY) {
+                return base::make_error("gpu_out_of_memory",
+                                        "not enough GPU memory for a light buffer of " +
+                                                std::to_string(s.light_buffer.slices) + " x " +
+                                                std::to_string(s.light_buffer.resolution) + "^2",
+                                        "light_buffer.resolution");
+            }
+            if (auto status = impl.light_buffer_builder.build(
+                        buffer, s.light_buffer.builder, impl.slices,
+                        {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}}, impl.light_timer);
                 !status) {
                 return status.error();
             }
@@ -390,11 +415,12 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
             frame.report.passes.push_back(
                     {std::string("light_buffer_") + scene::to_string(s.light_buffer.builder),
                      impl.gpu_ms(impl.light_timer), milliseconds_since(start)});
-            impl.light_buffer_key = key;
+            impl.light_buffers.push_front({key, std::move(buffer)});
+            impl.evict_light_buffers();
             ++impl.light_buffer_builds;
             frame.report.light_buffer = "built";
         }
-        glBindTextureUnit(2, impl.light_buffer.texture());
+        glBindTextureUnit(2, impl.light_buffers.front().buffer.texture());
         impl.last_inset = Impl::LastInset::light_buffer;
     }
 
@@ -454,18 +480,20 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
 }
 
 base::Result<Renderer::LightBufferContents> Renderer::read_light_buffer() const {
-    if (!impl_->light_buffer_key) {
+    if (impl_->light_buffers.empty()) {
         return base::make_error("no_light_buffer", "no frame has built a light buffer yet",
                                 "light_buffer");
     }
-    return LightBufferContents{impl_->light_buffer.slices(), impl_->light_buffer.resolution(),
-                               impl_->light_buffer.read()};
+    const LightBuffer& buffer = impl_->light_buffers.front().buffer;
+    return LightBufferContents{buffer.slices(), buffer.resolution(), buffer.read()};
 }
 
 base::Result<base::ImageRgba8> Renderer::light_inset() const {
     switch (impl_->last_inset) {
-        case Impl::LastInset::light_buffer:
-            return impl_->light_buffer.layer_image(impl_->light_buffer.slices() - 1);
+        case Impl::LastInset::light_buffer: {
+            const LightBuffer& buffer = impl_->light_buffers.front().buffer;
+            return buffer.layer_image(buffer.slices() - 1);
+        }
         case Impl::LastInset::half_angle: return impl_->half_angle.light_image();
         case Impl::LastInset::none: break;
     }

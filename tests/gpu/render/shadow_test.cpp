@@ -257,6 +257,24 @@ TEST_F(ShadowTest, CameraMovesNeverRebuildTheLightBuffer) {
     EXPECT_EQ(renderer_->light_buffer_builds(), builds + 3);
 }
 
+TEST_F(ShadowTest, LightBuffersOfSeveralLightsStayCachedForSessionsThatShareTheRenderer) {
+    use(test::radial_volume(24));
+    auto first = radial_scene(scene::Mode::sbrc, 16);
+    auto second = first;
+    second.light.direction = scene::direction_from_angles(120.0, -10.0);
+    EXPECT_EQ(render(first).report.light_buffer, "built");
+    EXPECT_EQ(render(second).report.light_buffer, "built");
+    const std::uint64_t builds = renderer_->light_buffer_builds();
+    for (int i = 0; i < 3; ++i) {
+        const Frame a = render(first);
+        const Frame b = render(second);
+        EXPECT_EQ(a.report.light_buffer, "reused");
+        EXPECT_EQ(b.report.light_buffer, "reused");
+        EXPECT_NE(a.image.pixels, b.image.pixels);  // each used its own light's buffer
+    }
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds);
+}
+
 TEST_F(ShadowTest, HalfAngleHandlesLightEqualAndOppositeToTheView) {
     use(test::radial_volume(32));
     for (const double sign : {1.0, -1.0}) {

@@ -16,4 +16,24 @@ struct ImageDifference {
 
 base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
 
+// The SSIM parameters of Wang, Bovik, Sheikh & Simoncelli, "Image quality assessment: from error
+// visibility to structural similarity" (IEEE TIP 2004), the ones their reference code and most
+// published SSIM values use.
+struct SsimParameters {
+    static constexpr int window = 11;     // Gaussian window side, pixels
+    static constexpr double sigma = 1.5;  // its standard deviation, pixels
+    static constexpr double k1 = 0.01;
+    static constexpr double k2 = 0.03;
+    static constexpr double peak = 1.0;  // L, the dynamic range of the values
+};
+
+// Mean structural similarity of two images of the same size, 1 for identical images, in [-1, 1].
+// Computed on Rec. 601 luma (Y = 0.299 R + 0.587 G + 0.114 B of the values as stored, as MATLAB's
+// rgb2gray and so Wang et al.'s published numbers do) with the parameters above: the SSIM map at
+// every position where the 11 x 11 window lies wholly inside the image (Wang et al.'s "valid"
+// filtering, no padding that would invent structure at the borders), then averaged. Weighted
+// statistics use the biased (population) variance, as the paper does. Alpha is ignored.
+// Errors: size_mismatch, image_too_small (a side below the window's 11 pixels).
+base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
+
 }  // namespace penumbra::encode

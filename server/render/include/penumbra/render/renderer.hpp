@@ -18,6 +18,9 @@ struct RendererOptions {
     bool debug_context = false;        // GL debug output routed to the log
     // Volume textures stay on the GPU, least recently used evicted first, while they fit this.
     std::size_t volume_memory_budget = std::size_t{2} << 30;
+    // Light buffers stay cached by their inputs (volume, TF, light, n, R, builder, compositing,
+    // compensation), least recently used evicted first, while they fit this.
+    std::size_t light_buffer_memory_budget = std::size_t{1} << 30;
 };
 
 // What the renderer runs on, for logs, CLI output and the protocol's hello.

@@ -1,0 +1,1430 @@
+// `penumbra bench accuracy`: what each method's accuracy costs in time (DESIGN.md §1 "Accuracy and
+// its cost in time"). Every method is rendered from the same camera as a `reference` frame (shadow
+// rays marched to the light at every sample) of the same sample distance; the error is measured
+// against it and set beside the frame time. The measured table doubles as the source of quality
+// presets: for a frame-time budget, the most accurate setting that fits.
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "render_options.hpp"
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/camera.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace penumbra::app {
+
+int run_bench_accuracy(const std::vector<std::string>& args);
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr const char* table_format = "penumbra-accuracy-1";
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+// Light-buffer builds are timed on frames this small: the buffer does not depend on the image size,
+// and on a software rasteriser the ray cast of a full-size frame would cost more than the build.
+constexpr int build_probe_side = 16;
+// Small enough to leave the image unchanged, large enough to change the light buffer's key.
+constexpr double light_nudge_degrees = 0.01;
+// The SSIM window is 11 pixels; a little margin keeps the valid region from being one window.
+constexpr int min_image_side = 16;
+
+// Defaults sized for a GPU, and lighter ones for a software rasteriser (no working timer queries,
+// llvmpipe here), where the full sweep would take hours; the lighter sweep takes minutes at 256².
+struct SweepDefaults {
+    const char* volumes;
+    const char* lights;
+    const char* slices;
+    const char* resolutions;
+    const char* sample_distances;
+    int side;
+    int repeat;
+};
+
+constexpr SweepDefaults gpu_defaults{
+        "/usr/share/mricron/templates/ch2.nii.gz,/usr/share/mricron/templates/ch2better.nii.gz,"
+        "/usr/share/mricron/templates/inia19-t1-brain.nii.gz",
+        "10,45;100,20;250,60",
+        "32,64,128,256,512",
+        "64,128,256,512,1024",
+        "1/256,1/512",
+        512,
+        7};
+constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.gz",
+                                          "10,45",
+                                          "32,64,128,256",
+                                          "64,128,256",
+                                          "1/256",
+                                          256,
+                                          3};
+
+constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
+
+int fail(const base::Error& error) {
+    std::fprintf(stderr, "penumbra bench accuracy: %s\n", error.to_string().c_str());
+    return 1;
+}
+
+int usage_error(const base::Error& error) {
+    std::fprintf(stderr, "penumbra bench accuracy: %s (see --help)\n", error.to_string().c_str());
+    return 2;
+}
+
+void print_usage() {
+    std::printf(
+            "usage: penumbra bench accuracy [options]\n"
+            "\n"
+            "Accuracy against the `reference` mode (shadow rays) versus frame time. For every\n"
+            "volume and light the reference is rendered once per sample distance from the same\n"
+            "camera; every other mode x slices x light-buffer resolution x sample distance is\n"
+            "compared with it (RMSE and PSNR via OpenImageIO, SSIM on Rec. 601 luma) and timed:\n"
+            "the median frame time over --repeat frames with the light buffer cached (only the\n"
+            "camera fixed: what a user orbiting the volume pays), and, separately, the median\n"
+            "light-buffer build forced by nudging the light (what a light or TF edit pays).\n"
+            "Times are GPU timer queries where they work, else wall clock (software rasterisers).\n"
+            "Phong shading is on in every mode that has it as an option (shadow modes and the\n"
+            "reference), so the methods differ only in how they shadow; dvr is unlit.\n"
+            "\n"
+            "Defaults are for a GPU; on a software rasteriser (llvmpipe) lighter ones in [].\n"
+            "  --volumes FILE,...             (default ch2, ch2better, inia19-t1-brain from\n"
+            "                                 /usr/share/mricron/templates [ch2])\n"
+            "  --lights AZ,EL;AZ,EL...        directional lights in degrees, quote the ';'\n"
+            "                                 (default 10,45;100,20;250,60 [10,45])\n"
+            "  --modes LIST                   (default %s;\n"
+            "                                 the reference is always rendered)\n"
+            "  --slices-list N,...            (default 32,64,128,256,512 [32,64,128,256])\n"
+            "  --light-res-list R,...         (default 64,128,256,512,1024 [64,128,256])\n"
+            "  --sample-distances D,...       numbers or 1/N (default 1/256,1/512 [1/256])\n"
+            "  --size WxH                     (default 512x512 [256x256])\n"
+            "  --repeat N                     timed frames per point after 1 warm-up\n"
+            "                                 (default 7 [3])\n"
+            "  --no-phong                     shadow modes and reference without Blinn-Phong\n"
+            "  --csv FILE  --json FILE        the measured table (one row per point)\n"
+            "  --plot FILE.png                PSNR over frame time, one curve per method, Pareto\n"
+            "                                 front marked; also FILE.svg and the gnuplot script\n"
+            "                                 FILE.gp (needs gnuplot-nox)\n"
+            "  --budget-ms MS,...             frame-time budgets for the quality presets\n"
+            "                                 (default: six from the fastest setting to the\n"
+            "                                 reference)\n"
+            "  --from FILE.json               measure nothing: presets, CSV, JSON and plot from a\n"
+            "                                 table written by --json\n"
+            "  --debug-gl                     GL debug output to the log\n"
+            "\n"
+            "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
+            "--light-position and --sample-distance are swept instead):\n%s",
+            default_modes, frame_options_help());
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) {
+        return 0.0;
+    }
+    std::sort(values.begin(), values.end());
+    const std::size_t middle = values.size() / 2;
+    return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t end = text.find(separator, start);
+        parts.push_back(text.substr(start, end - start));
+        if (end == std::string::npos) {
+            return parts;
+        }
+        start = end + 1;
+    }
+}
+
+base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option) {
+    auto numbers = parse_numbers(text, option);
+    if (!numbers) {
+        return numbers.error();
+    }
+    std::vector<int> counts;
+    for (const double number : *numbers) {
+        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
+            return base::make_error("invalid_argument", "expects whole numbers from 1 to 65536",
+                                    "--" + option);
+        }
+        if (std::find(counts.begin(), counts.end(), static_cast<int>(number)) == counts.end()) {
+            counts.push_back(static_cast<int>(number));
+        }
+    }
+    return counts;
+}
+
+// "1/256,0.002" → distances; the fraction form is how sample distances are usually quoted.
+base::Result<std::vector<double>> parse_distances(const std::string& text) {
+    std::vector<double> distances;
+    for (const std::string& item : split(text, ',')) {
+        const std::size_t slash = item.find('/');
+        double value = 0.0;
+        if (slash == std::string::npos) {
+            auto number = parse_numbers(item, "sample-distances");
+            if (!number) {
+                return number.error();
+            }
+            value = number->front();
+        } else {
+            auto numerator = parse_numbers(item.substr(0, slash), "sample-distances");
+            auto denominator = parse_numbers(item.substr(slash + 1), "sample-distances");
+            if (!numerator || !denominator) {
+                return !numerator ? numerator.error() : denominator.error();
+            }
+            value = numerator->front() / denominator->front();
+        }
+        if (!std::isfinite(value) || value <= 0.0 || value > 1.0) {
+            return base::make_error("invalid_argument",
+                                    "'" + item + "' is not a distance in (0, 1]",
+                                    "--sample-distances");
+        }
+        distances.push_back(value);
+    }
+    return distances;
+}
+
+struct LightAngles {
+    double azimuth = 0.0;
+    double elevation = 0.0;
+
+    bool operator==(const LightAngles&) const = default;
+    auto operator<=>(const LightAngles&) const = default;
+};
+
+base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
+    std::vector<LightAngles> lights;
+    for (const std::string& item : split(text, ';')) {
+        auto numbers = parse_numbers(item, "lights");
+        if (!numbers) {
+            return numbers.error();
+        }
+        if (numbers->size() != 2) {
+            return base::make_error("invalid_argument",
+                                    "expects AZIMUTH,ELEVATION pairs separated by ';'", "--lights");
+        }
+        lights.push_back({(*numbers)[0], (*numbers)[1]});
+    }
+    return lights;
+}
+
+base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
+    std::vector<scene::Mode> modes;
+    for (const std::string& name : split(text, ',')) {
+        const auto mode = scene::parse_mode(name);
+        if (!mode) {
+            return base::make_error("invalid_argument",
+                                    "unknown mode '" + name +
+                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
+                                            "sbrc_cone)",
+                                    "--modes");
+        }
+        // The reference is what the others are measured against; it is always rendered.
+        if (*mode != scene::Mode::reference &&
+            std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
+            modes.push_back(*mode);
+        }
+    }
+    return modes;
+}
+
+// 1/256 rather than 0.00390625 wherever a person reads it.
+std::string distance_label(double distance) {
+    const double inverse = 1.0 / distance;
+    char text[32];
+    if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
+        std::snprintf(text, sizeof text, "1/%.0f", inverse);
+    } else {
+        std::snprintf(text, sizeof text, "%g", distance);
+    }
+    return text;
+}
+
+std::string format(const char* pattern, double value) {
+    char text[256];
+    std::snprintf(text, sizeof text, pattern, value);
+    return text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The measured table.
+
+// One mode at one setting, for one volume and light.
+struct Point {
+    std::string volume;
+    LightAngles light;
+    scene::Mode mode = scene::Mode::dvr;
+    int slices = 0;      // 0 where the mode has no slices
+    int resolution = 0;  // 0 where the mode has no light buffer
+    double sample_distance = 0.0;
+    double frame_ms = 0.0;         // median, light buffer cached
+    double light_buffer_ms = 0.0;  // median build; 0 where no separate buffer is built
+    // Against the reference of the same sample distance: the error of the shading method alone.
+    double rmse = 0.0;
+    double psnr = 0.0;  // infinite for an identical image
+    double ssim = 1.0;
+    // Against the reference of the finest sample distance swept: the error a viewer sees, which
+    // also counts coarse sampling. Presets rank by this (the same as above with one distance).
+    double rmse_finest = 0.0;
+    double psnr_finest = 0.0;
+    double ssim_finest = 1.0;
+};
+
+struct Table {
+    std::string device;      // GL_RENDERER
+    std::string vendor;      // GL_VENDOR
+    std::string gl_version;  // GL_VERSION
+    bool gpu_timers = false;
+    int width = 0;
+    int height = 0;
+    int repeat = 0;
+    std::string transfer_function;
+    std::string compositing;
+    std::string stage;
+    std::string builder;
+    bool phong = true;
+    Json camera;
+    std::vector<Point> points;
+};
+
+const char* timing_name(const Table& table) {
+    return table.gpu_timers ? "gpu" : "wall";
+}
+
+// A setting the presets can choose, over every volume and light measured.
+struct SettingKey {
+    scene::Mode mode = scene::Mode::dvr;
+    int slices = 0;
+    int resolution = 0;
+    double sample_distance = 0.0;
+
+    auto operator<=>(const SettingKey&) const = default;
+};
+
+struct Setting {
+    SettingKey key;
+    int count = 0;
+    double psnr = 0.0;  // mean over the volumes and lights (dB), infinite only for the reference
+    double ssim = 0.0;  // mean
+    double psnr_finest = 0.0;
+    double ssim_finest = 0.0;
+    double frame_ms = 0.0;         // mean
+    double worst_frame_ms = 0.0;   // the slowest volume and light: what a budget must cover
+    double light_buffer_ms = 0.0;  // mean
+};
+
+std::vector<Setting> aggregate(const std::vector<Point>& points,
+                               const std::optional<std::string>& volume = std::nullopt) {
+    std::map<SettingKey, Setting> settings;
+    for (const Point& p : points) {
+        if (volume && p.volume != *volume) {
+            continue;
+        }
+        const SettingKey key{p.mode, p.slices, p.resolution, p.sample_distance};
+        Setting& s = settings[key];
+        s.key = key;
+        ++s.count;
+        s.psnr += p.psnr;
+        s.ssim += p.ssim;
+        s.psnr_finest += p.psnr_finest;
+        s.ssim_finest += p.ssim_finest;
+        s.frame_ms += p.frame_ms;
+        s.worst_frame_ms = std::max(s.worst_frame_ms, p.frame_ms);
+        s.light_buffer_ms += p.light_buffer_ms;
+    }
+    std::vector<Setting> result;
+    for (auto& [key, s] : settings) {
+        const double n = static_cast<double>(s.count);
+        s.psnr /= n;
+        s.ssim /= n;
+        s.psnr_finest /= n;
+        s.ssim_finest /= n;
+        s.frame_ms /= n;
+        s.light_buffer_ms /= n;
+        result.push_back(s);
+    }
+    return result;
+}
+
+// More accurate first: PSNR against the finest reference, then SSIM, then the faster.
+bool more_accurate(const Setting& a, const Setting& b) {
+    if (a.psnr_finest != b.psnr_finest) {
+        return a.psnr_finest > b.psnr_finest;
+    }
+    if (a.ssim_finest != b.ssim_finest) {
+        return a.ssim_finest > b.ssim_finest;
+    }
+    return a.worst_frame_ms < b.worst_frame_ms;
+}
+
+// The settings no other setting beats in both time and accuracy, fastest first.
+std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time) {
+    const auto time = [worst_time](const Setting& s) {
+        return worst_time ? s.worst_frame_ms : s.frame_ms;
+    };
+    std::sort(settings.begin(), settings.end(), [&](const Setting& a, const Setting& b) {
+        return time(a) != time(b) ? time(a) < time(b) : more_accurate(a, b);
+    });
+    std::vector<Setting> front;
+    for (const Setting& s : settings) {
+        if (front.empty() || more_accurate(s, front.back())) {
+            if (!front.empty() && s.psnr_finest == front.back().psnr_finest) {
+                continue;  // as accurate and slower
+            }
+            front.push_back(s);
+        }
+    }
+    return front;
+}
+
+struct Preset {
+    double budget_ms = 0.0;
+    std::optional<Setting> setting;  // absent when nothing measured fits
+};
+
+// Only settings measured on every volume and light compete, so a mean is never over a subset.
+std::vector<Preset> choose_presets(const std::vector<Point>& points,
+                                   const std::vector<double>& budgets) {
+    std::set<std::pair<std::string, LightAngles>> views;
+    for (const Point& p : points) {
+        views.insert({p.volume, p.light});
+    }
+    const int complete = static_cast<int>(views.size());
+    std::vector<Setting> candidates;
+    for (const Setting& s : aggregate(points)) {
+        if (s.count == complete) {
+            candidates.push_back(s);
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(), more_accurate);
+    std::vector<Preset> presets;
+    for (const double budget : budgets) {
+        Preset preset{budget, std::nullopt};
+        for (const Setting& s : candidates) {
+            if (s.worst_frame_ms <= budget) {
+                preset.setting = s;
+                break;
+            }
+        }
+        presets.push_back(preset);
+    }
+    return presets;
+}
+
+// Six budgets from the fastest setting to the slowest reference, evenly spaced in log time and
+// rounded up to two significant digits: past the reference's time the answer is always the
+// reference, so budgets beyond it say nothing.
+std::vector<double> default_budgets(const std::vector<Point>& points) {
+    const std::vector<Setting> settings = aggregate(points);
+    if (settings.empty()) {
+        return {};
+    }
+    double low = infinity;
+    double slowest = 0.0;
+    double reference = 0.0;
+    for (const Setting& s : settings) {
+        low = std::min(low, s.worst_frame_ms);
+        slowest = std::max(slowest, s.worst_frame_ms);
+        if (s.key.mode == scene::Mode::reference) {
+            reference = std::max(reference, s.worst_frame_ms);
+        }
+    }
+    double high = reference > 0.0 ? reference : slowest;
+    high *= 1.05;
+    low = std::max(low, 1e-3);
+    std::vector<double> budgets;
+    constexpr int count = 6;
+    for (int i = 0; i < count; ++i) {
+        const double t = static_cast<double>(i) / (count - 1);
+        const double value = low * std::pow(high / low, t);
+        const double magnitude = std::pow(10.0, std::floor(std::log10(value)) - 1.0);
+        const double rounded = std::ceil(value / magnitude) * magnitude;
+        if (budgets.empty() || rounded > budgets.back()) {
+            budgets.push_back(rounded);
+        }
+    }
+    return budgets;
+}
+
+std::string psnr_text(double psnr) {
+    return std::isinf(psnr) ? "inf" : format("%.2f", psnr);
+}
+
+void print_presets(const Table& table, const std::vector<Preset>& presets) {
+    std::set<std::string> volumes;
+    std::set<LightAngles> lights;
+    for (const Point& p : table.points) {
+        volumes.insert(p.volume);
+        lights.insert(p.light);
+    }
+    std::printf(
+            "\nquality presets: per budget, the most accurate setting (mean PSNR vs reference over "
+            "%zu volume(s) x %zu light(s))\nwhose slowest median frame time fits; %s time, light "
+            "buffer cached (a light or TF edit adds the build)\n",
+            volumes.size(), lights.size(), timing_name(table));
+    std::printf("  %9s  %-11s %5s %5s %7s %8s %6s %9s %9s\n", "budget ms", "mode", "n", "R", "dt",
+                "PSNR dB", "SSIM", "frame ms", "build ms");
+    for (const Preset& preset : presets) {
+        if (!preset.setting) {
+            std::printf("  %9g  nothing measured fits\n", preset.budget_ms);
+            continue;
+        }
+        const Setting& s = *preset.setting;
+        const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
+        const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
+        const std::string build =
+                s.light_buffer_ms > 0.0 ? format("%9.2f", s.light_buffer_ms) : "        -";
+        std::printf("  %9g  %-11s %5s %5s %7s %8s %6.4f %9.2f %s\n", preset.budget_ms,
+                    scene::to_string(s.key.mode), n.c_str(), r.c_str(),
+                    distance_label(s.key.sample_distance).c_str(), psnr_text(s.psnr_finest).c_str(),
+                    s.ssim_finest, s.worst_frame_ms, build.c_str());
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV and JSON.
+
+base::Status write_csv(const Table& table, const std::string& path) {
+    std::ofstream out(path);
+    if (!out) {
+        return base::make_error("io_error", "cannot write '" + path + "'", "--csv");
+    }
+    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,width,"
+           "height,timing,frame_ms,light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,"
+           "ssim_finest\n";
+    char line[512];
+    for (const Point& p : table.points) {
+        std::snprintf(line, sizeof line,
+                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,%.6f\n",
+                      p.volume.c_str(), p.light.azimuth, p.light.elevation,
+                      scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
+                      table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
+                      p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
+                      psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
+        out << line;
+    }
+    if (!out) {
+        return base::make_error("io_error", "writing '" + path + "' failed", "--csv");
+    }
+    return base::Ok{};
+}
+
+// JSON has no infinity: an identical image's PSNR is null.
+Json psnr_json(double psnr) {
+    return std::isinf(psnr) ? Json(nullptr) : Json(psnr);
+}
+
+double psnr_from_json(const Json& value) {
+    return value.is_null() ? infinity : value.get<double>();
+}
+
+Json to_json(const Table& table, const std::vector<Preset>& presets) {
+    Json root;
+    root["format"] = table_format;
+    root["description"] =
+            "Accuracy vs frame time of Penumbra's rendering modes (penumbra bench accuracy). "
+            "points: one per volume x light x mode x setting; rmse/psnr/ssim against the "
+            "reference mode (shadow rays) at the same sample distance and camera, *_finest "
+            "against the reference at the finest sample distance; psnr null = identical "
+            "(infinite). frame_ms: median frame time with the light buffer cached; "
+            "light_buffer_ms: median light-buffer build, 0 where the mode builds none. slices "
+            "and resolution 0 where the mode has none. presets: per budget_ms, the setting with "
+            "the highest mean psnr_finest over all volumes and lights whose slowest frame_ms "
+            "fits (mode null: none fits).";
+    root["device"] = table.device;
+    root["renderer"] = {{"vendor", table.vendor},
+                        {"version", table.gl_version},
+                        {"gpu_timer_queries", table.gpu_timers}};
+    root["timing"] = timing_name(table);
+    root["size"] = {table.width, table.height};
+    root["settings"] = {{"transfer_function", table.transfer_function},
+                        {"compositing", table.compositing},
+                        {"stage", table.stage},
+                        {"builder", table.builder},
+                        {"phong", table.phong},
+                        {"repeat", table.repeat},
+                        {"camera", table.camera}};
+    Json points = Json::array();
+    for (const Point& p : table.points) {
+        points.push_back({{"volume", p.volume},
+                          {"light", {p.light.azimuth, p.light.elevation}},
+                          {"mode", scene::to_string(p.mode)},
+                          {"slices", p.slices},
+                          {"resolution", p.resolution},
+                          {"sample_distance", p.sample_distance},
+                          {"frame_ms", p.frame_ms},
+                          {"light_buffer_ms", p.light_buffer_ms},
+                          {"rmse", p.rmse},
+                          {"psnr", psnr_json(p.psnr)},
+                          {"ssim", p.ssim},
+                          {"rmse_finest", p.rmse_finest},
+                          {"psnr_finest", psnr_json(p.psnr_finest)},
+                          {"ssim_finest", p.ssim_finest}});
+    }
+    root["points"] = std::move(points);
+    Json preset_list = Json::array();
+    for (const Preset& preset : presets) {
+        if (!preset.setting) {
+            preset_list.push_back({{"budget_ms", preset.budget_ms}, {"mode", nullptr}});
+            continue;
+        }
+        const Setting& s = *preset.setting;
+        preset_list.push_back({{"budget_ms", preset.budget_ms},
+                               {"mode", scene::to_string(s.key.mode)},
+                               {"slices", s.key.slices},
+                               {"resolution", s.key.resolution},
+                               {"sample_distance", s.key.sample_distance},
+                               {"psnr", psnr_json(s.psnr_finest)},
+                               {"ssim", s.ssim_finest},
+                               {"frame_ms", s.worst_frame_ms},
+                               {"light_buffer_ms", s.light_buffer_ms}});
+    }
+    root["presets"] = std::move(preset_list);
+    return root;
+}
+
+base::Status write_json(const Table& table, const std::vector<Preset>& presets,
+                        const std::string& path) {
+    std::ofstream out(path);
+    if (!out) {
+        return base::make_error("io_error", "cannot write '" + path + "'", "--json");
+    }
+    out << to_json(table, presets).dump(1) << '\n';
+    if (!out) {
+        return base::make_error("io_error", "writing '" + path + "' failed", "--json");
+    }
+    return base::Ok{};
+}
+
+base::Result<Table> read_table(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) {
+        return base::make_error("io_error", "cannot read '" + path + "'", "--from");
+    }
+    try {
+        const Json root = Json::parse(in);
+        if (root.value("format", "") != table_format) {
+            return base::make_error("invalid_table",
+                                    "not a table written by `bench accuracy --json` (format " +
+                                            std::string(table_format) + ")",
+                                    path);
+        }
+        Table table;
+        table.device = root.at("device").get<std::string>();
+        const Json& renderer = root.at("renderer");
+        table.vendor = renderer.at("vendor").get<std::string>();
+        table.gl_version = renderer.at("version").get<std::string>();
+        table.gpu_timers = renderer.at("gpu_timer_queries").get<bool>();
+        table.width = root.at("size").at(0).get<int>();
+        table.height = root.at("size").at(1).get<int>();
+        const Json& settings = root.at("settings");
+        table.transfer_function = settings.at("transfer_function").get<std::string>();
+        table.compositing = settings.at("compositing").get<std::string>();
+        table.stage = settings.at("stage").get<std::string>();
+        table.builder = settings.at("builder").get<std::string>();
+        table.phong = settings.at("phong").get<bool>();
+        table.repeat = settings.at("repeat").get<int>();
+        table.camera = settings.at("camera");
+        for (const Json& item : root.at("points")) {
+            Point p;
+            p.volume = item.at("volume").get<std::string>();
+            p.light = {item.at("light").at(0).get<double>(), item.at("light").at(1).get<double>()};
+            const auto mode = scene::parse_mode(item.at("mode").get<std::string>());
+            if (!mode) {
+                return base::make_error("invalid_table", "unknown mode", path);
+            }
+            p.mode = *mode;
+            p.slices = item.at("slices").get<int>();
+            p.resolution = item.at("resolution").get<int>();
+            p.sample_distance = item.at("sample_distance").get<double>();
+            p.frame_ms = item.at("frame_ms").get<double>();
+            p.light_buffer_ms = item.at("light_buffer_ms").get<double>();
+            p.rmse = item.at("rmse").get<double>();
+            p.psnr = psnr_from_json(item.at("psnr"));
+            p.ssim = item.at("ssim").get<double>();
+            p.rmse_finest = item.at("rmse_finest").get<double>();
+            p.psnr_finest = psnr_from_json(item.at("psnr_finest"));
+            p.ssim_finest = item.at("ssim_finest").get<double>();
+            table.points.push_back(std::move(p));
+        }
+        return table;
+    } catch (const Json::exception& e) {
+        return base::make_error("invalid_table", e.what(), path);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The plot: a gnuplot script with its data inline, run once for PNG and once for SVG.
+
+struct ModeStyle {
+    scene::Mode mode;
+    const char* colour;
+    int point_type;
+};
+
+constexpr ModeStyle mode_styles[] = {
+        {scene::Mode::dvr, "#7f7f7f", 5},         {scene::Mode::phong, "#000000", 7},
+        {scene::Mode::half_angle, "#e07b00", 9},  {scene::Mode::sbrc, "#1f5fbf", 11},
+        {scene::Mode::sbrc_shell, "#2a9d3a", 13}, {scene::Mode::sbrc_cone, "#9b30c0", 15},
+};
+
+std::string gnuplot_string(const std::string& text) {
+    std::string quoted = "\"";
+    for (const char c : text) {
+        if (c == '\n') {
+            quoted += "\\n";  // gnuplot breaks the line where a double-quoted string says \n
+            continue;
+        }
+        if (c == '"' || c == '\\') {
+            quoted += '\\';
+        }
+        quoted += c;
+    }
+    return quoted + "\"";
+}
+
+std::string data_block(const std::string& name, const std::vector<Setting>& settings) {
+    std::string block = "$" + name + " << EOD\n";
+    char line[128];
+    for (const Setting& s : settings) {
+        // Short labels keep the crowded front readable: n/R for the sliced modes.
+        const std::string label = s.key.slices > 0 ? std::to_string(s.key.slices) + "/" +
+                                                             std::to_string(s.key.resolution)
+                                                   : std::string(scene::to_string(s.key.mode));
+        std::snprintf(line, sizeof line, "%.6g %.4f \"%s\"\n", s.frame_ms, s.psnr_finest,
+                      label.c_str());
+        block += line;
+    }
+    return block + "EOD\n";
+}
+
+// One panel per volume (means over its lights): every setting of a method as a small mark, the
+// method's own Pareto front as its curve, the front over all methods as a wide grey band, and the
+// reference's time as a vertical line (its PSNR is infinite).
+std::string gnuplot_script(const Table& table, const std::string& png, const std::string& svg) {
+    std::vector<std::string> volumes;
+    std::set<LightAngles> lights;
+    std::set<double> distances;
+    for (const Point& p : table.points) {
+        if (std::find(volumes.begin(), volumes.end(), p.volume) == volumes.end()) {
+            volumes.push_back(p.volume);
+        }
+        lights.insert(p.light);
+        distances.insert(p.sample_distance);
+    }
+    std::string light_text;
+    for (const LightAngles& l : lights) {
+        light_text += (light_text.empty() ? "" : "; ") + format("%g", l.azimuth) + "," +
+                      format("%g", l.elevation);
+    }
+    std::string distance_text;
+    for (const double d : distances) {
+        distance_text += (distance_text.empty() ? "" : ", ") + distance_label(d);
+    }
+
+    std::string data;
+    std::string body;
+    const int panels = static_cast<int>(volumes.size());
+    body += "set multiplot layout 1," + std::to_string(panels) + " title " +
+            gnuplot_string("Penumbra: accuracy vs frame time on " + table.device + "\n" +
+                           std::to_string(table.width) + "x" + std::to_string(table.height) +
+                           ", lights (az,el) " + light_text + ", sample distance " + distance_text +
+                           ", tf " + table.transfer_function +
+                           (table.phong ? ", Blinn-Phong on" : "")) +
+            " font \",12\"\n";
+    for (int v = 0; v < panels; ++v) {
+        const std::string& volume = volumes[static_cast<std::size_t>(v)];
+        const std::vector<Setting> settings = aggregate(table.points, volume);
+        std::vector<Setting> measured;
+        std::vector<Setting> references;
+        for (const Setting& s : settings) {
+            (s.key.mode == scene::Mode::reference ? references : measured).push_back(s);
+        }
+        const std::string prefix = "v" + std::to_string(v) + "_";
+        data += data_block(prefix + "front", pareto_front(measured, false));
+        double y_min = infinity;
+        double y_max = -infinity;
+        for (const Setting& s : measured) {
+            y_min = std::min(y_min, s.psnr_finest);
+            y_max = std::max(y_max, s.psnr_finest);
+        }
+        body += "set title " +
+                gnuplot_string(volume + (lights.size() > 1
+                                                 ? " (mean over " + std::to_string(lights.size()) +
+                                                           " lights)"
+                                                 : "")) +
+                "\n";
+        body += "unset arrow\nunset label\n";
+        if (std::isfinite(y_min)) {
+            body += format("set yrange [%.1f:", std::floor(y_min - 1.0)) +
+                    format("%.1f]\n", std::ceil(y_max + 2.0));
+        }
+        for (std::size_t i = 0; i < references.size(); ++i) {
+            const Setting& r = references[i];
+            body += format("set arrow from %.6g, graph 0 to ", r.frame_ms) +
+                    format("%.6g, graph 1 nohead dt 2 lw 1.5 lc rgb \"#c00000\"\n", r.frame_ms);
+            body += "set label " +
+                    gnuplot_string("reference " + distance_label(r.key.sample_distance) +
+                                   " (PSNR inf)") +
+                    format(" at %.6g, ", r.frame_ms) +
+                    format("graph %.3f right offset -0.5,0 tc rgb \"#c00000\" font \",9\"\n",
+                           0.97 - 0.05 * static_cast<double>(i));
+        }
+        std::string plots = "plot $" + prefix +
+                            "front using 1:2 with linespoints lw 9 lc rgb \"#d0d0d0\" pt 6 ps 2.2 "
+                            "title \"Pareto front (all methods)\", $" +
+                            prefix +
+                            "front using 1:2:3 with labels right offset -1.2,0 font \",8\" "
+                            "tc rgb \"#505050\" notitle";
+        for (const ModeStyle& style : mode_styles) {
+            std::vector<Setting> own;
+            for (const Setting& s : measured) {
+                if (s.key.mode == style.mode) {
+                    own.push_back(s);
+                }
+            }
+            if (own.empty()) {
+                continue;
+            }
+            const std::string name = prefix + scene::to_string(style.mode);
+            data += data_block(name + "_all", own);
+            data += data_block(name + "_front", pareto_front(own, false));
+            plots += ", $" + name + "_all using 1:2 with points pt " +
+                     std::to_string(style.point_type - 1) + " ps 0.6 lc rgb \"" + style.colour +
+                     "\" notitle";
+            plots += ", $" + name + "_front using 1:2 with linespoints lw 2 pt " +
+                     std::to_string(style.point_type) + " ps 1.1 lc rgb \"" + style.colour +
+                     "\" title \"" + scene::to_string(style.mode) + "\"";
+        }
+        body += plots + "\n";
+    }
+    body += "unset multiplot\n";
+
+    const int width = 620 * panels + 80;
+    std::string script =
+            "# Written by `penumbra bench accuracy`; `gnuplot " +
+            std::filesystem::path(png).replace_extension(".gp").string() +
+            "` in this folder redraws the PNG and SVG.\n"
+            "# x: median frame time with the light buffer cached (" +
+            std::string(table.gpu_timers ? "GPU timer queries" : "wall clock: no GPU timers") +
+            "), y: PSNR vs the reference; marks: every setting; curves: each method's Pareto "
+            "front.\n";
+    script += data;
+    const std::string x_label =
+            table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
+                             : "frame time, ms (wall clock, median; no GPU timer queries on this "
+                               "device; log scale)";
+    const std::string common =
+            "set logscale x\nset grid xtics ytics mxtics lc rgb \"#e8e8e8\"\n"
+            "set xlabel " +
+            gnuplot_string(x_label) +
+            "\nset ylabel \"PSNR vs reference, dB (higher is better); grey labels: slices n / "
+            "light-buffer R\"\n"
+            "set key bottom right box opaque font \",9\" spacing 1.1\nset mxtics 10\n";
+    script += "set terminal pngcairo size " + std::to_string(width) +
+              ",600 noenhanced font \"DejaVu Sans,10\"\nset output " + gnuplot_string(png) + "\n" +
+              common + body;
+    script +=
+            "set terminal svg size " + std::to_string(width) +
+            ",600 dynamic noenhanced font \"DejaVu Sans,10\" background \"#ffffff\"\nset output " +
+            gnuplot_string(svg) + "\n" + body + "set output\n";
+    return script;
+}
+
+// gnuplot writes the images; the script stays beside them so they can be redrawn or restyled.
+std::string shell_quoted(const std::string& text) {
+    std::string quoted = "'";
+    for (const char c : text) {
+        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    }
+    return quoted + "'";
+}
+
+// gnuplot writes the images; the script stays beside them, naming them without a folder, so
+// `gnuplot FILE.gp` run in that folder redraws them.
+base::Status write_plot(const Table& table, const std::string& png) {
+    const std::filesystem::path png_path(png);
+    std::filesystem::path folder = png_path.parent_path();
+    if (folder.empty()) {
+        folder = ".";
+    }
+    const std::filesystem::path svg = std::filesystem::path(png_path).replace_extension(".svg");
+    const std::filesystem::path gp = std::filesystem::path(png_path).replace_extension(".gp");
+    {
+        std::ofstream out(gp);
+        if (!out) {
+            return base::make_error("io_error", "cannot write '" + gp.string() + "'", "--plot");
+        }
+        out << gnuplot_script(table, png_path.filename().string(), svg.filename().string());
+        if (!out) {
+            return base::make_error("io_error", "writing '" + gp.string() + "' failed", "--plot");
+        }
+    }
+    const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
+                                shell_quoted(gp.filename().string());
+    if (std::system(command.c_str()) != 0) {
+        return base::make_error("plot_failed",
+                                "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
+                                "script is " +
+                                        gp.string(),
+                                "--plot");
+    }
+    std::printf("plot:     %s, %s (script %s)\n", png.c_str(), svg.string().c_str(),
+                gp.string().c_str());
+    return base::Ok{};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measuring.
+
+struct Timed {
+    base::ImageRgba8 image;
+    double frame_ms = 0.0;
+};
+
+struct Errors {
+    double rmse = 0.0;
+    double psnr = 0.0;
+    double ssim = 1.0;
+};
+
+base::Result<Errors> errors_against(const base::ImageRgbaF& reference,
+                                    const base::ImageRgba8& image) {
+    const base::ImageRgbaF rendered = base::to_rgba_f(image);
+    auto difference = encode::compare_images(reference, rendered);
+    if (!difference) {
+        return difference.error();
+    }
+    auto similarity = encode::ssim(reference, rendered);
+    if (!similarity) {
+        return similarity.error();
+    }
+    return Errors{difference->rms_error, difference->psnr, *similarity};
+}
+
+class AccuracyBench {
+public:
+    AccuracyBench(render::Renderer& renderer, int repeat)
+        : renderer_(renderer)
+        , repeat_(repeat)
+        , gpu_timers_(renderer.info().gpu_timer_queries) {}
+
+    [[nodiscard]] std::uint64_t frames() const { return frames_; }
+
+    // One warm-up frame (compiles the variant, builds the light buffer), whose image is the one
+    // judged, then `repeat` frames of the same request timed. The timed frames must reuse the light
+    // buffer, or the time would not be the camera-move cost it claims to be.
+    base::Result<Timed> frame(const scene::FrameRequest& request) {
+        Timed timed;
+        std::vector<double> times;
+        for (int i = 0; i <= repeat_; ++i) {
+            auto frame = render(request);
+            if (!frame) {
+                return frame.error();
+            }
+            if (i == 0) {
+                timed.image = std::move(frame->image);
+                continue;
+            }
+            if (scene::uses_light_buffer(request.settings.mode) &&
+                frame->report.light_buffer != "reused") {
+                return base::make_error("bench_invalid",
+                                        std::string(scene::to_string(request.settings.mode)) +
+                                                ": the light buffer was '" +
+                                                frame->report.light_buffer +
+                                                "' in a repeat of the same request",
+                                        "light_buffer");
+            }
+            double ms = 0.0;
+            for (const auto& pass : frame->report.passes) {
+                ms += gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
+            }
+            times.push_back(ms);
+        }
+        timed.frame_ms = median(times);
+        return timed;
+    }
+
+    // The light-buffer pass alone, rebuilt every frame by nudging the light to and fro, on tiny
+    // frames (the buffer does not depend on the image size).
+    base::Result<double> light_buffer_build(scene::FrameRequest request) {
+        request.settings.width = build_probe_side;
+        request.settings.height = build_probe_side;
+        const glm::dvec3 direction = request.light.direction;
+        const glm::dvec3 axis = std::abs(direction.z) > 0.999 ? glm::dvec3(1.0, 0.0, 0.0)
+                                                              : glm::dvec3(0.0, 0.0, 1.0);
+        // Every frame gets a light not used before: the renderer caches light buffers by their
+        // inputs, so an earlier light would reuse its buffer instead of building one.
+        const auto nudged = [&](std::uint64_t k) {
+            const double angle = glm::radians(light_nudge_degrees * static_cast<double>(k % 4096));
+            return direction * std::cos(angle) + glm::cross(axis, direction) * std::sin(angle) +
+                   axis * glm::dot(axis, direction) * (1.0 - std::cos(angle));
+        };
+        const std::string pass_name = std::string("light_buffer_") +
+                                      scene::to_string(request.settings.light_buffer.builder);
+        std::vector<double> times;
+        for (int i = 0; i <= repeat_; ++i) {
+            request.light.direction = nudged(++nudges_);
+            auto frame = render(request);
+            if (!frame) {
+                return frame.error();
+            }
+            if (frame->report.light_buffer != "built") {
+                return base::make_error("bench_invalid",
+                                        "the light buffer was '" + frame->report.light_buffer +
+                                                "' in a frame whose light moved",
+                                        "light_buffer");
+            }
+            if (i == 0) {
+                continue;  // warm-up: the builder's shaders compile here
+            }
+            double ms = -1.0;
+            for (const auto& pass : frame->report.passes) {
+                if (pass.name == pass_name) {
+                    ms = gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
+                }
+            }
+            if (ms < 0.0) {
+                return base::make_error("bench_invalid",
+                                        "no pass '" + pass_name + "' in a rebuilding frame",
+                                        "light_buffer");
+            }
+            times.push_back(ms);
+        }
+        return median(times);
+    }
+
+private:
+    base::Result<render::Frame> render(const scene::FrameRequest& request) {
+        ++frames_;
+        return renderer_.render(request);
+    }
+
+    render::Renderer& renderer_;
+    int repeat_;
+    std::uint64_t nudges_ = 0;  // distinct lights used by build measurements so far
+    bool gpu_timers_;
+    std::uint64_t frames_ = 0;
+};
+
+// What to sweep, parsed from the options.
+struct Sweep {
+    std::vector<std::string> volumes;
+    std::vector<LightAngles> lights;
+    std::vector<scene::Mode> modes;
+    std::vector<int> slices;
+    std::vector<int> resolutions;
+    std::vector<double> distances;  // finest first
+    int repeat = 3;
+};
+
+// Frames one volume and light cost, so the run can say up front how long it will take.
+std::uint64_t frames_per_view(const Sweep& sweep) {
+    const std::uint64_t per_point = static_cast<std::uint64_t>(sweep.repeat) + 1;
+    const std::uint64_t grid = sweep.slices.size() * sweep.resolutions.size();
+    const std::uint64_t distances = sweep.distances.size();
+    std::uint64_t frames = distances * per_point;  // the references
+    bool any_light_buffer = false;
+    for (const scene::Mode mode : sweep.modes) {
+        if (scene::uses_light_buffer(mode)) {
+            any_light_buffer = true;
+            frames += grid * distances * per_point;
+        } else if (mode == scene::Mode::half_angle) {
+            frames += grid * distances * per_point;
+        } else {
+            frames += distances * per_point;
+        }
+    }
+    if (any_light_buffer) {
+        frames += grid * per_point;  // the builds, on tiny frames
+    }
+    return frames;
+}
+
+class Progress {
+public:
+    Progress(std::uint64_t total)
+        : total_(total)
+        , start_(Clock::now()) {}
+
+    // "[ 12%, 1.2 of ~9.8 min]" from the frames done so far.
+    std::string operator()(std::uint64_t done) const {
+        const double minutes = std::chrono::duration<double>(Clock::now() - start_).count() / 60.0;
+        const double fraction =
+                total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+        char text[64];
+        std::snprintf(text, sizeof text, "[%3.0f%%, %.1f of ~%.1f min]", 100.0 * fraction, minutes,
+                      fraction > 0.0 ? minutes / fraction : 0.0);
+        return text;
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    std::uint64_t total_;
+    Clock::time_point start_;
+};
+
+void print_point(const Point& p, const std::string& progress) {
+    const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
+    const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
+    const std::string build =
+            p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : std::string("        -");
+    std::printf("  %-11s %5s %5s %7s %9.2f %s %8s %7.4f  %s\n", scene::to_string(p.mode), n.c_str(),
+                r.c_str(), distance_label(p.sample_distance).c_str(), p.frame_ms, build.c_str(),
+                psnr_text(p.psnr).c_str(), p.ssim, progress.c_str());
+    std::fflush(stdout);
+}
+
+// One volume under one light: the references first, then every mode and setting against them.
+base::Status measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
+                          const std::string& volume, const LightAngles& light,
+                          const Progress& progress, std::vector<Point>& points) {
+    base.light.type = scene::LightType::directional;
+    base.light.direction = scene::direction_from_angles(light.azimuth, light.elevation);
+    std::printf("\n%s, light %g,%g\n  %-11s %5s %5s %7s %9s %9s %8s %7s\n", volume.c_str(),
+                light.azimuth, light.elevation, "mode", "n", "R", "dt", "frame ms", "build ms",
+                "PSNR dB", "SSIM");
+
+    std::vector<base::ImageRgbaF> references;
+    for (const double distance : sweep.distances) {
+        scene::FrameRequest request = base;
+        request.settings.mode = scene::Mode::reference;
+        request.settings.sample_distance = distance;
+        auto timed = bench.frame(request);
+        if (!timed) {
+            return timed.error();
+        }
+        references.push_back(base::to_rgba_f(timed->image));
+        Point p{volume,
+                light,
+                scene::Mode::reference,
+                0,
+                0,
+                distance,
+                timed->frame_ms,
+                0.0,
+                0.0,
+                infinity,
+                1.0,
+                0.0,
+                infinity,
+                1.0};
+        if (references.size() > 1) {
+            auto finest = errors_against(references.front(), timed->image);
+            if (!finest) {
+                return finest.error();
+            }
+            p.rmse_finest = finest->rmse;
+            p.psnr_finest = finest->psnr;
+            p.ssim_finest = finest->ssim;
+        }
+        points.push_back(p);
+        print_point(p, progress(bench.frames()));
+    }
+
+    // Renders one point at every sample distance and records it.
+    const auto record = [&](scene::FrameRequest request, int slices, int resolution,
+                            double build_ms) -> base::Status {
+        for (std::size_t d = 0; d < sweep.distances.size(); ++d) {
+            request.settings.sample_distance = sweep.distances[d];
+            auto timed = bench.frame(request);
+            if (!timed) {
+                return timed.error();
+            }
+            auto same = errors_against(references[d], timed->image);
+            auto finest = errors_against(references.front(), timed->image);
+            if (!same || !finest) {
+                return !same ? same.error() : finest.error();
+            }
+            const Point p{volume,          light,       request.settings.mode,
+                          slices,          resolution,  sweep.distances[d],
+                          timed->frame_ms, build_ms,    same->rmse,
+                          same->psnr,      same->ssim,  finest->rmse,
+                          finest->psnr,    finest->ssim};
+            points.push_back(p);
+            print_point(p, progress(bench.frames()));
+        }
+        return base::Ok{};
+    };
+
+    for (const scene::Mode mode : sweep.modes) {
+        if (mode == scene::Mode::half_angle || scene::uses_light_buffer(mode)) {
+            continue;
+        }
+        scene::FrameRequest request = base;
+        request.settings.mode = mode;
+        if (auto status = record(request, 0, 0, 0.0); !status) {
+            return status;
+        }
+    }
+    for (const int n : sweep.slices) {
+        for (const int r : sweep.resolutions) {
+            scene::FrameRequest request = base;
+            request.settings.light_buffer.slices = n;
+            request.settings.light_buffer.resolution = r;
+            if (std::find(sweep.modes.begin(), sweep.modes.end(), scene::Mode::half_angle) !=
+                sweep.modes.end()) {
+                request.settings.mode = scene::Mode::half_angle;
+                if (auto status = record(request, n, r, 0.0); !status) {
+                    return status;
+                }
+            }
+            // The three light-buffer modes build the same buffer (its key has no mode), so one
+            // build time serves them all.
+            std::optional<double> build_ms;
+            for (const scene::Mode mode : sweep.modes) {
+                if (!scene::uses_light_buffer(mode)) {
+                    continue;
+                }
+                request.settings.mode = mode;
+                if (!build_ms) {
+                    auto built = bench.light_buffer_build(request);
+                    if (!built) {
+                        return built.error();
+                    }
+                    build_ms = *built;
+                }
+                if (auto status = record(request, n, r, *build_ms); !status) {
+                    return status;
+                }
+            }
+        }
+    }
+    return base::Ok{};
+}
+
+base::Status finish(const Table& table, const Arguments& a) {
+    std::vector<double> budgets;
+    if (const auto text = a.get("budget-ms")) {
+        auto parsed = parse_numbers(*text, "budget-ms");
+        if (!parsed) {
+            return parsed.error();
+        }
+        budgets = *parsed;
+    } else {
+        budgets = default_budgets(table.points);
+    }
+    const std::vector<Preset> presets = choose_presets(table.points, budgets);
+    print_presets(table, presets);
+    if (const auto path = a.get("csv")) {
+        if (auto status = write_csv(table, *path); !status) {
+            return status;
+        }
+        std::printf("csv:      %s\n", path->c_str());
+    }
+    if (const auto path = a.get("json")) {
+        if (auto status = write_json(table, presets, *path); !status) {
+            return status;
+        }
+        std::printf("json:     %s\n", path->c_str());
+    }
+    if (const auto path = a.get("plot")) {
+        if (auto status = write_plot(table, *path); !status) {
+            return status;
+        }
+    }
+    return base::Ok{};
+}
+
+}  // namespace
+
+int run_bench_accuracy(const std::vector<std::string>& args) {
+    std::vector<std::string> valued = frame_option_names();
+    valued.insert(valued.end(),
+                  {"volumes", "lights", "modes", "slices-list", "light-res-list",
+                   "sample-distances", "repeat", "csv", "json", "plot", "budget-ms", "from"});
+    std::vector<std::string> flags = frame_flag_names();
+    flags.insert(flags.end(), {"help", "debug-gl", "no-phong"});
+    auto parsed = Arguments::parse(args, valued, flags);
+    if (!parsed) {
+        return usage_error(parsed.error());
+    }
+    const Arguments& a = *parsed;
+    if (a.has("help")) {
+        print_usage();
+        return 0;
+    }
+    // What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
+    const std::pair<const char*, const char*> swept[] = {
+            {"mode", "--modes LIST"},
+            {"slices", "--slices-list LIST"},
+            {"light-res", "--light-res-list LIST"},
+            {"light", "--lights LIST"},
+            {"light-position", "--lights LIST (directional lights only)"},
+            {"sample-distance", "--sample-distances LIST"}};
+    for (const auto& [option, instead] : swept) {
+        if (a.has(option)) {
+            return usage_error(base::make_error(
+                    "invalid_argument", std::string("bench accuracy sweeps this; use ") + instead,
+                    std::string("--") + option));
+        }
+    }
+
+    if (const auto from = a.get("from")) {
+        auto table = read_table(*from);
+        if (!table) {
+            return fail(table.error());
+        }
+        std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
+                    from->c_str(), table->device.c_str(), table->gl_version.c_str(),
+                    table->points.size());
+        if (auto status = finish(*table, a); !status) {
+            return fail(status.error());
+        }
+        return 0;
+    }
+
+    auto renderer =
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+    if (!renderer) {
+        return fail(renderer.error());
+    }
+    const render::RendererInfo& info = (*renderer)->info();
+    const SweepDefaults& defaults = info.gpu_timer_queries ? gpu_defaults : software_defaults;
+
+    Sweep sweep;
+    auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
+    auto modes = parse_modes(a.get("modes").value_or(default_modes));
+    auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
+    auto resolutions =
+            parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
+    auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
+    auto repeat = a.integer("repeat", defaults.repeat);
+    if (!lights || !modes || !slices || !resolutions || !distances || !repeat) {
+        return usage_error(!lights        ? lights.error()
+                           : !modes       ? modes.error()
+                           : !slices      ? slices.error()
+                           : !resolutions ? resolutions.error()
+                           : !distances   ? distances.error()
+                                          : repeat.error());
+    }
+    if (*repeat < 1 || *repeat > 1000) {
+        return usage_error(base::make_error("invalid_argument", "expects 1..1000", "--repeat"));
+    }
+    sweep.volumes = split(a.get("volumes").value_or(defaults.volumes), ',');
+    sweep.lights = *lights;
+    sweep.modes = *modes;
+    sweep.slices = *slices;
+    sweep.resolutions = *resolutions;
+    sweep.distances = *distances;
+    std::sort(sweep.distances.begin(), sweep.distances.end());
+    sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
+                          sweep.distances.end());
+    sweep.repeat = *repeat;
+
+    Table table;
+    table.device = info.renderer;
+    table.vendor = info.vendor;
+    table.gl_version = info.version;
+    table.gpu_timers = info.gpu_timer_queries;
+    table.repeat = sweep.repeat;
+    table.phong = !a.has("no-phong");
+
+    std::printf("penumbra bench accuracy\n");
+    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
+                info.platform.c_str());
+    if (info.gpu_timer_queries) {
+        std::printf("timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
+                    sweep.repeat);
+    } else {
+        std::printf(
+                "timing:   wall clock (this GL's timer queries mean nothing: software "
+                "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
+                "defaults for a software rasteriser\n",
+                sweep.repeat);
+    }
+
+    AccuracyBench bench(**renderer, sweep.repeat);
+    const std::uint64_t frames_per_volume = frames_per_view(sweep) * sweep.lights.size();
+    const Progress progress(frames_per_volume * sweep.volumes.size());
+    std::printf(
+            "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
+            "left)\n",
+            sweep.volumes.size(), sweep.lights.size(),
+            static_cast<unsigned long long>(frames_per_volume * sweep.volumes.size()));
+    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
+        const std::string& path = sweep.volumes[v];
+        auto loaded = volume::load_volume(path);
+        if (!loaded) {
+            return fail(loaded.error());
+        }
+        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+        auto base_request = frame_request_from(a, *volume);
+        if (!base_request) {
+            return fail(base_request.error());
+        }
+        scene::FrameRequest& base = *base_request;
+        if (!a.has("size")) {
+            base.settings.width = defaults.side;
+            base.settings.height = defaults.side;
+        }
+        if (base.settings.width < min_image_side || base.settings.height < min_image_side) {
+            return usage_error(base::make_error("invalid_argument",
+                                                "SSIM needs images of at least " +
+                                                        std::to_string(min_image_side) + "x" +
+                                                        std::to_string(min_image_side),
+                                                "--size"));
+        }
+        base.settings.phong = table.phong;
+        if (v == 0) {
+            table.width = base.settings.width;
+            table.height = base.settings.height;
+            table.transfer_function = base.transfer_function.name;
+            table.compositing = scene::to_string(base.settings.compositing);
+            table.stage = scene::to_string(base.settings.stage);
+            table.builder = scene::to_string(base.settings.light_buffer.builder);
+            const scene::Camera& c = base.camera;
+            table.camera = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+                            {"target", {c.target.x, c.target.y, c.target.z}},
+                            {"up", {c.up.x, c.up.y, c.up.z}},
+                            {"fov_y_degrees", c.fov_y_degrees}};
+            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, phong %s\n",
+                        table.width, table.height, table.transfer_function.c_str(),
+                        table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                        table.phong ? "on" : "off");
+            std::fflush(stdout);
+        }
+        if (auto status = (*renderer)->set_volume(volume); !status) {
+            return fail(status.error());
+        }
+        for (const LightAngles& light : sweep.lights) {
+            if (auto status = measure_view(bench, sweep, base, volume->name, light, progress,
+                                           table.points);
+                !status) {
+                return fail(status.error());
+            }
+        }
+    }
+    if (auto status = finish(table, a); !status) {
+        return fail(status.error());
+    }
+    return 0;
+}
+
+}  // namespace penumbra::app
