@@ -167,6 +167,12 @@ protected:
         net::ServerConfig config;
         config.port = 0;
         config.limits = limits;
+        // A small measured table: sbrc at n=32 fits 50 ms at 64x64, the reference does not.
+        config.quality_table = std::make_shared<const std::vector<scene::QualitySample>>(
+                std::vector<scene::QualitySample>{
+                        {scene::Mode::phong, 0, 0, 1.0 / 256, 20.0, 18.0, 64, 64},
+                        {scene::Mode::sbrc, 32, 64, 1.0 / 256, 40.0, 24.0, 64, 64},
+                        {scene::Mode::reference, 0, 0, 1.0 / 256, 400.0, 99.0, 64, 64}});
         auto server = net::Server::start(config, {*volumes_, *sessions_, *scheduler_, *metrics_});
         ASSERT_TRUE(server.ok()) << server.error().to_string();
         server_ = std::move(server.value());
@@ -399,6 +405,22 @@ TEST_F(ServerTest, ASlowReaderDoesNotDelayAnotherSession) {
         fast.send(R"({"v":1,"type":"render","id":)" + std::to_string(i) + "}");
         EXPECT_EQ(fast.next_frame(std::chrono::seconds(30)).header.request, i);
     }
+}
+
+TEST_F(ServerTest, AFrameBudgetPicksTheMostAccurateMeasuredSettingThatFits) {
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 64);
+    const std::string ack = client.request(
+            R"({"v":1,"type":"set","settings":{"mode":"dvr","frame_budget_ms":50}})");
+    ASSERT_EQ(field(ack, "type"), "ack") << ack;
+    client.send(R"({"v":1,"type":"render","id":1})");
+    const auto frame = client.next_frame();
+    EXPECT_EQ(frame.header.mode, "sbrc");
+    EXPECT_NE(frame.header.quality.find("budget 50 ms: sbrc n=32 R=64"), std::string::npos)
+            << frame.header.quality;
+    client.request(R"({"v":1,"type":"set","settings":{"frame_budget_ms":0}})");
+    client.send(R"({"v":1,"type":"render","id":2})");
+    EXPECT_EQ(client.next_frame().header.mode, "dvr");
 }
 
 TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {

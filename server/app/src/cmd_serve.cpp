@@ -4,6 +4,7 @@
 #include <penumbra/base/log.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
+#include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
@@ -11,6 +12,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace penumbra::app {
 namespace {
@@ -35,7 +38,7 @@ int run_serve(const std::vector<std::string>& args) {
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
              "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
-             "default-tf"},
+             "default-tf", "quality-table"},
             {"help", "debug-gl"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -62,6 +65,9 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
+                "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
+                "                             budget (default docs/accuracy/llvmpipe.json on\n"
+                "                             llvmpipe, docs/accuracy/gpu.json elsewhere)\n"
                 "  --debug-gl                 GL debug output to the log\n"
                 "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
         return 0;
@@ -145,6 +151,31 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_slices = std::min(limits.max_slices, info.max_array_texture_layers);
     limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
     limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
+
+    const std::filesystem::path table_path =
+            a.get("quality-table")
+                    .value_or((std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "accuracy" /
+                               (info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json"))
+                                      .string());
+    if (std::ifstream in(table_path); in) {
+        std::stringstream text;
+        text << in.rdbuf();
+        auto table = protocol::parse_quality_table(text.str(), table_path.string());
+        if (!table) {
+            return fail(table.error());
+        }
+        config.quality_table =
+                std::make_shared<const std::vector<scene::QualitySample>>(std::move(table.value()));
+        std::printf("quality:  %zu measured settings from %s\n", config.quality_table->size(),
+                    table_path.c_str());
+    } else if (a.has("quality-table")) {
+        return fail(base::make_error("not_found", "cannot read the quality table",
+                                     table_path.string()));
+    } else {
+        std::printf("quality:  no measured table for this device (%s); frame budgets are "
+                    "ignored until `penumbra bench accuracy` writes one\n",
+                    table_path.c_str());
+    }
 
     session::SessionRegistry sessions(limits.max_sessions);
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});

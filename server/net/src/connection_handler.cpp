@@ -22,6 +22,7 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
     out.frame = s.frame;
     out.output.encoding = s.output.format == encode::ImageFormat::png ? "png" : "jpeg";
     out.output.jpeg_quality = s.output.jpeg_quality;
+    out.frame_budget_ms = s.frame_budget_ms;
     return out;
 }
 
@@ -31,6 +32,7 @@ session::SessionState from_protocol(const protocol::SessionState& s) {
     out.output.format = s.output.encoding == "png" ? encode::ImageFormat::png
                                                    : encode::ImageFormat::jpeg;
     out.output.jpeg_quality = s.output.jpeg_quality;
+    out.frame_budget_ms = s.frame_budget_ms;
     return out;
 }
 
@@ -319,7 +321,9 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     }
                     std::weak_ptr<session::Session> weak = session_;
                     context_.services.scheduler.submit(
-                            session_->id(), session_->make_job(id.value_or(-1), message.interactive),
+                            session_->id(),
+                            session_->make_job(id.value_or(-1), message.interactive,
+                                               context_.config.quality_table.get()),
                             [weak](base::Result<std::shared_ptr<const session::EncodedFrame>> r) {
                                 if (auto s = weak.lock()) {
                                     s->deliver(r);

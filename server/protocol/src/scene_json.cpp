@@ -5,6 +5,7 @@
 #include <penumbra/scene/camera.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace penumbra::protocol {
 namespace {
@@ -226,11 +227,12 @@ auto int_range_of(int lo, int hi) {
 }
 
 base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
-                            const Limits& limits) {
+                            double& frame_budget_ms, const Limits& limits) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(j, p, {"mode", "compositing", "stage", "size", "sample_distance",
                                     "opacity_unit_distance", "early_termination", "background",
-                                    "phong", "shading", "light_buffer", "scattering"}));
+                                    "phong", "shading", "light_buffer", "scattering",
+                                    "frame_budget_ms"}));
     PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
                             "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
@@ -261,6 +263,7 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                      return vec3(v, q, 0.0, 1.0);
                                  }));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
+    PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms, range_of(0.0, 60000.0)));
     if (j.contains("shading")) {
         const json& sh = j.at("shading");
         const std::string sp = p + "/shading";
@@ -350,7 +353,8 @@ base::Status apply_patch(std::string_view patch_json, SessionState& state, const
         next.frame.transfer_function = std::move(tf.value());
     }
     if (patch.contains("settings")) {
-        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame.settings, limits));
+        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame.settings,
+                                    next.frame_budget_ms, limits));
     }
     if (patch.contains("output")) {
         PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
@@ -416,6 +420,7 @@ std::string state_to_json(const SessionState& state) {
               {"early_termination", s.early_termination},
               {"background", vec3_json(s.background)},
               {"phong", s.phong},
+              {"frame_budget_ms", state.frame_budget_ms},
               {"shading",
                {{"diffuse", s.shading.diffuse},
                 {"specular", s.shading.specular},
@@ -451,6 +456,46 @@ base::Result<scene::TransferFunction> parse_transfer_function(
         return error;
     }
     return tf;
+}
+
+base::Result<std::vector<scene::QualitySample>> parse_quality_table(std::string_view json_text,
+                                                                    const std::string& where) {
+    const json table = json::parse(json_text, nullptr, false);
+    if (table.is_discarded() || !table.is_object() || !table.contains("points") ||
+        !table.at("points").is_array()) {
+        return base::make_error("invalid_table", "not an accuracy table (no \"points\" array)",
+                                where);
+    }
+    int width = 256;
+    int height = 256;
+    if (table.contains("size") && table.at("size").is_array() && table.at("size").size() == 2) {
+        width = table.at("size")[0].get<int>();
+        height = table.at("size")[1].get<int>();
+    }
+    std::vector<scene::QualitySample> samples;
+    for (const json& point : table.at("points")) {
+        try {
+            const auto mode = scene::parse_mode(point.at("mode").get<std::string>());
+            if (!mode) {
+                continue;  // a mode this build does not know
+            }
+            scene::QualitySample s;
+            s.mode = *mode;
+            s.slices = point.at("slices").get<int>();
+            s.resolution = point.at("resolution").get<int>();
+            s.sample_distance = point.at("sample_distance").get<double>();
+            s.frame_ms = point.at("frame_ms").get<double>();
+            const json& psnr = point.contains("psnr_finest") ? point.at("psnr_finest")
+                                                             : point.at("psnr");
+            s.psnr = psnr.is_null() ? std::numeric_limits<double>::infinity() : psnr.get<double>();
+            s.width = width;
+            s.height = height;
+            samples.push_back(s);
+        } catch (const json::exception& e) {
+            return base::make_error("invalid_table", std::string("bad point: ") + e.what(), where);
+        }
+    }
+    return samples;
 }
 
 }  // namespace penumbra::protocol

@@ -66,8 +66,19 @@ void Session::deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& r
     }
 }
 
-RenderJob Session::make_job(std::int64_t request_id, bool interactive) const {
-    const SessionState current = state();
+RenderJob Session::make_job(std::int64_t request_id, bool interactive,
+                            const std::vector<scene::QualitySample>* quality_table) const {
+    SessionState current = state();
+    std::string budget_note;
+    if (current.frame_budget_ms > 0.0 && quality_table != nullptr) {
+        const auto choice = scene::choose_quality(*quality_table, current.frame_budget_ms,
+                                                  current.frame.settings.width,
+                                                  current.frame.settings.height);
+        if (choice) {
+            current.frame = scene::apply_quality(std::move(current.frame), *choice);
+            budget_note = "; " + choice->describe(current.frame_budget_ms);
+        }
+    }
     RenderJob job;
     job.volume = volume_;
     job.output = current.output;
@@ -76,10 +87,10 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive) const {
     if (interactive) {
         auto [reduced, description] = interactive_request(current.frame);
         job.request = std::move(reduced);
-        job.quality = std::move(description);
+        job.quality = std::move(description) + budget_note;
     } else {
         job.request = current.frame;
-        job.quality = "still: full quality";
+        job.quality = "still: full quality" + budget_note;
     }
     job.submitted = Clock::now();
     return job;

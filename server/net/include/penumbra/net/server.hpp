@@ -5,11 +5,13 @@
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
+#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/volume_store.hpp>
 
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace penumbra::net {
 
@@ -20,6 +22,8 @@ struct ServerConfig {
     std::filesystem::path web_root;  // the built web client; empty: a small built-in page
     protocol::Limits limits;
     std::string default_transfer_function = "mri_skin";
+    // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
+    std::shared_ptr<const std::vector<scene::QualitySample>> quality_table;
 };
 
 // What the server serves; owned by the caller and outliving the server.

@@ -3,11 +3,13 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/quality.hpp>
 
 #include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 namespace penumbra::protocol {
 
@@ -21,6 +23,9 @@ struct OutputOptions {
 struct SessionState {
     scene::FrameRequest frame;
     OutputOptions output;
+    // > 0: the server picks mode, slices, light-buffer resolution and sample distance so that a
+    // frame fits this many milliseconds (from the measured accuracy table); 0: as set.
+    double frame_budget_ms = 0.0;
 };
 
 // Applies a validated `set` patch (a JSON object with any of "camera", "light",
@@ -38,5 +43,9 @@ std::string state_to_json(const SessionState& state);
 base::Result<scene::TransferFunction> parse_transfer_function(
         std::string_view json_text, std::optional<std::pair<double, double>> data_range,
         const std::string& where);
+
+// Reads the points of a `penumbra bench accuracy` table (docs/accuracy/README.md).
+base::Result<std::vector<scene::QualitySample>> parse_quality_table(std::string_view json_text,
+                                                                    const std::string& where);
 
 }  // namespace penumbra::protocol

@@ -2,6 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -12,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace penumbra::session {
 
@@ -26,6 +28,7 @@ using ViewerSink = std::function<void(
 struct SessionState {
     scene::FrameRequest frame;
     OutputFormat output;
+    double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
 };
 
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
@@ -58,8 +61,12 @@ public:
     // Numbers the frame and hands it to every viewer.
     void deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result);
 
-    // A job for the current state, at full or interactive quality.
-    [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive) const;
+    // A job for the current state, at full or interactive quality. With a frame budget and a
+    // measured quality table, the most accurate setting that fits replaces the state's mode,
+    // slices, light-buffer resolution and sample distance.
+    [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive,
+                                     const std::vector<scene::QualitySample>* quality_table =
+                                             nullptr) const;
 
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
