@@ -1,0 +1,276 @@
+// Orbit camera: the model (target, azimuth, elevation, distance, fov → protocol Camera; no DOM)
+// and the controls that turn mouse, trackpad, touch and keys into it.
+//   mouse:     left drag orbit; right/middle drag or shift+drag pan; wheel zoom
+//   trackpad:  two-finger scroll zoom (ctrl+scroll, i.e. pinch, zooms finer); click-drag orbit
+//   touch:     one finger orbit; two fingers pinch zoom and pan together
+//   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
+
+import { orbitEye, orbitOf, type Camera, type Vec3 } from '../protocol/messages';
+
+const MIN_DISTANCE = 0.05;
+const MAX_DISTANCE = 50;
+const MAX_ELEVATION = 89;
+
+function sub(a: Vec3, b: Vec3): Vec3 {
+  return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+}
+
+function cross(a: Vec3, b: Vec3): Vec3 {
+  return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+}
+
+function normalize(a: Vec3): Vec3 {
+  const l = Math.hypot(a[0], a[1], a[2]) || 1;
+  return [a[0] / l, a[1] / l, a[2] / l];
+}
+
+function clamp(v: number, lo: number, hi: number): number {
+  return Math.min(hi, Math.max(lo, v));
+}
+
+/** Right, up and backward (toward the eye) unit vectors of a camera. */
+export function cameraBasis(camera: Camera): { right: Vec3; up: Vec3; back: Vec3 } {
+  const forward = normalize(sub(camera.target, camera.eye));
+  let right = cross(forward, camera.up);
+  if (Math.hypot(...right) < 1e-9) right = cross(forward, [0, 1, 0]);
+  right = normalize(right);
+  const up = normalize(cross(right, forward));
+  return { right, up, back: [-forward[0], -forward[1], -forward[2]] };
+}
+
+export class OrbitCamera {
+  target: Vec3 = [0, 0, 0];
+  azimuth = 25;
+  elevation = 10;
+  distance = 2.6;
+  fov = 30;
+  private home: Camera | null = null;
+
+  /** Takes a protocol camera (the session's state); `asHome` makes it what reset() returns to. */
+  setFrom(camera: Camera, asHome = false): void {
+    const orbit = orbitOf(camera.eye, camera.target);
+    this.target = [...camera.target];
+    this.azimuth = orbit.azimuth;
+    this.elevation = clamp(orbit.elevation, -MAX_ELEVATION, MAX_ELEVATION);
+    this.distance = clamp(orbit.distance, MIN_DISTANCE, MAX_DISTANCE);
+    this.fov = camera.fov;
+    if (asHome) this.home = structuredClone(camera);
+  }
+
+  toCamera(): Camera {
+    return {
+      eye: orbitEye(this.target, {
+        azimuth: this.azimuth,
+        elevation: this.elevation,
+        distance: this.distance,
+      }),
+      target: [...this.target],
+      up: [0, 0, 1],
+      fov: this.fov,
+    };
+  }
+
+  /** Drag by (dx, dy) pixels in a view `height` pixels tall: half a turn per view height. */
+  rotate(dx: number, dy: number, height: number): void {
+    const degreesPerPixel = 180 / Math.max(1, height);
+    this.azimuth -= dx * degreesPerPixel;
+    this.azimuth = ((((this.azimuth + 180) % 360) + 360) % 360) - 180;
+    this.elevation = clamp(this.elevation + dy * degreesPerPixel, -MAX_ELEVATION, MAX_ELEVATION);
+  }
+
+  /** Moves the target so the point under the cursor follows it (at the target's depth). */
+  pan(dx: number, dy: number, height: number): void {
+    const { right, up } = cameraBasis(this.toCamera());
+    const unitsPerPixel =
+      (2 * this.distance * Math.tan(((this.fov / 2) * Math.PI) / 180)) / Math.max(1, height);
+    for (let i = 0; i < 3; ++i) {
+      this.target[i] = clamp(
+        this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel,
+        -100,
+        100,
+      );
+    }
+  }
+
+  /** factor < 1 moves closer. */
+  zoom(factor: number): void {
+    if (!(factor > 0) || !Number.isFinite(factor)) return;
+    this.distance = clamp(this.distance * factor, MIN_DISTANCE, MAX_DISTANCE);
+  }
+
+  reset(): void {
+    if (this.home) this.setFrom(this.home);
+  }
+}
+
+export interface OrbitControlCallbacks {
+  /** The camera changed; `interactive` while a gesture goes on. */
+  change: () => void;
+  /** A gesture started (frames become interactive). */
+  start: () => void;
+  /** A gesture ended (a still frame is due). */
+  end: () => void;
+  /** Whether the person may move the camera (viewers may not). */
+  enabled: () => boolean;
+}
+
+/** Wires pointer, wheel and key events of `element` to `camera`; returns a detach function. */
+export function attachOrbitControls(
+  element: HTMLElement,
+  camera: OrbitCamera,
+  callbacks: OrbitControlCallbacks,
+): () => void {
+  const pointers = new Map<number, { x: number; y: number }>();
+  let mode: 'rotate' | 'pan' | 'touch' | null = null;
+  let wheelTimer: ReturnType<typeof setTimeout> | null = null;
+  let keyActive = false;
+  const height = (): number => element.clientHeight || 1;
+
+  const twoFinger = (): { mid: { x: number; y: number }; spread: number } | null => {
+    const [a, b] = [...pointers.values()];
+    if (!a || !b) return null;
+    return { mid: { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 }, spread: Math.hypot(a.x - b.x, a.y - b.y) };
+  };
+  let lastTwo: ReturnType<typeof twoFinger> = null;
+
+  const begin = (): void => {
+    if (mode === null && wheelTimer === null && !keyActive) callbacks.start();
+  };
+
+  const onDown = (e: PointerEvent): void => {
+    if (!callbacks.enabled()) return;
+    element.focus({ preventScroll: true });
+    if (pointers.size === 0) begin();
+    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    element.setPointerCapture?.(e.pointerId);
+    if (pointers.size >= 2) {
+      mode = 'touch';
+      lastTwo = twoFinger();
+    } else {
+      const panButton = e.button === 1 || e.button === 2;
+      mode = panButton || e.shiftKey || e.ctrlKey || e.metaKey ? 'pan' : 'rotate';
+    }
+    e.preventDefault();
+  };
+
+  const onMove = (e: PointerEvent): void => {
+    const previous = pointers.get(e.pointerId);
+    if (!previous || mode === null) return;
+    const dx = e.clientX - previous.x;
+    const dy = e.clientY - previous.y;
+    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    if (mode === 'touch') {
+      const now = twoFinger();
+      if (now && lastTwo) {
+        if (lastTwo.spread > 0 && now.spread > 0) camera.zoom(lastTwo.spread / now.spread);
+        camera.pan(now.mid.x - lastTwo.mid.x, now.mid.y - lastTwo.mid.y, height());
+      }
+      lastTwo = now;
+    } else if (mode === 'pan') {
+      camera.pan(dx, dy, height());
+    } else {
+      camera.rotate(dx, dy, height());
+    }
+    if (dx !== 0 || dy !== 0) callbacks.change();
+  };
+
+  const onUp = (e: PointerEvent): void => {
+    if (!pointers.delete(e.pointerId)) return;
+    if (pointers.size === 1 && mode === 'touch') {
+      mode = 'rotate'; // lifting one of two fingers continues as a one-finger orbit
+      lastTwo = null;
+    } else if (pointers.size === 0) {
+      mode = null;
+      if (wheelTimer === null && !keyActive) callbacks.end();
+    }
+  };
+
+  const onWheel = (e: WheelEvent): void => {
+    if (!callbacks.enabled()) return;
+    e.preventDefault();
+    begin();
+    const pixels = e.deltaMode === 1 ? e.deltaY * 16 : e.deltaMode === 2 ? e.deltaY * 400 : e.deltaY;
+    // ctrl+wheel is how browsers report a trackpad pinch: finer steps.
+    camera.zoom(Math.exp(pixels * (e.ctrlKey ? 0.01 : 0.0015)));
+    callbacks.change();
+    if (wheelTimer !== null) clearTimeout(wheelTimer);
+    wheelTimer = setTimeout(() => {
+      wheelTimer = null;
+      if (mode === null && !keyActive) callbacks.end();
+    }, 250);
+  };
+
+  const onKeyDown = (e: KeyboardEvent): void => {
+    if (!callbacks.enabled() || e.altKey || e.metaKey || e.ctrlKey) return;
+    const step = 15; // pixels
+    const h = height();
+    let handled = true;
+    const move = (dx: number, dy: number): void =>
+      e.shiftKey ? camera.pan(dx, dy, h) : camera.rotate(dx * 2, dy * 2, h);
+    switch (e.key) {
+      case 'ArrowLeft':
+        move(-step, 0);
+        break;
+      case 'ArrowRight':
+        move(step, 0);
+        break;
+      case 'ArrowUp':
+        move(0, -step);
+        break;
+      case 'ArrowDown':
+        move(0, step);
+        break;
+      case '+':
+      case '=':
+        camera.zoom(0.9);
+        break;
+      case '-':
+      case '_':
+        camera.zoom(1 / 0.9);
+        break;
+      case 'r':
+      case 'R':
+      case 'Home':
+        camera.reset();
+        break;
+      default:
+        handled = false;
+    }
+    if (!handled) return;
+    e.preventDefault();
+    if (!keyActive) {
+      begin();
+      keyActive = true;
+    }
+    callbacks.change();
+  };
+
+  const onKeyUp = (): void => {
+    if (!keyActive) return;
+    keyActive = false;
+    if (mode === null && wheelTimer === null) callbacks.end();
+  };
+
+  const onContextMenu = (e: Event): void => e.preventDefault();
+
+  element.addEventListener('pointerdown', onDown);
+  element.addEventListener('pointermove', onMove);
+  element.addEventListener('pointerup', onUp);
+  element.addEventListener('pointercancel', onUp);
+  element.addEventListener('wheel', onWheel, { passive: false });
+  element.addEventListener('keydown', onKeyDown);
+  element.addEventListener('keyup', onKeyUp);
+  element.addEventListener('blur', onKeyUp);
+  element.addEventListener('contextmenu', onContextMenu);
+  return () => {
+    element.removeEventListener('pointerdown', onDown);
+    element.removeEventListener('pointermove', onMove);
+    element.removeEventListener('pointerup', onUp);
+    element.removeEventListener('pointercancel', onUp);
+    element.removeEventListener('wheel', onWheel);
+    element.removeEventListener('keydown', onKeyDown);
+    element.removeEventListener('keyup', onKeyUp);
+    element.removeEventListener('blur', onKeyUp);
+    element.removeEventListener('contextmenu', onContextMenu);
+  };
+}

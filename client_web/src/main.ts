@@ -1,0 +1,262 @@
+// Wiring only: builds the view, the panels and the connection and connects their events.
+
+import GUI from 'lil-gui';
+import './style.css';
+import { Connection, RequestFailed, ServerError, type SessionInfo } from './protocol/connection';
+import { DEFAULT_LIMITS, mergePatches, type StatePatch } from './protocol/messages';
+import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
+import { RenderPacer } from './interaction/pacing';
+import { FrameView } from './view/frame_view';
+import { StatsOverlay } from './view/stats_overlay';
+import { Notices } from './view/notices';
+import { VolumePicker } from './panels/volume_picker';
+import { SessionPanel } from './panels/session_panel';
+import { LightControl } from './panels/light_control';
+import { MethodPanel } from './panels/method_panel';
+import { TfEditor } from './panels/tf_editor';
+import { PRESET_POINTS, TfModel } from './panels/tf_model';
+
+const query = new URLSearchParams(location.search);
+const joinId = query.get('join');
+const wsUrl =
+  query.get('server') ?? `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
+
+const viewElement = document.getElementById('view') as HTMLElement;
+const panelElement = document.getElementById('panel') as HTMLElement;
+const view = new FrameView(viewElement);
+const stats = new StatsOverlay(viewElement);
+const connection = new Connection(wsUrl, {
+  presetPoints: (p) => ({ name: p, space: 'normalized', ...structuredClone(PRESET_POINTS[p]) }),
+});
+const notices = new Notices(document.body, () => connection.retryNow());
+
+const camera = new OrbitCamera();
+const tfModel = new TfModel();
+let role: SessionInfo['role'] = 'none';
+let scale = 1;
+
+// ---- outgoing changes: merged, and sent with the next paced render ------------------------------
+let pendingPatch: StatePatch | null = null;
+const sentAt = new Map<number, number>();
+
+function describe(e: unknown): string {
+  return e instanceof ServerError ? e.describe() : e instanceof Error ? e.message : String(e);
+}
+
+function showSessionState(): void {
+  const state = connection.session?.state;
+  if (!state) return;
+  light.update(state.light);
+  method.update(state);
+}
+
+const pacer = new RenderPacer((interactive) => {
+  if (!connection.connected || !connection.session || connection.restoring) return null;
+  if (pendingPatch && role === 'owner') {
+    const patch = pendingPatch;
+    pendingPatch = null;
+    connection.set(patch).catch((e: unknown) => {
+      if (e instanceof RequestFailed) return; // connection lost: restored on reconnect
+      notices.show('error', 'The server refused a change', describe(e));
+      showSessionState(); // the controls show what the server has
+    });
+  }
+  const id = connection.render(interactive);
+  sentAt.set(id, performance.now());
+  if (sentAt.size > 64) sentAt.delete(sentAt.keys().next().value as number);
+  return id;
+});
+
+function change(patch: StatePatch, interactive: boolean): void {
+  if (role !== 'owner') return;
+  pendingPatch = pendingPatch ? mergePatches(pendingPatch, patch) : patch;
+  pacer.request(interactive);
+}
+
+function renderSize(): [number, number] {
+  return view.renderSize(scale, connection.hello?.limits.max_image_side ?? DEFAULT_LIMITS.max_image_side);
+}
+
+// ---- panels ------------------------------------------------------------------------------------
+const gui = new GUI({ container: panelElement, title: 'Penumbra', width: 300 });
+const picker = new VolumePicker(
+  gui.addFolder('Volume'),
+  (id) => void openVolume(id),
+  () => void refreshVolumes(),
+);
+const sessionPanel = new SessionPanel(gui.addFolder('Shared viewing'));
+const tfFolder = gui.addFolder('Transfer function');
+const tfEditor = new TfEditor(tfFolder, tfModel, (interactive) =>
+  change({ transfer_function: tfModel.toProtocol() }, interactive),
+);
+const lightFolder = gui.addFolder('Light');
+const light = new LightControl(lightFolder, () => camera.toCamera(), change);
+const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
+  scale = s;
+  change({ settings: { size: renderSize() } }, false);
+});
+const viewFolder = gui.addFolder('View');
+const viewParams = {
+  stats: window.innerWidth >= 600, // small screens: off until asked for (S or the panel)
+  'reset camera': () => {
+    camera.reset();
+    change({ camera: camera.toCamera() }, false);
+  },
+};
+stats.visible = viewParams.stats;
+viewFolder.add(viewParams, 'stats').name('stats overlay (S)').onChange((v: boolean) => (stats.visible = v));
+viewFolder.add(viewParams, 'reset camera').name('reset camera (R)');
+const help = document.createElement('div');
+help.className = 'hint help';
+help.innerHTML =
+  'Drag: orbit · right/shift-drag: pan · wheel or pinch: zoom · two fingers: pan + zoom<br>' +
+  'Keys (on the image): arrows orbit, shift+arrows pan, +/− zoom, R reset, S stats';
+viewFolder.$children.appendChild(help);
+
+function setEnabled(owner: boolean): void {
+  picker.setEnabled(true);
+  tfEditor.setEnabled(owner);
+  light.setEnabled(owner);
+  method.setEnabled(owner);
+  document.body.classList.toggle('viewer', !owner);
+}
+
+// ---- camera ------------------------------------------------------------------------------------
+attachOrbitControls(view.canvas, camera, {
+  start: () => pacer.startInteraction(),
+  change: () => {
+    light.cameraMoved();
+    change({ camera: camera.toCamera() }, pacer.interactive);
+  },
+  end: () => pacer.endInteraction(),
+  enabled: () => role === 'owner',
+});
+
+window.addEventListener('keydown', (e) => {
+  const target = e.target as HTMLElement | null;
+  if (target && /^(INPUT|SELECT|TEXTAREA)$/.test(target.tagName)) return;
+  if ((e.key === 's' || e.key === 'S') && !e.ctrlKey && !e.metaKey) {
+    stats.visible = !stats.visible;
+    viewParams.stats = stats.visible;
+    gui.controllersRecursive().forEach((c) => c.updateDisplay());
+  }
+});
+
+let resizeTimer: ReturnType<typeof setTimeout> | null = null;
+view.onResize(() => {
+  if (resizeTimer !== null) clearTimeout(resizeTimer);
+  resizeTimer = setTimeout(() => change({ settings: { size: renderSize() } }, false), 150);
+});
+
+// ---- connection ----------------------------------------------------------------------------------
+connection.on('status', (status) => {
+  notices.connection(status, wsUrl);
+  if (status.kind === 'lost' || status.kind === 'unreachable') pacer.reset();
+  if (status.kind === 'connected') {
+    method.setModes(status.hello.modes);
+    method.setLimits(status.hello.limits);
+    if (!connection.session) void start();
+  }
+});
+
+connection.on('session', (info, restored) => {
+  role = info.role;
+  if (!restored || info.role === 'viewer') camera.setFrom(info.state.camera, !restored);
+  tfModel.load(info.state.transfer_function, false);
+  tfEditor.setHistogram(info.histogram);
+  tfEditor.refresh();
+  showSessionState();
+  picker.updateVolume(info.volume);
+  picker.select(info.volume.id);
+  sessionPanel.update(info);
+  setEnabled(info.role === 'owner');
+  stats.reset();
+  if (info.role === 'owner') {
+    const size = renderSize();
+    const [w, h] = info.state.settings.size;
+    if (size[0] !== w || size[1] !== h) change({ settings: { size } }, false);
+    else pacer.request(false);
+  } else {
+    pacer.request(false); // viewers may render: fetch the current frame now
+  }
+  if (restored) {
+    notices.show(
+      'info',
+      'Reconnected',
+      info.role === 'owner'
+        ? 'The volume was re-opened and your settings restored (the share link changed).'
+        : 'Joined the shared session again.',
+    );
+  }
+});
+
+connection.on('frame', (frame) => {
+  const requestSent = role === 'owner' ? sentAt.get(frame.header.request) : undefined;
+  const arrived = performance.now();
+  pacer.frameArrived(frame.header.request);
+  view.show(frame);
+  stats.add({
+    header: frame.header,
+    bytes: frame.bytes,
+    at: arrived,
+    latencyMs: requestSent === undefined ? undefined : arrived - requestSent,
+  });
+  if (role === 'viewer' && method.params.mode !== frame.header.mode) {
+    method.params.mode = frame.header.mode;
+    gui.controllersRecursive().forEach((c) => c.updateDisplay());
+  }
+});
+
+connection.on('serverError', (error) => {
+  if (error.id !== undefined) pacer.failed(error.id);
+  notices.show('error', 'Server error', error.describe());
+});
+
+connection.on('problem', (message) => notices.show('warning', 'Problem', message));
+
+async function refreshVolumes(): Promise<void> {
+  try {
+    const volumes = await connection.listVolumes();
+    picker.setVolumes(volumes, connection.session?.volume.id ?? '');
+  } catch (e) {
+    notices.show('error', 'Could not list the volumes', describe(e));
+  }
+}
+
+async function openVolume(id: string): Promise<void> {
+  try {
+    pendingPatch = null;
+    await connection.open(id);
+    const url = new URL(location.href);
+    url.searchParams.delete('join');
+    url.searchParams.set('volume', id);
+    history.replaceState(null, '', url);
+  } catch (e) {
+    notices.show('error', `Could not open ${id}`, describe(e));
+  }
+}
+
+async function start(): Promise<void> {
+  await refreshVolumes();
+  if (joinId) {
+    try {
+      await connection.join(joinId);
+      return;
+    } catch (e) {
+      notices.show(
+        'error',
+        'Could not join the shared session',
+        `${describe(e)}. Opening a volume of your own instead.`,
+      );
+      const url = new URL(location.href);
+      url.searchParams.delete('join');
+      history.replaceState(null, '', url);
+    }
+  }
+  const id = picker.defaultVolume(query.get('volume'));
+  if (id) await openVolume(id);
+  else notices.show('warning', 'No volumes', 'The server offers no volumes (see penumbra serve --data).');
+}
+
+setEnabled(false);
+connection.connect();

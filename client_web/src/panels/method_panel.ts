@@ -1,0 +1,202 @@
+// Method and quality: the rendering mode (the seven the server offers), light-buffer slices and
+// resolution, builder, sample distance, compositing, compensation n, shell/cone parameters,
+// shading, and the output encoding (JPEG quality or PNG). The client does not second-guess the
+// server's ranges on the free-number fields: a bad value comes back as the server's error.
+
+import type GUI from 'lil-gui';
+import type { Controller } from 'lil-gui';
+import {
+  BUILDERS,
+  COMPOSITINGS,
+  DEFAULT_LIMITS,
+  ENCODINGS,
+  MODES,
+  STAGES,
+  type Limits,
+  type Mode,
+  type State,
+  type StatePatch,
+} from '../protocol/messages';
+
+export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
+
+/** Which parameters matter for which modes (others are greyed out, still settable). */
+const USES: Record<string, (mode: Mode) => boolean> = {
+  light_buffer: (m) => m === 'sbrc' || m === 'sbrc_shell' || m === 'sbrc_cone',
+  slices: (m) => m === 'half_angle' || m.startsWith('sbrc'),
+  shell: (m) => m === 'sbrc_shell',
+  cone: (m) => m === 'sbrc_cone',
+};
+
+export class MethodPanel {
+  readonly params = {
+    mode: 'sbrc' as string,
+    compositing: 'alpha',
+    stage: 'compute',
+    slices: 128,
+    resolution: 256,
+    builder: 'multi_slice',
+    compensation: 0,
+    sample_distance: 1 / 256,
+    opacity_unit_distance: 1 / 256,
+    early_termination: 0.99,
+    phong: true,
+    diffuse: 0.75,
+    specular: 0.3,
+    shininess: 32,
+    shell_radius: 1 / 128,
+    shell_rings: 1,
+    shell_center_weight: 0.4,
+    cone_angle: 30,
+    cone_center_weight: 0.2,
+    background: [0, 0, 0] as number[],
+    encoding: 'jpeg',
+    jpeg_quality: 85,
+    frame_budget_ms: 0,
+    /** Client side: rendered pixels per device pixel. */
+    scale: 1,
+  };
+  private readonly controllers: Controller[] = [];
+  private readonly byKey = new Map<string, Controller>();
+  private readonly mode: Controller;
+  private readonly slices: Controller;
+  private readonly resolution: Controller;
+  private readonly budget: Controller;
+
+  constructor(
+    folder: GUI,
+    private readonly send: PatchSink,
+    private readonly scaleChanged: (scale: number) => void,
+  ) {
+    const p = this.params;
+    const add = (c: Controller, key: string, patch: () => StatePatch, live = true): Controller => {
+      c.domElement.dataset['control'] = key;
+      if (live) c.onChange(() => this.send(patch(), true));
+      c.onFinishChange(() => this.send(patch(), false));
+      this.controllers.push(c);
+      this.byKey.set(key, c);
+      return c;
+    };
+    const settings = (s: StatePatch['settings']): StatePatch => ({ settings: s });
+
+    this.mode = add(folder.add(p, 'mode', [...MODES]), 'mode', () => settings({ mode: p.mode as Mode }), false);
+    this.mode.onChange(() => this.greyOut());
+    add(folder.add(p, 'compositing', [...COMPOSITINGS]), 'compositing', () =>
+      settings({ compositing: p.compositing as 'alpha' }), false);
+    add(folder.add(p, 'stage', [...STAGES]).name('ray caster stage'), 'stage', () =>
+      settings({ stage: p.stage as 'compute' }), false);
+
+    const lb = folder.addFolder('Light buffer & slices');
+    this.slices = add(lb.add(p, 'slices', 1, DEFAULT_LIMITS.max_slices, 1), 'slices', () =>
+      settings({ light_buffer: { slices: p.slices } }));
+    this.resolution = add(lb.add(p, 'resolution', 1, DEFAULT_LIMITS.max_light_resolution, 1).name('resolution R'),
+      'resolution', () => settings({ light_buffer: { resolution: p.resolution } }));
+    add(lb.add(p, 'builder', [...BUILDERS]), 'builder', () =>
+      settings({ light_buffer: { builder: p.builder as 'per_slice' } }), false);
+    // A free number field: the server checks the range (0..1000).
+    add(lb.add(p, 'compensation').name('compensation n'), 'compensation', () =>
+      settings({ light_buffer: { compensation: p.compensation } }), false);
+
+    const sampling = folder.addFolder('Sampling');
+    // Free number fields: the server checks the ranges and says what is wrong.
+    add(sampling.add(p, 'sample_distance').name('sample distance').decimals(6), 'sample_distance',
+      () => settings({ sample_distance: p.sample_distance }), false);
+    add(sampling.add(p, 'opacity_unit_distance').name('opacity unit dist.').decimals(6),
+      'opacity_unit_distance', () => settings({ opacity_unit_distance: p.opacity_unit_distance }), false);
+    add(sampling.add(p, 'early_termination', 0.01, 1, 0.01).name('early termination'),
+      'early_termination', () => settings({ early_termination: p.early_termination }));
+    // The server picks mode and quality to fit this frame time (0: as set); newer servers only.
+    this.budget = add(sampling.add(p, 'frame_budget_ms').name('frame budget ms (0 off)'),
+      'frame_budget_ms', () => settings({ frame_budget_ms: p.frame_budget_ms }), false);
+
+    const scattering = folder.addFolder('Shell & cone (sbrc_shell, sbrc_cone)');
+    scattering.close();
+    add(scattering.add(p, 'shell_radius', 0.0001, 0.5, 0.0001).name('shell radius'), 'shell_radius',
+      () => settings({ scattering: { shell_radius: p.shell_radius } }));
+    add(scattering.add(p, 'shell_rings', 1, 4, 1).name('shell rings'), 'shell_rings', () =>
+      settings({ scattering: { shell_rings: p.shell_rings } }));
+    add(scattering.add(p, 'shell_center_weight', 0, 1, 0.01).name('shell centre weight'),
+      'shell_center_weight', () => settings({ scattering: { shell_center_weight: p.shell_center_weight } }));
+    add(scattering.add(p, 'cone_angle', 0.1, 80, 0.1).name('cone angle °'), 'cone_angle', () =>
+      settings({ scattering: { cone_angle: p.cone_angle } }));
+    add(scattering.add(p, 'cone_center_weight', 0, 1, 0.01).name('cone centre weight'),
+      'cone_center_weight', () => settings({ scattering: { cone_center_weight: p.cone_center_weight } }));
+
+    const shading = folder.addFolder('Shading');
+    shading.close();
+    add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () => settings({ phong: p.phong }), false);
+    add(shading.add(p, 'diffuse', 0, 4, 0.01), 'diffuse', () => settings({ shading: { diffuse: p.diffuse } }));
+    add(shading.add(p, 'specular', 0, 4, 0.01), 'specular', () =>
+      settings({ shading: { specular: p.specular } }));
+    add(shading.add(p, 'shininess', 1, 1024, 1), 'shininess', () =>
+      settings({ shading: { shininess: p.shininess } }));
+    add(shading.addColor(p, 'background', 1), 'background', () =>
+      settings({ background: [p.background[0] ?? 0, p.background[1] ?? 0, p.background[2] ?? 0] }));
+
+    const output = folder.addFolder('Image');
+    add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
+      ({ output: { encoding: p.encoding as 'jpeg' } }), false).onChange(() => this.greyOut());
+    add(output.add(p, 'jpeg_quality', 1, 100, 1).name('JPEG quality'), 'jpeg_quality', () =>
+      ({ output: { jpeg_quality: p.jpeg_quality } }), false);
+    const scale = output.add(p, 'scale', 0.25, 2, 0.05).name('pixels per device px');
+    scale.domElement.dataset['control'] = 'scale';
+    scale.onFinishChange(() => this.scaleChanged(p.scale));
+    this.byKey.set('scale', scale);
+    this.greyOut();
+  }
+
+  /** The server's maxima from `hello`. */
+  setLimits(limits: Limits): void {
+    this.slices.max(limits.max_slices);
+    this.resolution.max(limits.max_light_resolution);
+  }
+
+  /** The modes this server offers. */
+  setModes(modes: string[]): void {
+    if (modes.length > 0) this.mode.options(modes);
+  }
+
+  /** Shows the session's state. */
+  update(state: State): void {
+    const p = this.params;
+    const s = state.settings;
+    p.mode = s.mode;
+    p.compositing = s.compositing;
+    p.stage = s.stage;
+    p.slices = s.light_buffer.slices;
+    p.resolution = s.light_buffer.resolution;
+    p.builder = s.light_buffer.builder;
+    p.compensation = s.light_buffer.compensation;
+    p.sample_distance = s.sample_distance;
+    p.opacity_unit_distance = s.opacity_unit_distance;
+    p.early_termination = s.early_termination;
+    p.frame_budget_ms = s.frame_budget_ms ?? 0;
+    this.budget.show(s.frame_budget_ms !== undefined);
+    p.phong = s.phong;
+    p.diffuse = s.shading.diffuse;
+    p.specular = s.shading.specular;
+    p.shininess = s.shading.shininess;
+    Object.assign(p, s.scattering);
+    p.background = [...s.background];
+    p.encoding = state.output.encoding;
+    p.jpeg_quality = state.output.jpeg_quality;
+    for (const c of this.controllers) c.updateDisplay();
+    this.greyOut();
+  }
+
+  private greyOut(): void {
+    const mode = this.params.mode as Mode;
+    const dim = (key: string, used: boolean): void => {
+      this.byKey.get(key)?.domElement.classList.toggle('unused', !used);
+    };
+    for (const key of ['resolution', 'builder', 'compensation']) dim(key, USES['light_buffer']!(mode));
+    dim('slices', USES['slices']!(mode));
+    for (const key of ['shell_radius', 'shell_rings', 'shell_center_weight']) dim(key, USES['shell']!(mode));
+    for (const key of ['cone_angle', 'cone_center_weight']) dim(key, USES['cone']!(mode));
+    dim('jpeg_quality', this.params.encoding === 'jpeg');
+  }
+
+  setEnabled(enabled: boolean): void {
+    for (const c of this.controllers) c.enable(enabled);
+  }
+}

@@ -1,0 +1,324 @@
+// The transfer-function editor's model: opacity and colour control points over normalised value
+// positions [0, 1], the presets, colour maps and the histogram curve. No DOM: the editor
+// (tf_editor.ts) draws it and turns pointer events into these operations; tests drive it directly.
+
+import type {
+  ColorPoint,
+  OpacityPoint,
+  Preset,
+  Rgb,
+  TransferFunctionPatch,
+  TransferFunctionPoints,
+} from '../protocol/messages';
+
+/** The server's presets (server/scene/src/transfer_function.cpp), so the editor can show them. */
+export const PRESET_POINTS: Record<Preset, { colors: ColorPoint[]; opacities: OpacityPoint[] }> = {
+  grey_ramp: {
+    colors: [
+      { x: 0, rgb: [0, 0, 0] },
+      { x: 1, rgb: [1, 1, 1] },
+    ],
+    opacities: [
+      { x: 0, alpha: 0 },
+      { x: 1, alpha: 1 },
+    ],
+  },
+  mri_skin: {
+    colors: [
+      { x: 0, rgb: [0.55, 0.35, 0.25] },
+      { x: 0.2, rgb: [0.93, 0.72, 0.6] },
+      { x: 0.5, rgb: [0.98, 0.86, 0.78] },
+      { x: 1, rgb: [1, 1, 1] },
+    ],
+    opacities: [
+      { x: 0, alpha: 0 },
+      { x: 0.12, alpha: 0 },
+      { x: 0.2, alpha: 0.6 },
+      { x: 1, alpha: 0.9 },
+    ],
+  },
+  mri_brain: {
+    colors: [
+      { x: 0, rgb: [0.2, 0.1, 0.1] },
+      { x: 0.35, rgb: [0.75, 0.45, 0.4] },
+      { x: 0.6, rgb: [0.95, 0.8, 0.7] },
+      { x: 1, rgb: [1, 1, 0.95] },
+    ],
+    opacities: [
+      { x: 0, alpha: 0 },
+      { x: 0.3, alpha: 0 },
+      { x: 0.45, alpha: 0.05 },
+      { x: 0.7, alpha: 0.35 },
+      { x: 1, alpha: 0.6 },
+    ],
+  },
+  ct_skin: {
+    colors: [
+      { x: 0, rgb: [0.6, 0.4, 0.3] },
+      { x: 0.13, rgb: [0.9, 0.7, 0.6] },
+      { x: 0.3, rgb: [1, 0.95, 0.9] },
+      { x: 1, rgb: [1, 1, 1] },
+    ],
+    opacities: [
+      { x: 0, alpha: 0 },
+      { x: 0.12, alpha: 0 },
+      { x: 0.15, alpha: 0.5 },
+      { x: 0.3, alpha: 0.7 },
+      { x: 1, alpha: 0.9 },
+    ],
+  },
+  ct_bone: {
+    colors: [
+      { x: 0, rgb: [0.5, 0.3, 0.2] },
+      { x: 0.3, rgb: [0.9, 0.8, 0.65] },
+      { x: 0.5, rgb: [1, 0.98, 0.92] },
+      { x: 1, rgb: [1, 1, 1] },
+    ],
+    opacities: [
+      { x: 0, alpha: 0 },
+      { x: 0.29, alpha: 0 },
+      { x: 0.33, alpha: 0.4 },
+      { x: 0.5, alpha: 0.85 },
+      { x: 1, alpha: 1 },
+    ],
+  },
+};
+
+/** Colour maps that replace only the colour points. */
+export const COLOR_MAPS: Record<string, ColorPoint[]> = {
+  grey: [
+    { x: 0, rgb: [0, 0, 0] },
+    { x: 1, rgb: [1, 1, 1] },
+  ],
+  skin: PRESET_POINTS.mri_skin.colors,
+  bone: PRESET_POINTS.ct_bone.colors,
+  hot: [
+    { x: 0, rgb: [0.05, 0, 0] },
+    { x: 0.35, rgb: [0.9, 0.1, 0] },
+    { x: 0.7, rgb: [1, 0.85, 0] },
+    { x: 1, rgb: [1, 1, 1] },
+  ],
+  cool_warm: [
+    { x: 0, rgb: [0.23, 0.3, 0.75] },
+    { x: 0.5, rgb: [0.87, 0.87, 0.87] },
+    { x: 1, rgb: [0.71, 0.02, 0.15] },
+  ],
+  viridis: [
+    { x: 0, rgb: [0.267, 0.005, 0.329] },
+    { x: 0.25, rgb: [0.229, 0.322, 0.546] },
+    { x: 0.5, rgb: [0.128, 0.567, 0.551] },
+    { x: 0.75, rgb: [0.369, 0.789, 0.383] },
+    { x: 1, rgb: [0.993, 0.906, 0.144] },
+  ],
+};
+
+export const MAX_POINTS = 256;
+
+function clamp(v: number, lo: number, hi: number): number {
+  return Math.min(hi, Math.max(lo, v));
+}
+
+function lerp(a: number, b: number, t: number): number {
+  return a + (b - a) * t;
+}
+
+/** Piecewise-linear value at x over points sorted by x; constant beyond the ends, as the server. */
+function interpolate<P extends { x: number }>(
+  points: readonly P[],
+  x: number,
+  get: (p: P) => number,
+  empty: number,
+): number {
+  const first = points[0];
+  const last = points[points.length - 1];
+  if (!first || !last) return empty;
+  if (x <= first.x) return get(first);
+  if (x >= last.x) return get(last);
+  for (let i = 1; i < points.length; ++i) {
+    const b = points[i]!;
+    const a = points[i - 1]!;
+    if (x <= b.x) {
+      const span = b.x - a.x;
+      return span > 0 ? lerp(get(a), get(b), (x - a.x) / span) : get(b);
+    }
+  }
+  return get(last);
+}
+
+export type Listener = () => void;
+
+/**
+ * Opacity and colour control points; every operation keeps positions within [0, 1] and
+ * non-decreasing (a moved point stays between its neighbours), and the values within [0, 1].
+ */
+export class TfModel {
+  name = 'custom';
+  colors: ColorPoint[] = [];
+  opacities: OpacityPoint[] = [];
+  private listeners: Listener[] = [];
+
+  constructor(points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }) {
+    if (points) this.load(points, false);
+  }
+
+  onChange(listener: Listener): void {
+    this.listeners.push(listener);
+  }
+
+  private changed(): void {
+    for (const l of this.listeners) l();
+  }
+
+  /** Replaces every point (from the server's state or a preset); sorted and clamped. */
+  load(points: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }, notify = true): void {
+    this.name = points.name ?? 'custom';
+    this.colors = points.colors
+      .map((p) => ({ x: clamp(p.x, 0, 1), rgb: p.rgb.map((c) => clamp(c, 0, 1)) as Rgb }))
+      .sort((a, b) => a.x - b.x)
+      .slice(0, MAX_POINTS);
+    this.opacities = points.opacities
+      .map((p) => ({ x: clamp(p.x, 0, 1), alpha: clamp(p.alpha, 0, 1) }))
+      .sort((a, b) => a.x - b.x)
+      .slice(0, MAX_POINTS);
+    if (notify) this.changed();
+  }
+
+  loadPreset(preset: Preset): void {
+    this.load({ name: preset, ...structuredClone(PRESET_POINTS[preset]) });
+  }
+
+  /** Replaces the colours by a colour map, keeping the opacities. */
+  applyColorMap(name: string): void {
+    const map = COLOR_MAPS[name];
+    if (!map) throw new Error(`unknown colour map "${name}"`);
+    this.colors = structuredClone(map);
+    this.name = 'custom';
+    this.changed();
+  }
+
+  /** Inserts an opacity point in order; returns its index, or -1 when the list is full. */
+  addOpacity(x: number, alpha: number): number {
+    if (this.opacities.length >= MAX_POINTS) return -1;
+    const point = { x: clamp(x, 0, 1), alpha: clamp(alpha, 0, 1) };
+    let i = this.opacities.findIndex((p) => p.x > point.x);
+    if (i < 0) i = this.opacities.length;
+    this.opacities.splice(i, 0, point);
+    this.name = 'custom';
+    this.changed();
+    return i;
+  }
+
+  /** Moves opacity point i, kept between its neighbours' positions. */
+  moveOpacity(i: number, x: number, alpha: number): void {
+    const p = this.opacities[i];
+    if (!p) return;
+    const lo = this.opacities[i - 1]?.x ?? 0;
+    const hi = this.opacities[i + 1]?.x ?? 1;
+    p.x = clamp(x, lo, hi);
+    p.alpha = clamp(alpha, 0, 1);
+    this.name = 'custom';
+    this.changed();
+  }
+
+  removeOpacity(i: number): void {
+    if (i < 0 || i >= this.opacities.length) return;
+    this.opacities.splice(i, 1);
+    this.name = 'custom';
+    this.changed();
+  }
+
+  addColor(x: number, rgb?: Rgb): number {
+    if (this.colors.length >= MAX_POINTS) return -1;
+    const at = clamp(x, 0, 1);
+    const point = { x: at, rgb: rgb ?? this.colorAt(at) };
+    let i = this.colors.findIndex((p) => p.x > at);
+    if (i < 0) i = this.colors.length;
+    this.colors.splice(i, 0, point);
+    this.name = 'custom';
+    this.changed();
+    return i;
+  }
+
+  moveColor(i: number, x: number): void {
+    const p = this.colors[i];
+    if (!p) return;
+    p.x = clamp(x, this.colors[i - 1]?.x ?? 0, this.colors[i + 1]?.x ?? 1);
+    this.name = 'custom';
+    this.changed();
+  }
+
+  setColor(i: number, rgb: Rgb): void {
+    const p = this.colors[i];
+    if (!p) return;
+    p.rgb = rgb.map((c) => clamp(c, 0, 1)) as Rgb;
+    this.name = 'custom';
+    this.changed();
+  }
+
+  removeColor(i: number): void {
+    if (i < 0 || i >= this.colors.length) return;
+    this.colors.splice(i, 1);
+    this.name = 'custom';
+    this.changed();
+  }
+
+  opacityAt(x: number): number {
+    return interpolate(this.opacities, x, (p) => p.alpha, 0);
+  }
+
+  colorAt(x: number): Rgb {
+    return [0, 1, 2].map((c) => interpolate(this.colors, x, (p) => p.rgb[c]!, 0)) as Rgb;
+  }
+
+  /**
+   * The index of the opacity point nearest to (x, alpha) within `radius` (in the same units,
+   * alpha scaled by `aspect` = height/width of the editor), or -1.
+   */
+  pickOpacity(x: number, alpha: number, radius: number, aspect = 1): number {
+    let best = -1;
+    let bestDistance = radius;
+    this.opacities.forEach((p, i) => {
+      const d = Math.hypot(p.x - x, (p.alpha - alpha) * aspect);
+      if (d <= bestDistance) {
+        best = i;
+        bestDistance = d;
+      }
+    });
+    return best;
+  }
+
+  pickColor(x: number, radius: number): number {
+    let best = -1;
+    let bestDistance = radius;
+    this.colors.forEach((p, i) => {
+      const d = Math.abs(p.x - x);
+      if (d <= bestDistance) {
+        best = i;
+        bestDistance = d;
+      }
+    });
+    return best;
+  }
+
+  /** What `set` sends: the whole transfer function as points. */
+  toProtocol(): TransferFunctionPatch & TransferFunctionPoints {
+    return {
+      name: this.name.slice(0, 64),
+      space: 'normalized',
+      colors: structuredClone(this.colors),
+      opacities: structuredClone(this.opacities),
+    };
+  }
+}
+
+/**
+ * The histogram as heights in [0, 1] for drawing: log(1 + count), normalised by the largest bin
+ * after skipping the `skip` largest outliers (usually the background bin dwarfs everything).
+ */
+export function histogramCurve(histogram: readonly number[], skip = 1): number[] {
+  if (histogram.length === 0) return [];
+  const logs = histogram.map((c) => Math.log1p(Math.max(0, c)));
+  const sorted = [...logs].sort((a, b) => b - a);
+  const top = sorted[Math.min(skip, sorted.length - 1)] ?? 0;
+  return logs.map((l) => (top > 0 ? Math.min(1, l / top) : 0));
+}

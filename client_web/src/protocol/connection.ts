@@ -1,0 +1,464 @@
+// The protocol in one object: the WebSocket, `hello`, requests matched to answers by id, frames,
+// server errors, and reconnect with session restore (re-open the volume and send the state back,
+// or re-join a shared session). No DOM: the socket comes from a factory so tests can pass a fake.
+
+import { parseFrame, type Frame } from './frame_header';
+import {
+  applyPatch,
+  encodeClientMessage,
+  parseServerMessage,
+  restorePatch,
+  type ClientMessage,
+  type ErrorMessage,
+  type HelloMessage,
+  type OpenedMessage,
+  type Preset,
+  type ServerMessage,
+  type State,
+  type StatePatch,
+  type StatsMessage,
+  type TransferFunctionPoints,
+  type VolumeSummary,
+} from './messages';
+
+/** The part of a browser WebSocket this client uses. */
+export interface SocketLike {
+  binaryType: string;
+  readonly readyState: number;
+  onopen: ((event: unknown) => void) | null;
+  onclose: ((event: { code: number; reason: string; wasClean?: boolean }) => void) | null;
+  onerror: ((event: unknown) => void) | null;
+  onmessage: ((event: { data: unknown }) => void) | null;
+  send(data: string): void;
+  close(code?: number, reason?: string): void;
+}
+
+export type SocketFactory = (url: string) => SocketLike;
+
+const OPEN = 1;
+
+export type ConnectionStatus =
+  | { kind: 'connecting'; attempt: number }
+  | { kind: 'connected'; hello: HelloMessage }
+  /** The connection was up and went away; retrying. */
+  | { kind: 'lost'; attempt: number; retryInMs: number; reason: string }
+  /** The server could not be reached (yet); retrying. */
+  | { kind: 'unreachable'; attempt: number; retryInMs: number; reason: string }
+  | { kind: 'closed' };
+
+/** An `error` from the server, with the request it answers when known. */
+export class ServerError extends Error {
+  readonly code: string;
+  readonly field: string;
+  readonly id: number | undefined;
+  readonly requestType: string | undefined;
+
+  constructor(message: ErrorMessage, requestType?: string) {
+    super(message.message);
+    this.name = 'ServerError';
+    this.code = message.code;
+    this.field = message.field;
+    this.id = message.id;
+    this.requestType = requestType;
+  }
+
+  /** "out_of_range at /settings/size/0: must be within 1..2048" */
+  describe(): string {
+    const where = this.field && this.field !== '/' ? ` at ${this.field}` : '';
+    const what = this.requestType ? ` (${this.requestType})` : '';
+    return `${this.code}${where}${what}: ${this.message}`;
+  }
+}
+
+/** A request that got no answer: the connection went away or it timed out. */
+export class RequestFailed extends Error {
+  constructor(message: string) {
+    super(message);
+    this.name = 'RequestFailed';
+  }
+}
+
+export type Role = 'none' | 'owner' | 'viewer';
+
+export interface SessionInfo {
+  role: Role;
+  session: string;
+  volume: VolumeSummary;
+  histogram: number[];
+  state: State;
+}
+
+export interface ConnectionEvents {
+  status: (status: ConnectionStatus) => void;
+  /** `opened`/`joined`, also after a reconnect (`restored` true). */
+  session: (info: SessionInfo, restored: boolean) => void;
+  frame: (frame: Frame) => void;
+  /** An error not answered to a pending request: a failed render, or one without id. */
+  serverError: (error: ServerError) => void;
+  /** Something the server sent that this client cannot read, or a failed restore. */
+  problem: (message: string) => void;
+  /** A render request was sent (id, interactive). */
+  renderSent: (id: number, interactive: boolean) => void;
+}
+
+export interface ConnectionOptions {
+  createSocket?: SocketFactory;
+  /** Waits before reconnect attempts 1, 2, ...; the last repeats. */
+  reconnectDelaysMs?: number[];
+  requestTimeoutMs?: number;
+  setTimer?: (callback: () => void, ms: number) => unknown;
+  clearTimer?: (handle: unknown) => void;
+  /** The client's copy of the server's presets, to keep the state mirror exact. */
+  presetPoints?: (preset: Preset) => TransferFunctionPoints | undefined;
+}
+
+interface Pending {
+  type: string;
+  resolve: (message: ServerMessage) => void;
+  reject: (error: Error) => void;
+  timer: unknown;
+}
+
+type Listeners = { [K in keyof ConnectionEvents]: ConnectionEvents[K][] };
+
+type Outgoing = ClientMessage extends infer M ? (M extends { id?: number } ? Omit<M, 'v' | 'id'> : never) : never;
+
+export class Connection {
+  private socket: SocketLike | null = null;
+  private nextId = 1;
+  private pending = new Map<number, Pending>();
+  private renderIds = new Set<number>();
+  private listeners: Listeners = {
+    status: [],
+    session: [],
+    frame: [],
+    serverError: [],
+    problem: [],
+    renderSent: [],
+  };
+  private attempt = 0;
+  private everConnected = false;
+  private reconnectTimer: unknown = null;
+  private stopped = false;
+  private readonly options: Required<Omit<ConnectionOptions, 'presetPoints'>> &
+    Pick<ConnectionOptions, 'presetPoints'>;
+
+  hello: HelloMessage | null = null;
+  /** True while a reconnect re-opens or re-joins the session (nothing else should be sent). */
+  restoring = false;
+  status: ConnectionStatus = { kind: 'closed' };
+  session: SessionInfo | null = null;
+  /** What to restore after a reconnect; kept while the connection is down. */
+  private wanted: { role: 'owner'; volume: string } | { role: 'viewer'; session: string } | null =
+    null;
+
+  constructor(
+    readonly url: string,
+    options: ConnectionOptions = {},
+  ) {
+    this.options = {
+      createSocket:
+        options.createSocket ?? ((u: string) => new WebSocket(u) as unknown as SocketLike),
+      reconnectDelaysMs: options.reconnectDelaysMs ?? [500, 1000, 2000, 4000, 8000],
+      requestTimeoutMs: options.requestTimeoutMs ?? 30000,
+      setTimer: options.setTimer ?? ((cb, ms) => setTimeout(cb, ms)),
+      clearTimer: options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>)),
+      presetPoints: options.presetPoints,
+    };
+  }
+
+  on<K extends keyof ConnectionEvents>(event: K, listener: ConnectionEvents[K]): void {
+    this.listeners[event].push(listener);
+  }
+
+  private emit<K extends keyof ConnectionEvents>(
+    event: K,
+    ...args: Parameters<ConnectionEvents[K]>
+  ): void {
+    for (const l of this.listeners[event]) {
+      (l as (...a: Parameters<ConnectionEvents[K]>) => void)(...args);
+    }
+  }
+
+  private setStatus(status: ConnectionStatus): void {
+    this.status = status;
+    this.emit('status', status);
+  }
+
+  get connected(): boolean {
+    return this.status.kind === 'connected';
+  }
+
+  /** Opens the WebSocket; reconnects by itself until close(). */
+  connect(): void {
+    this.stopped = false;
+    this.openSocket();
+  }
+
+  private openSocket(): void {
+    this.reconnectTimer = null;
+    this.attempt += 1;
+    this.setStatus({ kind: 'connecting', attempt: this.attempt });
+    let socket: SocketLike;
+    try {
+      socket = this.options.createSocket(this.url);
+    } catch (e) {
+      this.scheduleReconnect(`cannot open ${this.url}: ${String(e)}`);
+      return;
+    }
+    socket.binaryType = 'arraybuffer';
+    this.socket = socket;
+    let gotHello = false;
+    socket.onmessage = (event) => {
+      if (this.socket !== socket) return;
+      if (typeof event.data === 'string') {
+        let message: ServerMessage;
+        try {
+          message = parseServerMessage(event.data);
+        } catch (e) {
+          this.emit('problem', `unreadable message from the server: ${String(e)}`);
+          return;
+        }
+        if (message.type === 'hello') {
+          gotHello = true;
+          this.onHello(message);
+        } else {
+          this.onMessage(message);
+        }
+      } else if (event.data instanceof ArrayBuffer) {
+        let frame: Frame;
+        try {
+          frame = parseFrame(event.data);
+        } catch (e) {
+          this.emit('problem', `unreadable frame: ${String(e)}`);
+          return;
+        }
+        this.renderIds.forEach((id) => {
+          if (id <= frame.header.request) this.renderIds.delete(id);
+        });
+        this.emit('frame', frame);
+      }
+    };
+    socket.onerror = () => {
+      // The close event that follows says what happened.
+    };
+    socket.onclose = (event) => {
+      if (this.socket !== socket) return;
+      this.socket = null;
+      this.failPending('the connection was lost');
+      if (this.stopped) {
+        this.setStatus({ kind: 'closed' });
+        return;
+      }
+      const reason = event.reason || `WebSocket closed (code ${event.code})`;
+      this.scheduleReconnect(reason, gotHello);
+    };
+  }
+
+  private scheduleReconnect(reason: string, wasUp = false): void {
+    const delays = this.options.reconnectDelaysMs;
+    const retryInMs = delays[Math.max(0, Math.min(this.attempt - 1, delays.length - 1))] ?? 1000;
+    this.setStatus({
+      kind: wasUp || this.everConnected ? 'lost' : 'unreachable',
+      attempt: this.attempt,
+      retryInMs,
+      reason,
+    });
+    this.reconnectTimer = this.options.setTimer(() => this.openSocket(), retryInMs);
+  }
+
+  /** Reconnects now instead of waiting for the next attempt. */
+  retryNow(): void {
+    if (this.reconnectTimer !== null) {
+      this.options.clearTimer(this.reconnectTimer);
+      this.openSocket();
+    }
+  }
+
+  /** Closes for good (no reconnect). */
+  close(): void {
+    this.stopped = true;
+    if (this.reconnectTimer !== null) {
+      this.options.clearTimer(this.reconnectTimer);
+      this.reconnectTimer = null;
+    }
+    if (this.socket) {
+      this.socket.close(1000, 'client closed');
+    } else {
+      this.setStatus({ kind: 'closed' });
+    }
+  }
+
+  /** Drops the socket as if the network failed (tests, and the "reconnect" button). */
+  dropForTesting(): void {
+    this.socket?.close(4000, 'dropped by the client');
+  }
+
+  private onHello(hello: HelloMessage): void {
+    const restoring = this.everConnected && this.wanted !== null;
+    this.hello = hello;
+    this.attempt = 0;
+    this.everConnected = true;
+    this.setStatus({ kind: 'connected', hello });
+    if (restoring) {
+      void this.restore();
+    }
+  }
+
+  private async restore(): Promise<void> {
+    const wanted = this.wanted;
+    const previous = this.session;
+    if (!wanted) return;
+    this.restoring = true;
+    try {
+      if (wanted.role === 'owner') {
+        const opened = await this.request<OpenedMessage>({ type: 'open', volume: wanted.volume });
+        const info = this.sessionFrom(opened, 'owner');
+        if (previous) {
+          // Send the whole state back; the mirror then equals what the server has.
+          await this.request({ type: 'set', ...restorePatch(previous.state) });
+          info.state = structuredClone(previous.state);
+        }
+        this.session = info;
+        this.restoring = false;
+        this.emit('session', info, true);
+      } else {
+        const joined = await this.request<OpenedMessage>({ type: 'join', session: wanted.session });
+        this.session = this.sessionFrom(joined, 'viewer');
+        this.restoring = false;
+        this.emit('session', this.session, true);
+      }
+    } catch (e) {
+      const text = e instanceof ServerError ? e.describe() : String(e);
+      this.emit('problem', `could not restore the session after reconnecting: ${text}`);
+    } finally {
+      this.restoring = false;
+    }
+  }
+
+  private onMessage(message: ServerMessage): void {
+    const id = 'id' in message ? message.id : undefined;
+    const pending = id !== undefined ? this.pending.get(id) : undefined;
+    if (pending && id !== undefined) {
+      this.pending.delete(id);
+      this.options.clearTimer(pending.timer);
+      if (message.type === 'error') {
+        pending.reject(new ServerError(message, pending.type));
+      } else {
+        pending.resolve(message);
+      }
+      return;
+    }
+    if (message.type === 'error') {
+      const wasRender = id !== undefined && this.renderIds.delete(id);
+      this.emit('serverError', new ServerError(message, wasRender ? 'render' : undefined));
+      return;
+    }
+    this.emit('problem', `unexpected ${message.type} from the server`);
+  }
+
+  private failPending(reason: string): void {
+    const pending = [...this.pending.values()];
+    this.pending.clear();
+    this.renderIds.clear();
+    for (const p of pending) {
+      this.options.clearTimer(p.timer);
+      p.reject(new RequestFailed(`${p.type}: ${reason}`));
+    }
+  }
+
+  private sendMessage(message: Outgoing): number {
+    if (!this.socket || this.socket.readyState !== OPEN || !this.connected) {
+      throw new RequestFailed(`${message.type}: not connected`);
+    }
+    const id = this.nextId++;
+    this.socket.send(encodeClientMessage({ v: 1, id, ...message } as ClientMessage));
+    return id;
+  }
+
+  /** Sends a request and resolves with its answer; rejects with ServerError or RequestFailed. */
+  request<T extends ServerMessage = ServerMessage>(message: Outgoing): Promise<T> {
+    return new Promise<T>((resolve, reject) => {
+      let id: number;
+      try {
+        id = this.sendMessage(message);
+      } catch (e) {
+        reject(e as Error);
+        return;
+      }
+      const timer = this.options.setTimer(() => {
+        if (this.pending.delete(id)) {
+          reject(new RequestFailed(`${message.type}: no answer in ${this.options.requestTimeoutMs} ms`));
+        }
+      }, this.options.requestTimeoutMs);
+      this.pending.set(id, {
+        type: message.type,
+        resolve: resolve as (m: ServerMessage) => void,
+        reject,
+        timer,
+      });
+    });
+  }
+
+  private sessionFrom(message: OpenedMessage, role: 'owner' | 'viewer'): SessionInfo {
+    return {
+      role,
+      session: message.session,
+      volume: message.volume,
+      histogram: message.histogram,
+      state: message.state,
+    };
+  }
+
+  async listVolumes(): Promise<VolumeSummary[]> {
+    const answer = await this.request<ServerMessage>({ type: 'list_volumes' });
+    if (answer.type !== 'volumes') throw new RequestFailed(`list_volumes answered by ${answer.type}`);
+    return answer.volumes;
+  }
+
+  /** Opens a volume in a new session this connection owns. */
+  async open(volume: string): Promise<SessionInfo> {
+    const answer = await this.request<OpenedMessage>({ type: 'open', volume });
+    this.wanted = { role: 'owner', volume };
+    this.session = this.sessionFrom(answer, 'owner');
+    this.emit('session', this.session, false);
+    return this.session;
+  }
+
+  /** Joins another connection's session as a viewer. */
+  async join(session: string): Promise<SessionInfo> {
+    const answer = await this.request<OpenedMessage>({ type: 'join', session });
+    this.wanted = { role: 'viewer', session };
+    this.session = this.sessionFrom(answer, 'viewer');
+    this.emit('session', this.session, false);
+    return this.session;
+  }
+
+  /** Patches the session's state (owner only); the mirror follows once the server acknowledges. */
+  async set(patch: StatePatch): Promise<void> {
+    await this.request({ type: 'set', ...patch });
+    if (this.session) {
+      this.session.state = applyPatch(this.session.state, patch, this.options.presetPoints);
+    }
+  }
+
+  /** Asks for a frame; it arrives through the `frame` event. Returns the request id. */
+  render(interactive: boolean): number {
+    const id = this.sendMessage({ type: 'render', interactive });
+    this.renderIds.add(id);
+    this.emit('renderSent', id, interactive);
+    return id;
+  }
+
+  async stats(): Promise<Record<string, unknown>> {
+    const answer = await this.request<StatsMessage>({ type: 'stats' });
+    return answer.stats;
+  }
+
+  /** Leaves the session (the connection stays open). */
+  async leave(): Promise<void> {
+    this.wanted = null;
+    await this.request({ type: 'close' });
+    this.session = null;
+  }
+}

@@ -1,0 +1,874 @@
+// Types for the Penumbra WebSocket protocol v1 (proto/README.md, proto/v1/*.schema.json) and the
+// checks a client needs: server messages are checked for the members this client reads (unknown
+// members are ignored, as §3 asks), client messages are checked as strictly as the server does, so
+// the tests can hold them against proto/examples/v1. No DOM here.
+
+export const PROTOCOL_VERSION = 1;
+
+export type Vec3 = [number, number, number];
+export type Rgb = [number, number, number];
+
+export const MODES = [
+  'dvr',
+  'phong',
+  'half_angle',
+  'sbrc',
+  'sbrc_shell',
+  'sbrc_cone',
+  'reference',
+] as const;
+export type Mode = (typeof MODES)[number];
+export const ENCODINGS = ['jpeg', 'png'] as const;
+export type Encoding = (typeof ENCODINGS)[number];
+export const PRESETS = ['grey_ramp', 'mri_skin', 'mri_brain', 'ct_skin', 'ct_bone'] as const;
+export type Preset = (typeof PRESETS)[number];
+export const COMPOSITINGS = ['alpha', 'extinction'] as const;
+export type Compositing = (typeof COMPOSITINGS)[number];
+export const STAGES = ['compute', 'fragment'] as const;
+export type Stage = (typeof STAGES)[number];
+export const BUILDERS = ['per_slice', 'multi_slice'] as const;
+export type Builder = (typeof BUILDERS)[number];
+export const LIGHT_TYPES = ['directional', 'point'] as const;
+export type LightType = (typeof LIGHT_TYPES)[number];
+
+export interface Camera {
+  eye: Vec3;
+  target: Vec3;
+  up: Vec3;
+  fov: number;
+}
+
+export interface Orbit {
+  azimuth?: number;
+  elevation?: number;
+  distance?: number;
+}
+
+export interface CameraPatch {
+  eye?: Vec3;
+  target?: Vec3;
+  up?: Vec3;
+  fov?: number;
+  orbit?: Orbit;
+}
+
+export interface Light {
+  type: LightType;
+  direction: Vec3;
+  position: Vec3;
+  color: Rgb;
+  intensity: number;
+  ambient: number;
+}
+
+export interface ColorPoint {
+  x: number;
+  rgb: Rgb;
+}
+
+export interface OpacityPoint {
+  x: number;
+  alpha: number;
+}
+
+export interface TransferFunctionPoints {
+  name: string;
+  space: 'normalized';
+  colors: ColorPoint[];
+  opacities: OpacityPoint[];
+}
+
+export type TransferFunctionPatch =
+  | { preset: Preset }
+  | {
+      name?: string;
+      space?: 'normalized';
+      colors?: ColorPoint[];
+      opacities?: OpacityPoint[];
+    };
+
+export interface Shading {
+  diffuse: number;
+  specular: number;
+  shininess: number;
+}
+
+export interface LightBufferSettings {
+  slices: number;
+  resolution: number;
+  builder: Builder;
+  compensation: number;
+}
+
+export interface Scattering {
+  shell_radius: number;
+  shell_rings: number;
+  shell_center_weight: number;
+  cone_angle: number;
+  cone_center_weight: number;
+}
+
+export interface Settings {
+  mode: Mode;
+  compositing: Compositing;
+  stage: Stage;
+  size: [number, number];
+  sample_distance: number;
+  opacity_unit_distance: number;
+  early_termination: number;
+  background: Rgb;
+  phong: boolean;
+  shading: Shading;
+  light_buffer: LightBufferSettings;
+  scattering: Scattering;
+  /** > 0: the server picks mode and quality so a frame fits this many ms; 0: as set. Newer servers. */
+  frame_budget_ms?: number;
+}
+
+export interface Output {
+  encoding: Encoding;
+  jpeg_quality: number;
+}
+
+/** A session's full state as `opened`/`joined` report it; sending it back restores it. */
+export interface State {
+  camera: Camera;
+  light: Light;
+  transfer_function: TransferFunctionPoints;
+  settings: Settings;
+  output: Output;
+}
+
+type DeepPartial<T> = {
+  [K in keyof T]?: T[K] extends unknown[] ? T[K] : T[K] extends object ? DeepPartial<T[K]> : T[K];
+};
+
+/** The members of a `set`: every part and member optional; the transfer function replaces. */
+export interface StatePatch {
+  camera?: CameraPatch;
+  light?: Partial<Light>;
+  transfer_function?: TransferFunctionPatch;
+  settings?: DeepPartial<Settings>;
+  output?: Partial<Output>;
+}
+
+export interface VolumeSummary {
+  id: string;
+  name: string;
+  dims: [number, number, number];
+  spacing: Vec3;
+  voxel_type: 'uint8' | 'uint16' | 'float32' | '';
+  range: [number, number];
+  loaded: boolean;
+}
+
+export interface Limits {
+  max_message_bytes: number;
+  max_image_side: number;
+  max_slices: number;
+  max_light_resolution: number;
+  max_sessions: number;
+  max_requests_per_second: number;
+  max_send_queue: number;
+}
+
+export const DEFAULT_LIMITS: Limits = {
+  max_message_bytes: 65536,
+  max_image_side: 2048,
+  max_slices: 1024,
+  max_light_resolution: 1024,
+  max_sessions: 64,
+  max_requests_per_second: 120,
+  max_send_queue: 4,
+};
+
+export const ERROR_CODES = [
+  'malformed_json',
+  'invalid_message',
+  'unknown_type',
+  'unknown_field',
+  'unsupported_version',
+  'invalid_value',
+  'out_of_range',
+  'message_too_large',
+  'rate_limited',
+  'unknown_volume',
+  'volume_unreadable',
+  'unknown_session',
+  'no_session',
+  'too_many_sessions',
+  'render_failed',
+  'internal_error',
+] as const;
+export type ErrorCode = (typeof ERROR_CODES)[number];
+
+// ---- server to client ---------------------------------------------------------------------------
+
+export interface HelloMessage {
+  v: 1;
+  type: 'hello';
+  server: string;
+  modes: Mode[];
+  encodings: Encoding[];
+  renderer: { renderer: string; version: string; platform: string };
+  limits: Limits;
+}
+
+export interface VolumesMessage {
+  v: 1;
+  type: 'volumes';
+  id?: number;
+  volumes: VolumeSummary[];
+}
+
+export interface OpenedMessage {
+  v: 1;
+  type: 'opened' | 'joined';
+  id?: number;
+  session: string;
+  volume: VolumeSummary;
+  histogram: number[];
+  state: State;
+}
+
+export interface AckMessage {
+  v: 1;
+  type: 'ack';
+  id?: number;
+  of: string;
+}
+
+export interface StatsMessage {
+  v: 1;
+  type: 'stats';
+  id?: number;
+  stats: Record<string, unknown>;
+}
+
+export interface ErrorMessage {
+  v: 1;
+  type: 'error';
+  id?: number;
+  code: ErrorCode | string;
+  message: string;
+  field: string;
+}
+
+export type ServerMessage =
+  | HelloMessage
+  | VolumesMessage
+  | OpenedMessage
+  | AckMessage
+  | StatsMessage
+  | ErrorMessage;
+
+// ---- client to server ---------------------------------------------------------------------------
+
+export type ClientMessage =
+  | { v: 1; type: 'list_volumes'; id?: number }
+  | { v: 1; type: 'open'; id?: number; volume: string }
+  | { v: 1; type: 'join'; id?: number; session: string }
+  | ({ v: 1; type: 'set'; id?: number } & StatePatch)
+  | { v: 1; type: 'render'; id?: number; interactive?: boolean }
+  | { v: 1; type: 'stats'; id?: number }
+  | { v: 1; type: 'close'; id?: number };
+
+export type ClientMessageType = ClientMessage['type'];
+
+/** Thrown when a server message does not have the shape protocol v1 promises. */
+export class ProtocolError extends Error {
+  constructor(
+    message: string,
+    readonly field: string,
+  ) {
+    super(`${message} (at ${field || '/'})`);
+    this.name = 'ProtocolError';
+  }
+}
+
+// ---- small checkers -----------------------------------------------------------------------------
+
+type Json = null | boolean | number | string | Json[] | { [key: string]: Json };
+
+function isObject(value: unknown): value is Record<string, unknown> {
+  return typeof value === 'object' && value !== null && !Array.isArray(value);
+}
+
+function need<T>(ok: boolean, value: T, what: string, field: string): T {
+  if (!ok) {
+    throw new ProtocolError(`expected ${what}`, field);
+  }
+  return value;
+}
+
+function str(o: Record<string, unknown>, key: string, at: string): string {
+  const v = o[key];
+  return need(typeof v === 'string', v as string, 'a string', `${at}/${key}`);
+}
+
+function num(o: Record<string, unknown>, key: string, at: string): number {
+  const v = o[key];
+  return need(typeof v === 'number' && Number.isFinite(v), v as number, 'a number', `${at}/${key}`);
+}
+
+function bool(o: Record<string, unknown>, key: string, at: string): boolean {
+  const v = o[key];
+  return need(typeof v === 'boolean', v as boolean, 'a boolean', `${at}/${key}`);
+}
+
+function obj(o: Record<string, unknown>, key: string, at: string): Record<string, unknown> {
+  const v = o[key];
+  return need(isObject(v), v as Record<string, unknown>, 'an object', `${at}/${key}`);
+}
+
+function numbers(o: Record<string, unknown>, key: string, at: string, length?: number): number[] {
+  const v = o[key];
+  const ok =
+    Array.isArray(v) &&
+    (length === undefined || v.length === length) &&
+    v.every((x) => typeof x === 'number' && Number.isFinite(x));
+  return need(ok, v as number[], length ? `${length} numbers` : 'numbers', `${at}/${key}`);
+}
+
+function optionalId(o: Record<string, unknown>): number | undefined {
+  if (o['id'] === undefined) {
+    return undefined;
+  }
+  return need(Number.isInteger(o['id']), o['id'] as number, 'an integer', '/id');
+}
+
+function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
+  const o = need(isObject(v), v as Record<string, unknown>, 'a volume summary', at);
+  str(o, 'id', at);
+  str(o, 'name', at);
+  numbers(o, 'dims', at, 3);
+  numbers(o, 'spacing', at, 3);
+  str(o, 'voxel_type', at);
+  numbers(o, 'range', at, 2);
+  bool(o, 'loaded', at);
+  return o as unknown as VolumeSummary;
+}
+
+function checkState(v: unknown, at: string): State {
+  const o = need(isObject(v), v as Record<string, unknown>, 'a state', at);
+  const camera = obj(o, 'camera', at);
+  for (const key of ['eye', 'target', 'up']) {
+    numbers(camera, key, `${at}/camera`, 3);
+  }
+  num(camera, 'fov', `${at}/camera`);
+  const light = obj(o, 'light', at);
+  str(light, 'type', `${at}/light`);
+  numbers(light, 'direction', `${at}/light`, 3);
+  numbers(light, 'position', `${at}/light`, 3);
+  numbers(light, 'color', `${at}/light`, 3);
+  num(light, 'intensity', `${at}/light`);
+  num(light, 'ambient', `${at}/light`);
+  const tf = obj(o, 'transfer_function', at);
+  const tfAt = `${at}/transfer_function`;
+  need(Array.isArray(tf['colors']), null, 'an array', `${tfAt}/colors`);
+  need(Array.isArray(tf['opacities']), null, 'an array', `${tfAt}/opacities`);
+  (tf['colors'] as unknown[]).forEach((p, i) => {
+    const point = need(isObject(p), p as Record<string, unknown>, 'a point', `${tfAt}/colors/${i}`);
+    num(point, 'x', `${tfAt}/colors/${i}`);
+    numbers(point, 'rgb', `${tfAt}/colors/${i}`, 3);
+  });
+  (tf['opacities'] as unknown[]).forEach((p, i) => {
+    const point = need(isObject(p), p as Record<string, unknown>, 'a point', `${tfAt}/opacities/${i}`);
+    num(point, 'x', `${tfAt}/opacities/${i}`);
+    num(point, 'alpha', `${tfAt}/opacities/${i}`);
+  });
+  const settings = obj(o, 'settings', at);
+  const sAt = `${at}/settings`;
+  str(settings, 'mode', sAt);
+  str(settings, 'compositing', sAt);
+  str(settings, 'stage', sAt);
+  numbers(settings, 'size', sAt, 2);
+  for (const key of ['sample_distance', 'opacity_unit_distance', 'early_termination']) {
+    num(settings, key, sAt);
+  }
+  numbers(settings, 'background', sAt, 3);
+  bool(settings, 'phong', sAt);
+  const shading = obj(settings, 'shading', sAt);
+  for (const key of ['diffuse', 'specular', 'shininess']) {
+    num(shading, key, `${sAt}/shading`);
+  }
+  const lb = obj(settings, 'light_buffer', sAt);
+  num(lb, 'slices', `${sAt}/light_buffer`);
+  num(lb, 'resolution', `${sAt}/light_buffer`);
+  str(lb, 'builder', `${sAt}/light_buffer`);
+  num(lb, 'compensation', `${sAt}/light_buffer`);
+  const sc = obj(settings, 'scattering', sAt);
+  for (const key of [
+    'shell_radius',
+    'shell_rings',
+    'shell_center_weight',
+    'cone_angle',
+    'cone_center_weight',
+  ]) {
+    num(sc, key, `${sAt}/scattering`);
+  }
+  const output = obj(o, 'output', at);
+  str(output, 'encoding', `${at}/output`);
+  num(output, 'jpeg_quality', `${at}/output`);
+  return o as unknown as State;
+}
+
+/**
+ * Parses one text message from the server. Throws ProtocolError when it is not JSON, not v1, or
+ * lacks a member this client reads; members it does not know are kept and ignored.
+ */
+export function parseServerMessage(text: string): ServerMessage {
+  let value: unknown;
+  try {
+    value = JSON.parse(text);
+  } catch {
+    throw new ProtocolError('not JSON', '/');
+  }
+  const o = need(isObject(value), value as Record<string, unknown>, 'a JSON object', '/');
+  need(o['v'] === PROTOCOL_VERSION, null, 'v: 1', '/v');
+  const type = str(o, 'type', '');
+  optionalId(o);
+  switch (type) {
+    case 'hello': {
+      str(o, 'server', '');
+      need(Array.isArray(o['modes']), null, 'an array of modes', '/modes');
+      need(Array.isArray(o['encodings']), null, 'an array of encodings', '/encodings');
+      const renderer = obj(o, 'renderer', '');
+      for (const key of ['renderer', 'version', 'platform']) {
+        str(renderer, key, '/renderer');
+      }
+      const limits = obj(o, 'limits', '');
+      for (const key of Object.keys(DEFAULT_LIMITS)) {
+        num(limits, key, '/limits');
+      }
+      return o as unknown as HelloMessage;
+    }
+    case 'volumes': {
+      need(Array.isArray(o['volumes']), null, 'an array', '/volumes');
+      (o['volumes'] as unknown[]).forEach((v, i) => checkVolumeSummary(v, `/volumes/${i}`));
+      return o as unknown as VolumesMessage;
+    }
+    case 'opened':
+    case 'joined': {
+      str(o, 'session', '');
+      checkVolumeSummary(o['volume'], '/volume');
+      numbers(o, 'histogram', '');
+      checkState(o['state'], '/state');
+      return o as unknown as OpenedMessage;
+    }
+    case 'ack':
+      str(o, 'of', '');
+      return o as unknown as AckMessage;
+    case 'stats':
+      obj(o, 'stats', '');
+      return o as unknown as StatsMessage;
+    case 'error':
+      str(o, 'code', '');
+      str(o, 'message', '');
+      str(o, 'field', '');
+      return o as unknown as ErrorMessage;
+    default:
+      throw new ProtocolError(`unknown message type "${type}"`, '/type');
+  }
+}
+
+/** The text of a client message. */
+export function encodeClientMessage(message: ClientMessage): string {
+  return JSON.stringify(message);
+}
+
+// ---- client message checks (as the server does them, at the default limits) --------------------
+
+/** A problem the server would report: its error code and JSON pointer. */
+export interface Problem {
+  code: ErrorCode;
+  field: string;
+  message: string;
+}
+
+class Reject extends Error {
+  constructor(readonly problem: Problem) {
+    super(problem.message);
+  }
+}
+
+function reject(code: ErrorCode, field: string, message: string): never {
+  throw new Reject({ code, field, message });
+}
+
+interface Spec {
+  [member: string]: (value: Json, at: string) => void;
+}
+
+function members(
+  value: Json,
+  at: string,
+  spec: Spec,
+  required: string[] = [],
+  missing: ErrorCode = 'invalid_message',
+): void {
+  if (!isObject(value)) {
+    reject('invalid_value', at, 'expected an object');
+  }
+  const o = value as Record<string, Json>;
+  for (const key of Object.keys(o)) {
+    if (!(key in spec)) {
+      reject('unknown_field', `${at}/${key}`, `unknown member "${key}"`);
+    }
+  }
+  for (const key of required) {
+    if (!(key in o)) {
+      reject(missing, `${at}/${key}`, `missing "${key}"`);
+    }
+  }
+  for (const [key, check] of Object.entries(spec)) {
+    if (key in o) {
+      check(o[key] as Json, `${at}/${key}`);
+    }
+  }
+}
+
+const number =
+  (min: number, max: number) =>
+  (value: Json, at: string): void => {
+    if (typeof value !== 'number') {
+      reject('invalid_value', at, 'expected a number');
+    }
+    if (value < min || value > max) {
+      reject('out_of_range', at, `must be within [${min}, ${max}]`);
+    }
+  };
+
+const integer =
+  (min: number, max: number) =>
+  (value: Json, at: string): void => {
+    if (typeof value !== 'number' || !Number.isInteger(value)) {
+      reject('invalid_value', at, 'expected an integer');
+    }
+    number(min, max)(value, at);
+  };
+
+const oneOf =
+  (values: readonly string[]) =>
+  (value: Json, at: string): void => {
+    if (typeof value !== 'string' || !values.includes(value)) {
+      reject('invalid_value', at, `expected one of ${values.join(', ')}`);
+    }
+  };
+
+const boolean = (value: Json, at: string): void => {
+  if (typeof value !== 'boolean') {
+    reject('invalid_value', at, 'expected a boolean');
+  }
+};
+
+const string =
+  (maxBytes: number) =>
+  (value: Json, at: string): void => {
+    if (typeof value !== 'string') {
+      reject('invalid_value', at, 'expected a string');
+    }
+    if (new TextEncoder().encode(value).length > maxBytes) {
+      reject('out_of_range', at, `longer than ${maxBytes} bytes`);
+    }
+  };
+
+const vector =
+  (n: number, item: (value: Json, at: string) => void) =>
+  (value: Json, at: string): void => {
+    if (!Array.isArray(value) || value.length !== n) {
+      reject('invalid_value', at, `expected ${n} values`);
+    }
+    value.forEach((v, i) => item(v, `${at}/${i}`));
+  };
+
+const coords = vector(3, number(-1000, 1000));
+const rgb = vector(3, number(0, 1));
+
+function points(item: Spec, required: string[], valueKey: string) {
+  return (value: Json, at: string): void => {
+    if (!Array.isArray(value)) {
+      reject('invalid_value', at, 'expected an array');
+    }
+    if (value.length > 256) {
+      reject('out_of_range', at, 'more than 256 points');
+    }
+    value.forEach((p, i) => members(p, `${at}/${i}`, item, required, 'invalid_value'));
+    for (let i = 1; i < value.length; ++i) {
+      const x = (value[i] as { x: number }).x;
+      if (x < (value[i - 1] as { x: number }).x) {
+        reject('invalid_value', `${at}/${i}`, `positions must not decrease (${valueKey})`);
+      }
+    }
+  };
+}
+
+const cameraSpec: Spec = {
+  eye: coords,
+  target: coords,
+  up: coords,
+  fov: number(1, 170),
+  orbit: (value, at) =>
+    members(value, at, {
+      azimuth: number(-36000, 36000),
+      elevation: number(-90, 90),
+      distance: number(0.01, 100),
+    }),
+};
+
+const lightSpec: Spec = {
+  type: oneOf(LIGHT_TYPES),
+  direction: coords,
+  position: coords,
+  color: rgb,
+  intensity: number(0, 100),
+  ambient: number(0, 1),
+};
+
+function checkTransferFunction(value: Json, at: string): void {
+  if (isObject(value) && 'preset' in value) {
+    members(value, at, { preset: oneOf(PRESETS) });
+    return;
+  }
+  members(value, at, {
+    name: string(64),
+    space: (v, a) => oneOf(['normalized'])(v, a),
+    colors: points({ x: number(0, 1), rgb }, ['x', 'rgb'], 'colors'),
+    opacities: points({ x: number(0, 1), alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
+  });
+}
+
+function settingsSpec(limits: Limits): Spec {
+  return {
+    mode: oneOf(MODES),
+    compositing: oneOf(COMPOSITINGS),
+    stage: oneOf(STAGES),
+    size: vector(2, integer(1, limits.max_image_side)),
+    sample_distance: number(1 / 4096, 0.5),
+    opacity_unit_distance: number(1e-4, 1),
+    early_termination: number(0.01, 1),
+    background: rgb,
+    phong: boolean,
+    frame_budget_ms: number(0, 60000),
+    shading: (v, at) =>
+      members(v, at, {
+        diffuse: number(0, 4),
+        specular: number(0, 4),
+        shininess: number(1, 1024),
+      }),
+    light_buffer: (v, at) =>
+      members(v, at, {
+        slices: integer(1, limits.max_slices),
+        resolution: integer(1, limits.max_light_resolution),
+        builder: oneOf(BUILDERS),
+        compensation: number(0, 1000),
+      }),
+    scattering: (v, at) =>
+      members(v, at, {
+        shell_radius: number(1e-4, 0.5),
+        shell_rings: integer(1, 4),
+        shell_center_weight: number(0, 1),
+        cone_angle: number(0.1, 80),
+        cone_center_weight: number(0, 1),
+      }),
+  };
+}
+
+function subtract(a: Vec3, b: Vec3): Vec3 {
+  return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+}
+
+/**
+ * Checks a client message as the server would (§3-§5 at the given limits), except for what needs
+ * the session's current state (eye = target after a partial camera patch). Returns null when the
+ * server would accept it. The client sends what the person asked for and shows the server's answer;
+ * this is for tests and for catching the client's own mistakes during development.
+ */
+export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMITS): Problem | null {
+  try {
+    if (!isObject(value)) {
+      reject('invalid_message', '/', 'not an object');
+    }
+    const o = value as Record<string, Json>;
+    if (!('v' in o)) {
+      reject('invalid_message', '/v', 'missing "v"');
+    }
+    if (o['v'] !== 1 || typeof o['v'] !== 'number') {
+      reject('unsupported_version', '/v', 'only version 1');
+    }
+    if ('id' in o) {
+      const id = o['id'];
+      if (typeof id !== 'number' || !Number.isSafeInteger(id)) {
+        reject('invalid_value', '/id', 'expected a 64-bit integer');
+      }
+    }
+    if (!('type' in o)) {
+      reject('invalid_message', '/type', 'missing "type"');
+    }
+    if (typeof o['type'] !== 'string') {
+      reject('invalid_value', '/type', 'expected a string');
+    }
+    const envelope: Spec = { v: () => {}, type: () => {}, id: () => {} };
+    switch (o['type']) {
+      case 'list_volumes':
+      case 'stats':
+      case 'close':
+        members(o, '', envelope);
+        break;
+      case 'open':
+        members(o, '', { ...envelope, volume: string(256) }, ['volume']);
+        break;
+      case 'join':
+        members(o, '', { ...envelope, session: string(64) }, ['session']);
+        break;
+      case 'render':
+        members(o, '', { ...envelope, interactive: boolean });
+        break;
+      case 'set': {
+        members(o, '', {
+          ...envelope,
+          camera: (v, at) => {
+            members(v, at, cameraSpec);
+            const camera = v as CameraPatch;
+            if (camera.eye && camera.orbit) {
+              reject('invalid_value', `${at}/orbit`, 'give eye or orbit, not both');
+            }
+            if (camera.eye && camera.target && subtract(camera.eye, camera.target).every((c) => c === 0)) {
+              reject('invalid_value', at, 'eye equals target');
+            }
+          },
+          light: (v, at) => {
+            members(v, at, lightSpec);
+            const direction = (v as Partial<Light>).direction;
+            if (direction && direction.every((c) => c === 0)) {
+              reject('invalid_value', `${at}/direction`, 'zero direction');
+            }
+          },
+          transfer_function: checkTransferFunction,
+          settings: (v, at) => members(v, at, settingsSpec(limits)),
+          output: (v, at) =>
+            members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
+        });
+        break;
+      }
+      default:
+        reject('unknown_type', '/type', `unknown type "${String(o['type'])}"`);
+    }
+    return null;
+  } catch (e) {
+    if (e instanceof Reject) {
+      return e.problem;
+    }
+    throw e;
+  }
+}
+
+// ---- state mirror -------------------------------------------------------------------------------
+
+function deg(radians: number): number {
+  return (radians * 180) / Math.PI;
+}
+
+/** The eye an `orbit` puts around `target` (§5): azimuth from +y toward +x about +z. */
+export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
+  const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
+  const el = ((Math.max(-89.9, Math.min(89.9, orbit.elevation ?? 0)) * Math.PI) / 180);
+  const d = orbit.distance ?? 2.6;
+  return [
+    target[0] + d * Math.cos(el) * Math.sin(az),
+    target[1] + d * Math.cos(el) * Math.cos(az),
+    target[2] + d * Math.sin(el),
+  ];
+}
+
+/** Azimuth, elevation (degrees) and distance of `eye` around `target`; the inverse of orbitEye. */
+export function orbitOf(eye: Vec3, target: Vec3): Required<Orbit> {
+  const [x, y, z] = subtract(eye, target);
+  const distance = Math.hypot(x, y, z);
+  return {
+    azimuth: deg(Math.atan2(x, y)),
+    elevation: distance > 0 ? deg(Math.asin(Math.max(-1, Math.min(1, z / distance)))) : 0,
+    distance,
+  };
+}
+
+/**
+ * The state after the server accepted `patch` (its `ack`), so a reconnecting client can send it
+ * back. A preset transfer function is kept as `presetPoints` gives it (the client's copy of the
+ * server's presets), or left as it was when that is not known.
+ */
+export function applyPatch(
+  state: State,
+  patch: StatePatch,
+  presetPoints?: (preset: Preset) => TransferFunctionPoints | undefined,
+): State {
+  const next: State = structuredClone(state);
+  if (patch.camera) {
+    const { orbit, ...rest } = patch.camera;
+    Object.assign(next.camera, structuredClone(rest));
+    if (orbit) {
+      next.camera.eye = orbitEye(next.camera.target, orbit);
+      next.camera.up = [0, 0, 1];
+    }
+  }
+  if (patch.light) {
+    Object.assign(next.light, structuredClone(patch.light));
+  }
+  if (patch.transfer_function) {
+    const tf = patch.transfer_function;
+    if ('preset' in tf) {
+      const points = presetPoints?.(tf.preset);
+      if (points) {
+        next.transfer_function = structuredClone(points);
+      }
+    } else {
+      next.transfer_function = {
+        name: tf.name ?? 'custom',
+        space: 'normalized',
+        colors: structuredClone(tf.colors ?? []),
+        opacities: structuredClone(tf.opacities ?? []),
+      };
+    }
+  }
+  if (patch.settings) {
+    const s = patch.settings;
+    const { shading, light_buffer, scattering, ...flat } = s;
+    Object.assign(next.settings, structuredClone(flat));
+    if (shading) Object.assign(next.settings.shading, shading);
+    if (light_buffer) Object.assign(next.settings.light_buffer, light_buffer);
+    if (scattering) Object.assign(next.settings.scattering, scattering);
+  }
+  if (patch.output) {
+    Object.assign(next.output, patch.output);
+  }
+  return next;
+}
+
+/** Merges two patches, the later winning member by member (a transfer function replaces). */
+export function mergePatches(a: StatePatch, b: StatePatch): StatePatch {
+  const out: StatePatch = structuredClone(a);
+  if (b.camera) {
+    const camera: CameraPatch = { ...(out.camera ?? {}), ...structuredClone(b.camera) };
+    if (b.camera.eye) delete camera.orbit;
+    if (b.camera.orbit) delete camera.eye;
+    out.camera = camera;
+  }
+  if (b.light) out.light = { ...(out.light ?? {}), ...structuredClone(b.light) };
+  if (b.transfer_function) out.transfer_function = structuredClone(b.transfer_function);
+  if (b.settings) {
+    const s = { ...(out.settings ?? {}) };
+    for (const [key, value] of Object.entries(structuredClone(b.settings))) {
+      const prev = (s as Record<string, unknown>)[key];
+      (s as Record<string, unknown>)[key] =
+        isObject(prev) && isObject(value) ? { ...prev, ...value } : value;
+    }
+    out.settings = s;
+  }
+  if (b.output) out.output = { ...(out.output ?? {}), ...b.output };
+  return out;
+}
+
+/** A `set` patch that restores `state` whole (what a reconnecting owner sends). */
+export function restorePatch(state: State): StatePatch {
+  return structuredClone(state);
+}

@@ -1,0 +1,142 @@
+// The canvas the frames are drawn on: sized to its container in device pixels (device-pixel-ratio
+// aware), frames decoded off the main thread with createImageBitmap, and replace-if-busy: while
+// one frame decodes, only the newest waiting frame is kept.
+
+import type { Frame, FrameHeader } from '../protocol/frame_header';
+
+export interface ShownFrame {
+  header: FrameHeader;
+  bytes: number;
+  /** When the frame arrived (performance.now()). */
+  receivedAt: number;
+}
+
+export class FrameView {
+  readonly canvas: HTMLCanvasElement;
+  private readonly context: CanvasRenderingContext2D;
+  private decoding = false;
+  private waiting: { frame: Frame; receivedAt: number } | null = null;
+  private bitmap: ImageBitmap | null = null;
+  private resizeListeners: (() => void)[] = [];
+  private shownListeners: ((shown: ShownFrame) => void)[] = [];
+  /** Frames dropped because a newer one arrived while decoding. */
+  dropped = 0;
+  background = '#000';
+
+  constructor(private readonly container: HTMLElement) {
+    this.canvas = document.createElement('canvas');
+    this.canvas.className = 'frame-canvas';
+    this.canvas.tabIndex = 0;
+    this.canvas.setAttribute('aria-label', 'rendered volume; drag to orbit, wheel to zoom');
+    container.appendChild(this.canvas);
+    const context = this.canvas.getContext('2d');
+    if (!context) throw new Error('no 2D canvas context');
+    this.context = context;
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.watchPixelRatio();
+    this.resize();
+  }
+
+  private watchPixelRatio(): void {
+    // Fires when the window moves to a screen with another DPR, or on browser zoom.
+    const query = matchMedia(`(resolution: ${window.devicePixelRatio}dppx)`);
+    query.addEventListener(
+      'change',
+      () => {
+        this.resize();
+        this.watchPixelRatio();
+      },
+      { once: true },
+    );
+  }
+
+  onResize(listener: () => void): void {
+    this.resizeListeners.push(listener);
+  }
+
+  onShown(listener: (shown: ShownFrame) => void): void {
+    this.shownListeners.push(listener);
+  }
+
+  /** The canvas size in device pixels. */
+  get devicePixels(): [number, number] {
+    return [this.canvas.width, this.canvas.height];
+  }
+
+  /** The image size to ask the server for: device pixels × scale, each side ≤ maxSide. */
+  renderSize(scale: number, maxSide: number): [number, number] {
+    const [w, h] = this.devicePixels;
+    let width = Math.max(16, Math.round(w * scale));
+    let height = Math.max(16, Math.round(h * scale));
+    const over = Math.max(width / maxSide, height / maxSide);
+    if (over > 1) {
+      width = Math.max(1, Math.floor(width / over));
+      height = Math.max(1, Math.floor(height / over));
+    }
+    return [width, height];
+  }
+
+  private resize(): void {
+    const dpr = window.devicePixelRatio || 1;
+    const rect = this.container.getBoundingClientRect();
+    const width = Math.max(1, Math.round(rect.width * dpr));
+    const height = Math.max(1, Math.round(rect.height * dpr));
+    if (width === this.canvas.width && height === this.canvas.height) return;
+    this.canvas.width = width;
+    this.canvas.height = height;
+    this.draw();
+    for (const l of this.resizeListeners) l();
+  }
+
+  /** Shows a frame; if one is being decoded, this one waits, replacing any older waiting one. */
+  show(frame: Frame): void {
+    const receivedAt = performance.now();
+    if (this.decoding) {
+      if (this.waiting) this.dropped += 1;
+      this.waiting = { frame, receivedAt };
+      return;
+    }
+    void this.decode(frame, receivedAt);
+  }
+
+  private async decode(frame: Frame, receivedAt: number): Promise<void> {
+    this.decoding = true;
+    try {
+      const blob = new Blob([frame.image as Uint8Array<ArrayBuffer>], { type: frame.mime });
+      const bitmap = await createImageBitmap(blob);
+      this.bitmap?.close();
+      this.bitmap = bitmap;
+      this.draw();
+      const c = this.canvas;
+      const h = frame.header;
+      c.dataset['frame'] = String(h.frame);
+      c.dataset['request'] = String(h.request);
+      c.dataset['mode'] = h.mode;
+      c.dataset['interactive'] = String(h.interactive);
+      c.dataset['size'] = `${h.width}x${h.height}`;
+      for (const l of this.shownListeners) l({ header: h, bytes: frame.bytes, receivedAt });
+    } catch (e) {
+      console.warn('penumbra: could not decode a frame', e);
+    } finally {
+      this.decoding = false;
+      const next = this.waiting;
+      this.waiting = null;
+      if (next) void this.decode(next.frame, next.receivedAt);
+    }
+  }
+
+  /** Draws the latest bitmap scaled to fit (letterboxed while the sizes differ after a resize). */
+  draw(): void {
+    const { canvas, context } = this;
+    context.fillStyle = this.background;
+    context.fillRect(0, 0, canvas.width, canvas.height);
+    const bitmap = this.bitmap;
+    if (!bitmap) return;
+    const scale = Math.min(canvas.width / bitmap.width, canvas.height / bitmap.height);
+    const w = bitmap.width * scale;
+    const h = bitmap.height * scale;
+    context.imageSmoothingEnabled = true;
+    context.imageSmoothingQuality = 'high';
+    context.drawImage(bitmap, (canvas.width - w) / 2, (canvas.height - h) / 2, w, h);
+  }
+}

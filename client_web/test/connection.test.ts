@@ -1,0 +1,259 @@
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import { describe, expect, it } from 'vitest';
+import {
+  Connection,
+  RequestFailed,
+  ServerError,
+  type ConnectionStatus,
+  type SocketLike,
+} from '../src/protocol/connection';
+import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
+import { checkClientMessage } from '../src/protocol/messages';
+import { FakeClock } from './fake_timers';
+
+const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
+  .split('\n')
+  .filter((l) => l !== '');
+const HELLO = recorded[0]!;
+const OPENED = JSON.parse(recorded[2]!) as Record<string, unknown>;
+
+class FakeSocket implements SocketLike {
+  binaryType = 'blob';
+  readyState = 0;
+  onopen: SocketLike['onopen'] = null;
+  onclose: SocketLike['onclose'] = null;
+  onerror: SocketLike['onerror'] = null;
+  onmessage: SocketLike['onmessage'] = null;
+  sent: Record<string, unknown>[] = [];
+
+  constructor(readonly url: string) {}
+
+  send(data: string): void {
+    const message = JSON.parse(data) as Record<string, unknown>;
+    // Everything the client sends must be a message the server accepts.
+    expect(checkClientMessage(message)).toBeNull();
+    this.sent.push(message);
+  }
+
+  close(code = 1000, reason = ''): void {
+    this.readyState = 3;
+    this.onclose?.({ code, reason });
+  }
+
+  // server side
+  open(): void {
+    this.readyState = 1;
+    this.onopen?.({});
+    this.receive(HELLO);
+  }
+
+  receive(data: string | ArrayBuffer): void {
+    this.onmessage?.({ data });
+  }
+
+  reply(type: string, extra: Record<string, unknown> = {}): void {
+    const last = this.sent[this.sent.length - 1]!;
+    this.receive(JSON.stringify({ v: 1, ...extra, type, id: last['id'] }));
+  }
+
+  fail(reason = ''): void {
+    this.readyState = 3;
+    this.onclose?.({ code: 1006, reason });
+  }
+}
+
+function setup() {
+  const clock = new FakeClock();
+  const sockets: FakeSocket[] = [];
+  const statuses: ConnectionStatus['kind'][] = [];
+  const connection = new Connection('ws://test/ws', {
+    createSocket: (url) => {
+      const s = new FakeSocket(url);
+      sockets.push(s);
+      return s;
+    },
+    reconnectDelaysMs: [100, 200],
+    requestTimeoutMs: 1000,
+    setTimer: clock.setTimer,
+    clearTimer: clock.clearTimer,
+  });
+  connection.on('status', (s) => statuses.push(s.kind));
+  connection.connect();
+  const socket = (): FakeSocket => sockets[sockets.length - 1]!;
+  return { clock, sockets, socket, statuses, connection };
+}
+
+const flush = (): Promise<void> => new Promise((r) => setTimeout(r, 0));
+
+const frameHeader: FrameHeader = {
+  frame: 1, request: 5, session: 's', width: 1, height: 1, encoding: 'jpeg', mode: 'dvr',
+  interactive: false, light_buffer: 'none', passes: [],
+  timings: { queued_ms: 0, render_ms: 0, readback_ms: 0, encode_ms: 0 }, quality: '',
+};
+
+describe('Connection', () => {
+  it('connects, reads hello and matches answers to requests by id', async () => {
+    const { socket, statuses, connection } = setup();
+    expect(socket().binaryType).toBe('arraybuffer');
+    socket().open();
+    expect(statuses).toEqual(['connecting', 'connected']);
+    expect(connection.hello?.modes).toHaveLength(7);
+    const volumes = connection.listVolumes();
+    expect(socket().sent[0]).toEqual({ v: 1, id: 1, type: 'list_volumes' });
+    socket().receive(recorded[1]!);
+    expect((await volumes).map((v) => v.id)).toContain('AICHAmc.nii.gz');
+  });
+
+  it('rejects a request answered by an error with the server code and field', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const set = connection.set({ camera: { eye: [0, 0, 0] } }); // the target: only the server knows
+    socket().reply('error', { code: 'invalid_value', field: '/camera', message: 'eye equals target' });
+    const error = await set.catch((e: unknown) => e);
+    expect(error).toBeInstanceOf(ServerError);
+    expect((error as ServerError).describe()).toBe('invalid_value at /camera (set): eye equals target');
+    expect(connection.session?.state.camera.eye[1]).toBeGreaterThan(2); // the mirror keeps what the server has
+  });
+
+  it('keeps the state mirror in step with acknowledged sets', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    expect((await opened).role).toBe('owner');
+    const set = connection.set({ settings: { mode: 'phong', light_buffer: { slices: 32 } } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    expect(connection.session?.state.settings.mode).toBe('phong');
+    expect(connection.session?.state.settings.light_buffer.slices).toBe(32);
+  });
+
+  it('delivers frames and reports errors of renders without a pending request', () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const frames: number[] = [];
+    const errors: string[] = [];
+    connection.on('frame', (f) => frames.push(f.header.request));
+    connection.on('serverError', (e) => errors.push(`${e.code} ${e.requestType ?? '-'}`));
+    const id = connection.render(true);
+    expect(socket().sent[0]).toEqual({ v: 1, id, type: 'render', interactive: true });
+    socket().receive(JSON.stringify({ v: 1, type: 'error', id, code: 'no_session', message: 'open first', field: '/type' }));
+    socket().receive(packFrame(frameHeader, new Uint8Array([0xff, 0xd8])).buffer as ArrayBuffer);
+    socket().receive(JSON.stringify({ v: 1, type: 'error', code: 'render_failed', message: 'GL', field: '' }));
+    expect(frames).toEqual([5]);
+    expect(errors).toEqual(['no_session render', 'render_failed -']);
+  });
+
+  it('reports a server that cannot be reached and keeps trying', () => {
+    const { clock, sockets, socket, statuses } = setup();
+    socket().fail('refused');
+    expect(statuses).toEqual(['connecting', 'unreachable']);
+    clock.advance(100);
+    expect(sockets).toHaveLength(2);
+    socket().fail();
+    clock.advance(199);
+    expect(sockets).toHaveLength(2);
+    clock.advance(1);
+    expect(sockets).toHaveLength(3);
+    socket().open();
+    expect(statuses.slice(-1)).toEqual(['connected']);
+  });
+
+  it('after a lost connection re-opens the volume and sends the state back', async () => {
+    const { clock, socket, statuses, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const set = connection.set({ settings: { mode: 'sbrc_cone' } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    const pending = connection.stats();
+    socket().fail();
+    expect(await pending.catch((e: unknown) => e)).toBeInstanceOf(RequestFailed);
+    expect(statuses.slice(-1)).toEqual(['lost']);
+    const restored: boolean[] = [];
+    connection.on('session', (_, r) => {
+      restored.push(r);
+      expect(connection.restoring).toBe(false); // the listener may send at once
+    });
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
+    expect(connection.restoring).toBe(true);
+    socket().reply('opened', { ...OPENED, session: 'new-session' });
+    await flush();
+    const restore = socket().sent[1]!;
+    expect(restore['type']).toBe('set');
+    expect((restore['settings'] as Record<string, unknown>)['mode']).toBe('sbrc_cone');
+    expect(Object.keys(restore).sort()).toEqual(
+      ['camera', 'id', 'light', 'output', 'settings', 'transfer_function', 'type', 'v'],
+    );
+    socket().reply('ack', { of: 'set' });
+    await flush();
+    expect(restored).toEqual([true]);
+    expect(connection.session?.session).toBe('new-session');
+    expect(connection.session?.state.settings.mode).toBe('sbrc_cone');
+  });
+
+  it('a viewer re-joins the session after a lost connection', async () => {
+    const { clock, socket, connection } = setup();
+    socket().open();
+    const joined = connection.join('abc');
+    expect(socket().sent[0]).toEqual({ v: 1, id: 1, type: 'join', session: 'abc' });
+    socket().reply('joined', { ...OPENED, session: 'abc' });
+    expect((await joined).role).toBe('viewer');
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({ type: 'join', session: 'abc' });
+  });
+
+  it('says so when the session cannot be restored', async () => {
+    const { clock, socket, connection } = setup();
+    socket().open();
+    const joined = connection.join('abc');
+    socket().reply('joined', { ...OPENED, session: 'abc' });
+    await joined;
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    socket().reply('error', { code: 'unknown_session', field: '/session', message: 'no such session' });
+    await flush();
+    expect(problems[0]).toMatch(/could not restore.*unknown_session/);
+  });
+
+  it('times out a request without an answer, and refuses to send while disconnected', async () => {
+    const { clock, socket, connection } = setup();
+    expect(() => connection.render(false)).toThrow(RequestFailed);
+    socket().open();
+    const stats = connection.stats();
+    clock.advance(1000);
+    expect(await stats.catch((e: unknown) => (e as Error).message)).toMatch(/no answer/);
+  });
+
+  it('ignores what it cannot read and says so', () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    socket().receive('not json');
+    socket().receive(new Uint8Array([1, 2, 3]).buffer as ArrayBuffer);
+    expect(problems).toHaveLength(2);
+  });
+
+  it('close() stops reconnecting', () => {
+    const { clock, sockets, socket, statuses, connection } = setup();
+    socket().open();
+    connection.close();
+    clock.advance(10_000);
+    expect(sockets).toHaveLength(1);
+    expect(statuses.slice(-1)).toEqual(['closed']);
+  });
+});

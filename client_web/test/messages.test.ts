@@ -1,0 +1,182 @@
+import { readdirSync, readFileSync } from 'node:fs';
+import path from 'node:path';
+import { describe, expect, it } from 'vitest';
+import {
+  applyPatch,
+  checkClientMessage,
+  DEFAULT_LIMITS,
+  encodeClientMessage,
+  mergePatches,
+  orbitEye,
+  orbitOf,
+  parseServerMessage,
+  ProtocolError,
+  restorePatch,
+  type ClientMessage,
+  type OpenedMessage,
+  type State,
+} from '../src/protocol/messages';
+
+const examples = path.resolve(__dirname, '../../proto/examples/v1');
+const fixtures = path.resolve(__dirname, 'fixtures');
+
+function readJson(file: string): unknown {
+  return JSON.parse(readFileSync(file, 'utf8'));
+}
+
+const valid = readdirSync(path.join(examples, 'valid')).filter((f) => f.endsWith('.json'));
+const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
+const serverMessages = readFileSync(path.join(fixtures, 'server_messages.jsonl'), 'utf8')
+  .split('\n')
+  .filter((l) => l.trim() !== '');
+
+describe('proto/examples/v1/valid', () => {
+  it('has examples', () => expect(valid.length).toBeGreaterThan(20));
+
+  it.each(valid)('%s is a client message the server accepts', (file) => {
+    const message = readJson(path.join(examples, 'valid', file));
+    expect(checkClientMessage(message)).toBeNull();
+    // Typed as a ClientMessage, it encodes back to the same JSON.
+    const typed = message as ClientMessage;
+    expect(JSON.parse(encodeClientMessage(typed))).toEqual(message);
+  });
+});
+
+// What only the server can judge: integers as JSON text (512.0), ids beyond 2^53 that JSON.parse
+// rounds, and texts that are not JSON at all (the "raw" examples).
+const SERVER_ONLY = new Set([
+  'id_beyond_int64.json',
+  'size_written_as_float.json',
+  'id_not_an_integer_fraction.json',
+]);
+
+describe('proto/examples/v1/invalid', () => {
+  const cases = invalid
+    .map((file) => ({ file, example: readJson(path.join(examples, 'invalid', file)) as Record<string, unknown> }))
+    .filter(({ file, example }) => 'message' in example && !SERVER_ONLY.has(file));
+
+  it('has examples to check', () => expect(cases.length).toBeGreaterThan(40));
+
+  it.each(cases)('$file is rejected with the same code and field', ({ example }) => {
+    const problem = checkClientMessage(example['message']);
+    expect(problem).not.toBeNull();
+    expect({ code: problem?.code, field: problem?.field }).toEqual({
+      code: example['code'],
+      field: example['field'],
+    });
+  });
+});
+
+describe('checkClientMessage beyond the examples', () => {
+  it('knows settings.frame_budget_ms (0..60000)', () => {
+    expect(checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: 50 } })).toBeNull();
+    expect(checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: 70000 } })).toMatchObject({
+      code: 'out_of_range',
+      field: '/settings/frame_budget_ms',
+    });
+  });
+
+  it('uses the limits from hello', () => {
+    const limits = { ...DEFAULT_LIMITS, max_image_side: 256 };
+    const set = { v: 1, type: 'set', settings: { size: [300, 200] } };
+    expect(checkClientMessage(set)).toBeNull();
+    expect(checkClientMessage(set, limits)).toMatchObject({ code: 'out_of_range', field: '/settings/size/0' });
+  });
+});
+
+describe('parseServerMessage', () => {
+  it('reads every message a real server sent', () => {
+    const types = serverMessages.map((text) => parseServerMessage(text).type);
+    expect(types).toEqual(['hello', 'volumes', 'opened', 'ack', 'stats', 'error']);
+  });
+
+  it('reads hello with the modes and limits', () => {
+    const hello = parseServerMessage(serverMessages[0]!);
+    if (hello.type !== 'hello') throw new Error('not hello');
+    expect(hello.modes).toContain('sbrc_cone');
+    expect(hello.modes).toHaveLength(7);
+    expect(hello.limits.max_image_side).toBeGreaterThan(0);
+  });
+
+  it('reads opened with a full state that checks as a set', () => {
+    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    expect(opened.session.length).toBeGreaterThan(0);
+    expect(opened.histogram.length).toBeGreaterThan(0);
+    expect(opened.volume.dims).toEqual([181, 217, 181]);
+    // "sending it back restores it"
+    expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) })).toBeNull();
+  });
+
+  it('ignores members it does not know (the server may add some within v1)', () => {
+    const ack = parseServerMessage('{"v":1,"type":"ack","id":3,"of":"set","later":true}');
+    expect(ack).toMatchObject({ type: 'ack', of: 'set' });
+  });
+
+  it.each([
+    ['not JSON', '{', '/'],
+    ['another version', '{"v":2,"type":"ack","of":"set"}', '/v'],
+    ['no type', '{"v":1}', '/type'],
+    ['an unknown type', '{"v":1,"type":"surprise"}', '/type'],
+    ['an error without code', '{"v":1,"type":"error","message":"m","field":""}', '/code'],
+    ['opened without state', '{"v":1,"type":"opened","session":"s","volume":{},"histogram":[]}', '/volume/id'],
+  ])('rejects %s', (_, text, field) => {
+    try {
+      parseServerMessage(text);
+      expect.unreachable();
+    } catch (e) {
+      expect(e).toBeInstanceOf(ProtocolError);
+      expect((e as ProtocolError).field).toBe(field);
+    }
+  });
+});
+
+describe('state mirror', () => {
+  const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+  const state: State = opened.state;
+
+  it('applies a patch member by member and leaves the rest', () => {
+    const next = applyPatch(state, {
+      settings: { mode: 'dvr', light_buffer: { slices: 64 } },
+      light: { intensity: 2 },
+    });
+    expect(next.settings.mode).toBe('dvr');
+    expect(next.settings.light_buffer).toEqual({ ...state.settings.light_buffer, slices: 64 });
+    expect(next.light.intensity).toBe(2);
+    expect(next.light.direction).toEqual(state.light.direction);
+    expect(state.settings.mode).not.toBe('dvr'); // the input is not changed
+  });
+
+  it('replaces the transfer function whole', () => {
+    const next = applyPatch(state, { transfer_function: { opacities: [{ x: 0.5, alpha: 1 }] } });
+    expect(next.transfer_function).toEqual({
+      name: 'custom',
+      space: 'normalized',
+      colors: [],
+      opacities: [{ x: 0.5, alpha: 1 }],
+    });
+  });
+
+  it('puts an orbit eye where the server does', () => {
+    // The default camera of the server: azimuth 25, elevation 10, distance 2.6 (see opened).
+    const eye = orbitEye([0, 0, 0], { azimuth: 25, elevation: 10, distance: 2.6 });
+    state.camera.eye.forEach((c, i) => expect(eye[i]).toBeCloseTo(c, 9));
+    const orbit = orbitOf(state.camera.eye, state.camera.target);
+    expect(orbit.azimuth).toBeCloseTo(25, 9);
+    expect(orbit.elevation).toBeCloseTo(10, 9);
+    expect(orbit.distance).toBeCloseTo(2.6, 9);
+    const next = applyPatch(state, { camera: { orbit: { azimuth: 90, elevation: 0, distance: 1 } } });
+    expect(next.camera.eye[0]).toBeCloseTo(1, 9);
+    expect(next.camera.up).toEqual([0, 0, 1]);
+  });
+
+  it('merges patches, the later winning', () => {
+    const merged = mergePatches(
+      { camera: { eye: [1, 0, 0], fov: 30 }, settings: { light_buffer: { slices: 8 }, mode: 'dvr' } },
+      { camera: { orbit: { azimuth: 3 } }, settings: { light_buffer: { resolution: 64 } } },
+    );
+    expect(merged).toEqual({
+      camera: { fov: 30, orbit: { azimuth: 3 } },
+      settings: { mode: 'dvr', light_buffer: { slices: 8, resolution: 64 } },
+    });
+  });
+});

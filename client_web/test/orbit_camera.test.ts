@@ -1,0 +1,64 @@
+import { describe, expect, it } from 'vitest';
+import { cameraBasis, OrbitCamera } from '../src/interaction/orbit_camera';
+import { checkClientMessage, type Camera } from '../src/protocol/messages';
+
+const start: Camera = { eye: [0, 2.6, 0], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };
+
+function close(a: number[], b: number[], digits = 9): void {
+  a.forEach((v, i) => expect(v).toBeCloseTo(b[i]!, digits));
+}
+
+describe('OrbitCamera', () => {
+  it('round-trips a protocol camera', () => {
+    const c = new OrbitCamera();
+    c.setFrom({ eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189], target: [0, 0, 0], up: [0, 0, 1], fov: 30 });
+    expect(c.azimuth).toBeCloseTo(25, 9);
+    expect(c.elevation).toBeCloseTo(10, 9);
+    close(c.toCamera().eye, [1.082114125889637, 2.320601231751478, 0.4514852619340189]);
+  });
+
+  it('orbits half a turn per view height and clamps the elevation short of the pole', () => {
+    const c = new OrbitCamera();
+    c.setFrom(start);
+    c.rotate(-100, 0, 200); // drag left by half the height: +90 degrees azimuth
+    expect(c.azimuth).toBeCloseTo(90, 9);
+    close(c.toCamera().eye, [2.6, 0, 0]);
+    c.rotate(0, 10_000, 200);
+    expect(c.elevation).toBe(89);
+    expect(c.toCamera().eye[2]).toBeGreaterThan(2.5);
+  });
+
+  it('pans in the view plane: the target moves, the view direction stays', () => {
+    const c = new OrbitCamera();
+    c.setFrom(start);
+    const before = cameraBasis(c.toCamera());
+    c.pan(-50, 0, 100);
+    // Looking along -y from +y, "right" is -x; dragging left moves the target right.
+    expect(c.target[1]).toBeCloseTo(0, 12);
+    expect(c.target[2]).toBeCloseTo(0, 12);
+    expect(Math.abs(c.target[0])).toBeGreaterThan(0.1);
+    close(cameraBasis(c.toCamera()).back, before.back);
+  });
+
+  it('zooms within limits and resets to the camera it started from', () => {
+    const c = new OrbitCamera();
+    c.setFrom(start, true);
+    c.zoom(0.5);
+    expect(c.distance).toBeCloseTo(1.3, 12);
+    c.zoom(1e-9);
+    expect(c.distance).toBe(0.05);
+    c.zoom(Number.NaN);
+    expect(c.distance).toBe(0.05);
+    c.reset();
+    close(c.toCamera().eye, start.eye);
+  });
+
+  it('produces cameras the server accepts', () => {
+    const c = new OrbitCamera();
+    c.setFrom(start);
+    c.rotate(123, -45, 300);
+    c.pan(10, 20, 300);
+    c.zoom(3);
+    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() })).toBeNull();
+  });
+});

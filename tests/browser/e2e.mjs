@@ -1,0 +1,346 @@
+#!/usr/bin/env node
+// End-to-end test of the web client: Debian's chromium (driven by playwright-core) against a real
+// `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
+// it, changing the mode changes the stats, a bad parameter shows the server's error, a second page
+// joins through the share link and sees the same frame, and after the server goes away and comes
+// back the client reconnects and restores the session. Screenshots go to --out.
+//
+//   node tests/browser/e2e.mjs --penumbra build/release/server/app/penumbra \
+//        --client client_web --out build/release/tests/browser/screenshots
+//
+// The client must be built (client_web/dist) and its node_modules installed (npm ci).
+
+import { spawn } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { parseArgs } from 'node:util';
+
+const { values: options } = parseArgs({
+  options: {
+    penumbra: { type: 'string' },
+    client: { type: 'string', default: fileURLToPath(new URL('../../client_web', import.meta.url)) },
+    out: { type: 'string', default: 'browser-screenshots' },
+    data: { type: 'string', default: '/usr/share/mricron/templates' },
+    volume: { type: 'string', default: 'ch2.nii.gz' },
+    chromium: { type: 'string', default: '/usr/bin/chromium' },
+  },
+});
+if (!options.penumbra) {
+  console.error('usage: e2e.mjs --penumbra PATH [--client DIR] [--out DIR] [--data DIR]');
+  process.exit(2);
+}
+if (!existsSync(options.chromium)) {
+  console.error(`no chromium at ${options.chromium}: apt-get install chromium (scripts/install-deps.sh)`);
+  process.exit(1);
+}
+const clientDir = path.resolve(options.client);
+const outDir = path.resolve(options.out);
+mkdirSync(outDir, { recursive: true });
+rmSync(path.join(outDir, 'failure.png'), { force: true });
+const require = createRequire(path.join(clientDir, 'package.json'));
+const { chromium } = require('playwright-core');
+
+const started = Date.now();
+const log = (...args) => console.log(`[${((Date.now() - started) / 1000).toFixed(1)}s]`, ...args);
+
+// ---- the server ----------------------------------------------------------------------------------
+const servers = new Set();
+
+function startServer(port = 0) {
+  const child = spawn(
+    options.penumbra,
+    ['serve', '--port', String(port), '--address', '127.0.0.1', '--data', options.data,
+     '--web-root', path.join(clientDir, 'dist')],
+    { stdio: ['ignore', 'pipe', 'pipe'] },
+  );
+  servers.add(child);
+  let output = '';
+  child.stderr.on('data', (d) => (output += d));
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`penumbra serve did not start:\n${output}`)), 60000);
+    child.stdout.on('data', (d) => {
+      output += d;
+      const m = /serving:\s+(http:\/\/127\.0\.0\.1:(\d+)\/)/.exec(output);
+      if (m) {
+        clearTimeout(timer);
+        resolve({ child, url: m[1], port: Number(m[2]), output: () => output });
+      }
+    });
+    child.on('exit', (code, signal) => {
+      servers.delete(child);
+      clearTimeout(timer);
+      reject(new Error(`penumbra serve exited (${code ?? signal}):\n${output}`));
+    });
+  });
+}
+
+function stopServer(child) {
+  return new Promise((resolve) => {
+    if (child.exitCode !== null || child.signalCode !== null) return resolve();
+    const kill = setTimeout(() => child.kill('SIGKILL'), 5000);
+    child.once('exit', () => {
+      clearTimeout(kill);
+      servers.delete(child);
+      resolve();
+    });
+    child.kill('SIGTERM');
+  });
+}
+
+const killAll = () => {
+  for (const child of servers) child.kill('SIGKILL');
+};
+process.on('exit', killAll);
+for (const signal of ['SIGINT', 'SIGTERM']) {
+  process.on(signal, () => {
+    killAll();
+    process.exit(1);
+  });
+}
+
+// ---- page helpers --------------------------------------------------------------------------------
+/** Downsampled grey image of the frame canvas and the fraction of pixels that are not background. */
+async function canvasSignature(page) {
+  return page.evaluate(() => {
+    const canvas = document.querySelector('canvas.frame-canvas');
+    const ctx = canvas.getContext('2d');
+    const { width, height } = canvas;
+    const data = ctx.getImageData(0, 0, width, height).data;
+    const n = 32;
+    const grid = new Array(n * n).fill(0);
+    const counts = new Array(n * n).fill(0);
+    let lit = 0;
+    for (let y = 0; y < height; ++y) {
+      for (let x = 0; x < width; ++x) {
+        const k = (y * width + x) * 4;
+        const grey = (data[k] + data[k + 1] + data[k + 2]) / 3;
+        if (grey > 24) lit += 1;
+        const cell = Math.floor((y * n) / height) * n + Math.floor((x * n) / width);
+        grid[cell] += grey;
+        counts[cell] += 1;
+      }
+    }
+    return { grid: grid.map((g, i) => g / Math.max(1, counts[i])), lit: lit / (width * height), width, height };
+  });
+}
+
+function difference(a, b) {
+  let sum = 0;
+  for (let i = 0; i < a.grid.length; ++i) sum += Math.abs(a.grid[i] - b.grid[i]);
+  return sum / a.grid.length;
+}
+
+async function frameInfo(page) {
+  return page.evaluate(() => {
+    const d = document.querySelector('canvas.frame-canvas')?.dataset ?? {};
+    return {
+      frame: Number(d.frame ?? -1),
+      request: Number(d.request ?? -1),
+      mode: d.mode,
+      interactive: d.interactive,
+      size: d.size,
+    };
+  });
+}
+
+/** Waits for a still frame newer than `after`. */
+async function waitForStill(page, after = -1, timeout = 30000) {
+  await page.waitForFunction(
+    (after) => {
+      const d = document.querySelector('canvas.frame-canvas')?.dataset;
+      return d && d.frame !== undefined && Number(d.frame) > after && d.interactive === 'false';
+    },
+    after,
+    { timeout },
+  );
+  // Let a later frame that is already on its way land, so "the" frame is stable.
+  await page.waitForTimeout(300);
+  return frameInfo(page);
+}
+
+async function statText(page, key) {
+  return page.locator(`[data-stat="${key}"]`).textContent();
+}
+
+// ---- the test ------------------------------------------------------------------------------------
+const checks = [];
+function check(name, ok, detail = '') {
+  checks.push({ name, ok });
+  log(`${ok ? 'PASS' : 'FAIL'} ${name}${detail ? `: ${detail}` : ''}`);
+  if (!ok) throw new Error(`check failed: ${name} ${detail}`);
+}
+
+let context;
+let owner;
+const userDataDir = mkdtempSync(path.join(tmpdir(), 'penumbra-e2e-chromium-'));
+let failed = false;
+try {
+  let server = await startServer(0);
+  log(`server at ${server.url}`);
+
+  context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: options.chromium,
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync',
+           '--disable-quic'],
+    viewport: { width: 900, height: 560 },
+    deviceScaleFactor: 1,
+  });
+  owner = context.pages()[0] ?? (await context.newPage());
+  const consoleErrors = [];
+  const pageErrors = [];
+  owner.on('pageerror', (e) => {
+    consoleErrors.push(String(e));
+    pageErrors.push(String(e));
+  });
+  owner.on('console', (m) => m.type() === 'error' && consoleErrors.push(m.text()));
+
+  // 1. The page loads and a frame appears.
+  await owner.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}`);
+  let info = await waitForStill(owner, -1, 60000);
+  let first = await canvasSignature(owner);
+  await owner.screenshot({ path: path.join(outDir, '01_loaded.png') });
+  check('a frame appears and the canvas is not blank', first.lit > 0.02,
+    `frame ${info.frame} ${info.size} mode ${info.mode}, ${(first.lit * 100).toFixed(1)}% lit`);
+  check('the stats overlay shows the frame', /#\d+/.test(await statText(owner, 'frame')));
+
+  // 2. Dragging changes the frame, with interactive frames during the drag.
+  await owner.evaluate(() => {
+    window.__interactiveSeen = false;
+    const canvas = document.querySelector('canvas.frame-canvas');
+    new MutationObserver(() => {
+      if (canvas.dataset.interactive === 'true') window.__interactiveSeen = true;
+    }).observe(canvas, { attributes: true });
+  });
+  const box = await owner.locator('canvas.frame-canvas').boundingBox();
+  const cx = box.x + box.width / 2;
+  const cy = box.y + box.height / 2;
+  await owner.mouse.move(cx, cy);
+  await owner.mouse.down();
+  for (let i = 1; i <= 12; ++i) {
+    await owner.mouse.move(cx + i * 12, cy + i * 2);
+    await owner.waitForTimeout(60);
+  }
+  await owner.mouse.up();
+  info = await waitForStill(owner, info.frame);
+  const dragged = await canvasSignature(owner);
+  await owner.screenshot({ path: path.join(outDir, '02_dragged.png') });
+  check('dragging changes the frame', difference(first, dragged) > 2,
+    `mean grey difference ${difference(first, dragged).toFixed(1)}`);
+  check('frames were interactive during the drag and still after',
+    (await owner.evaluate(() => window.__interactiveSeen)) && info.interactive === 'false');
+
+  // 2b. Dragging the light on its sphere and an opacity point of the transfer function change it.
+  let before = await canvasSignature(owner);
+  const sphere = await owner.locator('[data-control="light-sphere"]').boundingBox();
+  await owner.mouse.move(sphere.x + sphere.width * 0.5, sphere.y + sphere.height * 0.3);
+  await owner.mouse.down();
+  await owner.mouse.move(sphere.x + sphere.width * 0.15, sphere.y + sphere.height * 0.5, { steps: 5 });
+  await owner.mouse.up();
+  info = await waitForStill(owner, info.frame);
+  let after = await canvasSignature(owner);
+  check('dragging the light changes the frame', difference(before, after) > 1,
+    `mean grey difference ${difference(before, after).toFixed(1)}`);
+  await owner.screenshot({ path: path.join(outDir, '02b_light.png') });
+
+  before = after;
+  const curve = await owner.locator('[data-control="tf-curve"]').boundingBox();
+  // mri_skin's point at x 0.2, alpha 0.6: pull it down to nearly transparent.
+  await owner.mouse.move(curve.x + curve.width * 0.2, curve.y + curve.height * 0.4);
+  await owner.mouse.down();
+  await owner.mouse.move(curve.x + curve.width * 0.2, curve.y + curve.height * 0.97, { steps: 5 });
+  await owner.mouse.up();
+  info = await waitForStill(owner, info.frame);
+  after = await canvasSignature(owner);
+  check('dragging an opacity point changes the frame', difference(before, after) > 1,
+    `mean grey difference ${difference(before, after).toFixed(1)}, lit ${(after.lit * 100).toFixed(1)}%`);
+  await owner.screenshot({ path: path.join(outDir, '02c_transfer_function.png') });
+
+  // 3. Changing the mode changes the stats.
+  const passesBefore = await owner.locator('[data-stat^="pass:"]').count();
+  const lightBefore = await statText(owner, 'light_buffer');
+  await owner.locator('[data-control="mode"] select').selectOption('dvr');
+  await owner.waitForFunction(() =>
+    document.querySelector('[data-stat="mode"]')?.textContent === 'dvr (still)', null, { timeout: 30000 });
+  const lightAfter = await statText(owner, 'light_buffer');
+  const passNames = await owner.locator('[data-stat^="pass:"]').evaluateAll((els) =>
+    els.map((e) => e.dataset.stat));
+  await owner.screenshot({ path: path.join(outDir, '03_mode_dvr.png') });
+  check('changing the mode changes the stats',
+    lightBefore !== 'none' && lightAfter === 'none' && !passNames.some((p) => p.includes('light_buffer')),
+    `light buffer ${lightBefore} -> ${lightAfter}; passes ${passesBefore} -> ${passNames.join(', ')}`);
+
+  // 4. A bad parameter shows the server's error.
+  const sampleDistance = owner.locator('[data-control="sample_distance"] input');
+  await sampleDistance.fill('5');
+  await sampleDistance.press('Enter');
+  const notice = owner.locator('.notice.error', { hasText: '/settings/sample_distance' });
+  await notice.first().waitFor({ timeout: 15000 });
+  const noticeText = await notice.first().textContent();
+  await owner.screenshot({ path: path.join(outDir, '04_server_error.png') });
+  check("a bad parameter shows the server's error", /out_of_range/.test(noticeText), noticeText);
+  check('the field shows the value the server kept',
+    Number(await sampleDistance.inputValue()) < 1, await sampleDistance.inputValue());
+
+  // 5. A second page joins through the share link and sees the same frame.
+  const link = await owner.locator('#share-link').inputValue();
+  check('the share link carries the session id', /[?&]join=[0-9a-f]+/.test(link), link);
+  const viewer = await context.newPage();
+  viewer.on('pageerror', (e) => consoleErrors.push(`viewer: ${String(e)}`));
+  await viewer.goto(link);
+  await viewer.waitForFunction(() => document.querySelector('canvas.frame-canvas')?.dataset.frame !== undefined,
+    null, { timeout: 30000 });
+  check('the viewer is read-only',
+    (await viewer.locator('.role').textContent()).includes('read-only') &&
+      (await viewer.locator('[data-control="mode"] select').isDisabled()));
+  // The owner moves the camera; both pages must end on the same still frame.
+  const ownerFrame = (await frameInfo(owner)).frame;
+  await owner.locator('canvas.frame-canvas').focus();
+  await owner.keyboard.press('ArrowLeft');
+  await owner.keyboard.press('ArrowLeft');
+  const a = await waitForStill(owner, ownerFrame);
+  await viewer.waitForFunction((f) => Number(document.querySelector('canvas.frame-canvas')?.dataset.frame) >= f,
+    a.frame, { timeout: 30000 });
+  await owner.waitForTimeout(300);
+  const [ownerInfo, viewerInfo] = [await frameInfo(owner), await frameInfo(viewer)];
+  const [ownerImage, viewerImage] = [await canvasSignature(owner), await canvasSignature(viewer)];
+  await viewer.screenshot({ path: path.join(outDir, '05_viewer.png') });
+  await owner.screenshot({ path: path.join(outDir, '05_owner.png') });
+  check('the viewer sees the same frame', ownerInfo.frame === viewerInfo.frame &&
+    difference(ownerImage, viewerImage) < 1,
+    `owner #${ownerInfo.frame}, viewer #${viewerInfo.frame}, difference ${difference(ownerImage, viewerImage).toFixed(2)}`);
+  await viewer.close();
+  check('no page errors so far', consoleErrors.length === 0, consoleErrors.join(' | '));
+
+  // 6. The server goes away: a clear message; it comes back: the session is restored.
+  const port = server.port;
+  await stopServer(server.child);
+  await owner.locator('.connection-banner', { hasText: 'lost' }).waitFor({ timeout: 15000 });
+  await owner.screenshot({ path: path.join(outDir, '06_connection_lost.png') });
+  check('a lost connection is reported', true, await owner.locator('.connection-banner').textContent());
+  server = await startServer(port);
+  log(`server restarted at ${server.url}`);
+  await owner.locator('.notice.info', { hasText: 'Reconnected' }).waitFor({ timeout: 30000 });
+  const restored = await waitForStill(owner, -1, 30000);
+  await owner.screenshot({ path: path.join(outDir, '07_restored.png') });
+  check('after reconnecting the session is restored (mode dvr kept)', restored.mode === 'dvr',
+    `frame #${restored.frame} mode ${restored.mode}`);
+
+  // While the server was down the browser logs the refused WebSocket: only uncaught errors count.
+  check('no uncaught page errors', pageErrors.length === 0, pageErrors.join(' | '));
+  await stopServer(server.child);
+} catch (e) {
+  failed = true;
+  console.error(e);
+  if (owner) await owner.screenshot({ path: path.join(outDir, 'failure.png') }).catch(() => {});
+} finally {
+  await context?.close().catch(() => {});
+  for (const child of [...servers]) await stopServer(child);
+  rmSync(userDataDir, { recursive: true, force: true });
+}
+log(`${checks.filter((c) => c.ok).length} checks passed${failed ? ', FAILED' : ''}; screenshots in ${outDir}`);
+process.exit(failed ? 1 : 0);
