@@ -4,18 +4,13 @@
 // against it and set beside the frame time. The measured table doubles as the source of quality
 // presets: for a frame-time budget, the most accurate setting that fits.
 
+#include "accuracy_sweep.hpp"
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "render_options.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/render/renderer.hpp>
-#include <penumbra/scene/camera.hpp>
 #include <penumbra/volume/volume.hpp>
-
-#include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -24,10 +19,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <limits>
-#include <map>
 #include <memory>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -41,18 +33,7 @@ int run_bench_accuracy(const std::vector<std::string>& args);
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-
-constexpr const char* table_format = "penumbra-accuracy-1";
-constexpr double infinity = std::numeric_limits<double>::infinity();
-
-// Light-buffer builds are timed on frames this small: the buffer does not depend on the image size,
-// and on a software rasteriser the ray cast of a full-size frame would cost more than the build.
-constexpr int build_probe_side = 16;
-// Small enough to leave the image unchanged, large enough to change the light buffer's key.
-constexpr double light_nudge_degrees = 0.01;
-// The SSIM window is 11 pixels; a little margin keeps the valid region from being one window.
-constexpr int min_image_side = 16;
+using namespace accuracy;
 
 // Defaults sized for a GPU, and lighter ones for a software rasteriser (no working timer queries,
 // llvmpipe here), where the full sweep would take hours; the lighter sweep takes minutes at 256².
@@ -140,15 +121,6 @@ void print_usage() {
             default_modes, frame_options_help());
 }
 
-double median(std::vector<double> values) {
-    if (values.empty()) {
-        return 0.0;
-    }
-    std::sort(values.begin(), values.end());
-    const std::size_t middle = values.size() / 2;
-    return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
-
 std::vector<std::string> split(const std::string& text, char separator) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -210,14 +182,6 @@ base::Result<std::vector<double>> parse_distances(const std::string& text) {
     return distances;
 }
 
-struct LightAngles {
-    double azimuth = 0.0;
-    double elevation = 0.0;
-
-    bool operator==(const LightAngles&) const = default;
-    auto operator<=>(const LightAngles&) const = default;
-};
-
 base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
     std::vector<LightAngles> lights;
     for (const std::string& item : split(text, ';')) {
@@ -273,115 +237,7 @@ std::string format(const char* pattern, double value) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The measured table.
-
-// One mode at one setting, for one volume and light.
-struct Point {
-    std::string volume;
-    LightAngles light;
-    scene::Mode mode = scene::Mode::dvr;
-    int slices = 0;      // 0 where the mode has no slices
-    int resolution = 0;  // 0 where the mode has no light buffer
-    double sample_distance = 0.0;
-    double frame_ms = 0.0;         // median, light buffer cached
-    double light_buffer_ms = 0.0;  // median build; 0 where no separate buffer is built
-    // Against the reference of the same sample distance: the error of the shading method alone.
-    double rmse = 0.0;
-    double psnr = 0.0;  // infinite for an identical image
-    double ssim = 1.0;
-    // Against the reference of the finest sample distance swept: the error a viewer sees, which
-    // also counts coarse sampling. Presets rank by this (the same as above with one distance).
-    double rmse_finest = 0.0;
-    double psnr_finest = 0.0;
-    double ssim_finest = 1.0;
-};
-
-struct Table {
-    std::string device;      // GL_RENDERER
-    std::string vendor;      // GL_VENDOR
-    std::string gl_version;  // GL_VERSION
-    bool gpu_timers = false;
-    int width = 0;
-    int height = 0;
-    int repeat = 0;
-    std::string transfer_function;
-    std::string compositing;
-    std::string stage;
-    std::string builder;
-    bool phong = true;
-    Json camera;
-    std::vector<Point> points;
-};
-
-const char* timing_name(const Table& table) {
-    return table.gpu_timers ? "gpu" : "wall";
-}
-
-// A setting the presets can choose, over every volume and light measured.
-struct SettingKey {
-    scene::Mode mode = scene::Mode::dvr;
-    int slices = 0;
-    int resolution = 0;
-    double sample_distance = 0.0;
-
-    auto operator<=>(const SettingKey&) const = default;
-};
-
-struct Setting {
-    SettingKey key;
-    int count = 0;
-    double psnr = 0.0;  // mean over the volumes and lights (dB), infinite only for the reference
-    double ssim = 0.0;  // mean
-    double psnr_finest = 0.0;
-    double ssim_finest = 0.0;
-    double frame_ms = 0.0;         // mean
-    double worst_frame_ms = 0.0;   // the slowest volume and light: what a budget must cover
-    double light_buffer_ms = 0.0;  // mean
-};
-
-std::vector<Setting> aggregate(const std::vector<Point>& points,
-                               const std::optional<std::string>& volume = std::nullopt) {
-    std::map<SettingKey, Setting> settings;
-    for (const Point& p : points) {
-        if (volume && p.volume != *volume) {
-            continue;
-        }
-        const SettingKey key{p.mode, p.slices, p.resolution, p.sample_distance};
-        Setting& s = settings[key];
-        s.key = key;
-        ++s.count;
-        s.psnr += p.psnr;
-        s.ssim += p.ssim;
-        s.psnr_finest += p.psnr_finest;
-        s.ssim_finest += p.ssim_finest;
-        s.frame_ms += p.frame_ms;
-        s.worst_frame_ms = std::max(s.worst_frame_ms, p.frame_ms);
-        s.light_buffer_ms += p.light_buffer_ms;
-    }
-    std::vector<Setting> result;
-    for (auto& [key, s] : settings) {
-        const double n = static_cast<double>(s.count);
-        s.psnr /= n;
-        s.ssim /= n;
-        s.psnr_finest /= n;
-        s.ssim_finest /= n;
-        s.frame_ms /= n;
-        s.light_buffer_ms /= n;
-        result.push_back(s);
-    }
-    return result;
-}
-
-// More accurate first: PSNR against the finest reference, then SSIM, then the faster.
-bool more_accurate(const Setting& a, const Setting& b) {
-    if (a.psnr_finest != b.psnr_finest) {
-        return a.psnr_finest > b.psnr_finest;
-    }
-    if (a.ssim_finest != b.ssim_finest) {
-        return a.ssim_finest > b.ssim_finest;
-    }
-    return a.worst_frame_ms < b.worst_frame_ms;
-}
+// The presets.
 
 // The settings no other setting beats in both time and accuracy, fastest first.
 std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time) {
@@ -401,75 +257,6 @@ std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time
         }
     }
     return front;
-}
-
-struct Preset {
-    double budget_ms = 0.0;
-    std::optional<Setting> setting;  // absent when nothing measured fits
-};
-
-// Only settings measured on every volume and light compete, so a mean is never over a subset.
-std::vector<Preset> choose_presets(const std::vector<Point>& points,
-                                   const std::vector<double>& budgets) {
-    std::set<std::pair<std::string, LightAngles>> views;
-    for (const Point& p : points) {
-        views.insert({p.volume, p.light});
-    }
-    const int complete = static_cast<int>(views.size());
-    std::vector<Setting> candidates;
-    for (const Setting& s : aggregate(points)) {
-        if (s.count == complete) {
-            candidates.push_back(s);
-        }
-    }
-    std::sort(candidates.begin(), candidates.end(), more_accurate);
-    std::vector<Preset> presets;
-    for (const double budget : budgets) {
-        Preset preset{budget, std::nullopt};
-        for (const Setting& s : candidates) {
-            if (s.worst_frame_ms <= budget) {
-                preset.setting = s;
-                break;
-            }
-        }
-        presets.push_back(preset);
-    }
-    return presets;
-}
-
-// Six budgets from the fastest setting to the slowest reference, evenly spaced in log time and
-// rounded up to two significant digits: past the reference's time the answer is always the
-// reference, so budgets beyond it say nothing.
-std::vector<double> default_budgets(const std::vector<Point>& points) {
-    const std::vector<Setting> settings = aggregate(points);
-    if (settings.empty()) {
-        return {};
-    }
-    double low = infinity;
-    double slowest = 0.0;
-    double reference = 0.0;
-    for (const Setting& s : settings) {
-        low = std::min(low, s.worst_frame_ms);
-        slowest = std::max(slowest, s.worst_frame_ms);
-        if (s.key.mode == scene::Mode::reference) {
-            reference = std::max(reference, s.worst_frame_ms);
-        }
-    }
-    double high = reference > 0.0 ? reference : slowest;
-    high *= 1.05;
-    low = std::max(low, 1e-3);
-    std::vector<double> budgets;
-    constexpr int count = 6;
-    for (int i = 0; i < count; ++i) {
-        const double t = static_cast<double>(i) / (count - 1);
-        const double value = low * std::pow(high / low, t);
-        const double magnitude = std::pow(10.0, std::floor(std::log10(value)) - 1.0);
-        const double rounded = std::ceil(value / magnitude) * magnitude;
-        if (budgets.empty() || rounded > budgets.back()) {
-            budgets.push_back(rounded);
-        }
-    }
-    return budgets;
 }
 
 std::string psnr_text(double psnr) {
@@ -533,150 +320,6 @@ base::Status write_csv(const Table& table, const std::string& path) {
         return base::make_error("io_error", "writing '" + path + "' failed", "--csv");
     }
     return base::Ok{};
-}
-
-// JSON has no infinity: an identical image's PSNR is null.
-Json psnr_json(double psnr) {
-    return std::isinf(psnr) ? Json(nullptr) : Json(psnr);
-}
-
-double psnr_from_json(const Json& value) {
-    return value.is_null() ? infinity : value.get<double>();
-}
-
-Json to_json(const Table& table, const std::vector<Preset>& presets) {
-    Json root;
-    root["format"] = table_format;
-    root["description"] =
-            "Accuracy vs frame time of Penumbra's rendering modes (penumbra bench accuracy). "
-            "points: one per volume x light x mode x setting; rmse/psnr/ssim against the "
-            "reference mode (shadow rays) at the same sample distance and camera, *_finest "
-            "against the reference at the finest sample distance; psnr null = identical "
-            "(infinite). frame_ms: median frame time with the light buffer cached; "
-            "light_buffer_ms: median light-buffer build, 0 where the mode builds none. slices "
-            "and resolution 0 where the mode has none. presets: per budget_ms, the setting with "
-            "the highest mean psnr_finest over all volumes and lights whose slowest frame_ms "
-            "fits (mode null: none fits).";
-    root["device"] = table.device;
-    root["renderer"] = {{"vendor", table.vendor},
-                        {"version", table.gl_version},
-                        {"gpu_timer_queries", table.gpu_timers}};
-    root["timing"] = timing_name(table);
-    root["size"] = {table.width, table.height};
-    root["settings"] = {{"transfer_function", table.transfer_function},
-                        {"compositing", table.compositing},
-                        {"stage", table.stage},
-                        {"builder", table.builder},
-                        {"phong", table.phong},
-                        {"repeat", table.repeat},
-                        {"camera", table.camera}};
-    Json points = Json::array();
-    for (const Point& p : table.points) {
-        points.push_back({{"volume", p.volume},
-                          {"light", {p.light.azimuth, p.light.elevation}},
-                          {"mode", scene::to_string(p.mode)},
-                          {"slices", p.slices},
-                          {"resolution", p.resolution},
-                          {"sample_distance", p.sample_distance},
-                          {"frame_ms", p.frame_ms},
-                          {"light_buffer_ms", p.light_buffer_ms},
-                          {"rmse", p.rmse},
-                          {"psnr", psnr_json(p.psnr)},
-                          {"ssim", p.ssim},
-                          {"rmse_finest", p.rmse_finest},
-                          {"psnr_finest", psnr_json(p.psnr_finest)},
-                          {"ssim_finest", p.ssim_finest}});
-    }
-    root["points"] = std::move(points);
-    Json preset_list = Json::array();
-    for (const Preset& preset : presets) {
-        if (!preset.setting) {
-            preset_list.push_back({{"budget_ms", preset.budget_ms}, {"mode", nullptr}});
-            continue;
-        }
-        const Setting& s = *preset.setting;
-        preset_list.push_back({{"budget_ms", preset.budget_ms},
-                               {"mode", scene::to_string(s.key.mode)},
-                               {"slices", s.key.slices},
-                               {"resolution", s.key.resolution},
-                               {"sample_distance", s.key.sample_distance},
-                               {"psnr", psnr_json(s.psnr_finest)},
-                               {"ssim", s.ssim_finest},
-                               {"frame_ms", s.worst_frame_ms},
-                               {"light_buffer_ms", s.light_buffer_ms}});
-    }
-    root["presets"] = std::move(preset_list);
-    return root;
-}
-
-base::Status write_json(const Table& table, const std::vector<Preset>& presets,
-                        const std::string& path) {
-    std::ofstream out(path);
-    if (!out) {
-        return base::make_error("io_error", "cannot write '" + path + "'", "--json");
-    }
-    out << to_json(table, presets).dump(1) << '\n';
-    if (!out) {
-        return base::make_error("io_error", "writing '" + path + "' failed", "--json");
-    }
-    return base::Ok{};
-}
-
-base::Result<Table> read_table(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) {
-        return base::make_error("io_error", "cannot read '" + path + "'", "--from");
-    }
-    try {
-        const Json root = Json::parse(in);
-        if (root.value("format", "") != table_format) {
-            return base::make_error("invalid_table",
-                                    "not a table written by `bench accuracy --json` (format " +
-                                            std::string(table_format) + ")",
-                                    path);
-        }
-        Table table;
-        table.device = root.at("device").get<std::string>();
-        const Json& renderer = root.at("renderer");
-        table.vendor = renderer.at("vendor").get<std::string>();
-        table.gl_version = renderer.at("version").get<std::string>();
-        table.gpu_timers = renderer.at("gpu_timer_queries").get<bool>();
-        table.width = root.at("size").at(0).get<int>();
-        table.height = root.at("size").at(1).get<int>();
-        const Json& settings = root.at("settings");
-        table.transfer_function = settings.at("transfer_function").get<std::string>();
-        table.compositing = settings.at("compositing").get<std::string>();
-        table.stage = settings.at("stage").get<std::string>();
-        table.builder = settings.at("builder").get<std::string>();
-        table.phong = settings.at("phong").get<bool>();
-        table.repeat = settings.at("repeat").get<int>();
-        table.camera = settings.at("camera");
-        for (const Json& item : root.at("points")) {
-            Point p;
-            p.volume = item.at("volume").get<std::string>();
-            p.light = {item.at("light").at(0).get<double>(), item.at("light").at(1).get<double>()};
-            const auto mode = scene::parse_mode(item.at("mode").get<std::string>());
-            if (!mode) {
-                return base::make_error("invalid_table", "unknown mode", path);
-            }
-            p.mode = *mode;
-            p.slices = item.at("slices").get<int>();
-            p.resolution = item.at("resolution").get<int>();
-            p.sample_distance = item.at("sample_distance").get<double>();
-            p.frame_ms = item.at("frame_ms").get<double>();
-            p.light_buffer_ms = item.at("light_buffer_ms").get<double>();
-            p.rmse = item.at("rmse").get<double>();
-            p.psnr = psnr_from_json(item.at("psnr"));
-            p.ssim = item.at("ssim").get<double>();
-            p.rmse_finest = item.at("rmse_finest").get<double>();
-            p.psnr_finest = psnr_from_json(item.at("psnr_finest"));
-            p.ssim_finest = item.at("ssim_finest").get<double>();
-            table.points.push_back(std::move(p));
-        }
-        return table;
-    } catch (const Json::exception& e) {
-        return base::make_error("invalid_table", e.what(), path);
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -903,170 +546,6 @@ base::Status write_plot(const Table& table, const std::string& png) {
 // ---------------------------------------------------------------------------------------------
 // Measuring.
 
-struct Timed {
-    base::ImageRgba8 image;
-    double frame_ms = 0.0;
-};
-
-struct Errors {
-    double rmse = 0.0;
-    double psnr = 0.0;
-    double ssim = 1.0;
-};
-
-base::Result<Errors> errors_against(const base::ImageRgbaF& reference,
-                                    const base::ImageRgba8& image) {
-    const base::ImageRgbaF rendered = base::to_rgba_f(image);
-    auto difference = encode::compare_images(reference, rendered);
-    if (!difference) {
-        return difference.error();
-    }
-    auto similarity = encode::ssim(reference, rendered);
-    if (!similarity) {
-        return similarity.error();
-    }
-    return Errors{difference->rms_error, difference->psnr, *similarity};
-}
-
-class AccuracyBench {
-public:
-    AccuracyBench(render::Renderer& renderer, int repeat)
-        : renderer_(renderer)
-        , repeat_(repeat)
-        , gpu_timers_(renderer.info().gpu_timer_queries) {}
-
-    [[nodiscard]] std::uint64_t frames() const { return frames_; }
-
-    // One warm-up frame (compiles the variant, builds the light buffer), whose image is the one
-    // judged, then `repeat` frames of the same request timed. The timed frames must reuse the light
-    // buffer, or the time would not be the camera-move cost it claims to be.
-    base::Result<Timed> frame(const scene::FrameRequest& request) {
-        Timed timed;
-        std::vector<double> times;
-        for (int i = 0; i <= repeat_; ++i) {
-            auto frame = render(request);
-            if (!frame) {
-                return frame.error();
-            }
-            if (i == 0) {
-                timed.image = std::move(frame->image);
-                continue;
-            }
-            if (scene::uses_light_buffer(request.settings.mode) &&
-                frame->report.light_buffer != "reused") {
-                return base::make_error("bench_invalid",
-                                        std::string(scene::to_string(request.settings.mode)) +
-                                                ": the light buffer was '" +
-                                                frame->report.light_buffer +
-                                                "' in a repeat of the same request",
-                                        "light_buffer");
-            }
-            double ms = 0.0;
-            for (const auto& pass : frame->report.passes) {
-                ms += gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
-            }
-            times.push_back(ms);
-        }
-        timed.frame_ms = median(times);
-        return timed;
-    }
-
-    // The light-buffer pass alone, rebuilt every frame by nudging the light to and fro, on tiny
-    // frames (the buffer does not depend on the image size).
-    base::Result<double> light_buffer_build(scene::FrameRequest request) {
-        request.settings.width = build_probe_side;
-        request.settings.height = build_probe_side;
-        const glm::dvec3 direction = request.light.direction;
-        const glm::dvec3 axis = std::abs(direction.z) > 0.999 ? glm::dvec3(1.0, 0.0, 0.0)
-                                                              : glm::dvec3(0.0, 0.0, 1.0);
-        // Every frame gets a light not used before: the renderer caches light buffers by their
-        // inputs, so an earlier light would reuse its buffer instead of building one.
-        const auto nudged = [&](std::uint64_t k) {
-            const double angle = glm::radians(light_nudge_degrees * static_cast<double>(k % 4096));
-            return direction * std::cos(angle) + glm::cross(axis, direction) * std::sin(angle) +
-                   axis * glm::dot(axis, direction) * (1.0 - std::cos(angle));
-        };
-        const std::string pass_name = std::string("light_buffer_") +
-                                      scene::to_string(request.settings.light_buffer.builder);
-        std::vector<double> times;
-        for (int i = 0; i <= repeat_; ++i) {
-            request.light.direction = nudged(++nudges_);
-            auto frame = render(request);
-            if (!frame) {
-                return frame.error();
-            }
-            if (frame->report.light_buffer != "built") {
-                return base::make_error("bench_invalid",
-                                        "the light buffer was '" + frame->report.light_buffer +
-                                                "' in a frame whose light moved",
-                                        "light_buffer");
-            }
-            if (i == 0) {
-                continue;  // warm-up: the builder's shaders compile here
-            }
-            double ms = -1.0;
-            for (const auto& pass : frame->report.passes) {
-                if (pass.name == pass_name) {
-                    ms = gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
-                }
-            }
-            if (ms < 0.0) {
-                return base::make_error("bench_invalid",
-                                        "no pass '" + pass_name + "' in a rebuilding frame",
-                                        "light_buffer");
-            }
-            times.push_back(ms);
-        }
-        return median(times);
-    }
-
-private:
-    base::Result<render::Frame> render(const scene::FrameRequest& request) {
-        ++frames_;
-        return renderer_.render(request);
-    }
-
-    render::Renderer& renderer_;
-    int repeat_;
-    std::uint64_t nudges_ = 0;  // distinct lights used by build measurements so far
-    bool gpu_timers_;
-    std::uint64_t frames_ = 0;
-};
-
-// What to sweep, parsed from the options.
-struct Sweep {
-    std::vector<std::string> volumes;
-    std::vector<LightAngles> lights;
-    std::vector<scene::Mode> modes;
-    std::vector<int> slices;
-    std::vector<int> resolutions;
-    std::vector<double> distances;  // finest first
-    int repeat = 3;
-};
-
-// Frames one volume and light cost, so the run can say up front how long it will take.
-std::uint64_t frames_per_view(const Sweep& sweep) {
-    const std::uint64_t per_point = static_cast<std::uint64_t>(sweep.repeat) + 1;
-    const std::uint64_t grid = sweep.slices.size() * sweep.resolutions.size();
-    const std::uint64_t distances = sweep.distances.size();
-    std::uint64_t frames = distances * per_point;  // the references
-    bool any_light_buffer = false;
-    for (const scene::Mode mode : sweep.modes) {
-        if (scene::uses_light_buffer(mode)) {
-            any_light_buffer = true;
-            frames += grid * distances * per_point;
-        } else if (mode == scene::Mode::half_angle) {
-            frames += grid * distances * per_point;
-        } else {
-            frames += distances * per_point;
-        }
-    }
-    if (any_light_buffer) {
-        frames += grid * per_point;  // the builds, on tiny frames
-    }
-    return frames;
-}
-
 class Progress {
 public:
     Progress(std::uint64_t total)
@@ -1090,6 +569,12 @@ private:
     Clock::time_point start_;
 };
 
+void print_view_header(const std::string& volume, const LightAngles& light) {
+    std::printf("\n%s, light %g,%g\n  %-11s %5s %5s %7s %9s %9s %8s %7s\n", volume.c_str(),
+                light.azimuth, light.elevation, "mode", "n", "R", "dt", "frame ms", "build ms",
+                "PSNR dB", "SSIM");
+}
+
 void print_point(const Point& p, const std::string& progress) {
     const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
     const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
@@ -1099,124 +584,6 @@ void print_point(const Point& p, const std::string& progress) {
                 r.c_str(), distance_label(p.sample_distance).c_str(), p.frame_ms, build.c_str(),
                 psnr_text(p.psnr).c_str(), p.ssim, progress.c_str());
     std::fflush(stdout);
-}
-
-// One volume under one light: the references first, then every mode and setting against them.
-base::Status measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
-                          const std::string& volume, const LightAngles& light,
-                          const Progress& progress, std::vector<Point>& points) {
-    base.light.type = scene::LightType::directional;
-    base.light.direction = scene::direction_from_angles(light.azimuth, light.elevation);
-    std::printf("\n%s, light %g,%g\n  %-11s %5s %5s %7s %9s %9s %8s %7s\n", volume.c_str(),
-                light.azimuth, light.elevation, "mode", "n", "R", "dt", "frame ms", "build ms",
-                "PSNR dB", "SSIM");
-
-    std::vector<base::ImageRgbaF> references;
-    for (const double distance : sweep.distances) {
-        scene::FrameRequest request = base;
-        request.settings.mode = scene::Mode::reference;
-        request.settings.sample_distance = distance;
-        auto timed = bench.frame(request);
-        if (!timed) {
-            return timed.error();
-        }
-        references.push_back(base::to_rgba_f(timed->image));
-        Point p{volume,
-                light,
-                scene::Mode::reference,
-                0,
-                0,
-                distance,
-                timed->frame_ms,
-                0.0,
-                0.0,
-                infinity,
-                1.0,
-                0.0,
-                infinity,
-                1.0};
-        if (references.size() > 1) {
-            auto finest = errors_against(references.front(), timed->image);
-            if (!finest) {
-                return finest.error();
-            }
-            p.rmse_finest = finest->rmse;
-            p.psnr_finest = finest->psnr;
-            p.ssim_finest = finest->ssim;
-        }
-        points.push_back(p);
-        print_point(p, progress(bench.frames()));
-    }
-
-    // Renders one point at every sample distance and records it.
-    const auto record = [&](scene::FrameRequest request, int slices, int resolution,
-                            double build_ms) -> base::Status {
-        for (std::size_t d = 0; d < sweep.distances.size(); ++d) {
-            request.settings.sample_distance = sweep.distances[d];
-            auto timed = bench.frame(request);
-            if (!timed) {
-                return timed.error();
-            }
-            auto same = errors_against(references[d], timed->image);
-            auto finest = errors_against(references.front(), timed->image);
-            if (!same || !finest) {
-                return !same ? same.error() : finest.error();
-            }
-            const Point p{volume,          light,       request.settings.mode,
-                          slices,          resolution,  sweep.distances[d],
-                          timed->frame_ms, build_ms,    same->rmse,
-                          same->psnr,      same->ssim,  finest->rmse,
-                          finest->psnr,    finest->ssim};
-            points.push_back(p);
-            print_point(p, progress(bench.frames()));
-        }
-        return base::Ok{};
-    };
-
-    for (const scene::Mode mode : sweep.modes) {
-        if (mode == scene::Mode::half_angle || scene::uses_light_buffer(mode)) {
-            continue;
-        }
-        scene::FrameRequest request = base;
-        request.settings.mode = mode;
-        if (auto status = record(request, 0, 0, 0.0); !status) {
-            return status;
-        }
-    }
-    for (const int n : sweep.slices) {
-        for (const int r : sweep.resolutions) {
-            scene::FrameRequest request = base;
-            request.settings.light_buffer.slices = n;
-            request.settings.light_buffer.resolution = r;
-            if (std::find(sweep.modes.begin(), sweep.modes.end(), scene::Mode::half_angle) !=
-                sweep.modes.end()) {
-                request.settings.mode = scene::Mode::half_angle;
-                if (auto status = record(request, n, r, 0.0); !status) {
-                    return status;
-                }
-            }
-            // The three light-buffer modes build the same buffer (its key has no mode), so one
-            // build time serves them all.
-            std::optional<double> build_ms;
-            for (const scene::Mode mode : sweep.modes) {
-                if (!scene::uses_light_buffer(mode)) {
-                    continue;
-                }
-                request.settings.mode = mode;
-                if (!build_ms) {
-                    auto built = bench.light_buffer_build(request);
-                    if (!built) {
-                        return built.error();
-                    }
-                    build_ms = *built;
-                }
-                if (auto status = record(request, n, r, *build_ms); !status) {
-                    return status;
-                }
-            }
-        }
-    }
-    return base::Ok{};
 }
 
 base::Status finish(const Table& table, const Arguments& a) {
@@ -1338,13 +705,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
                           sweep.distances.end());
     sweep.repeat = *repeat;
 
-    Table table;
-    table.device = info.renderer;
-    table.vendor = info.vendor;
-    table.gl_version = info.version;
-    table.gpu_timers = info.gpu_timer_queries;
-    table.repeat = sweep.repeat;
-    table.phong = !a.has("no-phong");
+    Table table = make_table(info, sweep.repeat, !a.has("no-phong"));
 
     std::printf("penumbra bench accuracy\n");
     std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
@@ -1393,17 +754,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         }
         base.settings.phong = table.phong;
         if (v == 0) {
-            table.width = base.settings.width;
-            table.height = base.settings.height;
-            table.transfer_function = base.transfer_function.name;
-            table.compositing = scene::to_string(base.settings.compositing);
-            table.stage = scene::to_string(base.settings.stage);
-            table.builder = scene::to_string(base.settings.light_buffer.builder);
-            const scene::Camera& c = base.camera;
-            table.camera = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
-                            {"target", {c.target.x, c.target.y, c.target.z}},
-                            {"up", {c.up.x, c.up.y, c.up.z}},
-                            {"fov_y_degrees", c.fov_y_degrees}};
+            describe_frame(table, base);
             std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, phong %s\n",
                         table.width, table.height, table.transfer_function.c_str(),
                         table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
@@ -1413,11 +764,16 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         if (auto status = (*renderer)->set_volume(volume); !status) {
             return fail(status.error());
         }
+        const PointObserver print = [&](const Point& p) {
+            print_point(p, progress(bench.frames()));
+            return true;
+        };
         for (const LightAngles& light : sweep.lights) {
-            if (auto status = measure_view(bench, sweep, base, volume->name, light, progress,
-                                           table.points);
-                !status) {
-                return fail(status.error());
+            print_view_header(volume->name, light);
+            if (auto measured =
+                        measure_view(bench, sweep, base, volume->name, light, print, table.points);
+                !measured) {
+                return fail(measured.error());
             }
         }
     }

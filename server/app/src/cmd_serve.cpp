@@ -1,3 +1,4 @@
+#include "accuracy_sweep.hpp"
 #include "arguments.hpp"
 #include "commands.hpp"
 
@@ -10,10 +11,15 @@
 #include <penumbra/session/session.hpp>
 #include <penumbra/session/volume_store.hpp>
 
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <sstream>
+#include <system_error>
 
 namespace penumbra::app {
 namespace {
@@ -30,6 +36,155 @@ std::filesystem::path default_web_root() {
     return std::filesystem::exists(built / "index.html") ? built : std::filesystem::path();
 }
 
+using QualityTable = std::shared_ptr<const std::vector<scene::QualitySample>>;
+
+// The table committed for this kind of device (DESIGN.md §1): measured by `bench accuracy`.
+std::filesystem::path committed_table_path(const render::RendererInfo& info) {
+    return std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "accuracy" /
+           (info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json");
+}
+
+// Where a table measured at start-up is kept, one file per GL_RENDERER so that the cost is paid
+// once per kind of device: $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra; nowhere without
+// either variable.
+std::optional<std::filesystem::path> cached_table_path(const std::string& gl_renderer) {
+    std::filesystem::path folder;
+    if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && *cache != '\0') {
+        folder = std::filesystem::path(cache) / "penumbra";
+    } else if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+        folder = std::filesystem::path(home) / ".cache" / "penumbra";
+    } else {
+        return std::nullopt;
+    }
+    // "llvmpipe (LLVM 15.0.6, 256 bits)" -> "llvmpipe_LLVM_15.0.6_256_bits": a file name on
+    // any file system, still readable.
+    std::string name;
+    for (const char c : gl_renderer) {
+        if (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '-') {
+            name += c;
+        } else if (!name.empty() && name.back() != '_') {
+            name += '_';
+        }
+    }
+    while (!name.empty() && name.back() == '_') {
+        name.pop_back();
+    }
+    return folder / ("quality-" + (name.empty() ? std::string("unknown") : name) + ".json");
+}
+
+base::Result<QualityTable> parse_table(const std::string& text, const std::string& where) {
+    auto table = protocol::parse_quality_table(text, where);
+    if (!table) {
+        return table.error();
+    }
+    return std::make_shared<const std::vector<scene::QualitySample>>(std::move(table.value()));
+}
+
+// Nothing when the file cannot be opened; an error when it is not a table.
+std::optional<base::Result<QualityTable>> read_table_file(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) {
+        return std::nullopt;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    return parse_table(text.str(), path.string());
+}
+
+// Through a temporary file and a rename, so a server starting at the same time never reads half
+// a table.
+base::Status write_table_file(const std::filesystem::path& path, const std::string& text) {
+    std::error_code error;
+    std::filesystem::create_directories(path.parent_path(), error);
+    const std::filesystem::path temporary = path.string() + ".tmp";
+    {
+        std::ofstream out(temporary);
+        out << text << '\n';
+        if (!out) {
+            return base::make_error("io_error", "cannot write '" + temporary.string() + "'",
+                                    "quality cache");
+        }
+    }
+    std::filesystem::rename(temporary, path, error);
+    if (error) {
+        std::filesystem::remove(temporary, error);
+        return base::make_error("io_error", "cannot write '" + path.string() + "'",
+                                "quality cache");
+    }
+    return base::Ok{};
+}
+
+enum class Measure { never, where_missing, always };
+
+// What the render thread measured before taking work.
+struct StartupMeasurement {
+    std::optional<accuracy::StartupTable> table;
+    std::string volume;
+    std::optional<base::Error> error;
+};
+
+// Measures the start-up table on the renderer that will serve, on its own thread (its GL context
+// is current there only): ch2, the default volume everywhere, where the data folder has it, else
+// the first volume offered.
+StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
+                                      session::VolumeStore& volumes, bool forced) {
+    StartupMeasurement result;
+    const std::vector<session::VolumeEntry> entries = volumes.list();
+    if (entries.empty()) {
+        result.error = base::make_error("no_volume", "no volume to measure on", "--data");
+        return result;
+    }
+    std::string id = entries.front().id;
+    for (const session::VolumeEntry& entry : entries) {
+        if (entry.id == "ch2.nii.gz") {
+            id = entry.id;
+        }
+    }
+    auto volume = volumes.acquire(id);
+    if (!volume) {
+        result.error = volume.error();
+        return result;
+    }
+    result.volume = id;
+    const accuracy::StartupOptions options = accuracy::startup_options();
+    std::printf("quality:  %s a short table on %s at %dx%d (at most ~%.0f s)\n",
+                forced ? "--quality-measure: measuring" : "no table for this device: measuring",
+                id.c_str(), options.side, options.side, options.time_limit_s);
+    std::fflush(stdout);
+    auto table = accuracy::measure_startup_table(renderer, *volume, options);
+    if (!table) {
+        result.error = table.error();
+        return result;
+    }
+    result.table = std::move(table.value());
+    return result;
+}
+
+// The measured table as the server uses it, cached for the next start where there is a cache.
+base::Result<QualityTable> adopt_measured(const StartupMeasurement& measured,
+                                          const std::optional<std::filesystem::path>& cache) {
+    const accuracy::StartupTable& startup = *measured.table;
+    const accuracy::Table& table = startup.table;
+    const std::string text = accuracy::table_json(
+            table, accuracy::choose_presets(table.points, accuracy::default_budgets(table.points)));
+    auto parsed = parse_table(text, "the start-up measurement");
+    if (!parsed) {
+        return parsed.error();
+    }
+    std::printf("quality:  measured %zu settings on %s at %dx%d in %.1f s (%s time)%s\n",
+                table.points.size(), measured.volume.c_str(), table.width, table.height,
+                startup.seconds, accuracy::timing_name(table),
+                startup.complete ? "" : "; stopped at the time limit, serving with those");
+    if (!cache) {
+        std::printf("quality:  not cached (neither XDG_CACHE_HOME nor HOME is set)\n");
+    } else if (auto status = write_table_file(*cache, text); !status) {
+        std::printf("quality:  not cached: %s\n", status.error().to_string().c_str());
+    } else {
+        std::printf("quality:  cached in %s for the next start\n", cache->c_str());
+    }
+    return parsed;
+}
+
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
@@ -39,7 +194,7 @@ int run_serve(const std::vector<std::string>& args) {
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
              "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
              "default-tf", "quality-table"},
-            {"help", "debug-gl"});
+            {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
                      parsed.error().to_string().c_str());
@@ -67,11 +222,29 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
-                "                             llvmpipe, docs/accuracy/gpu.json elsewhere)\n"
+                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, else a\n"
+                "                             short table measured at start-up, at most ~1 min,\n"
+                "                             and cached in $XDG_CACHE_HOME/penumbra or\n"
+                "                             ~/.cache/penumbra for the next start)\n"
+                "  --no-quality-measure       never measure at start-up (frame budgets are then\n"
+                "                             ignored where no table exists)\n"
+                "  --quality-measure          measure the start-up table even where a table\n"
+                "                             exists; it is used and cached\n"
                 "  --debug-gl                 GL debug output to the log\n"
                 "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
         return 0;
     }
+    if (a.has("quality-measure") && (a.has("no-quality-measure") || a.has("quality-table"))) {
+        return fail(base::make_error("invalid_argument",
+                                     "cannot be combined with --no-quality-measure or "
+                                     "--quality-table",
+                                     "--quality-measure"));
+    }
+    const Measure measure = a.has("quality-measure") ? Measure::always
+                            : a.has("no-quality-measure") || a.has("quality-table")
+                                    ? Measure::never
+                                    : Measure::where_missing;
+
     net::ServerConfig config;
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
@@ -131,13 +304,27 @@ int run_serve(const std::vector<std::string>& args) {
     metrics::Registry registry;
     const bool debug_gl = a.has("debug-gl");
     const std::size_t gpu_budget = static_cast<std::size_t>(gpu_memory_mb) << 20;
+    // The start-up table is measured in the factory, on the render thread with the renderer that
+    // will serve: a GL context is current on one thread only, and a second one would cost another
+    // context (and its eglTerminate could pull the display from under the first). The scheduler
+    // takes no work, and the server accepts no connection, until the factory returns.
+    StartupMeasurement measured;
     auto scheduler = session::Scheduler::create(
-            [debug_gl, gpu_budget]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+            [debug_gl, gpu_budget, measure, &volumes,
+             &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
                 auto renderer = render::Renderer::create(
                         {.shader_dir = {}, .debug_context = debug_gl,
                          .volume_memory_budget = gpu_budget});
                 if (!renderer) {
                     return renderer.error();
+                }
+                const render::RendererInfo& info = (*renderer)->info();
+                const auto cache = cached_table_path(info.renderer);
+                const bool have_table = std::filesystem::exists(committed_table_path(info)) ||
+                                        (cache && std::filesystem::exists(*cache));
+                if (measure == Measure::always ||
+                    (measure == Measure::where_missing && !have_table)) {
+                    measured = measure_at_startup(**renderer, volumes, measure == Measure::always);
                 }
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
@@ -152,29 +339,54 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
     limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
-    const std::filesystem::path table_path =
-            a.get("quality-table")
-                    .value_or((std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "accuracy" /
-                               (info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json"))
-                                      .string());
-    if (std::ifstream in(table_path); in) {
-        std::stringstream text;
-        text << in.rdbuf();
-        auto table = protocol::parse_quality_table(text.str(), table_path.string());
+    // In order: --quality-table, the start-up measurement, the committed table, the cached one.
+    const std::filesystem::path committed = committed_table_path(info);
+    const std::optional<std::filesystem::path> cache = cached_table_path(info.renderer);
+    if (const auto path = a.get("quality-table")) {
+        auto table = read_table_file(*path);
         if (!table) {
-            return fail(table.error());
+            return fail(base::make_error("not_found", "cannot read the quality table", *path));
         }
-        config.quality_table =
-                std::make_shared<const std::vector<scene::QualitySample>>(std::move(table.value()));
+        if (!*table) {
+            return fail(table->error());
+        }
+        config.quality_table = table->value();
         std::printf("quality:  %zu measured settings from %s\n", config.quality_table->size(),
-                    table_path.c_str());
-    } else if (a.has("quality-table")) {
-        return fail(base::make_error("not_found", "cannot read the quality table",
-                                     table_path.string()));
+                    path->c_str());
+    } else if (measured.table) {
+        // Our own JSON failing to parse would be a bug, but not one worth refusing to serve for.
+        if (auto table = adopt_measured(measured, cache)) {
+            config.quality_table = table.value();
+        } else {
+            std::printf(
+                    "quality:  the measured table was not usable (%s); frame budgets are "
+                    "ignored\n",
+                    table.error().to_string().c_str());
+        }
     } else {
-        std::printf("quality:  no measured table for this device (%s); frame budgets are "
+        if (measured.error) {
+            std::printf("quality:  nothing measured at start-up: %s\n",
+                        measured.error->to_string().c_str());
+        }
+        const bool use_cache = !std::filesystem::exists(committed) && cache;
+        const std::filesystem::path found = use_cache ? *cache : committed;
+        if (auto table = read_table_file(found); table && !*table && use_cache) {
+            // A cache is ours to replace: serving without budgets beats not serving.
+            std::printf("quality:  ignoring the cached table (%s); remove it to measure again\n",
+                        table->error().to_string().c_str());
+        } else if (table) {
+            if (!*table) {
+                return fail(table->error());
+            }
+            config.quality_table = table->value();
+            std::printf("quality:  %zu measured settings from %s\n", config.quality_table->size(),
+                        found.c_str());
+        } else {
+            std::printf(
+                    "quality:  no measured table for this device (%s); frame budgets are "
                     "ignored until `penumbra bench accuracy` writes one\n",
-                    table_path.c_str());
+                    committed.c_str());
+        }
     }
 
     session::SessionRegistry sessions(limits.max_sessions);
