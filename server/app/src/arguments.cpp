@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 namespace penumbra::app {
 namespace {
@@ -22,6 +23,16 @@ base::Result<double> parse_double(const std::string& text, const std::string& op
 }
 
 }  // namespace
+
+int report_failure(const char* command, const base::Error& error) {
+    std::fprintf(stderr, "penumbra %s: %s\n", command, error.to_string().c_str());
+    return 1;
+}
+
+int report_usage_error(const char* command, const base::Error& error) {
+    std::fprintf(stderr, "penumbra %s: %s (see --help)\n", command, error.to_string().c_str());
+    return 2;
+}
 
 base::Result<Arguments> Arguments::parse(const std::vector<std::string>& args,
                                          const std::vector<std::string>& valued,

@@ -36,6 +36,12 @@ private:
     std::map<std::string, std::string> values_;
 };
 
+// Prints "penumbra <command>: <error>" on stderr and returns the exit status of a failed run (1).
+int report_failure(const char* command, const base::Error& error);
+
+// The same for a wrong command line (exit status 2), pointing at --help.
+int report_usage_error(const char* command, const base::Error& error);
+
 // Splits "a,b,c" into numbers; errors name the option.
 base::Result<std::vector<double>> parse_numbers(const std::string& text, const std::string& option);
 

@@ -37,15 +37,9 @@ constexpr scene::Mode light_buffer_modes[] = {scene::Mode::sbrc, scene::Mode::sb
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
                                                   scene::LightBufferBuilder::multi_slice};
 
-int fail(const base::Error& error) {
-    std::fprintf(stderr, "penumbra bench: %s\n", error.to_string().c_str());
-    return 1;
-}
+int fail(const base::Error& error) { return report_failure("bench", error); }
 
-int usage_error(const base::Error& error) {
-    std::fprintf(stderr, "penumbra bench: %s (see --help)\n", error.to_string().c_str());
-    return 2;
-}
+int usage_error(const base::Error& error) { return report_usage_error("bench", error); }
 
 void print_bench_usage() {
     std::puts(

@@ -66,15 +66,9 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
 
 constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
 
-int fail(const base::Error& error) {
-    std::fprintf(stderr, "penumbra bench accuracy: %s\n", error.to_string().c_str());
-    return 1;
-}
+int fail(const base::Error& error) { return report_failure("bench accuracy", error); }
 
-int usage_error(const base::Error& error) {
-    std::fprintf(stderr, "penumbra bench accuracy: %s (see --help)\n", error.to_string().c_str());
-    return 2;
-}
+int usage_error(const base::Error& error) { return report_usage_error("bench accuracy", error); }
 
 void print_usage() {
     std::printf(

@@ -14,10 +14,7 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) {
-    std::fprintf(stderr, "penumbra render: %s\n", error.to_string().c_str());
-    return 1;
-}
+int fail(const base::Error& error) { return report_failure("render", error); }
 
 double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());

@@ -24,10 +24,7 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) {
-    std::fprintf(stderr, "penumbra serve: %s\n", error.to_string().c_str());
-    return 1;
-}
+int fail(const base::Error& error) { return report_failure("serve", error); }
 
 // The built web client: next to the source tree's client_web, when it has been built.
 std::filesystem::path default_web_root() {
