@@ -1,11 +1,14 @@
 // Builder B: one dispatch fills every layer. Each invocation follows one light-buffer texel's
 // ray from the light through all n slice planes, storing the transmittance that reaches each
-// plane before attenuating it by that slice.
+// plane before attenuating it by that slice. Only the slices whose crossing lies in the box are
+// sampled: outside it a slice passes the light unchanged, and the light view's corners see
+// nothing of the volume at all.
 #include "include/uniforms.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
 #include "include/compositing.glsl"
 #include "include/light_slab.glsl"
+#include "include/ray.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, r16f) uniform writeonly image2DArray light_layers;
@@ -24,10 +27,20 @@ void main() {
     float path_length = u.light_slicing.w / along_axis;
     float compensation = u.light_buffer_info.y;
     int count = int(u.light_slicing.z);
+    // One slice of margin either side: slab_transmittance decides at the box's faces.
+    vec2 crossing = intersect_line_box(origin, ray);
+    float first_plane = dot(travel, origin) + crossing.x * along_axis;
+    float last_plane = dot(travel, origin) + crossing.y * along_axis;
+    // Clamped before the conversion: a line that misses the box has no meaningful planes.
+    bool hits = crossing.x <= crossing.y;
+    float first_slice = (first_plane - u.light_slicing.x) / u.light_slicing.w - 0.5;
+    float last_slice = (last_plane - u.light_slicing.x) / u.light_slicing.w - 0.5;
+    int first = hits ? int(clamp(floor(first_slice), -1.0, float(count))) : count;
+    int last = hits ? int(clamp(ceil(last_slice), -1.0, float(count))) : -1;
     float transmittance = 1.0;
     for (int k = 0; k < count; ++k) {
         imageStore(light_layers, ivec3(texel, k), vec4(transmittance));
-        if (transmittance <= 0.0) continue;
+        if (k < first || k > last || transmittance <= 0.0) continue;
         float plane = u.light_slicing.x + (float(k) + 0.5) * u.light_slicing.w;
         vec3 p = origin + (plane - dot(travel, origin)) / along_axis * ray;
         transmittance *= slab_transmittance(p, path_length, compensation);

@@ -1,7 +1,8 @@
 // Ray set-up; mirrors server/optics/include/penumbra/optics/ray.hpp.
 
-// Entry and exit of the ray with the volume box (slab method). x = t_near (>= 0), y = t_far.
-vec2 intersect_box(vec3 origin, vec3 direction) {
+// Where the whole line origin + t * direction crosses the volume box (slab method), t of either
+// sign; x > y when it misses.
+vec2 intersect_line_box(vec3 origin, vec3 direction) {
     vec3 inverse = 1.0 / direction;
     vec3 t0 = (u.box_min.xyz - origin) * inverse;
     vec3 t1 = (u.box_max.xyz - origin) * inverse;
@@ -9,13 +10,19 @@ vec2 intersect_box(vec3 origin, vec3 direction) {
     vec3 t_large = max(t0, t1);
     // An axis-parallel ray starting on a slab plane gives NaN, which max/min below ignore the
     // same way the C++ version skips it: GLSL's max(x, NaN) is undefined, so test explicitly.
-    float t_near = 0.0;
+    float t_near = -3.0e38;
     float t_far = 3.0e38;
     for (int axis = 0; axis < 3; ++axis) {
         if (!isnan(t_small[axis])) t_near = max(t_near, t_small[axis]);
         if (!isnan(t_large[axis])) t_far = min(t_far, t_large[axis]);
     }
     return vec2(t_near, t_far);
+}
+
+// Entry and exit of the ray with the volume box. x = t_near (>= 0), y = t_far.
+vec2 intersect_box(vec3 origin, vec3 direction) {
+    vec2 line = intersect_line_box(origin, direction);
+    return vec2(max(0.0, line.x), line.y);
 }
 
 // The ray through the centre of pixel `pixel`, row 0 at the top of the image.
