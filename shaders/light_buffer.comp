@@ -27,6 +27,7 @@ void main() {
     float path_length = u.light_slicing.w / along_axis;
     float compensation = u.light_buffer_info.y;
     int count = int(u.light_slicing.z);
+    int samples = int(u.light_buffer_info.z);
     // One slice of margin either side: slab_transmittance decides at the box's faces.
     vec2 crossing = intersect_line_box(origin, ray);
     float first_plane = dot(travel, origin) + crossing.x * along_axis;
@@ -43,6 +44,6 @@ void main() {
         if (k < first || k > last || transmittance <= 0.0) continue;
         float plane = u.light_slicing.x + (float(k) + 0.5) * u.light_slicing.w;
         vec3 p = origin + (plane - dot(travel, origin)) / along_axis * ray;
-        transmittance *= slab_transmittance(p, path_length, compensation);
+        transmittance *= slab_transmittance(p, ray, path_length, compensation, samples);
     }
 }

@@ -16,5 +16,6 @@ void main() {
     // The polygon is the slice's intersection with the box; rasterisation can put a fragment
     // centre a rounding error outside, which must still count as inside.
     vec3 inside = clamp(slice_world, u.box_min.xyz, u.box_max.xyz);
-    transmittance = vec4(slab_transmittance(inside, path_length, u.light_buffer_info.y));
+    transmittance = vec4(slab_transmittance(inside, ray, path_length, u.light_buffer_info.y,
+                                                   int(u.light_buffer_info.z)));
 }

@@ -34,7 +34,7 @@ float light_reaching(vec3 position, vec3 to_eye) {
 #elif SHADOWS == SHADOWS_LIGHT_BUFFER && SCATTERING == SCATTERING_CONE
     return cone_transmittance(position, to_eye);
 #elif SHADOWS == SHADOWS_LIGHT_BUFFER
-    return light_transmittance(position);
+    return light_at_sample(position);
 #elif SHADOWS == SHADOWS_RAYS
     return shadow_ray_transmittance(position);
 #else

@@ -1,6 +1,7 @@
 // Lookup of the light attenuation buffer; mirrors server/optics light_slicing.hpp.
 // Layer k of the array holds the transmittance from the light to slice k's plane.
 #include "include/light_view.glsl"
+#include "include/light_slab.glsl"
 
 layout(binding = 2) uniform sampler2DArray light_buffer_texture;
 
@@ -21,4 +22,30 @@ float light_transmittance(vec3 world) {
     float a = texture(light_buffer_texture, vec3(uv, lower)).r;
     float b = texture(light_buffer_texture, vec3(uv, upper)).r;
     return mix(a, b, position - lower);
+}
+
+// Transmittance from the light to `world`: the layer at the slab face nearer the light, times
+// the material between that face and `world`, sampled the way the builders sample a slab.
+// Interpolating between layers spreads a surface's own shadow over the whole slab, which shows
+// as rings of the slice spacing on lit surfaces; this keeps the shadow where the surface is.
+float light_transmittance_local(vec3 world) {
+    float index = clamp(light_slice_index(world), 0.0, u.light_slicing.z);
+    float layer = min(floor(index), u.light_slicing.z - 1.0);
+    float before = texture(light_buffer_texture, vec3(light_uv(world), layer)).r;
+    float inside = index - layer;  // of the slab, in slabs
+    if (inside <= 0.0) return before;
+    vec3 travel = light_travel_at(world);
+    float depth = inside * u.light_slicing.w / dot(u.light_travel.xyz, travel);
+    int samples = max(1, int(ceil(u.light_buffer_info.z * inside)));
+    return before * slab_transmittance(world - 0.5 * depth * travel, travel, depth,
+                                       u.light_buffer_info.y, samples);
+}
+
+// The light a camera sample receives, read the way LOCAL_LIGHT_LOOKUP (0|1) asks.
+float light_at_sample(vec3 world) {
+#if LOCAL_LIGHT_LOOKUP
+    return light_transmittance_local(world);
+#else
+    return light_transmittance(world);
+#endif
 }

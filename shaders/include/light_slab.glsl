@@ -1,14 +1,29 @@
 // What one light slice does to the light crossing it, shared by both light-buffer builders and by
-// half-angle slicing: the TF opacity at the slice point, corrected for the path length through
-// the slab, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
+// half-angle slicing: the TF opacity across the slab the slice stands for, corrected for the path
+// length through it, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
 
 bool inside_box(vec3 world) {
     return all(greaterThanEqual(world, u.box_min.xyz)) && all(lessThanEqual(world, u.box_max.xyz));
 }
 
-float slab_transmittance(vec3 world, float path_length, float compensation) {
-    if (!inside_box(world)) return 1.0;
-    float alpha = sample_opacity(classify(sample_value(world)).a, path_length);
+// The slab's opacity from `samples` points spread evenly along the light's ray across it, each
+// corrected for its share of the path. One point (the paper's slice) puts a surface anywhere in
+// the slab at the slice plane, which shows as rings of the slice spacing on lit surfaces.
+float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
+    float step = path_length / float(samples);
+    float transmittance = 1.0;
+    for (int j = 0; j < samples; ++j) {
+        vec3 p = centre + ((float(j) + 0.5) * step - 0.5 * path_length) * ray;
+        if (inside_box(p)) {
+            transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step);
+        }
+    }
+    return 1.0 - transmittance;
+}
+
+float slab_transmittance(vec3 centre, vec3 ray, float path_length, float compensation,
+                         int samples) {
+    float alpha = slab_opacity(centre, ray, path_length, samples);
     // An opaque slice stays opaque: 0 * (1 + a)^c overflows to 0 * inf = NaN for large c.
     if (alpha >= 1.0) return 0.0;
     return min(1.0, (1.0 - alpha) * pow(1.0 + alpha, compensation));

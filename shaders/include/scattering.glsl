@@ -7,7 +7,7 @@ float shell_transmittance(vec3 world) {
     int rings = int(u.scattering.y);
     float ring_norm = 0.0;
     for (int ring = 1; ring <= rings; ++ring) ring_norm += 1.0 / float(ring);
-    float sum = centre_weight * light_transmittance(world);
+    float sum = centre_weight * light_at_sample(world);
     for (int ring = 1; ring <= rings; ++ring) {
         float r = u.scattering.x * float(ring);
         float w = (1.0 - centre_weight) / (float(ring) * ring_norm * 6.0);

@@ -20,7 +20,7 @@ layout(std140, binding = 0) uniform FrameUniforms {
     mat4 light_inverse_view_projection;
     vec4 light_travel;      // xyz: L, the direction light travels (unit); w: 1 for a point light
     vec4 light_slicing;     // x: min, y: max of L.V over the box corners (eq. 7), z: n, w: spacing
-    vec4 light_buffer_info; // x: resolution R, y: compensation exponent
+    vec4 light_buffer_info; // x: resolution R, y: compensation exponent, z: points per slab
     vec4 scattering;        // x: shell radius, y: shell rings, z: shell centre weight
     vec4 cone;              // x: tan(cone angle), y: cone centre weight
     // Half-angle slicing (half_angle.*).

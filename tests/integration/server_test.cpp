@@ -15,6 +15,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <thread>
 
 namespace penumbra::integration {
@@ -23,15 +25,17 @@ namespace {
 namespace fs = std::filesystem;
 
 // Appends every message the server sent to a JSONL file that a later CTest validates against
-// proto/v1's schemas.
+// proto/v1's schemas. A test's first message starts its file afresh, so messages from an older
+// build never reach the validation.
 void record(const std::string& kind, const std::string& json) {
     static std::mutex mutex;
+    static std::set<fs::path> started;
     const std::lock_guard lock(mutex);
     const fs::path dir = PENUMBRA_SENT_MESSAGES;
     fs::create_directories(dir);
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::ofstream out(dir / (std::string(test->test_suite_name()) + "." + test->name() + ".jsonl"),
-                      std::ios::app);
+    const fs::path file = dir / (std::string(test->test_suite_name()) + "." + test->name() + ".jsonl");
+    std::ofstream out(file, started.insert(file).second ? std::ios::trunc : std::ios::app);
     out << R"({"kind":")" << kind << R"(","message":)" << json << "}\n";
 }
 

@@ -225,6 +225,15 @@ TEST_F(LimitsTest, CompensationOutsideZeroToAThousandIsRejected) {
     }
 }
 
+TEST_F(LimitsTest, SlabSamplesOutsideZeroToTheMaximumAreRejected) {
+    for (const int samples : {-1, scene::kMaxSlabSamples + 1, 1 << 30}) {
+        auto request = base_request(scene::Mode::sbrc, 8);
+        request.settings.light_buffer.slab_samples = samples;
+        SCOPED_TRACE("slab samples " + std::to_string(samples));
+        expect_rejected(request, "light_buffer.slab_samples");
+    }
+}
+
 // A rejected request must leave no half-changed state behind.
 TEST_F(LimitsTest, RejectedRequestsLeaveTheNextFrameUnchanged) {
     for (const scene::Mode mode : all_modes) {

@@ -7,6 +7,7 @@ import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
 import {
   BUILDERS,
+  LIGHT_LOOKUPS,
   COMPOSITINGS,
   DEFAULT_LIMITS,
   ENCODINGS,
@@ -37,6 +38,8 @@ export class MethodPanel {
     resolution: 256,
     builder: 'multi_slice',
     compensation: 0,
+    lookup: 'local',
+    slab_samples: 0,
     sample_distance: 1 / 256,
     opacity_unit_distance: 1 / 256,
     early_termination: 0.99,
@@ -96,6 +99,10 @@ export class MethodPanel {
     // A free number field: the server checks the range (0..1000).
     add(lb.add(p, 'compensation').name('compensation n'), 'compensation', () =>
       settings({ light_buffer: { compensation: p.compensation } }), false);
+    add(lb.add(p, 'lookup', [...LIGHT_LOOKUPS]).name('light lookup'), 'lookup', () =>
+      settings({ light_buffer: { lookup: p.lookup as 'local' } }), false);
+    add(lb.add(p, 'slab_samples', 0, 16, 1).name('slab samples (0 = per voxel)'), 'slab_samples', () =>
+      settings({ light_buffer: { slab_samples: p.slab_samples } }));
 
     const sampling = folder.addFolder('Sampling');
     // Free number fields: the server checks the ranges and says what is wrong.
@@ -167,6 +174,8 @@ export class MethodPanel {
     p.resolution = s.light_buffer.resolution;
     p.builder = s.light_buffer.builder;
     p.compensation = s.light_buffer.compensation;
+    p.lookup = s.light_buffer.lookup;
+    p.slab_samples = s.light_buffer.slab_samples;
     p.sample_distance = s.sample_distance;
     p.opacity_unit_distance = s.opacity_unit_distance;
     p.early_termination = s.early_termination;
@@ -189,7 +198,7 @@ export class MethodPanel {
     const dim = (key: string, used: boolean): void => {
       this.byKey.get(key)?.domElement.classList.toggle('unused', !used);
     };
-    for (const key of ['resolution', 'builder', 'compensation']) dim(key, USES['light_buffer']!(mode));
+    for (const key of ['resolution', 'builder', 'compensation', 'lookup', 'slab_samples']) dim(key, USES['light_buffer']!(mode));
     dim('slices', USES['slices']!(mode));
     for (const key of ['shell_radius', 'shell_rings', 'shell_center_weight']) dim(key, USES['shell']!(mode));
     for (const key of ['cone_angle', 'cone_center_weight']) dim(key, USES['cone']!(mode));

@@ -28,6 +28,8 @@ export const STAGES = ['compute', 'fragment'] as const;
 export type Stage = (typeof STAGES)[number];
 export const BUILDERS = ['per_slice', 'multi_slice'] as const;
 export type Builder = (typeof BUILDERS)[number];
+export const LIGHT_LOOKUPS = ['local', 'interpolate'] as const;
+export type LightLookup = (typeof LIGHT_LOOKUPS)[number];
 export const LIGHT_TYPES = ['directional', 'point'] as const;
 export type LightType = (typeof LIGHT_TYPES)[number];
 
@@ -98,6 +100,8 @@ export interface LightBufferSettings {
   resolution: number;
   builder: Builder;
   compensation: number;
+  slab_samples: number;
+  lookup: LightLookup;
 }
 
 export interface Scattering {
@@ -397,6 +401,8 @@ function checkState(v: unknown, at: string): State {
   num(lb, 'resolution', `${sAt}/light_buffer`);
   str(lb, 'builder', `${sAt}/light_buffer`);
   num(lb, 'compensation', `${sAt}/light_buffer`);
+  num(lb, 'slab_samples', `${sAt}/light_buffer`);
+  str(lb, 'lookup', `${sAt}/light_buffer`);
   const sc = obj(settings, 'scattering', sAt);
   for (const key of [
     'shell_radius',
@@ -662,6 +668,8 @@ function settingsSpec(limits: Limits): Spec {
         resolution: integer(1, limits.max_light_resolution),
         builder: oneOf(BUILDERS),
         compensation: number(0, 1000),
+        slab_samples: integer(0, 16),
+        lookup: oneOf(LIGHT_LOOKUPS),
       }),
     scattering: (v, at) =>
       members(v, at, {

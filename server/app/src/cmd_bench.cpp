@@ -61,7 +61,7 @@ void print_modes_usage() {
             "\n"
             "Times each mode side by side in one run and prints the ratios that matter:\n"
             "half_angle vs sbrc at equal slices, sbrc's growth with slices, per_slice vs\n"
-            "multi_slice builder. Absolute times mean something only on a GPU; on a software\n"
+            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean something only on a GPU; on a software\n"
             "rasteriser read the ratios.\n"
             "\n"
             "  --volume FILE                  (default %s)\n"
@@ -76,7 +76,8 @@ void print_modes_usage() {
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices and --light-res are swept\n"
-            "instead; --builder picks the builder the sbrc modes use):\n%s",
+            "instead; --builder and --light-lookup pick what the sbrc modes use; the paper's\n"
+            "method is --light-lookup interpolate --slab-samples 1):\n%s",
             default_volume_path, frame_options_help());
 }
 
@@ -475,10 +476,12 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     std::printf("volume:   %s %ux%ux%u %s\n", volume->name.c_str(), volume->dims.x, volume->dims.y,
                 volume->dims.z, volume::to_string(volume->type));
-    std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s%s\n", s.width,
-                s.height, bench.base().transfer_function.name.c_str(),
+    std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
+                "%s%s\n",
+                s.width, s.height, bench.base().transfer_function.name.c_str(),
                 scene::to_string(s.compositing), scene::to_string(s.stage),
-                scene::to_string(s.light_buffer.builder), s.phong ? ", phong" : "");
+                scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
+                s.phong ? ", phong" : "");
     std::printf(
             "timing:   per point 1 warm-up + %d timed frame(s), the camera orbiting %g deg a "
             "frame;\n          medians of the frame's summed pass wall_ms (gpu: summed timer "
@@ -595,6 +598,31 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
 
     const int r_mid = (*resolutions)[resolutions->size() / 2];
+    if (contains(*modes, scene::Mode::sbrc)) {
+        std::printf(
+                "\nlight lookups (ms): sbrc, light buffer cached, R=%d: the paper's interpolation "
+                "between layers\nvs the local march through the last slab\n  %5s %12s %9s %12s "
+                "%9s  %s\n",
+                r_mid, "n", "interpolate", "gpu", "local", "gpu", "local/interpolate");
+        for (const int n : *slice_counts) {
+            for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
+                scene::FrameRequest request = bench.request(scene::Mode::sbrc, n, r_mid);
+                request.settings.light_buffer.lookup = lookup;
+                const Point point{scene::Mode::sbrc, std::string("lookup_") + scene::to_string(lookup),
+                                  builder_in_use, n, r_mid, {}};
+                if (auto status = record(point, request, LightBufferUse::cached, {}); !status) {
+                    return fail(status.error());
+                }
+            }
+            const Measurement* interpolate =
+                    results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid);
+            const Measurement* local = results.find(scene::Mode::sbrc, "lookup_local", n, r_mid);
+            std::printf("  %5d %s %s  %s\n", n, cells(*interpolate).c_str(), cells(*local).c_str(),
+                        ratio(local, interpolate).c_str());
+            std::fflush(stdout);
+        }
+    }
+
     const int n_min = *std::min_element(slice_counts->begin(), slice_counts->end());
     const int n_max = *std::max_element(slice_counts->begin(), slice_counts->end());
     std::printf("\nratios (of median wall times; gpu from timer queries where they work)\n");

@@ -12,7 +12,7 @@ const std::vector<std::string>& frame_option_names() {
             "fov",        "light",         "light-position", "light-color", "intensity",
             "ambient",    "diffuse",       "specular",   "shininess", "tf",       "sample-distance",
             "opacity-unit", "compositing", "stage",      "background", "early-termination",
-            "slices",     "light-res",     "builder",    "compensation", "shell-radius",
+            "slices",     "light-res",     "builder",    "compensation", "slab-samples", "light-lookup", "shell-radius",
             "shell-rings", "shell-weight", "cone-angle", "cone-weight"};
     return names;
 }
@@ -30,6 +30,12 @@ const char* frame_options_help() {
            "  --light-res R                  light buffer R x R texels (default 256)\n"
            "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
            "  --compensation N               darkening compensation (1+alpha)^N, 0 = off\n"
+           "  --light-lookup local|interpolate  camera samples read the light buffer: the layer\n"
+           "                                 nearer the light + a march through the rest of\n"
+           "                                 the slab (default), or the paper's interpolation\n"
+           "                                 between the two nearest layers\n"
+           "  --slab-samples K               points per light slab: 1 = the slice plane only\n"
+           "                                 (the paper), 0 = one per voxel (default 0)\n"
            "  --shell-radius D --shell-rings K --shell-weight W   sbrc_shell (2/256, 1, 0.4)\n"
            "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
            "  --size WxH                     image size (default 512x512)\n"
@@ -159,6 +165,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
             {"slices", &s.light_buffer.slices},
             {"light-res", &s.light_buffer.resolution},
             {"shell-rings", &s.scattering.shell_rings},
+            {"slab-samples", &s.light_buffer.slab_samples},
     };
     for (const auto& option : integers) {
         auto value = args.integer(option.name, *option.target);
@@ -175,6 +182,14 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
                                     "--builder");
         }
         s.light_buffer.builder = *parsed;
+    }
+    if (const auto lookup = args.get("light-lookup")) {
+        const auto parsed = scene::parse_light_lookup(*lookup);
+        if (!parsed) {
+            return base::make_error("invalid_argument", "expects local or interpolate",
+                                    "--light-lookup");
+        }
+        s.light_buffer.lookup = *parsed;
     }
     if (const auto compositing = args.get("compositing")) {
         const auto parsed = scene::parse_compositing(*compositing);

@@ -1,5 +1,7 @@
 #include "penumbra/optics/light_slicing.hpp"
 
+#include <penumbra/scene/frame_request.hpp>
+
 #include <glm/common.hpp>
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
@@ -170,6 +172,18 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
 glm::dvec2 light_uv(const LightView& view, glm::dvec3 world) {
     const glm::dvec4 clip = view.view_projection * glm::dvec4(world, 1.0);
     return glm::dvec2(clip.x, clip.y) / clip.w * 0.5 + 0.5;
+}
+
+int resolve_slab_samples(const LightSlicing& slicing, glm::dvec3 voxel_size, int requested) {
+    if (requested > 0) {
+        return std::min(requested, scene::kMaxSlabSamples);
+    }
+    const double voxel = std::min({voxel_size.x, voxel_size.y, voxel_size.z});
+    if (!(voxel > 0.0)) {
+        return 1;
+    }
+    const double per_voxel = std::ceil(slicing.spacing() / voxel - 1e-9);
+    return static_cast<int>(std::clamp(per_voxel, 1.0, double(scene::kMaxSlabSamples)));
 }
 
 double compensated_transmittance(double alpha, double compensation) {

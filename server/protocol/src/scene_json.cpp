@@ -278,7 +278,8 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         const json& lb = j.at("light_buffer");
         const std::string lp = p + "/light_buffer";
         PENUMBRA_TRY(expect_object(lb, lp));
-        PENUMBRA_TRY(only_fields(lb, lp, {"slices", "resolution", "builder", "compensation"}));
+        PENUMBRA_TRY(only_fields(lb, lp, {"slices", "resolution", "builder", "compensation",
+                                          "slab_samples", "lookup"}));
         PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
                                      int_range_of(1, limits.max_slices)));
         PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
@@ -287,6 +288,10 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                 scene::parse_light_buffer_builder, "per_slice or multi_slice"));
         PENUMBRA_TRY(optional_member(lb, lp, "compensation", s.light_buffer.compensation,
                                      range_of(0.0, 1000.0)));
+        PENUMBRA_TRY(optional_member(lb, lp, "slab_samples", s.light_buffer.slab_samples,
+                                     int_range_of(0, scene::kMaxSlabSamples)));
+        PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup, scene::parse_light_lookup,
+                                "interpolate or local"));
     }
     if (j.contains("scattering")) {
         const json& sc = j.at("scattering");
@@ -429,7 +434,9 @@ std::string state_to_json(const SessionState& state) {
                {{"slices", s.light_buffer.slices},
                 {"resolution", s.light_buffer.resolution},
                 {"builder", scene::to_string(s.light_buffer.builder)},
-                {"compensation", s.light_buffer.compensation}}},
+                {"compensation", s.light_buffer.compensation},
+                {"slab_samples", s.light_buffer.slab_samples},
+                {"lookup", scene::to_string(s.light_buffer.lookup)}}},
               {"scattering",
                {{"shell_radius", s.scattering.shell_radius},
                 {"shell_rings", s.scattering.shell_rings},

@@ -10,6 +10,7 @@ gpu::Defines RaycastVariant::defines() const {
             {"PHONG", phong ? "1" : "0"},
             {"EXTINCTION", extinction ? "1" : "0"},
             {"POINT_LIGHT", point_light ? "1" : "0"},
+            {"LOCAL_LIGHT_LOOKUP", local_light_lookup ? "1" : "0"},
             {"CHUNKED", chunked ? "1" : "0"}};
 }
 

@@ -23,6 +23,7 @@ struct RaycastVariant {
     bool phong = false;
     bool extinction = false;
     bool point_light = false;
+    bool local_light_lookup = false;  // light-buffer shadows only: scene::LightLookup::local
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it

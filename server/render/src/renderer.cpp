@@ -50,6 +50,7 @@ struct LightBufferKey {
     bool extinction = false;
     double opacity_unit_distance = 0.0;
     double compensation = 0.0;
+    int slab_samples = 0;
 
     bool operator==(const LightBufferKey&) const = default;
 };
@@ -346,6 +347,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
                                            static_cast<float>(slicing.max),
                                            static_cast<float>(slicing.count),
                                            static_cast<float>(slicing.spacing()));
+        uniforms.light_buffer_info.z = static_cast<float>(optics::resolve_slab_samples(
+                slicing, glm::dvec3(uniforms.voxel_size),
+                s.light_buffer.slab_samples));
     }
     bool front_to_back = true;
     double slice_geometry_ms = 0.0;  // CPU work of the slicing passes, counted in their time
@@ -380,7 +384,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
                            s.light_buffer.builder,
                            plan.variant.extinction,
                            s.opacity_unit_distance,
-                           s.light_buffer.compensation};
+                           s.light_buffer.compensation,
+                           static_cast<int>(uniforms.light_buffer_info.z)};
         if (!key.point) {
             key.position = glm::dvec3(0.0);
         }
@@ -449,6 +454,10 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
                         plan.variant.scattering == Scattering::shell ? 4 + 2 * s.scattering.shell_rings
                         : plan.variant.scattering == Scattering::cone ? 10
                                                                        : 1;
+                if (plan.variant.local_light_lookup) {
+                    budget.iterations_per_sample +=
+                            1 + static_cast<int>(uniforms.light_buffer_info.z);
+                }
                 break;
             case Shadows::none: budget.iterations_per_sample = 1; break;
         }

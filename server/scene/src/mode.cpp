@@ -88,6 +88,20 @@ std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view te
     return std::nullopt;
 }
 
+const char* to_string(LightLookup lookup) {
+    return lookup == LightLookup::interpolate ? "interpolate" : "local";
+}
+
+std::optional<LightLookup> parse_light_lookup(std::string_view text) {
+    if (text == "interpolate") {
+        return LightLookup::interpolate;
+    }
+    if (text == "local") {
+        return LightLookup::local;
+    }
+    return std::nullopt;
+}
+
 bool uses_light_buffer(Mode mode) {
     return mode == Mode::sbrc || mode == Mode::sbrc_shell || mode == Mode::sbrc_cone;
 }
@@ -162,6 +176,11 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
     }
     if (!std::isfinite(lb.compensation) || lb.compensation < 0.0 || lb.compensation > 1000.0) {
         return invalid("light_buffer.compensation", "compensation must be within [0, 1000]");
+    }
+    if (lb.slab_samples < 0 || lb.slab_samples > kMaxSlabSamples) {
+        return invalid("light_buffer.slab_samples",
+                       "slab samples must be within 0.." + std::to_string(kMaxSlabSamples) +
+                               " (0 = one per voxel)");
     }
     const ScatteringSettings& sc = s.scattering;
     if (!std::isfinite(sc.shell_radius) || sc.shell_radius <= 0.0 || sc.shell_radius > 0.5) {

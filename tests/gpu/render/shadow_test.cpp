@@ -64,13 +64,16 @@ scene::FrameRequest radial_scene(scene::Mode mode, int size = 48) {
 
 TEST_F(ShadowTest, BothLightBufferBuildersGiveTheSameLayers) {
     use(test::radial_volume(32));
-    for (const bool point_light : {false, true}) {
-        SCOPED_TRACE(point_light ? "point light" : "directional light");
+    for (const auto& [point_light, slab_samples] : {std::pair{false, 1}, std::pair{true, 1},
+                                                    std::pair{false, 3}, std::pair{true, 0}}) {
+        SCOPED_TRACE(std::string(point_light ? "point light" : "directional light") +
+                     ", slab samples " + std::to_string(slab_samples));
         auto request = radial_scene(scene::Mode::sbrc, 16);
         if (point_light) {
             request.light.type = scene::LightType::point;
             request.light.position = {1.2, -0.9, 1.0};
         }
+        request.settings.light_buffer.slab_samples = slab_samples;
         request.settings.light_buffer.slices = 48;
         request.settings.light_buffer.resolution = 40;
         request.settings.light_buffer.builder = scene::LightBufferBuilder::per_slice;
@@ -215,6 +218,41 @@ TEST_F(ShadowTest, SbrcConvergesTowardTheReferenceAsSlicesAndResolutionGrow) {
     EXPECT_GT(error_against(unshadowed, reference), 3.0 * errors[2]);
 }
 
+// An opaque ball lit from the side with few, deep slices: the lit side shadows itself within the
+// first slab. Interpolating between layers spreads that over the slab, so the shading depends on
+// where the surface sits between two slice planes; the local lookup puts it at the surface and
+// follows the reference far more closely. Sub-sampling the slabs helps the paper's lookup too.
+TEST_F(ShadowTest, LocalLookupFollowsTheReferenceOnAnOpaqueSurface) {
+    use(test::sphere_volume(48, 0.4f));
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(30.0, 20.0, 2.2);
+    request.light.direction = scene::direction_from_angles(-60.0, 35.0);
+    request.light.ambient = 0.1;
+    request.settings.width = 64;
+    request.settings.height = 64;
+    request.settings.sample_distance = 1.0 / 256.0;
+    request.transfer_function = {"ball",
+                                 {{0.0, {1.0, 1.0, 1.0}}},
+                                 {{0.0, 0.0}, {0.4, 0.0}, {0.6, 0.5}, {1.0, 0.5}}};
+    request.settings.mode = scene::Mode::reference;
+    const base::ImageRgbaF reference = base::to_rgba_f(render(request).image);
+
+    request.settings.mode = scene::Mode::sbrc;
+    request.settings.light_buffer.slices = 24;
+    request.settings.light_buffer.resolution = 64;
+    const auto error_with = [&](scene::LightLookup lookup, int slab_samples) {
+        request.settings.light_buffer.lookup = lookup;
+        request.settings.light_buffer.slab_samples = slab_samples;
+        return error_against(render(request), reference);
+    };
+    const double paper = error_with(scene::LightLookup::interpolate, 1);
+    const double paper_sampled = error_with(scene::LightLookup::interpolate, 0);
+    const double local = error_with(scene::LightLookup::local, 0);
+    EXPECT_LT(local, 0.5 * paper) << "interpolate " << paper << ", local " << local;
+    EXPECT_LT(paper_sampled, paper) << "slab sampling should help the interpolating lookup too";
+    EXPECT_LT(local, 0.04);
+}
+
 TEST_F(ShadowTest, ScatteringModesStayCloseToSbrcAndSoftenIt) {
     use(test::radial_volume(32));
     auto request = radial_scene(scene::Mode::sbrc);
@@ -240,6 +278,9 @@ TEST_F(ShadowTest, CameraMovesNeverRebuildTheLightBuffer) {
         request.camera = scene::orbit_camera(20.0 + 30.0 * i, 10.0 * i, 2.0 + 0.1 * i);
         request.settings.mode = i % 2 == 0 ? scene::Mode::sbrc : scene::Mode::sbrc_shell;
         request.settings.width = 16 + i;  // image size is a camera matter too
+        // How samples read the buffer is not what the buffer holds.
+        request.settings.light_buffer.lookup =
+                i % 3 == 0 ? scene::LightLookup::interpolate : scene::LightLookup::local;
         EXPECT_EQ(render(request).report.light_buffer, "reused");
     }
     EXPECT_EQ(renderer_->light_buffer_builds(), builds);
@@ -250,11 +291,13 @@ TEST_F(ShadowTest, CameraMovesNeverRebuildTheLightBuffer) {
     EXPECT_EQ(render(request).report.light_buffer, "built");
     request.transfer_function.opacities.back().alpha = 0.2;
     EXPECT_EQ(render(request).report.light_buffer, "built");
-    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 3);
+    request.settings.light_buffer.slab_samples = 5;
+    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 4);
     // Modes without light-buffer shadows do not touch it.
     request.settings.mode = scene::Mode::phong;
     EXPECT_EQ(render(request).report.light_buffer, "none");
-    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 3);
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds + 4);
 }
 
 TEST_F(ShadowTest, LightBuffersOfSeveralLightsStayCachedForSessionsThatShareTheRenderer) {

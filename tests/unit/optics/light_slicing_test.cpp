@@ -1,4 +1,5 @@
 #include <penumbra/optics/light_slicing.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -771,6 +772,28 @@ TEST(MakeLightView, PointLightAlmostTouchingTheBoxIsUnsupported) {
     const auto view = make_light_view(point_light({0.5 + 1e-3, 0.0, 0.0}), unit_box);
     ASSERT_FALSE(view.ok());
     EXPECT_EQ(view.error().code, "unsupported_light");
+}
+
+// ---------------------------------------------------------------------------------------------
+// resolve_slab_samples
+
+TEST(ResolveSlabSamples, AnExplicitCountIsKeptUpToTheMaximum) {
+    const LightSlicing slicing = make_light_slicing(unit_box, glm::dvec3(0.0, 0.0, -1.0), 10);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.01), 1), 1);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.01), 7), 7);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.01), 1000), scene::kMaxSlabSamples);
+}
+
+TEST(ResolveSlabSamples, AutomaticCountPutsOnePointPerSmallestVoxelSide) {
+    // Light along -z through the unit box in 10 slices: slabs 0.1 deep.
+    const LightSlicing slicing = make_light_slicing(unit_box, glm::dvec3(0.0, 0.0, -1.0), 10);
+    ASSERT_NEAR(slicing.spacing(), 0.1, 1e-12);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.1), 0), 1);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.04, 0.5, 0.5), 0), 3);  // 2.5 -> 3
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.5, 0.5, 0.025), 0), 4);  // exactly 4
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(1.0), 0), 1);  // voxels deeper than a slab
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(1e-4), 0), scene::kMaxSlabSamples);
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.0), 0), 1);  // degenerate: the paper's
 }
 
 // ---------------------------------------------------------------------------------------------

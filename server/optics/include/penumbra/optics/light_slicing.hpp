@@ -72,6 +72,12 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
 // Light-buffer texture coordinates in [0, 1]^2 of a world point (eq. 9).
 glm::dvec2 light_uv(const LightView& view, glm::dvec3 world);
 
+// How many points sample each slice's slab along the light: `requested` when it is positive,
+// otherwise enough that they lie no farther apart than the smallest voxel side, at most
+// scene::kMaxSlabSamples. A surface inside a slab then darkens the light in proportion to how
+// much of the slab it fills, instead of all at once at the slice plane.
+int resolve_slab_samples(const LightSlicing& slicing, glm::dvec3 voxel_size, int requested);
+
 // The paper's darkening compensation: a slice of opacity a transmits (1 - a)(1 + a)^n instead of
 // (1 - a), never more than 1 (n = 0 turns it off).
 double compensated_transmittance(double alpha, double compensation);

@@ -39,12 +39,28 @@ enum class LightBufferBuilder { per_slice, multi_slice };
 const char* to_string(LightBufferBuilder builder);
 std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view text);
 
+// How a camera sample reads the light buffer. `interpolate` is the paper's: linear between the
+// two nearest layers, which spreads a surface's own shadow over a whole slab and shows rings of
+// the slice spacing on lit surfaces. `local` reads the layer at the slab face nearer the light
+// and marches the rest of the way (less than one slab) through the volume, so self-shadowing
+// lands where the surface is; it costs up to one slab's samples per lookup.
+enum class LightLookup { interpolate, local };
+
+const char* to_string(LightLookup lookup);
+std::optional<LightLookup> parse_light_lookup(std::string_view text);
+
 struct LightBufferSettings {
     int slices = 128;        // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
     int resolution = 256;    // R: each layer is R x R texels
     LightBufferBuilder builder = LightBufferBuilder::multi_slice;
     double compensation = 0.0;  // the paper's (1 + alpha)^n darkening compensation; 0 = off
+    // Points sampled across each slice's slab along the light: 1 is the paper's single point on
+    // the slice plane; 0 picks one per voxel along the light (optics::resolve_slab_samples).
+    int slab_samples = 0;  // 0 .. kMaxSlabSamples
+    LightLookup lookup = LightLookup::local;  // the buffer's content does not depend on it
 };
+
+inline constexpr int kMaxSlabSamples = 16;
 
 // Soft shadows from the light buffer. Shell: the light at a sample averaged with its 6 axis
 // neighbours at `shell_radius`, 2·radius, ... (`shell_rings` rings), the centre weighted
