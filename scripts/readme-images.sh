@@ -20,3 +20,15 @@ done
 "$penumbra" render --mode sbrc --phong --size 512x512 --camera 35,5,2.4 --light 75,35 \
     --intensity 1.2 --slices 256 --light-res 256 --out "$out/ch2_sbrc.png" \
     --light-inset "$out/ch2_sbrc_inset.png" >/dev/null
+# The light lookups side by side, with the light where the paper's shows its slice rings: the
+# paper's (one point per slab, interpolating between layers), ours (the default), the reference.
+lookups=()
+for variant in "interpolate 1" "local 0"; do
+    set -- $variant
+    "$penumbra" render --mode sbrc --phong --size 256x256 --light-lookup "$1" --slab-samples "$2" \
+        --out "out/modes/ch2_lookup_$1.png" >/dev/null
+    lookups+=("out/modes/ch2_lookup_$1.png")
+done
+"$penumbra" render --mode reference --phong --size 256x256 --out out/modes/ch2_lookup_reference.png \
+    >/dev/null
+oiiotool "${lookups[@]}" out/modes/ch2_lookup_reference.png --mosaic 3x1 -o "$out/ch2_light_lookup.png"

@@ -628,14 +628,16 @@ int run_bench_modes(const std::vector<std::string>& args) {
     std::printf("\nratios (of median wall times; gpu from timer queries where they work)\n");
     std::printf(
             "  half_angle / sbrc at equal n, R=%d (sbrc with its light buffer cached | "
-            "rebuilt every frame):\n",
+            "rebuilt every frame | cached,\n  read with the paper's interpolating lookup):\n",
             r_mid);
     for (const int n : *slice_counts) {
         const Measurement* half_angle = results.find(scene::Mode::half_angle, "frame", n, r_mid);
         std::printf(
-                "    n=%-5d cached %-22s rebuild %s\n", n,
+                "    n=%-5d cached %-22s rebuild %-22s interpolate %s\n", n,
                 ratio(half_angle, results.find(scene::Mode::sbrc, "cached", n, r_mid)).c_str(),
-                ratio(half_angle, results.find(scene::Mode::sbrc, "rebuild", n, r_mid)).c_str());
+                ratio(half_angle, results.find(scene::Mode::sbrc, "rebuild", n, r_mid)).c_str(),
+                ratio(half_angle, results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid))
+                        .c_str());
     }
     std::printf(
             "  cached frame time at n=%d / at n=%d, R=%d (the paper: it barely grows with n; "
