@@ -39,8 +39,10 @@ void main() {
     int first = hits ? int(clamp(floor(first_slice), -1.0, float(count))) : count;
     int last = hits ? int(clamp(ceil(last_slice), -1.0, float(count))) : -1;
     float transmittance = 1.0;
+    // The layers start cleared to 1: only light that something dimmed needs writing, which spares
+    // the writes in front of the volume and where the light misses it.
     for (int k = 0; k < count; ++k) {
-        imageStore(light_layers, ivec3(texel, k), vec4(transmittance));
+        if (transmittance < 1.0) imageStore(light_layers, ivec3(texel, k), vec4(transmittance));
         if (k < first || k > last || transmittance <= 0.0) continue;
         float plane = u.light_slicing.x + (float(k) + 0.5) * u.light_slicing.w;
         vec3 p = origin + (plane - dot(travel, origin)) / along_axis * ray;

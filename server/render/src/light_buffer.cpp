@@ -67,6 +67,8 @@ base::Status LightBufferBuilder::build(LightBuffer& target, scene::LightBufferBu
             return status;
         }
     } else {
+        const float one = 1.0f;
+        glClearTexImage(target.texture(), 0, GL_RED, GL_FLOAT, &one);
         glUseProgram((*built)->name());
         glBindImageTexture(0, target.texture(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
         const auto groups = static_cast<GLuint>((target.resolution() + 7) / 8);
