@@ -45,5 +45,13 @@ float cone_transmittance(vec3 world, vec3 to_eye) {
         vec3 axis = rotate_about(base, travel, float(k) * 0.78539816339);
         sum += light_transmittance(centre + radius * axis);
     }
-    return mix(sum / 8.0, light_transmittance(centre), u.cone.y);
+    float scattered = mix(sum / 8.0, light_transmittance(centre), u.cone.y);
+#if LOCAL_LIGHT_LOOKUP
+    // The disc lies a slab toward the light; what lies between it and the sample still dims the
+    // light, unscattered.
+    int samples = max(1, int(u.light_buffer_info.z));
+    scattered *= slab_transmittance(world - 0.5 * spacing * travel, travel, spacing,
+                                    u.light_buffer_info.y, samples);
+#endif
+    return scattered;
 }

@@ -26,9 +26,7 @@ FramePlan plan_frame(const scene::FrameRequest& request) {
         case scene::Mode::reference: v.shadows = Shadows::rays; break;
         default: break;
     }
-    // The cone's disc samples lie a slice toward the light, between layers by design: they keep
-    // the interpolating lookup, and the variant stays the same whatever `lookup` says.
-    v.local_light_lookup = v.shadows == Shadows::light_buffer && v.scattering != Scattering::cone &&
+    v.local_light_lookup = v.shadows == Shadows::light_buffer &&
                            s.light_buffer.lookup == scene::LightLookup::local;
     // Only code that reads the light's position or direction per sample needs to know its kind.
     const bool reads_light = v.phong || v.shadows != Shadows::none || plan.half_angle;
