@@ -204,18 +204,23 @@ TEST_F(ShadowTest, SbrcConvergesTowardTheReferenceAsSlicesAndResolutionGrow) {
     const Frame reference_frame = render(radial_scene(scene::Mode::reference));
     const base::ImageRgbaF reference = base::to_rgba_f(reference_frame.image);
     const Frame unshadowed = render(radial_scene(scene::Mode::dvr));
-    std::vector<double> errors;
-    for (const auto& [slices, resolution] : {std::pair{4, 8}, std::pair{16, 24}, std::pair{96, 96}}) {
-        auto request = radial_scene(scene::Mode::sbrc);
-        request.settings.light_buffer.slices = slices;
-        request.settings.light_buffer.resolution = resolution;
-        errors.push_back(error_against(render(request), reference));
+    for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
+        SCOPED_TRACE(scene::to_string(lookup));
+        std::vector<double> errors;
+        for (const auto& [slices, resolution] :
+             {std::pair{4, 8}, std::pair{16, 24}, std::pair{96, 96}}) {
+            auto request = radial_scene(scene::Mode::sbrc);
+            request.settings.light_buffer.slices = slices;
+            request.settings.light_buffer.resolution = resolution;
+            request.settings.light_buffer.lookup = lookup;
+            errors.push_back(error_against(render(request), reference));
+        }
+        EXPECT_LT(errors[1], errors[0]);
+        EXPECT_LT(errors[2], 0.7 * errors[1]);
+        EXPECT_LT(errors[2], 0.02);
+        // Shadows matter here: ignoring them is far worse than a fine light buffer.
+        EXPECT_GT(error_against(unshadowed, reference), 3.0 * errors[2]);
     }
-    EXPECT_LT(errors[1], errors[0]);
-    EXPECT_LT(errors[2], 0.7 * errors[1]);
-    EXPECT_LT(errors[2], 0.02);
-    // Shadows matter here: ignoring them is far worse than a fine light buffer.
-    EXPECT_GT(error_against(unshadowed, reference), 3.0 * errors[2]);
 }
 
 // An opaque ball lit from the side with few, deep slices: the lit side shadows itself within the
