@@ -79,6 +79,8 @@ void describe_frame(Table& table, const scene::FrameRequest& base) {
     table.compositing = scene::to_string(base.settings.compositing);
     table.stage = scene::to_string(base.settings.stage);
     table.builder = scene::to_string(base.settings.light_buffer.builder);
+    table.light_lookup = scene::to_string(base.settings.light_buffer.lookup);
+    table.slab_samples = base.settings.light_buffer.slab_samples;
     table.camera = base.camera;
 }
 
@@ -241,6 +243,8 @@ Json to_json(const Table& table, const std::vector<Preset>& presets) {
                         {"compositing", table.compositing},
                         {"stage", table.stage},
                         {"builder", table.builder},
+                        {"light_lookup", table.light_lookup},
+                        {"slab_samples", table.slab_samples},
                         {"phong", table.phong},
                         {"repeat", table.repeat},
                         {"camera", camera_json(table.camera)}};
@@ -328,6 +332,9 @@ base::Result<Table> read_table(const std::string& path, const std::string& optio
         table.compositing = settings.at("compositing").get<std::string>();
         table.stage = settings.at("stage").get<std::string>();
         table.builder = settings.at("builder").get<std::string>();
+        // Tables written before these settings existed were measured the paper's way.
+        table.light_lookup = settings.value("light_lookup", std::string("interpolate"));
+        table.slab_samples = settings.value("slab_samples", 1);
         table.phong = settings.at("phong").get<bool>();
         table.repeat = settings.at("repeat").get<int>();
         table.camera = camera_from_json(settings.at("camera"));

@@ -75,6 +75,8 @@ struct Table {
     std::string compositing;
     std::string stage;
     std::string builder;
+    std::string light_lookup;  // how the sbrc modes read the light buffer
+    int slab_samples = 0;      // as requested: 0 = one per voxel
     bool phong = true;
     scene::Camera camera;
     std::vector<Point> points;

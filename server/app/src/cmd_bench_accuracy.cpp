@@ -749,10 +749,11 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         base.settings.phong = table.phong;
         if (v == 0) {
             describe_frame(table, base);
-            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, phong %s\n",
+            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                        "%s, slab samples %d, phong %s\n",
                         table.width, table.height, table.transfer_function.c_str(),
                         table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
-                        table.phong ? "on" : "off");
+                        table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
             std::fflush(stdout);
         }
         if (auto status = (*renderer)->set_volume(volume); !status) {
