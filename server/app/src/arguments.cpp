@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <string_view>
 
 namespace penumbra::app {
 namespace {
@@ -12,14 +14,31 @@ base::Error bad(const std::string& option, const std::string& message) {
     return base::make_error("invalid_argument", message, "--" + option);
 }
 
-base::Result<double> parse_double(const std::string& text, const std::string& option) {
+std::optional<double> parse_plain_double(std::string_view text) {
     double value = 0.0;
     const char* end = text.data() + text.size();
     const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-    if (ec != std::errc() || ptr != end || !std::isfinite(value)) {
-        return bad(option, "'" + text + "' is not a finite number");
+    if (ec != std::errc() || ptr != end) {
+        return std::nullopt;
     }
     return value;
+}
+
+// A number, or a fraction "a/b": sample distances are usually quoted as 1/256.
+base::Result<double> parse_double(const std::string& text, const std::string& option) {
+    const std::size_t slash = text.find('/');
+    std::optional<double> value;
+    if (slash == std::string::npos) {
+        value = parse_plain_double(text);
+    } else if (const auto numerator = parse_plain_double(std::string_view(text).substr(0, slash)),
+               denominator = parse_plain_double(std::string_view(text).substr(slash + 1));
+               numerator && denominator) {
+        value = *numerator / *denominator;
+    }
+    if (!value || !std::isfinite(*value)) {
+        return bad(option, "'" + text + "' is not a finite number");
+    }
+    return *value;
 }
 
 }  // namespace

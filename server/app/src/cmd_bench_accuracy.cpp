@@ -146,26 +146,15 @@ base::Result<std::vector<int>> parse_counts(const std::string& text, const std::
     return counts;
 }
 
-// "1/256,0.002" → distances; the fraction form is how sample distances are usually quoted.
+// "1/256,0.002" → distances (numbers accept the fraction form).
 base::Result<std::vector<double>> parse_distances(const std::string& text) {
     std::vector<double> distances;
     for (const std::string& item : split(text, ',')) {
-        const std::size_t slash = item.find('/');
-        double value = 0.0;
-        if (slash == std::string::npos) {
-            auto number = parse_numbers(item, "sample-distances");
-            if (!number) {
-                return number.error();
-            }
-            value = number->front();
-        } else {
-            auto numerator = parse_numbers(item.substr(0, slash), "sample-distances");
-            auto denominator = parse_numbers(item.substr(slash + 1), "sample-distances");
-            if (!numerator || !denominator) {
-                return !numerator ? numerator.error() : denominator.error();
-            }
-            value = numerator->front() / denominator->front();
+        auto number = parse_numbers(item, "sample-distances");
+        if (!number) {
+            return number.error();
         }
+        const double value = number->front();
         if (!std::isfinite(value) || value <= 0.0 || value > 1.0) {
             return base::make_error("invalid_argument",
                                     "'" + item + "' is not a distance in (0, 1]",

@@ -30,6 +30,35 @@ TEST(Arguments, RejectsUnknownMissingAndMalformedValues) {
     EXPECT_FALSE(args->vec3("eye", {}).ok());
 }
 
+TEST(Arguments, NumbersMayBeFractions) {
+    auto args = Arguments::parse({"--a", "1/512", "--b", "-3/4", "--c", "1/0", "--d", "1/", "--e",
+                                  "/2", "--f", "1/2/3"},
+                                 {"a", "b", "c", "d", "e", "f"}, {});
+    ASSERT_TRUE(args.ok());
+    EXPECT_DOUBLE_EQ(args->number("a", 0.0).value(), 1.0 / 512.0);
+    EXPECT_DOUBLE_EQ(args->number("b", 0.0).value(), -0.75);
+    for (const char* name : {"c", "d", "e", "f"}) {
+        EXPECT_FALSE(args->number(name, 0.0).ok()) << name;
+    }
+}
+
+TEST(RenderOptions, LightBufferRefinementsAreOptions) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    auto args = Arguments::parse({"--mode", "sbrc", "--light-lookup", "interpolate",
+                                  "--slab-samples", "3", "--sample-distance", "1/512"},
+                                 frame_option_names(), {});
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    auto request = frame_request_from(*args, volume);
+    ASSERT_TRUE(request.ok()) << request.error().to_string();
+    EXPECT_EQ(request->settings.light_buffer.lookup, scene::LightLookup::interpolate);
+    EXPECT_EQ(request->settings.light_buffer.slab_samples, 3);
+    EXPECT_DOUBLE_EQ(request->settings.sample_distance, 1.0 / 512.0);
+    auto bad_lookup = Arguments::parse({"--light-lookup", "nearest"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*bad_lookup, volume).error().where, "--light-lookup");
+    auto bad_samples = Arguments::parse({"--slab-samples", "99"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*bad_samples, volume).error().where, "light_buffer.slab_samples");
+}
+
 TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
     const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
     auto args = Arguments::parse({"--mode", "dvr", "--size", "64x48", "--camera", "90,10,3",
