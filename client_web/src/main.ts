@@ -190,6 +190,14 @@ connection.on('session', (info, restored) => {
   }
 });
 
+// A viewer's panels follow the owner: each of its changes arrives as the session's whole state.
+connection.on('state', (info) => {
+  camera.setFrom(info.state.camera);
+  tfModel.load(info.state.transfer_function, false);
+  tfEditor.refresh();
+  showSessionState();
+});
+
 connection.on('frame', (frame) => {
   const requestSent = role === 'owner' ? sentAt.get(frame.header.request) : undefined;
   const arrived = performance.now();
@@ -201,10 +209,6 @@ connection.on('frame', (frame) => {
     at: arrived,
     latencyMs: requestSent === undefined ? undefined : arrived - requestSent,
   });
-  if (role === 'viewer' && method.params.mode !== frame.header.mode) {
-    method.params.mode = frame.header.mode;
-    gui.controllersRecursive().forEach((c) => c.updateDisplay());
-  }
 });
 
 connection.on('serverError', (error) => {

@@ -9,7 +9,7 @@ import {
   type SocketLike,
 } from '../src/protocol/connection';
 import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
-import { checkClientMessage } from '../src/protocol/messages';
+import { checkClientMessage, type State } from '../src/protocol/messages';
 import { FakeClock } from './fake_timers';
 
 const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -132,6 +132,44 @@ describe('Connection', () => {
     expect(connection.session?.state.settings.light_buffer.slices).toBe(32);
   });
 
+  it("a viewer's mirror follows the states its owner sets", async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    const states: string[] = [];
+    connection.on('state', (info) => states.push(`${info.role} ${info.state.settings.mode}`));
+    const joined = connection.join('abc');
+    socket().reply('joined', { ...OPENED, session: 'abc' });
+    await joined;
+    const state = structuredClone(OPENED['state']) as State;
+    state.settings.mode = 'dvr';
+    state.light.direction = [0, -1, 0.5];
+    socket().receive(JSON.stringify({ v: 1, type: 'state', session: 'abc', state }));
+    expect(states).toEqual(['viewer dvr']);
+    expect(connection.session?.state).toEqual(state);
+    // One of a session left behind, still on its way, changes nothing.
+    socket().receive(JSON.stringify({ v: 1, type: 'state', session: 'old', state: OPENED['state'] }));
+    expect(states).toHaveLength(1);
+    expect(connection.session?.state.settings.mode).toBe('dvr');
+    expect(problems).toEqual([]);
+  });
+
+  it('an owner keeps the mirror of its own acknowledged sets', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const states: string[] = [];
+    connection.on('state', (info) => states.push(info.state.settings.mode));
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    const session = (await opened).session;
+    const state = structuredClone(OPENED['state']) as State;
+    state.settings.mode = 'dvr';
+    socket().receive(JSON.stringify({ v: 1, type: 'state', session, state }));
+    expect(states).toEqual([]);
+    expect(connection.session?.state.settings.mode).toBe((OPENED['state'] as State).settings.mode);
+  });
+
   it('delivers frames and reports errors of renders without a pending request', () => {
     const { socket, connection } = setup();
     socket().open();
@@ -245,7 +283,11 @@ describe('Connection', () => {
     connection.on('problem', (p) => problems.push(p));
     socket().receive('not json');
     socket().receive(new Uint8Array([1, 2, 3]).buffer as ArrayBuffer);
-    expect(problems).toHaveLength(2);
+    socket().receive('{"v":1,"type":"state","session":"s"}');
+    expect(problems).toHaveLength(3);
+    // A type a newer server added within v1 is no problem (§3).
+    socket().receive('{"v":1,"type":"announcement","text":"hi"}');
+    expect(problems).toHaveLength(3);
   });
 
   it('close() stops reconnecting', () => {

@@ -12,9 +12,11 @@ import {
   parseServerMessage,
   ProtocolError,
   restorePatch,
+  UnknownMessageType,
   type ClientMessage,
   type OpenedMessage,
   type State,
+  type StateMessage,
 } from '../src/protocol/messages';
 
 const examples = path.resolve(__dirname, '../../proto/examples/v1');
@@ -87,7 +89,7 @@ describe('checkClientMessage beyond the examples', () => {
 describe('parseServerMessage', () => {
   it('reads every message a real server sent', () => {
     const types = serverMessages.map((text) => parseServerMessage(text).type);
-    expect(types).toEqual(['hello', 'volumes', 'opened', 'ack', 'stats', 'error']);
+    expect(types).toEqual(['hello', 'volumes', 'opened', 'ack', 'stats', 'error', 'state']);
   });
 
   it('reads hello with the modes and limits', () => {
@@ -107,6 +109,17 @@ describe('parseServerMessage', () => {
     expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) })).toBeNull();
   });
 
+  it("reads state, the owner's change that a viewer gets, in the shape of opened's state", () => {
+    const message = parseServerMessage(serverMessages[6]!) as StateMessage;
+    expect(message.type).toBe('state');
+    expect(message.session.length).toBeGreaterThan(0);
+    expect('id' in message).toBe(false);
+    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    expect(Object.keys(message.state).sort()).toEqual(Object.keys(opened.state).sort());
+    expect(message.state.settings.mode).not.toBe(opened.state.settings.mode);
+    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) })).toBeNull();
+  });
+
   it('ignores members it does not know (the server may add some within v1)', () => {
     const ack = parseServerMessage('{"v":1,"type":"ack","id":3,"of":"set","later":true}');
     expect(ack).toMatchObject({ type: 'ack', of: 'set' });
@@ -119,6 +132,8 @@ describe('parseServerMessage', () => {
     ['an unknown type', '{"v":1,"type":"surprise"}', '/type'],
     ['an error without code', '{"v":1,"type":"error","message":"m","field":""}', '/code'],
     ['opened without state', '{"v":1,"type":"opened","session":"s","volume":{},"histogram":[]}', '/volume/id'],
+    ['state without state', '{"v":1,"type":"state","session":"s"}', '/state'],
+    ['state without session', '{"v":1,"type":"state","state":{}}', '/session'],
   ])('rejects %s', (_, text, field) => {
     try {
       parseServerMessage(text);
@@ -126,6 +141,7 @@ describe('parseServerMessage', () => {
     } catch (e) {
       expect(e).toBeInstanceOf(ProtocolError);
       expect((e as ProtocolError).field).toBe(field);
+      expect(e instanceof UnknownMessageType).toBe(text.includes('surprise'));
     }
   });
 });

@@ -2,8 +2,9 @@
 // End-to-end test of the web client: Debian's chromium (driven by playwright-core) against a real
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
 // it, changing the mode changes the stats, a bad parameter shows the server's error, a second page
-// joins through the share link and sees the same frame, and after the server goes away and comes
-// back the client reconnects and restores the session. Screenshots go to --out.
+// joins through the share link, its method panel follows the owner's mode and it sees the same
+// frame, and after the server goes away and comes back the client reconnects and restores the
+// session. Screenshots go to --out.
 //
 //   node tests/browser/e2e.mjs --penumbra build/release/server/app/penumbra \
 //        --client client_web --out build/release/tests/browser/screenshots
@@ -297,6 +298,18 @@ try {
   check('the viewer is read-only',
     (await viewer.locator('.role').textContent()).includes('read-only') &&
       (await viewer.locator('[data-control="mode"] select').isDisabled()));
+  // The owner's changes reach the viewer's panels (the server's `state`), not only its frames.
+  const modeShown = () => document.querySelector('[data-control="mode"] select')?.value;
+  const viewerModeIs = (mode) => viewer.waitForFunction(
+    (m) => document.querySelector('[data-control="mode"] select')?.value === m, mode,
+    { timeout: 15000 });
+  const modeAtJoin = await viewer.evaluate(modeShown);
+  await owner.locator('[data-control="mode"] select').selectOption('phong');
+  await viewerModeIs('phong');
+  await owner.locator('[data-control="mode"] select').selectOption('dvr');
+  await viewerModeIs('dvr');
+  check("the viewer's method panel follows the owner's mode", modeAtJoin === 'dvr',
+    `${modeAtJoin} at join, then phong and dvr as the owner chose them`);
   // The owner moves the camera; both pages must end on the same still frame.
   const ownerFrame = (await frameInfo(owner)).frame;
   await owner.locator('canvas.frame-canvas').focus();

@@ -298,6 +298,54 @@ TEST_F(ServerTest, JoinedViewerReceivesTheSameFramesAndTheSessionSurvivesViewers
     EXPECT_NE(stats.find("\"viewers\":1"), std::string::npos) << stats;
 }
 
+TEST_F(ServerTest, ViewersAreToldEachStateTheOwnerSetsAndTheOwnerOnlyGetsItsAck) {
+    TestClient owner(port_);
+    owner.open("heads/ch2.nii.gz", 32);
+    TestClient viewer(port_);
+    const std::string joined =
+            viewer.request(R"({"v":1,"type":"join","id":3,"session":")" + owner.session + "\"}");
+    ASSERT_EQ(field(joined, "type"), "joined") << joined;
+    EXPECT_NE(nlohmann::json::parse(joined).at("state").at("settings").at("mode"), "dvr");
+
+    const std::string ack = owner.request(
+            R"({"v":1,"type":"set","id":4,"settings":{"mode":"dvr"},"light":{"direction":[0,-1,0.5]}})");
+    EXPECT_EQ(field(ack, "type"), "ack")
+            << "the owner gets no state of its own, only its ack: " << ack;
+    const auto pushed = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(pushed.at("type"), "state") << pushed;
+    EXPECT_EQ(pushed.at("session"), owner.session);
+    EXPECT_FALSE(pushed.contains("id")) << "it answers no request of the viewer's";
+    EXPECT_EQ(pushed.at("state").at("settings").at("mode"), "dvr");
+    EXPECT_EQ(pushed.at("state").at("light").at("direction"), nlohmann::json::parse("[0,-1,0.5]"));
+    // The rest of the state is the session's, as a join now would report it.
+    const auto rejoined = nlohmann::json::parse(
+            viewer.request(R"({"v":1,"type":"join","id":5,"session":")" + owner.session + "\"}"));
+    EXPECT_EQ(rejoined.at("type"), "joined");
+    EXPECT_EQ(rejoined.at("state"), pushed.at("state"));
+
+    // A viewer still may not change the session.
+    const std::string refused =
+            viewer.request(R"({"v":1,"type":"set","id":6,"camera":{"fov":40}})");
+    EXPECT_EQ(field(refused, "code"), "invalid_message") << refused;
+    EXPECT_EQ(field(refused, "field"), "/type") << refused;
+
+    // A second change reaches the viewer too, after the first; the owner's next answer is the
+    // one to its next request.
+    EXPECT_EQ(field(owner.request(R"({"v":1,"type":"set","id":7,"camera":{"fov":40}})"), "type"),
+              "ack");
+    const auto second = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(second.at("type"), "state") << second;
+    EXPECT_EQ(second.at("state").at("camera").at("fov"), 40);
+    EXPECT_EQ(second.at("state").at("settings").at("mode"), "dvr");
+    EXPECT_EQ(field(owner.request(R"({"v":1,"type":"stats","id":8})"), "type"), "stats");
+
+    // Frames still reach both; the viewer's text queue holds nothing more.
+    owner.send(R"({"v":1,"type":"render","id":9})");
+    EXPECT_EQ(owner.next_frame().header.mode, "dvr");
+    EXPECT_EQ(viewer.next_frame().header.mode, "dvr");
+    EXPECT_EQ(field(viewer.request(R"({"v":1,"type":"stats","id":10})"), "type"), "stats");
+}
+
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
     TestClient client(port_);
     client.open("heads/ch2.nii.gz", 32);

@@ -49,6 +49,7 @@ SERVER_SCHEMAS = {
     "volumes": ("volumes.schema.json", ""),
     "opened": ("opened.schema.json", ""),
     "joined": ("opened.schema.json", ""),
+    "state": ("state.schema.json", ""),
     "ack": ("ack.schema.json", ""),
     "error": ("error.schema.json", ""),
     "stats": ("stats.schema.json", "/$defs/response"),

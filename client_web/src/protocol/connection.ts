@@ -8,6 +8,7 @@ import {
   encodeClientMessage,
   parseServerMessage,
   restorePatch,
+  UnknownMessageType,
   type ClientMessage,
   type ErrorMessage,
   type HelloMessage,
@@ -15,6 +16,7 @@ import {
   type Preset,
   type ServerMessage,
   type State,
+  type StateMessage,
   type StatePatch,
   type StatsMessage,
   type TransferFunctionPoints,
@@ -92,6 +94,8 @@ export interface ConnectionEvents {
   status: (status: ConnectionStatus) => void;
   /** `opened`/`joined`, also after a reconnect (`restored` true). */
   session: (info: SessionInfo, restored: boolean) => void;
+  /** A viewer's session got a new state (`info.state`): its owner changed it. */
+  state: (info: SessionInfo) => void;
   frame: (frame: Frame) => void;
   /** An error not answered to a pending request: a failed render, or one without id. */
   serverError: (error: ServerError) => void;
@@ -131,6 +135,7 @@ export class Connection {
   private listeners: Listeners = {
     status: [],
     session: [],
+    state: [],
     frame: [],
     serverError: [],
     problem: [],
@@ -216,7 +221,10 @@ export class Connection {
         try {
           message = parseServerMessage(event.data);
         } catch (e) {
-          this.emit('problem', `unreadable message from the server: ${String(e)}`);
+          // A newer server may send types this client does not know (§3): nothing to do for them.
+          if (!(e instanceof UnknownMessageType)) {
+            this.emit('problem', `unreadable message from the server: ${String(e)}`);
+          }
           return;
         }
         if (message.type === 'hello') {
@@ -337,6 +345,10 @@ export class Connection {
   }
 
   private onMessage(message: ServerMessage): void {
+    if (message.type === 'state') {
+      this.onState(message);
+      return;
+    }
     const id = 'id' in message ? message.id : undefined;
     const pending = id !== undefined ? this.pending.get(id) : undefined;
     if (pending && id !== undefined) {
@@ -355,6 +367,16 @@ export class Connection {
       return;
     }
     this.emit('problem', `unexpected ${message.type} from the server`);
+  }
+
+  /** The owner changed the session this connection watches: the mirror takes the new state. */
+  private onState(message: StateMessage): void {
+    const session = this.session;
+    // A session this connection has left may still have had a state on its way; and an owner's
+    // mirror follows its own acknowledged sets (the server sends owners no state).
+    if (!session || session.role !== 'viewer' || session.session !== message.session) return;
+    session.state = message.state;
+    this.emit('state', session);
   }
 
   private failPending(reason: string): void {

@@ -235,6 +235,14 @@ export interface OpenedMessage {
   state: State;
 }
 
+/** The session's full state after its owner changed it; viewers get it, the owner does not. */
+export interface StateMessage {
+  v: 1;
+  type: 'state';
+  session: string;
+  state: State;
+}
+
 export interface AckMessage {
   v: 1;
   type: 'ack';
@@ -262,6 +270,7 @@ export type ServerMessage =
   | HelloMessage
   | VolumesMessage
   | OpenedMessage
+  | StateMessage
   | AckMessage
   | StatsMessage
   | ErrorMessage;
@@ -287,6 +296,17 @@ export class ProtocolError extends Error {
   ) {
     super(`${message} (at ${field || '/'})`);
     this.name = 'ProtocolError';
+  }
+}
+
+/**
+ * Thrown for a message type this client does not know. Within v1 the server may add message types
+ * that answer no request (§3), so a client ignores them rather than report a problem.
+ */
+export class UnknownMessageType extends ProtocolError {
+  constructor(readonly type: string) {
+    super(`unknown message type "${type}"`, '/type');
+    this.name = 'UnknownMessageType';
   }
 }
 
@@ -421,7 +441,8 @@ function checkState(v: unknown, at: string): State {
 
 /**
  * Parses one text message from the server. Throws ProtocolError when it is not JSON, not v1, or
- * lacks a member this client reads; members it does not know are kept and ignored.
+ * lacks a member this client reads, and UnknownMessageType (a ProtocolError) for a type it does not
+ * know; members it does not know are kept and ignored.
  */
 export function parseServerMessage(text: string): ServerMessage {
   let value: unknown;
@@ -462,6 +483,10 @@ export function parseServerMessage(text: string): ServerMessage {
       checkState(o['state'], '/state');
       return o as unknown as OpenedMessage;
     }
+    case 'state':
+      str(o, 'session', '');
+      checkState(o['state'], '/state');
+      return o as unknown as StateMessage;
     case 'ack':
       str(o, 'of', '');
       return o as unknown as AckMessage;
@@ -474,7 +499,7 @@ export function parseServerMessage(text: string): ServerMessage {
       str(o, 'field', '');
       return o as unknown as ErrorMessage;
     default:
-      throw new ProtocolError(`unknown message type "${type}"`, '/type');
+      throw new UnknownMessageType(type);
   }
 }
 

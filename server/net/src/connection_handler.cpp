@@ -171,13 +171,20 @@ void ConnectionHandler::on_text(std::string_view text) {
     handle(*request);
 }
 
-void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s) {
+void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
+                              const session::StateSink& welcome) {
     std::weak_ptr<Connection> weak = connection_;
     std::weak_ptr<session::Session> weak_session = s;
     Context* context = &context_;
-    s->add_viewer(viewer_, [weak, weak_session, context](
-                                   const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
-                                   std::uint64_t number) {
+    auto state_changed = [weak, session_id = s->id()](const session::SessionState& state) {
+        if (auto connection = weak.lock()) {
+            connection->send_state(protocol::state_message(
+                    session_id, protocol::state_to_json(to_protocol(state))));
+        }
+    };
+    auto frames = [weak, weak_session, context](
+                          const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
+                          std::uint64_t number) {
         auto connection = weak.lock();
         auto shared_session = weak_session.lock();
         if (!connection || !shared_session) {
@@ -199,7 +206,8 @@ void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s) {
                                          frame.encode_ms);
         connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
                 pack(frame, shared_session->id(), number)));
-    });
+    };
+    s->add_viewer(viewer_, std::move(frames), std::move(state_changed), welcome);
 }
 
 void ConnectionHandler::leave_session() {
@@ -268,14 +276,14 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     leave_session();
                     session_ = *created;
                     owner_ = true;
-                    watch(session_);
+                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
+                    watch(session_, [&](const session::SessionState& state) {
+                        send(protocol::opened_message(
+                                id, session_->id(), summary_of(message.volume, volume->get()),
+                                histogram, protocol::state_to_json(to_protocol(state)), false));
+                    });
                     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
                     base::log_info("session", "opened " + session_->id() + " on " + message.volume);
-                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
-                    send(protocol::opened_message(
-                            id, session_->id(), summary_of(message.volume, volume->get()),
-                            histogram, protocol::state_to_json(to_protocol(session_->state())),
-                            false));
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
                     auto target = context_.services.sessions.find(message.session);
                     if (!target) {
@@ -284,17 +292,20 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                                                          "/session"));
                         return;
                     }
+                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
                     if (target != session_) {
                         leave_session();
                         session_ = target;
                         owner_ = false;
-                        watch(session_);
                     }
-                    const auto histogram = volume::compute_histogram(*session_->volume(), 256).bins;
-                    send(protocol::opened_message(
-                            id, session_->id(),
-                            summary_of(session_->volume_id(), session_->volume().get()), histogram,
-                            protocol::state_to_json(to_protocol(session_->state())), true));
+                    // Also when already in it: re-adding replaces the sinks, and the welcome
+                    // keeps `joined` ahead of every state that follows it.
+                    watch(session_, [&](const session::SessionState& state) {
+                        send(protocol::opened_message(
+                                id, session_->id(),
+                                summary_of(session_->volume_id(), session_->volume().get()),
+                                histogram, protocol::state_to_json(to_protocol(state)), true));
+                    });
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {
                     if (!need_session()) {
                         return;
@@ -313,7 +324,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         reply_error(id, status.error());
                         return;
                     }
-                    session_->set_state(from_protocol(state));
+                    // The viewers' panels follow the owner's: each gets the new state.
+                    session_->set_state(from_protocol(state), viewer_);
                     send(protocol::ack_message(id, "set"));
                 } else if constexpr (std::is_same_v<T, protocol::Render>) {
                     if (!need_session()) {

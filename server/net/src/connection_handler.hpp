@@ -29,7 +29,9 @@ private:
     void send(std::string text);
     bool take_token();
     void leave_session();
-    void watch(const std::shared_ptr<session::Session>& session);
+    // Joins `session`'s viewers: its frames, and the states its owner sets, come to this
+    // connection. `welcome` queues the answer (opened, joined) that must precede them.
+    void watch(const std::shared_ptr<session::Session>& session, const session::StateSink& welcome);
 
     Context& context_;
     std::weak_ptr<Connection> connection_;

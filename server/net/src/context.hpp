@@ -67,6 +67,11 @@ public:
 
     virtual void send_text(std::string text) = 0;
 
+    // A text that carries a whole session state: one still waiting to be written is dropped for
+    // the newer, which goes to the end of the queue. A slow reader thus gets the latest state
+    // without a backlog of the steps in between.
+    virtual void send_state(std::string text) = 0;
+
     // A frame may be dropped in favour of a newer one while the client is slow.
     virtual void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) = 0;
 

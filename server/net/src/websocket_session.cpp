@@ -85,6 +85,13 @@ void WebSocketSession::send_text(std::string text) {
     });
 }
 
+void WebSocketSession::send_state(std::string text) {
+    auto shared = std::make_shared<const std::string>(std::move(text));
+    asio::post(ws_.get_executor(), [self = shared_from_this(), shared] {
+        self->enqueue({shared, nullptr, true});
+    });
+}
+
 void WebSocketSession::send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) {
     asio::post(ws_.get_executor(), [self = shared_from_this(), bytes = std::move(bytes)] {
         self->enqueue({nullptr, bytes});
@@ -112,7 +119,17 @@ void WebSocketSession::enqueue(Outgoing message) {
             return;
         }
         context_.frames_sent.add();
-    } else if (queue_.size() >= max_queued_text) {
+    } else if (message.state) {
+        const auto first_waiting = queue_.begin() + (writing_ ? 1 : 0);
+        const auto waiting_state = std::find_if(first_waiting, queue_.end(),
+                                                [](const Outgoing& o) { return o.state; });
+        if (waiting_state != queue_.end()) {
+            // Dropped rather than overwritten in place: the newer state goes to the end, after
+            // the frames and replies queued since, so the client sees them in the order they came.
+            queue_.erase(waiting_state);
+        }
+    }
+    if (!message.frame && queue_.size() >= max_queued_text) {
         base::log_warning("net", "a client stopped reading its replies; disconnecting it");
         close();
         return;

@@ -10,8 +10,8 @@
 namespace penumbra::net {
 
 // One WebSocket connection: a read loop feeding the ConnectionHandler, and a bounded write queue
-// in which a frame not yet being written is replaced by a newer one, so a slow reader only slows
-// itself. All work runs on the connection's strand.
+// in which a frame or a session state not yet being written is replaced by a newer one, so a slow
+// reader only slows itself. All work runs on the connection's strand.
 class WebSocketSession : public Connection,
                          public std::enable_shared_from_this<WebSocketSession> {
 public:
@@ -21,6 +21,7 @@ public:
     void run(http::request<http::string_body> upgrade);
 
     void send_text(std::string text) override;
+    void send_state(std::string text) override;
     void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) override;
 
     void close() override;
@@ -29,6 +30,7 @@ private:
     struct Outgoing {
         std::shared_ptr<const std::string> text;
         std::shared_ptr<const std::vector<std::uint8_t>> frame;
+        bool state = false;  // a whole state, superseded by a newer one while waiting
     };
 
     void on_accept(beast::error_code ec);

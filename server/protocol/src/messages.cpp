@@ -228,6 +228,12 @@ std::string opened_message(std::optional<std::int64_t> id, const std::string& se
             .dump();
 }
 
+std::string state_message(const std::string& session, const std::string& state_json) {
+    return with_id({{"type", "state"}, {"session", session}, {"state", json::parse(state_json)}},
+                   std::nullopt)
+            .dump();
+}
+
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {
     return with_id({{"type", "ack"}, {"of", what}}, id).dump();
 }

@@ -33,14 +33,23 @@ SessionState Session::state() const {
     return state_;
 }
 
-void Session::set_state(SessionState state) {
+void Session::set_state(SessionState state, ViewerId changed_by) {
     const std::lock_guard lock(mutex_);
     state_ = std::move(state);
+    for (const auto& [viewer, sinks] : viewers_) {
+        if (viewer != changed_by && sinks.state_changed) {
+            sinks.state_changed(state_);
+        }
+    }
 }
 
-void Session::add_viewer(ViewerId viewer, ViewerSink sink) {
+void Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
+                         const StateSink& welcome) {
     const std::lock_guard lock(mutex_);
-    viewers_[viewer] = std::move(sink);
+    viewers_[viewer] = {std::move(frames), std::move(state_changed)};
+    if (welcome) {
+        welcome(state_);
+    }
 }
 
 std::size_t Session::remove_viewer(ViewerId viewer) {
@@ -55,14 +64,19 @@ std::size_t Session::viewer_count() const {
 }
 
 void Session::deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result) {
-    std::map<ViewerId, ViewerSink> viewers;
+    std::vector<ViewerSink> sinks;
     {
         const std::lock_guard lock(mutex_);
-        viewers = viewers_;
+        sinks.reserve(viewers_.size());
+        for (const auto& [viewer, viewer_sinks] : viewers_) {
+            sinks.push_back(viewer_sinks.frames);
+        }
     }
     const std::uint64_t number = result.ok() ? ++frames_ : frames_.load();
-    for (const auto& [viewer, sink] : viewers) {
-        sink(result, number);
+    for (const auto& sink : sinks) {
+        if (sink) {
+            sink(result, number);
+        }
     }
 }
 

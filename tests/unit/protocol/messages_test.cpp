@@ -152,5 +152,19 @@ TEST(ServerMessages, OpenedAndJoinedCarryTheSessionState) {
     EXPECT_EQ(joined.at("type"), "joined");
 }
 
+TEST(ServerMessages, StateCarriesTheSessionAndItsFullStateWithoutAnId) {
+    SessionState state;
+    state.frame.transfer_function = scene::preset("ct_bone").value();
+    state.frame.settings.mode = scene::Mode::dvr;
+    const std::string state_json = state_to_json(state);
+    const json message = json::parse(state_message("s1", state_json));
+    EXPECT_EQ(message.at("v"), 1);
+    EXPECT_EQ(message.at("type"), "state");
+    EXPECT_EQ(message.at("session"), "s1");
+    EXPECT_EQ(message.at("state"), json::parse(state_json));
+    EXPECT_EQ(message.at("state").at("settings").at("mode"), "dvr");
+    EXPECT_FALSE(message.contains("id"));
+}
+
 }  // namespace
 }  // namespace penumbra::protocol

@@ -85,6 +85,9 @@ std::vector<std::string> text_messages() {
                                      histogram, states[i], i % 2 == 1));
     }
     out.push_back(opened_message(std::nullopt, "s0", ct, {}, states[0], false));
+    for (std::size_t i = 0; i < states.size(); ++i) {
+        out.push_back(state_message("s" + std::to_string(i), states[i]));
+    }
 
     for (const char* of : {"set", "close"}) {
         out.push_back(ack_message(5, of));

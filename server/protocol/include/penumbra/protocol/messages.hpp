@@ -98,6 +98,9 @@ std::string volumes_message(std::optional<std::int64_t> id,
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
                            const std::string& state_json, bool joined);
+// The session's full state after its owner changed it, for the other connections in the session.
+// It answers no request of theirs, so it has no id.
+std::string state_message(const std::string& session, const std::string& state_json);
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
 std::string error_message(std::optional<std::int64_t> id, const base::Error& error);
 std::string stats_message(std::optional<std::int64_t> id, const std::string& stats_json);

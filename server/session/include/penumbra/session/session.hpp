@@ -31,6 +31,10 @@ struct SessionState {
     double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
 };
 
+// Receives a session's state. Called under the session's lock, so that each viewer learns of the
+// states in the order they were set: it must only queue a message.
+using StateSink = std::function<void(const SessionState& state)>;
+
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
 // watch it (its owner and anyone who joined). Thread-safe.
 class Session {
@@ -48,10 +52,15 @@ public:
 
     [[nodiscard]] SessionState state() const;
 
-    void set_state(SessionState state);
+    // Replaces the state and hands it to the state sink of every viewer but `changed_by`, who
+    // knows it already.
+    void set_state(SessionState state, ViewerId changed_by);
 
-    // Frames go to every viewer; `sink` is called on a scheduler thread.
-    void add_viewer(ViewerId viewer, ViewerSink sink);
+    // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
+    // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
+    // state the viewer starts from, under the same lock, so no change reaches the viewer before it.
+    void add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
+                    const StateSink& welcome);
 
     // Returns how many viewers remain.
     std::size_t remove_viewer(ViewerId viewer);
@@ -76,8 +85,13 @@ private:
     const std::shared_ptr<const volume::Volume> volume_;
     const ViewerId owner_;
     mutable std::mutex mutex_;
+    struct Sinks {
+        ViewerSink frames;
+        StateSink state_changed;
+    };
+
     SessionState state_;
-    std::map<ViewerId, ViewerSink> viewers_;
+    std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 };
 
