@@ -5,8 +5,8 @@ set -euo pipefail
 packages=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
-    libopenimageio-dev libnifti2-dev zlib1g-dev nlohmann-json3-dev libboost-dev
-    libgtest-dev libgmock-dev python3-jsonschema
+    libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev nlohmann-json3-dev libboost-dev
+    libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     mricron-data gnuplot-nox
     chromium nodejs
 )

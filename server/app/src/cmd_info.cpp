@@ -15,7 +15,7 @@ int run_info(const std::vector<std::string>& args) {
         return 2;
     }
     if (parsed->has("help")) {
-        std::puts("usage: penumbra info [--volume FILE]   (default: the ch2 MRI head)");
+        std::puts("usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)");
         return 0;
     }
     const std::string path = parsed->get("volume").value_or(default_volume_path);

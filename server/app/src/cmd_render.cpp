@@ -36,8 +36,8 @@ int run_render(const std::vector<std::string>& args) {
     }
     if (parsed->has("help")) {
         std::printf("usage: penumbra render [options]\n\n"
-                    "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz]\n"
-                    "                                 (default %s)\n"
+                    "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz],\n"
+                    "                                 a DICOM file or series folder (default %s)\n"
                     "  --spacing X,Y,Z                override the voxel spacing\n"
                     "  --out FILE                     .png or .jpg (default frame.png)\n"
                     "  --quality Q                    JPEG quality 1..100 (default 90)\n"

@@ -3,6 +3,7 @@
 #include <penumbra/base/log.hpp>
 
 #include <algorithm>
+#include <optional>
 
 namespace penumbra::session {
 namespace {
@@ -10,6 +11,27 @@ namespace {
 bool ends_with(const std::string& text, const std::string& suffix) {
     return text.size() >= suffix.size() &&
            text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// The DICOM files of one folder make one volume (a series), so such a folder is listed, not its
+// files. Returns the bytes of the folder's files when at least one is DICOM. DICOM file names are
+// arbitrary, so the content decides; the search stops opening files at the first DICOM one.
+std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& folder) {
+    std::error_code ec;
+    bool found = false;
+    std::uintmax_t bytes = 0;
+    for (auto it = std::filesystem::directory_iterator(
+                 folder, std::filesystem::directory_options::skip_permission_denied, ec);
+         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (!it->is_regular_file(ec) || it->is_symlink(ec) || name.starts_with('.') ||
+            is_volume_file(it->path())) {
+            continue;
+        }
+        bytes += it->file_size(ec);
+        found = found || volume::is_dicom_file(it->path());
+    }
+    return found ? std::optional(bytes) : std::nullopt;
 }
 
 }  // namespace
@@ -35,11 +57,29 @@ base::Status VolumeStore::scan() {
                                 data_dir_.string());
     }
     std::vector<VolumeEntry> found;
+    const auto add_series_if_dicom = [&](const std::filesystem::path& folder) {
+        if (const auto bytes = dicom_series_bytes(folder)) {
+            VolumeEntry entry;
+            entry.path = folder;
+            entry.id = std::filesystem::relative(folder, data_dir_, ec).generic_string();
+            entry.file_bytes = *bytes;
+            found.push_back(std::move(entry));
+        }
+    };
+    add_series_if_dicom(data_dir_);
     for (auto it = std::filesystem::recursive_directory_iterator(
                  data_dir_, std::filesystem::directory_options::skip_permission_denied, ec);
          !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
-        // Links could lead outside the data directory; only plain files inside it are offered.
-        if (!it->is_regular_file(ec) || it->is_symlink(ec) || !is_volume_file(it->path())) {
+        // Links could lead outside the data directory; only plain files and folders inside it
+        // are offered.
+        if (it->is_symlink(ec)) {
+            continue;
+        }
+        if (it->is_directory(ec)) {
+            add_series_if_dicom(it->path());
+            continue;
+        }
+        if (!it->is_regular_file(ec) || !is_volume_file(it->path())) {
             continue;
         }
         VolumeEntry entry;

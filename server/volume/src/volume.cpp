@@ -228,6 +228,10 @@ Histogram compute_histogram(const Volume& volume, std::size_t bin_count) {
 }
 
 base::Result<Volume> load_volume(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        return load_dicom(path);
+    }
     const std::string name = detail::lower_file_name(path);
     using detail::has_suffix;
     const auto pick = [&]() -> base::Result<Volume> (*)(const std::filesystem::path&) {
@@ -240,12 +244,17 @@ base::Result<Volume> load_volume(const std::filesystem::path& path) {
         if (has_suffix(name, ".raw") || has_suffix(name, ".raw.gz")) {
             return load_raw;
         }
+        // DICOM file names are often bare UIDs or IM0001, so the content decides too.
+        if (has_suffix(name, ".dcm") || has_suffix(name, ".dicom") || is_dicom_file(path)) {
+            return load_dicom;
+        }
         return nullptr;
     }();
     if (pick == nullptr) {
         return base::make_error("unknown_format",
                                 "unknown volume file type; supported: .nii, .nii.gz, .nrrd, "
-                                ".nhdr, .raw, .raw.gz (name_XxYxZ_type.raw)",
+                                ".nhdr, .raw, .raw.gz (name_XxYxZ_type.raw), DICOM files "
+                                "and folders",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {

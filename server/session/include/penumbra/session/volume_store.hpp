@@ -14,13 +14,16 @@
 namespace penumbra::session {
 
 struct VolumeEntry {
-    std::string id;                  // the file's path relative to the data directory
+    // The file's path relative to the data directory; for a DICOM series, its folder's ("." for
+    // DICOM files right in the data directory).
+    std::string id;
     std::filesystem::path path;
-    std::uintmax_t file_bytes = 0;
+    std::uintmax_t file_bytes = 0;                 // a DICOM folder: the bytes of its files
     std::shared_ptr<const volume::Volume> loaded;  // null until first opened
 };
 
-// The volumes a server offers: every supported file under one data directory. A volume is loaded
+// The volumes a server offers: every supported file under one data directory, and every folder
+// holding DICOM files (one series, one volume; its files are not listed apart). A volume is loaded
 // once, on first use, and shared by every session that opens it; loaded volumes beyond the memory
 // budget are dropped least recently used first (sessions holding one keep it alive). Ids are
 // relative paths that never leave the data directory.
@@ -49,7 +52,8 @@ private:
     std::size_t loads_ = 0;
 };
 
-// Whether a file name is one the loaders read.
+// Whether a file name is one the loaders read as a volume by itself (DICOM files are not: their
+// folder is the volume).
 bool is_volume_file(const std::filesystem::path& path);
 
 }  // namespace penumbra::session

@@ -70,11 +70,20 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
 //   NRRD:  .nrrd (attached) and .nhdr (detached "data file"), encodings raw and gzip, spacings
 //          or space directions.
 //   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2) through the reference nifti library.
+//   DICOM: a folder holding the files of one series (any names; the largest series when there
+//          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
+//          ordered along the slice normal; rescale slope/intercept applied (CT in HU).
 base::Result<Volume> load_raw(const std::filesystem::path& path);
 base::Result<Volume> load_nrrd(const std::filesystem::path& path);
 base::Result<Volume> load_nifti(const std::filesystem::path& path);
+base::Result<Volume> load_dicom(const std::filesystem::path& path);
 
-// Chooses the loader from the file name.
+// Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
+// that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
+[[nodiscard]] bool is_dicom_file(const std::filesystem::path& path);
+
+// Chooses the loader: a folder is a DICOM series; files by name (.dcm/.dicom are DICOM), and a
+// file with another name that carries the DICOM marker is DICOM too.
 base::Result<Volume> load_volume(const std::filesystem::path& path);
 
 // Limits that protect the process from absurd headers (checked before any allocation).

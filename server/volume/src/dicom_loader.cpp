@@ -1,0 +1,810 @@
+// DICOM through DCMTK (Debian's libdcmtk): a folder holding one series of slices, or one file
+// (a multi-frame image, or a single slice).
+//
+// Rules this loader adds on top of the library:
+//   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
+//     read; other files (README.txt, .DS_Store, thumbnails) and DICOM objects without pixel data
+//     (DICOMDIR, reports) are skipped and counted in the log. Sub-folders are not searched.
+//   - Several series in one folder: the one with the most slices is loaded and the log names the
+//     ones left out, so a folder exported with a scout or a dose report still opens.
+//   - Slices (and the frames of multi-frame files, whose positions may sit in the functional
+//     groups) are ordered by their position along the slice normal, ImageOrientationPatient's
+//     row x column direction dotted with ImagePositionPatient. The z spacing is the gap between
+//     neighbours, which must be the same within 1 % (else an error names the two slices). Where
+//     any slice lacks position or orientation, InstanceNumber orders them and the z spacing is
+//     SpacingBetweenSlices, else SliceThickness, else 1 (with a log warning).
+//   - The voxel grid is the image grid: x along a row, y down the columns, z along the normal.
+//     Patient orientation is not kept, so a sagittal series shows in its own frame.
+//   - Spacing x is PixelSpacing's second value (between columns), y its first (between rows).
+//   - RescaleSlope/Intercept are applied per slice. When every slope is 1 and every intercept an
+//     integer, the data is stored as uint8 (8-bit files) or uint16 if all values fit; otherwise,
+//     e.g. CT in Hounsfield units below 0, as float32, which holds 16-bit integers exactly.
+//   - Pixel data must be one sample per pixel, 8 or 16 bits allocated; BitsStored, HighBit and
+//     PixelRepresentation (two's complement) are honoured. Compressed transfer syntaxes are
+//     decoded by DCMTK's JPEG, JPEG-LS and RLE codecs; others (JPEG 2000) are an error naming
+//     the transfer syntax.
+
+#include "file_io.hpp"
+#include "file_name.hpp"
+
+#include <penumbra/base/log.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string_view>
+
+#include <dcmtk/config/osconfig.h>  // must come before the other DCMTK headers
+#include <dcmtk/dcmdata/dcdeftag.h>
+#include <dcmtk/dcmdata/dcdict.h>
+#include <dcmtk/dcmdata/dcfilefo.h>
+#include <dcmtk/dcmdata/dcrledrg.h>
+#include <dcmtk/dcmdata/dcuid.h>
+#include <dcmtk/dcmdata/dcxfer.h>
+#include <dcmtk/dcmjpeg/djdecode.h>
+#include <dcmtk/dcmjpls/djdecode.h>
+#include <dcmtk/oflog/oflog.h>
+
+namespace penumbra::volume {
+namespace {
+
+constexpr std::string_view log_component = "volume";
+
+// Slice gaps may differ from the median gap by this fraction: scanners write positions
+// rounded to a few decimals, while a missing slice changes a gap by 100 %.
+constexpr double gap_tolerance = 0.01;
+
+// Orientation cosines of two slices of one series agree to this much.
+constexpr double orientation_tolerance = 1e-4;
+
+// Codecs are registered once per process and never cleaned up: cleanup would race with another
+// thread's load, and the process ends anyway. DCMTK's own log goes to stderr at warning level;
+// failures reach the user as Errors instead, so it is silenced.
+void prepare_library() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        OFLog::configure(OFLogger::OFF_LOG_LEVEL);
+        DJDecoderRegistration::registerCodecs();
+        DJLSDecoderRegistration::registerCodecs();
+        DcmRLEDecoderRegistration::registerCodecs();
+    });
+}
+
+std::string millimetres(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g mm", value);
+    return text;
+}
+
+std::string tag_label(const DcmTagKey& key) {
+    DcmTag tag(key);  // getTagName() is not const: it looks the name up on first use
+    return std::string(tag.getTagName()) + " " + key.toString().c_str();
+}
+
+base::Error missing_tag(const DcmTagKey& key, const std::filesystem::path& path) {
+    return base::make_error("bad_header", "missing or unreadable tag " + tag_label(key),
+                            detail::at_file(path));
+}
+
+std::optional<double> get_double(DcmItem& item, const DcmTagKey& key, unsigned long pos = 0) {
+    Float64 value = 0.0;
+    if (item.findAndGetFloat64(key, value, pos).good() && std::isfinite(value)) {
+        return value;
+    }
+    return std::nullopt;
+}
+
+template <std::size_t N>
+std::optional<std::array<double, N>> get_doubles(DcmItem& item, const DcmTagKey& key) {
+    std::array<double, N> values{};
+    for (std::size_t i = 0; i < N; ++i) {
+        const auto value = get_double(item, key, i);
+        if (!value) {
+            return std::nullopt;
+        }
+        values[i] = *value;
+    }
+    return values;
+}
+
+std::optional<std::int32_t> get_int(DcmItem& item, const DcmTagKey& key) {
+    Sint32 value = 0;
+    if (item.findAndGetSint32(key, value).good()) {
+        return value;
+    }
+    return std::nullopt;
+}
+
+std::optional<std::uint16_t> get_uint16(DcmItem& item, const DcmTagKey& key) {
+    Uint16 value = 0;
+    if (item.findAndGetUint16(key, value).good()) {
+        return value;
+    }
+    return std::nullopt;
+}
+
+std::string get_string(DcmItem& item, const DcmTagKey& key) {
+    OFString value;
+    if (item.findAndGetOFString(key, value).good()) {
+        return value.c_str();
+    }
+    return {};
+}
+
+// The item of functional group `group` (e.g. PlanePositionSequence) that applies to `frame` of
+// an enhanced multi-frame image: the frame's own, else the shared one; null in other images.
+DcmItem* functional_group(DcmItem& dataset, std::uint32_t frame, const DcmTagKey& group) {
+    DcmItem* groups = nullptr;
+    DcmItem* item = nullptr;
+    if (dataset.findAndGetSequenceItem(DCM_PerFrameFunctionalGroupsSequence, groups,
+                                       static_cast<signed long>(frame))
+                .good() &&
+        groups->findAndGetSequenceItem(group, item).good()) {
+        return item;
+    }
+    if (dataset.findAndGetSequenceItem(DCM_SharedFunctionalGroupsSequence, groups).good() &&
+        groups->findAndGetSequenceItem(group, item).good()) {
+        return item;
+    }
+    return nullptr;
+}
+
+// A tag of one frame: from its functional group where the image has them, else from the top
+// level, where classic single-frame images keep it.
+template <class Get>
+auto frame_value(DcmItem& dataset, std::uint32_t frame, const DcmTagKey& group, Get get)
+        -> decltype(get(dataset)) {
+    if (DcmItem* item = functional_group(dataset, frame, group)) {
+        if (auto value = get(*item)) {
+            return value;
+        }
+    }
+    return get(dataset);
+}
+
+// How the stored pixel values are laid out; every image of a series must agree.
+struct PixelFormat {
+    std::uint16_t rows = 0;
+    std::uint16_t columns = 0;
+    std::uint16_t samples_per_pixel = 1;
+    std::uint16_t bits_allocated = 0;
+    std::uint16_t bits_stored = 0;
+    std::uint16_t high_bit = 0;
+    bool is_signed = false;
+
+    bool operator==(const PixelFormat&) const = default;
+
+    [[nodiscard]] std::string describe() const {
+        return std::to_string(columns) + "x" + std::to_string(rows) + " pixels, " +
+               std::to_string(samples_per_pixel) + " sample(s) per pixel, " +
+               std::to_string(bits_stored) + " of " + std::to_string(bits_allocated) + " bits " +
+               (is_signed ? "signed" : "unsigned");
+    }
+};
+
+// One 2-D image of the volume: a single-frame file or one frame of a multi-frame file.
+struct Frame {
+    std::size_t image = 0;    // index into the loaded images
+    std::uint32_t index = 0;  // frame number within its image
+    std::optional<glm::dvec3> position;
+    std::optional<std::array<double, 6>> orientation;
+    std::optional<std::array<double, 2>> pixel_spacing;  // between rows, between columns
+    std::optional<double> slice_thickness;
+    std::optional<double> spacing_between_slices;
+    std::int32_t instance_number = 0;
+    double slope = 1.0;
+    double intercept = 0.0;
+};
+
+struct Image {
+    std::filesystem::path path;
+    std::unique_ptr<DcmFileFormat> file;  // pixel data stays on disk until it is read
+    std::string series_uid;
+    PixelFormat format;
+    std::uint32_t frame_count = 1;
+};
+
+base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
+                                            const std::filesystem::path& path) {
+    PixelFormat format;
+    for (auto [key, field] :
+         {std::pair{DCM_Rows, &format.rows}, std::pair{DCM_Columns, &format.columns},
+          std::pair{DCM_BitsAllocated, &format.bits_allocated}}) {
+        const auto value = get_uint16(dataset, key);
+        if (!value) {
+            return missing_tag(key, path);
+        }
+        *field = *value;
+    }
+    format.samples_per_pixel = get_uint16(dataset, DCM_SamplesPerPixel).value_or(1);
+    format.bits_stored = get_uint16(dataset, DCM_BitsStored).value_or(format.bits_allocated);
+    format.high_bit = get_uint16(dataset, DCM_HighBit).value_or(format.bits_stored - 1);
+    format.is_signed = get_uint16(dataset, DCM_PixelRepresentation).value_or(0) == 1;
+
+    const auto unsupported = [&](const std::string& what) {
+        return base::make_error("unsupported_type", what, detail::at_file(path));
+    };
+    if (format.rows == 0 || format.columns == 0) {
+        return base::make_error("bad_header",
+                                "an image of " + std::to_string(format.columns) + "x" +
+                                        std::to_string(format.rows) + " pixels",
+                                detail::at_file(path));
+    }
+    if (format.samples_per_pixel != 1) {
+        return unsupported(std::to_string(format.samples_per_pixel) +
+                           " samples per pixel (colour images) are not supported; a volume "
+                           "needs one sample per pixel");
+    }
+    if (format.bits_allocated != 8 && format.bits_allocated != 16) {
+        return unsupported(std::to_string(format.bits_allocated) +
+                           " bits allocated per pixel are not supported; 8 and 16 are");
+    }
+    if (format.bits_stored == 0 || format.bits_stored > format.bits_allocated ||
+        format.high_bit >= format.bits_allocated || format.high_bit + 1 < format.bits_stored) {
+        return base::make_error("bad_header",
+                                "BitsStored " + std::to_string(format.bits_stored) +
+                                        " and HighBit " + std::to_string(format.high_bit) +
+                                        " do not fit in BitsAllocated " +
+                                        std::to_string(format.bits_allocated),
+                                detail::at_file(path));
+    }
+    return format;
+}
+
+std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
+                               std::uint32_t frame_count) {
+    std::vector<Frame> frames(frame_count);
+    const auto instance = get_int(dataset, DCM_InstanceNumber).value_or(0);
+    for (std::uint32_t f = 0; f < frame_count; ++f) {
+        Frame& frame = frames[f];
+        frame.image = image_index;
+        frame.index = f;
+        frame.instance_number = instance;
+        const auto position = frame_value(dataset, f, DCM_PlanePositionSequence, [](DcmItem& item) {
+            return get_doubles<3>(item, DCM_ImagePositionPatient);
+        });
+        // A legacy multi-frame image has one top-level position, that of its first frame.
+        if (position && (f == 0 || functional_group(dataset, f, DCM_PlanePositionSequence))) {
+            frame.position = glm::dvec3((*position)[0], (*position)[1], (*position)[2]);
+        }
+        frame.orientation = frame_value(
+                dataset, f, DCM_PlaneOrientationSequence,
+                [](DcmItem& item) { return get_doubles<6>(item, DCM_ImageOrientationPatient); });
+        const auto measure = [&](auto get) {
+            return frame_value(dataset, f, DCM_PixelMeasuresSequence, get);
+        };
+        frame.pixel_spacing = measure([](DcmItem& item) {
+            auto spacing = get_doubles<2>(item, DCM_PixelSpacing);
+            return spacing ? spacing : get_doubles<2>(item, DCM_ImagerPixelSpacing);
+        });
+        frame.slice_thickness =
+                measure([](DcmItem& item) { return get_double(item, DCM_SliceThickness); });
+        frame.spacing_between_slices =
+                measure([](DcmItem& item) { return get_double(item, DCM_SpacingBetweenSlices); });
+        const auto rescale = [&](const DcmTagKey& key) {
+            return frame_value(dataset, f, DCM_PixelValueTransformationSequence,
+                               [&](DcmItem& item) { return get_double(item, key); });
+        };
+        const auto slope = rescale(DCM_RescaleSlope);
+        frame.slope = slope && *slope != 0.0 ? *slope : 1.0;
+        frame.intercept = rescale(DCM_RescaleIntercept).value_or(0.0);
+    }
+    return frames;
+}
+
+enum class Opened { image, not_an_image };
+
+// Reads the header of one file; the pixel data stays on disk. A Part 10 file without pixel data
+// (DICOMDIR, a structured report) is `not_an_image`, which a folder skips.
+base::Result<Opened> open_image(const std::filesystem::path& path, Image& image) {
+    image.path = path;
+    image.file = std::make_unique<DcmFileFormat>();
+    const OFCondition status = image.file->loadFile(path.c_str());
+    if (status.bad()) {
+        const std::string reason = std::string(" (DCMTK: ") + status.text() + ")";
+        if (!is_dicom_file(path)) {
+            return base::make_error("not_dicom",
+                                    "not a DICOM file: no DICM marker after the 128-byte "
+                                    "preamble, and not readable as a bare data set" +
+                                            reason,
+                                    detail::at_file(path));
+        }
+        // DCMTK reports a file that ends inside an element as one of these two.
+        if (status == EC_StreamNotifyClient || status == EC_InvalidStream) {
+            return base::make_error("truncated",
+                                    "the file ends before the data its elements announce "
+                                    "(truncated or damaged)" +
+                                            reason,
+                                    detail::at_file(path));
+        }
+        return base::make_error("bad_header", "DCMTK cannot parse the file" + reason,
+                                detail::at_file(path));
+    }
+    DcmDataset& dataset = *image.file->getDataset();
+    if (!dataset.tagExists(DCM_PixelData)) {
+        if (dataset.tagExists(DCM_FloatPixelData) || dataset.tagExists(DCM_DoubleFloatPixelData)) {
+            return base::make_error("unsupported_type",
+                                    "float pixel data is not supported; integer PixelData is",
+                                    detail::at_file(path));
+        }
+        return Opened::not_an_image;
+    }
+    auto format = read_pixel_format(dataset, path);
+    if (!format) {
+        return format.error();
+    }
+    image.format = *format;
+    const auto frames = get_int(dataset, DCM_NumberOfFrames).value_or(1);
+    if (frames < 1) {
+        return base::make_error("bad_header", "NumberOfFrames is " + std::to_string(frames),
+                                detail::at_file(path));
+    }
+    image.frame_count = static_cast<std::uint32_t>(frames);
+    image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+    return Opened::image;
+}
+
+// The files of the folder that carry the DICOM Part 10 marker, in name order so that logs and
+// fallbacks are reproducible.
+base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::filesystem::path& folder,
+                                                                std::size_t& skipped) {
+    std::error_code ec;
+    std::vector<std::filesystem::path> files;
+    for (auto it = std::filesystem::directory_iterator(folder, ec);
+         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (!it->is_regular_file(ec) || name.starts_with('.')) {
+            continue;
+        }
+        if (is_dicom_file(it->path())) {
+            files.push_back(it->path());
+        } else {
+            ++skipped;
+        }
+    }
+    if (ec) {
+        return base::make_error("read_failed", "cannot list the folder: " + ec.message(),
+                                detail::at_file(folder));
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// Keeps the series with the most frames and logs the others.
+void keep_largest_series(std::vector<Image>& images, const std::filesystem::path& folder) {
+    std::map<std::string, std::size_t> frames_per_series;
+    for (const Image& image : images) {
+        frames_per_series[image.series_uid] += image.frame_count;
+    }
+    if (frames_per_series.size() < 2) {
+        return;
+    }
+    const auto largest =
+            std::max_element(frames_per_series.begin(), frames_per_series.end(),
+                             [](const auto& a, const auto& b) { return a.second < b.second; });
+    const std::string kept = largest->first;
+    std::string left_out;
+    for (const auto& [uid, count] : frames_per_series) {
+        if (uid != kept) {
+            left_out += (left_out.empty() ? "" : ", ") + uid + " (" + std::to_string(count) +
+                        " slices)";
+        }
+    }
+    base::log_info(log_component,
+                   folder.string() + ": " + std::to_string(frames_per_series.size()) +
+                           " series in the folder; loading " + kept + " (" +
+                           std::to_string(largest->second) + " slices), leaving out " + left_out);
+    std::erase_if(images, [&](const Image& image) { return image.series_uid != kept; });
+}
+
+glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
+    const glm::dvec3 row(orientation[0], orientation[1], orientation[2]);
+    const glm::dvec3 column(orientation[3], orientation[4], orientation[5]);
+    return glm::cross(row, column);
+}
+
+std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
+    std::string label = images[frame.image].path.string();
+    if (images[frame.image].frame_count > 1) {
+        label += ":frame " + std::to_string(frame.index + 1);
+    }
+    return label;
+}
+
+// Sorts the frames into z order and returns the spacing between them.
+base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<Image>& images,
+                                  const std::filesystem::path& source) {
+    const bool positioned = std::all_of(frames.begin(), frames.end(),
+                                        [](const Frame& f) { return f.position && f.orientation; });
+    if (positioned && frames.size() > 1) {
+        const auto& orientation = *frames.front().orientation;
+        glm::dvec3 normal = slice_normal(orientation);
+        if (!(glm::length(normal) > 0.5)) {
+            return base::make_error("bad_header",
+                                    "ImageOrientationPatient has parallel row and column "
+                                    "directions",
+                                    frame_label(frames.front(), images));
+        }
+        normal = glm::normalize(normal);
+        for (const Frame& frame : frames) {
+            for (std::size_t i = 0; i < 6; ++i) {
+                if (std::abs((*frame.orientation)[i] - orientation[i]) > orientation_tolerance) {
+                    return base::make_error(
+                            "inconsistent_series",
+                            "the slice's ImageOrientationPatient differs from that of " +
+                                    frame_label(frames.front(), images),
+                            frame_label(frame, images));
+                }
+            }
+        }
+        const auto depth = [&](const Frame& f) { return glm::dot(normal, *f.position); };
+        std::stable_sort(frames.begin(), frames.end(),
+                         [&](const Frame& a, const Frame& b) { return depth(a) < depth(b); });
+        std::vector<double> gaps;
+        for (std::size_t i = 1; i < frames.size(); ++i) {
+            gaps.push_back(depth(frames[i]) - depth(frames[i - 1]));
+        }
+        // The median is the series' own gap even when one slice is missing or doubled, so the
+        // error can name the slice where the spacing breaks.
+        std::vector<double> sorted_gaps = gaps;
+        std::nth_element(sorted_gaps.begin(), sorted_gaps.begin() + sorted_gaps.size() / 2,
+                         sorted_gaps.end());
+        const double typical_gap = sorted_gaps[sorted_gaps.size() / 2];
+        for (std::size_t i = 1; i < frames.size(); ++i) {
+            const double gap = gaps[i - 1];
+            if (!(typical_gap > 0.0) || std::abs(gap - typical_gap) > gap_tolerance * typical_gap) {
+                return base::make_error("inconsistent_series",
+                                        "slices are not evenly spaced: " + millimetres(gap) +
+                                                " from " + frame_label(frames[i - 1], images) +
+                                                " along the slice normal, while the usual gap is " +
+                                                millimetres(typical_gap) +
+                                                " (a missing slice, a repeated position or several "
+                                                "acquisitions in one series)",
+                                        frame_label(frames[i], images));
+            }
+        }
+        return (depth(frames.back()) - depth(frames.front())) /
+               static_cast<double>(frames.size() - 1);
+    }
+
+    if (frames.size() > 1) {
+        base::log_warning(log_component,
+                          source.string() +
+                                  ": some slices lack ImagePositionPatient or "
+                                  "ImageOrientationPatient; ordering them by InstanceNumber");
+        std::stable_sort(frames.begin(), frames.end(), [](const Frame& a, const Frame& b) {
+            return a.instance_number < b.instance_number;
+        });
+    }
+    const Frame& first = frames.front();
+    if (first.spacing_between_slices && *first.spacing_between_slices > 0.0) {
+        return *first.spacing_between_slices;
+    }
+    if (first.slice_thickness && *first.slice_thickness > 0.0) {
+        return *first.slice_thickness;
+    }
+    if (frames.size() > 1) {
+        base::log_warning(
+                log_component,
+                source.string() + ": no SpacingBetweenSlices or SliceThickness; using 1 mm");
+    }
+    return 1.0;
+}
+
+base::Result<glm::dvec2> pixel_spacing(const std::vector<Frame>& frames,
+                                       const std::vector<Image>& images,
+                                       const std::filesystem::path& source) {
+    const auto& first = frames.front().pixel_spacing;
+    if (!first || !((*first)[0] > 0.0) || !((*first)[1] > 0.0)) {
+        base::log_warning(log_component, source.string() + ": no valid PixelSpacing; using 1 mm");
+        return glm::dvec2(1.0);
+    }
+    for (const Frame& frame : frames) {
+        const auto& spacing = frame.pixel_spacing;
+        if (!spacing || std::abs((*spacing)[0] - (*first)[0]) > 1e-4 * (*first)[0] ||
+            std::abs((*spacing)[1] - (*first)[1]) > 1e-4 * (*first)[1]) {
+            return base::make_error("inconsistent_series",
+                                    "the slice's PixelSpacing differs from that of " +
+                                            frame_label(frames.front(), images),
+                                    frame_label(frame, images));
+        }
+    }
+    // PixelSpacing is (between rows, between columns): y first, then x.
+    return glm::dvec2((*first)[1], (*first)[0]);
+}
+
+// The raw pixel words of all frames of one image, decoded to native order.
+base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
+    DcmDataset& dataset = *image.file->getDataset();
+    const E_TransferSyntax xfer = dataset.getOriginalXfer();
+    const DcmXfer syntax(xfer);
+    if (syntax.isEncapsulated()) {
+        const OFCondition status = dataset.chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
+        if (status.bad() || !dataset.canWriteXfer(EXS_LittleEndianExplicit)) {
+            return base::make_error("unsupported_encoding",
+                                    std::string("pixel data in transfer syntax ") +
+                                            syntax.getXferName() + " (" + syntax.getXferID() +
+                                            ") cannot be decoded: " + status.text() +
+                                            "; supported: uncompressed, JPEG, JPEG-LS, RLE",
+                                    detail::at_file(image.path));
+        }
+    }
+    const std::uint64_t expected = std::uint64_t{image.format.rows} * image.format.columns *
+                                   image.frame_count * (image.format.bits_allocated / 8);
+    DcmElement* element = nullptr;
+    OFCondition status = dataset.findAndGetElement(DCM_PixelData, element);
+    const std::byte* data = nullptr;
+    std::uint64_t bytes = 0;
+    if (status.good()) {
+        // Files disagree with BitsAllocated about the VR (8-bit data as OW in implicit VR, for
+        // one), and DCMTK hands out an OB value only as bytes and an OW value only as words;
+        // on a little-endian host both views of the decoded value are the same bytes.
+        Uint8* byte_values = nullptr;
+        Uint16* word_values = nullptr;
+        if (element->getUint8Array(byte_values).good() && byte_values != nullptr) {
+            data = reinterpret_cast<const std::byte*>(byte_values);
+            bytes = element->getLength();
+        } else if (status = element->getUint16Array(word_values);
+                   status.good() && word_values != nullptr) {
+            data = reinterpret_cast<const std::byte*>(word_values);
+            bytes = element->getLength();
+        }
+    }
+    if (status.bad() || data == nullptr) {
+        return base::make_error("truncated",
+                                std::string("cannot read the pixel data: ") + status.text(),
+                                detail::at_file(image.path));
+    }
+    if (bytes < expected) {
+        return base::make_error("truncated",
+                                "the pixel data holds " + std::to_string(bytes) + " bytes; " +
+                                        image.format.describe() + " x " +
+                                        std::to_string(image.frame_count) + " frame(s) need " +
+                                        std::to_string(expected),
+                                detail::at_file(image.path));
+    }
+    return std::span<const std::byte>(data, static_cast<std::size_t>(expected));
+}
+
+// The stored value of one pixel word: the BitsStored bits ending at HighBit, sign-extended for
+// two's complement data.
+struct SampleDecoder {
+    unsigned shift;
+    std::uint32_t mask;
+    std::uint32_t sign_bit;
+
+    explicit SampleDecoder(const PixelFormat& format)
+        : shift(format.high_bit + 1u - format.bits_stored)
+        , mask((std::uint32_t{1} << format.bits_stored) - 1u)
+        , sign_bit(format.is_signed ? std::uint32_t{1} << (format.bits_stored - 1) : 0u) {}
+
+    [[nodiscard]] std::int32_t operator()(std::uint32_t word) const {
+        const std::uint32_t bits = (word >> shift) & mask;
+        if ((bits & sign_bit) != 0) {
+            return static_cast<std::int32_t>(bits) - static_cast<std::int32_t>(mask) - 1;
+        }
+        return static_cast<std::int32_t>(bits);
+    }
+};
+
+// Writes the rescaled values of one frame into `out` (float32 voxels).
+void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
+                  std::uint32_t frame_index, const Frame& frame, float* out) {
+    const std::size_t count = std::size_t{format.rows} * format.columns;
+    const std::size_t width = format.bits_allocated / 8;
+    const std::byte* in = pixels.data() + std::size_t{frame_index} * count * width;
+    const SampleDecoder decode(format);
+    const bool identity = frame.slope == 1.0 && frame.intercept == 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+        std::uint32_t word = 0;
+        if (width == 1) {
+            word = static_cast<std::uint8_t>(in[i]);
+        } else {
+            std::uint16_t value = 0;
+            std::memcpy(&value, in + 2 * i, 2);
+            word = value;
+        }
+        const double stored = decode(word);
+        out[i] = static_cast<float>(identity ? stored : stored * frame.slope + frame.intercept);
+    }
+}
+
+// Narrows float32 voxels that hold integers to uint8 or uint16 when every value fits, which
+// halves (or quarters) what the volume costs in memory and on the GPU without changing a value.
+template <class T>
+std::vector<std::byte> narrow_to(const std::vector<float>& values) {
+    std::vector<std::byte> data(values.size() * sizeof(T));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const T value = static_cast<T>(values[i]);
+        std::memcpy(data.data() + i * sizeof(T), &value, sizeof(T));
+    }
+    return data;
+}
+
+base::Result<Volume> assemble(std::vector<Image>& images, const std::string& name,
+                              const std::filesystem::path& source) {
+    const PixelFormat& format = images.front().format;
+    for (const Image& image : images) {
+        if (!(image.format == format)) {
+            return base::make_error("inconsistent_series",
+                                    "the image is " + image.format.describe() + ", but " +
+                                            images.front().path.string() + " is " +
+                                            format.describe(),
+                                    detail::at_file(image.path));
+        }
+    }
+    std::vector<Frame> frames;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count);
+        frames.insert(frames.end(), image_frames.begin(), image_frames.end());
+    }
+    const std::uint64_t voxels =
+            std::uint64_t{format.rows} * format.columns * static_cast<std::uint64_t>(frames.size());
+    if (voxels > max_voxels) {
+        return base::make_error("too_large",
+                                std::to_string(format.columns) + "x" + std::to_string(format.rows) +
+                                        "x" + std::to_string(frames.size()) +
+                                        " voxels exceed the limit of " + std::to_string(max_voxels),
+                                detail::at_file(source));
+    }
+    auto z_spacing = order_frames(frames, images, source);
+    if (!z_spacing) {
+        return z_spacing.error();
+    }
+    auto xy_spacing = pixel_spacing(frames, images, source);
+    if (!xy_spacing) {
+        return xy_spacing.error();
+    }
+
+    // Frame z of the volume is frames[z]; each image's pixel data is read once.
+    std::vector<std::vector<std::size_t>> slots(images.size());
+    for (std::size_t z = 0; z < frames.size(); ++z) {
+        slots[frames[z].image].push_back(z);
+    }
+    const std::size_t slice_voxels = std::size_t{format.rows} * format.columns;
+    std::vector<float> values(static_cast<std::size_t>(voxels));
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        auto pixels = pixel_bytes(images[i]);
+        if (!pixels) {
+            return pixels.error();
+        }
+        for (const std::size_t z : slots[i]) {
+            decode_frame(*pixels, format, frames[z].index, frames[z],
+                         values.data() + z * slice_voxels);
+        }
+        images[i].file.reset();  // drops the decoded pixel data
+    }
+
+    const bool integral = std::all_of(frames.begin(), frames.end(), [](const Frame& f) {
+        return f.slope == 1.0 && f.intercept == std::round(f.intercept);
+    });
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    VoxelType type = VoxelType::float32;
+    std::vector<std::byte> data;
+    if (integral && *lo >= 0.0f && format.bits_allocated == 8 && *hi <= 255.0f) {
+        type = VoxelType::uint8;
+        data = narrow_to<std::uint8_t>(values);
+    } else if (integral && *lo >= 0.0f && *hi <= 65535.0f) {
+        type = VoxelType::uint16;
+        data = narrow_to<std::uint16_t>(values);
+    } else {
+        data.resize(values.size() * sizeof(float));
+        std::memcpy(data.data(), values.data(), data.size());
+    }
+    values = {};
+
+    auto volume = make_volume(
+            name,
+            glm::uvec3(format.columns, format.rows, static_cast<std::uint32_t>(frames.size())),
+            glm::dvec3(xy_spacing->x, xy_spacing->y, *z_spacing), type, std::move(data));
+    if (!volume) {
+        base::Error error = volume.error();
+        error.where = detail::at_file(source);
+        return error;
+    }
+    return volume;
+}
+
+base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder) {
+    std::size_t not_dicom = 0;
+    auto files = dicom_files_in(folder, not_dicom);
+    if (!files) {
+        return files.error();
+    }
+    std::vector<Image> images;
+    std::size_t not_images = 0;
+    for (const auto& path : *files) {
+        Image image;
+        auto opened = open_image(path, image);
+        if (!opened) {
+            return opened.error();
+        }
+        if (*opened == Opened::not_an_image) {
+            ++not_images;
+            continue;
+        }
+        images.push_back(std::move(image));
+    }
+    if (images.empty() && not_dicom + not_images == 0) {
+        return base::make_error("no_dicom_images", "the folder holds no files",
+                                detail::at_file(folder));
+    }
+    if (images.empty()) {
+        return base::make_error("no_dicom_images",
+                                "the folder holds no DICOM image files (" +
+                                        std::to_string(not_dicom) + " other files, " +
+                                        std::to_string(not_images) +
+                                        " DICOM files without pixel data)",
+                                detail::at_file(folder));
+    }
+    if (not_dicom + not_images > 0) {
+        base::log_info(log_component, folder.string() + ": skipped " + std::to_string(not_dicom) +
+                                              " files that are not DICOM and " +
+                                              std::to_string(not_images) +
+                                              " DICOM files without pixel data");
+    }
+    keep_largest_series(images, folder);
+    const std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
+                                                       : folder.filename().string();
+    return assemble(images, name, folder);
+}
+
+base::Result<Volume> load_dicom_file(const std::filesystem::path& path) {
+    if (auto size = detail::regular_file_size(path); !size) {
+        return size.error();
+    }
+    std::vector<Image> images(1);
+    auto opened = open_image(path, images.front());
+    if (!opened) {
+        return opened.error();
+    }
+    if (*opened == Opened::not_an_image) {
+        return missing_tag(DCM_PixelData, path);
+    }
+    const std::string name =
+            detail::strip_suffix(path, std::array<std::string_view, 2>{".dcm", ".dicom"});
+    return assemble(images, name, path);
+}
+
+}  // namespace
+
+bool is_dicom_file(const std::filesystem::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::array<char, 132> head{};
+    if (!file.read(head.data(), head.size())) {
+        return false;
+    }
+    return std::string_view(head.data() + 128, 4) == "DICM";
+}
+
+base::Result<Volume> load_dicom(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) {
+        return base::make_error("not_found", "file or folder not found", detail::at_file(path));
+    }
+    prepare_library();
+    if (!dcmDataDict.isDictionaryLoaded()) {
+        return base::make_error("dicom_unavailable",
+                                "DCMTK found no DICOM data dictionary (install libdcmtk17 or set "
+                                "DCMDICTPATH)",
+                                detail::at_file(path));
+    }
+    if (std::filesystem::is_directory(status)) {
+        return load_dicom_folder(path);
+    }
+    return load_dicom_file(path);
+}
+
+}  // namespace penumbra::volume

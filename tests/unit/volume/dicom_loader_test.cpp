@@ -1,0 +1,527 @@
+#include "dicom_writer.hpp"
+#include "fixture_files.hpp"
+
+#include <penumbra/volume/volume.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <dcmtk/config/osconfig.h>  // must come before the other DCMTK headers
+#include <dcmtk/dcmdata/dcdatset.h>
+#include <dcmtk/dcmdata/dcdeftag.h>
+
+namespace penumbra::volume {
+namespace {
+
+using fixtures::SeriesSpec;
+
+bool contains(const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+}
+
+// A box of the ch2 head: not square, so a swap of rows and columns shows.
+constexpr glm::uvec3 box_first{60, 80, 70};
+constexpr glm::uvec3 box_dims{64, 48, 24};
+
+SeriesSpec ch2_spec() {
+    SeriesSpec spec;
+    spec.dims = box_dims;
+    spec.spacing = {0.75, 0.5, 1.25};  // distinct, so a swap of x and y spacing shows
+    spec.origin = {-40.0, 12.5, -7.0};
+    return spec;
+}
+
+// Every voxel of `volume` equals `expected(word)` for the words written, x fastest.
+template <class Expected>
+void expect_voxels(const Volume& volume, const std::vector<std::uint16_t>& words,
+                   Expected expected) {
+    ASSERT_EQ(volume.voxel_count(), words.size());
+    std::size_t mismatches = 0;
+    std::size_t i = 0;
+    for (std::uint32_t z = 0; z < volume.dims.z; ++z) {
+        for (std::uint32_t y = 0; y < volume.dims.y; ++y) {
+            for (std::uint32_t x = 0; x < volume.dims.x; ++x, ++i) {
+                if (volume.value(x, y, z) != expected(words[i]) && ++mismatches <= 3) {
+                    ADD_FAILURE() << "voxel " << x << "," << y << "," << z << " is "
+                                  << volume.value(x, y, z) << ", expected " << expected(words[i]);
+                }
+            }
+        }
+    }
+    EXPECT_EQ(mismatches, 0u);
+}
+
+void expect_ch2_voxels(const Volume& volume, const std::vector<std::uint16_t>& words) {
+    expect_voxels(volume, words, [](std::uint16_t word) { return static_cast<double>(word); });
+}
+
+TEST(DicomLoader, SeriesFolderRoundTripsTheVoxelsDimsAndSpacing) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    fixtures::write_series(dir / "head", ch2_spec(), words);
+
+    auto volume = load_volume(dir / "head");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "head");
+    EXPECT_EQ(volume->dims, box_dims);
+    EXPECT_EQ(volume->type, VoxelType::uint16);
+    EXPECT_DOUBLE_EQ(volume->spacing.x, 0.75);
+    EXPECT_DOUBLE_EQ(volume->spacing.y, 0.5);
+    EXPECT_NEAR(volume->spacing.z, 1.25, 1e-9);
+    expect_ch2_voxels(*volume, words);
+    const auto [lo, hi] = std::minmax_element(words.begin(), words.end());
+    EXPECT_EQ(volume->range.min, *lo);
+    EXPECT_EQ(volume->range.max, *hi);
+}
+
+TEST(DicomLoader, ShuffledFileNamesAndWriteOrderAreSortedByPosition) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    spec.series_uid = fixtures::make_uid();
+    std::vector<std::uint32_t> order(box_dims.z);
+    std::iota(order.begin(), order.end(), 0u);
+    std::shuffle(order.begin(), order.end(), std::mt19937(7));
+    std::filesystem::create_directories(dir / "series");
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        // Bare UID-like names with no extension, and instance numbers that disagree with the
+        // positions: only the positions may decide.
+        const std::string name = "1.3.12." + std::to_string(1000 - 37 * i);
+        fixtures::write_slice(dir / "series" / name, spec, order[i], words,
+                              static_cast<std::int32_t>(i + 1));
+    }
+
+    auto volume = load_volume(dir / "series");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, box_dims);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, ObliqueOrientationSortsAlongTheSliceNormal) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    // Rows run 30 degrees off the x axis, columns head to foot: an oblique sagittal-ish series
+    // whose slices step along -x and +y, where neither z nor the file order helps.
+    const double c = std::cos(M_PI / 6.0);
+    const double s = std::sin(M_PI / 6.0);
+    spec.orientation = {s, c, 0.0, 0.0, 0.0, -1.0};
+    std::filesystem::create_directories(dir / "oblique");
+    spec.series_uid = fixtures::make_uid();
+    for (std::uint32_t z = 0; z < box_dims.z; ++z) {
+        fixtures::write_slice(dir / "oblique" / ("im" + std::to_string(box_dims.z - z)), spec, z,
+                              words, 1);
+    }
+
+    auto volume = load_volume(dir / "oblique");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_NEAR(volume->spacing.z, 1.25, 1e-6);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, CtRescaleGivesHounsfieldUnitsAsFloat32) {
+    fixtures::TempDir dir;
+    auto words = fixtures::ch2_box(box_first, box_dims);
+    for (auto& word : words) {
+        // Signed stored values from -1000 to about 3000, as a CT scanner writes them.
+        word = static_cast<std::uint16_t>(static_cast<std::int16_t>(word * 16 - 1000));
+    }
+    SeriesSpec spec = ch2_spec();
+    spec.is_signed = true;
+    spec.slope = 1.0;
+    spec.intercept = -1024.0;
+    fixtures::write_series(dir / "ct", spec, words);
+
+    auto volume = load_volume(dir / "ct");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    expect_voxels(*volume, words, [](std::uint16_t word) {
+        return static_cast<double>(static_cast<std::int16_t>(word)) - 1024.0;
+    });
+    EXPECT_LT(volume->range.min, -1000.0);
+}
+
+TEST(DicomLoader, FractionalSlopeIsAppliedInFloat32) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 3};
+    spec.slope = 0.5;
+    spec.intercept = 10.0;
+    fixtures::write_series(dir / "pet", spec, words);
+
+    auto volume = load_volume(dir / "pet");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    expect_voxels(*volume, words, [](std::uint16_t word) { return word * 0.5 + 10.0; });
+}
+
+TEST(DicomLoader, IntegerInterceptThatKeepsValuesPositiveStaysUint16) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 3};
+    spec.is_signed = true;
+    spec.intercept = 100.0;
+    fixtures::write_series(dir / "mr", spec, words);
+
+    auto volume = load_volume(dir / "mr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::uint16);
+    expect_voxels(*volume, words, [](std::uint16_t word) { return word + 100.0; });
+}
+
+TEST(DicomLoader, BitsStoredMasksHighBitsAndSignExtends) {
+    fixtures::TempDir dir;
+    // 12-bit two's complement values with junk (an overlay, say) in the 4 unused bits.
+    const std::vector<std::int16_t> values{-2048, -1, 0, 1, 2047, -100, 7, 1000};
+    std::vector<std::uint16_t> words;
+    for (const std::int16_t value : values) {
+        words.push_back(static_cast<std::uint16_t>((value & 0x0fff) | 0xa000));
+    }
+    SeriesSpec spec;
+    spec.dims = {4, 2, 1};
+    spec.bits_stored = 12;
+    spec.is_signed = true;
+    fixtures::write_series(dir / "s12", spec, words);
+
+    auto volume = load_volume(dir / "s12");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    for (std::uint32_t i = 0; i < values.size(); ++i) {
+        EXPECT_EQ(volume->value(i % 4, i / 4, 0), values[i]) << i;
+    }
+}
+
+TEST(DicomLoader, EightBitImplicitVrSeriesStaysUint8) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 4});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 4};
+    spec.bits_allocated = 8;
+    spec.bits_stored = 8;
+    spec.explicit_vr = false;
+    fixtures::write_series(dir / "u8", spec, words);
+
+    auto volume = load_volume(dir / "u8");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->type, VoxelType::uint8);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, MultiFrameFileWithFramesOutOfOrder) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    std::vector<std::uint32_t> order(box_dims.z);
+    std::iota(order.rbegin(), order.rend(), 0u);  // head to foot: the reverse of z
+    std::swap(order[3], order[10]);
+    fixtures::write_multiframe(dir / "enhanced.dcm", ch2_spec(), words, order);
+
+    auto volume = load_volume(dir / "enhanced.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "enhanced");
+    EXPECT_EQ(volume->dims, box_dims);
+    EXPECT_DOUBLE_EQ(volume->spacing.x, 0.75);
+    EXPECT_DOUBLE_EQ(volume->spacing.y, 0.5);
+    EXPECT_NEAR(volume->spacing.z, 1.25, 1e-9);
+    expect_ch2_voxels(*volume, words);
+
+    // The same file alone in a folder is the same volume.
+    auto in_folder = load_volume(dir.path());
+    ASSERT_TRUE(in_folder.ok()) << in_folder.error().to_string();
+    EXPECT_EQ(in_folder->data, volume->data);
+}
+
+TEST(DicomLoader, WithoutPositionsInstanceNumberOrdersAndSliceThicknessSpaces) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 5});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 5};
+    spec.spacing = {1.0, 1.0, 2.5};
+    spec.positions = false;
+    spec.series_uid = fixtures::make_uid();
+    std::filesystem::create_directories(dir / "old");
+    for (std::uint32_t z = 0; z < 5; ++z) {
+        fixtures::write_slice(dir / "old" / ("z" + std::to_string(4 - z)), spec, z, words,
+                              static_cast<std::int32_t>(z + 1));
+    }
+
+    auto volume = load_volume(dir / "old");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->spacing.z, 2.5);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, FolderWithSeveralSeriesLoadsTheLargest) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 6});
+    SeriesSpec big;
+    big.dims = {16, 8, 6};
+    fixtures::write_series(dir / "study", big, words);
+    SeriesSpec scout;
+    scout.dims = {8, 8, 2};
+    scout.series_uid = fixtures::make_uid();
+    for (std::uint32_t z = 0; z < 2; ++z) {
+        fixtures::write_slice(dir / "study" / ("scout" + std::to_string(z)), scout, z,
+                              std::vector<std::uint16_t>(128, 9), 1);
+    }
+
+    auto volume = load_volume(dir / "study");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(16, 8, 6));
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, FilesThatAreNotDicomAreSkipped) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 3};
+    fixtures::write_series(dir / "s", spec, words);
+    fixtures::write_text(dir / "s" / "README.txt", "exported by a PACS");
+    fixtures::write_text(dir / "s" / ".DS_Store", "junk");
+
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_ch2_voxels(*volume, words);
+}
+
+// Errors: each names the file (or folder) and says what is wrong.
+
+TEST(DicomLoader, EmptyFolderIsAnError) {
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "empty");
+    auto volume = load_volume(dir / "empty");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "no_dicom_images");
+    EXPECT_TRUE(contains(volume.error().where, "empty")) << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "no files")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, FolderOfNonDicomFilesIsAnError) {
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "notes");
+    fixtures::write_text(dir / "notes" / "a.txt", "hello");
+    auto volume = load_volume(dir / "notes");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "no_dicom_images");
+    EXPECT_TRUE(contains(volume.error().message, "1 other files")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, NonDicomFileNamedDcmIsAnError) {
+    fixtures::TempDir dir;
+    fixtures::write_text(dir / "fake.dcm", "this is not DICOM at all");
+    auto volume = load_volume(dir / "fake.dcm");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "not_dicom");
+    EXPECT_TRUE(contains(volume.error().where, "fake.dcm")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsNamed) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 1));
+    std::vector<std::byte> bytes(200, std::byte{0xff});
+    std::memcpy(bytes.data() + 128, "DICM", 4);
+    fixtures::write_bytes(dir / "s" / "broken", bytes);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_TRUE(volume.error().code == "bad_header" || volume.error().code == "truncated")
+            << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "broken")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, MixedImageSizesAreAnError) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {8, 8, 3};
+    spec.series_uid = fixtures::make_uid();
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(192, 5));
+    spec.dims = {8, 4, 1};
+    fixtures::write_slice(dir / "s" / "zz_small.dcm", spec, 0, std::vector<std::uint16_t>(32, 5),
+                          4);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series");
+    EXPECT_TRUE(contains(volume.error().where, "zz_small.dcm")) << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "8x4 pixels")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, MismatchedBitsAllocatedAreAnError) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {8, 8, 3};
+    spec.series_uid = fixtures::make_uid();
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(192, 5));
+    spec.bits_allocated = spec.bits_stored = 8;
+    fixtures::write_slice(dir / "s" / "zz_8bit.dcm", spec, 2, std::vector<std::uint16_t>(192, 5),
+                          4);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series");
+    EXPECT_TRUE(contains(volume.error().where, "zz_8bit.dcm")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, MissingSliceMakesUnevenSpacingAnError) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {4, 4, 6};
+    const auto paths = fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(96, 5));
+    std::filesystem::remove(paths[3]);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series");
+    EXPECT_TRUE(contains(volume.error().message, "not evenly spaced"))
+            << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "slice_004.dcm")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, RepeatedPositionIsAnError) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {4, 4, 4};
+    spec.series_uid = fixtures::make_uid();
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(64, 5));
+    fixtures::write_slice(dir / "s" / "again.dcm", spec, 2, std::vector<std::uint16_t>(64, 5), 9);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series");
+    EXPECT_TRUE(contains(volume.error().message, "not evenly spaced"))
+            << volume.error().to_string();
+}
+
+TEST(DicomLoader, TruncatedPixelDataIsAnError) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {32, 32, 3};
+    const auto paths = fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(3072, 5));
+    const auto size = std::filesystem::file_size(paths[1]);
+    std::filesystem::resize_file(paths[1], size - 500);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "slice_001.dcm")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, MissingRowsTagIsNamed) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.edit = [](DcmDataset& dataset) { dataset.findAndDeleteElement(DCM_Rows); };
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 5));
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "bad_header");
+    EXPECT_TRUE(contains(volume.error().message, "Rows (0028,0010)")) << volume.error().to_string();
+}
+
+TEST(DicomLoader, ColourImagesAreRefused) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.edit = [](DcmDataset& dataset) {
+        dataset.putAndInsertUint16(DCM_SamplesPerPixel, 3);
+        dataset.putAndInsertString(DCM_PhotometricInterpretation, "RGB");
+    };
+    fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 5));
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "unsupported_type");
+    EXPECT_TRUE(contains(volume.error().message, "3 samples per pixel"))
+            << volume.error().to_string();
+}
+
+TEST(DicomLoader, MissingFolderIsNotFound) {
+    fixtures::TempDir dir;
+    auto volume = load_dicom(dir / "nowhere");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "not_found");
+}
+
+TEST(DicomLoader, IsDicomFileChecksThePart10Marker) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    const auto paths = fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 5));
+    EXPECT_TRUE(is_dicom_file(paths[0]));
+    fixtures::write_text(dir / "short", "DICM");
+    EXPECT_FALSE(is_dicom_file(dir / "short"));
+    EXPECT_FALSE(is_dicom_file(dir / "missing"));
+}
+
+// Real files written by scanners and other toolkits, shipped by Debian's python3-pydicom. The
+// expected values were read with pydicom, an independent decoder.
+
+const std::filesystem::path pydicom_files =
+        "/usr/lib/python3/dist-packages/pydicom/data/test_files";
+
+#define SKIP_WITHOUT_PYDICOM_FILES()                                                        \
+    if (!std::filesystem::exists(pydicom_files / "CT_small.dcm")) {                         \
+        GTEST_SKIP() << "install python3-pydicom (scripts/install-deps.sh) for real DICOM " \
+                        "files";                                                            \
+    }
+
+TEST(DicomLoader, RealCtSliceInHounsfieldUnits) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    auto volume = load_volume(pydicom_files / "CT_small.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(128, 128, 1));
+    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_DOUBLE_EQ(volume->spacing.x, 0.661468);
+    EXPECT_DOUBLE_EQ(volume->spacing.y, 0.661468);
+    EXPECT_DOUBLE_EQ(volume->spacing.z, 5.0);  // SliceThickness, for a single slice
+    // pydicom: stored values 128..2191, pixel (row 0, column 0) 175, (row 10, column 20) 185,
+    // sum 14826310; RescaleIntercept -1024.
+    EXPECT_EQ(volume->range.min, 128 - 1024);
+    EXPECT_EQ(volume->range.max, 2191 - 1024);
+    EXPECT_EQ(volume->value(0, 0, 0), 175 - 1024);
+    EXPECT_EQ(volume->value(20, 10, 0), 185 - 1024);
+    double sum = 0.0;
+    for (std::uint32_t y = 0; y < 128; ++y) {
+        for (std::uint32_t x = 0; x < 128; ++x) {
+            sum += volume->value(x, y, 0);
+        }
+    }
+    EXPECT_EQ(sum, 14826310.0 - 1024.0 * 128 * 128);
+}
+
+TEST(DicomLoader, RealMrSliceDecodesAlikeInEveryTransferSyntax) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    auto reference = load_volume(pydicom_files / "MR_small.dcm");
+    ASSERT_TRUE(reference.ok()) << reference.error().to_string();
+    EXPECT_EQ(reference->dims, glm::uvec3(64, 64, 1));
+    EXPECT_EQ(reference->type, VoxelType::uint16);  // signed, but every value is positive
+    EXPECT_DOUBLE_EQ(reference->spacing.x, 0.3125);
+    // pydicom: 127..2145, pixel (row 0, column 0) 905, (row 10, column 20) 316.
+    EXPECT_EQ(reference->range.min, 127);
+    EXPECT_EQ(reference->range.max, 2145);
+    EXPECT_EQ(reference->value(0, 0, 0), 905);
+    EXPECT_EQ(reference->value(20, 10, 0), 316);
+    for (const char* name :
+         {"MR_small_implicit.dcm", "MR_small_bigendian.dcm", "MR_small_expb.dcm",
+          "MR_small_padded.dcm", "MR_small_RLE.dcm", "MR_small_jpeg_ls_lossless.dcm"}) {
+        auto volume = load_volume(pydicom_files / name);
+        ASSERT_TRUE(volume.ok()) << name << ": " << volume.error().to_string();
+        EXPECT_EQ(volume->data, reference->data) << name;
+    }
+}
+
+TEST(DicomLoader, RealTruncatedFileIsReportedAsTruncated) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    auto volume = load_volume(pydicom_files / "MR_truncated.dcm");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+}
+
+TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    auto volume = load_volume(pydicom_files / "MR_small_jp2klossless.dcm");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "unsupported_encoding");
+    EXPECT_TRUE(contains(volume.error().message, "JPEG 2000")) << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "MR_small_jp2klossless.dcm"));
+}
+
+}  // namespace
+}  // namespace penumbra::volume
