@@ -1,0 +1,175 @@
+#!/usr/bin/env python3
+"""Checks the module rules of STYLE.md §8 on server/: every `#include <penumbra/M/...>` names a
+module the including module links (its DEPENDS and PRIVATE_DEPENDS in its CMakeLists, and what
+those pass on publicly), declared dependencies are those STYLE.md's table allows, and each confined
+third-party library is included only by the modules that own it. Prints every violation as
+file:line and exits 1 if there is any.
+
+  check_layering.py --root server            check the tree
+  check_layering.py --self-test              check that a planted violation of each kind is found
+"""
+import argparse
+import pathlib
+import re
+import sys
+import tempfile
+
+# STYLE.md §8's table: the modules each module may declare as dependencies (all lower in the
+# layering picture, or beside it where the table says so: optics uses scene).
+ALLOWED_DEPENDENCIES = {
+    "base": set(),
+    "volume": {"base"},
+    "scene": {"base"},
+    "optics": {"scene", "base"},
+    "reference": {"volume", "scene", "optics", "base"},
+    "gpu": {"base"},
+    "render": {"volume", "scene", "optics", "base", "gpu"},
+    "encode": {"base"},
+    "protocol": {"scene", "base"},
+    "metrics": {"base"},
+    "session": {"render", "encode", "volume", "scene", "metrics", "base"},
+    "net": {"session", "protocol", "metrics", "base"},
+}
+MODULES = set(ALLOWED_DEPENDENCIES) | {"app"}
+
+# Third-party headers (by the first component of the include path) and the modules they are
+# confined to. app may use nlohmann for its JSON files (accuracy tables).
+CONFINED = {
+    "nlohmann": {"protocol", "app"},
+    "OpenImageIO": {"encode"},
+    "boost": {"net"},
+    "epoxy": {"gpu"}, "EGL": {"gpu"}, "GL": {"gpu"},
+    "nifti1_io.h": {"volume"}, "nifti2_io.h": {"volume"}, "zlib.h": {"volume"},
+    "dcmtk": {"volume"},
+}
+
+INCLUDE = re.compile(r'^\s*#\s*include\s*<([^>]+)>')
+MODULE_CALL = re.compile(r'penumbra_add_module\s*\(([^)]*)\)', re.S)
+KEYWORDS = {"SOURCES", "DEPENDS", "PRIVATE_DEPENDS", "LIBS", "PRIVATE_LIBS"}
+
+
+def declared_dependencies(root):
+    """{module: (public deps, private deps)} from each module's penumbra_add_module call."""
+    modules = {}
+    for cmake in sorted(root.glob("*/CMakeLists.txt")):
+        match = MODULE_CALL.search(cmake.read_text())
+        if not match:
+            continue
+        words = match.group(1).split()
+        name, lists, current = words[0], {k: [] for k in KEYWORDS}, None
+        for word in words[1:]:
+            if word in KEYWORDS:
+                current = word
+            elif current:
+                lists[current].append(word)
+        modules[name] = (set(lists["DEPENDS"]), set(lists["PRIVATE_DEPENDS"]))
+    return modules
+
+
+def linkable(module, modules):
+    """What a module may include: its own headers, its direct dependencies, and everything those
+    pass on through their public DEPENDS (PRIVATE_DEPENDS do not propagate)."""
+    if module not in modules:  # app: an executable over any module
+        return set(MODULES)
+    public, private = modules[module]
+    allowed = {module}
+    pending = list(public | private)
+    while pending:
+        dependency = pending.pop()
+        if dependency in allowed:
+            continue
+        allowed.add(dependency)
+        pending.extend(modules.get(dependency, (set(), set()))[0])
+    return allowed
+
+
+def check(root):
+    problems = []
+    modules = declared_dependencies(root)
+    for module, (public, private) in modules.items():
+        for dependency in sorted((public | private) - ALLOWED_DEPENDENCIES.get(module, set())):
+            problems.append(f"{root / module / 'CMakeLists.txt'}: {module} must not depend on "
+                            f"{dependency} (STYLE.md §8)")
+    for folder in sorted(p for p in root.iterdir() if p.is_dir() and p.name in MODULES):
+        module = folder.name
+        allowed = linkable(module, modules)
+        for path in sorted(folder.rglob("*")):
+            if path.suffix not in {".hpp", ".cpp", ".h"}:
+                continue
+            for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+                match = INCLUDE.match(line)
+                if not match:
+                    continue
+                header = match.group(1)
+                first = header.split("/")[0]
+                if first == "penumbra" and "/" in header:
+                    target = header.split("/")[1]
+                    if target not in allowed:
+                        problems.append(f"{path}:{number}: {module} includes {header}, but "
+                                        f"does not link {target}")
+                elif first in CONFINED and module not in CONFINED[first]:
+                    owners = ", ".join(sorted(CONFINED[first]))
+                    problems.append(f"{path}:{number}: {module} includes {header}, which is "
+                                    f"confined to {owners}")
+    return problems
+
+
+def self_test():
+    """Plants one violation of each kind in a small tree; each must be reported."""
+    with tempfile.TemporaryDirectory() as directory:
+        root = pathlib.Path(directory)
+
+        def module(name, cmake, files):
+            (root / name / "src").mkdir(parents=True)
+            (root / name / "CMakeLists.txt").write_text(cmake)
+            for file_name, text in files.items():
+                (root / name / "src" / file_name).write_text(text)
+
+        module("base", "penumbra_add_module(base SOURCES src/a.cpp)", {"a.cpp": ""})
+        module("gpu", "penumbra_add_module(gpu SOURCES src/a.cpp DEPENDS base)",
+               {"a.cpp": "#include <epoxy/gl.h>\n"})
+        module("render", "penumbra_add_module(render SOURCES src/a.cpp DEPENDS base "
+               "PRIVATE_DEPENDS gpu)", {"a.cpp": "#include <penumbra/gpu/context.hpp>\n"})
+        module("session", "penumbra_add_module(session SOURCES src/a.cpp DEPENDS render)",
+               {"a.cpp": "#include <penumbra/render/renderer.hpp>\n"
+                         "#include <penumbra/gpu/context.hpp>\n"
+                         "#include <OpenImageIO/imageio.h>\n"})
+        module("volume", "penumbra_add_module(volume SOURCES src/a.cpp DEPENDS base session)",
+               {"a.cpp": "#include <zlib.h>\n"})
+        found = "\n".join(check(root))
+        expected = [
+            "session includes penumbra/gpu/context.hpp",  # render links gpu PRIVATE
+            "session includes OpenImageIO/imageio.h",      # confined to encode
+            "volume must not depend on session",  # upward
+        ]
+        missing = [text for text in expected if text not in found]
+        unexpected = [line for line in found.splitlines()
+                      if not any(text in line for text in expected)]
+        if missing or unexpected:
+            print("self-test failed\nmissing: %s\nunexpected: %s" % (missing, unexpected))
+            return 1
+        print("self-test: every planted violation found, nothing else")
+        return 0
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--root", type=pathlib.Path, help="the server/ folder")
+    parser.add_argument("--self-test", action="store_true")
+    args = parser.parse_args()
+    if args.self_test:
+        return self_test()
+    if not args.root:
+        parser.error("--root or --self-test")
+    problems = check(args.root)
+    for problem in problems:
+        print(problem)
+    if problems:
+        print(f"{len(problems)} layering violation(s)")
+        return 1
+    print(f"layering: {len(declared_dependencies(args.root))} modules and app checked, no violations")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
