@@ -222,7 +222,6 @@ void ConnectionHandler::leave_session() {
         base::log_info("session", "closed " + session_->id());
     }
     session_.reset();
-    owner_ = false;
 }
 
 void ConnectionHandler::on_close() { leave_session(); }
@@ -275,7 +274,6 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     }
                     leave_session();
                     session_ = *created;
-                    owner_ = true;
                     const auto histogram = volume::compute_histogram(**volume, 256).bins;
                     watch(session_, [&](const session::SessionState& state) {
                         send(protocol::opened_message(
@@ -296,7 +294,6 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     if (target != session_) {
                         leave_session();
                         session_ = target;
-                        owner_ = false;
                     }
                     // Also when already in it: re-adding replaces the sinks, and the welcome
                     // keeps `joined` ahead of every state that follows it.
@@ -310,7 +307,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     if (!need_session()) {
                         return;
                     }
-                    if (!owner_) {
+                    // The session keeps the one record of its owner, who may have resumed it.
+                    if (!session_->is_owner(viewer_)) {
                         reply_error(id, base::make_error(protocol::code::invalid_message,
                                                          "only the session's owner can change it; "
                                                          "viewers who joined watch",

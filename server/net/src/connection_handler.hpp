@@ -37,7 +37,6 @@ private:
     std::weak_ptr<Connection> connection_;
     session::ViewerId viewer_;
     std::shared_ptr<session::Session> session_;
-    bool owner_ = false;
     double tokens_;
     std::chrono::steady_clock::time_point last_refill_;
     std::uint64_t dropped_replies_ = 0;
