@@ -6,21 +6,11 @@
 namespace penumbra::session {
 namespace {
 
-// Unguessable, so that knowing the server does not let anyone join a session uninvited.
-std::string random_session_id() {
-    static std::mutex mutex;
-    static std::mt19937_64 generator{std::random_device{}()};
-    const std::lock_guard lock(mutex);
-    char text[33];
-    std::snprintf(text, sizeof text, "%016llx%016llx",
-                  static_cast<unsigned long long>(generator()),
-                  static_cast<unsigned long long>(generator()));
-    return text;
-}
-
-// 128 bits straight from the system's entropy source, so that nothing seen on the wire (session
-// ids, other tokens) helps to guess it.
-std::string random_owner_token() {
+// 128 bits straight from the system's entropy source, for session ids (unguessable, so that
+// knowing the server does not let anyone join a session uninvited) and owner tokens. Not a
+// generator seeded once: a single id seen by a viewer would betray its seed, and with it every
+// other id and token.
+std::string random_secret() {
     static std::mutex mutex;
     static std::random_device device;
     const std::lock_guard lock(mutex);
@@ -52,7 +42,7 @@ Session::Session(std::string id, std::string volume_id,
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
-    , owner_token_(random_owner_token())
+    , owner_token_(random_secret())
     , owner_(owner)
     , state_(std::move(state)) {}
 
@@ -192,7 +182,7 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
                                         std::to_string(max_sessions_) + " sessions",
                                 "/volume");
     }
-    auto session = std::make_shared<Session>(random_session_id(), std::move(volume_id),
+    auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
                                              std::move(volume), std::move(state), owner);
     sessions_.emplace(session->id(), session);
     return session;

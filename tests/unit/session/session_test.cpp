@@ -194,6 +194,19 @@ TEST(Session, OnceTheLastViewerLeftNobodyResumes) {
     EXPECT_EQ(session.viewer_count(), 0U);
 }
 
+TEST(SessionRegistry, SessionIdsAreFreshSecretsApartFromTheOwnerTokens) {
+    SessionRegistry registry(4);
+    const auto first = registry.create("v", nullptr, {}, owner);
+    const auto second = registry.create("v", nullptr, {}, owner);
+    ASSERT_TRUE(first.ok() && second.ok());
+    for (const auto& session : {*first, *second}) {
+        EXPECT_EQ(session->id().size(), 32U);
+        EXPECT_EQ(session->id().find_first_not_of("0123456789abcdef"), std::string::npos);
+        EXPECT_NE(session->id(), session->owner_token());
+    }
+    EXPECT_NE((*first)->id(), (*second)->id());
+}
+
 TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
     SessionRegistry registry(4);
     auto created = registry.create("v", nullptr, {}, owner);
