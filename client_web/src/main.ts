@@ -180,13 +180,13 @@ connection.on('session', (info, restored) => {
     pacer.request(false); // viewers may render: fetch the current frame now
   }
   if (restored) {
-    notices.show(
-      'info',
-      'Reconnected',
-      info.role === 'owner'
-        ? 'The volume was re-opened and your settings restored (the share link changed).'
-        : 'Joined the shared session again.',
-    );
+    const how = {
+      resumed: 'Your session is yours again; its viewers kept watching (the share link still works).',
+      reopened:
+        'The volume was re-opened and your settings restored (the share link changed: viewers must join again).',
+      rejoined: 'Joined the shared session again.',
+    };
+    notices.show('info', 'Reconnected', how[restored]);
   }
 });
 

@@ -17,6 +17,11 @@ const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jso
   .filter((l) => l !== '');
 const HELLO = recorded[0]!;
 const OPENED = JSON.parse(recorded[2]!) as Record<string, unknown>;
+const OWNER_TOKEN = OPENED['owner_token'] as string;
+/** `opened` as a server older than resume sends it: without an owner token. */
+const OPENED_WITHOUT_TOKEN = Object.fromEntries(
+  Object.entries(OPENED).filter(([key]) => key !== 'owner_token'),
+);
 
 class FakeSocket implements SocketLike {
   binaryType = 'blob';
@@ -201,12 +206,12 @@ describe('Connection', () => {
     expect(statuses.slice(-1)).toEqual(['connected']);
   });
 
-  it('after a lost connection re-opens the volume and sends the state back', async () => {
+  it('after a lost connection re-opens the volume and sends the state back (no owner token)', async () => {
     const { clock, socket, statuses, connection } = setup();
     socket().open();
     const opened = connection.open('ch2.nii.gz');
-    socket().reply('opened', OPENED);
-    await opened;
+    socket().reply('opened', OPENED_WITHOUT_TOKEN);
+    expect((await opened).ownerToken).toBeUndefined();
     const set = connection.set({ settings: { mode: 'sbrc_cone' } });
     socket().reply('ack', { of: 'set' });
     await set;
@@ -214,7 +219,7 @@ describe('Connection', () => {
     socket().fail();
     expect(await pending.catch((e: unknown) => e)).toBeInstanceOf(RequestFailed);
     expect(statuses.slice(-1)).toEqual(['lost']);
-    const restored: boolean[] = [];
+    const restored: (string | false)[] = [];
     connection.on('session', (_, r) => {
       restored.push(r);
       expect(connection.restoring).toBe(false); // the listener may send at once
@@ -233,9 +238,118 @@ describe('Connection', () => {
     );
     socket().reply('ack', { of: 'set' });
     await flush();
-    expect(restored).toEqual([true]);
+    expect(restored).toEqual(['reopened']);
     expect(connection.session?.session).toBe('new-session');
     expect(connection.session?.state.settings.mode).toBe('sbrc_cone');
+  });
+
+  /** An owner with a set acknowledged, whose connection is lost and back: what it sent first. */
+  async function ownerReconnected(session = 'mine') {
+    const context = setup();
+    const { clock, socket, connection } = context;
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', { ...OPENED, session });
+    expect((await opened).ownerToken).toBe(OWNER_TOKEN);
+    const set = connection.set({ settings: { mode: 'sbrc_cone' } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    const restored: (string | false)[] = [];
+    connection.on('session', (info, r) => restored.push(r && `${r} ${info.session}`));
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    return { ...context, restored };
+  }
+
+  it('an owner resumes its own session after a lost connection, so its viewers keep watching', async () => {
+    const { socket, connection, restored } = await ownerReconnected('mine');
+    expect(OWNER_TOKEN).toMatch(/^[0-9a-f]{32}$/);
+    expect(socket().sent).toEqual([
+      { v: 1, id: expect.any(Number) as number, type: 'resume', session: 'mine', owner_token: OWNER_TOKEN },
+    ]);
+    expect(connection.restoring).toBe(true);
+    // The server's state wins: a set may have reached it whose ack was lost.
+    const state = structuredClone(OPENED['state']) as State;
+    state.settings.mode = 'dvr';
+    socket().reply('opened', { ...OPENED, session: 'mine', state });
+    await flush();
+    expect(restored).toEqual(['resumed mine']);
+    expect(socket().sent).toHaveLength(1); // no open, no state sent back
+    expect(connection.restoring).toBe(false);
+    expect(connection.session).toMatchObject({ role: 'owner', session: 'mine', ownerToken: OWNER_TOKEN });
+    expect(connection.session?.state.settings.mode).toBe('dvr');
+    // It is the owner: it may set again.
+    const set = connection.set({ camera: { fov: 40 } });
+    expect(socket().sent[1]).toMatchObject({ type: 'set', camera: { fov: 40 } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    expect(connection.session?.state.camera.fov).toBe(40);
+  });
+
+  it.each([
+    ['the session ended', 'unknown_session', '/session'],
+    ['another connection owns it', 'session_owned', '/session'],
+    ['the token is wrong', 'invalid_value', '/owner_token'],
+    ['the server has no resume', 'unknown_type', '/type'],
+  ])('an owner whose resume is refused (%s) opens a new session with its state', async (_, code, field) => {
+    const { clock, socket, connection, restored } = await ownerReconnected('mine');
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    socket().reply('error', { code, field, message: 'refused' });
+    await flush();
+    expect(socket().sent[1]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
+    socket().reply('opened', { ...OPENED, session: 'new-session', owner_token: 'ab'.repeat(16) });
+    await flush();
+    expect(socket().sent[2]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
+    socket().reply('ack', { of: 'set' });
+    await flush();
+    expect(restored).toEqual(['reopened new-session']);
+    expect(problems).toEqual([]);
+    expect(connection.session).toMatchObject({ session: 'new-session', ownerToken: 'ab'.repeat(16) });
+    // The next reconnect resumes the new session, with its token.
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({
+      type: 'resume',
+      session: 'new-session',
+      owner_token: 'ab'.repeat(16),
+    });
+  });
+
+  it('a connection lost again during resume opens nothing and resumes on the next', async () => {
+    const { clock, socket, connection, restored } = await ownerReconnected('mine');
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    socket().fail();
+    await flush();
+    expect(socket().sent).toHaveLength(1);
+    expect(problems[0]).toMatch(/could not restore.*resume/);
+    clock.advance(200);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({ type: 'resume', session: 'mine', owner_token: OWNER_TOKEN });
+    socket().reply('opened', { ...OPENED, session: 'mine' });
+    await flush();
+    expect(restored).toEqual(['resumed mine']);
+  });
+
+  it('a viewer never holds an owner token, and leaving forgets it', async () => {
+    const { clock, socket, connection } = setup();
+    socket().open();
+    const joined = connection.join('abc');
+    socket().reply('joined', { ...OPENED_WITHOUT_TOKEN, type: 'joined', session: 'abc' });
+    expect((await joined).ownerToken).toBeUndefined();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const left = connection.leave();
+    socket().reply('ack', { of: 'close' });
+    await left;
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent).toEqual([]);
   });
 
   it('a viewer re-joins the session after a lost connection', async () => {

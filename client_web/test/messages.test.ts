@@ -109,6 +109,15 @@ describe('parseServerMessage', () => {
     expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) })).toBeNull();
   });
 
+  it("reads opened's owner token, which resume takes back", () => {
+    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    expect(opened.owner_token).toMatch(/^[0-9a-f]{32}$/);
+    const resume = { v: 1, type: 'resume', session: opened.session, owner_token: opened.owner_token };
+    expect(checkClientMessage(resume)).toBeNull();
+    const withNumber = { ...(JSON.parse(serverMessages[2]!) as object), owner_token: 5 };
+    expect(() => parseServerMessage(JSON.stringify(withNumber))).toThrow(/owner_token/);
+  });
+
   it("reads state, the owner's change that a viewer gets, in the shape of opened's state", () => {
     const message = parseServerMessage(serverMessages[6]!) as StateMessage;
     expect(message.type).toBe('state');

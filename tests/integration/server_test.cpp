@@ -346,6 +346,101 @@ TEST_F(ServerTest, ViewersAreToldEachStateTheOwnerSetsAndTheOwnerOnlyGetsItsAck)
     EXPECT_EQ(field(viewer.request(R"({"v":1,"type":"stats","id":10})"), "type"), "stats");
 }
 
+std::string resume_request(const std::string& session, const std::string& owner_token, int id) {
+    return R"({"v":1,"type":"resume","id":)" + std::to_string(id) + R"(,"session":")" + session +
+           R"(","owner_token":")" + owner_token + "\"}";
+}
+
+// Resumes once the server has noticed that the session's owner left: a closed socket reaches it
+// asynchronously, and until then the session is still owned.
+std::string resume_once_unowned(TestClient& client, const std::string& session,
+                                const std::string& owner_token) {
+    std::string reply;
+    for (int i = 0; i < 100; ++i) {
+        reply = client.request(resume_request(session, owner_token, 20 + i));
+        if (field(reply, "code") != "session_owned") {
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return reply;
+}
+
+TEST_F(ServerTest, ViewersKeepASessionWhoseOwnerDroppedAndTheOwnerTokenResumesIt) {
+    auto owner = std::make_unique<TestClient>(port_);
+    const auto opened = nlohmann::json::parse(owner->open("heads/ch2.nii.gz", 32));
+    const std::string session = owner->session;
+    ASSERT_TRUE(opened.contains("owner_token")) << opened.dump().substr(0, 300);
+    const std::string token = opened.at("owner_token");
+    EXPECT_EQ(token.size(), 32U);
+    TestClient viewer(port_);
+    const auto joined = nlohmann::json::parse(
+            viewer.request(R"({"v":1,"type":"join","id":3,"session":")" + session + "\"}"));
+    ASSERT_EQ(joined.at("type"), "joined");
+    EXPECT_FALSE(joined.contains("owner_token")) << "viewers never learn the owner token";
+
+    // While the owner is connected, even the right token does not take the session over.
+    TestClient other(port_);
+    const std::string owned = other.request(resume_request(session, token, 4));
+    EXPECT_EQ(field(owned, "code"), "session_owned") << owned;
+    EXPECT_EQ(field(owned, "field"), "/session") << owned;
+
+    owner->raw().close();
+    owner.reset();
+    // The viewer stays in the session, which keeps its frames coming without an owner.
+    viewer.send(R"({"v":1,"type":"render","id":5})");
+    EXPECT_EQ(viewer.next_frame().header.session, session);
+
+    std::string wrong_token = token;
+    wrong_token.back() = wrong_token.back() == '0' ? '1' : '0';
+    const std::string refused = other.request(resume_request(session, wrong_token, 6));
+    EXPECT_EQ(field(refused, "type"), "error") << refused;
+    EXPECT_EQ(field(refused, "code"), "invalid_value") << refused;
+    EXPECT_EQ(field(refused, "field"), "/owner_token") << refused;
+    EXPECT_EQ(refused.find(token), std::string::npos) << "an error never shows the token";
+    const std::string unknown = other.request(resume_request(std::string(32, 'f'), token, 7));
+    EXPECT_EQ(field(unknown, "code"), "unknown_session") << unknown;
+    EXPECT_EQ(field(unknown, "field"), "/session") << unknown;
+    const std::string still_viewer =
+            viewer.request(R"({"v":1,"type":"set","id":8,"camera":{"fov":40}})");
+    EXPECT_EQ(field(still_viewer, "code"), "invalid_message") << "nobody owns it now";
+
+    // A new connection with the token owns the same session again.
+    TestClient resumed(port_);
+    const std::string answer = resume_once_unowned(resumed, session, token);
+    ASSERT_EQ(field(answer, "type"), "opened") << answer.substr(0, 300);
+    const auto reopened = nlohmann::json::parse(answer);
+    EXPECT_EQ(reopened.at("session"), session);
+    EXPECT_EQ(reopened.at("owner_token"), token) << "a session keeps its token";
+    EXPECT_EQ(reopened.at("state"), joined.at("state")) << "the state the owner left";
+    EXPECT_EQ(reopened.at("volume").at("id"), "heads/ch2.nii.gz");
+    EXPECT_FALSE(reopened.at("histogram").empty());
+
+    // It may set again; the viewer is told, and both get the frames.
+    const std::string ack = resumed.request(R"({"v":1,"type":"set","id":9,"settings":{"mode":"dvr"}})");
+    EXPECT_EQ(field(ack, "type"), "ack") << ack;
+    const auto pushed = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(pushed.at("type"), "state") << pushed;
+    EXPECT_EQ(pushed.at("session"), session);
+    EXPECT_EQ(pushed.at("state").at("settings").at("mode"), "dvr");
+    EXPECT_FALSE(pushed.contains("owner_token"));
+    resumed.send(R"({"v":1,"type":"render","id":10})");
+    const auto mine = resumed.next_frame();
+    const auto theirs = viewer.next_frame();
+    EXPECT_EQ(mine.header.request, 10);
+    EXPECT_EQ(mine.header.mode, "dvr");
+    EXPECT_EQ(theirs.header.mode, "dvr");
+    EXPECT_EQ(mine.header.frame, theirs.header.frame);
+    // The resumed owner is the owner now: another resume is refused while it is connected.
+    EXPECT_EQ(field(other.request(resume_request(session, token, 11)), "code"), "session_owned");
+
+    // When the last connection leaves, the session ends and cannot be resumed.
+    EXPECT_EQ(field(viewer.request(R"({"v":1,"type":"close","id":12})"), "type"), "ack");
+    resumed.raw().close();
+    const std::string ended = resume_once_unowned(other, session, token);
+    EXPECT_EQ(field(ended, "code"), "unknown_session") << ended;
+}
+
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
     TestClient client(port_);
     client.open("heads/ch2.nii.gz", 32);

@@ -43,6 +43,7 @@ CLIENT_SCHEMAS = {
     "stats": ("stats.schema.json", "/$defs/request"),
     "join": ("join.schema.json", ""),
     "close": ("close.schema.json", ""),
+    "resume": ("resume.schema.json", ""),
 }
 SERVER_SCHEMAS = {
     "hello": ("hello.schema.json", ""),

@@ -1,6 +1,6 @@
 // The protocol in one object: the WebSocket, `hello`, requests matched to answers by id, frames,
-// server errors, and reconnect with session restore (re-open the volume and send the state back,
-// or re-join a shared session). No DOM: the socket comes from a factory so tests can pass a fake.
+// server errors, and reconnect with session restore (resume the owned session with its owner
+// token, else re-open the volume and send the state back; or re-join a shared session). No DOM: the socket comes from a factory so tests can pass a fake.
 
 import { parseFrame, type Frame } from './frame_header';
 import {
@@ -88,12 +88,21 @@ export interface SessionInfo {
   volume: VolumeSummary;
   histogram: number[];
   state: State;
+  /** An owner's secret for `resume` (absent for viewers, and from servers older than resume). */
+  ownerToken?: string;
 }
+
+/**
+ * How a session came back after a reconnect: the owner's own session again (`resumed`; its viewers
+ * stayed), a new session on the same volume with the saved state (`reopened`), or the shared
+ * session joined again (`rejoined`).
+ */
+export type Restored = 'resumed' | 'reopened' | 'rejoined';
 
 export interface ConnectionEvents {
   status: (status: ConnectionStatus) => void;
-  /** `opened`/`joined`, also after a reconnect (`restored` true). */
-  session: (info: SessionInfo, restored: boolean) => void;
+  /** `opened`/`joined`, also after a reconnect (`restored` says how; false before any). */
+  session: (info: SessionInfo, restored: Restored | false) => void;
   /** A viewer's session got a new state (`info.state`): its owner changed it. */
   state: (info: SessionInfo) => void;
   frame: (frame: Frame) => void;
@@ -122,6 +131,11 @@ interface Pending {
   reject: (error: Error) => void;
   timer: unknown;
 }
+
+/** The session a connection is in, as a reconnect restores it. */
+type Wanted =
+  | { role: 'owner'; volume: string; session: string; ownerToken?: string }
+  | { role: 'viewer'; session: string };
 
 type Listeners = { [K in keyof ConnectionEvents]: ConnectionEvents[K][] };
 
@@ -154,8 +168,7 @@ export class Connection {
   status: ConnectionStatus = { kind: 'closed' };
   session: SessionInfo | null = null;
   /** What to restore after a reconnect; kept while the connection is down. */
-  private wanted: { role: 'owner'; volume: string } | { role: 'viewer'; session: string } | null =
-    null;
+  private wanted: Wanted | null = null;
 
   constructor(
     readonly url: string,
@@ -320,8 +333,18 @@ export class Connection {
     this.restoring = true;
     try {
       if (wanted.role === 'owner') {
+        const resumed =
+          wanted.ownerToken === undefined ? null : await this.resume(wanted.session, wanted.ownerToken);
+        if (resumed) {
+          // The session's state is the server's: it may hold a set whose ack was lost.
+          this.session = resumed;
+          this.restoring = false;
+          this.emit('session', resumed, 'resumed');
+          return;
+        }
         const opened = await this.request<OpenedMessage>({ type: 'open', volume: wanted.volume });
         const info = this.sessionFrom(opened, 'owner');
+        this.wanted = this.ownerWanted(wanted.volume, info);
         if (previous) {
           // Send the whole state back; the mirror then equals what the server has.
           await this.request({ type: 'set', ...restorePatch(previous.state) });
@@ -329,12 +352,12 @@ export class Connection {
         }
         this.session = info;
         this.restoring = false;
-        this.emit('session', info, true);
+        this.emit('session', info, 'reopened');
       } else {
         const joined = await this.request<OpenedMessage>({ type: 'join', session: wanted.session });
         this.session = this.sessionFrom(joined, 'viewer');
         this.restoring = false;
-        this.emit('session', this.session, true);
+        this.emit('session', this.session, 'rejoined');
       }
     } catch (e) {
       const text = e instanceof ServerError ? e.describe() : String(e);
@@ -342,6 +365,29 @@ export class Connection {
     } finally {
       this.restoring = false;
     }
+  }
+
+  /**
+   * Becomes the owner of `session` again, so that its viewers keep watching. Resolves null when
+   * the server refuses (the session ended, another connection owns it, a server without resume):
+   * the caller opens a new session instead. A lost connection rejects, to be retried on the next.
+   */
+  private async resume(session: string, ownerToken: string): Promise<SessionInfo | null> {
+    try {
+      const opened = await this.request<OpenedMessage>({
+        type: 'resume',
+        session,
+        owner_token: ownerToken,
+      });
+      return this.sessionFrom(opened, 'owner');
+    } catch (e) {
+      if (e instanceof ServerError) return null;
+      throw e;
+    }
+  }
+
+  private ownerWanted(volume: string, info: SessionInfo): Wanted {
+    return { role: 'owner', volume, session: info.session, ownerToken: info.ownerToken };
   }
 
   private onMessage(message: ServerMessage): void {
@@ -423,13 +469,15 @@ export class Connection {
   }
 
   private sessionFrom(message: OpenedMessage, role: 'owner' | 'viewer'): SessionInfo {
-    return {
+    const info: SessionInfo = {
       role,
       session: message.session,
       volume: message.volume,
       histogram: message.histogram,
       state: message.state,
     };
+    if (role === 'owner' && message.owner_token !== undefined) info.ownerToken = message.owner_token;
+    return info;
   }
 
   async listVolumes(): Promise<VolumeSummary[]> {
@@ -441,8 +489,8 @@ export class Connection {
   /** Opens a volume in a new session this connection owns. */
   async open(volume: string): Promise<SessionInfo> {
     const answer = await this.request<OpenedMessage>({ type: 'open', volume });
-    this.wanted = { role: 'owner', volume };
     this.session = this.sessionFrom(answer, 'owner');
+    this.wanted = this.ownerWanted(volume, this.session);
     this.emit('session', this.session, false);
     return this.session;
   }

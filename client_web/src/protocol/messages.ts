@@ -201,6 +201,7 @@ export const ERROR_CODES = [
   'unknown_session',
   'no_session',
   'too_many_sessions',
+  'session_owned',
   'render_failed',
   'internal_error',
 ] as const;
@@ -233,6 +234,8 @@ export interface OpenedMessage {
   volume: VolumeSummary;
   histogram: number[];
   state: State;
+  /** `opened` only: the secret that `resume` takes to make a new connection the owner again. */
+  owner_token?: string;
 }
 
 /** The session's full state after its owner changed it; viewers get it, the owner does not. */
@@ -284,7 +287,8 @@ export type ClientMessage =
   | ({ v: 1; type: 'set'; id?: number } & StatePatch)
   | { v: 1; type: 'render'; id?: number; interactive?: boolean }
   | { v: 1; type: 'stats'; id?: number }
-  | { v: 1; type: 'close'; id?: number };
+  | { v: 1; type: 'close'; id?: number }
+  | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string };
 
 export type ClientMessageType = ClientMessage['type'];
 
@@ -481,6 +485,8 @@ export function parseServerMessage(text: string): ServerMessage {
       checkVolumeSummary(o['volume'], '/volume');
       numbers(o, 'histogram', '');
       checkState(o['state'], '/state');
+      // A server older than resume sends no token; its owner then cannot resume.
+      if (o['owner_token'] !== undefined) str(o, 'owner_token', '');
       return o as unknown as OpenedMessage;
     }
     case 'state':
@@ -753,6 +759,12 @@ export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMI
         break;
       case 'join':
         members(o, '', { ...envelope, session: string(64) }, ['session']);
+        break;
+      case 'resume':
+        members(o, '', { ...envelope, session: string(64), owner_token: string(64) }, [
+          'session',
+          'owner_token',
+        ]);
         break;
       case 'render':
         members(o, '', { ...envelope, interactive: boolean });

@@ -171,8 +171,7 @@ void ConnectionHandler::on_text(std::string_view text) {
     handle(*request);
 }
 
-void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
-                              const session::StateSink& welcome) {
+ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::shared_ptr<session::Session>& s) {
     std::weak_ptr<Connection> weak = connection_;
     std::weak_ptr<session::Session> weak_session = s;
     Context* context = &context_;
@@ -207,7 +206,13 @@ void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
         connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
                 pack(frame, shared_session->id(), number)));
     };
-    s->add_viewer(viewer_, std::move(frames), std::move(state_changed), welcome);
+    return {std::move(frames), std::move(state_changed)};
+}
+
+void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
+                              const session::StateSink& welcome) {
+    Sinks sinks = sinks_for(s);
+    s->add_viewer(viewer_, std::move(sinks.frames), std::move(sinks.state_changed), welcome);
 }
 
 void ConnectionHandler::leave_session() {
@@ -222,7 +227,6 @@ void ConnectionHandler::leave_session() {
         base::log_info("session", "closed " + session_->id());
     }
     session_.reset();
-    owner_ = false;
 }
 
 void ConnectionHandler::on_close() { leave_session(); }
@@ -275,12 +279,12 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     }
                     leave_session();
                     session_ = *created;
-                    owner_ = true;
                     const auto histogram = volume::compute_histogram(**volume, 256).bins;
                     watch(session_, [&](const session::SessionState& state) {
                         send(protocol::opened_message(
                                 id, session_->id(), summary_of(message.volume, volume->get()),
-                                histogram, protocol::state_to_json(to_protocol(state)), false));
+                                histogram, protocol::state_to_json(to_protocol(state)),
+                                session_->owner_token()));
                     });
                     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
                     base::log_info("session", "opened " + session_->id() + " on " + message.volume);
@@ -296,21 +300,52 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     if (target != session_) {
                         leave_session();
                         session_ = target;
-                        owner_ = false;
                     }
                     // Also when already in it: re-adding replaces the sinks, and the welcome
                     // keeps `joined` ahead of every state that follows it.
                     watch(session_, [&](const session::SessionState& state) {
-                        send(protocol::opened_message(
+                        send(protocol::joined_message(
                                 id, session_->id(),
                                 summary_of(session_->volume_id(), session_->volume().get()),
-                                histogram, protocol::state_to_json(to_protocol(state)), true));
+                                histogram, protocol::state_to_json(to_protocol(state))));
                     });
+                } else if constexpr (std::is_same_v<T, protocol::Resume>) {
+                    auto target = context_.services.sessions.find(message.session);
+                    if (!target) {
+                        reply_error(id, base::make_error(protocol::code::unknown_session,
+                                                         "no session '" + message.session + "'",
+                                                         "/session"));
+                        return;
+                    }
+                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
+                    Sinks sinks = sinks_for(target);
+                    // The check of the token and the change of owner are one step of the
+                    // session's, so that two connections resuming at once cannot both win.
+                    const auto resumed = target->resume(
+                            viewer_, message.owner_token, std::move(sinks.frames),
+                            std::move(sinks.state_changed),
+                            [&](const session::SessionState& state) {
+                                send(protocol::opened_message(
+                                        id, target->id(),
+                                        summary_of(target->volume_id(), target->volume().get()),
+                                        histogram, protocol::state_to_json(to_protocol(state)),
+                                        target->owner_token()));
+                            });
+                    if (!resumed) {
+                        reply_error(id, resumed.error());
+                        return;
+                    }
+                    if (target != session_) {
+                        leave_session();
+                        session_ = target;
+                    }
+                    base::log_info("session", "resumed " + session_->id());
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {
                     if (!need_session()) {
                         return;
                     }
-                    if (!owner_) {
+                    // The session keeps the one record of its owner, who may have resumed it.
+                    if (!session_->is_owner(viewer_)) {
                         reply_error(id, base::make_error(protocol::code::invalid_message,
                                                          "only the session's owner can change it; "
                                                          "viewers who joined watch",

@@ -29,15 +29,20 @@ private:
     void send(std::string text);
     bool take_token();
     void leave_session();
-    // Joins `session`'s viewers: its frames, and the states its owner sets, come to this
-    // connection. `welcome` queues the answer (opened, joined) that must precede them.
+    // What brings `session`'s frames, and the states its owner sets, to this connection.
+    struct Sinks {
+        session::ViewerSink frames;
+        session::StateSink state_changed;
+    };
+    Sinks sinks_for(const std::shared_ptr<session::Session>& session);
+    // Joins `session`'s viewers. `welcome` queues the answer (opened, joined) that must precede
+    // what the sinks send.
     void watch(const std::shared_ptr<session::Session>& session, const session::StateSink& welcome);
 
     Context& context_;
     std::weak_ptr<Connection> connection_;
     session::ViewerId viewer_;
     std::shared_ptr<session::Session> session_;
-    bool owner_ = false;
     double tokens_;
     std::chrono::steady_clock::time_point last_refill_;
     std::uint64_t dropped_replies_ = 0;

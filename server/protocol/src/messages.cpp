@@ -126,6 +126,21 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         request.message = Join{*session};
         return request;
     }
+    if (*type == "resume") {
+        if (auto status = fields({"session", "owner_token"}); !status) {
+            return status.error();
+        }
+        auto session = required_string(j, "session", 64);
+        if (!session) {
+            return session.error();
+        }
+        auto owner_token = required_string(j, "owner_token", 64);
+        if (!owner_token) {
+            return owner_token.error();
+        }
+        request.message = Resume{*session, *owner_token};
+        return request;
+    }
     if (*type == "render") {
         if (auto status = fields({"interactive"}); !status) {
             return status.error();
@@ -218,8 +233,21 @@ std::string volumes_message(std::optional<std::int64_t> id,
 
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, bool joined) {
-    return with_id({{"type", joined ? "joined" : "opened"},
+                           const std::string& state_json, const std::string& owner_token) {
+    return with_id({{"type", "opened"},
+                    {"session", session},
+                    {"volume", volume_json(volume)},
+                    {"histogram", histogram},
+                    {"state", json::parse(state_json)},
+                    {"owner_token", owner_token}},
+                   id)
+            .dump();
+}
+
+std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
+                           const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
+                           const std::string& state_json) {
+    return with_id({{"type", "joined"},
                     {"session", session},
                     {"volume", volume_json(volume)},
                     {"histogram", histogram},

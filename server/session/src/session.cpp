@@ -6,16 +6,33 @@
 namespace penumbra::session {
 namespace {
 
-// Unguessable, so that knowing the server does not let anyone join a session uninvited.
-std::string random_session_id() {
+// 128 bits straight from the system's entropy source, for session ids (unguessable, so that
+// knowing the server does not let anyone join a session uninvited) and owner tokens. Not a
+// generator seeded once: a single id seen by a viewer would betray its seed, and with it every
+// other id and token.
+std::string random_secret() {
     static std::mutex mutex;
-    static std::mt19937_64 generator{std::random_device{}()};
+    static std::random_device device;
     const std::lock_guard lock(mutex);
-    char text[33];
-    std::snprintf(text, sizeof text, "%016llx%016llx",
-                  static_cast<unsigned long long>(generator()),
-                  static_cast<unsigned long long>(generator()));
+    std::string text;
+    for (int word = 0; word < 4; ++word) {
+        char hex[9];
+        std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>(device()));
+        text += hex;
+    }
     return text;
+}
+
+// Takes as long for a wrong token as for the right one, whatever its first difference.
+bool same_token(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) {
+        return false;
+    }
+    unsigned char difference = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        difference |= static_cast<unsigned char>(a[i] ^ b[i]);
+    }
+    return difference == 0;
 }
 
 }  // namespace
@@ -25,8 +42,19 @@ Session::Session(std::string id, std::string volume_id,
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
+    , owner_token_(random_secret())
     , owner_(owner)
     , state_(std::move(state)) {}
+
+std::optional<ViewerId> Session::owner() const {
+    const std::lock_guard lock(mutex_);
+    return owner_;
+}
+
+bool Session::is_owner(ViewerId viewer) const {
+    const std::lock_guard lock(mutex_);
+    return owner_ == viewer;
+}
 
 SessionState Session::state() const {
     const std::lock_guard lock(mutex_);
@@ -52,9 +80,41 @@ void Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_cha
     }
 }
 
+base::Status Session::resume(ViewerId viewer, std::string_view owner_token, ViewerSink frames,
+                             StateSink state_changed, const StateSink& welcome) {
+    const std::lock_guard lock(mutex_);
+    if (ended_) {
+        // Its last connection left while the resuming one was finding it.
+        return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
+    }
+    // The token before the owner, so that only the owner learns whether it is still connected.
+    if (!same_token(owner_token, owner_token_)) {
+        return base::make_error("invalid_value", "not the owner token of this session",
+                                "/owner_token");
+    }
+    if (owner_ && *owner_ != viewer) {
+        return base::make_error("session_owned",
+                                "the session's owner is still connected; resume it after that "
+                                "connection has closed",
+                                "/session");
+    }
+    owner_ = viewer;
+    viewers_[viewer] = {std::move(frames), std::move(state_changed)};
+    if (welcome) {
+        welcome(state_);
+    }
+    return base::Ok{};
+}
+
 std::size_t Session::remove_viewer(ViewerId viewer) {
     const std::lock_guard lock(mutex_);
     viewers_.erase(viewer);
+    if (owner_ == viewer) {
+        owner_.reset();
+    }
+    if (viewers_.empty()) {
+        ended_ = true;
+    }
     return viewers_.size();
 }
 
@@ -122,7 +182,7 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
                                         std::to_string(max_sessions_) + " sessions",
                                 "/volume");
     }
-    auto session = std::make_shared<Session>(random_session_id(), std::move(volume_id),
+    auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
                                              std::move(volume), std::move(state), owner);
     sessions_.emplace(session->id(), session);
     return session;

@@ -20,7 +20,7 @@ using test::read_text;
 std::size_t expected_index(const std::string& type) {
     static const std::map<std::string, std::size_t> index = {
             {"list_volumes", 0}, {"open", 1}, {"set", 2},  {"render", 3},
-            {"stats", 4},        {"join", 5}, {"close", 6}};
+            {"stats", 4},        {"join", 5}, {"close", 6}, {"resume", 7}};
     return index.at(type);
 }
 
@@ -44,7 +44,7 @@ TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
             EXPECT_FALSE(request->id.has_value());
         }
     }
-    EXPECT_EQ(types.size(), 7U) << "every client message type has a valid example";
+    EXPECT_EQ(types.size(), 8U) << "every client message type has a valid example";
 }
 
 TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {
@@ -80,7 +80,8 @@ TEST(ProtocolExamples, InvalidExamplesUseOnlyDeclaredErrorCodes) {
             code::unknown_field,     code::unsupported_version, code::invalid_value,
             code::out_of_range,      code::message_too_large,   code::rate_limited,
             code::unknown_volume,    code::unknown_session,     code::no_session,
-            code::too_many_sessions, code::render_failed,       code::internal_error};
+            code::too_many_sessions, code::session_owned,       code::render_failed,
+            code::internal_error};
     for (const auto& example : invalid_examples()) {
         EXPECT_TRUE(codes.contains(example.code)) << example.name << ": " << example.code;
     }

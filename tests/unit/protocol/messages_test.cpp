@@ -23,6 +23,12 @@ TEST(ParseRequest, ReadsTheMembersOfEachMessage) {
     EXPECT_FALSE(join->id.has_value());
     EXPECT_EQ(std::get<Join>(join->message).session, "s9");
 
+    const auto resume = parse_request(
+            R"({"v":1,"type":"resume","id":2,"session":"s9","owner_token":"0f1e"})", limits);
+    ASSERT_TRUE(resume.ok());
+    EXPECT_EQ(std::get<Resume>(resume->message).session, "s9");
+    EXPECT_EQ(std::get<Resume>(resume->message).owner_token, "0f1e");
+
     const auto still = parse_request(R"({"v":1,"type":"render"})", limits);
     ASSERT_TRUE(still.ok());
     EXPECT_FALSE(std::get<Render>(still->message).interactive);
@@ -138,18 +144,22 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
 }
 
-TEST(ServerMessages, OpenedAndJoinedCarryTheSessionState) {
+TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {
     SessionState state;
     state.frame.transfer_function = scene::preset("mri_skin").value();
     VolumeSummary volume;
     volume.id = "colin27";
     const std::string state_json = state_to_json(state);
-    const json opened = json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, false));
+    const json opened =
+            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff"));
     EXPECT_EQ(opened.at("type"), "opened");
     EXPECT_EQ(opened.at("state"), json::parse(state_json));
     EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));
-    const json joined = json::parse(opened_message(1, "s1", volume, {}, state_json, true));
+    EXPECT_EQ(opened.at("owner_token"), "00ff");
+    const json joined = json::parse(joined_message(1, "s1", volume, {}, state_json));
     EXPECT_EQ(joined.at("type"), "joined");
+    EXPECT_EQ(joined.at("state"), json::parse(state_json));
+    EXPECT_FALSE(joined.contains("owner_token"));
 }
 
 TEST(ServerMessages, StateCarriesTheSessionAndItsFullStateWithoutAnId) {

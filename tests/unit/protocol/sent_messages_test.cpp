@@ -80,11 +80,15 @@ std::vector<std::string> text_messages() {
     }
     std::vector<std::uint64_t> histogram(256, 7);
     histogram[0] = 4'000'000'000ULL;
+    const std::string owner_token = "0123456789abcdef0123456789abcdef";
     for (std::size_t i = 0; i < states.size(); ++i) {
-        out.push_back(opened_message(static_cast<std::int64_t>(i), "s" + std::to_string(i), colin,
-                                     histogram, states[i], i % 2 == 1));
+        const auto id = static_cast<std::int64_t>(i);
+        const std::string session = "s" + std::to_string(i);
+        out.push_back(i % 2 == 1 ? joined_message(id, session, colin, histogram, states[i])
+                                 : opened_message(id, session, colin, histogram, states[i],
+                                                  owner_token));
     }
-    out.push_back(opened_message(std::nullopt, "s0", ct, {}, states[0], false));
+    out.push_back(opened_message(std::nullopt, "s0", ct, {}, states[0], owner_token));
     for (std::size_t i = 0; i < states.size(); ++i) {
         out.push_back(state_message("s" + std::to_string(i), states[i]));
     }
@@ -97,7 +101,8 @@ std::vector<std::string> text_messages() {
          {code::malformed_json, code::invalid_message, code::unknown_type, code::unknown_field,
           code::unsupported_version, code::invalid_value, code::out_of_range,
           code::message_too_large, code::rate_limited, code::unknown_volume, code::unknown_session,
-          code::no_session, code::too_many_sessions, code::render_failed, code::internal_error}) {
+          code::no_session, code::too_many_sessions, code::session_owned, code::render_failed,
+          code::internal_error}) {
         out.push_back(error_message(-3, base::make_error(c, "something went wrong", "")));
     }
     // The errors the server sends for each invalid example, as net would build them.

@@ -1,4 +1,5 @@
-// A session's viewers: who hears of a state change, and in which order.
+// A session's viewers: who hears of a state change, and in which order; its owner leaving and
+// resuming.
 
 #include <penumbra/session/session.hpp>
 
@@ -13,6 +14,7 @@ namespace {
 constexpr ViewerId owner = 1;
 constexpr ViewerId first_viewer = 2;
 constexpr ViewerId second_viewer = 3;
+constexpr ViewerId resuming = 4;
 
 SessionState state_with_mode(scene::Mode mode) {
     SessionState state;
@@ -81,6 +83,143 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     EXPECT_EQ(delivered,
               (std::vector<std::pair<ViewerId, std::uint64_t>>{{owner, 1}, {first_viewer, 1}}));
     EXPECT_EQ(session.frame_count(), 1U);
+}
+
+TEST(Session, TheOwnerTokenIsAFreshUnguessableSecret) {
+    const Session first("s1", "v", nullptr, {}, owner);
+    const Session second("s2", "v", nullptr, {}, owner);
+    EXPECT_EQ(first.owner_token().size(), 32U);
+    EXPECT_EQ(first.owner_token().find_first_not_of("0123456789abcdef"), std::string::npos);
+    EXPECT_NE(first.owner_token(), second.owner_token());
+}
+
+TEST(Session, TheOwnerLeavingLeavesTheViewersWatchingASessionWithoutOwner) {
+    Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
+    session.add_viewer(owner, {}, {}, {});
+    session.add_viewer(first_viewer, {}, {}, {});
+    EXPECT_EQ(session.owner(), owner);
+    EXPECT_TRUE(session.is_owner(owner));
+    EXPECT_FALSE(session.is_owner(first_viewer));
+    EXPECT_EQ(session.remove_viewer(owner), 1U);
+    EXPECT_EQ(session.owner(), std::nullopt);
+    EXPECT_FALSE(session.is_owner(owner));
+    EXPECT_FALSE(session.is_owner(first_viewer));
+}
+
+TEST(Session, ResumingWithTheTokenMakesANewConnectionTheOwnerWhoseStatesReachTheViewers) {
+    Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
+    Heard by_viewer;
+    Heard by_resumer;
+    session.add_viewer(owner, {}, {}, {});
+    session.add_viewer(first_viewer, {}, by_viewer.sink("changed"), by_viewer.sink("welcome"));
+    session.set_state(state_with_mode(scene::Mode::dvr), owner);
+    session.remove_viewer(owner);
+
+    const auto resumed = session.resume(resuming, session.owner_token(), {},
+                                        by_resumer.sink("changed"), by_resumer.sink("welcome"));
+    ASSERT_TRUE(resumed.ok()) << resumed.error().to_string();
+    EXPECT_EQ(session.owner(), resuming);
+    EXPECT_EQ(session.viewer_count(), 2U);
+    session.set_state(state_with_mode(scene::Mode::phong), resuming);
+    // The resumer starts from the state as it was; the viewer heard of nothing but changes.
+    EXPECT_EQ(by_resumer.events, std::vector<std::string>{"welcome:dvr"});
+    EXPECT_EQ(by_viewer.events,
+              (std::vector<std::string>{"welcome:sbrc", "changed:dvr", "changed:phong"}));
+    // Resuming again, as the owner, only replaces its sinks.
+    EXPECT_TRUE(session.resume(resuming, session.owner_token(), {}, {}, {}).ok());
+    EXPECT_EQ(session.owner(), resuming);
+}
+
+TEST(Session, AViewerWithTheTokenMayResumeTooAndFramesStillReachEveryone) {
+    Session session("s", "v", nullptr, {}, owner);
+    std::vector<ViewerId> delivered;
+    const auto frames_to = [&delivered](ViewerId viewer) {
+        return [&delivered, viewer](const base::Result<std::shared_ptr<const EncodedFrame>>&,
+                                    std::uint64_t) { delivered.push_back(viewer); };
+    };
+    session.add_viewer(owner, frames_to(owner), {}, {});
+    session.add_viewer(first_viewer, frames_to(first_viewer), {}, {});
+    session.remove_viewer(owner);
+    ASSERT_TRUE(session.resume(first_viewer, session.owner_token(), frames_to(first_viewer), {}, {})
+                        .ok());
+    EXPECT_TRUE(session.is_owner(first_viewer));
+    EXPECT_EQ(session.viewer_count(), 1U);
+    session.deliver(std::make_shared<const EncodedFrame>());
+    EXPECT_EQ(delivered, std::vector<ViewerId>{first_viewer});
+}
+
+TEST(Session, AWrongTokenIsRefusedAndChangesNothing) {
+    Session session("s", "v", nullptr, {}, owner);
+    session.add_viewer(owner, {}, {}, {});
+    session.add_viewer(first_viewer, {}, {}, {});
+    session.remove_viewer(owner);
+    std::string wrong = session.owner_token();
+    wrong.back() = wrong.back() == '0' ? '1' : '0';
+    for (const std::string& token : {wrong, std::string(), session.owner_token() + "0", session.id()}) {
+        SCOPED_TRACE(token);
+        Heard heard;
+        const auto refused = session.resume(resuming, token, {}, {}, heard.sink("welcome"));
+        ASSERT_FALSE(refused.ok());
+        EXPECT_EQ(refused.error().code, "invalid_value");
+        EXPECT_EQ(refused.error().where, "/owner_token");
+        EXPECT_EQ(refused.error().message.find(session.owner_token()), std::string::npos);
+        EXPECT_TRUE(heard.events.empty());
+    }
+    EXPECT_EQ(session.owner(), std::nullopt);
+    EXPECT_EQ(session.viewer_count(), 1U);
+}
+
+TEST(Session, ResumingWhileTheOwnerIsConnectedIsRefused) {
+    Session session("s", "v", nullptr, {}, owner);
+    session.add_viewer(owner, {}, {}, {});
+    const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "session_owned");
+    EXPECT_EQ(refused.error().where, "/session");
+    EXPECT_EQ(session.owner(), owner);
+    EXPECT_EQ(session.viewer_count(), 1U);
+    // A wrong token says nothing of the owner.
+    EXPECT_EQ(session.resume(resuming, "", {}, {}, {}).error().code, "invalid_value");
+}
+
+TEST(Session, OnceTheLastViewerLeftNobodyResumes) {
+    Session session("s", "v", nullptr, {}, owner);
+    session.add_viewer(owner, {}, {}, {});
+    session.add_viewer(first_viewer, {}, {}, {});
+    session.remove_viewer(owner);
+    EXPECT_EQ(session.remove_viewer(first_viewer), 0U);
+    const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "unknown_session");
+    EXPECT_EQ(session.viewer_count(), 0U);
+}
+
+TEST(SessionRegistry, SessionIdsAreFreshSecretsApartFromTheOwnerTokens) {
+    SessionRegistry registry(4);
+    const auto first = registry.create("v", nullptr, {}, owner);
+    const auto second = registry.create("v", nullptr, {}, owner);
+    ASSERT_TRUE(first.ok() && second.ok());
+    for (const auto& session : {*first, *second}) {
+        EXPECT_EQ(session->id().size(), 32U);
+        EXPECT_EQ(session->id().find_first_not_of("0123456789abcdef"), std::string::npos);
+        EXPECT_NE(session->id(), session->owner_token());
+    }
+    EXPECT_NE((*first)->id(), (*second)->id());
+}
+
+TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
+    SessionRegistry registry(4);
+    auto created = registry.create("v", nullptr, {}, owner);
+    ASSERT_TRUE(created.ok());
+    const std::shared_ptr<Session> session = *created;
+    session->add_viewer(owner, {}, {}, {});
+    session->add_viewer(first_viewer, {}, {}, {});
+    EXPECT_EQ(session->remove_viewer(owner), 1U);
+    EXPECT_EQ(registry.find(session->id()), session) << "viewers keep it running without owner";
+    EXPECT_EQ(session->remove_viewer(first_viewer), 0U);
+    registry.remove(session->id());  // what the server does when the count reaches zero
+    EXPECT_EQ(registry.find(session->id()), nullptr);
+    EXPECT_EQ(registry.count(), 0U);
 }
 
 }  // namespace

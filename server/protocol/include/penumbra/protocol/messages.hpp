@@ -29,6 +29,7 @@ inline constexpr const char* volume_unreadable = "volume_unreadable";
 inline constexpr const char* unknown_session = "unknown_session";
 inline constexpr const char* no_session = "no_session";
 inline constexpr const char* too_many_sessions = "too_many_sessions";
+inline constexpr const char* session_owned = "session_owned";
 inline constexpr const char* render_failed = "render_failed";
 inline constexpr const char* internal_error = "internal_error";
 }  // namespace code
@@ -59,7 +60,14 @@ struct Join {
 
 struct Close {};
 
-using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close>;
+// Becomes the owner of a session again, e.g. after the owner's connection dropped; the token is
+// the one its `opened` carried.
+struct Resume {
+    std::string session;
+    std::string owner_token;
+};
+
+using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
 
 struct Request {
     std::optional<std::int64_t> id;
@@ -95,9 +103,13 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer,
 std::string volumes_message(std::optional<std::int64_t> id,
                             const std::vector<VolumeSummary>& volumes);
 // `state` is the session's full state (what `set` can change), as the client should show it.
+// `opened` answers open and resume and carries the owner token, which a viewer never learns.
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, bool joined);
+                           const std::string& state_json, const std::string& owner_token);
+std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
+                           const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
+                           const std::string& state_json);
 // The session's full state after its owner changed it, for the other connections in the session.
 // It answers no request of theirs, so it has no id.
 std::string state_message(const std::string& session, const std::string& state_json);

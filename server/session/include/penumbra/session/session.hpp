@@ -12,7 +12,9 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::session {
@@ -36,9 +38,11 @@ struct SessionState {
 using StateSink = std::function<void(const SessionState& state)>;
 
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
-// watch it (its owner and anyone who joined). Thread-safe.
+// watch it (its owner and anyone who joined). The owner may leave (its network dropped) while
+// others watch; a connection that presents the owner token takes its place. Thread-safe.
 class Session {
 public:
+    // `owner` opened the session; the owner token is drawn here, at random.
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
             SessionState state, ViewerId owner);
 
@@ -48,7 +52,13 @@ public:
 
     [[nodiscard]] const std::shared_ptr<const volume::Volume>& volume() const { return volume_; }
 
-    [[nodiscard]] ViewerId owner() const { return owner_; }
+    // The connection that may change the session, if one is connected.
+    [[nodiscard]] std::optional<ViewerId> owner() const;
+
+    [[nodiscard]] bool is_owner(ViewerId viewer) const;
+
+    // The secret that lets a connection become the owner again (resume). Only its owner learns it.
+    [[nodiscard]] const std::string& owner_token() const { return owner_token_; }
 
     [[nodiscard]] SessionState state() const;
 
@@ -62,7 +72,15 @@ public:
     void add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
                     const StateSink& welcome);
 
-    // Returns how many viewers remain.
+    // Makes `viewer` the owner and adds it as with add_viewer, if `owner_token` is the session's
+    // and no other connection owns the session now. Fails with unknown_session once the session
+    // has ended (its last viewer left), invalid_value at /owner_token for another token, and
+    // session_owned while another connection owns it. Its owner resuming again succeeds.
+    base::Status resume(ViewerId viewer, std::string_view owner_token, ViewerSink frames,
+                        StateSink state_changed, const StateSink& welcome);
+
+    // Returns how many viewers remain; none ends the session. The owner leaving leaves the
+    // session without one until someone resumes it.
     std::size_t remove_viewer(ViewerId viewer);
 
     [[nodiscard]] std::size_t viewer_count() const;
@@ -83,13 +101,15 @@ private:
     const std::string id_;
     const std::string volume_id_;
     const std::shared_ptr<const volume::Volume> volume_;
-    const ViewerId owner_;
+    const std::string owner_token_;
     mutable std::mutex mutex_;
     struct Sinks {
         ViewerSink frames;
         StateSink state_changed;
     };
 
+    std::optional<ViewerId> owner_;
+    bool ended_ = false;  // its last viewer left: nobody may come back
     SessionState state_;
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
