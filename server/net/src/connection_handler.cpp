@@ -109,6 +109,16 @@ void ConnectionHandler::send(std::string text) {
     }
 }
 
+std::shared_ptr<session::Session> ConnectionHandler::find_session(
+        std::optional<std::int64_t> id, const std::string& session_id) {
+    auto found = context_.services.sessions.find(session_id);
+    if (!found) {
+        reply_error(id, base::make_error(protocol::code::unknown_session,
+                                         "no session '" + session_id + "'", "/session"));
+    }
+    return found;
+}
+
 void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
     context_.errors.add();
     if (dropped_replies_ >= max_unanswered_errors) {
@@ -289,11 +299,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
                     base::log_info("session", "opened " + session_->id() + " on " + message.volume);
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
-                    auto target = context_.services.sessions.find(message.session);
+                    auto target = find_session(id, message.session);
                     if (!target) {
-                        reply_error(id, base::make_error(protocol::code::unknown_session,
-                                                         "no session '" + message.session + "'",
-                                                         "/session"));
                         return;
                     }
                     const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
@@ -310,11 +317,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                                 histogram, protocol::state_to_json(to_protocol(state))));
                     });
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    auto target = context_.services.sessions.find(message.session);
+                    auto target = find_session(id, message.session);
                     if (!target) {
-                        reply_error(id, base::make_error(protocol::code::unknown_session,
-                                                         "no session '" + message.session + "'",
-                                                         "/session"));
                         return;
                     }
                     const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <memory>
+#include <string>
 #include <string_view>
 
 namespace penumbra::net {
@@ -26,6 +27,9 @@ public:
 private:
     void handle(const protocol::Request& request);
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
+    // The session of that id, or nullptr after answering `unknown_session`.
+    std::shared_ptr<session::Session> find_session(std::optional<std::int64_t> id,
+                                                   const std::string& session_id);
     void send(std::string text);
     bool take_token();
     void leave_session();
