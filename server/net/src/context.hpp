@@ -26,6 +26,7 @@ struct Context {
     metrics::Counter& frames_dropped;
     metrics::Histogram& frame_server_ms;
     metrics::Gauge& sessions;
+    metrics::Counter& connections_timed_out;
 
     Context(ServerConfig c, Services s)
         : config(std::move(c))
@@ -41,7 +42,10 @@ struct Context {
                   "penumbra_frame_server_ms",
                   "Server time per frame: queued + render + readback + encode (ms)",
                   metrics::latency_buckets_ms()))
-        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions")) {}
+        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions"))
+        , connections_timed_out(s.metrics.counter(
+                  "penumbra_connections_timed_out_total",
+                  "WebSocket connections dropped for not answering a ping in time")) {}
 
     // Open connections, so that shutdown can close them.
     void track(std::weak_ptr<Connection> connection) {
