@@ -500,6 +500,37 @@ TEST_F(ServerTest, AFrozenOwnerIsDroppedWithinPingIntervalPlusTimeoutAndItsToken
             << metrics->body;
 }
 
+// Each race: a session's only connection closes it while another connection joins it. Whichever
+// wins, the joiner is in a session the server still holds, or was refused; never in an ended
+// session outside the registry.
+TEST_F(ServerTest, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
+    TestClient joiner(port_);
+    int joined = 0;
+    int refused = 0;
+    for (int race = 0; race < 40; ++race) {
+        SCOPED_TRACE(race);
+        TestClient owner(port_);
+        owner.open("heads/ch2.nii.gz", 32);
+        const std::string session = owner.session;
+        std::thread closing([&] { owner.send(R"({"v":1,"type":"close","id":1})"); });
+        joiner.send(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}");
+        closing.join();
+        EXPECT_EQ(field(owner.next_text(), "type"), "ack");
+        const std::string reply = joiner.next_text();
+        if (field(reply, "type") == "joined") {
+            ++joined;
+            EXPECT_NE(sessions_->find(session), nullptr) << "joined a session the server lost";
+            EXPECT_EQ(sessions_->count(), 1U);
+            EXPECT_EQ(field(joiner.request(R"({"v":1,"type":"close","id":3})"), "type"), "ack");
+        } else {
+            ++refused;
+            EXPECT_EQ(field(reply, "code"), "unknown_session") << reply;
+        }
+        EXPECT_EQ(sessions_->count(), 0U);
+    }
+    EXPECT_EQ(joined + refused, 40);
+}
+
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
     TestClient client(port_);
     client.open("heads/ch2.nii.gz", 32);

@@ -1,5 +1,6 @@
 #include "connection_handler.hpp"
 
+#include <penumbra/base/assert.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/protocol/frame_header.hpp>
 #include <penumbra/protocol/scene_json.hpp>
@@ -109,16 +110,6 @@ void ConnectionHandler::send(std::string text) {
     }
 }
 
-std::shared_ptr<session::Session> ConnectionHandler::find_session(
-        std::optional<std::int64_t> id, const std::string& session_id) {
-    auto found = context_.services.sessions.find(session_id);
-    if (!found) {
-        reply_error(id, base::make_error(protocol::code::unknown_session,
-                                         "no session '" + session_id + "'", "/session"));
-    }
-    return found;
-}
-
 void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
     context_.errors.add();
     if (dropped_replies_ >= max_unanswered_errors) {
@@ -181,22 +172,20 @@ void ConnectionHandler::on_text(std::string_view text) {
     handle(*request);
 }
 
-ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::shared_ptr<session::Session>& s) {
+ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session_id) {
     std::weak_ptr<Connection> weak = connection_;
-    std::weak_ptr<session::Session> weak_session = s;
     Context* context = &context_;
-    auto state_changed = [weak, session_id = s->id()](const session::SessionState& state) {
+    auto state_changed = [weak, session_id](const session::SessionState& state) {
         if (auto connection = weak.lock()) {
             connection->send_state(protocol::state_message(
                     session_id, protocol::state_to_json(to_protocol(state))));
         }
     };
-    auto frames = [weak, weak_session, context](
+    auto frames = [weak, session_id, context](
                           const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
                           std::uint64_t number) {
         auto connection = weak.lock();
-        auto shared_session = weak_session.lock();
-        if (!connection || !shared_session) {
+        if (!connection) {
             return;
         }
         if (!r) {
@@ -214,25 +203,17 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::shared_ptr<sess
         context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
                                          frame.encode_ms);
         connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
-                pack(frame, shared_session->id(), number)));
+                pack(frame, session_id, number)));
     };
     return {std::move(frames), std::move(state_changed)};
-}
-
-void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
-                              const session::StateSink& welcome) {
-    Sinks sinks = sinks_for(s);
-    s->add_viewer(viewer_, std::move(sinks.frames), std::move(sinks.state_changed), welcome);
 }
 
 void ConnectionHandler::leave_session() {
     if (!session_) {
         return;
     }
-    const std::size_t remaining = session_->remove_viewer(viewer_);
-    if (remaining == 0) {
+    if (context_.services.sessions.leave(*session_, viewer_)) {
         context_.services.scheduler.cancel(session_->id());
-        context_.services.sessions.remove(session_->id());
         context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
         base::log_info("session", "closed " + session_->id());
     }
@@ -290,58 +271,84 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     leave_session();
                     session_ = *created;
                     const auto histogram = volume::compute_histogram(**volume, 256).bins;
-                    watch(session_, [&](const session::SessionState& state) {
-                        send(protocol::opened_message(
-                                id, session_->id(), summary_of(message.volume, volume->get()),
-                                histogram, protocol::state_to_json(to_protocol(state)),
-                                session_->owner_token()));
-                    });
+                    Sinks sinks = sinks_for(session_->id());
+                    // Cannot fail: the session ends only when its owner, this connection, leaves.
+                    const auto added = session_->add_viewer(
+                            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
+                            [&](const session::SessionState& state) {
+                                send(protocol::opened_message(
+                                        id, session_->id(),
+                                        summary_of(message.volume, volume->get()), histogram,
+                                        protocol::state_to_json(to_protocol(state)),
+                                        session_->owner_token()));
+                            });
+                    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
                     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
                     base::log_info("session", "opened " + session_->id() + " on " + message.volume);
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
-                    auto target = find_session(id, message.session);
-                    if (!target) {
+                    // Finding the session and joining it are one step of the registry's, so a
+                    // session whose last viewer is leaving cannot be joined back to life.
+                    // The histogram is computed outside the registry's lock.
+                    const auto found = context_.services.sessions.find(message.session);
+                    const auto histogram =
+                            found ? volume::compute_histogram(*found->volume(), 256).bins
+                                  : std::vector<std::uint64_t>();
+                    Sinks sinks = sinks_for(message.session);
+                    auto joined = context_.services.sessions.enter(
+                            message.session, [&](session::Session& target) {
+                                // Also when already in it: re-adding replaces the sinks, and the
+                                // welcome keeps `joined` ahead of every state that follows it.
+                                return target.add_viewer(
+                                        viewer_, std::move(sinks.frames),
+                                        std::move(sinks.state_changed),
+                                        [&](const session::SessionState& state) {
+                                            send(protocol::joined_message(
+                                                    id, target.id(),
+                                                    summary_of(target.volume_id(),
+                                                               target.volume().get()),
+                                                    histogram,
+                                                    protocol::state_to_json(to_protocol(state))));
+                                        });
+                            });
+                    if (!joined) {
+                        reply_error(id, joined.error());
                         return;
                     }
-                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
-                    if (target != session_) {
+                    if (*joined != session_) {
                         leave_session();
-                        session_ = target;
+                        session_ = *joined;
                     }
-                    // Also when already in it: re-adding replaces the sinks, and the welcome
-                    // keeps `joined` ahead of every state that follows it.
-                    watch(session_, [&](const session::SessionState& state) {
-                        send(protocol::joined_message(
-                                id, session_->id(),
-                                summary_of(session_->volume_id(), session_->volume().get()),
-                                histogram, protocol::state_to_json(to_protocol(state))));
-                    });
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    auto target = find_session(id, message.session);
-                    if (!target) {
-                        return;
-                    }
-                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
-                    Sinks sinks = sinks_for(target);
+                    const auto found = context_.services.sessions.find(message.session);
+                    const auto histogram =
+                            found ? volume::compute_histogram(*found->volume(), 256).bins
+                                  : std::vector<std::uint64_t>();
+                    Sinks sinks = sinks_for(message.session);
                     // The check of the token and the change of owner are one step of the
-                    // session's, so that two connections resuming at once cannot both win.
-                    const auto resumed = target->resume(
-                            viewer_, message.owner_token, std::move(sinks.frames),
-                            std::move(sinks.state_changed),
-                            [&](const session::SessionState& state) {
-                                send(protocol::opened_message(
-                                        id, target->id(),
-                                        summary_of(target->volume_id(), target->volume().get()),
-                                        histogram, protocol::state_to_json(to_protocol(state)),
-                                        target->owner_token()));
+                    // session's, and finding it one of the registry's, so that two connections
+                    // resuming at once cannot both win and an ended session stays ended.
+                    auto resumed = context_.services.sessions.enter(
+                            message.session, [&](session::Session& target) {
+                                return target.resume(
+                                        viewer_, message.owner_token, std::move(sinks.frames),
+                                        std::move(sinks.state_changed),
+                                        [&](const session::SessionState& state) {
+                                            send(protocol::opened_message(
+                                                    id, target.id(),
+                                                    summary_of(target.volume_id(),
+                                                               target.volume().get()),
+                                                    histogram,
+                                                    protocol::state_to_json(to_protocol(state)),
+                                                    target.owner_token()));
+                                        });
                             });
                     if (!resumed) {
                         reply_error(id, resumed.error());
                         return;
                     }
-                    if (target != session_) {
+                    if (*resumed != session_) {
                         leave_session();
-                        session_ = target;
+                        session_ = *resumed;
                     }
                     base::log_info("session", "resumed " + session_->id());
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {

@@ -27,9 +27,6 @@ public:
 private:
     void handle(const protocol::Request& request);
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
-    // The session of that id, or nullptr after answering `unknown_session`.
-    std::shared_ptr<session::Session> find_session(std::optional<std::int64_t> id,
-                                                   const std::string& session_id);
     void send(std::string text);
     bool take_token();
     void leave_session();
@@ -38,10 +35,7 @@ private:
         session::ViewerSink frames;
         session::StateSink state_changed;
     };
-    Sinks sinks_for(const std::shared_ptr<session::Session>& session);
-    // Joins `session`'s viewers. `welcome` queues the answer (opened, joined) that must precede
-    // what the sinks send.
-    void watch(const std::shared_ptr<session::Session>& session, const session::StateSink& welcome);
+    Sinks sinks_for(const std::string& session_id);
 
     Context& context_;
     std::weak_ptr<Connection> connection_;

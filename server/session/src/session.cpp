@@ -44,7 +44,9 @@ Session::Session(std::string id, std::string volume_id,
     , volume_(std::move(volume))
     , owner_token_(random_secret())
     , owner_(owner)
-    , state_(std::move(state)) {}
+    , state_(std::move(state)) {
+    viewers_[owner] = {};
+}
 
 std::optional<ViewerId> Session::owner() const {
     const std::lock_guard lock(mutex_);
@@ -71,13 +73,17 @@ void Session::set_state(SessionState state, ViewerId changed_by) {
     }
 }
 
-void Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
-                         const StateSink& welcome) {
+base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
+                                 const StateSink& welcome) {
     const std::lock_guard lock(mutex_);
+    if (ended_) {
+        return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
+    }
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
     if (welcome) {
         welcome(state_);
     }
+    return base::Ok{};
 }
 
 base::Status Session::resume(ViewerId viewer, std::string_view owner_token, ViewerSink frames,
@@ -194,9 +200,29 @@ std::shared_ptr<Session> SessionRegistry::find(const std::string& id) const {
     return found == sessions_.end() ? nullptr : found->second;
 }
 
-void SessionRegistry::remove(const std::string& id) {
+base::Result<std::shared_ptr<Session>> SessionRegistry::enter(
+        const std::string& id, const std::function<base::Status(Session&)>& enter) {
     const std::lock_guard lock(mutex_);
-    sessions_.erase(id);
+    const auto found = sessions_.find(id);
+    if (found == sessions_.end()) {
+        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+    }
+    if (auto status = enter(*found->second); !status) {
+        return status.error();
+    }
+    return found->second;
+}
+
+bool SessionRegistry::leave(Session& session, ViewerId viewer) {
+    const std::lock_guard lock(mutex_);
+    if (session.remove_viewer(viewer) > 0) {
+        return false;
+    }
+    const auto found = sessions_.find(session.id());
+    if (found != sessions_.end() && found->second.get() == &session) {
+        sessions_.erase(found);
+    }
+    return true;
 }
 
 std::size_t SessionRegistry::count() const {
