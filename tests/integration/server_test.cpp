@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -529,6 +531,74 @@ TEST_F(ServerTest, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
         EXPECT_EQ(sessions_->count(), 0U);
     }
     EXPECT_EQ(joined + refused, 40);
+}
+
+TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram) {
+    using namespace std::chrono_literals;
+    // 256 x 256 x 384 uint16, 48 MiB: long enough a load to be seen from /healthz.
+    {
+        std::ofstream out(data_ / "large_256x256x384_uint16.raw", std::ios::binary);
+        std::vector<std::uint16_t> slice(256 * 256);
+        for (int z = 0; z < 384; ++z) {
+            for (std::size_t i = 0; i < slice.size(); ++i) {
+                slice[i] = static_cast<std::uint16_t>((i * 7 + static_cast<std::size_t>(z) * 13) % 4096);
+            }
+            out.write(reinterpret_cast<const char*>(slice.data()),
+                      static_cast<std::streamsize>(slice.size() * sizeof(std::uint16_t)));
+        }
+    }
+    // One network thread: a load on it would stall every other connection.
+    start(protocol::Limits{}, [](net::ServerConfig& config) { config.io_threads = 1; });
+    TestClient loader(port_);
+    const auto sent = std::chrono::steady_clock::now();
+    loader.send(R"({"v":1,"type":"open","id":1,"volume":"large_256x256x384_uint16.raw"})");
+    std::atomic<bool> opened{false};
+    std::string reply;
+    std::thread waiting([&] {
+        reply = loader.next_text(60s);
+        opened = true;
+    });
+    std::vector<double> health_ms;
+    while (!opened) {
+        const auto asked = std::chrono::steady_clock::now();
+        auto health = net::http_get("127.0.0.1", port_, "/healthz", 30s);
+        health_ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked)
+                        .count());
+        ASSERT_TRUE(health.ok());
+        EXPECT_EQ(health->status, 200);
+        std::this_thread::sleep_for(10ms);
+    }
+    waiting.join();
+    const double load_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent)
+                    .count();
+    ASSERT_EQ(field(reply, "type"), "opened") << reply.substr(0, 300);
+    RecordProperty("load_ms", std::to_string(load_ms));
+    RecordProperty("slowest_healthz_ms",
+                   std::to_string(*std::max_element(health_ms.begin(), health_ms.end())));
+    ASSERT_GE(health_ms.size(), 3U) << "the load (" << load_ms << " ms) was too quick to probe";
+    EXPECT_LT(*std::max_element(health_ms.begin(), health_ms.end()), 250.0)
+            << "slowest /healthz while a " << load_ms << " ms load ran";
+    // The histogram came with the load; joining and resuming do not compute it again.
+    EXPECT_EQ(volumes_->histograms_computed(), 1U);
+    const std::string session = field(reply, "session");
+    const std::string token = nlohmann::json::parse(reply).at("owner_token");
+    for (int i = 0; i < 3; ++i) {
+        TestClient viewer(port_);
+        const auto joined = nlohmann::json::parse(
+                viewer.request(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}"));
+        ASSERT_EQ(joined.at("type"), "joined");
+        EXPECT_EQ(joined.at("histogram"), nlohmann::json::parse(reply).at("histogram"));
+    }
+    TestClient keeper(port_);
+    EXPECT_EQ(field(keeper.request(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}"),
+                    "type"),
+              "joined");
+    loader.raw().close();
+    TestClient resumer(port_);
+    EXPECT_EQ(field(resume_once_unowned(resumer, session, token), "type"), "opened");
+    EXPECT_EQ(volumes_->histograms_computed(), 1U);
 }
 
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {

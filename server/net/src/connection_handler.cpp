@@ -18,6 +18,9 @@ using Clock = std::chrono::steady_clock;
 // count of what was dropped once it calms down.
 constexpr std::uint64_t max_unanswered_errors = 64;
 
+// Requests that may wait while a volume loads for this connection; more are refused.
+constexpr std::size_t max_waiting_requests = 64;
+
 protocol::SessionState to_protocol(const session::SessionState& s) {
     protocol::SessionState out;
     out.frame = s.frame;
@@ -169,6 +172,16 @@ void ConnectionHandler::on_text(std::string_view text) {
                     request.error());
         return;
     }
+    if (busy_) {
+        if (waiting_.size() >= max_waiting_requests) {
+            reply_error(request->id,
+                        base::make_error(protocol::code::rate_limited,
+                                         "too many requests while a volume loads", "/"));
+            return;
+        }
+        waiting_.push_back(std::move(request.value()));
+        return;
+    }
     handle(*request);
 }
 
@@ -222,6 +235,54 @@ void ConnectionHandler::leave_session() {
 
 void ConnectionHandler::on_close() { leave_session(); }
 
+void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
+                                    const base::Result<std::shared_ptr<const volume::Volume>>& volume) {
+    busy_ = false;
+    if (!volume) {
+        base::Error error = volume.error();
+        if (error.code != protocol::code::unknown_volume) {
+            // The loader's own code and location go into the message.
+            error.message = "volume '" + volume_id +
+                            "' could not be loaded: " + error.to_string();
+            error.code = protocol::code::volume_unreadable;
+        }
+        error.where = "/volume";
+        reply_error(id, error);
+        return;
+    }
+    auto created = context_.services.sessions.create(
+            volume_id, *volume, default_state(context_.config), viewer_);
+    if (!created) {
+        reply_error(id, created.error());
+        return;
+    }
+    leave_session();
+    session_ = *created;
+    const auto histogram = context_.services.volumes.histogram(*volume);
+    Sinks sinks = sinks_for(session_->id());
+    // Cannot fail: the session ends only when its owner, this connection, leaves.
+    const auto added = session_->add_viewer(
+            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
+            [&](const session::SessionState& state) {
+                send(protocol::opened_message(
+                        id, session_->id(),
+                        summary_of(volume_id, volume->get()), *histogram,
+                        protocol::state_to_json(to_protocol(state)),
+                        session_->owner_token()));
+            });
+    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
+    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+    base::log_info("session", "opened " + session_->id() + " on " + volume_id);
+}
+
+void ConnectionHandler::handle_waiting() {
+    while (!busy_ && !waiting_.empty()) {
+        const protocol::Request next = std::move(waiting_.front());
+        waiting_.pop_front();
+        handle(next);
+    }
+}
+
 void ConnectionHandler::handle(const protocol::Request& request) {
     const auto id = request.id;
     const auto need_session = [&]() {
@@ -236,63 +297,40 @@ void ConnectionHandler::handle(const protocol::Request& request) {
             [&](const auto& message) {
                 using T = std::decay_t<decltype(message)>;
                 if constexpr (std::is_same_v<T, protocol::ListVolumes>) {
-                    if (auto status = context_.services.volumes.scan(); !status) {
-                        base::log_error("volumes", status.error().to_string());
-                        reply_error(id, base::make_error(protocol::code::internal_error,
-                                                         "the server's data folder is unreadable",
-                                                         "/"));
-                        return;
-                    }
+                    // The last scan: the store rescans on a thread of its own.
                     std::vector<protocol::VolumeSummary> list;
                     for (const auto& entry : context_.services.volumes.list()) {
                         list.push_back(summary_of(entry.id, entry.loaded.get()));
                     }
                     send(protocol::volumes_message(id, list));
                 } else if constexpr (std::is_same_v<T, protocol::Open>) {
-                    auto volume = context_.services.volumes.acquire(message.volume);
-                    if (!volume) {
-                        base::Error error = volume.error();
-                        if (error.code != protocol::code::unknown_volume) {
-                            // The loader's own code and location go into the message.
-                            error.message = "volume '" + message.volume +
-                                            "' could not be loaded: " + error.to_string();
-                            error.code = protocol::code::volume_unreadable;
-                        }
-                        error.where = "/volume";
-                        reply_error(id, error);
-                        return;
-                    }
-                    auto created = context_.services.sessions.create(
-                            message.volume, *volume, default_state(context_.config), viewer_);
-                    if (!created) {
-                        reply_error(id, created.error());
-                        return;
-                    }
-                    leave_session();
-                    session_ = *created;
-                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
-                    Sinks sinks = sinks_for(session_->id());
-                    // Cannot fail: the session ends only when its owner, this connection, leaves.
-                    const auto added = session_->add_viewer(
-                            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
-                            [&](const session::SessionState& state) {
-                                send(protocol::opened_message(
-                                        id, session_->id(),
-                                        summary_of(message.volume, volume->get()), histogram,
-                                        protocol::state_to_json(to_protocol(state)),
-                                        session_->owner_token()));
+                    // Loading reads and converts a file, seconds for a large one: not here.
+                    busy_ = true;
+                    context_.services.volumes.acquire_async(
+                            message.volume,
+                            [this, id, volume_id = message.volume, weak = connection_,
+                             lifeline = context_.lifeline](
+                                    base::Result<std::shared_ptr<const volume::Volume>> volume) {
+                                const std::lock_guard lock(lifeline->mutex);
+                                auto connection = weak.lock();
+                                if (!lifeline->open || !connection) {
+                                    return;
+                                }
+                                // The connection owns this handler and outlives the task.
+                                connection->defer([this, id, volume_id,
+                                                   volume = std::move(volume)] {
+                                    finish_open(id, volume_id, volume);
+                                    handle_waiting();
+                                });
                             });
-                    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
-                    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
-                    base::log_info("session", "opened " + session_->id() + " on " + message.volume);
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
                     // Finding the session and joining it are one step of the registry's, so a
                     // session whose last viewer is leaving cannot be joined back to life.
-                    // The histogram is computed outside the registry's lock.
+                    // The volume's histogram, computed when it was loaded.
                     const auto found = context_.services.sessions.find(message.session);
                     const auto histogram =
-                            found ? volume::compute_histogram(*found->volume(), 256).bins
-                                  : std::vector<std::uint64_t>();
+                            found ? context_.services.volumes.histogram(found->volume())
+                                  : std::make_shared<const std::vector<std::uint64_t>>();
                     Sinks sinks = sinks_for(message.session);
                     auto joined = context_.services.sessions.enter(
                             message.session, [&](session::Session& target) {
@@ -306,7 +344,7 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                                                     id, target.id(),
                                                     summary_of(target.volume_id(),
                                                                target.volume().get()),
-                                                    histogram,
+                                                    *histogram,
                                                     protocol::state_to_json(to_protocol(state))));
                                         });
                             });
@@ -321,8 +359,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
                     const auto found = context_.services.sessions.find(message.session);
                     const auto histogram =
-                            found ? volume::compute_histogram(*found->volume(), 256).bins
-                                  : std::vector<std::uint64_t>();
+                            found ? context_.services.volumes.histogram(found->volume())
+                                  : std::make_shared<const std::vector<std::uint64_t>>();
                     Sinks sinks = sinks_for(message.session);
                     // The check of the token and the change of owner are one step of the
                     // session's, and finding it one of the registry's, so that two connections
@@ -337,7 +375,7 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                                                     id, target.id(),
                                                     summary_of(target.volume_id(),
                                                                target.volume().get()),
-                                                    histogram,
+                                                    *histogram,
                                                     protocol::state_to_json(to_protocol(state)),
                                                     target.owner_token()));
                                         });

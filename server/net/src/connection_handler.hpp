@@ -6,6 +6,7 @@
 #include <penumbra/session/session.hpp>
 
 #include <chrono>
+#include <deque>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -13,7 +14,9 @@
 namespace penumbra::net {
 
 // The protocol for one connection: parses each message, applies it to the session layer and
-// answers. Lives on the connection's strand, so it needs no locking of its own.
+// answers. Lives on the connection's strand, so it needs no locking of its own. A request that
+// reads files (open) is carried out on the volume store's loader threads; the requests that
+// arrive meanwhile wait, so that replies keep the order of the requests.
 class ConnectionHandler {
 public:
     ConnectionHandler(Context& context, std::weak_ptr<Connection> connection);
@@ -26,6 +29,11 @@ public:
 
 private:
     void handle(const protocol::Request& request);
+    // The second half of `open`, on the strand, once the volume is loaded (or is not).
+    void finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
+                     const base::Result<std::shared_ptr<const volume::Volume>>& volume);
+    // Handles the requests that waited, until one of them makes the connection busy again.
+    void handle_waiting();
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
     void send(std::string text);
     bool take_token();
@@ -44,6 +52,8 @@ private:
     double tokens_;
     std::chrono::steady_clock::time_point last_refill_;
     std::uint64_t dropped_replies_ = 0;
+    bool busy_ = false;  // a request is being carried out off the strand
+    std::deque<protocol::Request> waiting_;
 };
 
 }  // namespace penumbra::net

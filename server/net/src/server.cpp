@@ -159,6 +159,10 @@ void Server::stop() {
         impl_->stopped = true;
         impl_->stopped_signal.notify_all();
     }
+    {
+        const std::lock_guard lock(impl_->context.lifeline->mutex);
+        impl_->context.lifeline->open = false;
+    }
     asio::post(impl_->acceptor.get_executor(), [impl = impl_.get()] {
         beast::error_code ignored;
         impl->acceptor.close(ignored);

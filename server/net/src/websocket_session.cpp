@@ -232,6 +232,14 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t /*bytes*/) {
     do_write();
 }
 
+void WebSocketSession::defer(std::function<void()> task) {
+    asio::post(ws_.get_executor(), [self = shared_from_this(), task = std::move(task)] {
+        if (!self->finished_) {
+            task();
+        }
+    });
+}
+
 void WebSocketSession::close() {
     asio::dispatch(ws_.get_executor(), [self = shared_from_this()] {
         if (self->ws_.is_open()) {

@@ -26,6 +26,7 @@ public:
     void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) override;
 
     void close() override;
+    void defer(std::function<void()> task) override;
 
 private:
     struct Outgoing {
