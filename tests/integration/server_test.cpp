@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -53,8 +54,9 @@ std::string field(const std::string& text, const std::string& name) {
 
 class TestClient {
 public:
-    explicit TestClient(unsigned short port) {
-        auto connected = net::Client::connect("127.0.0.1", port);
+    // `from`: the local address, to play another client (any of 127.0.0.0/8 on Linux).
+    explicit TestClient(unsigned short port, const std::string& from = {}) {
+        auto connected = net::Client::connect("127.0.0.1", port, "/ws", std::chrono::seconds(10), from);
         EXPECT_TRUE(connected.ok()) << connected.error().to_string();
         client_ = std::move(connected.value());
         hello = next_text();
@@ -172,7 +174,9 @@ protected:
                 {}, *metrics_);
         ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
         scheduler_ = std::move(scheduler.value());
-        sessions_ = std::make_unique<session::SessionRegistry>(limits.max_sessions);
+        sessions_ = std::make_unique<session::SessionRegistry>(
+                limits.max_sessions, limits.max_sessions_per_client,
+                limits.max_sessions_per_connection);
         net::ServerConfig config;
         config.port = 0;
         config.limits = limits;
@@ -599,6 +603,111 @@ TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram
     TestClient resumer(port_);
     EXPECT_EQ(field(resume_once_unowned(resumer, session, token), "type"), "opened");
     EXPECT_EQ(volumes_->histograms_computed(), 1U);
+}
+
+TEST_F(ServerTest, OneClientCannotTakeEverySessionNorOneConnectionPileThemUp) {
+    protocol::Limits limits;
+    limits.max_sessions = 10;
+    limits.max_sessions_per_client = 3;
+    limits.max_sessions_per_connection = 2;
+    start(limits);
+    const std::string hello = TestClient(port_).hello;
+    EXPECT_EQ(nlohmann::json::parse(hello).at("limits").at("max_sessions_per_client"), 3) << hello;
+    EXPECT_EQ(nlohmann::json::parse(hello).at("limits").at("max_sessions_per_connection"), 2);
+    // One address opens sessions from many connections until its share is reached.
+    std::vector<std::unique_ptr<TestClient>> hog;
+    for (int i = 0; i < 3; ++i) {
+        hog.push_back(std::make_unique<TestClient>(port_, "127.0.0.2"));
+        hog.back()->open("heads/ch2.nii.gz", 32);
+    }
+    TestClient one_more(port_, "127.0.0.2");
+    const std::string refused =
+            one_more.request(R"({"v":1,"type":"open","id":1,"volume":"heads/ch2.nii.gz"})");
+    EXPECT_EQ(field(refused, "code"), "too_many_sessions") << refused;
+    EXPECT_EQ(field(refused, "field"), "/volume") << refused;
+    // Another address still gets sessions.
+    TestClient newcomer(port_, "127.0.0.3");
+    newcomer.open("heads/ch2.nii.gz", 32);
+    newcomer.send(R"({"v":1,"type":"render","id":5})");
+    EXPECT_EQ(newcomer.next_frame().header.request, 5);
+
+    // One connection opening session after session, each kept running by a viewer, holds at most
+    // its maximum (the one it leaves for the next is not counted against it).
+    TestClient opener(port_, "127.0.0.4");
+    std::vector<std::unique_ptr<TestClient>> keepers;
+    std::string last;
+    for (int i = 0; i < 4; ++i) {
+        last = opener.request(R"({"v":1,"type":"open","id":1,"volume":"heads/ch2.nii.gz"})");
+        if (field(last, "type") != "opened") {
+            break;
+        }
+        keepers.push_back(std::make_unique<TestClient>(port_, "127.0.0.5"));
+        ASSERT_EQ(field(keepers.back()->request(R"({"v":1,"type":"join","id":2,"session":")" +
+                                                field(last, "session") + "\"}"),
+                        "type"),
+                  "joined");
+    }
+    EXPECT_EQ(field(last, "code"), "too_many_sessions") << last;
+    EXPECT_EQ(keepers.size(), 3U) << "two running, plus the one it was leaving";
+}
+
+// One client with many sessions asks for frames as fast as it can; another asks for one frame
+// at a time. Render time is shared per client, so the second waits for at most about one frame
+// of the first, not one frame of each of its sessions. Queueing is read from the frame headers.
+TEST_F(ServerTest, ManySessionsOfOneClientDoNotRaiseAnotherClientsQueueing) {
+    protocol::Limits limits;
+    limits.max_sessions_per_client = 32;
+    start(limits);
+    constexpr int hog_sessions = 20;
+    std::vector<std::unique_ptr<TestClient>> hog;
+    for (int i = 0; i < hog_sessions; ++i) {
+        hog.push_back(std::make_unique<TestClient>(port_, "127.0.0.2"));
+        hog.back()->open("heads/ch2.nii.gz", 64);
+    }
+    TestClient polite(port_, "127.0.0.3");
+    polite.open("heads/ch2.nii.gz", 64);
+    std::atomic<bool> done{false};
+    std::vector<double> hog_render_ms;
+    std::mutex hog_mutex;
+    std::vector<std::thread> hogging;
+    for (auto& client : hog) {
+        hogging.emplace_back([&, c = client.get()] {
+            // Always one request waiting: the next is sent when a frame arrives.
+            c->send(R"({"v":1,"type":"render"})");
+            while (!done) {
+                const auto frame = c->next_frame(std::chrono::seconds(60));
+                {
+                    const std::lock_guard lock(hog_mutex);
+                    hog_render_ms.push_back(frame.header.render_ms + frame.header.readback_ms);
+                }
+                c->send(R"({"v":1,"type":"render"})");
+            }
+        });
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::vector<double> polite_queued_ms;
+    for (int i = 0; i < 8; ++i) {
+        polite.send(R"({"v":1,"type":"render","id":)" + std::to_string(i) + "}");
+        const auto frame = polite.next_frame(std::chrono::seconds(60));
+        EXPECT_EQ(frame.header.request, i);
+        polite_queued_ms.push_back(frame.header.queued_ms);
+    }
+    done = true;
+    for (auto& thread : hogging) {
+        thread.join();
+    }
+    const auto median = [](std::vector<double> values) {
+        std::sort(values.begin(), values.end());
+        return values[values.size() / 2];
+    };
+    const double frame_ms = median(hog_render_ms);
+    const double queued_ms = median(polite_queued_ms);
+    RecordProperty("hog_frame_ms", std::to_string(frame_ms));
+    RecordProperty("polite_queued_ms", std::to_string(queued_ms));
+    // Served in the hog's turn order it would wait ~20 frames; in the clients' turn order at
+    // most the frame in progress and one more.
+    EXPECT_LT(queued_ms, 4.0 * frame_ms + 20.0)
+            << "median queued " << queued_ms << " ms, median hog frame " << frame_ms << " ms";
 }
 
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {

@@ -190,7 +190,8 @@ int run_serve(const std::vector<std::string>& args) {
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
              "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
-             "default-tf", "quality-table", "ping-interval", "ping-timeout"},
+             "default-tf", "quality-table", "ping-interval", "ping-timeout",
+             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -209,6 +210,11 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --io-threads N             network threads (default 2)\n"
                 "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
                 "  --max-sessions N           (default 64)\n"
+                "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
+                "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
+                "  --client-address-header H  behind a proxy: the request header naming the client\n"
+                "                             (X-Real-IP, X-Forwarded-For), for per-client limits\n"
+                "                             and fair render shares; default: the peer address\n"
                 "  --max-image-side N         (default 2048)\n"
                 "  --max-slices N             (default 1024)\n"
                 "  --max-light-res N          (default 1024)\n"
@@ -250,6 +256,7 @@ int run_serve(const std::vector<std::string>& args) {
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
+    config.client_address_header = a.get("client-address-header").value_or("");
     protocol::Limits& limits = config.limits;
     struct IntegerOption {
         const char* name;
@@ -267,6 +274,8 @@ int run_serve(const std::vector<std::string>& args) {
             {"io-threads", &config.io_threads, 1, 64},
             {"encode-threads", &encode_threads, 1, 64},
             {"max-sessions", &limits.max_sessions, 1, 100000},
+            {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
+            {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
             {"max-image-side", &limits.max_image_side, 16, 16384},
             {"max-slices", &limits.max_slices, 1, 16384},
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
@@ -402,7 +411,8 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions);
+    session::SessionRegistry sessions(limits.max_sessions, limits.max_sessions_per_client,
+                                      limits.max_sessions_per_connection);
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {
         return fail(server.error());

@@ -100,12 +100,14 @@ std::vector<std::uint8_t> pack(const session::EncodedFrame& f, const std::string
 
 }  // namespace
 
-ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection> connection)
+ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection> connection,
+                                     std::string client)
     : context_(context)
     , connection_(std::move(connection))
     , viewer_(context.next_viewer.fetch_add(1))
     , tokens_(context.config.limits.max_requests_per_second)
-    , last_refill_(Clock::now()) {}
+    , last_refill_(Clock::now())
+    , client_(std::move(client)) {}
 
 void ConnectionHandler::send(std::string text) {
     if (auto connection = connection_.lock()) {
@@ -251,7 +253,7 @@ void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::s
         return;
     }
     auto created = context_.services.sessions.create(
-            volume_id, *volume, default_state(context_.config), viewer_);
+            volume_id, *volume, default_state(context_.config), viewer_, client_, session_.get());
     if (!created) {
         reply_error(id, created.error());
         return;
@@ -416,10 +418,13 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         return;
                     }
                     std::weak_ptr<session::Session> weak = session_;
+                    session::RenderJob job = session_->make_job(
+                            id.value_or(-1), message.interactive,
+                            context_.config.quality_table.get());
+                    // The render time is this client's, whoever's session it is.
+                    job.client = client_;
                     context_.services.scheduler.submit(
-                            session_->id(),
-                            session_->make_job(id.value_or(-1), message.interactive,
-                                               context_.config.quality_table.get()),
+                            session_->id(), std::move(job),
                             [weak](base::Result<std::shared_ptr<const session::EncodedFrame>> r) {
                                 if (auto s = weak.lock()) {
                                     s->deliver(r);

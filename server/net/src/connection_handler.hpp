@@ -19,7 +19,8 @@ namespace penumbra::net {
 // arrive meanwhile wait, so that replies keep the order of the requests.
 class ConnectionHandler {
 public:
-    ConnectionHandler(Context& context, std::weak_ptr<Connection> connection);
+    // `client` names who is connected (its address), for per-client limits and fair shares.
+    ConnectionHandler(Context& context, std::weak_ptr<Connection> connection, std::string client);
 
     void on_open();
     void on_text(std::string_view text);
@@ -52,6 +53,7 @@ private:
     double tokens_;
     std::chrono::steady_clock::time_point last_refill_;
     std::uint64_t dropped_replies_ = 0;
+    std::string client_;
     bool busy_ = false;  // a request is being carried out off the strand
     std::deque<protocol::Request> waiting_;
 };

@@ -29,8 +29,28 @@ void WebSocketSession::run(http::request<http::string_body> upgrade) {
     // Messages up to the announced limit are parsed; larger ones up to this hard cap get an
     // error reply and the connection stays; beyond it Beast closes the connection (1009).
     ws_.read_message_max(std::max<std::size_t>(1 << 20, 4 * context_.config.limits.max_message_bytes));
+    client_ = client_of(upgrade);
     ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept,
                                                         shared_from_this()));
+}
+
+std::string WebSocketSession::client_of(const http::request<http::string_body>& upgrade) {
+    const std::string& header = context_.config.client_address_header;
+    if (!header.empty()) {
+        const auto found = upgrade.find(header);
+        if (found != upgrade.end()) {
+            // X-Forwarded-For lists the proxies after the client.
+            const std::string value(found->value());
+            const std::string first = value.substr(0, value.find(','));
+            const auto begin = first.find_first_not_of(' ');
+            if (begin != std::string::npos) {
+                return first.substr(begin, first.find_last_not_of(' ') - begin + 1);
+            }
+        }
+    }
+    beast::error_code ec;
+    const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+    return ec ? std::string("unknown") : remote.address().to_string();
 }
 
 void WebSocketSession::on_accept(beast::error_code ec) {
@@ -40,7 +60,7 @@ void WebSocketSession::on_accept(beast::error_code ec) {
     }
     context_.connections.add(1.0);
     context_.track(weak_from_this());
-    handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this());
+    handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this(), client_);
     handler_->on_open();
     last_heard_ = Clock::now();
     // Runs inside the read loop, on the strand; the stream that stores it dies with `this`.

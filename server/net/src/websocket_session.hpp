@@ -35,6 +35,9 @@ private:
         bool state = false;  // a whole state, superseded by a newer one while waiting
     };
 
+    // Who the connection's client is, for per-client limits and fair shares: its remote address,
+    // or what the configured proxy header says.
+    [[nodiscard]] std::string client_of(const http::request<http::string_body>& upgrade);
     void on_accept(beast::error_code ec);
     void do_read();
     void on_read(beast::error_code ec, std::size_t bytes);
@@ -55,6 +58,7 @@ private:
     std::deque<Outgoing> queue_;
     bool writing_ = false;
     bool finished_ = false;
+    std::string client_;
     asio::steady_timer liveness_timer_;
     std::chrono::steady_clock::time_point last_heard_;  // any message or control frame
     std::chrono::steady_clock::time_point ping_sent_;

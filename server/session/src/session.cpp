@@ -38,11 +38,14 @@ bool same_token(std::string_view a, std::string_view b) {
 }  // namespace
 
 Session::Session(std::string id, std::string volume_id,
-                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner)
+                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::string client)
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
     , owner_token_(random_secret())
+    , opened_by_(owner)
+    , client_(std::move(client))
     , owner_(owner)
     , state_(std::move(state)) {
     viewers_[owner] = {};
@@ -176,20 +179,40 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     return job;
 }
 
-SessionRegistry::SessionRegistry(int max_sessions) : max_sessions_(max_sessions) {}
+SessionRegistry::SessionRegistry(int max_sessions, int max_per_client, int max_per_connection)
+    : max_sessions_(max_sessions)
+    , max_per_client_(max_per_client)
+    , max_per_connection_(max_per_connection) {}
 
 base::Result<std::shared_ptr<Session>> SessionRegistry::create(
         std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
-        ViewerId owner) {
+        ViewerId owner, const std::string& client, const Session* replacing) {
     const std::lock_guard lock(mutex_);
-    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+    int of_client = 0;
+    int of_connection = 0;
+    for (const auto& [id, session] : sessions_) {
+        if (session.get() != replacing) {
+            of_client += session->client() == client ? 1 : 0;
+            of_connection += session->opened_by() == owner ? 1 : 0;
+        }
+    }
+    const auto refuse = [](const std::string& who, int maximum) {
         return base::make_error("too_many_sessions",
-                                "the server already holds its maximum of " +
-                                        std::to_string(max_sessions_) + " sessions",
+                                who + " already holds its maximum of " + std::to_string(maximum) +
+                                        " sessions",
                                 "/volume");
+    };
+    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+        return refuse("the server", max_sessions_);
+    }
+    if (of_client >= max_per_client_) {
+        return refuse("this client (" + client + ")", max_per_client_);
+    }
+    if (of_connection >= max_per_connection_) {
+        return refuse("this connection", max_per_connection_);
     }
     auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
-                                             std::move(volume), std::move(state), owner);
+                                             std::move(volume), std::move(state), owner, client);
     sessions_.emplace(session->id(), session);
     return session;
 }

@@ -30,6 +30,11 @@ struct ServerConfig {
     // thus leaves its session (and an owner's resume works) within interval + timeout.
     std::chrono::milliseconds ping_interval = std::chrono::seconds(15);
     std::chrono::milliseconds ping_timeout = std::chrono::seconds(15);
+    // Where a client's address comes from for per-client limits and fair shares: the remote
+    // address of its connection, or, behind a proxy that sets it (X-Real-IP, X-Forwarded-For),
+    // this request header of the WebSocket upgrade. Only for a proxy that overwrites the header:
+    // clients could otherwise name themselves.
+    std::string client_address_header;
 };
 
 // What the server serves; owned by the caller and outliving the server.

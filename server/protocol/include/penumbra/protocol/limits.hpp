@@ -12,6 +12,10 @@ struct Limits {
     int max_slices = 1024;
     int max_light_resolution = 1024;
     int max_sessions = 64;
+    // Sessions one client may hold: opened by one remote address (behind a proxy, the address
+    // its header names), and opened by one connection and still running.
+    int max_sessions_per_client = 16;
+    int max_sessions_per_connection = 4;
     double max_requests_per_second = 120.0;  // per connection, averaged over one second
     int max_send_queue = 4;                  // frames waiting per connection before dropping
 };

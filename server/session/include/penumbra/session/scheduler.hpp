@@ -37,6 +37,9 @@ struct RenderJob {
     bool interactive = false;
     std::string quality;  // how the request was reduced, for the frame header
     Clock::time_point submitted = Clock::now();
+    // Who asked (a remote address): render time is shared among clients first, then among the
+    // sessions of each client, so opening many sessions buys a client no larger share.
+    std::string client;
 };
 
 struct EncodedFrame {
@@ -67,7 +70,8 @@ struct SchedulerOptions {
 
 // One render thread owns the renderer (and so the GL context) for all sessions. Each session
 // has at most one pending job: a newer one replaces an unrendered older one (latest wins).
-// Sessions with pending jobs are served round-robin, so a busy session cannot starve others.
+// Clients with pending jobs are served round-robin, and the sessions of one client round-robin
+// in turn, so neither a busy session nor a client with many sessions can starve others.
 // Encoding runs on a pool of worker threads, overlapping the next render.
 class Scheduler {
 public:
@@ -107,12 +111,16 @@ private:
         FrameCallback done;
     };
 
+    // Takes `session` out of its client's turn (under mutex_).
+    void unqueue(const std::string& session, const std::string& client);
+
     SchedulerOptions options_;
     render::RendererInfo renderer_info_;
     mutable std::mutex mutex_;
     std::condition_variable work_ready_;
-    std::map<std::string, Pending> pending_;
-    std::deque<std::string> order_;  // sessions with a pending job, in the order they are served
+    std::map<std::string, Pending> pending_;  // by session
+    std::deque<std::string> clients_;         // clients with a pending job, in serving order
+    std::map<std::string, std::deque<std::string>> sessions_of_;  // a client's sessions, in order
     bool stopping_ = false;
 
     std::mutex encode_mutex_;
