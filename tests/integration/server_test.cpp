@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -708,6 +709,74 @@ TEST_F(ServerTest, ManySessionsOfOneClientDoNotRaiseAnotherClientsQueueing) {
     // most the frame in progress and one more.
     EXPECT_LT(queued_ms, 4.0 * frame_ms + 20.0)
             << "median queued " << queued_ms << " ms, median hog frame " << frame_ms << " ms";
+}
+
+// A counter's value in /metrics (-1 when absent).
+double metric(unsigned short port, const std::string& name) {
+    auto metrics = net::http_get("127.0.0.1", port, "/metrics");
+    if (!metrics.ok()) {
+        return -1.0;
+    }
+    const auto at = metrics->body.find("\n" + name + " ");
+    return at == std::string::npos ? -1.0
+                                   : std::stod(metrics->body.substr(at + name.size() + 2));
+}
+
+// Floods of bad text and of binary messages: each message is counted, binary ones take from the
+// same allowance as text, and penumbra_errors_total counts exactly the error messages sent.
+TEST_F(ServerTest, CountersCountWhatWasSentAndBinaryFloodsAreRateLimited) {
+    protocol::Limits limits;
+    limits.max_requests_per_second = 20;
+    start(limits);
+    TestClient client(port_);
+    const auto drain = [&](int sentinel) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+        client.send(R"({"v":1,"type":"list_volumes","id":)" + std::to_string(sentinel) + "}");
+        std::map<std::string, int> codes;
+        while (true) {
+            const std::string reply = client.next_text(std::chrono::seconds(10));
+            if (reply.empty() || field(reply, "type") == "volumes") {
+                return codes;
+            }
+            ++codes[field(reply, "code")];
+        }
+    };
+    for (int i = 0; i < 200; ++i) {
+        client.send(R"({"v":1,"type":"teleport"})");
+    }
+    auto text_codes = drain(1);
+    int text_errors = 0;
+    for (const auto& [code, count] : text_codes) {
+        text_errors += count;
+    }
+    EXPECT_GT(text_codes["unknown_type"], 0);
+    EXPECT_GT(text_codes["rate_limited"], 0);
+    EXPECT_EQ(metric(port_, "penumbra_errors_total"), text_errors)
+            << "errors sent: " << text_errors;
+    EXPECT_EQ(metric(port_, "penumbra_messages_total"), 201);
+
+    for (int i = 0; i < 200; ++i) {
+        ASSERT_TRUE(client.raw().send_binary(std::vector<std::uint8_t>{1, 2, 3}).ok());
+    }
+    auto binary_codes = drain(2);
+    int binary_errors = 0;
+    for (const auto& [code, count] : binary_codes) {
+        binary_errors += count;
+    }
+    EXPECT_LE(binary_codes["invalid_message"], 25) << "the allowance, plus what refilled";
+    EXPECT_GT(binary_codes["rate_limited"], 0);
+    EXPECT_EQ(metric(port_, "penumbra_errors_total"), text_errors + binary_errors);
+    EXPECT_EQ(metric(port_, "penumbra_messages_total"), 402);
+}
+
+TEST_F(ServerTest, ErrorsNameFilesRelativeToTheDataFolder) {
+    TestClient client(port_);
+    const std::string reply =
+            client.request(R"({"v":1,"type":"open","id":1,"volume":"broken_4x4x4_uint8.raw"})");
+    EXPECT_EQ(field(reply, "code"), "volume_unreadable") << reply;
+    EXPECT_NE(field(reply, "message").find("broken_4x4x4_uint8.raw"), std::string::npos) << reply;
+    EXPECT_EQ(reply.find(data_.string()), std::string::npos) << reply;
+    EXPECT_EQ(reply.find(fs::temp_directory_path().string()), std::string::npos) << reply;
 }
 
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {

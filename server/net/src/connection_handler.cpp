@@ -116,11 +116,14 @@ void ConnectionHandler::send(std::string text) {
 }
 
 void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
-    context_.errors.add();
     if (dropped_replies_ >= max_unanswered_errors) {
         return;
     }
-    send(protocol::error_message(id, error));
+    // A client learns where a file is inside the data folder, never where the folder is.
+    const session::VolumeStore& volumes = context_.services.volumes;
+    send(protocol::error_message(id, base::Error{error.code, volumes.relative_paths(error.message),
+                                                 volumes.relative_paths(error.where)}));
+    context_.errors.add();
 }
 
 bool ConnectionHandler::take_token() {
@@ -149,21 +152,30 @@ void ConnectionHandler::on_open() {
                                  {info.renderer, info.version, info.platform}, modes));
 }
 
-void ConnectionHandler::on_binary() {
-    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
-                                               "clients send text (JSON) messages only", "/"));
-}
-
-void ConnectionHandler::on_text(std::string_view text) {
+bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
     context_.messages.add();
-    if (!take_token()) {
-        reply_error(protocol::request_id_of(text),
-                    base::make_error(protocol::code::rate_limited,
+    if (take_token()) {
+        return true;
+    }
+    reply_error(id, base::make_error(protocol::code::rate_limited,
                                      "more than " +
                                              std::to_string(static_cast<int>(
                                                      context_.config.limits.max_requests_per_second)) +
                                              " requests per second",
                                      "/"));
+    return false;
+}
+
+void ConnectionHandler::on_binary() {
+    if (!admit(std::nullopt)) {
+        return;
+    }
+    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
+                                               "clients send text (JSON) messages only", "/"));
+}
+
+void ConnectionHandler::on_text(std::string_view text) {
+    if (!admit(protocol::request_id_of(text))) {
         return;
     }
     auto request = protocol::parse_request(text, context_.config.limits);
@@ -208,10 +220,13 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
             if (code == "superseded" || code == "shutting_down") {
                 return;  // a newer frame answers, or nobody will
             }
-            context->errors.add();
             connection->send_text(protocol::error_message(
-                    std::nullopt, base::make_error(protocol::code::render_failed,
-                                                   r.error().to_string(), "/")));
+                    std::nullopt,
+                    base::make_error(protocol::code::render_failed,
+                                     context->services.volumes.relative_paths(
+                                             r.error().to_string()),
+                                     "/")));
+            context->errors.add();
             return;
         }
         const session::EncodedFrame& frame = **r;

@@ -38,6 +38,9 @@ private:
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
     void send(std::string text);
     bool take_token();
+    // Counts a message and takes a token for it; without one, answers rate_limited (while the
+    // client still reads answers) and returns false.
+    bool admit(std::optional<std::int64_t> id);
     void leave_session();
     // What brings `session`'s frames, and the states its owner sets, to this connection.
     struct Sinks {
