@@ -189,9 +189,10 @@ int run_serve(const std::vector<std::string>& args) {
             args,
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
-             "default-tf", "quality-table", "ping-interval", "ping-timeout",
-             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header"},
+             "max-message-bytes", "max-requests-per-second", "max-frame-work",
+             "volume-memory-mb", "gpu-memory-mb", "light-buffer-memory-mb", "default-tf",
+             "quality-table", "ping-interval", "ping-timeout", "max-sessions-per-client",
+             "max-sessions-per-connection", "client-address-header"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -220,8 +221,14 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --max-light-res N          (default 1024)\n"
                 "  --max-message-bytes N      (default 65536)\n"
                 "  --max-requests-per-second R  per connection (default 120)\n"
+                "  --max-frame-work W         shader iterations one frame may ask for: pixels x\n"
+                "                             samples per ray x the mode's cost per sample, plus\n"
+                "                             light-buffer texels x slices x slab samples\n"
+                "                             (default 1e11); larger frames are refused\n"
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
+                "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
+                "                             refused (default 1024)\n"
                 "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
                 "                             is pinged (default 15)\n"
                 "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
@@ -268,6 +275,7 @@ int run_serve(const std::vector<std::string>& args) {
     int encode_threads = 2;
     int volume_memory_mb = 4096;
     int gpu_memory_mb = 2048;
+    int light_buffer_memory_mb = 1024;
     int max_message_bytes = static_cast<int>(limits.max_message_bytes);
     const IntegerOption integers[] = {
             {"port", &port, 0, 65535},
@@ -282,6 +290,7 @@ int run_serve(const std::vector<std::string>& args) {
             {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
             {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
             {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
+            {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
     };
     for (const auto& option : integers) {
         auto value = a.integer(option.name, *option.target);
@@ -303,6 +312,13 @@ int run_serve(const std::vector<std::string>& args) {
                                              "--max-requests-per-second"));
     }
     limits.max_requests_per_second = *rate;
+    auto frame_work = a.number("max-frame-work", limits.max_frame_work);
+    if (!frame_work || !(*frame_work >= 1e6)) {
+        return fail(!frame_work ? frame_work.error()
+                                : base::make_error("invalid_argument", "must be at least 1e6",
+                                                   "--max-frame-work"));
+    }
+    limits.max_frame_work = *frame_work;
     for (const auto& [name, target] :
          {std::pair{"ping-interval", &config.ping_interval}, {"ping-timeout", &config.ping_timeout}}) {
         const double fallback = std::chrono::duration<double>(*target).count();
@@ -324,19 +340,22 @@ int run_serve(const std::vector<std::string>& args) {
     std::printf("data:     %s (%zu volumes)\n", data.c_str(), volumes.list().size());
 
     metrics::Registry registry;
-    const bool debug_gl = a.has("debug-gl");
-    const std::size_t gpu_budget = static_cast<std::size_t>(gpu_memory_mb) << 20;
+    const render::RendererOptions renderer_options{
+            .shader_dir = {},
+            .debug_context = a.has("debug-gl"),
+            .volume_memory_budget = static_cast<std::size_t>(gpu_memory_mb) << 20,
+            .light_buffer_memory_budget = static_cast<std::size_t>(light_buffer_memory_mb) << 20,
+            .max_frame_work = limits.max_frame_work,
+            .chunk_work = 0.0};
     // The start-up table is measured in the factory, on the render thread with the renderer that
     // will serve: a GL context is current on one thread only, and a second one would cost another
     // context (and its eglTerminate could pull the display from under the first). The scheduler
     // takes no work, and the server accepts no connection, until the factory returns.
     StartupMeasurement measured;
     auto scheduler = session::Scheduler::create(
-            [debug_gl, gpu_budget, measure, &volumes,
+            [renderer_options, measure, &volumes,
              &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
-                auto renderer = render::Renderer::create(
-                        {.shader_dir = {}, .debug_context = debug_gl,
-                         .volume_memory_budget = gpu_budget});
+                auto renderer = render::Renderer::create(renderer_options);
                 if (!renderer) {
                     return renderer.error();
                 }

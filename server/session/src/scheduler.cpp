@@ -97,6 +97,9 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
             done(base::make_error("shutting_down", "the server is shutting down", "render"));
             return;
         }
+        if (in_flight_.session == session) {
+            in_flight_.superseded = true;
+        }
         auto found = pending_.find(session);
         if (found != pending_.end()) {
             replaced = std::move(found->second.done);
@@ -132,6 +135,9 @@ void Scheduler::cancel(const std::string& session) {
     FrameCallback dropped;
     {
         const std::lock_guard lock(mutex_);
+        if (in_flight_.session == session) {
+            in_flight_.closed = true;
+        }
         auto found = pending_.find(session);
         if (found == pending_.end()) {
             return;
@@ -195,8 +201,13 @@ void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>&
             next = std::move(found->second);
             pending_.erase(found);
             queue_depth_.set(static_cast<double>(pending_.size()));
+            in_flight_ = {session, Clock::now()};
         }
         render_one(*renderer, std::move(next.job), std::move(next.done));
+        {
+            const std::lock_guard lock(mutex_);
+            in_flight_ = {};
+        }
         gpu_bytes_.set(static_cast<double>(renderer->gpu_bytes_held()));
     }
     // The renderer (and its GL context) is destroyed on the thread that created it.
@@ -212,7 +223,26 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(status.error());
         return;
     }
-    auto rendered = renderer.render(job.request);
+    auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
+    if (!rendered && rendered.error().code == "cancelled") {
+        bool shutting_down = false;
+        bool closed = false;
+        {
+            const std::lock_guard lock(mutex_);
+            shutting_down = stopping_;
+            closed = in_flight_.closed;
+        }
+        if (shutting_down) {
+            done(base::make_error("shutting_down", "the server is shutting down", "render"));
+        } else {
+            superseded_.add();
+            done(base::make_error(
+                    "superseded",
+                    closed ? "the session was closed" : "a newer render request replaced this one",
+                    "render"));
+        }
+        return;
+    }
     if (!rendered) {
         failures_.add();
         done(rendered.error());
@@ -261,6 +291,13 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         });
     }
     encode_ready_.notify_one();
+}
+
+bool Scheduler::in_flight_cancelled() const {
+    const std::lock_guard lock(mutex_);
+    return stopping_ || in_flight_.closed ||
+           (in_flight_.superseded &&
+            Clock::now() - in_flight_.started >= options_.supersede_running_after);
 }
 
 void Scheduler::encode_loop() {
