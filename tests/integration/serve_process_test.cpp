@@ -223,5 +223,45 @@ TEST_F(ServeProcessTest, OutOfDescriptorsTheListenerBacksOffLogsRarelyAndServesA
     EXPECT_EQ(status, 200) << server.log().substr(0, 2000);
 }
 
+// SIGTERM while a frame that takes minutes renders: the server cancels it between two of its
+// chunks, closes its connections, joins its threads and exits 0, all within about two seconds.
+TEST_F(ServeProcessTest, SigtermStopsALongRenderAndExitsCleanlyWithinTwoSeconds) {
+    // A ceiling high enough to admit the frame below (about a minute on llvmpipe).
+    ServeProcess server(dir_ / "data", dir_ / "serve.log", {"--max-frame-work", "1e13"});
+    ASSERT_NE(server.port(), 0) << server.log();
+    auto client = net::Client::connect("127.0.0.1", server.port());
+    ASSERT_TRUE(client.ok()) << client.error().to_string();
+    auto& ws = **client;
+    ASSERT_TRUE(ws.receive().ok());  // hello
+    ASSERT_TRUE(ws.send_text(R"({"v":1,"type":"open","id":1,"volume":"ch2.nii.gz"})").ok());
+    auto opened = ws.receive();
+    ASSERT_TRUE(opened.ok() && opened->text.find("\"opened\"") != std::string::npos);
+    // Shadow rays from every sample at a fine step: minutes on a software rasteriser.
+    ASSERT_TRUE(ws.send_text(R"({"v":1,"type":"set","id":2,"settings":{"mode":"reference",)"
+                             R"("size":[512,512],"sample_distance":0.0009765625}})")
+                        .ok());
+    auto ack = ws.receive();
+    ASSERT_TRUE(ack.ok() && ack->text.find("\"ack\"") != std::string::npos) << ack->text;
+    ASSERT_TRUE(ws.send_text(R"({"v":1,"type":"render","id":3})").ok());
+    // Give the render thread time to take the frame and be well into it; it neither failed (was
+    // refused) nor finished.
+    std::this_thread::sleep_for(1500ms);
+    ASSERT_FALSE(server.exited());
+    auto metrics = net::http_get("127.0.0.1", server.port(), "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    ASSERT_NE(metrics->body.find("\npenumbra_render_failures_total 0\n"), std::string::npos)
+            << metrics->body;
+    ASSERT_NE(metrics->body.find("\npenumbra_frames_total 0\n"), std::string::npos);
+    const auto signalled = Clock::now();
+    ASSERT_EQ(::kill(server.pid(), SIGTERM), 0);
+    const auto status = server.wait_for_exit(5s);
+    const double seconds = std::chrono::duration<double>(Clock::now() - signalled).count();
+    ASSERT_TRUE(status.has_value()) << "still running 5 s after SIGTERM:\n" << server.log();
+    RecordProperty("exit_seconds", std::to_string(seconds));
+    EXPECT_TRUE(WIFEXITED(*status)) << server.log();
+    EXPECT_EQ(WEXITSTATUS(*status), 0) << server.log();
+    EXPECT_LT(seconds, 2.0) << server.log();
+}
+
 }  // namespace
 }  // namespace penumbra::integration
