@@ -540,11 +540,11 @@ TEST_F(ServerTest, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
 
 TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram) {
     using namespace std::chrono_literals;
-    // 256 x 256 x 384 uint16, 48 MiB: long enough a load to be seen from /healthz.
+    // 256 x 256 x 768 uint16, 96 MiB: long enough a load to be seen from /healthz.
     {
-        std::ofstream out(data_ / "large_256x256x384_uint16.raw", std::ios::binary);
+        std::ofstream out(data_ / "large_256x256x768_uint16.raw", std::ios::binary);
         std::vector<std::uint16_t> slice(256 * 256);
-        for (int z = 0; z < 384; ++z) {
+        for (int z = 0; z < 768; ++z) {
             for (std::size_t i = 0; i < slice.size(); ++i) {
                 slice[i] = static_cast<std::uint16_t>((i * 7 + static_cast<std::size_t>(z) * 13) % 4096);
             }
@@ -556,7 +556,7 @@ TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram
     start(protocol::Limits{}, [](net::ServerConfig& config) { config.io_threads = 1; });
     TestClient loader(port_);
     const auto sent = std::chrono::steady_clock::now();
-    loader.send(R"({"v":1,"type":"open","id":1,"volume":"large_256x256x384_uint16.raw"})");
+    loader.send(R"({"v":1,"type":"open","id":1,"volume":"large_256x256x768_uint16.raw"})");
     std::atomic<bool> opened{false};
     std::string reply;
     std::thread waiting([&] {
@@ -582,8 +582,9 @@ TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram
     RecordProperty("load_ms", std::to_string(load_ms));
     RecordProperty("slowest_healthz_ms",
                    std::to_string(*std::max_element(health_ms.begin(), health_ms.end())));
-    ASSERT_GE(health_ms.size(), 3U) << "the load (" << load_ms << " ms) was too quick to probe";
-    EXPECT_LT(*std::max_element(health_ms.begin(), health_ms.end()), 250.0)
+    // Were the load on the network thread, the first /healthz would wait for all of it.
+    EXPECT_GE(health_ms.size(), 3U) << "answers to /healthz during a " << load_ms << " ms load";
+    EXPECT_LT(*std::max_element(health_ms.begin(), health_ms.end()), std::max(100.0, load_ms / 2))
             << "slowest /healthz while a " << load_ms << " ms load ran";
     // The histogram came with the load; joining and resuming do not compute it again.
     EXPECT_EQ(volumes_->histograms_computed(), 1U);
