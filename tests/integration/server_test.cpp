@@ -57,7 +57,8 @@ class TestClient {
 public:
     // `from`: the local address, to play another client (any of 127.0.0.0/8 on Linux).
     explicit TestClient(unsigned short port, const std::string& from = {}) {
-        auto connected = net::Client::connect("127.0.0.1", port, "/ws", std::chrono::seconds(10), from);
+        auto connected =
+                net::Client::connect("127.0.0.1", port, "/ws", std::chrono::seconds(10), from);
         EXPECT_TRUE(connected.ok()) << connected.error().to_string();
         client_ = std::move(connected.value());
         hello = next_text();
@@ -546,7 +547,8 @@ TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram
         std::vector<std::uint16_t> slice(256 * 256);
         for (int z = 0; z < 768; ++z) {
             for (std::size_t i = 0; i < slice.size(); ++i) {
-                slice[i] = static_cast<std::uint16_t>((i * 7 + static_cast<std::size_t>(z) * 13) % 4096);
+                const std::size_t value = i * 7 + static_cast<std::size_t>(z) * 13;
+                slice[i] = static_cast<std::uint16_t>(value % 4096);
             }
             out.write(reinterpret_cast<const char*>(slice.data()),
                       static_cast<std::streamsize>(slice.size() * sizeof(std::uint16_t)));

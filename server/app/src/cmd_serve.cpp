@@ -213,9 +213,10 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --max-sessions N           (default 64)\n"
                 "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
                 "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
-                "  --client-address-header H  behind a proxy: the request header naming the client\n"
-                "                             (X-Real-IP, X-Forwarded-For), for per-client limits\n"
-                "                             and fair render shares; default: the peer address\n"
+                "  --client-address-header H  behind a proxy: the request header naming the\n"
+                "                             client (X-Real-IP, X-Forwarded-For), for per-client\n"
+                "                             limits and fair render shares; default: the peer's\n"
+                "                             address\n"
                 "  --max-image-side N         (default 2048)\n"
                 "  --max-slices N             (default 1024)\n"
                 "  --max-light-res N          (default 1024)\n"
@@ -319,8 +320,8 @@ int run_serve(const std::vector<std::string>& args) {
                                                    "--max-frame-work"));
     }
     limits.max_frame_work = *frame_work;
-    for (const auto& [name, target] :
-         {std::pair{"ping-interval", &config.ping_interval}, {"ping-timeout", &config.ping_timeout}}) {
+    for (const auto& [name, target] : {std::pair{"ping-interval", &config.ping_interval},
+                                       {"ping-timeout", &config.ping_timeout}}) {
         const double fallback = std::chrono::duration<double>(*target).count();
         auto seconds = a.number(name, fallback);
         if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {

@@ -252,8 +252,9 @@ void ConnectionHandler::leave_session() {
 
 void ConnectionHandler::on_close() { leave_session(); }
 
-void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
-                                    const base::Result<std::shared_ptr<const volume::Volume>>& volume) {
+void ConnectionHandler::finish_open(
+        std::optional<std::int64_t> id, const std::string& volume_id,
+        const base::Result<std::shared_ptr<const volume::Volume>>& volume) {
     busy_ = false;
     if (!volume) {
         base::Error error = volume.error();

@@ -126,10 +126,10 @@ private:
     std::atomic<std::uint64_t> frames_{0};
 };
 
-// All sessions of a server, by id, up to a limit in all, per client and per connection. A session is in the registry exactly while it
-// has viewers: entering one (join, resume) and leaving one happen under the registry's lock, so a
-// connection joining while the last one leaves either joins before the session ends or finds
-// no session, never an ended one.
+// All sessions of a server, by id, up to a limit in all, per client and per connection. A session
+// is in the registry exactly while it has viewers: entering one (join, resume) and leaving one
+// happen under the registry's lock, so a connection joining while the last one leaves either
+// joins before the session ends or finds no session, never an ended one.
 class SessionRegistry {
 public:
     explicit SessionRegistry(int max_sessions, int max_per_client = 1 << 30,
