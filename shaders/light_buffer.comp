@@ -2,7 +2,8 @@
 // ray from the light through all n slice planes, storing the transmittance that reaches each
 // plane before attenuating it by that slice. Only the slices whose crossing lies in the box are
 // sampled: outside it a slice passes the light unchanged, and the light view's corners see
-// nothing of the volume at all.
+// nothing of the volume at all. A large buffer is filled in tiles of texels starting at
+// `texel_origin`, so that its build can be cancelled between them.
 #include "include/uniforms.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
@@ -12,10 +13,11 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, r16f) uniform writeonly image2DArray light_layers;
+layout(location = 0) uniform ivec2 texel_origin;
 
 void main() {
     int resolution = int(u.light_buffer_info.x);
-    ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 texel = texel_origin + ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(texel, ivec2(resolution)))) return;
     vec2 ndc = (vec2(texel) + 0.5) / float(resolution) * 2.0 - 1.0;
     vec4 near_point = u.light_inverse_view_projection * vec4(ndc, -1.0, 1.0);

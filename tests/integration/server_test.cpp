@@ -13,8 +13,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -50,8 +55,10 @@ std::string field(const std::string& text, const std::string& name) {
 
 class TestClient {
 public:
-    explicit TestClient(unsigned short port) {
-        auto connected = net::Client::connect("127.0.0.1", port);
+    // `from`: the local address, to play another client (any of 127.0.0.0/8 on Linux).
+    explicit TestClient(unsigned short port, const std::string& from = {}) {
+        auto connected =
+                net::Client::connect("127.0.0.1", port, "/ws", std::chrono::seconds(10), from);
         EXPECT_TRUE(connected.ok()) << connected.error().to_string();
         client_ = std::move(connected.value());
         hello = next_text();
@@ -150,7 +157,9 @@ protected:
         start(protocol::Limits{});
     }
 
-    void start(protocol::Limits limits) {
+    // `configure` adjusts the rest of the server's configuration (pings, per-client limits).
+    void start(protocol::Limits limits,
+               const std::function<void(net::ServerConfig&)>& configure = {}) {
         server_.reset();
         scheduler_.reset();
         volumes_ = std::make_unique<session::VolumeStore>(data_, std::size_t{1} << 30);
@@ -167,7 +176,9 @@ protected:
                 {}, *metrics_);
         ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
         scheduler_ = std::move(scheduler.value());
-        sessions_ = std::make_unique<session::SessionRegistry>(limits.max_sessions);
+        sessions_ = std::make_unique<session::SessionRegistry>(
+                limits.max_sessions, limits.max_sessions_per_client,
+                limits.max_sessions_per_connection);
         net::ServerConfig config;
         config.port = 0;
         config.limits = limits;
@@ -177,6 +188,9 @@ protected:
                         {scene::Mode::phong, 0, 0, 1.0 / 256, 20.0, 18.0, 64, 64},
                         {scene::Mode::sbrc, 32, 64, 1.0 / 256, 40.0, 24.0, 64, 64},
                         {scene::Mode::reference, 0, 0, 1.0 / 256, 400.0, 99.0, 64, 64}});
+        if (configure) {
+            configure(config);
+        }
         auto server = net::Server::start(config, {*volumes_, *sessions_, *scheduler_, *metrics_});
         ASSERT_TRUE(server.ok()) << server.error().to_string();
         server_ = std::move(server.value());
@@ -439,6 +453,333 @@ TEST_F(ServerTest, ViewersKeepASessionWhoseOwnerDroppedAndTheOwnerTokenResumesIt
     resumed.raw().close();
     const std::string ended = resume_once_unowned(other, session, token);
     EXPECT_EQ(field(ended, "code"), "unknown_session") << ended;
+}
+
+TEST_F(ServerTest, AFrozenOwnerIsDroppedWithinPingIntervalPlusTimeoutAndItsTokenResumes) {
+    using namespace std::chrono_literals;
+    constexpr auto interval = 500ms;
+    constexpr auto timeout = 500ms;
+    start(protocol::Limits{}, [&](net::ServerConfig& config) {
+        config.ping_interval = interval;
+        config.ping_timeout = timeout;
+    });
+    auto frozen = std::make_unique<TestClient>(port_);
+    const auto opened = nlohmann::json::parse(frozen->open("heads/ch2.nii.gz", 32));
+    const std::string session = frozen->session;
+    const std::string token = opened.at("owner_token");
+    // A viewer that waits in a read all along, and so answers every ping, keeps the session.
+    TestClient viewer(port_);
+    ASSERT_EQ(field(viewer.request(R"({"v":1,"type":"join","id":3,"session":")" + session + "\"}"),
+                    "type"),
+              "joined");
+    std::int64_t viewer_got = -1;
+    std::thread viewer_waits([&] { viewer_got = viewer.next_frame(30s).header.request; });
+    // From now on the owner reads nothing, so it answers no ping: as if its process froze or its
+    // network vanished without a FIN.
+    const auto frozen_at = std::chrono::steady_clock::now();
+    TestClient other(port_);
+    std::string answer;
+    for (int i = 0; i < 100; ++i) {
+        answer = other.request(resume_request(session, token, 100 + i));
+        if (field(answer, "code") != "session_owned") {
+            break;
+        }
+        std::this_thread::sleep_for(50ms);
+    }
+    const auto noticed_after = std::chrono::steady_clock::now() - frozen_at;
+    EXPECT_EQ(field(answer, "type"), "opened") << answer.substr(0, 300);
+    EXPECT_EQ(field(answer, "session"), session);
+    EXPECT_LE(noticed_after, interval + timeout + 1s)
+            << std::chrono::duration<double>(noticed_after).count() << " s";
+    // Longer than interval + timeout once more: neither the viewer, answering pings, nor the
+    // owner, sending requests, is dropped.
+    for (const auto until = std::chrono::steady_clock::now() + interval + timeout + 500ms;
+         std::chrono::steady_clock::now() < until;) {
+        ASSERT_EQ(field(other.request(R"({"v":1,"type":"stats"})"), "type"), "stats");
+        std::this_thread::sleep_for(100ms);
+    }
+    other.send(R"({"v":1,"type":"render","id":7})");
+    EXPECT_EQ(other.next_frame().header.request, 7);
+    viewer_waits.join();
+    EXPECT_EQ(viewer_got, 7);
+    auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_NE(metrics->body.find("penumbra_connections_timed_out_total 1\n"), std::string::npos)
+            << metrics->body;
+}
+
+// Each race: a session's only connection closes it while another connection joins it. Whichever
+// wins, the joiner is in a session the server still holds, or was refused; never in an ended
+// session outside the registry.
+TEST_F(ServerTest, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
+    TestClient joiner(port_);
+    int joined = 0;
+    int refused = 0;
+    for (int race = 0; race < 40; ++race) {
+        SCOPED_TRACE(race);
+        TestClient owner(port_);
+        owner.open("heads/ch2.nii.gz", 32);
+        const std::string session = owner.session;
+        std::thread closing([&] { owner.send(R"({"v":1,"type":"close","id":1})"); });
+        joiner.send(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}");
+        closing.join();
+        EXPECT_EQ(field(owner.next_text(), "type"), "ack");
+        const std::string reply = joiner.next_text();
+        if (field(reply, "type") == "joined") {
+            ++joined;
+            EXPECT_NE(sessions_->find(session), nullptr) << "joined a session the server lost";
+            EXPECT_EQ(sessions_->count(), 1U);
+            EXPECT_EQ(field(joiner.request(R"({"v":1,"type":"close","id":3})"), "type"), "ack");
+        } else {
+            ++refused;
+            EXPECT_EQ(field(reply, "code"), "unknown_session") << reply;
+        }
+        EXPECT_EQ(sessions_->count(), 0U);
+    }
+    EXPECT_EQ(joined + refused, 40);
+}
+
+TEST_F(ServerTest, HealthzAnswersWhileALargeVolumeLoadsAndJoinsReuseItsHistogram) {
+    using namespace std::chrono_literals;
+    // 256 x 256 x 768 uint16, 96 MiB: long enough a load to be seen from /healthz.
+    {
+        std::ofstream out(data_ / "large_256x256x768_uint16.raw", std::ios::binary);
+        std::vector<std::uint16_t> slice(256 * 256);
+        for (int z = 0; z < 768; ++z) {
+            for (std::size_t i = 0; i < slice.size(); ++i) {
+                const std::size_t value = i * 7 + static_cast<std::size_t>(z) * 13;
+                slice[i] = static_cast<std::uint16_t>(value % 4096);
+            }
+            out.write(reinterpret_cast<const char*>(slice.data()),
+                      static_cast<std::streamsize>(slice.size() * sizeof(std::uint16_t)));
+        }
+    }
+    // One network thread: a load on it would stall every other connection.
+    start(protocol::Limits{}, [](net::ServerConfig& config) { config.io_threads = 1; });
+    TestClient loader(port_);
+    const auto sent = std::chrono::steady_clock::now();
+    loader.send(R"({"v":1,"type":"open","id":1,"volume":"large_256x256x768_uint16.raw"})");
+    std::atomic<bool> opened{false};
+    std::string reply;
+    std::thread waiting([&] {
+        reply = loader.next_text(60s);
+        opened = true;
+    });
+    std::vector<double> health_ms;
+    while (!opened) {
+        const auto asked = std::chrono::steady_clock::now();
+        auto health = net::http_get("127.0.0.1", port_, "/healthz", 30s);
+        health_ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked)
+                        .count());
+        ASSERT_TRUE(health.ok());
+        EXPECT_EQ(health->status, 200);
+        std::this_thread::sleep_for(10ms);
+    }
+    waiting.join();
+    const double load_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent)
+                    .count();
+    ASSERT_EQ(field(reply, "type"), "opened") << reply.substr(0, 300);
+    RecordProperty("load_ms", std::to_string(load_ms));
+    RecordProperty("slowest_healthz_ms",
+                   std::to_string(*std::max_element(health_ms.begin(), health_ms.end())));
+    // Were the load on the network thread, the first /healthz would wait for all of it.
+    EXPECT_GE(health_ms.size(), 3U) << "answers to /healthz during a " << load_ms << " ms load";
+    EXPECT_LT(*std::max_element(health_ms.begin(), health_ms.end()), std::max(100.0, load_ms / 2))
+            << "slowest /healthz while a " << load_ms << " ms load ran";
+    // The histogram came with the load; joining and resuming do not compute it again.
+    EXPECT_EQ(volumes_->histograms_computed(), 1U);
+    const std::string session = field(reply, "session");
+    const std::string token = nlohmann::json::parse(reply).at("owner_token");
+    for (int i = 0; i < 3; ++i) {
+        TestClient viewer(port_);
+        const auto joined = nlohmann::json::parse(
+                viewer.request(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}"));
+        ASSERT_EQ(joined.at("type"), "joined");
+        EXPECT_EQ(joined.at("histogram"), nlohmann::json::parse(reply).at("histogram"));
+    }
+    TestClient keeper(port_);
+    EXPECT_EQ(field(keeper.request(R"({"v":1,"type":"join","id":2,"session":")" + session + "\"}"),
+                    "type"),
+              "joined");
+    loader.raw().close();
+    TestClient resumer(port_);
+    EXPECT_EQ(field(resume_once_unowned(resumer, session, token), "type"), "opened");
+    EXPECT_EQ(volumes_->histograms_computed(), 1U);
+}
+
+TEST_F(ServerTest, OneClientCannotTakeEverySessionNorOneConnectionPileThemUp) {
+    protocol::Limits limits;
+    limits.max_sessions = 10;
+    limits.max_sessions_per_client = 3;
+    limits.max_sessions_per_connection = 2;
+    start(limits);
+    const std::string hello = TestClient(port_).hello;
+    EXPECT_EQ(nlohmann::json::parse(hello).at("limits").at("max_sessions_per_client"), 3) << hello;
+    EXPECT_EQ(nlohmann::json::parse(hello).at("limits").at("max_sessions_per_connection"), 2);
+    // One address opens sessions from many connections until its share is reached.
+    std::vector<std::unique_ptr<TestClient>> hog;
+    for (int i = 0; i < 3; ++i) {
+        hog.push_back(std::make_unique<TestClient>(port_, "127.0.0.2"));
+        hog.back()->open("heads/ch2.nii.gz", 32);
+    }
+    TestClient one_more(port_, "127.0.0.2");
+    const std::string refused =
+            one_more.request(R"({"v":1,"type":"open","id":1,"volume":"heads/ch2.nii.gz"})");
+    EXPECT_EQ(field(refused, "code"), "too_many_sessions") << refused;
+    EXPECT_EQ(field(refused, "field"), "/volume") << refused;
+    // Another address still gets sessions.
+    TestClient newcomer(port_, "127.0.0.3");
+    newcomer.open("heads/ch2.nii.gz", 32);
+    newcomer.send(R"({"v":1,"type":"render","id":5})");
+    EXPECT_EQ(newcomer.next_frame().header.request, 5);
+
+    // One connection opening session after session, each kept running by a viewer, holds at most
+    // its maximum (the one it leaves for the next is not counted against it).
+    TestClient opener(port_, "127.0.0.4");
+    std::vector<std::unique_ptr<TestClient>> keepers;
+    std::string last;
+    for (int i = 0; i < 4; ++i) {
+        last = opener.request(R"({"v":1,"type":"open","id":1,"volume":"heads/ch2.nii.gz"})");
+        if (field(last, "type") != "opened") {
+            break;
+        }
+        keepers.push_back(std::make_unique<TestClient>(port_, "127.0.0.5"));
+        ASSERT_EQ(field(keepers.back()->request(R"({"v":1,"type":"join","id":2,"session":")" +
+                                                field(last, "session") + "\"}"),
+                        "type"),
+                  "joined");
+    }
+    EXPECT_EQ(field(last, "code"), "too_many_sessions") << last;
+    EXPECT_EQ(keepers.size(), 3U) << "two running, plus the one it was leaving";
+}
+
+// One client with many sessions asks for frames as fast as it can; another asks for one frame
+// at a time. Render time is shared per client, so the second waits for at most about one frame
+// of the first, not one frame of each of its sessions. Queueing is read from the frame headers.
+TEST_F(ServerTest, ManySessionsOfOneClientDoNotRaiseAnotherClientsQueueing) {
+    protocol::Limits limits;
+    limits.max_sessions_per_client = 32;
+    start(limits);
+    constexpr int hog_sessions = 20;
+    std::vector<std::unique_ptr<TestClient>> hog;
+    for (int i = 0; i < hog_sessions; ++i) {
+        hog.push_back(std::make_unique<TestClient>(port_, "127.0.0.2"));
+        hog.back()->open("heads/ch2.nii.gz", 64);
+    }
+    TestClient polite(port_, "127.0.0.3");
+    polite.open("heads/ch2.nii.gz", 64);
+    std::atomic<bool> done{false};
+    std::vector<double> hog_render_ms;
+    std::mutex hog_mutex;
+    std::vector<std::thread> hogging;
+    for (auto& client : hog) {
+        hogging.emplace_back([&, c = client.get()] {
+            // Always one request waiting: the next is sent when a frame arrives.
+            c->send(R"({"v":1,"type":"render"})");
+            while (!done) {
+                const auto frame = c->next_frame(std::chrono::seconds(60));
+                {
+                    const std::lock_guard lock(hog_mutex);
+                    hog_render_ms.push_back(frame.header.render_ms + frame.header.readback_ms);
+                }
+                c->send(R"({"v":1,"type":"render"})");
+            }
+        });
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::vector<double> polite_queued_ms;
+    for (int i = 0; i < 8; ++i) {
+        polite.send(R"({"v":1,"type":"render","id":)" + std::to_string(i) + "}");
+        const auto frame = polite.next_frame(std::chrono::seconds(60));
+        EXPECT_EQ(frame.header.request, i);
+        polite_queued_ms.push_back(frame.header.queued_ms);
+    }
+    done = true;
+    for (auto& thread : hogging) {
+        thread.join();
+    }
+    const auto median = [](std::vector<double> values) {
+        std::sort(values.begin(), values.end());
+        return values[values.size() / 2];
+    };
+    const double frame_ms = median(hog_render_ms);
+    const double queued_ms = median(polite_queued_ms);
+    RecordProperty("hog_frame_ms", std::to_string(frame_ms));
+    RecordProperty("polite_queued_ms", std::to_string(queued_ms));
+    // Served in the hog's turn order it would wait ~20 frames; in the clients' turn order at
+    // most the frame in progress and one more.
+    EXPECT_LT(queued_ms, 4.0 * frame_ms + 20.0)
+            << "median queued " << queued_ms << " ms, median hog frame " << frame_ms << " ms";
+}
+
+// A counter's value in /metrics (-1 when absent).
+double metric(unsigned short port, const std::string& name) {
+    auto metrics = net::http_get("127.0.0.1", port, "/metrics");
+    if (!metrics.ok()) {
+        return -1.0;
+    }
+    const auto at = metrics->body.find("\n" + name + " ");
+    return at == std::string::npos ? -1.0
+                                   : std::stod(metrics->body.substr(at + name.size() + 2));
+}
+
+// Floods of bad text and of binary messages: each message is counted, binary ones take from the
+// same allowance as text, and penumbra_errors_total counts exactly the error messages sent.
+TEST_F(ServerTest, CountersCountWhatWasSentAndBinaryFloodsAreRateLimited) {
+    protocol::Limits limits;
+    limits.max_requests_per_second = 20;
+    start(limits);
+    TestClient client(port_);
+    const auto drain = [&](int sentinel) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+        client.send(R"({"v":1,"type":"list_volumes","id":)" + std::to_string(sentinel) + "}");
+        std::map<std::string, int> codes;
+        while (true) {
+            const std::string reply = client.next_text(std::chrono::seconds(10));
+            if (reply.empty() || field(reply, "type") == "volumes") {
+                return codes;
+            }
+            ++codes[field(reply, "code")];
+        }
+    };
+    for (int i = 0; i < 200; ++i) {
+        client.send(R"({"v":1,"type":"teleport"})");
+    }
+    auto text_codes = drain(1);
+    int text_errors = 0;
+    for (const auto& [code, count] : text_codes) {
+        text_errors += count;
+    }
+    EXPECT_GT(text_codes["unknown_type"], 0);
+    EXPECT_GT(text_codes["rate_limited"], 0);
+    EXPECT_EQ(metric(port_, "penumbra_errors_total"), text_errors)
+            << "errors sent: " << text_errors;
+    EXPECT_EQ(metric(port_, "penumbra_messages_total"), 201);
+
+    for (int i = 0; i < 200; ++i) {
+        ASSERT_TRUE(client.raw().send_binary(std::vector<std::uint8_t>{1, 2, 3}).ok());
+    }
+    auto binary_codes = drain(2);
+    int binary_errors = 0;
+    for (const auto& [code, count] : binary_codes) {
+        binary_errors += count;
+    }
+    EXPECT_LE(binary_codes["invalid_message"], 25) << "the allowance, plus what refilled";
+    EXPECT_GT(binary_codes["rate_limited"], 0);
+    EXPECT_EQ(metric(port_, "penumbra_errors_total"), text_errors + binary_errors);
+    EXPECT_EQ(metric(port_, "penumbra_messages_total"), 402);
+}
+
+TEST_F(ServerTest, ErrorsNameFilesRelativeToTheDataFolder) {
+    TestClient client(port_);
+    const std::string reply =
+            client.request(R"({"v":1,"type":"open","id":1,"volume":"broken_4x4x4_uint8.raw"})");
+    EXPECT_EQ(field(reply, "code"), "volume_unreadable") << reply;
+    EXPECT_NE(field(reply, "message").find("broken_4x4x4_uint8.raw"), std::string::npos) << reply;
+    EXPECT_EQ(reply.find(data_.string()), std::string::npos) << reply;
+    EXPECT_EQ(reply.find(fs::temp_directory_path().string()), std::string::npos) << reply;
 }
 
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {

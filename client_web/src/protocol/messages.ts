@@ -172,6 +172,8 @@ export interface Limits {
   max_slices: number;
   max_light_resolution: number;
   max_sessions: number;
+  max_sessions_per_client: number;
+  max_sessions_per_connection: number;
   max_requests_per_second: number;
   max_send_queue: number;
 }
@@ -182,6 +184,8 @@ export const DEFAULT_LIMITS: Limits = {
   max_slices: 1024,
   max_light_resolution: 1024,
   max_sessions: 64,
+  max_sessions_per_client: 16,
+  max_sessions_per_connection: 4,
   max_requests_per_second: 120,
   max_send_queue: 4,
 };

@@ -189,8 +189,10 @@ int run_serve(const std::vector<std::string>& args) {
             args,
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
-             "default-tf", "quality-table"},
+             "max-message-bytes", "max-requests-per-second", "max-frame-work",
+             "volume-memory-mb", "gpu-memory-mb", "light-buffer-memory-mb", "default-tf",
+             "quality-table", "ping-interval", "ping-timeout", "max-sessions-per-client",
+             "max-sessions-per-connection", "client-address-header"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -209,13 +211,29 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --io-threads N             network threads (default 2)\n"
                 "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
                 "  --max-sessions N           (default 64)\n"
+                "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
+                "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
+                "  --client-address-header H  behind a proxy: the request header naming the\n"
+                "                             client (X-Real-IP, X-Forwarded-For), for per-client\n"
+                "                             limits and fair render shares; default: the peer's\n"
+                "                             address\n"
                 "  --max-image-side N         (default 2048)\n"
                 "  --max-slices N             (default 1024)\n"
                 "  --max-light-res N          (default 1024)\n"
                 "  --max-message-bytes N      (default 65536)\n"
                 "  --max-requests-per-second R  per connection (default 120)\n"
+                "  --max-frame-work W         shader iterations one frame may ask for: pixels x\n"
+                "                             samples per ray x the mode's cost per sample, plus\n"
+                "                             light-buffer texels x slices x slab samples\n"
+                "                             (default 1e11); larger frames are refused\n"
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
+                "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
+                "                             refused (default 1024)\n"
+                "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
+                "                             is pinged (default 15)\n"
+                "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
+                "                             and its session left (default 15)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
@@ -246,6 +264,7 @@ int run_serve(const std::vector<std::string>& args) {
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
+    config.client_address_header = a.get("client-address-header").value_or("");
     protocol::Limits& limits = config.limits;
     struct IntegerOption {
         const char* name;
@@ -257,18 +276,22 @@ int run_serve(const std::vector<std::string>& args) {
     int encode_threads = 2;
     int volume_memory_mb = 4096;
     int gpu_memory_mb = 2048;
+    int light_buffer_memory_mb = 1024;
     int max_message_bytes = static_cast<int>(limits.max_message_bytes);
     const IntegerOption integers[] = {
             {"port", &port, 0, 65535},
             {"io-threads", &config.io_threads, 1, 64},
             {"encode-threads", &encode_threads, 1, 64},
             {"max-sessions", &limits.max_sessions, 1, 100000},
+            {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
+            {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
             {"max-image-side", &limits.max_image_side, 16, 16384},
             {"max-slices", &limits.max_slices, 1, 16384},
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
             {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
             {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
             {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
+            {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
     };
     for (const auto& option : integers) {
         auto value = a.integer(option.name, *option.target);
@@ -290,6 +313,25 @@ int run_serve(const std::vector<std::string>& args) {
                                              "--max-requests-per-second"));
     }
     limits.max_requests_per_second = *rate;
+    auto frame_work = a.number("max-frame-work", limits.max_frame_work);
+    if (!frame_work || !(*frame_work >= 1e6)) {
+        return fail(!frame_work ? frame_work.error()
+                                : base::make_error("invalid_argument", "must be at least 1e6",
+                                                   "--max-frame-work"));
+    }
+    limits.max_frame_work = *frame_work;
+    for (const auto& [name, target] : {std::pair{"ping-interval", &config.ping_interval},
+                                       {"ping-timeout", &config.ping_timeout}}) {
+        const double fallback = std::chrono::duration<double>(*target).count();
+        auto seconds = a.number(name, fallback);
+        if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {
+            return fail(!seconds ? seconds.error()
+                                 : base::make_error("invalid_argument",
+                                                    "must be within 0.05..3600 seconds",
+                                                    std::string("--") + name));
+        }
+        *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+    }
 
     const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
     session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20);
@@ -299,19 +341,22 @@ int run_serve(const std::vector<std::string>& args) {
     std::printf("data:     %s (%zu volumes)\n", data.c_str(), volumes.list().size());
 
     metrics::Registry registry;
-    const bool debug_gl = a.has("debug-gl");
-    const std::size_t gpu_budget = static_cast<std::size_t>(gpu_memory_mb) << 20;
+    const render::RendererOptions renderer_options{
+            .shader_dir = {},
+            .debug_context = a.has("debug-gl"),
+            .volume_memory_budget = static_cast<std::size_t>(gpu_memory_mb) << 20,
+            .light_buffer_memory_budget = static_cast<std::size_t>(light_buffer_memory_mb) << 20,
+            .max_frame_work = limits.max_frame_work,
+            .chunk_work = 0.0};
     // The start-up table is measured in the factory, on the render thread with the renderer that
     // will serve: a GL context is current on one thread only, and a second one would cost another
     // context (and its eglTerminate could pull the display from under the first). The scheduler
     // takes no work, and the server accepts no connection, until the factory returns.
     StartupMeasurement measured;
     auto scheduler = session::Scheduler::create(
-            [debug_gl, gpu_budget, measure, &volumes,
+            [renderer_options, measure, &volumes,
              &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
-                auto renderer = render::Renderer::create(
-                        {.shader_dir = {}, .debug_context = debug_gl,
-                         .volume_memory_budget = gpu_budget});
+                auto renderer = render::Renderer::create(renderer_options);
                 if (!renderer) {
                     return renderer.error();
                 }
@@ -386,7 +431,8 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions);
+    session::SessionRegistry sessions(limits.max_sessions, limits.max_sessions_per_client,
+                                      limits.max_sessions_per_connection);
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {
         return fail(server.error());

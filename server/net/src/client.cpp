@@ -39,7 +39,8 @@ Client::~Client() {
 base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host,
                                                       unsigned short port,
                                                       const std::string& path,
-                                                      std::chrono::milliseconds timeout) {
+                                                      std::chrono::milliseconds timeout,
+                                                      const std::string& local_address) {
     auto impl = std::make_unique<Impl>();
     tcp::resolver resolver(impl->io);
     beast::error_code ec;
@@ -49,7 +50,22 @@ base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host,
     }
     auto& stream = beast::get_lowest_layer(impl->ws);
     stream.expires_after(timeout);
-    stream.async_connect(endpoints, [&](beast::error_code e, const tcp::endpoint&) { ec = e; });
+    if (local_address.empty()) {
+        stream.async_connect(endpoints,
+                             [&](beast::error_code e, const tcp::endpoint&) { ec = e; });
+    } else {
+        const auto local = asio::ip::make_address(local_address, ec);
+        if (!ec) {
+            stream.socket().open(local.is_v4() ? tcp::v4() : tcp::v6(), ec);
+        }
+        if (!ec) {
+            stream.socket().bind(tcp::endpoint(local, 0), ec);
+        }
+        if (ec) {
+            return network_error("cannot bind to " + local_address, ec);
+        }
+        stream.async_connect(endpoints->endpoint(), [&](beast::error_code e) { ec = e; });
+    }
     run(impl->io);
     if (ec) {
         return network_error("cannot connect to " + host + ":" + std::to_string(port), ec);

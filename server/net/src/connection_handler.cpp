@@ -1,5 +1,6 @@
 #include "connection_handler.hpp"
 
+#include <penumbra/base/assert.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/protocol/frame_header.hpp>
 #include <penumbra/protocol/scene_json.hpp>
@@ -16,6 +17,9 @@ using Clock = std::chrono::steady_clock;
 // Beyond this many queued replies a flooding client gets no more error messages, only the
 // count of what was dropped once it calms down.
 constexpr std::uint64_t max_unanswered_errors = 64;
+
+// Requests that may wait while a volume loads for this connection; more are refused.
+constexpr std::size_t max_waiting_requests = 64;
 
 protocol::SessionState to_protocol(const session::SessionState& s) {
     protocol::SessionState out;
@@ -96,12 +100,14 @@ std::vector<std::uint8_t> pack(const session::EncodedFrame& f, const std::string
 
 }  // namespace
 
-ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection> connection)
+ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection> connection,
+                                     std::string client)
     : context_(context)
     , connection_(std::move(connection))
     , viewer_(context.next_viewer.fetch_add(1))
     , tokens_(context.config.limits.max_requests_per_second)
-    , last_refill_(Clock::now()) {}
+    , last_refill_(Clock::now())
+    , client_(std::move(client)) {}
 
 void ConnectionHandler::send(std::string text) {
     if (auto connection = connection_.lock()) {
@@ -109,22 +115,15 @@ void ConnectionHandler::send(std::string text) {
     }
 }
 
-std::shared_ptr<session::Session> ConnectionHandler::find_session(
-        std::optional<std::int64_t> id, const std::string& session_id) {
-    auto found = context_.services.sessions.find(session_id);
-    if (!found) {
-        reply_error(id, base::make_error(protocol::code::unknown_session,
-                                         "no session '" + session_id + "'", "/session"));
-    }
-    return found;
-}
-
 void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
-    context_.errors.add();
     if (dropped_replies_ >= max_unanswered_errors) {
         return;
     }
-    send(protocol::error_message(id, error));
+    // A client learns where a file is inside the data folder, never where the folder is.
+    const session::VolumeStore& volumes = context_.services.volumes;
+    send(protocol::error_message(id, base::Error{error.code, volumes.relative_paths(error.message),
+                                                 volumes.relative_paths(error.where)}));
+    context_.errors.add();
 }
 
 bool ConnectionHandler::take_token() {
@@ -153,21 +152,30 @@ void ConnectionHandler::on_open() {
                                  {info.renderer, info.version, info.platform}, modes));
 }
 
-void ConnectionHandler::on_binary() {
-    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
-                                               "clients send text (JSON) messages only", "/"));
-}
-
-void ConnectionHandler::on_text(std::string_view text) {
+bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
     context_.messages.add();
-    if (!take_token()) {
-        reply_error(protocol::request_id_of(text),
-                    base::make_error(protocol::code::rate_limited,
+    if (take_token()) {
+        return true;
+    }
+    reply_error(id, base::make_error(protocol::code::rate_limited,
                                      "more than " +
                                              std::to_string(static_cast<int>(
                                                      context_.config.limits.max_requests_per_second)) +
                                              " requests per second",
                                      "/"));
+    return false;
+}
+
+void ConnectionHandler::on_binary() {
+    if (!admit(std::nullopt)) {
+        return;
+    }
+    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
+                                               "clients send text (JSON) messages only", "/"));
+}
+
+void ConnectionHandler::on_text(std::string_view text) {
+    if (!admit(protocol::request_id_of(text))) {
         return;
     }
     auto request = protocol::parse_request(text, context_.config.limits);
@@ -178,25 +186,33 @@ void ConnectionHandler::on_text(std::string_view text) {
                     request.error());
         return;
     }
+    if (busy_) {
+        if (waiting_.size() >= max_waiting_requests) {
+            reply_error(request->id,
+                        base::make_error(protocol::code::rate_limited,
+                                         "too many requests while a volume loads", "/"));
+            return;
+        }
+        waiting_.push_back(std::move(request.value()));
+        return;
+    }
     handle(*request);
 }
 
-ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::shared_ptr<session::Session>& s) {
+ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session_id) {
     std::weak_ptr<Connection> weak = connection_;
-    std::weak_ptr<session::Session> weak_session = s;
     Context* context = &context_;
-    auto state_changed = [weak, session_id = s->id()](const session::SessionState& state) {
+    auto state_changed = [weak, session_id](const session::SessionState& state) {
         if (auto connection = weak.lock()) {
             connection->send_state(protocol::state_message(
                     session_id, protocol::state_to_json(to_protocol(state))));
         }
     };
-    auto frames = [weak, weak_session, context](
+    auto frames = [weak, session_id, context](
                           const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
                           std::uint64_t number) {
         auto connection = weak.lock();
-        auto shared_session = weak_session.lock();
-        if (!connection || !shared_session) {
+        if (!connection) {
             return;
         }
         if (!r) {
@@ -204,35 +220,30 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::shared_ptr<sess
             if (code == "superseded" || code == "shutting_down") {
                 return;  // a newer frame answers, or nobody will
             }
-            context->errors.add();
             connection->send_text(protocol::error_message(
-                    std::nullopt, base::make_error(protocol::code::render_failed,
-                                                   r.error().to_string(), "/")));
+                    std::nullopt,
+                    base::make_error(protocol::code::render_failed,
+                                     context->services.volumes.relative_paths(
+                                             r.error().to_string()),
+                                     "/")));
+            context->errors.add();
             return;
         }
         const session::EncodedFrame& frame = **r;
         context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
                                          frame.encode_ms);
         connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
-                pack(frame, shared_session->id(), number)));
+                pack(frame, session_id, number)));
     };
     return {std::move(frames), std::move(state_changed)};
-}
-
-void ConnectionHandler::watch(const std::shared_ptr<session::Session>& s,
-                              const session::StateSink& welcome) {
-    Sinks sinks = sinks_for(s);
-    s->add_viewer(viewer_, std::move(sinks.frames), std::move(sinks.state_changed), welcome);
 }
 
 void ConnectionHandler::leave_session() {
     if (!session_) {
         return;
     }
-    const std::size_t remaining = session_->remove_viewer(viewer_);
-    if (remaining == 0) {
+    if (context_.services.sessions.leave(*session_, viewer_)) {
         context_.services.scheduler.cancel(session_->id());
-        context_.services.sessions.remove(session_->id());
         context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
         base::log_info("session", "closed " + session_->id());
     }
@@ -240,6 +251,55 @@ void ConnectionHandler::leave_session() {
 }
 
 void ConnectionHandler::on_close() { leave_session(); }
+
+void ConnectionHandler::finish_open(
+        std::optional<std::int64_t> id, const std::string& volume_id,
+        const base::Result<std::shared_ptr<const volume::Volume>>& volume) {
+    busy_ = false;
+    if (!volume) {
+        base::Error error = volume.error();
+        if (error.code != protocol::code::unknown_volume) {
+            // The loader's own code and location go into the message.
+            error.message = "volume '" + volume_id +
+                            "' could not be loaded: " + error.to_string();
+            error.code = protocol::code::volume_unreadable;
+        }
+        error.where = "/volume";
+        reply_error(id, error);
+        return;
+    }
+    auto created = context_.services.sessions.create(
+            volume_id, *volume, default_state(context_.config), viewer_, client_, session_.get());
+    if (!created) {
+        reply_error(id, created.error());
+        return;
+    }
+    leave_session();
+    session_ = *created;
+    const auto histogram = context_.services.volumes.histogram(*volume);
+    Sinks sinks = sinks_for(session_->id());
+    // Cannot fail: the session ends only when its owner, this connection, leaves.
+    const auto added = session_->add_viewer(
+            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
+            [&](const session::SessionState& state) {
+                send(protocol::opened_message(
+                        id, session_->id(),
+                        summary_of(volume_id, volume->get()), *histogram,
+                        protocol::state_to_json(to_protocol(state)),
+                        session_->owner_token()));
+            });
+    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
+    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+    base::log_info("session", "opened " + session_->id() + " on " + volume_id);
+}
+
+void ConnectionHandler::handle_waiting() {
+    while (!busy_ && !waiting_.empty()) {
+        const protocol::Request next = std::move(waiting_.front());
+        waiting_.pop_front();
+        handle(next);
+    }
+}
 
 void ConnectionHandler::handle(const protocol::Request& request) {
     const auto id = request.id;
@@ -255,93 +315,96 @@ void ConnectionHandler::handle(const protocol::Request& request) {
             [&](const auto& message) {
                 using T = std::decay_t<decltype(message)>;
                 if constexpr (std::is_same_v<T, protocol::ListVolumes>) {
-                    if (auto status = context_.services.volumes.scan(); !status) {
-                        base::log_error("volumes", status.error().to_string());
-                        reply_error(id, base::make_error(protocol::code::internal_error,
-                                                         "the server's data folder is unreadable",
-                                                         "/"));
-                        return;
-                    }
+                    // The last scan: the store rescans on a thread of its own.
                     std::vector<protocol::VolumeSummary> list;
                     for (const auto& entry : context_.services.volumes.list()) {
                         list.push_back(summary_of(entry.id, entry.loaded.get()));
                     }
                     send(protocol::volumes_message(id, list));
                 } else if constexpr (std::is_same_v<T, protocol::Open>) {
-                    auto volume = context_.services.volumes.acquire(message.volume);
-                    if (!volume) {
-                        base::Error error = volume.error();
-                        if (error.code != protocol::code::unknown_volume) {
-                            // The loader's own code and location go into the message.
-                            error.message = "volume '" + message.volume +
-                                            "' could not be loaded: " + error.to_string();
-                            error.code = protocol::code::volume_unreadable;
-                        }
-                        error.where = "/volume";
-                        reply_error(id, error);
-                        return;
-                    }
-                    auto created = context_.services.sessions.create(
-                            message.volume, *volume, default_state(context_.config), viewer_);
-                    if (!created) {
-                        reply_error(id, created.error());
-                        return;
-                    }
-                    leave_session();
-                    session_ = *created;
-                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
-                    watch(session_, [&](const session::SessionState& state) {
-                        send(protocol::opened_message(
-                                id, session_->id(), summary_of(message.volume, volume->get()),
-                                histogram, protocol::state_to_json(to_protocol(state)),
-                                session_->owner_token()));
-                    });
-                    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
-                    base::log_info("session", "opened " + session_->id() + " on " + message.volume);
+                    // Loading reads and converts a file, seconds for a large one: not here.
+                    busy_ = true;
+                    context_.services.volumes.acquire_async(
+                            message.volume,
+                            [this, id, volume_id = message.volume, weak = connection_,
+                             lifeline = context_.lifeline](
+                                    base::Result<std::shared_ptr<const volume::Volume>> volume) {
+                                const std::lock_guard lock(lifeline->mutex);
+                                auto connection = weak.lock();
+                                if (!lifeline->open || !connection) {
+                                    return;
+                                }
+                                // The connection owns this handler and outlives the task.
+                                connection->defer([this, id, volume_id,
+                                                   volume = std::move(volume)] {
+                                    finish_open(id, volume_id, volume);
+                                    handle_waiting();
+                                });
+                            });
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
-                    auto target = find_session(id, message.session);
-                    if (!target) {
+                    // Finding the session and joining it are one step of the registry's, so a
+                    // session whose last viewer is leaving cannot be joined back to life.
+                    // The volume's histogram, computed when it was loaded.
+                    const auto found = context_.services.sessions.find(message.session);
+                    const auto histogram =
+                            found ? context_.services.volumes.histogram(found->volume())
+                                  : std::make_shared<const std::vector<std::uint64_t>>();
+                    Sinks sinks = sinks_for(message.session);
+                    auto joined = context_.services.sessions.enter(
+                            message.session, [&](session::Session& target) {
+                                // Also when already in it: re-adding replaces the sinks, and the
+                                // welcome keeps `joined` ahead of every state that follows it.
+                                return target.add_viewer(
+                                        viewer_, std::move(sinks.frames),
+                                        std::move(sinks.state_changed),
+                                        [&](const session::SessionState& state) {
+                                            send(protocol::joined_message(
+                                                    id, target.id(),
+                                                    summary_of(target.volume_id(),
+                                                               target.volume().get()),
+                                                    *histogram,
+                                                    protocol::state_to_json(to_protocol(state))));
+                                        });
+                            });
+                    if (!joined) {
+                        reply_error(id, joined.error());
                         return;
                     }
-                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
-                    if (target != session_) {
+                    if (*joined != session_) {
                         leave_session();
-                        session_ = target;
+                        session_ = *joined;
                     }
-                    // Also when already in it: re-adding replaces the sinks, and the welcome
-                    // keeps `joined` ahead of every state that follows it.
-                    watch(session_, [&](const session::SessionState& state) {
-                        send(protocol::joined_message(
-                                id, session_->id(),
-                                summary_of(session_->volume_id(), session_->volume().get()),
-                                histogram, protocol::state_to_json(to_protocol(state))));
-                    });
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    auto target = find_session(id, message.session);
-                    if (!target) {
-                        return;
-                    }
-                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
-                    Sinks sinks = sinks_for(target);
+                    const auto found = context_.services.sessions.find(message.session);
+                    const auto histogram =
+                            found ? context_.services.volumes.histogram(found->volume())
+                                  : std::make_shared<const std::vector<std::uint64_t>>();
+                    Sinks sinks = sinks_for(message.session);
                     // The check of the token and the change of owner are one step of the
-                    // session's, so that two connections resuming at once cannot both win.
-                    const auto resumed = target->resume(
-                            viewer_, message.owner_token, std::move(sinks.frames),
-                            std::move(sinks.state_changed),
-                            [&](const session::SessionState& state) {
-                                send(protocol::opened_message(
-                                        id, target->id(),
-                                        summary_of(target->volume_id(), target->volume().get()),
-                                        histogram, protocol::state_to_json(to_protocol(state)),
-                                        target->owner_token()));
+                    // session's, and finding it one of the registry's, so that two connections
+                    // resuming at once cannot both win and an ended session stays ended.
+                    auto resumed = context_.services.sessions.enter(
+                            message.session, [&](session::Session& target) {
+                                return target.resume(
+                                        viewer_, message.owner_token, std::move(sinks.frames),
+                                        std::move(sinks.state_changed),
+                                        [&](const session::SessionState& state) {
+                                            send(protocol::opened_message(
+                                                    id, target.id(),
+                                                    summary_of(target.volume_id(),
+                                                               target.volume().get()),
+                                                    *histogram,
+                                                    protocol::state_to_json(to_protocol(state)),
+                                                    target.owner_token()));
+                                        });
                             });
                     if (!resumed) {
                         reply_error(id, resumed.error());
                         return;
                     }
-                    if (target != session_) {
+                    if (*resumed != session_) {
                         leave_session();
-                        session_ = target;
+                        session_ = *resumed;
                     }
                     base::log_info("session", "resumed " + session_->id());
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {
@@ -371,10 +434,13 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         return;
                     }
                     std::weak_ptr<session::Session> weak = session_;
+                    session::RenderJob job = session_->make_job(
+                            id.value_or(-1), message.interactive,
+                            context_.config.quality_table.get());
+                    // The render time is this client's, whoever's session it is.
+                    job.client = client_;
                     context_.services.scheduler.submit(
-                            session_->id(),
-                            session_->make_job(id.value_or(-1), message.interactive,
-                                               context_.config.quality_table.get()),
+                            session_->id(), std::move(job),
                             [weak](base::Result<std::shared_ptr<const session::EncodedFrame>> r) {
                                 if (auto s = weak.lock()) {
                                     s->deliver(r);

@@ -6,6 +6,7 @@
 #include <penumbra/session/session.hpp>
 
 #include <chrono>
+#include <deque>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -13,10 +14,13 @@
 namespace penumbra::net {
 
 // The protocol for one connection: parses each message, applies it to the session layer and
-// answers. Lives on the connection's strand, so it needs no locking of its own.
+// answers. Lives on the connection's strand, so it needs no locking of its own. A request that
+// reads files (open) is carried out on the volume store's loader threads; the requests that
+// arrive meanwhile wait, so that replies keep the order of the requests.
 class ConnectionHandler {
 public:
-    ConnectionHandler(Context& context, std::weak_ptr<Connection> connection);
+    // `client` names who is connected (its address), for per-client limits and fair shares.
+    ConnectionHandler(Context& context, std::weak_ptr<Connection> connection, std::string client);
 
     void on_open();
     void on_text(std::string_view text);
@@ -26,22 +30,24 @@ public:
 
 private:
     void handle(const protocol::Request& request);
+    // The second half of `open`, on the strand, once the volume is loaded (or is not).
+    void finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
+                     const base::Result<std::shared_ptr<const volume::Volume>>& volume);
+    // Handles the requests that waited, until one of them makes the connection busy again.
+    void handle_waiting();
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
-    // The session of that id, or nullptr after answering `unknown_session`.
-    std::shared_ptr<session::Session> find_session(std::optional<std::int64_t> id,
-                                                   const std::string& session_id);
     void send(std::string text);
     bool take_token();
+    // Counts a message and takes a token for it; without one, answers rate_limited (while the
+    // client still reads answers) and returns false.
+    bool admit(std::optional<std::int64_t> id);
     void leave_session();
     // What brings `session`'s frames, and the states its owner sets, to this connection.
     struct Sinks {
         session::ViewerSink frames;
         session::StateSink state_changed;
     };
-    Sinks sinks_for(const std::shared_ptr<session::Session>& session);
-    // Joins `session`'s viewers. `welcome` queues the answer (opened, joined) that must precede
-    // what the sinks send.
-    void watch(const std::shared_ptr<session::Session>& session, const session::StateSink& welcome);
+    Sinks sinks_for(const std::string& session_id);
 
     Context& context_;
     std::weak_ptr<Connection> connection_;
@@ -50,6 +56,9 @@ private:
     double tokens_;
     std::chrono::steady_clock::time_point last_refill_;
     std::uint64_t dropped_replies_ = 0;
+    std::string client_;
+    bool busy_ = false;  // a request is being carried out off the strand
+    std::deque<protocol::Request> waiting_;
 };
 
 }  // namespace penumbra::net

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -14,11 +15,20 @@ namespace penumbra::net {
 
 class Connection;
 
+// Whether the server still runs its I/O: work finishing on another thread (a volume load) hands
+// its result to a connection only while it is open, so nothing is posted to an I/O context that
+// is going away. Server::stop closes it.
+struct Lifeline {
+    std::mutex mutex;
+    bool open = true;
+};
+
 // What every connection of one server shares.
 struct Context {
     ServerConfig config;
     Services services;
     std::atomic<std::uint64_t> next_viewer{1};
+    std::shared_ptr<Lifeline> lifeline = std::make_shared<Lifeline>();
     metrics::Gauge& connections;
     metrics::Counter& messages;
     metrics::Counter& errors;
@@ -26,6 +36,7 @@ struct Context {
     metrics::Counter& frames_dropped;
     metrics::Histogram& frame_server_ms;
     metrics::Gauge& sessions;
+    metrics::Counter& connections_timed_out;
 
     Context(ServerConfig c, Services s)
         : config(std::move(c))
@@ -41,7 +52,10 @@ struct Context {
                   "penumbra_frame_server_ms",
                   "Server time per frame: queued + render + readback + encode (ms)",
                   metrics::latency_buckets_ms()))
-        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions")) {}
+        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions"))
+        , connections_timed_out(s.metrics.counter(
+                  "penumbra_connections_timed_out_total",
+                  "WebSocket connections dropped for not answering a ping in time")) {}
 
     // Open connections, so that shutdown can close them.
     void track(std::weak_ptr<Connection> connection) {
@@ -77,6 +91,9 @@ public:
 
     // Closes the connection politely (server shutdown, or a client that stopped reading).
     virtual void close() = 0;
+
+    // Runs `task` on the connection's strand, unless the connection has ended by then.
+    virtual void defer(std::function<void()> task) = 0;
 };
 
 }  // namespace penumbra::net

@@ -6,6 +6,8 @@
 
 #include <penumbra/base/log.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <condition_variable>
 #include <thread>
 #include <vector>
@@ -26,27 +28,64 @@ struct Server::Impl {
         : io(io_threads)
         , acceptor(asio::make_strand(io))
         , context(config, services)
-        , signals(io) {}
+        , signals(io)
+        , accept_timer(acceptor.get_executor())
+        , accept_failures(services.metrics.counter(
+                  "penumbra_accept_failures_total",
+                  "Connections the listener could not accept (out of descriptors or memory)")) {}
 
     void do_accept() {
         acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
-            if (ec) {
-                if (ec != asio::error::operation_aborted) {
-                    base::log_warning("net", "accept failed: " + ec.message());
-                }
-                if (!acceptor.is_open()) {
-                    return;
-                }
-            } else {
-                // Small messages (a camera move, a render request) must not wait for Nagle's
-                // algorithm to meet the peer's delayed ACK: that costs 40 ms a round trip.
-                beast::error_code ignored;
-                socket.set_option(tcp::no_delay(true), ignored);
-                std::make_shared<HttpSession>(std::move(socket), context)->run();
+            if (ec == asio::error::operation_aborted || !acceptor.is_open()) {
+                return;
             }
+            if (ec) {
+                // Out of descriptors (EMFILE, ENFILE) or memory, the pending connection stays in
+                // the backlog and accepting again at once fails again at once: wait, longer each
+                // time, so that the loop neither spins nor floods the log.
+                on_accept_failed(ec);
+                return;
+            }
+            accept_delay = std::chrono::milliseconds(0);
+            // Small messages (a camera move, a render request) must not wait for Nagle's
+            // algorithm to meet the peer's delayed ACK: that costs 40 ms a round trip.
+            beast::error_code ignored;
+            socket.set_option(tcp::no_delay(true), ignored);
+            std::make_shared<HttpSession>(std::move(socket), context)->run();
             do_accept();
         });
     }
+
+    void on_accept_failed(const beast::error_code& ec) {
+        using std::chrono::milliseconds;
+        accept_delay = std::clamp(accept_delay * 2, min_accept_delay, max_accept_delay);
+        accept_failures.add();
+        ++failures_since_logged;
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= next_failure_log) {
+            base::log_warning("net", "accept failed: " + ec.message() + " (" +
+                                             std::to_string(failures_since_logged) +
+                                             " failures since the last report); retrying in " +
+                                             std::to_string(accept_delay.count()) + " ms");
+            failures_since_logged = 0;
+            next_failure_log = now + failure_log_interval;
+        }
+        accept_timer.expires_after(accept_delay);
+        accept_timer.async_wait([this](beast::error_code timer_ec) {
+            if (!timer_ec && acceptor.is_open()) {
+                do_accept();
+            }
+        });
+    }
+
+    static constexpr std::chrono::milliseconds min_accept_delay{50};
+    static constexpr std::chrono::milliseconds max_accept_delay{500};
+    static constexpr std::chrono::seconds failure_log_interval{10};
+    asio::steady_timer accept_timer;
+    std::chrono::milliseconds accept_delay{0};
+    metrics::Counter& accept_failures;
+    std::uint64_t failures_since_logged = 0;
+    std::chrono::steady_clock::time_point next_failure_log{};
 };
 
 Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -120,9 +159,14 @@ void Server::stop() {
         impl_->stopped = true;
         impl_->stopped_signal.notify_all();
     }
+    {
+        const std::lock_guard lock(impl_->context.lifeline->mutex);
+        impl_->context.lifeline->open = false;
+    }
     asio::post(impl_->acceptor.get_executor(), [impl = impl_.get()] {
         beast::error_code ignored;
         impl->acceptor.close(ignored);
+        impl->accept_timer.cancel();
         impl->signals.cancel(ignored);
     });
     for (const auto& weak : impl_->context.tracked()) {

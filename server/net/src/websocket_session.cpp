@@ -12,9 +12,12 @@ constexpr std::size_t max_queued_text = 512;
 
 }  // namespace
 
+using Clock = std::chrono::steady_clock;
+
 WebSocketSession::WebSocketSession(tcp::socket&& socket, Context& context)
     : ws_(std::move(socket))
-    , context_(context) {}
+    , context_(context)
+    , liveness_timer_(ws_.get_executor()) {}
 
 WebSocketSession::~WebSocketSession() = default;
 
@@ -26,8 +29,28 @@ void WebSocketSession::run(http::request<http::string_body> upgrade) {
     // Messages up to the announced limit are parsed; larger ones up to this hard cap get an
     // error reply and the connection stays; beyond it Beast closes the connection (1009).
     ws_.read_message_max(std::max<std::size_t>(1 << 20, 4 * context_.config.limits.max_message_bytes));
+    client_ = client_of(upgrade);
     ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept,
                                                         shared_from_this()));
+}
+
+std::string WebSocketSession::client_of(const http::request<http::string_body>& upgrade) {
+    const std::string& header = context_.config.client_address_header;
+    if (!header.empty()) {
+        const auto found = upgrade.find(header);
+        if (found != upgrade.end()) {
+            // X-Forwarded-For lists the proxies after the client.
+            const std::string value(found->value());
+            const std::string first = value.substr(0, value.find(','));
+            const auto begin = first.find_first_not_of(' ');
+            if (begin != std::string::npos) {
+                return first.substr(begin, first.find_last_not_of(' ') - begin + 1);
+            }
+        }
+    }
+    beast::error_code ec;
+    const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+    return ec ? std::string("unknown") : remote.address().to_string();
 }
 
 void WebSocketSession::on_accept(beast::error_code ec) {
@@ -37,9 +60,65 @@ void WebSocketSession::on_accept(beast::error_code ec) {
     }
     context_.connections.add(1.0);
     context_.track(weak_from_this());
-    handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this());
+    handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this(), client_);
     handler_->on_open();
+    last_heard_ = Clock::now();
+    // Runs inside the read loop, on the strand; the stream that stores it dies with `this`.
+    ws_.control_callback([this](websocket::frame_type kind, beast::string_view) {
+        last_heard_ = Clock::now();
+        if (kind == websocket::frame_type::pong) {
+            awaiting_pong_ = false;
+        }
+    });
+    schedule_liveness_check(context_.config.ping_interval);
     do_read();
+}
+
+void WebSocketSession::schedule_liveness_check(Clock::duration after) {
+    liveness_timer_.expires_after(after);
+    liveness_timer_.async_wait(beast::bind_front_handler(&WebSocketSession::on_liveness_check,
+                                                         shared_from_this()));
+}
+
+void WebSocketSession::on_liveness_check(beast::error_code ec) {
+    if (ec || finished_) {
+        return;
+    }
+    const Clock::time_point now = Clock::now();
+    if (awaiting_pong_ && last_heard_ < ping_sent_) {
+        const Clock::time_point deadline = ping_sent_ + context_.config.ping_timeout;
+        if (now >= deadline) {
+            context_.connections_timed_out.add();
+            base::log_info("net", "a client did not answer a ping within " +
+                                          std::to_string(context_.config.ping_timeout.count()) +
+                                          " ms; dropping it");
+            drop();
+            return;
+        }
+        schedule_liveness_check(deadline - now);
+        return;
+    }
+    awaiting_pong_ = false;
+    const Clock::time_point due = last_heard_ + context_.config.ping_interval;
+    if (now < due) {
+        schedule_liveness_check(due - now);
+        return;
+    }
+    ping_sent_ = now;
+    awaiting_pong_ = true;
+    if (!ping_in_flight_) {
+        ping_in_flight_ = true;
+        ws_.async_ping({}, [self = shared_from_this()](beast::error_code) {
+            self->ping_in_flight_ = false;
+        });
+    }
+    schedule_liveness_check(context_.config.ping_timeout);
+}
+
+void WebSocketSession::drop() {
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    beast::get_lowest_layer(ws_).close();
 }
 
 void WebSocketSession::do_read() {
@@ -56,6 +135,7 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
         finish();
         return;
     }
+    last_heard_ = Clock::now();
     if (ws_.got_text()) {
         const auto data = buffer_.cdata();
         handler_->on_text(std::string_view(static_cast<const char*>(data.data()), data.size()));
@@ -71,6 +151,7 @@ void WebSocketSession::finish() {
         return;
     }
     finished_ = true;
+    liveness_timer_.cancel();
     if (handler_) {
         handler_->on_close();
         context_.connections.add(-1.0);
@@ -169,6 +250,14 @@ void WebSocketSession::on_write(beast::error_code ec, std::size_t /*bytes*/) {
         queue_.pop_front();
     }
     do_write();
+}
+
+void WebSocketSession::defer(std::function<void()> task) {
+    asio::post(ws_.get_executor(), [self = shared_from_this(), task = std::move(task)] {
+        if (!self->finished_) {
+            task();
+        }
+    });
 }
 
 void WebSocketSession::close() {

@@ -4,6 +4,7 @@
 #include "connection_handler.hpp"
 #include "context.hpp"
 
+#include <chrono>
 #include <deque>
 #include <memory>
 
@@ -25,6 +26,7 @@ public:
     void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) override;
 
     void close() override;
+    void defer(std::function<void()> task) override;
 
 private:
     struct Outgoing {
@@ -33,6 +35,9 @@ private:
         bool state = false;  // a whole state, superseded by a newer one while waiting
     };
 
+    // Who the connection's client is, for per-client limits and fair shares: its remote address,
+    // or what the configured proxy header says.
+    [[nodiscard]] std::string client_of(const http::request<http::string_body>& upgrade);
     void on_accept(beast::error_code ec);
     void do_read();
     void on_read(beast::error_code ec, std::size_t bytes);
@@ -40,6 +45,12 @@ private:
     void do_write();
     void on_write(beast::error_code ec, std::size_t bytes);
     void finish();
+    // Liveness: the timer checks, on the strand, when the peer was last heard from.
+    void schedule_liveness_check(std::chrono::steady_clock::duration after);
+    void on_liveness_check(beast::error_code ec);
+    // Closes the socket without a closing handshake, which a peer that does not answer would
+    // never complete; the pending read and write end, and with them the connection.
+    void drop();
 
     websocket::stream<beast::tcp_stream> ws_;
     Context& context_;
@@ -47,6 +58,12 @@ private:
     std::deque<Outgoing> queue_;
     bool writing_ = false;
     bool finished_ = false;
+    std::string client_;
+    asio::steady_timer liveness_timer_;
+    std::chrono::steady_clock::time_point last_heard_;  // any message or control frame
+    std::chrono::steady_clock::time_point ping_sent_;
+    bool awaiting_pong_ = false;
+    bool ping_in_flight_ = false;  // Beast allows one ping at a time; a slow write delays it
     std::unique_ptr<ConnectionHandler> handler_;
 };
 

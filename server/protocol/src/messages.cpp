@@ -202,8 +202,11 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer,
                       {"max_slices", limits.max_slices},
                       {"max_light_resolution", limits.max_light_resolution},
                       {"max_sessions", limits.max_sessions},
+                      {"max_sessions_per_client", limits.max_sessions_per_client},
+                      {"max_sessions_per_connection", limits.max_sessions_per_connection},
                       {"max_requests_per_second", limits.max_requests_per_second},
-                      {"max_send_queue", limits.max_send_queue}}}},
+                      {"max_send_queue", limits.max_send_queue},
+                      {"max_frame_work", limits.max_frame_work}}}},
                    std::nullopt)
             .dump();
 }

@@ -1,5 +1,6 @@
 #include "half_angle_slicer.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace penumbra::render {
@@ -51,9 +52,9 @@ void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution
     }
 }
 
-base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int width,
-                                  int height, int light_resolution, const gpu::Defines& defines,
-                                  FrameTarget& target, gpu::GpuTimer& timer) {
+base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int width, int height,
+                                  int light_resolution, const gpu::Defines& defines,
+                                  FrameTarget& target, gpu::GpuTimer& timer, WorkChunks& chunks) {
     std::string variant;
     for (const auto& [name, value] : defines) {
         variant += name + "=" + value + " ";
@@ -78,6 +79,11 @@ base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int
     glEnable(GL_BLEND);
     glBindTextureUnit(3, light_.name());
     mesh.bind();
+    const double work_per_slice =
+            double(width) * height + double(light_resolution) * light_resolution;
+    const int slices_per_chunk = static_cast<int>(
+            std::clamp(chunks.work_per_chunk() / work_per_slice, 1.0, double(mesh.slices())));
+    base::Status status = base::Ok{};
     for (int k = 0; k < mesh.slices(); ++k) {
         glBindFramebuffer(GL_FRAMEBUFFER, eye_framebuffer_.name());
         glViewport(0, 0, width, height);
@@ -94,9 +100,18 @@ base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int
         glBlendFunc(GL_ZERO, GL_SRC_COLOR);
         glUseProgram((*light_program)->name());
         mesh.draw(k);
+        if ((k + 1) % slices_per_chunk == 0 && k + 1 < mesh.slices() &&
+            !chunks.continue_after_chunk()) {
+            status = cancelled_error();
+            break;
+        }
     }
     glDisable(GL_BLEND);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!status) {
+        timer.end();
+        return status;
+    }
 
     glUseProgram((*resolve_program)->name());
     glBindTextureUnit(0, eye_.name());

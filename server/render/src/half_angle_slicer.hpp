@@ -2,6 +2,7 @@
 
 #include "frame_target.hpp"
 #include "slice_geometry.hpp"
+#include "work_chunks.hpp"
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
@@ -24,10 +25,11 @@ public:
     explicit HalfAngleSlicer(const gpu::ShaderLibrary& shaders);
 
     // `front_to_back`: the eye and the light are on the same side, composite with "under";
-    // otherwise back to front with "over".
+    // otherwise back to front with "over". Issued in groups of slices; fails with
+    // cancelled_error() when `chunks` says the frame was cancelled.
     base::Status run(const SliceMesh& mesh, bool front_to_back, int width, int height,
                      int light_resolution, const gpu::Defines& defines, FrameTarget& target,
-                     gpu::GpuTimer& timer);
+                     gpu::GpuTimer& timer, WorkChunks& chunks);
 
     // The light buffer after the last slice, as a grey image.
     [[nodiscard]] base::ImageRgba8 light_image() const;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "slice_geometry.hpp"
+#include "work_chunks.hpp"
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
@@ -27,9 +28,12 @@ public:
 
     [[nodiscard]] int resolution() const { return resolution_; }
 
-    [[nodiscard]] std::size_t bytes() const {
-        return static_cast<std::size_t>(resolution_) * static_cast<std::size_t>(resolution_) *
-               static_cast<std::size_t>(slices_) * 2;
+    [[nodiscard]] std::size_t bytes() const { return bytes_for(slices_, resolution_); }
+
+    // What a buffer of these dimensions holds on the GPU: one half float per texel.
+    [[nodiscard]] static std::size_t bytes_for(int slices, int resolution) {
+        return static_cast<std::size_t>(resolution) * static_cast<std::size_t>(resolution) *
+               static_cast<std::size_t>(slices) * 2;
     }
 
     // All layers as floats, layer after layer, rows bottom-up as GL stores them.
@@ -50,14 +54,20 @@ class LightBufferBuilder {
 public:
     explicit LightBufferBuilder(const gpu::ShaderLibrary& shaders);
 
-    // `mesh` carries the slice polygons builder A draws; `defines` is the compositing variant.
+    // `mesh` carries the slice polygons builder A draws; `defines` is the compositing variant;
+    // `slab_samples` the points each texel samples per slice, which sizes the chunks. Fails with
+    // cancelled_error() when `chunks` says the frame was cancelled (the buffer is then partial).
     base::Status build(LightBuffer& target, scene::LightBufferBuilder builder,
-                       const SliceMesh& mesh, const gpu::Defines& defines, gpu::GpuTimer& timer);
+                       const SliceMesh& mesh, const gpu::Defines& defines, int slab_samples,
+                       gpu::GpuTimer& timer, WorkChunks& chunks);
 
 private:
     base::Result<const gpu::Program*> program(const gpu::Defines& defines, bool per_slice);
     base::Status build_per_slice(LightBuffer& target, const SliceMesh& mesh,
-                                 const gpu::Program& program);
+                                 const gpu::Program& program, double work_per_slice,
+                                 WorkChunks& chunks);
+    static base::Status build_multi_slice(LightBuffer& target, const gpu::Program& program,
+                                          double work_per_texel, WorkChunks& chunks);
 
     const gpu::ShaderLibrary& shaders_;
     std::map<std::string, gpu::Program> programs_;

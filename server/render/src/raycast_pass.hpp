@@ -1,6 +1,7 @@
 #pragma once
 
 #include "frame_target.hpp"
+#include "work_chunks.hpp"
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/gpu/objects.hpp>
@@ -32,27 +33,47 @@ struct RaycastVariant {
     [[nodiscard]] std::string key() const;  // "SHADOWS=1 SCATTERING=0 PHONG=1 ... compute"
 };
 
+// How many loop iterations one ray may need, against the GL implementation's cap.
+struct MarchBudget {
+    int max_samples_per_ray = 0;    // samples along the longest ray through the box
+    int iterations_per_sample = 1;  // 1 + the inner loops' iterations (shadow rays, shells)
+    int loop_cap = 0;               // 0: no cap
+};
+
+// How a frame's rays are cut into chunks: tiles of the image, each marched `steps` samples at a
+// time. One tile covering the image and every step at once is the unchunked frame.
+struct MarchChunks {
+    int steps = 0;
+    int tile_width = 0;  // multiples of the 8 x 8 work groups
+    int tile_height = 0;
+};
+
+// Chunks of about `work_per_chunk` iterations (0: no limit) that stay under the budget's loop cap;
+// `split_steps` is false for the fragment stage, which cannot resume a ray.
+MarchChunks plan_march_chunks(const MarchBudget& budget, int width, int height,
+                              double work_per_chunk, bool split_steps);
+
 // Runs shaders/raycast.{comp,frag} into the frame target. Programs are compiled on first use of
 // a variant and kept. Expects the frame's uniform block bound, the volume and TF textures on units
 // 0 and 1 and, for light-buffer shadows, the light buffer on unit 2.
-// How many loop iterations one ray may need, against the GL implementation's cap.
-struct MarchBudget {
-    int max_samples_per_ray = 0;     // samples along the longest ray through the box
-    int iterations_per_sample = 1;   // 1 + the inner loops' iterations (shadow rays, shells)
-    int loop_cap = 0;                // 0: no cap
-};
-
 class RaycastPass {
 public:
     explicit RaycastPass(const gpu::ShaderLibrary& shaders);
 
-    // Returns how many dispatches the frame took (1 unless the rays were marched in chunks).
+    // Returns how many chunks the frame took (1 unless the rays were marched in chunks); fails
+    // with cancelled_error() when `chunks` says the frame was cancelled.
     base::Result<int> run(RaycastVariant variant, int width, int height, const MarchBudget& budget,
-                          FrameTarget& target, gpu::GpuTimer& timer);
+                          FrameTarget& target, gpu::GpuTimer& timer, WorkChunks& chunks);
 
 private:
     base::Result<const gpu::Program*> program_for(const RaycastVariant& variant);
     base::Result<const gpu::Program*> resolve_program();
+    base::Status run_compute_chunks(const RaycastVariant& variant, int width, int height,
+                                    const MarchBudget& budget, const MarchChunks& layout,
+                                    FrameTarget& target, WorkChunks& chunks);
+    base::Status run_fragment_tiles(const RaycastVariant& variant, int width, int height,
+                                    const MarchChunks& layout, FrameTarget& target,
+                                    WorkChunks& chunks);
 
     const gpu::ShaderLibrary& shaders_;
     std::map<std::string, gpu::Program> programs_;

@@ -8,6 +8,7 @@
 #include "slice_geometry.hpp"
 #include "uniforms.hpp"
 #include "volume_texture.hpp"
+#include "work_chunks.hpp"
 
 #include <penumbra/base/log.hpp>
 #include <penumbra/gpu/context.hpp>
@@ -15,6 +16,7 @@
 #include <penumbra/gpu/timer.hpp>
 #include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/scene/box.hpp>
+#include <penumbra/scene/frame_work.hpp>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
@@ -22,8 +24,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <list>
 #include <cmath>
+#include <cstdio>
+#include <list>
 #include <optional>
 
 namespace penumbra::render {
@@ -31,29 +34,99 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Work per chunk when RendererOptions leaves it to the device: a software rasteriser runs this in
+// a few tens of milliseconds at its slowest (light-buffer builds), a GPU runs a thousand times
+// more in a few milliseconds and would idle on smaller dispatches.
+constexpr double software_chunk_work = 4e6;
+constexpr double hardware_chunk_work = 4e9;
+
 double milliseconds_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-glm::vec4 v4(glm::dvec3 v, double w = 0.0) { return glm::vec4(glm::dvec4(v, w)); }
+glm::vec4 v4(glm::dvec3 v, double w = 0.0) {
+    return glm::vec4(glm::dvec4(v, w));
+}
 
-// Everything the light buffer's content depends on; a camera move changes none of it.
-struct LightBufferKey {
+// Everything a light buffer's content depends on: the volume, the opacity the builders classify
+// with (the baked TF's alpha channel, so a colour change reuses the buffer), and the request with
+// what the builders are known not to read reset to its default. Every other member of the request
+// stays in, so a setting added later rebuilds the buffer until it is shown not to matter, rather
+// than serving stale shadows.
+struct LightBufferInputs {
     std::uint64_t volume_generation = 0;
-    std::uint64_t tf_generation = 0;
-    glm::dvec3 travel{0.0};
-    glm::dvec3 position{0.0};
-    bool point = false;
-    int slices = 0;
-    int resolution = 0;
-    scene::LightBufferBuilder builder = scene::LightBufferBuilder::multi_slice;
-    bool extinction = false;
-    double opacity_unit_distance = 0.0;
-    double compensation = 0.0;
-    int slab_samples = 0;
+    std::vector<float> opacities;
+    scene::FrameRequest request;
 
-    bool operator==(const LightBufferKey&) const = default;
+    bool operator==(const LightBufferInputs&) const = default;
 };
+
+LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
+                                      std::uint64_t volume_generation,
+                                      const std::vector<glm::vec4>& table, int slab_samples) {
+    LightBufferInputs inputs{volume_generation, {}, request};
+    inputs.opacities.reserve(table.size());
+    for (const glm::vec4& entry : table) {
+        inputs.opacities.push_back(entry.a);
+    }
+    const scene::FrameRequest defaults;
+    scene::FrameRequest& r = inputs.request;
+    // The camera and the image, and how the ray caster shades and reads the buffer.
+    r.camera = defaults.camera;
+    r.transfer_function = {};  // in `opacities`, as the builders see it
+    scene::RenderSettings& s = r.settings;
+    const scene::RenderSettings& d = defaults.settings;
+    s.width = d.width;
+    s.height = d.height;
+    s.mode = d.mode;  // every light-buffer mode fills the same buffer
+    s.stage = d.stage;
+    s.sample_distance = d.sample_distance;
+    s.early_termination = d.early_termination;
+    s.background = d.background;
+    s.shading = d.shading;
+    s.phong = d.phong;
+    s.scattering = d.scattering;
+    s.light_buffer.lookup = d.light_buffer.lookup;
+    // "One per voxel" and the count it resolves to fill the same buffer.
+    s.light_buffer.slab_samples = slab_samples;
+    // The buffer holds the fraction of the light that arrives, not its colour or strength; a
+    // directional light is only its direction, a point light only its position.
+    scene::Light& l = r.light;
+    l.color = defaults.light.color;
+    l.intensity = defaults.light.intensity;
+    l.ambient = defaults.light.ambient;
+    if (l.type == scene::LightType::directional) {
+        l.direction = glm::normalize(l.direction);
+        l.position = defaults.light.position;
+    } else {
+        l.direction = defaults.light.direction;
+    }
+    return inputs;
+}
+
+// Where the frame's light and slices lie: CPU work that depends only on the request and the box.
+struct FrameGeometry {
+    scene::Box box;
+    glm::dvec3 travel{0.0};  // the light's direction of travel
+    std::optional<optics::LightView> light_view;
+    optics::LightSlicing light_slicing;  // with light_view
+    int slab_samples = 0;                // resolved; 0 without light_view
+    // Half-angle slicing: the axis the slices are perpendicular to, their range along it, and
+    // whether the eye composites front to back (else the view vector was flipped).
+    glm::dvec3 half_angle_axis{0.0};
+    optics::LightSlicing half_angle_slicing;
+    bool front_to_back = true;
+};
+
+std::string mebibytes(std::size_t bytes) {
+    return std::to_string(bytes >> 20) + " MiB";
+}
+
+std::string scientific(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2g", value);
+    return text;
+}
 
 // The camera's view-projection for rasterised slices, flipped vertically so that image row 0 (the
 // top) lands in framebuffer row 0, like the ray caster's output.
@@ -92,6 +165,8 @@ struct Renderer::Impl {
     SliceMesh slices;
     gpu::GpuTimer light_timer;
     gpu::GpuTimer render_timer;
+    double max_frame_work = 0.0;
+    double chunk_work = 0.0;
 
     // Volume textures, most recently used first; the first is the current volume.
     struct CachedVolume {
@@ -100,6 +175,7 @@ struct Renderer::Impl {
         std::uint64_t generation = 0;
         std::size_t bytes = 0;
     };
+
     std::list<CachedVolume> volumes;
     std::size_t volume_memory_budget = 0;
     std::uint64_t next_generation = 0;
@@ -111,17 +187,19 @@ struct Renderer::Impl {
 
     gpu::Texture tf_texture;
     std::vector<glm::vec4> tf_table;  // what tf_texture holds, to skip re-uploading it
-    std::uint64_t tf_generation = 0;
 
-    // Light buffers by what they depend on, most recently used first, so that sessions with
-    // different lights or transfer functions each keep theirs; the first is the current one.
+    // Light buffers by what their content depends on, most recently used first, so that
+    // sessions with different lights or transfer functions each keep theirs.
     struct CachedLightBuffer {
-        LightBufferKey key;
+        LightBufferInputs inputs;
         LightBuffer buffer;
     };
+
     std::list<CachedLightBuffer> light_buffers;
     std::size_t light_buffer_memory_budget = 0;
     std::uint64_t light_buffer_builds = 0;
+    // The buffer the last light-buffer frame used, for light_inset() and read_light_buffer().
+    const LightBuffer* last_light_buffer = nullptr;
 
     [[nodiscard]] std::size_t light_buffer_bytes() const {
         std::size_t total = 0;
@@ -131,11 +209,17 @@ struct Renderer::Impl {
         return total;
     }
 
-    void evict_light_buffers() {
-        while (light_buffers.size() > 1 && light_buffer_bytes() > light_buffer_memory_budget) {
+    // Evicts least recently used buffers until `incoming` more bytes fit the budget.
+    void make_room_for_light_buffer(std::size_t incoming) {
+        while (!light_buffers.empty() &&
+               light_buffer_bytes() + incoming > light_buffer_memory_budget) {
+            if (&light_buffers.back().buffer == last_light_buffer) {
+                last_light_buffer = nullptr;
+            }
             light_buffers.pop_back();
         }
     }
+
     enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
 
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
@@ -157,10 +241,19 @@ struct Renderer::Impl {
         return total;
     }
 
-    // Evicts least recently used textures beyond the budget; the current one always stays.
+    // Evicts least recently used textures beyond the budget; the current one always stays. The
+    // light buffers of an evicted volume go with it: nothing can reuse them any more.
     void evict_volumes() {
         while (volumes.size() > 1 && volume_bytes() > volume_memory_budget) {
+            const std::uint64_t evicted = volumes.back().generation;
             volumes.pop_back();
+            light_buffers.remove_if([&](const CachedLightBuffer& entry) {
+                const bool dead = entry.inputs.volume_generation == evicted;
+                if (dead && &entry.buffer == last_light_buffer) {
+                    last_light_buffer = nullptr;
+                }
+                return dead;
+            });
         }
     }
 
@@ -168,9 +261,75 @@ struct Renderer::Impl {
         return {info.max_texture_size, info.max_array_texture_layers, info.max_texture_size};
     }
 
+    // The light's view and slicing, and half-angle slicing's axis: everything about where the
+    // frame's slices lie, computed on the CPU before anything is issued.
+    [[nodiscard]] base::Result<FrameGeometry> frame_geometry(const scene::FrameRequest& request,
+                                                             const FramePlan& plan) const {
+        const scene::RenderSettings& s = request.settings;
+        FrameGeometry g;
+        g.box = scene::box_for_extent(volume->extent());
+        g.travel = optics::light_travel_direction(request.light, g.box);
+        if (plan.needs_light_view) {
+            auto view = optics::make_light_view(request.light, g.box);
+            if (!view) {
+                return view.error();
+            }
+            g.light_view = *view;
+            g.light_slicing = optics::make_light_slicing(g.box, g.travel, s.light_buffer.slices);
+            // The voxel size as the shaders see it (float), so the CPU and GPU resolve alike.
+            const glm::dvec3 voxel_size(glm::vec3(g.box.size() / glm::dvec3(volume->dims)));
+            g.slab_samples = optics::resolve_slab_samples(g.light_slicing, voxel_size,
+                                                          s.light_buffer.slab_samples);
+        }
+        if (plan.half_angle) {
+            // Slice along the half vector of the view and the light; when they point apart,
+            // the view vector is flipped and the eye composites back to front.
+            const glm::dvec3 view = glm::normalize(request.camera.target - request.camera.eye);
+            g.front_to_back = glm::dot(view, g.travel) >= 0.0;
+            g.half_angle_axis = glm::normalize(g.front_to_back ? view + g.travel : g.travel - view);
+            g.half_angle_slicing =
+                    optics::make_light_slicing(g.box, g.half_angle_axis, s.light_buffer.slices);
+        }
+        return g;
+    }
+
+    // Refuses, before anything runs, a frame over the work ceiling or a light buffer that the
+    // budget could never hold.
+    [[nodiscard]] base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,
+                                     const FrameGeometry& g) const {
+        const scene::FrameWork work = scene::estimate_work(request, g.box, g.slab_samples);
+        if (work.total() > max_frame_work) {
+            return base::make_error(
+                    "too_much_work",
+                    "this frame asks for about " + scientific(work.total()) +
+                            " shader iterations (image pixels x samples per ray x the mode's "
+                            "cost per sample, plus light-buffer texels x slices x slab "
+                            "samples), more than this server's ceiling of " +
+                            scientific(max_frame_work) +
+                            " per frame; use a smaller image, a larger sample distance or "
+                            "fewer slices",
+                    "settings");
+        }
+        if (plan.needs_light_buffer) {
+            const scene::LightBufferSettings& lb = request.settings.light_buffer;
+            const std::size_t bytes = LightBuffer::bytes_for(lb.slices, lb.resolution);
+            if (bytes > light_buffer_memory_budget) {
+                return base::make_error(
+                        "light_buffer_too_large",
+                        "a light buffer of " + std::to_string(lb.slices) + " slices of " +
+                                std::to_string(lb.resolution) + "^2 texels needs " +
+                                mebibytes(bytes) + ", more than the " +
+                                mebibytes(light_buffer_memory_budget) +
+                                " this server keeps for light buffers; use fewer slices or a "
+                                "lower resolution",
+                        "light_buffer");
+            }
+        }
+        return base::Ok{};
+    }
+
     // Returns the time spent when the table changed and had to be uploaded.
-    std::optional<double> update_transfer_function(const scene::TransferFunction& tf) {
-        std::vector<glm::vec4> table = scene::bake(tf, scene::default_table_size);
+    std::optional<double> update_transfer_function(const std::vector<glm::vec4>& table) {
         if (tf_texture && table == tf_table) {
             return std::nullopt;
         }
@@ -184,13 +343,14 @@ struct Renderer::Impl {
         }
         glTextureSubImage1D(tf_texture.name(), 0, 0, scene::default_table_size, GL_RGBA, GL_FLOAT,
                             table.data());
-        tf_table = std::move(table);
-        ++tf_generation;
+        tf_table = table;
         return milliseconds_since(start);
     }
 
-    FrameUniforms uniforms_for(const scene::FrameRequest& request, const scene::Box& box) const {
+    [[nodiscard]] FrameUniforms uniforms_for(const scene::FrameRequest& request,
+                                             const FrameGeometry& g) const {
         const scene::RenderSettings& s = request.settings;
+        const scene::Box& box = g.box;
         const double aspect = static_cast<double>(s.width) / s.height;
         const scene::CameraFrame camera = scene::camera_frame(request.camera, aspect);
         const scene::Light& light = request.light;
@@ -204,8 +364,9 @@ struct Renderer::Impl {
         u.voxel_size = v4(box.size() / glm::dvec3(volume->dims));
         u.background = v4(s.background, 1.0);
         u.light_radiance = v4(light.color * light.intensity, light.ambient);
-        u.light_vector = v4(light.type == scene::LightType::point ? light.position
-                                                                  : glm::normalize(light.direction));
+        u.light_vector =
+                v4(light.type == scene::LightType::point ? light.position
+                                                         : glm::normalize(light.direction));
         u.shading = glm::vec4(static_cast<float>(s.shading.diffuse),
                               static_cast<float>(s.shading.specular),
                               static_cast<float>(s.shading.shininess), 0.0f);
@@ -215,15 +376,111 @@ struct Renderer::Impl {
                             static_cast<float>(s.early_termination), 0.0f);
         u.image_size = glm::ivec4(s.width, s.height, 0, 0);
         u.light_buffer_info = glm::vec4(static_cast<float>(s.light_buffer.resolution),
-                                        static_cast<float>(s.light_buffer.compensation), 0.0f,
-                                        0.0f);
+                                        static_cast<float>(s.light_buffer.compensation),
+                                        static_cast<float>(g.slab_samples), 0.0f);
         u.scattering = glm::vec4(static_cast<float>(s.scattering.shell_radius),
                                  static_cast<float>(s.scattering.shell_rings),
                                  static_cast<float>(s.scattering.shell_center_weight), 0.0f);
-        u.cone = glm::vec4(static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))),
-                           static_cast<float>(s.scattering.cone_center_weight), 0.0f, 0.0f);
-        u.camera_view_projection = glm::mat4(camera_view_projection(request.camera, camera, aspect, box));
+        u.cone = glm::vec4(
+                static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))),
+                static_cast<float>(s.scattering.cone_center_weight), 0.0f, 0.0f);
+        u.camera_view_projection =
+                glm::mat4(camera_view_projection(request.camera, camera, aspect, box));
+        if (g.light_view) {
+            u.light_view_projection = glm::mat4(g.light_view->view_projection);
+            u.light_inverse_view_projection = glm::mat4(g.light_view->inverse_view_projection);
+            u.light_travel = v4(g.travel, g.light_view->perspective ? 1.0 : 0.0);
+            const optics::LightSlicing& slicing = g.light_slicing;
+            u.light_slicing = glm::vec4(
+                    static_cast<float>(slicing.min), static_cast<float>(slicing.max),
+                    static_cast<float>(slicing.count), static_cast<float>(slicing.spacing()));
+        }
+        if (g.half_angle_axis != glm::dvec3(0.0)) {
+            u.half_angle_axis = v4(g.half_angle_axis, g.half_angle_slicing.spacing());
+            u.half_angle_range =
+                    glm::vec4(static_cast<float>(g.half_angle_slicing.min), 0.0f, 0.0f, 0.0f);
+        }
         return u;
+    }
+
+    // Binds the cached light buffer the request's inputs define, building it (in chunks) when
+    // none is cached. The budget keeps the total under it: older buffers are evicted first.
+    base::Status use_light_buffer(const scene::FrameRequest& request, const FramePlan& plan,
+                                  const FrameGeometry& g, const std::vector<glm::vec4>& table,
+                                  WorkChunks& chunks, FrameReport& report) {
+        const scene::LightBufferSettings& lb = request.settings.light_buffer;
+        LightBufferInputs inputs =
+                light_buffer_inputs(request, volume_generation, table, g.slab_samples);
+        auto cached = std::find_if(light_buffers.begin(), light_buffers.end(),
+                                   [&](const CachedLightBuffer& e) { return e.inputs == inputs; });
+        if (cached != light_buffers.end()) {
+            light_buffers.splice(light_buffers.begin(), light_buffers, cached);
+            report.light_buffer = "reused";
+        } else {
+            const auto start = Clock::now();
+            if (lb.builder == scene::LightBufferBuilder::per_slice) {
+                slices.upload(make_slice_geometry(
+                        g.box, g.travel, static_cast<float>(g.light_slicing.min),
+                        static_cast<float>(g.light_slicing.max), lb.slices));
+            }
+            make_room_for_light_buffer(LightBuffer::bytes_for(lb.slices, lb.resolution));
+            LightBuffer buffer(lb.slices, lb.resolution);
+            if (glGetError() == GL_OUT_OF_MEMORY) {
+                return base::make_error("gpu_out_of_memory",
+                                        "not enough GPU memory for a light buffer of " +
+                                                std::to_string(lb.slices) + " x " +
+                                                std::to_string(lb.resolution) + "^2",
+                                        "light_buffer.resolution");
+            }
+            if (auto status = light_buffer_builder.build(
+                        buffer, lb.builder, slices,
+                        {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}}, g.slab_samples,
+                        light_timer, chunks);
+                !status) {
+                return status;  // a cancelled build leaves a partial buffer: it is not kept
+            }
+            glFinish();
+            report.passes.push_back({std::string("light_buffer_") + scene::to_string(lb.builder),
+                                     gpu_ms(light_timer), milliseconds_since(start)});
+            light_buffers.push_front({std::move(inputs), std::move(buffer)});
+            ++light_buffer_builds;
+            report.light_buffer = "built";
+        }
+        last_light_buffer = &light_buffers.front().buffer;
+        glBindTextureUnit(2, last_light_buffer->texture());
+        last_inset = LastInset::light_buffer;
+        return base::Ok{};
+    }
+
+    // The ray caster's loop budget: the longest ray's samples and each sample's inner loops.
+    [[nodiscard]] MarchBudget march_budget(const scene::RenderSettings& s,
+                                           const FrameGeometry& g) const {
+        MarchBudget budget;
+        budget.max_samples_per_ray = scene::samples_per_ray(s, g.box);
+        budget.iterations_per_sample =
+                scene::iterations_per_sample(s, budget.max_samples_per_ray, g.slab_samples);
+        budget.loop_cap = info.max_shader_loop_iterations;
+        return budget;
+    }
+
+    // Runs the frame's main pass (the ray caster or half-angle slicing) into the target and
+    // returns how many chunks it took.
+    base::Result<int> run_pass(const scene::FrameRequest& request, const FramePlan& plan,
+                               const FrameGeometry& g, WorkChunks& chunks) {
+        const scene::RenderSettings& s = request.settings;
+        if (plan.half_angle) {
+            const int before = chunks.count();
+            if (auto status = half_angle.run(slices, g.front_to_back, s.width, s.height,
+                                             s.light_buffer.resolution, plan.variant.defines(),
+                                             target, render_timer, chunks);
+                !status) {
+                return status.error();
+            }
+            last_inset = LastInset::half_angle;
+            return std::max(1, chunks.count() - before);
+        }
+        return raycast.run(plan.variant, s.width, s.height, march_budget(s, g), target,
+                           render_timer, chunks);
     }
 
     [[nodiscard]] double gpu_ms(const gpu::GpuTimer& timer) const {
@@ -236,7 +493,8 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Renderer::Renderer(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
 
 Renderer::~Renderer() = default;
 
@@ -263,14 +521,22 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     impl->info = std::move(info);
     impl->volume_memory_budget = options.volume_memory_budget;
     impl->light_buffer_memory_budget = options.light_buffer_memory_budget;
+    impl->max_frame_work = options.max_frame_work;
+    impl->chunk_work = options.chunk_work > 0.0 ? options.chunk_work
+                       : software               ? software_chunk_work
+                                                : hardware_chunk_work;
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
                                      " via " + impl->info.platform);
     return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 
-const RendererInfo& Renderer::info() const { return impl_->info; }
+const RendererInfo& Renderer::info() const {
+    return impl_->info;
+}
 
-std::uint64_t Renderer::light_buffer_builds() const { return impl_->light_buffer_builds; }
+std::uint64_t Renderer::light_buffer_builds() const {
+    return impl_->light_buffer_builds;
+}
 
 base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) {
     PENUMBRA_ASSERT(volume != nullptr, "set_volume needs a volume");
@@ -290,7 +556,8 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
         impl.volume_upload_ms = milliseconds_since(start);
         impl.volume_uploaded_this_frame = true;
         const std::size_t bytes = volume->data.size();
-        impl.volumes.push_front({volume, std::move(texture.value()), ++impl.next_generation, bytes});
+        impl.volumes.push_front(
+                {volume, std::move(texture.value()), ++impl.next_generation, bytes});
     } else {
         impl.volumes.splice(impl.volumes.begin(), impl.volumes, cached);
     }
@@ -306,7 +573,8 @@ std::size_t Renderer::gpu_bytes_held() const {
     return impl.volume_bytes() + impl.light_buffer_bytes();
 }
 
-base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
+base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
+                                     const CancelPredicate& cancelled) {
     Impl& impl = *impl_;
     if (!impl.volume) {
         return base::make_error("no_volume", "no volume has been set", "volume");
@@ -314,16 +582,18 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
     if (auto status = scene::validate(request, impl.limits()); !status) {
         return status.error();
     }
-    const scene::RenderSettings& s = request.settings;
     const FramePlan plan = plan_frame(request);
-    const scene::Box box = scene::box_for_extent(impl.volume->extent());
-    std::optional<optics::LightView> light_view;
-    if (plan.needs_light_view) {
-        auto view = optics::make_light_view(request.light, box);
-        if (!view) {
-            return view.error();
-        }
-        light_view = *view;
+    auto geometry = impl.frame_geometry(request, plan);
+    if (!geometry) {
+        return geometry.error();
+    }
+    const FrameGeometry& g = *geometry;
+    if (auto status = impl.admit(request, plan, g); !status) {
+        return status.error();
+    }
+    WorkChunks chunks(impl.chunk_work, cancelled);
+    if (chunks.cancelled()) {
+        return cancelled_error();
     }
 
     Frame frame;
@@ -331,155 +601,46 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
         frame.report.passes.push_back({"upload_volume", 0.0, impl.volume_upload_ms});
         impl.volume_uploaded_this_frame = false;
     }
-    if (auto tf_ms = impl.update_transfer_function(request.transfer_function)) {
+    const std::vector<glm::vec4> table =
+            scene::bake(request.transfer_function, scene::default_table_size);
+    if (auto tf_ms = impl.update_transfer_function(table)) {
         frame.report.passes.push_back({"transfer_function", 0.0, *tf_ms});
     }
-
-    FrameUniforms uniforms = impl.uniforms_for(request, box);
-    const glm::dvec3 travel = optics::light_travel_direction(request.light, box);
-    if (light_view) {
-        uniforms.light_view_projection = glm::mat4(light_view->view_projection);
-        uniforms.light_inverse_view_projection = glm::mat4(light_view->inverse_view_projection);
-        uniforms.light_travel = v4(travel, light_view->perspective ? 1.0 : 0.0);
-        const optics::LightSlicing slicing =
-                optics::make_light_slicing(box, travel, s.light_buffer.slices);
-        uniforms.light_slicing = glm::vec4(static_cast<float>(slicing.min),
-                                           static_cast<float>(slicing.max),
-                                           static_cast<float>(slicing.count),
-                                           static_cast<float>(slicing.spacing()));
-        uniforms.light_buffer_info.z = static_cast<float>(optics::resolve_slab_samples(
-                slicing, glm::dvec3(uniforms.voxel_size),
-                s.light_buffer.slab_samples));
-    }
-    bool front_to_back = true;
+    impl.upload(impl.uniforms_for(request, g));
     double slice_geometry_ms = 0.0;  // CPU work of the slicing passes, counted in their time
     if (plan.half_angle) {
-        // Slice along the half vector of the view and the light; when they point apart, the
-        // view vector is flipped and the eye composites back to front.
-        const glm::dvec3 view = glm::normalize(request.camera.target - request.camera.eye);
-        front_to_back = glm::dot(view, travel) >= 0.0;
-        const glm::dvec3 axis = glm::normalize(front_to_back ? view + travel : travel - view);
-        const optics::LightSlicing along_axis =
-                optics::make_light_slicing(box, axis, s.light_buffer.slices);
-        uniforms.half_angle_axis = v4(axis, along_axis.spacing());
-        uniforms.half_angle_range = glm::vec4(static_cast<float>(along_axis.min), 0.0f, 0.0f, 0.0f);
         const auto geometry_start = Clock::now();
-        impl.slices.upload(make_slice_geometry(box, axis, along_axis.min, along_axis.max,
-                                               along_axis.count));
+        impl.slices.upload(make_slice_geometry(g.box, g.half_angle_axis, g.half_angle_slicing.min,
+                                               g.half_angle_slicing.max,
+                                               g.half_angle_slicing.count));
         slice_geometry_ms = milliseconds_since(geometry_start);
     }
-    impl.upload(uniforms);
     glBindTextureUnit(0, impl.volume_texture->texture.name());
     glBindTextureUnit(1, impl.tf_texture.name());
-    const gpu::Defines defines = plan.variant.defines();
-
     if (plan.needs_light_buffer) {
-        LightBufferKey key{impl.volume_generation,
-                           impl.tf_generation,
-                           travel,
-                           request.light.position,
-                           request.light.type == scene::LightType::point,
-                           s.light_buffer.slices,
-                           s.light_buffer.resolution,
-                           s.light_buffer.builder,
-                           plan.variant.extinction,
-                           s.opacity_unit_distance,
-                           s.light_buffer.compensation,
-                           static_cast<int>(uniforms.light_buffer_info.z)};
-        if (!key.point) {
-            key.position = glm::dvec3(0.0);
-        }
-        auto cached = std::find_if(impl.light_buffers.begin(), impl.light_buffers.end(),
-                                   [&](const Impl::CachedLightBuffer& e) { return e.key == key; });
-        if (cached != impl.light_buffers.end()) {
-            impl.light_buffers.splice(impl.light_buffers.begin(), impl.light_buffers, cached);
-            frame.report.light_buffer = "reused";
-        } else {
-            const auto start = Clock::now();
-            if (s.light_buffer.builder == scene::LightBufferBuilder::per_slice) {
-                impl.slices.upload(make_slice_geometry(box, travel,
-                                                       uniforms.light_slicing.x,
-                                                       uniforms.light_slicing.y,
-                                                       s.light_buffer.slices));
-            }
-            LightBuffer buffer(s.light_buffer.slices, s.light_buffer.resolution);
-            if (glGetError() == GL_OUT_OF_MEMORY) {
-                return base::make_error("gpu_out_of_memory",
-                                        "not enough GPU memory for a light buffer of " +
-                                                std::to_string(s.light_buffer.slices) + " x " +
-                                                std::to_string(s.light_buffer.resolution) + "^2",
-                                        "light_buffer.resolution");
-            }
-            if (auto status = impl.light_buffer_builder.build(
-                        buffer, s.light_buffer.builder, impl.slices,
-                        {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}}, impl.light_timer);
-                !status) {
-                return status.error();
-            }
-            glFinish();
-            frame.report.passes.push_back(
-                    {std::string("light_buffer_") + scene::to_string(s.light_buffer.builder),
-                     impl.gpu_ms(impl.light_timer), milliseconds_since(start)});
-            impl.light_buffers.push_front({key, std::move(buffer)});
-            impl.evict_light_buffers();
-            ++impl.light_buffer_builds;
-            frame.report.light_buffer = "built";
-        }
-        glBindTextureUnit(2, impl.light_buffers.front().buffer.texture());
-        impl.last_inset = Impl::LastInset::light_buffer;
-    }
-
-    const auto render_start = Clock::now();
-    std::string pass_name = "raycast";
-    int chunks = 1;
-    if (plan.half_angle) {
-        pass_name = "half_angle";
-        if (auto status = impl.half_angle.run(impl.slices, front_to_back, s.width, s.height,
-                                              s.light_buffer.resolution, defines, impl.target,
-                                              impl.render_timer);
+        if (auto status = impl.use_light_buffer(request, plan, g, table, chunks, frame.report);
             !status) {
             return status.error();
         }
-        impl.last_inset = Impl::LastInset::half_angle;
-    } else {
-        // The longest ray crosses the box's diagonal; a shadow ray at most the same again.
-        const double diagonal = glm::length(box.size());
-        MarchBudget budget;
-        budget.max_samples_per_ray =
-                static_cast<int>(std::ceil(diagonal / s.sample_distance)) + 1;
-        switch (plan.variant.shadows) {
-            case Shadows::rays: budget.iterations_per_sample = 2 + budget.max_samples_per_ray; break;
-            case Shadows::light_buffer:
-                budget.iterations_per_sample =
-                        plan.variant.scattering == Scattering::shell ? 4 + 2 * s.scattering.shell_rings
-                        : plan.variant.scattering == Scattering::cone ? 10
-                                                                       : 1;
-                if (plan.variant.local_light_lookup) {
-                    budget.iterations_per_sample +=
-                            1 + static_cast<int>(uniforms.light_buffer_info.z);
-                }
-                break;
-            case Shadows::none: budget.iterations_per_sample = 1; break;
-        }
-        budget.loop_cap = impl.info.max_shader_loop_iterations;
-        auto dispatches = impl.raycast.run(plan.variant, s.width, s.height, budget, impl.target,
-                                           impl.render_timer);
-        if (!dispatches) {
-            return dispatches.error();
-        }
-        chunks = *dispatches;
+    }
+
+    const auto render_start = Clock::now();
+    auto pass_chunks = impl.run_pass(request, plan, g, chunks);
+    if (!pass_chunks) {
+        return pass_chunks.error();
     }
     glFinish();  // the frame is read back next anyway; finishing here splits render from readback
     const double render_wall_ms = milliseconds_since(render_start) + slice_geometry_ms;
     const auto readback_start = Clock::now();
     impl.target.read_back(frame.image);
     const double readback_ms = milliseconds_since(readback_start);
-    frame.report.passes.push_back({pass_name, impl.gpu_ms(impl.render_timer), render_wall_ms});
+    frame.report.passes.push_back({plan.half_angle ? "half_angle" : "raycast",
+                                   impl.gpu_ms(impl.render_timer), render_wall_ms});
     frame.report.passes.push_back({"readback", 0.0, readback_ms});
     frame.report.variant = plan.variant.key();
     frame.report.stage = plan.half_angle ? "slices" : scene::to_string(plan.variant.stage);
-    if (chunks > 1) {
-        frame.report.stage += " (" + std::to_string(chunks) + " chunks)";
+    if (*pass_chunks > 1) {
+        frame.report.stage += " (" + std::to_string(*pass_chunks) + " chunks)";
     }
     if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
         return base::make_error("gl_error", "OpenGL reported error " + std::to_string(error),
@@ -489,22 +650,27 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request) {
 }
 
 base::Result<Renderer::LightBufferContents> Renderer::read_light_buffer() const {
-    if (impl_->light_buffers.empty()) {
+    if (impl_->last_light_buffer == nullptr) {
         return base::make_error("no_light_buffer", "no frame has built a light buffer yet",
                                 "light_buffer");
     }
-    const LightBuffer& buffer = impl_->light_buffers.front().buffer;
+    const LightBuffer& buffer = *impl_->last_light_buffer;
     return LightBufferContents{buffer.slices(), buffer.resolution(), buffer.read()};
 }
 
 base::Result<base::ImageRgba8> Renderer::light_inset() const {
     switch (impl_->last_inset) {
         case Impl::LastInset::light_buffer: {
-            const LightBuffer& buffer = impl_->light_buffers.front().buffer;
+            if (impl_->last_light_buffer == nullptr) {
+                break;  // evicted with its volume
+            }
+            const LightBuffer& buffer = *impl_->last_light_buffer;
             return buffer.layer_image(buffer.slices() - 1);
         }
-        case Impl::LastInset::half_angle: return impl_->half_angle.light_image();
-        case Impl::LastInset::none: break;
+        case Impl::LastInset::half_angle:
+            return impl_->half_angle.light_image();
+        case Impl::LastInset::none:
+            break;
     }
     return base::make_error("no_light_buffer",
                             "only sbrc, sbrc_shell, sbrc_cone and half_angle frames have a light "

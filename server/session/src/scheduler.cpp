@@ -68,7 +68,8 @@ void Scheduler::stop() {
         }
         stopping_ = true;
         dropped.swap(pending_);
-        order_.clear();
+        clients_.clear();
+        sessions_of_.clear();
     }
     work_ready_.notify_all();
     for (auto& [session, pending] : dropped) {
@@ -96,15 +97,31 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
             done(base::make_error("shutting_down", "the server is shutting down", "render"));
             return;
         }
+        if (in_flight_.session == session) {
+            in_flight_.superseded = true;
+        }
         auto found = pending_.find(session);
         if (found != pending_.end()) {
             replaced = std::move(found->second.done);
-            found->second = Pending{std::move(job), std::move(done)};
-        } else {
-            pending_.emplace(session, Pending{std::move(job), std::move(done)});
-            order_.push_back(session);
+            if (found->second.job.client == job.client) {
+                found->second = Pending{std::move(job), std::move(done)};
+            } else {
+                // Another viewer's request: the session now waits in that client's turn.
+                unqueue(session, found->second.job.client);
+                pending_.erase(found);
+                found = pending_.end();
+            }
         }
-        queue_depth_.set(static_cast<double>(order_.size()));
+        if (found == pending_.end()) {
+            const std::string client = job.client;
+            pending_.emplace(session, Pending{std::move(job), std::move(done)});
+            auto& sessions = sessions_of_[client];
+            if (sessions.empty()) {
+                clients_.push_back(client);
+            }
+            sessions.push_back(session);
+        }
+        queue_depth_.set(static_cast<double>(pending_.size()));
     }
     if (replaced) {
         superseded_.add();
@@ -118,22 +135,37 @@ void Scheduler::cancel(const std::string& session) {
     FrameCallback dropped;
     {
         const std::lock_guard lock(mutex_);
+        if (in_flight_.session == session) {
+            in_flight_.closed = true;
+        }
         auto found = pending_.find(session);
         if (found == pending_.end()) {
             return;
         }
         dropped = std::move(found->second.done);
+        unqueue(session, found->second.job.client);
         pending_.erase(found);
-        order_.erase(std::remove(order_.begin(), order_.end(), session), order_.end());
-        queue_depth_.set(static_cast<double>(order_.size()));
+        queue_depth_.set(static_cast<double>(pending_.size()));
     }
     superseded_.add();
     dropped(base::make_error("superseded", "the session was closed", "render"));
 }
 
+void Scheduler::unqueue(const std::string& session, const std::string& client) {
+    const auto sessions = sessions_of_.find(client);
+    if (sessions == sessions_of_.end()) {
+        return;
+    }
+    std::erase(sessions->second, session);
+    if (sessions->second.empty()) {
+        sessions_of_.erase(sessions);
+        std::erase(clients_, client);
+    }
+}
+
 std::size_t Scheduler::queue_depth() const {
     const std::lock_guard lock(mutex_);
-    return order_.size();
+    return pending_.size();
 }
 
 void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>& ready) {
@@ -149,18 +181,33 @@ void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>&
         Pending next;
         {
             std::unique_lock lock(mutex_);
-            work_ready_.wait(lock, [&] { return stopping_ || !order_.empty(); });
+            work_ready_.wait(lock, [&] { return stopping_ || !clients_.empty(); });
             if (stopping_) {
                 break;
             }
-            const std::string session = order_.front();
-            order_.pop_front();
+            // The client whose turn it is, then that client's session whose turn it is; both go
+            // to the back of their queues.
+            const std::string client = clients_.front();
+            clients_.pop_front();
+            auto& sessions = sessions_of_.at(client);
+            const std::string session = sessions.front();
+            sessions.pop_front();
+            if (sessions.empty()) {
+                sessions_of_.erase(client);
+            } else {
+                clients_.push_back(client);
+            }
             auto found = pending_.find(session);
             next = std::move(found->second);
             pending_.erase(found);
-            queue_depth_.set(static_cast<double>(order_.size()));
+            queue_depth_.set(static_cast<double>(pending_.size()));
+            in_flight_ = {session, Clock::now()};
         }
         render_one(*renderer, std::move(next.job), std::move(next.done));
+        {
+            const std::lock_guard lock(mutex_);
+            in_flight_ = {};
+        }
         gpu_bytes_.set(static_cast<double>(renderer->gpu_bytes_held()));
     }
     // The renderer (and its GL context) is destroyed on the thread that created it.
@@ -176,7 +223,26 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(status.error());
         return;
     }
-    auto rendered = renderer.render(job.request);
+    auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
+    if (!rendered && rendered.error().code == "cancelled") {
+        bool shutting_down = false;
+        bool closed = false;
+        {
+            const std::lock_guard lock(mutex_);
+            shutting_down = stopping_;
+            closed = in_flight_.closed;
+        }
+        if (shutting_down) {
+            done(base::make_error("shutting_down", "the server is shutting down", "render"));
+        } else {
+            superseded_.add();
+            done(base::make_error(
+                    "superseded",
+                    closed ? "the session was closed" : "a newer render request replaced this one",
+                    "render"));
+        }
+        return;
+    }
     if (!rendered) {
         failures_.add();
         done(rendered.error());
@@ -225,6 +291,13 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         });
     }
     encode_ready_.notify_one();
+}
+
+bool Scheduler::in_flight_cancelled() const {
+    const std::lock_guard lock(mutex_);
+    return stopping_ || in_flight_.closed ||
+           (in_flight_.superseded &&
+            Clock::now() - in_flight_.started >= options_.supersede_running_after);
 }
 
 void Scheduler::encode_loop() {

@@ -38,13 +38,18 @@ bool same_token(std::string_view a, std::string_view b) {
 }  // namespace
 
 Session::Session(std::string id, std::string volume_id,
-                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner)
+                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::string client)
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
     , owner_token_(random_secret())
+    , opened_by_(owner)
+    , client_(std::move(client))
     , owner_(owner)
-    , state_(std::move(state)) {}
+    , state_(std::move(state)) {
+    viewers_[owner] = {};
+}
 
 std::optional<ViewerId> Session::owner() const {
     const std::lock_guard lock(mutex_);
@@ -71,13 +76,17 @@ void Session::set_state(SessionState state, ViewerId changed_by) {
     }
 }
 
-void Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
-                         const StateSink& welcome) {
+base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
+                                 const StateSink& welcome) {
     const std::lock_guard lock(mutex_);
+    if (ended_) {
+        return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
+    }
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
     if (welcome) {
         welcome(state_);
     }
+    return base::Ok{};
 }
 
 base::Status Session::resume(ViewerId viewer, std::string_view owner_token, ViewerSink frames,
@@ -170,20 +179,40 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     return job;
 }
 
-SessionRegistry::SessionRegistry(int max_sessions) : max_sessions_(max_sessions) {}
+SessionRegistry::SessionRegistry(int max_sessions, int max_per_client, int max_per_connection)
+    : max_sessions_(max_sessions)
+    , max_per_client_(max_per_client)
+    , max_per_connection_(max_per_connection) {}
 
 base::Result<std::shared_ptr<Session>> SessionRegistry::create(
         std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
-        ViewerId owner) {
+        ViewerId owner, const std::string& client, const Session* replacing) {
     const std::lock_guard lock(mutex_);
-    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+    int of_client = 0;
+    int of_connection = 0;
+    for (const auto& [id, session] : sessions_) {
+        if (session.get() != replacing) {
+            of_client += session->client() == client ? 1 : 0;
+            of_connection += session->opened_by() == owner ? 1 : 0;
+        }
+    }
+    const auto refuse = [](const std::string& who, int maximum) {
         return base::make_error("too_many_sessions",
-                                "the server already holds its maximum of " +
-                                        std::to_string(max_sessions_) + " sessions",
+                                who + " already holds its maximum of " + std::to_string(maximum) +
+                                        " sessions",
                                 "/volume");
+    };
+    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+        return refuse("the server", max_sessions_);
+    }
+    if (of_client >= max_per_client_) {
+        return refuse("this client (" + client + ")", max_per_client_);
+    }
+    if (of_connection >= max_per_connection_) {
+        return refuse("this connection", max_per_connection_);
     }
     auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
-                                             std::move(volume), std::move(state), owner);
+                                             std::move(volume), std::move(state), owner, client);
     sessions_.emplace(session->id(), session);
     return session;
 }
@@ -194,9 +223,29 @@ std::shared_ptr<Session> SessionRegistry::find(const std::string& id) const {
     return found == sessions_.end() ? nullptr : found->second;
 }
 
-void SessionRegistry::remove(const std::string& id) {
+base::Result<std::shared_ptr<Session>> SessionRegistry::enter(
+        const std::string& id, const std::function<base::Status(Session&)>& enter) {
     const std::lock_guard lock(mutex_);
-    sessions_.erase(id);
+    const auto found = sessions_.find(id);
+    if (found == sessions_.end()) {
+        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+    }
+    if (auto status = enter(*found->second); !status) {
+        return status.error();
+    }
+    return found->second;
+}
+
+bool SessionRegistry::leave(Session& session, ViewerId viewer) {
+    const std::lock_guard lock(mutex_);
+    if (session.remove_viewer(viewer) > 0) {
+        return false;
+    }
+    const auto found = sessions_.find(session.id());
+    if (found != sessions_.end() && found->second.get() == &session) {
+        sessions_.erase(found);
+    }
+    return true;
 }
 
 std::size_t SessionRegistry::count() const {

@@ -46,9 +46,40 @@ bool is_volume_file(const std::filesystem::path& path) {
     return false;
 }
 
-VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget)
+VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                         std::chrono::milliseconds rescan_interval, int loader_threads)
     : data_dir_(std::move(data_dir))
-    , memory_budget_(memory_budget) {}
+    , memory_budget_(memory_budget)
+    , rescan_interval_(rescan_interval)
+    , loaders_(loader_threads) {
+    rescanner_ = std::thread([this] { rescan_loop(); });
+}
+
+VolumeStore::~VolumeStore() {
+    {
+        const std::lock_guard lock(rescan_mutex_);
+        stopping_ = true;
+    }
+    rescan_wake_.notify_all();
+    rescanner_.join();
+}
+
+void VolumeStore::rescan_loop() {
+    std::unique_lock lock(rescan_mutex_);
+    while (true) {
+        rescan_wake_.wait_for(lock, rescan_interval_,
+                              [&] { return stopping_ || rescan_requested_; });
+        if (stopping_) {
+            return;
+        }
+        rescan_requested_ = false;
+        lock.unlock();
+        if (auto status = scan(); !status) {
+            base::log_error("volumes", status.error().to_string());
+        }
+        lock.lock();
+    }
+}
 
 base::Status VolumeStore::scan() {
     std::error_code ec;
@@ -56,6 +87,8 @@ base::Status VolumeStore::scan() {
         return base::make_error("not_found", "the data directory does not exist",
                                 data_dir_.string());
     }
+    // Taken before the walk: a change during it asks for another scan.
+    const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     std::vector<VolumeEntry> found;
     const auto add_series_if_dicom = [&](const std::filesystem::path& folder) {
         if (const auto bytes = dicom_series_bytes(folder)) {
@@ -99,12 +132,68 @@ base::Status VolumeStore::scan() {
         }
     }
     entries_ = std::move(found);
+    scanned_mtime_ = mtime;
     return base::Ok{};
 }
 
 std::vector<VolumeEntry> VolumeStore::list() const {
+    std::error_code ec;
+    const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     const std::lock_guard lock(mutex_);
+    if (!ec && mtime != scanned_mtime_) {
+        {
+            const std::lock_guard rescan(rescan_mutex_);
+            rescan_requested_ = true;
+        }
+        rescan_wake_.notify_all();
+    }
     return entries_;
+}
+
+std::size_t VolumeStore::histograms_computed() const {
+    const std::lock_guard lock(mutex_);
+    return histograms_computed_;
+}
+
+std::shared_ptr<const std::vector<std::uint64_t>> VolumeStore::histogram(
+        const std::shared_ptr<const volume::Volume>& volume) {
+    {
+        const std::lock_guard lock(mutex_);
+        const auto found = histograms_.find(volume.get());
+        if (found != histograms_.end() && found->second.volume.lock() == volume) {
+            return found->second.bins;
+        }
+    }
+    // Outside the lock: a large volume takes most of a second.
+    auto bins = std::make_shared<const std::vector<std::uint64_t>>(
+            volume::compute_histogram(*volume, histogram_bins).bins);
+    const std::lock_guard lock(mutex_);
+    std::erase_if(histograms_, [](const auto& cached) { return cached.second.volume.expired(); });
+    ++histograms_computed_;
+    histograms_[volume.get()] = {volume, bins};
+    return bins;
+}
+
+std::string VolumeStore::relative_paths(std::string text) const {
+    std::error_code ec;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(data_dir_, ec);
+    for (const std::filesystem::path& dir : {data_dir_, canonical}) {
+        std::string prefix = dir.string();
+        if (prefix.empty()) {
+            continue;
+        }
+        if (prefix.back() != '/') {
+            prefix += '/';
+        }
+        for (auto at = text.find(prefix); at != std::string::npos; at = text.find(prefix, at)) {
+            text.erase(at, prefix.size());
+        }
+    }
+    return text;
+}
+
+void VolumeStore::acquire_async(std::string id, AcquireDone done) {
+    loaders_.post([this, id = std::move(id), done = std::move(done)] { done(acquire(id)); });
 }
 
 std::size_t VolumeStore::loads() const {
@@ -136,9 +225,13 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
     // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
     auto loaded = volume::load_volume(path);
     if (!loaded) {
-        return loaded.error();
+        base::Error error = loaded.error();
+        error.message = relative_paths(std::move(error.message));
+        error.where = relative_paths(std::move(error.where));
+        return error;
     }
     auto shared = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+    histogram(shared);
     const std::lock_guard lock(mutex_);
     ++loads_;
     auto entry = std::find_if(entries_.begin(), entries_.end(),

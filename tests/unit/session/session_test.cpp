@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace penumbra::session {
@@ -212,14 +214,71 @@ TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
     auto created = registry.create("v", nullptr, {}, owner);
     ASSERT_TRUE(created.ok());
     const std::shared_ptr<Session> session = *created;
-    session->add_viewer(owner, {}, {}, {});
-    session->add_viewer(first_viewer, {}, {}, {});
-    EXPECT_EQ(session->remove_viewer(owner), 1U);
+    EXPECT_EQ(session->viewer_count(), 1U) << "its owner is its first viewer";
+    ASSERT_TRUE(registry.enter(session->id(), [](Session& s) {
+                            return s.add_viewer(first_viewer, {}, {}, {});
+                        }).ok());
+    EXPECT_FALSE(registry.leave(*session, owner));
     EXPECT_EQ(registry.find(session->id()), session) << "viewers keep it running without owner";
-    EXPECT_EQ(session->remove_viewer(first_viewer), 0U);
-    registry.remove(session->id());  // what the server does when the count reaches zero
+    EXPECT_TRUE(registry.leave(*session, first_viewer));
     EXPECT_EQ(registry.find(session->id()), nullptr);
     EXPECT_EQ(registry.count(), 0U);
+    const auto gone = registry.enter(session->id(), [](Session& s) {
+        return s.add_viewer(second_viewer, {}, {}, {});
+    });
+    ASSERT_FALSE(gone.ok());
+    EXPECT_EQ(gone.error().code, "unknown_session");
+    EXPECT_EQ(gone.error().where, "/session");
+}
+
+TEST(Session, AnEndedSessionTakesNoViewer) {
+    Session session("s", "v", nullptr, {}, owner);
+    EXPECT_EQ(session.remove_viewer(owner), 0U);
+    const auto refused = session.add_viewer(first_viewer, {}, {}, {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "unknown_session");
+    EXPECT_EQ(session.viewer_count(), 0U);
+}
+
+// Each race: the session's only viewer leaves while another connection joins it. Whichever wins,
+// the joiner is in a session the registry still holds, or was refused; never in an ended one.
+TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
+    SessionRegistry registry(4);
+    int joined_first = 0;
+    int refused = 0;
+    for (int race = 0; race < 200; ++race) {
+        SCOPED_TRACE(race);
+        auto created = registry.create("v", nullptr, {}, owner);
+        ASSERT_TRUE(created.ok());
+        const std::shared_ptr<Session> session = *created;
+        std::atomic<int> ready{0};
+        base::Result<std::shared_ptr<Session>> joined = base::make_error("none", "", "");
+        std::thread joiner([&] {
+            ready.fetch_add(1);
+            while (ready.load() < 2) {
+            }
+            joined = registry.enter(session->id(), [](Session& s) {
+                return s.add_viewer(first_viewer, {}, {}, {});
+            });
+        });
+        ready.fetch_add(1);
+        while (ready.load() < 2) {
+        }
+        registry.leave(*session, owner);
+        joiner.join();
+        if (joined.ok()) {
+            ++joined_first;
+            EXPECT_EQ(registry.find(session->id()), session) << "joined, so it must still run";
+            EXPECT_EQ(session->viewer_count(), 1U);
+            EXPECT_TRUE(registry.leave(*session, first_viewer));
+        } else {
+            ++refused;
+            EXPECT_EQ(joined.error().code, "unknown_session");
+            EXPECT_EQ(session->viewer_count(), 0U) << "refused, so nobody is in it";
+        }
+        EXPECT_EQ(registry.count(), 0U);
+    }
+    EXPECT_EQ(joined_first + refused, 200);
 }
 
 }  // namespace

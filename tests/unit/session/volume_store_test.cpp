@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <future>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -96,6 +99,56 @@ TEST_F(VolumeStoreTest, ALinkedFolderIsNotOffered) {
     ASSERT_TRUE(store.scan().ok());
     EXPECT_TRUE(store.list().empty());
     fs::remove_all(outside);
+}
+
+TEST_F(VolumeStoreTest, LoadsRunOnALoaderThreadAndEachVolumeGetsOneHistogram) {
+    write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    std::promise<std::thread::id> loaded_on;
+    std::promise<base::Result<std::shared_ptr<const volume::Volume>>> loaded;
+    store.acquire_async("a_2x2x2_uint8.raw", [&](auto result) {
+        loaded_on.set_value(std::this_thread::get_id());
+        loaded.set_value(std::move(result));
+    });
+    EXPECT_NE(loaded_on.get_future().get(), std::this_thread::get_id());
+    auto volume = loaded.get_future().get();
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(store.histograms_computed(), 1U) << "computed with the load, off the caller";
+    const auto first = store.histogram(*volume);
+    ASSERT_EQ(first->size(), static_cast<std::size_t>(VolumeStore::histogram_bins));
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_EQ(store.histogram(*volume), first) << "the same bins, not a new computation";
+    }
+    EXPECT_EQ(store.histograms_computed(), 1U);
+}
+
+TEST_F(VolumeStoreTest, ListingAnswersFromTheLastScanAndAChangedFolderIsRescannedSoon) {
+    write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
+    VolumeStore store(data_, std::size_t{1} << 20, std::chrono::hours(1));
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), std::vector<std::string>{"a_2x2x2_uint8.raw"});
+    // A file added at the top changes the folder's modification time; the listing that notices
+    // it asks the store's own thread for a scan (not the caller's, and not the hour's timer).
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    write_text(data_ / "b_2x2x2_uint8.raw", "12345678");
+    std::vector<std::string> listed = ids(store);
+    for (int i = 0; i < 100 && listed.size() < 2; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        listed = ids(store);
+    }
+    EXPECT_EQ(listed, (std::vector<std::string>{"a_2x2x2_uint8.raw", "b_2x2x2_uint8.raw"}));
+}
+
+TEST_F(VolumeStoreTest, LoadErrorsNameFilesRelativeToTheDataFolder) {
+    write_text(data_ / "heads" / "short_4x4x4_uint8.raw", "too short");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    const auto failed = store.acquire("heads/short_4x4x4_uint8.raw");
+    ASSERT_FALSE(failed.ok());
+    const std::string said = failed.error().to_string();
+    EXPECT_EQ(said.find(data_.string()), std::string::npos) << said;
+    EXPECT_NE(said.find("heads/short_4x4x4_uint8.raw"), std::string::npos) << said;
 }
 
 }  // namespace

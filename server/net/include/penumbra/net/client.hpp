@@ -16,9 +16,12 @@ namespace penumbra::net {
 // thread. Every call has a timeout; a timed-out connection is closed.
 class Client {
 public:
+    // `local_address`, when not empty, is the address the connection comes from (on Linux any
+    // of 127.0.0.0/8 for a loopback server: tests play several clients that way).
     static base::Result<std::unique_ptr<Client>> connect(
             const std::string& host, unsigned short port, const std::string& path = "/ws",
-            std::chrono::milliseconds timeout = std::chrono::seconds(10));
+            std::chrono::milliseconds timeout = std::chrono::seconds(10),
+            const std::string& local_address = {});
 
     Client(const Client&) = delete;
     Client& operator=(const Client&) = delete;

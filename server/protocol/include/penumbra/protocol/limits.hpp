@@ -12,8 +12,15 @@ struct Limits {
     int max_slices = 1024;
     int max_light_resolution = 1024;
     int max_sessions = 64;
+    // Sessions one client may hold: opened by one remote address (behind a proxy, the address
+    // its header names), and opened by one connection and still running.
+    int max_sessions_per_client = 16;
+    int max_sessions_per_connection = 4;
     double max_requests_per_second = 120.0;  // per connection, averaged over one second
     int max_send_queue = 4;                  // frames waiting per connection before dropping
+    // Shader iterations one frame may ask for (scene::estimate_work): a 512^2 reference frame at
+    // sample distance 1/256 asks for 5e10, a 2048^2 sbrc_shell frame at the default settings 2e10.
+    double max_frame_work = 1e11;
 };
 
 inline constexpr int protocol_version = 1;

@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,10 +20,25 @@ struct RendererOptions {
     bool debug_context = false;        // GL debug output routed to the log
     // Volume textures stay on the GPU, least recently used evicted first, while they fit this.
     std::size_t volume_memory_budget = std::size_t{2} << 30;
-    // Light buffers stay cached by their inputs (volume, TF, light, n, R, builder, compositing,
-    // compensation), least recently used evicted first, while they fit this.
+    // Light buffers stay cached by what their content depends on (volume, the TF's opacity,
+    // light, n, R, builder, compositing, compensation, slab samples), least recently used evicted
+    // first so that together they never exceed this; a single buffer larger than it is refused.
     std::size_t light_buffer_memory_budget = std::size_t{1} << 30;
+    // The most work one frame may ask for, in shader inner-loop iterations
+    // (scene::estimate_work); larger requests are refused with `too_much_work` before anything
+    // runs. No ceiling by default: the CLI renders what it is asked; `serve` sets its own.
+    double max_frame_work = std::numeric_limits<double>::infinity();
+    // Frames are issued in chunks of about this much work (tiles of the image, ranges of steps
+    // along the rays, tiles or groups of slices of the light buffer), between which the renderer
+    // waits for the GPU and asks whether the frame was cancelled. 0: sized for the device (a
+    // fraction of a second per chunk on a software rasteriser).
+    double chunk_work = 0.0;
 };
+
+// Asked on the render thread between chunks of a frame; returning true abandons the frame, which
+// then fails with the error code `cancelled`. Must be cheap and safe to call from that thread
+// while others change what it reads (atomics).
+using CancelPredicate = std::function<bool()>;
 
 // What the renderer runs on, for logs, CLI output and the protocol's hello.
 struct RendererInfo {
@@ -50,7 +67,12 @@ public:
 
     virtual base::Status set_volume(std::shared_ptr<const volume::Volume> volume) = 0;
 
-    virtual base::Result<Frame> render(const scene::FrameRequest& request) = 0;
+    // Renders one frame, or fails with `too_much_work` (over the work ceiling, before anything
+    // runs), `cancelled` (when `cancelled` said so between chunks), or why it could not.
+    virtual base::Result<Frame> render(const scene::FrameRequest& request,
+                                       const CancelPredicate& cancelled) = 0;
+
+    base::Result<Frame> render(const scene::FrameRequest& request) { return render(request, {}); }
 
     // Bytes of GPU memory held by cached volume textures and light buffers.
     [[nodiscard]] virtual std::size_t gpu_bytes_held() const = 0;
@@ -75,7 +97,9 @@ public:
     base::Status set_volume(std::shared_ptr<const volume::Volume> volume) override;
 
     // Renders one frame of the current volume in any mode of DESIGN.md §1.
-    base::Result<Frame> render(const scene::FrameRequest& request) override;
+    using FrameRenderer::render;
+    base::Result<Frame> render(const scene::FrameRequest& request,
+                               const CancelPredicate& cancelled) override;
 
     [[nodiscard]] std::size_t gpu_bytes_held() const override;
 

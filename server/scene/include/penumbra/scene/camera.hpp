@@ -13,6 +13,8 @@ struct Camera {
     glm::dvec3 target{0.0};
     glm::dvec3 up{0.0, 0.0, 1.0};
     double fov_y_degrees = 30.0;
+
+    bool operator==(const Camera&) const = default;
 };
 
 // The camera's orthonormal frame. `right` and `up` are scaled by the half-extent of the image

@@ -58,6 +58,8 @@ struct LightBufferSettings {
     // the slice plane; 0 picks one per voxel along the light (optics::resolve_slab_samples).
     int slab_samples = 0;  // 0 .. kMaxSlabSamples
     LightLookup lookup = LightLookup::local;  // the buffer's content does not depend on it
+
+    bool operator==(const LightBufferSettings&) const = default;
 };
 
 inline constexpr int kMaxSlabSamples = 16;
@@ -73,6 +75,8 @@ struct ScatteringSettings {
     double shell_center_weight = 0.4;
     double cone_angle_degrees = 30.0;   // (0, 80]
     double cone_center_weight = 0.2;
+
+    bool operator==(const ScatteringSettings&) const = default;
 };
 
 struct RenderSettings {
@@ -89,6 +93,8 @@ struct RenderSettings {
     bool phong = false;  // Blinn-Phong on top of shadows (the shadow modes; `phong` mode always)
     LightBufferSettings light_buffer;
     ScatteringSettings scattering;
+
+    bool operator==(const RenderSettings&) const = default;
 };
 
 // What a mode computes: whether it needs the light buffer, shadow rays, gradients.
@@ -101,6 +107,8 @@ struct FrameRequest {
     Light light;
     TransferFunction transfer_function;
     RenderSettings settings;
+
+    bool operator==(const FrameRequest&) const = default;
 };
 
 // Device limits that bound what a request may ask for.

@@ -13,6 +13,8 @@ struct Light {
     glm::dvec3 color{1.0};
     double intensity = 1.0;
     double ambient = 0.25;  // fraction of the light colour that reaches every sample unshadowed
+
+    bool operator==(const Light&) const = default;
 };
 
 // Blinn–Phong material applied when a mode shades with gradients.
@@ -20,6 +22,8 @@ struct Shading {
     double diffuse = 0.75;
     double specular = 0.3;
     double shininess = 32.0;
+
+    bool operator==(const Shading&) const = default;
 };
 
 }  // namespace penumbra::scene

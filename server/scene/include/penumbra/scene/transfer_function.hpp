@@ -16,11 +16,15 @@ namespace penumbra::scene {
 struct ColorPoint {
     double x = 0.0;
     glm::dvec3 rgb{0.0};
+
+    bool operator==(const ColorPoint&) const = default;
 };
 
 struct OpacityPoint {
     double x = 0.0;
     double alpha = 0.0;
+
+    bool operator==(const OpacityPoint&) const = default;
 };
 
 struct TransferFunction {
@@ -31,6 +35,8 @@ struct TransferFunction {
     // Colour and opacity at normalised value x: linear between points, constant beyond the ends.
     // No points at all means black / fully transparent.
     [[nodiscard]] glm::dvec4 evaluate(double x) const;
+
+    bool operator==(const TransferFunction&) const = default;
 };
 
 // Checks positions (finite, in [0,1], non-decreasing), colours and opacities (finite, in [0,1]).

@@ -37,6 +37,9 @@ struct RenderJob {
     bool interactive = false;
     std::string quality;  // how the request was reduced, for the frame header
     Clock::time_point submitted = Clock::now();
+    // Who asked (a remote address): render time is shared among clients first, then among the
+    // sessions of each client, so opening many sessions buys a client no larger share.
+    std::string client;
 };
 
 struct EncodedFrame {
@@ -63,12 +66,21 @@ using FrameCallback =
 
 struct SchedulerOptions {
     int encode_threads = 2;
+    // A newer request of the session whose frame is rendering cancels that frame once it has
+    // rendered this long (between two of its chunks): a long frame yields the render thread to
+    // the newer request, a short one finishes, so a session that asks faster than its frames
+    // render still sees frames.
+    std::chrono::milliseconds supersede_running_after{500};
 };
 
 // One render thread owns the renderer (and so the GL context) for all sessions. Each session
 // has at most one pending job: a newer one replaces an unrendered older one (latest wins).
-// Sessions with pending jobs are served round-robin, so a busy session cannot starve others.
-// Encoding runs on a pool of worker threads, overlapping the next render.
+// Clients with pending jobs are served round-robin, and the sessions of one client round-robin
+// in turn, so neither a busy session nor a client with many sessions can starve others.
+// The frame being rendered is cancelled between its chunks when its session is closed, when the
+// scheduler stops, and when a newer request of its session has waited for it long enough
+// (SchedulerOptions::supersede_running_after). Encoding runs on a pool of worker threads,
+// overlapping the next render.
 class Scheduler {
 public:
     using RendererFactory =
@@ -85,14 +97,16 @@ public:
 
     void submit(const std::string& session, RenderJob job, FrameCallback done);
 
-    // Drops the session's pending job, if any (its callback gets "superseded").
+    // Drops the session's pending job, if any, and cancels its frame in flight (their callbacks
+    // get "superseded").
     void cancel(const std::string& session);
 
     [[nodiscard]] const render::RendererInfo& renderer_info() const { return renderer_info_; }
 
     [[nodiscard]] std::size_t queue_depth() const;
 
-    // Stops accepting work, drops pending jobs, finishes the frame in flight and the encodes.
+    // Stops accepting work, drops pending jobs, cancels the frame in flight, finishes the
+    // encodes.
     void stop();
 
 private:
@@ -101,19 +115,35 @@ private:
     void render_loop(RendererFactory factory, std::promise<base::Status>& ready);
     void encode_loop();
     void render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done);
+    // Whether the frame in flight should stop; asked by the renderer between chunks.
+    bool in_flight_cancelled() const;
 
     struct Pending {
         RenderJob job;
         FrameCallback done;
     };
 
+    // Takes `session` out of its client's turn (under mutex_).
+    void unqueue(const std::string& session, const std::string& client);
+
     SchedulerOptions options_;
     render::RendererInfo renderer_info_;
     mutable std::mutex mutex_;
     std::condition_variable work_ready_;
-    std::map<std::string, Pending> pending_;
-    std::deque<std::string> order_;  // sessions with a pending job, in the order they are served
+    std::map<std::string, Pending> pending_;  // by session
+    std::deque<std::string> clients_;         // clients with a pending job, in serving order
+    std::map<std::string, std::deque<std::string>> sessions_of_;  // a client's sessions, in order
     bool stopping_ = false;
+
+    // The job on the render thread (guarded by mutex_), so that others can cancel it.
+    struct InFlight {
+        std::string session;  // empty while the render thread is idle
+        Clock::time_point started;
+        bool superseded = false;  // a newer job of the session is pending
+        bool closed = false;      // the session was cancelled
+    };
+
+    InFlight in_flight_;
 
     std::mutex encode_mutex_;
     std::condition_variable encode_ready_;

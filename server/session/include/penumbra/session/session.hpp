@@ -42,15 +42,23 @@ using StateSink = std::function<void(const SessionState& state)>;
 // others watch; a connection that presents the owner token takes its place. Thread-safe.
 class Session {
 public:
-    // `owner` opened the session; the owner token is drawn here, at random.
+    // `owner` opened the session and is its first viewer (with no sinks until add_viewer gives
+    // them), so a session is never empty before its owner leaves; the owner token is drawn here,
+    // at random.
+    // `client` names who opened it (a remote address), for per-client limits.
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
-            SessionState state, ViewerId owner);
+            SessionState state, ViewerId owner, std::string client = {});
 
     [[nodiscard]] const std::string& id() const { return id_; }
 
     [[nodiscard]] const std::string& volume_id() const { return volume_id_; }
 
     [[nodiscard]] const std::shared_ptr<const volume::Volume>& volume() const { return volume_; }
+
+    // The connection that opened the session, and its client.
+    [[nodiscard]] ViewerId opened_by() const { return opened_by_; }
+
+    [[nodiscard]] const std::string& client() const { return client_; }
 
     // The connection that may change the session, if one is connected.
     [[nodiscard]] std::optional<ViewerId> owner() const;
@@ -69,8 +77,9 @@ public:
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
     // state the viewer starts from, under the same lock, so no change reaches the viewer before it.
-    void add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
-                    const StateSink& welcome);
+    // Fails with unknown_session once the session has ended: an ended session stays ended.
+    base::Status add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
+                            const StateSink& welcome);
 
     // Makes `viewer` the owner and adds it as with add_viewer, if `owner_token` is the session's
     // and no other connection owns the session now. Fails with unknown_session once the session
@@ -102,6 +111,8 @@ private:
     const std::string volume_id_;
     const std::shared_ptr<const volume::Volume> volume_;
     const std::string owner_token_;
+    const ViewerId opened_by_;
+    const std::string client_;
     mutable std::mutex mutex_;
     struct Sinks {
         ViewerSink frames;
@@ -115,23 +126,42 @@ private:
     std::atomic<std::uint64_t> frames_{0};
 };
 
-// All sessions of a server, by id, up to a limit.
+// All sessions of a server, by id, up to a limit in all, per client and per connection. A session
+// is in the registry exactly while it has viewers: entering one (join, resume) and leaving one
+// happen under the registry's lock, so a connection joining while the last one leaves either
+// joins before the session ends or finds no session, never an ended one.
 class SessionRegistry {
 public:
-    explicit SessionRegistry(int max_sessions);
+    explicit SessionRegistry(int max_sessions, int max_per_client = 1 << 30,
+                             int max_per_connection = 1 << 30);
 
+    // A session opened by connection `owner` of `client`. Fails with too_many_sessions when the
+    // server, the client or the connection holds its maximum; `replacing`, the session the
+    // connection leaves for the new one, is not counted.
     base::Result<std::shared_ptr<Session>> create(std::string volume_id,
                                                   std::shared_ptr<const volume::Volume> volume,
-                                                  SessionState state, ViewerId owner);
+                                                  SessionState state, ViewerId owner,
+                                                  const std::string& client = {},
+                                                  const Session* replacing = nullptr);
 
     [[nodiscard]] std::shared_ptr<Session> find(const std::string& id) const;
 
-    void remove(const std::string& id);
+    // Finds session `id` and lets `enter` add the viewer to it (Session::add_viewer or resume),
+    // both under the registry's lock. Fails with unknown_session when there is no such session,
+    // or with what `enter` returns.
+    base::Result<std::shared_ptr<Session>> enter(
+            const std::string& id, const std::function<base::Status(Session&)>& enter);
+
+    // Removes `viewer` from `session`; the last viewer leaving ends the session and removes it
+    // from the registry in the same step. Returns whether the session ended.
+    bool leave(Session& session, ViewerId viewer);
 
     [[nodiscard]] std::size_t count() const;
 
 private:
     int max_sessions_;
+    int max_per_client_;
+    int max_per_connection_;
     mutable std::mutex mutex_;
     std::map<std::string, std::shared_ptr<Session>> sessions_;
 };

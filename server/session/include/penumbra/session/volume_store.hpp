@@ -1,14 +1,20 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/session/worker_pool.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <list>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace penumbra::session {
@@ -27,29 +33,77 @@ struct VolumeEntry {
 // once, on first use, and shared by every session that opens it; loaded volumes beyond the memory
 // budget are dropped least recently used first (sessions holding one keep it alive). Ids are
 // relative paths that never leave the data directory.
+//
+// Nothing here that reads files needs to run on the caller's thread: loads run on the store's
+// loader threads (acquire_async), the folder is rescanned by a thread of its own, and list()
+// answers from the last scan. A volume's histogram is computed once, when it is loaded.
 class VolumeStore {
 public:
-    VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget);
+    // How many bins a volume's histogram has (the transfer-function editor's backdrop).
+    static constexpr int histogram_bins = 256;
 
-    // Re-scans the data directory.
+    // `rescan_interval`: how old the listed scan may get; a change of the data directory's
+    // modification time (a file added or removed at its top) asks for a rescan sooner.
+    VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                std::chrono::milliseconds rescan_interval = std::chrono::seconds(10),
+                int loader_threads = 2);
+
+    VolumeStore(const VolumeStore&) = delete;
+    VolumeStore& operator=(const VolumeStore&) = delete;
+    ~VolumeStore();
+
+    // Scans the data directory now, on the caller's thread (at start-up).
     base::Status scan();
 
+    // The volumes of the last scan.
     [[nodiscard]] std::vector<VolumeEntry> list() const;
 
     // Loads (or returns the loaded) volume `id`. Unknown ids, ids reaching outside the data
-    // directory and unreadable files are Errors ("unknown_volume", or the loader's code).
+    // directory and unreadable files are Errors ("unknown_volume", or the loader's code), whose
+    // paths are relative to the data directory.
     base::Result<std::shared_ptr<const volume::Volume>> acquire(const std::string& id);
 
+    using AcquireDone = std::function<void(base::Result<std::shared_ptr<const volume::Volume>>)>;
+
+    // acquire() on a loader thread; `done` is called there.
+    void acquire_async(std::string id, AcquireDone done);
+
+    // The histogram of a volume this store loaded, computed once per volume.
+    std::shared_ptr<const std::vector<std::uint64_t>> histogram(
+            const std::shared_ptr<const volume::Volume>& volume);
+
+    // `text` with every path inside the data directory written relative to it, for messages that
+    // leave the server.
+    [[nodiscard]] std::string relative_paths(std::string text) const;
+
     [[nodiscard]] std::size_t loads() const;  // how many times a file was actually read
+    [[nodiscard]] std::size_t histograms_computed() const;
 
 private:
+    void rescan_loop();
+
     std::filesystem::path data_dir_;
     std::size_t memory_budget_;
+    std::chrono::milliseconds rescan_interval_;
     mutable std::mutex mutex_;
     std::mutex load_mutex_;
     std::vector<VolumeEntry> entries_;
     std::list<std::string> recent_;  // loaded ids, most recent first
     std::size_t loads_ = 0;
+    struct CachedHistogram {
+        std::weak_ptr<const volume::Volume> volume;
+        std::shared_ptr<const std::vector<std::uint64_t>> bins;
+    };
+    std::map<const volume::Volume*, CachedHistogram> histograms_;
+    std::size_t histograms_computed_ = 0;
+
+    std::filesystem::file_time_type scanned_mtime_{};
+    mutable std::mutex rescan_mutex_;
+    mutable std::condition_variable rescan_wake_;
+    mutable bool rescan_requested_ = false;
+    bool stopping_ = false;
+    std::thread rescanner_;
+    WorkerPool loaders_;  // last: destroyed (joined) first
 };
 
 // Whether a file name is one the loaders read as a volume by itself (DICOM files are not: their

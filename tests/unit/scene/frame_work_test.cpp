@@ -1,0 +1,136 @@
+#include <penumbra/scene/frame_work.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <functional>
+#include <string>
+
+namespace penumbra::scene {
+namespace {
+
+constexpr std::array all_modes{Mode::dvr,        Mode::phong,     Mode::half_angle, Mode::sbrc,
+                               Mode::sbrc_shell, Mode::sbrc_cone, Mode::reference};
+
+FrameRequest request_in(Mode mode) {
+    FrameRequest request;
+    request.settings.mode = mode;
+    request.settings.width = 64;
+    request.settings.height = 48;
+    request.settings.light_buffer.slices = 32;
+    request.settings.light_buffer.resolution = 64;
+    return request;
+}
+
+constexpr int slab_samples = 4;
+
+double work_of(const FrameRequest& request, const Box& box = {}) {
+    return estimate_work(request, box, slab_samples).total();
+}
+
+// Each step makes the frame ask for more of something; the estimate must never fall, and must
+// rise wherever the mode does that work at all.
+TEST(FrameWork, GrowsWithEverySizeAndStepCount) {
+    struct Growth {
+        std::string what;
+        std::function<void(FrameRequest&)> grow;
+        std::function<bool(Mode)> matters;
+    };
+
+    const auto always = [](Mode) { return true; };
+    const auto ray_cast = [](Mode m) { return m != Mode::half_angle; };
+    const auto light = [](Mode m) { return m == Mode::half_angle || uses_light_buffer(m); };
+    const std::vector<Growth> growths = {
+            {"width", [](FrameRequest& r) { r.settings.width *= 2; }, always},
+            {"height", [](FrameRequest& r) { r.settings.height += 7; }, always},
+            {"finer sample distance", [](FrameRequest& r) { r.settings.sample_distance /= 3.0; },
+             ray_cast},
+            {"slices", [](FrameRequest& r) { r.settings.light_buffer.slices *= 2; }, light},
+            {"light resolution", [](FrameRequest& r) { r.settings.light_buffer.resolution += 16; },
+             light},
+            {"shell rings", [](FrameRequest& r) { r.settings.scattering.shell_rings += 1; },
+             [](Mode m) { return m == Mode::sbrc_shell; }},
+    };
+    for (const Mode mode : all_modes) {
+        for (const auto& growth : growths) {
+            FrameRequest request = request_in(mode);
+            double previous = work_of(request);
+            ASSERT_GT(previous, 0.0) << to_string(mode);
+            for (int step = 0; step < 3; ++step) {
+                growth.grow(request);
+                const double work = work_of(request);
+                if (growth.matters(mode)) {
+                    EXPECT_GT(work, previous) << to_string(mode) << ": more " << growth.what;
+                } else {
+                    EXPECT_EQ(work, previous) << to_string(mode) << ": more " << growth.what;
+                }
+                previous = work;
+            }
+        }
+    }
+}
+
+TEST(FrameWork, MoreSlabSamplesNeverCostLess) {
+    for (const Mode mode : all_modes) {
+        const FrameRequest request = request_in(mode);
+        double previous = 0.0;
+        for (int samples = 1; samples <= kMaxSlabSamples; ++samples) {
+            const double work = estimate_work(request, {}, samples).total();
+            EXPECT_GE(work, previous) << to_string(mode) << " at " << samples << " slab samples";
+            previous = work;
+        }
+    }
+}
+
+// A flat box has a shorter diagonal, so shorter rays.
+TEST(FrameWork, ShorterRaysCostLess) {
+    const Box flat = box_for_extent({1.0, 1.0, 0.1});
+    for (const Mode mode : all_modes) {
+        if (mode == Mode::half_angle) {
+            continue;
+        }
+        EXPECT_LT(work_of(request_in(mode), flat), work_of(request_in(mode))) << to_string(mode);
+    }
+}
+
+// Counted from the definition: pixels x samples per ray x iterations per sample, plus the light
+// buffer's texels x slices x slab samples.
+TEST(FrameWork, CountsEachPartOfTheFrame) {
+    FrameRequest request = request_in(Mode::sbrc);
+    request.settings.sample_distance = 1.0 / 128.0;
+    request.settings.light_buffer.lookup = LightLookup::interpolate;
+    const Box box;  // the unit cube: a diagonal of sqrt(3)
+    const int samples = samples_per_ray(request.settings, box);
+    EXPECT_EQ(samples, 223);  // ceil(sqrt(3) * 128) + 1
+    const FrameWork work = estimate_work(request, box, slab_samples);
+    EXPECT_DOUBLE_EQ(work.ray_casting, 64.0 * 48.0 * 223.0);
+    EXPECT_DOUBLE_EQ(work.light_buffer, 64.0 * 64.0 * 32.0 * slab_samples);
+    EXPECT_DOUBLE_EQ(work.slicing, 0.0);
+
+    request.settings.light_buffer.lookup = LightLookup::local;
+    EXPECT_EQ(iterations_per_sample(request.settings, samples, slab_samples), 2 + slab_samples);
+    request.settings.mode = Mode::reference;
+    EXPECT_EQ(iterations_per_sample(request.settings, samples, slab_samples), 2 + samples);
+    EXPECT_DOUBLE_EQ(estimate_work(request, box, slab_samples).light_buffer, 0.0);
+
+    request.settings.mode = Mode::half_angle;
+    const FrameWork slicing = estimate_work(request, box, slab_samples);
+    EXPECT_DOUBLE_EQ(slicing.slicing, 32.0 * (64.0 * 48.0 + 64.0 * 64.0));
+    EXPECT_DOUBLE_EQ(slicing.ray_casting + slicing.light_buffer, 0.0);
+}
+
+// The frame of finding 3 (2048^2 pixels, sample distance 1/4096, the reference's shadow rays)
+// asks for about 2e14 iterations, eight orders of magnitude more than a default frame.
+TEST(FrameWork, TheHoursLongReferenceFrameIsOrdersOfMagnitudeAboveADefaultOne) {
+    FrameRequest huge;
+    huge.settings.mode = Mode::reference;
+    huge.settings.width = 2048;
+    huge.settings.height = 2048;
+    huge.settings.sample_distance = 1.0 / 4096.0;
+    const double work = work_of(huge);
+    EXPECT_GT(work, 1e14);
+    EXPECT_GT(work, 1e6 * work_of(FrameRequest{}));
+}
+
+}  // namespace
+}  // namespace penumbra::scene
