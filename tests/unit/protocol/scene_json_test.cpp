@@ -18,10 +18,11 @@ SessionState preset_state(const char* preset) {
     return state;
 }
 
-std::string patch_of(const std::string& set_message) {
+Patch patch_of(const std::string& set_message) {
     auto request = parse_request(set_message, Limits{});
     EXPECT_TRUE(request.ok()) << set_message;
-    return request.ok() ? std::get<Set>(request->message).patch : std::string("{}");
+    return request.ok() ? std::get<Set>(request->message).patch
+                        : parse_patch("{}", Limits{}).value();
 }
 
 // Sessions in many shapes: defaults, every preset, and the result of every valid set example.

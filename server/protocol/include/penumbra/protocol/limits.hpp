@@ -14,6 +14,9 @@ struct Limits {
     int max_sessions = 64;
     double max_requests_per_second = 120.0;  // per connection, averaged over one second
     int max_send_queue = 4;                  // frames waiting per connection before dropping
+    // Containers nested in one JSON text (the message object is 1; the deepest valid message
+    // has 5). Checked while parsing, so no deeper document is ever built or walked.
+    int max_json_depth = 16;
 };
 
 inline constexpr int protocol_version = 1;
