@@ -514,3 +514,42 @@ TEST(NrrdLoader, HeaderWithoutEndIsCapped) {
 
 }  // namespace
 }  // namespace penumbra::volume
+
+namespace penumbra::volume {
+namespace {
+
+// Finding: a detached header's "data file" could name any file the server can read
+// ("/etc/passwd", "../x") and expose its bytes as a volume.
+TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "volumes" / "sub");
+    const std::vector<std::byte> bytes(8, std::byte{7});
+    fixtures::write_bytes(dir / "outside.raw", bytes);
+    fixtures::write_bytes(dir / "volumes" / "sub" / "inside.raw", bytes);
+    std::filesystem::create_symlink(dir / "outside.raw", dir / "volumes" / "link.raw");
+    const std::string header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                               "encoding: raw\ndata file: ";
+    const auto load_with = [&](const std::string& data_file) {
+        fixtures::write_text(dir / "volumes" / "h.nhdr", header + data_file + "\n");
+        return load_nrrd(dir / "volumes" / "h.nhdr");
+    };
+    for (const std::string refused :
+         {std::string("/etc/passwd"), std::string("../outside.raw"),
+          std::string("sub/../../outside.raw"), (dir / "outside.raw").string(),
+          std::string("link.raw")}) {
+        const auto volume = load_with(refused);
+        ASSERT_FALSE(volume.ok()) << refused;
+        EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
+        EXPECT_EQ(volume.error().where, (dir / "volumes" / "h.nhdr").string() + ":line 6");
+    }
+    for (const std::string allowed :
+         {std::string("sub/inside.raw"), std::string("sub/../sub/inside.raw"),
+          (dir / "volumes" / "sub" / "inside.raw").string()}) {
+        const auto volume = load_with(allowed);
+        ASSERT_TRUE(volume.ok()) << allowed << ": " << volume.error().to_string();
+        EXPECT_EQ(volume->data, bytes);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::volume
