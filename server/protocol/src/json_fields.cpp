@@ -90,7 +90,8 @@ base::Result<json> parse_limited(std::string_view text, int max_depth) {
 
 base::Status only_fields(const json& object, const std::string& pointer,
                          std::initializer_list<const char*> allowed) {
-    for (const auto& [key, value] : object.items()) {
+    for (const auto& member : object.items()) {
+        const std::string& key = member.key();
         const bool known = std::any_of(allowed.begin(), allowed.end(),
                                        [&](const char* name) { return key == name; });
         if (!known) {

@@ -92,7 +92,8 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     const auto fields = [&](std::initializer_list<const char*> extra) {
         std::vector<const char*> allowed = {"v", "type", "id"};
         allowed.insert(allowed.end(), extra.begin(), extra.end());
-        for (const auto& [key, value] : j.items()) {
+        for (const auto& member : j.items()) {
+            const std::string& key = member.key();
             if (std::find_if(allowed.begin(), allowed.end(),
                              [&](const char* a) { return key == a; }) == allowed.end()) {
                 return base::Status(field_error(code::unknown_field, "/" + key,

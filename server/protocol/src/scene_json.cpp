@@ -6,6 +6,7 @@
 #include <penumbra/scene/camera.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace penumbra::protocol {
@@ -50,7 +51,16 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
         glm::dvec3 target = camera.target;
         PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
         const double fov = camera.fov_y_degrees;
-        camera = scene::orbit_camera(azimuth, elevation, distance, target);
+        const scene::Camera orbit = scene::orbit_camera(azimuth, elevation, distance, target);
+        // The eye is sent back in `state` and must be a value `set` accepts.
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(orbit.eye[axis]) > max_coordinate) {
+                return field_error("out_of_range", op + "/distance",
+                                   "the orbit puts the eye beyond the coordinate range of ±" +
+                                           json(max_coordinate).dump());
+            }
+        }
+        camera = orbit;
         camera.fov_y_degrees = fov;
     }
     PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
