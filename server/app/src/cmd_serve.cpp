@@ -189,7 +189,8 @@ int run_serve(const std::vector<std::string>& args) {
             args,
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
+             "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "max-load-mb",
+             "gpu-memory-mb",
              "default-tf", "quality-table"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
@@ -215,6 +216,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --max-message-bytes N      (default 65536)\n"
                 "  --max-requests-per-second R  per connection (default 120)\n"
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
+                "  --max-load-mb M            memory one volume load may take (default 8192;\n"
+                "                             never more than the machine has available)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
@@ -256,6 +259,7 @@ int run_serve(const std::vector<std::string>& args) {
     int port = 8080;
     int encode_threads = 2;
     int volume_memory_mb = 4096;
+    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
     int gpu_memory_mb = 2048;
     int max_message_bytes = static_cast<int>(limits.max_message_bytes);
     const IntegerOption integers[] = {
@@ -268,6 +272,7 @@ int run_serve(const std::vector<std::string>& args) {
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
             {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
             {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
+            {"max-load-mb", &max_load_mb, 1, 1 << 24},
             {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
     };
     for (const auto& option : integers) {
@@ -292,7 +297,10 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_requests_per_second = *rate;
 
     const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
-    session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20);
+    volume::LoadOptions load_options;
+    load_options.max_bytes = static_cast<std::uint64_t>(max_load_mb) << 20;
+    session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20,
+                                 load_options);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }

@@ -46,9 +46,11 @@ bool is_volume_file(const std::filesystem::path& path) {
     return false;
 }
 
-VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget)
+VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                         volume::LoadOptions load_options)
     : data_dir_(std::move(data_dir))
-    , memory_budget_(memory_budget) {}
+    , memory_budget_(memory_budget)
+    , load_options_(load_options) {}
 
 base::Status VolumeStore::scan() {
     std::error_code ec;
@@ -134,7 +136,7 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
         path = entry->path;
     }
     // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
-    auto loaded = volume::load_volume(path);
+    auto loaded = volume::load_volume(path, load_options_);
     if (!loaded) {
         return loaded.error();
     }

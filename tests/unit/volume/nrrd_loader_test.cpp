@@ -533,7 +533,7 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
         fixtures::write_text(dir / "volumes" / "h.nhdr", header + data_file + "\n");
         return load_nrrd(dir / "volumes" / "h.nhdr");
     };
-    for (const std::string refused :
+    for (const std::string& refused :
          {std::string("/etc/passwd"), std::string("../outside.raw"),
           std::string("sub/../../outside.raw"), (dir / "outside.raw").string(),
           std::string("link.raw")}) {
@@ -542,7 +542,7 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
         EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
         EXPECT_EQ(volume.error().where, (dir / "volumes" / "h.nhdr").string() + ":line 6");
     }
-    for (const std::string allowed :
+    for (const std::string& allowed :
          {std::string("sub/inside.raw"), std::string("sub/../sub/inside.raw"),
           (dir / "volumes" / "sub" / "inside.raw").string()}) {
         const auto volume = load_with(allowed);

@@ -29,7 +29,9 @@ struct VolumeEntry {
 // relative paths that never leave the data directory.
 class VolumeStore {
 public:
-    VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget);
+    // `load_options` bound what one load may take (volume::LoadOptions).
+    VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                volume::LoadOptions load_options = {});
 
     // Re-scans the data directory.
     base::Status scan();
@@ -45,6 +47,7 @@ public:
 private:
     std::filesystem::path data_dir_;
     std::size_t memory_budget_;
+    volume::LoadOptions load_options_;
     mutable std::mutex mutex_;
     std::mutex load_mutex_;
     std::vector<VolumeEntry> entries_;
