@@ -147,6 +147,7 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("limits").at("max_image_side"), 1000);
     EXPECT_EQ(hello.at("limits").at("max_message_bytes"), limits.max_message_bytes);
     EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
+    EXPECT_EQ(hello.at("limits").at("max_json_depth"), limits.max_json_depth);
     EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
 }
 
