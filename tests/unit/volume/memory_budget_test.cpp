@@ -214,6 +214,23 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     EXPECT_TRUE(loaded.exited) << "the child died of signal " << loaded.signal;
     EXPECT_EQ(loaded.status, 0) << "the load did not fit in one copy of the volume + 24 MiB";
 
+    // The same through NIfTI: the header by the nifti library, the int16 voxels (sparse zeros)
+    // after it; the library's own read would hold a second, 64 MiB copy.
+    const auto nifti = dir / "wide.nii";
+    std::int64_t dims[8] = {3, 512, 512, 128, 1, 1, 1, 1};
+    nifti_image* image = nifti_make_new_nim(dims, DT_INT16, 0);
+    ASSERT_NE(image, nullptr);
+    ASSERT_EQ(nifti_set_filenames(image, nifti.c_str(), 0, 1), 0);
+    znzFile header = nifti_image_write_hdr_img(image, 2, "wb");  // 2: the header only, kept open
+    ASSERT_FALSE(znz_isnull(header));
+    znzclose(header);
+    const auto data_offset = static_cast<std::uintmax_t>(image->iname_offset);
+    nifti_image_free(image);
+    std::filesystem::resize_file(nifti, data_offset + 64 * mib);
+    const auto from_nifti = run_limited(152 * mib, [&] { return load_nifti(nifti); }, "");
+    EXPECT_TRUE(from_nifti.exited) << "the child died of signal " << from_nifti.signal;
+    EXPECT_EQ(from_nifti.status, 0) << "the NIfTI load did not fit in one copy + 24 MiB";
+
     // The same through NRRD with gzip data: 16 MiB of uint16 kept as they are.
     const std::vector<std::byte> zeros(16 * mib, std::byte{0});
     fixtures::write_bytes(dir / "kept.raw.gz", fixtures::gzip_bytes(zeros));
