@@ -756,7 +756,8 @@ base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const
 }
 
 // ASCII samples are stored in the type a Volume keeps for them, so the result is already in
-// stored form (not in the file's sample type).
+// stored form (not in the file's sample type). The text is read in chunks, one number at a time:
+// a load holds the volume and 64 KiB of text, whatever the file's size.
 base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::filesystem::path& path,
                                                 const Layout& layout, std::int64_t byte_skip,
                                                 std::uint64_t offset) {
@@ -764,65 +765,91 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     if (auto status = detail::seek_to(file, path, offset); !status) {
         return status.error();
     }
-    std::string text;
-    std::array<char, 1 << 16> chunk{};
-    for (;;) {
-        const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
-        text.append(chunk.data(), got);
-        if (got < chunk.size()) {
-            if (std::ferror(file)) {
-                return base::make_error("read_failed", "read error",
-                                        detail::at_byte(path, offset + text.size()));
-            }
-            break;
-        }
-    }
+    // Longer than any number written in decimal; a longer token is no value of any type.
+    constexpr std::size_t max_token = 128;
     const VoxelType stored = detail::stored_type(layout.type);
     std::vector<std::byte> samples(layout.voxels * bytes_per_voxel(stored));
-    std::size_t position = 0;
     const auto is_separator = [](char c) {
         return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',';
     };
-    for (std::uint64_t i = 0; i < layout.voxels; ++i) {
-        while (position < text.size() && is_separator(text[position])) {
-            ++position;
-        }
-        if (position == text.size()) {
-            return base::make_error("truncated",
-                                    "expected " + std::to_string(layout.voxels) +
-                                            " ASCII values, found " + std::to_string(i),
-                                    detail::at_byte(path, offset + position));
-        }
-        std::size_t end = position;
-        while (end < text.size() && !is_separator(text[end])) {
-            ++end;
-        }
-        const auto token = std::string_view(text).substr(position, end - position);
+    std::uint64_t count = 0;
+    std::string token;
+    std::uint64_t token_start = 0;
+    const auto store = [&]() -> base::Status {
         const auto value = parse_number<double>(token);
         const double limit = stored == VoxelType::uint8 ? 255.0 : 65535.0;
         if (!value || (stored != VoxelType::float32 &&
                        (*value != std::floor(*value) || *value < 0.0 || *value > limit))) {
             return base::make_error("bad_data",
-                                    "'" + std::string(token) + "' is not a " +
+                                    "'" + token.substr(0, max_token) + "' is not a " +
                                             detail::sample_name(layout.type) + " value",
-                                    detail::at_byte(path, offset + position));
+                                    detail::at_byte(path, token_start));
         }
         switch (stored) {
             case VoxelType::uint8:
-                samples[i] = static_cast<std::byte>(*value);
+                samples[count] = static_cast<std::byte>(*value);
                 break;
             case VoxelType::uint16: {
                 const auto sample = static_cast<std::uint16_t>(*value);
-                std::memcpy(samples.data() + i * 2, &sample, 2);
+                std::memcpy(samples.data() + count * 2, &sample, 2);
                 break;
             }
             case VoxelType::float32: {
-                const auto sample = static_cast<float>(*value);
-                std::memcpy(samples.data() + i * 4, &sample, 4);
+                // Beyond float's range a cast is undefined; IEEE rounding gives ±infinity, which
+                // make_volume counts as non-finite.
+                constexpr float infinity = std::numeric_limits<float>::infinity();
+                const float sample = std::abs(*value) > std::numeric_limits<float>::max()
+                                             ? (*value > 0 ? infinity : -infinity)
+                                             : static_cast<float>(*value);
+                std::memcpy(samples.data() + count * 4, &sample, 4);
                 break;
             }
         }
-        position = end;
+        ++count;
+        token.clear();
+        return base::Ok{};
+    };
+    std::array<char, 1 << 16> chunk{};
+    std::uint64_t position = offset;
+    bool ended = false;
+    while (count < layout.voxels && !ended) {
+        const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
+        if (got < chunk.size()) {
+            if (std::ferror(file)) {
+                return base::make_error("read_failed", "read error",
+                                        detail::at_byte(path, position + got));
+            }
+            ended = true;
+        }
+        for (std::size_t k = 0; k < got && count < layout.voxels; ++k, ++position) {
+            if (!is_separator(chunk[k])) {
+                if (token.empty()) {
+                    token_start = position;
+                }
+                if (token.size() == max_token) {
+                    return base::make_error("bad_data",
+                                            "a value longer than " + std::to_string(max_token) +
+                                                    " characters",
+                                            detail::at_byte(path, token_start));
+                }
+                token.push_back(chunk[k]);
+            } else if (!token.empty()) {
+                if (auto status = store(); !status) {
+                    return status.error();
+                }
+            }
+        }
+    }
+    if (count < layout.voxels && !token.empty()) {
+        if (auto status = store(); !status) {
+            return status.error();
+        }
+    }
+    if (count < layout.voxels) {
+        return base::make_error("truncated",
+                                "expected " + std::to_string(layout.voxels) +
+                                        " ASCII values, found " + std::to_string(count),
+                                detail::at_byte(path, position));
     }
     return samples;
 }
@@ -877,19 +904,6 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
         return status.error();
     }
 
-    if (layout->encoding == Encoding::ascii) {
-        // The text is read whole before it is parsed: it counts as well.
-        auto size = detail::regular_file_size(*source);
-        if (!size) {
-            return size.error();
-        }
-        const std::uint64_t text = *size > offset ? *size - offset : 0;
-        if (auto status = detail::check_budget(samples.stored_bytes() + text,
-                                               what + " from ASCII text", path, options);
-            !status) {
-            return status.error();
-        }
-    }
     if (auto status = skip_lines(data, *source, header->line_skip.value.value_or(0), offset);
         !status) {
         return status.error();

@@ -553,3 +553,37 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
 
 }  // namespace
 }  // namespace penumbra::volume
+
+namespace penumbra::volume {
+namespace {
+
+// ASCII data is read a chunk at a time: tokens across chunk boundaries, the end of the file as
+// the end of the last value, a value beyond float's range as infinity (counted, not undefined).
+TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
+    fixtures::TempDir dir;
+    const std::uint32_t values = 20000;
+    std::string text;
+    for (std::uint32_t i = 0; i + 1 < values; ++i) {
+        text += std::to_string(i % 1000) + (i % 7 == 0 ? ",\n" : "   ");
+    }
+    ASSERT_GT(text.size(), std::size_t{1} << 16) << "the text must span several chunks";
+    const std::string last_value_missing = text;
+    text += "1e300";  // the last voxel, with no separator after it
+    fixtures::write_text(dir / "big.txt", text);
+    fixtures::write_text(dir / "big.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: " +
+                                                   std::to_string(values) +
+                                                   " 1 1\nencoding: ascii\ndata file: big.txt\n");
+    const auto volume = load_nrrd(dir / "big.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->value(14000, 0, 0), 0.0);
+    EXPECT_EQ(volume->value(14321, 0, 0), 321.0);
+    EXPECT_EQ(volume->nonfinite_voxels, 1u);
+
+    fixtures::write_text(dir / "big.txt", last_value_missing);
+    const auto truncated = load_nrrd(dir / "big.nhdr");
+    ASSERT_FALSE(truncated.ok());
+    EXPECT_EQ(truncated.error().code, "truncated");
+}
+
+}  // namespace
+}  // namespace penumbra::volume
