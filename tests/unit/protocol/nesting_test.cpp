@@ -103,13 +103,13 @@ TEST(JsonDepth, HundredThousandLevelsAreRefusedWithoutCrashingASmallStack) {
         within_size_result = parse_request(within_size, Limits{});
         id = request_id_of(deepest);
         SessionState state;
-        patch_status = apply_patch(R"({"camera":{"eye":)" + nested_arrays(100000) + "}}", state,
-                                   large);
+        patch_status =
+                apply_patch(R"({"camera":{"eye":)" + nested_arrays(100000) + "}}", state, large);
         auto tf = parse_transfer_function(R"({"colors":)" + nested_arrays(100000) + "}",
                                           std::nullopt, "tf.json");
         tf_status = tf ? base::Status(base::Ok{}) : base::Status(tf.error());
-        auto table = parse_quality_table(R"({"points":)" + nested_arrays(100000) + "}",
-                                         "table.json");
+        auto table =
+                parse_quality_table(R"({"points":)" + nested_arrays(100000) + "}", "table.json");
         table_status = table ? base::Status(base::Ok{}) : base::Status(table.error());
     });
     // The message (1), camera (2), eye (3): the 17th level is the 15th array, at /0 x 14.

@@ -51,8 +51,9 @@ TEST(LoadBudget, RawCountsTheBytesOfTheTypeTheVolumeKeeps) {
                   16 * 8 * 4 * 2);
     // int16 is kept as float32: twice the file's bytes.
     fixtures::write_bytes(dir / "wide_16x8x4_int16.raw", samples);
-    expect_budget([&](const LoadOptions& o) { return load_volume(dir / "wide_16x8x4_int16.raw", o); },
-                  16 * 8 * 4 * 4);
+    expect_budget(
+            [&](const LoadOptions& o) { return load_volume(dir / "wide_16x8x4_int16.raw", o); },
+            16 * 8 * 4 * 4);
     fixtures::write_gzip_file(dir / "gz_16x8x4_int16.raw.gz", samples);
     expect_budget([&](const LoadOptions& o) { return load_raw(dir / "gz_16x8x4_int16.raw.gz", o); },
                   16 * 8 * 4 * 4);
@@ -210,7 +211,8 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     fixtures::TempDir dir;
     const auto raw = dir / "wide_512x512x128_int16.raw";
     std::filesystem::resize_file((fixtures::write_bytes(raw, {}), raw), 64 * mib);
-    const auto loaded = run_limited(152 * mib, [&] { return load_raw(raw); }, "");
+    const auto loaded = run_limited(
+            152 * mib, [&] { return load_raw(raw); }, "");
     EXPECT_TRUE(loaded.exited) << "the child died of signal " << loaded.signal;
     EXPECT_EQ(loaded.status, 0) << "the load did not fit in one copy of the volume + 24 MiB";
 
@@ -227,7 +229,8 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     const auto data_offset = static_cast<std::uintmax_t>(image->iname_offset);
     nifti_image_free(image);
     std::filesystem::resize_file(nifti, data_offset + 64 * mib);
-    const auto from_nifti = run_limited(152 * mib, [&] { return load_nifti(nifti); }, "");
+    const auto from_nifti = run_limited(
+            152 * mib, [&] { return load_nifti(nifti); }, "");
     EXPECT_TRUE(from_nifti.exited) << "the child died of signal " << from_nifti.signal;
     EXPECT_EQ(from_nifti.status, 0) << "the NIfTI load did not fit in one copy + 24 MiB";
 
@@ -237,8 +240,8 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     fixtures::write_text(dir / "kept.nhdr",
                          "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 512 512 32\n"
                          "encoding: gzip\nendian: little\ndata file: kept.raw.gz\n");
-    const auto nrrd = run_limited(16 * mib + 12 * mib, [&] { return load_nrrd(dir / "kept.nhdr"); },
-                                  "");
+    const auto nrrd = run_limited(
+            16 * mib + 12 * mib, [&] { return load_nrrd(dir / "kept.nhdr"); }, "");
     EXPECT_TRUE(nrrd.exited) << "the child died of signal " << nrrd.signal;
     EXPECT_EQ(nrrd.status, 0);
 }
