@@ -7,6 +7,7 @@ packages=(
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev nlohmann-json3-dev libboost-dev
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
+    clang-14 libfuzzer-14-dev
     mricron-data gnuplot-nox
     chromium nodejs
 )

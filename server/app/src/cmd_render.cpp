@@ -25,7 +25,8 @@ double median(std::vector<double> values) {
 
 int run_render(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volume", "spacing", "out", "quality", "repeat", "light-inset"});
+    valued.insert(valued.end(),
+                  {"volume", "spacing", "out", "quality", "repeat", "light-inset", "max-load-mb"});
     std::vector<std::string> flags = frame_flag_names();
     flags.insert(flags.end(), {"help", "debug-gl"});
     auto parsed = Arguments::parse(args, valued, flags);
@@ -39,6 +40,8 @@ int run_render(const std::vector<std::string>& args) {
                     "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz],\n"
                     "                                 a DICOM file or series folder (default %s)\n"
                     "  --spacing X,Y,Z                override the voxel spacing\n"
+                    "  --max-load-mb M                memory the volume load may take (default\n"
+                    "                                 8192; never more than the machine has)\n"
                     "  --out FILE                     .png or .jpg (default frame.png)\n"
                     "  --quality Q                    JPEG quality 1..100 (default 90)\n"
                     "  --repeat N                     render N times, report median times\n"
@@ -50,7 +53,15 @@ int run_render(const std::vector<std::string>& args) {
     }
     const Arguments& a = *parsed;
     const std::string path = a.get("volume").value_or(default_volume_path);
-    auto loaded = volume::load_volume(path);
+    volume::LoadOptions load_options;
+    auto max_load_mb = a.integer("max-load-mb", static_cast<int>(load_options.max_bytes >> 20));
+    if (!max_load_mb || *max_load_mb < 1) {
+        return fail(!max_load_mb ? max_load_mb.error()
+                                 : base::make_error("invalid_argument", "must be at least 1",
+                                                    "--max-load-mb"));
+    }
+    load_options.max_bytes = static_cast<std::uint64_t>(*max_load_mb) << 20;
+    auto loaded = volume::load_volume(path, load_options);
     if (!loaded) {
         return fail(loaded.error());
     }

@@ -190,9 +190,9 @@ int run_serve(const std::vector<std::string>& args) {
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
              "max-message-bytes", "max-requests-per-second", "max-frame-work",
-             "volume-memory-mb", "gpu-memory-mb", "light-buffer-memory-mb", "default-tf",
-             "quality-table", "ping-interval", "ping-timeout", "max-sessions-per-client",
-             "max-sessions-per-connection", "client-address-header"},
+             "volume-memory-mb", "max-load-mb", "gpu-memory-mb", "light-buffer-memory-mb",
+             "default-tf", "quality-table", "ping-interval", "ping-timeout",
+             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -227,6 +227,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "                             light-buffer texels x slices x slab samples\n"
                 "                             (default 1e11); larger frames are refused\n"
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
+                "  --max-load-mb M            memory one volume load may take (default 8192;\n"
+                "                             never more than the machine has available)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
                 "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
                 "                             refused (default 1024)\n"
@@ -275,6 +277,7 @@ int run_serve(const std::vector<std::string>& args) {
     int port = 8080;
     int encode_threads = 2;
     int volume_memory_mb = 4096;
+    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
     int gpu_memory_mb = 2048;
     int light_buffer_memory_mb = 1024;
     int max_message_bytes = static_cast<int>(limits.max_message_bytes);
@@ -290,6 +293,7 @@ int run_serve(const std::vector<std::string>& args) {
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
             {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
             {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
+            {"max-load-mb", &max_load_mb, 1, 1 << 24},
             {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
             {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
     };
@@ -334,7 +338,10 @@ int run_serve(const std::vector<std::string>& args) {
     }
 
     const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
-    session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20);
+    volume::LoadOptions load_options;
+    load_options.max_bytes = static_cast<std::uint64_t>(max_load_mb) << 20;
+    session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20,
+                                 load_options);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }

@@ -3,12 +3,95 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace penumbra::protocol::json_fields {
+namespace {
+
+// A JSON pointer token: "~" and "/" escaped (RFC 6901).
+std::string pointer_token(std::string_view name) {
+    std::string token;
+    for (const char c : name) {
+        if (c == '~') {
+            token += "~0";
+        } else if (c == '/') {
+            token += "~1";
+        } else {
+            token += c;
+        }
+    }
+    return token;
+}
+
+}  // namespace
+
+base::Result<json> parse_limited(std::string_view text, int max_depth) {
+    // One entry per open container: where the parser is inside it, for the error's pointer.
+    struct Level {
+        bool array = false;
+        std::size_t index = 0;  // elements of an array read so far
+        std::string key;        // the member of an object being read
+    };
+    std::vector<Level> levels;
+    std::optional<std::string> too_deep;  // pointer of the first container beyond the limit
+    const auto pointer = [&] {
+        std::string out;
+        for (const Level& level : levels) {
+            out += '/';
+            out += level.array ? std::to_string(level.index) : pointer_token(level.key);
+        }
+        return out;
+    };
+    const auto element_read = [&] {
+        if (!levels.empty() && levels.back().array) {
+            ++levels.back().index;
+        }
+    };
+    using Event = json::parse_event_t;
+    const json::parser_callback_t keep = [&](int /*depth*/, Event event, json& parsed) {
+        if (too_deep) {
+            return false;  // the document is refused: keep nothing more of it
+        }
+        switch (event) {
+            case Event::object_start:
+            case Event::array_start:
+                if (std::cmp_greater_equal(levels.size(), max_depth)) {
+                    too_deep = pointer();
+                    return false;
+                }
+                levels.push_back({event == Event::array_start, 0, {}});
+                return true;
+            case Event::key:
+                levels.back().key = parsed.get<std::string>();
+                return true;
+            case Event::object_end:
+            case Event::array_end:
+                levels.pop_back();
+                element_read();
+                return true;
+            case Event::value:
+                element_read();
+                return true;
+        }
+        return true;
+    };
+    json document = json::parse(text, keep, false);
+    if (document.is_discarded()) {
+        return field_error("malformed_json", "", "not valid JSON");
+    }
+    if (too_deep) {
+        return field_error("out_of_range", *too_deep,
+                           "JSON nested deeper than " + std::to_string(max_depth) + " levels");
+    }
+    return document;
+}
 
 base::Status only_fields(const json& object, const std::string& pointer,
                          std::initializer_list<const char*> allowed) {
-    for (const auto& [key, value] : object.items()) {
+    for (const auto& member : object.items()) {
+        const std::string& key = member.key();
         const bool known = std::any_of(allowed.begin(), allowed.end(),
                                        [&](const char* name) { return key == name; });
         if (!known) {

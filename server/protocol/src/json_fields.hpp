@@ -9,6 +9,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <string_view>
 
 namespace penumbra::protocol::json_fields {
 
@@ -18,6 +19,13 @@ inline base::Error field_error(const char* code, const std::string& pointer,
                                const std::string& message) {
     return base::make_error(code, message, pointer.empty() ? "/" : pointer);
 }
+
+// Parses untrusted JSON text whose containers nest at most `max_depth` deep (the outermost
+// counts 1). The depth is checked while parsing: nlohmann's parser keeps its own stack on the
+// heap, but copying, printing, comparing and destroying a document recurse once per level, so a
+// deeper document must never become a `json` value. Not JSON: "malformed_json" at "/"; too deep:
+// "out_of_range" at the pointer of the first container beyond the limit.
+base::Result<json> parse_limited(std::string_view text, int max_depth);
 
 // Rejects members other than `allowed`.
 base::Status only_fields(const json& object, const std::string& pointer,

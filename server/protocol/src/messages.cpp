@@ -1,12 +1,15 @@
 #include "penumbra/protocol/messages.hpp"
 
 #include "json_fields.hpp"
+#include "patch_document.hpp"
 
 #include <penumbra/protocol/scene_json.hpp>
 
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <utility>
 
 namespace penumbra::protocol {
 namespace {
@@ -40,7 +43,13 @@ bool is_int64(const json& value) {
 }  // namespace
 
 std::optional<std::int64_t> request_id_of(std::string_view text) {
-    const json j = json::parse(text, nullptr, false);
+    // Only the top level is kept (nested containers are dropped as they are read), so the id of
+    // a message refused for its depth is found too, and nothing deep is ever built.
+    using Event = json::parse_event_t;
+    const json::parser_callback_t top_level_only = [](int depth, Event event, json& /*parsed*/) {
+        return depth == 0 || (event != Event::object_start && event != Event::array_start);
+    };
+    const json j = json::parse(text, top_level_only, false);
     if (j.is_object() && j.contains("id") && is_int64(j.at("id"))) {
         return j.at("id").get<std::int64_t>();
     }
@@ -53,10 +62,11 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
                            "message of " + std::to_string(text.size()) + " bytes exceeds " +
                                    std::to_string(limits.max_message_bytes));
     }
-    const json j = json::parse(text, nullptr, false);
-    if (j.is_discarded()) {
-        return field_error(code::malformed_json, "", "not valid JSON");
+    auto parsed = parse_limited(text, limits.max_json_depth);
+    if (!parsed) {
+        return parsed.error();
     }
+    json& j = parsed.value();
     if (!j.is_object()) {
         return field_error(code::invalid_message, "", "a message is a JSON object");
     }
@@ -82,7 +92,8 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     const auto fields = [&](std::initializer_list<const char*> extra) {
         std::vector<const char*> allowed = {"v", "type", "id"};
         allowed.insert(allowed.end(), extra.begin(), extra.end());
-        for (const auto& [key, value] : j.items()) {
+        for (const auto& member : j.items()) {
+            const std::string& key = member.key();
             if (std::find_if(allowed.begin(), allowed.end(),
                              [&](const char* a) { return key == a; }) == allowed.end()) {
                 return base::Status(field_error(code::unknown_field, "/" + key,
@@ -161,11 +172,12 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
             !status) {
             return status.error();
         }
-        json patch = j;
+        // The message itself becomes the patch: moved, never copied or printed.
+        json patch = std::move(j);
         patch.erase("v");
         patch.erase("type");
         patch.erase("id");
-        std::string patch_text = patch.dump();
+        Patch parsed_patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}));
         // Validated against a default state now, so that a bad `set` is rejected whole and
         // the session never sees it.
         SessionState scratch;
@@ -177,10 +189,10 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         s.light_buffer.slices = std::min(s.light_buffer.slices, limits.max_slices);
         s.light_buffer.resolution =
                 std::min(s.light_buffer.resolution, limits.max_light_resolution);
-        if (auto status = apply_patch(patch_text, scratch, limits); !status) {
+        if (auto status = apply_patch(parsed_patch, scratch, limits); !status) {
             return status.error();
         }
-        request.message = Set{std::move(patch_text)};
+        request.message = Set{std::move(parsed_patch)};
         return request;
     }
     return field_error(code::unknown_type, "/type", "unknown message type '" + *type + "'");
@@ -206,7 +218,8 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer,
                       {"max_sessions_per_connection", limits.max_sessions_per_connection},
                       {"max_requests_per_second", limits.max_requests_per_second},
                       {"max_send_queue", limits.max_send_queue},
-                      {"max_frame_work", limits.max_frame_work}}}},
+                      {"max_frame_work", limits.max_frame_work},
+                      {"max_json_depth", limits.max_json_depth}}}},
                    std::nullopt)
             .dump();
 }

@@ -1,10 +1,12 @@
 #include "penumbra/protocol/scene_json.hpp"
 
 #include "json_fields.hpp"
+#include "patch_document.hpp"
 
 #include <penumbra/scene/camera.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace penumbra::protocol {
@@ -49,7 +51,16 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
         glm::dvec3 target = camera.target;
         PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
         const double fov = camera.fov_y_degrees;
-        camera = scene::orbit_camera(azimuth, elevation, distance, target);
+        const scene::Camera orbit = scene::orbit_camera(azimuth, elevation, distance, target);
+        // The eye is sent back in `state` and must be a value `set` accepts.
+        for (int axis = 0; axis < 3; ++axis) {
+            if (std::abs(orbit.eye[axis]) > max_coordinate) {
+                return field_error("out_of_range", op + "/distance",
+                                   "the orbit puts the eye beyond the coordinate range of ±" +
+                                           json(max_coordinate).dump());
+            }
+        }
+        camera = orbit;
         camera.fov_y_degrees = fov;
     }
     PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
@@ -334,12 +345,32 @@ json vec3_json(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
 
 }  // namespace
 
-base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
-    const json patch = json::parse(patch_json, nullptr, false);
-    if (patch.is_discarded()) {
-        return field_error("malformed_json", "", "not valid JSON");
+Patch::Patch(std::shared_ptr<const Document> document)
+    : document_(std::move(document)) {
+    PENUMBRA_ASSERT(document_ != nullptr && document_->object.is_object(),
+                    "a Patch holds a JSON object");
+}
+
+base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limits) {
+    auto parsed = parse_limited(patch_json, limits.max_json_depth);
+    if (!parsed) {
+        return parsed.error();
     }
-    PENUMBRA_TRY(expect_object(patch, ""));
+    PENUMBRA_TRY(expect_object(*parsed, ""));
+    return Patch(std::make_shared<const Patch::Document>(
+            Patch::Document{std::move(parsed.value())}));
+}
+
+base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
+    auto patch = parse_patch(patch_json, limits);
+    if (!patch) {
+        return patch.error();
+    }
+    return apply_patch(*patch, state, limits);
+}
+
+base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits& limits) {
+    const json& patch = parsed.document().object;
     PENUMBRA_TRY(only_fields(patch, "", {"camera", "light", "transfer_function", "settings",
                                          "output"}));
     SessionState next = state;
@@ -452,11 +483,13 @@ std::string state_to_json(const SessionState& state) {
 base::Result<scene::TransferFunction> parse_transfer_function(
         std::string_view json_text, std::optional<std::pair<double, double>> data_range,
         const std::string& where) {
-    const json document = json::parse(json_text, nullptr, false);
-    if (document.is_discarded()) {
-        return base::make_error("malformed_json", "not valid JSON", where);
+    auto document = parse_limited(json_text, Limits{}.max_json_depth);
+    if (!document) {
+        base::Error error = document.error();
+        error.where = where + (error.where == "/" ? "" : error.where);
+        return error;
     }
-    auto tf = transfer_function_from(document, "", data_range);
+    auto tf = transfer_function_from(*document, "", data_range);
     if (!tf) {
         base::Error error = tf.error();
         error.where = where + (error.where == "/" ? "" : error.where);
@@ -467,40 +500,90 @@ base::Result<scene::TransferFunction> parse_transfer_function(
 
 base::Result<std::vector<scene::QualitySample>> parse_quality_table(std::string_view json_text,
                                                                     const std::string& where) {
-    const json table = json::parse(json_text, nullptr, false);
-    if (table.is_discarded() || !table.is_object() || !table.contains("points") ||
-        !table.at("points").is_array()) {
+    auto parsed = parse_limited(json_text, Limits{}.max_json_depth);
+    if (!parsed || !parsed->is_object() || !parsed->contains("points") ||
+        !parsed->at("points").is_array()) {
         return base::make_error("invalid_table", "not an accuracy table (no \"points\" array)",
                                 where);
     }
+    const json& table = *parsed;
+    const auto bad = [&](const base::Error& error) {
+        return base::make_error("invalid_table", "bad point: " + error.message,
+                                where + (error.where == "/" ? "" : error.where));
+    };
+    constexpr int max_int = std::numeric_limits<int>::max();
+    constexpr double max_double = std::numeric_limits<double>::max();
     int width = 256;
     int height = 256;
     if (table.contains("size") && table.at("size").is_array() && table.at("size").size() == 2) {
-        width = table.at("size")[0].get<int>();
-        height = table.at("size")[1].get<int>();
+        auto w = integer(table.at("size")[0], "/size/0", 1, max_int);
+        auto h = integer(table.at("size")[1], "/size/1", 1, max_int);
+        if (!w || !h) {
+            return bad(!w ? w.error() : h.error());
+        }
+        width = *w;
+        height = *h;
     }
     std::vector<scene::QualitySample> samples;
-    for (const json& point : table.at("points")) {
-        try {
-            const auto mode = scene::parse_mode(point.at("mode").get<std::string>());
-            if (!mode) {
-                continue;  // a mode this build does not know
-            }
-            scene::QualitySample s;
-            s.mode = *mode;
-            s.slices = point.at("slices").get<int>();
-            s.resolution = point.at("resolution").get<int>();
-            s.sample_distance = point.at("sample_distance").get<double>();
-            s.frame_ms = point.at("frame_ms").get<double>();
-            const json& psnr = point.contains("psnr_finest") ? point.at("psnr_finest")
-                                                             : point.at("psnr");
-            s.psnr = psnr.is_null() ? std::numeric_limits<double>::infinity() : psnr.get<double>();
-            s.width = width;
-            s.height = height;
-            samples.push_back(s);
-        } catch (const json::exception& e) {
-            return base::make_error("invalid_table", std::string("bad point: ") + e.what(), where);
+    const json& points = table.at("points");
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const json& point = points[i];
+        const std::string p = "/points/" + std::to_string(i);
+        if (!point.is_object()) {
+            return bad(field_error("invalid_value", p, "expected an object"));
         }
+        // Reads point[key] with `read`; a missing member is an error as well.
+        const auto read_member = [&](const char* key, auto read) -> decltype(read(point, p)) {
+            if (!point.contains(key)) {
+                return field_error("invalid_value", p + "/" + key,
+                                   std::string("missing '") + key + "'");
+            }
+            return read(point.at(key), p + "/" + key);
+        };
+        const auto whole = [](const json& v, const std::string& q) {
+            return integer(v, q, 0, max_int);
+        };
+        const auto finite = [](const json& v, const std::string& q) {
+            return number(v, q, -max_double, max_double);
+        };
+        auto mode_name = read_member("mode", [](const json& v, const std::string& q) {
+            return string(v, q, 64);
+        });
+        if (!mode_name) {
+            return bad(mode_name.error());
+        }
+        const auto mode = scene::parse_mode(*mode_name);
+        if (!mode) {
+            continue;  // a mode this build does not know
+        }
+        auto slices = read_member("slices", whole);
+        auto resolution = read_member("resolution", whole);
+        auto sample_distance = read_member("sample_distance", finite);
+        auto frame_ms = read_member("frame_ms", finite);
+        // The error against the finest reference where the table has it; null: no error at all.
+        const char* psnr_key = point.contains("psnr_finest") ? "psnr_finest" : "psnr";
+        auto psnr = read_member(psnr_key, [&](const json& v, const std::string& q) {
+            return v.is_null() ? base::Result<double>(std::numeric_limits<double>::infinity())
+                               : finite(v, q);
+        });
+        for (const base::Error* error :
+             {slices ? nullptr : &slices.error(), resolution ? nullptr : &resolution.error(),
+              sample_distance ? nullptr : &sample_distance.error(),
+              frame_ms ? nullptr : &frame_ms.error(), psnr ? nullptr : &psnr.error()}) {
+            if (error != nullptr) {
+                return bad(*error);
+            }
+        }
+        scene::QualitySample sample;
+        sample.mode = *mode;
+        sample.slices = *slices;
+        sample.resolution = *resolution;
+        sample.sample_distance = *sample_distance;
+        sample.frame_ms = *frame_ms;
+        sample.psnr = *psnr;
+        sample.width = width;
+        sample.height = height;
+        samples.push_back(sample);
     }
     return samples;
 }

@@ -47,9 +47,11 @@ bool is_volume_file(const std::filesystem::path& path) {
 }
 
 VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                         volume::LoadOptions load_options,
                          std::chrono::milliseconds rescan_interval, int loader_threads)
     : data_dir_(std::move(data_dir))
     , memory_budget_(memory_budget)
+    , load_options_(load_options)
     , rescan_interval_(rescan_interval)
     , loaders_(loader_threads) {
     rescanner_ = std::thread([this] { rescan_loop(); });
@@ -223,7 +225,7 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
         path = entry->path;
     }
     // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
-    auto loaded = volume::load_volume(path);
+    auto loaded = volume::load_volume(path, load_options_);
     if (!loaded) {
         base::Error error = loaded.error();
         error.message = relative_paths(std::move(error.message));

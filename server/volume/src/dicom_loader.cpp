@@ -26,6 +26,7 @@
 
 #include "file_io.hpp"
 #include "file_name.hpp"
+#include "memory_budget.hpp"
 
 #include <penumbra/base/log.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -64,6 +65,10 @@ constexpr std::string_view log_component = "volume";
 // Slice gaps may differ from the median gap by this fraction: scanners write positions
 // rounded to a few decimals, while a missing slice changes a gap by 100 %.
 constexpr double gap_tolerance = 0.01;
+
+// Frames of one volume: far beyond any scanner's series, and small enough that their positions
+// (a few hundred bytes each) cost little.
+constexpr std::uint64_t max_frames = std::uint64_t{1} << 16;
 
 // Orientation cosines of two slices of one series agree to this much.
 constexpr double orientation_tolerance = 1e-4;
@@ -350,6 +355,18 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
         return base::make_error("bad_header", "NumberOfFrames is " + std::to_string(frames),
                                 detail::at_file(path));
     }
+    // Checked before the frames' positions are read: a header claiming billions of frames must
+    // cost no memory.
+    const std::uint64_t frame_voxels = std::uint64_t{image.format.rows} * image.format.columns;
+    if (static_cast<std::uint64_t>(frames) > max_frames ||
+        static_cast<std::uint64_t>(frames) > max_voxels / frame_voxels) {
+        return base::make_error("too_large",
+                                "NumberOfFrames " + std::to_string(frames) + " of " +
+                                        format->describe() + " exceeds the limit of " +
+                                        std::to_string(max_frames) + " frames or " +
+                                        std::to_string(max_voxels) + " voxels",
+                                detail::at_file(path));
+    }
     image.frame_count = static_cast<std::uint32_t>(frames);
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
     return Opened::image;
@@ -623,7 +640,7 @@ void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
 // Narrows float32 voxels that hold integers to uint8 or uint16 when every value fits, which
 // halves (or quarters) what the volume costs in memory and on the GPU without changing a value.
 template <class T>
-std::vector<std::byte> narrow_to(const std::vector<float>& values) {
+std::vector<std::byte> narrow_to(std::span<const float> values) {
     std::vector<std::byte> data(values.size() * sizeof(T));
     for (std::size_t i = 0; i < values.size(); ++i) {
         const T value = static_cast<T>(values[i]);
@@ -633,31 +650,59 @@ std::vector<std::byte> narrow_to(const std::vector<float>& values) {
 }
 
 base::Result<Volume> assemble(std::vector<Image>& images, const std::string& name,
-                              const std::filesystem::path& source) {
+                              const std::filesystem::path& source, const LoadOptions& options) {
     const PixelFormat& format = images.front().format;
     for (const Image& image : images) {
         if (!(image.format == format)) {
             return base::make_error("inconsistent_series",
                                     "the image is " + image.format.describe() + ", but " +
-                                            images.front().path.string() + " is " +
+                                            images.front().path.filename().string() + " is " +
                                             format.describe(),
                                     detail::at_file(image.path));
         }
     }
+    // What the load holds at most: every frame's position, the volume as float32 voxels, and
+    // beside them either one image's pixel data (while it is decoded) or the volume narrowed to
+    // 8 or 16 bits (after the last image is dropped).
+    std::uint64_t frame_count = 0;
+    std::uint64_t largest_image = 0;
+    for (const Image& image : images) {
+        frame_count += image.frame_count;
+        largest_image = std::max(largest_image, std::uint64_t{format.rows} * format.columns *
+                                                        image.frame_count *
+                                                        (format.bits_allocated / 8u));
+    }
+    if (frame_count > max_frames) {
+        return base::make_error("too_large",
+                                std::to_string(frame_count) + " frames exceed the limit of " +
+                                        std::to_string(max_frames),
+                                detail::at_file(source));
+    }
+    const std::uint64_t all_voxels = std::uint64_t{format.rows} * format.columns * frame_count;
+    if (all_voxels > max_voxels) {
+        return base::make_error("too_large",
+                                std::to_string(format.columns) + "x" + std::to_string(format.rows) +
+                                        "x" + std::to_string(frame_count) +
+                                        " voxels exceed the limit of " + std::to_string(max_voxels),
+                                detail::at_file(source));
+    }
+    const std::uint64_t peak = frame_count * sizeof(Frame) + all_voxels * sizeof(float) +
+                               std::max(largest_image, all_voxels * 2);
+    if (auto status = detail::check_budget(
+                peak,
+                std::to_string(format.columns) + "x" + std::to_string(format.rows) + "x" +
+                        std::to_string(frame_count) + " DICOM voxels (decoded as float32)",
+                source, options);
+        !status) {
+        return status.error();
+    }
     std::vector<Frame> frames;
+    frames.reserve(static_cast<std::size_t>(frame_count));
     for (std::size_t i = 0; i < images.size(); ++i) {
         auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count);
         frames.insert(frames.end(), image_frames.begin(), image_frames.end());
     }
-    const std::uint64_t voxels =
-            std::uint64_t{format.rows} * format.columns * static_cast<std::uint64_t>(frames.size());
-    if (voxels > max_voxels) {
-        return base::make_error("too_large",
-                                std::to_string(format.columns) + "x" + std::to_string(format.rows) +
-                                        "x" + std::to_string(frames.size()) +
-                                        " voxels exceed the limit of " + std::to_string(max_voxels),
-                                detail::at_file(source));
-    }
+    const std::uint64_t voxels = all_voxels;
     auto z_spacing = order_frames(frames, images, source);
     if (!z_spacing) {
         return z_spacing.error();
@@ -673,15 +718,16 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
         slots[frames[z].image].push_back(z);
     }
     const std::size_t slice_voxels = std::size_t{format.rows} * format.columns;
-    std::vector<float> values(static_cast<std::size_t>(voxels));
+    // Decoded as float32 straight into the bytes the volume keeps when no narrower type fits.
+    std::vector<std::byte> decoded(static_cast<std::size_t>(voxels) * sizeof(float));
+    auto* values = reinterpret_cast<float*>(decoded.data());
     for (std::size_t i = 0; i < images.size(); ++i) {
         auto pixels = pixel_bytes(images[i]);
         if (!pixels) {
             return pixels.error();
         }
         for (const std::size_t z : slots[i]) {
-            decode_frame(*pixels, format, frames[z].index, frames[z],
-                         values.data() + z * slice_voxels);
+            decode_frame(*pixels, format, frames[z].index, frames[z], values + z * slice_voxels);
         }
         images[i].file.reset();  // drops the decoded pixel data
     }
@@ -689,20 +735,20 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     const bool integral = std::all_of(frames.begin(), frames.end(), [](const Frame& f) {
         return f.slope == 1.0 && f.intercept == std::round(f.intercept);
     });
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    const std::span<const float> all(values, static_cast<std::size_t>(voxels));
+    const auto [lo, hi] = std::minmax_element(all.begin(), all.end());
     VoxelType type = VoxelType::float32;
     std::vector<std::byte> data;
     if (integral && *lo >= 0.0f && format.bits_allocated == 8 && *hi <= 255.0f) {
         type = VoxelType::uint8;
-        data = narrow_to<std::uint8_t>(values);
+        data = narrow_to<std::uint8_t>(all);
     } else if (integral && *lo >= 0.0f && *hi <= 65535.0f) {
         type = VoxelType::uint16;
-        data = narrow_to<std::uint16_t>(values);
+        data = narrow_to<std::uint16_t>(all);
     } else {
-        data.resize(values.size() * sizeof(float));
-        std::memcpy(data.data(), values.data(), data.size());
+        data = std::move(decoded);
     }
-    values = {};
+    decoded = {};
 
     auto volume = make_volume(
             name,
@@ -716,7 +762,8 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     return volume;
 }
 
-base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder) {
+base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
+                                       const LoadOptions& options) {
     std::size_t not_dicom = 0;
     auto files = dicom_files_in(folder, not_dicom);
     if (!files) {
@@ -757,10 +804,11 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder) {
     keep_largest_series(images, folder);
     const std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
                                                        : folder.filename().string();
-    return assemble(images, name, folder);
+    return assemble(images, name, folder, options);
 }
 
-base::Result<Volume> load_dicom_file(const std::filesystem::path& path) {
+base::Result<Volume> load_dicom_file(const std::filesystem::path& path,
+                                     const LoadOptions& options) {
     if (auto size = detail::regular_file_size(path); !size) {
         return size.error();
     }
@@ -774,7 +822,7 @@ base::Result<Volume> load_dicom_file(const std::filesystem::path& path) {
     }
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".dcm", ".dicom"});
-    return assemble(images, name, path);
+    return assemble(images, name, path, options);
 }
 
 }  // namespace
@@ -788,7 +836,10 @@ bool is_dicom_file(const std::filesystem::path& path) {
     return std::string_view(head.data() + 128, 4) == "DICM";
 }
 
-base::Result<Volume> load_dicom(const std::filesystem::path& path) {
+namespace {
+
+base::Result<Volume> load_dicom_path(const std::filesystem::path& path,
+                                     const LoadOptions& options) {
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) {
@@ -802,9 +853,15 @@ base::Result<Volume> load_dicom(const std::filesystem::path& path) {
                                 detail::at_file(path));
     }
     if (std::filesystem::is_directory(status)) {
-        return load_dicom_folder(path);
+        return load_dicom_folder(path, options);
     }
-    return load_dicom_file(path);
+    return load_dicom_file(path, options);
+}
+
+}  // namespace
+
+base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options) {
+    return detail::guard_allocation(path, [&] { return load_dicom_path(path, options); });
 }
 
 }  // namespace penumbra::volume

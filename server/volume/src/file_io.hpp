@@ -95,19 +95,45 @@ inline base::Result<std::size_t> read_some(std::FILE* file, const std::filesyste
 }
 
 struct Inflated {
-    std::uint64_t produced = 0;  // bytes written to `out`
+    std::uint64_t produced = 0;  // bytes given to the target
     bool more = false;           // the stream holds data beyond skip + out.size()
     bool complete = false;       // the compressed stream reached its end marker
 };
 
+// Reads the file from its current position into `target` until the target is full or the file
+// ends; returns the bytes read. A Target offers window() (where the next bytes go, empty when
+// full) and commit(count) (SampleSink). `offset` is the current position, for errors.
+template <class Target>
+base::Result<std::uint64_t> read_into(std::FILE* file, const std::filesystem::path& path,
+                                      std::uint64_t offset, Target& target) {
+    std::uint64_t total = 0;
+    for (std::span<std::byte> window = target.window(); !window.empty();
+         window = target.window()) {
+        // Bounded reads keep a huge direct window from being one enormous fread.
+        window = window.first(std::min<std::size_t>(window.size(), std::size_t{1} << 26));
+        auto got = read_some(file, path, offset + total, window);
+        if (!got) {
+            return got.error();
+        }
+        target.commit(*got);
+        total += *got;
+        if (*got < window.size()) {
+            break;
+        }
+    }
+    return total;
+}
+
 // Decompresses the gzip (or zlib) stream that starts at the file's current position, drops the
-// first `skip` bytes of output and fills `out`. It decompresses at most one byte past skip +
-// out.size(), so a small file that expands to terabytes (a gzip bomb) costs neither memory nor
-// much time. As with gzip(1), concatenated gzip members are read as one stream and other bytes
-// after the stream are ignored. `start_offset` is the stream's offset in the file, for errors.
-inline base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path& path,
-                                           std::uint64_t start_offset, std::uint64_t skip,
-                                           std::span<std::byte> out) {
+// first `skip` bytes of output and fills `target` (see read_into). It decompresses at most one
+// byte past what the target takes, so a small file that expands to terabytes (a gzip bomb) costs
+// neither memory nor much time. As with gzip(1), concatenated gzip members are read as one stream
+// and other bytes after the stream are ignored. `start_offset` is the stream's offset in the
+// file, for errors.
+template <class Target>
+base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path& path,
+                                    std::uint64_t start_offset, std::uint64_t skip,
+                                    Target& target) {
     z_stream zs{};
     constexpr int gzip_or_zlib_header = 15 + 32;
     if (inflateInit2(&zs, gzip_or_zlib_header) != Z_OK) {
@@ -157,7 +183,8 @@ inline base::Result<Inflated> inflate_file(std::FILE* file, const std::filesyste
             return result;  // the compressed data ended before the stream's end marker
         }
         const bool skipping = skip_left > 0;
-        const bool probing = !skipping && result.produced == out.size();
+        const std::span<std::byte> window = skipping ? std::span<std::byte>() : target.window();
+        const bool probing = !skipping && window.empty();
         if (skipping) {
             zs.next_out = scratch.data();
             zs.avail_out = static_cast<uInt>(std::min<std::uint64_t>(scratch.size(), skip_left));
@@ -165,9 +192,8 @@ inline base::Result<Inflated> inflate_file(std::FILE* file, const std::filesyste
             zs.next_out = scratch.data();
             zs.avail_out = 1;
         } else {
-            zs.next_out = reinterpret_cast<unsigned char*>(out.data() + result.produced);
-            zs.avail_out = static_cast<uInt>(
-                    std::min<std::uint64_t>(out.size() - result.produced, UINT_MAX));
+            zs.next_out = reinterpret_cast<unsigned char*>(window.data());
+            zs.avail_out = static_cast<uInt>(std::min<std::uint64_t>(window.size(), UINT_MAX));
         }
         const uInt avail_in_before = zs.avail_in;
         const uInt avail_out_before = zs.avail_out;
@@ -183,6 +209,7 @@ inline base::Result<Inflated> inflate_file(std::FILE* file, const std::filesyste
                 return result;
             }
         } else {
+            target.commit(static_cast<std::size_t>(produced));
             result.produced += produced;
         }
 

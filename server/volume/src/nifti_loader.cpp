@@ -1,5 +1,6 @@
-// NIfTI-1 and NIfTI-2 (.nii, .nii.gz) through the reference nifti library (Debian's libnifti2),
-// which also handles gzip, byte order and the header's many legacy corners.
+// NIfTI-1 and NIfTI-2 (.nii, .nii.gz): the header through the reference nifti library (Debian's
+// libnifti2), which handles its many legacy corners; the voxel data read here, straight into the
+// volume (the library would read it into a buffer of its own, a second copy of the volume).
 //
 // Rules this loader adds on top of the library:
 //   - Only the first 3-D volume is read. A 4-D or 5-D file (fMRI time series, vector fields)
@@ -10,11 +11,11 @@
 //     (scl_slope finite and non-zero, and not the identity slope 1 with intercept 0) is applied
 //     as value * slope + intercept in double and stored as float32; a non-finite intercept
 //     counts as 0.
-//   - The library itself sets NaN and ±Inf float voxels to 0 while reading, so a NIfTI volume
-//     never reports non-finite voxels: they arrive as 0, not as the finite minimum.
+//   - NaN and ±Inf float voxels become the finite minimum and are counted, as in every format.
 
 #include "file_io.hpp"
 #include "file_name.hpp"
+#include "memory_budget.hpp"
 #include "samples.hpp"
 
 #include <penumbra/base/log.hpp>
@@ -24,6 +25,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -40,12 +42,6 @@ struct ImageFree {
 };
 
 using Image = std::unique_ptr<nifti_image, ImageFree>;
-
-struct BrickList {
-    nifti_brick_list list{};
-
-    ~BrickList() { nifti_free_NBL(&list); }
-};
 
 // The library prints its own diagnostics on stderr at its default debug level; Penumbra reports
 // failures as Errors instead, so it is silenced once per process.
@@ -92,10 +88,10 @@ double spacing_or_one(double spacing, char axis, const std::filesystem::path& pa
     return 1.0;
 }
 
-// Checks that an uncompressed file holds the first volume's data. The library would find out as
-// well, but it prints its own complaint on stderr and cannot say how short the file is.
-base::Status check_plain_size(const std::filesystem::path& path, std::uint64_t data_offset,
-                              std::uint64_t bytes) {
+// Reads the first volume's samples from the data file: plain bytes from `data_offset`, or, when
+// the file is gzip data (whatever its name says), the same offset in the decompressed stream.
+base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_offset,
+                          detail::SampleSink& sink, std::uint64_t bytes) {
     auto file = detail::open_file(path);
     if (!file) {
         return file.error();
@@ -106,7 +102,23 @@ base::Status check_plain_size(const std::filesystem::path& path, std::uint64_t d
         return got.error();
     }
     if (*got == 2 && magic[0] == std::byte{0x1f} && magic[1] == std::byte{0x8b}) {
-        return base::Ok{};  // gzip data, whatever the name says: the library inflates it
+        if (auto status = detail::seek_to(file->get(), path, 0); !status) {
+            return status.error();
+        }
+        auto inflated = detail::inflate_file(file->get(), path, 0, data_offset, sink);
+        if (!inflated) {
+            return inflated.error();
+        }
+        if (inflated->produced < bytes) {
+            return base::make_error("truncated",
+                                    "expected " + std::to_string(bytes) +
+                                            " bytes of voxel data from byte " +
+                                            std::to_string(data_offset) +
+                                            " of the decompressed data, got " +
+                                            std::to_string(inflated->produced),
+                                    detail::at_file(path));
+        }
+        return base::Ok{};
     }
     auto size = detail::regular_file_size(path);
     if (!size) {
@@ -120,12 +132,24 @@ base::Status check_plain_size(const std::filesystem::path& path, std::uint64_t d
                                         std::to_string(*size) + " bytes",
                                 detail::at_byte(path, *size));
     }
+    if (auto status = detail::seek_to(file->get(), path, data_offset); !status) {
+        return status.error();
+    }
+    auto read = detail::read_into(file->get(), path, data_offset, sink);
+    if (!read) {
+        return read.error();
+    }
+    if (*read != bytes) {
+        return base::make_error("truncated",
+                                "the file ended after " + std::to_string(*read) + " of " +
+                                        std::to_string(bytes) + " bytes of voxel data",
+                                detail::at_byte(path, data_offset + *read));
+    }
     return base::Ok{};
 }
 
-}  // namespace
-
-base::Result<Volume> load_nifti(const std::filesystem::path& path) {
+base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
+                                     const LoadOptions& options) {
     const std::string lower = detail::lower_file_name(path);
     if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz")) {
         return base::make_error("bad_file_name", "a NIfTI file name must end in .nii or .nii.gz",
@@ -175,57 +199,48 @@ base::Result<Volume> load_nifti(const std::filesystem::path& path) {
                                         nifti_datatype_string(image->datatype),
                                 detail::at_file(path));
     }
-    const std::int64_t volumes =
-            extent(image->nt) * extent(image->nu) * extent(image->nv) * extent(image->nw);
-    if (volumes > 1) {
-        base::log_info(log_component, path.string() + ": " + std::to_string(volumes) +
+    // In double: a hostile header's counts would overflow an integer product.
+    const double volumes = static_cast<double>(extent(image->nt)) *
+                           static_cast<double>(extent(image->nu)) *
+                           static_cast<double>(extent(image->nv)) *
+                           static_cast<double>(extent(image->nw));
+    if (volumes > 1.0) {
+        char count[32];
+        std::snprintf(count, sizeof count, "%.0f", volumes);
+        base::log_info(log_component, path.string() + ": " + count +
                                               " volumes in the file; loading the first");
     }
 
-    const std::uint64_t bytes = voxels * detail::sample_size(*type);
     if (image->iname_offset < 0) {
         return base::make_error("bad_header",
                                 "negative data offset " + std::to_string(image->iname_offset),
                                 detail::at_file(path));
     }
-    if (auto status =
-                check_plain_size(path, static_cast<std::uint64_t>(image->iname_offset), bytes);
-        !status) {
-        return status.error();
-    }
-
-    BrickList bricks;
-    const std::int64_t first_volume = 0;
-    if (nifti_image_load_bricks(image.get(), 1, &first_volume, &bricks.list) <= 0 ||
-        bricks.list.nbricks < 1 || bricks.list.bricks == nullptr ||
-        bricks.list.bricks[0] == nullptr) {
-        return base::make_error("truncated",
-                                "the nifti library could not read the voxel data (the file is "
-                                "truncated or its data offset is wrong)",
-                                detail::at_file(path));
-    }
-    if (static_cast<std::uint64_t>(bricks.list.bsize) != bytes) {
-        return base::make_error("bad_header",
-                                "the library read " + std::to_string(bricks.list.bsize) +
-                                        " bytes for a volume of " + std::to_string(bytes),
-                                detail::at_file(path));
-    }
-    const auto* first = static_cast<const std::byte*>(bricks.list.bricks[0]);
-    const std::span<const std::byte> samples(first, bytes);
-
     const double slope = image->scl_slope;
     const double inter = std::isfinite(image->scl_inter) ? image->scl_inter : 0.0;
     const bool scaled = std::isfinite(slope) && slope != 0.0 && !(slope == 1.0 && inter == 0.0);
-
-    VoxelType stored = detail::stored_type(*type);
-    std::vector<std::byte> data;
-    if (scaled) {
-        stored = VoxelType::float32;
-        data = detail::to_float32(*type, samples, slope, inter);
-    } else if (detail::is_kept(*type)) {
-        data.assign(samples.begin(), samples.end());
-    } else {
-        data = detail::to_float32(*type, samples);
+    const detail::SampleLayout layout{.type = *type,
+                                      .voxels = voxels,
+                                      // Not the host's order (little endian): big endian.
+                                      .big_endian = image->byteorder != nifti_short_order(),
+                                      .slope = scaled ? slope : 1.0,
+                                      .inter = scaled ? inter : 0.0};
+    const std::string what = std::to_string(sizes[0]) + "x" + std::to_string(sizes[1]) + "x" +
+                             std::to_string(sizes[2]) + " " + detail::sample_name(*type) +
+                             (layout.stored() == detail::stored_type(*type) && !scaled
+                                      ? std::string()
+                                      : std::string(" kept as ") + to_string(layout.stored()));
+    if (auto status = detail::check_budget(layout.stored_bytes(), what, path, options); !status) {
+        return status.error();
+    }
+    // A two-file header (.hdr/.img magic "ni1" in a file named .nii) keeps its data in the file
+    // the library derives from the header's own name, in the same folder.
+    const std::filesystem::path data_file = image->iname != nullptr ? image->iname : path;
+    detail::SampleSink sink(layout);
+    if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset),
+                                   sink, layout.file_bytes());
+        !status) {
+        return status.error();
     }
 
     const glm::dvec3 spacing(spacing_or_one(image->dx, 'x', path),
@@ -237,13 +252,19 @@ base::Result<Volume> load_nifti(const std::filesystem::path& path) {
             name,
             glm::uvec3(static_cast<std::uint32_t>(sizes[0]), static_cast<std::uint32_t>(sizes[1]),
                        static_cast<std::uint32_t>(sizes[2])),
-            spacing, stored, std::move(data));
+            spacing, layout.stored(), sink.take());
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
     return volume;
+}
+
+}  // namespace
+
+base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options) {
+    return detail::guard_allocation(path, [&] { return load_nifti_file(path, options); });
 }
 
 }  // namespace penumbra::volume

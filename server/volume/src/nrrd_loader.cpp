@@ -4,6 +4,7 @@
 
 #include "file_io.hpp"
 #include "file_name.hpp"
+#include "memory_budget.hpp"
 #include "samples.hpp"
 
 #include <penumbra/volume/volume.hpp>
@@ -583,8 +584,26 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     return layout;
 }
 
+// Whether `inside` lies in `folder` or below it, both canonical (absolute, no "..", no links).
+bool lies_within(const std::filesystem::path& inside, const std::filesystem::path& folder) {
+    auto a = folder.begin();
+    auto b = inside.begin();
+    for (; a != folder.end(); ++a, ++b) {
+        if (a->empty() && std::next(a) == folder.end()) {
+            break;  // a trailing separator: "/data/" holds what "/data" holds
+        }
+        if (b == inside.end() || *a != *b) {
+            return false;
+        }
+    }
+    return true;
+}
+
 // Resolves the file that holds the samples: the header file itself, or "data file" relative to
-// the header's folder.
+// the header's folder. A header comes from whoever wrote the file, so "data file" may only name a
+// file in the header's folder or below it, also when written as an absolute path, and never one
+// that leaves the folder through ".." or a symbolic link (else a header could expose /etc/passwd
+// as a volume).
 base::Result<std::filesystem::path> data_path(const Header& header,
                                               const std::filesystem::path& path) {
     if (!header.data_file.value) {
@@ -597,24 +616,47 @@ base::Result<std::filesystem::path> data_path(const Header& header,
         return path;
     }
     const std::string& name = *header.data_file.value;
+    const auto at_field = detail::at_line(path, header.data_file.line);
     const auto words = split_words(name);
     if (!words.empty() && words.front() == "LIST") {
         return base::make_error("unsupported_data_file",
                                 "'data file: LIST' (data split over several files) is not "
                                 "supported; name a single data file",
-                                detail::at_line(path, header.data_file.line));
+                                at_field);
     }
     if (words.size() >= 4 && words.front().find('%') != std::string_view::npos) {
         return base::make_error("unsupported_data_file",
                                 "a numbered 'data file' pattern (data split over several files) "
                                 "is not supported; name a single data file",
-                                detail::at_line(path, header.data_file.line));
+                                at_field);
     }
     if (name.empty()) {
-        return base::make_error("bad_header", "'data file' names no file",
-                                detail::at_line(path, header.data_file.line));
+        return base::make_error("bad_header", "'data file' names no file", at_field);
     }
     const std::filesystem::path data(name);
+    const auto outside = [&] {
+        return base::make_error("data_file_outside",
+                                "'data file' must name a file in the header's folder or below "
+                                "it, not '" +
+                                        name + "'",
+                                at_field);
+    };
+    std::error_code ec;
+    const auto folder = std::filesystem::weakly_canonical(
+            std::filesystem::absolute(path, ec).parent_path(), ec);
+    if (ec) {
+        return base::make_error("read_failed", "cannot resolve the header's folder: " + ec.message(),
+                                detail::at_file(path));
+    }
+    const auto resolved = std::filesystem::weakly_canonical(folder / data, ec);
+    if (ec) {
+        return base::make_error("read_failed",
+                                "cannot resolve 'data file' '" + name + "': " + ec.message(),
+                                at_field);
+    }
+    if (!lies_within(resolved, folder)) {
+        return outside();
+    }
     return data.is_absolute() ? data : path.parent_path() / data;
 }
 
@@ -638,9 +680,11 @@ base::Status skip_lines(std::FILE* file, const std::filesystem::path& path, std:
     return base::Ok{};
 }
 
-base::Result<std::vector<std::byte>> read_raw(std::FILE* file, const std::filesystem::path& path,
-                                              const Layout& layout, std::int64_t byte_skip,
-                                              std::uint64_t offset) {
+// Where the samples of raw encoding start: after "byte skip" bytes, or (byte skip -1) so that
+// they are the last bytes of the file. Checks that the file holds them.
+base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path,
+                                            const Layout& layout, std::int64_t byte_skip,
+                                            std::uint64_t offset) {
     auto size = detail::regular_file_size(path);
     if (!size) {
         return size.error();
@@ -667,11 +711,15 @@ base::Result<std::vector<std::byte>> read_raw(std::FILE* file, const std::filesy
                                         ", the file holds only " + std::to_string(available),
                                 detail::at_byte(path, *size));
     }
+    return offset;
+}
+
+base::Status read_raw(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
+                      std::uint64_t offset, detail::SampleSink& sink) {
     if (auto status = detail::seek_to(file, path, offset); !status) {
         return status.error();
     }
-    std::vector<std::byte> samples(layout.bytes);
-    auto got = detail::read_some(file, path, offset, samples);
+    auto got = detail::read_into(file, path, offset, sink);
     if (!got) {
         return got.error();
     }
@@ -682,16 +730,14 @@ base::Result<std::vector<std::byte>> read_raw(std::FILE* file, const std::filesy
                                         ", read only " + std::to_string(*got),
                                 detail::at_byte(path, offset + *got));
     }
-    return samples;
+    return base::Ok{};
 }
 
-base::Result<std::vector<std::byte>> read_gzip(std::FILE* file, const std::filesystem::path& path,
-                                               const Layout& layout, std::int64_t byte_skip,
-                                               std::uint64_t offset) {
-    std::vector<std::byte> samples(layout.bytes);
+base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
+                       std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
     // For compressed encodings NRRD applies "byte skip" to the decompressed data.
     auto inflated = detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip),
-                                         samples);
+                                         sink);
     if (!inflated) {
         return inflated.error();
     }
@@ -706,11 +752,12 @@ base::Result<std::vector<std::byte>> read_gzip(std::FILE* file, const std::files
         return base::make_error("truncated", "the gzip data is cut short before its end marker",
                                 detail::at_byte(path, offset));
     }
-    return samples;
+    return base::Ok{};
 }
 
 // ASCII samples are stored in the type a Volume keeps for them, so the result is already in
-// stored form (not in the file's sample type).
+// stored form (not in the file's sample type). The text is read in chunks, one number at a time:
+// a load holds the volume and 64 KiB of text, whatever the file's size.
 base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::filesystem::path& path,
                                                 const Layout& layout, std::int64_t byte_skip,
                                                 std::uint64_t offset) {
@@ -718,72 +765,97 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     if (auto status = detail::seek_to(file, path, offset); !status) {
         return status.error();
     }
-    std::string text;
-    std::array<char, 1 << 16> chunk{};
-    for (;;) {
-        const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
-        text.append(chunk.data(), got);
-        if (got < chunk.size()) {
-            if (std::ferror(file)) {
-                return base::make_error("read_failed", "read error",
-                                        detail::at_byte(path, offset + text.size()));
-            }
-            break;
-        }
-    }
+    // Longer than any number written in decimal; a longer token is no value of any type.
+    constexpr std::size_t max_token = 128;
     const VoxelType stored = detail::stored_type(layout.type);
     std::vector<std::byte> samples(layout.voxels * bytes_per_voxel(stored));
-    std::size_t position = 0;
     const auto is_separator = [](char c) {
         return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',';
     };
-    for (std::uint64_t i = 0; i < layout.voxels; ++i) {
-        while (position < text.size() && is_separator(text[position])) {
-            ++position;
-        }
-        if (position == text.size()) {
-            return base::make_error("truncated",
-                                    "expected " + std::to_string(layout.voxels) +
-                                            " ASCII values, found " + std::to_string(i),
-                                    detail::at_byte(path, offset + position));
-        }
-        std::size_t end = position;
-        while (end < text.size() && !is_separator(text[end])) {
-            ++end;
-        }
-        const auto token = std::string_view(text).substr(position, end - position);
+    std::uint64_t count = 0;
+    std::string token;
+    std::uint64_t token_start = 0;
+    const auto store = [&]() -> base::Status {
         const auto value = parse_number<double>(token);
         const double limit = stored == VoxelType::uint8 ? 255.0 : 65535.0;
         if (!value || (stored != VoxelType::float32 &&
                        (*value != std::floor(*value) || *value < 0.0 || *value > limit))) {
             return base::make_error("bad_data",
-                                    "'" + std::string(token) + "' is not a " +
+                                    "'" + token.substr(0, max_token) + "' is not a " +
                                             detail::sample_name(layout.type) + " value",
-                                    detail::at_byte(path, offset + position));
+                                    detail::at_byte(path, token_start));
         }
         switch (stored) {
             case VoxelType::uint8:
-                samples[i] = static_cast<std::byte>(*value);
+                samples[count] = static_cast<std::byte>(*value);
                 break;
             case VoxelType::uint16: {
                 const auto sample = static_cast<std::uint16_t>(*value);
-                std::memcpy(samples.data() + i * 2, &sample, 2);
+                std::memcpy(samples.data() + count * 2, &sample, 2);
                 break;
             }
             case VoxelType::float32: {
-                const auto sample = static_cast<float>(*value);
-                std::memcpy(samples.data() + i * 4, &sample, 4);
+                // Beyond float's range a cast is undefined; IEEE rounding gives ±infinity, which
+                // make_volume counts as non-finite.
+                constexpr float infinity = std::numeric_limits<float>::infinity();
+                const float sample = std::abs(*value) > std::numeric_limits<float>::max()
+                                             ? (*value > 0 ? infinity : -infinity)
+                                             : static_cast<float>(*value);
+                std::memcpy(samples.data() + count * 4, &sample, 4);
                 break;
             }
         }
-        position = end;
+        ++count;
+        token.clear();
+        return base::Ok{};
+    };
+    std::array<char, 1 << 16> chunk{};
+    std::uint64_t position = offset;
+    bool ended = false;
+    while (count < layout.voxels && !ended) {
+        const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
+        if (got < chunk.size()) {
+            if (std::ferror(file)) {
+                return base::make_error("read_failed", "read error",
+                                        detail::at_byte(path, position + got));
+            }
+            ended = true;
+        }
+        for (std::size_t k = 0; k < got && count < layout.voxels; ++k, ++position) {
+            if (!is_separator(chunk[k])) {
+                if (token.empty()) {
+                    token_start = position;
+                }
+                if (token.size() == max_token) {
+                    return base::make_error("bad_data",
+                                            "a value longer than " + std::to_string(max_token) +
+                                                    " characters",
+                                            detail::at_byte(path, token_start));
+                }
+                token.push_back(chunk[k]);
+            } else if (!token.empty()) {
+                if (auto status = store(); !status) {
+                    return status.error();
+                }
+            }
+        }
+    }
+    if (count < layout.voxels && !token.empty()) {
+        if (auto status = store(); !status) {
+            return status.error();
+        }
+    }
+    if (count < layout.voxels) {
+        return base::make_error("truncated",
+                                "expected " + std::to_string(layout.voxels) +
+                                        " ASCII values, found " + std::to_string(count),
+                                detail::at_byte(path, position));
     }
     return samples;
 }
 
-}  // namespace
-
-base::Result<Volume> load_nrrd(const std::filesystem::path& path) {
+base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
+                                    const LoadOptions& options) {
     auto file = detail::open_file(path);
     if (!file) {
         return file.error();
@@ -801,6 +873,20 @@ base::Result<Volume> load_nrrd(const std::filesystem::path& path) {
         return source.error();
     }
 
+    const detail::SampleLayout samples{.type = layout->type,
+                                       .voxels = layout->voxels,
+                                       .big_endian = layout->big_endian};
+    std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) +
+                       "x" + std::to_string(layout->dims.z) + " " +
+                       detail::sample_name(layout->type);
+    if (!detail::is_kept(layout->type)) {
+        what += std::string(" kept as ") + to_string(samples.stored());
+    }
+    if (auto status = detail::check_budget(samples.stored_bytes(), what, path, options);
+        !status) {
+        return status.error();
+    }
+
     detail::File data_file;
     std::FILE* data = file->get();
     std::uint64_t offset = header->data_offset;
@@ -808,7 +894,7 @@ base::Result<Volume> load_nrrd(const std::filesystem::path& path) {
         auto opened = detail::open_file(*source);
         if (!opened) {
             base::Error error = opened.error();
-            error.message += " (named by 'data file' in " + path.string() + ")";
+            error.message += " (named by 'data file' in " + path.filename().string() + ")";
             return error;
         }
         data_file = std::move(opened.value());
@@ -817,47 +903,51 @@ base::Result<Volume> load_nrrd(const std::filesystem::path& path) {
     } else if (auto status = detail::seek_to(data, path, offset); !status) {
         return status.error();
     }
+
     if (auto status = skip_lines(data, *source, header->line_skip.value.value_or(0), offset);
         !status) {
         return status.error();
     }
-
     const std::int64_t byte_skip = header->byte_skip.value.value_or(0);
-    base::Result<std::vector<std::byte>> samples = std::vector<std::byte>{};
-    switch (layout->encoding) {
-        case Encoding::raw:
-            samples = read_raw(data, *source, *layout, byte_skip, offset);
-            break;
-        case Encoding::gzip:
-            samples = read_gzip(data, *source, *layout, byte_skip, offset);
-            break;
-        case Encoding::ascii:
-            samples = read_ascii(data, *source, *layout, byte_skip, offset);
-            break;
-    }
-    if (!samples) {
-        return samples.error();
-    }
     std::vector<std::byte> stored;
     if (layout->encoding == Encoding::ascii) {
-        stored = std::move(samples.value());
-    } else {
-        if (layout->big_endian) {
-            detail::byteswap_samples(samples.value(), detail::sample_size(layout->type));
+        auto values = read_ascii(data, *source, *layout, byte_skip, offset);
+        if (!values) {
+            return values.error();
         }
-        stored = detail::to_stored(layout->type, std::move(samples.value()));
+        stored = std::move(values.value());
+    } else {
+        detail::SampleSink sink(samples);
+        base::Status status = base::Ok{};
+        if (layout->encoding == Encoding::raw) {
+            auto start = raw_data_offset(*source, *layout, byte_skip, offset);
+            status = start ? read_raw(data, *source, *layout, *start, sink)
+                           : base::Status(start.error());
+        } else {
+            status = read_gzip(data, *source, *layout, byte_skip, offset, sink);
+        }
+        if (!status) {
+            return status.error();
+        }
+        stored = sink.take();
     }
 
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
-    auto volume = make_volume(name, layout->dims, layout->spacing,
-                              detail::stored_type(layout->type), std::move(stored));
+    auto volume = make_volume(name, layout->dims, layout->spacing, samples.stored(),
+                              std::move(stored));
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
     return volume;
+}
+
+}  // namespace
+
+base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options) {
+    return detail::guard_allocation(path, [&] { return load_nrrd_file(path, options); });
 }
 
 }  // namespace penumbra::volume

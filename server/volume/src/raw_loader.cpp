@@ -3,6 +3,7 @@
 
 #include "file_io.hpp"
 #include "file_name.hpp"
+#include "memory_budget.hpp"
 #include "samples.hpp"
 
 #include <penumbra/volume/volume.hpp>
@@ -125,8 +126,15 @@ std::string describe(const RawName& raw) {
            std::to_string(raw.dims.z) + " " + detail::sample_name(raw.type);
 }
 
-base::Result<std::vector<std::byte>> read_plain(std::FILE* file, const std::filesystem::path& path,
-                                                const RawName& raw, std::uint64_t expected) {
+// What a load of `raw` holds: the volume in the type it keeps.
+std::string describe_stored(const RawName& raw, const detail::SampleLayout& layout) {
+    const VoxelType stored = layout.stored();
+    return describe(raw) +
+           (detail::is_kept(raw.type) ? std::string() : std::string(" kept as ") + to_string(stored));
+}
+
+base::Status read_plain(std::FILE* file, const std::filesystem::path& path, const RawName& raw,
+                        detail::SampleSink& sink, std::uint64_t expected) {
     auto size = detail::regular_file_size(path);
     if (!size) {
         return size.error();
@@ -145,8 +153,7 @@ base::Result<std::vector<std::byte>> read_plain(std::FILE* file, const std::file
                                         " its name implies (" + describe(raw) + ")",
                                 detail::at_byte(path, expected));
     }
-    std::vector<std::byte> samples(expected);
-    auto got = detail::read_some(file, path, 0, samples);
+    auto got = detail::read_into(file, path, 0, sink);
     if (!got) {
         return got.error();
     }
@@ -156,13 +163,12 @@ base::Result<std::vector<std::byte>> read_plain(std::FILE* file, const std::file
                                         std::to_string(expected) + " bytes while reading",
                                 detail::at_byte(path, *got));
     }
-    return samples;
+    return base::Ok{};
 }
 
-base::Result<std::vector<std::byte>> read_gzip(std::FILE* file, const std::filesystem::path& path,
-                                               const RawName& raw, std::uint64_t expected) {
-    std::vector<std::byte> samples(expected);
-    auto inflated = detail::inflate_file(file, path, 0, 0, samples);
+base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const RawName& raw,
+                       detail::SampleSink& sink, std::uint64_t expected) {
+    auto inflated = detail::inflate_file(file, path, 0, 0, sink);
     if (!inflated) {
         return inflated.error();
     }
@@ -187,12 +193,10 @@ base::Result<std::vector<std::byte>> read_gzip(std::FILE* file, const std::files
                                 "the compressed stream is cut short before its end marker",
                                 detail::at_file(path));
     }
-    return samples;
+    return base::Ok{};
 }
 
-}  // namespace
-
-base::Result<Volume> load_raw(const std::filesystem::path& path) {
+base::Result<Volume> load_raw_file(const std::filesystem::path& path, const LoadOptions& options) {
     auto raw = parse_raw_name(path);
     if (!raw) {
         return raw.error();
@@ -205,24 +209,37 @@ base::Result<Volume> load_raw(const std::filesystem::path& path) {
                                         std::to_string(max_voxels),
                                 detail::at_file(path));
     }
+    const detail::SampleLayout layout{.type = raw->type, .voxels = voxels};
+    if (auto status =
+                detail::check_budget(layout.stored_bytes(), describe_stored(*raw, layout), path,
+                                     options);
+        !status) {
+        return status.error();
+    }
     auto file = detail::open_file(path);
     if (!file) {
         return file.error();
     }
-    const std::uint64_t expected = voxels * detail::sample_size(raw->type);
-    auto samples = raw->gzip ? read_gzip(file->get(), path, *raw, expected)
-                             : read_plain(file->get(), path, *raw, expected);
-    if (!samples) {
-        return samples.error();
+    const std::uint64_t expected = layout.file_bytes();
+    detail::SampleSink sink(layout);
+    auto status = raw->gzip ? read_gzip(file->get(), path, *raw, sink, expected)
+                            : read_plain(file->get(), path, *raw, sink, expected);
+    if (!status) {
+        return status.error();
     }
-    auto volume = make_volume(raw->name, raw->dims, glm::dvec3(1.0), detail::stored_type(raw->type),
-                              detail::to_stored(raw->type, std::move(samples.value())));
+    auto volume = make_volume(raw->name, raw->dims, glm::dvec3(1.0), layout.stored(), sink.take());
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
     return volume;
+}
+
+}  // namespace
+
+base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options) {
+    return detail::guard_allocation(path, [&] { return load_raw_file(path, options); });
 }
 
 }  // namespace penumbra::volume

@@ -5,6 +5,7 @@
 
 #include <penumbra/volume/volume.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -129,51 +130,129 @@ void convert_samples_to_float32(std::span<const std::byte> in, std::span<std::by
 // Converts native-order samples to float32 as value * slope + inter, computed in double so that
 // wide integers lose precision only once. Values beyond float's range become ±Inf, which
 // make_volume then counts as non-finite.
-inline std::vector<std::byte> to_float32(SampleType type, std::span<const std::byte> in,
-                                         double slope = 1.0, double inter = 0.0) {
-    std::vector<std::byte> out(in.size() / sample_size(type) * sizeof(float));
+inline void convert_to_float32(SampleType type, std::span<const std::byte> in,
+                               std::span<std::byte> out, double slope, double inter) {
     switch (type) {
         case SampleType::int8:
-            convert_samples_to_float32<std::int8_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::int8_t>(in, out, slope, inter);
         case SampleType::uint8:
-            convert_samples_to_float32<std::uint8_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::uint8_t>(in, out, slope, inter);
         case SampleType::int16:
-            convert_samples_to_float32<std::int16_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::int16_t>(in, out, slope, inter);
         case SampleType::uint16:
-            convert_samples_to_float32<std::uint16_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::uint16_t>(in, out, slope, inter);
         case SampleType::int32:
-            convert_samples_to_float32<std::int32_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::int32_t>(in, out, slope, inter);
         case SampleType::uint32:
-            convert_samples_to_float32<std::uint32_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::uint32_t>(in, out, slope, inter);
         case SampleType::int64:
-            convert_samples_to_float32<std::int64_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::int64_t>(in, out, slope, inter);
         case SampleType::uint64:
-            convert_samples_to_float32<std::uint64_t>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<std::uint64_t>(in, out, slope, inter);
         case SampleType::float32:
-            convert_samples_to_float32<float>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<float>(in, out, slope, inter);
         case SampleType::float64:
-            convert_samples_to_float32<double>(in, out, slope, inter);
-            break;
+            return convert_samples_to_float32<double>(in, out, slope, inter);
     }
-    return out;
 }
 
-// The bytes a Volume stores for native-order samples: the buffer itself when the type is kept,
-// float32 otherwise.
-inline std::vector<std::byte> to_stored(SampleType type, std::vector<std::byte> samples) {
-    if (is_kept(type)) {
-        return samples;
+// How a file's samples become a Volume's data.
+struct SampleLayout {
+    SampleType type = SampleType::uint8;
+    std::uint64_t voxels = 0;
+    bool big_endian = false;
+    double slope = 1.0;  // stored value = sample * slope + inter (float32 unless the identity)
+    double inter = 0.0;
+
+    [[nodiscard]] bool scaled() const { return !(slope == 1.0 && inter == 0.0); }
+
+    // The type the volume keeps: the sample type where it is kept and unscaled, else float32.
+    [[nodiscard]] VoxelType stored() const {
+        return scaled() ? VoxelType::float32 : stored_type(type);
     }
-    return to_float32(type, samples);
-}
+
+    [[nodiscard]] std::uint64_t file_bytes() const { return voxels * sample_size(type); }
+
+    [[nodiscard]] std::uint64_t stored_bytes() const { return voxels * bytes_per_voxel(stored()); }
+};
+
+// Bytes of converted samples staged at a time: what a load needs beyond the volume itself.
+inline constexpr std::size_t conversion_chunk_bytes = std::size_t{1} << 20;
+
+// Receives a file's samples in order and builds the volume's data from them, holding one copy of
+// the volume: samples that are kept as they are go straight into the volume's buffer (byte order
+// fixed in place at the end); others pass through a small staging buffer, converted chunk by
+// chunk. A reader asks for window(), writes up to its size and calls commit() with the count.
+class SampleSink {
+public:
+    explicit SampleSink(const SampleLayout& layout)
+        : layout_(layout)
+        , direct_(!layout.scaled() && is_kept(layout.type))
+        , data_(layout.stored_bytes()) {
+        if (!direct_) {
+            const std::size_t width = sample_size(layout.type);
+            staging_.resize(conversion_chunk_bytes / width * width);
+        }
+    }
+
+    // Where the next bytes go; empty once every expected byte has arrived.
+    [[nodiscard]] std::span<std::byte> window() {
+        const std::uint64_t left = layout_.file_bytes() - received_;
+        if (direct_) {
+            return std::span<std::byte>(data_).subspan(static_cast<std::size_t>(received_));
+        }
+        const std::size_t room = std::min<std::uint64_t>(staging_.size() - staged_, left);
+        return std::span<std::byte>(staging_).subspan(staged_, room);
+    }
+
+    void commit(std::size_t bytes) {
+        received_ += bytes;
+        if (direct_) {
+            return;
+        }
+        staged_ += bytes;
+        if (staged_ == staging_.size() || received_ == layout_.file_bytes()) {
+            flush();
+        }
+    }
+
+    [[nodiscard]] std::uint64_t received() const { return received_; }
+
+    [[nodiscard]] bool full() const { return received_ == layout_.file_bytes(); }
+
+    // The volume's data; call once, when full().
+    std::vector<std::byte> take() {
+        if (direct_ && layout_.big_endian) {
+            byteswap_samples(data_, sample_size(layout_.type));
+        }
+        return std::move(data_);
+    }
+
+private:
+    void flush() {
+        const std::size_t width = sample_size(layout_.type);
+        const std::size_t whole = staged_ / width * width;
+        const std::span<std::byte> samples = std::span<std::byte>(staging_).first(whole);
+        if (layout_.big_endian) {
+            byteswap_samples(samples, width);
+        }
+        const std::size_t out_bytes = whole / width * sizeof(float);
+        convert_to_float32(layout_.type, samples,
+                           std::span<std::byte>(data_).subspan(written_, out_bytes), layout_.slope,
+                           layout_.inter);
+        written_ += out_bytes;
+        // A partial sample (a read that stopped mid-sample) waits for the rest of its bytes.
+        std::memmove(staging_.data(), staging_.data() + whole, staged_ - whole);
+        staged_ -= whole;
+    }
+
+    SampleLayout layout_;
+    bool direct_;
+    std::vector<std::byte> data_;
+    std::vector<std::byte> staging_;
+    std::size_t staged_ = 0;
+    std::uint64_t received_ = 0;
+    std::size_t written_ = 0;
+};
 
 }  // namespace penumbra::volume::detail

@@ -227,14 +227,15 @@ Histogram compute_histogram(const Volume& volume, std::size_t bin_count) {
     return histogram;
 }
 
-base::Result<Volume> load_volume(const std::filesystem::path& path) {
+base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) {
-        return load_dicom(path);
+        return load_dicom(path, options);
     }
     const std::string name = detail::lower_file_name(path);
     using detail::has_suffix;
-    const auto pick = [&]() -> base::Result<Volume> (*)(const std::filesystem::path&) {
+    using Loader = base::Result<Volume> (*)(const std::filesystem::path&, const LoadOptions&);
+    const auto pick = [&]() -> Loader {
         if (has_suffix(name, ".nii") || has_suffix(name, ".nii.gz")) {
             return load_nifti;
         }
@@ -260,7 +261,7 @@ base::Result<Volume> load_volume(const std::filesystem::path& path) {
     if (auto size = detail::regular_file_size(path); !size) {
         return size.error();
     }
-    return pick(path);
+    return pick(path, options);
 }
 
 }  // namespace penumbra::volume

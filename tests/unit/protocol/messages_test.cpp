@@ -42,8 +42,14 @@ TEST(ParseRequest, SetCarriesOnlyThePatch) {
             R"({"v":1,"type":"set","id":3,"light":{"intensity":2},"output":{"encoding":"png"}})",
             Limits{});
     ASSERT_TRUE(request.ok());
-    const json patch = json::parse(std::get<Set>(request->message).patch);
-    EXPECT_EQ(patch, json::parse(R"({"light":{"intensity":2},"output":{"encoding":"png"}})"));
+    SessionState state;
+    ASSERT_TRUE(apply_patch(std::get<Set>(request->message).patch, state, Limits{}).ok());
+    SessionState expected;
+    ASSERT_TRUE(apply_patch(R"({"light":{"intensity":2},"output":{"encoding":"png"}})", expected,
+                            Limits{})
+                        .ok());
+    EXPECT_EQ(state_to_json(state), state_to_json(expected));
+    EXPECT_NE(state_to_json(state), state_to_json(SessionState{}));
 }
 
 TEST(ParseRequest, AcceptsTheExtremeIds) {
@@ -141,6 +147,7 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("limits").at("max_image_side"), 1000);
     EXPECT_EQ(hello.at("limits").at("max_message_bytes"), limits.max_message_bytes);
     EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
+    EXPECT_EQ(hello.at("limits").at("max_json_depth"), limits.max_json_depth);
     EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
 }
 

@@ -18,10 +18,11 @@ SessionState preset_state(const char* preset) {
     return state;
 }
 
-std::string patch_of(const std::string& set_message) {
+Patch patch_of(const std::string& set_message) {
     auto request = parse_request(set_message, Limits{});
     EXPECT_TRUE(request.ok()) << set_message;
-    return request.ok() ? std::get<Set>(request->message).patch : std::string("{}");
+    return request.ok() ? std::get<Set>(request->message).patch
+                        : parse_patch("{}", Limits{}).value();
 }
 
 // Sessions in many shapes: defaults, every preset, and the result of every valid set example.
@@ -172,6 +173,29 @@ TEST(ApplyPatch, NamesADecreasingTransferFunctionPoint) {
     ASSERT_FALSE(status.ok());
     EXPECT_EQ(status.error().code, code::invalid_value);
     EXPECT_EQ(status.error().where, "/transfer_function/colors/1");
+}
+
+}  // namespace
+}  // namespace penumbra::protocol
+
+namespace penumbra::protocol {
+namespace {
+
+// Found by fuzz_protocol_patch: an orbit around a far target put the eye beyond ±1000, so the
+// state sent back to clients held an eye that `set` refuses.
+TEST(ApplyPatch, AnOrbitThatPutsTheEyeOutOfRangeIsRefused) {
+    SessionState state;
+    const auto status = apply_patch(
+            R"({"camera":{"target":[1000,1000,0],"orbit":{"azimuth":90,"elevation":45,"distance":100}}})",
+            state, Limits{});
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, "out_of_range");
+    EXPECT_EQ(status.error().where, "/camera/orbit/distance");
+    ASSERT_TRUE(apply_patch(R"({"camera":{"target":[900,0,0],"orbit":{"distance":100}}})", state,
+                            Limits{})
+                        .ok());
+    SessionState again;
+    EXPECT_TRUE(apply_patch(state_to_json(state), again, Limits{}).ok());
 }
 
 }  // namespace

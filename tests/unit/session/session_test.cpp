@@ -40,10 +40,12 @@ TEST(Session, AStateChangeReachesEveryViewerButTheOneWhoMadeIt) {
     Heard by_owner;
     Heard by_first;
     Heard by_second;
-    session.add_viewer(owner, {}, by_owner.sink("changed"), by_owner.sink("welcome"));
-    session.add_viewer(first_viewer, {}, by_first.sink("changed"), by_first.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(owner, {}, by_owner.sink("changed"), by_owner.sink("welcome")));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, by_first.sink("changed"),
+                                   by_first.sink("welcome")));
     session.set_state(state_with_mode(scene::Mode::dvr), owner);
-    session.add_viewer(second_viewer, {}, by_second.sink("changed"), by_second.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(second_viewer, {}, by_second.sink("changed"),
+                                   by_second.sink("welcome")));
     session.set_state(state_with_mode(scene::Mode::phong), owner);
 
     EXPECT_EQ(by_owner.events, std::vector<std::string>{"welcome:sbrc"});
@@ -56,13 +58,13 @@ TEST(Session, AStateChangeReachesEveryViewerButTheOneWhoMadeIt) {
 TEST(Session, AViewerWhoLeftHearsNoMoreAndOneWhoReturnsIsWelcomedAgain) {
     Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
     Heard heard;
-    session.add_viewer(owner, {}, {}, {});
-    session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome")));
     EXPECT_EQ(session.remove_viewer(first_viewer), 1U);
     session.set_state(state_with_mode(scene::Mode::dvr), owner);
-    session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome")));
     // Re-adding replaces the sinks: one welcome each time, never two change reports.
-    session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, heard.sink("changed"), heard.sink("welcome")));
     session.set_state(state_with_mode(scene::Mode::phong), owner);
     EXPECT_EQ(heard.events, (std::vector<std::string>{"welcome:sbrc", "welcome:dvr", "welcome:dvr",
                                                       "changed:phong"}));
@@ -73,13 +75,13 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     Session session("s", "v", nullptr, {}, owner);
     std::vector<std::pair<ViewerId, std::uint64_t>> delivered;
     for (const ViewerId viewer : {owner, first_viewer}) {
-        session.add_viewer(
+        ASSERT_TRUE(session.add_viewer(
                 viewer,
                 [&delivered, viewer](const base::Result<std::shared_ptr<const EncodedFrame>>&,
                                      std::uint64_t number) {
                     delivered.emplace_back(viewer, number);
                 },
-                {}, {});
+                {}, {}));
     }
     session.deliver(std::make_shared<const EncodedFrame>());
     EXPECT_EQ(delivered,
@@ -97,8 +99,8 @@ TEST(Session, TheOwnerTokenIsAFreshUnguessableSecret) {
 
 TEST(Session, TheOwnerLeavingLeavesTheViewersWatchingASessionWithoutOwner) {
     Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
-    session.add_viewer(owner, {}, {}, {});
-    session.add_viewer(first_viewer, {}, {}, {});
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, {}, {}));
     EXPECT_EQ(session.owner(), owner);
     EXPECT_TRUE(session.is_owner(owner));
     EXPECT_FALSE(session.is_owner(first_viewer));
@@ -112,8 +114,9 @@ TEST(Session, ResumingWithTheTokenMakesANewConnectionTheOwnerWhoseStatesReachThe
     Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
     Heard by_viewer;
     Heard by_resumer;
-    session.add_viewer(owner, {}, {}, {});
-    session.add_viewer(first_viewer, {}, by_viewer.sink("changed"), by_viewer.sink("welcome"));
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, by_viewer.sink("changed"),
+                                   by_viewer.sink("welcome")));
     session.set_state(state_with_mode(scene::Mode::dvr), owner);
     session.remove_viewer(owner);
 
@@ -139,8 +142,8 @@ TEST(Session, AViewerWithTheTokenMayResumeTooAndFramesStillReachEveryone) {
         return [&delivered, viewer](const base::Result<std::shared_ptr<const EncodedFrame>>&,
                                     std::uint64_t) { delivered.push_back(viewer); };
     };
-    session.add_viewer(owner, frames_to(owner), {}, {});
-    session.add_viewer(first_viewer, frames_to(first_viewer), {}, {});
+    ASSERT_TRUE(session.add_viewer(owner, frames_to(owner), {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, frames_to(first_viewer), {}, {}));
     session.remove_viewer(owner);
     ASSERT_TRUE(session.resume(first_viewer, session.owner_token(), frames_to(first_viewer), {}, {})
                         .ok());
@@ -152,12 +155,13 @@ TEST(Session, AViewerWithTheTokenMayResumeTooAndFramesStillReachEveryone) {
 
 TEST(Session, AWrongTokenIsRefusedAndChangesNothing) {
     Session session("s", "v", nullptr, {}, owner);
-    session.add_viewer(owner, {}, {}, {});
-    session.add_viewer(first_viewer, {}, {}, {});
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, {}, {}));
     session.remove_viewer(owner);
     std::string wrong = session.owner_token();
     wrong.back() = wrong.back() == '0' ? '1' : '0';
-    for (const std::string& token : {wrong, std::string(), session.owner_token() + "0", session.id()}) {
+    for (const std::string& token :
+         {wrong, std::string(), session.owner_token() + "0", session.id()}) {
         SCOPED_TRACE(token);
         Heard heard;
         const auto refused = session.resume(resuming, token, {}, {}, heard.sink("welcome"));
@@ -173,7 +177,7 @@ TEST(Session, AWrongTokenIsRefusedAndChangesNothing) {
 
 TEST(Session, ResumingWhileTheOwnerIsConnectedIsRefused) {
     Session session("s", "v", nullptr, {}, owner);
-    session.add_viewer(owner, {}, {}, {});
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
     const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().code, "session_owned");
@@ -186,8 +190,8 @@ TEST(Session, ResumingWhileTheOwnerIsConnectedIsRefused) {
 
 TEST(Session, OnceTheLastViewerLeftNobodyResumes) {
     Session session("s", "v", nullptr, {}, owner);
-    session.add_viewer(owner, {}, {}, {});
-    session.add_viewer(first_viewer, {}, {}, {});
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, {}, {}));
     session.remove_viewer(owner);
     EXPECT_EQ(session.remove_viewer(first_viewer), 0U);
     const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
@@ -215,17 +219,16 @@ TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
     ASSERT_TRUE(created.ok());
     const std::shared_ptr<Session> session = *created;
     EXPECT_EQ(session->viewer_count(), 1U) << "its owner is its first viewer";
-    ASSERT_TRUE(registry.enter(session->id(), [](Session& s) {
-                            return s.add_viewer(first_viewer, {}, {}, {});
-                        }).ok());
+    ASSERT_TRUE(registry.enter(session->id(),
+                               [](Session& s) { return s.add_viewer(first_viewer, {}, {}, {}); })
+                        .ok());
     EXPECT_FALSE(registry.leave(*session, owner));
     EXPECT_EQ(registry.find(session->id()), session) << "viewers keep it running without owner";
     EXPECT_TRUE(registry.leave(*session, first_viewer));
     EXPECT_EQ(registry.find(session->id()), nullptr);
     EXPECT_EQ(registry.count(), 0U);
-    const auto gone = registry.enter(session->id(), [](Session& s) {
-        return s.add_viewer(second_viewer, {}, {}, {});
-    });
+    const auto gone = registry.enter(
+            session->id(), [](Session& s) { return s.add_viewer(second_viewer, {}, {}, {}); });
     ASSERT_FALSE(gone.ok());
     EXPECT_EQ(gone.error().code, "unknown_session");
     EXPECT_EQ(gone.error().where, "/session");

@@ -125,7 +125,7 @@ TEST_F(VolumeStoreTest, LoadsRunOnALoaderThreadAndEachVolumeGetsOneHistogram) {
 
 TEST_F(VolumeStoreTest, ListingAnswersFromTheLastScanAndAChangedFolderIsRescannedSoon) {
     write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
-    VolumeStore store(data_, std::size_t{1} << 20, std::chrono::hours(1));
+    VolumeStore store(data_, std::size_t{1} << 20, {}, std::chrono::hours(1));
     ASSERT_TRUE(store.scan().ok());
     EXPECT_EQ(ids(store), std::vector<std::string>{"a_2x2x2_uint8.raw"});
     // A file added at the top changes the folder's modification time; the listing that notices

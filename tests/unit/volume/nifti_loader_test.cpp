@@ -114,9 +114,9 @@ TEST(NiftiLoader, Uint16AndFloat32AreKept) {
     EXPECT_EQ(f32->type, VoxelType::float32);
     EXPECT_EQ(f32->value(1, 0, 0), -1.0);
     EXPECT_EQ(f32->value(1, 1, 1), 7.0);
-    // The nifti library sets NaN voxels to 0 while reading, before Penumbra sees them.
-    EXPECT_EQ(f32->value(0, 1, 0), 0.0);
-    EXPECT_EQ(f32->nonfinite_voxels, 0u);
+    // A NaN voxel becomes the finite minimum and is counted, as in every format.
+    EXPECT_EQ(f32->value(0, 1, 0), -1.0);
+    EXPECT_EQ(f32->nonfinite_voxels, 1u);
 }
 
 TEST(NiftiLoader, Float64BecomesFloat32) {

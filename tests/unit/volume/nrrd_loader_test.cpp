@@ -514,3 +514,76 @@ TEST(NrrdLoader, HeaderWithoutEndIsCapped) {
 
 }  // namespace
 }  // namespace penumbra::volume
+
+namespace penumbra::volume {
+namespace {
+
+// Finding: a detached header's "data file" could name any file the server can read
+// ("/etc/passwd", "../x") and expose its bytes as a volume.
+TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "volumes" / "sub");
+    const std::vector<std::byte> bytes(8, std::byte{7});
+    fixtures::write_bytes(dir / "outside.raw", bytes);
+    fixtures::write_bytes(dir / "volumes" / "sub" / "inside.raw", bytes);
+    std::filesystem::create_symlink(dir / "outside.raw", dir / "volumes" / "link.raw");
+    const std::string header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                               "encoding: raw\ndata file: ";
+    const auto load_with = [&](const std::string& data_file) {
+        fixtures::write_text(dir / "volumes" / "h.nhdr", header + data_file + "\n");
+        return load_nrrd(dir / "volumes" / "h.nhdr");
+    };
+    for (const std::string& refused :
+         {std::string("/etc/passwd"), std::string("../outside.raw"),
+          std::string("sub/../../outside.raw"), (dir / "outside.raw").string(),
+          std::string("link.raw")}) {
+        const auto volume = load_with(refused);
+        ASSERT_FALSE(volume.ok()) << refused;
+        EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
+        EXPECT_EQ(volume.error().where, (dir / "volumes" / "h.nhdr").string() + ":line 6");
+    }
+    for (const std::string& allowed :
+         {std::string("sub/inside.raw"), std::string("sub/../sub/inside.raw"),
+          (dir / "volumes" / "sub" / "inside.raw").string()}) {
+        const auto volume = load_with(allowed);
+        ASSERT_TRUE(volume.ok()) << allowed << ": " << volume.error().to_string();
+        EXPECT_EQ(volume->data, bytes);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::volume
+
+namespace penumbra::volume {
+namespace {
+
+// ASCII data is read a chunk at a time: tokens across chunk boundaries, the end of the file as
+// the end of the last value, a value beyond float's range as infinity (counted, not undefined).
+TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
+    fixtures::TempDir dir;
+    const std::uint32_t values = 20000;
+    std::string text;
+    for (std::uint32_t i = 0; i + 1 < values; ++i) {
+        text += std::to_string(i % 1000) + (i % 7 == 0 ? ",\n" : "   ");
+    }
+    ASSERT_GT(text.size(), std::size_t{1} << 16) << "the text must span several chunks";
+    const std::string last_value_missing = text;
+    text += "1e300";  // the last voxel, with no separator after it
+    fixtures::write_text(dir / "big.txt", text);
+    fixtures::write_text(dir / "big.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: " +
+                                                   std::to_string(values) +
+                                                   " 1 1\nencoding: ascii\ndata file: big.txt\n");
+    const auto volume = load_nrrd(dir / "big.nhdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->value(14000, 0, 0), 0.0);
+    EXPECT_EQ(volume->value(14321, 0, 0), 321.0);
+    EXPECT_EQ(volume->nonfinite_voxels, 1u);
+
+    fixtures::write_text(dir / "big.txt", last_value_missing);
+    const auto truncated = load_nrrd(dir / "big.nhdr");
+    ASSERT_FALSE(truncated.ok());
+    EXPECT_EQ(truncated.error().code, "truncated");
+}
+
+}  // namespace
+}  // namespace penumbra::volume

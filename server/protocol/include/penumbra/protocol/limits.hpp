@@ -21,6 +21,9 @@ struct Limits {
     // Shader iterations one frame may ask for (scene::estimate_work): a 512^2 reference frame at
     // sample distance 1/256 asks for 5e10, a 2048^2 sbrc_shell frame at the default settings 2e10.
     double max_frame_work = 1e11;
+    // Containers nested in one JSON text (the message object is 1; the deepest valid message
+    // has 5). Checked while parsing, so no deeper document is ever built or walked.
+    int max_json_depth = 16;
 };
 
 inline constexpr int protocol_version = 1;

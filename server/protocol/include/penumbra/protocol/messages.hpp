@@ -2,6 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
+#include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <cstdint>
@@ -45,7 +46,7 @@ struct Open {
 // Any subset of the session's state (camera, light, transfer_function, settings, output); absent
 // parts keep their value. Already validated; apply it with apply_patch (scene_json.hpp).
 struct Set {
-    std::string patch;
+    Patch patch;
 };
 
 struct Render {

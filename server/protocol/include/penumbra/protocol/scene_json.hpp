@@ -5,6 +5,7 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/quality.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -28,10 +29,31 @@ struct SessionState {
     double frame_budget_ms = 0.0;
 };
 
-// Applies a validated `set` patch (a JSON object with any of "camera", "light",
-// "transfer_function", "settings", "output") onto `state`, field by field. Unknown fields,
-// wrong types, non-finite numbers and values outside the limits are errors naming the JSON
-// pointer of the field; on error `state` is unchanged.
+// A `set` patch (a JSON object with any of "camera", "light", "transfer_function", "settings",
+// "output"), parsed once and kept parsed: it is applied as it is, never printed and parsed again.
+// The document's type stays inside this module.
+class Patch {
+public:
+    struct Document;
+
+    explicit Patch(std::shared_ptr<const Document> document);
+
+    [[nodiscard]] const Document& document() const { return *document_; }
+
+private:
+    std::shared_ptr<const Document> document_;
+};
+
+// Parses a patch (depth-limited by `limits.max_json_depth`); it must be a JSON object. What it
+// sets is checked when it is applied.
+base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limits);
+
+// Applies a patch onto `state`, field by field. Unknown fields, wrong types, non-finite numbers
+// and values outside the limits are errors naming the JSON pointer of the field; on error `state`
+// is unchanged.
+base::Status apply_patch(const Patch& patch, SessionState& state, const Limits& limits);
+
+// parse_patch, then apply_patch.
 base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits);
 
 // The state in the shapes `set` accepts.

@@ -42,9 +42,11 @@ public:
     // How many bins a volume's histogram has (the transfer-function editor's backdrop).
     static constexpr int histogram_bins = 256;
 
-    // `rescan_interval`: how old the listed scan may get; a change of the data directory's
-    // modification time (a file added or removed at its top) asks for a rescan sooner.
+    // `load_options` bound what one load may take (volume::LoadOptions). `rescan_interval`: how
+    // old the listed scan may get; a change of the data directory's modification time (a file
+    // added or removed at its top) asks for a rescan sooner.
     VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
+                volume::LoadOptions load_options = {},
                 std::chrono::milliseconds rescan_interval = std::chrono::seconds(10),
                 int loader_threads = 2);
 
@@ -84,6 +86,7 @@ private:
 
     std::filesystem::path data_dir_;
     std::size_t memory_budget_;
+    volume::LoadOptions load_options_;
     std::chrono::milliseconds rescan_interval_;
     mutable std::mutex mutex_;
     std::mutex load_mutex_;

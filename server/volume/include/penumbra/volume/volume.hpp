@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,20 +64,37 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
 
 [[nodiscard]] Histogram compute_histogram(const Volume& volume, std::size_t bin_count = 256);
 
+// What one load may hold in memory. Checked before any allocation a file asks for, against what
+// the file declares: its voxels x the bytes each is kept in (float32 where the file's type is
+// converted), plus what the loader holds beside the volume (a DICOM file's pixel data). A load
+// holds about one copy of the volume: samples are converted chunk by chunk, never as a second
+// whole copy. An allocation that fails all the same is an "out_of_memory" Error, never a crash.
+struct LoadOptions {
+    std::uint64_t max_bytes = std::uint64_t{8} << 30;
+    // Also refuse what the machine cannot give now (MemAvailable in /proc/meminfo).
+    bool within_available_memory = true;
+};
+
+// The memory the machine has available now (MemAvailable), or nullopt where it cannot tell.
+[[nodiscard]] std::optional<std::uint64_t> available_memory();
+
 // Loaders. Each validates everything it reads and returns an Error naming the file and, where it
-// applies, the byte offset or header line that was wrong.
+// applies, the byte offset or header line that was wrong (in `where`; the message names no path
+// but the file's own name).
 //   raw:   Open SciVis naming name_XxYxZ_type.raw[.gz], type uint8|uint16|int16|float32|float64;
 //          spacing 1 unless the file name carries none (the caller may override it).
-//   NRRD:  .nrrd (attached) and .nhdr (detached "data file"), encodings raw and gzip, spacings
-//          or space directions.
-//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2) through the reference nifti library.
+//   NRRD:  .nrrd (attached) and .nhdr (detached "data file", which must lie in the header's
+//          folder or below it), encodings raw, gzip and ascii, spacings or space directions.
+//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2); the header through the reference nifti library.
 //   DICOM: a folder holding the files of one series (any names; the largest series when there
 //          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; rescale slope/intercept applied (CT in HU).
-base::Result<Volume> load_raw(const std::filesystem::path& path);
-base::Result<Volume> load_nrrd(const std::filesystem::path& path);
-base::Result<Volume> load_nifti(const std::filesystem::path& path);
-base::Result<Volume> load_dicom(const std::filesystem::path& path);
+base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
+base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
+base::Result<Volume> load_nifti(const std::filesystem::path& path,
+                                const LoadOptions& options = {});
+base::Result<Volume> load_dicom(const std::filesystem::path& path,
+                                const LoadOptions& options = {});
 
 // Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
@@ -84,7 +102,8 @@ base::Result<Volume> load_dicom(const std::filesystem::path& path);
 
 // Chooses the loader: a folder is a DICOM series; files by name (.dcm/.dicom are DICOM), and a
 // file with another name that carries the DICOM marker is DICOM too.
-base::Result<Volume> load_volume(const std::filesystem::path& path);
+base::Result<Volume> load_volume(const std::filesystem::path& path,
+                                 const LoadOptions& options = {});
 
 // Limits that protect the process from absurd headers (checked before any allocation).
 inline constexpr std::uint64_t max_voxels = std::uint64_t{1} << 31;
