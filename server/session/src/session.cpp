@@ -1,5 +1,9 @@
 #include "penumbra/session/session.hpp"
 
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
+
+#include <array>
 #include <cstdio>
 #include <random>
 
@@ -37,12 +41,48 @@ bool same_token(std::string_view a, std::string_view b) {
 
 }  // namespace
 
+// Hex digits of an owner token: 128 bits, as many as a random one.
+constexpr std::size_t owner_token_digits = 32;
+
+OwnerTokens::OwnerTokens(std::string cluster_secret) : secret_(std::move(cluster_secret)) {}
+
+std::string OwnerTokens::token_for(const std::string& session_id) const {
+    if (secret_.empty()) {
+        return random_secret();
+    }
+    // The purpose goes into the message, so that the secret's HMAC of a session id means nothing
+    // anywhere else.
+    const std::string message = "penumbra owner token\n" + session_id;
+    std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+    unsigned int length = 0;
+    HMAC(EVP_sha256(), secret_.data(), static_cast<int>(secret_.size()),
+         reinterpret_cast<const unsigned char*>(message.data()), message.size(), digest.data(),
+         &length);
+    std::string text;
+    for (unsigned int i = 0; i < length && text.size() < owner_token_digits; ++i) {
+        char hex[3];
+        std::snprintf(hex, sizeof hex, "%02x", digest[i]);
+        text += hex;
+    }
+    return text;
+}
+
+bool OwnerTokens::proves(const std::string& session_id, std::string_view owner_token) const {
+    return derived() && same_token(owner_token, token_for(session_id));
+}
+
 Session::Session(std::string id, std::string volume_id,
                  std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner)
+    : Session(std::move(id), std::move(volume_id), std::move(volume), std::move(state), owner,
+              random_secret()) {}
+
+Session::Session(std::string id, std::string volume_id,
+                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::string owner_token)
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
-    , owner_token_(random_secret())
+    , owner_token_(std::move(owner_token))
     , owner_(owner)
     , state_(std::move(state)) {}
 
@@ -170,7 +210,9 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     return job;
 }
 
-SessionRegistry::SessionRegistry(int max_sessions) : max_sessions_(max_sessions) {}
+SessionRegistry::SessionRegistry(int max_sessions, OwnerTokens owner_tokens)
+    : max_sessions_(max_sessions)
+    , owner_tokens_(std::move(owner_tokens)) {}
 
 base::Result<std::shared_ptr<Session>> SessionRegistry::create(
         std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
@@ -182,10 +224,38 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
                                         std::to_string(max_sessions_) + " sessions",
                                 "/volume");
     }
-    auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
-                                             std::move(volume), std::move(state), owner);
+    std::string id = random_secret();
+    std::string owner_token = owner_tokens_.token_for(id);
+    auto session = std::make_shared<Session>(std::move(id), std::move(volume_id), std::move(volume),
+                                             std::move(state), owner, std::move(owner_token));
     sessions_.emplace(session->id(), session);
     return session;
+}
+
+base::Result<SessionRegistry::Recreated> SessionRegistry::recreate(
+        const std::string& id, std::string_view owner_token, std::string volume_id,
+        std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner) {
+    if (!owner_tokens_.derived()) {
+        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+    }
+    if (!owner_tokens_.proves(id, owner_token)) {
+        return base::make_error("invalid_value", "not the owner token of this session",
+                                "/owner_token");
+    }
+    const std::lock_guard lock(mutex_);
+    if (const auto found = sessions_.find(id); found != sessions_.end()) {
+        return Recreated{found->second, false};
+    }
+    if (static_cast<int>(sessions_.size()) >= max_sessions_) {
+        return base::make_error("too_many_sessions",
+                                "the server already holds its maximum of " +
+                                        std::to_string(max_sessions_) + " sessions",
+                                "/session");
+    }
+    auto session = std::make_shared<Session>(id, std::move(volume_id), std::move(volume),
+                                             std::move(state), owner, std::string(owner_token));
+    sessions_.emplace(id, session);
+    return Recreated{session, true};
 }
 
 std::shared_ptr<Session> SessionRegistry::find(const std::string& id) const {

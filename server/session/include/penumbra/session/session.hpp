@@ -46,6 +46,10 @@ public:
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
             SessionState state, ViewerId owner);
 
+    // The same with the owner token given (derived from the id, see OwnerTokens).
+    Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
+            SessionState state, ViewerId owner, std::string owner_token);
+
     [[nodiscard]] const std::string& id() const { return id_; }
 
     [[nodiscard]] const std::string& volume_id() const { return volume_id_; }
@@ -115,14 +119,55 @@ private:
     std::atomic<std::uint64_t> frames_{0};
 };
 
+// Where owner tokens come from. Alone, a server draws each at random. The servers of a cluster
+// derive it from the session id with a secret they share (HMAC-SHA256), so that any of them can
+// check an owner's claim to a session that another one held, and re-create the session when that
+// server is gone: its viewers then find it again under the same id.
+class OwnerTokens {
+public:
+    // Random tokens, for a server on its own.
+    OwnerTokens() = default;
+
+    // Tokens derived from the session id with `cluster_secret` (not empty).
+    explicit OwnerTokens(std::string cluster_secret);
+
+    [[nodiscard]] bool derived() const { return !secret_.empty(); }
+
+    [[nodiscard]] std::string token_for(const std::string& session_id) const;
+
+    // Whether `owner_token` is the derived token of `session_id`, in constant time. Always false
+    // for random tokens: only the session knows its own.
+    [[nodiscard]] bool proves(const std::string& session_id, std::string_view owner_token) const;
+
+private:
+    std::string secret_;
+};
+
 // All sessions of a server, by id, up to a limit.
 class SessionRegistry {
 public:
-    explicit SessionRegistry(int max_sessions);
+    explicit SessionRegistry(int max_sessions, OwnerTokens owner_tokens = {});
 
     base::Result<std::shared_ptr<Session>> create(std::string volume_id,
                                                   std::shared_ptr<const volume::Volume> volume,
                                                   SessionState state, ViewerId owner);
+
+    struct Recreated {
+        std::shared_ptr<Session> session;
+        bool created = false;  // false: the session was here already (nobody owns it through this)
+    };
+
+    // Re-creates session `id`, which this server does not hold, on `volume` with `state`, owned by
+    // `owner`, if `owner_token` proves the claim (derived tokens only). Fails with unknown_session
+    // when tokens are random (nothing can prove a claim), invalid_value at /owner_token for a
+    // token that does not, and too_many_sessions at the limit. A session of that id that exists
+    // already is returned as it is, for the caller to resume.
+    base::Result<Recreated> recreate(const std::string& id, std::string_view owner_token,
+                                     std::string volume_id,
+                                     std::shared_ptr<const volume::Volume> volume,
+                                     SessionState state, ViewerId owner);
+
+    [[nodiscard]] bool derives_owner_tokens() const { return owner_tokens_.derived(); }
 
     [[nodiscard]] std::shared_ptr<Session> find(const std::string& id) const;
 
@@ -132,6 +177,7 @@ public:
 
 private:
     int max_sessions_;
+    OwnerTokens owner_tokens_;
     mutable std::mutex mutex_;
     std::map<std::string, std::shared_ptr<Session>> sessions_;
 };
