@@ -241,6 +241,83 @@ void ConnectionHandler::leave_session() {
 
 void ConnectionHandler::on_close() { leave_session(); }
 
+std::shared_ptr<const volume::Volume> ConnectionHandler::acquire_volume(
+        std::optional<std::int64_t> id, const std::string& volume_id) {
+    auto volume = context_.services.volumes.acquire(volume_id);
+    if (!volume) {
+        base::Error error = volume.error();
+        if (error.code != protocol::code::unknown_volume) {
+            // The loader's own code and location go into the message.
+            error.message = "volume '" + volume_id + "' could not be loaded: " + error.to_string();
+            error.code = protocol::code::volume_unreadable;
+        }
+        error.where = "/volume";
+        reply_error(id, error);
+        return nullptr;
+    }
+    return *volume;
+}
+
+void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::Resume& message) {
+    auto target = context_.services.sessions.find(message.session);
+    if (!target && message.volume && context_.services.sessions.derives_owner_tokens()) {
+        // The server that held the session is gone and its owner came here: the cluster's secret
+        // proves the claim, and the session comes back under its id for its viewers to find.
+        auto volume = acquire_volume(id, *message.volume);
+        if (!volume) {
+            return;
+        }
+        auto recreated = context_.services.sessions.recreate(
+                message.session, message.owner_token, *message.volume, volume,
+                default_state(context_.config), viewer_);
+        if (!recreated) {
+            reply_error(id, recreated.error());
+            return;
+        }
+        if (recreated->created) {
+            leave_session();
+            session_ = recreated->session;
+            const auto histogram = volume::compute_histogram(*volume, 256).bins;
+            watch(session_, [&](const session::SessionState& state) {
+                send(protocol::opened_message(
+                        id, session_->id(), summary_of(*message.volume, volume.get()), histogram,
+                        protocol::state_to_json(to_protocol(state)), session_->owner_token(),
+                        true));
+            });
+            context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+            base::log_info("session", "re-created " + session_->id() + " on " + *message.volume);
+            return;
+        }
+        target = recreated->session;  // another connection re-created it meanwhile
+    }
+    if (!target) {
+        reply_error(id, base::make_error(protocol::code::unknown_session,
+                                         "no session '" + message.session + "'", "/session"));
+        return;
+    }
+    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
+    Sinks sinks = sinks_for(target);
+    // The check of the token and the change of owner are one step of the session's, so that two
+    // connections resuming at once cannot both win.
+    const auto resumed = target->resume(
+            viewer_, message.owner_token, std::move(sinks.frames), std::move(sinks.state_changed),
+            [&](const session::SessionState& state) {
+                send(protocol::opened_message(
+                        id, target->id(), summary_of(target->volume_id(), target->volume().get()),
+                        histogram, protocol::state_to_json(to_protocol(state)),
+                        target->owner_token()));
+            });
+    if (!resumed) {
+        reply_error(id, resumed.error());
+        return;
+    }
+    if (target != session_) {
+        leave_session();
+        session_ = target;
+    }
+    base::log_info("session", "resumed " + session_->id());
+}
+
 void ConnectionHandler::handle(const protocol::Request& request) {
     const auto id = request.id;
     const auto need_session = [&]() {
@@ -268,31 +345,22 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     }
                     send(protocol::volumes_message(id, list));
                 } else if constexpr (std::is_same_v<T, protocol::Open>) {
-                    auto volume = context_.services.volumes.acquire(message.volume);
+                    auto volume = acquire_volume(id, message.volume);
                     if (!volume) {
-                        base::Error error = volume.error();
-                        if (error.code != protocol::code::unknown_volume) {
-                            // The loader's own code and location go into the message.
-                            error.message = "volume '" + message.volume +
-                                            "' could not be loaded: " + error.to_string();
-                            error.code = protocol::code::volume_unreadable;
-                        }
-                        error.where = "/volume";
-                        reply_error(id, error);
                         return;
                     }
                     auto created = context_.services.sessions.create(
-                            message.volume, *volume, default_state(context_.config), viewer_);
+                            message.volume, volume, default_state(context_.config), viewer_);
                     if (!created) {
                         reply_error(id, created.error());
                         return;
                     }
                     leave_session();
                     session_ = *created;
-                    const auto histogram = volume::compute_histogram(**volume, 256).bins;
+                    const auto histogram = volume::compute_histogram(*volume, 256).bins;
                     watch(session_, [&](const session::SessionState& state) {
                         send(protocol::opened_message(
-                                id, session_->id(), summary_of(message.volume, volume->get()),
+                                id, session_->id(), summary_of(message.volume, volume.get()),
                                 histogram, protocol::state_to_json(to_protocol(state)),
                                 session_->owner_token()));
                     });
@@ -317,33 +385,7 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                                 histogram, protocol::state_to_json(to_protocol(state))));
                     });
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    auto target = find_session(id, message.session);
-                    if (!target) {
-                        return;
-                    }
-                    const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
-                    Sinks sinks = sinks_for(target);
-                    // The check of the token and the change of owner are one step of the
-                    // session's, so that two connections resuming at once cannot both win.
-                    const auto resumed = target->resume(
-                            viewer_, message.owner_token, std::move(sinks.frames),
-                            std::move(sinks.state_changed),
-                            [&](const session::SessionState& state) {
-                                send(protocol::opened_message(
-                                        id, target->id(),
-                                        summary_of(target->volume_id(), target->volume().get()),
-                                        histogram, protocol::state_to_json(to_protocol(state)),
-                                        target->owner_token()));
-                            });
-                    if (!resumed) {
-                        reply_error(id, resumed.error());
-                        return;
-                    }
-                    if (target != session_) {
-                        leave_session();
-                        session_ = target;
-                    }
-                    base::log_info("session", "resumed " + session_->id());
+                    resume(id, message);
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {
                     if (!need_session()) {
                         return;

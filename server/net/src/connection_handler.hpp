@@ -33,6 +33,12 @@ private:
     void send(std::string text);
     bool take_token();
     void leave_session();
+    // The volume, loaded if need be, or nullptr after answering the error (at /volume).
+    std::shared_ptr<const volume::Volume> acquire_volume(std::optional<std::int64_t> id,
+                                                         const std::string& volume_id);
+    // Makes this connection the owner of a session again: the one this server holds, or one that
+    // the cluster's secret lets it re-create.
+    void resume(std::optional<std::int64_t> id, const protocol::Resume& message);
     // What brings `session`'s frames, and the states its owner sets, to this connection.
     struct Sinks {
         session::ViewerSink frames;

@@ -26,6 +26,8 @@ struct Context {
     metrics::Counter& frames_dropped;
     metrics::Histogram& frame_server_ms;
     metrics::Gauge& sessions;
+    metrics::Counter& upgrades_refused;
+    metrics::Gauge& volume_loads;
 
     Context(ServerConfig c, Services s)
         : config(std::move(c))
@@ -41,7 +43,13 @@ struct Context {
                   "penumbra_frame_server_ms",
                   "Server time per frame: queued + render + readback + encode (ms)",
                   metrics::latency_buckets_ms()))
-        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions")) {}
+        , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions"))
+        , upgrades_refused(s.metrics.counter(
+                  "penumbra_upgrades_refused_total",
+                  "WebSocket upgrades refused for their Origin or a missing or wrong token"))
+        , volume_loads(s.metrics.gauge("penumbra_volume_loads",
+                                       "Volume files read since the server started (a cluster "
+                                       "that routes by volume reads each once)")) {}
 
     // Open connections, so that shutdown can close them.
     void track(std::weak_ptr<Connection> connection) {

@@ -24,6 +24,11 @@ struct ServerConfig {
     std::string default_transfer_function = "mri_skin";
     // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
     std::shared_ptr<const std::vector<scene::QualitySample>> quality_table;
+    // Who may open the WebSocket at /ws. A browser's Origin must be the server's own or one of
+    // these ("*": any); clients that send no Origin (not browsers) are not concerned.
+    std::vector<std::string> allowed_origins;
+    // Not empty: the upgrade must carry it as the `token` query parameter (/ws?token=...).
+    std::string access_token;
 };
 
 // What the server serves; owned by the caller and outliving the server.
