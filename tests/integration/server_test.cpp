@@ -15,6 +15,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -150,7 +151,9 @@ protected:
         start(protocol::Limits{});
     }
 
-    void start(protocol::Limits limits) {
+    // `configure` adjusts the rest of the server's configuration (pings, per-client limits).
+    void start(protocol::Limits limits,
+               const std::function<void(net::ServerConfig&)>& configure = {}) {
         server_.reset();
         scheduler_.reset();
         volumes_ = std::make_unique<session::VolumeStore>(data_, std::size_t{1} << 30);
@@ -177,6 +180,9 @@ protected:
                         {scene::Mode::phong, 0, 0, 1.0 / 256, 20.0, 18.0, 64, 64},
                         {scene::Mode::sbrc, 32, 64, 1.0 / 256, 40.0, 24.0, 64, 64},
                         {scene::Mode::reference, 0, 0, 1.0 / 256, 400.0, 99.0, 64, 64}});
+        if (configure) {
+            configure(config);
+        }
         auto server = net::Server::start(config, {*volumes_, *sessions_, *scheduler_, *metrics_});
         ASSERT_TRUE(server.ok()) << server.error().to_string();
         server_ = std::move(server.value());
@@ -439,6 +445,59 @@ TEST_F(ServerTest, ViewersKeepASessionWhoseOwnerDroppedAndTheOwnerTokenResumesIt
     resumed.raw().close();
     const std::string ended = resume_once_unowned(other, session, token);
     EXPECT_EQ(field(ended, "code"), "unknown_session") << ended;
+}
+
+TEST_F(ServerTest, AFrozenOwnerIsDroppedWithinPingIntervalPlusTimeoutAndItsTokenResumes) {
+    using namespace std::chrono_literals;
+    constexpr auto interval = 500ms;
+    constexpr auto timeout = 500ms;
+    start(protocol::Limits{}, [&](net::ServerConfig& config) {
+        config.ping_interval = interval;
+        config.ping_timeout = timeout;
+    });
+    auto frozen = std::make_unique<TestClient>(port_);
+    const auto opened = nlohmann::json::parse(frozen->open("heads/ch2.nii.gz", 32));
+    const std::string session = frozen->session;
+    const std::string token = opened.at("owner_token");
+    // A viewer that waits in a read all along, and so answers every ping, keeps the session.
+    TestClient viewer(port_);
+    ASSERT_EQ(field(viewer.request(R"({"v":1,"type":"join","id":3,"session":")" + session + "\"}"),
+                    "type"),
+              "joined");
+    std::int64_t viewer_got = -1;
+    std::thread viewer_waits([&] { viewer_got = viewer.next_frame(30s).header.request; });
+    // From now on the owner reads nothing, so it answers no ping: as if its process froze or its
+    // network vanished without a FIN.
+    const auto frozen_at = std::chrono::steady_clock::now();
+    TestClient other(port_);
+    std::string answer;
+    for (int i = 0; i < 100; ++i) {
+        answer = other.request(resume_request(session, token, 100 + i));
+        if (field(answer, "code") != "session_owned") {
+            break;
+        }
+        std::this_thread::sleep_for(50ms);
+    }
+    const auto noticed_after = std::chrono::steady_clock::now() - frozen_at;
+    EXPECT_EQ(field(answer, "type"), "opened") << answer.substr(0, 300);
+    EXPECT_EQ(field(answer, "session"), session);
+    EXPECT_LE(noticed_after, interval + timeout + 1s)
+            << std::chrono::duration<double>(noticed_after).count() << " s";
+    // Longer than interval + timeout once more: neither the viewer, answering pings, nor the
+    // owner, sending requests, is dropped.
+    for (const auto until = std::chrono::steady_clock::now() + interval + timeout + 500ms;
+         std::chrono::steady_clock::now() < until;) {
+        ASSERT_EQ(field(other.request(R"({"v":1,"type":"stats"})"), "type"), "stats");
+        std::this_thread::sleep_for(100ms);
+    }
+    other.send(R"({"v":1,"type":"render","id":7})");
+    EXPECT_EQ(other.next_frame().header.request, 7);
+    viewer_waits.join();
+    EXPECT_EQ(viewer_got, 7);
+    auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_NE(metrics->body.find("penumbra_connections_timed_out_total 1\n"), std::string::npos)
+            << metrics->body;
 }
 
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {

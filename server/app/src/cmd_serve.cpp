@@ -236,8 +236,8 @@ int run_serve(const std::vector<std::string>& args) {
             {"data", "port", "address", "web-root", "io-threads", "encode-threads",
              "max-sessions", "max-image-side", "max-slices", "max-light-res",
              "max-message-bytes", "max-requests-per-second", "volume-memory-mb", "gpu-memory-mb",
-             "default-tf", "quality-table", "allowed-origins", "access-token-file",
-             "cluster-secret-file"},
+             "default-tf", "quality-table", "ping-interval", "ping-timeout",
+             "allowed-origins", "access-token-file", "cluster-secret-file"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -263,6 +263,10 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --max-requests-per-second R  per connection (default 120)\n"
                 "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
+                "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
+                "                             is pinged (default 15)\n"
+                "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
+                "                             and its session left (default 15)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
@@ -348,6 +352,18 @@ int run_serve(const std::vector<std::string>& args) {
                                              "--max-requests-per-second"));
     }
     limits.max_requests_per_second = *rate;
+    for (const auto& [name, target] :
+         {std::pair{"ping-interval", &config.ping_interval}, {"ping-timeout", &config.ping_timeout}}) {
+        const double fallback = std::chrono::duration<double>(*target).count();
+        auto seconds = a.number(name, fallback);
+        if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {
+            return fail(!seconds ? seconds.error()
+                                 : base::make_error("invalid_argument",
+                                                    "must be within 0.05..3600 seconds",
+                                                    std::string("--") + name));
+        }
+        *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+    }
     if (const auto origins = a.get("allowed-origins")) {
         config.allowed_origins = split_list(*origins);
     }

@@ -26,6 +26,7 @@ struct Context {
     metrics::Counter& frames_dropped;
     metrics::Histogram& frame_server_ms;
     metrics::Gauge& sessions;
+    metrics::Counter& connections_timed_out;
     metrics::Counter& upgrades_refused;
     metrics::Gauge& volume_loads;
 
@@ -44,6 +45,9 @@ struct Context {
                   "Server time per frame: queued + render + readback + encode (ms)",
                   metrics::latency_buckets_ms()))
         , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions"))
+        , connections_timed_out(s.metrics.counter(
+                  "penumbra_connections_timed_out_total",
+                  "WebSocket connections dropped for not answering a ping in time"))
         , upgrades_refused(s.metrics.counter(
                   "penumbra_upgrades_refused_total",
                   "WebSocket upgrades refused for their Origin or a missing or wrong token"))

@@ -12,9 +12,12 @@ constexpr std::size_t max_queued_text = 512;
 
 }  // namespace
 
+using Clock = std::chrono::steady_clock;
+
 WebSocketSession::WebSocketSession(tcp::socket&& socket, Context& context)
     : ws_(std::move(socket))
-    , context_(context) {}
+    , context_(context)
+    , liveness_timer_(ws_.get_executor()) {}
 
 WebSocketSession::~WebSocketSession() = default;
 
@@ -39,7 +42,63 @@ void WebSocketSession::on_accept(beast::error_code ec) {
     context_.track(weak_from_this());
     handler_ = std::make_unique<ConnectionHandler>(context_, weak_from_this());
     handler_->on_open();
+    last_heard_ = Clock::now();
+    // Runs inside the read loop, on the strand; the stream that stores it dies with `this`.
+    ws_.control_callback([this](websocket::frame_type kind, beast::string_view) {
+        last_heard_ = Clock::now();
+        if (kind == websocket::frame_type::pong) {
+            awaiting_pong_ = false;
+        }
+    });
+    schedule_liveness_check(context_.config.ping_interval);
     do_read();
+}
+
+void WebSocketSession::schedule_liveness_check(Clock::duration after) {
+    liveness_timer_.expires_after(after);
+    liveness_timer_.async_wait(beast::bind_front_handler(&WebSocketSession::on_liveness_check,
+                                                         shared_from_this()));
+}
+
+void WebSocketSession::on_liveness_check(beast::error_code ec) {
+    if (ec || finished_) {
+        return;
+    }
+    const Clock::time_point now = Clock::now();
+    if (awaiting_pong_ && last_heard_ < ping_sent_) {
+        const Clock::time_point deadline = ping_sent_ + context_.config.ping_timeout;
+        if (now >= deadline) {
+            context_.connections_timed_out.add();
+            base::log_info("net", "a client did not answer a ping within " +
+                                          std::to_string(context_.config.ping_timeout.count()) +
+                                          " ms; dropping it");
+            drop();
+            return;
+        }
+        schedule_liveness_check(deadline - now);
+        return;
+    }
+    awaiting_pong_ = false;
+    const Clock::time_point due = last_heard_ + context_.config.ping_interval;
+    if (now < due) {
+        schedule_liveness_check(due - now);
+        return;
+    }
+    ping_sent_ = now;
+    awaiting_pong_ = true;
+    if (!ping_in_flight_) {
+        ping_in_flight_ = true;
+        ws_.async_ping({}, [self = shared_from_this()](beast::error_code) {
+            self->ping_in_flight_ = false;
+        });
+    }
+    schedule_liveness_check(context_.config.ping_timeout);
+}
+
+void WebSocketSession::drop() {
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    beast::get_lowest_layer(ws_).close();
 }
 
 void WebSocketSession::do_read() {
@@ -56,6 +115,7 @@ void WebSocketSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
         finish();
         return;
     }
+    last_heard_ = Clock::now();
     if (ws_.got_text()) {
         const auto data = buffer_.cdata();
         handler_->on_text(std::string_view(static_cast<const char*>(data.data()), data.size()));
@@ -71,6 +131,7 @@ void WebSocketSession::finish() {
         return;
     }
     finished_ = true;
+    liveness_timer_.cancel();
     if (handler_) {
         handler_->on_close();
         context_.connections.add(-1.0);

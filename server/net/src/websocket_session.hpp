@@ -4,6 +4,7 @@
 #include "connection_handler.hpp"
 #include "context.hpp"
 
+#include <chrono>
 #include <deque>
 #include <memory>
 
@@ -40,6 +41,12 @@ private:
     void do_write();
     void on_write(beast::error_code ec, std::size_t bytes);
     void finish();
+    // Liveness: the timer checks, on the strand, when the peer was last heard from.
+    void schedule_liveness_check(std::chrono::steady_clock::duration after);
+    void on_liveness_check(beast::error_code ec);
+    // Closes the socket without a closing handshake, which a peer that does not answer would
+    // never complete; the pending read and write end, and with them the connection.
+    void drop();
 
     websocket::stream<beast::tcp_stream> ws_;
     Context& context_;
@@ -47,6 +54,11 @@ private:
     std::deque<Outgoing> queue_;
     bool writing_ = false;
     bool finished_ = false;
+    asio::steady_timer liveness_timer_;
+    std::chrono::steady_clock::time_point last_heard_;  // any message or control frame
+    std::chrono::steady_clock::time_point ping_sent_;
+    bool awaiting_pong_ = false;
+    bool ping_in_flight_ = false;  // Beast allows one ping at a time; a slow write delays it
     std::unique_ptr<ConnectionHandler> handler_;
 };
 

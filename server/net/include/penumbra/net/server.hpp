@@ -8,6 +8,7 @@
 #include <penumbra/scene/quality.hpp>
 #include <penumbra/session/volume_store.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -24,6 +25,11 @@ struct ServerConfig {
     std::string default_transfer_function = "mri_skin";
     // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
     std::shared_ptr<const std::vector<scene::QualitySample>> quality_table;
+    // A WebSocket connection that has sent nothing for `ping_interval` is pinged; one that then
+    // sends nothing, not even the pong, for `ping_timeout` is dropped. A frozen or vanished client
+    // thus leaves its session (and an owner's resume works) within interval + timeout.
+    std::chrono::milliseconds ping_interval = std::chrono::seconds(15);
+    std::chrono::milliseconds ping_timeout = std::chrono::seconds(15);
     // Who may open the WebSocket at /ws. A browser's Origin must be the server's own or one of
     // these ("*": any); clients that send no Origin (not browsers) are not concerned.
     std::vector<std::string> allowed_origins;
