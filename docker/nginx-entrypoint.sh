@@ -5,6 +5,7 @@
 #
 #   PENUMBRA_NGINX_CONF  where the rendered configuration goes (/etc/nginx/nginx.conf)
 #   PENUMBRA_TLS_NAME    the host name the self-signed certificate is made for (localhost)
+#   PENUMBRA_NGINX_TEMPLATE  the template (nginx.conf.template next to this script)
 #
 # Real certificates: mount them at PENUMBRA_TLS_CERT and PENUMBRA_TLS_KEY (by default
 # /etc/nginx/tls/tls.crt and tls.key); nothing is generated then.
@@ -34,5 +35,5 @@ if [ ! -s "$cert" ] || [ ! -s "$key" ]; then
 fi
 
 mkdir -p "${PENUMBRA_NGINX_STATE_DIR:-/var/lib/nginx}"
-"$here/render-nginx-conf.sh" "$here/nginx.conf.template" "$conf"
+"$here/render-nginx-conf.sh" "${PENUMBRA_NGINX_TEMPLATE:-$here/nginx.conf.template}" "$conf"
 exec nginx -c "$conf" -e "${PENUMBRA_NGINX_ERROR_LOG:-stderr}" -g 'daemon off;' "$@"

@@ -2,8 +2,8 @@
 # Renders docker/nginx.conf.template into an nginx configuration, from the environment:
 #
 #   PENUMBRA_UPSTREAMS        the replicas, "host:port host:port ..." (required); each its own name
-#   PENUMBRA_HTTPS_PORT       TLS port (443)
-#   PENUMBRA_HTTP_PORT        plain HTTP port (80)
+#   PENUMBRA_HTTPS_PORT       TLS port (8443; above 1024, so nginx needs no root to bind it)
+#   PENUMBRA_HTTP_PORT        plain HTTP port (8080)
 #   PENUMBRA_PLAIN_HTTP       redirect: plain HTTP is sent to https:// (default); proxy: it is
 #                             served like TLS (a trusted network only: the token travels in clear)
 #   PENUMBRA_PUBLIC_HTTPS_PORT  the TLS port clients see, for the redirect (PENUMBRA_HTTPS_PORT)
@@ -33,7 +33,7 @@ if [ -z "${PENUMBRA_UPSTREAMS:-}" ]; then
     exit 2
 fi
 
-https_port=${PENUMBRA_HTTPS_PORT:-443}
+https_port=${PENUMBRA_HTTPS_PORT:-8443}
 public_port=${PENUMBRA_PUBLIC_HTTPS_PORT:-$https_port}
 case ${PENUMBRA_PLAIN_HTTP:-redirect} in
     redirect)
@@ -63,7 +63,7 @@ done
 
 # awk, not sed: the replacements hold slashes, dollars and newlines.
 awk -v servers="$servers" -v redirect="$redirect" \
-    -v https_port="$https_port" -v http_port="${PENUMBRA_HTTP_PORT:-80}" \
+    -v https_port="$https_port" -v http_port="${PENUMBRA_HTTP_PORT:-8080}" \
     -v cert="${PENUMBRA_TLS_CERT:-/etc/nginx/tls/tls.crt}" \
     -v key="${PENUMBRA_TLS_KEY:-/etc/nginx/tls/tls.key}" \
     -v read_timeout="${PENUMBRA_PROXY_READ_TIMEOUT:-60s}" \

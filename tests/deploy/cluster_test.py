@@ -527,7 +527,7 @@ def test_replica_dies(cluster):
 
 def run_load(penumbra, port, seconds, token_file):
     command = [penumbra, "load", "--port", str(port), "--clients", "2", "--seconds", str(seconds),
-               "--volume", VOLUMES[0], "--mode", "dvr", "--size", "128"]
+               "--volume", VOLUMES[0], "--mode", "dvr", "--size", "64"]
     if token_file:
         command += ["--token-file", token_file]
     output = subprocess.run(command, capture_output=True, text=True, timeout=seconds + 60)
@@ -550,7 +550,7 @@ def measure(cluster, seconds):
             holder_port = r.port
     probe.close()
     rounds = []
-    for _ in range(2):  # interleaved, so that a slow moment of the machine hits both
+    for _ in range(3):  # interleaved, so that a slow moment of the machine hits both
         rounds.append(("direct", run_load(cluster.args.penumbra, holder_port, seconds,
                                           cluster.token_file)))
         rounds.append(("nginx", run_load(cluster.args.penumbra, cluster.http_port, seconds,
