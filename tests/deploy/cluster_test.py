@@ -88,6 +88,8 @@ class Replica:
         self.command = [
             args.penumbra, "serve", "--data", data, "--address", "127.0.0.1",
             "--port", str(self.port), "--no-quality-measure", "--max-image-side", "256",
+            # `penumbra load` sends a set and a render per frame, faster than the default limit.
+            "--max-requests-per-second", "5000",
             "--cluster-secret-file", secret_file, "--access-token-file", token_file,
             "--allowed-origins", "https://app.example",
             "--ping-interval", str(PING_INTERVAL_S), "--ping-timeout", str(PING_TIMEOUT_S)]
