@@ -279,10 +279,10 @@ void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::R
             session_ = recreated->session;
             const auto histogram = volume::compute_histogram(*volume, 256).bins;
             watch(session_, [&](const session::SessionState& state) {
-                send(protocol::opened_message(
-                        id, session_->id(), summary_of(*message.volume, volume.get()), histogram,
-                        protocol::state_to_json(to_protocol(state)), session_->owner_token(),
-                        true));
+                send(protocol::opened_message(id, session_->id(),
+                                              summary_of(*message.volume, volume.get()), histogram,
+                                              protocol::state_to_json(to_protocol(state)),
+                                              session_->owner_token(), true));
             });
             context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
             base::log_info("session", "re-created " + session_->id() + " on " + *message.volume);

@@ -53,7 +53,6 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
     const bool keep_alive = request.keep_alive();
     const unsigned version = request.version();
     const auto parsed_target = parse_request_target(target);
-    std::optional<base::Error> refused;
     if (websocket::is_upgrade(request) && parsed_target && parsed_target->path == "/ws") {
         const auto origin = request.find(http::field::origin);
         const auto checked = check_upgrade(
@@ -67,18 +66,17 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
                     ->run(std::move(request));
             return;
         }
-        refused = checked.error();
+        // Refused before the upgrade, with the HTTP status a browser's WebSocket reports.
+        const base::Error& refused = checked.error();
         context_.upgrades_refused.add();
-        base::log_info("net", "WebSocket upgrade refused: " + refused->to_string());
-    }
-    if (refused) {
-        response_ = std::make_shared<http::response<http::string_body>>(make_response(
-                refused->code == "unauthorized" ? http::status::unauthorized
-                                                : http::status::forbidden,
-                version, false, refused->message + "\n", "text/plain"));
-        http::async_write(stream_, *response_,
-                          beast::bind_front_handler(&HttpSession::on_write, shared_from_this(),
-                                                    false));
+        base::log_info("net", "WebSocket upgrade refused: " + refused.to_string());
+        response_ = std::make_shared<http::response<http::string_body>>(
+                make_response(refused.code == "unauthorized" ? http::status::unauthorized
+                                                             : http::status::forbidden,
+                              version, false, refused.message + "\n", "text/plain"));
+        http::async_write(
+                stream_, *response_,
+                beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), false));
         return;
     }
     if (request.method() != http::verb::get && request.method() != http::verb::head) {

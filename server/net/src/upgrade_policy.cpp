@@ -94,7 +94,7 @@ std::optional<RequestTarget> parse_request_target(std::string_view target) {
         const auto equals = pair.find('=');
         auto name = percent_decode(pair.substr(0, equals));
         auto value = percent_decode(equals == std::string_view::npos ? std::string_view()
-                                                                      : pair.substr(equals + 1));
+                                                                     : pair.substr(equals + 1));
         if (!name || !value) {
             return std::nullopt;
         }

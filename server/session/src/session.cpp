@@ -1,11 +1,11 @@
 #include "penumbra/session/session.hpp"
 
-#include <openssl/evp.h>
-#include <openssl/hmac.h>
-
 #include <array>
 #include <cstdio>
 #include <random>
+
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
 
 namespace penumbra::session {
 namespace {
@@ -44,7 +44,8 @@ bool same_token(std::string_view a, std::string_view b) {
 // Hex digits of an owner token: 128 bits, as many as a random one.
 constexpr std::size_t owner_token_digits = 32;
 
-OwnerTokens::OwnerTokens(std::string cluster_secret) : secret_(std::move(cluster_secret)) {}
+OwnerTokens::OwnerTokens(std::string cluster_secret)
+    : secret_(std::move(cluster_secret)) {}
 
 std::string OwnerTokens::token_for(const std::string& session_id) const {
     if (secret_.empty()) {

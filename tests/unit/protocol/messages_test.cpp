@@ -163,8 +163,8 @@ TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerTok
     EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));
     EXPECT_EQ(opened.at("owner_token"), "00ff");
     EXPECT_FALSE(opened.contains("recreated"));
-    const json recreated = json::parse(
-            opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff", true));
+    const json recreated =
+            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff", true));
     EXPECT_EQ(recreated.at("recreated"), true);
     const json joined = json::parse(joined_message(1, "s1", volume, {}, state_json));
     EXPECT_EQ(joined.at("type"), "joined");

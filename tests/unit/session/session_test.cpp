@@ -251,8 +251,8 @@ TEST(SessionRegistry, AnotherServerOfTheClusterRecreatesASessionForItsOwnerOnly)
     EXPECT_EQ(forged.error().where, "/owner_token");
     EXPECT_EQ(successor.count(), 0U);
 
-    const auto recreated =
-            successor.recreate(id, token, "v", nullptr, state_with_mode(scene::Mode::dvr), resuming);
+    const auto recreated = successor.recreate(id, token, "v", nullptr,
+                                              state_with_mode(scene::Mode::dvr), resuming);
     ASSERT_TRUE(recreated.ok());
     EXPECT_TRUE(recreated->created);
     EXPECT_EQ(recreated->session->id(), id);
@@ -272,8 +272,8 @@ TEST(SessionRegistry, AServerWithoutClusterSecretRecreatesNothing) {
     ASSERT_TRUE(created.ok());
     EXPECT_FALSE(alone.derives_owner_tokens());
     SessionRegistry other(4);
-    const auto refused = other.recreate((*created)->id(), (*created)->owner_token(), "v", nullptr,
-                                        {}, resuming);
+    const auto refused =
+            other.recreate((*created)->id(), (*created)->owner_token(), "v", nullptr, {}, resuming);
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().code, "unknown_session");
 }
