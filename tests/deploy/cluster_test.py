@@ -35,7 +35,8 @@ PROXY_READ_TIMEOUT_S = 3
 # Small volumes from Debian's mricron-data: a volume is read once per replica that opens it.
 VOLUMES = ["JHU-WhiteMatter-labels-2mm.nii.gz", "AICHAmc.nii.gz", "aal.nii.gz", "brodmann.nii.gz"]
 TEMPLATES = "/usr/share/mricron/templates"
-TOKEN = "cluster-test-token-7f3a"
+# Characters that must be percent-encoded in a URL, as a real token may hold.
+TOKEN = "cluster+test/token=7f3a"
 SIZE = [64, 64]
 
 
@@ -263,7 +264,9 @@ class Cluster:
         if token is not None:
             query["token"] = token
         scheme, port = ("wss", self.https_port) if tls else ("ws", self.http_port)
-        return f"{scheme}://127.0.0.1:{port}/ws?{urllib.parse.urlencode(query)}"
+        # As browsers encode it (proto/README.md §1): '*' kept, '~' escaped.
+        encoded = urllib.parse.urlencode(query, safe="*", quote_via=urllib.parse.quote_plus)
+        return f"{scheme}://127.0.0.1:{port}/ws?{encoded.replace('~', '%7E')}"
 
     def live(self):
         return [r for r in self.replicas if r.process.poll() is None]

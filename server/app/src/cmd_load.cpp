@@ -47,13 +47,18 @@ double percentile(std::vector<double> values, double q) {
     return values[std::min(index, values.size() - 1)];
 }
 
-// RFC 3986's unreserved characters stay; everything else is %XX.
+// As browsers encode a query (application/x-www-form-urlencoded): letters, digits and "*-._"
+// stay, a space becomes '+', every other byte %XX. A proxy hashes the volume as it is written,
+// so every client must write it alike (proto/README.md §1).
 std::string url_encode(const std::string& text) {
     std::string out;
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
-        if (std::isalnum(byte) != 0 || c == '-' || c == '.' || c == '_' || c == '~') {
+        if ((std::isalnum(byte) != 0 && byte < 0x80) || c == '*' || c == '-' || c == '.' ||
+            c == '_') {
             out += c;
+        } else if (c == ' ') {
+            out += '+';
         } else {
             char escaped[4];
             std::snprintf(escaped, sizeof escaped, "%%%02X", byte);
