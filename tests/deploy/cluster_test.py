@@ -11,6 +11,7 @@ usage: cluster_test.py --penumbra BIN --source DIR --work DIR [--measure SECONDS
 """
 
 import argparse
+import itertools
 import json
 import os
 import queue
@@ -118,12 +119,16 @@ class Client:
     """A WebSocket client whose reader thread answers pings (websocket-client does so inside
     recv) until freeze(), like a client whose machine went to sleep."""
 
+    id_bases = itertools.count(1, 1_000_000)
+
     def __init__(self, url, **options):
         self.ws = websocket.create_connection(url, timeout=10, **options)
         self.ws.settimeout(None)
         self.inbox = queue.Queue()
         self.closed = threading.Event()
-        self.next_id = 1
+        # Ids apart from every other client's, so that a frame's request names its sender.
+        self.next_id = next(Client.id_bases)
+        self.renders = set()
         threading.Thread(target=self._read, daemon=True).start()
         hello = self.expect(lambda m: m.get("type") == "hello", 10)
         if hello.get("server") != "penumbra":
@@ -176,8 +181,12 @@ class Client:
         return self.expect(lambda m: m.get("id") == request_id and "frame" not in m, timeout_s)
 
     def frame(self, timeout_s=15):
+        """Asks for a frame and waits for it, or for the frame of another connection's render
+        of the session that superseded it (renders are coalesced, latest wins)."""
         request_id = self.send({"type": "render"})
-        return self.expect(lambda m: "frame" in m and m["frame"].get("request") == request_id,
+        self.renders.add(request_id)
+        return self.expect(lambda m: "frame" in m and (m["frame"]["request"] == request_id
+                                                       or m["frame"]["request"] not in self.renders),
                            timeout_s)
 
     def any_frame(self, timeout_s=15):
@@ -507,14 +516,24 @@ def test_replica_dies(cluster):
             raise CheckFailed(f"the session came back on {answer['volume']['id']}")
         results["viewer"] = (time.monotonic() - killed_at, state, client)
 
-    threads = [threading.Thread(target=owner_side), threading.Thread(target=viewer_side)]
-    errors = []
+    def reporting(side, body):
+        def run():
+            try:
+                body()
+            except Exception as e:  # said by the check below, with what went wrong
+                results[side + " error"] = f"{type(e).__name__}: {e}"
+        return run
+
+    threads = [threading.Thread(target=reporting("owner", owner_side)),
+               threading.Thread(target=reporting("viewer", viewer_side))]
     for thread in threads:
         thread.start()
     for thread in threads:
         thread.join(20)
-    check("owner" in results, "the owner reconnected and resumed its session")
-    check("viewer" in results, "the viewer re-joined the same session id")
+    check("owner" in results,
+          f"the owner reconnected and resumed its session {results.get('owner error', '')}")
+    check("viewer" in results,
+          f"the viewer re-joined the same session id {results.get('viewer error', '')}")
     owner_s, answer, new_owner = results["owner"]
     viewer_s, viewer_state, new_viewer = results["viewer"]
     check(answer["session"] == session and answer.get("recreated") is True,
@@ -562,6 +581,21 @@ def measure(cluster, seconds):
                                          cluster.token_file)))
     for name, (p50, p99, _) in rounds:
         print(f"  {name:7s} p50 {p50:8.2f} ms  p99 {p99:8.2f} ms", flush=True)
+    # The proxy's own share, without rendering: round trips of `stats` over one connection.
+    direct_url = (f"ws://127.0.0.1:{holder_port}/ws?"
+                  + urllib.parse.urlencode({"volume": VOLUMES[0], "token": TOKEN}))
+    for name, url in (("direct", direct_url), ("nginx", cluster.url(VOLUMES[0])),
+                      ("direct", direct_url), ("nginx", cluster.url(VOLUMES[0]))):
+        client = Client(url)
+        times = []
+        for _ in range(300):
+            start = time.perf_counter()
+            client.request({"type": "stats"})
+            times.append((time.perf_counter() - start) * 1000)
+        client.close()
+        times.sort()
+        print(f"  stats round trip {name:7s} p50 {times[len(times) // 2]:6.3f} ms  "
+              f"p99 {times[int(len(times) * 0.99)]:6.3f} ms", flush=True)
 
 
 def main():
