@@ -648,5 +648,23 @@ TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {
     EXPECT_EQ(escape->status, 404);
 }
 
+TEST_F(ServerTest, AnAccessTokenIsAskedOnTheUpgradeAsAPercentEncodedQueryParameter) {
+    start(protocol::Limits{}, [](net::ServerConfig& config) { config.access_token = "a+b/c=d"; });
+    for (const char* path : {"/ws", "/ws?volume=heads%2Fch2.nii.gz", "/ws?token=a+b/c=d",
+                             "/ws?token=a%2Bb%2Fc%3De"}) {
+        SCOPED_TRACE(path);
+        EXPECT_FALSE(net::Client::connect("127.0.0.1", port_, path).ok());
+    }
+    auto allowed = net::Client::connect("127.0.0.1", port_,
+                                        "/ws?volume=heads%2Fch2.nii.gz&token=a%2Bb%2Fc%3Dd");
+    ASSERT_TRUE(allowed.ok()) << allowed.error().to_string();
+    auto hello = (*allowed)->receive(std::chrono::seconds(10));
+    ASSERT_TRUE(hello.ok());
+    EXPECT_NE(hello->text.find("\"type\":\"hello\""), std::string::npos);
+    auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_NE(metrics->body.find("penumbra_upgrades_refused_total 4"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace penumbra::integration
