@@ -7,7 +7,10 @@ that share a cluster secret and an access token; real WebSocket clients (python3
 Each check prints what it saw; the first failure ends the run with status 1. With --measure, the
 proxy's added latency (`penumbra load` through nginx and direct, same run) is printed as well.
 
-usage: cluster_test.py --penumbra BIN --source DIR --work DIR [--measure SECONDS]
+With --node, the web client (client_web/dist, served by the replicas) runs in Debian's chromium
+through the proxy while a replica is killed under it (browser_failover.mjs).
+
+usage: cluster_test.py --penumbra BIN --source DIR --work DIR [--measure SECONDS] [--node NODE]
 """
 
 import argparse
@@ -549,6 +552,20 @@ def test_replica_dies(cluster):
     return owner_s, viewer_s
 
 
+def test_browser(cluster):
+    print("browser: the web client through nginx over wss://, a replica killed under it",
+          flush=True)
+    page = (f"https://127.0.0.1:{cluster.https_port}/?"
+            + urllib.parse.urlencode({"volume": VOLUMES[1], "token": TOKEN}))
+    command = [cluster.args.node, os.path.join(os.path.dirname(__file__), "browser_failover.mjs"),
+               "--client", os.path.join(cluster.args.source, "client_web"), "--page", page]
+    for replica in cluster.live():
+        command += ["--replica", f"{replica.process.pid}:{replica.port}"]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    print(result.stdout + result.stderr, end="", flush=True)
+    check(result.returncode == 0, "the web client passed its failover checks")
+
+
 def run_load(penumbra, port, seconds, token_file):
     command = [penumbra, "load", "--port", str(port), "--clients", "2", "--seconds", str(seconds),
                "--volume", VOLUMES[0], "--mode", "dvr", "--size", "64"]
@@ -604,6 +621,7 @@ def main():
     parser.add_argument("--source", required=True)
     parser.add_argument("--work", required=True)
     parser.add_argument("--measure", type=float, default=0)
+    parser.add_argument("--node", help="with the built web client: its failover in chromium")
     args = parser.parse_args()
     for tool in ("nginx", "openssl"):
         if shutil.which(tool) is None and not os.path.exists(f"/usr/sbin/{tool}"):
@@ -622,6 +640,8 @@ def main():
         if args.measure > 0:
             measure(cluster, args.measure)
         test_replica_dies(cluster)
+        if args.node:
+            test_browser(cluster)
         print("cluster test passed", flush=True)
     except (CheckFailed, ConnectionError, OSError, websocket.WebSocketException) as e:
         print(f"FAILED: {type(e).__name__}: {e}", flush=True)
