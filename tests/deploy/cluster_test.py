@@ -27,7 +27,6 @@ import subprocess
 import sys
 import threading
 import time
-import urllib.error
 import urllib.parse
 import urllib.request
 
@@ -291,6 +290,9 @@ class Cluster:
               f"{count} sessions of one volume on one replica ({seen})")
         return self.replicas[holders[0]]
 
+    def total(self, name):
+        return sum(metrics(r.port).get(name, 0) for r in self.live())
+
     def loads(self):
         return {r.index: metrics(r.port).get("penumbra_volume_loads", 0) for r in self.live()}
 
@@ -319,6 +321,7 @@ def test_routing(cluster):
     print("routing: every session of a volume on one replica, the volume read once", flush=True)
     volume = VOLUMES[0]
     before = sum(cluster.loads().values())
+    builds_before = cluster.total("penumbra_light_buffer_builds_total")
     clients = [Client(cluster.url(volume)) for _ in range(3)]
     for client in clients:
         open_session(client, volume)
@@ -326,6 +329,8 @@ def test_routing(cluster):
     holder = cluster.holder_of_sessions(3)
     check(sum(cluster.loads().values()) - before == 1,
           f"{volume} read once in the cluster (loads per replica: {cluster.loads()})")
+    builds = cluster.total("penumbra_light_buffer_builds_total") - builds_before
+    check(builds == 1, f"its light buffer built once in the cluster for three sessions ({builds})")
     # A client that switches volume reconnects with the new volume in its URL.
     other = VOLUMES[1]
     switcher = Client(cluster.url(other))
