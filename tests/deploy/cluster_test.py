@@ -386,6 +386,14 @@ def test_access(cluster):
         check(refused.status_code == 401, "a replica asked directly refuses a missing token")
     check(metrics(cluster.replicas[0].port).get("penumbra_upgrades_refused_total", 0) >= 1,
           "and counts the refusal in /metrics")
+    # Re-creating a session needs a token that the cluster secret proves; nothing is loaded else.
+    claimant = Client(cluster.url(VOLUMES[3]))
+    loads = sum(cluster.loads().values())
+    forged = claimant.request({"type": "resume", "session": "5e551011" * 4,
+                               "owner_token": "0" * 32, "volume": VOLUMES[3]})
+    check(forged.get("code") == "unknown_session" and sum(cluster.loads().values()) == loads,
+          "a resume with a forged token re-creates nothing and loads nothing")
+    claimant.close()
     listed = Client(cluster.url(volume), origin="https://app.example")
     check(listed.request({"type": "list_volumes"})["type"] == "volumes",
           "a page from an origin in --allowed-origins is let in")

@@ -260,9 +260,11 @@ std::shared_ptr<const volume::Volume> ConnectionHandler::acquire_volume(
 
 void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::Resume& message) {
     auto target = context_.services.sessions.find(message.session);
-    if (!target && message.volume && context_.services.sessions.derives_owner_tokens()) {
+    if (!target && message.volume &&
+        context_.services.sessions.proves_owner(message.session, message.owner_token)) {
         // The server that held the session is gone and its owner came here: the cluster's secret
-        // proves the claim, and the session comes back under its id for its viewers to find.
+        // proves the claim (before any volume is loaded for it), and the session comes back under
+        // its id for its viewers to find.
         auto volume = acquire_volume(id, *message.volume);
         if (!volume) {
             return;
@@ -291,9 +293,10 @@ void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::R
         target = recreated->session;  // another connection re-created it meanwhile
     }
     if (!target) {
-        reply_error(id, base::make_error(protocol::code::unknown_session,
-                                         "no session '" + message.session + "'", "/session"));
-        return;
+        target = find_session(id, message.session);  // it may have come meanwhile; else says so
+        if (!target) {
+            return;
+        }
     }
     const auto histogram = volume::compute_histogram(*target->volume(), 256).bins;
     Sinks sinks = sinks_for(target);

@@ -245,6 +245,8 @@ TEST(SessionRegistry, AnotherServerOfTheClusterRecreatesASessionForItsOwnerOnly)
     const std::string token = (*created)->owner_token();
 
     SessionRegistry successor(4, OwnerTokens("cluster"));
+    EXPECT_TRUE(successor.proves_owner(id, token));
+    EXPECT_FALSE(successor.proves_owner(id, std::string(32, '0')));
     const auto forged = successor.recreate(id, std::string(32, '0'), "v", nullptr, {}, resuming);
     ASSERT_FALSE(forged.ok());
     EXPECT_EQ(forged.error().code, "invalid_value");

@@ -169,6 +169,12 @@ public:
 
     [[nodiscard]] bool derives_owner_tokens() const { return owner_tokens_.derived(); }
 
+    // Whether `owner_token` proves a claim to session `id` (derived tokens only), so that nothing
+    // is loaded for a claim that recreate would refuse.
+    [[nodiscard]] bool proves_owner(const std::string& id, std::string_view owner_token) const {
+        return owner_tokens_.proves(id, owner_token);
+    }
+
     [[nodiscard]] std::shared_ptr<Session> find(const std::string& id) const;
 
     void remove(const std::string& id);
