@@ -6,9 +6,10 @@ packages=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev nlohmann-json3-dev libboost-dev
-    libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
+    libgtest-dev libgmock-dev libssl-dev python3-jsonschema python3-pydicom
     mricron-data gnuplot-nox
     chromium nodejs
+    nginx openssl python3-websocket
 )
 # npm: Debian's package, unless a nodejs that bundles npm (e.g. NodeSource's) is installed already.
 if ! command -v npm >/dev/null 2>&1; then

@@ -19,7 +19,9 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <system_error>
+#include <vector>
 
 namespace penumbra::app {
 namespace {
@@ -111,6 +113,50 @@ base::Status write_table_file(const std::filesystem::path& path, const std::stri
     return base::Ok{};
 }
 
+// "a, b,c" -> {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream stream(text);
+    std::string item;
+    while (std::getline(stream, item, ',')) {
+        const auto first = item.find_first_not_of(" \t");
+        const auto last = item.find_last_not_of(" \t");
+        if (first != std::string::npos) {
+            out.push_back(item.substr(first, last - first + 1));
+        }
+    }
+    return out;
+}
+
+// A secret from the file `option` names, else from the environment variable; empty when neither
+// is given. A secret is not a command-line value, which every user of the machine can read.
+base::Result<std::string> read_secret(const Arguments& a, const std::string& option,
+                                      const char* variable) {
+    std::string secret;
+    if (const auto path = a.get(option)) {
+        std::ifstream in(*path);
+        if (!in) {
+            return base::make_error("not_found", "cannot read '" + *path + "'", "--" + option);
+        }
+        std::stringstream text;
+        text << in.rdbuf();
+        secret = text.str();
+    } else if (const char* value = std::getenv(variable); value != nullptr) {
+        secret = value;
+    } else {
+        return std::string();
+    }
+    // Editors and `echo` end a file with a newline that is no part of the secret.
+    while (!secret.empty() && std::isspace(static_cast<unsigned char>(secret.back())) != 0) {
+        secret.pop_back();
+    }
+    if (secret.empty()) {
+        return base::make_error("invalid_argument", "the secret is empty",
+                                a.has(option) ? "--" + option : std::string(variable));
+    }
+    return secret;
+}
+
 enum class Measure { never, where_missing, always };
 
 // What the render thread measured before taking work.
@@ -192,7 +238,8 @@ int run_serve(const std::vector<std::string>& args) {
              "max-message-bytes", "max-requests-per-second", "max-frame-work",
              "volume-memory-mb", "gpu-memory-mb", "light-buffer-memory-mb", "default-tf",
              "quality-table", "ping-interval", "ping-timeout", "max-sessions-per-client",
-             "max-sessions-per-connection", "client-address-header"},
+             "max-sessions-per-connection", "client-address-header",
+             "allowed-origins", "access-token-file", "cluster-secret-file"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -245,6 +292,17 @@ int run_serve(const std::vector<std::string>& args) {
                 "                             ignored where no table exists)\n"
                 "  --quality-measure          measure the start-up table even where a table\n"
                 "                             exists; it is used and cached\n"
+                "  --allowed-origins LIST     comma-separated origins (https://host:port) whose\n"
+                "                             pages may open the WebSocket besides the server's\n"
+                "                             own; * for any. Clients that send no Origin (not\n"
+                "                             browsers) are not concerned\n"
+                "  --access-token-file FILE   the WebSocket upgrade must carry this file's token\n"
+                "                             (/ws?token=...); else $PENUMBRA_ACCESS_TOKEN; none:\n"
+                "                             no token asked\n"
+                "  --cluster-secret-file FILE owner tokens are derived from session ids with this\n"
+                "                             secret (else $PENUMBRA_CLUSTER_SECRET), the same on\n"
+                "                             every server of a cluster: an owner whose server\n"
+                "                             died resumes its session on another one\n"
                 "  --debug-gl                 GL debug output to the log\n"
                 "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
         return 0;
@@ -331,6 +389,18 @@ int run_serve(const std::vector<std::string>& args) {
                                                     std::string("--") + name));
         }
         *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+    }
+    if (const auto origins = a.get("allowed-origins")) {
+        config.allowed_origins = split_list(*origins);
+    }
+    auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
+    if (!access_token) {
+        return fail(access_token.error());
+    }
+    config.access_token = *access_token;
+    auto cluster_secret = read_secret(a, "cluster-secret-file", "PENUMBRA_CLUSTER_SECRET");
+    if (!cluster_secret) {
+        return fail(cluster_secret.error());
     }
 
     const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
@@ -431,8 +501,22 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions, limits.max_sessions_per_client,
+    session::SessionRegistry sessions(limits.max_sessions,
+                                      cluster_secret->empty()
+                                              ? session::OwnerTokens()
+                                              : session::OwnerTokens(*cluster_secret),
+                                      limits.max_sessions_per_client,
                                       limits.max_sessions_per_connection);
+    std::printf("access:   %s; WebSocket pages from %s\n",
+                config.access_token.empty() ? "no token asked" : "token asked on /ws",
+                config.allowed_origins.empty() ? "this server's own origin only"
+                                               : ("its own origin and " +
+                                                  std::to_string(config.allowed_origins.size()) +
+                                                  " listed")
+                                                         .c_str());
+    if (!cluster_secret->empty()) {
+        std::printf("cluster:  owner tokens derived from the cluster secret\n");
+    }
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {
         return fail(server.error());
