@@ -176,6 +176,7 @@ export interface Limits {
   max_sessions_per_connection: number;
   max_requests_per_second: number;
   max_send_queue: number;
+  max_frame_work: number;
 }
 
 export const DEFAULT_LIMITS: Limits = {
@@ -188,6 +189,7 @@ export const DEFAULT_LIMITS: Limits = {
   max_sessions_per_connection: 4,
   max_requests_per_second: 120,
   max_send_queue: 4,
+  max_frame_work: 1e11,
 };
 
 export const ERROR_CODES = [
