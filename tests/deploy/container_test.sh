@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The container stack on this machine through scripts/deploy.sh (podman with runc and
+# docker-compose on its socket here; docker where it runs): the debian:12 base made with debootstrap
+# when no registry answers, the Penumbra and nginx images, two replicas behind nginx, frames
+# rendered through the proxy, then `down`.
+# usage: container_test.sh SOURCE_DIR BUILD_DIR WORK_DIR PENUMBRA_BINARY
+#
+# The debootstrap tarball stays in $PENUMBRA_DEPLOY_CACHE (~/.cache/penumbra/deploy) and the
+# engine's layer cache persists, so a second run on one machine skips what is unchanged. The
+# image's builder copies an install of BUILD_DIR (the Dockerfile's PREBUILT), so CI compiles once;
+# PENUMBRA_IMAGE_FROM_SOURCE=1 compiles in the builder stage instead (the Dockerfile's default).
+set -euo pipefail
+source_dir="$1"
+build_dir="$2"
+work="$3"
+penumbra="$4"
+started=$(date +%s)
+step() { echo "[$(($(date +%s) - started)) s] $*"; }
+
+rm -rf "$work"
+mkdir -p "$work"
+export PENUMBRA_DEPLOY_STATE="$work"
+export PENUMBRA_PROJECT=penumbra-test
+port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+export PENUMBRA_PORT="127.0.0.1:$port"
+export PENUMBRA_DATA=/usr/share/mricron/templates
+if [ "${PENUMBRA_IMAGE_FROM_SOURCE:-0}" != 1 ]; then
+    export PENUMBRA_PREBUILT_FROM="$build_dir"
+fi
+deploy="$source_dir/scripts/deploy.sh"
+down() {
+    bash "$deploy" logs > "$work/compose.log" 2>&1 || true
+    bash "$deploy" down > "$work/down.log" 2>&1 || true
+}
+trap down EXIT
+bash "$deploy" up
+
+step "through nginx on 127.0.0.1:$port: /healthz and the web client"
+/usr/bin/python3 - "$port" <<'PY'
+import sys, time, urllib.request
+url = f"http://127.0.0.1:{sys.argv[1]}"
+deadline = time.time() + 180
+while True:
+    try:
+        if urllib.request.urlopen(url + "/healthz", timeout=5).status == 200:
+            break
+    except OSError:
+        pass
+    if time.time() > deadline:
+        sys.exit("no 200 from /healthz through nginx within 180 s")
+    time.sleep(1)
+page = urllib.request.urlopen(url + "/", timeout=10).read().decode()
+if "<script" not in page:
+    sys.exit("GET / through nginx is not the web client")
+print("proxy:    /healthz 200, / serves the web client")
+PY
+step "frames through nginx"
+"$penumbra" load --host 127.0.0.1 --port "$port" --clients 2 --seconds 3 --size 64 --mode dvr \
+    | tee "$work/load.log"
+grep -Eq "^frames: +[1-9][0-9]* .*errors 0$" "$work/load.log"
+# Without a GPU the replicas say they render on the CPU.
+bash "$deploy" logs penumbra-1 penumbra-2 > "$work/replicas.log" 2>&1
+grep -q "no GPU found: rendering on the CPU" "$work/replicas.log" \
+    || { echo "the replicas' logs do not say they render on the CPU:" >&2; tail -n 20 "$work/replicas.log" >&2; exit 1; }
+step "down"
+trap - EXIT
+down
+step "container test passed"
