@@ -124,6 +124,13 @@ if ! $engine image inspect debian:12 >/dev/null 2>&1; then
 fi
 
 build_args=()
+prebuilt=""
+# The certificate authorities this host added to its trust store, for a TLS-inspecting proxy
+# between the builder and the npm registry.
+extra_ca=$(cat /usr/local/share/ca-certificates/*.crt 2>/dev/null || true)
+if [ -n "$extra_ca" ]; then
+    build_args+=(--build-arg "EXTRA_CA_CERTS=$extra_ca")
+fi
 if [ -n "${PENUMBRA_PREBUILT_FROM:-}" ]; then
     # The one folder of build/ that .dockerignore lets into the build context.
     prebuilt=build/image-prefix
@@ -131,9 +138,9 @@ if [ -n "${PENUMBRA_PREBUILT_FROM:-}" ]; then
     rm -rf "$prebuilt"
     cmake --install "$PENUMBRA_PREBUILT_FROM" --prefix "$prebuilt" --strip > "$state/install.log"
     bash docker/runtime-packages.sh "$prebuilt/bin/penumbra" > "$prebuilt/runtime-packages.txt"
-    build_args=(--build-arg "PREBUILT=$prebuilt")
+    build_args+=(--build-arg "PREBUILT=$prebuilt")
 fi
-step "build penumbra:latest ${build_args[*]}"
+step "build penumbra:latest${prebuilt:+ from the install of $PENUMBRA_PREBUILT_FROM}"
 "${build[@]}" "${build_args[@]}" -f docker/Dockerfile -t penumbra:latest . > "$state/build-penumbra.log" 2>&1 \
     || { tail -n 40 "$state/build-penumbra.log" >&2; exit 1; }
 step "build penumbra-nginx:latest"
