@@ -29,7 +29,12 @@ if [ "${PENUMBRA_IMAGE_FROM_SOURCE:-0}" != 1 ]; then
 fi
 deploy="$source_dir/scripts/deploy.sh"
 down() {
+    local status=$?
     bash "$deploy" logs > "$work/compose.log" 2>&1 || true
+    if [ "$status" -ne 0 ]; then
+        echo "--- the services' last lines ($work/compose.log):" >&2
+        tail -n 40 "$work/compose.log" >&2
+    fi
     bash "$deploy" down > "$work/down.log" 2>&1 || true
 }
 trap down EXIT
@@ -39,18 +44,19 @@ step "through nginx on 127.0.0.1:$port: /healthz and the web client"
 /usr/bin/python3 - "$port" <<'PY'
 import sys, time, urllib.request
 url = f"http://127.0.0.1:{sys.argv[1]}"
+# Replicas come up one by one, and nginx skips one that refused for a few seconds: retry.
 deadline = time.time() + 180
-while True:
-    try:
-        if urllib.request.urlopen(url + "/healthz", timeout=5).status == 200:
-            break
-    except OSError:
-        pass
-    if time.time() > deadline:
-        sys.exit("no 200 from /healthz through nginx within 180 s")
-    time.sleep(1)
-page = urllib.request.urlopen(url + "/", timeout=10).read().decode()
-if "<script" not in page:
+def get(path):
+    while True:
+        try:
+            with urllib.request.urlopen(url + path, timeout=5) as response:
+                return response.read().decode()
+        except OSError as error:
+            if time.time() > deadline:
+                sys.exit(f"GET {path} through nginx: still {error} after 180 s")
+            time.sleep(1)
+get("/healthz")
+if "<script" not in get("/"):
     sys.exit("GET / through nginx is not the web client")
 print("proxy:    /healthz 200, / serves the web client")
 PY
