@@ -76,11 +76,12 @@ fi
 
 service=""
 if [ "$engine" = podman ]; then
-    socket="$state/podman.sock"
-    rm -f "$socket"
+    # In a short temporary folder: a socket path may not be longer than 107 bytes.
+    socket_dir=$(mktemp -d "${TMPDIR:-/tmp}/penumbra-podman.XXXXXX")
+    socket="$socket_dir/podman.sock"
     podman system service --time=0 "unix://$socket" > "$state/podman-service.log" 2>&1 &
     service=$!
-    trap 'kill "$service" 2>/dev/null; wait "$service" 2>/dev/null || true' EXIT
+    trap 'kill "$service" 2>/dev/null; wait "$service" 2>/dev/null || true; rm -rf "$socket_dir"' EXIT
     for _ in $(seq 1 100); do
         [ -S "$socket" ] && break
         sleep 0.1
@@ -140,7 +141,7 @@ if [ -n "${PENUMBRA_PREBUILT_FROM:-}" ]; then
     bash docker/runtime-packages.sh "$prebuilt/bin/penumbra" > "$prebuilt/runtime-packages.txt"
     build_args+=(--build-arg "PREBUILT=$prebuilt")
 fi
-step "build penumbra:latest${prebuilt:+ from the install of $PENUMBRA_PREBUILT_FROM}"
+step "build penumbra:latest${prebuilt:+ from the install of $PENUMBRA_PREBUILT_FROM}${prebuilt:- (compiles in the builder stage the first time; log: $state/build-penumbra.log)}"
 "${build[@]}" "${build_args[@]}" -f docker/Dockerfile -t penumbra:latest . > "$state/build-penumbra.log" 2>&1 \
     || { tail -n 40 "$state/build-penumbra.log" >&2; exit 1; }
 step "build penumbra-nginx:latest"
