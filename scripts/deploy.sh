@@ -141,7 +141,11 @@ if [ -n "${PENUMBRA_PREBUILT_FROM:-}" ]; then
     bash docker/runtime-packages.sh "$prebuilt/bin/penumbra" > "$prebuilt/runtime-packages.txt"
     build_args+=(--build-arg "PREBUILT=$prebuilt")
 fi
-step "build penumbra:latest${prebuilt:+ from the install of $PENUMBRA_PREBUILT_FROM}${prebuilt:- (compiles in the builder stage the first time; log: $state/build-penumbra.log)}"
+if [ -n "$prebuilt" ]; then
+    step "build penumbra:latest from the install of $PENUMBRA_PREBUILT_FROM"
+else
+    step "build penumbra:latest (compiles in its builder stage the first time; $state/build-penumbra.log)"
+fi
 "${build[@]}" "${build_args[@]}" -f docker/Dockerfile -t penumbra:latest . > "$state/build-penumbra.log" 2>&1 \
     || { tail -n 40 "$state/build-penumbra.log" >&2; exit 1; }
 step "build penumbra-nginx:latest"
