@@ -58,7 +58,8 @@ runtime = "runc"
 cgroup_manager = "cgroupfs"
 events_logger = "file"
 CONF
-    build=(podman build --runtime runc)
+    # Docker's image format: OCI's has no HEALTHCHECK.
+    build=(podman build --runtime runc --format docker)
 fi
 
 if docker compose version >/dev/null 2>&1; then
