@@ -32,7 +32,7 @@ int fail(const base::Error& error) { return report_failure("serve", error); }
 std::filesystem::path default_web_root() {
     const auto built = base::data_dir("web");
     return built && std::filesystem::exists(*built / "index.html") ? *built
-                                                                    : std::filesystem::path();
+                                                                   : std::filesystem::path();
 }
 
 using QualityTable = std::shared_ptr<const std::vector<scene::QualitySample>>;
