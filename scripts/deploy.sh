@@ -71,7 +71,8 @@ compose+=(-p "$project" -f docker/compose.yaml)
 if [ "$gpu" = 1 ]; then
     compose+=(-f docker/compose.gpu.yaml)
 fi
-if [ "$metrics" = 1 ]; then
+# `down` takes every service away, Prometheus too.
+if [ "$metrics" = 1 ] || [ "$action" = down ]; then
     compose+=(--profile metrics)
 fi
 
