@@ -21,6 +21,7 @@ test=(
 # find each other by name on podman's CNI network.
 deploy=(
     podman runc golang-github-containernetworking-plugin-dnsname docker-compose debootstrap nginx
+    python3-websocket
 )
 
 groups="build,test,deploy"
