@@ -221,7 +221,7 @@ export interface HelloMessage {
   server: string;
   modes: Mode[];
   encodings: Encoding[];
-  renderer: { renderer: string; version: string; platform: string };
+  renderer: { renderer: string; version: string; platform: string; software: boolean };
   limits: Limits;
 }
 
@@ -479,6 +479,7 @@ export function parseServerMessage(text: string): ServerMessage {
       for (const key of ['renderer', 'version', 'platform']) {
         str(renderer, key, '/renderer');
       }
+      bool(renderer, 'software', '/renderer');
       const limits = obj(o, 'limits', '');
       for (const key of Object.keys(DEFAULT_LIMITS)) {
         num(limits, key, '/limits');

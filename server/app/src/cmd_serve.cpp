@@ -2,6 +2,7 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 
+#include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
@@ -28,19 +29,21 @@ namespace {
 
 int fail(const base::Error& error) { return report_failure("serve", error); }
 
-// The built web client: next to the source tree's client_web, when it has been built.
+// The built web client (share/penumbra/web: installed, or in a build tree a link to
+// client_web/dist), when it has been built.
 std::filesystem::path default_web_root() {
-    const std::filesystem::path built = std::filesystem::path(PENUMBRA_SOURCE_DIR) / "client_web" /
-                                        "dist";
-    return std::filesystem::exists(built / "index.html") ? built : std::filesystem::path();
+    const auto built = base::data_dir("web");
+    return built && std::filesystem::exists(*built / "index.html") ? *built
+                                                                   : std::filesystem::path();
 }
 
 using QualityTable = std::shared_ptr<const std::vector<scene::QualitySample>>;
 
 // The table committed for this kind of device (DESIGN.md §1): measured by `bench accuracy`.
+// share/penumbra/accuracy holds docs/accuracy's tables (installed, or linked in a build tree).
 std::filesystem::path committed_table_path(const render::RendererInfo& info) {
-    return std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "accuracy" /
-           (info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json");
+    const std::filesystem::path name = info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json";
+    return base::data_dir("accuracy").value_or("share/penumbra/accuracy") / name;
 }
 
 // Where a table measured at start-up is kept, one file per GL_RENDERER so that the cost is paid
@@ -254,7 +257,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "                             /usr/share/mricron/templates)\n"
                 "  --port P                   TCP port (default 8080; 0 = any free port)\n"
                 "  --address A                listen address (default 127.0.0.1)\n"
-                "  --web-root DIR             the built web client (default client_web/dist)\n"
+                "  --web-root DIR             the built web client (default share/penumbra/web\n"
+                "                             above the binary: client_web/dist, installed)\n"
                 "  --io-threads N             network threads (default 2)\n"
                 "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
                 "  --max-sessions N           (default 64)\n"
@@ -284,7 +288,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
-                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, else a\n"
+                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
+                "                             share/penumbra/accuracy above the binary, else a\n"
                 "                             short table measured at start-up, at most ~1 min,\n"
                 "                             and cached in $XDG_CACHE_HOME/penumbra or\n"
                 "                             ~/.cache/penumbra for the next start)\n"

@@ -149,7 +149,8 @@ void ConnectionHandler::on_open() {
     }
     const render::RendererInfo& info = context_.services.scheduler.renderer_info();
     send(protocol::hello_message(context_.config.limits,
-                                 {info.renderer, info.version, info.platform}, modes));
+                                 {info.renderer, info.version, info.platform, info.software},
+                                 modes));
 }
 
 bool ConnectionHandler::admit(std::optional<std::int64_t> id) {

@@ -140,7 +140,8 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     Limits limits;
     limits.max_image_side = 1000;
     limits.max_requests_per_second = 30.5;
-    const json hello = json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux"}, {"dvr"}));
+    const json hello =
+            json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux", true}, {"dvr"}));
     EXPECT_EQ(hello.at("type"), "hello");
     EXPECT_EQ(hello.at("v"), 1);
     EXPECT_FALSE(hello.contains("id"));
@@ -148,6 +149,7 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("limits").at("max_message_bytes"), limits.max_message_bytes);
     EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
     EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
+    EXPECT_EQ(hello.at("renderer").at("software"), true);
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {

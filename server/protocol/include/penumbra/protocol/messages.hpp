@@ -99,6 +99,7 @@ struct RendererSummary {
     std::string renderer;
     std::string version;
     std::string platform;
+    bool software = false;  // a software rasteriser (llvmpipe): no GPU
 };
 
 std::string hello_message(const Limits& limits, const RendererSummary& renderer,
