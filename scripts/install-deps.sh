@@ -1,18 +1,50 @@
 #!/usr/bin/env bash
-# Installs what Penumbra needs to build, test and run on Debian 12: all from Debian's packages.
+# Installs what Penumbra needs from Debian 12's packages, in groups:
+#   build    compile the server and the web client (the container image's builder stage)
+#   test     what the test suite needs on top of build
+#   deploy   containers for the container test and scripts/deploy.sh (podman, debootstrap, compose)
+# No argument installs every group (a CI machine); `--only GROUP[,GROUP]` installs those.
 set -euo pipefail
 
-packages=(
+build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev nlohmann-json3-dev libboost-dev
+    libssl-dev nodejs
+)
+test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     clang-14 libfuzzer-14-dev
     mricron-data gnuplot-nox
-    chromium nodejs
+    chromium
+    # The loopback cluster test: Debian's nginx in front, a certificate made with openssl, and
+    # WebSocket clients (also the container test's).
+    nginx openssl python3-websocket
 )
+# runc: podman's default crun refuses hybrid cgroups; the dnsname plugin lets compose services
+# find each other by name on podman's CNI network.
+deploy=(
+    podman runc golang-github-containernetworking-plugin-dnsname docker-compose debootstrap
+)
+
+groups="build,test,deploy"
+if [ "${1:-}" = "--only" ] && [ -n "${2:-}" ]; then
+    groups="$2"
+elif [ $# -ne 0 ]; then
+    echo "usage: install-deps.sh [--only build|test|deploy[,...]]" >&2
+    exit 2
+fi
+packages=()
+for group in ${groups//,/ }; do
+    case "$group" in
+        build) packages+=("${build[@]}") ;;
+        test) packages+=("${test[@]}") ;;
+        deploy) packages+=("${deploy[@]}") ;;
+        *) echo "install-deps: unknown group '$group'" >&2; exit 2 ;;
+    esac
+done
 # npm: Debian's package, unless a nodejs that bundles npm (e.g. NodeSource's) is installed already.
-if ! command -v npm >/dev/null 2>&1; then
+if [[ ",$groups," == *,build,* ]] && ! command -v npm >/dev/null 2>&1; then
     packages+=(npm)
 fi
 

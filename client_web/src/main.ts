@@ -18,6 +18,9 @@ import { PRESET_POINTS, TfModel } from './panels/tf_model';
 
 const query = new URLSearchParams(location.search);
 const joinId = query.get('join');
+// The page's ?volume= (with ?join=, the session's volume) routes the first WebSocket to the server
+// that holds it; ?token= is the access token a deployment asks for (README, Deploy).
+const pageVolume = query.get('volume') ?? undefined;
 const wsUrl =
   query.get('server') ?? `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
 
@@ -27,6 +30,8 @@ const view = new FrameView(viewElement);
 const stats = new StatsOverlay(viewElement);
 const connection = new Connection(wsUrl, {
   presetPoints: (p) => ({ name: p, space: 'normalized', ...structuredClone(PRESET_POINTS[p]) }),
+  accessToken: query.get('token') ?? undefined,
+  route: { volume: pageVolume, session: joinId ?? undefined },
 });
 const notices = new Notices(document.body, () => connection.retryNow());
 
@@ -155,7 +160,8 @@ connection.on('status', (status) => {
   if (status.kind === 'connected') {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);
-    if (!connection.session) void start();
+    // Not while moving to another volume's server: the open that moved it is under way.
+    if (!connection.session && !connection.moving) void start();
   }
 });
 
@@ -182,6 +188,8 @@ connection.on('session', (info, restored) => {
   if (restored) {
     const how = {
       resumed: 'Your session is yours again; its viewers kept watching (the share link still works).',
+      recreated:
+        'Its server went away: your session was re-opened on another with your settings (the share link still works; viewers follow).',
       reopened:
         'The volume was re-opened and your settings restored (the share link changed: viewers must join again).',
       rejoined: 'Joined the shared session again.',
@@ -218,6 +226,19 @@ connection.on('serverError', (error) => {
 
 connection.on('problem', (message) => notices.show('warning', 'Problem', message));
 
+connection.on('sessionLost', (session, outcome) => {
+  const name = `${session.slice(0, 8)}…`;
+  if (outcome === 'waiting') {
+    notices.show('info', 'The shared session is gone from its server', `Waiting for its owner to re-open ${name}.`);
+  } else {
+    notices.show(
+      'error',
+      'The shared session ended',
+      `Session ${name} went away with its server and its owner did not re-open it. Open a volume of your own, or ask the owner for a new link.`,
+    );
+  }
+});
+
 async function refreshVolumes(): Promise<void> {
   try {
     const volumes = await connection.listVolumes();
@@ -244,7 +265,7 @@ async function start(): Promise<void> {
   await refreshVolumes();
   if (joinId) {
     try {
-      await connection.join(joinId);
+      await connection.join(joinId, pageVolume);
       return;
     } catch (e) {
       notices.show(

@@ -4,7 +4,9 @@ import { describe, expect, it } from 'vitest';
 import {
   Connection,
   RequestFailed,
+  routedUrl,
   ServerError,
+  type ConnectionOptions,
   type ConnectionStatus,
   type SocketLike,
 } from '../src/protocol/connection';
@@ -68,11 +70,14 @@ class FakeSocket implements SocketLike {
   }
 }
 
-function setup() {
+function setup(extra: ConnectionOptions = {}) {
   const clock = new FakeClock();
   const sockets: FakeSocket[] = [];
   const statuses: ConnectionStatus['kind'][] = [];
   const connection = new Connection('ws://test/ws', {
+    // The volume the tests open: its WebSocket serves it.
+    route: { volume: 'ch2.nii.gz' },
+    ...extra,
     createSocket: (url) => {
       const s = new FakeSocket(url);
       sockets.push(s);
@@ -266,7 +271,14 @@ describe('Connection', () => {
     const { socket, connection, restored } = await ownerReconnected('mine');
     expect(OWNER_TOKEN).toMatch(/^[0-9a-f]{32}$/);
     expect(socket().sent).toEqual([
-      { v: 1, id: expect.any(Number) as number, type: 'resume', session: 'mine', owner_token: OWNER_TOKEN },
+      {
+        v: 1,
+        id: expect.any(Number) as number,
+        type: 'resume',
+        session: 'mine',
+        owner_token: OWNER_TOKEN,
+        volume: 'ch2.nii.gz', // so that another server of a cluster can re-create it
+      },
     ]);
     expect(connection.restoring).toBe(true);
     // The server's state wins: a set may have reached it whose ack was lost.
@@ -376,9 +388,9 @@ describe('Connection', () => {
     socket().fail();
     clock.advance(100);
     socket().open();
-    socket().reply('error', { code: 'unknown_session', field: '/session', message: 'no such session' });
+    socket().reply('error', { code: 'rate_limited', field: '/', message: 'too many requests' });
     await flush();
-    expect(problems[0]).toMatch(/could not restore.*unknown_session/);
+    expect(problems[0]).toMatch(/could not restore.*rate_limited/);
   });
 
   it('times out a request without an answer, and refuses to send while disconnected', async () => {
@@ -402,6 +414,104 @@ describe('Connection', () => {
     // A type a newer server added within v1 is no problem (§3).
     socket().receive('{"v":1,"type":"announcement","text":"hi"}');
     expect(problems).toHaveLength(3);
+  });
+
+  it('names the volume, the joined session and the access token in the WebSocket URL', () => {
+    expect(routedUrl('wss://h:8443/ws', { volume: 'a b.nii.gz', session: 's1' }, 't+k')).toBe(
+      'wss://h:8443/ws?volume=a+b.nii.gz&session=s1&token=t%2Bk',
+    );
+    expect(routedUrl('ws://h/ws?token=old&x=1', {})).toBe('ws://h/ws?x=1');
+    const { socket } = setup({ accessToken: 'secret', route: { volume: 'ch2.nii.gz', session: 'abc' } });
+    expect(socket().url).toBe('ws://test/ws?volume=ch2.nii.gz&session=abc&token=secret');
+  });
+
+  it("opening another volume moves to a WebSocket routed to that volume's server", async () => {
+    const { sockets, socket, statuses, connection } = setup({ accessToken: 'k', route: {} });
+    socket().open();
+    expect(socket().url).toBe('ws://test/ws?token=k');
+    const opened = connection.open('ch2.nii.gz');
+    expect(sockets).toHaveLength(2);
+    expect(sockets[0]!.readyState).toBe(3);
+    expect(socket().url).toBe('ws://test/ws?volume=ch2.nii.gz&token=k');
+    expect(connection.moving).toBe(true);
+    socket().open();
+    await flush();
+    expect(connection.moving).toBe(false);
+    expect(socket().sent[0]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
+    socket().reply('opened', OPENED);
+    await opened;
+    expect(statuses).not.toContain('lost'); // a move is no loss
+    // The same volume again: the same WebSocket.
+    const again = connection.open('ch2.nii.gz');
+    expect(sockets).toHaveLength(2);
+    socket().reply('opened', OPENED);
+    await again;
+  });
+
+  it('an owner whose server died re-creates its session on another one and sends its state back', async () => {
+    const { socket, connection, restored } = await ownerReconnected('mine');
+    expect(socket().sent[0]).toMatchObject({ type: 'resume', session: 'mine', volume: 'ch2.nii.gz' });
+    socket().reply('opened', { ...OPENED, session: 'mine', recreated: true });
+    await flush();
+    expect(socket().sent[1]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
+    socket().reply('ack', { of: 'set' });
+    await flush();
+    expect(restored).toEqual(['recreated mine']);
+    expect(connection.session).toMatchObject({ session: 'mine', ownerToken: OWNER_TOKEN });
+    expect(connection.session?.state.settings.mode).toBe('sbrc_cone');
+  });
+
+  /** A viewer of `abc` whose connection was lost and is back: the join it sent first. */
+  async function viewerReconnected() {
+    const context = setup({ followOwnerMs: 1000, followRetryMs: 250, route: {} });
+    const { clock, socket, connection } = context;
+    socket().open();
+    const joined = connection.join('abc', 'ch2.nii.gz');
+    await flush();
+    expect(socket().url).toBe('ws://test/ws?volume=ch2.nii.gz&session=abc');
+    socket().open();
+    await flush();
+    socket().reply('joined', { ...OPENED_WITHOUT_TOKEN, type: 'joined', session: 'abc' });
+    await joined;
+    const lost: string[] = [];
+    const restored: (string | false)[] = [];
+    connection.on('sessionLost', (session, outcome) => lost.push(`${outcome} ${session}`));
+    connection.on('session', (_, r) => restored.push(r));
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().url).toBe('ws://test/ws?volume=ch2.nii.gz&session=abc');
+    expect(socket().sent[0]).toMatchObject({ type: 'join', session: 'abc' });
+    socket().reply('error', { code: 'unknown_session', field: '/session', message: 'no session' });
+    await flush();
+    return { ...context, lost, restored };
+  }
+
+  it('a viewer whose session died with its server follows the owner to where it re-opens it', async () => {
+    const { clock, socket, lost, restored } = await viewerReconnected();
+    expect(lost).toEqual(['waiting abc']);
+    clock.advance(250);
+    await flush();
+    expect(socket().sent[1]).toMatchObject({ type: 'join', session: 'abc' });
+    socket().reply('joined', { ...OPENED_WITHOUT_TOKEN, type: 'joined', session: 'abc' });
+    await flush();
+    expect(restored).toEqual(['rejoined']);
+  });
+
+  it('a viewer whose owner does not come back is told the session ended', async () => {
+    const { clock, socket, connection, lost, restored } = await viewerReconnected();
+    for (let attempt = 1; attempt <= 4; attempt++) {
+      clock.advance(250);
+      await flush();
+      socket().reply('error', { code: 'unknown_session', field: '/session', message: 'no session' });
+      await flush();
+    }
+    expect(socket().sent).toHaveLength(5);
+    expect(lost).toEqual(['waiting abc', 'ended abc']);
+    expect(restored).toEqual([]);
+    expect(connection.restoring).toBe(false);
+    clock.advance(10_000);
+    expect(socket().sent).toHaveLength(5); // it stops asking
   });
 
   it('close() stops reconnecting', () => {

@@ -98,6 +98,8 @@ describe('parseServerMessage', () => {
     expect(hello.modes).toContain('sbrc_cone');
     expect(hello.modes).toHaveLength(7);
     expect(hello.limits.max_image_side).toBeGreaterThan(0);
+    expect(hello.limits.max_sessions_per_client).toBeGreaterThan(0);
+    expect(hello.limits.max_frame_work).toBeGreaterThan(0);
   });
 
   it('reads opened with a full state that checks as a set', () => {

@@ -41,6 +41,7 @@ CONFINED = {
     "epoxy": {"gpu"}, "EGL": {"gpu"}, "GL": {"gpu"},
     "nifti1_io.h": {"volume"}, "nifti2_io.h": {"volume"}, "zlib.h": {"volume"},
     "dcmtk": {"volume"},
+    "openssl": {"session"},
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*<([^>]+)>')

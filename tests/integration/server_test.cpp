@@ -176,9 +176,9 @@ protected:
                 {}, *metrics_);
         ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
         scheduler_ = std::move(scheduler.value());
-        sessions_ = std::make_unique<session::SessionRegistry>(
-                limits.max_sessions, limits.max_sessions_per_client,
-                limits.max_sessions_per_connection);
+        sessions_ = std::make_unique<session::SessionRegistry>(limits.max_sessions, owner_tokens_,
+                                                               limits.max_sessions_per_client,
+                                                               limits.max_sessions_per_connection);
         net::ServerConfig config;
         config.port = 0;
         config.limits = limits;
@@ -213,6 +213,7 @@ protected:
     std::unique_ptr<metrics::Registry> metrics_;
     std::unique_ptr<session::Scheduler> scheduler_;
     std::unique_ptr<session::SessionRegistry> sessions_;
+    session::OwnerTokens owner_tokens_;  // set before start(): a cluster's derived tokens
     std::unique_ptr<net::Server> server_;
     unsigned short port_ = 0;
 };
@@ -928,6 +929,76 @@ TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {
     auto escape = net::http_get("127.0.0.1", port_, "/../../etc/passwd");
     ASSERT_TRUE(escape.ok());
     EXPECT_EQ(escape->status, 404);
+}
+
+TEST_F(ServerTest, AnAccessTokenIsAskedOnTheUpgradeAsAPercentEncodedQueryParameter) {
+    start(protocol::Limits{}, [](net::ServerConfig& config) { config.access_token = "a+b/c=d"; });
+    for (const char* path :
+         {"/ws", "/ws?volume=heads%2Fch2.nii.gz", "/ws?token=a+b/c=d", "/ws?token=a%2Bb%2Fc%3De"}) {
+        SCOPED_TRACE(path);
+        EXPECT_FALSE(net::Client::connect("127.0.0.1", port_, path).ok());
+    }
+    auto allowed = net::Client::connect("127.0.0.1", port_,
+                                        "/ws?volume=heads%2Fch2.nii.gz&token=a%2Bb%2Fc%3Dd");
+    ASSERT_TRUE(allowed.ok()) << allowed.error().to_string();
+    auto hello = (*allowed)->receive(std::chrono::seconds(10));
+    ASSERT_TRUE(hello.ok());
+    EXPECT_NE(hello->text.find("\"type\":\"hello\""), std::string::npos);
+    auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_NE(metrics->body.find("penumbra_upgrades_refused_total 4"), std::string::npos);
+}
+
+// As if the server that held a session died: the session is gone here, and its owner comes with
+// the token the cluster's secret derived and the session's volume. The volume loads off the
+// network threads, as for open; the session comes back under its id with the default state.
+TEST_F(ServerTest, AClusterOwnerRecreatesItsSessionAfterItsVolumeLoadsAndOnlyWithItsToken) {
+    owner_tokens_ = session::OwnerTokens("cluster secret");
+    protocol::Limits limits;
+    limits.max_sessions_per_connection = 1;
+    start(limits);
+    std::string session;
+    std::string token;
+    {
+        TestClient owner(port_);
+        const auto opened = nlohmann::json::parse(owner.open("heads/ch2.nii.gz", 32));
+        session = owner.session;
+        token = opened.at("owner_token");
+        EXPECT_FALSE(opened.contains("recreated"));
+        EXPECT_EQ(field(owner.request(R"({"v":1,"type":"close","id":3})"), "type"), "ack");
+    }
+    ASSERT_EQ(sessions_->find(session), nullptr);
+    EXPECT_EQ(token, session::OwnerTokens("cluster secret").token_for(session));
+    const auto resume_with_volume = [&](const std::string& owner_token, int id) {
+        return R"({"v":1,"type":"resume","id":)" + std::to_string(id) + R"(,"session":")" +
+               session + R"(","owner_token":")" + owner_token + R"(","volume":"heads/ch2.nii.gz"})";
+    };
+    TestClient returning(port_);
+    // A forged token and a resume that does not name the volume load nothing and re-create
+    // nothing.
+    const std::string forged = returning.request(resume_with_volume(std::string(32, '0'), 4));
+    EXPECT_EQ(field(forged, "code"), "unknown_session") << forged;
+    EXPECT_EQ(field(returning.request(resume_request(session, token, 5)), "code"),
+              "unknown_session");
+    EXPECT_EQ(sessions_->count(), 0U);
+    // The connection already holds its one session: re-creating replaces it, as open does.
+    returning.open("heads/ch2.nii.gz", 32);
+    // Requests sent while the volume loads wait and are answered after `opened`, in order.
+    returning.send(resume_with_volume(token, 6));
+    returning.send(R"({"v":1,"type":"render","id":7})");
+    const auto recreated = nlohmann::json::parse(returning.next_text());
+    ASSERT_EQ(recreated.at("type"), "opened") << recreated.dump().substr(0, 300);
+    EXPECT_EQ(recreated.at("id"), 6);
+    EXPECT_EQ(recreated.at("session"), session);
+    EXPECT_EQ(recreated.at("owner_token"), token);
+    EXPECT_EQ(recreated.at("recreated"), true);
+    EXPECT_EQ(returning.next_frame().header.request, 7);
+    EXPECT_EQ(sessions_->count(), 1U);
+    TestClient viewer(port_);
+    EXPECT_EQ(field(viewer.request(R"({"v":1,"type":"join","id":8,"session":")" + session + "\"}"),
+                    "type"),
+              "joined")
+            << "its viewers find it under its id";
 }
 
 }  // namespace

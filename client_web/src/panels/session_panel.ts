@@ -1,14 +1,21 @@
 // Session: who this page is (owner or viewer), and the link that lets a second person join the
-// same session (?join=<session id>).
+// same session (?join=<session id>&volume=<its volume>: a cluster routes by the volume).
 
 import type GUI from 'lil-gui';
 import type { SessionInfo } from '../protocol/connection';
 
-/** The address a second person opens to join `session`. */
-export function joinLink(location: { origin: string; pathname: string; search: string }, session: string): string {
+/**
+ * The address a second person opens to join `session` on `volume`. It keeps the page's other
+ * parameters, the access token among them: whoever has the link may watch.
+ */
+export function joinLink(
+  location: { origin: string; pathname: string; search: string },
+  session: string,
+  volume: string,
+): string {
   const params = new URLSearchParams(location.search);
-  params.delete('volume');
   params.set('join', session);
+  params.set('volume', volume);
   return `${location.origin}${location.pathname}?${params.toString()}`;
 }
 
@@ -54,6 +61,6 @@ export class SessionPanel {
       info.role === 'owner'
         ? `You control session ${info.session.slice(0, 8)}… (${info.volume.name})`
         : `Viewing session ${info.session.slice(0, 8)}… (${info.volume.name}), read-only`;
-    this.link.value = joinLink(window.location, info.session);
+    this.link.value = joinLink(window.location, info.session, info.volume.id);
   }
 }

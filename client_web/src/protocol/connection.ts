@@ -1,6 +1,9 @@
 // The protocol in one object: the WebSocket, `hello`, requests matched to answers by id, frames,
 // server errors, and reconnect with session restore (resume the owned session with its owner
-// token, else re-open the volume and send the state back; or re-join a shared session). No DOM: the socket comes from a factory so tests can pass a fake.
+// token, else re-open the volume and send the state back; or re-join a shared session). The
+// WebSocket URL names the volume (and the session joined), which a cluster's proxy routes by
+// (proto/README.md §1): opening another volume moves to a new WebSocket. No DOM: the socket comes
+// from a factory so tests can pass a fake.
 
 import { parseFrame, type Frame } from './frame_header';
 import {
@@ -36,6 +39,25 @@ export interface SocketLike {
 }
 
 export type SocketFactory = (url: string) => SocketLike;
+
+/** What the WebSocket URL names, for a cluster's proxy to route by. */
+export interface Route {
+  volume?: string;
+  session?: string;
+}
+
+/**
+ * `base` with the route and the access token as query parameters:
+ * ws://host/ws?volume=ch2.nii.gz&session=…&token=…
+ */
+export function routedUrl(base: string, route: Route, token?: string): string {
+  const url = new URL(base);
+  for (const key of ['volume', 'session', 'token']) url.searchParams.delete(key);
+  if (route.volume !== undefined) url.searchParams.set('volume', route.volume);
+  if (route.session !== undefined) url.searchParams.set('session', route.session);
+  if (token !== undefined && token !== '') url.searchParams.set('token', token);
+  return url.toString();
+}
 
 const OPEN = 1;
 
@@ -94,10 +116,11 @@ export interface SessionInfo {
 
 /**
  * How a session came back after a reconnect: the owner's own session again (`resumed`; its viewers
- * stayed), a new session on the same volume with the saved state (`reopened`), or the shared
- * session joined again (`rejoined`).
+ * stayed), the same session re-created on another server of the cluster with the saved state
+ * (`recreated`; its viewers follow), a new session on the same volume with the saved state
+ * (`reopened`), or the shared session joined again (`rejoined`).
  */
-export type Restored = 'resumed' | 'reopened' | 'rejoined';
+export type Restored = 'resumed' | 'recreated' | 'reopened' | 'rejoined';
 
 export interface ConnectionEvents {
   status: (status: ConnectionStatus) => void;
@@ -112,6 +135,11 @@ export interface ConnectionEvents {
   problem: (message: string) => void;
   /** A render request was sent (id, interactive). */
   renderSent: (id: number, interactive: boolean) => void;
+  /**
+   * A viewer's session is gone from the server it reconnected to (its server died): it waits for
+   * the owner to re-open it (`waiting`), or gave up after `followOwnerMs` (`ended`).
+   */
+  sessionLost: (session: string, outcome: 'waiting' | 'ended') => void;
 }
 
 export interface ConnectionOptions {
@@ -123,6 +151,14 @@ export interface ConnectionOptions {
   clearTimer?: (handle: unknown) => void;
   /** The client's copy of the server's presets, to keep the state mirror exact. */
   presetPoints?: (preset: Preset) => TransferFunctionPoints | undefined;
+  /** The access token the server asks for on the WebSocket upgrade (`?token=`). */
+  accessToken?: string;
+  /** What the first WebSocket URL names (the page's volume or join link). */
+  route?: Route;
+  /** How long a viewer whose session vanished waits for its owner to re-open it. */
+  followOwnerMs?: number;
+  /** The wait between its attempts to join again. */
+  followRetryMs?: number;
 }
 
 interface Pending {
@@ -135,7 +171,7 @@ interface Pending {
 /** The session a connection is in, as a reconnect restores it. */
 type Wanted =
   | { role: 'owner'; volume: string; session: string; ownerToken?: string }
-  | { role: 'viewer'; session: string };
+  | { role: 'viewer'; session: string; volume?: string };
 
 type Listeners = { [K in keyof ConnectionEvents]: ConnectionEvents[K][] };
 
@@ -154,13 +190,20 @@ export class Connection {
     serverError: [],
     problem: [],
     renderSent: [],
+    sessionLost: [],
   };
   private attempt = 0;
   private everConnected = false;
   private reconnectTimer: unknown = null;
   private stopped = false;
-  private readonly options: Required<Omit<ConnectionOptions, 'presetPoints'>> &
-    Pick<ConnectionOptions, 'presetPoints'>;
+  private readonly options: Required<
+    Omit<ConnectionOptions, 'presetPoints' | 'accessToken' | 'route'>
+  > &
+    Pick<ConnectionOptions, 'presetPoints' | 'accessToken'>;
+  /** What the current (or next) WebSocket URL names. */
+  private route: Route;
+  /** Waits for the hello of a WebSocket opened for another volume. */
+  private moved: { resolve: () => void; reject: (e: Error) => void } | null = null;
 
   hello: HelloMessage | null = null;
   /** True while a reconnect re-opens or re-joins the session (nothing else should be sent). */
@@ -182,7 +225,21 @@ export class Connection {
       setTimer: options.setTimer ?? ((cb, ms) => setTimeout(cb, ms)),
       clearTimer: options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>)),
       presetPoints: options.presetPoints,
+      accessToken: options.accessToken,
+      followOwnerMs: options.followOwnerMs ?? 15000,
+      followRetryMs: options.followRetryMs ?? 500,
     };
+    this.route = { ...options.route };
+  }
+
+  /** The URL the next WebSocket opens. */
+  get socketUrl(): string {
+    return routedUrl(this.url, this.route, this.options.accessToken);
+  }
+
+  /** True while the connection moves to a WebSocket for another volume. */
+  get moving(): boolean {
+    return this.moved !== null;
   }
 
   on<K extends keyof ConnectionEvents>(event: K, listener: ConnectionEvents[K]): void {
@@ -218,10 +275,11 @@ export class Connection {
     this.attempt += 1;
     this.setStatus({ kind: 'connecting', attempt: this.attempt });
     let socket: SocketLike;
+    const url = this.socketUrl;
     try {
-      socket = this.options.createSocket(this.url);
+      socket = this.options.createSocket(url);
     } catch (e) {
-      this.scheduleReconnect(`cannot open ${this.url}: ${String(e)}`);
+      this.scheduleReconnect(`cannot open ${url}: ${String(e)}`);
       return;
     }
     socket.binaryType = 'arraybuffer';
@@ -296,8 +354,30 @@ export class Connection {
     }
   }
 
+  /**
+   * Routes the WebSocket to `route`'s volume: a cluster's proxy sends each volume to one server,
+   * so another volume means another WebSocket, whose hello the returned promise waits for (null:
+   * this one serves). The session of the old one is left with it.
+   */
+  private routeTo(route: Route): Promise<void> | null {
+    const sameServer = route.volume === this.route.volume;
+    this.route = route;
+    if (sameServer || !this.socket) return null;
+    const old = this.socket;
+    this.socket = null; // its close is no loss to report
+    this.wanted = null;
+    this.failPending('the connection moved to another volume');
+    old.close(1000, 'another volume');
+    return new Promise<void>((resolve, reject) => {
+      this.moved = { resolve, reject };
+      this.openSocket();
+    });
+  }
+
   /** Closes for good (no reconnect). */
   close(): void {
+    this.moved?.reject(new RequestFailed('the connection was closed'));
+    this.moved = null;
     this.stopped = true;
     if (this.reconnectTimer !== null) {
       this.options.clearTimer(this.reconnectTimer);
@@ -321,9 +401,16 @@ export class Connection {
     this.attempt = 0;
     this.everConnected = true;
     this.setStatus({ kind: 'connected', hello });
+    const moved = this.moved;
+    this.moved = null;
+    moved?.resolve();
     if (restoring) {
       void this.restore();
     }
+  }
+
+  private sleep(ms: number): Promise<void> {
+    return new Promise((resolve) => this.options.setTimer(resolve, ms));
   }
 
   private async restore(): Promise<void> {
@@ -334,12 +421,24 @@ export class Connection {
     try {
       if (wanted.role === 'owner') {
         const resumed =
-          wanted.ownerToken === undefined ? null : await this.resume(wanted.session, wanted.ownerToken);
+          wanted.ownerToken === undefined
+            ? null
+            : await this.resume(wanted.session, wanted.ownerToken, wanted.volume);
+        if (resumed && resumed.recreated && previous) {
+          // Another server of the cluster re-created the session with the default state: ours
+          // goes back, and its viewers, who join the same id, follow.
+          await this.request({ type: 'set', ...restorePatch(previous.state) });
+          resumed.info.state = structuredClone(previous.state);
+          this.session = resumed.info;
+          this.restoring = false;
+          this.emit('session', resumed.info, 'recreated');
+          return;
+        }
         if (resumed) {
           // The session's state is the server's: it may hold a set whose ack was lost.
-          this.session = resumed;
+          this.session = resumed.info;
           this.restoring = false;
-          this.emit('session', resumed, 'resumed');
+          this.emit('session', resumed.info, 'resumed');
           return;
         }
         const opened = await this.request<OpenedMessage>({ type: 'open', volume: wanted.volume });
@@ -354,7 +453,8 @@ export class Connection {
         this.restoring = false;
         this.emit('session', info, 'reopened');
       } else {
-        const joined = await this.request<OpenedMessage>({ type: 'join', session: wanted.session });
+        const joined = await this.rejoin(wanted.session);
+        if (!joined) return;
         this.session = this.sessionFrom(joined, 'viewer');
         this.restoring = false;
         this.emit('session', this.session, 'rejoined');
@@ -368,21 +468,54 @@ export class Connection {
   }
 
   /**
-   * Becomes the owner of `session` again, so that its viewers keep watching. Resolves null when
-   * the server refuses (the session ended, another connection owns it, a server without resume):
-   * the caller opens a new session instead. A lost connection rejects, to be retried on the next.
+   * Becomes the owner of `session` again, so that its viewers keep watching; the volume lets a
+   * server of the cluster re-create the session when the one that held it is gone. Resolves null
+   * when the server refuses (the session ended, another connection owns it, a server without
+   * resume): the caller opens a new session instead. A lost connection rejects, to be retried on
+   * the next.
    */
-  private async resume(session: string, ownerToken: string): Promise<SessionInfo | null> {
+  private async resume(
+    session: string,
+    ownerToken: string,
+    volume: string,
+  ): Promise<{ info: SessionInfo; recreated: boolean } | null> {
     try {
       const opened = await this.request<OpenedMessage>({
         type: 'resume',
         session,
         owner_token: ownerToken,
+        volume,
       });
-      return this.sessionFrom(opened, 'owner');
+      return { info: this.sessionFrom(opened, 'owner'), recreated: opened.recreated === true };
     } catch (e) {
       if (e instanceof ServerError) return null;
       throw e;
+    }
+  }
+
+  /**
+   * Joins `session` again after a reconnect. When the server does not have it (the one that held
+   * it died), its owner may re-create it here in a moment: joins again until `followOwnerMs` has
+   * passed, then says the session ended and resolves null.
+   */
+  private async rejoin(session: string): Promise<OpenedMessage | null> {
+    const socket = this.socket;
+    let waitedMs = 0;
+    for (;;) {
+      try {
+        return await this.request<OpenedMessage>({ type: 'join', session });
+      } catch (e) {
+        if (!(e instanceof ServerError) || e.code !== 'unknown_session') throw e;
+        if (waitedMs >= this.options.followOwnerMs) {
+          this.wanted = null;
+          this.emit('sessionLost', session, 'ended');
+          return null;
+        }
+        if (waitedMs === 0) this.emit('sessionLost', session, 'waiting');
+      }
+      await this.sleep(this.options.followRetryMs);
+      waitedMs += this.options.followRetryMs;
+      if (this.socket !== socket) throw new RequestFailed('join: the connection was lost');
     }
   }
 
@@ -486,8 +619,13 @@ export class Connection {
     return answer.volumes;
   }
 
-  /** Opens a volume in a new session this connection owns. */
-  async open(volume: string): Promise<SessionInfo> {
+  /** Opens a volume in a new session this connection owns (on that volume's server). */
+  open(volume: string): Promise<SessionInfo> {
+    const moving = this.routeTo({ volume });
+    return moving ? moving.then(() => this.openHere(volume)) : this.openHere(volume);
+  }
+
+  private async openHere(volume: string): Promise<SessionInfo> {
     const answer = await this.request<OpenedMessage>({ type: 'open', volume });
     this.session = this.sessionFrom(answer, 'owner');
     this.wanted = this.ownerWanted(volume, this.session);
@@ -495,10 +633,18 @@ export class Connection {
     return this.session;
   }
 
-  /** Joins another connection's session as a viewer. */
-  async join(session: string): Promise<SessionInfo> {
+  /**
+   * Joins another connection's session as a viewer; `volume`, the session's (a share link names
+   * it), routes the WebSocket to the server that holds the session.
+   */
+  join(session: string, volume?: string): Promise<SessionInfo> {
+    const moving = this.routeTo({ volume: volume ?? this.route.volume, session });
+    return moving ? moving.then(() => this.joinHere(session)) : this.joinHere(session);
+  }
+
+  private async joinHere(session: string): Promise<SessionInfo> {
     const answer = await this.request<OpenedMessage>({ type: 'join', session });
-    this.wanted = { role: 'viewer', session };
+    this.wanted = { role: 'viewer', session, volume: answer.volume.id };
     this.session = this.sessionFrom(answer, 'viewer');
     this.emit('session', this.session, false);
     return this.session;

@@ -176,6 +176,7 @@ export interface Limits {
   max_sessions_per_connection: number;
   max_requests_per_second: number;
   max_send_queue: number;
+  max_frame_work: number;
 }
 
 export const DEFAULT_LIMITS: Limits = {
@@ -188,6 +189,7 @@ export const DEFAULT_LIMITS: Limits = {
   max_sessions_per_connection: 4,
   max_requests_per_second: 120,
   max_send_queue: 4,
+  max_frame_work: 1e11,
 };
 
 export const ERROR_CODES = [
@@ -219,7 +221,7 @@ export interface HelloMessage {
   server: string;
   modes: Mode[];
   encodings: Encoding[];
-  renderer: { renderer: string; version: string; platform: string };
+  renderer: { renderer: string; version: string; platform: string; software: boolean };
   limits: Limits;
 }
 
@@ -240,6 +242,11 @@ export interface OpenedMessage {
   state: State;
   /** `opened` only: the secret that `resume` takes to make a new connection the owner again. */
   owner_token?: string;
+  /**
+   * `opened` for a resume only: the server that held the session is gone and this one re-created
+   * it under its id with the default state; the owner sends its state back.
+   */
+  recreated?: true;
 }
 
 /** The session's full state after its owner changed it; viewers get it, the owner does not. */
@@ -292,7 +299,7 @@ export type ClientMessage =
   | { v: 1; type: 'render'; id?: number; interactive?: boolean }
   | { v: 1; type: 'stats'; id?: number }
   | { v: 1; type: 'close'; id?: number }
-  | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string };
+  | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string; volume?: string };
 
 export type ClientMessageType = ClientMessage['type'];
 
@@ -472,6 +479,7 @@ export function parseServerMessage(text: string): ServerMessage {
       for (const key of ['renderer', 'version', 'platform']) {
         str(renderer, key, '/renderer');
       }
+      bool(renderer, 'software', '/renderer');
       const limits = obj(o, 'limits', '');
       for (const key of Object.keys(DEFAULT_LIMITS)) {
         num(limits, key, '/limits');
@@ -491,6 +499,7 @@ export function parseServerMessage(text: string): ServerMessage {
       checkState(o['state'], '/state');
       // A server older than resume sends no token; its owner then cannot resume.
       if (o['owner_token'] !== undefined) str(o, 'owner_token', '');
+      need(o['recreated'] === undefined || o['recreated'] === true, o['recreated'], 'true', '/recreated');
       return o as unknown as OpenedMessage;
     }
     case 'state':
@@ -765,10 +774,12 @@ export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMI
         members(o, '', { ...envelope, session: string(64) }, ['session']);
         break;
       case 'resume':
-        members(o, '', { ...envelope, session: string(64), owner_token: string(64) }, [
-          'session',
-          'owner_token',
-        ]);
+        members(
+          o,
+          '',
+          { ...envelope, session: string(64), owner_token: string(64), volume: string(256) },
+          ['session', 'owner_token'],
+        );
         break;
       case 'render':
         members(o, '', { ...envelope, interactive: boolean });

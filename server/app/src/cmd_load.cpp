@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
@@ -45,7 +47,29 @@ double percentile(std::vector<double> values, double q) {
     return values[std::min(index, values.size() - 1)];
 }
 
+// As browsers encode a query (application/x-www-form-urlencoded): letters, digits and "*-._"
+// stay, a space becomes '+', every other byte %XX. A proxy hashes the volume as it is written,
+// so every client must write it alike (proto/README.md §1).
+std::string url_encode(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if ((std::isalnum(byte) != 0 && byte < 0x80) || c == '*' || c == '-' || c == '.' ||
+            c == '_') {
+            out += c;
+        } else if (c == ' ') {
+            out += '+';
+        } else {
+            char escaped[4];
+            std::snprintf(escaped, sizeof escaped, "%%%02X", byte);
+            out += escaped;
+        }
+    }
+    return out;
+}
+
 struct Options {
+    std::string path;  // the WebSocket URL's path and query
     std::string host;
     unsigned short port = 0;
     std::string volume;
@@ -66,7 +90,7 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
             totals.error_texts.push_back("client " + std::to_string(index) + ": " + what);
         }
     };
-    auto connected = net::Client::connect(o.host, o.port);
+    auto connected = net::Client::connect(o.host, o.port, o.path);
     if (!connected) {
         fail(connected.error().to_string());
         return;
@@ -152,7 +176,7 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
 int run_load(const std::vector<std::string>& args) {
     auto parsed = Arguments::parse(args,
                                    {"host", "port", "clients", "seconds", "volume", "mode", "size",
-                                    "encoding"},
+                                    "encoding", "token-file"},
                                    {"help", "interactive"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra load: %s (see --help)\n", parsed.error().to_string().c_str());
@@ -172,7 +196,10 @@ int run_load(const std::vector<std::string>& args) {
                   "  --mode MODE       (default sbrc)\n"
                   "  --size S          frames of S x S pixels (default 512)\n"
                   "  --encoding E      jpeg | png (default jpeg)\n"
-                  "  --interactive     request interactive-quality frames");
+                  "  --interactive     request interactive-quality frames\n"
+                  "  --token-file F    the access token a server or proxy asks for\n\n"
+                  "The WebSocket URL names the volume (/ws?volume=ID), as a cluster's proxy routes\n"
+                  "by it (proto/README.md).");
         return 0;
     }
     Options o;
@@ -181,6 +208,17 @@ int run_load(const std::vector<std::string>& args) {
     o.mode = a.get("mode").value_or("sbrc");
     o.encoding = a.get("encoding").value_or("jpeg");
     o.interactive = a.has("interactive");
+    o.path = "/ws?volume=" + url_encode(o.volume);
+    if (const auto token_file = a.get("token-file")) {
+        std::ifstream in(*token_file);
+        std::string token;
+        if (!in || !std::getline(in, token) || token.empty()) {
+            std::fprintf(stderr, "penumbra load: --token-file: cannot read a token from '%s'\n",
+                         token_file->c_str());
+            return 2;
+        }
+        o.path += "&token=" + url_encode(token);
+    }
     auto port = a.integer("port", 0);
     auto clients = a.integer("clients", 4);
     auto size = a.integer("size", 512);

@@ -2,6 +2,7 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 
+#include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
@@ -19,26 +20,30 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <system_error>
+#include <vector>
 
 namespace penumbra::app {
 namespace {
 
 int fail(const base::Error& error) { return report_failure("serve", error); }
 
-// The built web client: next to the source tree's client_web, when it has been built.
+// The built web client (share/penumbra/web: installed, or in a build tree a link to
+// client_web/dist), when it has been built.
 std::filesystem::path default_web_root() {
-    const std::filesystem::path built = std::filesystem::path(PENUMBRA_SOURCE_DIR) / "client_web" /
-                                        "dist";
-    return std::filesystem::exists(built / "index.html") ? built : std::filesystem::path();
+    const auto built = base::data_dir("web");
+    return built && std::filesystem::exists(*built / "index.html") ? *built
+                                                                   : std::filesystem::path();
 }
 
 using QualityTable = std::shared_ptr<const std::vector<scene::QualitySample>>;
 
 // The table committed for this kind of device (DESIGN.md §1): measured by `bench accuracy`.
+// share/penumbra/accuracy holds docs/accuracy's tables (installed, or linked in a build tree).
 std::filesystem::path committed_table_path(const render::RendererInfo& info) {
-    return std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "accuracy" /
-           (info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json");
+    const std::filesystem::path name = info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json";
+    return base::data_dir("accuracy").value_or("share/penumbra/accuracy") / name;
 }
 
 // Where a table measured at start-up is kept, one file per GL_RENDERER so that the cost is paid
@@ -109,6 +114,50 @@ base::Status write_table_file(const std::filesystem::path& path, const std::stri
                                 "quality cache");
     }
     return base::Ok{};
+}
+
+// "a, b,c" -> {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream stream(text);
+    std::string item;
+    while (std::getline(stream, item, ',')) {
+        const auto first = item.find_first_not_of(" \t");
+        const auto last = item.find_last_not_of(" \t");
+        if (first != std::string::npos) {
+            out.push_back(item.substr(first, last - first + 1));
+        }
+    }
+    return out;
+}
+
+// A secret from the file `option` names, else from the environment variable; empty when neither
+// is given. A secret is not a command-line value, which every user of the machine can read.
+base::Result<std::string> read_secret(const Arguments& a, const std::string& option,
+                                      const char* variable) {
+    std::string secret;
+    if (const auto path = a.get(option)) {
+        std::ifstream in(*path);
+        if (!in) {
+            return base::make_error("not_found", "cannot read '" + *path + "'", "--" + option);
+        }
+        std::stringstream text;
+        text << in.rdbuf();
+        secret = text.str();
+    } else if (const char* value = std::getenv(variable); value != nullptr) {
+        secret = value;
+    } else {
+        return std::string();
+    }
+    // Editors and `echo` end a file with a newline that is no part of the secret.
+    while (!secret.empty() && std::isspace(static_cast<unsigned char>(secret.back())) != 0) {
+        secret.pop_back();
+    }
+    if (secret.empty()) {
+        return base::make_error("invalid_argument", "the secret is empty",
+                                a.has(option) ? "--" + option : std::string(variable));
+    }
+    return secret;
 }
 
 enum class Measure { never, where_missing, always };
@@ -192,7 +241,8 @@ int run_serve(const std::vector<std::string>& args) {
              "max-message-bytes", "max-requests-per-second", "max-frame-work",
              "volume-memory-mb", "max-load-mb", "gpu-memory-mb", "light-buffer-memory-mb",
              "default-tf", "quality-table", "ping-interval", "ping-timeout",
-             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header"},
+             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header",
+             "allowed-origins", "access-token-file", "cluster-secret-file"},
             {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
@@ -207,7 +257,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "                             /usr/share/mricron/templates)\n"
                 "  --port P                   TCP port (default 8080; 0 = any free port)\n"
                 "  --address A                listen address (default 127.0.0.1)\n"
-                "  --web-root DIR             the built web client (default client_web/dist)\n"
+                "  --web-root DIR             the built web client (default share/penumbra/web\n"
+                "                             above the binary: client_web/dist, installed)\n"
                 "  --io-threads N             network threads (default 2)\n"
                 "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
                 "  --max-sessions N           (default 64)\n"
@@ -239,7 +290,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
                 "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
-                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, else a\n"
+                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
+                "                             share/penumbra/accuracy above the binary, else a\n"
                 "                             short table measured at start-up, at most ~1 min,\n"
                 "                             and cached in $XDG_CACHE_HOME/penumbra or\n"
                 "                             ~/.cache/penumbra for the next start)\n"
@@ -247,6 +299,17 @@ int run_serve(const std::vector<std::string>& args) {
                 "                             ignored where no table exists)\n"
                 "  --quality-measure          measure the start-up table even where a table\n"
                 "                             exists; it is used and cached\n"
+                "  --allowed-origins LIST     comma-separated origins (https://host:port) whose\n"
+                "                             pages may open the WebSocket besides the server's\n"
+                "                             own; * for any. Clients that send no Origin (not\n"
+                "                             browsers) are not concerned\n"
+                "  --access-token-file FILE   the WebSocket upgrade must carry this file's token\n"
+                "                             (/ws?token=...); else $PENUMBRA_ACCESS_TOKEN; none:\n"
+                "                             no token asked\n"
+                "  --cluster-secret-file FILE owner tokens are derived from session ids with this\n"
+                "                             secret (else $PENUMBRA_CLUSTER_SECRET), the same on\n"
+                "                             every server of a cluster: an owner whose server\n"
+                "                             died resumes its session on another one\n"
                 "  --debug-gl                 GL debug output to the log\n"
                 "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
         return 0;
@@ -335,6 +398,18 @@ int run_serve(const std::vector<std::string>& args) {
                                                     std::string("--") + name));
         }
         *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+    }
+    if (const auto origins = a.get("allowed-origins")) {
+        config.allowed_origins = split_list(*origins);
+    }
+    auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
+    if (!access_token) {
+        return fail(access_token.error());
+    }
+    config.access_token = *access_token;
+    auto cluster_secret = read_secret(a, "cluster-secret-file", "PENUMBRA_CLUSTER_SECRET");
+    if (!cluster_secret) {
+        return fail(cluster_secret.error());
     }
 
     const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
@@ -438,8 +513,22 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions, limits.max_sessions_per_client,
+    session::SessionRegistry sessions(limits.max_sessions,
+                                      cluster_secret->empty()
+                                              ? session::OwnerTokens()
+                                              : session::OwnerTokens(*cluster_secret),
+                                      limits.max_sessions_per_client,
                                       limits.max_sessions_per_connection);
+    std::printf("access:   %s; WebSocket pages from %s\n",
+                config.access_token.empty() ? "no token asked" : "token asked on /ws",
+                config.allowed_origins.empty() ? "this server's own origin only"
+                                               : ("its own origin and " +
+                                                  std::to_string(config.allowed_origins.size()) +
+                                                  " listed")
+                                                         .c_str());
+    if (!cluster_secret->empty()) {
+        std::printf("cluster:  owner tokens derived from the cluster secret\n");
+    }
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {
         return fail(server.error());

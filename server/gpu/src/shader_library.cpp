@@ -1,5 +1,7 @@
 #include "penumbra/gpu/shader_library.hpp"
 
+#include <penumbra/base/data_dir.hpp>
+
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -189,17 +191,8 @@ std::filesystem::path default_shader_dir() {
     if (const char* env = std::getenv("PENUMBRA_SHADER_DIR"); env != nullptr && *env != '\0') {
         return env;
     }
-    std::error_code ec;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        for (std::filesystem::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path();
-             dir = dir.parent_path()) {
-            if (std::filesystem::exists(dir / "shaders" / "raycast.glsl")) {
-                return dir / "shaders";
-            }
-        }
-    }
-    return PENUMBRA_SOURCE_SHADER_DIR;
+    // Not found: a relative path whose missing files name themselves in the load error.
+    return base::data_dir("shaders").value_or(std::filesystem::path("share/penumbra/shaders"));
 }
 
 }  // namespace penumbra::gpu

@@ -149,7 +149,8 @@ void ConnectionHandler::on_open() {
     }
     const render::RendererInfo& info = context_.services.scheduler.renderer_info();
     send(protocol::hello_message(context_.config.limits,
-                                 {info.renderer, info.version, info.platform}, modes));
+                                 {info.renderer, info.version, info.platform, info.software},
+                                 modes));
 }
 
 bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
@@ -252,20 +253,47 @@ void ConnectionHandler::leave_session() {
 
 void ConnectionHandler::on_close() { leave_session(); }
 
-void ConnectionHandler::finish_open(
+void ConnectionHandler::load_then(
         std::optional<std::int64_t> id, const std::string& volume_id,
-        const base::Result<std::shared_ptr<const volume::Volume>>& volume) {
-    busy_ = false;
+        std::function<void(std::optional<std::int64_t>, const LoadedVolume&)> then) {
+    // Loading reads and converts a file, seconds for a large one: not on the strand.
+    busy_ = true;
+    context_.services.volumes.acquire_async(
+            volume_id, [this, id, then = std::move(then), weak = connection_,
+                        lifeline = context_.lifeline](LoadedVolume volume) mutable {
+                const std::lock_guard lock(lifeline->mutex);
+                auto connection = weak.lock();
+                if (!lifeline->open || !connection) {
+                    return;
+                }
+                // The connection owns this handler and outlives the task.
+                connection->defer([this, id, then = std::move(then), volume = std::move(volume)] {
+                    busy_ = false;
+                    then(id, volume);
+                    handle_waiting();
+                });
+            });
+}
+
+namespace {
+
+// A volume that could not be loaded, as the protocol reports it (at /volume).
+base::Error volume_error(const std::string& volume_id, base::Error error) {
+    if (error.code != protocol::code::unknown_volume) {
+        // The loader's own code and location go into the message.
+        error.message = "volume '" + volume_id + "' could not be loaded: " + error.to_string();
+        error.code = protocol::code::volume_unreadable;
+    }
+    error.where = "/volume";
+    return error;
+}
+
+}  // namespace
+
+void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
+                                    const LoadedVolume& volume) {
     if (!volume) {
-        base::Error error = volume.error();
-        if (error.code != protocol::code::unknown_volume) {
-            // The loader's own code and location go into the message.
-            error.message = "volume '" + volume_id +
-                            "' could not be loaded: " + error.to_string();
-            error.code = protocol::code::volume_unreadable;
-        }
-        error.where = "/volume";
-        reply_error(id, error);
+        reply_error(id, volume_error(volume_id, volume.error()));
         return;
     }
     auto created = context_.services.sessions.create(
@@ -291,6 +319,88 @@ void ConnectionHandler::finish_open(
     PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
     base::log_info("session", "opened " + session_->id() + " on " + volume_id);
+}
+
+void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::Resume& message) {
+    if (!context_.services.sessions.find(message.session) && message.volume &&
+        context_.services.sessions.proves_owner(message.session, message.owner_token)) {
+        // The server that held the session is gone and its owner came here: the cluster's secret
+        // proves the claim (before any volume is loaded for it), and the session comes back under
+        // its id for its viewers to find.
+        load_then(id, *message.volume,
+                  [this, message](std::optional<std::int64_t> request_id,
+                                  const LoadedVolume& volume) {
+                      finish_recreate(request_id, message, volume);
+                  });
+        return;
+    }
+    resume_held(id, message);
+}
+
+void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
+                                        const protocol::Resume& message,
+                                        const LoadedVolume& volume) {
+    if (!volume) {
+        reply_error(id, volume_error(*message.volume, volume.error()));
+        return;
+    }
+    auto recreated = context_.services.sessions.recreate(
+            message.session, message.owner_token, *message.volume, *volume,
+            default_state(context_.config), viewer_, client_, session_.get());
+    if (!recreated) {
+        reply_error(id, recreated.error());
+        return;
+    }
+    if (!recreated->created) {
+        resume_held(id, message);  // another connection re-created it while the volume loaded
+        return;
+    }
+    leave_session();
+    session_ = recreated->session;
+    const auto histogram = context_.services.volumes.histogram(*volume);
+    Sinks sinks = sinks_for(session_->id());
+    // Cannot fail: the session ends only when its owner, this connection, leaves.
+    const auto added = session_->add_viewer(
+            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
+            [&](const session::SessionState& state) {
+                send(protocol::opened_message(
+                        id, session_->id(), summary_of(*message.volume, volume->get()), *histogram,
+                        protocol::state_to_json(to_protocol(state)), session_->owner_token(),
+                        true));
+            });
+    PENUMBRA_ASSERT(added.ok(), "a re-created session refused its owner");
+    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+    base::log_info("session", "re-created " + session_->id() + " on " + *message.volume);
+}
+
+void ConnectionHandler::resume_held(std::optional<std::int64_t> id,
+                                    const protocol::Resume& message) {
+    const auto found = context_.services.sessions.find(message.session);
+    const auto histogram = found ? context_.services.volumes.histogram(found->volume())
+                                 : std::make_shared<const std::vector<std::uint64_t>>();
+    Sinks sinks = sinks_for(message.session);
+    // The check of the token and the change of owner are one step of the session's, and finding
+    // it one of the registry's, so that two connections resuming at once cannot both win and an
+    // ended session stays ended.
+    auto resumed = context_.services.sessions.enter(message.session, [&](session::Session& target) {
+        return target.resume(
+                viewer_, message.owner_token, std::move(sinks.frames),
+                std::move(sinks.state_changed), [&](const session::SessionState& state) {
+                    send(protocol::opened_message(
+                            id, target.id(), summary_of(target.volume_id(), target.volume().get()),
+                            *histogram, protocol::state_to_json(to_protocol(state)),
+                            target.owner_token()));
+                });
+    });
+    if (!resumed) {
+        reply_error(id, resumed.error());
+        return;
+    }
+    if (*resumed != session_) {
+        leave_session();
+        session_ = *resumed;
+    }
+    base::log_info("session", "resumed " + session_->id());
 }
 
 void ConnectionHandler::handle_waiting() {
@@ -322,25 +432,12 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                     }
                     send(protocol::volumes_message(id, list));
                 } else if constexpr (std::is_same_v<T, protocol::Open>) {
-                    // Loading reads and converts a file, seconds for a large one: not here.
-                    busy_ = true;
-                    context_.services.volumes.acquire_async(
-                            message.volume,
-                            [this, id, volume_id = message.volume, weak = connection_,
-                             lifeline = context_.lifeline](
-                                    base::Result<std::shared_ptr<const volume::Volume>> volume) {
-                                const std::lock_guard lock(lifeline->mutex);
-                                auto connection = weak.lock();
-                                if (!lifeline->open || !connection) {
-                                    return;
-                                }
-                                // The connection owns this handler and outlives the task.
-                                connection->defer([this, id, volume_id,
-                                                   volume = std::move(volume)] {
-                                    finish_open(id, volume_id, volume);
-                                    handle_waiting();
-                                });
-                            });
+                    load_then(id, message.volume,
+                              [this, volume_id = message.volume](
+                                      std::optional<std::int64_t> request_id,
+                                      const LoadedVolume& volume) {
+                                  finish_open(request_id, volume_id, volume);
+                              });
                 } else if constexpr (std::is_same_v<T, protocol::Join>) {
                     // Finding the session and joining it are one step of the registry's, so a
                     // session whose last viewer is leaving cannot be joined back to life.
@@ -375,38 +472,7 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         session_ = *joined;
                     }
                 } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    const auto found = context_.services.sessions.find(message.session);
-                    const auto histogram =
-                            found ? context_.services.volumes.histogram(found->volume())
-                                  : std::make_shared<const std::vector<std::uint64_t>>();
-                    Sinks sinks = sinks_for(message.session);
-                    // The check of the token and the change of owner are one step of the
-                    // session's, and finding it one of the registry's, so that two connections
-                    // resuming at once cannot both win and an ended session stays ended.
-                    auto resumed = context_.services.sessions.enter(
-                            message.session, [&](session::Session& target) {
-                                return target.resume(
-                                        viewer_, message.owner_token, std::move(sinks.frames),
-                                        std::move(sinks.state_changed),
-                                        [&](const session::SessionState& state) {
-                                            send(protocol::opened_message(
-                                                    id, target.id(),
-                                                    summary_of(target.volume_id(),
-                                                               target.volume().get()),
-                                                    *histogram,
-                                                    protocol::state_to_json(to_protocol(state)),
-                                                    target.owner_token()));
-                                        });
-                            });
-                    if (!resumed) {
-                        reply_error(id, resumed.error());
-                        return;
-                    }
-                    if (*resumed != session_) {
-                        leave_session();
-                        session_ = *resumed;
-                    }
-                    base::log_info("session", "resumed " + session_->id());
+                    resume(id, message);
                 } else if constexpr (std::is_same_v<T, protocol::Set>) {
                     if (!need_session()) {
                         return;

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -30,9 +31,23 @@ public:
 
 private:
     void handle(const protocol::Request& request);
+    using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
+    // Loads `volume_id` on the volume store's loader threads, the connection busy meanwhile, and
+    // then, on the strand, hands the volume (or the error) to `then` and handles the requests that
+    // waited.
+    void load_then(std::optional<std::int64_t> id, const std::string& volume_id,
+                   std::function<void(std::optional<std::int64_t>, const LoadedVolume&)> then);
     // The second half of `open`, on the strand, once the volume is loaded (or is not).
     void finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
-                     const base::Result<std::shared_ptr<const volume::Volume>>& volume);
+                     const LoadedVolume& volume);
+    // Makes this connection the owner of a session again: the one this server holds, or one that
+    // the cluster's secret lets it re-create once its volume is loaded.
+    void resume(std::optional<std::int64_t> id, const protocol::Resume& message);
+    // Resumes the session this server holds.
+    void resume_held(std::optional<std::int64_t> id, const protocol::Resume& message);
+    // The second half of a resume that re-creates a session, once the volume is loaded.
+    void finish_recreate(std::optional<std::int64_t> id, const protocol::Resume& message,
+                         const LoadedVolume& volume);
     // Handles the requests that waited, until one of them makes the connection busy again.
     void handle_waiting();
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);

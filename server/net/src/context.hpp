@@ -37,6 +37,8 @@ struct Context {
     metrics::Histogram& frame_server_ms;
     metrics::Gauge& sessions;
     metrics::Counter& connections_timed_out;
+    metrics::Counter& upgrades_refused;
+    metrics::Gauge& volume_loads;
 
     Context(ServerConfig c, Services s)
         : config(std::move(c))
@@ -55,7 +57,13 @@ struct Context {
         , sessions(s.metrics.gauge("penumbra_sessions", "Open sessions"))
         , connections_timed_out(s.metrics.counter(
                   "penumbra_connections_timed_out_total",
-                  "WebSocket connections dropped for not answering a ping in time")) {}
+                  "WebSocket connections dropped for not answering a ping in time"))
+        , upgrades_refused(s.metrics.counter(
+                  "penumbra_upgrades_refused_total",
+                  "WebSocket upgrades refused for their Origin or a missing or wrong token"))
+        , volume_loads(s.metrics.gauge("penumbra_volume_loads",
+                                       "Volume files read since the server started (a cluster "
+                                       "that routes by volume reads each once)")) {}
 
     // Open connections, so that shutdown can close them.
     void track(std::weak_ptr<Connection> connection) {

@@ -1,7 +1,10 @@
 #include "http_session.hpp"
 
 #include "static_files.hpp"
+#include "upgrade_policy.hpp"
 #include "websocket_session.hpp"
+
+#include <penumbra/base/log.hpp>
 
 #include <chrono>
 
@@ -47,16 +50,35 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
     }
     http::request<http::string_body> request = parser_->release();
     const std::string target(request.target());
-    if (websocket::is_upgrade(request)) {
-        if (target == "/ws") {
+    const bool keep_alive = request.keep_alive();
+    const unsigned version = request.version();
+    const auto parsed_target = parse_request_target(target);
+    if (websocket::is_upgrade(request) && parsed_target && parsed_target->path == "/ws") {
+        const auto origin = request.find(http::field::origin);
+        const auto checked = check_upgrade(
+                {context_.config.allowed_origins, context_.config.access_token},
+                origin == request.end() ? std::nullopt
+                                        : std::optional<std::string_view>(origin->value()),
+                request[http::field::host], *parsed_target);
+        if (checked) {
             stream_.expires_never();
             std::make_shared<WebSocketSession>(stream_.release_socket(), context_)
                     ->run(std::move(request));
             return;
         }
+        // Refused before the upgrade, with the HTTP status a browser's WebSocket reports.
+        const base::Error& refused = checked.error();
+        context_.upgrades_refused.add();
+        base::log_info("net", "WebSocket upgrade refused: " + refused.to_string());
+        response_ = std::make_shared<http::response<http::string_body>>(
+                make_response(refused.code == "unauthorized" ? http::status::unauthorized
+                                                             : http::status::forbidden,
+                              version, false, refused.message + "\n", "text/plain"));
+        http::async_write(
+                stream_, *response_,
+                beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), false));
+        return;
     }
-    const bool keep_alive = request.keep_alive();
-    const unsigned version = request.version();
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
         response_ = std::make_shared<http::response<http::string_body>>(
                 make_response(http::status::method_not_allowed, version, keep_alive,
@@ -66,6 +88,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
                 make_response(http::status::ok, version, keep_alive, "ok\n", "text/plain"));
     } else if (target == "/metrics") {
         context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
+        context_.volume_loads.set(static_cast<double>(context_.services.volumes.loads()));
         response_ = std::make_shared<http::response<http::string_body>>(make_response(
                 http::status::ok, version, keep_alive, context_.services.metrics.prometheus_text(),
                 "text/plain; version=0.0.4"));

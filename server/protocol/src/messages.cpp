@@ -138,7 +138,7 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         return request;
     }
     if (*type == "resume") {
-        if (auto status = fields({"session", "owner_token"}); !status) {
+        if (auto status = fields({"session", "owner_token", "volume"}); !status) {
             return status.error();
         }
         auto session = required_string(j, "session", 64);
@@ -149,7 +149,15 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         if (!owner_token) {
             return owner_token.error();
         }
-        request.message = Resume{*session, *owner_token};
+        Resume resume{*session, *owner_token, std::nullopt};
+        if (j.contains("volume")) {
+            auto volume = required_string(j, "volume", 256);
+            if (!volume) {
+                return volume.error();
+            }
+            resume.volume = *volume;
+        }
+        request.message = std::move(resume);
         return request;
     }
     if (*type == "render") {
@@ -207,7 +215,8 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer,
                     {"renderer",
                      {{"renderer", renderer.renderer},
                       {"version", renderer.version},
-                      {"platform", renderer.platform}}},
+                      {"platform", renderer.platform},
+                      {"software", renderer.software}}},
                     {"limits",
                      {{"max_message_bytes", limits.max_message_bytes},
                       {"max_image_side", limits.max_image_side},
@@ -249,15 +258,18 @@ std::string volumes_message(std::optional<std::int64_t> id,
 
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, const std::string& owner_token) {
-    return with_id({{"type", "opened"},
+                           const std::string& state_json, const std::string& owner_token,
+                           bool recreated) {
+    json message = {{"type", "opened"},
                     {"session", session},
                     {"volume", volume_json(volume)},
                     {"histogram", histogram},
                     {"state", json::parse(state_json)},
-                    {"owner_token", owner_token}},
-                   id)
-            .dump();
+                    {"owner_token", owner_token}};
+    if (recreated) {
+        message["recreated"] = true;
+    }
+    return with_id(std::move(message), id).dump();
 }
 
 std::string joined_message(std::optional<std::int64_t> id, const std::string& session,

@@ -514,19 +514,23 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     std::filesystem::path shader_dir =
             options.shader_dir.empty() ? gpu::default_shader_dir() : options.shader_dir;
     auto impl = std::make_unique<Impl>(std::move(context.value()), std::move(shader_dir));
-    const bool software = info.renderer.find("llvmpipe") != std::string::npos ||
-                          info.renderer.find("softpipe") != std::string::npos;
-    info.gpu_timer_queries = !software;
-    info.max_shader_loop_iterations = software ? 65535 : 0;
+    info.software = info.renderer.find("llvmpipe") != std::string::npos ||
+                    info.renderer.find("softpipe") != std::string::npos;
+    info.gpu_timer_queries = !info.software;
+    info.max_shader_loop_iterations = info.software ? 65535 : 0;
     impl->info = std::move(info);
     impl->volume_memory_budget = options.volume_memory_budget;
     impl->light_buffer_memory_budget = options.light_buffer_memory_budget;
     impl->max_frame_work = options.max_frame_work;
     impl->chunk_work = options.chunk_work > 0.0 ? options.chunk_work
-                       : software               ? software_chunk_work
+                       : impl->info.software    ? software_chunk_work
                                                 : hardware_chunk_work;
     base::log_info("render", "OpenGL " + impl->info.version + " on " + impl->info.renderer +
                                      " via " + impl->info.platform);
+    if (impl->info.software) {
+        base::log_warning("render", "no GPU found: rendering on the CPU with " +
+                                            impl->info.renderer + " (software rasteriser)");
+    }
     return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 

@@ -1,7 +1,11 @@
 #include "penumbra/session/session.hpp"
 
+#include <array>
 #include <cstdio>
 #include <random>
+
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
 
 namespace penumbra::session {
 namespace {
@@ -37,13 +41,50 @@ bool same_token(std::string_view a, std::string_view b) {
 
 }  // namespace
 
+// Hex digits of an owner token: 128 bits, as many as a random one.
+constexpr std::size_t owner_token_digits = 32;
+
+OwnerTokens::OwnerTokens(std::string cluster_secret)
+    : secret_(std::move(cluster_secret)) {}
+
+std::string OwnerTokens::token_for(const std::string& session_id) const {
+    if (secret_.empty()) {
+        return random_secret();
+    }
+    // The purpose goes into the message, so that the secret's HMAC of a session id means nothing
+    // anywhere else.
+    const std::string message = "penumbra owner token\n" + session_id;
+    std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+    unsigned int length = 0;
+    HMAC(EVP_sha256(), secret_.data(), static_cast<int>(secret_.size()),
+         reinterpret_cast<const unsigned char*>(message.data()), message.size(), digest.data(),
+         &length);
+    std::string text;
+    for (unsigned int i = 0; i < length && text.size() < owner_token_digits; ++i) {
+        char hex[3];
+        std::snprintf(hex, sizeof hex, "%02x", digest[i]);
+        text += hex;
+    }
+    return text;
+}
+
+bool OwnerTokens::proves(const std::string& session_id, std::string_view owner_token) const {
+    return derived() && same_token(owner_token, token_for(session_id));
+}
+
 Session::Session(std::string id, std::string volume_id,
                  std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
                  std::string client)
+    : Session(std::move(id), std::move(volume_id), std::move(volume), std::move(state), owner,
+              std::move(client), random_secret()) {}
+
+Session::Session(std::string id, std::string volume_id,
+                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::string client, std::string owner_token)
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
     , volume_(std::move(volume))
-    , owner_token_(random_secret())
+    , owner_token_(std::move(owner_token))
     , opened_by_(owner)
     , client_(std::move(client))
     , owner_(owner)
@@ -179,15 +220,16 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     return job;
 }
 
-SessionRegistry::SessionRegistry(int max_sessions, int max_per_client, int max_per_connection)
+SessionRegistry::SessionRegistry(int max_sessions, OwnerTokens owner_tokens, int max_per_client,
+                                 int max_per_connection)
     : max_sessions_(max_sessions)
+    , owner_tokens_(std::move(owner_tokens))
     , max_per_client_(max_per_client)
     , max_per_connection_(max_per_connection) {}
 
-base::Result<std::shared_ptr<Session>> SessionRegistry::create(
-        std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
-        ViewerId owner, const std::string& client, const Session* replacing) {
-    const std::lock_guard lock(mutex_);
+base::Status SessionRegistry::check_limits(ViewerId owner, const std::string& client,
+                                           const Session* replacing,
+                                           const std::string& where) const {
     int of_client = 0;
     int of_connection = 0;
     for (const auto& [id, session] : sessions_) {
@@ -196,11 +238,11 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
             of_connection += session->opened_by() == owner ? 1 : 0;
         }
     }
-    const auto refuse = [](const std::string& who, int maximum) {
-        return base::make_error("too_many_sessions",
-                                who + " already holds its maximum of " + std::to_string(maximum) +
-                                        " sessions",
-                                "/volume");
+    const auto refuse = [&](const std::string& who, int maximum) {
+        return base::make_error(
+                "too_many_sessions",
+                who + " already holds its maximum of " + std::to_string(maximum) + " sessions",
+                where);
     };
     if (static_cast<int>(sessions_.size()) >= max_sessions_) {
         return refuse("the server", max_sessions_);
@@ -211,10 +253,48 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
     if (of_connection >= max_per_connection_) {
         return refuse("this connection", max_per_connection_);
     }
-    auto session = std::make_shared<Session>(random_secret(), std::move(volume_id),
-                                             std::move(volume), std::move(state), owner, client);
+    return base::Ok{};
+}
+
+base::Result<std::shared_ptr<Session>> SessionRegistry::create(
+        std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
+        ViewerId owner, const std::string& client, const Session* replacing) {
+    const std::lock_guard lock(mutex_);
+    if (auto allowed = check_limits(owner, client, replacing, "/volume"); !allowed) {
+        return allowed.error();
+    }
+    std::string id = random_secret();
+    std::string owner_token = owner_tokens_.token_for(id);
+    auto session =
+            std::make_shared<Session>(std::move(id), std::move(volume_id), std::move(volume),
+                                      std::move(state), owner, client, std::move(owner_token));
     sessions_.emplace(session->id(), session);
     return session;
+}
+
+base::Result<SessionRegistry::Recreated> SessionRegistry::recreate(
+        const std::string& id, std::string_view owner_token, std::string volume_id,
+        std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+        const std::string& client, const Session* replacing) {
+    if (!owner_tokens_.derived()) {
+        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+    }
+    if (!owner_tokens_.proves(id, owner_token)) {
+        return base::make_error("invalid_value", "not the owner token of this session",
+                                "/owner_token");
+    }
+    const std::lock_guard lock(mutex_);
+    if (const auto found = sessions_.find(id); found != sessions_.end()) {
+        return Recreated{found->second, false};
+    }
+    if (auto allowed = check_limits(owner, client, replacing, "/session"); !allowed) {
+        return allowed.error();
+    }
+    auto session =
+            std::make_shared<Session>(id, std::move(volume_id), std::move(volume), std::move(state),
+                                      owner, client, std::string(owner_token));
+    sessions_.emplace(id, session);
+    return Recreated{session, true};
 }
 
 std::shared_ptr<Session> SessionRegistry::find(const std::string& id) const {

@@ -28,6 +28,12 @@ TEST(ParseRequest, ReadsTheMembersOfEachMessage) {
     ASSERT_TRUE(resume.ok());
     EXPECT_EQ(std::get<Resume>(resume->message).session, "s9");
     EXPECT_EQ(std::get<Resume>(resume->message).owner_token, "0f1e");
+    EXPECT_FALSE(std::get<Resume>(resume->message).volume.has_value());
+    const auto resume_on = parse_request(
+            R"({"v":1,"type":"resume","session":"s9","owner_token":"0f1e","volume":"ch2.nii.gz"})",
+            limits);
+    ASSERT_TRUE(resume_on.ok());
+    EXPECT_EQ(std::get<Resume>(resume_on->message).volume, "ch2.nii.gz");
 
     const auto still = parse_request(R"({"v":1,"type":"render"})", limits);
     ASSERT_TRUE(still.ok());
@@ -140,7 +146,8 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     Limits limits;
     limits.max_image_side = 1000;
     limits.max_requests_per_second = 30.5;
-    const json hello = json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux"}, {"dvr"}));
+    const json hello =
+            json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux", true}, {"dvr"}));
     EXPECT_EQ(hello.at("type"), "hello");
     EXPECT_EQ(hello.at("v"), 1);
     EXPECT_FALSE(hello.contains("id"));
@@ -149,6 +156,7 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
     EXPECT_EQ(hello.at("limits").at("max_json_depth"), limits.max_json_depth);
     EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
+    EXPECT_EQ(hello.at("renderer").at("software"), true);
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {
@@ -163,6 +171,10 @@ TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerTok
     EXPECT_EQ(opened.at("state"), json::parse(state_json));
     EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));
     EXPECT_EQ(opened.at("owner_token"), "00ff");
+    EXPECT_FALSE(opened.contains("recreated"));
+    const json recreated =
+            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff", true));
+    EXPECT_EQ(recreated.at("recreated"), true);
     const json joined = json::parse(joined_message(1, "s1", volume, {}, state_json));
     EXPECT_EQ(joined.at("type"), "joined");
     EXPECT_EQ(joined.at("state"), json::parse(state_json));

@@ -284,5 +284,73 @@ TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
     EXPECT_EQ(joined_first + refused, 200);
 }
 
+TEST(OwnerTokens, AClusterSecretDerivesTheSameTokenOnEveryServerAndAnotherSecretDoesNot) {
+    const OwnerTokens here("shared secret");
+    const OwnerTokens there("shared secret");
+    const OwnerTokens elsewhere("another secret");
+    const std::string token = here.token_for("0123abcd");
+    EXPECT_EQ(token.size(), 32U);
+    EXPECT_EQ(token.find_first_not_of("0123456789abcdef"), std::string::npos);
+    EXPECT_EQ(there.token_for("0123abcd"), token);
+    EXPECT_TRUE(there.proves("0123abcd", token));
+    EXPECT_FALSE(there.proves("0123abce", token)) << "a token proves its own session only";
+    EXPECT_FALSE(elsewhere.proves("0123abcd", token));
+    EXPECT_FALSE(OwnerTokens().proves("0123abcd", token)) << "random tokens prove nothing";
+    EXPECT_NE(OwnerTokens().token_for("0123abcd"), OwnerTokens().token_for("0123abcd"));
+}
+
+TEST(SessionRegistry, AnotherServerOfTheClusterRecreatesASessionForItsOwnerOnly) {
+    SessionRegistry died(4, OwnerTokens("cluster"));
+    auto created = died.create("v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
+    ASSERT_TRUE(created.ok());
+    const std::string id = (*created)->id();
+    const std::string token = (*created)->owner_token();
+
+    SessionRegistry successor(4, OwnerTokens("cluster"));
+    EXPECT_TRUE(successor.proves_owner(id, token));
+    EXPECT_FALSE(successor.proves_owner(id, std::string(32, '0')));
+    const auto forged = successor.recreate(id, std::string(32, '0'), "v", nullptr, {}, resuming);
+    ASSERT_FALSE(forged.ok());
+    EXPECT_EQ(forged.error().code, "invalid_value");
+    EXPECT_EQ(forged.error().where, "/owner_token");
+    EXPECT_EQ(successor.count(), 0U);
+
+    const auto recreated = successor.recreate(id, token, "v", nullptr,
+                                              state_with_mode(scene::Mode::dvr), resuming);
+    ASSERT_TRUE(recreated.ok());
+    EXPECT_TRUE(recreated->created);
+    EXPECT_EQ(recreated->session->id(), id);
+    EXPECT_EQ(recreated->session->owner_token(), token);
+    EXPECT_TRUE(recreated->session->is_owner(resuming));
+    EXPECT_EQ(successor.find(id), recreated->session) << "viewers joining the id find it";
+
+    const auto again = successor.recreate(id, token, "v", nullptr, {}, owner);
+    ASSERT_TRUE(again.ok());
+    EXPECT_FALSE(again->created) << "an existing session is resumed, not replaced";
+    EXPECT_EQ(again->session, recreated->session);
+}
+
+TEST(SessionRegistry, AServerWithoutClusterSecretRecreatesNothing) {
+    SessionRegistry alone(4);
+    auto created = alone.create("v", nullptr, {}, owner);
+    ASSERT_TRUE(created.ok());
+    EXPECT_FALSE(alone.derives_owner_tokens());
+    SessionRegistry other(4);
+    const auto refused =
+            other.recreate((*created)->id(), (*created)->owner_token(), "v", nullptr, {}, resuming);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "unknown_session");
+}
+
+TEST(SessionRegistry, RecreatingRespectsTheSessionLimit) {
+    SessionRegistry full(1, OwnerTokens("cluster"));
+    ASSERT_TRUE(full.create("v", nullptr, {}, owner).ok());
+    const OwnerTokens tokens("cluster");
+    const auto refused =
+            full.recreate("elsewhere", tokens.token_for("elsewhere"), "v", nullptr, {}, resuming);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "too_many_sessions");
+}
+
 }  // namespace
 }  // namespace penumbra::session

@@ -49,8 +49,8 @@ private:
 // into "file.glsl:12: error: ..." using the file table of an ExpandedSource.
 std::string resolve_log_lines(const std::string& log, const std::vector<std::string>& files);
 
-// Finds the shader folder: $PENUMBRA_SHADER_DIR, then `shaders/` beside or above the executable,
-// then the source tree the binary was built from.
+// Finds the shader folder: $PENUMBRA_SHADER_DIR, else share/penumbra/shaders above the executable
+// (base::data_dir: an install prefix, or a build tree's links into the source tree).
 std::filesystem::path default_shader_dir();
 
 }  // namespace penumbra::gpu

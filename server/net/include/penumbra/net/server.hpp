@@ -35,6 +35,11 @@ struct ServerConfig {
     // this request header of the WebSocket upgrade. Only for a proxy that overwrites the header:
     // clients could otherwise name themselves.
     std::string client_address_header;
+    // Who may open the WebSocket at /ws. A browser's Origin must be the server's own or one of
+    // these ("*": any); clients that send no Origin (not browsers) are not concerned.
+    std::vector<std::string> allowed_origins;
+    // Not empty: the upgrade must carry it as the `token` query parameter (/ws?token=...).
+    std::string access_token;
 };
 
 // What the server serves; owned by the caller and outliving the server.

@@ -66,6 +66,9 @@ struct Close {};
 struct Resume {
     std::string session;
     std::string owner_token;
+    // The session's volume. A server of a cluster that shares the secret owner tokens derive from
+    // re-creates a session it does not hold (its replica died) on this volume.
+    std::optional<std::string> volume;
 };
 
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
@@ -97,6 +100,7 @@ struct RendererSummary {
     std::string renderer;
     std::string version;
     std::string platform;
+    bool software = false;  // a software rasteriser (llvmpipe): no GPU
 };
 
 std::string hello_message(const Limits& limits, const RendererSummary& renderer,
@@ -105,9 +109,12 @@ std::string volumes_message(std::optional<std::int64_t> id,
                             const std::vector<VolumeSummary>& volumes);
 // `state` is the session's full state (what `set` can change), as the client should show it.
 // `opened` answers open and resume and carries the owner token, which a viewer never learns.
+// `recreated`: a resume re-created the session here with the default state (the replica that held
+// it is gone), so the owner sends its state back.
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, const std::string& owner_token);
+                           const std::string& state_json, const std::string& owner_token,
+                           bool recreated = false);
 std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
                            const std::string& state_json);

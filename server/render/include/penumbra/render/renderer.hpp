@@ -49,6 +49,8 @@ struct RendererInfo {
     int max_3d_texture_size = 0;
     int max_texture_size = 0;
     int max_array_texture_layers = 0;
+    // Mesa's software rasterisers (llvmpipe, softpipe): no GPU found, frames are drawn on the CPU.
+    bool software = false;
     // False on Mesa's software rasterisers, whose timer queries do not measure compute dispatches
     // and return garbage for draws; pass times then carry gpu_ms = -1 and only wall times count.
     bool gpu_timer_queries = true;

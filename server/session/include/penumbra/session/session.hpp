@@ -49,6 +49,10 @@ public:
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
             SessionState state, ViewerId owner, std::string client = {});
 
+    // The same with the owner token given (derived from the id, see OwnerTokens).
+    Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
+            SessionState state, ViewerId owner, std::string client, std::string owner_token);
+
     [[nodiscard]] const std::string& id() const { return id_; }
 
     [[nodiscard]] const std::string& volume_id() const { return volume_id_; }
@@ -126,14 +130,39 @@ private:
     std::atomic<std::uint64_t> frames_{0};
 };
 
+// Where owner tokens come from. Alone, a server draws each at random. The servers of a cluster
+// derive it from the session id with a secret they share (HMAC-SHA256), so that any of them can
+// check an owner's claim to a session that another one held, and re-create the session when that
+// server is gone: its viewers then find it again under the same id.
+class OwnerTokens {
+public:
+    // Random tokens, for a server on its own.
+    OwnerTokens() = default;
+
+    // Tokens derived from the session id with `cluster_secret` (not empty).
+    explicit OwnerTokens(std::string cluster_secret);
+
+    [[nodiscard]] bool derived() const { return !secret_.empty(); }
+
+    [[nodiscard]] std::string token_for(const std::string& session_id) const;
+
+    // Whether `owner_token` is the derived token of `session_id`, in constant time. Always false
+    // for random tokens: only the session knows its own.
+    [[nodiscard]] bool proves(const std::string& session_id, std::string_view owner_token) const;
+
+private:
+    std::string secret_;
+};
+
 // All sessions of a server, by id, up to a limit in all, per client and per connection. A session
 // is in the registry exactly while it has viewers: entering one (join, resume) and leaving one
 // happen under the registry's lock, so a connection joining while the last one leaves either
 // joins before the session ends or finds no session, never an ended one.
 class SessionRegistry {
 public:
-    explicit SessionRegistry(int max_sessions, int max_per_client = 1 << 30,
-                             int max_per_connection = 1 << 30);
+    // Owner tokens are random unless `owner_tokens` derives them (a cluster).
+    explicit SessionRegistry(int max_sessions, OwnerTokens owner_tokens = {},
+                             int max_per_client = 1 << 30, int max_per_connection = 1 << 30);
 
     // A session opened by connection `owner` of `client`. Fails with too_many_sessions when the
     // server, the client or the connection holds its maximum; `replacing`, the session the
@@ -143,6 +172,32 @@ public:
                                                   SessionState state, ViewerId owner,
                                                   const std::string& client = {},
                                                   const Session* replacing = nullptr);
+
+    struct Recreated {
+        std::shared_ptr<Session> session;
+        bool created = false;  // false: the session was here already (nobody owns it through this)
+    };
+
+    // Re-creates session `id`, which this server does not hold, on `volume` with `state`, owned by
+    // connection `owner` of `client`, if `owner_token` proves the claim (derived tokens only).
+    // Fails with unknown_session when tokens are random (nothing can prove a claim), invalid_value
+    // at /owner_token for a token that does not, and too_many_sessions at the limits of create
+    // (`replacing` as there). A session of that id that exists already is returned as it is, for
+    // the caller to resume.
+    base::Result<Recreated> recreate(const std::string& id, std::string_view owner_token,
+                                     std::string volume_id,
+                                     std::shared_ptr<const volume::Volume> volume,
+                                     SessionState state, ViewerId owner,
+                                     const std::string& client = {},
+                                     const Session* replacing = nullptr);
+
+    [[nodiscard]] bool derives_owner_tokens() const { return owner_tokens_.derived(); }
+
+    // Whether `owner_token` proves a claim to session `id` (derived tokens only), so that nothing
+    // is loaded for a claim that recreate would refuse.
+    [[nodiscard]] bool proves_owner(const std::string& id, std::string_view owner_token) const {
+        return owner_tokens_.proves(id, owner_token);
+    }
 
     [[nodiscard]] std::shared_ptr<Session> find(const std::string& id) const;
 
@@ -159,7 +214,13 @@ public:
     [[nodiscard]] std::size_t count() const;
 
 private:
+    // Under the lock: too_many_sessions (at `where`) when the server, `client` or connection
+    // `owner` holds its maximum, not counting `replacing`.
+    base::Status check_limits(ViewerId owner, const std::string& client, const Session* replacing,
+                              const std::string& where) const;
+
     int max_sessions_;
+    OwnerTokens owner_tokens_;
     int max_per_client_;
     int max_per_connection_;
     mutable std::mutex mutex_;

@@ -1,0 +1,18 @@
+#pragma once
+
+// Where the files the binary reads at run time lie (shaders, the built web client, the accuracy
+// tables): `share/penumbra/<part>` under the nearest folder above the running binary that has it.
+// An install puts the binary in PREFIX/bin and those files in PREFIX/share/penumbra; a build tree
+// gets BUILD/share/penumbra/* as links into the source tree at configure time. No path is compiled
+// in, so an installed tree works wherever it is moved.
+
+#include <filesystem>
+#include <optional>
+#include <string_view>
+
+namespace penumbra::base {
+
+// Nothing when no folder above the binary has share/penumbra/<part>.
+std::optional<std::filesystem::path> data_dir(std::string_view part);
+
+}  // namespace penumbra::base
