@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -165,9 +167,11 @@ protected:
         volumes_ = std::make_unique<session::VolumeStore>(data_, std::size_t{1} << 30);
         ASSERT_TRUE(volumes_->scan().ok());
         metrics_ = std::make_unique<metrics::Registry>();
+        render::RendererOptions renderer_options;
+        renderer_options.max_frame_work = limits.max_frame_work;
         auto scheduler = session::Scheduler::create(
-                []() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
-                    auto renderer = render::Renderer::create();
+                [renderer_options]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                    auto renderer = render::Renderer::create(renderer_options);
                     if (!renderer) {
                         return renderer.error();
                     }
@@ -910,6 +914,64 @@ TEST_F(ServerTest, AFrameBudgetPicksTheMostAccurateMeasuredSettingThatFits) {
     client.request(R"({"v":1,"type":"set","settings":{"frame_budget_ms":0}})");
     client.send(R"({"v":1,"type":"render","id":2})");
     EXPECT_EQ(client.next_frame().header.mode, "dvr");
+}
+
+TEST_F(ServerTest, AFrameOverTheWorkCeilingIsRefusedWithItsEstimateAndTheCeiling) {
+    protocol::Limits limits;
+    limits.max_frame_work = 1e8;
+    start(limits);
+    TestClient client(port_);
+    EXPECT_EQ(nlohmann::json::parse(client.hello).at("limits").at("max_frame_work"), 1e8);
+    client.open("heads/ch2.nii.gz", 64);
+    ASSERT_EQ(field(client.request(R"({"v":1,"type":"set","settings":{"size":[1024,1024]}})"),
+                    "type"),
+              "ack");
+    client.send(R"({"v":1,"type":"render","id":1})");
+    const std::string refused = client.next_text();
+    EXPECT_EQ(field(refused, "code"), "render_failed") << refused;
+    EXPECT_NE(refused.find("[too_much_work]"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("1e+08"), std::string::npos) << refused;
+    ASSERT_EQ(field(client.request(R"({"v":1,"type":"set","settings":{"size":[64,64]}})"), "type"),
+              "ack");
+    client.send(R"({"v":1,"type":"render","id":2})");
+    EXPECT_EQ(client.next_frame().header.request, 2);
+}
+
+// Finding 3: a frame that would hold the only render thread for many minutes (2048^2 pixels at
+// sample distance 1/4096: about 3e10 iterations, under the default ceiling) gives it up between
+// two of its chunks when its session asks for a newer frame, and when its session closes. The
+// bound (15 s) is far above what a chunk takes and far below what the frame would.
+TEST_F(ServerTest, ANewerRequestOrClosingTheSessionCancelsALongFrame) {
+    using namespace std::chrono_literals;
+    const std::string long_frame =
+            R"({"v":1,"type":"set","settings":{"mode":"dvr","size":[2048,2048],)"
+            R"("sample_distance":0.000244140625}})";
+    const std::string short_frame =
+            R"({"v":1,"type":"set","settings":{"size":[32,32],"sample_distance":0.00390625}})";
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz");
+    ASSERT_EQ(field(client.request(long_frame), "type"), "ack");
+    client.send(R"({"v":1,"type":"render","id":1})");
+    std::this_thread::sleep_for(1s);  // rendering now
+    ASSERT_EQ(field(client.request(short_frame), "type"), "ack");
+    auto start = std::chrono::steady_clock::now();
+    client.send(R"({"v":1,"type":"render","id":2})");
+    EXPECT_EQ(client.next_frame(15s).header.request, 2);
+    std::printf("[ measured ] newer request answered after %.2f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+
+    auto hog = std::make_unique<TestClient>(port_);
+    hog->open("heads/ch2.nii.gz");
+    ASSERT_EQ(field(hog->request(long_frame), "type"), "ack");
+    hog->send(R"({"v":1,"type":"render","id":1})");
+    std::this_thread::sleep_for(1s);
+    client.send(R"({"v":1,"type":"render","id":3})");  // waits behind the hog's frame
+    std::this_thread::sleep_for(500ms);
+    start = std::chrono::steady_clock::now();
+    hog.reset();  // the connection closes, and with it the session
+    EXPECT_EQ(client.next_frame(15s).header.request, 3);
+    std::printf("[ measured ] frame of another session answered %.2f s after the close\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {

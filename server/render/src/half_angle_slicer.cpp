@@ -4,29 +4,9 @@
 #include <vector>
 
 namespace penumbra::render {
-namespace {
 
-enum Kind { eye_pass = 0, light_pass = 1, resolve = 2 };
-
-}  // namespace
-
-HalfAngleSlicer::HalfAngleSlicer(const gpu::ShaderLibrary& shaders) : shaders_(shaders) {}
-
-base::Result<const gpu::Program*> HalfAngleSlicer::program(const std::string& variant,
-                                                           const gpu::Defines& defines, int kind) {
-    const std::string key = std::to_string(kind) + " " + variant;
-    if (auto found = programs_.find(key); found != programs_.end()) {
-        return &found->second;
-    }
-    gpu::Defines all = defines;
-    all.emplace_back("HALF_ANGLE_LIGHT_PASS", kind == light_pass ? "1" : "0");
-    auto built = kind == resolve ? shaders_.build_compute("resolve.comp", {})
-                                 : shaders_.build_graphics("half_angle.vert", "half_angle.frag", all);
-    if (!built) {
-        return built.error();
-    }
-    return &programs_.emplace(key, std::move(built.value())).first->second;
-}
+HalfAngleSlicer::HalfAngleSlicer(ProgramCache& programs)
+    : programs_(programs) {}
 
 void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution) {
     if (!eye_ || width != width_ || height != height_) {
@@ -55,13 +35,14 @@ void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution
 base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int width, int height,
                                   int light_resolution, const gpu::Defines& defines,
                                   FrameTarget& target, gpu::GpuTimer& timer, WorkChunks& chunks) {
-    std::string variant;
-    for (const auto& [name, value] : defines) {
-        variant += name + "=" + value + " ";
-    }
-    auto eye_program = program(variant, defines, eye_pass);
-    auto light_program = program(variant, defines, light_pass);
-    auto resolve_program = program("", {}, resolve);
+    const auto pass_program = [&](bool light_pass) {
+        gpu::Defines all = defines;
+        all.emplace_back("HALF_ANGLE_LIGHT_PASS", light_pass ? "1" : "0");
+        return programs_.graphics("half_angle.vert", "half_angle.frag", all);
+    };
+    auto eye_program = pass_program(false);
+    auto light_program = pass_program(true);
+    auto resolve_program = programs_.compute("resolve.comp");
     if (!eye_program || !light_program || !resolve_program) {
         return !eye_program ? eye_program.error()
                             : !light_program ? light_program.error() : resolve_program.error();

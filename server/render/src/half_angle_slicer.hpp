@@ -1,6 +1,7 @@
 #pragma once
 
 #include "frame_target.hpp"
+#include "program_cache.hpp"
 #include "slice_geometry.hpp"
 #include "work_chunks.hpp"
 
@@ -10,7 +11,6 @@
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
 
-#include <map>
 #include <string>
 
 namespace penumbra::render {
@@ -22,7 +22,7 @@ namespace penumbra::render {
 // units 0 and 1.
 class HalfAngleSlicer {
 public:
-    explicit HalfAngleSlicer(const gpu::ShaderLibrary& shaders);
+    explicit HalfAngleSlicer(ProgramCache& programs);
 
     // `front_to_back`: the eye and the light are on the same side, composite with "under";
     // otherwise back to front with "over". Issued in groups of slices; fails with
@@ -35,12 +35,9 @@ public:
     [[nodiscard]] base::ImageRgba8 light_image() const;
 
 private:
-    base::Result<const gpu::Program*> program(const std::string& file_key, const gpu::Defines& defines,
-                                              int kind);
     void ensure_buffers(int width, int height, int light_resolution);
 
-    const gpu::ShaderLibrary& shaders_;
-    std::map<std::string, gpu::Program> programs_;
+    ProgramCache& programs_;
     gpu::Texture eye_;
     gpu::Framebuffer eye_framebuffer_;
     gpu::Texture light_;

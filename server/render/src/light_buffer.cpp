@@ -34,31 +34,16 @@ base::ImageRgba8 LightBuffer::layer_image(int layer) const {
     return transmittance_image(values, resolution_);
 }
 
-LightBufferBuilder::LightBufferBuilder(const gpu::ShaderLibrary& shaders) : shaders_(shaders) {}
-
-base::Result<const gpu::Program*> LightBufferBuilder::program(const gpu::Defines& defines,
-                                                              bool per_slice) {
-    std::string key = per_slice ? "per_slice" : "multi_slice";
-    for (const auto& [name, value] : defines) {
-        key += " " + name + "=" + value;
-    }
-    if (auto found = programs_.find(key); found != programs_.end()) {
-        return &found->second;
-    }
-    auto built = per_slice ? shaders_.build_graphics("light_buffer_slice.vert",
-                                                     "light_buffer_slice.frag", defines)
-                           : shaders_.build_compute("light_buffer.comp", defines);
-    if (!built) {
-        return built.error();
-    }
-    return &programs_.emplace(key, std::move(built.value())).first->second;
-}
+LightBufferBuilder::LightBufferBuilder(ProgramCache& programs)
+    : programs_(programs) {}
 
 base::Status LightBufferBuilder::build(LightBuffer& target, scene::LightBufferBuilder builder,
                                        const SliceMesh& mesh, const gpu::Defines& defines,
                                        int slab_samples, gpu::GpuTimer& timer, WorkChunks& chunks) {
     const bool per_slice = builder == scene::LightBufferBuilder::per_slice;
-    auto built = program(defines, per_slice);
+    auto built = per_slice ? programs_.graphics("light_buffer_slice.vert",
+                                                "light_buffer_slice.frag", defines)
+                           : programs_.compute("light_buffer.comp", defines);
     if (!built) {
         return built.error();
     }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "program_cache.hpp"
 #include "slice_geometry.hpp"
 #include "work_chunks.hpp"
 
@@ -10,7 +11,6 @@
 #include <penumbra/gpu/timer.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
-#include <map>
 #include <string>
 #include <vector>
 
@@ -52,7 +52,7 @@ private:
 // volume and TF textures on units 0 and 1.
 class LightBufferBuilder {
 public:
-    explicit LightBufferBuilder(const gpu::ShaderLibrary& shaders);
+    explicit LightBufferBuilder(ProgramCache& programs);
 
     // `mesh` carries the slice polygons builder A draws; `defines` is the compositing variant;
     // `slab_samples` the points each texel samples per slice, which sizes the chunks. Fails with
@@ -62,15 +62,13 @@ public:
                        gpu::GpuTimer& timer, WorkChunks& chunks);
 
 private:
-    base::Result<const gpu::Program*> program(const gpu::Defines& defines, bool per_slice);
     base::Status build_per_slice(LightBuffer& target, const SliceMesh& mesh,
                                  const gpu::Program& program, double work_per_slice,
                                  WorkChunks& chunks);
     static base::Status build_multi_slice(LightBuffer& target, const gpu::Program& program,
                                           double work_per_texel, WorkChunks& chunks);
 
-    const gpu::ShaderLibrary& shaders_;
-    std::map<std::string, gpu::Program> programs_;
+    ProgramCache& programs_;
     gpu::Texture scratch_;  // builder A's framebuffer colour
     gpu::Framebuffer scratch_framebuffer_;
     int scratch_resolution_ = 0;

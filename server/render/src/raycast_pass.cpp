@@ -24,34 +24,14 @@ std::string RaycastVariant::key() const {
     return text + scene::to_string(stage);
 }
 
-RaycastPass::RaycastPass(const gpu::ShaderLibrary& shaders)
-    : shaders_(shaders)
+RaycastPass::RaycastPass(ProgramCache& programs)
+    : programs_(programs)
     , empty_vertex_array_(gpu::create_vertex_array()) {}
 
 base::Result<const gpu::Program*> RaycastPass::program_for(const RaycastVariant& variant) {
-    const std::string key = variant.key();
-    if (auto found = programs_.find(key); found != programs_.end()) {
-        return &found->second;
-    }
-    auto program = variant.stage == scene::RaycastStage::compute
-                           ? shaders_.build_compute("raycast.comp", variant.defines())
-                           : shaders_.build_graphics("fullscreen.vert", "raycast.frag",
-                                                     variant.defines());
-    if (!program) {
-        return program.error();
-    }
-    return &programs_.emplace(key, std::move(program.value())).first->second;
-}
-
-base::Result<const gpu::Program*> RaycastPass::resolve_program() {
-    if (auto found = programs_.find("resolve"); found != programs_.end()) {
-        return &found->second;
-    }
-    auto program = shaders_.build_compute("resolve.comp", {});
-    if (!program) {
-        return program.error();
-    }
-    return &programs_.emplace("resolve", std::move(program.value())).first->second;
+    return variant.stage == scene::RaycastStage::compute
+                   ? programs_.compute("raycast.comp", variant.defines())
+                   : programs_.graphics("fullscreen.vert", "raycast.frag", variant.defines());
 }
 
 namespace {
@@ -154,7 +134,7 @@ base::Status RaycastPass::run_compute_chunks(const RaycastVariant& variant, int 
                                              const MarchBudget& budget, const MarchChunks& layout,
                                              FrameTarget& target, WorkChunks& chunks) {
     auto program = program_for(variant);
-    auto resolve = resolve_program();
+    auto resolve = programs_.compute("resolve.comp");
     if (!program || !resolve) {
         return !program ? program.error() : resolve.error();
     }

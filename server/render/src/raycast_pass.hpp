@@ -1,6 +1,7 @@
 #pragma once
 
 #include "frame_target.hpp"
+#include "program_cache.hpp"
 #include "work_chunks.hpp"
 
 #include <penumbra/base/result.hpp>
@@ -9,7 +10,6 @@
 #include <penumbra/gpu/timer.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
-#include <map>
 #include <string>
 
 namespace penumbra::render {
@@ -58,7 +58,7 @@ MarchChunks plan_march_chunks(const MarchBudget& budget, int width, int height,
 // 0 and 1 and, for light-buffer shadows, the light buffer on unit 2.
 class RaycastPass {
 public:
-    explicit RaycastPass(const gpu::ShaderLibrary& shaders);
+    explicit RaycastPass(ProgramCache& programs);
 
     // Returns how many chunks the frame took (1 unless the rays were marched in chunks); fails
     // with cancelled_error() when `chunks` says the frame was cancelled.
@@ -67,7 +67,6 @@ public:
 
 private:
     base::Result<const gpu::Program*> program_for(const RaycastVariant& variant);
-    base::Result<const gpu::Program*> resolve_program();
     base::Status run_compute_chunks(const RaycastVariant& variant, int width, int height,
                                     const MarchBudget& budget, const MarchChunks& layout,
                                     FrameTarget& target, WorkChunks& chunks);
@@ -75,8 +74,7 @@ private:
                                     const MarchChunks& layout, FrameTarget& target,
                                     WorkChunks& chunks);
 
-    const gpu::ShaderLibrary& shaders_;
-    std::map<std::string, gpu::Program> programs_;
+    ProgramCache& programs_;
     gpu::VertexArray empty_vertex_array_;
     gpu::Texture accumulation_;
     int accumulation_width_ = 0;

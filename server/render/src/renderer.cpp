@@ -4,6 +4,7 @@
 #include "frame_target.hpp"
 #include "half_angle_slicer.hpp"
 #include "light_buffer.hpp"
+#include "program_cache.hpp"
 #include "raycast_pass.hpp"
 #include "slice_geometry.hpp"
 #include "uniforms.hpp"
@@ -157,6 +158,7 @@ struct Renderer::Impl {
     gpu::Context context;
     RendererInfo info;
     gpu::ShaderLibrary shaders;
+    ProgramCache programs;
     gpu::Buffer uniform_buffer;
     FrameTarget target;
     RaycastPass raycast;
@@ -225,10 +227,11 @@ struct Renderer::Impl {
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
         : context(std::move(c))
         , shaders(std::move(shader_dir))
+        , programs(shaders)
         , uniform_buffer(gpu::create_buffer())
-        , raycast(shaders)
-        , light_buffer_builder(shaders)
-        , half_angle(shaders) {
+        , raycast(programs)
+        , light_buffer_builder(programs)
+        , half_angle(programs) {
         glNamedBufferStorage(uniform_buffer.name(), sizeof(FrameUniforms), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
     }

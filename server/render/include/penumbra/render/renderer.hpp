@@ -69,8 +69,10 @@ public:
 
     virtual base::Status set_volume(std::shared_ptr<const volume::Volume> volume) = 0;
 
-    // Renders one frame, or fails with `too_much_work` (over the work ceiling, before anything
-    // runs), `cancelled` (when `cancelled` said so between chunks), or why it could not.
+    // Renders one frame, or fails with `too_much_work` (over the work ceiling) or
+    // `light_buffer_too_large` (over the light-buffer budget), both before anything runs,
+    // `cancelled` (when `cancelled` said so between chunks), or why it could not. Without a
+    // predicate the frame cannot be cancelled and runs in as few dispatches as the GL allows.
     virtual base::Result<Frame> render(const scene::FrameRequest& request,
                                        const CancelPredicate& cancelled) = 0;
 
@@ -82,8 +84,8 @@ public:
 
 // The GPU renderer. It owns the headless GL context, so it is created, used and destroyed on one
 // thread. GPU objects are cached by what they depend on: volume textures (several, LRU under a
-// memory budget), the TF table until the TF changes, the light buffer until its inputs change,
-// compiled shader variants for the renderer's life.
+// memory budget), the TF table until the TF changes, light buffers by what they hold (several,
+// LRU under their budget), compiled shader variants for the renderer's life.
 class Renderer final : public FrameRenderer {
 public:
     static base::Result<std::unique_ptr<Renderer>> create(const RendererOptions& options = {});
