@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The sanitizer part of the test suite (called by scripts/test.sh):
+# 1. the `asan` preset (GCC, Debug, -Werror, AddressSanitizer + UndefinedBehaviorSanitizer) runs
+#    the unit, stability, GPU and integration tests; any sanitizer report fails the test;
+# 2. the `fuzz` preset (clang-14, ASan + UBSan + libFuzzer) replays the inputs that once crashed a
+#    parser and fuzzes every target for PENUMBRA_FUZZ_SECONDS (default 20) from a fixed seed.
+# The browser, CLI and deploy tests stay in the release run: they drive the binary from outside
+# and would only repeat, far slower, what the tests below already cover under the sanitizers.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+asan_common="abort_on_error=0:detect_stack_use_after_return=1:strict_init_order=1"
+
+cmake --preset asan
+cmake --build --preset asan
+# Tests that never open a GL context check for leaks too. Those that do load Mesa's driver, which
+# is unloaded at exit, so LeakSanitizer cannot name the frames of the driver's own allocations:
+# there leaks are not checked, every other ASan and UBSan error still is.
+ASAN_OPTIONS="$asan_common:detect_leaks=1" \
+LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:fast_unwind_on_malloc=0" \
+    ctest --test-dir build/asan --output-on-failure --parallel "$jobs" --timeout 900 \
+        -L unit -E '^(browser|cli|deploy)\.'
+ASAN_OPTIONS="$asan_common:detect_leaks=0" \
+    ctest --test-dir build/asan --output-on-failure --parallel "$jobs" --timeout 900 \
+        -LE unit -E '^(browser|cli|deploy)\.'
+
+cmake --preset fuzz -DPENUMBRA_FUZZ_SECONDS="${PENUMBRA_FUZZ_SECONDS:-20}"
+cmake --build --preset fuzz
+ctest --preset fuzz --parallel "$jobs"
