@@ -1,5 +1,7 @@
 #include "upgrade_policy.hpp"
 
+#include <penumbra/base/secret.hpp>
+
 #include <algorithm>
 #include <cctype>
 
@@ -61,18 +63,6 @@ std::optional<std::string> authority_of(std::string_view origin) {
     return lower_case(rest);
 }
 
-// Takes as long for a wrong token as for the right one, whatever its first difference.
-bool same_secret(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) {
-        return false;
-    }
-    unsigned char difference = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        difference |= static_cast<unsigned char>(a[i] ^ b[i]);
-    }
-    return difference == 0;
-}
-
 }  // namespace
 
 std::optional<RequestTarget> parse_request_target(std::string_view target) {
@@ -124,7 +114,8 @@ base::Status check_upgrade(const UpgradePolicy& policy, std::optional<std::strin
     }
     if (!policy.access_token.empty()) {
         const auto token = target.query.find("token");
-        if (token == target.query.end() || !same_secret(token->second, policy.access_token)) {
+        if (token == target.query.end() ||
+            !base::same_secret(token->second, policy.access_token)) {
             return base::make_error("unauthorized",
                                     token == target.query.end()
                                             ? "the WebSocket URL carries no access token (?token=)"

@@ -1,5 +1,7 @@
 #include "penumbra/session/session.hpp"
 
+#include <penumbra/base/secret.hpp>
+
 #include <array>
 #include <cstdio>
 #include <random>
@@ -25,18 +27,6 @@ std::string random_secret() {
         text += hex;
     }
     return text;
-}
-
-// Takes as long for a wrong token as for the right one, whatever its first difference.
-bool same_token(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) {
-        return false;
-    }
-    unsigned char difference = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        difference |= static_cast<unsigned char>(a[i] ^ b[i]);
-    }
-    return difference == 0;
 }
 
 }  // namespace
@@ -69,7 +59,7 @@ std::string OwnerTokens::token_for(const std::string& session_id) const {
 }
 
 bool OwnerTokens::proves(const std::string& session_id, std::string_view owner_token) const {
-    return derived() && same_token(owner_token, token_for(session_id));
+    return derived() && base::same_secret(owner_token, token_for(session_id));
 }
 
 Session::Session(std::string id, std::string volume_id,
@@ -138,7 +128,7 @@ base::Status Session::resume(ViewerId viewer, std::string_view owner_token, View
         return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
     }
     // The token before the owner, so that only the owner learns whether it is still connected.
-    if (!same_token(owner_token, owner_token_)) {
+    if (!base::same_secret(owner_token, owner_token_)) {
         return base::make_error("invalid_value", "not the owner token of this session",
                                 "/owner_token");
     }
