@@ -2,6 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -41,6 +42,14 @@ struct Volume {
     std::vector<std::byte> data;   // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
     ValueRange range;              // over finite voxels
     std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
+
+    // Where the voxels lie in patient space, in Penumbra's one convention, RAS (+x toward the
+    // patient's right, +y anterior, +z superior; millimetres for medical data): the centre of
+    // voxel (i, j, k) lies at origin + axes * (spacing * (i, j, k)). The columns of `axes` are
+    // unit vectors (a rotation, possibly with a reflection); identity for files that carry no
+    // orientation (raw), which render as if stored RAS.
+    glm::dmat3 axes{1.0};
+    glm::dvec3 origin{0.0};
 
     [[nodiscard]] std::size_t voxel_count() const {
         return static_cast<std::size_t>(dims.x) * dims.y * dims.z;
