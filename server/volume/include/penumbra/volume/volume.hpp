@@ -51,6 +51,10 @@ struct Volume {
     glm::dmat3 axes{1.0};
     glm::dvec3 origin{0.0};
 
+    // The values are Hounsfield units (a DICOM CT, a rescale type of HU, or a NIfTI/NRRD marked
+    // so), which lets CT presets be given in HU rather than as fractions of the range.
+    bool hounsfield = false;
+
     [[nodiscard]] std::size_t voxel_count() const {
         return static_cast<std::size_t>(dims.x) * dims.y * dims.z;
     }
