@@ -41,7 +41,8 @@ void record(const std::string& kind, const std::string& json) {
     const fs::path dir = PENUMBRA_SENT_MESSAGES;
     fs::create_directories(dir);
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path file = dir / (std::string(test->test_suite_name()) + "." + test->name() + ".jsonl");
+    const fs::path file =
+            dir / (std::string(test->test_suite_name()) + "." + test->name() + ".jsonl");
     std::ofstream out(file, started.insert(file).second ? std::ios::trunc : std::ios::app);
     out << R"({"kind":")" << kind << R"(","message":)" << json << "}\n";
 }
@@ -88,7 +89,8 @@ public:
         }
     }
 
-    protocol::UnpackedFrame next_frame(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    protocol::UnpackedFrame next_frame(
+            std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
         while (frames_.empty()) {
             auto message = client_->receive(timeout);
             if (!message.ok()) {
@@ -124,7 +126,8 @@ public:
     }
 
     std::string open(const std::string& volume, int size = 64) {
-        const std::string opened = request(R"({"v":1,"type":"open","id":1,"volume":")" + volume + "\"}");
+        const std::string opened =
+                request(R"({"v":1,"type":"open","id":1,"volume":")" + volume + "\"}");
         session = field(opened, "session");
         EXPECT_FALSE(session.empty()) << opened;
         const std::string ack = request(R"({"v":1,"type":"set","id":2,"settings":{"size":[)" +
@@ -264,9 +267,9 @@ TEST_F(ServerTest, CameraOnlyChangesReuseTheLightBuffer) {
     client.send(R"({"v":1,"type":"render","id":1})");
     EXPECT_EQ(client.next_frame().header.light_buffer, "built");
     for (int i = 0; i < 3; ++i) {
-        const std::string ack = client.request(
-                R"({"v":1,"type":"set","camera":{"orbit":{"azimuth":)" + std::to_string(40 * i) +
-                R"(,"elevation":10,"distance":2.5}}})");
+        const std::string ack =
+                client.request(R"({"v":1,"type":"set","camera":{"orbit":{"azimuth":)" +
+                               std::to_string(40 * i) + R"(,"elevation":10,"distance":2.5}}})");
         ASSERT_EQ(field(ack, "type"), "ack") << ack;
         client.send(R"({"v":1,"type":"render"})");
         EXPECT_EQ(client.next_frame().header.light_buffer, "reused");
@@ -297,7 +300,8 @@ TEST_F(ServerTest, JoinedViewerReceivesTheSameFramesAndTheSessionSurvivesViewers
         const std::string joined = viewer.request(R"({"v":1,"type":"join","id":3,"session":")" +
                                                   owner.session + "\"}");
         EXPECT_EQ(field(joined, "type"), "joined") << joined;
-        const std::string refused = viewer.request(R"({"v":1,"type":"set","id":4,"camera":{"fov":40}})");
+        const std::string refused =
+                viewer.request(R"({"v":1,"type":"set","id":4,"camera":{"fov":40}})");
         EXPECT_EQ(field(refused, "type"), "error");
         owner.send(R"({"v":1,"type":"render","id":9})");
         const auto mine = owner.next_frame();
@@ -436,7 +440,8 @@ TEST_F(ServerTest, ViewersKeepASessionWhoseOwnerDroppedAndTheOwnerTokenResumesIt
     EXPECT_FALSE(reopened.at("histogram").empty());
 
     // It may set again; the viewer is told, and both get the frames.
-    const std::string ack = resumed.request(R"({"v":1,"type":"set","id":9,"settings":{"mode":"dvr"}})");
+    const std::string ack =
+            resumed.request(R"({"v":1,"type":"set","id":9,"settings":{"mode":"dvr"}})");
     EXPECT_EQ(field(ack, "type"), "ack") << ack;
     const auto pushed = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
     EXPECT_EQ(pushed.at("type"), "state") << pushed;
@@ -660,6 +665,45 @@ TEST_F(ServerTest, OneClientCannotTakeEverySessionNorOneConnectionPileThemUp) {
     EXPECT_EQ(keepers.size(), 3U) << "two running, plus the one it was leaving";
 }
 
+// Finding 6, connections: one address holds at most its share of connections (the address the
+// per-client session limit counts), while a client from another address is still served, and a
+// connection that closes gives its place back.
+TEST_F(ServerTest, OneAddressHoldsAtMostItsConnectionsAndAnotherAddressIsStillServed) {
+    start(protocol::Limits{},
+          [](net::ServerConfig& config) { config.max_connections_per_client = 3; });
+    std::vector<std::unique_ptr<TestClient>> hog;
+    for (int i = 0; i < 3; ++i) {
+        hog.push_back(std::make_unique<TestClient>(port_, "127.0.0.2"));
+    }
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_FALSE(net::Client::connect("127.0.0.1", port_, "/ws", std::chrono::seconds(10),
+                                          "127.0.0.2")
+                             .ok());
+    }
+    const auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_NE(metrics->body.find("penumbra_upgrades_refused_total 5"), std::string::npos);
+
+    TestClient newcomer(port_, "127.0.0.3");
+    newcomer.open("heads/ch2.nii.gz", 32);
+    newcomer.send(R"({"v":1,"type":"render","id":5})");
+    EXPECT_EQ(newcomer.next_frame().header.request, 5);
+
+    // The server notices the close on its own strand: the place comes back soon after.
+    hog.pop_back();
+    bool admitted = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!admitted && std::chrono::steady_clock::now() < deadline) {
+        admitted = net::Client::connect("127.0.0.1", port_, "/ws", std::chrono::seconds(10),
+                                        "127.0.0.2")
+                           .ok();
+        if (!admitted) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+    }
+    EXPECT_TRUE(admitted);
+}
+
 // One client with many sessions asks for frames as fast as it can; another asks for one frame
 // at a time. Render time is shared per client, so the second waits for at most about one frame
 // of the first, not one frame of each of its sessions. Queueing is read from the frame headers.
@@ -726,8 +770,7 @@ double metric(unsigned short port, const std::string& name) {
         return -1.0;
     }
     const auto at = metrics->body.find("\n" + name + " ");
-    return at == std::string::npos ? -1.0
-                                   : std::stod(metrics->body.substr(at + name.size() + 2));
+    return at == std::string::npos ? -1.0 : std::stod(metrics->body.substr(at + name.size() + 2));
 }
 
 // Floods of bad text and of binary messages: each message is counted, binary ones take from the
@@ -790,11 +833,13 @@ TEST_F(ServerTest, ErrorsNameFilesRelativeToTheDataFolder) {
 TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
     TestClient client(port_);
     client.open("heads/ch2.nii.gz", 32);
+
     struct Case {
         std::string message;
         std::string code;
         std::string field;
     };
+
     const std::vector<Case> cases = {
             {"{not json", "malformed_json", "/"},
             {"[1,2,3]", "invalid_message", "/"},
@@ -803,10 +848,14 @@ TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
             {R"({"v":1,"type":"teleport"})", "unknown_type", "/type"},
             {R"({"v":1,"type":"stats","colour":1})", "unknown_field", "/colour"},
             {R"({"v":1,"type":"set","camera":{"eye":[0,0,1e999]}})", "malformed_json", "/"},
-            {R"({"v":1,"type":"set","camera":{"eye":[0,0,"far"]}})", "invalid_value", "/camera/eye/2"},
-            {R"({"v":1,"type":"set","light":{"intensity":-1}})", "out_of_range", "/light/intensity"},
-            {R"({"v":1,"type":"set","settings":{"size":[100000,64]}})", "out_of_range", "/settings/size/0"},
-            {R"({"v":1,"type":"set","settings":{"mode":"raytrace"}})", "invalid_value", "/settings/mode"},
+            {R"({"v":1,"type":"set","camera":{"eye":[0,0,"far"]}})", "invalid_value",
+             "/camera/eye/2"},
+            {R"({"v":1,"type":"set","light":{"intensity":-1}})", "out_of_range",
+             "/light/intensity"},
+            {R"({"v":1,"type":"set","settings":{"size":[100000,64]}})", "out_of_range",
+             "/settings/size/0"},
+            {R"({"v":1,"type":"set","settings":{"mode":"raytrace"}})", "invalid_value",
+             "/settings/mode"},
             {R"({"v":1,"type":"set","settings":{"light_buffer":{"slices":99999}}})", "out_of_range",
              "/settings/light_buffer/slices"},
             {R"({"v":1,"type":"set","camera":{"eye":[0,0,0],"target":[0,0,0]}})", "invalid_value",
@@ -814,7 +863,8 @@ TEST_F(ServerTest, EveryBadInputGetsItsErrorAndTheConnectionKeepsWorking) {
             {R"({"v":1,"type":"open","volume":"nope.nii"})", "unknown_volume", "/volume"},
             {R"({"v":1,"type":"open","volume":"../../etc/passwd"})", "unknown_volume", "/volume"},
             {R"({"v":1,"type":"open","volume":"/etc/passwd"})", "unknown_volume", "/volume"},
-            {R"({"v":1,"type":"open","volume":"broken_4x4x4_uint8.raw"})", "volume_unreadable", "/volume"},
+            {R"({"v":1,"type":"open","volume":"broken_4x4x4_uint8.raw"})", "volume_unreadable",
+             "/volume"},
             {R"({"v":1,"type":"join","session":"0000"})", "unknown_session", "/session"},
             {R"({"v":1,"type":"open","volume":")" + std::string(100000, 'x') + "\"}",
              "message_too_large", "/"},
@@ -869,9 +919,8 @@ TEST_F(ServerTest, FloodsAreRateLimitedAndServiceResumes) {
     }
     EXPECT_GT(limited, 0);
     // The one-second allowance, plus what refilled while the server read the flood.
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                         flood_start)
-                                   .count();
+    const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();
     EXPECT_LE(answered, limits.max_requests_per_second * (1.0 + elapsed));
     EXPECT_LT(answered, flood / 4);
     EXPECT_LT(limited, flood - answered) << "a flood gets a bounded number of error replies";
@@ -937,8 +986,7 @@ TEST_F(ServerTest, AFrameOverTheWorkCeilingIsRefusedWithItsEstimateAndTheCeiling
               "ack");
     client.send(R"({"v":1,"type":"render","id":1})");
     const std::string refused = client.next_text();
-    EXPECT_EQ(field(refused, "code"), "render_failed") << refused;
-    EXPECT_NE(refused.find("[too_much_work]"), std::string::npos) << refused;
+    EXPECT_EQ(field(refused, "code"), "too_much_work") << refused;
     EXPECT_NE(refused.find("1e+08"), std::string::npos) << refused;
     ASSERT_EQ(field(client.request(R"({"v":1,"type":"set","settings":{"size":[64,64]}})"), "type"),
               "ack");

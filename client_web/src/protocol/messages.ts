@@ -177,6 +177,7 @@ export interface Limits {
   max_requests_per_second: number;
   max_send_queue: number;
   max_frame_work: number;
+  max_json_depth: number;
 }
 
 export const DEFAULT_LIMITS: Limits = {
@@ -190,6 +191,7 @@ export const DEFAULT_LIMITS: Limits = {
   max_requests_per_second: 120,
   max_send_queue: 4,
   max_frame_work: 1e11,
+  max_json_depth: 16,
 };
 
 export const ERROR_CODES = [
@@ -209,6 +211,7 @@ export const ERROR_CODES = [
   'too_many_sessions',
   'session_owned',
   'render_failed',
+  'too_much_work',
   'internal_error',
 ] as const;
 export type ErrorCode = (typeof ERROR_CODES)[number];
@@ -328,6 +331,24 @@ export class UnknownMessageType extends ProtocolError {
 // ---- small checkers -----------------------------------------------------------------------------
 
 type Json = null | boolean | number | string | Json[] | { [key: string]: Json };
+
+/** The pointer of the first container nested deeper than `limit` (the message is 1), as the server
+ * reports it, or null. */
+function firstBeyondDepth(value: unknown, limit: number, at = '', depth = 1): string | null {
+  if (value === null || typeof value !== 'object') {
+    return null;
+  }
+  if (depth > limit) {
+    return at === '' ? '/' : at;
+  }
+  for (const [key, child] of Object.entries(value)) {
+    const found = firstBeyondDepth(child, limit, `${at}/${key.replace(/~/g, '~0').replace(/\//g, '~1')}`, depth + 1);
+    if (found !== null) {
+      return found;
+    }
+  }
+  return null;
+}
 
 function isObject(value: unknown): value is Record<string, unknown> {
   return typeof value === 'object' && value !== null && !Array.isArray(value);
@@ -740,6 +761,10 @@ export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMI
   try {
     if (!isObject(value)) {
       reject('invalid_message', '/', 'not an object');
+    }
+    const tooDeep = firstBeyondDepth(value, limits.max_json_depth);
+    if (tooDeep !== null) {
+      reject('out_of_range', tooDeep, `nested deeper than ${limits.max_json_depth} containers`);
     }
     const o = value as Record<string, Json>;
     if (!('v' in o)) {

@@ -27,7 +27,9 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) { return report_failure("serve", error); }
+int fail(const base::Error& error) {
+    return report_failure("serve", error);
+}
 
 // The built web client (share/penumbra/web: installed, or in a build tree a link to
 // client_web/dist), when it has been built.
@@ -234,16 +236,38 @@ base::Result<QualityTable> adopt_measured(const StartupMeasurement& measured,
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(
-            args,
-            {"data", "port", "address", "web-root", "io-threads", "encode-threads",
-             "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "max-frame-work",
-             "volume-memory-mb", "max-load-mb", "gpu-memory-mb", "light-buffer-memory-mb",
-             "default-tf", "quality-table", "ping-interval", "ping-timeout",
-             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header",
-             "allowed-origins", "access-token-file", "cluster-secret-file"},
-            {"help", "debug-gl", "quality-measure", "no-quality-measure"});
+    auto parsed = Arguments::parse(args,
+                                   {"data",
+                                    "port",
+                                    "address",
+                                    "web-root",
+                                    "io-threads",
+                                    "encode-threads",
+                                    "max-sessions",
+                                    "max-image-side",
+                                    "max-slices",
+                                    "max-light-res",
+                                    "max-message-bytes",
+                                    "max-requests-per-second",
+                                    "max-frame-work",
+                                    "volume-memory-mb",
+                                    "max-load-mb",
+                                    "gpu-memory-mb",
+                                    "light-buffer-memory-mb",
+                                    "default-tf",
+                                    "quality-table",
+                                    "ping-interval",
+                                    "ping-timeout",
+                                    "max-sessions-per-client",
+                                    "max-sessions-per-connection",
+                                    "client-address-header",
+                                    "max-connections-per-client",
+                                    "supersede-after",
+                                    "rescan-interval",
+                                    "allowed-origins",
+                                    "access-token-file",
+                                    "cluster-secret-file"},
+                                   {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
                      parsed.error().to_string().c_str());
@@ -264,6 +288,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --max-sessions N           (default 64)\n"
                 "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
                 "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
+                "  --max-connections-per-client N  WebSocket connections one client address\n"
+                "                             may hold open (default 32)\n"
                 "  --client-address-header H  behind a proxy: the request header naming the\n"
                 "                             client (X-Real-IP, X-Forwarded-For), for per-client\n"
                 "                             limits and fair render shares; default: the peer's\n"
@@ -283,12 +309,17 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
                 "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
                 "                             refused (default 1024)\n"
+                "  --supersede-after S        seconds a frame may render before a newer request\n"
+                "                             of its session cancels it (default 0.5)\n"
+                "  --rescan-interval S        seconds between scans of the data folder (default\n"
+                "                             10; a file added at its top is seen sooner)\n"
                 "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
                 "                             is pinged (default 15)\n"
                 "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
                 "                             and its session left (default 15)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
-                "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
+                "  --quality-table FILE       `bench accuracy` table for sessions that set a "
+                "frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
                 "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
                 "                             share/penumbra/accuracy above the binary, else a\n"
@@ -331,12 +362,14 @@ int run_serve(const std::vector<std::string>& args) {
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
     config.client_address_header = a.get("client-address-header").value_or("");
     protocol::Limits& limits = config.limits;
+
     struct IntegerOption {
         const char* name;
         int* target;
         int min;
         int max;
     };
+
     int port = 8080;
     int encode_threads = 2;
     int volume_memory_mb = 4096;
@@ -351,6 +384,7 @@ int run_serve(const std::vector<std::string>& args) {
             {"max-sessions", &limits.max_sessions, 1, 100000},
             {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
             {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
+            {"max-connections-per-client", &config.max_connections_per_client, 1, 100000},
             {"max-image-side", &limits.max_image_side, 16, 16384},
             {"max-slices", &limits.max_slices, 1, 16384},
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
@@ -387,17 +421,35 @@ int run_serve(const std::vector<std::string>& args) {
                                                    "--max-frame-work"));
     }
     limits.max_frame_work = *frame_work;
-    for (const auto& [name, target] : {std::pair{"ping-interval", &config.ping_interval},
-                                       {"ping-timeout", &config.ping_timeout}}) {
-        const double fallback = std::chrono::duration<double>(*target).count();
-        auto seconds = a.number(name, fallback);
-        if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {
+    session::SchedulerOptions scheduler_options;
+    scheduler_options.encode_threads = encode_threads;
+    std::chrono::milliseconds rescan_interval = std::chrono::seconds(10);
+
+    struct DurationOption {
+        const char* name;
+        std::chrono::milliseconds* target;
+        double min_seconds;
+        double max_seconds;
+    };
+
+    const DurationOption durations[] = {
+            {"ping-interval", &config.ping_interval, 0.05, 3600.0},
+            {"ping-timeout", &config.ping_timeout, 0.05, 3600.0},
+            {"supersede-after", &scheduler_options.supersede_running_after, 0.0, 3600.0},
+            {"rescan-interval", &rescan_interval, 0.1, 86400.0},
+    };
+    for (const auto& option : durations) {
+        const double fallback = std::chrono::duration<double>(*option.target).count();
+        auto seconds = a.number(option.name, fallback);
+        if (!seconds || !(*seconds >= option.min_seconds && *seconds <= option.max_seconds)) {
+            char range[64];
+            std::snprintf(range, sizeof range, "must be within %g..%g seconds", option.min_seconds,
+                          option.max_seconds);
             return fail(!seconds ? seconds.error()
-                                 : base::make_error("invalid_argument",
-                                                    "must be within 0.05..3600 seconds",
-                                                    std::string("--") + name));
+                                 : base::make_error("invalid_argument", range,
+                                                    std::string("--") + option.name));
         }
-        *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+        *option.target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
     }
     if (const auto origins = a.get("allowed-origins")) {
         config.allowed_origins = split_list(*origins);
@@ -416,7 +468,7 @@ int run_serve(const std::vector<std::string>& args) {
     volume::LoadOptions load_options;
     load_options.max_bytes = static_cast<std::uint64_t>(max_load_mb) << 20;
     session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20,
-                                 load_options);
+                                 load_options, rescan_interval);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }
@@ -452,7 +504,7 @@ int run_serve(const std::vector<std::string>& args) {
                 }
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
-            {.encode_threads = encode_threads}, registry);
+            scheduler_options, registry);
     if (!scheduler) {
         return fail(scheduler.error());
     }
@@ -513,19 +565,18 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions,
-                                      cluster_secret->empty()
-                                              ? session::OwnerTokens()
-                                              : session::OwnerTokens(*cluster_secret),
-                                      limits.max_sessions_per_client,
-                                      limits.max_sessions_per_connection);
+    session::SessionRegistry sessions(
+            limits.max_sessions,
+            cluster_secret->empty() ? session::OwnerTokens()
+                                    : session::OwnerTokens(*cluster_secret),
+            limits.max_sessions_per_client, limits.max_sessions_per_connection);
     std::printf("access:   %s; WebSocket pages from %s\n",
                 config.access_token.empty() ? "no token asked" : "token asked on /ws",
-                config.allowed_origins.empty() ? "this server's own origin only"
-                                               : ("its own origin and " +
-                                                  std::to_string(config.allowed_origins.size()) +
-                                                  " listed")
-                                                         .c_str());
+                config.allowed_origins.empty()
+                        ? "this server's own origin only"
+                        : ("its own origin and " + std::to_string(config.allowed_origins.size()) +
+                           " listed")
+                                  .c_str());
     if (!cluster_secret->empty()) {
         std::printf("cluster:  owner tokens derived from the cluster secret\n");
     }

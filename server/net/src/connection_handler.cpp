@@ -4,7 +4,6 @@
 #include <penumbra/base/log.hpp>
 #include <penumbra/protocol/frame_header.hpp>
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/scene/camera.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
@@ -33,8 +32,8 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
 session::SessionState from_protocol(const protocol::SessionState& s) {
     session::SessionState out;
     out.frame = s.frame;
-    out.output.format = s.output.encoding == "png" ? encode::ImageFormat::png
-                                                   : encode::ImageFormat::jpeg;
+    out.output.format =
+            s.output.encoding == "png" ? encode::ImageFormat::png : encode::ImageFormat::jpeg;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
     return out;
@@ -59,28 +58,20 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
     return out;
 }
 
-session::SessionState default_state(const ServerConfig& config) {
-    session::SessionState state;
-    state.frame.camera = scene::orbit_camera(25.0, 10.0, 2.6);
-    state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
-    auto tf = scene::preset(config.default_transfer_function);
-    state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
-    scene::RenderSettings& s = state.frame.settings;
-    s.mode = scene::Mode::sbrc;
-    s.phong = true;
-    s.width = std::min(512, config.limits.max_image_side);
-    s.height = s.width;
-    s.light_buffer.slices = std::min(128, config.limits.max_slices);
-    s.light_buffer.resolution = std::min(256, config.limits.max_light_resolution);
-    return state;
+// What a new session of this server starts from.
+session::SessionState initial_state(const ServerConfig& config) {
+    const protocol::Limits& limits = config.limits;
+    return session::default_state(
+            config.default_transfer_function,
+            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
 }
 
-std::vector<std::uint8_t> pack(const session::EncodedFrame& f, const std::string& session_id,
-                               std::uint64_t number) {
+std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
+    const session::EncodedFrame& f = shared.frame();
     protocol::FrameHeader h;
-    h.frame = number;
+    h.frame = shared.number();
     h.request = f.request_id;
-    h.session = session_id;
+    h.session = shared.session();
     h.width = f.width;
     h.height = f.height;
     h.encoding = f.format == encode::ImageFormat::png ? "png" : "jpeg";
@@ -129,7 +120,8 @@ void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::
 bool ConnectionHandler::take_token() {
     const double rate = context_.config.limits.max_requests_per_second;
     const Clock::time_point now = Clock::now();
-    tokens_ = std::min(rate, tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
+    tokens_ = std::min(rate,
+                       tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
     last_refill_ = now;
     if (tokens_ >= 1.0) {
         tokens_ -= 1.0;
@@ -142,9 +134,9 @@ bool ConnectionHandler::take_token() {
 
 void ConnectionHandler::on_open() {
     std::vector<std::string> modes;
-    for (const auto mode : {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle,
-                            scene::Mode::sbrc, scene::Mode::sbrc_shell, scene::Mode::sbrc_cone,
-                            scene::Mode::reference}) {
+    for (const auto mode :
+         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle, scene::Mode::sbrc,
+          scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference}) {
         modes.emplace_back(scene::to_string(mode));
     }
     const render::RendererInfo& info = context_.services.scheduler.renderer_info();
@@ -158,12 +150,13 @@ bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
     if (take_token()) {
         return true;
     }
-    reply_error(id, base::make_error(protocol::code::rate_limited,
-                                     "more than " +
-                                             std::to_string(static_cast<int>(
-                                                     context_.config.limits.max_requests_per_second)) +
-                                             " requests per second",
-                                     "/"));
+    reply_error(id,
+                base::make_error(protocol::code::rate_limited,
+                                 "more than " +
+                                         std::to_string(static_cast<int>(
+                                                 context_.config.limits.max_requests_per_second)) +
+                                         " requests per second",
+                                 "/"));
     return false;
 }
 
@@ -209,32 +202,32 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
                     session_id, protocol::state_to_json(to_protocol(state))));
         }
     };
-    auto frames = [weak, session_id, context](
-                          const base::Result<std::shared_ptr<const session::EncodedFrame>>& r,
-                          std::uint64_t number) {
+    auto frames = [weak,
+                   context](const base::Result<std::shared_ptr<const session::SharedFrame>>& r) {
         auto connection = weak.lock();
         if (!connection) {
             return;
         }
         if (!r) {
-            const std::string& code = r.error().code;
-            if (code == "superseded" || code == "shutting_down") {
-                return;  // a newer frame answers, or nobody will
-            }
+            // A frame over the work ceiling is the client's to shrink: a code of its own.
+            const bool too_much_work = r.error().code == protocol::code::too_much_work;
             connection->send_text(protocol::error_message(
-                    std::nullopt,
-                    base::make_error(protocol::code::render_failed,
-                                     context->services.volumes.relative_paths(
-                                             r.error().to_string()),
-                                     "/")));
+                    std::nullopt, base::make_error(too_much_work ? protocol::code::too_much_work
+                                                                 : protocol::code::render_failed,
+                                                   context->services.volumes.relative_paths(
+                                                           too_much_work ? r.error().message
+                                                                         : r.error().to_string()),
+                                                   "/")));
             context->errors.add();
             return;
         }
-        const session::EncodedFrame& frame = **r;
-        context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
-                                         frame.encode_ms);
-        connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
-                pack(frame, session_id, number)));
+        // Packed by the first viewer's connection, shared by every other one.
+        connection->send_frame((*r)->packed([context](const session::SharedFrame& shared) {
+            const session::EncodedFrame& frame = shared.frame();
+            context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
+                                             frame.encode_ms);
+            return pack(shared);
+        }));
     };
     return {std::move(frames), std::move(state_changed)};
 }
@@ -251,7 +244,9 @@ void ConnectionHandler::leave_session() {
     session_.reset();
 }
 
-void ConnectionHandler::on_close() { leave_session(); }
+void ConnectionHandler::on_close() {
+    leave_session();
+}
 
 void ConnectionHandler::load_then(
         std::optional<std::int64_t> id, const std::string& volume_id,
@@ -297,44 +292,12 @@ void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::s
         return;
     }
     auto created = context_.services.sessions.create(
-            volume_id, *volume, default_state(context_.config), viewer_, client_, session_.get());
+            volume_id, *volume, initial_state(context_.config), viewer_, client_, session_.get());
     if (!created) {
         reply_error(id, created.error());
         return;
     }
-    leave_session();
-    session_ = *created;
-    const auto histogram = context_.services.volumes.histogram(*volume);
-    Sinks sinks = sinks_for(session_->id());
-    // Cannot fail: the session ends only when its owner, this connection, leaves.
-    const auto added = session_->add_viewer(
-            viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
-            [&](const session::SessionState& state) {
-                send(protocol::opened_message(
-                        id, session_->id(),
-                        summary_of(volume_id, volume->get()), *histogram,
-                        protocol::state_to_json(to_protocol(state)),
-                        session_->owner_token()));
-            });
-    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
-    context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
-    base::log_info("session", "opened " + session_->id() + " on " + volume_id);
-}
-
-void ConnectionHandler::resume(std::optional<std::int64_t> id, const protocol::Resume& message) {
-    if (!context_.services.sessions.find(message.session) && message.volume &&
-        context_.services.sessions.proves_owner(message.session, message.owner_token)) {
-        // The server that held the session is gone and its owner came here: the cluster's secret
-        // proves the claim (before any volume is loaded for it), and the session comes back under
-        // its id for its viewers to find.
-        load_then(id, *message.volume,
-                  [this, message](std::optional<std::int64_t> request_id,
-                                  const LoadedVolume& volume) {
-                      finish_recreate(request_id, message, volume);
-                  });
-        return;
-    }
-    resume_held(id, message);
+    become_owner(id, std::move(created.value()), **volume, false);
 }
 
 void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
@@ -346,7 +309,7 @@ void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
     }
     auto recreated = context_.services.sessions.recreate(
             message.session, message.owner_token, *message.volume, *volume,
-            default_state(context_.config), viewer_, client_, session_.get());
+            initial_state(context_.config), viewer_, client_, session_.get());
     if (!recreated) {
         reply_error(id, recreated.error());
         return;
@@ -355,22 +318,29 @@ void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
         resume_held(id, message);  // another connection re-created it while the volume loaded
         return;
     }
+    become_owner(id, std::move(recreated->session), **volume, true);
+}
+
+void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
+                                     std::shared_ptr<session::Session> session,
+                                     const volume::Volume& volume, bool recreated) {
     leave_session();
-    session_ = recreated->session;
-    const auto histogram = context_.services.volumes.histogram(*volume);
+    session_ = std::move(session);
+    const auto histogram = context_.services.volumes.histogram(session_->volume());
     Sinks sinks = sinks_for(session_->id());
     // Cannot fail: the session ends only when its owner, this connection, leaves.
     const auto added = session_->add_viewer(
             viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
             [&](const session::SessionState& state) {
                 send(protocol::opened_message(
-                        id, session_->id(), summary_of(*message.volume, volume->get()), *histogram,
+                        id, session_->id(), summary_of(session_->volume_id(), &volume), *histogram,
                         protocol::state_to_json(to_protocol(state)), session_->owner_token(),
-                        true));
+                        recreated));
             });
-    PENUMBRA_ASSERT(added.ok(), "a re-created session refused its owner");
+    PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
-    base::log_info("session", "re-created " + session_->id() + " on " + *message.volume);
+    base::log_info("session", std::string(recreated ? "re-created " : "opened ") + session_->id() +
+                                      " on " + session_->volume_id());
 }
 
 void ConnectionHandler::resume_held(std::optional<std::int64_t> id,
@@ -412,134 +382,136 @@ void ConnectionHandler::handle_waiting() {
 }
 
 void ConnectionHandler::handle(const protocol::Request& request) {
-    const auto id = request.id;
-    const auto need_session = [&]() {
-        if (!session_) {
-            reply_error(id, base::make_error(protocol::code::no_session,
-                                             "open a volume or join a session first", "/type"));
-            return false;
+    // Each alternative goes to its own overload of handle: a message type without one does not
+    // compile.
+    std::visit([this, id = request.id](const auto& message) { handle(id, message); },
+               request.message);
+}
+
+bool ConnectionHandler::need_session(std::optional<std::int64_t> id) {
+    if (!session_) {
+        reply_error(id, base::make_error(protocol::code::no_session,
+                                         "open a volume or join a session first", "/type"));
+        return false;
+    }
+    return true;
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::ListVolumes&) {
+    // The last scan: the store rescans on a thread of its own.
+    std::vector<protocol::VolumeSummary> list;
+    for (const auto& entry : context_.services.volumes.list()) {
+        list.push_back(summary_of(entry.id, entry.loaded.get()));
+    }
+    send(protocol::volumes_message(id, list));
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Open& message) {
+    load_then(id, message.volume,
+              [this, volume_id = message.volume](std::optional<std::int64_t> request_id,
+                                                 const LoadedVolume& volume) {
+                  finish_open(request_id, volume_id, volume);
+              });
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Join& message) {
+    // The volume's histogram, computed when it was loaded.
+    const auto found = context_.services.sessions.find(message.session);
+    const auto histogram = found ? context_.services.volumes.histogram(found->volume())
+                                 : std::make_shared<const std::vector<std::uint64_t>>();
+    Sinks sinks = sinks_for(message.session);
+    // Finding the session and joining it are one step of the registry's, so a session whose last
+    // viewer is leaving cannot be joined back to life.
+    auto joined = context_.services.sessions.enter(message.session, [&](session::Session& target) {
+        // Also when already in it: re-adding replaces the sinks, and the welcome keeps `joined`
+        // ahead of every state that follows it.
+        return target.add_viewer(
+                viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
+                [&](const session::SessionState& state) {
+                    send(protocol::joined_message(
+                            id, target.id(), summary_of(target.volume_id(), target.volume().get()),
+                            *histogram, protocol::state_to_json(to_protocol(state))));
+                });
+    });
+    if (!joined) {
+        reply_error(id, joined.error());
+        return;
+    }
+    if (*joined != session_) {
+        leave_session();
+        session_ = *joined;
+    }
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Resume& message) {
+    if (message.volume &&
+        context_.services.sessions.resume_recreates(message.session, message.owner_token)) {
+        // The claim is proved before any volume is loaded for it; the session comes back under
+        // its id for its viewers to find.
+        load_then(id, *message.volume,
+                  [this, message](std::optional<std::int64_t> request_id,
+                                  const LoadedVolume& volume) {
+                      finish_recreate(request_id, message, volume);
+                  });
+        return;
+    }
+    resume_held(id, message);
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Set& message) {
+    if (!need_session(id)) {
+        return;
+    }
+    // The viewers' panels follow the owner's: each gets the new state.
+    const auto changed = session_->change_state(viewer_, [&](session::SessionState& state) {
+        protocol::SessionState patched = to_protocol(state);
+        if (auto status = protocol::apply_patch(message.patch, patched, context_.config.limits);
+            !status) {
+            return status;
         }
-        return true;
-    };
-    std::visit(
-            [&](const auto& message) {
-                using T = std::decay_t<decltype(message)>;
-                if constexpr (std::is_same_v<T, protocol::ListVolumes>) {
-                    // The last scan: the store rescans on a thread of its own.
-                    std::vector<protocol::VolumeSummary> list;
-                    for (const auto& entry : context_.services.volumes.list()) {
-                        list.push_back(summary_of(entry.id, entry.loaded.get()));
-                    }
-                    send(protocol::volumes_message(id, list));
-                } else if constexpr (std::is_same_v<T, protocol::Open>) {
-                    load_then(id, message.volume,
-                              [this, volume_id = message.volume](
-                                      std::optional<std::int64_t> request_id,
-                                      const LoadedVolume& volume) {
-                                  finish_open(request_id, volume_id, volume);
-                              });
-                } else if constexpr (std::is_same_v<T, protocol::Join>) {
-                    // Finding the session and joining it are one step of the registry's, so a
-                    // session whose last viewer is leaving cannot be joined back to life.
-                    // The volume's histogram, computed when it was loaded.
-                    const auto found = context_.services.sessions.find(message.session);
-                    const auto histogram =
-                            found ? context_.services.volumes.histogram(found->volume())
-                                  : std::make_shared<const std::vector<std::uint64_t>>();
-                    Sinks sinks = sinks_for(message.session);
-                    auto joined = context_.services.sessions.enter(
-                            message.session, [&](session::Session& target) {
-                                // Also when already in it: re-adding replaces the sinks, and the
-                                // welcome keeps `joined` ahead of every state that follows it.
-                                return target.add_viewer(
-                                        viewer_, std::move(sinks.frames),
-                                        std::move(sinks.state_changed),
-                                        [&](const session::SessionState& state) {
-                                            send(protocol::joined_message(
-                                                    id, target.id(),
-                                                    summary_of(target.volume_id(),
-                                                               target.volume().get()),
-                                                    *histogram,
-                                                    protocol::state_to_json(to_protocol(state))));
-                                        });
-                            });
-                    if (!joined) {
-                        reply_error(id, joined.error());
-                        return;
-                    }
-                    if (*joined != session_) {
-                        leave_session();
-                        session_ = *joined;
-                    }
-                } else if constexpr (std::is_same_v<T, protocol::Resume>) {
-                    resume(id, message);
-                } else if constexpr (std::is_same_v<T, protocol::Set>) {
-                    if (!need_session()) {
-                        return;
-                    }
-                    // The session keeps the one record of its owner, who may have resumed it.
-                    if (!session_->is_owner(viewer_)) {
-                        reply_error(id, base::make_error(protocol::code::invalid_message,
-                                                         "only the session's owner can change it; "
-                                                         "viewers who joined watch",
-                                                         "/type"));
-                        return;
-                    }
-                    protocol::SessionState state = to_protocol(session_->state());
-                    if (auto status = protocol::apply_patch(message.patch, state,
-                                                            context_.config.limits);
-                        !status) {
-                        reply_error(id, status.error());
-                        return;
-                    }
-                    // The viewers' panels follow the owner's: each gets the new state.
-                    session_->set_state(from_protocol(state), viewer_);
-                    send(protocol::ack_message(id, "set"));
-                } else if constexpr (std::is_same_v<T, protocol::Render>) {
-                    if (!need_session()) {
-                        return;
-                    }
-                    std::weak_ptr<session::Session> weak = session_;
-                    session::RenderJob job = session_->make_job(
-                            id.value_or(-1), message.interactive,
-                            context_.config.quality_table.get());
-                    // The render time is this client's, whoever's session it is.
-                    job.client = client_;
-                    context_.services.scheduler.submit(
-                            session_->id(), std::move(job),
-                            [weak](base::Result<std::shared_ptr<const session::EncodedFrame>> r) {
-                                if (auto s = weak.lock()) {
-                                    s->deliver(r);
-                                }
-                            });
-                } else if constexpr (std::is_same_v<T, protocol::Stats>) {
-                    protocol::StatsReport report;
-                    if (session_) {
-                        report.session = session_->id();
-                        report.viewers = session_->viewer_count();
-                        report.session_frames = session_->frame_count();
-                    }
-                    report.sessions = context_.services.sessions.count();
-                    report.connections = context_.connections.value();
-                    report.queue_depth = context_.services.scheduler.queue_depth();
-                    report.frame_server_p50_ms = context_.frame_server_ms.quantile(0.50);
-                    report.frame_server_p95_ms = context_.frame_server_ms.quantile(0.95);
-                    report.frame_server_p99_ms = context_.frame_server_ms.quantile(0.99);
-                    metrics::Registry& m = context_.services.metrics;
-                    report.frames_total = m.counter("penumbra_frames_total", "").value();
-                    report.light_buffer_builds =
-                            m.counter("penumbra_light_buffer_builds_total", "").value();
-                    report.light_buffer_reuses =
-                            m.counter("penumbra_light_buffer_reuses_total", "").value();
-                    report.gpu_bytes_held = m.gauge("penumbra_gpu_bytes_held", "").value();
-                    report.renderer = context_.services.scheduler.renderer_info().renderer;
-                    send(protocol::stats_message(id, report));
-                } else if constexpr (std::is_same_v<T, protocol::Close>) {
-                    leave_session();
-                    send(protocol::ack_message(id, "close"));
-                }
-            },
-            request.message);
+        state = from_protocol(patched);
+        return base::Status(base::Ok{});
+    });
+    if (!changed) {
+        reply_error(id, changed.error());
+        return;
+    }
+    send(protocol::ack_message(id, "set"));
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Render& message) {
+    if (!need_session(id)) {
+        return;
+    }
+    session_->render(context_.services.scheduler, id.value_or(-1), message.interactive, client_,
+                     context_.config.quality_table.get());
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Stats&) {
+    protocol::StatsReport report;
+    if (session_) {
+        report.session = session_->id();
+        report.viewers = session_->viewer_count();
+        report.session_frames = session_->frame_count();
+    }
+    report.sessions = context_.services.sessions.count();
+    report.connections = context_.connections.value();
+    report.queue_depth = context_.services.scheduler.queue_depth();
+    report.frame_server_p50_ms = context_.frame_server_ms.quantile(0.50);
+    report.frame_server_p95_ms = context_.frame_server_ms.quantile(0.95);
+    report.frame_server_p99_ms = context_.frame_server_ms.quantile(0.99);
+    const session::SchedulerCounts counts = context_.services.scheduler.counts();
+    report.frames_total = counts.frames;
+    report.light_buffer_builds = counts.light_buffer_builds;
+    report.light_buffer_reuses = counts.light_buffer_reuses;
+    report.gpu_bytes_held = counts.gpu_bytes_held;
+    report.renderer = context_.services.scheduler.renderer_info().renderer;
+    send(protocol::stats_message(id, report));
+}
+
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Close&) {
+    leave_session();
+    send(protocol::ack_message(id, "close"));
 }
 
 }  // namespace penumbra::net

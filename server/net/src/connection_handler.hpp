@@ -30,7 +30,20 @@ public:
     void on_close();
 
 private:
+    // Hands the request to the handler of its message type.
     void handle(const protocol::Request& request);
+    // One handler per message type of protocol::ClientMessage.
+    void handle(std::optional<std::int64_t> id, const protocol::ListVolumes& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Open& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Set& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Render& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Stats& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Join& message);
+    void handle(std::optional<std::int64_t> id, const protocol::Close& message);
+    // Makes this connection the owner of a session again: the one this server holds, or one that
+    // the cluster's secret lets it re-create once its volume is loaded.
+    void handle(std::optional<std::int64_t> id, const protocol::Resume& message);
+
     using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
     // Loads `volume_id` on the volume store's loader threads, the connection busy meanwhile, and
     // then, on the strand, hands the volume (or the error) to `then` and handles the requests that
@@ -40,15 +53,17 @@ private:
     // The second half of `open`, on the strand, once the volume is loaded (or is not).
     void finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
                      const LoadedVolume& volume);
-    // Makes this connection the owner of a session again: the one this server holds, or one that
-    // the cluster's secret lets it re-create once its volume is loaded.
-    void resume(std::optional<std::int64_t> id, const protocol::Resume& message);
     // Resumes the session this server holds.
     void resume_held(std::optional<std::int64_t> id, const protocol::Resume& message);
     // The second half of a resume that re-creates a session, once the volume is loaded.
     void finish_recreate(std::optional<std::int64_t> id, const protocol::Resume& message,
                          const LoadedVolume& volume);
-    // Handles the requests that waited, until one of them makes the connection busy again.
+    // Makes this connection the owner and first viewer of `session`, which it opened (or
+    // re-created) on `volume`, and answers `opened`.
+    void become_owner(std::optional<std::int64_t> id, std::shared_ptr<session::Session> session,
+                      const volume::Volume& volume, bool recreated);
+    // Replies with no_session and returns false if the connection is in no session.
+    bool need_session(std::optional<std::int64_t> id);
     void handle_waiting();
     void reply_error(std::optional<std::int64_t> id, const base::Error& error);
     void send(std::string text);
@@ -57,11 +72,13 @@ private:
     // client still reads answers) and returns false.
     bool admit(std::optional<std::int64_t> id);
     void leave_session();
+
     // What brings `session`'s frames, and the states its owner sets, to this connection.
     struct Sinks {
         session::ViewerSink frames;
         session::StateSink state_changed;
     };
+
     Sinks sinks_for(const std::string& session_id);
 
     Context& context_;

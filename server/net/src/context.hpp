@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -23,12 +24,52 @@ struct Lifeline {
     bool open = true;
 };
 
+// WebSocket connections open per client address. A slot counts one connection for as long as it
+// lives.
+class ClientConnections {
+public:
+    using Slot = std::shared_ptr<const std::string>;
+
+    // A slot for one more connection of `client`, or null when it holds `maximum` already.
+    Slot take(const std::string& client, int maximum) {
+        const std::lock_guard lock(mutex_);
+        int& open = open_[client];
+        if (open >= maximum) {
+            return nullptr;
+        }
+        ++open;
+        return {new std::string(client), [this](const std::string* released) {
+                    give_back(*released);
+                    delete released;
+                }};
+    }
+
+    [[nodiscard]] int open(const std::string& client) const {
+        const std::lock_guard lock(mutex_);
+        const auto found = open_.find(client);
+        return found == open_.end() ? 0 : found->second;
+    }
+
+private:
+    void give_back(const std::string& client) {
+        const std::lock_guard lock(mutex_);
+        const auto found = open_.find(client);
+        if (found != open_.end() && --found->second <= 0) {
+            open_.erase(found);
+        }
+    }
+
+    mutable std::mutex mutex_;
+    std::map<std::string, int> open_;
+};
+
 // What every connection of one server shares.
 struct Context {
     ServerConfig config;
     Services services;
     std::atomic<std::uint64_t> next_viewer{1};
     std::shared_ptr<Lifeline> lifeline = std::make_shared<Lifeline>();
+    ClientConnections client_connections;
     metrics::Gauge& connections;
     metrics::Counter& messages;
     metrics::Counter& errors;
@@ -60,7 +101,8 @@ struct Context {
                   "WebSocket connections dropped for not answering a ping in time"))
         , upgrades_refused(s.metrics.counter(
                   "penumbra_upgrades_refused_total",
-                  "WebSocket upgrades refused for their Origin or a missing or wrong token"))
+                  "WebSocket upgrades refused for their Origin, a missing or wrong token, or "
+                  "too many connections of their client"))
         , volume_loads(s.metrics.gauge("penumbra_volume_loads",
                                        "Volume files read since the server started (a cluster "
                                        "that routes by volume reads each once)")) {}

@@ -60,20 +60,38 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
                 origin == request.end() ? std::nullopt
                                         : std::optional<std::string_view>(origin->value()),
                 request[http::field::host], *parsed_target);
+        std::string client =
+                WebSocketSession::client_of(context_.config, request, stream_.socket());
+        ClientConnections::Slot slot;
         if (checked) {
+            slot = context_.client_connections.take(client,
+                                                    context_.config.max_connections_per_client);
+        }
+        if (slot) {
             stream_.expires_never();
             std::make_shared<WebSocketSession>(stream_.release_socket(), context_)
-                    ->run(std::move(request));
+                    ->run(std::move(request), std::move(client), std::move(slot));
             return;
         }
         // Refused before the upgrade, with the HTTP status a browser's WebSocket reports.
-        const base::Error& refused = checked.error();
+        const base::Error refused =
+                checked ? base::make_error(
+                                  "too_many_connections",
+                                  "this client (" + client + ") already holds its " +
+                                          "maximum of " +
+                                          std::to_string(
+                                                  context_.config.max_connections_per_client) +
+                                          " connections",
+                                  "/ws")
+                        : checked.error();
         context_.upgrades_refused.add();
         base::log_info("net", "WebSocket upgrade refused: " + refused.to_string());
+        const http::status status = refused.code == "unauthorized" ? http::status::unauthorized
+                                    : refused.code == "too_many_connections"
+                                            ? http::status::too_many_requests
+                                            : http::status::forbidden;
         response_ = std::make_shared<http::response<http::string_body>>(
-                make_response(refused.code == "unauthorized" ? http::status::unauthorized
-                                                             : http::status::forbidden,
-                              version, false, refused.message + "\n", "text/plain"));
+                make_response(status, version, false, refused.message + "\n", "text/plain"));
         http::async_write(
                 stream_, *response_,
                 beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), false));
@@ -106,9 +124,9 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
     if (request.method() == http::verb::head) {
         response_->body().clear();
     }
-    http::async_write(stream_, *response_,
-                      beast::bind_front_handler(&HttpSession::on_write, shared_from_this(),
-                                                keep_alive));
+    http::async_write(
+            stream_, *response_,
+            beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));
 }
 
 void HttpSession::on_write(bool keep_alive, beast::error_code ec, std::size_t /*bytes*/) {

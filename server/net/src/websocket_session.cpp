@@ -21,21 +21,26 @@ WebSocketSession::WebSocketSession(tcp::socket&& socket, Context& context)
 
 WebSocketSession::~WebSocketSession() = default;
 
-void WebSocketSession::run(http::request<http::string_body> upgrade) {
+void WebSocketSession::run(http::request<http::string_body> upgrade, std::string client,
+                           ClientConnections::Slot slot) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
         response.set(http::field::server, "penumbra");
     }));
     // Messages up to the announced limit are parsed; larger ones up to this hard cap get an
     // error reply and the connection stays; beyond it Beast closes the connection (1009).
-    ws_.read_message_max(std::max<std::size_t>(1 << 20, 4 * context_.config.limits.max_message_bytes));
-    client_ = client_of(upgrade);
-    ws_.async_accept(upgrade, beast::bind_front_handler(&WebSocketSession::on_accept,
-                                                        shared_from_this()));
+    ws_.read_message_max(
+            std::max<std::size_t>(1 << 20, 4 * context_.config.limits.max_message_bytes));
+    client_ = std::move(client);
+    slot_ = std::move(slot);
+    ws_.async_accept(upgrade,
+                     beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
 }
 
-std::string WebSocketSession::client_of(const http::request<http::string_body>& upgrade) {
-    const std::string& header = context_.config.client_address_header;
+std::string WebSocketSession::client_of(const ServerConfig& config,
+                                        const http::request<http::string_body>& upgrade,
+                                        const tcp::socket& socket) {
+    const std::string& header = config.client_address_header;
     if (!header.empty()) {
         const auto found = upgrade.find(header);
         if (found != upgrade.end()) {
@@ -49,7 +54,7 @@ std::string WebSocketSession::client_of(const http::request<http::string_body>& 
         }
     }
     beast::error_code ec;
-    const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+    const auto remote = socket.remote_endpoint(ec);
     return ec ? std::string("unknown") : remote.address().to_string();
 }
 
@@ -76,8 +81,8 @@ void WebSocketSession::on_accept(beast::error_code ec) {
 
 void WebSocketSession::schedule_liveness_check(Clock::duration after) {
     liveness_timer_.expires_after(after);
-    liveness_timer_.async_wait(beast::bind_front_handler(&WebSocketSession::on_liveness_check,
-                                                         shared_from_this()));
+    liveness_timer_.async_wait(
+            beast::bind_front_handler(&WebSocketSession::on_liveness_check, shared_from_this()));
 }
 
 void WebSocketSession::on_liveness_check(beast::error_code ec) {
@@ -186,16 +191,18 @@ void WebSocketSession::enqueue(Outgoing message) {
     if (message.frame) {
         // The element at the front is being written while `writing_`; everything after it waits.
         const auto first_waiting = queue_.begin() + (writing_ ? 1 : 0);
-        const auto waiting_frame = std::find_if(first_waiting, queue_.end(),
-                                                [](const Outgoing& o) { return o.frame != nullptr; });
+        const auto waiting_frame = std::find_if(
+                first_waiting, queue_.end(), [](const Outgoing& o) { return o.frame != nullptr; });
         if (waiting_frame != queue_.end()) {
             waiting_frame->frame = std::move(message.frame);  // the newer frame supersedes it
             context_.frames_dropped.add();
             return;
         }
-        const auto frames = static_cast<std::size_t>(std::count_if(
-                queue_.begin(), queue_.end(), [](const Outgoing& o) { return o.frame != nullptr; }));
-        if (frames >= static_cast<std::size_t>(std::max(1, context_.config.limits.max_send_queue))) {
+        const auto frames = static_cast<std::size_t>(
+                std::count_if(queue_.begin(), queue_.end(),
+                              [](const Outgoing& o) { return o.frame != nullptr; }));
+        if (frames >=
+            static_cast<std::size_t>(std::max(1, context_.config.limits.max_send_queue))) {
             context_.frames_dropped.add();
             return;
         }
@@ -230,14 +237,12 @@ void WebSocketSession::do_write() {
     const Outgoing& next = queue_.front();
     if (next.text) {
         ws_.text(true);
-        ws_.async_write(asio::buffer(*next.text), beast::bind_front_handler(
-                                                          &WebSocketSession::on_write,
-                                                          shared_from_this()));
+        ws_.async_write(asio::buffer(*next.text),
+                        beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
     } else {
         ws_.binary(true);
-        ws_.async_write(asio::buffer(*next.frame), beast::bind_front_handler(
-                                                           &WebSocketSession::on_write,
-                                                           shared_from_this()));
+        ws_.async_write(asio::buffer(*next.frame),
+                        beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
     }
 }
 

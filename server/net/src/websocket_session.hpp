@@ -13,13 +13,20 @@ namespace penumbra::net {
 // One WebSocket connection: a read loop feeding the ConnectionHandler, and a bounded write queue
 // in which a frame or a session state not yet being written is replaced by a newer one, so a slow
 // reader only slows itself. All work runs on the connection's strand.
-class WebSocketSession : public Connection,
-                         public std::enable_shared_from_this<WebSocketSession> {
+class WebSocketSession : public Connection, public std::enable_shared_from_this<WebSocketSession> {
 public:
     WebSocketSession(tcp::socket&& socket, Context& context);
     ~WebSocketSession() override;
 
-    void run(http::request<http::string_body> upgrade);
+    // Accepts the upgrade of `client` (client_of), which holds `slot` while the connection lives.
+    void run(http::request<http::string_body> upgrade, std::string client,
+             ClientConnections::Slot slot);
+
+    // Who the client of an upgrade on `socket` is, for per-client limits and fair shares: its
+    // remote address, or what the configured proxy header says.
+    [[nodiscard]] static std::string client_of(const ServerConfig& config,
+                                               const http::request<http::string_body>& upgrade,
+                                               const tcp::socket& socket);
 
     void send_text(std::string text) override;
     void send_state(std::string text) override;
@@ -35,9 +42,6 @@ private:
         bool state = false;  // a whole state, superseded by a newer one while waiting
     };
 
-    // Who the connection's client is, for per-client limits and fair shares: its remote address,
-    // or what the configured proxy header says.
-    [[nodiscard]] std::string client_of(const http::request<http::string_body>& upgrade);
     void on_accept(beast::error_code ec);
     void do_read();
     void on_read(beast::error_code ec, std::size_t bytes);
@@ -59,6 +63,7 @@ private:
     bool writing_ = false;
     bool finished_ = false;
     std::string client_;
+    ClientConnections::Slot slot_;
     asio::steady_timer liveness_timer_;
     std::chrono::steady_clock::time_point last_heard_;  // any message or control frame
     std::chrono::steady_clock::time_point ping_sent_;

@@ -42,10 +42,9 @@ base::Result<std::unique_ptr<Scheduler>> Scheduler::create(RendererFactory facto
     std::unique_ptr<Scheduler> scheduler(new Scheduler(options, metrics));
     std::promise<base::Status> ready;
     auto started = ready.get_future();
-    scheduler->render_thread_ = std::thread(
-            [s = scheduler.get(), f = std::move(factory), r = std::move(ready)]() mutable {
-                s->render_loop(std::move(f), r);
-            });
+    scheduler->render_thread_ =
+            std::thread([s = scheduler.get(), f = std::move(factory),
+                         r = std::move(ready)]() mutable { s->render_loop(std::move(f), r); });
     auto status = started.get();
     if (!status) {
         scheduler->render_thread_.join();
@@ -57,7 +56,9 @@ base::Result<std::unique_ptr<Scheduler>> Scheduler::create(RendererFactory facto
     return scheduler;
 }
 
-Scheduler::~Scheduler() { stop(); }
+Scheduler::~Scheduler() {
+    stop();
+}
 
 void Scheduler::stop() {
     std::map<std::string, Pending> dropped;
@@ -73,7 +74,7 @@ void Scheduler::stop() {
     }
     work_ready_.notify_all();
     for (auto& [session, pending] : dropped) {
-        pending.done(base::make_error("shutting_down", "the server is shutting down", "render"));
+        pending.done(Withdrawn::shutting_down);
     }
     if (render_thread_.joinable()) {
         render_thread_.join();
@@ -94,7 +95,7 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
     {
         const std::lock_guard lock(mutex_);
         if (stopping_) {
-            done(base::make_error("shutting_down", "the server is shutting down", "render"));
+            done(Withdrawn::shutting_down);
             return;
         }
         if (in_flight_.session == session) {
@@ -125,8 +126,7 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
     }
     if (replaced) {
         superseded_.add();
-        replaced(base::make_error("superseded", "a newer render request replaced this one",
-                                  "render"));
+        replaced(Withdrawn::superseded);
     }
     work_ready_.notify_one();
 }
@@ -148,7 +148,7 @@ void Scheduler::cancel(const std::string& session) {
         queue_depth_.set(static_cast<double>(pending_.size()));
     }
     superseded_.add();
-    dropped(base::make_error("superseded", "the session was closed", "render"));
+    dropped(Withdrawn::superseded);
 }
 
 void Scheduler::unqueue(const std::string& session, const std::string& client) {
@@ -166,6 +166,11 @@ void Scheduler::unqueue(const std::string& session, const std::string& client) {
 std::size_t Scheduler::queue_depth() const {
     const std::lock_guard lock(mutex_);
     return pending_.size();
+}
+
+SchedulerCounts Scheduler::counts() const {
+    return {frames_.value(), light_buffer_built_.value(), light_buffer_reused_.value(),
+            gpu_bytes_.value()};
 }
 
 void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>& ready) {
@@ -226,21 +231,14 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
     if (!rendered && rendered.error().code == "cancelled") {
         bool shutting_down = false;
-        bool closed = false;
         {
             const std::lock_guard lock(mutex_);
             shutting_down = stopping_;
-            closed = in_flight_.closed;
         }
-        if (shutting_down) {
-            done(base::make_error("shutting_down", "the server is shutting down", "render"));
-        } else {
+        if (!shutting_down) {
             superseded_.add();
-            done(base::make_error(
-                    "superseded",
-                    closed ? "the session was closed" : "a newer render request replaced this one",
-                    "render"));
         }
+        done(shutting_down ? Withdrawn::shutting_down : Withdrawn::superseded);
         return;
     }
     if (!rendered) {
@@ -274,21 +272,21 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.emplace_back([this, frame, image, output = job.output,
-                                    done = std::move(done)]() mutable {
-            const Clock::time_point start = Clock::now();
-            auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
-            if (!bytes) {
-                failures_.add();
-                done(bytes.error());
-                return;
-            }
-            frame->image = std::move(bytes.value());
-            frame->encode_ms = milliseconds_between(start, Clock::now());
-            encode_ms_.observe(frame->encode_ms);
-            frames_.add();
-            done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-        });
+        encode_queue_.emplace_back(
+                [this, frame, image, output = job.output, done = std::move(done)]() mutable {
+                    const Clock::time_point start = Clock::now();
+                    auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
+                    if (!bytes) {
+                        failures_.add();
+                        done(bytes.error());
+                        return;
+                    }
+                    frame->image = std::move(bytes.value());
+                    frame->encode_ms = milliseconds_between(start, Clock::now());
+                    encode_ms_.observe(frame->encode_ms);
+                    frames_.add();
+                    done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+                });
     }
     encode_ready_.notify_one();
 }

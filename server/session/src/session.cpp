@@ -1,10 +1,13 @@
 #include "penumbra/session/session.hpp"
 
 #include <penumbra/base/secret.hpp>
+#include <penumbra/scene/camera.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <random>
+#include <variant>
 
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
@@ -30,6 +33,35 @@ std::string random_secret() {
 }
 
 }  // namespace
+
+SharedFrame::SharedFrame(std::shared_ptr<const EncodedFrame> frame, std::string session,
+                         std::uint64_t number)
+    : frame_(std::move(frame))
+    , session_(std::move(session))
+    , number_(number) {}
+
+const SharedFrame::Bytes& SharedFrame::packed(const Packer& pack) const {
+    std::call_once(packed_once_, [&] {
+        bytes_ = std::make_shared<const std::vector<std::uint8_t>>(pack(*this));
+    });
+    return bytes_;
+}
+
+SessionState default_state(const std::string& transfer_function, const scene::Limits& limits) {
+    SessionState state;
+    state.frame.camera = scene::orbit_camera(25.0, 10.0, 2.6);
+    state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
+    auto tf = scene::preset(transfer_function);
+    state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
+    scene::RenderSettings& s = state.frame.settings;
+    s.mode = scene::Mode::sbrc;
+    s.phong = true;
+    s.width = std::min(512, limits.max_image_side);
+    s.height = s.width;
+    s.light_buffer.slices = std::min(128, limits.max_slices);
+    s.light_buffer.resolution = std::min(256, limits.max_light_resolution);
+    return state;
+}
 
 // Hex digits of an owner token: 128 bits, as many as a random one.
 constexpr std::size_t owner_token_digits = 32;
@@ -107,6 +139,26 @@ void Session::set_state(SessionState state, ViewerId changed_by) {
     }
 }
 
+base::Status Session::change_state(ViewerId viewer, const StateChange& change) {
+    const std::lock_guard lock(mutex_);
+    if (owner_ != viewer) {
+        return base::make_error("invalid_message",
+                                "only the session's owner can change it; viewers who joined watch",
+                                "/type");
+    }
+    SessionState next = state_;
+    if (auto status = change(next); !status) {
+        return status;
+    }
+    state_ = std::move(next);
+    for (const auto& [other, sinks] : viewers_) {
+        if (other != viewer && sinks.state_changed) {
+            sinks.state_changed(state_);
+        }
+    }
+    return base::Ok{};
+}
+
 base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
                                  const StateSink& welcome) {
     const std::lock_guard lock(mutex_);
@@ -163,7 +215,10 @@ std::size_t Session::viewer_count() const {
     return viewers_.size();
 }
 
-void Session::deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result) {
+void Session::deliver(const FrameOutcome& outcome) {
+    if (std::holds_alternative<Withdrawn>(outcome)) {
+        return;
+    }
     std::vector<ViewerSink> sinks;
     {
         const std::lock_guard lock(mutex_);
@@ -172,12 +227,30 @@ void Session::deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& r
             sinks.push_back(viewer_sinks.frames);
         }
     }
-    const std::uint64_t number = result.ok() ? ++frames_ : frames_.load();
+    const base::Result<std::shared_ptr<const SharedFrame>> result =
+            std::holds_alternative<base::Error>(outcome)
+                    ? base::Result<std::shared_ptr<const SharedFrame>>(
+                              std::get<base::Error>(outcome))
+                    : std::make_shared<const SharedFrame>(
+                              std::get<std::shared_ptr<const EncodedFrame>>(outcome), id_,
+                              ++frames_);
     for (const auto& sink : sinks) {
         if (sink) {
-            sink(result, number);
+            sink(result);
         }
     }
+}
+
+void Session::render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
+                     const std::string& client,
+                     const std::vector<scene::QualitySample>* quality_table) {
+    RenderJob job = make_job(request_id, interactive, quality_table);
+    job.client = client;
+    scheduler.submit(id_, std::move(job), [weak = weak_from_this()](const FrameOutcome& outcome) {
+        if (auto session = weak.lock()) {
+            session->deliver(outcome);
+        }
+    });
 }
 
 RenderJob Session::make_job(std::int64_t request_id, bool interactive,
@@ -185,9 +258,9 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     SessionState current = state();
     std::string budget_note;
     if (current.frame_budget_ms > 0.0 && quality_table != nullptr) {
-        const auto choice = scene::choose_quality(*quality_table, current.frame_budget_ms,
-                                                  current.frame.settings.width,
-                                                  current.frame.settings.height);
+        const auto choice =
+                scene::choose_quality(*quality_table, current.frame_budget_ms,
+                                      current.frame.settings.width, current.frame.settings.height);
         if (choice) {
             current.frame = scene::apply_quality(std::move(current.frame), *choice);
             budget_note = "; " + choice->describe(current.frame_budget_ms);

@@ -50,7 +50,7 @@ private:
     std::atomic<int>& started_;
 };
 
-using Outcome = base::Result<std::shared_ptr<const EncodedFrame>>;
+using Outcome = FrameOutcome;
 
 class SchedulerCancelTest : public ::testing::Test {
 protected:
@@ -90,8 +90,14 @@ protected:
         if (future.wait_for(within) != std::future_status::ready) {
             return "still rendering";
         }
-        Outcome outcome = future.get();
-        return outcome ? "frame" : outcome.error().code;
+        const Outcome outcome = future.get();
+        if (const auto* withdrawn = std::get_if<Withdrawn>(&outcome)) {
+            return *withdrawn == Withdrawn::superseded ? "superseded" : "shutting_down";
+        }
+        if (const auto* error = std::get_if<base::Error>(&outcome)) {
+            return error->code;
+        }
+        return "frame";
     }
 
     metrics::Registry metrics_;

@@ -77,9 +77,8 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     for (const ViewerId viewer : {owner, first_viewer}) {
         ASSERT_TRUE(session.add_viewer(
                 viewer,
-                [&delivered, viewer](const base::Result<std::shared_ptr<const EncodedFrame>>&,
-                                     std::uint64_t number) {
-                    delivered.emplace_back(viewer, number);
+                [&delivered, viewer](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
+                    delivered.emplace_back(viewer, (*r)->number());
                 },
                 {}, {}));
     }
@@ -87,6 +86,78 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     EXPECT_EQ(delivered,
               (std::vector<std::pair<ViewerId, std::uint64_t>>{{owner, 1}, {first_viewer, 1}}));
     EXPECT_EQ(session.frame_count(), 1U);
+}
+
+// Every viewer of a frame gets the one SharedFrame, and the bytes it is packed into are made once,
+// by whichever viewer asks first, and are the same bytes for all.
+TEST(Session, AFrameIsPackedOnceAndEveryViewerSendsTheSameBytes) {
+    Session session("s", "v", nullptr, {}, owner);
+    std::atomic<int> packed{0};
+    const SharedFrame::Packer pack = [&packed](const SharedFrame& frame) {
+        ++packed;
+        return std::vector<std::uint8_t>(frame.frame().image.begin(), frame.frame().image.end());
+    };
+    std::vector<SharedFrame::Bytes> sent;
+    for (const ViewerId viewer : {owner, first_viewer, second_viewer}) {
+        ASSERT_TRUE(
+                session.add_viewer(viewer,
+                                   [&](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
+                                       ASSERT_TRUE(r.ok());
+                                       sent.push_back((*r)->packed(pack));
+                                   },
+                                   {}, {}));
+    }
+    auto frame = std::make_shared<EncodedFrame>();
+    frame->image = {1, 2, 3};
+    session.deliver(std::shared_ptr<const EncodedFrame>(frame));
+    ASSERT_EQ(sent.size(), 3U);
+    EXPECT_EQ(packed, 1);
+    EXPECT_EQ(sent[0], sent[1]);
+    EXPECT_EQ(sent[0], sent[2]);
+    EXPECT_EQ(*sent[0], (std::vector<std::uint8_t>{1, 2, 3}));
+}
+
+TEST(Session, WithdrawnJobsReachNobodyAndFailuresReachEveryViewer) {
+    Session session("s", "v", nullptr, {}, owner);
+    std::vector<std::string> heard;
+    for (const ViewerId viewer : {owner, first_viewer}) {
+        ASSERT_TRUE(session.add_viewer(
+                viewer,
+                [&heard](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
+                    heard.push_back(r ? "frame" : r.error().code);
+                },
+                {}, {}));
+    }
+    session.deliver(Withdrawn::superseded);
+    session.deliver(Withdrawn::shutting_down);
+    EXPECT_TRUE(heard.empty());
+    session.deliver(base::make_error("too_much_work", "over the ceiling"));
+    EXPECT_EQ(heard, (std::vector<std::string>{"too_much_work", "too_much_work"}));
+    EXPECT_EQ(session.frame_count(), 0U);
+}
+
+TEST(Session, OnlyTheOwnerChangesTheStateAndAFailedChangeLeavesItAsItWas) {
+    Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
+    Heard by_viewer;
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, by_viewer.sink("changed"), {}));
+    const auto to_dvr = [](SessionState& state) {
+        state.frame.settings.mode = scene::Mode::dvr;
+        return base::Status(base::Ok{});
+    };
+    const auto refused = session.change_state(first_viewer, to_dvr);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "invalid_message");
+    const auto failed = session.change_state(owner, [](SessionState& state) {
+        state.frame.settings.mode = scene::Mode::phong;
+        return base::Status(base::make_error("invalid_value", "no", "/settings"));
+    });
+    EXPECT_FALSE(failed.ok());
+    EXPECT_EQ(session.state().frame.settings.mode, scene::Mode::sbrc);
+    EXPECT_TRUE(by_viewer.events.empty());
+    ASSERT_TRUE(session.change_state(owner, to_dvr).ok());
+    EXPECT_EQ(session.state().frame.settings.mode, scene::Mode::dvr);
+    EXPECT_EQ(by_viewer.events, std::vector<std::string>{"changed:dvr"});
 }
 
 TEST(Session, TheOwnerTokenIsAFreshUnguessableSecret) {
@@ -139,8 +210,9 @@ TEST(Session, AViewerWithTheTokenMayResumeTooAndFramesStillReachEveryone) {
     Session session("s", "v", nullptr, {}, owner);
     std::vector<ViewerId> delivered;
     const auto frames_to = [&delivered](ViewerId viewer) {
-        return [&delivered, viewer](const base::Result<std::shared_ptr<const EncodedFrame>>&,
-                                    std::uint64_t) { delivered.push_back(viewer); };
+        return [&delivered, viewer](const base::Result<std::shared_ptr<const SharedFrame>>&) {
+            delivered.push_back(viewer);
+        };
     };
     ASSERT_TRUE(session.add_viewer(owner, frames_to(owner), {}, {}));
     ASSERT_TRUE(session.add_viewer(first_viewer, frames_to(first_viewer), {}, {}));

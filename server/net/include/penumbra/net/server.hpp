@@ -3,9 +3,9 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/protocol/limits.hpp>
+#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
-#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/volume_store.hpp>
 
 #include <chrono>
@@ -35,6 +35,10 @@ struct ServerConfig {
     // this request header of the WebSocket upgrade. Only for a proxy that overwrites the header:
     // clients could otherwise name themselves.
     std::string client_address_header;
+    // WebSocket connections one client address (as above) may hold open at once; an upgrade
+    // beyond it is refused with 429. Each connection costs a socket and its queues, whether or
+    // not it opens a session, so one address must not be able to take them all.
+    int max_connections_per_client = 32;
     // Who may open the WebSocket at /ws. A browser's Origin must be the server's own or one of
     // these ("*": any); clients that send no Origin (not browsers) are not concerned.
     std::vector<std::string> allowed_origins;

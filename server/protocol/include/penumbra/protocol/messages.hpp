@@ -32,6 +32,7 @@ inline constexpr const char* no_session = "no_session";
 inline constexpr const char* too_many_sessions = "too_many_sessions";
 inline constexpr const char* session_owned = "session_owned";
 inline constexpr const char* render_failed = "render_failed";
+inline constexpr const char* too_much_work = "too_much_work";
 inline constexpr const char* internal_error = "internal_error";
 }  // namespace code
 

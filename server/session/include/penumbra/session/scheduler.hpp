@@ -18,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 namespace penumbra::session {
@@ -52,17 +53,31 @@ struct EncodedFrame {
     std::int64_t request_id = -1;
     bool interactive = false;
     std::string quality;
-    double queued_ms = 0.0;    // submitted -> the render thread took it
-    double render_ms = 0.0;    // GPU passes, wall time
+    double queued_ms = 0.0;  // submitted -> the render thread took it
+    double render_ms = 0.0;  // GPU passes, wall time
     double readback_ms = 0.0;
     double encode_ms = 0.0;
 };
 
-// Called once per submitted job: with the frame, or with an Error ("superseded" when a newer job
-// of the same session replaced it before it was rendered, or why rendering failed). Called on a
-// scheduler thread: it must only hand the result on.
-using FrameCallback =
-        std::function<void(base::Result<std::shared_ptr<const EncodedFrame>> result)>;
+// Why a job ended without a frame although nothing failed; nobody needs to hear of it.
+enum class Withdrawn {
+    superseded,     // a newer job of its session replaced it, or its session was closed
+    shutting_down,  // the scheduler stopped
+};
+
+// How a job ended: with its frame, withdrawn, or with why rendering or encoding failed.
+using FrameOutcome = std::variant<std::shared_ptr<const EncodedFrame>, Withdrawn, base::Error>;
+
+// Called once per submitted job, on a scheduler thread: it must only hand the outcome on.
+using FrameCallback = std::function<void(FrameOutcome outcome)>;
+
+// What the scheduler has done since it started, for `stats`.
+struct SchedulerCounts {
+    std::uint64_t frames = 0;
+    std::uint64_t light_buffer_builds = 0;
+    std::uint64_t light_buffer_reuses = 0;
+    double gpu_bytes_held = 0;
+};
 
 struct SchedulerOptions {
     int encode_threads = 2;
@@ -83,8 +98,7 @@ struct SchedulerOptions {
 // overlapping the next render.
 class Scheduler {
 public:
-    using RendererFactory =
-            std::function<base::Result<std::unique_ptr<render::FrameRenderer>>()>;
+    using RendererFactory = std::function<base::Result<std::unique_ptr<render::FrameRenderer>>()>;
 
     // Creates the renderer on the render thread and waits for it; fails if it cannot be created.
     static base::Result<std::unique_ptr<Scheduler>> create(RendererFactory factory,
@@ -97,13 +111,15 @@ public:
 
     void submit(const std::string& session, RenderJob job, FrameCallback done);
 
-    // Drops the session's pending job, if any, and cancels its frame in flight (their callbacks
-    // get "superseded").
+    // Drops the session's pending job, if any, and cancels its frame in flight (both end
+    // Withdrawn::superseded).
     void cancel(const std::string& session);
 
     [[nodiscard]] const render::RendererInfo& renderer_info() const { return renderer_info_; }
 
     [[nodiscard]] std::size_t queue_depth() const;
+
+    [[nodiscard]] SchedulerCounts counts() const;
 
     // Stops accepting work, drops pending jobs, cancels the frame in flight, finishes the
     // encodes.

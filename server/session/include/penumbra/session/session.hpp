@@ -22,16 +22,50 @@ namespace penumbra::session {
 // A connection that receives a session's frames.
 using ViewerId = std::uint64_t;
 
-// Receives each result of the session with the session's frame number (the same for every
-// viewer of that frame). Called on a scheduler thread: it must only hand the frame on.
-using ViewerSink = std::function<void(
-        const base::Result<std::shared_ptr<const EncodedFrame>>& result, std::uint64_t frame)>;
+// One rendered frame of a session as its viewers receive it: one object for all of them, so that
+// what is made of it for sending (its header and bytes on the wire) is made once and shared.
+class SharedFrame {
+public:
+    using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
+    using Packer = std::function<std::vector<std::uint8_t>(const SharedFrame&)>;
+
+    SharedFrame(std::shared_ptr<const EncodedFrame> frame, std::string session,
+                std::uint64_t number);
+
+    [[nodiscard]] const EncodedFrame& frame() const { return *frame_; }
+
+    [[nodiscard]] const std::string& session() const { return session_; }
+
+    // The session's number of the frame, the same for every viewer.
+    [[nodiscard]] std::uint64_t number() const { return number_; }
+
+    // The frame packed for sending: `pack` runs for the first viewer that asks, and every viewer
+    // gets the same immutable bytes.
+    [[nodiscard]] const Bytes& packed(const Packer& pack) const;
+
+private:
+    const std::shared_ptr<const EncodedFrame> frame_;
+    const std::string session_;
+    const std::uint64_t number_;
+    mutable std::once_flag packed_once_;
+    mutable Bytes bytes_;
+};
+
+// Receives each frame of the session, or why one failed. Called on a scheduler thread: it must
+// only hand the frame on.
+using ViewerSink =
+        std::function<void(const base::Result<std::shared_ptr<const SharedFrame>>& result)>;
 
 struct SessionState {
     scene::FrameRequest frame;
     OutputFormat output;
     double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
 };
+
+// The state a new session starts from: an orbit view lit from above, `transfer_function` (a
+// preset; grey_ramp if there is none of that name), and an image, light buffer and slices that
+// `limits` allow.
+SessionState default_state(const std::string& transfer_function, const scene::Limits& limits);
 
 // Receives a session's state. Called under the session's lock, so that each viewer learns of the
 // states in the order they were set: it must only queue a message.
@@ -40,7 +74,7 @@ using StateSink = std::function<void(const SessionState& state)>;
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
 // watch it (its owner and anyone who joined). The owner may leave (its network dropped) while
 // others watch; a connection that presents the owner token takes its place. Thread-safe.
-class Session {
+class Session : public std::enable_shared_from_this<Session> {
 public:
     // `owner` opened the session and is its first viewer (with no sinks until add_viewer gives
     // them), so a session is never empty before its owner leaves; the owner token is drawn here,
@@ -78,6 +112,15 @@ public:
     // knows it already.
     void set_state(SessionState state, ViewerId changed_by);
 
+    // What a viewer asks to change, applied to the current state; an error leaves it unchanged.
+    using StateChange = std::function<base::Status(SessionState& state)>;
+
+    // Lets `viewer` change the state, as set_state, if it is the owner (viewers who joined watch):
+    // reading, changing and storing the state are one step, so no other change comes between.
+    // Fails with invalid_message at /type for a viewer that is not the owner, or with the error
+    // of `change`.
+    base::Status change_state(ViewerId viewer, const StateChange& change);
+
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
     // state the viewer starts from, under the same lock, so no change reaches the viewer before it.
@@ -98,15 +141,23 @@ public:
 
     [[nodiscard]] std::size_t viewer_count() const;
 
-    // Numbers the frame and hands it to every viewer.
-    void deliver(const base::Result<std::shared_ptr<const EncodedFrame>>& result);
+    // Numbers the frame and hands it to every viewer, or tells them why it failed; nobody hears
+    // of a withdrawn job (a newer frame answers, or nobody is left to see it).
+    void deliver(const FrameOutcome& outcome);
+
+    // Asks `scheduler` for a frame of the current state (make_job); the outcome is delivered to
+    // the viewers of the session while it lives. The render time is `client`'s, whoever's
+    // session it is.
+    void render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
+                const std::string& client,
+                const std::vector<scene::QualitySample>* quality_table = nullptr);
 
     // A job for the current state, at full or interactive quality. With a frame budget and a
     // measured quality table, the most accurate setting that fits replaces the state's mode,
     // slices, light-buffer resolution and sample distance.
-    [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive,
-                                     const std::vector<scene::QualitySample>* quality_table =
-                                             nullptr) const;
+    [[nodiscard]] RenderJob make_job(
+            std::int64_t request_id, bool interactive,
+            const std::vector<scene::QualitySample>* quality_table = nullptr) const;
 
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
@@ -118,6 +169,7 @@ private:
     const ViewerId opened_by_;
     const std::string client_;
     mutable std::mutex mutex_;
+
     struct Sinks {
         ViewerSink frames;
         StateSink state_changed;
@@ -192,6 +244,13 @@ public:
                                      const Session* replacing = nullptr);
 
     [[nodiscard]] bool derives_owner_tokens() const { return owner_tokens_.derived(); }
+
+    // Whether a resume of session `id` with `owner_token` re-creates it here (recreate): the
+    // server that held it is gone and the token proves the claim. Otherwise the resume is of a
+    // session this server holds (or of none).
+    [[nodiscard]] bool resume_recreates(const std::string& id, std::string_view owner_token) const {
+        return !find(id) && proves_owner(id, owner_token);
+    }
 
     // Whether `owner_token` proves a claim to session `id` (derived tokens only), so that nothing
     // is loaded for a claim that recreate would refuse.
