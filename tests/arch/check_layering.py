@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Checks the module rules of STYLE.md §8 on server/: every `#include <penumbra/M/...>` names a
-module the including module links (its DEPENDS and PRIVATE_DEPENDS in its CMakeLists, and what
-those pass on publicly), declared dependencies are those STYLE.md's table allows, and each confined
-third-party library is included only by the modules that own it. Prints every violation as
-file:line and exits 1 if there is any.
+"""Checks the module rules of STYLE.md §8 on server/: every `#include <penumbra/M/...>` is an edge
+to a module the including module declares itself (its DEPENDS and PRIVATE_DEPENDS; what those pass
+on does not count: a module names each module it uses), declared dependencies are those STYLE.md's
+table allows, app's included, and each confined third-party library is included only by the
+modules that own it. Prints every violation as file:line and exits 1 if there is any.
 
   check_layering.py --root server            check the tree
   check_layering.py --self-test              check that a planted violation of each kind is found
@@ -28,9 +28,12 @@ ALLOWED_DEPENDENCIES = {
     "protocol": {"scene", "base"},
     "metrics": {"base"},
     "session": {"render", "encode", "volume", "scene", "metrics", "base"},
-    "net": {"session", "protocol", "metrics", "base"},
+    # net translates session's volumes and scenes into protocol messages: it reads both.
+    "net": {"session", "protocol", "metrics", "volume", "scene", "base"},
 }
-MODULES = set(ALLOWED_DEPENDENCIES) | {"app"}
+# app, the executable, is over every module; it declares what it links like any other.
+ALLOWED_DEPENDENCIES["app"] = set(ALLOWED_DEPENDENCIES) - {"gpu"}
+MODULES = set(ALLOWED_DEPENDENCIES)
 
 # Third-party headers (by the first component of the include path) and the modules they are
 # confined to. app may use nlohmann for its JSON files (accuracy tables).
@@ -47,14 +50,20 @@ CONFINED = {
 INCLUDE = re.compile(r'^\s*#\s*include\s*<([^>]+)>')
 MODULE_CALL = re.compile(r'penumbra_add_module\s*\(([^)]*)\)', re.S)
 KEYWORDS = {"SOURCES", "DEPENDS", "PRIVATE_DEPENDS", "LIBS", "PRIVATE_LIBS"}
+# app is a plain library and executable: its modules are the penumbra::M it links.
+LINKED_MODULE = re.compile(r'\bpenumbra::(\w+)')
 
 
 def declared_dependencies(root):
-    """{module: (public deps, private deps)} from each module's penumbra_add_module call."""
+    """{module: (public deps, private deps)} from each module's penumbra_add_module call, and for
+    app the penumbra:: targets its CMakeLists links."""
     modules = {}
     for cmake in sorted(root.glob("*/CMakeLists.txt")):
-        match = MODULE_CALL.search(cmake.read_text())
+        text = cmake.read_text()
+        match = MODULE_CALL.search(text)
         if not match:
+            if cmake.parent.name == "app":
+                modules["app"] = (set(LINKED_MODULE.findall(text)), set())
             continue
         words = match.group(1).split()
         name, lists, current = words[0], {k: [] for k in KEYWORDS}, None
@@ -67,21 +76,11 @@ def declared_dependencies(root):
     return modules
 
 
-def linkable(module, modules):
-    """What a module may include: its own headers, its direct dependencies, and everything those
-    pass on through their public DEPENDS (PRIVATE_DEPENDS do not propagate)."""
-    if module not in modules:  # app: an executable over any module
-        return set(MODULES)
-    public, private = modules[module]
-    allowed = {module}
-    pending = list(public | private)
-    while pending:
-        dependency = pending.pop()
-        if dependency in allowed:
-            continue
-        allowed.add(dependency)
-        pending.extend(modules.get(dependency, (set(), set()))[0])
-    return allowed
+def includable(module, modules):
+    """What a module may include: its own headers and those of the modules it declares, directly.
+    A module that another one passes on publicly is not among them: its edge must be declared."""
+    public, private = modules.get(module, (set(), set()))
+    return {module} | public | private
 
 
 def check(root):
@@ -93,7 +92,7 @@ def check(root):
                             f"{dependency} (STYLE.md §8)")
     for folder in sorted(p for p in root.iterdir() if p.is_dir() and p.name in MODULES):
         module = folder.name
-        allowed = linkable(module, modules)
+        allowed = includable(module, modules)
         for path in sorted(folder.rglob("*")):
             if path.suffix not in {".hpp", ".cpp", ".h"}:
                 continue
@@ -107,7 +106,7 @@ def check(root):
                     target = header.split("/")[1]
                     if target not in allowed:
                         problems.append(f"{path}:{number}: {module} includes {header}, but "
-                                        f"does not link {target}")
+                                        f"does not declare {target}")
                 elif first in CONFINED and module not in CONFINED[first]:
                     owners = ", ".join(sorted(CONFINED[first]))
                     problems.append(f"{path}:{number}: {module} includes {header}, which is "
@@ -137,11 +136,20 @@ def self_test():
                          "#include <OpenImageIO/imageio.h>\n"})
         module("volume", "penumbra_add_module(volume SOURCES src/a.cpp DEPENDS base session)",
                {"a.cpp": "#include <zlib.h>\n"})
+        module("net", "penumbra_add_module(net SOURCES src/a.cpp DEPENDS session)",
+               {"a.cpp": "#include <penumbra/session/session.hpp>\n"
+                         "#include <penumbra/render/renderer.hpp>\n"})
+        module("app", "target_link_libraries(penumbra_app_lib PUBLIC penumbra::net penumbra::gpu)",
+               {"a.cpp": "#include <penumbra/net/server.hpp>\n"
+                         "#include <penumbra/session/session.hpp>\n"})
         found = "\n".join(check(root))
         expected = [
             "session includes penumbra/gpu/context.hpp",  # render links gpu PRIVATE
             "session includes OpenImageIO/imageio.h",      # confined to encode
             "volume must not depend on session",  # upward
+            "net includes penumbra/render/renderer.hpp",  # session passes render on, undeclared
+            "app includes penumbra/session/session.hpp",  # app declares only net
+            "app must not depend on gpu",  # gpu stays inside render
         ]
         missing = [text for text in expected if text not in found]
         unexpected = [line for line in found.splitlines()
@@ -168,7 +176,8 @@ def main():
     if problems:
         print(f"{len(problems)} layering violation(s)")
         return 1
-    print(f"layering: {len(declared_dependencies(args.root))} modules and app checked, no violations")
+    print(f"layering: {len(declared_dependencies(args.root))} modules (app among them) checked, "
+          "no violations")
     return 0
 
 
