@@ -74,9 +74,9 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         return field_error(code::invalid_message, "/v", "missing protocol version 'v'");
     }
     if (!j.at("v").is_number_integer() || j.at("v").get<std::int64_t>() != protocol_version) {
-        return field_error(code::unsupported_version, "/v",
-                           "this server speaks protocol version " +
-                                   std::to_string(protocol_version));
+        return field_error(
+                code::unsupported_version, "/v",
+                "this server speaks protocol version " + std::to_string(protocol_version));
     }
     Request request;
     if (j.contains("id")) {
@@ -176,31 +176,14 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         return request;
     }
     if (*type == "set") {
-        if (auto status = fields({"camera", "light", "transfer_function", "settings", "output"});
-            !status) {
-            return status.error();
-        }
-        // The message itself becomes the patch: moved, never copied or printed.
+        // The message itself becomes the patch: moved, never copied or printed. It is checked once,
+        // when it is applied to the session's state (apply_patch), which knows every field.
         json patch = std::move(j);
         patch.erase("v");
         patch.erase("type");
         patch.erase("id");
-        Patch parsed_patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}));
-        // Validated against a default state now, so that a bad `set` is rejected whole and
-        // the session never sees it.
-        SessionState scratch;
-        scratch.frame.transfer_function = scene::preset("grey_ramp").value();
-        // Defaults inside the limits, so that a server configured below them still takes patches.
-        scene::RenderSettings& s = scratch.frame.settings;
-        s.width = std::min(s.width, limits.max_image_side);
-        s.height = std::min(s.height, limits.max_image_side);
-        s.light_buffer.slices = std::min(s.light_buffer.slices, limits.max_slices);
-        s.light_buffer.resolution =
-                std::min(s.light_buffer.resolution, limits.max_light_resolution);
-        if (auto status = apply_patch(parsed_patch, scratch, limits); !status) {
-            return status.error();
-        }
-        request.message = Set{std::move(parsed_patch)};
+        request.message = Set{
+                Patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}))};
         return request;
     }
     return field_error(code::unknown_type, "/type", "unknown message type '" + *type + "'");
@@ -319,8 +302,8 @@ std::string stats_message(std::optional<std::int64_t> id, const StatsReport& r) 
                     {"p95", r.frame_server_p95_ms},
                     {"p99", r.frame_server_p99_ms}}},
                   {"frames_total", r.frames_total},
-                  {"light_buffer", {{"builds", r.light_buffer_builds},
-                                    {"reuses", r.light_buffer_reuses}}},
+                  {"light_buffer",
+                   {{"builds", r.light_buffer_builds}, {"reuses", r.light_buffer_reuses}}},
                   {"gpu_bytes_held", r.gpu_bytes_held},
                   {"renderer", r.renderer}};
     return with_id({{"type", "stats"}, {"stats", stats}}, id).dump();

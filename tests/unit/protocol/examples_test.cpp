@@ -7,6 +7,7 @@
 
 #include <map>
 #include <set>
+#include <variant>
 
 namespace penumbra::protocol {
 namespace {
@@ -19,7 +20,7 @@ using test::read_text;
 // The variant alternative each client message type parses to.
 std::size_t expected_index(const std::string& type) {
     static const std::map<std::string, std::size_t> index = {
-            {"list_volumes", 0}, {"open", 1}, {"set", 2},  {"render", 3},
+            {"list_volumes", 0}, {"open", 1}, {"set", 2},   {"render", 3},
             {"stats", 4},        {"join", 5}, {"close", 6}, {"resume", 7}};
     return index.at(type);
 }
@@ -61,16 +62,32 @@ TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {
     }
 }
 
+// Why a message is refused: by parse_request, or, for a `set` that parses, when its patch is
+// applied to a session's state, where a patch is checked.
+base::Status refusal(const std::string& text) {
+    const auto request = parse_request(text, Limits{});
+    if (!request) {
+        return request.error();
+    }
+    const auto* set = std::get_if<Set>(&request->message);
+    if (set == nullptr) {
+        return base::Ok{};
+    }
+    SessionState state;
+    state.frame.transfer_function = scene::preset("grey_ramp").value();
+    return apply_patch(set->patch, state, Limits{});
+}
+
 TEST(ProtocolExamples, EveryInvalidExampleFailsWithItsCodeAndField) {
     const auto examples = invalid_examples();
     ASSERT_GE(examples.size(), 30U);
     for (const auto& example : examples) {
         SCOPED_TRACE(example.name + ": " + example.text);
-        const auto request = parse_request(example.text, Limits{});
-        ASSERT_FALSE(request.ok());
-        EXPECT_EQ(request.error().code, example.code) << request.error().to_string();
-        EXPECT_EQ(request.error().where, example.field) << request.error().to_string();
-        EXPECT_FALSE(request.error().message.empty());
+        const auto refused = refusal(example.text);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_EQ(refused.error().code, example.code) << refused.error().to_string();
+        EXPECT_EQ(refused.error().where, example.field) << refused.error().to_string();
+        EXPECT_FALSE(refused.error().message.empty());
     }
 }
 

@@ -1,10 +1,13 @@
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <string>
+#include <variant>
 
 namespace penumbra::protocol {
 namespace {
@@ -80,26 +83,60 @@ TEST(ParseRequest, RejectsMessagesLongerThanTheLimit) {
     EXPECT_EQ(request.error().where, "/");
 }
 
+// A `set` is parsed once, by parse_request, and checked once, when it is applied to the session's
+// state: parse_request takes a patch whose values are out of range, and applying it refuses it.
+base::Status parsed_then_applied(const std::string& text, const Limits& limits) {
+    const auto request = parse_request(text, limits);
+    if (!request) {
+        ADD_FAILURE() << "a set is not checked when it is parsed: " << request.error().to_string();
+        return request.error();
+    }
+    SessionState state;
+    state.frame.transfer_function = scene::preset("grey_ramp").value();
+    state.frame.settings.width = std::min(state.frame.settings.width, limits.max_image_side);
+    state.frame.settings.height = std::min(state.frame.settings.height, limits.max_image_side);
+    state.frame.settings.light_buffer.slices =
+            std::min(state.frame.settings.light_buffer.slices, limits.max_slices);
+    return apply_patch(std::get<Set>(request->message).patch, state, limits);
+}
+
+TEST(ParseRequest, ASetIsCheckedWhenAppliedNotWhenParsed) {
+    const std::string unknown = R"({"v":1,"type":"set","id":3,"teleport":{}})";
+    const std::string out_of_range = R"({"v":1,"type":"set","camera":{"fov":400}})";
+    for (const std::string& text : {unknown, out_of_range}) {
+        SCOPED_TRACE(text);
+        EXPECT_TRUE(parse_request(text, Limits{}).ok());
+    }
+    const auto refused_unknown = parsed_then_applied(unknown, Limits{});
+    ASSERT_FALSE(refused_unknown.ok());
+    EXPECT_EQ(refused_unknown.error().code, code::unknown_field);
+    EXPECT_EQ(refused_unknown.error().where, "/teleport");
+    const auto refused_range = parsed_then_applied(out_of_range, Limits{});
+    ASSERT_FALSE(refused_range.ok());
+    EXPECT_EQ(refused_range.error().where, "/camera/fov");
+}
+
 TEST(ParseRequest, ChecksSizeAgainstTheGivenLimitsNotTheDefaults) {
     Limits small;
     small.max_image_side = 256;
     small.max_slices = 16;
     const std::string size = R"({"v":1,"type":"set","settings":{"size":[512,128]}})";
     const std::string slices = R"({"v":1,"type":"set","settings":{"light_buffer":{"slices":32}}})";
-    EXPECT_TRUE(parse_request(size, Limits{}).ok());
-    EXPECT_TRUE(parse_request(slices, Limits{}).ok());
-    const auto big_size = parse_request(size, small);
+    EXPECT_TRUE(parsed_then_applied(size, Limits{}).ok());
+    EXPECT_TRUE(parsed_then_applied(slices, Limits{}).ok());
+    const auto big_size = parsed_then_applied(size, small);
     ASSERT_FALSE(big_size.ok());
     EXPECT_EQ(big_size.error().code, code::out_of_range);
     EXPECT_EQ(big_size.error().where, "/settings/size/0");
-    const auto many_slices = parse_request(slices, small);
+    const auto many_slices = parsed_then_applied(slices, small);
     ASSERT_FALSE(many_slices.ok());
     EXPECT_EQ(many_slices.error().where, "/settings/light_buffer/slices");
 
     Limits large;
     large.max_image_side = 4096;
     EXPECT_TRUE(
-            parse_request(R"({"v":1,"type":"set","settings":{"size":[4096,4096]}})", large).ok());
+            parsed_then_applied(R"({"v":1,"type":"set","settings":{"size":[4096,4096]}})", large)
+                    .ok());
 }
 
 TEST(ParseRequest, RejectsTooManyTransferFunctionPoints) {
@@ -108,13 +145,13 @@ TEST(ParseRequest, RejectsTooManyTransferFunctionPoints) {
         points.push_back({{"x", i / 256.0}, {"alpha", 0.5}});
     }
     json message = {{"v", 1}, {"type", "set"}, {"transfer_function", {{"opacities", points}}}};
-    auto request = parse_request(message.dump(), Limits{});
-    ASSERT_FALSE(request.ok());
-    EXPECT_EQ(request.error().code, code::out_of_range);
-    EXPECT_EQ(request.error().where, "/transfer_function/opacities");
+    auto refused = parsed_then_applied(message.dump(), Limits{});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, code::out_of_range);
+    EXPECT_EQ(refused.error().where, "/transfer_function/opacities");
 
     message["transfer_function"]["opacities"].erase(0);
-    EXPECT_TRUE(parse_request(message.dump(), Limits{}).ok()) << "256 points are allowed";
+    EXPECT_TRUE(parsed_then_applied(message.dump(), Limits{}).ok()) << "256 points are allowed";
 }
 
 TEST(RequestIdOf, EchoesTheIdOfAMessageThatFailedToParse) {
@@ -165,8 +202,7 @@ TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerTok
     VolumeSummary volume;
     volume.id = "colin27";
     const std::string state_json = state_to_json(state);
-    const json opened =
-            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff"));
+    const json opened = json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff"));
     EXPECT_EQ(opened.at("type"), "opened");
     EXPECT_EQ(opened.at("state"), json::parse(state_json));
     EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));

@@ -3,6 +3,7 @@
 
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <variant>
 
 #include <pthread.h>
 
@@ -60,10 +62,15 @@ TEST(JsonDepth, ASetNestedBeyondTheLimitIsOutOfRangeAtTheFirstContainerBeyondIt)
     EXPECT_EQ(request.error().where, "/camera/eye/0/0/0/0");
     EXPECT_EQ(request_id_of(deep_set(5)), 5) << "the id of a refused message is still echoed";
 
+    // Depth 6 is allowed, so the value itself is judged, when the patch is applied.
     const auto within = parse_request(deep_set(4), limits);
-    ASSERT_FALSE(within.ok()) << "depth 6 is allowed, so the value itself is judged";
-    EXPECT_EQ(within.error().code, code::invalid_value);
-    EXPECT_EQ(within.error().where, "/camera/eye");
+    ASSERT_TRUE(within.ok()) << within.error().to_string();
+    SessionState state;
+    state.frame.transfer_function = scene::preset("grey_ramp").value();
+    const auto applied = apply_patch(std::get<Set>(within->message).patch, state, limits);
+    ASSERT_FALSE(applied.ok());
+    EXPECT_EQ(applied.error().code, code::invalid_value);
+    EXPECT_EQ(applied.error().where, "/camera/eye");
 }
 
 TEST(JsonDepth, PointersCountArrayElementsAndEscapeKeys) {

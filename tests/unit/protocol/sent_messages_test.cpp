@@ -84,9 +84,9 @@ std::vector<std::string> text_messages() {
     for (std::size_t i = 0; i < states.size(); ++i) {
         const auto id = static_cast<std::int64_t>(i);
         const std::string session = "s" + std::to_string(i);
-        out.push_back(i % 2 == 1 ? joined_message(id, session, colin, histogram, states[i])
-                                 : opened_message(id, session, colin, histogram, states[i],
-                                                  owner_token));
+        out.push_back(
+                i % 2 == 1 ? joined_message(id, session, colin, histogram, states[i])
+                           : opened_message(id, session, colin, histogram, states[i], owner_token));
     }
     out.push_back(opened_message(std::nullopt, "s0", ct, {}, states[0], owner_token));
     for (std::size_t i = 0; i < states.size(); ++i) {
@@ -102,15 +102,23 @@ std::vector<std::string> text_messages() {
           code::unsupported_version, code::invalid_value, code::out_of_range,
           code::message_too_large, code::rate_limited, code::unknown_volume, code::unknown_session,
           code::no_session, code::too_many_sessions, code::session_owned, code::render_failed,
-          code::internal_error}) {
+          code::too_much_work, code::internal_error}) {
         out.push_back(error_message(-3, base::make_error(c, "something went wrong", "")));
     }
     // The errors the server sends for each invalid example, as net would build them.
+    // A `set` that parses is refused when its patch is applied.
     for (const auto& example : test::invalid_examples()) {
         const auto request = parse_request(example.text, Limits{});
-        EXPECT_FALSE(request.ok()) << example.name;
         if (!request.ok()) {
             out.push_back(error_message(request_id_of(example.text), request.error()));
+            continue;
+        }
+        SessionState state;
+        state.frame.transfer_function = scene::preset("grey_ramp").value();
+        const auto applied = apply_patch(std::get<Set>(request->message).patch, state, Limits{});
+        EXPECT_FALSE(applied.ok()) << example.name;
+        if (!applied.ok()) {
+            out.push_back(error_message(request->id, applied.error()));
         }
     }
     out.push_back(stats_message(6, "{}"));

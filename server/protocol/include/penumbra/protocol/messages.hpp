@@ -45,7 +45,8 @@ struct Open {
 };
 
 // Any subset of the session's state (camera, light, transfer_function, settings, output); absent
-// parts keep their value. Already validated; apply it with apply_patch (scene_json.hpp).
+// parts keep their value. Parsed, not yet checked: apply_patch (scene_json.hpp) checks each field
+// once, against the state it changes, and a bad patch changes nothing.
 struct Set {
     Patch patch;
 };
