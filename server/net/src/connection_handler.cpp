@@ -61,7 +61,7 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
 
 session::SessionState default_state(const ServerConfig& config) {
     session::SessionState state;
-    state.frame.camera = scene::orbit_camera(25.0, 10.0, 2.6);
+    state.frame.camera = scene::Camera{};  // the anterior view
     state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
     auto tf = scene::preset(config.default_transfer_function);
     state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
