@@ -3,8 +3,8 @@
 import GUI from 'lil-gui';
 import './style.css';
 import { Connection, RequestFailed, ServerError, type SessionInfo } from './protocol/connection';
-import { DEFAULT_LIMITS, mergePatches, type StatePatch } from './protocol/messages';
-import { attachOrbitControls, NAMED_VIEWS, OrbitCamera, type ViewName } from './interaction/orbit_camera';
+import { DEFAULT_LIMITS, mergePatches, VIEWS, type StatePatch } from './protocol/messages';
+import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
 import { FrameView } from './view/frame_view';
 import { StatsOverlay } from './view/stats_overlay';
@@ -142,7 +142,7 @@ const viewButtons = document.createElement('div');
 viewButtons.className = 'view-buttons';
 viewButtons.setAttribute('role', 'toolbar');
 viewButtons.setAttribute('aria-label', 'views');
-for (const name of Object.keys(NAMED_VIEWS) as ViewName[]) {
+for (const name of VIEWS) {
   const button = document.createElement('button');
   button.type = 'button';
   button.textContent = name[0]!.toUpperCase();

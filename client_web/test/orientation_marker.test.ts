@@ -1,12 +1,17 @@
 import { describe, expect, it } from 'vitest';
-import { NAMED_VIEWS, OrbitCamera, type ViewName } from '../src/interaction/orbit_camera';
+import { OrbitCamera } from '../src/interaction/orbit_camera';
+import { applyPatch, VIEWS, type Camera, type State, type ViewName } from '../src/protocol/messages';
 import { markerEnds } from '../src/view/orientation_marker';
 
 // Which label lies furthest right and which furthest up on screen.
 function screenAxes(view: ViewName): { right: string; up: string } {
   const camera = new OrbitCamera();
   camera.setView(view);
-  const ends = markerEnds(camera.toCamera());
+  return screenAxesOf(camera.toCamera());
+}
+
+function screenAxesOf(camera: Camera): { right: string; up: string } {
+  const ends = markerEnds(camera);
   return {
     right: ends.reduce((a, b) => (b.x > a.x ? b : a)).label,
     up: ends.reduce((a, b) => (b.y < a.y ? b : a)).label,
@@ -27,12 +32,28 @@ describe('named views and the orientation marker', () => {
   it('keeps the target, distance and field of view', () => {
     const camera = new OrbitCamera();
     camera.setFrom({ eye: [0.3, 3, 0.2], target: [0.3, 0, 0.2], up: [0, 0, 1], fov: 40 });
-    for (const view of Object.keys(NAMED_VIEWS) as ViewName[]) {
+    for (const view of VIEWS) {
       camera.setView(view);
       const c = camera.toCamera();
       expect(Math.hypot(c.eye[0] - 0.3, c.eye[1], c.eye[2] - 0.2)).toBeCloseTo(3, 9);
       expect(c.target).toEqual([0.3, 0, 0.2]);
       expect(c.fov).toBe(40);
+    }
+  });
+
+  it('points each button view the way the server poses the named view', () => {
+    const state = { camera: { eye: [0, 0, 3], target: [0, 0, 0], up: [0, 0, 1], fov: 30 } } as unknown as State;
+    for (const view of VIEWS) {
+      const server = applyPatch(state, { camera: { view } }).camera;
+      const camera = new OrbitCamera();
+      camera.setFrom(state.camera);
+      camera.setView(view);
+      const client = camera.toCamera();
+      // The same side and, on screen, the same up (the orbit stops 1 degree short of the poles).
+      const cosine =
+        (client.eye[0] * server.eye[0] + client.eye[1] * server.eye[1] + client.eye[2] * server.eye[2]) / 9;
+      expect(cosine).toBeGreaterThan(Math.cos((1.01 * Math.PI) / 180));
+      expect(screenAxes(view)).toEqual(screenAxesOf(server));
     }
   });
 

@@ -5,7 +5,7 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
-import { orbitEye, orbitOf, type Camera, type Vec3 } from '../protocol/messages';
+import { orbitEye, orbitOf, type Camera, type Vec3, type ViewName } from '../protocol/messages';
 
 const MIN_DISTANCE = 0.05;
 const MAX_DISTANCE = 50;
@@ -44,16 +44,14 @@ export function cameraBasis(camera: Camera): { right: Vec3; up: Vec3; back: Vec3
  * below. As orbit angles: the orbit keeps +z up, so the views from above and below stop at the
  * orbit's elevation limit and take their azimuth from which way anterior must point.
  */
-export const NAMED_VIEWS = {
+export const NAMED_VIEWS: Record<ViewName, { azimuth: number; elevation: number }> = {
   anterior: { azimuth: 0, elevation: 0 },
   posterior: { azimuth: 180, elevation: 0 },
   left: { azimuth: -90, elevation: 0 },
   right: { azimuth: 90, elevation: 0 },
   superior: { azimuth: 180, elevation: MAX_ELEVATION },
   inferior: { azimuth: 0, elevation: -MAX_ELEVATION },
-} as const;
-
-export type ViewName = keyof typeof NAMED_VIEWS;
+};
 
 export class OrbitCamera {
   target: Vec3 = [0, 0, 0];
