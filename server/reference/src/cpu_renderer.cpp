@@ -67,6 +67,9 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     if (auto status = scene::validate(request); !status) {
         return status.error();
     }
+    if (auto axes = scene::check_axes(volume.axes); !axes) {
+        return axes.error();
+    }
     const scene::RenderSettings& s = request.settings;
     if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong &&
         s.mode != scene::Mode::reference) {

@@ -553,6 +553,9 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
     if (volume == impl.volume) {
         return base::Ok{};
     }
+    if (auto axes = scene::check_axes(volume->axes); !axes) {
+        return axes.error();
+    }
     auto cached = std::find_if(impl.volumes.begin(), impl.volumes.end(),
                                [&](const Impl::CachedVolume& v) { return v.volume == volume; });
     if (cached == impl.volumes.end()) {

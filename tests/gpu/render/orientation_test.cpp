@@ -207,6 +207,21 @@ TEST_F(OrientationTest, RightEarShowsOnTheLeftFromTheFront) {
     }
 }
 
+// A sheared transform (a gantry tilt) cannot be drawn as an oriented box: refused, not drawn wrong.
+TEST_F(OrientationTest, ShearedAxesAreRefusedWithAClearMessage) {
+    volume::Volume sheared = storages()[0].volume;
+    sheared.axes[2] = glm::normalize(glm::dvec3(0.0, 0.3, 1.0));  // slices tilted toward anterior
+    const auto shared = std::make_shared<const volume::Volume>(sheared);
+    const auto status = renderer_->set_volume(shared);
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, "unsupported_orientation");
+    EXPECT_NE(status.error().message.find("sheared"), std::string::npos);
+    const auto cpu = reference::render_cpu(
+            sheared, head_request(scene::Mode::dvr, scene::orbit_camera(0.0, 0.0, 2.6), 8));
+    ASSERT_FALSE(cpu.ok());
+    EXPECT_EQ(cpu.error().code, "unsupported_orientation");
+}
+
 // The CPU reference (shadow rays) agrees across storages too.
 TEST(OrientationReferenceTest, CpuReferenceCastsTheSameShadowsOnEveryStorage) {
     const auto stored = storages();

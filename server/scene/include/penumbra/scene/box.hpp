@@ -1,9 +1,14 @@
 #pragma once
 
+#include <penumbra/base/result.hpp>
+
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <glm/vec3.hpp>
+
+#include <cmath>
 
 namespace penumbra::scene {
 
@@ -43,6 +48,26 @@ struct Box {
             glm::max(physical_extent.x, glm::max(physical_extent.y, physical_extent.z));
     const glm::dvec3 half = longest > 0.0 ? 0.5 * physical_extent / longest : glm::dvec3(0.5);
     return Box{-half, half, axes, glm::inverse(axes)};
+}
+
+// The oriented box needs a rotation, possibly with a reflection (orthonormal columns): rays, slice
+// polygons and gradients turn between box and world space by it. A sheared transform (a CT
+// gantry tilt) must be resampled onto an orthogonal grid before it can be drawn.
+[[nodiscard]] inline base::Status check_axes(const glm::dmat3& axes) {
+    constexpr double tolerance = 1e-4;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const double expected = i == j ? 1.0 : 0.0;
+            if (!(std::abs(glm::dot(axes[i], axes[j]) - expected) <= tolerance)) {
+                return base::make_error("unsupported_orientation",
+                                        "the volume's axes are not orthonormal (a sheared or "
+                                        "scaled transform, such as a gantry tilt); it must be "
+                                        "resampled onto an orthogonal grid to be drawn",
+                                        "axes");
+            }
+        }
+    }
+    return base::Ok{};
 }
 
 }  // namespace penumbra::scene
