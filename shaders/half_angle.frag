@@ -17,7 +17,7 @@ in vec3 slice_world;
 layout(location = 0) out vec4 result;
 
 void main() {
-    vec3 world = clamp(slice_world, u.box_min.xyz, u.box_max.xyz);
+    vec3 world = clamp_to_box(slice_world);
     vec3 axis = u.half_angle_axis.xyz;
     float spacing = u.half_angle_axis.w;
 #if HALF_ANGLE_LIGHT_PASS

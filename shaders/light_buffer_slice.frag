@@ -13,9 +13,8 @@ layout(location = 0) out vec4 transmittance;
 void main() {
     vec3 ray = light_travel_at(slice_world);
     float path_length = u.light_slicing.w / dot(u.light_travel.xyz, ray);
-    // The polygon is the slice's intersection with the box; rasterisation can put a fragment
-    // centre a rounding error outside, which must still count as inside.
-    vec3 inside = clamp(slice_world, u.box_min.xyz, u.box_max.xyz);
+    // The polygon is the slice's intersection with the box.
+    vec3 inside = clamp_to_box(slice_world);
     transmittance = vec4(slab_transmittance(inside, ray, path_length, u.light_buffer_info.y,
                                                    int(u.light_buffer_info.z)));
 }

@@ -3,12 +3,13 @@
 import GUI from 'lil-gui';
 import './style.css';
 import { Connection, RequestFailed, ServerError, type SessionInfo } from './protocol/connection';
-import { DEFAULT_LIMITS, mergePatches, type StatePatch } from './protocol/messages';
+import { DEFAULT_LIMITS, mergePatches, VIEWS, type StatePatch } from './protocol/messages';
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
 import { FrameView } from './view/frame_view';
 import { StatsOverlay } from './view/stats_overlay';
 import { Notices } from './view/notices';
+import { OrientationMarker } from './view/orientation_marker';
 import { VolumePicker } from './panels/volume_picker';
 import { SessionPanel } from './panels/session_panel';
 import { LightControl } from './panels/light_control';
@@ -36,6 +37,8 @@ const connection = new Connection(wsUrl, {
 const notices = new Notices(document.body, () => connection.retryNow());
 
 const camera = new OrbitCamera();
+const marker = new OrientationMarker(viewElement);
+marker.update(camera.toCamera());
 const tfModel = new TfModel();
 let role: SessionInfo['role'] = 'none';
 let scale = 1;
@@ -105,7 +108,7 @@ const viewParams = {
   stats: window.innerWidth >= 600, // small screens: off until asked for (S or the panel)
   'reset camera': () => {
     camera.reset();
-    change({ camera: camera.toCamera() }, false);
+    cameraMoved();
   },
 };
 stats.visible = viewParams.stats;
@@ -124,15 +127,53 @@ function setEnabled(owner: boolean): void {
   light.setEnabled(owner);
   method.setEnabled(owner);
   document.body.classList.toggle('viewer', !owner);
+  viewButtons.querySelectorAll('button').forEach((b) => (b.disabled = !owner));
 }
 
 // ---- camera ------------------------------------------------------------------------------------
+function cameraMoved(interactive = false): void {
+  marker.update(camera.toCamera());
+  light.cameraMoved();
+  change({ camera: camera.toCamera() }, interactive);
+}
+
+// The six views named by anatomy, over the image beside the orientation marker.
+const viewButtons = document.createElement('div');
+viewButtons.className = 'view-buttons';
+viewButtons.setAttribute('role', 'toolbar');
+viewButtons.setAttribute('aria-label', 'views');
+for (const name of VIEWS) {
+  const button = document.createElement('button');
+  button.type = 'button';
+  button.textContent = name[0]!.toUpperCase();
+  button.title = `${name} view`;
+  button.dataset.view = name;
+  button.addEventListener('click', () => {
+    if (role !== 'owner') return;
+    camera.setView(name);
+    cameraMoved();
+  });
+  viewButtons.appendChild(button);
+}
+viewElement.appendChild(viewButtons);
+
+// On a portrait tablet or phone the panel is a drawer over the view (style.css), opened here.
+const drawerToggle = document.createElement('button');
+drawerToggle.type = 'button';
+drawerToggle.className = 'drawer-toggle';
+drawerToggle.textContent = '☰';
+drawerToggle.title = 'controls';
+drawerToggle.setAttribute('aria-controls', 'panel');
+drawerToggle.setAttribute('aria-expanded', 'false');
+drawerToggle.addEventListener('click', () => {
+  const open = document.body.classList.toggle('drawer-open');
+  drawerToggle.setAttribute('aria-expanded', String(open));
+});
+viewElement.appendChild(drawerToggle);
+
 attachOrbitControls(view.canvas, camera, {
   start: () => pacer.startInteraction(),
-  change: () => {
-    light.cameraMoved();
-    change({ camera: camera.toCamera() }, pacer.interactive);
-  },
+  change: () => cameraMoved(pacer.interactive),
   end: () => pacer.endInteraction(),
   enabled: () => role === 'owner',
 });
@@ -168,6 +209,7 @@ connection.on('status', (status) => {
 connection.on('session', (info, restored) => {
   role = info.role;
   if (!restored || info.role === 'viewer') camera.setFrom(info.state.camera, !restored);
+  marker.update(camera.toCamera());
   tfModel.load(info.state.transfer_function, false);
   tfEditor.setHistogram(info.histogram);
   tfEditor.refresh();
@@ -201,6 +243,7 @@ connection.on('session', (info, restored) => {
 // A viewer's panels follow the owner: each of its changes arrives as the session's whole state.
 connection.on('state', (info) => {
   camera.setFrom(info.state.camera);
+  marker.update(camera.toCamera());
   tfModel.load(info.state.transfer_function, false);
   tfEditor.refresh();
   showSessionState();

@@ -3,7 +3,8 @@
 // length through it, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
 
 bool inside_box(vec3 world) {
-    return all(greaterThanEqual(world, u.box_min.xyz)) && all(lessThanEqual(world, u.box_max.xyz));
+    vec3 p = box_coordinate(world);
+    return all(greaterThanEqual(p, u.box_min.xyz)) && all(lessThanEqual(p, u.box_max.xyz));
 }
 
 // The slab's opacity from `samples` points spread evenly along the light's ray across it, each

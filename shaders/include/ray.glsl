@@ -1,8 +1,11 @@
 // Ray set-up; mirrors server/optics/include/penumbra/optics/ray.hpp.
 
 // Where the whole line origin + t * direction crosses the volume box (slab method), t of either
-// sign; x > y when it misses.
-vec2 intersect_line_box(vec3 origin, vec3 direction) {
+// sign; x > y when it misses. Computed in box space, where the box is axis-aligned: distances
+// along the line stay the same there.
+vec2 intersect_line_box(vec3 world_origin, vec3 world_direction) {
+    vec3 origin = mat3(u.world_to_box) * world_origin;
+    vec3 direction = mat3(u.world_to_box) * world_direction;
     vec3 inverse = 1.0 / direction;
     vec3 t0 = (u.box_min.xyz - origin) * inverse;
     vec3 t1 = (u.box_max.xyz - origin) * inverse;

@@ -12,9 +12,10 @@ vec3 direction_to_light(vec3 world) {
 }
 
 // The unit normal from a gradient in value per world unit, or zero where the gradient is too
-// small to define one (compared per voxel so the threshold does not depend on the volume size).
+// small to define one (compared per voxel along the volume's axes so the threshold does not
+// depend on the volume size).
 vec3 normal_from_gradient(vec3 gradient) {
-    vec3 per_voxel = gradient * u.voxel_size.xyz;
+    vec3 per_voxel = (mat3(u.world_to_box) * gradient) * u.voxel_size.xyz;
     if (length(per_voxel) < min_gradient_per_voxel) return vec3(0.0);
     return -normalize(gradient);
 }

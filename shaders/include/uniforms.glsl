@@ -27,4 +27,8 @@ layout(std140, binding = 0) uniform FrameUniforms {
     mat4 camera_view_projection;  // world -> camera clip space, image row 0 at the top
     vec4 half_angle_axis;         // xyz: slice axis h; w: slice spacing along h
     vec4 half_angle_range;        // x: min of h.V over the box corners
+    // The volume's orientation (volume.glsl): box space, where the box is axis-aligned and its
+    // axes follow the volume's index axes, to world space (RAS) and back.
+    mat4 box_to_world;
+    mat4 world_to_box;
 } u;

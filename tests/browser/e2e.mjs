@@ -1,7 +1,9 @@
 #!/usr/bin/env node
 // End-to-end test of the web client: Debian's chromium (driven by playwright-core) against a real
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
-// it, changing the mode changes the stats, a bad parameter shows the server's error, a second page
+// it and turns the orientation marker, the six view buttons set the named views, a portrait tablet
+// gets the panel as a drawer, changing the mode changes the stats, a bad parameter shows the
+// server's error, a second page
 // joins through the share link, its method panel follows the owner's mode and it sees the same
 // frame, and after the server goes away and comes back the client reconnects and restores the
 // session. Screenshots go to --out.
@@ -162,6 +164,14 @@ async function waitForStill(page, after = -1, timeout = 30000) {
   return frameInfo(page);
 }
 
+/** Which patient label the orientation marker shows furthest right and furthest up. */
+async function markerAxes(page) {
+  return page.evaluate(() => {
+    const d = document.querySelector('svg.orientation-marker')?.dataset ?? {};
+    return `${d.screenRight ?? '?'}${d.screenUp ?? '?'}`;
+  });
+}
+
 async function statText(page, key) {
   return page.locator(`[data-stat="${key}"]`).textContent();
 }
@@ -208,6 +218,9 @@ try {
   check('a frame appears and the canvas is not blank', first.lit > 0.02,
     `frame ${info.frame} ${info.size} mode ${info.mode}, ${(first.lit * 100).toFixed(1)}% lit`);
   check('the stats overlay shows the frame', /#\d+/.test(await statText(owner, 'frame')));
+  // The default camera looks at the face: the patient's left on the right, superior up.
+  check('the orientation marker shows the anterior view', (await markerAxes(owner)) === 'LS',
+    await markerAxes(owner));
 
   // 2. Dragging changes the frame, with interactive frames during the drag.
   await owner.evaluate(() => {
@@ -234,6 +247,8 @@ try {
     `mean grey difference ${difference(first, dragged).toFixed(1)}`);
   check('frames were interactive during the drag and still after',
     (await owner.evaluate(() => window.__interactiveSeen)) && info.interactive === 'false');
+  check('the orientation marker turns with the camera', (await markerAxes(owner)) !== 'LS',
+    await markerAxes(owner));
 
   // 2b. Dragging the light on its sphere and an opacity point of the transfer function change it.
   let before = await canvasSignature(owner);
@@ -274,6 +289,54 @@ try {
   check('changing the mode changes the stats',
     lightBefore !== 'none' && lightAfter === 'none' && !passNames.some((p) => p.includes('light_buffer')),
     `light buffer ${lightBefore} -> ${lightAfter}; passes ${passesBefore} -> ${passNames.join(', ')}`);
+
+  // 3b. The view buttons set the named views: the marker says which side faces the viewer, and
+  // each view is its own image.
+  const expectedAxes = { anterior: 'LS', posterior: 'RS', left: 'PS', right: 'AS', superior: 'RA',
+                         inferior: 'LA' };
+  const viewImages = {};
+  for (const [name, axes] of Object.entries(expectedAxes)) {
+    await owner.locator(`.view-buttons button[data-view="${name}"]`).click();
+    info = await waitForStill(owner, info.frame);
+    viewImages[name] = await canvasSignature(owner);
+    check(`the ${name} view button sets the ${name} view`, (await markerAxes(owner)) === axes,
+      `marker ${await markerAxes(owner)}, ${(viewImages[name].lit * 100).toFixed(1)}% lit`);
+  }
+  await owner.screenshot({ path: path.join(outDir, '03b_view_inferior.png') });
+  check('the named views show different sides of the head',
+    difference(viewImages.anterior, viewImages.posterior) > 2 &&
+      difference(viewImages.left, viewImages.right) > 2 &&
+      difference(viewImages.superior, viewImages.anterior) > 2,
+    `anterior/posterior ${difference(viewImages.anterior, viewImages.posterior).toFixed(1)}, ` +
+      `left/right ${difference(viewImages.left, viewImages.right).toFixed(1)}`);
+  await owner.locator('.view-buttons button[data-view="anterior"]').click();
+  info = await waitForStill(owner, info.frame);
+
+  // 3c. On a portrait tablet the view fills the screen and the panel folds into a drawer.
+  await owner.setViewportSize({ width: 768, height: 1024 });
+  await owner.waitForTimeout(400);
+  const viewBox = await owner.locator('#view').boundingBox();
+  const panelClosed = await owner.locator('#panel').boundingBox();
+  await owner.screenshot({ path: path.join(outDir, '03c_portrait.png') });
+  check('on a portrait tablet the view fills the screen',
+    viewBox.width >= 760 && viewBox.height >= 1000 && !(await owner.locator('#panel').isVisible()),
+    `view ${viewBox.width}x${viewBox.height}, panel at x ${panelClosed?.x}`);
+  await owner.locator('.drawer-toggle').click();
+  await owner.waitForTimeout(400);
+  const panelOpen = await owner.locator('#panel').boundingBox();
+  await owner.screenshot({ path: path.join(outDir, '03d_portrait_drawer.png') });
+  check('the drawer opens over the view',
+    (await owner.locator('#panel').isVisible()) && panelOpen.x + panelOpen.width <= 769 &&
+      panelOpen.x >= 768 - 330 && (await owner.locator('[data-control="mode"] select').isVisible()),
+    `panel at x ${panelOpen.x}, ${panelOpen.width} wide`);
+  await owner.locator('.drawer-toggle').click();
+  await owner.waitForTimeout(400);
+  check('and closes again', !(await owner.locator('#panel').isVisible()));
+  await owner.setViewportSize({ width: 900, height: 560 });
+  await owner.waitForTimeout(400);
+  check('wider than tall, the panel is beside the view again',
+    (await owner.locator('#panel').isVisible()) && !(await owner.locator('.drawer-toggle').isVisible()));
+  info = await waitForStill(owner, -1);
 
   // 4. A bad parameter shows the server's error.
   const sampleDistance = owner.locator('[data-control="sample_distance"] input');

@@ -5,7 +5,7 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
-import { orbitEye, orbitOf, type Camera, type Vec3 } from '../protocol/messages';
+import { orbitEye, orbitOf, type Camera, type Vec3, type ViewName } from '../protocol/messages';
 
 const MIN_DISTANCE = 0.05;
 const MAX_DISTANCE = 50;
@@ -38,10 +38,25 @@ export function cameraBasis(camera: Camera): { right: Vec3; up: Vec3; back: Vec3
   return { right, up, back: [-forward[0], -forward[1], -forward[2]] };
 }
 
+/**
+ * The views named by anatomy (proto/README.md `camera.view`; world space is RAS): the view from
+ * that side of the patient, superior up for the horizontal ones and anterior up from above and
+ * below. As orbit angles: the orbit keeps +z up, so the views from above and below stop at the
+ * orbit's elevation limit and take their azimuth from which way anterior must point.
+ */
+export const NAMED_VIEWS: Record<ViewName, { azimuth: number; elevation: number }> = {
+  anterior: { azimuth: 0, elevation: 0 },
+  posterior: { azimuth: 180, elevation: 0 },
+  left: { azimuth: -90, elevation: 0 },
+  right: { azimuth: 90, elevation: 0 },
+  superior: { azimuth: 180, elevation: MAX_ELEVATION },
+  inferior: { azimuth: 0, elevation: -MAX_ELEVATION },
+};
+
 export class OrbitCamera {
   target: Vec3 = [0, 0, 0];
-  azimuth = 25;
-  elevation = 10;
+  azimuth = 0; // the anterior view, as the server's default camera
+  elevation = 0;
   distance = 2.6;
   fov = 30;
   private home: Camera | null = null;
@@ -96,6 +111,12 @@ export class OrbitCamera {
   zoom(factor: number): void {
     if (!(factor > 0) || !Number.isFinite(factor)) return;
     this.distance = clamp(this.distance * factor, MIN_DISTANCE, MAX_DISTANCE);
+  }
+
+  /** Looks from that side of the patient, keeping the target, distance and field of view. */
+  setView(view: ViewName): void {
+    this.azimuth = NAMED_VIEWS[view].azimuth;
+    this.elevation = NAMED_VIEWS[view].elevation;
   }
 
   reset(): void {

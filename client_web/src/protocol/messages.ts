@@ -31,6 +31,29 @@ export type Builder = (typeof BUILDERS)[number];
 export const LIGHT_LOOKUPS = ['local', 'interpolate'] as const;
 export type LightLookup = (typeof LIGHT_LOOKUPS)[number];
 export const LIGHT_TYPES = ['directional', 'point'] as const;
+
+/** The views named by anatomy (world space is RAS: +x right, +y anterior, +z superior). */
+export const VIEWS = ['anterior', 'posterior', 'left', 'right', 'superior', 'inferior'] as const;
+export type ViewName = (typeof VIEWS)[number];
+
+/** Where each view's eye lies from the target, and its up (as the server's scene poses them). */
+const VIEW_POSES: Record<ViewName, { side: Vec3; up: Vec3 }> = {
+  anterior: { side: [0, 1, 0], up: [0, 0, 1] },
+  posterior: { side: [0, -1, 0], up: [0, 0, 1] },
+  left: { side: [-1, 0, 0], up: [0, 0, 1] },
+  right: { side: [1, 0, 0], up: [0, 0, 1] },
+  superior: { side: [0, 0, 1], up: [0, 1, 0] },
+  inferior: { side: [0, 0, -1], up: [0, 1, 0] },
+};
+
+/** The eye and up of `view` looking at `target` from `distance`. */
+export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
+  const { side, up } = VIEW_POSES[view];
+  return {
+    eye: [target[0] + distance * side[0], target[1] + distance * side[1], target[2] + distance * side[2]],
+    up: [...up],
+  };
+}
 export type LightType = (typeof LIGHT_TYPES)[number];
 
 export interface Camera {
@@ -52,6 +75,7 @@ export interface CameraPatch {
   up?: Vec3;
   fov?: number;
   orbit?: Orbit;
+  view?: ViewName;
 }
 
 export interface Light {
@@ -685,6 +709,7 @@ const cameraSpec: Spec = {
       elevation: number(-90, 90),
       distance: number(0.01, 100),
     }),
+  view: oneOf(VIEWS),
 };
 
 const lightSpec: Spec = {
@@ -818,6 +843,11 @@ export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMI
             if (camera.eye && camera.orbit) {
               reject('invalid_value', `${at}/orbit`, 'give eye or orbit, not both');
             }
+            for (const other of ['orbit', 'eye', 'up'] as const) {
+              if (camera.view && camera[other]) {
+                reject('invalid_value', `${at}/view`, `give either view or ${other}, not both`);
+              }
+            }
             if (camera.eye && camera.target && subtract(camera.eye, camera.target).every((c) => c === 0)) {
               reject('invalid_value', at, 'eye equals target');
             }
@@ -889,11 +919,16 @@ export function applyPatch(
 ): State {
   const next: State = structuredClone(state);
   if (patch.camera) {
-    const { orbit, ...rest } = patch.camera;
+    const { orbit, view, ...rest } = patch.camera;
+    // A view keeps the camera's distance from its target.
+    const distance = Math.hypot(...subtract(state.camera.eye, state.camera.target));
     Object.assign(next.camera, structuredClone(rest));
     if (orbit) {
       next.camera.eye = orbitEye(next.camera.target, orbit);
       next.camera.up = [0, 0, 1];
+    }
+    if (view) {
+      Object.assign(next.camera, viewPose(view, next.camera.target, distance > 0 ? distance : 2.6));
     }
   }
   if (patch.light) {
@@ -936,6 +971,12 @@ export function mergePatches(a: StatePatch, b: StatePatch): StatePatch {
     const camera: CameraPatch = { ...(out.camera ?? {}), ...structuredClone(b.camera) };
     if (b.camera.eye) delete camera.orbit;
     if (b.camera.orbit) delete camera.eye;
+    if (b.camera.eye || b.camera.orbit || b.camera.up) delete camera.view;
+    if (b.camera.view) {
+      delete camera.eye;
+      delete camera.orbit;
+      delete camera.up;
+    }
     out.camera = camera;
   }
   if (b.light) out.light = { ...(out.light ?? {}), ...structuredClone(b.light) };

@@ -8,7 +8,7 @@ namespace penumbra::app {
 
 const std::vector<std::string>& frame_option_names() {
     static const std::vector<std::string> names = {
-            "mode",       "size",          "camera",     "eye",      "target",    "up",
+            "mode",       "size",          "camera",     "view",     "eye",      "target",    "up",
             "fov",        "light",         "light-position", "light-color", "intensity",
             "ambient",    "diffuse",       "specular",   "shininess", "tf",       "sample-distance",
             "opacity-unit", "compositing", "stage",      "background", "early-termination",
@@ -41,7 +41,11 @@ const char* frame_options_help() {
            "  --size WxH                     image size (default 512x512)\n"
            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees about\n"
            "                                 the volume centre (z up, azimuth 0 = +y), distance in\n"
-           "                                 units of the volume's longest side (default 25,10,2.6)\n"
+           "                                 units of the volume's longest side\n"
+           "  --view SIDE                    the view from that side of the patient: anterior\n"
+           "                                 (the default: the face, superior up), posterior,\n"
+           "                                 left, right (superior up), superior, inferior\n"
+           "                                 (anterior up); world space is RAS\n"
            "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
            "  --fov DEG                      vertical field of view (default 30)\n"
            "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
@@ -81,7 +85,12 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
     s.width = size->first;
     s.height = size->second;
 
-    if (args.has("eye") || args.has("target") || args.has("up")) {
+    const bool explicit_camera = args.has("eye") || args.has("target") || args.has("up");
+    if (int(explicit_camera) + int(args.has("camera")) + int(args.has("view")) > 1) {
+        return base::make_error("invalid_argument",
+                                "give one of --view, --camera and --eye/--target/--up", "--view");
+    }
+    if (explicit_camera) {
         auto eye = args.vec3("eye", request.camera.eye);
         auto target = args.vec3("target", request.camera.target);
         auto up = args.vec3("up", request.camera.up);
@@ -91,12 +100,20 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         request.camera.eye = *eye;
         request.camera.target = *target;
         request.camera.up = *up;
-    } else {
-        auto orbit = args.vec3("camera", {25.0, 10.0, 2.6});
+    } else if (args.has("camera")) {
+        auto orbit = args.vec3("camera", {});
         if (!orbit) {
             return orbit.error();
         }
         request.camera = scene::orbit_camera(orbit->x, orbit->y, orbit->z);
+    } else if (const auto name = args.get("view")) {
+        const auto view = scene::parse_view(*name);
+        if (!view) {
+            return base::make_error("invalid_argument",
+                                    "unknown view '" + *name + "' (" + scene::view_names() + ")",
+                                    "--view");
+        }
+        request.camera = scene::view_camera(*view);
     }
     auto fov = args.number("fov", 30.0);
     if (!fov) {

@@ -26,15 +26,15 @@ glm::dvec3 up_for(glm::dvec3 axis) {
 std::array<glm::dvec3, 8> box_corners(const scene::Box& box) {
     std::array<glm::dvec3, 8> corners;
     for (int i = 0; i < 8; ++i) {
-        corners[i] = {(i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
-                      (i & 4) ? box.max.z : box.min.z};
+        corners[i] = box.to_world({(i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
+                                   (i & 4) ? box.max.z : box.min.z});
     }
     return corners;
 }
 
 glm::dvec3 light_travel_direction(const scene::Light& light, const scene::Box& box) {
     if (light.type == scene::LightType::point) {
-        return glm::normalize(0.5 * (box.min + box.max) - light.position);
+        return glm::normalize(box.centre() - light.position);
     }
     return -glm::normalize(light.direction);
 }
@@ -105,7 +105,7 @@ LayerBlend layer_blend(double index, int count) {
 }
 
 base::Result<LightView> make_light_view(const scene::Light& light, const scene::Box& box) {
-    const glm::dvec3 centre = 0.5 * (box.min + box.max);
+    const glm::dvec3 centre = box.centre();
     const auto corners = box_corners(box);
     LightView out;
     if (light.type == scene::LightType::directional) {
@@ -128,9 +128,7 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
         out.view_projection = glm::ortho(x0, x1, y0, y1, radius * 0.5, radius * 3.5) * view;
     } else {
         // Checked first: at the centre itself the view below would be NaN, not an error.
-        const glm::dvec3 at = light.position;
-        if (at.x >= box.min.x && at.x <= box.max.x && at.y >= box.min.y && at.y <= box.max.y &&
-            at.z >= box.min.z && at.z <= box.max.z) {
+        if (box.contains(light.position)) {
             return base::make_error("unsupported_light",
                                     "a point light inside or beside the volume cannot be "
                                     "used by the light-buffer modes; move it outside the box",

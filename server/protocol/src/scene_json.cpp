@@ -5,6 +5,8 @@
 
 #include <penumbra/scene/camera.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,10 +28,35 @@ constexpr std::size_t max_tf_points = 256;
 
 base::Status apply_camera(const json& j, const std::string& p, scene::Camera& camera) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"eye", "target", "up", "fov", "orbit"}));
+    PENUMBRA_TRY(only_fields(j, p, {"eye", "target", "up", "fov", "orbit", "view"}));
     const auto coordinates = [](const json& v, const std::string& q) {
         return vec3(v, q, -max_coordinate, max_coordinate);
     };
+    if (j.contains("view")) {
+        for (const char* other : {"orbit", "eye", "up"}) {
+            if (j.contains(other)) {
+                return field_error("invalid_value", p + "/view",
+                                   std::string("give either view or ") + other + ", not both");
+            }
+        }
+        auto name = string(j.at("view"), p + "/view");
+        if (!name) {
+            return name.error();
+        }
+        const auto view = scene::parse_view(*name);
+        if (!view) {
+            return field_error("invalid_value", p + "/view",
+                               "unknown view '" + *name + "' (" + scene::view_names() + ")");
+        }
+        // The view keeps the camera's distance from the target it looks at (the patch's, else
+        // the current one), so that naming a side never zooms.
+        glm::dvec3 target = camera.target;
+        PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
+        const double distance = glm::length(camera.eye - camera.target);
+        camera = scene::view_camera(
+                *view, distance > 0.0 ? distance : scene::default_camera_distance, target,
+                camera.fov_y_degrees);
+    }
     if (j.contains("orbit")) {
         if (j.contains("eye")) {
             return field_error("invalid_value", p + "/orbit", "give either orbit or eye, not both");
@@ -40,7 +67,7 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
         PENUMBRA_TRY(only_fields(o, op, {"azimuth", "elevation", "distance"}));
         double azimuth = 0.0;
         double elevation = 0.0;
-        double distance = 2.6;
+        double distance = scene::default_camera_distance;
         const auto deg = [](double lo, double hi) {
             return [lo, hi](const json& v, const std::string& q) { return number(v, q, lo, hi); };
         };

@@ -19,8 +19,10 @@ glm::dvec3 direction_to_light(const scene::Light& light, glm::dvec3 position) {
                                                  : glm::normalize(light.direction);
 }
 
-glm::dvec3 normal_from_gradient(glm::dvec3 gradient, glm::dvec3 voxel_size) {
-    if (glm::length(gradient * voxel_size) < optics::min_gradient_per_voxel) {
+// The threshold compares the change per voxel along the volume's own axes (shading.glsl).
+glm::dvec3 normal_from_gradient(glm::dvec3 gradient, const VolumeSampler& sampler) {
+    if (glm::length(sampler.box().to_box(gradient) * sampler.voxel_size()) <
+        optics::min_gradient_per_voxel) {
         return glm::dvec3(0.0);
     }
     return -glm::normalize(gradient);
@@ -65,6 +67,9 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     if (auto status = scene::validate(request); !status) {
         return status.error();
     }
+    if (auto axes = scene::check_axes(volume.axes); !axes) {
+        return axes.error();
+    }
     const scene::RenderSettings& s = request.settings;
     if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong &&
         s.mode != scene::Mode::reference) {
@@ -84,7 +89,8 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     base::ImageRgbaF image(s.width, s.height);
     for (int y = 0; y < s.height; ++y) {
         for (int x = 0; x < s.width; ++x) {
-            const glm::dvec3 direction = optics::pixel_ray_direction(camera, x, y, s.width, s.height);
+            const glm::dvec3 direction =
+                    optics::pixel_ray_direction(camera, x, y, s.width, s.height);
             const optics::BoxHit hit = optics::intersect_box(camera.eye, direction, sampler.box());
             glm::dvec4 accumulated(0.0);
             const optics::Marching marching =
@@ -101,8 +107,8 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                 if (phong || shadows) {
                     optics::LightTerms terms;
                     if (phong) {
-                        const glm::dvec3 normal = normal_from_gradient(sampler.gradient(position),
-                                                                       sampler.voxel_size());
+                        const glm::dvec3 normal =
+                                normal_from_gradient(sampler.gradient(position), sampler);
                         terms = optics::blinn_phong(normal,
                                                     direction_to_light(request.light, position),
                                                     -direction, s.shading.shininess);

@@ -26,7 +26,7 @@ AxisSample axis_sample(double t, int n) {
 
 VolumeSampler::VolumeSampler(const volume::Volume& volume)
     : dims_(glm::ivec3(volume.dims))
-    , box_(scene::box_for_extent(volume.extent()))
+    , box_(scene::box_for_extent(volume.extent(), volume.axes))
     , voxel_size_(box_.size() / glm::dvec3(volume.dims))
     , normalized_(volume.voxel_count()) {
     const double width = volume.range.max - volume.range.min;
@@ -34,8 +34,8 @@ VolumeSampler::VolumeSampler(const volume::Volume& volume)
     for (std::uint32_t z = 0; z < volume.dims.z; ++z) {
         for (std::uint32_t y = 0; y < volume.dims.y; ++y) {
             for (std::uint32_t x = 0; x < volume.dims.x; ++x) {
-                normalized_[i++] = width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width
-                                               : 0.0;
+                normalized_[i++] =
+                        width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width : 0.0;
             }
         }
     }
@@ -46,7 +46,7 @@ double VolumeSampler::normalized_voxel(int x, int y, int z) const {
 }
 
 double VolumeSampler::value(glm::dvec3 world) const {
-    const glm::dvec3 t = (world - box_.min) / box_.size();
+    const glm::dvec3 t = (box_.to_box(world) - box_.min) / box_.size();
     const AxisSample sx = axis_sample(t.x, dims_.x);
     const AxisSample sy = axis_sample(t.y, dims_.y);
     const AxisSample sz = axis_sample(t.z, dims_.z);
@@ -60,10 +60,14 @@ double VolumeSampler::value(glm::dvec3 world) const {
 
 glm::dvec3 VolumeSampler::gradient(glm::dvec3 world) const {
     const glm::dvec3 h = voxel_size_;
-    return glm::dvec3(value(world + glm::dvec3(h.x, 0, 0)) - value(world - glm::dvec3(h.x, 0, 0)),
-                      value(world + glm::dvec3(0, h.y, 0)) - value(world - glm::dvec3(0, h.y, 0)),
-                      value(world + glm::dvec3(0, 0, h.z)) - value(world - glm::dvec3(0, 0, h.z))) /
-           (2.0 * h);
+    const glm::dvec3 dx = h.x * box_.axes[0];
+    const glm::dvec3 dy = h.y * box_.axes[1];
+    const glm::dvec3 dz = h.z * box_.axes[2];
+    const glm::dvec3 along_axes(value(world + dx) - value(world - dx),
+                                value(world + dy) - value(world - dy),
+                                value(world + dz) - value(world - dz));
+    // The axes are orthonormal, so the box-space gradient turns into world space like a vector.
+    return box_.to_world(along_axes / (2.0 * h));
 }
 
 TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf)

@@ -270,7 +270,7 @@ struct Renderer::Impl {
                                                              const FramePlan& plan) const {
         const scene::RenderSettings& s = request.settings;
         FrameGeometry g;
-        g.box = scene::box_for_extent(volume->extent());
+        g.box = scene::box_for_extent(volume->extent(), volume->axes);
         g.travel = optics::light_travel_direction(request.light, g.box);
         if (plan.needs_light_view) {
             auto view = optics::make_light_view(request.light, g.box);
@@ -365,6 +365,8 @@ struct Renderer::Impl {
         u.box_min = v4(box.min);
         u.box_max = v4(box.max);
         u.voxel_size = v4(box.size() / glm::dvec3(volume->dims));
+        u.box_to_world = glm::mat4(glm::mat3(box.axes));
+        u.world_to_box = glm::mat4(glm::mat3(box.inverse_axes));
         u.background = v4(s.background, 1.0);
         u.light_radiance = v4(light.color * light.intensity, light.ambient);
         u.light_vector =
@@ -550,6 +552,9 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
     Impl& impl = *impl_;
     if (volume == impl.volume) {
         return base::Ok{};
+    }
+    if (auto axes = scene::check_axes(volume->axes); !axes) {
+        return axes.error();
     }
     auto cached = std::find_if(impl.volumes.begin(), impl.volumes.end(),
                                [&](const Impl::CachedVolume& v) { return v.volume == volume; });

@@ -34,6 +34,8 @@ struct FrameUniforms {
     glm::mat4 camera_view_projection;
     glm::vec4 half_angle_axis;
     glm::vec4 half_angle_range;
+    glm::mat4 box_to_world;
+    glm::mat4 world_to_box;
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -44,6 +46,7 @@ static_assert(offsetof(FrameUniforms, image_size) == 208);
 static_assert(offsetof(FrameUniforms, light_view_projection) == 224);
 static_assert(offsetof(FrameUniforms, light_travel) == 352);
 static_assert(offsetof(FrameUniforms, camera_view_projection) == 432);
-static_assert(sizeof(FrameUniforms) == 528);
+static_assert(offsetof(FrameUniforms, box_to_world) == 528);
+static_assert(sizeof(FrameUniforms) == 656);
 
 }  // namespace penumbra::render

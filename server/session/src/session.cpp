@@ -49,7 +49,7 @@ const SharedFrame::Bytes& SharedFrame::packed(const Packer& pack) const {
 
 SessionState default_state(const std::string& transfer_function, const scene::Limits& limits) {
     SessionState state;
-    state.frame.camera = scene::orbit_camera(25.0, 10.0, 2.6);
+    state.frame.camera = scene::Camera{};  // the anterior view
     state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
     auto tf = scene::preset(transfer_function);
     state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();

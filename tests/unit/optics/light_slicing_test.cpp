@@ -1,8 +1,10 @@
 #include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
+#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
+#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -184,6 +186,38 @@ TEST(BoxCorners, AreTheEightDistinctCombinationsOfMinAndMax) {
             for (double z : {box.min.z, box.max.z}) {
                 EXPECT_TRUE(contains_point(all, {x, y, z}, 1e-15)) << describe({x, y, z});
             }
+        }
+    }
+}
+
+// The corners of an oriented box are its box-space corners taken into world space, and the
+// slicing spans them: a box of index axes A, S, R covers the same space as the RAS box with the
+// extents permuted accordingly.
+TEST(BoxCorners, FollowTheBoxAxes) {
+    const glm::dmat3 asr({0, 1, 0}, {0, 0, 1}, {1, 0, 0});
+    const scene::Box permuted = scene::box_for_extent({96.0, 90.0, 78.0}, asr);
+    const scene::Box ras = scene::box_for_extent({78.0, 96.0, 90.0});
+    const auto corners = box_corners(permuted);
+    const std::vector<glm::dvec3> ras_corners(box_corners(ras).begin(), box_corners(ras).end());
+    for (const auto& corner : corners) {
+        EXPECT_TRUE(contains_point(ras_corners, corner, 1e-12)) << describe(corner);
+    }
+    const glm::dvec3 travel = glm::normalize(glm::dvec3(0.3, -0.5, -0.8));
+    const LightSlicing a = make_light_slicing(permuted, travel, 10);
+    const LightSlicing b = make_light_slicing(ras, travel, 10);
+    EXPECT_NEAR(a.min, b.min, 1e-12);
+    EXPECT_NEAR(a.max, b.max, 1e-12);
+    // Each slice polygon lies on the turned box: every vertex is inside it.
+    const glm::dmat3 turned(glm::rotate(glm::dmat4(1.0), glm::radians(30.0),
+                                        glm::normalize(glm::dvec3(1.0, 2.0, 2.0))));
+    const scene::Box oblique = scene::box_for_extent(glm::dvec3(1.0, 0.7, 0.5), turned);
+    const LightSlicing slicing = make_light_slicing(oblique, travel, 12);
+    for (int k = 0; k < slicing.count; ++k) {
+        const auto polygon = slice_polygon(oblique, travel, slicing.plane_distance(k));
+        ASSERT_GE(polygon.size(), 3u);
+        for (const auto& p : polygon) {
+            const glm::dvec3 outside = glm::abs(oblique.to_box(p)) - oblique.max;
+            EXPECT_LE(std::max({outside.x, outside.y, outside.z}), 1e-12) << describe(p);
         }
     }
 }
@@ -789,7 +823,7 @@ TEST(ResolveSlabSamples, AutomaticCountPutsOnePointPerSmallestVoxelSide) {
     const LightSlicing slicing = make_light_slicing(unit_box, glm::dvec3(0.0, 0.0, -1.0), 10);
     ASSERT_NEAR(slicing.spacing(), 0.1, 1e-12);
     EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.1), 0), 1);
-    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.04, 0.5, 0.5), 0), 3);  // 2.5 -> 3
+    EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.04, 0.5, 0.5), 0), 3);   // 2.5 -> 3
     EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(0.5, 0.5, 0.025), 0), 4);  // exactly 4
     EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(1.0), 0), 1);  // voxels deeper than a slab
     EXPECT_EQ(resolve_slab_samples(slicing, glm::dvec3(1e-4), 0), scene::kMaxSlabSamples);
@@ -868,6 +902,18 @@ TEST(CompensatedTransmittance, OpaqueSliceStaysOpaqueForAnyCompensation) {
     for (const double n : {0.0, 1.0, 1024.0, 1e6}) {
         EXPECT_EQ(compensated_transmittance(1.0, n), 0.0) << n;
     }
+}
+
+// A point light beside the axis-aligned box can lie inside the same box turned 45 degrees.
+TEST(MakeLightView, RefusesAPointLightInsideTheTurnedBox) {
+    const glm::dmat3 turned(glm::rotate(glm::dmat4(1.0), glm::radians(45.0), {0.0, 0.0, 1.0}));
+    scene::Light light;
+    light.type = scene::LightType::point;
+    light.position = {0.65, 0.0, 0.0};
+    EXPECT_TRUE(make_light_view(light, unit_box).ok());
+    const auto view = make_light_view(light, scene::box_for_extent(glm::dvec3(1.0), turned));
+    ASSERT_FALSE(view.ok());
+    EXPECT_EQ(view.error().code, "unsupported_light");
 }
 
 }  // namespace

@@ -1,6 +1,10 @@
 #include <penumbra/optics/ray.hpp>
 
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace penumbra::optics {
 namespace {
@@ -56,6 +60,33 @@ TEST(PixelRay, CentrePixelOfOddImageLooksForward) {
     EXPECT_NEAR(glm::dot(d, frame.forward), 1.0, 1e-12);
     // Row 0 is the top: its rays tilt toward `up`.
     EXPECT_GT(glm::dot(pixel_ray_direction(frame, 2, 0, 5, 5), frame.up), 0.0);
+}
+
+// A box turned 45 degrees about z: a ray along y through the centre enters at the edge between
+// two faces, half a diagonal from the centre, where the axis-aligned box would have its face.
+TEST(IntersectBox, FollowsTheBoxOrientation) {
+    const glm::dmat3 turned(glm::rotate(glm::dmat4(1.0), glm::radians(45.0), {0.0, 0.0, 1.0}));
+    const scene::Box box = scene::box_for_extent(glm::dvec3(1.0), turned);
+    const BoxHit hit = intersect_box({0.0, 2.0, 0.0}, {0.0, -1.0, 0.0}, box);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t_near, 2.0 - std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(hit.t_far, 2.0 + std::sqrt(0.5), 1e-12);
+    // Beside the axis-aligned box, inside the turned one.
+    EXPECT_TRUE(intersect_box({0.6, 2.0, 0.0}, {0.0, -1.0, 0.0}, box).hit);
+    EXPECT_FALSE(intersect_box({0.6, 2.0, 0.0}, {0.0, -1.0, 0.0}, unit_box).hit);
+}
+
+// A mirrored box (LAS) occupies the same space as the unmirrored one.
+TEST(IntersectBox, AReflectionLeavesASymmetricBoxWhereItWas) {
+    const scene::Box mirrored =
+            scene::box_for_extent({0.8, 1.0, 0.6}, glm::dmat3({-1, 0, 0}, {0, 1, 0}, {0, 0, 1}));
+    const scene::Box plain = scene::box_for_extent({0.8, 1.0, 0.6});
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(-0.1, -1.0, 0.05));
+    const BoxHit a = intersect_box({0.1, 2.0, 0.0}, direction, mirrored);
+    const BoxHit b = intersect_box({0.1, 2.0, 0.0}, direction, plain);
+    ASSERT_TRUE(a.hit && b.hit);
+    EXPECT_NEAR(a.t_near, b.t_near, 1e-12);
+    EXPECT_NEAR(a.t_far, b.t_far, 1e-12);
 }
 
 }  // namespace

@@ -157,6 +157,35 @@ TEST(ApplyPatch, OrbitsAroundThePatchTargetOrTheCurrentOne) {
     EXPECT_EQ(camera.up, glm::dvec3(0.0, 0.0, 1.0));
 }
 
+// A named view looks from that side of the patient at the camera's distance from its target,
+// keeping the field of view.
+TEST(ApplyPatch, NamedViewsLookFromTheirSideAtTheCurrentDistance) {
+    SessionState state = preset_state("grey_ramp");
+    ASSERT_TRUE(apply_patch(R"({"camera":{"orbit":{"azimuth":40,"elevation":20,"distance":3},
+                                          "target":[0.1,0,0],"fov":45}})",
+                            state, Limits{})
+                        .ok());
+    ASSERT_TRUE(apply_patch(R"({"camera":{"view":"left"}})", state, Limits{}).ok());
+    const scene::Camera& camera = state.frame.camera;
+    EXPECT_NEAR(glm::distance(camera.eye, glm::dvec3(-2.9, 0.0, 0.0)), 0.0, 1e-12);
+    EXPECT_EQ(camera.target, glm::dvec3(0.1, 0.0, 0.0));
+    EXPECT_EQ(camera.up, glm::dvec3(0.0, 0.0, 1.0));
+    EXPECT_EQ(camera.fov_y_degrees, 45.0);
+    ASSERT_TRUE(apply_patch(R"({"camera":{"view":"superior","target":[0,0,0]}})", state, Limits{})
+                        .ok());
+    EXPECT_NEAR(glm::distance(camera.eye, glm::dvec3(0.0, 0.0, 3.0)), 0.0, 1e-12);
+    EXPECT_EQ(camera.up, glm::dvec3(0.0, 1.0, 0.0));
+
+    const auto unknown = apply_patch(R"({"camera":{"view":"front"}})", state, Limits{});
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_EQ(unknown.error().where, "/camera/view");
+    EXPECT_NE(unknown.error().message.find("anterior, posterior"), std::string::npos);
+    const auto with_eye =
+            apply_patch(R"({"camera":{"view":"left","eye":[0,3,0]}})", state, Limits{});
+    ASSERT_FALSE(with_eye.ok());
+    EXPECT_EQ(with_eye.error().where, "/camera/view");
+}
+
 TEST(ApplyPatch, OrbitKeepsTheFieldOfView) {
     SessionState state = preset_state("grey_ramp");
     ASSERT_TRUE(apply_patch(R"({"camera":{"fov":50}})", state, Limits{}).ok());

@@ -51,6 +51,43 @@ TEST(Camera, DirectionFromAnglesIsUnit) {
     EXPECT_NEAR(direction_from_angles(0.0, 90.0).z, 1.0, eps);
 }
 
+// Each named view from its side of the patient (RAS world): which way the viewer looks, which
+// patient direction is up on screen and which is to the right.
+TEST(View, LooksFromItsSideWithTheAnatomicalUp) {
+    struct Expected {
+        View view;
+        glm::dvec3 forward;
+        glm::dvec3 screen_up;
+        glm::dvec3 screen_right;
+    };
+
+    const glm::dvec3 r{1, 0, 0};
+    const glm::dvec3 a{0, 1, 0};
+    const glm::dvec3 s{0, 0, 1};
+    // Facing the patient, the patient's left is on the viewer's right.
+    for (const Expected& e :
+         {Expected{View::anterior, -a, s, -r}, Expected{View::posterior, a, s, r},
+          Expected{View::left, r, s, -a}, Expected{View::right, -r, s, a},
+          Expected{View::superior, -s, a, r}, Expected{View::inferior, s, a, -r}}) {
+        SCOPED_TRACE(to_string(e.view));
+        const Camera camera = view_camera(e.view, 3.0, {0.1, 0.2, 0.3});
+        EXPECT_NEAR(glm::length(camera.eye - camera.target), 3.0, eps);
+        const CameraFrame frame = camera_frame(camera, 1.0);
+        EXPECT_NEAR(glm::length(frame.forward - e.forward), 0.0, eps);
+        EXPECT_NEAR(glm::length(glm::normalize(frame.up) - e.screen_up), 0.0, eps);
+        EXPECT_NEAR(glm::length(glm::normalize(frame.right) - e.screen_right), 0.0, eps);
+        EXPECT_EQ(parse_view(to_string(e.view)), e.view);
+    }
+    EXPECT_FALSE(parse_view("front").has_value());
+    EXPECT_EQ(view_names(), "anterior, posterior, left, right, superior, inferior");
+}
+
+// The default camera is the anterior view: it looks at the face with superior up.
+TEST(View, TheDefaultCameraIsTheAnteriorView) {
+    EXPECT_EQ(Camera{}, view_camera(View::anterior));
+    EXPECT_EQ(view_camera(View::anterior, 2.0).eye, orbit_camera(0.0, 0.0, 2.0).eye);
+}
+
 TEST(Box, KeepsAspectWithLongestSideOne) {
     const Box box = box_for_extent({181.0, 217.0, 90.5});
     EXPECT_NEAR(box.size().y, 1.0, eps);

@@ -93,6 +93,20 @@ TEST(FrameWork, ShorterRaysCostLess) {
     }
 }
 
+// The work depends on the box's shape, not on how it is turned: a turned or mirrored volume
+// costs what the same volume stored RAS does.
+TEST(FrameWork, DoesNotDependOnTheVolumeOrientation) {
+    const glm::dvec3 extent{0.8, 1.0, 0.6};
+    const glm::dmat3 asr({0, 1, 0}, {0, 0, 1}, {1, 0, 0});
+    const glm::dmat3 las({-1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    for (const Mode mode : all_modes) {
+        const double ras = work_of(request_in(mode), box_for_extent(extent));
+        EXPECT_EQ(work_of(request_in(mode), box_for_extent(extent, las)), ras) << to_string(mode);
+        EXPECT_EQ(work_of(request_in(mode), box_for_extent({1.0, 0.6, 0.8}, asr)), ras)
+                << to_string(mode);
+    }
+}
+
 // Counted from the definition: pixels x samples per ray x iterations per sample, plus the light
 // buffer's texels x slices x slab samples.
 TEST(FrameWork, CountsEachPartOfTheFrame) {

@@ -15,7 +15,8 @@
 
 namespace penumbra::optics {
 
-// The eight corners of a box.
+// The eight corners of a box, in world space; corner i has bit 0 set at the box's max x (box
+// space), bit 1 at max y, bit 2 at max z, so corners differing in one bit share an edge.
 std::array<glm::dvec3, 8> box_corners(const scene::Box& box);
 
 // The direction light travels through the volume: away from a directional light's `direction`

@@ -15,14 +15,18 @@
 namespace penumbra::optics {
 
 // Entry and exit distances of a ray with a box (slab method). `hit` is false when the ray misses
-// or the box lies behind the origin. A ray starting inside the box gets t_near = 0.
+// or the box lies behind the origin. A ray starting inside the box gets t_near = 0. The ray is
+// taken into box space, where the box is axis-aligned; distances along it stay the same there.
 struct BoxHit {
     double t_near = 0.0;
     double t_far = 0.0;
     bool hit = false;
 };
 
-inline BoxHit intersect_box(glm::dvec3 origin, glm::dvec3 direction, const scene::Box& box) {
+inline BoxHit intersect_box(glm::dvec3 world_origin, glm::dvec3 world_direction,
+                            const scene::Box& box) {
+    const glm::dvec3 origin = box.to_box(world_origin);
+    const glm::dvec3 direction = box.to_box(world_direction);
     double t_near = 0.0;
     double t_far = std::numeric_limits<double>::infinity();
     for (int axis = 0; axis < 3; ++axis) {

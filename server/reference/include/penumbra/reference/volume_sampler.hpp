@@ -19,11 +19,13 @@ public:
 
     [[nodiscard]] const scene::Box& box() const { return box_; }
 
+    // One voxel's size along the box axes (box space), in world units.
     [[nodiscard]] glm::dvec3 voxel_size() const { return voxel_size_; }
 
     [[nodiscard]] double value(glm::dvec3 world) const;
 
-    // Central differences one voxel apart, in normalised value per world unit.
+    // Central differences one voxel apart along the volume's axes, in normalised value per world
+    // unit, turned into world space.
     [[nodiscard]] glm::dvec3 gradient(glm::dvec3 world) const;
 
 private:

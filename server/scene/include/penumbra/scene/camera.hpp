@@ -2,14 +2,23 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
 namespace penumbra::scene {
+
+// How far the default camera and the named views stand from the target, in box units.
+inline constexpr double default_camera_distance = 2.6;
 
 // A perspective pinhole camera in world space. The volume box is centred on the origin and its
 // longest side has length 1 (see box.hpp), so distances are in units of that side.
-// World space is z-up: volumes are stored with z as the slice axis, which for medical data (RAS
-// or LPS) points to the head's top.
+// World space is patient space, RAS and z-up (+x the patient's right, +y anterior, +z superior):
+// the renderer turns each volume by its orientation into it. The default camera is the anterior
+// view: it looks at the face with superior up.
 struct Camera {
-    glm::dvec3 eye{0.0, 2.5, 0.0};
+    glm::dvec3 eye{0.0, default_camera_distance, 0.0};
     glm::dvec3 target{0.0};
     glm::dvec3 up{0.0, 0.0, 1.0};
     double fov_y_degrees = 30.0;
@@ -31,10 +40,27 @@ struct CameraFrame {
 // A camera on a sphere around `target`: azimuth about +z, measured from +y toward +x, elevation
 // above the xy plane, both in degrees. Elevation is kept within ±89.9° so `up` (+z) stays defined.
 // Azimuth 0 looks at a RAS head's face (+y is anterior).
-[[nodiscard]] Camera orbit_camera(double azimuth_degrees, double elevation_degrees,
-                                  double distance, glm::dvec3 target = glm::dvec3(0.0));
+[[nodiscard]] Camera orbit_camera(double azimuth_degrees, double elevation_degrees, double distance,
+                                  glm::dvec3 target = glm::dvec3(0.0));
 
 // The unit vector with that azimuth and elevation (same convention as orbit_camera).
 [[nodiscard]] glm::dvec3 direction_from_angles(double azimuth_degrees, double elevation_degrees);
+
+// The views named by anatomy, as radiologists and Slicer name them: the view from that side of the
+// patient. Horizontal views keep superior up; the superior and inferior views put anterior up.
+enum class View { anterior, posterior, left, right, superior, inferior };
+
+inline constexpr std::array all_views{View::anterior, View::posterior, View::left,
+                                      View::right,    View::superior,  View::inferior};
+
+[[nodiscard]] const char* to_string(View view);
+[[nodiscard]] std::optional<View> parse_view(std::string_view text);
+
+// "anterior, posterior, ...": the names for messages that list what is accepted.
+[[nodiscard]] std::string view_names();
+
+// The camera that sees `target` from that side at `distance`, keeping `fov_y_degrees`.
+[[nodiscard]] Camera view_camera(View view, double distance = default_camera_distance,
+                                 glm::dvec3 target = glm::dvec3(0.0), double fov_y_degrees = 30.0);
 
 }  // namespace penumbra::scene
