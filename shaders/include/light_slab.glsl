@@ -2,6 +2,8 @@
 // half-angle slicing: the TF opacity across the slab the slice stands for, corrected for the path
 // length through it, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
 
+#include "include/empty_space.glsl"
+
 bool inside_box(vec3 world) {
     return all(greaterThanEqual(world, u.box_min.xyz)) && all(lessThanEqual(world, u.box_max.xyz));
 }
@@ -15,6 +17,13 @@ float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
     for (int j = 0; j < samples; ++j) {
         vec3 p = centre + ((float(j) + 0.5) * step - 0.5 * path_length) * ray;
         if (inside_box(p)) {
+#if EMPTY_SPACE_SKIPPING
+            int next = next_sample_outside_empty(p, ray, j, step);
+            if (next != j) {
+                j = next - 1;
+                continue;
+            }
+#endif
             transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step);
         }
     }
