@@ -59,20 +59,23 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         float step_length = length_inside / float(count);
         int last = min(count, first + budget);
 #if EMPTY_SPACE_SKIPPING
-        ivec3 occupied_brick = ivec3(-1);
+        // Up to this distance along the ray the bricks are known to be occupied: samples before
+        // it need no look at the grid. A sample just past a face by rounding is looked at again,
+        // which can only keep a sample, never drop one.
+        float occupied_until = -1.0;
 #endif
         for (int i = first; i < last; ++i) {
-            vec3 position = origin + (hit.x + (float(i) + 0.5) * step_length) * direction;
+            float t = hit.x + (float(i) + 0.5) * step_length;
+            vec3 position = origin + t * direction;
 #if EMPTY_SPACE_SKIPPING
-            // A brick already found occupied needs no second look.
-            ivec3 brick = brick_of(position);
-            if (brick != occupied_brick) {
-                int next = next_sample_outside_empty(position, direction, i, step_length);
-                if (next != i) {
-                    i = next - 1;
+            if (t >= occupied_until) {
+                ivec3 brick = brick_of(position);
+                float run = distance_out_of_brick(position, direction, brick);
+                if (!brick_occupied(brick)) {
+                    i = max(i + 1, i + int(ceil(run / step_length))) - 1;
                     continue;
                 }
-                occupied_brick = brick;
+                occupied_until = t + run;
             }
 #endif
             vec4 classified = classify(sample_value(position));
