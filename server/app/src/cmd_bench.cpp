@@ -767,6 +767,22 @@ int run_bench_modes(const std::vector<std::string>& args) {
             *repeat, orbit_step_degrees);
     std::fflush(stdout);
 
+    // Gradient sources are the renderer's choice, so they are compared in renderers of their own,
+    // each created after the last one is gone: a renderer's GL context is current on its thread
+    // from its creation, which would leave the others' calls going to the wrong context.
+    std::vector<std::pair<std::shared_ptr<const volume::Volume>, scene::FrameRequest>>
+            gradient_cases;
+    const auto compare_gradients = [&]() -> int {
+        renderer->reset();
+        for (const auto& [gradient_volume, gradient_request] : gradient_cases) {
+            std::printf("\ngradients on %s\n", gradient_volume->name.c_str());
+            if (auto status = print_gradient_comparison(gradient_volume, gradient_request, *repeat);
+                !status) {
+                return fail(status.error());
+            }
+        }
+        return 0;
+    };
     const std::vector<std::string> table_volumes = split_list(a.get("volumes").value_or(path));
     for (const std::string& table_path : table_volumes) {
         std::shared_ptr<const volume::Volume> table_volume = volume;
@@ -790,14 +806,11 @@ int run_bench_modes(const std::vector<std::string>& args) {
             return fail(status.error());
         }
         if (contains(*modes, scene::Mode::phong)) {
-            if (auto status = print_gradient_comparison(table_volume, *table_request, *repeat);
-                !status) {
-                return fail(status.error());
-            }
+            gradient_cases.emplace_back(table_volume, *table_request);
         }
     }
     if (a.has("optimisations-only")) {
-        return 0;
+        return compare_gradients();
     }
     if (auto status = (*renderer)->set_volume(volume); !status) {
         return fail(status.error());
@@ -980,7 +993,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (const auto csv_path = a.get("csv")) {
         std::printf("csv:      %s\n", csv_path->c_str());
     }
-    return 0;
+    return compare_gradients();
 }
 
 }  // namespace
