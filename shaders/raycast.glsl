@@ -6,6 +6,8 @@
 //   PHONG        0|1  Blinn–Phong shading from central-difference gradients
 //   EXTINCTION   0|1  extinction compositing (paper eq. 6) instead of corrected alpha
 //   POINT_LIGHT  0|1  the light is a point at light_vector rather than a direction
+//   EMPTY_SPACE_SKIPPING 0|1  leap over bricks the transfer function leaves transparent
+//   GRADIENT_TEXTURE 0|1  gradients from the precomputed texture instead of central differences
 
 #define SHADOWS_NONE 0
 #define SHADOWS_LIGHT_BUFFER 1
@@ -18,6 +20,8 @@
 #include "include/ray.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
+#include "include/empty_space.glsl"
+#include "include/gradient.glsl"
 #include "include/compositing.glsl"
 #include "include/shading.glsl"
 #if SHADOWS == SHADOWS_LIGHT_BUFFER
@@ -54,15 +58,33 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         int count = int(max(1.0, ceil(length_inside / u.march.x)));
         float step_length = length_inside / float(count);
         int last = min(count, first + budget);
+#if EMPTY_SPACE_SKIPPING
+        // Up to this distance along the ray the bricks are known to be occupied: samples before
+        // it need no look at the grid. A sample just past a face by rounding is looked at again,
+        // which can only keep a sample, never drop one.
+        float occupied_until = -1.0;
+#endif
         for (int i = first; i < last; ++i) {
-            vec3 position = origin + (hit.x + (float(i) + 0.5) * step_length) * direction;
+            float t = hit.x + (float(i) + 0.5) * step_length;
+            vec3 position = origin + t * direction;
+#if EMPTY_SPACE_SKIPPING
+            if (t >= occupied_until) {
+                ivec3 brick = brick_of(position);
+                float run = distance_out_of_brick(position, direction, brick);
+                if (!brick_occupied(brick)) {
+                    i = max(i + 1, i + int(ceil(run / step_length))) - 1;
+                    continue;
+                }
+                occupied_until = t + run;
+            }
+#endif
             vec4 classified = classify(sample_value(position));
             if (classified.a <= 0.0) continue;
             vec3 color = classified.rgb;
 #if PHONG || SHADOWS != SHADOWS_NONE
             vec2 terms = vec2(1.0, 0.0);
 #if PHONG
-            vec3 normal = normal_from_gradient(value_gradient(position));
+            vec3 normal = normal_from_gradient(sample_gradient(position));
             terms = blinn_phong(normal, direction_to_light(position), -direction);
 #endif
             color = shade(color, terms, light_reaching(position, -direction));

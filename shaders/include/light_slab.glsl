@@ -2,6 +2,8 @@
 // half-angle slicing: the TF opacity across the slab the slice stands for, corrected for the path
 // length through it, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
 
+#include "include/empty_space.glsl"
+
 bool inside_box(vec3 world) {
     vec3 p = box_coordinate(world);
     return all(greaterThanEqual(p, u.box_min.xyz)) && all(lessThanEqual(p, u.box_max.xyz));
@@ -11,6 +13,12 @@ bool inside_box(vec3 world) {
 // corrected for its share of the path. One point (the paper's slice) puts a surface anywhere in
 // the slab at the slice plane, which shows as rings of the slice spacing on lit surfaces.
 float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
+#if EMPTY_SPACE_SKIPPING
+    // A slab is a voxel or two thick: one look at the brick where it starts decides for the
+    // whole slab, where a look per point would cost about as much as the points themselves.
+    vec3 start = centre - 0.5 * path_length * ray;
+    if (inside_box(start) && empty_run(start, ray) >= path_length) return 0.0;
+#endif
     float step = path_length / float(samples);
     float transmittance = 1.0;
     for (int j = 0; j < samples; ++j) {

@@ -15,6 +15,13 @@ float shadow_ray_transmittance(vec3 world) {
     float transmittance = 1.0;
     for (int i = 0; i < count && transmittance >= shadow_ray_cutoff; ++i) {
         vec3 p = world + (float(i) + 0.5) * step_length * to_light;
+#if EMPTY_SPACE_SKIPPING
+        int next = next_sample_outside_empty(p, to_light, i, step_length);
+        if (next != i) {
+            i = next - 1;
+            continue;
+        }
+#endif
         transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step_length);
     }
     return transmittance;

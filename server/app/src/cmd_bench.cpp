@@ -2,6 +2,7 @@
 #include "commands.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/encode/compare.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -37,9 +38,13 @@ constexpr scene::Mode light_buffer_modes[] = {scene::Mode::sbrc, scene::Mode::sb
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
                                                   scene::LightBufferBuilder::multi_slice};
 
-int fail(const base::Error& error) { return report_failure("bench", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench", error);
+}
 
 void print_bench_usage() {
     std::puts(
@@ -61,7 +66,8 @@ void print_modes_usage() {
             "\n"
             "Times each mode side by side in one run and prints the ratios that matter:\n"
             "half_angle vs sbrc at equal slices, sbrc's growth with slices, per_slice vs\n"
-            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean something only on a GPU; on a software\n"
+            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean "
+            "something only on a GPU; on a software\n"
             "rasteriser read the ratios.\n"
             "\n"
             "  --volume FILE                  (default %s)\n"
@@ -72,6 +78,18 @@ void print_modes_usage() {
             "  --light-res-list R,...         light-buffer resolutions R to sweep (default\n"
             "                                 128,256,512)\n"
             "  --repeat N                     timed frames per point after 1 warm-up (default 5)\n"
+            "  --volumes FILE,...             volumes for the optimisation table (default: the\n"
+            "                                 --volume); the sweeps run on the first\n"
+            "  --gradients automatic|central|texture  where shaded samples get gradients:\n"
+            "                                 central differences, the precomputed texture, or\n"
+            "                                 the one measured faster on this kind of device\n"
+            "                                 (default automatic)\n"
+            "  --brick-voxels N               voxels per side of the bricks empty-space\n"
+            "                                 skipping leaps over (default: the renderer's, 8)\n"
+            "  --optimisations-only           only the optimisation table: each mode's frame\n"
+            "                                 time with and without empty-space skipping, the\n"
+            "                                 PSNR between the two images, and the light-buffer\n"
+            "                                 build with and without\n"
             "  --csv FILE                     also write one row per measured point\n"
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
@@ -390,12 +408,258 @@ bool contains(const std::vector<scene::Mode>& modes, scene::Mode mode) {
     return std::find(modes.begin(), modes.end(), mode) != modes.end();
 }
 
+// "a,b,c" → {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> items;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        if (comma > start) {
+            items.push_back(text.substr(start, comma - start));
+        }
+        start = comma + 1;
+    }
+    return items;
+}
+
+// A frame's time at the request's own view (median of `repeat` frames after a warm-up that fills
+// the caches), the last frame's image, and its passes' wall times summed by name.
+struct TimedImage {
+    double wall_ms = 0.0;
+    base::ImageRgba8 image;
+    std::vector<render::PassTiming> passes;  // of the last frame
+};
+
+base::Result<TimedImage> time_at_view(render::Renderer& renderer,
+                                      const scene::FrameRequest& request, int repeat,
+                                      const std::string& pass = {}) {
+    std::vector<double> wall;
+    TimedImage out;
+    for (int i = 0; i <= repeat; ++i) {
+        auto frame = renderer.render(request);
+        if (!frame) {
+            return frame.error();
+        }
+        if (i == 0) {
+            continue;
+        }
+        if (scene::uses_light_buffer(request.settings.mode) && pass.empty() &&
+            frame->report.light_buffer != "reused") {
+            return base::make_error("bench_invalid",
+                                    "the light buffer was rebuilt in a frame that should reuse it",
+                                    "light_buffer");
+        }
+        double ms = 0.0;
+        for (const auto& timing : frame->report.passes) {
+            if (pass.empty() || timing.name == pass) {
+                ms += timing.wall_ms;
+            }
+        }
+        wall.push_back(ms);
+        out.image = std::move(frame->image);
+        out.passes = std::move(frame->report.passes);
+    }
+    out.wall_ms = median(wall);
+    return out;
+}
+
+double pass_ms(const TimedImage& timed, const std::string& name) {
+    double total = 0.0;
+    for (const auto& timing : timed.passes) {
+        if (timing.name == name) {
+            total += timing.wall_ms;
+        }
+    }
+    return total;
+}
+
+std::optional<render::GradientSource> parse_gradient_source(const std::string& text) {
+    if (text == "automatic") {
+        return render::GradientSource::automatic;
+    }
+    if (text == "central") {
+        return render::GradientSource::central_differences;
+    }
+    if (text == "texture") {
+        return render::GradientSource::texture;
+    }
+    return std::nullopt;
+}
+
+// Phong frames with gradients from central differences and from the gradient texture, each in a
+// renderer of its own (the choice is the renderer's), skipping on, and the texture's one-off
+// build.
+base::Status print_gradient_comparison(const std::shared_ptr<const volume::Volume>& volume,
+                                       const scene::FrameRequest& base, int repeat) {
+    scene::FrameRequest request = base;
+    request.settings.mode = scene::Mode::phong;
+    TimedImage timed[2];
+    double build_ms = 0.0;
+    const render::GradientSource sources[] = {render::GradientSource::central_differences,
+                                              render::GradientSource::texture};
+    for (int i = 0; i < 2; ++i) {
+        auto renderer = render::Renderer::create({.shader_dir = {}, .gradients = sources[i]});
+        if (!renderer) {
+            return renderer.error();
+        }
+        if (auto status = (*renderer)->set_volume(volume); !status) {
+            return status;
+        }
+        auto first = (*renderer)->render(request);
+        if (!first) {
+            return first.error();
+        }
+        for (const auto& timing : first->report.passes) {
+            if (timing.name == "build_gradients") {
+                build_ms = timing.wall_ms;
+            }
+        }
+        auto measured = time_at_view(**renderer, request, repeat);
+        if (!measured) {
+            return measured.error();
+        }
+        timed[i] = std::move(measured.value());
+    }
+    auto difference = encode::compare_images(base::to_rgba_f(timed[0].image),
+                                             base::to_rgba_f(timed[1].image));
+    if (!difference) {
+        return difference.error();
+    }
+    std::printf(
+            "  gradients, phong: central %.1f ms, texture %.1f ms, texture/central %.3f, PSNR "
+            "%.1f dB; texture built once in %.1f ms\n",
+            timed[0].wall_ms, timed[1].wall_ms, timed[1].wall_ms / timed[0].wall_ms,
+            difference->psnr, build_ms);
+    std::fflush(stdout);
+    return base::Ok{};
+}
+
+// One row of the optimisation table: a mode with a switch on and off, from the default view.
+struct OptimisationRow {
+    std::string label;
+    TimedImage on;
+    TimedImage off;
+    double psnr = 0.0;
+};
+
+// Each listed ray-cast mode with and without empty-space skipping on one volume, the light
+// buffer cached (the camera is all that changes between a user's frames), Blinn-Phong on for the
+// shadow modes as the targets measure them, plus sbrc without it; then the light-buffer
+// build alone with and without.
+base::Status print_optimisation_table(render::Renderer& renderer, const volume::Volume& volume,
+                                      const scene::FrameRequest& base,
+                                      const std::vector<scene::Mode>& modes, int repeat) {
+    struct Case {
+        std::string label;
+        scene::Mode mode;
+        bool phong;
+    };
+
+    std::vector<Case> cases;
+    for (const scene::Mode mode : all_modes) {
+        if (!contains(modes, mode) || mode == scene::Mode::half_angle) {
+            continue;
+        }
+        const bool shadows = mode != scene::Mode::dvr && mode != scene::Mode::phong;
+        const std::string name = scene::to_string(mode);
+        cases.push_back({scene::uses_light_buffer(mode) ? name + " cached" : name, mode, shadows});
+        if (mode == scene::Mode::sbrc) {
+            cases.push_back({"sbrc cached, no phong", mode, false});
+        }
+    }
+    std::printf(
+            "\noptimisations on %s %ux%ux%u (ms, wall, median of %d frame(s) at the default "
+            "view after a warm-up;\nshadow modes with Blinn-Phong unless said; PSNR between "
+            "the two images)\n",
+            volume.name.c_str(), volume.dims.x, volume.dims.y, volume.dims.z, repeat);
+    std::printf("  %-22s %10s %10s %7s %9s   %s\n", "mode", "skip on", "skip off", "on/off",
+                "PSNR dB", "raycast pass on | off");
+    std::vector<OptimisationRow> rows;
+    for (const Case& c : cases) {
+        scene::FrameRequest request = base;
+        request.settings.mode = c.mode;
+        request.settings.phong = c.phong;
+        OptimisationRow row{c.label, {}, {}, 0.0};
+        for (const bool skipping : {true, false}) {
+            request.settings.empty_space_skipping = skipping;
+            auto timed = time_at_view(renderer, request, repeat);
+            if (!timed) {
+                return timed.error();
+            }
+            (skipping ? row.on : row.off) = std::move(timed.value());
+        }
+        auto difference = encode::compare_images(base::to_rgba_f(row.on.image),
+                                                 base::to_rgba_f(row.off.image));
+        if (!difference) {
+            return difference.error();
+        }
+        row.psnr = difference->psnr;
+        std::printf("  %-22s %10.1f %10.1f %7.3f %9.1f   %.1f | %.1f\n", row.label.c_str(),
+                    row.on.wall_ms, row.off.wall_ms, row.on.wall_ms / row.off.wall_ms, row.psnr,
+                    pass_ms(row.on, "raycast"), pass_ms(row.off, "raycast"));
+        std::fflush(stdout);
+        rows.push_back(std::move(row));
+    }
+    if (contains(modes, scene::Mode::sbrc)) {
+        const std::string pass =
+                std::string("light_buffer_") + scene::to_string(base.settings.light_buffer.builder);
+        double build[2] = {0.0, 0.0};
+        for (const bool skipping : {true, false}) {
+            scene::FrameRequest request = base;
+            request.settings.mode = scene::Mode::sbrc;
+            request.settings.empty_space_skipping = skipping;
+            std::vector<double> times;
+            for (int i = 0; i < repeat; ++i) {
+                // A light not used before, so that the buffer is built again.
+                request.light = nudged(base.light, 1.0 + i + (skipping ? 0.0 : repeat));
+                auto frame = renderer.render(request);
+                if (!frame) {
+                    return frame.error();
+                }
+                double ms = 0.0;
+                for (const auto& timing : frame->report.passes) {
+                    if (timing.name == pass) {
+                        ms += timing.wall_ms;
+                    }
+                }
+                times.push_back(ms);
+            }
+            build[skipping ? 0 : 1] = median(times);
+        }
+        std::printf("  %-22s %10.1f %10.1f %7.3f %9s\n", (pass + " build").c_str(), build[0],
+                    build[1], build[0] / build[1], "-");
+    }
+    const auto find = [&](const std::string& label) -> const OptimisationRow* {
+        for (const auto& row : rows) {
+            if (row.label == label) {
+                return &row;
+            }
+        }
+        return nullptr;
+    };
+    const OptimisationRow* dvr = find("dvr");
+    const OptimisationRow* phong = find("phong");
+    const OptimisationRow* sbrc = find("sbrc cached");
+    const OptimisationRow* sbrc_plain = find("sbrc cached, no phong");
+    if (sbrc != nullptr && phong != nullptr) {
+        std::printf("  sbrc cached / phong, skipping on: %.2f (off: %.2f)\n",
+                    sbrc->on.wall_ms / phong->on.wall_ms, sbrc->off.wall_ms / phong->off.wall_ms);
+    }
+    if (sbrc_plain != nullptr && dvr != nullptr) {
+        std::printf("  sbrc without Blinn-Phong / dvr, skipping on: %.2f (off: %.2f)\n",
+                    sbrc_plain->on.wall_ms / dvr->on.wall_ms,
+                    sbrc_plain->off.wall_ms / dvr->off.wall_ms);
+    }
+    std::fflush(stdout);
+    return base::Ok{};
+}
+
 int run_bench_modes(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(),
-                  {"volume", "slices-list", "light-res-list", "repeat", "modes", "csv"});
+    valued.insert(valued.end(), {"volume", "volumes", "slices-list", "light-res-list", "repeat",
+                                 "modes", "csv", "gradients", "brick-voxels"});
     std::vector<std::string> flags = frame_flag_names();
-    flags.insert(flags.end(), {"help", "debug-gl"});
+    flags.insert(flags.end(), {"help", "debug-gl", "optimisations-only"});
     auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {
         return usage_error(parsed.error());
@@ -449,8 +713,21 @@ int run_bench_modes(const std::vector<std::string>& args) {
         }
     }
 
-    auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+    const auto gradients = parse_gradient_source(a.get("gradients").value_or("automatic"));
+    if (!gradients) {
+        return usage_error(base::make_error(
+                "invalid_argument", "expects automatic, central or texture", "--gradients"));
+    }
+    auto brick_voxels = a.integer("brick-voxels", 0);
+    if (!brick_voxels || *brick_voxels < 0 || *brick_voxels > 256) {
+        return usage_error(!brick_voxels ? brick_voxels.error()
+                                         : base::make_error("invalid_argument", "expects 1..256",
+                                                            "--brick-voxels"));
+    }
+    auto renderer = render::Renderer::create({.shader_dir = {},
+                                              .debug_context = a.has("debug-gl"),
+                                              .brick_voxels = *brick_voxels,
+                                              .gradients = *gradients});
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -476,18 +753,68 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     std::printf("volume:   %s %ux%ux%u %s\n", volume->name.c_str(), volume->dims.x, volume->dims.y,
                 volume->dims.z, volume::to_string(volume->type));
-    std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
-                "%s%s\n",
-                s.width, s.height, bench.base().transfer_function.name.c_str(),
-                scene::to_string(s.compositing), scene::to_string(s.stage),
-                scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
-                s.phong ? ", phong" : "");
+    std::printf(
+            "frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
+            "%s%s\n",
+            s.width, s.height, bench.base().transfer_function.name.c_str(),
+            scene::to_string(s.compositing), scene::to_string(s.stage),
+            scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
+            s.phong ? ", phong" : "");
     std::printf(
             "timing:   per point 1 warm-up + %d timed frame(s), the camera orbiting %g deg a "
             "frame;\n          medians of the frame's summed pass wall_ms (gpu: summed timer "
             "queries)\n",
             *repeat, orbit_step_degrees);
     std::fflush(stdout);
+
+    // Gradient sources are the renderer's choice, so they are compared in renderers of their own,
+    // each created after the last one is gone: a renderer's GL context is current on its thread
+    // from its creation, which would leave the others' calls going to the wrong context.
+    std::vector<std::pair<std::shared_ptr<const volume::Volume>, scene::FrameRequest>>
+            gradient_cases;
+    const auto compare_gradients = [&]() -> int {
+        renderer->reset();
+        for (const auto& [gradient_volume, gradient_request] : gradient_cases) {
+            std::printf("\ngradients on %s\n", gradient_volume->name.c_str());
+            if (auto status = print_gradient_comparison(gradient_volume, gradient_request, *repeat);
+                !status) {
+                return fail(status.error());
+            }
+        }
+        return 0;
+    };
+    const std::vector<std::string> table_volumes = split_list(a.get("volumes").value_or(path));
+    for (const std::string& table_path : table_volumes) {
+        std::shared_ptr<const volume::Volume> table_volume = volume;
+        if (table_path != path) {
+            auto table_loaded = volume::load_volume(table_path);
+            if (!table_loaded) {
+                return fail(table_loaded.error());
+            }
+            table_volume = std::make_shared<const volume::Volume>(std::move(table_loaded.value()));
+        }
+        auto table_request = frame_request_from(a, *table_volume);
+        if (!table_request) {
+            return fail(table_request.error());
+        }
+        if (auto status = (*renderer)->set_volume(table_volume); !status) {
+            return fail(status.error());
+        }
+        if (auto status = print_optimisation_table(**renderer, *table_volume, *table_request,
+                                                   *modes, *repeat);
+            !status) {
+            return fail(status.error());
+        }
+        if (contains(*modes, scene::Mode::phong)) {
+            gradient_cases.emplace_back(table_volume, *table_request);
+        }
+    }
+    if (a.has("optimisations-only")) {
+        return compare_gradients();
+    }
+    if (auto status = (*renderer)->set_volume(volume); !status) {
+        return fail(status.error());
+    }
 
     const auto record = [&](Point point, const scene::FrameRequest& request, LightBufferUse use,
                             const std::string& pass) -> base::Status {
@@ -608,8 +935,12 @@ int run_bench_modes(const std::vector<std::string>& args) {
             for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
                 scene::FrameRequest request = bench.request(scene::Mode::sbrc, n, r_mid);
                 request.settings.light_buffer.lookup = lookup;
-                const Point point{scene::Mode::sbrc, std::string("lookup_") + scene::to_string(lookup),
-                                  builder_in_use, n, r_mid, {}};
+                const Point point{scene::Mode::sbrc,
+                                  std::string("lookup_") + scene::to_string(lookup),
+                                  builder_in_use,
+                                  n,
+                                  r_mid,
+                                  {}};
                 if (auto status = record(point, request, LightBufferUse::cached, {}); !status) {
                     return fail(status.error());
                 }
@@ -662,7 +993,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (const auto csv_path = a.get("csv")) {
         std::printf("csv:      %s\n", csv_path->c_str());
     }
-    return 0;
+    return compare_gradients();
 }
 
 }  // namespace

@@ -267,10 +267,11 @@ auto int_range_of(int lo, int hi) {
 base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
                             double& frame_budget_ms, const Limits& limits) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"mode", "compositing", "stage", "size", "sample_distance",
-                                    "opacity_unit_distance", "early_termination", "background",
-                                    "phong", "shading", "light_buffer", "scattering",
-                                    "frame_budget_ms"}));
+    PENUMBRA_TRY(only_fields(
+            j, p,
+            {"mode", "compositing", "stage", "size", "sample_distance", "opacity_unit_distance",
+             "early_termination", "background", "phong", "empty_space_skipping", "shading",
+             "light_buffer", "scattering", "frame_budget_ms"}));
     PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
                             "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
@@ -301,6 +302,7 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                      return vec3(v, q, 0.0, 1.0);
                                  }));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
+    PENUMBRA_TRY(optional_member(j, p, "empty_space_skipping", s.empty_space_skipping, boolean));
     PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms, range_of(0.0, 60000.0)));
     if (j.contains("shading")) {
         const json& sh = j.at("shading");
@@ -483,6 +485,7 @@ std::string state_to_json(const SessionState& state) {
               {"early_termination", s.early_termination},
               {"background", vec3_json(s.background)},
               {"phong", s.phong},
+              {"empty_space_skipping", s.empty_space_skipping},
               {"frame_budget_ms", state.frame_budget_ms},
               {"shading",
                {{"diffuse", s.shading.diffuse},

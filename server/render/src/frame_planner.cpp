@@ -13,6 +13,7 @@ FramePlan plan_frame(const scene::FrameRequest& request) {
     v.stage = s.stage;
     v.extinction = s.compositing == scene::Compositing::extinction;
     v.phong = scene::uses_gradients(s);
+    v.empty_space_skipping = s.empty_space_skipping;
     switch (s.mode) {
         case scene::Mode::sbrc: v.shadows = Shadows::light_buffer; break;
         case scene::Mode::sbrc_shell:

@@ -13,6 +13,8 @@ gpu::Defines RaycastVariant::defines() const {
             {"EXTINCTION", extinction ? "1" : "0"},
             {"POINT_LIGHT", point_light ? "1" : "0"},
             {"LOCAL_LIGHT_LOOKUP", local_light_lookup ? "1" : "0"},
+            {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
+            {"GRADIENT_TEXTURE", gradient_texture ? "1" : "0"},
             {"CHUNKED", chunked ? "1" : "0"}};
 }
 

@@ -24,7 +24,9 @@ struct RaycastVariant {
     bool phong = false;
     bool extinction = false;
     bool point_light = false;
-    bool local_light_lookup = false;  // light-buffer shadows only: scene::LightLookup::local
+    bool local_light_lookup = false;    // light-buffer shadows only: scene::LightLookup::local
+    bool empty_space_skipping = false;  // the brick occupancy is bound on unit 3
+    bool gradient_texture = false;      // with phong: the gradient texture is bound on unit 5
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it
@@ -55,7 +57,8 @@ MarchChunks plan_march_chunks(const MarchBudget& budget, int width, int height,
 
 // Runs shaders/raycast.{comp,frag} into the frame target. Programs are compiled on first use of
 // a variant and kept. Expects the frame's uniform block bound, the volume and TF textures on units
-// 0 and 1 and, for light-buffer shadows, the light buffer on unit 2.
+// 0 and 1, for light-buffer shadows the light buffer on unit 2 and, for empty-space skipping, the
+// brick occupancy on unit 3.
 class RaycastPass {
 public:
     explicit RaycastPass(ProgramCache& programs);

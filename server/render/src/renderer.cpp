@@ -1,7 +1,9 @@
 #include "penumbra/render/renderer.hpp"
 
+#include "empty_space.hpp"
 #include "frame_planner.hpp"
 #include "frame_target.hpp"
+#include "gradient_texture.hpp"
 #include "half_angle_slicer.hpp"
 #include "light_buffer.hpp"
 #include "program_cache.hpp"
@@ -169,13 +171,18 @@ struct Renderer::Impl {
     gpu::GpuTimer render_timer;
     double max_frame_work = 0.0;
     double chunk_work = 0.0;
+    int brick_voxels = default_brick_voxels;
+    bool gradient_texture = false;  // GradientSource resolved for the device
 
     // Volume textures, most recently used first; the first is the current volume.
     struct CachedVolume {
         std::shared_ptr<const volume::Volume> volume;
         VolumeTexture texture;
+        EmptySpaceMap empty_space;
+        gpu::Texture gradients;  // built the first time a frame shades with it
         std::uint64_t generation = 0;
         std::size_t bytes = 0;
+        std::uint64_t classified_tf_version = 0;  // 0: the bricks were never classified
     };
 
     std::list<CachedVolume> volumes;
@@ -186,9 +193,11 @@ struct Renderer::Impl {
     const VolumeTexture* volume_texture = nullptr;
     bool volume_uploaded_this_frame = false;
     double volume_upload_ms = 0.0;
+    double brick_ranges_ms = 0.0;
 
     gpu::Texture tf_texture;
     std::vector<glm::vec4> tf_table;  // what tf_texture holds, to skip re-uploading it
+    std::uint64_t tf_version = 0;     // counts the uploads of tf_table
 
     // Light buffers by what their content depends on, most recently used first, so that
     // sessions with different lights or transfer functions each keep theirs.
@@ -347,6 +356,7 @@ struct Renderer::Impl {
         glTextureSubImage1D(tf_texture.name(), 0, 0, scene::default_table_size, GL_RGBA, GL_FLOAT,
                             table.data());
         tf_table = table;
+        ++tf_version;
         return milliseconds_since(start);
     }
 
@@ -439,8 +449,9 @@ struct Renderer::Impl {
             }
             if (auto status = light_buffer_builder.build(
                         buffer, lb.builder, slices,
-                        {{"EXTINCTION", plan.variant.extinction ? "1" : "0"}}, g.slab_samples,
-                        light_timer, chunks);
+                        {{"EXTINCTION", plan.variant.extinction ? "1" : "0"},
+                         {"EMPTY_SPACE_SKIPPING", plan.variant.empty_space_skipping ? "1" : "0"}},
+                        g.slab_samples, light_timer, chunks);
                 !status) {
                 return status;  // a cancelled build leaves a partial buffer: it is not kept
             }
@@ -527,6 +538,8 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     impl->volume_memory_budget = options.volume_memory_budget;
     impl->light_buffer_memory_budget = options.light_buffer_memory_budget;
     impl->max_frame_work = options.max_frame_work;
+    impl->gradient_texture = options.gradients == GradientSource::texture;
+    impl->brick_voxels = options.brick_voxels > 0 ? options.brick_voxels : default_brick_voxels;
     impl->chunk_work = options.chunk_work > 0.0 ? options.chunk_work
                        : impl->info.software    ? software_chunk_work
                                                 : hardware_chunk_work;
@@ -567,9 +580,13 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
         glFinish();
         impl.volume_upload_ms = milliseconds_since(start);
         impl.volume_uploaded_this_frame = true;
+        const auto bricks_start = Clock::now();
+        EmptySpaceMap empty_space(compute_brick_ranges(*volume, impl.brick_voxels));
+        glFinish();
+        impl.brick_ranges_ms = milliseconds_since(bricks_start);
         const std::size_t bytes = volume->data.size();
-        impl.volumes.push_front(
-                {volume, std::move(texture.value()), ++impl.next_generation, bytes});
+        impl.volumes.push_front({volume, std::move(texture.value()), std::move(empty_space),
+                                 gpu::Texture{}, ++impl.next_generation, bytes});
     } else {
         impl.volumes.splice(impl.volumes.begin(), impl.volumes, cached);
     }
@@ -594,7 +611,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (auto status = scene::validate(request, impl.limits()); !status) {
         return status.error();
     }
-    const FramePlan plan = plan_frame(request);
+    FramePlan plan = plan_frame(request);
+    plan.variant.gradient_texture = impl.gradient_texture && plan.variant.phong;
     auto geometry = impl.frame_geometry(request, plan);
     if (!geometry) {
         return geometry.error();
@@ -611,6 +629,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     Frame frame;
     if (impl.volume_uploaded_this_frame) {
         frame.report.passes.push_back({"upload_volume", 0.0, impl.volume_upload_ms});
+        frame.report.passes.push_back({"brick_ranges", 0.0, impl.brick_ranges_ms});
         impl.volume_uploaded_this_frame = false;
     }
     const std::vector<glm::vec4> table =
@@ -629,6 +648,39 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     }
     glBindTextureUnit(0, impl.volume_texture->texture.name());
     glBindTextureUnit(1, impl.tf_texture.name());
+    if (plan.variant.empty_space_skipping) {
+        Impl::CachedVolume& current = impl.volumes.front();
+        if (current.classified_tf_version != impl.tf_version) {
+            const auto classify_start = Clock::now();
+            if (auto status = current.empty_space.classify(impl.programs); !status) {
+                return status.error();
+            }
+            glFinish();
+            current.classified_tf_version = impl.tf_version;
+            frame.report.passes.push_back(
+                    {"classify_bricks", 0.0, milliseconds_since(classify_start)});
+        }
+        glBindTextureUnit(3, current.empty_space.occupancy());
+    }
+    if (plan.variant.gradient_texture) {
+        Impl::CachedVolume& current = impl.volumes.front();
+        if (!current.gradients) {
+            const auto gradients_start = Clock::now();
+            auto gradients =
+                    build_gradient_texture(impl.programs, current.texture, current.volume->dims);
+            if (!gradients) {
+                return gradients.error();
+            }
+            glFinish();
+            current.gradients = std::move(gradients.value());
+            current.bytes += gradient_texture_bytes(current.volume->dims);
+            frame.report.passes.push_back(
+                    {"build_gradients", 0.0, milliseconds_since(gradients_start)});
+            impl.evict_volumes();
+        }
+        glBindTextureUnit(5, current.gradients.name());
+        glBindTextureUnit(0, impl.volume_texture->texture.name());
+    }
     if (plan.needs_light_buffer) {
         if (auto status = impl.use_light_buffer(request, plan, g, table, chunks, frame.report);
             !status) {

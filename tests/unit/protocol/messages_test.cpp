@@ -217,6 +217,18 @@ TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerTok
     EXPECT_FALSE(joined.contains("owner_token"));
 }
 
+TEST(ParseRequest, EmptySpaceSkippingIsOnUntilASessionTurnsItOff) {
+    SessionState state;
+    EXPECT_TRUE(state.frame.settings.empty_space_skipping);
+    ASSERT_TRUE(
+            apply_patch(R"({"settings":{"empty_space_skipping":false}})", state, Limits{}).ok());
+    EXPECT_FALSE(state.frame.settings.empty_space_skipping);
+    EXPECT_EQ(json::parse(state_to_json(state)).at("settings").at("empty_space_skipping"), false);
+    const auto wrong = apply_patch(R"({"settings":{"empty_space_skipping":1}})", state, Limits{});
+    ASSERT_FALSE(wrong.ok());
+    EXPECT_EQ(wrong.error().where, "/settings/empty_space_skipping");
+}
+
 TEST(ServerMessages, StateCarriesTheSessionAndItsFullStateWithoutAnId) {
     SessionState state;
     state.frame.transfer_function = scene::preset("ct_bone").value();

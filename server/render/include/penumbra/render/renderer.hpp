@@ -15,6 +15,11 @@
 
 namespace penumbra::render {
 
+// Where shaded samples get their gradient: central differences of six volume samples each, or
+// one sample of a texture of per-voxel differences built once per volume (8 bytes a voxel more
+// GPU memory). `automatic` takes the one measured faster on the device (`penumbra bench modes`).
+enum class GradientSource { automatic, central_differences, texture };
+
 struct RendererOptions {
     std::filesystem::path shader_dir;  // empty: the default search (gpu::default_shader_dir)
     bool debug_context = false;        // GL debug output routed to the log
@@ -33,6 +38,10 @@ struct RendererOptions {
     // waits for the GPU and asks whether the frame was cancelled. 0: sized for the device (a
     // fraction of a second per chunk on a software rasteriser).
     double chunk_work = 0.0;
+    // Voxels per side of the bricks that empty-space skipping leaps over; 0: the renderer's
+    // default (chosen by measurement, see `penumbra bench modes --brick-voxels`).
+    int brick_voxels = 0;
+    GradientSource gradients = GradientSource::automatic;
 };
 
 // Asked on the render thread between chunks of a frame; returning true abandons the frame, which

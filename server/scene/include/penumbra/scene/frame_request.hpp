@@ -91,6 +91,9 @@ struct RenderSettings {
     glm::dvec3 background{0.0};
     Shading shading;
     bool phong = false;  // Blinn-Phong on top of shadows (the shadow modes; `phong` mode always)
+    // Rays (camera rays, shadow rays, light-buffer marches) leap over bricks of the volume that
+    // the TF leaves fully transparent; the image is the same either way, only the time differs.
+    bool empty_space_skipping = true;
     LightBufferSettings light_buffer;
     ScatteringSettings scattering;
 

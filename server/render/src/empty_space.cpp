@@ -1,0 +1,116 @@
+#include "empty_space.hpp"
+
+#include <penumbra/scene/transfer_function.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace penumbra::render {
+namespace {
+
+// The voxel index range [first, last] that samples in brick `brick` can read along one axis of
+// `voxels` voxels cut into `bricks`: a sample at texture coordinate t reads voxels floor(t * n -
+// 0.5) and the one above. The small margin keeps rounding of t at a brick face on the safe side.
+std::pair<unsigned, unsigned> voxels_read(int brick, int bricks, unsigned voxels) {
+    constexpr double margin = 1e-3;
+    const double per_brick = double(voxels) / bricks;
+    const double first = std::floor(brick * per_brick - 0.5 - margin);
+    const double last = std::floor((brick + 1) * per_brick - 0.5 + margin) + 1.0;
+    const double top = double(voxels) - 1.0;
+    return {static_cast<unsigned>(std::clamp(first, 0.0, top)),
+            static_cast<unsigned>(std::clamp(last, 0.0, top))};
+}
+
+template <class T>
+BrickRanges ranges_of(const volume::Volume& volume, int brick_voxels) {
+    const glm::uvec3 dims = volume.dims;
+    BrickRanges out;
+    out.grid = (glm::ivec3(dims) + brick_voxels - 1) / brick_voxels;
+    out.min_max.resize(static_cast<std::size_t>(out.grid.x) * out.grid.y * out.grid.z);
+    const double width = volume.range.max - volume.range.min;
+    const auto normalised = [&](double raw) {
+        return width > 0.0 ? static_cast<float>((raw - volume.range.min) / width) : 0.0f;
+    };
+    std::vector<T> row(dims.x);
+    std::size_t index = 0;
+    for (int bz = 0; bz < out.grid.z; ++bz) {
+        const auto [z0, z1] = voxels_read(bz, out.grid.z, dims.z);
+        for (int by = 0; by < out.grid.y; ++by) {
+            const auto [y0, y1] = voxels_read(by, out.grid.y, dims.y);
+            for (int bx = 0; bx < out.grid.x; ++bx) {
+                const auto [x0, x1] = voxels_read(bx, out.grid.x, dims.x);
+                T lo = std::numeric_limits<T>::max();
+                T hi = std::numeric_limits<T>::lowest();
+                for (unsigned z = z0; z <= z1; ++z) {
+                    for (unsigned y = y0; y <= y1; ++y) {
+                        const std::size_t start = (std::size_t(z) * dims.y + y) * dims.x + x0;
+                        const std::size_t count = x1 - x0 + 1;
+                        std::memcpy(row.data(), volume.data.data() + start * sizeof(T),
+                                    count * sizeof(T));
+                        const auto [mn, mx] = std::minmax_element(row.begin(), row.begin() + count);
+                        lo = std::min(lo, *mn);
+                        hi = std::max(hi, *mx);
+                    }
+                }
+                out.min_max[index++] = {normalised(double(lo)), normalised(double(hi))};
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels) {
+    switch (volume.type) {
+        case volume::VoxelType::uint8:
+            return ranges_of<std::uint8_t>(volume, brick_voxels);
+        case volume::VoxelType::uint16:
+            return ranges_of<std::uint16_t>(volume, brick_voxels);
+        case volume::VoxelType::float32:
+            return ranges_of<float>(volume, brick_voxels);
+    }
+    return {};
+}
+
+EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
+    : grid_(ranges.grid)
+    , ranges_(gpu::create_texture(GL_TEXTURE_3D))
+    , occupancy_(gpu::create_texture(GL_TEXTURE_3D))
+    , visible_entries_(gpu::create_buffer()) {
+    glTextureStorage3D(ranges_.name(), 1, GL_RG32F, grid_.x, grid_.y, grid_.z);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage3D(ranges_.name(), 0, 0, 0, 0, grid_.x, grid_.y, grid_.z, GL_RG, GL_FLOAT,
+                        ranges.min_max.data());
+    glTextureParameteri(ranges_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(ranges_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureStorage3D(occupancy_.name(), 1, GL_R8UI, grid_.x, grid_.y, grid_.z);
+    glTextureParameteri(occupancy_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(occupancy_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glNamedBufferStorage(visible_entries_.name(),
+                         sizeof(std::uint32_t) * (scene::default_table_size + 1), nullptr, 0);
+}
+
+base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
+    auto program = programs.compute("brick_classify.comp");
+    if (!program) {
+        return program.error();
+    }
+    glUseProgram((*program)->name());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, visible_entries_.name());
+    glBindTextureUnit(4, ranges_.name());
+    glBindImageTexture(0, occupancy_.name(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
+    glUniform1i(0, 0);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUniform1i(0, 1);
+    const auto groups = [](int bricks) { return static_cast<GLuint>((bricks + 3) / 4); };
+    glDispatchCompute(groups(grid_.x), groups(grid_.y), groups(grid_.z));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    return base::Ok{};
+}
+
+}  // namespace penumbra::render

@@ -1,0 +1,185 @@
+// Empty-space skipping never changes what is visible: every ray-cast mode (and half-angle
+// slicing, whose light slabs skip too) gives the same image with and without it, on volumes whose
+// thin features lie on the faces of the bricks, with fully transparent and fully opaque transfer
+// functions, and after a TF change that makes a brick visible which was empty before.
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/render/renderer.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace penumbra::render {
+namespace {
+
+constexpr int brick_voxels = 8;
+constexpr unsigned side = 48;  // 6 bricks per axis
+
+// One level of 8 bits: the two images differ at most by the rounding of float sums whose terms
+// are the same, with the skipped samples all exactly transparent.
+constexpr double tolerance = 1.0 / 255.0;
+
+const scene::Mode all_modes[] = {
+        scene::Mode::dvr,        scene::Mode::phong,     scene::Mode::half_angle, scene::Mode::sbrc,
+        scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference};
+
+// Zero everywhere but for one-voxel-thin sheets and lines on either side of brick faces (the last
+// voxel of a brick and the first of the next), a lone voxel at a brick corner, and, at value 0.3,
+// a small block that TFs visible only above 0.5 leave transparent.
+volume::Volume thin_features() {
+    std::vector<float> values(side * side * side, 0.0f);
+    const auto at = [&](unsigned x, unsigned y, unsigned z) -> float& {
+        return values[(std::size_t(z) * side + y) * side + x];
+    };
+    for (unsigned a = 4; a < side - 4; ++a) {
+        for (unsigned b = 4; b < side - 4; ++b) {
+            at(2 * brick_voxels, a, b) = 1.0f;      // first voxel of brick 2 in x
+            at(a, b, 3 * brick_voxels - 1) = 0.8f;  // last voxel of brick 2 in z
+        }
+        at(a, 4 * brick_voxels, 4 * brick_voxels - 1) = 1.0f;  // a line along x on a brick edge
+    }
+    at(brick_voxels, brick_voxels, brick_voxels) = 1.0f;  // a corner voxel of a brick
+    for (unsigned z = 34; z < 38; ++z) {
+        for (unsigned y = 10; y < 14; ++y) {
+            for (unsigned x = 34; x < 38; ++x) {
+                at(x, y, z) = 0.3f;
+            }
+        }
+    }
+    auto volume = volume::make_volume("thin", glm::uvec3(side), glm::dvec3(1.0), values);
+    EXPECT_TRUE(volume.ok());
+    return std::move(volume.value());
+}
+
+// Visible from `threshold` up, half-transparent at the top.
+scene::TransferFunction step_tf(double threshold) {
+    return {"step",
+            {{0.0, {1.0, 0.7, 0.4}}, {1.0, {0.9, 0.9, 1.0}}},
+            {{0.0, 0.0}, {threshold - 0.01, 0.0}, {threshold, 0.2}, {1.0, 0.5}}};
+}
+
+scene::FrameRequest request_for(scene::Mode mode) {
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(35.0, 25.0, 2.2);
+    request.light.direction = scene::direction_from_angles(-50.0, 30.0);
+    request.settings.mode = mode;
+    request.settings.width = 64;
+    request.settings.height = 64;
+    request.settings.sample_distance = 1.0 / 160.0;
+    request.settings.background = {0.1, 0.2, 0.3};
+    request.settings.phong = true;
+    request.settings.light_buffer.slices = 48;
+    request.settings.light_buffer.resolution = 48;
+    request.transfer_function = step_tf(0.5);
+    return request;
+}
+
+class EmptySpaceTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        RendererOptions options;
+        options.brick_voxels = brick_voxels;
+        auto created = Renderer::create(options);
+        ASSERT_TRUE(created.ok()) << created.error().to_string();
+        renderer_ = std::move(created.value());
+        volume_ = std::make_shared<const volume::Volume>(thin_features());
+        ASSERT_TRUE(renderer_->set_volume(volume_).ok());
+    }
+
+    Frame render(scene::FrameRequest request, bool skipping) {
+        request.settings.empty_space_skipping = skipping;
+        auto frame = renderer_->render(request);
+        EXPECT_TRUE(frame.ok()) << frame.error().to_string();
+        return frame.ok() ? std::move(frame.value()) : Frame{};
+    }
+
+    static bool ran(const Frame& frame, const std::string& pass) {
+        for (const PassTiming& timing : frame.report.passes) {
+            if (timing.name == pass) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+    // Renders with and without skipping and expects the same image; returns how many pixels
+    // differ from the background, so that callers can check there was something to see.
+    int expect_same_image(const scene::FrameRequest& request, const std::string& label) {
+        const Frame skipped = render(request, true);
+        const Frame marched = render(request, false);
+        auto difference = encode::compare_images(base::to_rgba_f(skipped.image),
+                                                 base::to_rgba_f(marched.image));
+        EXPECT_TRUE(difference.ok());
+        if (difference.ok()) {
+            EXPECT_LE(difference->max_error, tolerance) << label;
+        }
+        // The camera sees the whole box with background around it, so corner (0, 0) is background.
+        int drawn = 0;
+        const base::ImageRgba8& image = marched.image;
+        const std::uint8_t* background = image.pixel(0, 0);
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                drawn += std::equal(background, background + 3, image.pixel(x, y)) ? 0 : 1;
+            }
+        }
+        return drawn;
+    }
+
+    std::unique_ptr<Renderer> renderer_;
+    std::shared_ptr<const volume::Volume> volume_;
+};
+
+TEST_F(EmptySpaceTest, ThinFeaturesOnBrickFacesLookTheSameInEveryMode) {
+    for (const scene::Mode mode : all_modes) {
+        const std::string label = scene::to_string(mode);
+        SCOPED_TRACE(label);
+        EXPECT_GT(expect_same_image(request_for(mode), label), 200);
+    }
+}
+
+TEST_F(EmptySpaceTest, FullyTransparentTransferFunctionGivesTheBackgroundEitherWay) {
+    for (const scene::Mode mode : all_modes) {
+        SCOPED_TRACE(scene::to_string(mode));
+        auto request = request_for(mode);
+        request.transfer_function = {"empty", {}, {}};
+        EXPECT_EQ(expect_same_image(request, scene::to_string(mode)), 0);
+    }
+}
+
+TEST_F(EmptySpaceTest, FullyOpaqueTransferFunctionLooksTheSame) {
+    for (const scene::Mode mode : all_modes) {
+        SCOPED_TRACE(scene::to_string(mode));
+        auto request = request_for(mode);
+        request.transfer_function = {"opaque", {{0.0, {0.9, 0.8, 0.7}}}, {{0.0, 1.0}}};
+        EXPECT_GT(expect_same_image(request, scene::to_string(mode)), 1000);
+    }
+}
+
+// The block at 0.3 sits in bricks that a TF starting at 0.5 leaves empty; after the TF changes
+// to show it, its bricks must be classified again before any ray skips them.
+TEST_F(EmptySpaceTest, TransferFunctionChangeShowsBricksThatWereEmpty) {
+    for (const scene::Mode mode : all_modes) {
+        SCOPED_TRACE(scene::to_string(mode));
+        auto request = request_for(mode);
+        const Frame before = render(request, true);
+        EXPECT_TRUE(ran(before, "classify_bricks"));
+        request.transfer_function = step_tf(0.25);
+        const Frame after = render(request, true);
+        EXPECT_TRUE(ran(after, "classify_bricks"));
+        const Frame marched = render(request, false);
+        auto difference = encode::compare_images(base::to_rgba_f(after.image),
+                                                 base::to_rgba_f(marched.image));
+        ASSERT_TRUE(difference.ok());
+        EXPECT_LE(difference->max_error, tolerance);
+        auto changed =
+                encode::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(after.image));
+        ASSERT_TRUE(changed.ok());
+        EXPECT_GT(changed->max_error, 0.1) << "the block at 0.3 should have appeared";
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::render
