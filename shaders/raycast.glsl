@@ -44,7 +44,8 @@ float light_reaching(vec3 position, vec3 to_eye) {
 
 // Front-to-back emission–absorption of samples [first, first + budget) of the ray of `pixel`,
 // composited into `accumulated` (premultiplied). The ray is cut into equal steps no longer than
-// the sample distance, sampled at their midpoints.
+// the sample distance, each sampled at the same fraction of the step: the midpoint, or the
+// pixel's jittered offset (ray_start_offset).
 void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec3 origin = u.eye.xyz;
     vec3 direction = pixel_ray_direction(pixel);
@@ -54,8 +55,9 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         int count = int(max(1.0, ceil(length_inside / u.march.x)));
         float step_length = length_inside / float(count);
         int last = min(count, first + budget);
+        float offset = ray_start_offset(pixel);
         for (int i = first; i < last; ++i) {
-            vec3 position = origin + (hit.x + (float(i) + 0.5) * step_length) * direction;
+            vec3 position = origin + (hit.x + (float(i) + offset) * step_length) * direction;
             vec4 classified = classify(sample_value(position));
             if (classified.a <= 0.0) continue;
             vec3 color = classified.rgb;

@@ -27,4 +27,6 @@ layout(std140, binding = 0) uniform FrameUniforms {
     mat4 camera_view_projection;  // world -> camera clip space, image row 0 at the top
     vec4 half_angle_axis;         // xyz: slice axis h; w: slice spacing along h
     vec4 half_angle_range;        // x: min of h.V over the box corners
+    // Jittered ray starts (ray.glsl): x: 1 = on, y: the pattern's index (the refinement step).
+    vec4 jitter;
 } u;

@@ -18,7 +18,7 @@ const std::vector<std::string>& frame_option_names() {
 }
 
 const std::vector<std::string>& frame_flag_names() {
-    static const std::vector<std::string> names = {"phong"};
+    static const std::vector<std::string> names = {"phong", "jitter"};
     return names;
 }
 
@@ -26,6 +26,8 @@ const char* frame_options_help() {
     return "  --mode MODE                    dvr | phong | half_angle | sbrc | sbrc_shell | sbrc_cone |\n"
            "                                 reference (default phong)\n"
            "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
+           "  --jitter                       ray-cast modes: per-pixel jittered sample offsets\n"
+           "                                 (fine noise instead of fixed-step rings)\n"
            "  --slices N                     light slices, also half-angle's slices (default 128)\n"
            "  --light-res R                  light buffer R x R texels (default 256)\n"
            "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
@@ -175,6 +177,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         *option.target = *value;
     }
     s.phong = args.has("phong");
+    s.jitter = args.has("jitter");
     if (const auto builder = args.get("builder")) {
         const auto parsed = scene::parse_light_buffer_builder(*builder);
         if (!parsed) {

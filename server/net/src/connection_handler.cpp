@@ -27,6 +27,7 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
     out.output.encoding = s.output.format == encode::ImageFormat::png ? "png" : "jpeg";
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
+    out.refinement_steps = s.refinement_steps;
     return out;
 }
 
@@ -37,6 +38,7 @@ session::SessionState from_protocol(const protocol::SessionState& s) {
                                                    : encode::ImageFormat::jpeg;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
+    out.refinement_steps = s.refinement_steps;
     return out;
 }
 
@@ -95,6 +97,7 @@ std::vector<std::uint8_t> pack(const session::EncodedFrame& f, const std::string
     h.readback_ms = f.readback_ms;
     h.encode_ms = f.encode_ms;
     h.quality = f.quality;
+    h.refinement = f.refinement_step;
     return protocol::pack_frame(h, f.image);
 }
 

@@ -34,6 +34,7 @@ struct FrameUniforms {
     glm::mat4 camera_view_projection;
     glm::vec4 half_angle_axis;
     glm::vec4 half_angle_range;
+    glm::vec4 jitter;
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -44,6 +45,7 @@ static_assert(offsetof(FrameUniforms, image_size) == 208);
 static_assert(offsetof(FrameUniforms, light_view_projection) == 224);
 static_assert(offsetof(FrameUniforms, light_travel) == 352);
 static_assert(offsetof(FrameUniforms, camera_view_projection) == 432);
-static_assert(sizeof(FrameUniforms) == 528);
+static_assert(offsetof(FrameUniforms, jitter) == 528);
+static_assert(sizeof(FrameUniforms) == 544);
 
 }  // namespace penumbra::render

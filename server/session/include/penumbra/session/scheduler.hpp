@@ -40,6 +40,9 @@ struct RenderJob {
     // Who asked (a remote address): render time is shared among clients first, then among the
     // sessions of each client, so opening many sessions buys a client no larger share.
     std::string client;
+    // Progressive stills: after this still frame the scheduler renders up to this many refinement
+    // steps of it at the lowest priority, delivering each through the same callback.
+    int refinement_steps = 0;
 };
 
 struct EncodedFrame {
@@ -52,6 +55,7 @@ struct EncodedFrame {
     std::int64_t request_id = -1;
     bool interactive = false;
     std::string quality;
+    int refinement_step = 0;   // 0: a frame on its own; k: the still frame refined k times
     double queued_ms = 0.0;    // submitted -> the render thread took it
     double render_ms = 0.0;    // GPU passes, wall time
     double readback_ms = 0.0;
@@ -59,8 +63,9 @@ struct EncodedFrame {
 };
 
 // Called once per submitted job: with the frame, or with an Error ("superseded" when a newer job
-// of the same session replaced it before it was rendered, or why rendering failed). Called on a
-// scheduler thread: it must only hand the result on.
+// of the same session replaced it before it was rendered, or why rendering failed); then once
+// more per refinement step of a still frame (RenderJob::refinement_steps), with the refined frame
+// only. Called on a scheduler thread: it must only hand the result on.
 using FrameCallback =
         std::function<void(base::Result<std::shared_ptr<const EncodedFrame>> result)>;
 
@@ -126,6 +131,19 @@ private:
     // Takes `session` out of its client's turn (under mutex_).
     void unqueue(const std::string& session, const std::string& client);
 
+    // Queues the refinement step that follows `job` at the lowest priority (under mutex_).
+    void queue_refinement(const std::string& session, RenderJob job, FrameCallback done);
+
+    // Drops the session's queued refinement step, if any (under mutex_).
+    void drop_refinement(const std::string& session);
+
+    // Takes the next refinement step into `next` and marks it in flight, when no client has a
+    // job pending (under mutex_).
+    bool take_refinement(Pending& next);
+
+    // The render thread is idle again (takes mutex_).
+    void finish_in_flight(const render::FrameRenderer& renderer);
+
     SchedulerOptions options_;
     render::RendererInfo renderer_info_;
     mutable std::mutex mutex_;
@@ -134,6 +152,11 @@ private:
     std::deque<std::string> clients_;         // clients with a pending job, in serving order
     std::map<std::string, std::deque<std::string>> sessions_of_;  // a client's sessions, in order
     bool stopping_ = false;
+    // Progressive stills: each session's next refinement step, served in turn and only while no
+    // client has a job pending. A job of any session preempts a refinement step between its
+    // chunks, which then waits for its next turn.
+    std::map<std::string, Pending> refinements_;
+    std::deque<std::string> refinement_order_;
 
     // The job on the render thread (guarded by mutex_), so that others can cancel it.
     struct InFlight {
@@ -141,6 +164,7 @@ private:
         Clock::time_point started;
         bool superseded = false;  // a newer job of the session is pending
         bool closed = false;      // the session was cancelled
+        bool refinement = false;  // a refinement step, which yields to any pending job
     };
 
     InFlight in_flight_;
@@ -154,6 +178,7 @@ private:
     std::vector<std::thread> encode_threads_;
 
     metrics::Counter& frames_;
+    metrics::Counter& refinement_frames_;
     metrics::Counter& superseded_;
     metrics::Counter& failures_;
     metrics::Counter& light_buffer_built_;

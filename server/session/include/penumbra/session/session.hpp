@@ -31,6 +31,7 @@ struct SessionState {
     scene::FrameRequest frame;
     OutputFormat output;
     double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
+    int refinement_steps = 8;      // refinement steps after a still frame (jittered ray casts)
 };
 
 // Receives a session's state. Called under the session's lock, so that each viewer learns of the
