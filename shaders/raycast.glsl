@@ -48,7 +48,8 @@ float light_reaching(vec3 position, vec3 to_eye) {
 
 // Front-to-back emission–absorption of samples [first, first + budget) of the ray of `pixel`,
 // composited into `accumulated` (premultiplied). The ray is cut into equal steps no longer than
-// the sample distance, sampled at their midpoints.
+// the sample distance, each sampled at the same fraction of the step: the midpoint, or the
+// pixel's jittered offset (ray_start_offset).
 void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec3 origin = u.eye.xyz;
     vec3 direction = pixel_ray_direction(pixel);
@@ -64,8 +65,9 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         // which can only keep a sample, never drop one.
         float occupied_until = -1.0;
 #endif
+        float offset = ray_start_offset(pixel);
         for (int i = first; i < last; ++i) {
-            float t = hit.x + (float(i) + 0.5) * step_length;
+            float t = hit.x + (float(i) + offset) * step_length;
             vec3 position = origin + t * direction;
 #if EMPTY_SPACE_SKIPPING
             if (t >= occupied_until) {

@@ -250,7 +250,9 @@ connection.on('state', (info) => {
 });
 
 connection.on('frame', (frame) => {
-  const requestSent = role === 'owner' ? sentAt.get(frame.header.request) : undefined;
+  // A refinement step answers no new request: it only improves the still frame on screen.
+  const refined = (frame.header.refinement ?? 0) > 0;
+  const requestSent = role === 'owner' && !refined ? sentAt.get(frame.header.request) : undefined;
   const arrived = performance.now();
   pacer.frameArrived(frame.header.request);
   view.show(frame);

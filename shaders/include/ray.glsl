@@ -28,6 +28,16 @@ vec2 intersect_box(vec3 origin, vec3 direction) {
     return vec2(max(0.0, line.x), line.y);
 }
 
+// Where in its first step a ray takes its first sample, as a fraction of the step: the step's
+// midpoint without jitter; with it, interleaved gradient noise over the pixels (neighbours differ
+// by far more than a step's fraction, so fixed-step rings become fine noise) shifted by the golden
+// ratio per pattern index, so that successive refinement steps cover the step evenly.
+float ray_start_offset(ivec2 pixel) {
+    if (u.jitter.x <= 0.0) return 0.5;
+    float noise = fract(52.9829189 * fract(dot(vec2(pixel), vec2(0.06711056, 0.00583715))));
+    return fract(noise + u.jitter.y * 0.6180339887);
+}
+
 // The ray through the centre of pixel `pixel`, row 0 at the top of the image.
 vec3 pixel_ray_direction(ivec2 pixel) {
     vec2 size = vec2(u.image_size.xy);

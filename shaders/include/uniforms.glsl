@@ -31,4 +31,6 @@ layout(std140, binding = 0) uniform FrameUniforms {
     // axes follow the volume's index axes, to world space (RAS) and back.
     mat4 box_to_world;
     mat4 world_to_box;
+    // Jittered ray starts (ray.glsl): x: 1 = on, y: the pattern's index (the refinement step).
+    vec4 jitter;
 } u;

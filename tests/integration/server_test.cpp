@@ -763,6 +763,57 @@ TEST_F(ServerTest, ManySessionsOfOneClientDoNotRaiseAnotherClientsQueueing) {
             << "median queued " << queued_ms << " ms, median hog frame " << frame_ms << " ms";
 }
 
+// One session refines its still frame (long frames, each many chunks of work) while another
+// client drags. A refinement step yields to any other job between two chunks, so the dragging
+// client's frames wait for about one chunk, far less than one refinement frame, and refinement
+// goes on in between. Queueing is read from the frame headers.
+TEST_F(ServerTest, ARefiningSessionDoesNotDelayAnotherSessionsInteractiveFrames) {
+    TestClient refiner(port_, "127.0.0.2");
+    refiner.open("heads/ch2.nii.gz", 64);
+    EXPECT_EQ(field(refiner.request(R"({"v":1,"type":"set","id":3,"settings":{"mode":"dvr",)"
+                                    R"("size":[256,256],"sample_distance":0.001,"jitter":true,)"
+                                    R"("refinement_steps":256}})"),
+                    "type"),
+              "ack");
+    TestClient dragger(port_, "127.0.0.3");
+    dragger.open("heads/ch2.nii.gz", 64);
+    refiner.send(R"({"v":1,"type":"render","id":10})");
+    const auto still = refiner.next_frame();
+    EXPECT_EQ(still.header.request, 10);
+    EXPECT_EQ(still.header.refinement, 0);
+    const auto first_step = refiner.next_frame();
+    EXPECT_EQ(first_step.header.refinement, 1);
+    const double refinement_frame_ms = first_step.header.render_ms;
+
+    std::vector<double> queued_ms;
+    for (int i = 0; i < 6; ++i) {
+        dragger.send(R"({"v":1,"type":"set","camera":{"orbit":{"azimuth":)" +
+                     std::to_string(20 * i) + R"(,"elevation":10,"distance":2.6}}})");
+        dragger.send(R"({"v":1,"type":"render","interactive":true,"id":)" + std::to_string(i) +
+                     "}");
+        const auto frame = dragger.next_frame();
+        EXPECT_EQ(frame.header.request, i);
+        EXPECT_TRUE(frame.header.interactive);
+        queued_ms.push_back(frame.header.queued_ms);
+    }
+    // Refinement went on between the dragging client's frames, and still goes on.
+    int last_step = 1;
+    for (int i = 0; i < 2; ++i) {
+        const auto step = refiner.next_frame();
+        EXPECT_GT(step.header.refinement, last_step);
+        EXPECT_EQ(step.header.request, 10);
+        last_step = step.header.refinement;
+    }
+    std::sort(queued_ms.begin(), queued_ms.end());
+    const double median = queued_ms[queued_ms.size() / 2];
+    RecordProperty("refinement_frame_ms", std::to_string(refinement_frame_ms));
+    RecordProperty("interactive_queued_ms", std::to_string(median));
+    // Served behind whole refinement frames, a request would wait half of one on average.
+    EXPECT_LT(median, 0.25 * refinement_frame_ms)
+            << "median queued " << median << " ms, one refinement frame " << refinement_frame_ms
+            << " ms";
+}
+
 // A counter's value in /metrics (-1 when absent).
 double metric(unsigned short port, const std::string& name) {
     auto metrics = net::http_get("127.0.0.1", port, "/metrics");

@@ -152,7 +152,11 @@ TEST_F(ExtremeValuesTest, Uint16OverANarrowRangeAtTheTopLooksLikeTheUnitVolume) 
     for_each_mode(all_modes, [&] {
         const volume::Volume volume = scaled_uint16(65000.0, 535.0);
         EXPECT_EQ(volume.range.max, 65535.0);
-        expect_like_unit(volume, "uint16 65000..65535", 2);
+        // Central differences see the 1/535 rounding of two voxels at once; at the jittered
+        // sample positions one difference of a shaded pixel straddles one more rounding step
+        // than at the midpoints (4 levels at one pixel of `phong`, 2 elsewhere).
+        expect_like_unit(volume, "uint16 65000..65535",
+                         scene::uses_gradients(base_request(mode()).settings) ? 4 : 2);
     });
 }
 

@@ -56,6 +56,8 @@ export class MethodPanel {
     encoding: 'jpeg',
     jpeg_quality: 85,
     frame_budget_ms: 0,
+    jitter: false,
+    refinement_steps: 8,
     /** Client side: rendered pixels per device pixel. */
     scale: 1,
   };
@@ -112,6 +114,11 @@ export class MethodPanel {
       'opacity_unit_distance', () => settings({ opacity_unit_distance: p.opacity_unit_distance }), false);
     add(sampling.add(p, 'early_termination', 0.01, 1, 0.01).name('early termination'),
       'early_termination', () => settings({ early_termination: p.early_termination }));
+    add(sampling.add(p, 'jitter').name('jittered samples'), 'jitter', () =>
+      settings({ jitter: p.jitter }), false);
+    // Progressive stills: the server refines a still frame this many times (0: off).
+    add(sampling.add(p, 'refinement_steps', 0, 64, 1).name('refinement steps (0 off)'), 'refinement_steps',
+      () => settings({ refinement_steps: p.refinement_steps }), false);
     // The server picks mode and quality to fit this frame time (0: as set); newer servers only.
     this.budget = add(sampling.add(p, 'frame_budget_ms').name('frame budget ms (0 off)'),
       'frame_budget_ms', () => settings({ frame_budget_ms: p.frame_budget_ms }), false);
@@ -180,6 +187,8 @@ export class MethodPanel {
     p.opacity_unit_distance = s.opacity_unit_distance;
     p.early_termination = s.early_termination;
     p.frame_budget_ms = s.frame_budget_ms ?? 0;
+    p.jitter = s.jitter ?? false;
+    p.refinement_steps = s.refinement_steps ?? 0;
     this.budget.show(s.frame_budget_ms !== undefined);
     p.phong = s.phong;
     p.diffuse = s.shading.diffuse;

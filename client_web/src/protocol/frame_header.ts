@@ -33,6 +33,8 @@ export interface FrameHeader {
   passes: FramePass[];
   timings: FrameTimings;
   quality: string;
+  /** Progressive stills: the still frame refined this many times (absent or 0: not refined). */
+  refinement?: number;
 }
 
 export interface Frame {

@@ -151,6 +151,10 @@ export interface Settings {
   scattering: Scattering;
   /** > 0: the server picks mode and quality so a frame fits this many ms; 0: as set. Newer servers. */
   frame_budget_ms?: number;
+  /** Ray-cast modes: per-pixel jittered sample offsets instead of the step's midpoint. Newer servers. */
+  jitter?: boolean;
+  /** Refinement steps after a still frame of a jittered ray-cast mode; 0 turns it off. Newer servers. */
+  refinement_steps?: number;
 }
 
 export interface Output {
@@ -746,6 +750,8 @@ function settingsSpec(limits: Limits): Spec {
     background: rgb,
     phong: boolean,
     frame_budget_ms: number(0, 60000),
+    jitter: boolean,
+    refinement_steps: integer(0, 256),
     shading: (v, at) =>
       members(v, at, {
         diffuse: number(0, 4),

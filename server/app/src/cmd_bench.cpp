@@ -56,6 +56,8 @@ void print_bench_usage() {
             "  accuracy error vs the reference (RMSE, PSNR, SSIM) against frame time over\n"
             "           modes x slices x light-buffer resolution x sample distance; quality\n"
             "           presets per frame-time budget; CSV, JSON and a plot\n"
+            "  refine   progressive stills: PSNR of each refinement step against a reference at\n"
+            "           1/8 of the sample distance, next to the unjittered frame\n"
             "\n"
             "`penumbra bench <benchmark> --help` lists its options.");
 }
@@ -1001,6 +1003,9 @@ int run_bench_modes(const std::vector<std::string>& args) {
 // In cmd_bench_accuracy.cpp.
 int run_bench_accuracy(const std::vector<std::string>& args);
 
+// In cmd_bench_refine.cpp.
+int run_bench_refine(const std::vector<std::string>& args);
+
 int run_bench(const std::vector<std::string>& args) {
     if (args.empty()) {
         print_bench_usage();
@@ -1012,6 +1017,9 @@ int run_bench(const std::vector<std::string>& args) {
     }
     if (args[0] == "accuracy") {
         return run_bench_accuracy({args.begin() + 1, args.end()});
+    }
+    if (args[0] == "refine") {
+        return run_bench_refine({args.begin() + 1, args.end()});
     }
     if (args[0] != "modes") {
         std::fprintf(stderr, "penumbra bench: unknown benchmark '%s'\n\n", args[0].c_str());

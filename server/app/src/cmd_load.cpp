@@ -3,6 +3,7 @@
 
 #include <penumbra/net/client.hpp>
 #include <penumbra/protocol/frame_header.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -36,6 +37,7 @@ struct Totals {
     std::vector<Sample> samples;
     std::uint64_t errors = 0;
     std::vector<std::string> error_texts;
+    std::uint64_t refinement_frames = 0;  // progressive refinement steps received
 };
 
 double percentile(std::vector<double> values, double q) {
@@ -78,6 +80,8 @@ struct Options {
     std::string encoding;
     double seconds = 10.0;
     bool interactive = false;
+    // > 0: jittered frames, each still refined this many times (progressive stills).
+    int refine = 0;
 };
 
 // One simulated user: opens the volume, then orbits the camera and asks for a frame, waiting for
@@ -124,7 +128,11 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
     }
     (void)client.send_text(R"({"v":1,"type":"set","settings":{"mode":")" + o.mode +
                            R"(","size":[)" + std::to_string(o.size) + "," +
-                           std::to_string(o.size) + R"(]},"output":{"encoding":")" + o.encoding +
+                           std::to_string(o.size) + "]" +
+                           (o.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" +
+                                                   std::to_string(o.refine)
+                                         : std::string()) +
+                           R"(},"output":{"encoding":")" + o.encoding +
                            "\"}}");
     if (!expect_text("ack")) {
         return;
@@ -158,6 +166,12 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
                 fail(frame.error().to_string());
                 return;
             }
+            if (frame->header.refinement > 0) {
+                // A refinement step of an earlier still: it answers no request of this loop.
+                const std::lock_guard lock(totals.mutex);
+                ++totals.refinement_frames;
+                continue;
+            }
             if (frame->header.request != id) {
                 continue;  // an earlier frame; ours is still coming
             }
@@ -176,7 +190,7 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
 int run_load(const std::vector<std::string>& args) {
     auto parsed = Arguments::parse(args,
                                    {"host", "port", "clients", "seconds", "volume", "mode", "size",
-                                    "encoding", "token-file"},
+                                    "encoding", "token-file", "refine"},
                                    {"help", "interactive"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra load: %s (see --help)\n", parsed.error().to_string().c_str());
@@ -197,6 +211,8 @@ int run_load(const std::vector<std::string>& args) {
                   "  --size S          frames of S x S pixels (default 512)\n"
                   "  --encoding E      jpeg | png (default jpeg)\n"
                   "  --interactive     request interactive-quality frames\n"
+                  "  --refine N        jittered frames, each still refined N times at the lowest\n"
+                  "                    priority (progressive stills; counted apart)\n"
                   "  --token-file F    the access token a server or proxy asks for\n\n"
                   "The WebSocket URL names the volume (/ws?volume=ID), as a cluster's proxy routes\n"
                   "by it (proto/README.md).");
@@ -208,6 +224,13 @@ int run_load(const std::vector<std::string>& args) {
     o.mode = a.get("mode").value_or("sbrc");
     o.encoding = a.get("encoding").value_or("jpeg");
     o.interactive = a.has("interactive");
+    const auto refine = a.integer("refine", 0);
+    if (!refine || *refine < 0 || *refine > scene::kMaxRefinementSteps) {
+        std::fprintf(stderr, "penumbra load: --refine takes 0..%d steps\n",
+                     scene::kMaxRefinementSteps);
+        return 2;
+    }
+    o.refine = *refine;
     o.path = "/ws?volume=" + url_encode(o.volume);
     if (const auto token_file = a.get("token-file")) {
         std::ifstream in(*token_file);
@@ -273,6 +296,10 @@ int run_load(const std::vector<std::string>& args) {
                                                 static_cast<double>(latency.size()),
                 static_cast<double>(bytes) / 1024.0 / elapsed,
                 static_cast<unsigned long long>(totals.errors));
+    if (o.refine > 0) {
+        std::printf("refined:  %llu refinement frames besides those answering requests\n",
+                    static_cast<unsigned long long>(totals.refinement_frames));
+    }
     std::printf("%-22s %10s %10s %10s\n", "ms", "p50", "p95", "p99");
     const auto row = [](const char* name, const std::vector<double>& v) {
         std::printf("%-22s %10.2f %10.2f %10.2f\n", name, percentile(v, 0.50), percentile(v, 0.95),

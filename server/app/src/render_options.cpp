@@ -18,7 +18,7 @@ const std::vector<std::string>& frame_option_names() {
 }
 
 const std::vector<std::string>& frame_flag_names() {
-    static const std::vector<std::string> names = {"phong", "no-empty-space-skipping"};
+    static const std::vector<std::string> names = {"phong", "no-empty-space-skipping", "jitter"};
     return names;
 }
 
@@ -28,6 +28,8 @@ const char* frame_options_help() {
            "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
            "  --no-empty-space-skipping      sample the bricks the TF leaves transparent too\n"
            "                                 (the same image, slower)\n"
+           "  --jitter                       ray-cast modes: per-pixel jittered sample offsets\n"
+           "                                 (fine noise instead of fixed-step rings)\n"
            "  --slices N                     light slices, also half-angle's slices (default 128)\n"
            "  --light-res R                  light buffer R x R texels (default 256)\n"
            "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
@@ -195,6 +197,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
     }
     s.phong = args.has("phong");
     s.empty_space_skipping = !args.has("no-empty-space-skipping");
+    s.jitter = args.has("jitter");
     if (const auto builder = args.get("builder")) {
         const auto parsed = scene::parse_light_buffer_builder(*builder);
         if (!parsed) {

@@ -26,6 +26,7 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
     out.output.encoding = s.output.format == encode::ImageFormat::png ? "png" : "jpeg";
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
+    out.refinement_steps = s.refinement_steps;
     return out;
 }
 
@@ -36,6 +37,7 @@ session::SessionState from_protocol(const protocol::SessionState& s) {
             s.output.encoding == "png" ? encode::ImageFormat::png : encode::ImageFormat::jpeg;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
+    out.refinement_steps = s.refinement_steps;
     return out;
 }
 
@@ -86,6 +88,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.readback_ms = f.readback_ms;
     h.encode_ms = f.encode_ms;
     h.quality = f.quality;
+    h.refinement = f.refinement_step;
     return protocol::pack_frame(h, f.image);
 }
 

@@ -51,7 +51,8 @@ std::vector<std::uint8_t> pack_frame(const FrameHeader& h, std::span<const std::
                                       {"render_ms", h.render_ms},
                                       {"readback_ms", h.readback_ms},
                                       {"encode_ms", h.encode_ms}}},
-                                    {"quality", h.quality}}
+                                    {"quality", h.quality},
+                                    {"refinement", h.refinement}}
                                        .dump();
     std::vector<std::uint8_t> out;
     out.reserve(prefix_bytes + header.size() + image.size());
@@ -107,6 +108,7 @@ base::Result<UnpackedFrame> unpack_frame(std::span<const std::uint8_t> bytes) {
         h.readback_ms = t.at("readback_ms").get<double>();
         h.encode_ms = t.at("encode_ms").get<double>();
         h.quality = j.at("quality").get<std::string>();
+        h.refinement = j.value("refinement", 0);
     } catch (const json::exception& e) {
         return bad_frame(std::string("header field missing or of the wrong type: ") + e.what());
     }

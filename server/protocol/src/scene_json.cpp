@@ -265,13 +265,14 @@ auto int_range_of(int lo, int hi) {
 }
 
 base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
-                            double& frame_budget_ms, const Limits& limits) {
+                            double& frame_budget_ms, int& refinement_steps,
+                            const Limits& limits) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(
             j, p,
             {"mode", "compositing", "stage", "size", "sample_distance", "opacity_unit_distance",
-             "early_termination", "background", "phong", "empty_space_skipping", "shading",
-             "light_buffer", "scattering", "frame_budget_ms"}));
+             "early_termination", "background", "phong", "empty_space_skipping", "jitter",
+             "shading", "light_buffer", "scattering", "frame_budget_ms", "refinement_steps"}));
     PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
                             "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
@@ -303,7 +304,10 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                  }));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
     PENUMBRA_TRY(optional_member(j, p, "empty_space_skipping", s.empty_space_skipping, boolean));
+    PENUMBRA_TRY(optional_member(j, p, "jitter", s.jitter, boolean));
     PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms, range_of(0.0, 60000.0)));
+    PENUMBRA_TRY(optional_member(j, p, "refinement_steps", refinement_steps,
+                                 int_range_of(0, scene::kMaxRefinementSteps)));
     if (j.contains("shading")) {
         const json& sh = j.at("shading");
         const std::string sp = p + "/shading";
@@ -419,7 +423,7 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     }
     if (patch.contains("settings")) {
         PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame.settings,
-                                    next.frame_budget_ms, limits));
+                                    next.frame_budget_ms, next.refinement_steps, limits));
     }
     if (patch.contains("output")) {
         PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
@@ -486,7 +490,9 @@ std::string state_to_json(const SessionState& state) {
               {"background", vec3_json(s.background)},
               {"phong", s.phong},
               {"empty_space_skipping", s.empty_space_skipping},
+              {"jitter", s.jitter},
               {"frame_budget_ms", state.frame_budget_ms},
+              {"refinement_steps", state.refinement_steps},
               {"shading",
                {{"diffuse", s.shading.diffuse},
                 {"specular", s.shading.specular},

@@ -88,6 +88,8 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.background = d.background;
     s.shading = d.shading;
     s.phong = d.phong;
+    s.jitter = d.jitter;
+    r.refinement = defaults.refinement;
     s.scattering = d.scattering;
     s.light_buffer.lookup = d.light_buffer.lookup;
     // "One per voxel" and the count it resolves to fill the same buffer.
@@ -232,6 +234,83 @@ struct Renderer::Impl {
     }
 
     enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
+
+    // Progressive stills: the float mean of each kept still frame and the refinement steps
+    // averaged into it so far, by the request it renders (its refinement reset) and the volume.
+    struct KeptStill {
+        std::uint64_t volume_generation = 0;
+        scene::FrameRequest request;
+        int frames = 0;  // frames averaged into `mean`: the still and its refinement steps
+        gpu::Texture mean;
+        std::size_t bytes = 0;
+    };
+
+    std::list<KeptStill> kept_stills;
+    std::size_t refinement_memory_budget = 0;
+
+    [[nodiscard]] static scene::FrameRequest without_refinement(scene::FrameRequest request) {
+        request.refinement = {};
+        return request;
+    }
+
+    // The kept still that refinement step `request.refinement.step` continues: same volume, same
+    // request, and exactly the steps before this one averaged in.
+    std::list<KeptStill>::iterator find_kept_still(const scene::FrameRequest& request) {
+        const scene::FrameRequest key = without_refinement(request);
+        return std::find_if(kept_stills.begin(), kept_stills.end(), [&](const KeptStill& kept) {
+            return kept.volume_generation == volume_generation &&
+                   kept.frames == request.refinement.step && kept.request == key;
+        });
+    }
+
+    // Averages the frame in the target into the kept still `kept` (a new one for a still frame),
+    // leaving the mean in the target.
+    base::Status accumulate(const scene::FrameRequest& request, std::list<KeptStill>::iterator kept,
+                            FrameReport& report) {
+        const auto start = Clock::now();
+        auto program = programs.compute("accumulate.comp");
+        if (!program) {
+            return program.error();
+        }
+        const scene::RenderSettings& s = request.settings;
+        if (kept == kept_stills.end()) {
+            scene::FrameRequest key = without_refinement(request);
+            kept_stills.remove_if([&](const KeptStill& old) {
+                return old.volume_generation == volume_generation && old.request == key;
+            });
+            const std::size_t bytes = std::size_t{16} * s.width * s.height;
+            while (!kept_stills.empty() && kept_still_bytes() + bytes > refinement_memory_budget) {
+                kept_stills.pop_back();
+            }
+            KeptStill fresh{volume_generation, std::move(key), 0,
+                            gpu::create_texture(GL_TEXTURE_2D), bytes};
+            glTextureStorage2D(fresh.mean.name(), 1, GL_RGBA32F, s.width, s.height);
+            kept_stills.push_front(std::move(fresh));
+        } else {
+            kept_stills.splice(kept_stills.begin(), kept_stills, kept);
+        }
+        KeptStill& mean = kept_stills.front();
+        glUseProgram((*program)->name());
+        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA8);
+        glBindImageTexture(1, mean.mean.name(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glUniform1i(0, mean.frames);
+        glDispatchCompute(static_cast<GLuint>((s.width + group_side - 1) / group_side),
+                          static_cast<GLuint>((s.height + group_side - 1) / group_side), 1);
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        report.refinement_step = mean.frames;
+        ++mean.frames;
+        glFinish();
+        report.passes.push_back({"accumulate", 0.0, milliseconds_since(start)});
+        return base::Ok{};
+    }
+
+    [[nodiscard]] std::size_t kept_still_bytes() const {
+        std::size_t total = 0;
+        for (const auto& kept : kept_stills) {
+            total += kept.bytes;
+        }
+        return total;
+    }
 
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
         : context(std::move(c))
@@ -415,6 +494,8 @@ struct Renderer::Impl {
             u.half_angle_range =
                     glm::vec4(static_cast<float>(g.half_angle_slicing.min), 0.0f, 0.0f, 0.0f);
         }
+        u.jitter = glm::vec4(s.jitter ? 1.0f : 0.0f, static_cast<float>(request.refinement.step),
+                             0.0f, 0.0f);
         return u;
     }
 
@@ -540,6 +621,7 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     impl->max_frame_work = options.max_frame_work;
     impl->gradient_texture = options.gradients == GradientSource::texture;
     impl->brick_voxels = options.brick_voxels > 0 ? options.brick_voxels : default_brick_voxels;
+    impl->refinement_memory_budget = options.refinement_memory_budget;
     impl->chunk_work = options.chunk_work > 0.0 ? options.chunk_work
                        : impl->info.software    ? software_chunk_work
                                                 : hardware_chunk_work;
@@ -599,7 +681,7 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
 
 std::size_t Renderer::gpu_bytes_held() const {
     const Impl& impl = *impl_;
-    return impl.volume_bytes() + impl.light_buffer_bytes();
+    return impl.volume_bytes() + impl.light_buffer_bytes() + impl.kept_still_bytes();
 }
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
@@ -620,6 +702,17 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     const FrameGeometry& g = *geometry;
     if (auto status = impl.admit(request, plan, g); !status) {
         return status.error();
+    }
+    auto kept = impl.kept_stills.end();
+    if (request.refinement.step > 0) {
+        kept = impl.find_kept_still(request);
+        if (kept == impl.kept_stills.end()) {
+            return base::make_error("refinement_lost",
+                                    "refinement step " + std::to_string(request.refinement.step) +
+                                            " continues a still frame that is no longer held "
+                                            "(evicted, or never kept)",
+                                    "refinement.step");
+        }
     }
     WorkChunks chunks(impl.chunk_work, cancelled);
     if (chunks.cancelled()) {
@@ -695,6 +788,11 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     }
     glFinish();  // the frame is read back next anyway; finishing here splits render from readback
     const double render_wall_ms = milliseconds_since(render_start) + slice_geometry_ms;
+    if (request.refinement.keep || request.refinement.step > 0) {
+        if (auto status = impl.accumulate(request, kept, frame.report); !status) {
+            return status.error();
+        }
+    }
     const auto readback_start = Clock::now();
     impl.target.read_back(frame.image);
     const double readback_ms = milliseconds_since(readback_start);

@@ -36,6 +36,7 @@ struct FrameUniforms {
     glm::vec4 half_angle_range;
     glm::mat4 box_to_world;
     glm::mat4 world_to_box;
+    glm::vec4 jitter;
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -47,6 +48,7 @@ static_assert(offsetof(FrameUniforms, light_view_projection) == 224);
 static_assert(offsetof(FrameUniforms, light_travel) == 352);
 static_assert(offsetof(FrameUniforms, camera_view_projection) == 432);
 static_assert(offsetof(FrameUniforms, box_to_world) == 528);
-static_assert(sizeof(FrameUniforms) == 656);
+static_assert(offsetof(FrameUniforms, jitter) == 656);
+static_assert(sizeof(FrameUniforms) == 672);
 
 }  // namespace penumbra::render

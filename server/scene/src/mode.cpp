@@ -110,8 +110,20 @@ bool uses_gradients(const RenderSettings& settings) {
     return settings.mode == Mode::phong || (settings.phong && settings.mode != Mode::dvr);
 }
 
+bool is_ray_cast(Mode mode) {
+    return mode != Mode::half_angle;
+}
+
 base::Status validate(const FrameRequest& request, const Limits& limits) {
     const RenderSettings& s = request.settings;
+    const Refinement& r = request.refinement;
+    if (r.step < 0 || r.step > kMaxRefinementSteps) {
+        return invalid("refinement.step",
+                       "refinement step must be within 0.." + std::to_string(kMaxRefinementSteps));
+    }
+    if ((r.step > 0 || r.keep) && (!s.jitter || !is_ray_cast(s.mode))) {
+        return invalid("refinement", "refinement needs a jittered ray-cast mode");
+    }
     const int max_image_side = limits.max_image_side;
     if (s.width < 1 || s.height < 1 || s.width > max_image_side || s.height > max_image_side) {
         return invalid("size", "image size must be within 1.." + std::to_string(max_image_side) +

@@ -17,6 +17,8 @@ double milliseconds_between(Clock::time_point a, Clock::time_point b) {
 Scheduler::Scheduler(SchedulerOptions options, metrics::Registry& metrics)
     : options_(options)
     , frames_(metrics.counter("penumbra_frames_total", "Frames rendered and encoded"))
+    , refinement_frames_(metrics.counter("penumbra_refinement_frames_total",
+                                         "Refinement steps of still frames rendered and encoded"))
     , superseded_(metrics.counter("penumbra_frames_superseded_total",
                                   "Render requests replaced by a newer one before rendering"))
     , failures_(metrics.counter("penumbra_render_failures_total", "Render requests that failed"))
@@ -71,6 +73,8 @@ void Scheduler::stop() {
         dropped.swap(pending_);
         clients_.clear();
         sessions_of_.clear();
+        refinements_.clear();
+        refinement_order_.clear();
     }
     work_ready_.notify_all();
     for (auto& [session, pending] : dropped) {
@@ -101,6 +105,7 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
         if (in_flight_.session == session) {
             in_flight_.superseded = true;
         }
+        drop_refinement(session);  // the view it refines is about to change
         auto found = pending_.find(session);
         if (found != pending_.end()) {
             replaced = std::move(found->second.done);
@@ -138,6 +143,7 @@ void Scheduler::cancel(const std::string& session) {
         if (in_flight_.session == session) {
             in_flight_.closed = true;
         }
+        drop_refinement(session);
         auto found = pending_.find(session);
         if (found == pending_.end()) {
             return;
@@ -163,6 +169,37 @@ void Scheduler::unqueue(const std::string& session, const std::string& client) {
     }
 }
 
+void Scheduler::queue_refinement(const std::string& session, RenderJob job, FrameCallback done) {
+    if (stopping_ || pending_.contains(session)) {
+        return;  // a newer job replaces the view this step would refine
+    }
+    job.submitted = Clock::now();
+    if (!refinements_.contains(session)) {
+        refinement_order_.push_back(session);
+    }
+    refinements_.insert_or_assign(session, Pending{std::move(job), std::move(done)});
+}
+
+void Scheduler::drop_refinement(const std::string& session) {
+    if (refinements_.erase(session) > 0) {
+        std::erase(refinement_order_, session);
+    }
+}
+
+bool Scheduler::take_refinement(Pending& next) {
+    if (!clients_.empty() || refinement_order_.empty()) {
+        return false;
+    }
+    const std::string session = refinement_order_.front();
+    refinement_order_.pop_front();
+    auto found = refinements_.find(session);
+    next = std::move(found->second);
+    refinements_.erase(found);
+    in_flight_ = {session, Clock::now()};
+    in_flight_.refinement = true;
+    return true;
+}
+
 std::size_t Scheduler::queue_depth() const {
     const std::lock_guard lock(mutex_);
     return pending_.size();
@@ -186,9 +223,18 @@ void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>&
         Pending next;
         {
             std::unique_lock lock(mutex_);
-            work_ready_.wait(lock, [&] { return stopping_ || !clients_.empty(); });
+            work_ready_.wait(lock, [&] {
+                return stopping_ || !clients_.empty() || !refinement_order_.empty();
+            });
             if (stopping_) {
                 break;
+            }
+            // Nothing else waits: the next session's refinement step, at the lowest priority.
+            if (take_refinement(next)) {
+                lock.unlock();
+                render_one(*renderer, std::move(next.job), std::move(next.done));
+                finish_in_flight(*renderer);
+                continue;
             }
             // The client whose turn it is, then that client's session whose turn it is; both go
             // to the back of their queues.
@@ -209,14 +255,18 @@ void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>&
             in_flight_ = {session, Clock::now()};
         }
         render_one(*renderer, std::move(next.job), std::move(next.done));
-        {
-            const std::lock_guard lock(mutex_);
-            in_flight_ = {};
-        }
-        gpu_bytes_.set(static_cast<double>(renderer->gpu_bytes_held()));
+        finish_in_flight(*renderer);
     }
     // The renderer (and its GL context) is destroyed on the thread that created it.
     renderer.reset();
+}
+
+void Scheduler::finish_in_flight(const render::FrameRenderer& renderer) {
+    {
+        const std::lock_guard lock(mutex_);
+        in_flight_ = {};
+    }
+    gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
 }
 
 void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done) {
@@ -228,7 +278,30 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(status.error());
         return;
     }
+    const scene::Refinement refinement = job.request.refinement;
+    const bool refines = !job.interactive && refinement.step < job.refinement_steps;
+    if (refines && refinement.step == 0) {
+        job.request.refinement.keep = true;  // the mean that the steps to come average into
+    }
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
+    if (refinement.step > 0 && !rendered) {
+        const std::lock_guard lock(mutex_);
+        if (rendered.error().code == "cancelled" && !in_flight_.closed) {
+            // Preempted by another job: the step waits for its next turn, unchanged.
+            queue_refinement(in_flight_.session, std::move(job), std::move(done));
+        } else if (rendered.error().code != "cancelled") {
+            // The still frame stands; only its refinement ends.
+            base::log_warning("session", "refinement of session " + in_flight_.session +
+                                                 " stopped: " + rendered.error().to_string());
+        }
+        return;
+    }
+    if (refines && rendered) {
+        RenderJob step = job;
+        step.request.refinement = {false, refinement.step + 1};
+        const std::lock_guard lock(mutex_);
+        queue_refinement(in_flight_.session, std::move(step), done);
+    }
     if (!rendered && rendered.error().code == "cancelled") {
         bool shutting_down = false;
         {
@@ -255,6 +328,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     frame->request_id = job.request_id;
     frame->interactive = job.interactive;
     frame->quality = job.quality;
+    frame->refinement_step = frame->report.refinement_step;
     frame->queued_ms = queued_ms;
     for (const auto& pass : frame->report.passes) {
         if (pass.name == "readback") {
@@ -272,28 +346,31 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.emplace_back(
-                [this, frame, image, output = job.output, done = std::move(done)]() mutable {
-                    const Clock::time_point start = Clock::now();
-                    auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
-                    if (!bytes) {
-                        failures_.add();
-                        done(bytes.error());
-                        return;
-                    }
-                    frame->image = std::move(bytes.value());
-                    frame->encode_ms = milliseconds_between(start, Clock::now());
-                    encode_ms_.observe(frame->encode_ms);
-                    frames_.add();
-                    done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-                });
+        encode_queue_.emplace_back([this, frame, image, output = job.output,
+                                    done = std::move(done)]() mutable {
+            const Clock::time_point start = Clock::now();
+            auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
+            if (!bytes) {
+                failures_.add();
+                done(bytes.error());
+                return;
+            }
+            frame->image = std::move(bytes.value());
+            frame->encode_ms = milliseconds_between(start, Clock::now());
+            encode_ms_.observe(frame->encode_ms);
+            frames_.add();
+            if (frame->refinement_step > 0) {
+                refinement_frames_.add();
+            }
+            done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+        });
     }
     encode_ready_.notify_one();
 }
 
 bool Scheduler::in_flight_cancelled() const {
     const std::lock_guard lock(mutex_);
-    return stopping_ || in_flight_.closed ||
+    return stopping_ || in_flight_.closed || (in_flight_.refinement && !clients_.empty()) ||
            (in_flight_.superseded &&
             Clock::now() - in_flight_.started >= options_.supersede_running_after);
 }

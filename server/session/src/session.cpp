@@ -278,6 +278,10 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     } else {
         job.request = current.frame;
         job.quality = "still: full quality" + budget_note;
+        const scene::RenderSettings& s = job.request.settings;
+        if (s.jitter && scene::is_ray_cast(s.mode)) {
+            job.refinement_steps = current.refinement_steps;
+        }
     }
     job.submitted = Clock::now();
     return job;

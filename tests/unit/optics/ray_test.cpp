@@ -4,7 +4,10 @@
 #include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace penumbra::optics {
 namespace {
@@ -87,6 +90,44 @@ TEST(IntersectBox, AReflectionLeavesASymmetricBoxWhereItWas) {
     ASSERT_TRUE(a.hit && b.hit);
     EXPECT_NEAR(a.t_near, b.t_near, 1e-12);
     EXPECT_NEAR(a.t_far, b.t_far, 1e-12);
+}
+
+TEST(RayStartOffset, MidpointWithoutJitter) {
+    EXPECT_EQ(ray_start_offset(false, 7, 3, 0), 0.5);
+    EXPECT_EQ(ray_start_offset(false, 7, 3, 5), 0.5);
+}
+
+TEST(RayStartOffset, JitteredOffsetsFillTheStepEvenly) {
+    // Over a tile of pixels the offsets stay within [0, 1), spread over the whole step (every
+    // tenth of it is hit about equally often) and neighbours differ.
+    std::array<int, 10> bins{};
+    int neighbours_equal = 0;
+    for (int y = 0; y < 64; ++y) {
+        for (int x = 0; x < 64; ++x) {
+            const double offset = ray_start_offset(true, x, y, 0);
+            ASSERT_GE(offset, 0.0);
+            ASSERT_LT(offset, 1.0);
+            ++bins[static_cast<std::size_t>(offset * 10.0)];
+            neighbours_equal += std::abs(offset - ray_start_offset(true, x + 1, y, 0)) < 1e-3;
+        }
+    }
+    for (const int count : bins) {
+        EXPECT_NEAR(count, 64 * 64 / 10, 64 * 64 / 10 / 4);
+    }
+    EXPECT_LT(neighbours_equal, 64 * 64 / 100);
+}
+
+TEST(RayStartOffset, SuccessiveStepsCoverTheStepOfOnePixel) {
+    // Eight refinement steps of one pixel land in eight different eighths-ish of the step: their
+    // smallest gap is far from zero (the golden-ratio sequence), so averaging them converges.
+    std::vector<double> offsets;
+    for (int step = 0; step < 8; ++step) {
+        offsets.push_back(ray_start_offset(true, 11, 29, step));
+    }
+    std::sort(offsets.begin(), offsets.end());
+    for (std::size_t i = 1; i < offsets.size(); ++i) {
+        EXPECT_GT(offsets[i] - offsets[i - 1], 0.05);
+    }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <cmath>
 #include <limits>
 
 namespace penumbra::optics {
@@ -55,8 +56,24 @@ inline glm::dvec3 pixel_ray_direction(const scene::CameraFrame& frame, int x, in
     return glm::normalize(frame.forward + ndc_x * frame.right + ndc_y * frame.up);
 }
 
+// Where in each of its steps the ray of pixel (x, y) takes its sample, as a fraction of the step:
+// the midpoint without jitter; with it, interleaved gradient noise over the pixels shifted by the
+// golden ratio per pattern index (the refinement step). Computed in float exactly as
+// ray_start_offset in shaders/include/ray.glsl, so the CPU reference samples where the GPU does.
+inline double ray_start_offset(bool jitter, int x, int y, int pattern_index) {
+    if (!jitter) {
+        return 0.5;
+    }
+    const float along = static_cast<float>(x) * 0.06711056f + static_cast<float>(y) * 0.00583715f;
+    const float scaled = 52.9829189f * (along - std::floor(along));
+    const float noise = scaled - std::floor(scaled);
+    const float shifted = noise + static_cast<float>(pattern_index) * 0.6180339887f;
+    return static_cast<double>(shifted - std::floor(shifted));
+}
+
 // Samples of a ray segment [t_near, t_far]: the segment is cut into `count` equal steps of length
-// `step` <= the requested sample distance, sampled at their midpoints. Every ray thus integrates
+// `step` <= the requested sample distance, each sampled at the same fraction of the step
+// (ray_start_offset). Every ray thus integrates
 // exactly its own segment, whatever its length.
 struct Marching {
     int count = 0;

@@ -38,6 +38,9 @@ struct FrameHeader {
     double readback_ms = 0.0;
     double encode_ms = 0.0;
     std::string quality;              // a description of the settings actually used
+    // Progressive stills: 0 for a frame on its own; k > 0: the still frame refined k times (the
+    // mean of k + 1 jittered frames of the same view).
+    int refinement = 0;
 };
 
 std::vector<std::uint8_t> pack_frame(const FrameHeader& header,

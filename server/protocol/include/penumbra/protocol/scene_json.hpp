@@ -27,6 +27,9 @@ struct SessionState {
     // > 0: the server picks mode, slices, light-buffer resolution and sample distance so that a
     // frame fits this many milliseconds (from the measured accuracy table); 0: as set.
     double frame_budget_ms = 0.0;
+    // Progressive stills: how many refinement steps follow a still frame of a jittered ray-cast
+    // mode; 0 turns refinement off.
+    int refinement_steps = 8;
 };
 
 // A `set` patch (a JSON object with any of "camera", "light", "transfer_function", "settings",

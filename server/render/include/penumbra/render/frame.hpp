@@ -24,6 +24,8 @@ struct FrameReport {
     // "none" (the mode casts no light-buffer shadows), "built", or "reused" (its inputs had not
     // changed since it was last built: camera moves never rebuild it).
     std::string light_buffer = "none";
+    // Progressive stills: how many refinement steps the image holds beyond the still frame.
+    int refinement_step = 0;
 
     [[nodiscard]] double gpu_total_ms() const;
 };

@@ -42,6 +42,10 @@ struct RendererOptions {
     // default (chosen by measurement, see `penumbra bench modes --brick-voxels`).
     int brick_voxels = 0;
     GradientSource gradients = GradientSource::automatic;
+    // Progressive stills: the float mean of each kept still frame (16 bytes a pixel) stays on the
+    // GPU, least recently used evicted first, while they fit this; a refinement step whose mean
+    // was evicted fails with `refinement_lost`.
+    std::size_t refinement_memory_budget = std::size_t{256} << 20;
 };
 
 // Asked on the render thread between chunks of a frame; returning true abandons the frame, which
@@ -80,6 +84,7 @@ public:
 
     // Renders one frame, or fails with `too_much_work` (over the work ceiling) or
     // `light_buffer_too_large` (over the light-buffer budget), both before anything runs,
+    // `refinement_lost` (a refinement step whose earlier steps are no longer held),
     // `cancelled` (when `cancelled` said so between chunks), or why it could not. Without a
     // predicate the frame cannot be cancelled and runs in as few dispatches as the GL allows.
     virtual base::Result<Frame> render(const scene::FrameRequest& request,

@@ -94,6 +94,10 @@ struct RenderSettings {
     // Rays (camera rays, shadow rays, light-buffer marches) leap over bricks of the volume that
     // the TF leaves fully transparent; the image is the same either way, only the time differs.
     bool empty_space_skipping = true;
+    // Ray-cast modes: each pixel's ray takes its samples at a per-pixel offset within the step
+    // (a hash pattern) instead of the step's midpoint, so the rings of a fixed step become fine
+    // noise that progressive refinement averages away.
+    bool jitter = false;
     LightBufferSettings light_buffer;
     ScatteringSettings scattering;
 
@@ -104,12 +108,28 @@ struct RenderSettings {
 bool uses_light_buffer(Mode mode);
 bool uses_gradients(const RenderSettings& settings);
 
+// Progressive stills (jittered ray-cast modes). A still frame with `keep` stays on the GPU; the
+// refinement steps that follow render the same request with jitter pattern `step` (1, 2, ...) and
+// average it with steps 0..step-1, so the image converges toward the integral over each step.
+struct Refinement {
+    bool keep = false;
+    int step = 0;
+
+    bool operator==(const Refinement&) const = default;
+};
+
+inline constexpr int kMaxRefinementSteps = 256;
+
+// Whether a mode marches camera rays, the only ones jitter and refinement change.
+bool is_ray_cast(Mode mode);
+
 // Everything one frame depends on besides the volume itself.
 struct FrameRequest {
     Camera camera;
     Light light;
     TransferFunction transfer_function;
     RenderSettings settings;
+    Refinement refinement;
 
     bool operator==(const FrameRequest&) const = default;
 };

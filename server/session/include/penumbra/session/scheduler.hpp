@@ -41,6 +41,9 @@ struct RenderJob {
     // Who asked (a remote address): render time is shared among clients first, then among the
     // sessions of each client, so opening many sessions buys a client no larger share.
     std::string client;
+    // Progressive stills: after this still frame the scheduler renders up to this many refinement
+    // steps of it at the lowest priority, delivering each through the same callback.
+    int refinement_steps = 0;
 };
 
 struct EncodedFrame {
@@ -53,8 +56,9 @@ struct EncodedFrame {
     std::int64_t request_id = -1;
     bool interactive = false;
     std::string quality;
-    double queued_ms = 0.0;  // submitted -> the render thread took it
-    double render_ms = 0.0;  // GPU passes, wall time
+    int refinement_step = 0;   // 0: a frame on its own; k: the still frame refined k times
+    double queued_ms = 0.0;    // submitted -> the render thread took it
+    double render_ms = 0.0;    // GPU passes, wall time
     double readback_ms = 0.0;
     double encode_ms = 0.0;
 };
@@ -68,7 +72,9 @@ enum class Withdrawn {
 // How a job ended: with its frame, withdrawn, or with why rendering or encoding failed.
 using FrameOutcome = std::variant<std::shared_ptr<const EncodedFrame>, Withdrawn, base::Error>;
 
-// Called once per submitted job, on a scheduler thread: it must only hand the outcome on.
+// Called once per submitted job, then once more per refinement step of a still frame
+// (RenderJob::refinement_steps) with the refined frame only; on a scheduler thread: it must only
+// hand the outcome on.
 using FrameCallback = std::function<void(FrameOutcome outcome)>;
 
 // What the scheduler has done since it started, for `stats`.
@@ -142,6 +148,19 @@ private:
     // Takes `session` out of its client's turn (under mutex_).
     void unqueue(const std::string& session, const std::string& client);
 
+    // Queues the refinement step that follows `job` at the lowest priority (under mutex_).
+    void queue_refinement(const std::string& session, RenderJob job, FrameCallback done);
+
+    // Drops the session's queued refinement step, if any (under mutex_).
+    void drop_refinement(const std::string& session);
+
+    // Takes the next refinement step into `next` and marks it in flight, when no client has a
+    // job pending (under mutex_).
+    bool take_refinement(Pending& next);
+
+    // The render thread is idle again (takes mutex_).
+    void finish_in_flight(const render::FrameRenderer& renderer);
+
     SchedulerOptions options_;
     render::RendererInfo renderer_info_;
     mutable std::mutex mutex_;
@@ -150,6 +169,11 @@ private:
     std::deque<std::string> clients_;         // clients with a pending job, in serving order
     std::map<std::string, std::deque<std::string>> sessions_of_;  // a client's sessions, in order
     bool stopping_ = false;
+    // Progressive stills: each session's next refinement step, served in turn and only while no
+    // client has a job pending. A job of any session preempts a refinement step between its
+    // chunks, which then waits for its next turn.
+    std::map<std::string, Pending> refinements_;
+    std::deque<std::string> refinement_order_;
 
     // The job on the render thread (guarded by mutex_), so that others can cancel it.
     struct InFlight {
@@ -157,6 +181,7 @@ private:
         Clock::time_point started;
         bool superseded = false;  // a newer job of the session is pending
         bool closed = false;      // the session was cancelled
+        bool refinement = false;  // a refinement step, which yields to any pending job
     };
 
     InFlight in_flight_;
@@ -170,6 +195,7 @@ private:
     std::vector<std::thread> encode_threads_;
 
     metrics::Counter& frames_;
+    metrics::Counter& refinement_frames_;
     metrics::Counter& superseded_;
     metrics::Counter& failures_;
     metrics::Counter& light_buffer_built_;

@@ -1,0 +1,203 @@
+// Progressive stills in the scheduler: the refinement steps of a still frame follow it at the
+// lowest priority, and any other job waits for at most one chunk of refinement. A fake renderer
+// renders in chunks and counts them, so the test measures queueing in chunks, not in wall time.
+
+#include <penumbra/session/scheduler.hpp>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace penumbra::session {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Renders request.settings.width chunks of 2 ms, asking between chunks whether to stop, and
+// counts the refinement chunks it finished. Each render records the refinement chunks finished
+// before it started, its name (the request's height) and its refinement.
+class ChunkedRenderer final : public render::FrameRenderer {
+public:
+    struct Started {
+        int name = 0;
+        scene::Refinement refinement;
+        long long refinement_chunks_before = 0;
+    };
+
+    ChunkedRenderer(std::mutex& mutex, std::vector<Started>& started,
+                    std::atomic<long long>& refinement_chunks)
+        : mutex_(mutex)
+        , started_(started)
+        , refinement_chunks_(refinement_chunks) {}
+
+    [[nodiscard]] const render::RendererInfo& info() const override { return info_; }
+
+    base::Status set_volume(std::shared_ptr<const volume::Volume>) override { return base::Ok{}; }
+
+    base::Result<render::Frame> render(const scene::FrameRequest& request,
+                                       const render::CancelPredicate& cancelled) override {
+        {
+            const std::lock_guard lock(mutex_);
+            started_.push_back(
+                    {request.settings.height, request.refinement, refinement_chunks_.load()});
+        }
+        for (int chunk = 0; chunk < request.settings.width; ++chunk) {
+            std::this_thread::sleep_for(2ms);
+            if (request.refinement.step > 0) {
+                ++refinement_chunks_;
+            }
+            if (cancelled && cancelled()) {
+                return base::make_error("cancelled", "cancelled", "render");
+            }
+        }
+        render::Frame frame;
+        frame.image = base::ImageRgba8(8, 8);
+        frame.report.refinement_step = request.refinement.step;
+        return frame;
+    }
+
+    [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
+
+private:
+    render::RendererInfo info_;
+    std::mutex& mutex_;
+    std::vector<Started>& started_;
+    std::atomic<long long>& refinement_chunks_;
+};
+
+class SchedulerRefinementTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto created = Scheduler::create(
+                [this]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                    return std::unique_ptr<render::FrameRenderer>(std::make_unique<ChunkedRenderer>(
+                            mutex_, started_, refinement_chunks_));
+                },
+                {}, metrics_);
+        ASSERT_TRUE(created.ok()) << created.error().to_string();
+        scheduler_ = std::move(created.value());
+    }
+
+    static RenderJob job(int name, int chunks, const std::string& client, bool interactive,
+                         int refinement_steps = 0) {
+        RenderJob job;
+        job.request.settings.width = chunks;
+        job.request.settings.height = name;
+        job.output.format = encode::ImageFormat::png;
+        job.client = client;
+        job.interactive = interactive;
+        job.refinement_steps = refinement_steps;
+        return job;
+    }
+
+    std::vector<ChunkedRenderer::Started> started() {
+        const std::lock_guard lock(mutex_);
+        return started_;
+    }
+
+    metrics::Registry metrics_;
+    std::mutex mutex_;
+    std::vector<ChunkedRenderer::Started> started_;
+    std::atomic<long long> refinement_chunks_{0};
+    std::unique_ptr<Scheduler> scheduler_;
+};
+
+TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount) {
+    std::mutex frames_mutex;
+    std::vector<int> steps;
+    std::promise<void> all;
+    scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 3),
+                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
+                           ASSERT_TRUE(r.ok()) << r.error().to_string();
+                           const std::lock_guard lock(frames_mutex);
+                           steps.push_back((*r)->refinement_step);
+                           if (steps.size() == 4) {
+                               all.set_value();
+                           }
+                       });
+    ASSERT_EQ(all.get_future().wait_for(10s), std::future_status::ready);
+    std::this_thread::sleep_for(50ms);  // nothing more comes
+    const std::lock_guard lock(frames_mutex);
+    EXPECT_EQ(steps, (std::vector<int>{0, 1, 2, 3}));
+    const auto renders = started();
+    ASSERT_EQ(renders.size(), 4u);
+    EXPECT_TRUE(renders[0].refinement.keep);  // the still is kept for its steps to average into
+    EXPECT_EQ(renders[3].refinement.step, 3);
+}
+
+TEST_F(SchedulerRefinementTest, InteractiveFramesAreNotRefined) {
+    std::promise<void> done;
+    scheduler_->submit("a", job(1, 1, "10.0.0.1", true, 3), [&](auto) { done.set_value(); });
+    ASSERT_EQ(done.get_future().wait_for(10s), std::future_status::ready);
+    std::this_thread::sleep_for(50ms);
+    EXPECT_EQ(started().size(), 1u);
+}
+
+TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) {
+    // Session "a" refines for a long time (200 steps of 25 chunks); session "b", of another client,
+    // drags meanwhile. Every job of b starts after at most one more refinement chunk.
+    std::atomic<int> refined{0};
+    scheduler_->submit("a", job(1, 25, "10.0.0.1", false, 200),
+                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
+                           if (r.ok() && (*r)->refinement_step > 0) {
+                               ++refined;
+                           }
+                       });
+    for (int i = 0; i < 200 && refined.load() < 1; ++i) {
+        std::this_thread::sleep_for(10ms);
+    }
+    ASSERT_GE(refined.load(), 1) << "refinement never started";
+    for (int i = 0; i < 8; ++i) {
+        std::this_thread::sleep_for(15ms);  // lands somewhere inside a refinement step
+        const long long chunks_at_submit = refinement_chunks_.load();
+        std::promise<void> done;
+        scheduler_->submit("b", job(100 + i, 1, "10.0.0.2", i % 2 == 0),
+                           [&](auto) { done.set_value(); });
+        ASSERT_EQ(done.get_future().wait_for(10s), std::future_status::ready);
+        for (const auto& render : started()) {
+            if (render.name == 100 + i) {
+                EXPECT_LE(render.refinement_chunks_before - chunks_at_submit, 1)
+                        << "job " << i << " waited for more than one refinement chunk";
+            }
+        }
+    }
+    // The preempted step was resumed, not lost: refinement goes on after b is served.
+    const int before = refined.load();
+    for (int i = 0; i < 200 && refined.load() == before; ++i) {
+        std::this_thread::sleep_for(10ms);
+    }
+    EXPECT_GT(refined.load(), before);
+}
+
+TEST_F(SchedulerRefinementTest, ANewJobOfTheSessionEndsTheRefinementOfItsOldView) {
+    std::promise<void> first_refined;
+    std::atomic<bool> signalled{false};
+    scheduler_->submit("a", job(1, 2, "10.0.0.1", false, 100),
+                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
+                           if (r.ok() && (*r)->refinement_step > 0 && !signalled.exchange(true)) {
+                               first_refined.set_value();
+                           }
+                       });
+    ASSERT_EQ(first_refined.get_future().wait_for(10s), std::future_status::ready);
+    std::promise<void> done;
+    scheduler_->submit("a", job(2, 1, "10.0.0.1", false, 0), [&](auto) { done.set_value(); });
+    ASSERT_EQ(done.get_future().wait_for(10s), std::future_status::ready);
+    std::this_thread::sleep_for(50ms);
+    const auto renders = started();
+    std::size_t new_view = 0;
+    while (new_view < renders.size() && renders[new_view].name != 2) {
+        ++new_view;
+    }
+    ASSERT_LT(new_view, renders.size());
+    EXPECT_EQ(new_view + 1, renders.size()) << "the old view was refined after the new job";
+}
+
+}  // namespace
+}  // namespace penumbra::session
