@@ -114,10 +114,12 @@ TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount
     std::vector<int> steps;
     std::promise<void> all;
     scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 3),
-                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
-                           ASSERT_TRUE(r.ok()) << r.error().to_string();
+                       [&](FrameOutcome outcome) {
+                           const auto* frame =
+                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+                           ASSERT_NE(frame, nullptr);
                            const std::lock_guard lock(frames_mutex);
-                           steps.push_back((*r)->refinement_step);
+                           steps.push_back((*frame)->refinement_step);
                            if (steps.size() == 4) {
                                all.set_value();
                            }
@@ -145,8 +147,10 @@ TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) 
     // drags meanwhile. Every job of b starts after at most one more refinement chunk.
     std::atomic<int> refined{0};
     scheduler_->submit("a", job(1, 25, "10.0.0.1", false, 200),
-                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
-                           if (r.ok() && (*r)->refinement_step > 0) {
+                       [&](FrameOutcome outcome) {
+                           const auto* frame =
+                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+                           if (frame != nullptr && (*frame)->refinement_step > 0) {
                                ++refined;
                            }
                        });
@@ -180,8 +184,10 @@ TEST_F(SchedulerRefinementTest, ANewJobOfTheSessionEndsTheRefinementOfItsOldView
     std::promise<void> first_refined;
     std::atomic<bool> signalled{false};
     scheduler_->submit("a", job(1, 2, "10.0.0.1", false, 100),
-                       [&](base::Result<std::shared_ptr<const EncodedFrame>> r) {
-                           if (r.ok() && (*r)->refinement_step > 0 && !signalled.exchange(true)) {
+                       [&](FrameOutcome outcome) {
+                           const auto* frame =
+                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+                           if (frame != nullptr && (*frame)->refinement_step > 0 && !signalled.exchange(true)) {
                                first_refined.set_value();
                            }
                        });
