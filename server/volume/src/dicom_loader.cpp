@@ -13,8 +13,10 @@
 //     neighbours, which must be the same within 1 % (else an error names the two slices). Where
 //     any slice lacks position or orientation, InstanceNumber orders them and the z spacing is
 //     SpacingBetweenSlices, else SliceThickness, else 1 (with a log warning).
-//   - The voxel grid is the image grid: x along a row, y down the columns, z along the normal.
-//     Patient orientation is not kept, so a sagittal series shows in its own frame.
+//   - The voxel grid is the image grid: x along a row, y down the columns, z along the normal;
+//     Volume::axes and origin place it in patient space (converted from DICOM's LPS to RAS), so
+//     a sagittal series keeps its anatomy. A gantry-tilted series (slices stepping off their
+//     normal) is refused as sheared.
 //   - Spacing x is PixelSpacing's second value (between columns), y its first (between rows).
 //   - RescaleSlope/Intercept are applied per slice. When every slope is 1 and every intercept an
 //     integer, the data is stored as uint8 (8-bit files) or uint16 if all values fit; otherwise,
@@ -541,6 +543,48 @@ base::Result<glm::dvec2> pixel_spacing(const std::vector<Frame>& frames,
     return glm::dvec2((*first)[1], (*first)[0]);
 }
 
+// Where the ordered frames lie in patient space, in RAS: i along a row (ImageOrientationPatient's
+// first direction), j down a column (its second), k from the first frame to the next (the
+// positions' mean step, which for a gantry-tilted series leans off the normal and is refused as
+// sheared). Without positions k is the slice normal; without orientation the axes are identity.
+// DICOM's patient space is LPS, so x and y are negated.
+base::Result<Geometry> patient_geometry(const std::vector<Frame>& frames, glm::dvec2 xy_spacing,
+                                        double z_spacing, const std::vector<Image>& images) {
+    const Frame& first = frames.front();
+    glm::dmat3 steps(1.0);
+    steps[0] *= xy_spacing.x;
+    steps[1] *= xy_spacing.y;
+    steps[2] *= z_spacing;
+    if (first.orientation) {
+        const auto& cosines = *first.orientation;
+        const glm::dvec3 row(cosines[0], cosines[1], cosines[2]);
+        const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
+        if (!(glm::length(row) > 0.5) || !(glm::length(column) > 0.5) ||
+            !(glm::length(glm::cross(row, column)) > 0.5)) {
+            return base::make_error("bad_header",
+                                    "ImageOrientationPatient holds zero or parallel directions",
+                                    frame_label(first, images));
+        }
+        steps[0] = lps_to_ras(glm::normalize(row)) * xy_spacing.x;
+        steps[1] = lps_to_ras(glm::normalize(column)) * xy_spacing.y;
+        steps[2] = lps_to_ras(glm::normalize(glm::cross(row, column))) * z_spacing;
+        const bool positioned = std::all_of(frames.begin(), frames.end(),
+                                            [](const Frame& f) { return f.position.has_value(); });
+        if (positioned && frames.size() > 1) {
+            steps[2] = lps_to_ras(*frames.back().position - *first.position) /
+                       static_cast<double>(frames.size() - 1);
+        }
+    }
+    const glm::dvec3 origin = first.position ? lps_to_ras(*first.position) : glm::dvec3(0.0);
+    auto geometry = geometry_from_steps(steps, origin);
+    if (!geometry) {
+        base::Error error = geometry.error();
+        error.where = frame_label(first, images);
+        return error;
+    }
+    return geometry;
+}
+
 // The raw pixel words of all frames of one image, decoded to native order.
 base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
     DcmDataset& dataset = *image.file->getDataset();
@@ -668,9 +712,9 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     std::uint64_t largest_image = 0;
     for (const Image& image : images) {
         frame_count += image.frame_count;
-        largest_image = std::max(largest_image, std::uint64_t{format.rows} * format.columns *
-                                                        image.frame_count *
-                                                        (format.bits_allocated / 8u));
+        largest_image =
+                std::max(largest_image, std::uint64_t{format.rows} * format.columns *
+                                                image.frame_count * (format.bits_allocated / 8u));
     }
     if (frame_count > max_frames) {
         return base::make_error("too_large",
@@ -710,6 +754,10 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     auto xy_spacing = pixel_spacing(frames, images, source);
     if (!xy_spacing) {
         return xy_spacing.error();
+    }
+    auto geometry = patient_geometry(frames, *xy_spacing, *z_spacing, images);
+    if (!geometry) {
+        return geometry.error();
     }
 
     // Frame z of the volume is frames[z]; each image's pixel data is read once.
@@ -753,12 +801,14 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     auto volume = make_volume(
             name,
             glm::uvec3(format.columns, format.rows, static_cast<std::uint32_t>(frames.size())),
-            glm::dvec3(xy_spacing->x, xy_spacing->y, *z_spacing), type, std::move(data));
+            geometry->spacing, type, std::move(data));
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(source);
         return error;
     }
+    volume->axes = geometry->axes;
+    volume->origin = geometry->origin;
     return volume;
 }
 

@@ -3,11 +3,16 @@
 
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <string_view>
 
 namespace penumbra::volume {
@@ -191,6 +196,71 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
             break;
     }
     return volume;
+}
+
+glm::dvec3 lps_to_ras(glm::dvec3 lps) {
+    return {-lps.x, -lps.y, lps.z};
+}
+
+std::string orientation_code(const glm::dmat3& axes) {
+    static constexpr std::array<std::array<char, 2>, 3> letters{
+            {{'L', 'R'}, {'P', 'A'}, {'I', 'S'}}};
+    std::string code;
+    for (int column = 0; column < 3; ++column) {
+        const glm::dvec3 axis = axes[column];
+        int dominant = 0;
+        for (int row = 1; row < 3; ++row) {
+            if (std::abs(axis[row]) > std::abs(axis[dominant])) {
+                dominant = row;
+            }
+        }
+        code += letters[static_cast<std::size_t>(dominant)][axis[dominant] > 0.0 ? 1 : 0];
+    }
+    return code;
+}
+
+base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 origin) {
+    static constexpr std::array<char, 3> index_names{'i', 'j', 'k'};
+    Geometry geometry;
+    for (int column = 0; column < 3; ++column) {
+        const glm::dvec3 step = steps[column];
+        const double length = glm::length(step);
+        if (!std::isfinite(length) || !(length > 0.0)) {
+            return base::make_error("bad_transform",
+                                    std::string("the index-to-patient transform's ") +
+                                            index_names[static_cast<std::size_t>(column)] +
+                                            " column is zero or not finite",
+                                    "");
+        }
+        geometry.spacing[column] = length;
+        geometry.axes[column] = step / length;
+    }
+    for (int a = 0; a < 3; ++a) {
+        for (int b = a + 1; b < 3; ++b) {
+            const double cosine = glm::dot(geometry.axes[a], geometry.axes[b]);
+            if (std::abs(cosine) > max_axis_cosine) {
+                char angle[32];
+                std::snprintf(angle, sizeof angle, "%.3g",
+                              std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+                return base::make_error(
+                        "sheared_transform",
+                        std::string("the index axes ") + index_names[static_cast<std::size_t>(a)] +
+                                " and " + index_names[static_cast<std::size_t>(b)] + " are " +
+                                angle +
+                                " degrees apart, not perpendicular (a gantry-tilted or sheared "
+                                "acquisition); Penumbra draws volumes only rotated or reflected",
+                        "");
+            }
+        }
+    }
+    if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z)) {
+        return base::make_error("bad_transform",
+                                "the origin of the index-to-patient transform is "
+                                "not finite",
+                                "");
+    }
+    geometry.origin = origin;
+    return geometry;
 }
 
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -521,6 +522,79 @@ TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {
     EXPECT_EQ(volume.error().code, "unsupported_encoding");
     EXPECT_TRUE(contains(volume.error().message, "JPEG 2000")) << volume.error().to_string();
     EXPECT_TRUE(contains(volume.error().where, "MR_small_jp2klossless.dcm"));
+}
+
+void expect_axes(const Volume& volume, glm::dvec3 i, glm::dvec3 j, glm::dvec3 k) {
+    for (int row = 0; row < 3; ++row) {
+        EXPECT_NEAR(volume.axes[0][row], i[row], 1e-6) << "axis i, component " << row;
+        EXPECT_NEAR(volume.axes[1][row], j[row], 1e-6) << "axis j, component " << row;
+        EXPECT_NEAR(volume.axes[2][row], k[row], 1e-6) << "axis k, component " << row;
+    }
+}
+
+// DICOM's patient space is LPS: an axial series (rows along +x, columns along +y) is LPS, and
+// its first slice's position, converted to RAS, is the origin.
+TEST(DicomLoader, AxialSeriesIsLpsWithTheFirstSliceAsOrigin) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    fixtures::write_series(dir / "axial", ch2_spec(), words);
+    auto volume = load_volume(dir / "axial");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-1, 0, 0}, {0, -1, 0}, {0, 0, 1});
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(volume->origin.x, 40.0, 1e-6);
+    EXPECT_NEAR(volume->origin.y, -12.5, 1e-6);
+    EXPECT_NEAR(volume->origin.z, -7.0, 1e-6);
+}
+
+TEST(DicomLoader, SagittalSeriesKeepsItsAnatomy) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    spec.orientation = {0, 1, 0, 0, 0, -1};  // rows toward posterior, columns toward inferior
+    fixtures::write_series(dir / "sagittal", spec, words);
+    auto volume = load_volume(dir / "sagittal");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    // The normal, row x column, is -x in LPS: toward the patient's right.
+    expect_axes(*volume, {0, -1, 0}, {0, 0, -1}, {1, 0, 0});
+    EXPECT_EQ(orientation_code(volume->axes), "PIR");
+    EXPECT_NEAR(volume->spacing.z, 1.25, 1e-9);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, ObliqueSeriesKeepsItsDirections) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    const double c = std::sqrt(3.0) / 2.0;
+    spec.orientation = {c, 0.5, 0, -0.5, c, 0};  // axial, turned 30 degrees about z
+    fixtures::write_series(dir / "oblique", spec, words);
+    auto volume = load_volume(dir / "oblique");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-c, -0.5, 0}, {0.5, -c, 0}, {0, 0, 1});
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+}
+
+// Slices of a gantry-tilted CT step along the table, not along their normal: the volume is
+// sheared, which Penumbra refuses with a message rather than drawing it straightened.
+TEST(DicomLoader, GantryTiltIsRefusedAsSheared) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    spec.edit = [](DcmDataset& dataset) {
+        OFString text;
+        ASSERT_TRUE(dataset.findAndGetOFStringArray(DCM_ImagePositionPatient, text).good());
+        double x = 0, y = 0, z = 0;
+        ASSERT_EQ(std::sscanf(text.c_str(), "%lf\\%lf\\%lf", &x, &y, &z), 3);
+        const std::string tilted =
+                std::to_string(x) + "\\" + std::to_string(y + 0.2 * z) + "\\" + std::to_string(z);
+        ASSERT_TRUE(dataset.putAndInsertString(DCM_ImagePositionPatient, tilted.c_str()).good());
+    };
+    fixtures::write_series(dir / "tilted", spec, words);
+    auto volume = load_volume(dir / "tilted");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_TRUE(contains(volume.error().message, "gantry")) << volume.error().message;
 }
 
 }  // namespace

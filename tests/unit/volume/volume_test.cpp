@@ -205,5 +205,45 @@ TEST(LoadVolume, ChoosesTheLoaderFromTheFileName) {
     }
 }
 
+TEST(Orientation, CodeNamesTheNearestPatientDirectionOfEachAxis) {
+    EXPECT_EQ(orientation_code(glm::dmat3(1.0)), "RAS");
+    EXPECT_EQ(orientation_code(
+                      glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1))),
+              "LPS");
+    EXPECT_EQ(orientation_code(
+                      glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0))),
+              "LSA");
+    // 30 degrees off an axis still names that axis.
+    EXPECT_EQ(orientation_code(glm::dmat3(glm::dvec3(0.866, -0.5, 0), glm::dvec3(0.5, 0.866, 0),
+                                          glm::dvec3(0, 0, -1))),
+              "RAI");
+}
+
+TEST(Orientation, StepsGiveSpacingAxesAndOrigin) {
+    auto geometry = geometry_from_steps(
+            glm::dmat3(glm::dvec3(0, 0, 2), glm::dvec3(-3, 0, 0), glm::dvec3(0, 4, 0)),
+            glm::dvec3(1, 2, 3));
+    ASSERT_TRUE(geometry.ok()) << geometry.error().to_string();
+    EXPECT_EQ(geometry->spacing, glm::dvec3(2, 3, 4));
+    EXPECT_EQ(orientation_code(geometry->axes), "SLA");
+    EXPECT_EQ(geometry->origin, glm::dvec3(1, 2, 3));
+}
+
+TEST(Orientation, ShearedAndDegenerateStepsAreRefused) {
+    auto sheared = geometry_from_steps(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0.1, 1)),
+            glm::dvec3(0));
+    ASSERT_FALSE(sheared.ok());
+    EXPECT_EQ(sheared.error().code, "sheared_transform");
+    auto flat = geometry_from_steps(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0), glm::dvec3(0, 0, 1)), glm::dvec3(0));
+    ASSERT_FALSE(flat.ok());
+    EXPECT_EQ(flat.error().code, "bad_transform");
+}
+
+TEST(Orientation, LpsToRasNegatesXAndY) {
+    EXPECT_EQ(lps_to_ras(glm::dvec3(1, 2, 3)), glm::dvec3(-1, -2, 3));
+}
+
 }  // namespace
 }  // namespace penumbra::volume
