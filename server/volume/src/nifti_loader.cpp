@@ -9,10 +9,12 @@
 //     patient_geometry); spacing is the length of each transform column. A voxel size of 0 or a
 //     non-finite one (common in files written by tools that leave pixdim empty) becomes 1 with a
 //     log warning, so the data stays viewable.
-//   - uint8 and uint16 are kept; every other scalar type becomes float32. A scale
-//     (scl_slope finite and non-zero, and not the identity slope 1 with intercept 0) is applied
-//     as value * slope + intercept in double and stored as float32; a non-finite intercept
-//     counts as 0.
+//   - uint8, uint16 and int16 are kept; every other scalar type becomes float32. A scale
+//     (scl_slope finite and non-zero, and not the identity slope 1 with intercept 0) of whole
+//     numbers on a kept integer type stays Volume::rescale (the data is not widened); any other
+//     is applied as value * slope + intercept in double and stored as float32; a non-finite
+//     intercept counts as 0.
+//   - intent_name "HU" marks the values as Hounsfield units (Volume::hounsfield).
 //   - NaN and ±Inf float voxels become the finite minimum and are counted, as in every format.
 
 #include "file_io.hpp"
@@ -27,6 +29,7 @@
 #include <nifti2_io.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -279,7 +282,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                       .inter = scaled ? inter : 0.0};
     const std::string what = std::to_string(sizes[0]) + "x" + std::to_string(sizes[1]) + "x" +
                              std::to_string(sizes[2]) + " " + detail::sample_name(*type) +
-                             (layout.stored() == detail::stored_type(*type) && !scaled
+                             (layout.stored() == detail::stored_type(*type) && !layout.scaled()
                                       ? std::string()
                                       : std::string(" kept as ") + to_string(layout.stored()));
     if (auto status = detail::check_budget(layout.stored_bytes(), what, path, options); !status) {
@@ -305,7 +308,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
             name,
             glm::uvec3(static_cast<std::uint32_t>(sizes[0]), static_cast<std::uint32_t>(sizes[1]),
                        static_cast<std::uint32_t>(sizes[2])),
-            geometry->spacing, layout.stored(), sink.take());
+            geometry->spacing, layout.stored(), sink.take(), layout.rescale());
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
@@ -313,6 +316,11 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     }
     volume->axes = geometry->axes;
     volume->origin = geometry->origin;
+    // NIfTI has no field for the values' units; intent_name ("name or meaning of data") set to
+    // "HU" marks a CT in Hounsfield units.
+    const std::string_view intent(image->intent_name);
+    volume->hounsfield =
+            intent.size() == 2 && std::toupper(intent[0]) == 'H' && std::toupper(intent[1]) == 'U';
     return volume;
 }
 

@@ -48,6 +48,7 @@ struct Header {
     Field<std::string> data_file;
     Field<std::int64_t> byte_skip;
     Field<std::int64_t> line_skip;
+    bool hounsfield = false;  // the key/value penumbra_units:=HU
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
 };
@@ -334,7 +335,12 @@ private:
                                                std::string(content) + "'");
         }
         if (colon + 1 < content.size() && content[colon + 1] == '=') {
-            return base::Ok{};  // key/value pairs carry metadata Penumbra does not use
+            // Key/value pairs carry metadata; Penumbra reads one of its own: values in
+            // Hounsfield units ("penumbra_units:=HU"), which NRRD has no field for.
+            if (trim(content.substr(0, colon)) == "penumbra_units") {
+                header_.hounsfield = lower(trim(content.substr(colon + 2))) == "hu";
+            }
+            return base::Ok{};
         }
         const std::string name = lower(trim(content.substr(0, colon)));
         const std::string_view value = trim(content.substr(colon + 1));
@@ -865,9 +871,12 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     std::uint64_t token_start = 0;
     const auto store = [&]() -> base::Status {
         const auto value = parse_number<double>(token);
-        const double limit = stored == VoxelType::uint8 ? 255.0 : 65535.0;
+        const double low = stored == VoxelType::int16 ? -32768.0 : 0.0;
+        const double high = stored == VoxelType::uint8   ? 255.0
+                            : stored == VoxelType::int16 ? 32767.0
+                                                         : 65535.0;
         if (!value || (stored != VoxelType::float32 &&
-                       (*value != std::floor(*value) || *value < 0.0 || *value > limit))) {
+                       (*value != std::floor(*value) || *value < low || *value > high))) {
             return base::make_error("bad_data",
                                     "'" + token.substr(0, max_token) + "' is not a " +
                                             detail::sample_name(layout.type) + " value",
@@ -879,6 +888,11 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                 break;
             case VoxelType::uint16: {
                 const auto sample = static_cast<std::uint16_t>(*value);
+                std::memcpy(samples.data() + count * 2, &sample, 2);
+                break;
+            }
+            case VoxelType::int16: {
+                const auto sample = static_cast<std::int16_t>(*value);
                 std::memcpy(samples.data() + count * 2, &sample, 2);
                 break;
             }
@@ -1027,6 +1041,7 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
     }
     volume->axes = layout->geometry.axes;
     volume->origin = layout->geometry.origin;
+    volume->hounsfield = header->hounsfield;
     return volume;
 }
 

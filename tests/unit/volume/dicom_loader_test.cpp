@@ -124,7 +124,7 @@ TEST(DicomLoader, ObliqueOrientationSortsAlongTheSliceNormal) {
     expect_ch2_voxels(*volume, words);
 }
 
-TEST(DicomLoader, CtRescaleGivesHounsfieldUnitsAsFloat32) {
+TEST(DicomLoader, CtStaysInt16WithItsRescaleGivingHounsfieldUnits) {
     fixtures::TempDir dir;
     auto words = fixtures::ch2_box(box_first, box_dims);
     for (auto& word : words) {
@@ -139,11 +139,51 @@ TEST(DicomLoader, CtRescaleGivesHounsfieldUnitsAsFloat32) {
 
     auto volume = load_volume(dir / "ct");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_EQ(volume->data.size(), words.size() * 2);  // half of float32
+    EXPECT_EQ(volume->rescale.slope, 1.0);
+    EXPECT_EQ(volume->rescale.intercept, -1024.0);
     expect_voxels(*volume, words, [](std::uint16_t word) {
         return static_cast<double>(static_cast<std::int16_t>(word)) - 1024.0;
     });
-    EXPECT_LT(volume->range.min, -1000.0);
+    EXPECT_LT(volume->range.min, -1024.0);
+    EXPECT_FALSE(volume->hounsfield);  // the fixture's modality is MR and it has no RescaleType
+}
+
+TEST(DicomLoader, ModalityCtOrRescaleTypeHuMarksHounsfieldUnits) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 2});
+    for (const char* tag : {"modality", "rescale type"}) {
+        SeriesSpec spec;
+        spec.dims = {16, 8, 2};
+        spec.edit = [&](DcmDataset& dataset) {
+            if (std::string(tag) == "modality") {
+                dataset.putAndInsertString(DCM_Modality, "CT");
+            } else {
+                dataset.putAndInsertString(DCM_RescaleType, "HU");
+            }
+        };
+        const auto folder = dir / (std::string(tag) == "modality" ? "ct" : "hu");
+        fixtures::write_series(folder, spec, words);
+        auto volume = load_volume(folder);
+        ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+        EXPECT_TRUE(volume->hounsfield) << tag;
+    }
+}
+
+TEST(DicomLoader, Monochrome1IsInverted) {
+    fixtures::TempDir dir;
+    const std::vector<std::uint16_t> words{0, 1, 100, 4095, 7, 8, 9, 10};
+    SeriesSpec spec;
+    spec.dims = {4, 2, 1};
+    spec.bits_stored = 12;
+    spec.edit = [](DcmDataset& dataset) {
+        dataset.putAndInsertString(DCM_PhotometricInterpretation, "MONOCHROME1");
+    };
+    fixtures::write_series(dir / "film", spec, words);
+    auto volume = load_volume(dir / "film");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_voxels(*volume, words, [](std::uint16_t word) { return 4095.0 - word; });
 }
 
 TEST(DicomLoader, FractionalSlopeIsAppliedInFloat32) {
@@ -161,7 +201,7 @@ TEST(DicomLoader, FractionalSlopeIsAppliedInFloat32) {
     expect_voxels(*volume, words, [](std::uint16_t word) { return word * 0.5 + 10.0; });
 }
 
-TEST(DicomLoader, IntegerInterceptThatKeepsValuesPositiveStaysUint16) {
+TEST(DicomLoader, IntegerInterceptIsKeptAsTheRescaleOfSignedData) {
     fixtures::TempDir dir;
     const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
     SeriesSpec spec;
@@ -172,7 +212,8 @@ TEST(DicomLoader, IntegerInterceptThatKeepsValuesPositiveStaysUint16) {
 
     auto volume = load_volume(dir / "mr");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::uint16);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_EQ(volume->rescale.intercept, 100.0);
     expect_voxels(*volume, words, [](std::uint16_t word) { return word + 100.0; });
 }
 
@@ -192,7 +233,7 @@ TEST(DicomLoader, BitsStoredMasksHighBitsAndSignExtends) {
 
     auto volume = load_volume(dir / "s12");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
     for (std::uint32_t i = 0; i < values.size(); ++i) {
         EXPECT_EQ(volume->value(i % 4, i / 4, 0), values[i]) << i;
     }
@@ -468,7 +509,8 @@ TEST(DicomLoader, RealCtSliceInHounsfieldUnits) {
     auto volume = load_volume(pydicom_files / "CT_small.dcm");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->dims, glm::uvec3(128, 128, 1));
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_TRUE(volume->hounsfield);
     EXPECT_DOUBLE_EQ(volume->spacing.x, 0.661468);
     EXPECT_DOUBLE_EQ(volume->spacing.y, 0.661468);
     EXPECT_DOUBLE_EQ(volume->spacing.z, 5.0);  // SliceThickness, for a single slice
@@ -492,7 +534,7 @@ TEST(DicomLoader, RealMrSliceDecodesAlikeInEveryTransferSyntax) {
     auto reference = load_volume(pydicom_files / "MR_small.dcm");
     ASSERT_TRUE(reference.ok()) << reference.error().to_string();
     EXPECT_EQ(reference->dims, glm::uvec3(64, 64, 1));
-    EXPECT_EQ(reference->type, VoxelType::uint16);  // signed, but every value is positive
+    EXPECT_EQ(reference->type, VoxelType::int16);  // signed, though every value is positive
     EXPECT_DOUBLE_EQ(reference->spacing.x, 0.3125);
     // pydicom: 127..2145, pixel (row 0, column 0) 905, (row 10, column 20) 316.
     EXPECT_EQ(reference->range.min, 127);

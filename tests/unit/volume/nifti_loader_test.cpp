@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 namespace penumbra::volume {
@@ -104,7 +105,7 @@ TEST(NiftiLoader, Uint8RoundTrip) {
     EXPECT_EQ(volume->range.max, 70.0);
 }
 
-TEST(NiftiLoader, GzipInt16BecomesFloat32) {
+TEST(NiftiLoader, GzipInt16IsKept) {
     fixtures::TempDir dir;
     NiftiSpec spec;
     spec.datatype = DT_INT16;
@@ -114,7 +115,8 @@ TEST(NiftiLoader, GzipInt16BecomesFloat32) {
     auto volume = load_volume(dir / "ct.nii.gz");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->name, "ct");
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_FALSE(volume->hounsfield);
     EXPECT_EQ(volume->range.min, -1000.0);
     EXPECT_EQ(volume->range.max, 2000.0);
     EXPECT_EQ(volume->value(1, 1, 1), 2000.0);
@@ -419,5 +421,32 @@ TEST(NiftiLoader, ShearedSformFallsBackToTheQform) {
     EXPECT_EQ(orientation_code(volume->axes), "RAS");
 }
 
+TEST(NiftiLoader, IntegerScaleOnInt16IsKeptAsRescaleAndIntentHuMarksHounsfield) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.datatype = DT_INT16;
+    spec.slope = 1.0;
+    spec.inter = -1024.0;
+    const std::vector<std::int16_t> values{0, 24, 1024, 4000, 5, 6, 7, 8};
+    write_nifti(dir / "ct.nii", spec, as_bytes(values));
+    auto plain = load_nifti(dir / "ct.nii");
+    ASSERT_TRUE(plain.ok()) << plain.error().to_string();
+    EXPECT_EQ(plain->type, VoxelType::int16);
+    EXPECT_EQ(plain->data, as_bytes(values));
+    EXPECT_EQ(plain->value(0, 0, 0), -1024.0);
+    EXPECT_EQ(plain->value(1, 1, 0), 4000.0 - 1024.0);
+    EXPECT_EQ(plain->range.min, -1024.0);
+    EXPECT_FALSE(plain->hounsfield);
+
+    nifti_image* image = nifti_image_read((dir / "ct.nii").c_str(), 1);
+    ASSERT_NE(image, nullptr);
+    std::strcpy(image->intent_name, "HU");
+    ASSERT_EQ(nifti_set_filenames(image, (dir / "marked.nii").c_str(), 0, 1), 0);
+    nifti_image_write(image);
+    nifti_image_free(image);
+    auto marked = load_nifti(dir / "marked.nii");
+    ASSERT_TRUE(marked.ok()) << marked.error().to_string();
+    EXPECT_TRUE(marked->hounsfield);
+}
 }  // namespace
 }  // namespace penumbra::volume

@@ -147,7 +147,7 @@ TEST(NrrdLoader, BigEndianSamplesAreSwapped) {
     EXPECT_EQ(floats->value(0, 0, 0), 1.5);
 }
 
-TEST(NrrdLoader, Int16BigEndianIsConvertedToFloat32) {
+TEST(NrrdLoader, Int16BigEndianIsKeptAsInt16) {
     fixtures::TempDir dir;
     const std::vector<std::byte> big{std::byte{0xff}, std::byte{0xfe}, std::byte{0x01},
                                      std::byte{0x00}};
@@ -156,7 +156,7 @@ TEST(NrrdLoader, Int16BigEndianIsConvertedToFloat32) {
                                 "sizes: 1 2 1\nendian: big\nencoding: raw\n",
                                 big);
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
     EXPECT_EQ(volume->value(0, 0, 0), -2.0);
     EXPECT_EQ(volume->value(0, 1, 0), 256.0);
 }
@@ -312,8 +312,8 @@ TEST(NrrdLoader, TypeSpellingsAreAllAccepted) {
     const Case cases[] = {
             {"uchar", 1, VoxelType::uint8},           {"unsigned char", 1, VoxelType::uint8},
             {"uint8_t", 1, VoxelType::uint8},         {"signed char", 1, VoxelType::float32},
-            {"int8", 1, VoxelType::float32},          {"short", 2, VoxelType::float32},
-            {"int16_t", 2, VoxelType::float32},       {"unsigned short int", 2, VoxelType::uint16},
+            {"int8", 1, VoxelType::float32},          {"short", 2, VoxelType::int16},
+            {"int16_t", 2, VoxelType::int16},         {"unsigned short int", 2, VoxelType::uint16},
             {"uint16", 2, VoxelType::uint16},         {"int", 4, VoxelType::float32},
             {"unsigned int", 4, VoxelType::float32},  {"uint32_t", 4, VoxelType::float32},
             {"long long int", 8, VoxelType::float32}, {"ulonglong", 8, VoxelType::float32},
@@ -680,5 +680,15 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     EXPECT_EQ(truncated.error().code, "truncated");
 }
 
+TEST(NrrdLoader, PenumbraUnitsKeyMarksHounsfieldUnits) {
+    fixtures::TempDir dir;
+    auto plain = load_attached(dir, cube_header, cube_uint8());
+    ASSERT_TRUE(plain.ok()) << plain.error().to_string();
+    EXPECT_FALSE(plain->hounsfield);
+    auto marked = load_attached(dir, std::string(cube_header) + "penumbra_units:=HU\n",
+                                cube_uint8(), "ct.nrrd");
+    ASSERT_TRUE(marked.ok()) << marked.error().to_string();
+    EXPECT_TRUE(marked->hounsfield);
+}
 }  // namespace
 }  // namespace penumbra::volume

@@ -15,9 +15,22 @@
 
 namespace penumbra::volume {
 
-// The voxel types kept on the GPU without losing precision. Files with other types (int8, int16,
-// int32, float64, or a NIfTI scale/offset) are converted to float32 at load time.
-enum class VoxelType { uint8, uint16, float32 };
+// The voxel types kept in memory and on the GPU without losing precision. Files with other types
+// (int8, int32, float64), or with a rescale that is not a pair of integers, are converted to
+// float32 at load time.
+enum class VoxelType { uint8, uint16, int16, float32 };
+
+// How stored voxels become real values (a DICOM or NIfTI rescale): real = stored * slope +
+// intercept. Integer types keep their stored values and this mapping, so a CT of int16 stays
+// int16 while its values are Hounsfield units.
+struct Rescale {
+    double slope = 1.0;
+    double intercept = 0.0;
+
+    [[nodiscard]] double apply(double stored) const { return stored * slope + intercept; }
+
+    [[nodiscard]] bool identity() const { return slope == 1.0 && intercept == 0.0; }
+};
 
 [[nodiscard]] std::size_t bytes_per_voxel(VoxelType type);
 
@@ -40,7 +53,8 @@ struct Volume {
     glm::dvec3 spacing{1.0};  // physical size of one voxel (mm for medical data)
     VoxelType type = VoxelType::uint8;
     std::vector<std::byte> data;  // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
-    ValueRange range;             // over finite voxels
+    Rescale rescale;              // stored data -> real values
+    ValueRange range;             // real values, over finite voxels
     std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
 
     // Where the voxels lie in patient space, in Penumbra's one convention, RAS (+x toward the
@@ -62,14 +76,16 @@ struct Volume {
     // Physical size of the volume: dims * spacing.
     [[nodiscard]] glm::dvec3 extent() const { return glm::dvec3(dims) * spacing; }
 
-    // The voxel at integer coordinates, as a double (no normalisation).
+    // The real value (rescale applied) of the voxel at integer coordinates, as a double (no
+    // normalisation).
     [[nodiscard]] double value(std::uint32_t x, std::uint32_t y, std::uint32_t z) const;
 };
 
 // Builds a Volume from values already in memory (tests, synthetic data, converters): checks the
-// size, replaces non-finite float voxels and computes the range.
+// size and the rescale (finite, slope non-zero), replaces non-finite float voxels and computes
+// the range of real values.
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
-                                 VoxelType type, std::vector<std::byte> data);
+                                 VoxelType type, std::vector<std::byte> data, Rescale rescale = {});
 
 // Convenience for float data.
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
@@ -132,7 +148,8 @@ struct LoadOptions {
 //   DICOM: a folder holding the files of one series (any names; the largest series when there
 //          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; axes and origin from Image Orientation/Position
-//          (Patient); rescale slope/intercept applied (CT in HU).
+//          (Patient); rescale slope/intercept kept as Volume::rescale (CT in HU);
+//          MONOCHROME1 inverted.
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
