@@ -42,7 +42,11 @@ int run_info(const std::vector<std::string>& args) {
                     v.axes[2][row] * v.spacing.z, v.origin[row]);
     }
     std::printf("voxel type:  %s\n", volume::to_string(v.type));
-    std::printf("range:       %g .. %g\n", v.range.min, v.range.max);
+    if (!v.rescale.identity()) {
+        std::printf("rescale:     value = stored x %g %+g\n", v.rescale.slope, v.rescale.intercept);
+    }
+    std::printf("range:       %g .. %g%s\n", v.range.min, v.range.max,
+                v.hounsfield ? " (Hounsfield units)" : "");
     if (v.nonfinite_voxels > 0) {
         std::printf("non-finite:  %llu voxels replaced by the minimum\n",
                     static_cast<unsigned long long>(v.nonfinite_voxels));
