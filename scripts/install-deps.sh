@@ -16,6 +16,8 @@ test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     clang-14 libfuzzer-14-dev
     mricron-data gnuplot-nox
+    # Other projects' volume files for the conformance test, and the readers it compares with.
+    python3-nibabel insighttoolkit5-examples heudiconv
     chromium
     # The loopback cluster test: Debian's nginx in front, a certificate made with openssl, and
     # WebSocket clients (also the container test's).

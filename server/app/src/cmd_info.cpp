@@ -15,7 +15,8 @@ int run_info(const std::vector<std::string>& args) {
         return 2;
     }
     if (parsed->has("help")) {
-        std::puts("usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)");
+        std::puts(
+                "usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)");
         return 0;
     }
     const std::string path = parsed->get("volume").value_or(default_volume_path);
@@ -30,8 +31,22 @@ int run_info(const std::vector<std::string>& args) {
                 v.voxel_count());
     std::printf("spacing:     %g x %g x %g\n", v.spacing.x, v.spacing.y, v.spacing.z);
     std::printf("extent:      %g x %g x %g\n", v.extent().x, v.extent().y, v.extent().z);
+    // The index-to-patient transform in RAS millimetres: the rows of a 3x4 matrix whose columns
+    // are the steps along i, j, k (axes scaled by the spacing) and the origin.
+    std::printf("orientation: %s (index axes i, j, k toward these patient directions; RAS)\n",
+                volume::orientation_code(v.axes).c_str());
+    std::puts("transform:   voxel (i, j, k) -> RAS mm");
+    for (int row = 0; row < 3; ++row) {
+        std::printf("  %c = %10.4f i %+10.4f j %+10.4f k %+10.4f\n", "xyz"[row],
+                    v.axes[0][row] * v.spacing.x, v.axes[1][row] * v.spacing.y,
+                    v.axes[2][row] * v.spacing.z, v.origin[row]);
+    }
     std::printf("voxel type:  %s\n", volume::to_string(v.type));
-    std::printf("range:       %g .. %g\n", v.range.min, v.range.max);
+    if (!v.rescale.identity()) {
+        std::printf("rescale:     value = stored x %g %+g\n", v.rescale.slope, v.rescale.intercept);
+    }
+    std::printf("range:       %g .. %g%s\n", v.range.min, v.range.max,
+                v.hounsfield ? " (Hounsfield units)" : "");
     if (v.nonfinite_voxels > 0) {
         std::printf("non-finite:  %llu voxels replaced by the minimum\n",
                     static_cast<unsigned long long>(v.nonfinite_voxels));
@@ -44,7 +59,8 @@ int run_info(const std::vector<std::string>& args) {
         const int bar = peak > 0 ? static_cast<int>(50.0 * static_cast<double>(histogram.bins[i]) /
                                                     static_cast<double>(peak))
                                  : 0;
-        std::printf("  %10.4g %12llu %s\n", histogram.range.min + bin_width * static_cast<double>(i),
+        std::printf("  %10.4g %12llu %s\n",
+                    histogram.range.min + bin_width * static_cast<double>(i),
                     static_cast<unsigned long long>(histogram.bins[i]),
                     std::string(static_cast<std::size_t>(bar), '#').c_str());
     }

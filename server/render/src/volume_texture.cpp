@@ -1,5 +1,7 @@
 #include "volume_texture.hpp"
 
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -16,36 +18,56 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
                                         std::to_string(max_3d_texture_size) + " per side",
                                 volume.name);
     }
+    // Integer volumes go up as normalised unsigned texels (exact: 8 or 16 bits for 8- or 16-bit
+    // values; int16 offset by 32768 into uint16, as R16_SNORM would merge -32768 with -32767).
+    // A texel of t stands for the stored value t * texel_max + texel_offset.
     GLenum internal_format = GL_R8;
     GLenum type = GL_UNSIGNED_BYTE;
-    double texel_max = 1.0;  // what a normalised texel of 1.0 stands for in voxel values
+    double texel_max = 1.0;
+    double texel_offset = 0.0;
+    const void* pixels = volume.data.data();
+    std::vector<std::uint16_t> offset_int16;
+    std::vector<float> normalized;
+    const double width = volume.range.max - volume.range.min;
     switch (volume.type) {
-        case volume::VoxelType::uint8: texel_max = 255.0; break;
+        case volume::VoxelType::uint8:
+            texel_max = 255.0;
+            break;
         case volume::VoxelType::uint16:
             internal_format = GL_R16;
             type = GL_UNSIGNED_SHORT;
             texel_max = 65535.0;
             break;
-        case volume::VoxelType::float32:
+        case volume::VoxelType::int16: {
+            internal_format = GL_R16;
+            type = GL_UNSIGNED_SHORT;
+            texel_max = 65535.0;
+            texel_offset = -32768.0;
+            offset_int16.resize(volume.voxel_count());
+            for (std::size_t i = 0; i < offset_int16.size(); ++i) {
+                std::int16_t value = 0;
+                std::memcpy(&value, volume.data.data() + i * sizeof value, sizeof value);
+                offset_int16[i] = static_cast<std::uint16_t>(std::int32_t{value} + 32768);
+            }
+            pixels = offset_int16.data();
+            break;
+        }
+        case volume::VoxelType::float32: {
+            // Float volumes are stored already mapped to [0, 1]: a range near ±3e38 makes
+            // 1/width a denormal that shaders flush to zero, and at a huge offset the raw floats
+            // are too coarse.
             internal_format = GL_R32F;
             type = GL_FLOAT;
+            normalized.resize(volume.voxel_count());
+            const auto* raw = reinterpret_cast<const float*>(volume.data.data());
+            for (std::size_t i = 0; i < normalized.size(); ++i) {
+                const double real = volume.rescale.apply(static_cast<double>(raw[i]));
+                normalized[i] =
+                        width > 0.0 ? static_cast<float>((real - volume.range.min) / width) : 0.0f;
+            }
+            pixels = normalized.data();
             break;
-    }
-    const double width = volume.range.max - volume.range.min;
-    // Float volumes are stored already mapped to [0, 1]: a range near ±3e38 makes 1/width a
-    // denormal that shaders flush to zero, and at a huge offset the raw floats are too coarse.
-    std::vector<float> normalized;
-    const void* pixels = volume.data.data();
-    if (volume.type == volume::VoxelType::float32) {
-        normalized.resize(volume.voxel_count());
-        const auto* raw = reinterpret_cast<const float*>(volume.data.data());
-        for (std::size_t i = 0; i < normalized.size(); ++i) {
-            normalized[i] = width > 0.0 ? static_cast<float>(
-                                                  (static_cast<double>(raw[i]) - volume.range.min) /
-                                                  width)
-                                        : 0.0f;
         }
-        pixels = normalized.data();
     }
     VolumeTexture out;
     out.texture = gpu::create_texture(GL_TEXTURE_3D);
@@ -68,8 +90,11 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
     if (volume.type == volume::VoxelType::float32) {
         out.value_map = glm::vec2(1.0f, 0.0f);
     } else if (width > 0.0) {
-        out.value_map = glm::vec2(static_cast<float>(texel_max / width),
-                                  static_cast<float>(-volume.range.min / width));
+        // real = (t * texel_max + texel_offset) * slope + intercept, then mapped to [0, 1].
+        const volume::Rescale& rescale = volume.rescale;
+        out.value_map = glm::vec2(
+                static_cast<float>(texel_max * rescale.slope / width),
+                static_cast<float>((rescale.apply(texel_offset) - volume.range.min) / width));
     } else {
         out.value_map = glm::vec2(0.0f, 0.0f);  // a constant volume classifies as value 0
     }

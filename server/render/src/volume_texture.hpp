@@ -8,8 +8,9 @@
 
 namespace penumbra::render {
 
-// A volume on the GPU: uint8 → R8, uint16 → R16 (both normalised, no precision lost), float32 →
-// R32F. `value_map` turns a texel into the volume's range mapped to [0, 1]: texel * x + y.
+// A volume on the GPU: uint8 → R8, uint16 → R16, int16 → R16 offset by 32768 (all normalised,
+// every value exact), float32 → R32F already mapped to [0, 1]. `value_map` turns a texel into the
+// volume's real values (its rescale applied) mapped to [0, 1] over its range: texel * x + y.
 struct VolumeTexture {
     gpu::Texture texture;
     glm::vec2 value_map{1.0f, 0.0f};

@@ -13,12 +13,16 @@
 //     neighbours, which must be the same within 1 % (else an error names the two slices). Where
 //     any slice lacks position or orientation, InstanceNumber orders them and the z spacing is
 //     SpacingBetweenSlices, else SliceThickness, else 1 (with a log warning).
-//   - The voxel grid is the image grid: x along a row, y down the columns, z along the normal.
-//     Patient orientation is not kept, so a sagittal series shows in its own frame.
+//   - The voxel grid is the image grid: x along a row, y down the columns, z along the normal;
+//     Volume::axes and origin place it in patient space (converted from DICOM's LPS to RAS), so
+//     a sagittal series keeps its anatomy. A gantry-tilted series (slices stepping off their
+//     normal) is refused as sheared.
 //   - Spacing x is PixelSpacing's second value (between columns), y its first (between rows).
-//   - RescaleSlope/Intercept are applied per slice. When every slope is 1 and every intercept an
-//     integer, the data is stored as uint8 (8-bit files) or uint16 if all values fit; otherwise,
-//     e.g. CT in Hounsfield units below 0, as float32, which holds 16-bit integers exactly.
+//   - When every slice has the same RescaleSlope and RescaleIntercept, both whole numbers, the
+//     stored values are kept (uint8 for 8-bit unsigned data, uint16 for unsigned, int16 for
+//     signed) and the rescale becomes Volume::rescale, so a CT stays 16-bit with its values in
+//     Hounsfield units. Otherwise the rescale is applied per slice into float32.
+//   - Modality CT or RescaleType HU sets Volume::hounsfield. MONOCHROME1 is inverted.
 //   - Pixel data must be one sample per pixel, 8 or 16 bits allocated; BitsStored, HighBit and
 //     PixelRepresentation (two's complement) are honoured. Compressed transfer syntaxes are
 //     decoded by DCMTK's JPEG, JPEG-LS and RLE codecs; others (JPEG 2000) are an error naming
@@ -187,6 +191,7 @@ struct PixelFormat {
     std::uint16_t bits_stored = 0;
     std::uint16_t high_bit = 0;
     bool is_signed = false;
+    bool inverted = false;  // MONOCHROME1: the lowest value is displayed brightest
 
     bool operator==(const PixelFormat&) const = default;
 
@@ -216,6 +221,7 @@ struct Image {
     std::filesystem::path path;
     std::unique_ptr<DcmFileFormat> file;  // pixel data stays on disk until it is read
     std::string series_uid;
+    bool hounsfield = false;  // Modality CT or RescaleType HU
     PixelFormat format;
     std::uint32_t frame_count = 1;
 };
@@ -236,6 +242,7 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
     format.bits_stored = get_uint16(dataset, DCM_BitsStored).value_or(format.bits_allocated);
     format.high_bit = get_uint16(dataset, DCM_HighBit).value_or(format.bits_stored - 1);
     format.is_signed = get_uint16(dataset, DCM_PixelRepresentation).value_or(0) == 1;
+    format.inverted = get_string(dataset, DCM_PhotometricInterpretation) == "MONOCHROME1";
 
     const auto unsupported = [&](const std::string& what) {
         return base::make_error("unsupported_type", what, detail::at_file(path));
@@ -369,6 +376,8 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     }
     image.frame_count = static_cast<std::uint32_t>(frames);
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+    image.hounsfield = get_string(dataset, DCM_Modality) == "CT" ||
+                       get_string(dataset, DCM_RescaleType) == "HU";
     return Opened::image;
 }
 
@@ -541,6 +550,48 @@ base::Result<glm::dvec2> pixel_spacing(const std::vector<Frame>& frames,
     return glm::dvec2((*first)[1], (*first)[0]);
 }
 
+// Where the ordered frames lie in patient space, in RAS: i along a row (ImageOrientationPatient's
+// first direction), j down a column (its second), k from the first frame to the next (the
+// positions' mean step, which for a gantry-tilted series leans off the normal and is refused as
+// sheared). Without positions k is the slice normal; without orientation the axes are identity.
+// DICOM's patient space is LPS, so x and y are negated.
+base::Result<Geometry> patient_geometry(const std::vector<Frame>& frames, glm::dvec2 xy_spacing,
+                                        double z_spacing, const std::vector<Image>& images) {
+    const Frame& first = frames.front();
+    glm::dmat3 steps(1.0);
+    steps[0] *= xy_spacing.x;
+    steps[1] *= xy_spacing.y;
+    steps[2] *= z_spacing;
+    if (first.orientation) {
+        const auto& cosines = *first.orientation;
+        const glm::dvec3 row(cosines[0], cosines[1], cosines[2]);
+        const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
+        if (!(glm::length(row) > 0.5) || !(glm::length(column) > 0.5) ||
+            !(glm::length(glm::cross(row, column)) > 0.5)) {
+            return base::make_error("bad_header",
+                                    "ImageOrientationPatient holds zero or parallel directions",
+                                    frame_label(first, images));
+        }
+        steps[0] = lps_to_ras(glm::normalize(row)) * xy_spacing.x;
+        steps[1] = lps_to_ras(glm::normalize(column)) * xy_spacing.y;
+        steps[2] = lps_to_ras(glm::normalize(glm::cross(row, column))) * z_spacing;
+        const bool positioned = std::all_of(frames.begin(), frames.end(),
+                                            [](const Frame& f) { return f.position.has_value(); });
+        if (positioned && frames.size() > 1) {
+            steps[2] = lps_to_ras(*frames.back().position - *first.position) /
+                       static_cast<double>(frames.size() - 1);
+        }
+    }
+    const glm::dvec3 origin = first.position ? lps_to_ras(*first.position) : glm::dvec3(0.0);
+    auto geometry = geometry_from_steps(steps, origin);
+    if (!geometry) {
+        base::Error error = geometry.error();
+        error.where = frame_label(first, images);
+        return error;
+    }
+    return geometry;
+}
+
 // The raw pixel words of all frames of one image, decoded to native order.
 base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
     DcmDataset& dataset = *image.file->getDataset();
@@ -595,19 +646,26 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
 }
 
 // The stored value of one pixel word: the BitsStored bits ending at HighBit, sign-extended for
-// two's complement data.
+// two's complement data. MONOCHROME1 (white at the lowest value, as X-ray film) is inverted into
+// MONOCHROME2's sense, so that high values are dense for every image: complementing the bits maps
+// the stored range onto itself reversed (max - v unsigned, -1 - v signed).
 struct SampleDecoder {
     unsigned shift;
     std::uint32_t mask;
     std::uint32_t sign_bit;
+    bool inverted;
 
     explicit SampleDecoder(const PixelFormat& format)
         : shift(format.high_bit + 1u - format.bits_stored)
         , mask((std::uint32_t{1} << format.bits_stored) - 1u)
-        , sign_bit(format.is_signed ? std::uint32_t{1} << (format.bits_stored - 1) : 0u) {}
+        , sign_bit(format.is_signed ? std::uint32_t{1} << (format.bits_stored - 1) : 0u)
+        , inverted(format.inverted) {}
 
     [[nodiscard]] std::int32_t operator()(std::uint32_t word) const {
-        const std::uint32_t bits = (word >> shift) & mask;
+        std::uint32_t bits = (word >> shift) & mask;
+        if (inverted) {
+            bits = ~bits & mask;
+        }
         if ((bits & sign_bit) != 0) {
             return static_cast<std::int32_t>(bits) - static_cast<std::int32_t>(mask) - 1;
         }
@@ -615,14 +673,15 @@ struct SampleDecoder {
     }
 };
 
-// Writes the rescaled values of one frame into `out` (float32 voxels).
+// Writes the values of one frame into `out` (float32 voxels): stored values, or with the frame's
+// rescale applied when `apply_rescale`.
 void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
-                  std::uint32_t frame_index, const Frame& frame, float* out) {
+                  std::uint32_t frame_index, const Frame& frame, bool apply_rescale, float* out) {
     const std::size_t count = std::size_t{format.rows} * format.columns;
     const std::size_t width = format.bits_allocated / 8;
     const std::byte* in = pixels.data() + std::size_t{frame_index} * count * width;
     const SampleDecoder decode(format);
-    const bool identity = frame.slope == 1.0 && frame.intercept == 0.0;
+    const bool identity = !apply_rescale || (frame.slope == 1.0 && frame.intercept == 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         std::uint32_t word = 0;
         if (width == 1) {
@@ -637,8 +696,9 @@ void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
     }
 }
 
-// Narrows float32 voxels that hold integers to uint8 or uint16 when every value fits, which
-// halves (or quarters) what the volume costs in memory and on the GPU without changing a value.
+// Narrows float32 voxels that hold stored integers to the type the pixel format needs (uint8,
+// uint16 or int16), which halves (or quarters) what the volume costs in memory and on the GPU
+// without changing a value.
 template <class T>
 std::vector<std::byte> narrow_to(std::span<const float> values) {
     std::vector<std::byte> data(values.size() * sizeof(T));
@@ -668,9 +728,9 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     std::uint64_t largest_image = 0;
     for (const Image& image : images) {
         frame_count += image.frame_count;
-        largest_image = std::max(largest_image, std::uint64_t{format.rows} * format.columns *
-                                                        image.frame_count *
-                                                        (format.bits_allocated / 8u));
+        largest_image =
+                std::max(largest_image, std::uint64_t{format.rows} * format.columns *
+                                                image.frame_count * (format.bits_allocated / 8u));
     }
     if (frame_count > max_frames) {
         return base::make_error("too_large",
@@ -711,7 +771,18 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     if (!xy_spacing) {
         return xy_spacing.error();
     }
+    auto geometry = patient_geometry(frames, *xy_spacing, *z_spacing, images);
+    if (!geometry) {
+        return geometry.error();
+    }
 
+    // One rescale of whole numbers for every frame stays the volume's Rescale over the stored
+    // integers; rescales that differ per slice or are fractional are applied into float32.
+    const Frame& first = frames.front();
+    const bool kept = std::all_of(frames.begin(), frames.end(), [&](const Frame& f) {
+        return f.slope == first.slope && f.intercept == first.intercept &&
+               f.slope == std::round(f.slope) && f.intercept == std::round(f.intercept);
+    });
     // Frame z of the volume is frames[z]; each image's pixel data is read once.
     std::vector<std::vector<std::size_t>> slots(images.size());
     for (std::size_t z = 0; z < frames.size(); ++z) {
@@ -727,24 +798,28 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
             return pixels.error();
         }
         for (const std::size_t z : slots[i]) {
-            decode_frame(*pixels, format, frames[z].index, frames[z], values + z * slice_voxels);
+            decode_frame(*pixels, format, frames[z].index, frames[z], !kept,
+                         values + z * slice_voxels);
         }
         images[i].file.reset();  // drops the decoded pixel data
     }
 
-    const bool integral = std::all_of(frames.begin(), frames.end(), [](const Frame& f) {
-        return f.slope == 1.0 && f.intercept == std::round(f.intercept);
-    });
     const std::span<const float> all(values, static_cast<std::size_t>(voxels));
-    const auto [lo, hi] = std::minmax_element(all.begin(), all.end());
     VoxelType type = VoxelType::float32;
+    Rescale rescale;
     std::vector<std::byte> data;
-    if (integral && *lo >= 0.0f && format.bits_allocated == 8 && *hi <= 255.0f) {
-        type = VoxelType::uint8;
-        data = narrow_to<std::uint8_t>(all);
-    } else if (integral && *lo >= 0.0f && *hi <= 65535.0f) {
-        type = VoxelType::uint16;
-        data = narrow_to<std::uint16_t>(all);
+    if (kept) {
+        rescale = {first.slope, first.intercept};
+        if (format.is_signed) {
+            type = VoxelType::int16;
+            data = narrow_to<std::int16_t>(all);
+        } else if (format.bits_allocated == 8) {
+            type = VoxelType::uint8;
+            data = narrow_to<std::uint8_t>(all);
+        } else {
+            type = VoxelType::uint16;
+            data = narrow_to<std::uint16_t>(all);
+        }
     } else {
         data = std::move(decoded);
     }
@@ -753,12 +828,15 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     auto volume = make_volume(
             name,
             glm::uvec3(format.columns, format.rows, static_cast<std::uint32_t>(frames.size())),
-            glm::dvec3(xy_spacing->x, xy_spacing->y, *z_spacing), type, std::move(data));
+            geometry->spacing, type, std::move(data), rescale);
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(source);
         return error;
     }
+    volume->axes = geometry->axes;
+    volume->origin = geometry->origin;
+    volume->hounsfield = images.front().hounsfield;
     return volume;
 }
 

@@ -5,12 +5,16 @@
 // Rules this loader adds on top of the library:
 //   - Only the first 3-D volume is read. A 4-D or 5-D file (fMRI time series, vector fields)
 //     loads its first volume and the log says how many were left out.
-//   - Spacing is |dx|, |dy|, |dz|. A spacing of 0 or a non-finite one (common in files written
-//     by tools that leave pixdim empty) becomes 1 with a log warning, so the data stays viewable.
-//   - uint8 and uint16 are kept; every other scalar type becomes float32. A scale
-//     (scl_slope finite and non-zero, and not the identity slope 1 with intercept 0) is applied
-//     as value * slope + intercept in double and stored as float32; a non-finite intercept
-//     counts as 0.
+//   - Axes, origin and spacing come from the sform when its code is set, else the qform (see
+//     patient_geometry); spacing is the length of each transform column. A voxel size of 0 or a
+//     non-finite one (common in files written by tools that leave pixdim empty) becomes 1 with a
+//     log warning, so the data stays viewable.
+//   - uint8, uint16 and int16 are kept; every other scalar type becomes float32. A scale
+//     (scl_slope finite and non-zero, and not the identity slope 1 with intercept 0) of whole
+//     numbers on a kept integer type stays Volume::rescale (the data is not widened); any other
+//     is applied as value * slope + intercept in double and stored as float32; a non-finite
+//     intercept counts as 0.
+//   - intent_name "HU" marks the values as Hounsfield units (Volume::hounsfield).
 //   - NaN and ±Inf float voxels become the finite minimum and are counted, as in every format.
 
 #include "file_io.hpp"
@@ -21,9 +25,11 @@
 #include <penumbra/base/log.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/geometric.hpp>
 #include <nifti2_io.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -88,6 +94,57 @@ double spacing_or_one(double spacing, char axis, const std::filesystem::path& pa
     return 1.0;
 }
 
+// The index-to-patient transform, which NIfTI defines in RAS millimetres: the sform when its
+// code is set, else the qform (the library builds it from the quaternion, pixdim and qfac; with
+// qform_code 0 it is diag(dx, dy, dz), NIfTI's "method 1"). A sheared sform falls back to a set
+// qform, which cannot shear, as ITK does; without one it is refused. A zero or non-finite voxel
+// size leaves its axis unrotated with size 1, as spacing_or_one says.
+base::Result<Geometry> patient_geometry(const nifti_image& image,
+                                        const std::filesystem::path& path) {
+    const auto transform = [&](const nifti_dmat44& m) {
+        glm::dmat3 steps(1.0);
+        for (int column = 0; column < 3; ++column) {
+            steps[column] = glm::dvec3(m.m[0][column], m.m[1][column], m.m[2][column]);
+        }
+        return std::pair{steps, glm::dvec3(m.m[0][3], m.m[1][3], m.m[2][3])};
+    };
+    const auto geometry_of = [&](const nifti_dmat44& m) {
+        auto [steps, origin] = transform(m);
+        const std::array<double, 3> sizes{image.dx, image.dy, image.dz};
+        for (int column = 0; column < 3; ++column) {
+            const double length = glm::length(steps[column]);
+            if (!std::isfinite(length) || !(length > 0.0)) {
+                glm::dvec3 unit(0.0);
+                unit[column] = 1.0;
+                steps[column] = unit * spacing_or_one(sizes[static_cast<std::size_t>(column)],
+                                                      "xyz"[column], path);
+            }
+        }
+        return geometry_from_steps(steps, origin);
+    };
+    if (image.sform_code > 0) {
+        auto sform = geometry_of(image.sto_xyz);
+        if (sform || image.qform_code <= 0) {
+            if (!sform) {
+                base::Error error = sform.error();
+                error.message = "the sform " + error.message;
+                error.where = detail::at_file(path);
+                return error;
+            }
+            return sform;
+        }
+        base::log_warning(log_component, path.string() + ": the sform is not a rotation (" +
+                                                 sform.error().message + "); using the qform");
+    }
+    auto qform = geometry_of(image.qto_xyz);
+    if (!qform) {
+        base::Error error = qform.error();
+        error.where = detail::at_file(path);
+        return error;
+    }
+    return qform;
+}
+
 // Reads the first volume's samples from the data file: plain bytes from `data_offset`, or, when
 // the file is gzip data (whatever its name says), the same offset in the decompressed stream.
 base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_offset,
@@ -110,13 +167,12 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
             return inflated.error();
         }
         if (inflated->produced < bytes) {
-            return base::make_error("truncated",
-                                    "expected " + std::to_string(bytes) +
-                                            " bytes of voxel data from byte " +
-                                            std::to_string(data_offset) +
-                                            " of the decompressed data, got " +
-                                            std::to_string(inflated->produced),
-                                    detail::at_file(path));
+            return base::make_error(
+                    "truncated",
+                    "expected " + std::to_string(bytes) + " bytes of voxel data from byte " +
+                            std::to_string(data_offset) + " of the decompressed data, got " +
+                            std::to_string(inflated->produced),
+                    detail::at_file(path));
         }
         return base::Ok{};
     }
@@ -200,15 +256,14 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                 detail::at_file(path));
     }
     // In double: a hostile header's counts would overflow an integer product.
-    const double volumes = static_cast<double>(extent(image->nt)) *
-                           static_cast<double>(extent(image->nu)) *
-                           static_cast<double>(extent(image->nv)) *
-                           static_cast<double>(extent(image->nw));
+    const double volumes =
+            static_cast<double>(extent(image->nt)) * static_cast<double>(extent(image->nu)) *
+            static_cast<double>(extent(image->nv)) * static_cast<double>(extent(image->nw));
     if (volumes > 1.0) {
         char count[32];
         std::snprintf(count, sizeof count, "%.0f", volumes);
-        base::log_info(log_component, path.string() + ": " + count +
-                                              " volumes in the file; loading the first");
+        base::log_info(log_component,
+                       path.string() + ": " + count + " volumes in the file; loading the first");
     }
 
     if (image->iname_offset < 0) {
@@ -227,7 +282,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                       .inter = scaled ? inter : 0.0};
     const std::string what = std::to_string(sizes[0]) + "x" + std::to_string(sizes[1]) + "x" +
                              std::to_string(sizes[2]) + " " + detail::sample_name(*type) +
-                             (layout.stored() == detail::stored_type(*type) && !scaled
+                             (layout.stored() == detail::stored_type(*type) && !layout.scaled()
                                       ? std::string()
                                       : std::string(" kept as ") + to_string(layout.stored()));
     if (auto status = detail::check_budget(layout.stored_bytes(), what, path, options); !status) {
@@ -237,27 +292,35 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     // the library derives from the header's own name, in the same folder.
     const std::filesystem::path data_file = image->iname != nullptr ? image->iname : path;
     detail::SampleSink sink(layout);
-    if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset),
-                                   sink, layout.file_bytes());
+    if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset), sink,
+                                   layout.file_bytes());
         !status) {
         return status.error();
     }
 
-    const glm::dvec3 spacing(spacing_or_one(image->dx, 'x', path),
-                             spacing_or_one(image->dy, 'y', path),
-                             spacing_or_one(image->dz, 'z', path));
+    auto geometry = patient_geometry(*image, path);
+    if (!geometry) {
+        return geometry.error();
+    }
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nii.gz", ".nii"});
     auto volume = make_volume(
             name,
             glm::uvec3(static_cast<std::uint32_t>(sizes[0]), static_cast<std::uint32_t>(sizes[1]),
                        static_cast<std::uint32_t>(sizes[2])),
-            spacing, layout.stored(), sink.take());
+            geometry->spacing, layout.stored(), sink.take(), layout.rescale());
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
+    volume->axes = geometry->axes;
+    volume->origin = geometry->origin;
+    // NIfTI has no field for the values' units; intent_name ("name or meaning of data") set to
+    // "HU" marks a CT in Hounsfield units.
+    const std::string_view intent(image->intent_name);
+    volume->hounsfield =
+            intent.size() == 2 && std::toupper(intent[0]) == 'H' && std::toupper(intent[1]) == 'U';
     return volume;
 }
 

@@ -42,10 +42,13 @@ struct Header {
     Field<Encoding> encoding;
     Field<bool> big_endian;
     Field<std::vector<double>> spacings;
-    Field<std::vector<double>> direction_lengths;  // NaN for a "none" axis
+    Field<std::vector<std::vector<double>>> directions;  // empty for a "none" axis
+    Field<glm::dvec3> space_to_ras;                      // from "space"
+    Field<std::vector<double>> space_origin;
     Field<std::string> data_file;
     Field<std::int64_t> byte_skip;
     Field<std::int64_t> line_skip;
+    bool hounsfield = false;  // the key/value penumbra_units:=HU
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
 };
@@ -158,17 +161,18 @@ std::optional<SampleType> parse_type(std::string_view text) {
     return found->second;
 }
 
-// Parses "(x,y,z)" vectors or "none" entries and returns each vector's length (NaN for none).
-std::optional<std::vector<double>> parse_direction_lengths(std::string_view text) {
-    std::vector<double> lengths;
+// Parses "(x,y,z)" vectors or "none" entries (an empty vector); every vector has as many
+// components as the first.
+std::optional<std::vector<std::vector<double>>> parse_vectors(std::string_view text) {
+    std::vector<std::vector<double>> vectors;
     std::size_t components = 0;
     while (true) {
         text = trim(text);
         if (text.empty()) {
-            return lengths;
+            return vectors;
         }
         if (text.substr(0, 4) == "none") {
-            lengths.push_back(std::nan(""));
+            vectors.emplace_back();
             text.remove_prefix(4);
             continue;
         }
@@ -181,27 +185,55 @@ std::optional<std::vector<double>> parse_direction_lengths(std::string_view text
         }
         std::string_view inside = text.substr(1, close - 1);
         text.remove_prefix(close + 1);
-        double sum = 0.0;
-        std::size_t count = 0;
+        std::vector<double> vector;
         while (true) {
             const std::size_t comma = inside.find(',');
-            const auto component = parse_number<double>(inside.substr(0, comma));
+            const auto component = parse_number<double>(trim(inside.substr(0, comma)));
             if (!component || !std::isfinite(*component)) {
                 return std::nullopt;
             }
-            sum += *component * *component;
-            ++count;
+            vector.push_back(*component);
             if (comma == std::string_view::npos) {
                 break;
             }
             inside.remove_prefix(comma + 1);
         }
-        if (components != 0 && count != components) {
+        if (components != 0 && vector.size() != components) {
             return std::nullopt;  // every vector lives in the same space
         }
-        components = count;
-        lengths.push_back(std::sqrt(sum));
+        components = vector.size();
+        vectors.push_back(std::move(vector));
     }
+}
+
+// How a NRRD "space" maps to RAS: the sign of each patient coordinate. The scanner and generic
+// right-handed spaces name no anatomy; their coordinates are taken as RAS. A left-handed space
+// mirrors x.
+std::optional<glm::dvec3> space_to_ras(std::string_view space) {
+    static const std::map<std::string, glm::dvec3, std::less<>> spaces{
+            {"right-anterior-superior", {1, 1, 1}},
+            {"ras", {1, 1, 1}},
+            {"left-anterior-superior", {-1, 1, 1}},
+            {"las", {-1, 1, 1}},
+            {"left-posterior-superior", {-1, -1, 1}},
+            {"lps", {-1, -1, 1}},
+            {"right-anterior-superior-time", {1, 1, 1}},
+            {"rast", {1, 1, 1}},
+            {"left-anterior-superior-time", {-1, 1, 1}},
+            {"last", {-1, 1, 1}},
+            {"left-posterior-superior-time", {-1, -1, 1}},
+            {"lpst", {-1, -1, 1}},
+            {"scanner-xyz", {1, 1, 1}},
+            {"scanner-xyz-time", {1, 1, 1}},
+            {"3d-right-handed", {1, 1, 1}},
+            {"3d-right-handed-time", {1, 1, 1}},
+            {"3d-left-handed", {-1, 1, 1}},
+            {"3d-left-handed-time", {-1, 1, 1}}};
+    const auto found = spaces.find(space);
+    if (found == spaces.end()) {
+        return std::nullopt;
+    }
+    return found->second;
 }
 
 class HeaderParser {
@@ -303,7 +335,12 @@ private:
                                                std::string(content) + "'");
         }
         if (colon + 1 < content.size() && content[colon + 1] == '=') {
-            return base::Ok{};  // key/value pairs carry metadata Penumbra does not use
+            // Key/value pairs carry metadata; Penumbra reads one of its own: values in
+            // Hounsfield units ("penumbra_units:=HU"), which NRRD has no field for.
+            if (trim(content.substr(0, colon)) == "penumbra_units") {
+                header_.hounsfield = lower(trim(content.substr(colon + 2))) == "hu";
+            }
+            return base::Ok{};
         }
         const std::string name = lower(trim(content.substr(0, colon)));
         const std::string_view value = trim(content.substr(colon + 1));
@@ -336,16 +373,42 @@ private:
             return parse_spacings(value);
         }
         if (name == "space directions") {
-            if (auto status = claim(header_.direction_lengths, name); !status) {
+            if (auto status = claim(header_.directions, name); !status) {
                 return status;
             }
-            header_.direction_lengths.value = parse_direction_lengths(value);
-            if (!header_.direction_lengths.value) {
+            header_.directions.value = parse_vectors(value);
+            if (!header_.directions.value) {
                 return error("bad_header",
                              "space directions must be '(x,y,z)' vectors of finite numbers or "
                              "'none', got '" +
                                      std::string(value) + "'");
             }
+            return base::Ok{};
+        }
+        if (name == "space") {
+            if (auto status = claim(header_.space_to_ras, name); !status) {
+                return status;
+            }
+            header_.space_to_ras.value = space_to_ras(lower(value));
+            if (!header_.space_to_ras.value) {
+                return error("bad_header",
+                             "unknown space '" + std::string(value) +
+                                     "' (known: right-anterior-superior, left-anterior-superior, "
+                                     "left-posterior-superior, their -time forms, scanner-xyz, "
+                                     "3D-right-handed, 3D-left-handed)");
+            }
+            return base::Ok{};
+        }
+        if (name == "space origin") {
+            if (auto status = claim(header_.space_origin, name); !status) {
+                return status;
+            }
+            auto vectors = parse_vectors(value);
+            if (!vectors || vectors->size() != 1 || vectors->front().empty()) {
+                return error("bad_header", "space origin must be one '(x,y,z)' vector, got '" +
+                                                   std::string(value) + "'");
+            }
+            header_.space_origin.value = std::move(vectors->front());
             return base::Ok{};
         }
         if (name == "data file" || name == "datafile") {
@@ -361,8 +424,7 @@ private:
         if (name == "line skip" || name == "lineskip") {
             return parse_skip(header_.line_skip, "line skip", value, 0);
         }
-        // Other fields (content, space, space origin, kinds, centers, units, min, max, ...) only
-        // describe the data.
+        // Other fields (content, kinds, centers, units, min, max, ...) only describe the data.
         return base::Ok{};
     }
 
@@ -493,7 +555,7 @@ private:
 // The geometry and sample layout a complete header describes.
 struct Layout {
     glm::uvec3 dims{0};
-    glm::dvec3 spacing{1.0};
+    Geometry geometry;
     SampleType type = SampleType::uint8;
     Encoding encoding = Encoding::raw;
     bool big_endian = false;
@@ -549,24 +611,49 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                                 at(header.byte_skip.line));
     }
 
-    // "space directions" supersedes "spacings" (NRRD0004+ files write one or the other).
-    if (header.direction_lengths.value) {
-        const auto& lengths = *header.direction_lengths.value;
-        if (lengths.size() != 3) {
+    // "space directions" supersedes "spacings" (NRRD0004+ files write one or the other); with
+    // them and "space", the axes and origin are the file's, converted to RAS.
+    const glm::dvec3 to_ras = header.space_to_ras.value.value_or(glm::dvec3(1.0));
+    glm::dvec3 origin(0.0);
+    if (header.space_origin.value) {
+        const auto& components = *header.space_origin.value;
+        if (components.size() != 3) {
             return base::make_error("bad_header",
-                                    "space directions lists " + std::to_string(lengths.size()) +
+                                    "space origin has " + std::to_string(components.size()) +
+                                            " components; a 3-D space needs 3",
+                                    at(header.space_origin.line));
+        }
+        origin = to_ras * glm::dvec3(components[0], components[1], components[2]);
+    }
+    glm::dmat3 steps(1.0);
+    if (header.directions.value) {
+        const auto& directions = *header.directions.value;
+        if (directions.size() != 3) {
+            return base::make_error("bad_header",
+                                    "space directions lists " + std::to_string(directions.size()) +
                                             " entries but the dimension is 3",
-                                    at(header.direction_lengths.line));
+                                    at(header.directions.line));
         }
         for (int axis = 0; axis < 3; ++axis) {
-            const double length = lengths[static_cast<std::size_t>(axis)];
-            if (length == 0.0) {
+            const auto& direction = directions[static_cast<std::size_t>(axis)];
+            if (direction.empty()) {
+                continue;  // "none": an axis without a direction keeps unit steps along itself
+            }
+            if (direction.size() != 3) {
+                return base::make_error("bad_header",
+                                        "space direction " + std::to_string(axis) + " has " +
+                                                std::to_string(direction.size()) +
+                                                " components; a 3-D space needs 3",
+                                        at(header.directions.line));
+            }
+            const glm::dvec3 step(direction[0], direction[1], direction[2]);
+            if (step == glm::dvec3(0.0)) {
                 return base::make_error(
                         "bad_header",
                         "space direction " + std::to_string(axis) + " is the zero vector",
-                        at(header.direction_lengths.line));
+                        at(header.directions.line));
             }
-            layout.spacing[axis] = std::isnan(length) ? 1.0 : length;
+            steps[axis] = to_ras * step;
         }
     } else if (header.spacings.value) {
         const auto& spacings = *header.spacings.value;
@@ -578,9 +665,16 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
         }
         for (int axis = 0; axis < 3; ++axis) {
             const double spacing = spacings[static_cast<std::size_t>(axis)];
-            layout.spacing[axis] = std::isnan(spacing) ? 1.0 : spacing;
+            steps[axis][axis] = std::isnan(spacing) ? 1.0 : spacing;
         }
     }
+    auto geometry = geometry_from_steps(steps, origin);
+    if (!geometry) {
+        base::Error error = geometry.error();
+        error.where = at(header.directions.line);
+        return error;
+    }
+    layout.geometry = *geometry;
     return layout;
 }
 
@@ -645,7 +739,8 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     const auto folder = std::filesystem::weakly_canonical(
             std::filesystem::absolute(path, ec).parent_path(), ec);
     if (ec) {
-        return base::make_error("read_failed", "cannot resolve the header's folder: " + ec.message(),
+        return base::make_error("read_failed",
+                                "cannot resolve the header's folder: " + ec.message(),
                                 detail::at_file(path));
     }
     const auto resolved = std::filesystem::weakly_canonical(folder / data, ec);
@@ -682,9 +777,8 @@ base::Status skip_lines(std::FILE* file, const std::filesystem::path& path, std:
 
 // Where the samples of raw encoding start: after "byte skip" bytes, or (byte skip -1) so that
 // they are the last bytes of the file. Checks that the file holds them.
-base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path,
-                                            const Layout& layout, std::int64_t byte_skip,
-                                            std::uint64_t offset) {
+base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path, const Layout& layout,
+                                            std::int64_t byte_skip, std::uint64_t offset) {
     auto size = detail::regular_file_size(path);
     if (!size) {
         return size.error();
@@ -736,8 +830,8 @@ base::Status read_raw(std::FILE* file, const std::filesystem::path& path, const 
 base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
                        std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
     // For compressed encodings NRRD applies "byte skip" to the decompressed data.
-    auto inflated = detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip),
-                                         sink);
+    auto inflated =
+            detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip), sink);
     if (!inflated) {
         return inflated.error();
     }
@@ -777,9 +871,12 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     std::uint64_t token_start = 0;
     const auto store = [&]() -> base::Status {
         const auto value = parse_number<double>(token);
-        const double limit = stored == VoxelType::uint8 ? 255.0 : 65535.0;
+        const double low = stored == VoxelType::int16 ? -32768.0 : 0.0;
+        const double high = stored == VoxelType::uint8   ? 255.0
+                            : stored == VoxelType::int16 ? 32767.0
+                                                         : 65535.0;
         if (!value || (stored != VoxelType::float32 &&
-                       (*value != std::floor(*value) || *value < 0.0 || *value > limit))) {
+                       (*value != std::floor(*value) || *value < low || *value > high))) {
             return base::make_error("bad_data",
                                     "'" + token.substr(0, max_token) + "' is not a " +
                                             detail::sample_name(layout.type) + " value",
@@ -791,6 +888,11 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                 break;
             case VoxelType::uint16: {
                 const auto sample = static_cast<std::uint16_t>(*value);
+                std::memcpy(samples.data() + count * 2, &sample, 2);
+                break;
+            }
+            case VoxelType::int16: {
+                const auto sample = static_cast<std::int16_t>(*value);
                 std::memcpy(samples.data() + count * 2, &sample, 2);
                 break;
             }
@@ -827,10 +929,10 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                     token_start = position;
                 }
                 if (token.size() == max_token) {
-                    return base::make_error("bad_data",
-                                            "a value longer than " + std::to_string(max_token) +
-                                                    " characters",
-                                            detail::at_byte(path, token_start));
+                    return base::make_error(
+                            "bad_data",
+                            "a value longer than " + std::to_string(max_token) + " characters",
+                            detail::at_byte(path, token_start));
                 }
                 token.push_back(chunk[k]);
             } else if (!token.empty()) {
@@ -854,8 +956,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     return samples;
 }
 
-base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
-                                    const LoadOptions& options) {
+base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const LoadOptions& options) {
     auto file = detail::open_file(path);
     if (!file) {
         return file.error();
@@ -873,17 +974,14 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
         return source.error();
     }
 
-    const detail::SampleLayout samples{.type = layout->type,
-                                       .voxels = layout->voxels,
-                                       .big_endian = layout->big_endian};
-    std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) +
-                       "x" + std::to_string(layout->dims.z) + " " +
-                       detail::sample_name(layout->type);
+    const detail::SampleLayout samples{
+            .type = layout->type, .voxels = layout->voxels, .big_endian = layout->big_endian};
+    std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) + "x" +
+                       std::to_string(layout->dims.z) + " " + detail::sample_name(layout->type);
     if (!detail::is_kept(layout->type)) {
         what += std::string(" kept as ") + to_string(samples.stored());
     }
-    if (auto status = detail::check_budget(samples.stored_bytes(), what, path, options);
-        !status) {
+    if (auto status = detail::check_budget(samples.stored_bytes(), what, path, options); !status) {
         return status.error();
     }
 
@@ -934,13 +1032,16 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
 
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
-    auto volume = make_volume(name, layout->dims, layout->spacing, samples.stored(),
+    auto volume = make_volume(name, layout->dims, layout->geometry.spacing, samples.stored(),
                               std::move(stored));
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
+    volume->axes = layout->geometry.axes;
+    volume->origin = layout->geometry.origin;
+    volume->hounsfield = header->hounsfield;
     return volume;
 }
 

@@ -129,8 +129,9 @@ std::string describe(const RawName& raw) {
 // What a load of `raw` holds: the volume in the type it keeps.
 std::string describe_stored(const RawName& raw, const detail::SampleLayout& layout) {
     const VoxelType stored = layout.stored();
-    return describe(raw) +
-           (detail::is_kept(raw.type) ? std::string() : std::string(" kept as ") + to_string(stored));
+    return describe(raw) + (detail::is_kept(raw.type)
+                                    ? std::string()
+                                    : std::string(" kept as ") + to_string(stored));
 }
 
 base::Status read_plain(std::FILE* file, const std::filesystem::path& path, const RawName& raw,
@@ -210,9 +211,8 @@ base::Result<Volume> load_raw_file(const std::filesystem::path& path, const Load
                                 detail::at_file(path));
     }
     const detail::SampleLayout layout{.type = raw->type, .voxels = voxels};
-    if (auto status =
-                detail::check_budget(layout.stored_bytes(), describe_stored(*raw, layout), path,
-                                     options);
+    if (auto status = detail::check_budget(layout.stored_bytes(), describe_stored(*raw, layout),
+                                           path, options);
         !status) {
         return status.error();
     }

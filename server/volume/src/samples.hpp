@@ -84,13 +84,20 @@ inline VoxelType stored_type(SampleType type) {
             return VoxelType::uint8;
         case SampleType::uint16:
             return VoxelType::uint16;
+        case SampleType::int16:
+            return VoxelType::int16;
         default:
             return VoxelType::float32;
     }
 }
 
 inline bool is_kept(SampleType type) {
-    return type == SampleType::uint8 || type == SampleType::uint16 || type == SampleType::float32;
+    return type == SampleType::uint8 || type == SampleType::uint16 || type == SampleType::int16 ||
+           type == SampleType::float32;
+}
+
+inline bool is_whole(double value) {
+    return std::isfinite(value) && value == std::round(value);
 }
 
 // Reverses the byte order of each `width`-byte sample (big-endian files).
@@ -156,19 +163,35 @@ inline void convert_to_float32(SampleType type, std::span<const std::byte> in,
     }
 }
 
-// How a file's samples become a Volume's data.
+// How a file's samples become a Volume's data. A rescale (sample * slope + inter) of integers on
+// a kept integer type stays a Volume::Rescale, exact without widening the data; any other rescale
+// is applied at load into float32.
 struct SampleLayout {
     SampleType type = SampleType::uint8;
     std::uint64_t voxels = 0;
     bool big_endian = false;
-    double slope = 1.0;  // stored value = sample * slope + inter (float32 unless the identity)
+    double slope = 1.0;
     double inter = 0.0;
 
-    [[nodiscard]] bool scaled() const { return !(slope == 1.0 && inter == 0.0); }
+    [[nodiscard]] bool kept_with_rescale() const {
+        return is_kept(type) && type != SampleType::float32 && is_whole(slope) && slope != 0.0 &&
+               is_whole(inter);
+    }
 
-    // The type the volume keeps: the sample type where it is kept and unscaled, else float32.
+    // Whether the samples are converted with the rescale applied.
+    [[nodiscard]] bool scaled() const {
+        return !(slope == 1.0 && inter == 0.0) && !kept_with_rescale();
+    }
+
+    // The type the volume keeps: the sample type where it is kept and not converted, else
+    // float32.
     [[nodiscard]] VoxelType stored() const {
         return scaled() ? VoxelType::float32 : stored_type(type);
+    }
+
+    // The rescale the volume keeps (identity where the samples were converted).
+    [[nodiscard]] Rescale rescale() const {
+        return kept_with_rescale() ? Rescale{slope, inter} : Rescale{};
     }
 
     [[nodiscard]] std::uint64_t file_bytes() const { return voxels * sample_size(type); }

@@ -3,11 +3,16 @@
 
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <string_view>
 
 namespace penumbra::volume {
@@ -61,7 +66,7 @@ std::uint64_t sanitise_float32(std::vector<std::byte>& data, ValueRange& range) 
 }
 
 template <class T>
-ValueRange integer_range(const std::vector<std::byte>& data) {
+ValueRange integer_range(const std::vector<std::byte>& data, const Rescale& rescale) {
     const std::size_t count = data.size() / sizeof(T);
     T lo = std::numeric_limits<T>::max();
     T hi = std::numeric_limits<T>::lowest();
@@ -70,7 +75,9 @@ ValueRange integer_range(const std::vector<std::byte>& data) {
         lo = std::min(lo, v);
         hi = std::max(hi, v);
     }
-    return {static_cast<double>(lo), static_cast<double>(hi)};
+    const double a = rescale.apply(static_cast<double>(lo));
+    const double b = rescale.apply(static_cast<double>(hi));
+    return {std::min(a, b), std::max(a, b)};
 }
 
 std::size_t bin_index(double value, const Histogram& histogram) {
@@ -84,18 +91,20 @@ std::size_t bin_index(double value, const Histogram& histogram) {
     return static_cast<std::size_t>(std::clamp(bin, 0.0, last));
 }
 
-// Counts each of the 2^bits possible integer values once, then spreads the counts over the bins:
-// far cheaper than a division per voxel for the common 8- and 16-bit volumes.
+// Counts each of the 2^bits possible integer values once, then spreads the counts over the bins
+// by their real values: far cheaper than a division per voxel for 8- and 16-bit volumes.
 template <class T>
 void histogram_of_integers(const Volume& volume, Histogram& histogram) {
+    constexpr auto lowest = static_cast<std::int64_t>(std::numeric_limits<T>::lowest());
     std::vector<std::uint64_t> counts(std::size_t{1} << (8 * sizeof(T)), 0);
     const std::size_t count = volume.voxel_count();
     for (std::size_t i = 0; i < count; ++i) {
-        ++counts[load_sample<T>(volume.data, i)];
+        ++counts[static_cast<std::size_t>(load_sample<T>(volume.data, i) - lowest)];
     }
-    for (std::size_t value = 0; value < counts.size(); ++value) {
-        if (counts[value] > 0) {
-            histogram.bins[bin_index(static_cast<double>(value), histogram)] += counts[value];
+    for (std::size_t index = 0; index < counts.size(); ++index) {
+        if (counts[index] > 0) {
+            const double stored = static_cast<double>(static_cast<std::int64_t>(index) + lowest);
+            histogram.bins[bin_index(volume.rescale.apply(stored), histogram)] += counts[index];
         }
     }
 }
@@ -107,6 +116,7 @@ std::size_t bytes_per_voxel(VoxelType type) {
         case VoxelType::uint8:
             return 1;
         case VoxelType::uint16:
+        case VoxelType::int16:
             return 2;
         case VoxelType::float32:
             return 4;
@@ -120,6 +130,8 @@ const char* to_string(VoxelType type) {
             return "uint8";
         case VoxelType::uint16:
             return "uint16";
+        case VoxelType::int16:
+            return "int16";
         case VoxelType::float32:
             return "float32";
     }
@@ -134,17 +146,27 @@ double Volume::value(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
                     "Volume::data is smaller than dims imply");
     switch (type) {
         case VoxelType::uint8:
-            return load_sample<std::uint8_t>(data, index);
+            return rescale.apply(load_sample<std::uint8_t>(data, index));
         case VoxelType::uint16:
-            return load_sample<std::uint16_t>(data, index);
+            return rescale.apply(load_sample<std::uint16_t>(data, index));
+        case VoxelType::int16:
+            return rescale.apply(load_sample<std::int16_t>(data, index));
         case VoxelType::float32:
-            return load_sample<float>(data, index);
+            return rescale.apply(load_sample<float>(data, index));
     }
     PENUMBRA_ASSERT(false, "unknown VoxelType");
 }
 
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
-                                 VoxelType type, std::vector<std::byte> data) {
+                                 VoxelType type, std::vector<std::byte> data, Rescale rescale) {
+    if (!std::isfinite(rescale.slope) || rescale.slope == 0.0 ||
+        !std::isfinite(rescale.intercept)) {
+        return invalid(
+                "the rescale slope must be finite and non-zero and the intercept finite, "
+                "got " + std::to_string(rescale.slope) +
+                        " and " + std::to_string(rescale.intercept),
+                name);
+    }
     if (dims.x == 0 || dims.y == 0 || dims.z == 0) {
         return invalid("every dimension must be at least 1, got " + std::to_string(dims.x) + "x" +
                                std::to_string(dims.y) + "x" + std::to_string(dims.z),
@@ -179,18 +201,92 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
     volume.spacing = spacing;
     volume.type = type;
     volume.data = std::move(data);
+    volume.rescale = rescale;
     switch (type) {
         case VoxelType::uint8:
-            volume.range = integer_range<std::uint8_t>(volume.data);
+            volume.range = integer_range<std::uint8_t>(volume.data, rescale);
             break;
         case VoxelType::uint16:
-            volume.range = integer_range<std::uint16_t>(volume.data);
+            volume.range = integer_range<std::uint16_t>(volume.data, rescale);
             break;
-        case VoxelType::float32:
-            volume.nonfinite_voxels = sanitise_float32(volume.data, volume.range);
+        case VoxelType::int16:
+            volume.range = integer_range<std::int16_t>(volume.data, rescale);
             break;
+        case VoxelType::float32: {
+            ValueRange stored;
+            volume.nonfinite_voxels = sanitise_float32(volume.data, stored);
+            const double a = rescale.apply(stored.min);
+            const double b = rescale.apply(stored.max);
+            volume.range = {std::min(a, b), std::max(a, b)};
+            break;
+        }
     }
     return volume;
+}
+
+glm::dvec3 lps_to_ras(glm::dvec3 lps) {
+    return {-lps.x, -lps.y, lps.z};
+}
+
+std::string orientation_code(const glm::dmat3& axes) {
+    static constexpr std::array<std::array<char, 2>, 3> letters{
+            {{'L', 'R'}, {'P', 'A'}, {'I', 'S'}}};
+    std::string code;
+    for (int column = 0; column < 3; ++column) {
+        const glm::dvec3 axis = axes[column];
+        int dominant = 0;
+        for (int row = 1; row < 3; ++row) {
+            if (std::abs(axis[row]) > std::abs(axis[dominant])) {
+                dominant = row;
+            }
+        }
+        code += letters[static_cast<std::size_t>(dominant)][axis[dominant] > 0.0 ? 1 : 0];
+    }
+    return code;
+}
+
+base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 origin) {
+    static constexpr std::array<char, 3> index_names{'i', 'j', 'k'};
+    Geometry geometry;
+    for (int column = 0; column < 3; ++column) {
+        const glm::dvec3 step = steps[column];
+        const double length = glm::length(step);
+        if (!std::isfinite(length) || !(length > 0.0)) {
+            return base::make_error("bad_transform",
+                                    std::string("the index-to-patient transform's ") +
+                                            index_names[static_cast<std::size_t>(column)] +
+                                            " column is zero or not finite",
+                                    "");
+        }
+        geometry.spacing[column] = length;
+        geometry.axes[column] = step / length;
+    }
+    for (int a = 0; a < 3; ++a) {
+        for (int b = a + 1; b < 3; ++b) {
+            const double cosine = glm::dot(geometry.axes[a], geometry.axes[b]);
+            if (std::abs(cosine) > max_axis_cosine) {
+                char angle[32];
+                std::snprintf(angle, sizeof angle, "%.3g",
+                              std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi);
+                return base::make_error(
+                        "sheared_transform",
+                        std::string("the index axes ") + index_names[static_cast<std::size_t>(a)] +
+                                " and " + index_names[static_cast<std::size_t>(b)] + " are " +
+                                angle +
+                                " degrees apart, not perpendicular (a gantry-tilted or sheared "
+                                "acquisition); Penumbra draws volumes only rotated or reflected",
+                        "");
+            }
+        }
+    }
+    if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z)) {
+        return base::make_error("bad_transform",
+                                "the origin of the index-to-patient transform is "
+                                "not finite",
+                                "");
+    }
+    geometry.origin = origin;
+    return geometry;
 }
 
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
@@ -216,10 +312,14 @@ Histogram compute_histogram(const Volume& volume, std::size_t bin_count) {
         case VoxelType::uint16:
             histogram_of_integers<std::uint16_t>(volume, histogram);
             break;
+        case VoxelType::int16:
+            histogram_of_integers<std::int16_t>(volume, histogram);
+            break;
         case VoxelType::float32: {
             const std::size_t count = volume.voxel_count();
             for (std::size_t i = 0; i < count; ++i) {
-                ++histogram.bins[bin_index(load_sample<float>(volume.data, i), histogram)];
+                const double value = volume.rescale.apply(load_sample<float>(volume.data, i));
+                ++histogram.bins[bin_index(value, histogram)];
             }
             break;
         }

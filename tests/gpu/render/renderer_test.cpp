@@ -190,6 +190,24 @@ TEST_F(RendererTest, Uint16AndUint8VolumesMatchCpuReference) {
     expect_matches_cpu(*volume8, request, {8.0 / 255.0, 1.0 / 255.0}, "uint8");
 }
 
+// A CT as scanners write it: int16 stored values with a rescale intercept, kept as int16 on the
+// GPU; the image matches the CPU reference, which reads the same real (Hounsfield) values.
+TEST_F(RendererTest, Int16CtWithRescaleMatchesCpuReference) {
+    const volume::Volume radial = test::radial_volume(32);
+    std::vector<std::byte> bytes(radial.voxel_count() * 2);
+    for (std::size_t i = 0; i < radial.voxel_count(); ++i) {
+        float v = 0.0f;
+        std::memcpy(&v, &radial.data[i * 4], 4);
+        const auto stored = static_cast<std::int16_t>(std::lround(v * 4000.0f) - 1000);
+        std::memcpy(&bytes[i * 2], &stored, 2);
+    }
+    auto ct = volume::make_volume("ct", radial.dims, radial.spacing, volume::VoxelType::int16,
+                                  bytes, volume::Rescale{1.0, -1024.0});
+    ASSERT_TRUE(ct.ok()) << ct.error().to_string();
+    EXPECT_LT(ct->range.min, -1024.0);  // real values: the intercept applied
+    expect_matches_cpu(*ct, small_request(scene::Mode::phong), float_volume, "int16");
+}
+
 TEST_F(RendererTest, CachesTheVolumeAndTransferFunctionUploads) {
     const volume::Volume volume = test::radial_volume(16);
     auto request = small_request(scene::Mode::dvr, 16);

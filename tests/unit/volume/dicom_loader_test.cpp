@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -123,7 +124,7 @@ TEST(DicomLoader, ObliqueOrientationSortsAlongTheSliceNormal) {
     expect_ch2_voxels(*volume, words);
 }
 
-TEST(DicomLoader, CtRescaleGivesHounsfieldUnitsAsFloat32) {
+TEST(DicomLoader, CtStaysInt16WithItsRescaleGivingHounsfieldUnits) {
     fixtures::TempDir dir;
     auto words = fixtures::ch2_box(box_first, box_dims);
     for (auto& word : words) {
@@ -138,11 +139,51 @@ TEST(DicomLoader, CtRescaleGivesHounsfieldUnitsAsFloat32) {
 
     auto volume = load_volume(dir / "ct");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_EQ(volume->data.size(), words.size() * 2);  // half of float32
+    EXPECT_EQ(volume->rescale.slope, 1.0);
+    EXPECT_EQ(volume->rescale.intercept, -1024.0);
     expect_voxels(*volume, words, [](std::uint16_t word) {
         return static_cast<double>(static_cast<std::int16_t>(word)) - 1024.0;
     });
-    EXPECT_LT(volume->range.min, -1000.0);
+    EXPECT_LT(volume->range.min, -1024.0);
+    EXPECT_FALSE(volume->hounsfield);  // the fixture's modality is MR and it has no RescaleType
+}
+
+TEST(DicomLoader, ModalityCtOrRescaleTypeHuMarksHounsfieldUnits) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 2});
+    for (const char* tag : {"modality", "rescale type"}) {
+        SeriesSpec spec;
+        spec.dims = {16, 8, 2};
+        spec.edit = [&](DcmDataset& dataset) {
+            if (std::string(tag) == "modality") {
+                dataset.putAndInsertString(DCM_Modality, "CT");
+            } else {
+                dataset.putAndInsertString(DCM_RescaleType, "HU");
+            }
+        };
+        const auto folder = dir / (std::string(tag) == "modality" ? "ct" : "hu");
+        fixtures::write_series(folder, spec, words);
+        auto volume = load_volume(folder);
+        ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+        EXPECT_TRUE(volume->hounsfield) << tag;
+    }
+}
+
+TEST(DicomLoader, Monochrome1IsInverted) {
+    fixtures::TempDir dir;
+    const std::vector<std::uint16_t> words{0, 1, 100, 4095, 7, 8, 9, 10};
+    SeriesSpec spec;
+    spec.dims = {4, 2, 1};
+    spec.bits_stored = 12;
+    spec.edit = [](DcmDataset& dataset) {
+        dataset.putAndInsertString(DCM_PhotometricInterpretation, "MONOCHROME1");
+    };
+    fixtures::write_series(dir / "film", spec, words);
+    auto volume = load_volume(dir / "film");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_voxels(*volume, words, [](std::uint16_t word) { return 4095.0 - word; });
 }
 
 TEST(DicomLoader, FractionalSlopeIsAppliedInFloat32) {
@@ -160,7 +201,7 @@ TEST(DicomLoader, FractionalSlopeIsAppliedInFloat32) {
     expect_voxels(*volume, words, [](std::uint16_t word) { return word * 0.5 + 10.0; });
 }
 
-TEST(DicomLoader, IntegerInterceptThatKeepsValuesPositiveStaysUint16) {
+TEST(DicomLoader, IntegerInterceptIsKeptAsTheRescaleOfSignedData) {
     fixtures::TempDir dir;
     const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
     SeriesSpec spec;
@@ -171,7 +212,8 @@ TEST(DicomLoader, IntegerInterceptThatKeepsValuesPositiveStaysUint16) {
 
     auto volume = load_volume(dir / "mr");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::uint16);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_EQ(volume->rescale.intercept, 100.0);
     expect_voxels(*volume, words, [](std::uint16_t word) { return word + 100.0; });
 }
 
@@ -191,7 +233,7 @@ TEST(DicomLoader, BitsStoredMasksHighBitsAndSignExtends) {
 
     auto volume = load_volume(dir / "s12");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
     for (std::uint32_t i = 0; i < values.size(); ++i) {
         EXPECT_EQ(volume->value(i % 4, i / 4, 0), values[i]) << i;
     }
@@ -467,7 +509,8 @@ TEST(DicomLoader, RealCtSliceInHounsfieldUnits) {
     auto volume = load_volume(pydicom_files / "CT_small.dcm");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->dims, glm::uvec3(128, 128, 1));
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_TRUE(volume->hounsfield);
     EXPECT_DOUBLE_EQ(volume->spacing.x, 0.661468);
     EXPECT_DOUBLE_EQ(volume->spacing.y, 0.661468);
     EXPECT_DOUBLE_EQ(volume->spacing.z, 5.0);  // SliceThickness, for a single slice
@@ -491,7 +534,7 @@ TEST(DicomLoader, RealMrSliceDecodesAlikeInEveryTransferSyntax) {
     auto reference = load_volume(pydicom_files / "MR_small.dcm");
     ASSERT_TRUE(reference.ok()) << reference.error().to_string();
     EXPECT_EQ(reference->dims, glm::uvec3(64, 64, 1));
-    EXPECT_EQ(reference->type, VoxelType::uint16);  // signed, but every value is positive
+    EXPECT_EQ(reference->type, VoxelType::int16);  // signed, though every value is positive
     EXPECT_DOUBLE_EQ(reference->spacing.x, 0.3125);
     // pydicom: 127..2145, pixel (row 0, column 0) 905, (row 10, column 20) 316.
     EXPECT_EQ(reference->range.min, 127);
@@ -521,6 +564,79 @@ TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {
     EXPECT_EQ(volume.error().code, "unsupported_encoding");
     EXPECT_TRUE(contains(volume.error().message, "JPEG 2000")) << volume.error().to_string();
     EXPECT_TRUE(contains(volume.error().where, "MR_small_jp2klossless.dcm"));
+}
+
+void expect_axes(const Volume& volume, glm::dvec3 i, glm::dvec3 j, glm::dvec3 k) {
+    for (int row = 0; row < 3; ++row) {
+        EXPECT_NEAR(volume.axes[0][row], i[row], 1e-6) << "axis i, component " << row;
+        EXPECT_NEAR(volume.axes[1][row], j[row], 1e-6) << "axis j, component " << row;
+        EXPECT_NEAR(volume.axes[2][row], k[row], 1e-6) << "axis k, component " << row;
+    }
+}
+
+// DICOM's patient space is LPS: an axial series (rows along +x, columns along +y) is LPS, and
+// its first slice's position, converted to RAS, is the origin.
+TEST(DicomLoader, AxialSeriesIsLpsWithTheFirstSliceAsOrigin) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    fixtures::write_series(dir / "axial", ch2_spec(), words);
+    auto volume = load_volume(dir / "axial");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-1, 0, 0}, {0, -1, 0}, {0, 0, 1});
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(volume->origin.x, 40.0, 1e-6);
+    EXPECT_NEAR(volume->origin.y, -12.5, 1e-6);
+    EXPECT_NEAR(volume->origin.z, -7.0, 1e-6);
+}
+
+TEST(DicomLoader, SagittalSeriesKeepsItsAnatomy) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    spec.orientation = {0, 1, 0, 0, 0, -1};  // rows toward posterior, columns toward inferior
+    fixtures::write_series(dir / "sagittal", spec, words);
+    auto volume = load_volume(dir / "sagittal");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    // The normal, row x column, is -x in LPS: toward the patient's right.
+    expect_axes(*volume, {0, -1, 0}, {0, 0, -1}, {1, 0, 0});
+    EXPECT_EQ(orientation_code(volume->axes), "PIR");
+    EXPECT_NEAR(volume->spacing.z, 1.25, 1e-9);
+    expect_ch2_voxels(*volume, words);
+}
+
+TEST(DicomLoader, ObliqueSeriesKeepsItsDirections) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    const double c = std::sqrt(3.0) / 2.0;
+    spec.orientation = {c, 0.5, 0, -0.5, c, 0};  // axial, turned 30 degrees about z
+    fixtures::write_series(dir / "oblique", spec, words);
+    auto volume = load_volume(dir / "oblique");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-c, -0.5, 0}, {0.5, -c, 0}, {0, 0, 1});
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+}
+
+// Slices of a gantry-tilted CT step along the table, not along their normal: the volume is
+// sheared, which Penumbra refuses with a message rather than drawing it straightened.
+TEST(DicomLoader, GantryTiltIsRefusedAsSheared) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, box_dims);
+    SeriesSpec spec = ch2_spec();
+    spec.edit = [](DcmDataset& dataset) {
+        OFString text;
+        ASSERT_TRUE(dataset.findAndGetOFStringArray(DCM_ImagePositionPatient, text).good());
+        double x = 0, y = 0, z = 0;
+        ASSERT_EQ(std::sscanf(text.c_str(), "%lf\\%lf\\%lf", &x, &y, &z), 3);
+        const std::string tilted =
+                std::to_string(x) + "\\" + std::to_string(y + 0.2 * z) + "\\" + std::to_string(z);
+        ASSERT_TRUE(dataset.putAndInsertString(DCM_ImagePositionPatient, tilted.c_str()).good());
+    };
+    fixtures::write_series(dir / "tilted", spec, words);
+    auto volume = load_volume(dir / "tilted");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_TRUE(contains(volume.error().message, "gantry")) << volume.error().message;
 }
 
 }  // namespace

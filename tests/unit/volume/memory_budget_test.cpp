@@ -49,14 +49,16 @@ TEST(LoadBudget, RawCountsTheBytesOfTheTypeTheVolumeKeeps) {
     fixtures::write_bytes(dir / "kept_16x8x4_uint16.raw", samples);
     expect_budget([&](const LoadOptions& o) { return load_raw(dir / "kept_16x8x4_uint16.raw", o); },
                   16 * 8 * 4 * 2);
-    // int16 is kept as float32: twice the file's bytes.
-    fixtures::write_bytes(dir / "wide_16x8x4_int16.raw", samples);
+    // int16 is kept as int16; float64 becomes float32: half the file's bytes.
+    fixtures::write_bytes(dir / "kept_16x8x4_int16.raw", samples);
     expect_budget(
-            [&](const LoadOptions& o) { return load_volume(dir / "wide_16x8x4_int16.raw", o); },
+            [&](const LoadOptions& o) { return load_volume(dir / "kept_16x8x4_int16.raw", o); },
+            16 * 8 * 4 * 2);
+    const std::vector<std::byte> doubles(16 * 8 * 4 * 8, std::byte{0});
+    fixtures::write_gzip_file(dir / "gz_16x8x4_float64.raw.gz", doubles);
+    expect_budget(
+            [&](const LoadOptions& o) { return load_raw(dir / "gz_16x8x4_float64.raw.gz", o); },
             16 * 8 * 4 * 4);
-    fixtures::write_gzip_file(dir / "gz_16x8x4_int16.raw.gz", samples);
-    expect_budget([&](const LoadOptions& o) { return load_raw(dir / "gz_16x8x4_int16.raw.gz", o); },
-                  16 * 8 * 4 * 4);
 }
 
 TEST(LoadBudget, NrrdCountsTheDeclaredSizeEvenWhenTheDataIsMissing) {
@@ -82,9 +84,9 @@ TEST(LoadBudget, NrrdCountsTheDeclaredSizeEvenWhenTheDataIsMissing) {
 TEST(LoadBudget, NiftiCountsTheStoredBytes) {
     fixtures::TempDir dir;
     std::int64_t dims[8] = {3, 8, 4, 2, 1, 1, 1, 1};
-    nifti_image* image = nifti_make_new_nim(dims, DT_INT16, 1);
+    nifti_image* image = nifti_make_new_nim(dims, DT_INT32, 1);
     ASSERT_NE(image, nullptr);
-    const auto path = dir / "short.nii.gz";
+    const auto path = dir / "int.nii.gz";
     ASSERT_EQ(nifti_set_filenames(image, path.c_str(), 0, 1), 0);
     nifti_image_write(image);
     nifti_image_free(image);

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <nifti2_io.h>
 
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 namespace penumbra::volume {
@@ -25,6 +27,15 @@ struct NiftiSpec {
     double slope = 0.0;
     double inter = 0.0;
     int nifti_type = NIFTI_FTYPE_NIFTI1_1;
+    // The qform as quaternion (b, c, d), qfac and offset; written when qform_code > 0.
+    int qform_code = 0;
+    glm::dvec3 quatern{0.0};
+    double qfac = 1.0;
+    glm::dvec3 qoffset{0.0};
+    // The sform's first three rows (each: three columns, then the offset); written when
+    // sform_code > 0.
+    int sform_code = 0;
+    std::array<std::array<double, 4>, 3> sform{};
 };
 
 // Writes a NIfTI file with the nifti library itself; the extension of `path` (.nii or .nii.gz)
@@ -45,6 +56,21 @@ void write_nifti(const std::filesystem::path& path, const NiftiSpec& spec,
     image->scl_slope = spec.slope;
     image->scl_inter = spec.inter;
     image->nifti_type = spec.nifti_type;
+    image->qform_code = spec.qform_code;
+    image->quatern_b = spec.quatern.x;
+    image->quatern_c = spec.quatern.y;
+    image->quatern_d = spec.quatern.z;
+    image->qfac = spec.qfac;
+    image->qoffset_x = spec.qoffset.x;
+    image->qoffset_y = spec.qoffset.y;
+    image->qoffset_z = spec.qoffset.z;
+    image->sform_code = spec.sform_code;
+    for (int row = 0; row < 3; ++row) {
+        for (int column = 0; column < 4; ++column) {
+            image->sto_xyz.m[row][column] =
+                    spec.sform[static_cast<std::size_t>(row)][static_cast<std::size_t>(column)];
+        }
+    }
     ASSERT_EQ(nifti_set_filenames(image, path.c_str(), 0, 1), 0);
     nifti_image_write(image);
     nifti_image_free(image);
@@ -79,7 +105,7 @@ TEST(NiftiLoader, Uint8RoundTrip) {
     EXPECT_EQ(volume->range.max, 70.0);
 }
 
-TEST(NiftiLoader, GzipInt16BecomesFloat32) {
+TEST(NiftiLoader, GzipInt16IsKept) {
     fixtures::TempDir dir;
     NiftiSpec spec;
     spec.datatype = DT_INT16;
@@ -89,7 +115,8 @@ TEST(NiftiLoader, GzipInt16BecomesFloat32) {
     auto volume = load_volume(dir / "ct.nii.gz");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->name, "ct");
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_FALSE(volume->hounsfield);
     EXPECT_EQ(volume->range.min, -1000.0);
     EXPECT_EQ(volume->range.max, 2000.0);
     EXPECT_EQ(volume->value(1, 1, 1), 2000.0);
@@ -307,5 +334,119 @@ TEST(NiftiRealData, Inia19Brain) {
     EXPECT_LT(volume->range.min, volume->range.max);
 }
 
+void expect_axes(const Volume& volume, glm::dvec3 i, glm::dvec3 j, glm::dvec3 k) {
+    for (int row = 0; row < 3; ++row) {
+        EXPECT_NEAR(volume.axes[0][row], i[row], 1e-6) << "axis i, component " << row;
+        EXPECT_NEAR(volume.axes[1][row], j[row], 1e-6) << "axis j, component " << row;
+        EXPECT_NEAR(volume.axes[2][row], k[row], 1e-6) << "axis k, component " << row;
+    }
+}
+
+TEST(NiftiLoader, NoTransformCodeGivesIdentityAxesScaledByPixdim) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.spacing = {0.5, 2.0, 3.0};
+    write_nifti(dir / "plain.nii", spec, sequence_uint8(8));
+    auto volume = load_nifti(dir / "plain.nii");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->axes, glm::dmat3(1.0));
+    EXPECT_EQ(volume->origin, glm::dvec3(0.0));
+    EXPECT_EQ(volume->spacing, glm::dvec3(0.5, 2.0, 3.0));
+}
+
+// FSL's atlases store x reversed: a qform of 180 degrees about y with qfac -1 flips only x.
+TEST(NiftiLoader, QformWithQfacGivesLasAxes) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.spacing = {2.0, 3.0, 4.0};
+    spec.qform_code = NIFTI_XFORM_SCANNER_ANAT;
+    spec.quatern = {0.0, 1.0, 0.0};
+    spec.qfac = -1.0;
+    spec.qoffset = {90.0, -126.0, -72.0};
+    write_nifti(dir / "las.nii", spec, sequence_uint8(8));
+    auto volume = load_nifti(dir / "las.nii");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    EXPECT_EQ(orientation_code(volume->axes), "LAS");
+    EXPECT_NEAR(volume->spacing.x, 2.0, 1e-6);
+    EXPECT_NEAR(volume->spacing.y, 3.0, 1e-6);
+    EXPECT_NEAR(volume->spacing.z, 4.0, 1e-6);
+    EXPECT_NEAR(volume->origin.x, 90.0, 1e-4);
+    EXPECT_NEAR(volume->origin.y, -126.0, 1e-4);
+    EXPECT_NEAR(volume->origin.z, -72.0, 1e-4);
+}
+
+TEST(NiftiLoader, SformWinsOverQformAndMayBeOblique) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.qform_code = NIFTI_XFORM_SCANNER_ANAT;
+    spec.quatern = {0.0, 1.0, 0.0};
+    spec.qfac = -1.0;
+    spec.sform_code = NIFTI_XFORM_MNI_152;
+    // Coronal slices, then 30 degrees about z: i = (c, s, 0), j = (0, 0, 1) * 2, k = (s, -c, 0).
+    const double c = std::sqrt(3.0) / 2.0;
+    spec.sform = {{{c, 0.0, 0.5, -5.0}, {0.5, 0.0, -c, 6.0}, {0.0, 2.0, 0.0, 7.0}}};
+    write_nifti(dir / "oblique.nii", spec, sequence_uint8(8));
+    auto volume = load_nifti(dir / "oblique.nii");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {c, 0.5, 0.0}, {0.0, 0.0, 1.0}, {0.5, -c, 0.0});
+    EXPECT_EQ(orientation_code(volume->axes), "RSP");
+    EXPECT_NEAR(volume->spacing.y, 2.0, 1e-6);
+    EXPECT_NEAR(volume->origin.x, -5.0, 1e-5);
+    EXPECT_NEAR(volume->origin.y, 6.0, 1e-5);
+    EXPECT_NEAR(volume->origin.z, 7.0, 1e-5);
+}
+
+TEST(NiftiLoader, ShearedSformWithoutQformIsRefused) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.sform_code = NIFTI_XFORM_ALIGNED_ANAT;
+    spec.sform = {{{1.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.3, 0.0}, {0.0, 0.0, 1.0, 0.0}}};
+    write_nifti(dir / "sheared.nii", spec, sequence_uint8(8));
+    auto volume = load_nifti(dir / "sheared.nii");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_TRUE(contains(volume.error().message, "sform")) << volume.error().message;
+}
+
+TEST(NiftiLoader, ShearedSformFallsBackToTheQform) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.qform_code = NIFTI_XFORM_SCANNER_ANAT;
+    spec.sform_code = NIFTI_XFORM_ALIGNED_ANAT;
+    spec.sform = {{{1.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.3, 0.0}, {0.0, 0.0, 1.0, 0.0}}};
+    write_nifti(dir / "sheared.nii", spec, sequence_uint8(8));
+    auto volume = load_nifti(dir / "sheared.nii");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(orientation_code(volume->axes), "RAS");
+}
+
+TEST(NiftiLoader, IntegerScaleOnInt16IsKeptAsRescaleAndIntentHuMarksHounsfield) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.datatype = DT_INT16;
+    spec.slope = 1.0;
+    spec.inter = -1024.0;
+    const std::vector<std::int16_t> values{0, 24, 1024, 4000, 5, 6, 7, 8};
+    write_nifti(dir / "ct.nii", spec, as_bytes(values));
+    auto plain = load_nifti(dir / "ct.nii");
+    ASSERT_TRUE(plain.ok()) << plain.error().to_string();
+    EXPECT_EQ(plain->type, VoxelType::int16);
+    EXPECT_EQ(plain->data, as_bytes(values));
+    EXPECT_EQ(plain->value(0, 0, 0), -1024.0);
+    EXPECT_EQ(plain->value(1, 1, 0), 4000.0 - 1024.0);
+    EXPECT_EQ(plain->range.min, -1024.0);
+    EXPECT_FALSE(plain->hounsfield);
+
+    nifti_image* image = nifti_image_read((dir / "ct.nii").c_str(), 1);
+    ASSERT_NE(image, nullptr);
+    std::strcpy(image->intent_name, "HU");
+    ASSERT_EQ(nifti_set_filenames(image, (dir / "marked.nii").c_str(), 0, 1), 0);
+    nifti_image_write(image);
+    nifti_image_free(image);
+    auto marked = load_nifti(dir / "marked.nii");
+    ASSERT_TRUE(marked.ok()) << marked.error().to_string();
+    EXPECT_TRUE(marked->hounsfield);
+}
 }  // namespace
 }  // namespace penumbra::volume

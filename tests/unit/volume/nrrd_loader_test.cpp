@@ -147,7 +147,7 @@ TEST(NrrdLoader, BigEndianSamplesAreSwapped) {
     EXPECT_EQ(floats->value(0, 0, 0), 1.5);
 }
 
-TEST(NrrdLoader, Int16BigEndianIsConvertedToFloat32) {
+TEST(NrrdLoader, Int16BigEndianIsKeptAsInt16) {
     fixtures::TempDir dir;
     const std::vector<std::byte> big{std::byte{0xff}, std::byte{0xfe}, std::byte{0x01},
                                      std::byte{0x00}};
@@ -156,7 +156,7 @@ TEST(NrrdLoader, Int16BigEndianIsConvertedToFloat32) {
                                 "sizes: 1 2 1\nendian: big\nencoding: raw\n",
                                 big);
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
     EXPECT_EQ(volume->value(0, 0, 0), -2.0);
     EXPECT_EQ(volume->value(0, 1, 0), 256.0);
 }
@@ -179,13 +179,108 @@ TEST(NrrdLoader, SpaceDirectionsGiveTheVectorLengths) {
     auto volume = load_attached(dir,
                                 std::string(cube_header) +
                                         "space: right-anterior-superior\n"
-                                        "space directions: (0.6,0.8,0) (0, -2, 0) (0,0,0.25)\n"
+                                        "space directions: (0.6,0.8,0) (1.6,-1.2,0) (0,0,0.25)\n"
                                         "space origin: (1,2,3)\n",
                                 cube_uint8());
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_DOUBLE_EQ(volume->spacing.x, 1.0);
     EXPECT_DOUBLE_EQ(volume->spacing.y, 2.0);
     EXPECT_DOUBLE_EQ(volume->spacing.z, 0.25);
+}
+
+void expect_axes(const Volume& volume, glm::dvec3 i, glm::dvec3 j, glm::dvec3 k) {
+    for (int row = 0; row < 3; ++row) {
+        EXPECT_NEAR(volume.axes[0][row], i[row], 1e-12) << "axis i, component " << row;
+        EXPECT_NEAR(volume.axes[1][row], j[row], 1e-12) << "axis j, component " << row;
+        EXPECT_NEAR(volume.axes[2][row], k[row], 1e-12) << "axis k, component " << row;
+    }
+}
+
+TEST(NrrdLoader, RasSpaceDirectionsAreTheAxesAndOrigin) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                std::string(cube_header) +
+                                        "space: right-anterior-superior\n"
+                                        "space directions: (0.6,0.8,0) (1.6,-1.2,0) (0,0,0.25)\n"
+                                        "space origin: (1,2,3)\n",
+                                cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {0.6, 0.8, 0.0}, {0.8, -0.6, 0.0}, {0.0, 0.0, 1.0});
+    EXPECT_EQ(volume->origin, glm::dvec3(1.0, 2.0, 3.0));
+    EXPECT_EQ(orientation_code(volume->axes), "ARS");
+}
+
+TEST(NrrdLoader, LpsSpaceIsConvertedToRas) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                std::string(cube_header) +
+                                        "space: left-posterior-superior\n"
+                                        "space directions: (2,0,0) (0,3,0) (0,0,4)\n"
+                                        "space origin: (10,-20,30)\n",
+                                cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    expect_axes(*volume, {-1.0, 0.0, 0.0}, {0.0, -1.0, 0.0}, {0.0, 0.0, 1.0});
+    EXPECT_EQ(volume->spacing, glm::dvec3(2.0, 3.0, 4.0));
+    EXPECT_EQ(volume->origin, glm::dvec3(-10.0, 20.0, 30.0));
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+}
+
+TEST(NrrdLoader, LasSpaceMirrorsX) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                std::string(cube_header) +
+                                        "space: LAS\n"
+                                        "space directions: (1,0,0) (0,1,0) (0,0,1)\n",
+                                cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(orientation_code(volume->axes), "LAS");
+    EXPECT_EQ(volume->origin, glm::dvec3(0.0));
+}
+
+TEST(NrrdLoader, ObliqueDirectionsAreKept) {
+    fixtures::TempDir dir;
+    // 30 degrees about the patient's z axis, in LPS.
+    const double c = std::sqrt(3.0) / 2.0;
+    const std::string directions = "space directions: (" + std::to_string(c) + ",0.5,0) (-0.5," +
+                                   std::to_string(c) + ",0) (0,0,1)\n";
+    auto volume = load_attached(
+            dir, std::string(cube_header) + "space: left-posterior-superior\n" + directions,
+            cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    for (int row = 0; row < 2; ++row) {
+        EXPECT_NEAR(volume->axes[0][row], (row == 0 ? -c : -0.5), 1e-6);
+        EXPECT_NEAR(volume->axes[1][row], (row == 0 ? 0.5 : -c), 1e-6);
+    }
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+}
+
+TEST(NrrdLoader, ShearedDirectionsAreRefused) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir,
+                                std::string(cube_header) +
+                                        "space: left-posterior-superior\n"
+                                        "space directions: (1,0,0) (0,1,0) (0,0.2,1)\n",
+                                cube_uint8());
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_TRUE(contains(volume.error().message, "not perpendicular")) << volume.error().message;
+}
+
+TEST(NrrdLoader, UnknownSpaceIsRefused) {
+    fixtures::TempDir dir;
+    auto volume =
+            load_attached(dir, std::string(cube_header) + "space: upside-down\n", cube_uint8());
+    ASSERT_FALSE(volume.ok());
+    EXPECT_TRUE(contains(volume.error().message, "unknown space")) << volume.error().message;
+}
+
+TEST(NrrdLoader, SpacingsWithoutSpaceGiveIdentityAxes) {
+    fixtures::TempDir dir;
+    auto volume = load_attached(dir, std::string(cube_header) + "spacings: 2 3 4\n", cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->axes, glm::dmat3(1.0));
+    EXPECT_EQ(volume->spacing, glm::dvec3(2.0, 3.0, 4.0));
+    EXPECT_EQ(orientation_code(volume->axes), "RAS");
 }
 
 TEST(NrrdLoader, CommentsKeyValuesAndOtherFieldsAreIgnored) {
@@ -217,8 +312,8 @@ TEST(NrrdLoader, TypeSpellingsAreAllAccepted) {
     const Case cases[] = {
             {"uchar", 1, VoxelType::uint8},           {"unsigned char", 1, VoxelType::uint8},
             {"uint8_t", 1, VoxelType::uint8},         {"signed char", 1, VoxelType::float32},
-            {"int8", 1, VoxelType::float32},          {"short", 2, VoxelType::float32},
-            {"int16_t", 2, VoxelType::float32},       {"unsigned short int", 2, VoxelType::uint16},
+            {"int8", 1, VoxelType::float32},          {"short", 2, VoxelType::int16},
+            {"int16_t", 2, VoxelType::int16},         {"unsigned short int", 2, VoxelType::uint16},
             {"uint16", 2, VoxelType::uint16},         {"int", 4, VoxelType::float32},
             {"unsigned int", 4, VoxelType::float32},  {"uint32_t", 4, VoxelType::float32},
             {"long long int", 8, VoxelType::float32}, {"ulonglong", 8, VoxelType::float32},
@@ -527,16 +622,16 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
     fixtures::write_bytes(dir / "outside.raw", bytes);
     fixtures::write_bytes(dir / "volumes" / "sub" / "inside.raw", bytes);
     std::filesystem::create_symlink(dir / "outside.raw", dir / "volumes" / "link.raw");
-    const std::string header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
-                               "encoding: raw\ndata file: ";
+    const std::string header =
+            "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+            "encoding: raw\ndata file: ";
     const auto load_with = [&](const std::string& data_file) {
         fixtures::write_text(dir / "volumes" / "h.nhdr", header + data_file + "\n");
         return load_nrrd(dir / "volumes" / "h.nhdr");
     };
-    for (const std::string& refused :
-         {std::string("/etc/passwd"), std::string("../outside.raw"),
-          std::string("sub/../../outside.raw"), (dir / "outside.raw").string(),
-          std::string("link.raw")}) {
+    for (const std::string& refused : {std::string("/etc/passwd"), std::string("../outside.raw"),
+                                       std::string("sub/../../outside.raw"),
+                                       (dir / "outside.raw").string(), std::string("link.raw")}) {
         const auto volume = load_with(refused);
         ASSERT_FALSE(volume.ok()) << refused;
         EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
@@ -570,9 +665,9 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     const std::string last_value_missing = text;
     text += "1e300";  // the last voxel, with no separator after it
     fixtures::write_text(dir / "big.txt", text);
-    fixtures::write_text(dir / "big.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: " +
-                                                   std::to_string(values) +
-                                                   " 1 1\nencoding: ascii\ndata file: big.txt\n");
+    fixtures::write_text(dir / "big.nhdr",
+                         "NRRD0004\ntype: float\ndimension: 3\nsizes: " + std::to_string(values) +
+                                 " 1 1\nencoding: ascii\ndata file: big.txt\n");
     const auto volume = load_nrrd(dir / "big.nhdr");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->value(14000, 0, 0), 0.0);
@@ -585,5 +680,15 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     EXPECT_EQ(truncated.error().code, "truncated");
 }
 
+TEST(NrrdLoader, PenumbraUnitsKeyMarksHounsfieldUnits) {
+    fixtures::TempDir dir;
+    auto plain = load_attached(dir, cube_header, cube_uint8());
+    ASSERT_TRUE(plain.ok()) << plain.error().to_string();
+    EXPECT_FALSE(plain->hounsfield);
+    auto marked = load_attached(dir, std::string(cube_header) + "penumbra_units:=HU\n",
+                                cube_uint8(), "ct.nrrd");
+    ASSERT_TRUE(marked.ok()) << marked.error().to_string();
+    EXPECT_TRUE(marked->hounsfield);
+}
 }  // namespace
 }  // namespace penumbra::volume

@@ -85,7 +85,7 @@ TEST(RawLoader, GzipRoundTrip) {
     EXPECT_EQ(volume->data, as_bytes(values));
 }
 
-TEST(RawLoader, Int16IsConvertedToFloat32) {
+TEST(RawLoader, Int16IsKept) {
     fixtures::TempDir dir;
     const std::vector<std::int16_t> values{-1024, -1, 0, 3071};
     const auto path = dir / "ct_2x2x1_int16.raw";
@@ -93,7 +93,8 @@ TEST(RawLoader, Int16IsConvertedToFloat32) {
 
     auto volume = load_raw(path);
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->type, VoxelType::float32);
+    EXPECT_EQ(volume->type, VoxelType::int16);
+    EXPECT_EQ(volume->data, as_bytes(values));
     EXPECT_EQ(volume->range.min, -1024.0);
     EXPECT_EQ(volume->range.max, 3071.0);
     EXPECT_EQ(volume->value(1, 0, 0), -1.0);

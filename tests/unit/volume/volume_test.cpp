@@ -205,5 +205,76 @@ TEST(LoadVolume, ChoosesTheLoaderFromTheFileName) {
     }
 }
 
+TEST(Orientation, CodeNamesTheNearestPatientDirectionOfEachAxis) {
+    EXPECT_EQ(orientation_code(glm::dmat3(1.0)), "RAS");
+    EXPECT_EQ(orientation_code(
+                      glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, 1))),
+              "LPS");
+    EXPECT_EQ(orientation_code(
+                      glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0))),
+              "LSA");
+    // 30 degrees off an axis still names that axis.
+    EXPECT_EQ(orientation_code(glm::dmat3(glm::dvec3(0.866, -0.5, 0), glm::dvec3(0.5, 0.866, 0),
+                                          glm::dvec3(0, 0, -1))),
+              "RAI");
+}
+
+TEST(Orientation, StepsGiveSpacingAxesAndOrigin) {
+    auto geometry = geometry_from_steps(
+            glm::dmat3(glm::dvec3(0, 0, 2), glm::dvec3(-3, 0, 0), glm::dvec3(0, 4, 0)),
+            glm::dvec3(1, 2, 3));
+    ASSERT_TRUE(geometry.ok()) << geometry.error().to_string();
+    EXPECT_EQ(geometry->spacing, glm::dvec3(2, 3, 4));
+    EXPECT_EQ(orientation_code(geometry->axes), "SLA");
+    EXPECT_EQ(geometry->origin, glm::dvec3(1, 2, 3));
+}
+
+TEST(Orientation, ShearedAndDegenerateStepsAreRefused) {
+    auto sheared = geometry_from_steps(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0.1, 1)),
+            glm::dvec3(0));
+    ASSERT_FALSE(sheared.ok());
+    EXPECT_EQ(sheared.error().code, "sheared_transform");
+    auto flat = geometry_from_steps(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0), glm::dvec3(0, 0, 1)), glm::dvec3(0));
+    ASSERT_FALSE(flat.ok());
+    EXPECT_EQ(flat.error().code, "bad_transform");
+}
+
+TEST(Orientation, LpsToRasNegatesXAndY) {
+    EXPECT_EQ(lps_to_ras(glm::dvec3(1, 2, 3)), glm::dvec3(-1, -2, 3));
+}
+
+TEST(Rescale, Int16WithRescaleGivesRealValuesRangeAndHistogram) {
+    const std::vector<std::int16_t> stored{-32768, -1, 0, 32767};
+    auto volume = make_volume("ct", {2, 2, 1}, glm::dvec3(1.0), VoxelType::int16, as_bytes(stored),
+                              Rescale{2.0, -1024.0});
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->data, as_bytes(stored));
+    EXPECT_EQ(volume->value(0, 0, 0), -32768.0 * 2 - 1024);
+    EXPECT_EQ(volume->value(1, 0, 0), -2.0 - 1024);
+    EXPECT_EQ(volume->value(1, 1, 0), 32767.0 * 2 - 1024);
+    EXPECT_EQ(volume->range.min, -32768.0 * 2 - 1024);
+    EXPECT_EQ(volume->range.max, 32767.0 * 2 - 1024);
+    const Histogram histogram = compute_histogram(*volume, 2);
+    EXPECT_EQ(histogram.bins, (std::vector<std::uint64_t>{2, 2}));
+}
+
+TEST(Rescale, NegativeSlopeSwapsTheRange) {
+    const std::vector<std::uint8_t> stored{0, 10};
+    auto volume = make_volume("v", {2, 1, 1}, glm::dvec3(1.0), VoxelType::uint8, as_bytes(stored),
+                              Rescale{-1.0, 5.0});
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->range.min, -5.0);
+    EXPECT_EQ(volume->range.max, 5.0);
+}
+
+TEST(Rescale, ZeroOrNonFiniteSlopeIsRefused) {
+    for (const double slope : {0.0, std::nan("")}) {
+        auto volume = make_volume("v", {1, 1, 1}, glm::dvec3(1.0), VoxelType::uint8,
+                                  std::vector<std::byte>(1), Rescale{slope, 0.0});
+        EXPECT_FALSE(volume.ok()) << slope;
+    }
+}
 }  // namespace
 }  // namespace penumbra::volume

@@ -15,9 +15,22 @@
 
 namespace penumbra::volume {
 
-// The voxel types kept on the GPU without losing precision. Files with other types (int8, int16,
-// int32, float64, or a NIfTI scale/offset) are converted to float32 at load time.
-enum class VoxelType { uint8, uint16, float32 };
+// The voxel types kept in memory and on the GPU without losing precision. Files with other types
+// (int8, int32, float64), or with a rescale that is not a pair of integers, are converted to
+// float32 at load time.
+enum class VoxelType { uint8, uint16, int16, float32 };
+
+// How stored voxels become real values (a DICOM or NIfTI rescale): real = stored * slope +
+// intercept. Integer types keep their stored values and this mapping, so a CT of int16 stays
+// int16 while its values are Hounsfield units.
+struct Rescale {
+    double slope = 1.0;
+    double intercept = 0.0;
+
+    [[nodiscard]] double apply(double stored) const { return stored * slope + intercept; }
+
+    [[nodiscard]] bool identity() const { return slope == 1.0 && intercept == 0.0; }
+};
 
 [[nodiscard]] std::size_t bytes_per_voxel(VoxelType type);
 
@@ -35,12 +48,13 @@ struct Histogram {
 
 // A scalar volume in memory: x varies fastest, then y, then z (the order of raw, NRRD and NIfTI).
 struct Volume {
-    std::string name;              // shown to users, e.g. the file stem
-    glm::uvec3 dims{0};            // voxels per axis
-    glm::dvec3 spacing{1.0};       // physical size of one voxel (mm for medical data)
+    std::string name;         // shown to users, e.g. the file stem
+    glm::uvec3 dims{0};       // voxels per axis
+    glm::dvec3 spacing{1.0};  // physical size of one voxel (mm for medical data)
     VoxelType type = VoxelType::uint8;
-    std::vector<std::byte> data;   // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
-    ValueRange range;              // over finite voxels
+    std::vector<std::byte> data;  // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
+    Rescale rescale;              // stored data -> real values
+    ValueRange range;             // real values, over finite voxels
     std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
 
     // Where the voxels lie in patient space, in Penumbra's one convention, RAS (+x toward the
@@ -62,18 +76,47 @@ struct Volume {
     // Physical size of the volume: dims * spacing.
     [[nodiscard]] glm::dvec3 extent() const { return glm::dvec3(dims) * spacing; }
 
-    // The voxel at integer coordinates, as a double (no normalisation).
+    // The real value (rescale applied) of the voxel at integer coordinates, as a double (no
+    // normalisation).
     [[nodiscard]] double value(std::uint32_t x, std::uint32_t y, std::uint32_t z) const;
 };
 
 // Builds a Volume from values already in memory (tests, synthetic data, converters): checks the
-// size, replaces non-finite float voxels and computes the range.
+// size and the rescale (finite, slope non-zero), replaces non-finite float voxels and computes
+// the range of real values.
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
-                                 VoxelType type, std::vector<std::byte> data);
+                                 VoxelType type, std::vector<std::byte> data, Rescale rescale = {});
 
 // Convenience for float data.
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
                                  const std::vector<float>& values);
+
+// Penumbra's patient convention is RAS; DICOM and ITK write LPS. The conversion negates x and y
+// (its own inverse).
+[[nodiscard]] glm::dvec3 lps_to_ras(glm::dvec3 lps);
+
+// The three letters naming the patient direction each index axis (i, j, k) points closest to,
+// as nibabel's aff2axcodes and ITK's orientation codes do: "RAS" for identity axes, "LPS" for a
+// DICOM axial series, "LAS" for an FSL-style left-right reversed NIfTI, "LSA" for a coronal one.
+[[nodiscard]] std::string orientation_code(const glm::dmat3& axes);
+
+// The geometry of a file's index-to-patient transform: the columns of `steps` are the RAS
+// vectors from one voxel centre to the next along i, j and k, so their lengths are the spacing
+// and their directions the axes. A transform whose columns are not perpendicular (a gantry-tilted
+// CT, a sheared registration result) is an Error with code "sheared_transform" and the angle:
+// Penumbra draws a volume only rotated or reflected. Zero or non-finite columns are an Error too.
+struct Geometry {
+    glm::dvec3 spacing{1.0};
+    glm::dmat3 axes{1.0};
+    glm::dvec3 origin{0.0};
+};
+
+base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 origin);
+
+// Columns of unit axes may differ from perpendicular by this much (the cosine of their angle):
+// files store directions as float32 or as decimal strings of a few digits, while a gantry tilt
+// of even half a degree is ten times larger.
+inline constexpr double max_axis_cosine = 1e-3;
 
 [[nodiscard]] Histogram compute_histogram(const Volume& volume, std::size_t bin_count = 256);
 
@@ -96,18 +139,21 @@ struct LoadOptions {
 // but the file's own name).
 //   raw:   Open SciVis naming name_XxYxZ_type.raw[.gz], type uint8|uint16|int16|float32|float64;
 //          spacing 1 unless the file name carries none (the caller may override it).
+//          No orientation: identity axes, origin 0.
 //   NRRD:  .nrrd (attached) and .nhdr (detached "data file", which must lie in the header's
-//          folder or below it), encodings raw, gzip and ascii, spacings or space directions.
-//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2); the header through the reference nifti library.
+//          folder or below it), encodings raw, gzip and ascii, spacings or space directions;
+//          axes and origin from space, space directions and space origin.
+//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2); the header through the reference nifti library;
+//          axes and origin from the sform, else the qform.
 //   DICOM: a folder holding the files of one series (any names; the largest series when there
 //          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
-//          ordered along the slice normal; rescale slope/intercept applied (CT in HU).
+//          ordered along the slice normal; axes and origin from Image Orientation/Position
+//          (Patient); rescale slope/intercept kept as Volume::rescale (CT in HU);
+//          MONOCHROME1 inverted.
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
-base::Result<Volume> load_nifti(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
-base::Result<Volume> load_dicom(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
+base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
+base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
 
 // Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
