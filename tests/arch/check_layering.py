@@ -27,15 +27,17 @@ ALLOWED_DEPENDENCIES = {
     "encode": {"base"},
     "protocol": {"scene", "base"},
     "metrics": {"base"},
-    "session": {"render", "encode", "volume", "scene", "metrics", "base"},
+    "quality": {"render", "encode", "volume", "scene", "base"},
+    "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},
     "net": {"session", "protocol", "metrics", "base"},
 }
 MODULES = set(ALLOWED_DEPENDENCIES) | {"app"}
 
 # Third-party headers (by the first component of the include path) and the modules they are
-# confined to. app may use nlohmann for its JSON files (accuracy tables).
+# confined to. quality reads and writes the accuracy tables' JSON files; app may use nlohmann for
+# its own files.
 CONFINED = {
-    "nlohmann": {"protocol", "app"},
+    "nlohmann": {"protocol", "quality", "app"},
     "OpenImageIO": {"encode"},
     "boost": {"net"},
     "epoxy": {"gpu"}, "EGL": {"gpu"}, "GL": {"gpu"},

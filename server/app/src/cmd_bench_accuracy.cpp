@@ -4,11 +4,12 @@
 // against it and set beside the frame time. The measured table doubles as the source of quality
 // presets: for a frame-time budget, the most accurate setting that fits.
 
-#include "accuracy_sweep.hpp"
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/quality/sweep.hpp>
+#include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -33,7 +34,7 @@ int run_bench_accuracy(const std::vector<std::string>& args);
 
 namespace {
 
-using namespace accuracy;
+using namespace quality;
 
 // Defaults sized for a GPU, and lighter ones for a software rasteriser (no working timer queries,
 // llvmpipe here), where the full sweep would take hours; the lighter sweep takes minutes at 256².
@@ -66,9 +67,13 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
 
 constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
 
-int fail(const base::Error& error) { return report_failure("bench accuracy", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench accuracy", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench accuracy", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench accuracy", error);
+}
 
 void print_usage() {
     std::printf(
@@ -580,7 +585,7 @@ base::Status finish(const Table& table, const Arguments& a) {
     } else {
         budgets = default_budgets(table.points);
     }
-    const std::vector<Preset> presets = choose_presets(table.points, budgets);
+    const std::vector<Preset> presets = choose_presets(table, budgets);
     print_presets(table, presets);
     if (const auto path = a.get("csv")) {
         if (auto status = write_csv(table, *path); !status) {
@@ -589,7 +594,7 @@ base::Status finish(const Table& table, const Arguments& a) {
         std::printf("csv:      %s\n", path->c_str());
     }
     if (const auto path = a.get("json")) {
-        if (auto status = write_json(table, presets, *path); !status) {
+        if (auto status = write_table_file(*path, table, presets, "--json"); !status) {
             return status;
         }
         std::printf("json:     %s\n", path->c_str());
@@ -637,7 +642,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     }
 
     if (const auto from = a.get("from")) {
-        auto table = read_table(*from);
+        auto table = read_table_file(*from);
         if (!table) {
             return fail(table.error());
         }
@@ -738,11 +743,12 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         base.settings.phong = table.phong;
         if (v == 0) {
             describe_frame(table, base);
-            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-                        "%s, slab samples %d, phong %s\n",
-                        table.width, table.height, table.transfer_function.c_str(),
-                        table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
-                        table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
+            std::printf(
+                    "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                    "%s, slab samples %d, phong %s\n",
+                    table.width, table.height, table.transfer_function.c_str(),
+                    table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                    table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
             std::fflush(stdout);
         }
         if (auto status = (*renderer)->set_volume(volume); !status) {

@@ -1,12 +1,12 @@
-#include "accuracy_sweep.hpp"
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "render_options.hpp"
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
-#include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/quality/startup.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
@@ -27,7 +27,9 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) { return report_failure("serve", error); }
+int fail(const base::Error& error) {
+    return report_failure("serve", error);
+}
 
 // The built web client (share/penumbra/web: installed, or in a build tree a link to
 // client_web/dist), when it has been built.
@@ -35,85 +37,6 @@ std::filesystem::path default_web_root() {
     const auto built = base::data_dir("web");
     return built && std::filesystem::exists(*built / "index.html") ? *built
                                                                    : std::filesystem::path();
-}
-
-using QualityTable = std::shared_ptr<const std::vector<scene::QualitySample>>;
-
-// The table committed for this kind of device (DESIGN.md §1): measured by `bench accuracy`.
-// share/penumbra/accuracy holds docs/accuracy's tables (installed, or linked in a build tree).
-std::filesystem::path committed_table_path(const render::RendererInfo& info) {
-    const std::filesystem::path name = info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json";
-    return base::data_dir("accuracy").value_or("share/penumbra/accuracy") / name;
-}
-
-// Where a table measured at start-up is kept, one file per GL_RENDERER so that the cost is paid
-// once per kind of device: $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra; nowhere without
-// either variable.
-std::optional<std::filesystem::path> cached_table_path(const std::string& gl_renderer) {
-    std::filesystem::path folder;
-    if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && *cache != '\0') {
-        folder = std::filesystem::path(cache) / "penumbra";
-    } else if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
-        folder = std::filesystem::path(home) / ".cache" / "penumbra";
-    } else {
-        return std::nullopt;
-    }
-    // "llvmpipe (LLVM 15.0.6, 256 bits)" -> "llvmpipe_LLVM_15.0.6_256_bits": a file name on
-    // any file system, still readable.
-    std::string name;
-    for (const char c : gl_renderer) {
-        if (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '-') {
-            name += c;
-        } else if (!name.empty() && name.back() != '_') {
-            name += '_';
-        }
-    }
-    while (!name.empty() && name.back() == '_') {
-        name.pop_back();
-    }
-    return folder / ("quality-" + (name.empty() ? std::string("unknown") : name) + ".json");
-}
-
-base::Result<QualityTable> parse_table(const std::string& text, const std::string& where) {
-    auto table = protocol::parse_quality_table(text, where);
-    if (!table) {
-        return table.error();
-    }
-    return std::make_shared<const std::vector<scene::QualitySample>>(std::move(table.value()));
-}
-
-// Nothing when the file cannot be opened; an error when it is not a table.
-std::optional<base::Result<QualityTable>> read_table_file(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) {
-        return std::nullopt;
-    }
-    std::stringstream text;
-    text << in.rdbuf();
-    return parse_table(text.str(), path.string());
-}
-
-// Through a temporary file and a rename, so a server starting at the same time never reads half
-// a table.
-base::Status write_table_file(const std::filesystem::path& path, const std::string& text) {
-    std::error_code error;
-    std::filesystem::create_directories(path.parent_path(), error);
-    const std::filesystem::path temporary = path.string() + ".tmp";
-    {
-        std::ofstream out(temporary);
-        out << text << '\n';
-        if (!out) {
-            return base::make_error("io_error", "cannot write '" + temporary.string() + "'",
-                                    "quality cache");
-        }
-    }
-    std::filesystem::rename(temporary, path, error);
-    if (error) {
-        std::filesystem::remove(temporary, error);
-        return base::make_error("io_error", "cannot write '" + path.string() + "'",
-                                "quality cache");
-    }
-    return base::Ok{};
 }
 
 // "a, b,c" -> {"a", "b", "c"}.
@@ -160,44 +83,41 @@ base::Result<std::string> read_secret(const Arguments& a, const std::string& opt
     return secret;
 }
 
-enum class Measure { never, where_missing, always };
-
-// What the render thread measured before taking work.
-struct StartupMeasurement {
-    std::optional<accuracy::StartupTable> table;
-    std::string volume;
-    std::optional<base::Error> error;
-};
-
 // Measures the start-up table on the renderer that will serve, on its own thread (its GL context
-// is current there only): ch2, the default volume everywhere, where the data folder has it, else
-// the first volume offered.
-StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
-                                      session::VolumeStore& volumes, bool forced) {
-    StartupMeasurement result;
-    const std::vector<session::VolumeEntry> entries = volumes.list();
-    if (entries.empty()) {
+// is current there only).
+quality::StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
+                                               session::VolumeStore& volumes, bool forced) {
+    quality::StartupMeasurement result;
+    std::vector<std::string> offered;
+    for (const session::VolumeEntry& entry : volumes.list()) {
+        offered.push_back(entry.id);
+    }
+    const auto id = quality::startup_volume(offered);
+    if (!id) {
         result.error = base::make_error("no_volume", "no volume to measure on", "--data");
         return result;
     }
-    std::string id = entries.front().id;
-    for (const session::VolumeEntry& entry : entries) {
-        if (entry.id == "ch2.nii.gz") {
-            id = entry.id;
-        }
-    }
-    auto volume = volumes.acquire(id);
+    auto volume = volumes.acquire(*id);
     if (!volume) {
         result.error = volume.error();
         return result;
     }
-    result.volume = id;
-    const accuracy::StartupOptions options = accuracy::startup_options();
+    // The defaults of `penumbra render` and `bench accuracy`: the camera, TF and lighting the
+    // committed tables were measured with.
+    auto no_options = Arguments::parse({}, frame_option_names(), frame_flag_names());
+    auto frame = no_options ? frame_request_from(*no_options, **volume)
+                            : base::Result<scene::FrameRequest>(no_options.error());
+    if (!frame) {
+        result.error = frame.error();
+        return result;
+    }
+    result.volume = *id;
+    const quality::StartupOptions options = quality::startup_options();
     std::printf("quality:  %s a short table on %s at %dx%d (at most ~%.0f s)\n",
                 forced ? "--quality-measure: measuring" : "no table for this device: measuring",
-                id.c_str(), options.side, options.side, options.time_limit_s);
+                id->c_str(), options.side, options.side, options.time_limit_s);
     std::fflush(stdout);
-    auto table = accuracy::measure_startup_table(renderer, *volume, options);
+    auto table = quality::measure_startup_table(renderer, *volume, std::move(*frame), options);
     if (!table) {
         result.error = table.error();
         return result;
@@ -206,44 +126,38 @@ StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
     return result;
 }
 
-// The measured table as the server uses it, cached for the next start where there is a cache.
-base::Result<QualityTable> adopt_measured(const StartupMeasurement& measured,
-                                          const std::optional<std::filesystem::path>& cache) {
-    const accuracy::StartupTable& startup = *measured.table;
-    const accuracy::Table& table = startup.table;
-    const std::string text = accuracy::table_json(
-            table, accuracy::choose_presets(table.points, accuracy::default_budgets(table.points)));
-    auto parsed = parse_table(text, "the start-up measurement");
-    if (!parsed) {
-        return parsed.error();
-    }
-    std::printf("quality:  measured %zu settings on %s at %dx%d in %.1f s (%s time)%s\n",
-                table.points.size(), measured.volume.c_str(), table.width, table.height,
-                startup.seconds, accuracy::timing_name(table),
-                startup.complete ? "" : "; stopped at the time limit, serving with those");
-    if (!cache) {
-        std::printf("quality:  not cached (neither XDG_CACHE_HOME nor HOME is set)\n");
-    } else if (auto status = write_table_file(*cache, text); !status) {
-        std::printf("quality:  not cached: %s\n", status.error().to_string().c_str());
-    } else {
-        std::printf("quality:  cached in %s for the next start\n", cache->c_str());
-    }
-    return parsed;
-}
-
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(
-            args,
-            {"data", "port", "address", "web-root", "io-threads", "encode-threads",
-             "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "max-frame-work",
-             "volume-memory-mb", "max-load-mb", "gpu-memory-mb", "light-buffer-memory-mb",
-             "default-tf", "quality-table", "ping-interval", "ping-timeout",
-             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header",
-             "allowed-origins", "access-token-file", "cluster-secret-file"},
-            {"help", "debug-gl", "quality-measure", "no-quality-measure"});
+    auto parsed = Arguments::parse(args,
+                                   {"data",
+                                    "port",
+                                    "address",
+                                    "web-root",
+                                    "io-threads",
+                                    "encode-threads",
+                                    "max-sessions",
+                                    "max-image-side",
+                                    "max-slices",
+                                    "max-light-res",
+                                    "max-message-bytes",
+                                    "max-requests-per-second",
+                                    "max-frame-work",
+                                    "volume-memory-mb",
+                                    "max-load-mb",
+                                    "gpu-memory-mb",
+                                    "light-buffer-memory-mb",
+                                    "default-tf",
+                                    "quality-table",
+                                    "ping-interval",
+                                    "ping-timeout",
+                                    "max-sessions-per-client",
+                                    "max-sessions-per-connection",
+                                    "client-address-header",
+                                    "allowed-origins",
+                                    "access-token-file",
+                                    "cluster-secret-file"},
+                                   {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
                      parsed.error().to_string().c_str());
@@ -288,7 +202,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
                 "                             and its session left (default 15)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
-                "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
+                "  --quality-table FILE       `bench accuracy` table for sessions that set a "
+                "frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
                 "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
                 "                             share/penumbra/accuracy above the binary, else a\n"
@@ -320,6 +235,7 @@ int run_serve(const std::vector<std::string>& args) {
                                      "--quality-table",
                                      "--quality-measure"));
     }
+    using quality::Measure;
     const Measure measure = a.has("quality-measure") ? Measure::always
                             : a.has("no-quality-measure") || a.has("quality-table")
                                     ? Measure::never
@@ -331,12 +247,14 @@ int run_serve(const std::vector<std::string>& args) {
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
     config.client_address_header = a.get("client-address-header").value_or("");
     protocol::Limits& limits = config.limits;
+
     struct IntegerOption {
         const char* name;
         int* target;
         int min;
         int max;
     };
+
     int port = 8080;
     int encode_threads = 2;
     int volume_memory_mb = 4096;
@@ -434,7 +352,7 @@ int run_serve(const std::vector<std::string>& args) {
     // will serve: a GL context is current on one thread only, and a second one would cost another
     // context (and its eglTerminate could pull the display from under the first). The scheduler
     // takes no work, and the server accepts no connection, until the factory returns.
-    StartupMeasurement measured;
+    quality::StartupMeasurement measured;
     auto scheduler = session::Scheduler::create(
             [renderer_options, measure, &volumes,
              &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
@@ -442,12 +360,9 @@ int run_serve(const std::vector<std::string>& args) {
                 if (!renderer) {
                     return renderer.error();
                 }
-                const render::RendererInfo& info = (*renderer)->info();
-                const auto cache = cached_table_path(info.renderer);
-                const bool have_table = std::filesystem::exists(committed_table_path(info)) ||
-                                        (cache && std::filesystem::exists(*cache));
-                if (measure == Measure::always ||
-                    (measure == Measure::where_missing && !have_table)) {
+                const auto paths = quality::table_paths(
+                        (*renderer)->info(), std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
+                if (quality::should_measure(measure, paths)) {
                     measured = measure_at_startup(**renderer, volumes, measure == Measure::always);
                 }
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
@@ -463,69 +378,30 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
     limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
-    // In order: --quality-table, the start-up measurement, the committed table, the cached one.
-    const std::filesystem::path committed = committed_table_path(info);
-    const std::optional<std::filesystem::path> cache = cached_table_path(info.renderer);
-    if (const auto path = a.get("quality-table")) {
-        auto table = read_table_file(*path);
-        if (!table) {
-            return fail(base::make_error("not_found", "cannot read the quality table", *path));
-        }
-        if (!*table) {
-            return fail(table->error());
-        }
-        config.quality_table = table->value();
-        std::printf("quality:  %zu measured settings from %s\n", config.quality_table->size(),
-                    path->c_str());
-    } else if (measured.table) {
-        // Our own JSON failing to parse would be a bug, but not one worth refusing to serve for.
-        if (auto table = adopt_measured(measured, cache)) {
-            config.quality_table = table.value();
-        } else {
-            std::printf(
-                    "quality:  the measured table was not usable (%s); frame budgets are "
-                    "ignored\n",
-                    table.error().to_string().c_str());
-        }
-    } else {
-        if (measured.error) {
-            std::printf("quality:  nothing measured at start-up: %s\n",
-                        measured.error->to_string().c_str());
-        }
-        const bool use_cache = !std::filesystem::exists(committed) && cache;
-        const std::filesystem::path found = use_cache ? *cache : committed;
-        if (auto table = read_table_file(found); table && !*table && use_cache) {
-            // A cache is ours to replace: serving without budgets beats not serving.
-            std::printf("quality:  ignoring the cached table (%s); remove it to measure again\n",
-                        table->error().to_string().c_str());
-        } else if (table) {
-            if (!*table) {
-                return fail(table->error());
-            }
-            config.quality_table = table->value();
-            std::printf("quality:  %zu measured settings from %s\n", config.quality_table->size(),
-                        found.c_str());
-        } else {
-            std::printf(
-                    "quality:  no measured table for this device (%s); frame budgets are "
-                    "ignored until `penumbra bench accuracy` writes one\n",
-                    committed.c_str());
-        }
+    const std::optional<std::filesystem::path> given = a.get("quality-table");
+    auto table = quality::serve_table(
+            given, measured,
+            quality::table_paths(info, std::getenv("XDG_CACHE_HOME"), std::getenv("HOME")));
+    if (!table) {
+        return fail(table.error());
     }
+    for (const std::string& note : table->notes) {
+        std::printf("quality:  %s\n", note.c_str());
+    }
+    config.quality_table = table->table;
 
-    session::SessionRegistry sessions(limits.max_sessions,
-                                      cluster_secret->empty()
-                                              ? session::OwnerTokens()
-                                              : session::OwnerTokens(*cluster_secret),
-                                      limits.max_sessions_per_client,
-                                      limits.max_sessions_per_connection);
+    session::SessionRegistry sessions(
+            limits.max_sessions,
+            cluster_secret->empty() ? session::OwnerTokens()
+                                    : session::OwnerTokens(*cluster_secret),
+            limits.max_sessions_per_client, limits.max_sessions_per_connection);
     std::printf("access:   %s; WebSocket pages from %s\n",
                 config.access_token.empty() ? "no token asked" : "token asked on /ws",
-                config.allowed_origins.empty() ? "this server's own origin only"
-                                               : ("its own origin and " +
-                                                  std::to_string(config.allowed_origins.size()) +
-                                                  " listed")
-                                                         .c_str());
+                config.allowed_origins.empty()
+                        ? "this server's own origin only"
+                        : ("its own origin and " + std::to_string(config.allowed_origins.size()) +
+                           " listed")
+                                  .c_str());
     if (!cluster_secret->empty()) {
         std::printf("cluster:  owner tokens derived from the cluster secret\n");
     }

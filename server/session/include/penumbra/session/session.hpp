@@ -1,8 +1,8 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/quality/table.hpp>
 #include <penumbra/scene/frame_request.hpp>
-#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -105,8 +105,7 @@ public:
     // measured quality table, the most accurate setting that fits replaces the state's mode,
     // slices, light-buffer resolution and sample distance.
     [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive,
-                                     const std::vector<scene::QualitySample>* quality_table =
-                                             nullptr) const;
+                                     const quality::Table* quality_table = nullptr) const;
 
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
@@ -118,6 +117,7 @@ private:
     const ViewerId opened_by_;
     const std::string client_;
     mutable std::mutex mutex_;
+
     struct Sinks {
         ViewerSink frames;
         StateSink state_changed;
