@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/quality/report.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -206,18 +207,6 @@ base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
     return modes;
 }
 
-// 1/256 rather than 0.00390625 wherever a person reads it.
-std::string distance_label(double distance) {
-    const double inverse = 1.0 / distance;
-    char text[32];
-    if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
-        std::snprintf(text, sizeof text, "1/%.0f", inverse);
-    } else {
-        std::snprintf(text, sizeof text, "%g", distance);
-    }
-    return text;
-}
-
 std::string format(const char* pattern, double value) {
     char text[256];
     std::snprintf(text, sizeof text, pattern, value);
@@ -226,30 +215,6 @@ std::string format(const char* pattern, double value) {
 
 // ---------------------------------------------------------------------------------------------
 // The presets.
-
-// The settings no other setting beats in both time and accuracy, fastest first.
-std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time) {
-    const auto time = [worst_time](const Setting& s) {
-        return worst_time ? s.worst_frame_ms : s.frame_ms;
-    };
-    std::sort(settings.begin(), settings.end(), [&](const Setting& a, const Setting& b) {
-        return time(a) != time(b) ? time(a) < time(b) : more_accurate(a, b);
-    });
-    std::vector<Setting> front;
-    for (const Setting& s : settings) {
-        if (front.empty() || more_accurate(s, front.back())) {
-            if (!front.empty() && s.psnr_finest == front.back().psnr_finest) {
-                continue;  // as accurate and slower
-            }
-            front.push_back(s);
-        }
-    }
-    return front;
-}
-
-std::string psnr_text(double psnr) {
-    return std::isinf(psnr) ? "inf" : format("%.2f", psnr);
-}
 
 void print_presets(const Table& table, const std::vector<Preset>& presets) {
     std::set<std::string> volumes;
@@ -285,210 +250,10 @@ void print_presets(const Table& table, const std::vector<Preset>& presets) {
 // ---------------------------------------------------------------------------------------------
 // CSV and JSON.
 
-base::Status write_csv(const Table& table, const std::string& path) {
-    std::ofstream out(path);
-    if (!out) {
-        return base::make_error("io_error", "cannot write '" + path + "'", "--csv");
-    }
-    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,width,"
-           "height,timing,frame_ms,light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,"
-           "ssim_finest\n";
-    char line[512];
-    for (const Point& p : table.points) {
-        std::snprintf(line, sizeof line,
-                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,%.6f\n",
-                      p.volume.c_str(), p.light.azimuth, p.light.elevation,
-                      scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
-                      table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
-                      p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
-                      psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
-        out << line;
-    }
-    if (!out) {
-        return base::make_error("io_error", "writing '" + path + "' failed", "--csv");
-    }
-    return base::Ok{};
-}
-
 // ---------------------------------------------------------------------------------------------
-// The plot: a gnuplot script with its data inline, run once for PNG and once for SVG.
+// The plot: the template with the table's data, run by gnuplot once for PNG and once for SVG.
 
-struct ModeStyle {
-    scene::Mode mode;
-    const char* colour;
-    int point_type;
-};
-
-constexpr ModeStyle mode_styles[] = {
-        {scene::Mode::dvr, "#7f7f7f", 5},         {scene::Mode::phong, "#000000", 7},
-        {scene::Mode::half_angle, "#e07b00", 9},  {scene::Mode::sbrc, "#1f5fbf", 11},
-        {scene::Mode::sbrc_shell, "#2a9d3a", 13}, {scene::Mode::sbrc_cone, "#9b30c0", 15},
-};
-
-std::string gnuplot_string(const std::string& text) {
-    std::string quoted = "\"";
-    for (const char c : text) {
-        if (c == '\n') {
-            quoted += "\\n";  // gnuplot breaks the line where a double-quoted string says \n
-            continue;
-        }
-        if (c == '"' || c == '\\') {
-            quoted += '\\';
-        }
-        quoted += c;
-    }
-    return quoted + "\"";
-}
-
-std::string data_block(const std::string& name, const std::vector<Setting>& settings) {
-    std::string block = "$" + name + " << EOD\n";
-    char line[128];
-    for (const Setting& s : settings) {
-        // Short labels keep the crowded front readable: n/R for the sliced modes.
-        const std::string label = s.key.slices > 0 ? std::to_string(s.key.slices) + "/" +
-                                                             std::to_string(s.key.resolution)
-                                                   : std::string(scene::to_string(s.key.mode));
-        std::snprintf(line, sizeof line, "%.6g %.4f \"%s\"\n", s.frame_ms, s.psnr_finest,
-                      label.c_str());
-        block += line;
-    }
-    return block + "EOD\n";
-}
-
-// One panel per volume (means over its lights): every setting of a method as a small mark, the
-// method's own Pareto front as its curve, the front over all methods as a wide grey band, and the
-// reference's time as a vertical line (its PSNR is infinite).
-std::string gnuplot_script(const Table& table, const std::string& png, const std::string& svg) {
-    std::vector<std::string> volumes;
-    std::set<LightAngles> lights;
-    std::set<double> distances;
-    for (const Point& p : table.points) {
-        if (std::find(volumes.begin(), volumes.end(), p.volume) == volumes.end()) {
-            volumes.push_back(p.volume);
-        }
-        lights.insert(p.light);
-        distances.insert(p.sample_distance);
-    }
-    std::string light_text;
-    for (const LightAngles& l : lights) {
-        light_text += (light_text.empty() ? "" : "; ") + format("%g", l.azimuth) + "," +
-                      format("%g", l.elevation);
-    }
-    std::string distance_text;
-    for (const double d : distances) {
-        distance_text += (distance_text.empty() ? "" : ", ") + distance_label(d);
-    }
-
-    std::string data;
-    std::string body;
-    const int panels = static_cast<int>(volumes.size());
-    body += "set multiplot layout 1," + std::to_string(panels) + " title " +
-            gnuplot_string("Penumbra: accuracy vs frame time on " + table.device + "\n" +
-                           std::to_string(table.width) + "x" + std::to_string(table.height) +
-                           ", lights (az,el) " + light_text + ", sample distance " + distance_text +
-                           ", tf " + table.transfer_function +
-                           (table.phong ? ", Blinn-Phong on" : "")) +
-            " font \",12\"\n";
-    for (int v = 0; v < panels; ++v) {
-        const std::string& volume = volumes[static_cast<std::size_t>(v)];
-        const std::vector<Setting> settings = aggregate(table.points, volume);
-        std::vector<Setting> measured;
-        std::vector<Setting> references;
-        for (const Setting& s : settings) {
-            (s.key.mode == scene::Mode::reference ? references : measured).push_back(s);
-        }
-        const std::string prefix = "v" + std::to_string(v) + "_";
-        data += data_block(prefix + "front", pareto_front(measured, false));
-        double y_min = infinity;
-        double y_max = -infinity;
-        for (const Setting& s : measured) {
-            y_min = std::min(y_min, s.psnr_finest);
-            y_max = std::max(y_max, s.psnr_finest);
-        }
-        body += "set title " +
-                gnuplot_string(volume + (lights.size() > 1
-                                                 ? " (mean over " + std::to_string(lights.size()) +
-                                                           " lights)"
-                                                 : "")) +
-                "\n";
-        body += "unset arrow\nunset label\n";
-        if (std::isfinite(y_min)) {
-            body += format("set yrange [%.1f:", std::floor(y_min - 1.0)) +
-                    format("%.1f]\n", std::ceil(y_max + 2.0));
-        }
-        for (std::size_t i = 0; i < references.size(); ++i) {
-            const Setting& r = references[i];
-            body += format("set arrow from %.6g, graph 0 to ", r.frame_ms) +
-                    format("%.6g, graph 1 nohead dt 2 lw 1.5 lc rgb \"#c00000\"\n", r.frame_ms);
-            body += "set label " +
-                    gnuplot_string("reference " + distance_label(r.key.sample_distance) +
-                                   " (PSNR inf)") +
-                    format(" at %.6g, ", r.frame_ms) +
-                    format("graph %.3f right offset -0.5,0 tc rgb \"#c00000\" font \",9\"\n",
-                           0.97 - 0.05 * static_cast<double>(i));
-        }
-        std::string plots = "plot $" + prefix +
-                            "front using 1:2 with linespoints lw 9 lc rgb \"#d0d0d0\" pt 6 ps 2.2 "
-                            "title \"Pareto front (all methods)\", $" +
-                            prefix +
-                            "front using 1:2:3 with labels right offset -1.2,0 font \",8\" "
-                            "tc rgb \"#505050\" notitle";
-        for (const ModeStyle& style : mode_styles) {
-            std::vector<Setting> own;
-            for (const Setting& s : measured) {
-                if (s.key.mode == style.mode) {
-                    own.push_back(s);
-                }
-            }
-            if (own.empty()) {
-                continue;
-            }
-            const std::string name = prefix + scene::to_string(style.mode);
-            data += data_block(name + "_all", own);
-            data += data_block(name + "_front", pareto_front(own, false));
-            plots += ", $" + name + "_all using 1:2 with points pt " +
-                     std::to_string(style.point_type - 1) + " ps 0.6 lc rgb \"" + style.colour +
-                     "\" notitle";
-            plots += ", $" + name + "_front using 1:2 with linespoints lw 2 pt " +
-                     std::to_string(style.point_type) + " ps 1.1 lc rgb \"" + style.colour +
-                     "\" title \"" + scene::to_string(style.mode) + "\"";
-        }
-        body += plots + "\n";
-    }
-    body += "unset multiplot\n";
-
-    const int width = 620 * panels + 80;
-    std::string script =
-            "# Written by `penumbra bench accuracy`; `gnuplot " +
-            std::filesystem::path(png).replace_extension(".gp").string() +
-            "` in this folder redraws the PNG and SVG.\n"
-            "# x: median frame time with the light buffer cached (" +
-            std::string(table.gpu_timers ? "GPU timer queries" : "wall clock: no GPU timers") +
-            "), y: PSNR vs the reference; marks: every setting; curves: each method's Pareto "
-            "front.\n";
-    script += data;
-    const std::string x_label =
-            table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
-                             : "frame time, ms (wall clock, median; no GPU timer queries on this "
-                               "device; log scale)";
-    const std::string common =
-            "set logscale x\nset grid xtics ytics mxtics lc rgb \"#e8e8e8\"\n"
-            "set xlabel " +
-            gnuplot_string(x_label) +
-            "\nset ylabel \"PSNR vs reference, dB (higher is better); grey labels: slices n / "
-            "light-buffer R\"\n"
-            "set key bottom right box opaque font \",9\" spacing 1.1\nset mxtics 10\n";
-    script += "set terminal pngcairo size " + std::to_string(width) +
-              ",600 noenhanced font \"DejaVu Sans,10\"\nset output " + gnuplot_string(png) + "\n" +
-              common + body;
-    script +=
-            "set terminal svg size " + std::to_string(width) +
-            ",600 dynamic noenhanced font \"DejaVu Sans,10\" background \"#ffffff\"\nset output " +
-            gnuplot_string(svg) + "\n" + body + "set output\n";
-    return script;
-}
-
-// gnuplot writes the images; the script stays beside them so they can be redrawn or restyled.
+// For the shell that runs gnuplot.
 std::string shell_quoted(const std::string& text) {
     std::string quoted = "'";
     for (const char c : text) {
@@ -507,12 +272,17 @@ base::Status write_plot(const Table& table, const std::string& png) {
     }
     const std::filesystem::path svg = std::filesystem::path(png_path).replace_extension(".svg");
     const std::filesystem::path gp = std::filesystem::path(png_path).replace_extension(".gp");
+    auto plot_template = read_plot_template();
+    if (!plot_template) {
+        return plot_template.error();
+    }
     {
         std::ofstream out(gp);
         if (!out) {
             return base::make_error("io_error", "cannot write '" + gp.string() + "'", "--plot");
         }
-        out << gnuplot_script(table, png_path.filename().string(), svg.filename().string());
+        out << plot_script(table, png_path.filename().string(), svg.filename().string(),
+                           *plot_template);
         if (!out) {
             return base::make_error("io_error", "writing '" + gp.string() + "' failed", "--plot");
         }
@@ -588,7 +358,7 @@ base::Status finish(const Table& table, const Arguments& a) {
     const std::vector<Preset> presets = choose_presets(table, budgets);
     print_presets(table, presets);
     if (const auto path = a.get("csv")) {
-        if (auto status = write_csv(table, *path); !status) {
+        if (auto status = write_csv(table, *path, "--csv"); !status) {
             return status;
         }
         std::printf("csv:      %s\n", path->c_str());
