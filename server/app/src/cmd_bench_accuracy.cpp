@@ -377,6 +377,165 @@ base::Status finish(const Table& table, const Arguments& a) {
     return base::Ok{};
 }
 
+// The sweep the options ask for, over the defaults of this kind of device.
+base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
+    auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
+    auto modes = parse_modes(a.get("modes").value_or(default_modes));
+    auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
+    auto resolutions =
+            parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
+    auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
+    auto repeat = a.integer("repeat", defaults.repeat);
+    for (const base::Error* error :
+         {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
+          slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
+          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error()}) {
+        if (error != nullptr) {
+            return *error;
+        }
+    }
+    if (*repeat < 1 || *repeat > 1000) {
+        return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
+    }
+    Sweep sweep;
+    sweep.volumes = split(a.get("volumes").value_or(defaults.volumes), ',');
+    sweep.lights = *lights;
+    sweep.modes = *modes;
+    sweep.slices = *slices;
+    sweep.resolutions = *resolutions;
+    sweep.distances = *distances;
+    std::sort(sweep.distances.begin(), sweep.distances.end());
+    sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
+                          sweep.distances.end());
+    sweep.repeat = *repeat;
+    return sweep;
+}
+
+// What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
+base::Status refuse_swept_options(const Arguments& a) {
+    const std::pair<const char*, const char*> swept[] = {
+            {"mode", "--modes LIST"},
+            {"slices", "--slices-list LIST"},
+            {"light-res", "--light-res-list LIST"},
+            {"light", "--lights LIST"},
+            {"light-position", "--lights LIST (directional lights only)"},
+            {"sample-distance", "--sample-distances LIST"}};
+    for (const auto& [option, instead] : swept) {
+        if (a.has(option)) {
+            return base::make_error("invalid_argument",
+                                    std::string("bench accuracy sweeps this; use ") + instead,
+                                    std::string("--") + option);
+        }
+    }
+    return base::Ok{};
+}
+
+void print_timing(const render::RendererInfo& info, const Sweep& sweep) {
+    std::printf("penumbra bench accuracy\n");
+    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
+                info.platform.c_str());
+    if (info.gpu_timer_queries) {
+        std::printf("timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
+                    sweep.repeat);
+    } else {
+        std::printf(
+                "timing:   wall clock (this GL's timer queries mean nothing: software "
+                "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
+                "defaults for a software rasteriser\n",
+                sweep.repeat);
+    }
+}
+
+// The frame every point of one volume shares: the frame options over the defaults.
+base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume::Volume& volume,
+                                               const SweepDefaults& defaults, bool phong) {
+    auto request = frame_request_from(a, volume);
+    if (!request) {
+        return request.error();
+    }
+    if (!a.has("size")) {
+        request->settings.width = defaults.side;
+        request->settings.height = defaults.side;
+    }
+    if (request->settings.width < min_image_side || request->settings.height < min_image_side) {
+        return base::make_error("invalid_argument",
+                                "SSIM needs images of at least " + std::to_string(min_image_side) +
+                                        "x" + std::to_string(min_image_side),
+                                "--size");
+    }
+    request->settings.phong = phong;
+    return request;
+}
+
+void print_frame(const Table& table) {
+    std::printf(
+            "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+            "%s, slab samples %d, phong %s\n",
+            table.width, table.height, table.transfer_function.c_str(), table.compositing.c_str(),
+            table.stage.c_str(), table.builder.c_str(), table.light_lookup.c_str(),
+            table.slab_samples, table.phong ? "on" : "off");
+    std::fflush(stdout);
+}
+
+// Every volume of the sweep under every light, into `table`.
+base::Status measure_all(render::Renderer& renderer, const Arguments& a, const Sweep& sweep,
+                         const SweepDefaults& defaults, Table& table) {
+    AccuracyBench bench(renderer, sweep.repeat);
+    const std::uint64_t frames =
+            frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
+    const Progress progress(frames);
+    std::printf(
+            "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
+            "left)\n",
+            sweep.volumes.size(), sweep.lights.size(), static_cast<unsigned long long>(frames));
+    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
+        auto loaded = volume::load_volume(sweep.volumes[v]);
+        if (!loaded) {
+            return loaded.error();
+        }
+        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+        auto base = base_request(a, *volume, defaults, table.phong);
+        if (!base) {
+            return base.error();
+        }
+        if (v == 0) {
+            describe_frame(table, *base);
+            print_frame(table);
+        }
+        if (auto status = renderer.set_volume(volume); !status) {
+            return status;
+        }
+        const PointObserver print = [&](const Point& p) {
+            print_point(p, progress(bench.frames()));
+            return true;
+        };
+        for (const LightAngles& light : sweep.lights) {
+            print_view_header(volume->name, light);
+            if (auto measured =
+                        measure_view(bench, sweep, *base, volume->name, light, print, table.points);
+                !measured) {
+                return measured.error();
+            }
+        }
+    }
+    return base::Ok{};
+}
+
+// --from: presets, CSV, JSON and plot from a table measured before.
+int report_from(const Arguments& a, const std::string& from) {
+    auto table = read_table_file(from);
+    if (!table) {
+        return fail(table.error());
+    }
+    std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
+                from.c_str(), table->device.c_str(), table->gl_version.c_str(),
+                table->points.size());
+    if (auto status = finish(*table, a); !status) {
+        return fail(status.error());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int run_bench_accuracy(const std::vector<std::string>& args) {
@@ -395,36 +554,12 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         print_usage();
         return 0;
     }
-    // What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
-    const std::pair<const char*, const char*> swept[] = {
-            {"mode", "--modes LIST"},
-            {"slices", "--slices-list LIST"},
-            {"light-res", "--light-res-list LIST"},
-            {"light", "--lights LIST"},
-            {"light-position", "--lights LIST (directional lights only)"},
-            {"sample-distance", "--sample-distances LIST"}};
-    for (const auto& [option, instead] : swept) {
-        if (a.has(option)) {
-            return usage_error(base::make_error(
-                    "invalid_argument", std::string("bench accuracy sweeps this; use ") + instead,
-                    std::string("--") + option));
-        }
+    if (auto status = refuse_swept_options(a); !status) {
+        return usage_error(status.error());
     }
-
     if (const auto from = a.get("from")) {
-        auto table = read_table_file(*from);
-        if (!table) {
-            return fail(table.error());
-        }
-        std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
-                    from->c_str(), table->device.c_str(), table->gl_version.c_str(),
-                    table->points.size());
-        if (auto status = finish(*table, a); !status) {
-            return fail(status.error());
-        }
-        return 0;
+        return report_from(a, *from);
     }
-
     auto renderer =
             render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
     if (!renderer) {
@@ -432,110 +567,15 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     }
     const render::RendererInfo& info = (*renderer)->info();
     const SweepDefaults& defaults = info.gpu_timer_queries ? gpu_defaults : software_defaults;
-
-    Sweep sweep;
-    auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_modes(a.get("modes").value_or(default_modes));
-    auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
-    auto resolutions =
-            parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
-    auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
-    auto repeat = a.integer("repeat", defaults.repeat);
-    if (!lights || !modes || !slices || !resolutions || !distances || !repeat) {
-        return usage_error(!lights        ? lights.error()
-                           : !modes       ? modes.error()
-                           : !slices      ? slices.error()
-                           : !resolutions ? resolutions.error()
-                           : !distances   ? distances.error()
-                                          : repeat.error());
+    auto sweep = sweep_from(a, defaults);
+    if (!sweep) {
+        return usage_error(sweep.error());
     }
-    if (*repeat < 1 || *repeat > 1000) {
-        return usage_error(base::make_error("invalid_argument", "expects 1..1000", "--repeat"));
-    }
-    sweep.volumes = split(a.get("volumes").value_or(defaults.volumes), ',');
-    sweep.lights = *lights;
-    sweep.modes = *modes;
-    sweep.slices = *slices;
-    sweep.resolutions = *resolutions;
-    sweep.distances = *distances;
-    std::sort(sweep.distances.begin(), sweep.distances.end());
-    sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
-                          sweep.distances.end());
-    sweep.repeat = *repeat;
-
-    Table table = make_table(info, sweep.repeat, !a.has("no-phong"));
-
-    std::printf("penumbra bench accuracy\n");
-    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
-                info.platform.c_str());
-    if (info.gpu_timer_queries) {
-        std::printf("timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
-                    sweep.repeat);
-    } else {
-        std::printf(
-                "timing:   wall clock (this GL's timer queries mean nothing: software "
-                "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
-                "defaults for a software rasteriser\n",
-                sweep.repeat);
-    }
-
-    AccuracyBench bench(**renderer, sweep.repeat);
-    const std::uint64_t frames_per_volume = frames_per_view(sweep) * sweep.lights.size();
-    const Progress progress(frames_per_volume * sweep.volumes.size());
-    std::printf(
-            "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
-            "left)\n",
-            sweep.volumes.size(), sweep.lights.size(),
-            static_cast<unsigned long long>(frames_per_volume * sweep.volumes.size()));
-    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
-        const std::string& path = sweep.volumes[v];
-        auto loaded = volume::load_volume(path);
-        if (!loaded) {
-            return fail(loaded.error());
-        }
-        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-        auto base_request = frame_request_from(a, *volume);
-        if (!base_request) {
-            return fail(base_request.error());
-        }
-        scene::FrameRequest& base = *base_request;
-        if (!a.has("size")) {
-            base.settings.width = defaults.side;
-            base.settings.height = defaults.side;
-        }
-        if (base.settings.width < min_image_side || base.settings.height < min_image_side) {
-            return usage_error(base::make_error("invalid_argument",
-                                                "SSIM needs images of at least " +
-                                                        std::to_string(min_image_side) + "x" +
-                                                        std::to_string(min_image_side),
-                                                "--size"));
-        }
-        base.settings.phong = table.phong;
-        if (v == 0) {
-            describe_frame(table, base);
-            std::printf(
-                    "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-                    "%s, slab samples %d, phong %s\n",
-                    table.width, table.height, table.transfer_function.c_str(),
-                    table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
-                    table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
-            std::fflush(stdout);
-        }
-        if (auto status = (*renderer)->set_volume(volume); !status) {
-            return fail(status.error());
-        }
-        const PointObserver print = [&](const Point& p) {
-            print_point(p, progress(bench.frames()));
-            return true;
-        };
-        for (const LightAngles& light : sweep.lights) {
-            print_view_header(volume->name, light);
-            if (auto measured =
-                        measure_view(bench, sweep, base, volume->name, light, print, table.points);
-                !measured) {
-                return fail(measured.error());
-            }
-        }
+    Table table = make_table(info, sweep->repeat, !a.has("no-phong"));
+    print_timing(info, *sweep);
+    if (auto status = measure_all(**renderer, a, *sweep, defaults, table); !status) {
+        return status.error().where == "--size" ? usage_error(status.error())
+                                                : fail(status.error());
     }
     if (auto status = finish(table, a); !status) {
         return fail(status.error());

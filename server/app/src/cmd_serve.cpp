@@ -126,6 +126,259 @@ quality::StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
     return result;
 }
 
+void print_serve_usage() {
+    std::puts(
+            "usage: penumbra serve [options]\n\n"
+            "  --data DIR                 folder of volumes to offer (default: Debian's\n"
+            "                             /usr/share/mricron/templates)\n"
+            "  --port P                   TCP port (default 8080; 0 = any free port)\n"
+            "  --address A                listen address (default 127.0.0.1)\n"
+            "  --web-root DIR             the built web client (default share/penumbra/web\n"
+            "                             above the binary: client_web/dist, installed)\n"
+            "  --io-threads N             network threads (default 2)\n"
+            "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
+            "  --max-sessions N           (default 64)\n"
+            "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
+            "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
+            "  --client-address-header H  behind a proxy: the request header naming the\n"
+            "                             client (X-Real-IP, X-Forwarded-For), for per-client\n"
+            "                             limits and fair render shares; default: the peer's\n"
+            "                             address\n"
+            "  --max-image-side N         (default 2048)\n"
+            "  --max-slices N             (default 1024)\n"
+            "  --max-light-res N          (default 1024)\n"
+            "  --max-message-bytes N      (default 65536)\n"
+            "  --max-requests-per-second R  per connection (default 120)\n"
+            "  --max-frame-work W         shader iterations one frame may ask for: pixels x\n"
+            "                             samples per ray x the mode's cost per sample, plus\n"
+            "                             light-buffer texels x slices x slab samples\n"
+            "                             (default 1e11); larger frames are refused\n"
+            "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
+            "  --max-load-mb M            memory one volume load may take (default 8192;\n"
+            "                             never more than the machine has available)\n"
+            "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
+            "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
+            "                             refused (default 1024)\n"
+            "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
+            "                             is pinged (default 15)\n"
+            "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
+            "                             and its session left (default 15)\n"
+            "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
+            "  --quality-table FILE       `bench accuracy` table for sessions that set a "
+            "frame\n"
+            "                             budget (default docs/accuracy/llvmpipe.json on\n"
+            "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
+            "                             share/penumbra/accuracy above the binary, else a\n"
+            "                             short table measured at start-up, at most ~1 min,\n"
+            "                             and cached in $XDG_CACHE_HOME/penumbra or\n"
+            "                             ~/.cache/penumbra for the next start)\n"
+            "  --no-quality-measure       never measure at start-up (frame budgets are then\n"
+            "                             ignored where no table exists)\n"
+            "  --quality-measure          measure the start-up table even where a table\n"
+            "                             exists; it is used and cached\n"
+            "  --allowed-origins LIST     comma-separated origins (https://host:port) whose\n"
+            "                             pages may open the WebSocket besides the server's\n"
+            "                             own; * for any. Clients that send no Origin (not\n"
+            "                             browsers) are not concerned\n"
+            "  --access-token-file FILE   the WebSocket upgrade must carry this file's token\n"
+            "                             (/ws?token=...); else $PENUMBRA_ACCESS_TOKEN; none:\n"
+            "                             no token asked\n"
+            "  --cluster-secret-file FILE owner tokens are derived from session ids with this\n"
+            "                             secret (else $PENUMBRA_CLUSTER_SECRET), the same on\n"
+            "                             every server of a cluster: an owner whose server\n"
+            "                             died resumes its session on another one\n"
+            "  --debug-gl                 GL debug output to the log\n"
+            "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
+}
+
+// Everything `serve` is told, checked.
+struct ServeOptions {
+    net::ServerConfig config;
+    int encode_threads = 2;
+    int volume_memory_mb = 4096;
+    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
+    int gpu_memory_mb = 2048;
+    int light_buffer_memory_mb = 1024;
+    std::string data;
+    std::string cluster_secret;
+    quality::Measure measure = quality::Measure::where_missing;
+    std::optional<std::filesystem::path> quality_table;
+    bool debug_gl = false;
+};
+
+base::Status read_integers(const Arguments& a, ServeOptions& o) {
+    struct IntegerOption {
+        const char* name;
+        int* target;
+        int min;
+        int max;
+    };
+
+    net::ServerConfig& config = o.config;
+    protocol::Limits& limits = config.limits;
+    int port = config.port;
+    int max_message_bytes = static_cast<int>(limits.max_message_bytes);
+    int& encode_threads = o.encode_threads;
+    int& volume_memory_mb = o.volume_memory_mb;
+    int& max_load_mb = o.max_load_mb;
+    int& gpu_memory_mb = o.gpu_memory_mb;
+    int& light_buffer_memory_mb = o.light_buffer_memory_mb;
+    const IntegerOption integers[] = {
+            {"port", &port, 0, 65535},
+            {"io-threads", &config.io_threads, 1, 64},
+            {"encode-threads", &encode_threads, 1, 64},
+            {"max-sessions", &limits.max_sessions, 1, 100000},
+            {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
+            {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
+            {"max-image-side", &limits.max_image_side, 16, 16384},
+            {"max-slices", &limits.max_slices, 1, 16384},
+            {"max-light-res", &limits.max_light_resolution, 1, 16384},
+            {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
+            {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
+            {"max-load-mb", &max_load_mb, 1, 1 << 24},
+            {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
+            {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
+    };
+    for (const auto& option : integers) {
+        auto value = a.integer(option.name, *option.target);
+        if (!value) {
+            return value.error();
+        }
+        if (*value < option.min || *value > option.max) {
+            return base::make_error("invalid_argument",
+                                    "must be within " + std::to_string(option.min) + ".." +
+                                            std::to_string(option.max),
+                                    std::string("--") + option.name);
+        }
+        *option.target = *value;
+    }
+    config.port = static_cast<unsigned short>(port);
+    limits.max_message_bytes = static_cast<std::size_t>(max_message_bytes);
+    return base::Ok{};
+}
+
+base::Status read_numbers(const Arguments& a, net::ServerConfig& config) {
+    protocol::Limits& limits = config.limits;
+    auto rate = a.number("max-requests-per-second", limits.max_requests_per_second);
+    if (!rate || *rate < 1.0) {
+        return !rate ? rate.error()
+                     : base::make_error("invalid_argument", "must be at least 1",
+                                        "--max-requests-per-second");
+    }
+    limits.max_requests_per_second = *rate;
+    auto frame_work = a.number("max-frame-work", limits.max_frame_work);
+    if (!frame_work || !(*frame_work >= 1e6)) {
+        return !frame_work ? frame_work.error()
+                           : base::make_error("invalid_argument", "must be at least 1e6",
+                                              "--max-frame-work");
+    }
+    limits.max_frame_work = *frame_work;
+    for (const auto& [name, target] : {std::pair{"ping-interval", &config.ping_interval},
+                                       {"ping-timeout", &config.ping_timeout}}) {
+        const double fallback = std::chrono::duration<double>(*target).count();
+        auto seconds = a.number(name, fallback);
+        if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {
+            return !seconds ? seconds.error()
+                            : base::make_error("invalid_argument",
+                                               "must be within 0.05..3600 seconds",
+                                               std::string("--") + name);
+        }
+        *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
+    }
+    return base::Ok{};
+}
+
+base::Result<ServeOptions> serve_options(const Arguments& a) {
+    if (a.has("quality-measure") && (a.has("no-quality-measure") || a.has("quality-table"))) {
+        return base::make_error("invalid_argument",
+                                "cannot be combined with --no-quality-measure or --quality-table",
+                                "--quality-measure");
+    }
+    ServeOptions o;
+    using quality::Measure;
+    o.measure = a.has("quality-measure")                                ? Measure::always
+                : a.has("no-quality-measure") || a.has("quality-table") ? Measure::never
+                                                                        : Measure::where_missing;
+    if (const auto table = a.get("quality-table")) {
+        o.quality_table = *table;
+    }
+    o.debug_gl = a.has("debug-gl");
+    o.data = a.get("data").value_or("/usr/share/mricron/templates");
+    net::ServerConfig& config = o.config;
+    config.address = a.get("address").value_or("127.0.0.1");
+    config.web_root = a.get("web-root").value_or(default_web_root().string());
+    config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
+    config.client_address_header = a.get("client-address-header").value_or("");
+    if (auto status = read_integers(a, o); !status) {
+        return status.error();
+    }
+    if (auto status = read_numbers(a, config); !status) {
+        return status.error();
+    }
+    if (const auto origins = a.get("allowed-origins")) {
+        config.allowed_origins = split_list(*origins);
+    }
+    auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
+    if (!access_token) {
+        return access_token.error();
+    }
+    config.access_token = *access_token;
+    auto cluster_secret = read_secret(a, "cluster-secret-file", "PENUMBRA_CLUSTER_SECRET");
+    if (!cluster_secret) {
+        return cluster_secret.error();
+    }
+    o.cluster_secret = *cluster_secret;
+    return o;
+}
+
+quality::TablePaths table_paths(const render::RendererInfo& info) {
+    return quality::table_paths(info, std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
+}
+
+// The start-up table is measured in the factory, on the render thread with the renderer that
+// will serve: a GL context is current on one thread only, and a second one would cost another
+// context (and its eglTerminate could pull the display from under the first). The scheduler
+// takes no work, and the server accepts no connection, until the factory returns.
+base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
+        const ServeOptions& o, session::VolumeStore& volumes, metrics::Registry& registry,
+        quality::StartupMeasurement& measured) {
+    const render::RendererOptions renderer_options{
+            .shader_dir = {},
+            .debug_context = o.debug_gl,
+            .volume_memory_budget = static_cast<std::size_t>(o.gpu_memory_mb) << 20,
+            .light_buffer_memory_budget = static_cast<std::size_t>(o.light_buffer_memory_mb) << 20,
+            .max_frame_work = o.config.limits.max_frame_work,
+            .chunk_work = 0.0};
+    const quality::Measure measure = o.measure;
+    return session::Scheduler::create(
+            [renderer_options, measure, &volumes,
+             &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                auto renderer = render::Renderer::create(renderer_options);
+                if (!renderer) {
+                    return renderer.error();
+                }
+                if (quality::should_measure(measure, table_paths((*renderer)->info()))) {
+                    measured = measure_at_startup(**renderer, volumes,
+                                                  measure == quality::Measure::always);
+                }
+                return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
+            },
+            {.encode_threads = o.encode_threads}, registry);
+}
+
+void print_access(const net::ServerConfig& config, bool cluster) {
+    std::printf("access:   %s; WebSocket pages from %s\n",
+                config.access_token.empty() ? "no token asked" : "token asked on /ws",
+                config.allowed_origins.empty()
+                        ? "this server's own origin only"
+                        : ("its own origin and " + std::to_string(config.allowed_origins.size()) +
+                           " listed")
+                                  .c_str());
+    if (cluster) {
+        std::printf("cluster:  owner tokens derived from the cluster secret\n");
+    }
+}
+
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
@@ -163,211 +416,28 @@ int run_serve(const std::vector<std::string>& args) {
                      parsed.error().to_string().c_str());
         return 2;
     }
-    const Arguments& a = *parsed;
-    if (a.has("help")) {
-        std::puts(
-                "usage: penumbra serve [options]\n\n"
-                "  --data DIR                 folder of volumes to offer (default: Debian's\n"
-                "                             /usr/share/mricron/templates)\n"
-                "  --port P                   TCP port (default 8080; 0 = any free port)\n"
-                "  --address A                listen address (default 127.0.0.1)\n"
-                "  --web-root DIR             the built web client (default share/penumbra/web\n"
-                "                             above the binary: client_web/dist, installed)\n"
-                "  --io-threads N             network threads (default 2)\n"
-                "  --encode-threads N         JPEG/PNG encoder threads (default 2)\n"
-                "  --max-sessions N           (default 64)\n"
-                "  --max-sessions-per-client N  sessions one client address may hold (default 16)\n"
-                "  --max-sessions-per-connection N  sessions one connection may hold (default 4)\n"
-                "  --client-address-header H  behind a proxy: the request header naming the\n"
-                "                             client (X-Real-IP, X-Forwarded-For), for per-client\n"
-                "                             limits and fair render shares; default: the peer's\n"
-                "                             address\n"
-                "  --max-image-side N         (default 2048)\n"
-                "  --max-slices N             (default 1024)\n"
-                "  --max-light-res N          (default 1024)\n"
-                "  --max-message-bytes N      (default 65536)\n"
-                "  --max-requests-per-second R  per connection (default 120)\n"
-                "  --max-frame-work W         shader iterations one frame may ask for: pixels x\n"
-                "                             samples per ray x the mode's cost per sample, plus\n"
-                "                             light-buffer texels x slices x slab samples\n"
-                "                             (default 1e11); larger frames are refused\n"
-                "  --volume-memory-mb M       loaded volumes kept in memory (default 4096)\n"
-                "  --max-load-mb M            memory one volume load may take (default 8192;\n"
-                "                             never more than the machine has available)\n"
-                "  --gpu-memory-mb M          volume textures kept on the GPU (default 2048)\n"
-                "  --light-buffer-memory-mb M light buffers kept on the GPU; a larger one is\n"
-                "                             refused (default 1024)\n"
-                "  --ping-interval S          seconds a WebSocket client may be silent before it\n"
-                "                             is pinged (default 15)\n"
-                "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
-                "                             and its session left (default 15)\n"
-                "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
-                "  --quality-table FILE       `bench accuracy` table for sessions that set a "
-                "frame\n"
-                "                             budget (default docs/accuracy/llvmpipe.json on\n"
-                "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
-                "                             share/penumbra/accuracy above the binary, else a\n"
-                "                             short table measured at start-up, at most ~1 min,\n"
-                "                             and cached in $XDG_CACHE_HOME/penumbra or\n"
-                "                             ~/.cache/penumbra for the next start)\n"
-                "  --no-quality-measure       never measure at start-up (frame budgets are then\n"
-                "                             ignored where no table exists)\n"
-                "  --quality-measure          measure the start-up table even where a table\n"
-                "                             exists; it is used and cached\n"
-                "  --allowed-origins LIST     comma-separated origins (https://host:port) whose\n"
-                "                             pages may open the WebSocket besides the server's\n"
-                "                             own; * for any. Clients that send no Origin (not\n"
-                "                             browsers) are not concerned\n"
-                "  --access-token-file FILE   the WebSocket upgrade must carry this file's token\n"
-                "                             (/ws?token=...); else $PENUMBRA_ACCESS_TOKEN; none:\n"
-                "                             no token asked\n"
-                "  --cluster-secret-file FILE owner tokens are derived from session ids with this\n"
-                "                             secret (else $PENUMBRA_CLUSTER_SECRET), the same on\n"
-                "                             every server of a cluster: an owner whose server\n"
-                "                             died resumes its session on another one\n"
-                "  --debug-gl                 GL debug output to the log\n"
-                "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
+    if (parsed->has("help")) {
+        print_serve_usage();
         return 0;
     }
-    if (a.has("quality-measure") && (a.has("no-quality-measure") || a.has("quality-table"))) {
-        return fail(base::make_error("invalid_argument",
-                                     "cannot be combined with --no-quality-measure or "
-                                     "--quality-table",
-                                     "--quality-measure"));
+    auto options = serve_options(*parsed);
+    if (!options) {
+        return fail(options.error());
     }
-    using quality::Measure;
-    const Measure measure = a.has("quality-measure") ? Measure::always
-                            : a.has("no-quality-measure") || a.has("quality-table")
-                                    ? Measure::never
-                                    : Measure::where_missing;
-
-    net::ServerConfig config;
-    config.address = a.get("address").value_or("127.0.0.1");
-    config.web_root = a.get("web-root").value_or(default_web_root().string());
-    config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
-    config.client_address_header = a.get("client-address-header").value_or("");
+    net::ServerConfig& config = options->config;
     protocol::Limits& limits = config.limits;
-
-    struct IntegerOption {
-        const char* name;
-        int* target;
-        int min;
-        int max;
-    };
-
-    int port = 8080;
-    int encode_threads = 2;
-    int volume_memory_mb = 4096;
-    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
-    int gpu_memory_mb = 2048;
-    int light_buffer_memory_mb = 1024;
-    int max_message_bytes = static_cast<int>(limits.max_message_bytes);
-    const IntegerOption integers[] = {
-            {"port", &port, 0, 65535},
-            {"io-threads", &config.io_threads, 1, 64},
-            {"encode-threads", &encode_threads, 1, 64},
-            {"max-sessions", &limits.max_sessions, 1, 100000},
-            {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
-            {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
-            {"max-image-side", &limits.max_image_side, 16, 16384},
-            {"max-slices", &limits.max_slices, 1, 16384},
-            {"max-light-res", &limits.max_light_resolution, 1, 16384},
-            {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
-            {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
-            {"max-load-mb", &max_load_mb, 1, 1 << 24},
-            {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
-            {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
-    };
-    for (const auto& option : integers) {
-        auto value = a.integer(option.name, *option.target);
-        if (!value || *value < option.min || *value > option.max) {
-            return fail(!value ? value.error()
-                               : base::make_error("invalid_argument",
-                                                  "must be within " + std::to_string(option.min) +
-                                                          ".." + std::to_string(option.max),
-                                                  std::string("--") + option.name));
-        }
-        *option.target = *value;
-    }
-    config.port = static_cast<unsigned short>(port);
-    limits.max_message_bytes = static_cast<std::size_t>(max_message_bytes);
-    auto rate = a.number("max-requests-per-second", limits.max_requests_per_second);
-    if (!rate || *rate < 1.0) {
-        return fail(!rate ? rate.error()
-                          : base::make_error("invalid_argument", "must be at least 1",
-                                             "--max-requests-per-second"));
-    }
-    limits.max_requests_per_second = *rate;
-    auto frame_work = a.number("max-frame-work", limits.max_frame_work);
-    if (!frame_work || !(*frame_work >= 1e6)) {
-        return fail(!frame_work ? frame_work.error()
-                                : base::make_error("invalid_argument", "must be at least 1e6",
-                                                   "--max-frame-work"));
-    }
-    limits.max_frame_work = *frame_work;
-    for (const auto& [name, target] : {std::pair{"ping-interval", &config.ping_interval},
-                                       {"ping-timeout", &config.ping_timeout}}) {
-        const double fallback = std::chrono::duration<double>(*target).count();
-        auto seconds = a.number(name, fallback);
-        if (!seconds || *seconds < 0.05 || *seconds > 3600.0) {
-            return fail(!seconds ? seconds.error()
-                                 : base::make_error("invalid_argument",
-                                                    "must be within 0.05..3600 seconds",
-                                                    std::string("--") + name));
-        }
-        *target = std::chrono::milliseconds(static_cast<std::int64_t>(*seconds * 1000.0));
-    }
-    if (const auto origins = a.get("allowed-origins")) {
-        config.allowed_origins = split_list(*origins);
-    }
-    auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
-    if (!access_token) {
-        return fail(access_token.error());
-    }
-    config.access_token = *access_token;
-    auto cluster_secret = read_secret(a, "cluster-secret-file", "PENUMBRA_CLUSTER_SECRET");
-    if (!cluster_secret) {
-        return fail(cluster_secret.error());
-    }
-
-    const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
     volume::LoadOptions load_options;
-    load_options.max_bytes = static_cast<std::uint64_t>(max_load_mb) << 20;
-    session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20,
-                                 load_options);
+    load_options.max_bytes = static_cast<std::uint64_t>(options->max_load_mb) << 20;
+    session::VolumeStore volumes(
+            options->data, static_cast<std::size_t>(options->volume_memory_mb) << 20, load_options);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }
-    std::printf("data:     %s (%zu volumes)\n", data.c_str(), volumes.list().size());
+    std::printf("data:     %s (%zu volumes)\n", options->data.c_str(), volumes.list().size());
 
     metrics::Registry registry;
-    const render::RendererOptions renderer_options{
-            .shader_dir = {},
-            .debug_context = a.has("debug-gl"),
-            .volume_memory_budget = static_cast<std::size_t>(gpu_memory_mb) << 20,
-            .light_buffer_memory_budget = static_cast<std::size_t>(light_buffer_memory_mb) << 20,
-            .max_frame_work = limits.max_frame_work,
-            .chunk_work = 0.0};
-    // The start-up table is measured in the factory, on the render thread with the renderer that
-    // will serve: a GL context is current on one thread only, and a second one would cost another
-    // context (and its eglTerminate could pull the display from under the first). The scheduler
-    // takes no work, and the server accepts no connection, until the factory returns.
     quality::StartupMeasurement measured;
-    auto scheduler = session::Scheduler::create(
-            [renderer_options, measure, &volumes,
-             &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
-                auto renderer = render::Renderer::create(renderer_options);
-                if (!renderer) {
-                    return renderer.error();
-                }
-                const auto paths = quality::table_paths(
-                        (*renderer)->info(), std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
-                if (quality::should_measure(measure, paths)) {
-                    measured = measure_at_startup(**renderer, volumes, measure == Measure::always);
-                }
-                return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
-            },
-            {.encode_threads = encode_threads}, registry);
+    auto scheduler = start_scheduler(*options, volumes, registry, measured);
     if (!scheduler) {
         return fail(scheduler.error());
     }
@@ -378,10 +448,7 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
     limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
-    const std::optional<std::filesystem::path> given = a.get("quality-table");
-    auto table = quality::serve_table(
-            given, measured,
-            quality::table_paths(info, std::getenv("XDG_CACHE_HOME"), std::getenv("HOME")));
+    auto table = quality::serve_table(options->quality_table, measured, table_paths(info));
     if (!table) {
         return fail(table.error());
     }
@@ -390,21 +457,12 @@ int run_serve(const std::vector<std::string>& args) {
     }
     config.quality_table = table->table;
 
+    const std::string& secret = options->cluster_secret;
     session::SessionRegistry sessions(
             limits.max_sessions,
-            cluster_secret->empty() ? session::OwnerTokens()
-                                    : session::OwnerTokens(*cluster_secret),
+            secret.empty() ? session::OwnerTokens() : session::OwnerTokens(secret),
             limits.max_sessions_per_client, limits.max_sessions_per_connection);
-    std::printf("access:   %s; WebSocket pages from %s\n",
-                config.access_token.empty() ? "no token asked" : "token asked on /ws",
-                config.allowed_origins.empty()
-                        ? "this server's own origin only"
-                        : ("its own origin and " + std::to_string(config.allowed_origins.size()) +
-                           " listed")
-                                  .c_str());
-    if (!cluster_secret->empty()) {
-        std::printf("cluster:  owner tokens derived from the cluster secret\n");
-    }
+    print_access(config, !secret.empty());
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {
         return fail(server.error());
