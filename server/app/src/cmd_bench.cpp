@@ -37,9 +37,13 @@ constexpr scene::Mode light_buffer_modes[] = {scene::Mode::sbrc, scene::Mode::sb
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
                                                   scene::LightBufferBuilder::multi_slice};
 
-int fail(const base::Error& error) { return report_failure("bench", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench", error);
+}
 
 void print_bench_usage() {
     std::puts(
@@ -61,7 +65,8 @@ void print_modes_usage() {
             "\n"
             "Times each mode side by side in one run and prints the ratios that matter:\n"
             "half_angle vs sbrc at equal slices, sbrc's growth with slices, per_slice vs\n"
-            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean something only on a GPU; on a software\n"
+            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean "
+            "something only on a GPU; on a software\n"
             "rasteriser read the ratios.\n"
             "\n"
             "  --volume FILE                  (default %s)\n"
@@ -390,6 +395,250 @@ bool contains(const std::vector<scene::Mode>& modes, scene::Mode mode) {
     return std::find(modes.begin(), modes.end(), mode) != modes.end();
 }
 
+// One run of `bench modes`: what it sweeps, and its results so far.
+struct ModesRun {
+    ModeBench& bench;
+    Results& results;
+    std::vector<scene::Mode> modes;
+    std::vector<int> slices;
+    std::vector<int> resolutions;
+    std::string builder;  // the builder in use
+    bool any_light_buffer_mode = false;
+
+    [[nodiscard]] int middle_resolution() const { return resolutions[resolutions.size() / 2]; }
+
+    base::Status record(Point point, const scene::FrameRequest& request, LightBufferUse use,
+                        const std::string& pass) {
+        auto measured = bench.measure(point, request, use, pass);
+        if (!measured) {
+            return measured.error();
+        }
+        point.measurement = *measured;
+        results.add(point);
+        return base::Ok{};
+    }
+};
+
+// The modes without a light buffer: one frame series each, half_angle over the grid.
+base::Status measure_frames(ModesRun& run) {
+    std::printf("\nframe time (ms)\n  %-11s %5s %5s %12s %9s\n", "mode", "n", "R", "wall", "gpu");
+    for (const scene::Mode mode : all_modes) {
+        if (!contains(run.modes, mode) || mode == scene::Mode::half_angle ||
+            scene::uses_light_buffer(mode)) {
+            continue;
+        }
+        const Point point{mode, "frame", "", 0, 0, {}};
+        if (auto status =
+                    run.record(point, run.bench.request(mode, 0, 0), LightBufferUse::none, {});
+            !status) {
+            return status;
+        }
+        std::printf("  %-11s %5s %5s %s\n", scene::to_string(mode), "-", "-",
+                    cells(*run.results.find(mode, "frame")).c_str());
+        std::fflush(stdout);
+    }
+    if (contains(run.modes, scene::Mode::half_angle)) {
+        for (const int n : run.slices) {
+            for (const int r : run.resolutions) {
+                const scene::Mode mode = scene::Mode::half_angle;
+                const Point point{mode, "frame", "", n, r, {}};
+                if (auto status = run.record(point, run.bench.request(mode, n, r),
+                                             LightBufferUse::none, {});
+                    !status) {
+                    return status;
+                }
+                std::printf("  %-11s %5d %5d %s\n", scene::to_string(mode), n, r,
+                            cells(*run.results.find(mode, "frame", n, r)).c_str());
+                std::fflush(stdout);
+            }
+        }
+    }
+    return base::Ok{};
+}
+
+// The light-buffer modes: the buffer cached against rebuilt every frame.
+base::Status measure_light_buffer_modes(ModesRun& run) {
+    for (const scene::Mode mode : light_buffer_modes) {
+        if (!contains(run.modes, mode)) {
+            continue;
+        }
+        if (!run.any_light_buffer_mode) {
+            run.any_light_buffer_mode = true;
+            std::printf(
+                    "\nlight-buffer modes (ms): cached = buffer reused, only the camera moves; "
+                    "rebuild = the light\nmoves %g deg every frame, so the buffer is rebuilt "
+                    "(builder %s)\n",
+                    light_nudge_degrees, run.builder.c_str());
+            std::printf("  %-11s %5s %5s %12s %9s %12s %9s  %s\n", "mode", "n", "R", "cached wall",
+                        "gpu", "rebuild wall", "gpu", "rebuild/cached");
+        }
+        for (const int n : run.slices) {
+            for (const int r : run.resolutions) {
+                const scene::FrameRequest request = run.bench.request(mode, n, r);
+                const Point cached{mode, "cached", run.builder, n, r, {}};
+                const Point rebuild{mode, "rebuild", run.builder, n, r, {}};
+                if (auto status = run.record(cached, request, LightBufferUse::cached, {});
+                    !status) {
+                    return status;
+                }
+                if (auto status = run.record(rebuild, request, LightBufferUse::rebuild, {});
+                    !status) {
+                    return status;
+                }
+                const Measurement* c = run.results.find(mode, "cached", n, r);
+                const Measurement* b = run.results.find(mode, "rebuild", n, r);
+                std::printf("  %-11s %5d %5d %s %s  %s\n", scene::to_string(mode), n, r,
+                            cells(*c).c_str(), cells(*b).c_str(), ratio(b, c).c_str());
+                std::fflush(stdout);
+            }
+        }
+    }
+    return base::Ok{};
+}
+
+// The two builders: the light_buffer pass alone.
+base::Status measure_builders(ModesRun& run) {
+    if (run.any_light_buffer_mode) {
+        std::printf(
+                "\nlight-buffer builders (ms): the light_buffer pass alone, rebuilt every "
+                "frame\n  %5s %5s %12s %9s %12s %9s  %s\n",
+                "n", "R", "per_slice", "gpu", "multi_slice", "gpu", "per/multi");
+        for (const int n : run.slices) {
+            for (const int r : run.resolutions) {
+                for (const auto builder : builders) {
+                    scene::FrameRequest request = run.bench.request(scene::Mode::sbrc, n, r);
+                    request.settings.light_buffer.builder = builder;
+                    const std::string name = scene::to_string(builder);
+                    const Point point{scene::Mode::sbrc, "light_buffer_pass", name, n, r, {}};
+                    if (auto status = run.record(point, request, LightBufferUse::rebuild,
+                                                 "light_buffer_" + name);
+                        !status) {
+                        return status;
+                    }
+                }
+                const Measurement* per_slice =
+                        run.results.find_builder(scene::LightBufferBuilder::per_slice, n, r);
+                const Measurement* multi_slice =
+                        run.results.find_builder(scene::LightBufferBuilder::multi_slice, n, r);
+                std::printf("  %5d %5d %s %s  %s\n", n, r, cells(*per_slice).c_str(),
+                            cells(*multi_slice).c_str(), ratio(per_slice, multi_slice).c_str());
+                std::fflush(stdout);
+            }
+        }
+    }
+    return base::Ok{};
+}
+
+// The paper's interpolating light lookup against the local one.
+base::Status measure_lookups(ModesRun& run) {
+    const int r_mid = run.middle_resolution();
+    if (contains(run.modes, scene::Mode::sbrc)) {
+        std::printf(
+                "\nlight lookups (ms): sbrc, light buffer cached, R=%d: the paper's interpolation "
+                "between layers\nvs the local march through the last slab\n  %5s %12s %9s %12s "
+                "%9s  %s\n",
+                r_mid, "n", "interpolate", "gpu", "local", "gpu", "local/interpolate");
+        for (const int n : run.slices) {
+            for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
+                scene::FrameRequest request = run.bench.request(scene::Mode::sbrc, n, r_mid);
+                request.settings.light_buffer.lookup = lookup;
+                const Point point{scene::Mode::sbrc,
+                                  std::string("lookup_") + scene::to_string(lookup),
+                                  run.builder,
+                                  n,
+                                  r_mid,
+                                  {}};
+                if (auto status = run.record(point, request, LightBufferUse::cached, {}); !status) {
+                    return status;
+                }
+            }
+            const Measurement* interpolate =
+                    run.results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid);
+            const Measurement* local =
+                    run.results.find(scene::Mode::sbrc, "lookup_local", n, r_mid);
+            std::printf("  %5d %s %s  %s\n", n, cells(*interpolate).c_str(), cells(*local).c_str(),
+                        ratio(local, interpolate).c_str());
+            std::fflush(stdout);
+        }
+    }
+    return base::Ok{};
+}
+
+void print_ratios(const ModesRun& run) {
+    const int r_mid = run.middle_resolution();
+    const int n_min = *std::min_element(run.slices.begin(), run.slices.end());
+    const int n_max = *std::max_element(run.slices.begin(), run.slices.end());
+    std::printf("\nratios (of median wall times; gpu from timer queries where they work)\n");
+    std::printf(
+            "  half_angle / sbrc at equal n, R=%d (sbrc with its light buffer cached | "
+            "rebuilt every frame | cached,\n  read with the paper's interpolating lookup):\n",
+            r_mid);
+    for (const int n : run.slices) {
+        const Measurement* half_angle =
+                run.results.find(scene::Mode::half_angle, "frame", n, r_mid);
+        std::printf(
+                "    n=%-5d cached %-22s rebuild %-22s interpolate %s\n", n,
+                ratio(half_angle, run.results.find(scene::Mode::sbrc, "cached", n, r_mid)).c_str(),
+                ratio(half_angle, run.results.find(scene::Mode::sbrc, "rebuild", n, r_mid)).c_str(),
+                ratio(half_angle,
+                      run.results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid))
+                        .c_str());
+    }
+    std::printf(
+            "  cached frame time at n=%d / at n=%d, R=%d (the paper: it barely grows with n; "
+            "GPU target <= 1.20\n  from 64 to 256):\n",
+            n_max, n_min, r_mid);
+    for (const scene::Mode mode : light_buffer_modes) {
+        std::printf("    %-11s %s\n", scene::to_string(mode),
+                    ratio(run.results.find(mode, "cached", n_max, r_mid),
+                          run.results.find(mode, "cached", n_min, r_mid))
+                            .c_str());
+    }
+    std::printf(
+            "  builder per_slice / multi_slice, the light_buffer pass alone, R=%d (GPU target "
+            ">= 10 at n=256):\n",
+            r_mid);
+    for (const int n : run.slices) {
+        std::printf(
+                "    n=%-5d %s\n", n,
+                ratio(run.results.find_builder(scene::LightBufferBuilder::per_slice, n, r_mid),
+                      run.results.find_builder(scene::LightBufferBuilder::multi_slice, n, r_mid))
+                        .c_str());
+    }
+}
+
+void print_modes_header(const render::RendererInfo& info, const volume::Volume& volume,
+                        const ModeBench& bench, int repeat) {
+    const scene::RenderSettings& s = bench.base().settings;
+    std::printf("penumbra bench modes\n");
+    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
+                info.platform.c_str());
+    if (bench.gpu_timers()) {
+        std::printf(
+                "note:     absolute times mean something only on a GPU; compare the ratios "
+                "across machines\n");
+    } else {
+        std::printf(
+                "note:     software rasteriser (no GPU timer queries): absolute times mean "
+                "something\n          only on a GPU; here read only the ratios\n");
+    }
+    std::printf("volume:   %s %ux%ux%u %s\n", volume.name.c_str(), volume.dims.x, volume.dims.y,
+                volume.dims.z, volume::to_string(volume.type));
+    std::printf(
+            "frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
+            "%s%s\n",
+            s.width, s.height, bench.base().transfer_function.name.c_str(),
+            scene::to_string(s.compositing), scene::to_string(s.stage),
+            scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
+            s.phong ? ", phong" : "");
+    std::printf(
+            "timing:   per point 1 warm-up + %d timed frame(s), the camera orbiting %g deg a "
+            "frame;\n          medians of the frame's summed pass wall_ms (gpu: summed timer "
+            "queries)\n",
+            repeat, orbit_step_degrees);
+    std::fflush(stdout);
+}
+
 int run_bench_modes(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
     valued.insert(valued.end(),
@@ -430,7 +679,6 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (*repeat < 1 || *repeat > 1000) {
         return fail(base::make_error("invalid_argument", "expects 1..1000", "--repeat"));
     }
-
     const std::string path = a.get("volume").value_or(default_volume_path);
     auto loaded = volume::load_volume(path);
     if (!loaded) {
@@ -460,205 +708,16 @@ int run_bench_modes(const std::vector<std::string>& args) {
     ModeBench bench(**renderer, std::move(base_request.value()), *repeat);
     const scene::RenderSettings& s = bench.base().settings;
     Results results(csv.is_open() ? &csv : nullptr, s.width, s.height, *repeat);
-
-    const render::RendererInfo& info = (*renderer)->info();
-    std::printf("penumbra bench modes\n");
-    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
-                info.platform.c_str());
-    if (bench.gpu_timers()) {
-        std::printf(
-                "note:     absolute times mean something only on a GPU; compare the ratios "
-                "across machines\n");
-    } else {
-        std::printf(
-                "note:     software rasteriser (no GPU timer queries): absolute times mean "
-                "something\n          only on a GPU; here read only the ratios\n");
-    }
-    std::printf("volume:   %s %ux%ux%u %s\n", volume->name.c_str(), volume->dims.x, volume->dims.y,
-                volume->dims.z, volume::to_string(volume->type));
-    std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
-                "%s%s\n",
-                s.width, s.height, bench.base().transfer_function.name.c_str(),
-                scene::to_string(s.compositing), scene::to_string(s.stage),
-                scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
-                s.phong ? ", phong" : "");
-    std::printf(
-            "timing:   per point 1 warm-up + %d timed frame(s), the camera orbiting %g deg a "
-            "frame;\n          medians of the frame's summed pass wall_ms (gpu: summed timer "
-            "queries)\n",
-            *repeat, orbit_step_degrees);
-    std::fflush(stdout);
-
-    const auto record = [&](Point point, const scene::FrameRequest& request, LightBufferUse use,
-                            const std::string& pass) -> base::Status {
-        auto measured = bench.measure(point, request, use, pass);
-        if (!measured) {
-            return measured.error();
-        }
-        point.measurement = *measured;
-        results.add(point);
-        return base::Ok{};
-    };
-    const std::string builder_in_use = scene::to_string(s.light_buffer.builder);
-
-    std::printf("\nframe time (ms)\n  %-11s %5s %5s %12s %9s\n", "mode", "n", "R", "wall", "gpu");
-    for (const scene::Mode mode : all_modes) {
-        if (!contains(*modes, mode) || mode == scene::Mode::half_angle ||
-            scene::uses_light_buffer(mode)) {
-            continue;
-        }
-        const Point point{mode, "frame", "", 0, 0, {}};
-        if (auto status = record(point, bench.request(mode, 0, 0), LightBufferUse::none, {});
-            !status) {
+    print_modes_header((*renderer)->info(), *volume, bench, *repeat);
+    ModesRun run{bench,         results,      *modes,
+                 *slice_counts, *resolutions, scene::to_string(s.light_buffer.builder)};
+    for (const auto measure :
+         {measure_frames, measure_light_buffer_modes, measure_builders, measure_lookups}) {
+        if (auto status = measure(run); !status) {
             return fail(status.error());
         }
-        std::printf("  %-11s %5s %5s %s\n", scene::to_string(mode), "-", "-",
-                    cells(*results.find(mode, "frame")).c_str());
-        std::fflush(stdout);
     }
-    if (contains(*modes, scene::Mode::half_angle)) {
-        for (const int n : *slice_counts) {
-            for (const int r : *resolutions) {
-                const scene::Mode mode = scene::Mode::half_angle;
-                const Point point{mode, "frame", "", n, r, {}};
-                if (auto status =
-                            record(point, bench.request(mode, n, r), LightBufferUse::none, {});
-                    !status) {
-                    return fail(status.error());
-                }
-                std::printf("  %-11s %5d %5d %s\n", scene::to_string(mode), n, r,
-                            cells(*results.find(mode, "frame", n, r)).c_str());
-                std::fflush(stdout);
-            }
-        }
-    }
-
-    bool any_light_buffer_mode = false;
-    for (const scene::Mode mode : light_buffer_modes) {
-        if (!contains(*modes, mode)) {
-            continue;
-        }
-        if (!any_light_buffer_mode) {
-            any_light_buffer_mode = true;
-            std::printf(
-                    "\nlight-buffer modes (ms): cached = buffer reused, only the camera moves; "
-                    "rebuild = the light\nmoves %g deg every frame, so the buffer is rebuilt "
-                    "(builder %s)\n",
-                    light_nudge_degrees, builder_in_use.c_str());
-            std::printf("  %-11s %5s %5s %12s %9s %12s %9s  %s\n", "mode", "n", "R", "cached wall",
-                        "gpu", "rebuild wall", "gpu", "rebuild/cached");
-        }
-        for (const int n : *slice_counts) {
-            for (const int r : *resolutions) {
-                const scene::FrameRequest request = bench.request(mode, n, r);
-                const Point cached{mode, "cached", builder_in_use, n, r, {}};
-                const Point rebuild{mode, "rebuild", builder_in_use, n, r, {}};
-                if (auto status = record(cached, request, LightBufferUse::cached, {}); !status) {
-                    return fail(status.error());
-                }
-                if (auto status = record(rebuild, request, LightBufferUse::rebuild, {}); !status) {
-                    return fail(status.error());
-                }
-                const Measurement* c = results.find(mode, "cached", n, r);
-                const Measurement* b = results.find(mode, "rebuild", n, r);
-                std::printf("  %-11s %5d %5d %s %s  %s\n", scene::to_string(mode), n, r,
-                            cells(*c).c_str(), cells(*b).c_str(), ratio(b, c).c_str());
-                std::fflush(stdout);
-            }
-        }
-    }
-
-    if (any_light_buffer_mode) {
-        std::printf(
-                "\nlight-buffer builders (ms): the light_buffer pass alone, rebuilt every "
-                "frame\n  %5s %5s %12s %9s %12s %9s  %s\n",
-                "n", "R", "per_slice", "gpu", "multi_slice", "gpu", "per/multi");
-        for (const int n : *slice_counts) {
-            for (const int r : *resolutions) {
-                for (const auto builder : builders) {
-                    scene::FrameRequest request = bench.request(scene::Mode::sbrc, n, r);
-                    request.settings.light_buffer.builder = builder;
-                    const std::string name = scene::to_string(builder);
-                    const Point point{scene::Mode::sbrc, "light_buffer_pass", name, n, r, {}};
-                    if (auto status = record(point, request, LightBufferUse::rebuild,
-                                             "light_buffer_" + name);
-                        !status) {
-                        return fail(status.error());
-                    }
-                }
-                const Measurement* per_slice =
-                        results.find_builder(scene::LightBufferBuilder::per_slice, n, r);
-                const Measurement* multi_slice =
-                        results.find_builder(scene::LightBufferBuilder::multi_slice, n, r);
-                std::printf("  %5d %5d %s %s  %s\n", n, r, cells(*per_slice).c_str(),
-                            cells(*multi_slice).c_str(), ratio(per_slice, multi_slice).c_str());
-                std::fflush(stdout);
-            }
-        }
-    }
-
-    const int r_mid = (*resolutions)[resolutions->size() / 2];
-    if (contains(*modes, scene::Mode::sbrc)) {
-        std::printf(
-                "\nlight lookups (ms): sbrc, light buffer cached, R=%d: the paper's interpolation "
-                "between layers\nvs the local march through the last slab\n  %5s %12s %9s %12s "
-                "%9s  %s\n",
-                r_mid, "n", "interpolate", "gpu", "local", "gpu", "local/interpolate");
-        for (const int n : *slice_counts) {
-            for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
-                scene::FrameRequest request = bench.request(scene::Mode::sbrc, n, r_mid);
-                request.settings.light_buffer.lookup = lookup;
-                const Point point{scene::Mode::sbrc, std::string("lookup_") + scene::to_string(lookup),
-                                  builder_in_use, n, r_mid, {}};
-                if (auto status = record(point, request, LightBufferUse::cached, {}); !status) {
-                    return fail(status.error());
-                }
-            }
-            const Measurement* interpolate =
-                    results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid);
-            const Measurement* local = results.find(scene::Mode::sbrc, "lookup_local", n, r_mid);
-            std::printf("  %5d %s %s  %s\n", n, cells(*interpolate).c_str(), cells(*local).c_str(),
-                        ratio(local, interpolate).c_str());
-            std::fflush(stdout);
-        }
-    }
-
-    const int n_min = *std::min_element(slice_counts->begin(), slice_counts->end());
-    const int n_max = *std::max_element(slice_counts->begin(), slice_counts->end());
-    std::printf("\nratios (of median wall times; gpu from timer queries where they work)\n");
-    std::printf(
-            "  half_angle / sbrc at equal n, R=%d (sbrc with its light buffer cached | "
-            "rebuilt every frame | cached,\n  read with the paper's interpolating lookup):\n",
-            r_mid);
-    for (const int n : *slice_counts) {
-        const Measurement* half_angle = results.find(scene::Mode::half_angle, "frame", n, r_mid);
-        std::printf(
-                "    n=%-5d cached %-22s rebuild %-22s interpolate %s\n", n,
-                ratio(half_angle, results.find(scene::Mode::sbrc, "cached", n, r_mid)).c_str(),
-                ratio(half_angle, results.find(scene::Mode::sbrc, "rebuild", n, r_mid)).c_str(),
-                ratio(half_angle, results.find(scene::Mode::sbrc, "lookup_interpolate", n, r_mid))
-                        .c_str());
-    }
-    std::printf(
-            "  cached frame time at n=%d / at n=%d, R=%d (the paper: it barely grows with n; "
-            "GPU target <= 1.20\n  from 64 to 256):\n",
-            n_max, n_min, r_mid);
-    for (const scene::Mode mode : light_buffer_modes) {
-        std::printf("    %-11s %s\n", scene::to_string(mode),
-                    ratio(results.find(mode, "cached", n_max, r_mid),
-                          results.find(mode, "cached", n_min, r_mid))
-                            .c_str());
-    }
-    std::printf(
-            "  builder per_slice / multi_slice, the light_buffer pass alone, R=%d (GPU target "
-            ">= 10 at n=256):\n",
-            r_mid);
-    for (const int n : *slice_counts) {
-        std::printf("    n=%-5d %s\n", n,
-                    ratio(results.find_builder(scene::LightBufferBuilder::per_slice, n, r_mid),
-                          results.find_builder(scene::LightBufferBuilder::multi_slice, n, r_mid))
-                            .c_str());
-    }
+    print_ratios(run);
     if (const auto csv_path = a.get("csv")) {
         std::printf("csv:      %s\n", csv_path->c_str());
     }
