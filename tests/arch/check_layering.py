@@ -35,7 +35,7 @@ MODULES = set(ALLOWED_DEPENDENCIES) | {"app"}
 
 # Third-party headers (by the first component of the include path) and the modules they are
 # confined to. quality reads and writes the accuracy tables' JSON files; app may use nlohmann for
-# its own files.
+# a file of its own (STYLE.md §8.1).
 CONFINED = {
     "nlohmann": {"protocol", "quality", "app"},
     "OpenImageIO": {"encode"},
