@@ -2,12 +2,10 @@
 #include "commands.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/quality/mode_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/volume/volume.hpp>
-
-#include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -22,12 +20,7 @@
 namespace penumbra::app {
 namespace {
 
-// Every frame of a series sees a new view, as a user dragging the camera would, while the work
-// per frame stays comparable from one frame to the next.
-constexpr double orbit_step_degrees = 2.0;
-// Small enough to leave the image unchanged, large enough to change the light buffer's key.
-constexpr double light_nudge_degrees = 0.01;
-constexpr double point_light_nudge = 1e-4;  // world units; the volume's longest side is 1
+using namespace quality;
 
 constexpr scene::Mode all_modes[] = {
         scene::Mode::dvr,        scene::Mode::phong,     scene::Mode::half_angle, scene::Mode::sbrc,
@@ -86,15 +79,6 @@ void print_modes_usage() {
             default_volume_path, frame_options_help());
 }
 
-double median(std::vector<double> values) {
-    if (values.empty()) {
-        return 0.0;
-    }
-    std::sort(values.begin(), values.end());
-    const std::size_t middle = values.size() / 2;
-    return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
-
 // "64,128,256" → counts, each a whole number of at least 1.
 base::Result<std::vector<int>> parse_counts(const Arguments& args, const std::string& option,
                                             const std::string& fallback) {
@@ -137,234 +121,6 @@ base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
     }
 }
 
-// The median cost of one frame (or of one pass) over a series.
-struct Measurement {
-    double wall_ms = 0.0;
-    std::optional<double> gpu_ms;  // absent where the GL's timer queries mean nothing
-};
-
-// What a series does to the light buffer between its timed frames, and so what each of those
-// frames must report for the series to measure what its name says.
-enum class LightBufferUse { none, cached, rebuild };
-
-struct Point {
-    scene::Mode mode = scene::Mode::dvr;
-    std::string series;   // "frame", "cached", "rebuild" or "light_buffer_pass"
-    std::string builder;  // empty where no light buffer is built
-    int slices = 0;       // 0 where the mode does not depend on it
-    int resolution = 0;
-    Measurement measurement;
-};
-
-// The azimuth, elevation and distance that reproduce a camera with scene::orbit_camera.
-struct Orbit {
-    double azimuth = 0.0;
-    double elevation = 0.0;
-    double distance = 1.0;
-    glm::dvec3 target{0.0};
-    double fov_y_degrees = 30.0;
-};
-
-Orbit orbit_of(const scene::Camera& camera) {
-    const glm::dvec3 offset = camera.eye - camera.target;
-    const double distance = glm::length(offset);
-    return {glm::degrees(std::atan2(offset.x, offset.y)),
-            glm::degrees(std::asin(std::clamp(offset.z / distance, -1.0, 1.0))), distance,
-            camera.target, camera.fov_y_degrees};
-}
-
-glm::dvec3 rotated(const glm::dvec3& v, const glm::dvec3& axis, double degrees) {
-    const double angle = glm::radians(degrees);
-    return v * std::cos(angle) + glm::cross(axis, v) * std::sin(angle) +
-           axis * glm::dot(axis, v) * (1.0 - std::cos(angle));
-}
-
-// The light moved by a hair: a change of azimuth, or of elevation for a light straight above,
-// whose azimuth is undefined; a point light moves sideways instead.
-scene::Light nudged(scene::Light light, double sign) {
-    if (light.type == scene::LightType::point) {
-        light.position.x += sign * point_light_nudge;
-        return light;
-    }
-    const glm::dvec3 axis = std::abs(light.direction.z) > 0.999 ? glm::dvec3(1.0, 0.0, 0.0)
-                                                                : glm::dvec3(0.0, 0.0, 1.0);
-    light.direction = rotated(light.direction, axis, sign * light_nudge_degrees);
-    return light;
-}
-
-std::string point_label(const Point& point) {
-    std::string label = scene::to_string(point.mode);
-    if (point.slices > 0) {
-        label += " n=" + std::to_string(point.slices) + " R=" + std::to_string(point.resolution);
-    }
-    if (!point.builder.empty() && point.series == "light_buffer_pass") {
-        label += " builder " + point.builder;
-    }
-    return label;
-}
-
-class ModeBench {
-public:
-    ModeBench(render::Renderer& renderer, scene::FrameRequest base, int repeat)
-        : renderer_(renderer)
-        , base_(std::move(base))
-        , orbit_(orbit_of(base_.camera))
-        , repeat_(repeat)
-        , gpu_timers_(renderer.info().gpu_timer_queries) {}
-
-    [[nodiscard]] const scene::FrameRequest& base() const { return base_; }
-
-    [[nodiscard]] bool gpu_timers() const { return gpu_timers_; }
-
-    // A request for one point of the sweep, from the defaults every point shares.
-    [[nodiscard]] scene::FrameRequest request(scene::Mode mode, int slices, int resolution) const {
-        scene::FrameRequest r = base_;
-        r.settings.mode = mode;
-        if (slices > 0) {
-            r.settings.light_buffer.slices = slices;
-            r.settings.light_buffer.resolution = resolution;
-        }
-        return r;
-    }
-
-    // Renders one warm-up frame, which builds caches and compiles the shader variant, then
-    // `repeat` timed frames; `pass` empty times the whole frame, otherwise that pass alone.
-    base::Result<Measurement> measure(const Point& point, scene::FrameRequest request,
-                                      LightBufferUse use, const std::string& pass = {}) {
-        std::vector<double> wall;
-        std::vector<double> gpu;
-        for (int i = 0; i <= repeat_; ++i) {
-            request.camera = scene::orbit_camera(orbit_.azimuth + orbit_step_degrees * i,
-                                                 orbit_.elevation, orbit_.distance, orbit_.target);
-            request.camera.fov_y_degrees = orbit_.fov_y_degrees;
-            if (use == LightBufferUse::rebuild) {
-                // A light never used before: the renderer caches light buffers by their inputs,
-                // so returning to an earlier light would reuse its buffer.
-                ++nudges_;
-                request.light = nudged(base_.light, (nudges_ % 2 == 0 ? 1.0 : -1.0) *
-                                                            static_cast<double>(nudges_ % 4096));
-            }
-            auto frame = renderer_.render(request);
-            if (!frame) {
-                return frame.error();
-            }
-            if (i == 0) {
-                continue;
-            }
-            const std::string& light_buffer = frame->report.light_buffer;
-            if (use == LightBufferUse::cached && light_buffer != "reused") {
-                return base::make_error(
-                        "bench_invalid",
-                        point_label(point) + ": the light buffer was '" + light_buffer +
-                                "' in a frame where only the camera moved, so 'cached' would "
-                                "not measure reuse",
-                        "light_buffer");
-            }
-            if (use == LightBufferUse::rebuild && light_buffer != "built") {
-                return base::make_error(
-                        "bench_invalid",
-                        point_label(point) + ": the light buffer was '" + light_buffer +
-                                "' in a frame whose light moved, so 'rebuild' would not "
-                                "measure a rebuild",
-                        "light_buffer");
-            }
-            double wall_ms = 0.0;
-            double gpu_ms = 0.0;
-            bool found = pass.empty();
-            for (const auto& timing : frame->report.passes) {
-                if (pass.empty() || timing.name == pass) {
-                    found = true;
-                    wall_ms += timing.wall_ms;
-                    gpu_ms += std::max(timing.gpu_ms, 0.0);
-                }
-            }
-            if (!found) {
-                return base::make_error("bench_invalid",
-                                        point_label(point) + ": no pass '" + pass +
-                                                "' in a frame that rebuilt the light buffer",
-                                        "light_buffer");
-            }
-            wall.push_back(wall_ms);
-            gpu.push_back(gpu_ms);
-        }
-        Measurement measurement{median(wall), std::nullopt};
-        if (gpu_timers_) {
-            measurement.gpu_ms = median(gpu);
-        }
-        return measurement;
-    }
-
-private:
-    render::Renderer& renderer_;
-    scene::FrameRequest base_;
-    Orbit orbit_;
-    int repeat_;
-    std::uint64_t nudges_ = 0;  // distinct lights the rebuild frames have used so far
-    bool gpu_timers_;
-};
-
-// The sweep's results, looked up again for the ratios and written to the CSV as they come.
-class Results {
-public:
-    explicit Results(std::ofstream* csv, int width, int height, int frames)
-        : csv_(csv)
-        , width_(width)
-        , height_(height)
-        , frames_(frames) {
-        if (csv_ != nullptr) {
-            *csv_ << "mode,series,builder,slices,light_res,width,height,frames,wall_ms,gpu_ms\n";
-        }
-    }
-
-    void add(const Point& point) {
-        points_.push_back(point);
-        if (csv_ == nullptr) {
-            return;
-        }
-        char wall[32];
-        char gpu[32] = "";
-        std::snprintf(wall, sizeof wall, "%.4f", point.measurement.wall_ms);
-        if (point.measurement.gpu_ms) {
-            std::snprintf(gpu, sizeof gpu, "%.4f", *point.measurement.gpu_ms);
-        }
-        const auto count = [](int value) { return value > 0 ? std::to_string(value) : ""; };
-        *csv_ << scene::to_string(point.mode) << ',' << point.series << ',' << point.builder << ','
-              << count(point.slices) << ',' << count(point.resolution) << ',' << width_ << ','
-              << height_ << ',' << frames_ << ',' << wall << ',' << gpu << '\n';
-        // Flushed per row so that an interrupted run still leaves what it measured.
-        csv_->flush();
-    }
-
-    [[nodiscard]] const Measurement* find(scene::Mode mode, const std::string& series,
-                                          int slices = 0, int resolution = 0) const {
-        for (const auto& point : points_) {
-            if (point.mode == mode && point.series == series && point.slices == slices &&
-                point.resolution == resolution) {
-                return &point.measurement;
-            }
-        }
-        return nullptr;
-    }
-
-    [[nodiscard]] const Measurement* find_builder(scene::LightBufferBuilder builder, int slices,
-                                                  int resolution) const {
-        for (const auto& point : points_) {
-            if (point.series == "light_buffer_pass" && point.builder == scene::to_string(builder) &&
-                point.slices == slices && point.resolution == resolution) {
-                return &point.measurement;
-            }
-        }
-        return nullptr;
-    }
-
-private:
-    std::ofstream* csv_;
-    int width_;
-    int height_;
-    int frames_;
-    std::vector<Point> points_;
-};
-
 // "      12.345       n/a": wall then gpu milliseconds.
 std::string cells(const Measurement& m) {
     char text[48];
@@ -398,7 +154,7 @@ bool contains(const std::vector<scene::Mode>& modes, scene::Mode mode) {
 // One run of `bench modes`: what it sweeps, and its results so far.
 struct ModesRun {
     ModeBench& bench;
-    Results& results;
+    TimedResults& results;
     std::vector<scene::Mode> modes;
     std::vector<int> slices;
     std::vector<int> resolutions;
@@ -407,7 +163,7 @@ struct ModesRun {
 
     [[nodiscard]] int middle_resolution() const { return resolutions[resolutions.size() / 2]; }
 
-    base::Status record(Point point, const scene::FrameRequest& request, LightBufferUse use,
+    base::Status record(TimedPoint point, const scene::FrameRequest& request, LightBufferUse use,
                         const std::string& pass) {
         auto measured = bench.measure(point, request, use, pass);
         if (!measured) {
@@ -427,7 +183,7 @@ base::Status measure_frames(ModesRun& run) {
             scene::uses_light_buffer(mode)) {
             continue;
         }
-        const Point point{mode, "frame", "", 0, 0, {}};
+        const TimedPoint point{mode, "frame", "", 0, 0, {}};
         if (auto status =
                     run.record(point, run.bench.request(mode, 0, 0), LightBufferUse::none, {});
             !status) {
@@ -441,7 +197,7 @@ base::Status measure_frames(ModesRun& run) {
         for (const int n : run.slices) {
             for (const int r : run.resolutions) {
                 const scene::Mode mode = scene::Mode::half_angle;
-                const Point point{mode, "frame", "", n, r, {}};
+                const TimedPoint point{mode, "frame", "", n, r, {}};
                 if (auto status = run.record(point, run.bench.request(mode, n, r),
                                              LightBufferUse::none, {});
                     !status) {
@@ -475,8 +231,8 @@ base::Status measure_light_buffer_modes(ModesRun& run) {
         for (const int n : run.slices) {
             for (const int r : run.resolutions) {
                 const scene::FrameRequest request = run.bench.request(mode, n, r);
-                const Point cached{mode, "cached", run.builder, n, r, {}};
-                const Point rebuild{mode, "rebuild", run.builder, n, r, {}};
+                const TimedPoint cached{mode, "cached", run.builder, n, r, {}};
+                const TimedPoint rebuild{mode, "rebuild", run.builder, n, r, {}};
                 if (auto status = run.record(cached, request, LightBufferUse::cached, {});
                     !status) {
                     return status;
@@ -509,7 +265,7 @@ base::Status measure_builders(ModesRun& run) {
                     scene::FrameRequest request = run.bench.request(scene::Mode::sbrc, n, r);
                     request.settings.light_buffer.builder = builder;
                     const std::string name = scene::to_string(builder);
-                    const Point point{scene::Mode::sbrc, "light_buffer_pass", name, n, r, {}};
+                    const TimedPoint point{scene::Mode::sbrc, "light_buffer_pass", name, n, r, {}};
                     if (auto status = run.record(point, request, LightBufferUse::rebuild,
                                                  "light_buffer_" + name);
                         !status) {
@@ -542,12 +298,12 @@ base::Status measure_lookups(ModesRun& run) {
             for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
                 scene::FrameRequest request = run.bench.request(scene::Mode::sbrc, n, r_mid);
                 request.settings.light_buffer.lookup = lookup;
-                const Point point{scene::Mode::sbrc,
-                                  std::string("lookup_") + scene::to_string(lookup),
-                                  run.builder,
-                                  n,
-                                  r_mid,
-                                  {}};
+                const TimedPoint point{scene::Mode::sbrc,
+                                       std::string("lookup_") + scene::to_string(lookup),
+                                       run.builder,
+                                       n,
+                                       r_mid,
+                                       {}};
                 if (auto status = run.record(point, request, LightBufferUse::cached, {}); !status) {
                     return status;
                 }
@@ -707,7 +463,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     ModeBench bench(**renderer, std::move(base_request.value()), *repeat);
     const scene::RenderSettings& s = bench.base().settings;
-    Results results(csv.is_open() ? &csv : nullptr, s.width, s.height, *repeat);
+    TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, *repeat);
     print_modes_header((*renderer)->info(), *volume, bench, *repeat);
     ModesRun run{bench,         results,      *modes,
                  *slice_counts, *resolutions, scene::to_string(s.light_buffer.builder)};
