@@ -395,6 +395,47 @@ void print_modes_header(const render::RendererInfo& info, const volume::Volume& 
     std::fflush(stdout);
 }
 
+base::Status refuse_swept_options(const Arguments& a) {
+    // These three are what the benchmark sweeps; accepting one would silently ignore it.
+    const std::pair<const char*, const char*> swept[] = {
+            {"mode", "--modes"}, {"slices", "--slices-list"}, {"light-res", "--light-res-list"}};
+    for (const auto& [option, instead] : swept) {
+        if (a.has(option)) {
+            return base::make_error(
+                    "invalid_argument",
+                    std::string("bench modes sweeps this; use ") + instead + " LIST",
+                    std::string("--") + option);
+        }
+    }
+    return base::Ok{};
+}
+
+// What `bench modes` sweeps.
+struct ModesSweep {
+    std::vector<scene::Mode> modes;
+    std::vector<int> slices;
+    std::vector<int> resolutions;
+    int repeat = 5;
+};
+
+base::Result<ModesSweep> modes_sweep(const Arguments& a) {
+    auto slice_counts = parse_counts(a, "slices-list", "64,128,256");
+    auto resolutions = parse_counts(a, "light-res-list", "128,256,512");
+    auto modes = parse_modes(
+            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"));
+    auto repeat = a.integer("repeat", 5);
+    if (!slice_counts || !resolutions || !modes || !repeat) {
+        return !slice_counts  ? slice_counts.error()
+               : !resolutions ? resolutions.error()
+               : !modes       ? modes.error()
+                              : repeat.error();
+    }
+    if (*repeat < 1 || *repeat > 1000) {
+        return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
+    }
+    return ModesSweep{*modes, *slice_counts, *resolutions, *repeat};
+}
+
 int run_bench_modes(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
     valued.insert(valued.end(),
@@ -410,30 +451,12 @@ int run_bench_modes(const std::vector<std::string>& args) {
         return 0;
     }
     const Arguments& a = *parsed;
-    // These three are what the benchmark sweeps; accepting one would silently ignore it.
-    const std::pair<const char*, const char*> swept[] = {
-            {"mode", "--modes"}, {"slices", "--slices-list"}, {"light-res", "--light-res-list"}};
-    for (const auto& [option, instead] : swept) {
-        if (a.has(option)) {
-            return usage_error(base::make_error(
-                    "invalid_argument",
-                    std::string("bench modes sweeps this; use ") + instead + " LIST",
-                    std::string("--") + option));
-        }
+    if (auto status = refuse_swept_options(a); !status) {
+        return usage_error(status.error());
     }
-    auto slice_counts = parse_counts(a, "slices-list", "64,128,256");
-    auto resolutions = parse_counts(a, "light-res-list", "128,256,512");
-    auto modes = parse_modes(
-            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"));
-    auto repeat = a.integer("repeat", 5);
-    if (!slice_counts || !resolutions || !modes || !repeat) {
-        return fail(!slice_counts  ? slice_counts.error()
-                    : !resolutions ? resolutions.error()
-                    : !modes       ? modes.error()
-                                   : repeat.error());
-    }
-    if (*repeat < 1 || *repeat > 1000) {
-        return fail(base::make_error("invalid_argument", "expects 1..1000", "--repeat"));
+    auto sweep = modes_sweep(a);
+    if (!sweep) {
+        return fail(sweep.error());
     }
     const std::string path = a.get("volume").value_or(default_volume_path);
     auto loaded = volume::load_volume(path);
@@ -461,12 +484,16 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (auto status = (*renderer)->set_volume(volume); !status) {
         return fail(status.error());
     }
-    ModeBench bench(**renderer, std::move(base_request.value()), *repeat);
+    ModeBench bench(**renderer, std::move(base_request.value()), sweep->repeat);
     const scene::RenderSettings& s = bench.base().settings;
-    TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, *repeat);
-    print_modes_header((*renderer)->info(), *volume, bench, *repeat);
-    ModesRun run{bench,         results,      *modes,
-                 *slice_counts, *resolutions, scene::to_string(s.light_buffer.builder)};
+    TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, sweep->repeat);
+    print_modes_header((*renderer)->info(), *volume, bench, sweep->repeat);
+    ModesRun run{bench,
+                 results,
+                 sweep->modes,
+                 sweep->slices,
+                 sweep->resolutions,
+                 scene::to_string(s.light_buffer.builder)};
     for (const auto measure :
          {measure_frames, measure_light_buffer_modes, measure_builders, measure_lookups}) {
         if (auto status = measure(run); !status) {

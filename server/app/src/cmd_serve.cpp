@@ -366,6 +366,26 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
             {.encode_threads = o.encode_threads}, registry);
 }
 
+volume::LoadOptions load_options(const ServeOptions& o) {
+    volume::LoadOptions load;
+    load.max_bytes = static_cast<std::uint64_t>(o.max_load_mb) << 20;
+    return load;
+}
+
+// The accuracy table sessions with a frame budget choose from; null: budgets are ignored.
+base::Result<std::shared_ptr<const quality::Table>> quality_table(
+        const ServeOptions& o, const quality::StartupMeasurement& measured,
+        const render::RendererInfo& info) {
+    auto table = quality::serve_table(o.quality_table, measured, table_paths(info));
+    if (!table) {
+        return table.error();
+    }
+    for (const std::string& note : table->notes) {
+        std::printf("quality:  %s\n", note.c_str());
+    }
+    return table->table;
+}
+
 void print_access(const net::ServerConfig& config, bool cluster) {
     std::printf("access:   %s; WebSocket pages from %s\n",
                 config.access_token.empty() ? "no token asked" : "token asked on /ws",
@@ -426,10 +446,9 @@ int run_serve(const std::vector<std::string>& args) {
     }
     net::ServerConfig& config = options->config;
     protocol::Limits& limits = config.limits;
-    volume::LoadOptions load_options;
-    load_options.max_bytes = static_cast<std::uint64_t>(options->max_load_mb) << 20;
-    session::VolumeStore volumes(
-            options->data, static_cast<std::size_t>(options->volume_memory_mb) << 20, load_options);
+    session::VolumeStore volumes(options->data,
+                                 static_cast<std::size_t>(options->volume_memory_mb) << 20,
+                                 load_options(*options));
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }
@@ -448,14 +467,11 @@ int run_serve(const std::vector<std::string>& args) {
     limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
     limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
-    auto table = quality::serve_table(options->quality_table, measured, table_paths(info));
+    auto table = quality_table(*options, measured, info);
     if (!table) {
         return fail(table.error());
     }
-    for (const std::string& note : table->notes) {
-        std::printf("quality:  %s\n", note.c_str());
-    }
-    config.quality_table = table->table;
+    config.quality_table = *table;
 
     const std::string& secret = options->cluster_secret;
     session::SessionRegistry sessions(
