@@ -79,48 +79,6 @@ void print_modes_usage() {
             default_volume_path, frame_options_help());
 }
 
-// "64,128,256" → counts, each a whole number of at least 1.
-base::Result<std::vector<int>> parse_counts(const Arguments& args, const std::string& option,
-                                            const std::string& fallback) {
-    auto numbers = parse_numbers(args.get(option).value_or(fallback), option);
-    if (!numbers) {
-        return numbers.error();
-    }
-    std::vector<int> counts;
-    for (const double number : *numbers) {
-        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
-            return base::make_error("invalid_argument", "expects whole numbers from 1 to 65536",
-                                    "--" + option);
-        }
-        counts.push_back(static_cast<int>(number));
-    }
-    return counts;
-}
-
-base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
-    std::vector<scene::Mode> modes;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = text.find(',', start);
-        const std::string name = text.substr(start, comma - start);
-        const auto mode = scene::parse_mode(name);
-        if (!mode) {
-            return base::make_error("invalid_argument",
-                                    "unknown mode '" + name +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone, reference)",
-                                    "--modes");
-        }
-        if (std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
-            modes.push_back(*mode);
-        }
-        if (comma == std::string::npos) {
-            return modes;
-        }
-        start = comma + 1;
-    }
-}
-
 // "      12.345       n/a": wall then gpu milliseconds.
 std::string cells(const Measurement& m) {
     char text[48];
@@ -419,10 +377,12 @@ struct ModesSweep {
 };
 
 base::Result<ModesSweep> modes_sweep(const Arguments& a) {
-    auto slice_counts = parse_counts(a, "slices-list", "64,128,256");
-    auto resolutions = parse_counts(a, "light-res-list", "128,256,512");
+    auto slice_counts = parse_counts(a.get("slices-list").value_or("64,128,256"), "slices-list");
+    auto resolutions =
+            parse_counts(a.get("light-res-list").value_or("128,256,512"), "light-res-list");
     auto modes = parse_modes(
-            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"));
+            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"),
+            "modes");
     auto repeat = a.integer("repeat", 5);
     if (!slice_counts || !resolutions || !modes || !repeat) {
         return !slice_counts  ? slice_counts.error()

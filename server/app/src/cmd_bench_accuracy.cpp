@@ -121,41 +121,10 @@ void print_usage() {
             default_modes, frame_options_help());
 }
 
-std::vector<std::string> split(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t end = text.find(separator, start);
-        parts.push_back(text.substr(start, end - start));
-        if (end == std::string::npos) {
-            return parts;
-        }
-        start = end + 1;
-    }
-}
-
-base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option) {
-    auto numbers = parse_numbers(text, option);
-    if (!numbers) {
-        return numbers.error();
-    }
-    std::vector<int> counts;
-    for (const double number : *numbers) {
-        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
-            return base::make_error("invalid_argument", "expects whole numbers from 1 to 65536",
-                                    "--" + option);
-        }
-        if (std::find(counts.begin(), counts.end(), static_cast<int>(number)) == counts.end()) {
-            counts.push_back(static_cast<int>(number));
-        }
-    }
-    return counts;
-}
-
 // "1/256,0.002" → distances (numbers accept the fraction form).
 base::Result<std::vector<double>> parse_distances(const std::string& text) {
     std::vector<double> distances;
-    for (const std::string& item : split(text, ',')) {
+    for (const std::string& item : split_list(text)) {
         auto number = parse_numbers(item, "sample-distances");
         if (!number) {
             return number.error();
@@ -173,7 +142,7 @@ base::Result<std::vector<double>> parse_distances(const std::string& text) {
 
 base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
     std::vector<LightAngles> lights;
-    for (const std::string& item : split(text, ';')) {
+    for (const std::string& item : split_list(text, ';')) {
         auto numbers = parse_numbers(item, "lights");
         if (!numbers) {
             return numbers.error();
@@ -187,22 +156,11 @@ base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
     return lights;
 }
 
-base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
-    std::vector<scene::Mode> modes;
-    for (const std::string& name : split(text, ',')) {
-        const auto mode = scene::parse_mode(name);
-        if (!mode) {
-            return base::make_error("invalid_argument",
-                                    "unknown mode '" + name +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone)",
-                                    "--modes");
-        }
-        // The reference is what the others are measured against; it is always rendered.
-        if (*mode != scene::Mode::reference &&
-            std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
-            modes.push_back(*mode);
-        }
+// The modes to compare with the reference, which is always rendered.
+base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& text) {
+    auto modes = parse_modes(text, "modes");
+    if (modes) {
+        std::erase(*modes, scene::Mode::reference);
     }
     return modes;
 }
@@ -380,7 +338,7 @@ base::Status finish(const Table& table, const Arguments& a) {
 // The sweep the options ask for, over the defaults of this kind of device.
 base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
     auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_modes(a.get("modes").value_or(default_modes));
+    auto modes = parse_compared_modes(a.get("modes").value_or(default_modes));
     auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
     auto resolutions =
             parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
@@ -398,7 +356,7 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
     Sweep sweep;
-    sweep.volumes = split(a.get("volumes").value_or(defaults.volumes), ',');
+    sweep.volumes = split_list(a.get("volumes").value_or(defaults.volumes));
     sweep.lights = *lights;
     sweep.modes = *modes;
     sweep.slices = *slices;

@@ -39,21 +39,6 @@ std::filesystem::path default_web_root() {
                                                                    : std::filesystem::path();
 }
 
-// "a, b,c" -> {"a", "b", "c"}.
-std::vector<std::string> split_list(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream stream(text);
-    std::string item;
-    while (std::getline(stream, item, ',')) {
-        const auto first = item.find_first_not_of(" \t");
-        const auto last = item.find_last_not_of(" \t");
-        if (first != std::string::npos) {
-            out.push_back(item.substr(first, last - first + 1));
-        }
-    }
-    return out;
-}
-
 // A secret from the file `option` names, else from the environment variable; empty when neither
 // is given. A secret is not a command-line value, which every user of the machine can read.
 base::Result<std::string> read_secret(const Arguments& a, const std::string& option,
