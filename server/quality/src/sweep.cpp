@@ -9,7 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <set>
+#include <utility>
 
 namespace penumbra::quality {
 namespace {
@@ -170,41 +173,59 @@ base::Result<render::Frame> AccuracyBench::render(const scene::FrameRequest& req
     return renderer_.render(request);
 }
 
-std::uint64_t frames_per_view(const Sweep& sweep) {
-    const std::uint64_t per_point = static_cast<std::uint64_t>(sweep.repeat) + 1;
-    const std::uint64_t grid = sweep.slices.size() * sweep.resolutions.size();
-    std::uint64_t half_angle_grid = 0;
+std::vector<SweepSetting> sweep_settings(const Sweep& sweep) {
+    std::vector<SweepSetting> settings;
+    for (const scene::Mode mode : sweep.modes) {
+        if (mode != scene::Mode::half_angle && !scene::uses_light_buffer(mode)) {
+            settings.push_back({mode, 0, 0});
+        }
+    }
     for (const int n : sweep.slices) {
         for (const int r : sweep.resolutions) {
-            half_angle_grid += half_angle_at(sweep, n, r) ? 1 : 0;
+            if (contains(sweep.modes, scene::Mode::half_angle) && half_angle_at(sweep, n, r)) {
+                settings.push_back({scene::Mode::half_angle, n, r});
+            }
+            for (const scene::Mode mode : sweep.modes) {
+                if (scene::uses_light_buffer(mode)) {
+                    settings.push_back({mode, n, r});
+                }
+            }
         }
     }
-    const std::uint64_t distances = sweep.distances.size();
-    std::uint64_t frames = distances * per_point;  // the references
-    bool any_light_buffer = false;
-    for (const scene::Mode mode : sweep.modes) {
-        if (scene::uses_light_buffer(mode)) {
-            any_light_buffer = true;
-            frames += grid * distances * per_point;
-        } else if (mode == scene::Mode::half_angle) {
-            frames += half_angle_grid * distances * per_point;
-        } else {
-            frames += distances * per_point;
-        }
-    }
-    if (any_light_buffer) {
-        frames += grid * per_point;  // the builds, on tiny frames
-    }
-    return frames;
+    return settings;
 }
 
-base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
-                                const std::string& volume, const LightAngles& light,
-                                const PointObserver& observer, std::vector<Point>& points) {
-    base.light.type = scene::LightType::directional;
-    base.light.direction = scene::direction_from_angles(light.azimuth, light.elevation);
+scene::FrameRequest SweepSetting::applied(scene::FrameRequest request) const {
+    request.settings.mode = mode;
+    if (slices > 0) {
+        request.settings.light_buffer.slices = slices;
+        request.settings.light_buffer.resolution = resolution;
+    }
+    return request;
+}
 
-    std::vector<base::ImageRgbaF> references;
+std::uint64_t frames_per_view(const Sweep& sweep) {
+    const std::uint64_t per_point = static_cast<std::uint64_t>(sweep.repeat) + 1;
+    const std::uint64_t distances = sweep.distances.size();
+    std::uint64_t frames = distances * per_point;  // the references
+    std::set<std::pair<int, int>> builds;          // one per light-buffer grid point
+    for (const SweepSetting& setting : sweep_settings(sweep)) {
+        frames += distances * per_point;
+        if (scene::uses_light_buffer(setting.mode)) {
+            builds.insert({setting.slices, setting.resolution});
+        }
+    }
+    return frames + builds.size() * per_point;  // the builds, on tiny frames
+}
+
+namespace {
+
+// The references at every sample distance, appended as points; false: the observer stopped.
+base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
+                                      const scene::FrameRequest& base, const std::string& volume,
+                                      const LightAngles& light, const PointObserver& observer,
+                                      std::vector<Point>& points,
+                                      std::vector<base::ImageRgbaF>& references) {
     for (const double distance : sweep.distances) {
         scene::FrameRequest request = base;
         request.settings.mode = scene::Mode::reference;
@@ -242,10 +263,39 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
             return false;
         }
     }
+    return true;
+}
 
-    // Renders one point at every sample distance and records it; false: the observer stopped.
-    const auto record = [&](scene::FrameRequest request, int slices, int resolution,
-                            double build_ms) -> base::Result<bool> {
+}  // namespace
+
+base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
+                                const std::string& volume, const LightAngles& light,
+                                const PointObserver& observer, std::vector<Point>& points) {
+    base.light.type = scene::LightType::directional;
+    base.light.direction = scene::direction_from_angles(light.azimuth, light.elevation);
+    std::vector<base::ImageRgbaF> references;
+    auto complete =
+            measure_references(bench, sweep, base, volume, light, observer, points, references);
+    if (!complete || !*complete) {
+        return complete;
+    }
+    // The light-buffer modes build the same buffer (its key has no mode), so one build time per
+    // grid point serves them all.
+    std::map<std::pair<int, int>, double> builds;
+    for (const SweepSetting& setting : sweep_settings(sweep)) {
+        scene::FrameRequest request = setting.applied(base);
+        double build_ms = 0.0;
+        if (scene::uses_light_buffer(setting.mode)) {
+            const std::pair<int, int> grid{setting.slices, setting.resolution};
+            if (!builds.contains(grid)) {
+                auto built = bench.light_buffer_build(request);
+                if (!built) {
+                    return built.error();
+                }
+                builds[grid] = *built;
+            }
+            build_ms = builds[grid];
+        }
         for (std::size_t d = 0; d < sweep.distances.size(); ++d) {
             request.settings.sample_distance = sweep.distances[d];
             auto timed = bench.frame(request);
@@ -257,61 +307,23 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
             if (!same || !finest) {
                 return !same ? same.error() : finest.error();
             }
-            const Point p{volume,          light,       request.settings.mode,
-                          slices,          resolution,  sweep.distances[d],
-                          timed->frame_ms, build_ms,    same->rmse,
-                          same->psnr,      same->ssim,  finest->rmse,
-                          finest->psnr,    finest->ssim};
+            const Point p{volume,
+                          light,
+                          setting.mode,
+                          setting.slices,
+                          setting.resolution,
+                          sweep.distances[d],
+                          timed->frame_ms,
+                          build_ms,
+                          same->rmse,
+                          same->psnr,
+                          same->ssim,
+                          finest->rmse,
+                          finest->psnr,
+                          finest->ssim};
             points.push_back(p);
             if (!observer(p)) {
                 return false;
-            }
-        }
-        return true;
-    };
-
-    for (const scene::Mode mode : sweep.modes) {
-        if (mode == scene::Mode::half_angle || scene::uses_light_buffer(mode)) {
-            continue;
-        }
-        scene::FrameRequest request = base;
-        request.settings.mode = mode;
-        auto going_on = record(request, 0, 0, 0.0);
-        if (!going_on || !*going_on) {
-            return going_on;
-        }
-    }
-    for (const int n : sweep.slices) {
-        for (const int r : sweep.resolutions) {
-            scene::FrameRequest request = base;
-            request.settings.light_buffer.slices = n;
-            request.settings.light_buffer.resolution = r;
-            if (contains(sweep.modes, scene::Mode::half_angle) && half_angle_at(sweep, n, r)) {
-                request.settings.mode = scene::Mode::half_angle;
-                auto going_on = record(request, n, r, 0.0);
-                if (!going_on || !*going_on) {
-                    return going_on;
-                }
-            }
-            // The three light-buffer modes build the same buffer (its key has no mode), so one
-            // build time serves them all.
-            std::optional<double> build_ms;
-            for (const scene::Mode mode : sweep.modes) {
-                if (!scene::uses_light_buffer(mode)) {
-                    continue;
-                }
-                request.settings.mode = mode;
-                if (!build_ms) {
-                    auto built = bench.light_buffer_build(request);
-                    if (!built) {
-                        return built.error();
-                    }
-                    build_ms = *built;
-                }
-                auto going_on = record(request, n, r, *build_ms);
-                if (!going_on || !*going_on) {
-                    return going_on;
-                }
             }
         }
     }

@@ -84,6 +84,21 @@ struct Sweep {
     int repeat = 3;
 };
 
+// One setting of a sweep, measured at every sample distance against the references. A new
+// dimension of the sweep is a list in Sweep, a field here, and its loop in sweep_settings.
+struct SweepSetting {
+    scene::Mode mode = scene::Mode::dvr;
+    int slices = 0;      // 0 where the mode has none
+    int resolution = 0;  // 0 where the mode has no light buffer
+
+    // The request with this setting's fields set.
+    [[nodiscard]] scene::FrameRequest applied(scene::FrameRequest request) const;
+};
+
+// The settings of a sweep in the order they are measured: the modes without slices, then per
+// grid point half_angle and the light-buffer modes (which share one build).
+std::vector<SweepSetting> sweep_settings(const Sweep& sweep);
+
 // Frames one volume and light cost, so a run can say up front how long it will take.
 std::uint64_t frames_per_view(const Sweep& sweep);
 
