@@ -384,38 +384,47 @@ void print_access(const net::ServerConfig& config, bool cluster) {
     }
 }
 
+const std::vector<std::string>& serve_option_names() {
+    static const std::vector<std::string> names = {"data",
+                                                   "port",
+                                                   "address",
+                                                   "web-root",
+                                                   "io-threads",
+                                                   "encode-threads",
+                                                   "max-sessions",
+                                                   "max-image-side",
+                                                   "max-slices",
+                                                   "max-light-res",
+                                                   "max-message-bytes",
+                                                   "max-requests-per-second",
+                                                   "max-frame-work",
+                                                   "volume-memory-mb",
+                                                   "max-load-mb",
+                                                   "gpu-memory-mb",
+                                                   "light-buffer-memory-mb",
+                                                   "default-tf",
+                                                   "quality-table",
+                                                   "ping-interval",
+                                                   "ping-timeout",
+                                                   "max-sessions-per-client",
+                                                   "max-sessions-per-connection",
+                                                   "client-address-header",
+                                                   "allowed-origins",
+                                                   "access-token-file",
+                                                   "cluster-secret-file"};
+    return names;
+}
+
+const std::vector<std::string>& serve_flag_names() {
+    static const std::vector<std::string> names = {"help", "debug-gl", "quality-measure",
+                                                   "no-quality-measure"};
+    return names;
+}
+
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(args,
-                                   {"data",
-                                    "port",
-                                    "address",
-                                    "web-root",
-                                    "io-threads",
-                                    "encode-threads",
-                                    "max-sessions",
-                                    "max-image-side",
-                                    "max-slices",
-                                    "max-light-res",
-                                    "max-message-bytes",
-                                    "max-requests-per-second",
-                                    "max-frame-work",
-                                    "volume-memory-mb",
-                                    "max-load-mb",
-                                    "gpu-memory-mb",
-                                    "light-buffer-memory-mb",
-                                    "default-tf",
-                                    "quality-table",
-                                    "ping-interval",
-                                    "ping-timeout",
-                                    "max-sessions-per-client",
-                                    "max-sessions-per-connection",
-                                    "client-address-header",
-                                    "allowed-origins",
-                                    "access-token-file",
-                                    "cluster-secret-file"},
-                                   {"help", "debug-gl", "quality-measure", "no-quality-measure"});
+    auto parsed = Arguments::parse(args, serve_option_names(), serve_flag_names());
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
                      parsed.error().to_string().c_str());
