@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the build tree into a temporary prefix, moves the prefix, and checks that the moved
-# binary renders with its own shaders and serves its own web client and accuracy table: nothing of
-# the build or source tree may be needed once installed.
+# binary renders with its own shaders, serves its own web client and accuracy table, and plots with
+# its own gnuplot template: nothing of the build or source tree may be needed once installed.
 # usage: install_test.sh BUILD_DIR WORK_DIR VOLUME
 set -euo pipefail
 build_dir="$1"
@@ -14,7 +14,7 @@ cmake --install "$build_dir" --prefix "$work/first" > "$work/install.log"
 mv "$work/first" "$work/moved"
 prefix="$work/moved"
 for file in bin/penumbra share/penumbra/shaders/raycast.glsl share/penumbra/web/index.html \
-        share/penumbra/accuracy/llvmpipe.json; do
+        share/penumbra/accuracy/llvmpipe.json share/penumbra/plots/accuracy.gp; do
     test -e "$prefix/$file" || { echo "install: $file missing under the prefix" >&2; exit 1; }
 done
 
@@ -24,6 +24,12 @@ unset PENUMBRA_SHADER_DIR
         --out "$work/moved.png") | tee "$work/render.log"
 grep -Eq "pass: +raycast" "$work/render.log"
 test -s "$work/moved.png"
+
+# The accuracy plot script: the moved prefix's template below the table's data.
+mkdir -p "$work/plot"
+"$prefix/bin/penumbra" bench accuracy --from "$prefix/share/penumbra/accuracy/llvmpipe.json" \
+        --plot "$work/plot/table.png" > "$work/plot.log" 2>&1 || grep -q "gnuplot failed" "$work/plot.log"
+grep -q "set multiplot" "$work/plot/table.gp"
 
 # Serve: the web client and the accuracy table of the moved prefix.
 "$prefix/bin/penumbra" serve --port 0 --data "$(dirname "$volume")" > "$work/serve.log" 2>&1 &

@@ -1,6 +1,6 @@
-// parse_quality_table on any text (the accuracy table `penumbra serve --quality-table` reads).
+// quality::parse_table on any text (the accuracy table `penumbra serve --quality-table` reads).
 
-#include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/quality/table_json.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -8,6 +8,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
-    (void)penumbra::protocol::parse_quality_table(text, "table.json");
+    (void)penumbra::quality::parse_table(text, "table.json");
     return 0;
 }

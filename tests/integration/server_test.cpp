@@ -190,11 +190,25 @@ protected:
         config.port = 0;
         config.limits = limits;
         // A small measured table: sbrc at n=32 fits 50 ms at 64x64, the reference does not.
-        config.quality_table = std::make_shared<const std::vector<scene::QualitySample>>(
-                std::vector<scene::QualitySample>{
-                        {scene::Mode::phong, 0, 0, 1.0 / 256, 20.0, 18.0, 64, 64},
-                        {scene::Mode::sbrc, 32, 64, 1.0 / 256, 40.0, 24.0, 64, 64},
-                        {scene::Mode::reference, 0, 0, 1.0 / 256, 400.0, 99.0, 64, 64}});
+        auto table = std::make_shared<quality::Table>();
+        table->width = 64;
+        table->height = 64;
+        const auto point = [](scene::Mode mode, int slices, int resolution, double frame_ms,
+                              double psnr) {
+            quality::Point p;
+            p.volume = "ch2";
+            p.mode = mode;
+            p.slices = slices;
+            p.resolution = resolution;
+            p.sample_distance = 1.0 / 256;
+            p.frame_ms = frame_ms;
+            p.psnr = p.psnr_finest = psnr;
+            return p;
+        };
+        table->points = {point(scene::Mode::phong, 0, 0, 20.0, 18.0),
+                         point(scene::Mode::sbrc, 32, 64, 40.0, 24.0),
+                         point(scene::Mode::reference, 0, 0, 400.0, quality::infinity)};
+        config.quality_table = std::move(table);
         if (configure) {
             configure(config);
         }

@@ -91,7 +91,9 @@ base::Result<Arguments> Arguments::parse(const std::vector<std::string>& args,
     return out;
 }
 
-bool Arguments::has(const std::string& name) const { return values_.contains(name); }
+bool Arguments::has(const std::string& name) const {
+    return values_.contains(name);
+}
 
 std::optional<std::string> Arguments::get(const std::string& name) const {
     if (auto found = values_.find(name); found != values_.end()) {
@@ -119,7 +121,8 @@ base::Result<int> Arguments::integer(const std::string& name, int fallback) cons
     return value;
 }
 
-base::Result<std::vector<double>> parse_numbers(const std::string& text, const std::string& option) {
+base::Result<std::vector<double>> parse_numbers(const std::string& text,
+                                                const std::string& option) {
     std::vector<double> numbers;
     std::size_t start = 0;
     while (true) {
@@ -169,6 +172,58 @@ base::Result<std::pair<int, int>> Arguments::size(const std::string& name,
         return bad(name, "expects WIDTHxHEIGHT, e.g. 512x512");
     }
     return std::pair{w, h};
+}
+
+std::vector<std::string> split_list(const std::string& text, char separator) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t end = std::min(text.find(separator, start), text.size());
+        const std::string item = text.substr(start, end - start);
+        const auto first = item.find_first_not_of(" \t");
+        if (first != std::string::npos) {
+            out.push_back(item.substr(first, item.find_last_not_of(" \t") - first + 1));
+        }
+        start = end + 1;
+    }
+    return out;
+}
+
+base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option) {
+    auto numbers = parse_numbers(text, option);
+    if (!numbers) {
+        return numbers.error();
+    }
+    std::vector<int> counts;
+    for (const double number : *numbers) {
+        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
+            return base::make_error("invalid_argument", "expects whole numbers from 1 to 65536",
+                                    "--" + option);
+        }
+        if (std::find(counts.begin(), counts.end(), static_cast<int>(number)) == counts.end()) {
+            counts.push_back(static_cast<int>(number));
+        }
+    }
+    return counts;
+}
+
+base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
+                                                   const std::string& option) {
+    std::vector<scene::Mode> modes;
+    for (const std::string& name : split_list(text)) {
+        const auto mode = scene::parse_mode(name);
+        if (!mode) {
+            return base::make_error("invalid_argument",
+                                    "unknown mode '" + name +
+                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
+                                            "sbrc_cone, reference)",
+                                    "--" + option);
+        }
+        if (std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
+            modes.push_back(*mode);
+        }
+    }
+    return modes;
 }
 
 }  // namespace penumbra::app

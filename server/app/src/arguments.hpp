@@ -1,6 +1,7 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -30,7 +31,8 @@ public:
     base::Result<glm::dvec3> vec3(const std::string& name, glm::dvec3 fallback) const;
 
     // "WxH" → width, height.
-    base::Result<std::pair<int, int>> size(const std::string& name, std::pair<int, int> fallback) const;
+    base::Result<std::pair<int, int>> size(const std::string& name,
+                                           std::pair<int, int> fallback) const;
 
 private:
     std::map<std::string, std::string> values_;
@@ -44,5 +46,15 @@ int report_usage_error(const char* command, const base::Error& error);
 
 // Splits "a,b,c" into numbers; errors name the option.
 base::Result<std::vector<double>> parse_numbers(const std::string& text, const std::string& option);
+
+// "a, b,c" -> {"a", "b", "c"}: items trimmed of blanks, empty ones dropped.
+std::vector<std::string> split_list(const std::string& text, char separator = ',');
+
+// "64,128,256" -> whole numbers from 1 to 65536, each once, in the order given.
+base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option);
+
+// "dvr,sbrc" -> modes, each once, in the order given.
+base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
+                                                   const std::string& option);
 
 }  // namespace penumbra::app

@@ -254,15 +254,15 @@ void Session::render(Scheduler& scheduler, std::int64_t request_id, bool interac
 }
 
 RenderJob Session::make_job(std::int64_t request_id, bool interactive,
-                            const std::vector<scene::QualitySample>* quality_table) const {
+                            const quality::Table* quality_table) const {
     SessionState current = state();
     std::string budget_note;
     if (current.frame_budget_ms > 0.0 && quality_table != nullptr) {
         const auto choice =
-                scene::choose_quality(*quality_table, current.frame_budget_ms,
-                                      current.frame.settings.width, current.frame.settings.height);
+                quality::choose(*quality_table, current.frame_budget_ms,
+                                current.frame.settings.width, current.frame.settings.height);
         if (choice) {
-            current.frame = scene::apply_quality(std::move(current.frame), *choice);
+            current.frame = quality::apply(std::move(current.frame), choice->setting.key);
             budget_note = "; " + choice->describe(current.frame_budget_ms);
         }
     }

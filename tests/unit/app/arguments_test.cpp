@@ -1,17 +1,18 @@
+#include "arguments.hpp"
+
+#include "render_options.hpp"
+#include "synthetic_volumes.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "arguments.hpp"
-#include "render_options.hpp"
-#include "synthetic_volumes.hpp"
 
 namespace penumbra::app {
 namespace {
 
 TEST(Arguments, ParsesValuesFlagsAndInlineValues) {
-    auto args = Arguments::parse({"--size", "64x32", "--fov=45", "--help"}, {"size", "fov"},
-                                 {"help"});
+    auto args =
+            Arguments::parse({"--size", "64x32", "--fov=45", "--help"}, {"size", "fov"}, {"help"});
     ASSERT_TRUE(args.ok());
     EXPECT_TRUE(args->has("help"));
     EXPECT_EQ(args->size("size", {1, 1}).value(), (std::pair{64, 32}));
@@ -31,9 +32,9 @@ TEST(Arguments, RejectsUnknownMissingAndMalformedValues) {
 }
 
 TEST(Arguments, NumbersMayBeFractions) {
-    auto args = Arguments::parse({"--a", "1/512", "--b", "-3/4", "--c", "1/0", "--d", "1/", "--e",
-                                  "/2", "--f", "1/2/3"},
-                                 {"a", "b", "c", "d", "e", "f"}, {});
+    auto args = Arguments::parse(
+            {"--a", "1/512", "--b", "-3/4", "--c", "1/0", "--d", "1/", "--e", "/2", "--f", "1/2/3"},
+            {"a", "b", "c", "d", "e", "f"}, {});
     ASSERT_TRUE(args.ok());
     EXPECT_DOUBLE_EQ(args->number("a", 0.0).value(), 1.0 / 512.0);
     EXPECT_DOUBLE_EQ(args->number("b", 0.0).value(), -0.75);
@@ -61,8 +62,8 @@ TEST(RenderOptions, LightBufferRefinementsAreOptions) {
 
 TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
     const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
-    auto args = Arguments::parse({"--mode", "dvr", "--size", "64x48", "--camera", "90,10,3",
-                                  "--tf", "grey_ramp", "--light-position", "1,2,3"},
+    auto args = Arguments::parse({"--mode", "dvr", "--size", "64x48", "--camera", "90,10,3", "--tf",
+                                  "grey_ramp", "--light-position", "1,2,3"},
                                  frame_option_names(), {});
     ASSERT_TRUE(args.ok()) << args.error().to_string();
     auto request = frame_request_from(*args, volume);
@@ -78,6 +79,30 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
     EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, "unknown_preset");
     auto bad_distance = Arguments::parse({"--sample-distance", "0"}, frame_option_names(), {});
     EXPECT_EQ(frame_request_from(*bad_distance, volume).error().where, "sample_distance");
+}
+
+TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {
+    EXPECT_EQ(split_list("a, b,,c "), (std::vector<std::string>{"a", "b", "c"}));
+    EXPECT_EQ(split_list("10,45; 100,20", ';'), (std::vector<std::string>{"10,45", "100,20"}));
+    EXPECT_TRUE(split_list("").empty());
+}
+
+TEST(ListOptions, CountsAreWholeNumbersInRangeEachOnce) {
+    EXPECT_EQ(parse_counts("64,128,64", "slices-list").value(), (std::vector<int>{64, 128}));
+    for (const char* bad : {"0", "1.5", "65537", "x"}) {
+        auto counts = parse_counts(bad, "slices-list");
+        ASSERT_FALSE(counts.ok()) << bad;
+        EXPECT_EQ(counts.error().where, "--slices-list") << bad;
+    }
+}
+
+TEST(ListOptions, ModesAreKnownNamesEachOnce) {
+    EXPECT_EQ(parse_modes("sbrc, dvr,sbrc", "modes").value(),
+              (std::vector<scene::Mode>{scene::Mode::sbrc, scene::Mode::dvr}));
+    auto unknown = parse_modes("dvr,shiny", "modes");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("'shiny'"), std::string::npos);
+    EXPECT_EQ(unknown.error().where, "--modes");
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/protocol/limits.hpp>
-#include <penumbra/scene/quality.hpp>
+#include <penumbra/quality/table.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
 #include <penumbra/session/volume_store.hpp>
@@ -24,7 +24,7 @@ struct ServerConfig {
     protocol::Limits limits;
     std::string default_transfer_function = "mri_skin";
     // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
-    std::shared_ptr<const std::vector<scene::QualitySample>> quality_table;
+    std::shared_ptr<const quality::Table> quality_table;
     // A WebSocket connection that has sent nothing for `ping_interval` is pinged; one that then
     // sends nothing, not even the pong, for `ping_timeout` is dropped. A frozen or vanished client
     // thus leaves its session (and an owner's resume works) within interval + timeout.

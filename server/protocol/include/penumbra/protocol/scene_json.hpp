@@ -3,7 +3,6 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/scene/frame_request.hpp>
-#include <penumbra/scene/quality.hpp>
 
 #include <memory>
 #include <optional>
@@ -68,9 +67,5 @@ std::string state_to_json(const SessionState& state);
 base::Result<scene::TransferFunction> parse_transfer_function(
         std::string_view json_text, std::optional<std::pair<double, double>> data_range,
         const std::string& where);
-
-// Reads the points of a `penumbra bench accuracy` table (docs/accuracy/README.md).
-base::Result<std::vector<scene::QualitySample>> parse_quality_table(std::string_view json_text,
-                                                                    const std::string& where);
 
 }  // namespace penumbra::protocol

@@ -1,8 +1,8 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/quality/table.hpp>
 #include <penumbra/scene/frame_request.hpp>
-#include <penumbra/scene/quality.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -156,9 +156,8 @@ public:
     // A job for the current state, at full or interactive quality. With a frame budget and a
     // measured quality table, the most accurate setting that fits replaces the state's mode,
     // slices, light-buffer resolution and sample distance.
-    [[nodiscard]] RenderJob make_job(
-            std::int64_t request_id, bool interactive,
-            const std::vector<scene::QualitySample>* quality_table = nullptr) const;
+    [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive,
+                                     const quality::Table* quality_table = nullptr) const;
 
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 

@@ -1,11 +1,11 @@
 // The short accuracy table `penumbra serve` measures at start-up where no table exists for the
-// device: the same sweep code as `bench accuracy`, at a tiny size, and its JSON read back the way
-// the server reads a table file.
+// device: the same sweep code as `bench accuracy`, at a tiny size, its JSON written and read back
+// as the server's cache is, and the server's choice from it.
 
-#include "accuracy_sweep.hpp"
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/quality/startup.hpp>
+#include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
 
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@
 #include <sstream>
 #include <tuple>
 
-namespace penumbra::app::accuracy {
+namespace penumbra::quality {
 namespace {
 
 // The start-up sweep cut down to a few slices and texels, so llvmpipe measures it in seconds.
@@ -33,6 +33,17 @@ StartupOptions tiny_options() {
     options.sweep.half_angle_resolutions = {16};
     options.sweep.repeat = 1;
     return options;
+}
+
+// A view of the whole volume with a transfer function that shows its inside.
+scene::FrameRequest frame() {
+    scene::FrameRequest request;
+    request.camera = scene::orbit_camera(30.0, 20.0, 2.4);
+    request.transfer_function = {
+            "test",
+            {{0.0, {0.2, 0.4, 1.0}}, {0.5, {1.0, 0.6, 0.2}}, {1.0, {1.0, 1.0, 1.0}}},
+            {{0.0, 0.0}, {0.2, 0.0}, {0.6, 0.1}, {1.0, 0.6}}};
+    return request;
 }
 
 class StartupTableTest : public ::testing::Test {
@@ -67,7 +78,7 @@ TEST(StartupOptions, AreTheShortSweep) {
 
 TEST_F(StartupTableTest, MeasuresEveryModeAndRoundTripsThroughTheServersParser) {
     const StartupOptions options = tiny_options();
-    auto measured = measure_startup_table(*renderer_, volume_, options);
+    auto measured = measure_startup_table(*renderer_, volume_, frame(), options);
     ASSERT_TRUE(measured.ok()) << measured.error().to_string();
     EXPECT_TRUE(measured->complete);
     EXPECT_GT(measured->seconds, 0.0);
@@ -105,36 +116,29 @@ TEST_F(StartupTableTest, MeasuresEveryModeAndRoundTripsThroughTheServersParser) 
 
     const std::filesystem::path path =
             std::filesystem::path(::testing::TempDir()) / "penumbra_startup_table.json";
-    ASSERT_TRUE(write_json(table, choose_presets(table.points, default_budgets(table.points)),
-                           path.string())
+    ASSERT_TRUE(write_table_file(path, table, choose_presets(table, default_budgets(table.points)),
+                                 "test")
                         .ok());
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto samples = protocol::parse_quality_table(text.str(), path.string());
-    ASSERT_TRUE(samples.ok()) << samples.error().to_string();
-    ASSERT_EQ(samples->size(), table.points.size());
-    for (std::size_t i = 0; i < samples->size(); ++i) {
-        const scene::QualitySample& s = (*samples)[i];
-        const Point& p = table.points[i];
-        EXPECT_EQ(s.mode, p.mode);
-        EXPECT_EQ(s.slices, p.slices);
-        EXPECT_EQ(s.resolution, p.resolution);
-        EXPECT_DOUBLE_EQ(s.frame_ms, p.frame_ms);
-        EXPECT_EQ(std::isinf(s.psnr), std::isinf(p.psnr_finest));
-        EXPECT_EQ(s.width, 32);
-    }
-    // And back through `bench accuracy --from`: the same table.
-    auto read = read_table(path.string());
+    auto read = read_table_file(path);
     ASSERT_TRUE(read.ok()) << read.error().to_string();
-    EXPECT_EQ(read->points.size(), table.points.size());
+    ASSERT_EQ(read->points.size(), table.points.size());
+    for (std::size_t i = 0; i < read->points.size(); ++i) {
+        const Point& r = read->points[i];
+        const Point& p = table.points[i];
+        EXPECT_EQ(r.mode, p.mode);
+        EXPECT_EQ(r.slices, p.slices);
+        EXPECT_EQ(r.resolution, p.resolution);
+        EXPECT_DOUBLE_EQ(r.frame_ms, p.frame_ms);
+        EXPECT_EQ(std::isinf(r.psnr_finest), std::isinf(p.psnr_finest));
+    }
+    EXPECT_EQ(read->width, 32);
     EXPECT_EQ(read->camera.eye, table.camera.eye);
     std::filesystem::remove(path);
 
     // The server chooses from it: an unbounded budget gets the reference.
-    auto choice = scene::choose_quality(*samples, 1e9, 32, 32);
+    auto choice = choose(*read, 1e9, 32, 32);
     ASSERT_TRUE(choice.has_value());
-    EXPECT_EQ(choice->mode, scene::Mode::reference);
+    EXPECT_EQ(choice->setting.key.mode, scene::Mode::reference);
 }
 
 // Start-up stays bounded: past the time limit the sweep stops after the point in hand and the
@@ -142,7 +146,7 @@ TEST_F(StartupTableTest, MeasuresEveryModeAndRoundTripsThroughTheServersParser) 
 TEST_F(StartupTableTest, StopsAtTheTimeLimitWithThePointsMeasured) {
     StartupOptions options = tiny_options();
     options.time_limit_s = 0.0;
-    auto measured = measure_startup_table(*renderer_, volume_, options);
+    auto measured = measure_startup_table(*renderer_, volume_, frame(), options);
     ASSERT_TRUE(measured.ok()) << measured.error().to_string();
     EXPECT_FALSE(measured->complete);
     ASSERT_EQ(measured->table.points.size(), 1u);
@@ -152,8 +156,8 @@ TEST_F(StartupTableTest, StopsAtTheTimeLimitWithThePointsMeasured) {
 TEST_F(StartupTableTest, RejectsFramesTooSmallForSsim) {
     StartupOptions options = tiny_options();
     options.side = min_image_side - 1;
-    EXPECT_FALSE(measure_startup_table(*renderer_, volume_, options).ok());
+    EXPECT_FALSE(measure_startup_table(*renderer_, volume_, frame(), options).ok());
 }
 
 }  // namespace
-}  // namespace penumbra::app::accuracy
+}  // namespace penumbra::quality

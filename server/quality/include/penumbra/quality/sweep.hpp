@@ -1,0 +1,115 @@
+#pragma once
+
+// The measuring half of the accuracy table: renders every point of a sweep against the
+// `reference` mode and times it. `penumbra bench accuracy` runs a sweep from its options,
+// `penumbra serve` a short one at start-up (startup.hpp).
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+#include <penumbra/quality/table.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/frame_request.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace penumbra::quality {
+
+// The SSIM window is 11 pixels; a little margin keeps the valid region from being one window.
+inline constexpr int min_image_side = 16;
+
+double median(std::vector<double> values);
+
+// A table of this renderer, to be measured with `repeat` timed frames per point.
+Table make_table(const render::RendererInfo& info, int repeat, bool phong);
+
+// Records the frame every point of the table shares (size, TF, compositing, camera...).
+void describe_frame(Table& table, const scene::FrameRequest& base);
+
+struct Timed {
+    base::ImageRgba8 image;
+    double frame_ms = 0.0;
+};
+
+struct Errors {
+    double rmse = 0.0;
+    double psnr = 0.0;
+    double ssim = 1.0;
+};
+
+// RMSE and PSNR over RGB, SSIM on luma.
+base::Result<Errors> errors_against(const base::ImageRgbaF& reference,
+                                    const base::ImageRgba8& image);
+
+// Renders and times frames on one renderer, which must be used on the thread that created it.
+class AccuracyBench {
+public:
+    AccuracyBench(render::FrameRenderer& renderer, int repeat);
+
+    [[nodiscard]] std::uint64_t frames() const { return frames_; }
+
+    // One warm-up frame (compiles the variant, builds the light buffer), whose image is the one
+    // judged, then `repeat` frames of the same request timed. The timed frames must reuse the light
+    // buffer, or the time would not be the camera-move cost it claims to be.
+    base::Result<Timed> frame(const scene::FrameRequest& request);
+
+    // The light-buffer pass alone, rebuilt every frame by nudging the light to and fro, on tiny
+    // frames (the buffer does not depend on the image size).
+    base::Result<double> light_buffer_build(scene::FrameRequest request);
+
+private:
+    base::Result<render::Frame> render(const scene::FrameRequest& request);
+
+    render::FrameRenderer& renderer_;
+    int repeat_;
+    std::uint64_t nudges_ = 0;  // distinct lights used by build measurements so far
+    bool gpu_timers_;
+    std::uint64_t frames_ = 0;
+};
+
+// What to sweep: plain lists, so that a new dimension is a new list and its loop.
+struct Sweep {
+    std::vector<std::string> volumes;
+    std::vector<LightAngles> lights;
+    std::vector<scene::Mode> modes;  // never the reference, which is always rendered
+    std::vector<int> slices;
+    std::vector<int> resolutions;
+    // half_angle only at these of `slices` and `resolutions`; empty: at all of them. Its
+    // slicing costs more per slice than a light-buffer lookup, so a short sweep trims it.
+    std::vector<int> half_angle_slices;
+    std::vector<int> half_angle_resolutions;
+    std::vector<double> distances;  // finest first
+    int repeat = 3;
+};
+
+// One setting of a sweep, measured at every sample distance against the references. A new
+// dimension of the sweep is a list in Sweep, a field here, and its loop in sweep_settings.
+struct SweepSetting {
+    scene::Mode mode = scene::Mode::dvr;
+    int slices = 0;      // 0 where the mode has none
+    int resolution = 0;  // 0 where the mode has no light buffer
+
+    // The request with this setting's fields set.
+    [[nodiscard]] scene::FrameRequest applied(scene::FrameRequest request) const;
+};
+
+// The settings of a sweep in the order they are measured: the modes without slices, then per
+// grid point half_angle and the light-buffer modes (which share one build).
+std::vector<SweepSetting> sweep_settings(const Sweep& sweep);
+
+// Frames one volume and light cost, so a run can say up front how long it will take.
+std::uint64_t frames_per_view(const Sweep& sweep);
+
+// Called with every point as it is measured; false stops the sweep after that point.
+using PointObserver = std::function<bool(const Point&)>;
+
+// One volume (already set on the bench's renderer) under one light: the references first, then
+// every mode and setting against them, appended to `points`. True when every point was measured,
+// false when `observer` stopped the sweep.
+base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
+                                const std::string& volume, const LightAngles& light,
+                                const PointObserver& observer, std::vector<Point>& points);
+
+}  // namespace penumbra::quality

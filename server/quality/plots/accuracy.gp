@@ -1,0 +1,57 @@
+# The accuracy plot of `penumbra bench accuracy` (installed as share/penumbra/plots/accuracy.gp).
+# The benchmark writes its data and these variables above this text, into one script:
+#   png, svg            the images to write (no folder: run in their folder)
+#   width               pixels; 620 per panel
+#   title_text          the figure's title; x_label the x axis's
+#   panels              one per volume; panel_title[v], y_range[v] ("[low:high]" or "[*:*]")
+#   modes               the measured modes, reference aside, as words; a mode's index is its word
+#   ref_count           references; ref_panel[r], ref_ms[r], ref_text[r], ref_row[r]
+#   $front              panel, frame ms, PSNR, label: the Pareto front over all modes
+#   $all                panel, mode, frame ms, PSNR: every setting (means over the lights)
+#   $own                panel, mode, frame ms, PSNR: each mode's own Pareto front
+# One panel per volume: every setting of a mode as a small mark, the mode's own front as its
+# curve, the front over all modes as a wide grey band, the reference's time as a vertical line
+# (its PSNR is infinite).
+
+style_modes = "dvr phong half_angle sbrc sbrc_shell sbrc_cone"
+style_colours = "#7f7f7f #000000 #e07b00 #1f5fbf #2a9d3a #9b30c0"
+style_points = "5 7 9 11 13 15"
+style_index(name) = sum [i=1:words(style_modes)] (word(style_modes, i) eq name ? i : 0)
+colour(name) = style_index(name) > 0 ? word(style_colours, style_index(name)) : "#404040"
+point(name) = style_index(name) > 0 ? int(word(style_points, style_index(name))) : 3
+
+set logscale x
+set grid xtics ytics mxtics lc rgb "#e8e8e8"
+set xlabel x_label
+set ylabel "PSNR vs reference, dB (higher is better); grey labels: slices n / light-buffer R"
+set key bottom right box opaque font ",9" spacing 1.1
+set mxtics 10
+
+do for [pass=1:2] {
+    if (pass == 1) {
+        set terminal pngcairo size width,600 noenhanced font "DejaVu Sans,10"
+        set output png
+    } else {
+        set terminal svg size width,600 dynamic noenhanced font "DejaVu Sans,10" background "#ffffff"
+        set output svg
+    }
+    set multiplot layout 1,panels title title_text font ",12"
+    do for [v=1:panels] {
+        set title panel_title[v]
+        unset arrow
+        unset label
+        eval "set yrange " . y_range[v]
+        do for [r=1:ref_count] {
+            if (ref_panel[r] == v) {
+                set arrow from ref_ms[r], graph 0 to ref_ms[r], graph 1 nohead dt 2 lw 1.5 lc rgb "#c00000"
+                set label ref_text[r] at ref_ms[r], graph (0.97 - 0.05 * ref_row[r]) right offset -0.5,0 tc rgb "#c00000" font ",9"
+            }
+        }
+        plot $front using ($1 == v ? $2 : NaN):3 with linespoints lw 9 lc rgb "#d0d0d0" pt 6 ps 2.2 title "Pareto front (all methods)", \
+             $front using ($1 == v ? $2 : NaN):3:4 with labels right offset -1.2,0 font ",8" tc rgb "#505050" notitle, \
+             for [m=1:words(modes)] $all using ($1 == v && $2 == m ? $3 : NaN):4 with points pt (point(word(modes, m)) - 1) ps 0.6 lc rgb colour(word(modes, m)) notitle, \
+             for [m=1:words(modes)] $own using ($1 == v && $2 == m ? $3 : NaN):4 with linespoints lw 2 pt point(word(modes, m)) ps 1.1 lc rgb colour(word(modes, m)) title word(modes, m)
+    }
+    unset multiplot
+}
+set output

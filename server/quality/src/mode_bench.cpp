@@ -1,0 +1,122 @@
+#include "penumbra/quality/mode_bench.hpp"
+
+#include <penumbra/quality/sweep.hpp>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace penumbra::quality {
+namespace {
+
+constexpr double point_light_nudge = 1e-4;  // world units; the volume's longest side is 1
+
+glm::dvec3 rotated(const glm::dvec3& v, const glm::dvec3& axis, double degrees) {
+    const double angle = glm::radians(degrees);
+    return v * std::cos(angle) + glm::cross(axis, v) * std::sin(angle) +
+           axis * glm::dot(axis, v) * (1.0 - std::cos(angle));
+}
+
+// The light moved by a hair: a change of azimuth, or of elevation for a light straight above,
+// whose azimuth is undefined; a point light moves sideways instead.
+scene::Light nudged(scene::Light light, double sign) {
+    if (light.type == scene::LightType::point) {
+        light.position.x += sign * point_light_nudge;
+        return light;
+    }
+    const glm::dvec3 axis = std::abs(light.direction.z) > 0.999 ? glm::dvec3(1.0, 0.0, 0.0)
+                                                                : glm::dvec3(0.0, 0.0, 1.0);
+    light.direction = rotated(light.direction, axis, sign * light_nudge_degrees);
+    return light;
+}
+
+}  // namespace
+
+Orbit orbit_of(const scene::Camera& camera) {
+    const glm::dvec3 offset = camera.eye - camera.target;
+    const double distance = glm::length(offset);
+    return {glm::degrees(std::atan2(offset.x, offset.y)),
+            glm::degrees(std::asin(std::clamp(offset.z / distance, -1.0, 1.0))), distance,
+            camera.target, camera.fov_y_degrees};
+}
+
+std::string point_label(const TimedPoint& point) {
+    std::string label = scene::to_string(point.mode);
+    if (point.slices > 0) {
+        label += " n=" + std::to_string(point.slices) + " R=" + std::to_string(point.resolution);
+    }
+    if (!point.builder.empty() && point.series == "light_buffer_pass") {
+        label += " builder " + point.builder;
+    }
+    return label;
+}
+
+base::Result<Measurement> ModeBench::measure(const TimedPoint& point, scene::FrameRequest request,
+                                             LightBufferUse use, const std::string& pass) {
+    std::vector<double> wall;
+    std::vector<double> gpu;
+    for (int i = 0; i <= repeat_; ++i) {
+        request.camera = scene::orbit_camera(orbit_.azimuth + orbit_step_degrees * i,
+                                             orbit_.elevation, orbit_.distance, orbit_.target);
+        request.camera.fov_y_degrees = orbit_.fov_y_degrees;
+        if (use == LightBufferUse::rebuild) {
+            // A light never used before: the renderer caches light buffers by their inputs,
+            // so returning to an earlier light would reuse its buffer.
+            ++nudges_;
+            request.light = nudged(base_.light, (nudges_ % 2 == 0 ? 1.0 : -1.0) *
+                                                        static_cast<double>(nudges_ % 4096));
+        }
+        auto frame = renderer_.render(request);
+        if (!frame) {
+            return frame.error();
+        }
+        if (i == 0) {
+            continue;
+        }
+        const std::string& light_buffer = frame->report.light_buffer;
+        if (use == LightBufferUse::cached && light_buffer != "reused") {
+            return base::make_error(
+                    "bench_invalid",
+                    point_label(point) + ": the light buffer was '" + light_buffer +
+                            "' in a frame where only the camera moved, so 'cached' would "
+                            "not measure reuse",
+                    "light_buffer");
+        }
+        if (use == LightBufferUse::rebuild && light_buffer != "built") {
+            return base::make_error(
+                    "bench_invalid",
+                    point_label(point) + ": the light buffer was '" + light_buffer +
+                            "' in a frame whose light moved, so 'rebuild' would not "
+                            "measure a rebuild",
+                    "light_buffer");
+        }
+        double wall_ms = 0.0;
+        double gpu_ms = 0.0;
+        bool found = pass.empty();
+        for (const auto& timing : frame->report.passes) {
+            if (pass.empty() || timing.name == pass) {
+                found = true;
+                wall_ms += timing.wall_ms;
+                gpu_ms += std::max(timing.gpu_ms, 0.0);
+            }
+        }
+        if (!found) {
+            return base::make_error("bench_invalid",
+                                    point_label(point) + ": no pass '" + pass +
+                                            "' in a frame that rebuilt the light buffer",
+                                    "light_buffer");
+        }
+        wall.push_back(wall_ms);
+        gpu.push_back(gpu_ms);
+    }
+    Measurement measurement{median(wall), std::nullopt};
+    if (gpu_timers_) {
+        measurement.gpu_ms = median(gpu);
+    }
+    return measurement;
+}
+
+}  // namespace penumbra::quality

@@ -1,0 +1,258 @@
+#include "penumbra/quality/report.hpp"
+
+#include <penumbra/base/data_dir.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace penumbra::quality {
+namespace {
+
+std::string format(const char* pattern, double value) {
+    char text[256];
+    std::snprintf(text, sizeof text, pattern, value);
+    return text;
+}
+
+// A gnuplot string literal; gnuplot breaks the line where a double-quoted string says \n.
+std::string gnuplot_string(const std::string& text) {
+    std::string quoted = "\"";
+    for (const char c : text) {
+        if (c == '\n') {
+            quoted += "\\n";
+            continue;
+        }
+        if (c == '"' || c == '\\') {
+            quoted += '\\';
+        }
+        quoted += c;
+    }
+    return quoted + "\"";
+}
+
+// "array name[3] = [a, b, c]"; nothing for no values (gnuplot has no empty arrays).
+std::string gnuplot_array(const std::string& name, const std::vector<std::string>& values) {
+    if (values.empty()) {
+        return {};
+    }
+    std::string out = "array " + name + "[" + std::to_string(values.size()) + "] = [";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        out += (i == 0 ? "" : ", ") + values[i];
+    }
+    return out + "]\n";
+}
+
+// Short labels keep the crowded front readable: n/R for the sliced modes.
+std::string setting_label(const Setting& s) {
+    return s.key.slices > 0 ? std::to_string(s.key.slices) + "/" + std::to_string(s.key.resolution)
+                            : std::string(scene::to_string(s.key.mode));
+}
+
+struct PlotText {
+    std::string variables;
+    std::string front = "$front << EOD\n";
+    std::string all = "$all << EOD\n";
+    std::string own = "$own << EOD\n";
+};
+
+// The figure's title: device, size, lights, sample distances, TF.
+std::string title_of(const Table& table) {
+    std::set<LightAngles> lights;
+    std::set<double> distances;
+    for (const Point& p : table.points) {
+        lights.insert(p.light);
+        distances.insert(p.sample_distance);
+    }
+    std::string light_text;
+    for (const LightAngles& l : lights) {
+        light_text += (light_text.empty() ? "" : "; ") + format("%g", l.azimuth) + "," +
+                      format("%g", l.elevation);
+    }
+    std::string distance_text;
+    for (const double d : distances) {
+        distance_text += (distance_text.empty() ? "" : ", ") + distance_label(d);
+    }
+    return "Penumbra: accuracy vs frame time on " + table.device + "\n" +
+           std::to_string(table.width) + "x" + std::to_string(table.height) + ", lights (az,el) " +
+           light_text + ", sample distance " + distance_text + ", tf " + table.transfer_function +
+           (table.phong ? ", Blinn-Phong on" : "");
+}
+
+// One panel's data rows, its title, y range and references.
+void add_panel(const Table& table, const std::string& volume, int panel, std::size_t lights,
+               const std::vector<scene::Mode>& modes, PlotText& text,
+               std::vector<std::string> (&references)[4], std::vector<std::string>& titles,
+               std::vector<std::string>& ranges) {
+    std::vector<Setting> measured;
+    int row = 0;
+    for (const Setting& s : aggregate(table.points, volume)) {
+        if (s.key.mode != scene::Mode::reference) {
+            measured.push_back(s);
+            continue;
+        }
+        references[0].push_back(std::to_string(panel));
+        references[1].push_back(format("%.6g", s.frame_ms));
+        references[2].push_back(gnuplot_string(
+                "reference " + distance_label(s.key.sample_distance) + " (PSNR inf)"));
+        references[3].push_back(std::to_string(row++));
+    }
+    const std::string p = std::to_string(panel) + " ";
+    for (const Setting& s : pareto_front(measured, false)) {
+        text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_finest) +
+                      gnuplot_string(setting_label(s)) + "\n";
+    }
+    double y_min = infinity;
+    double y_max = -infinity;
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+        std::vector<Setting> own;
+        for (const Setting& s : measured) {
+            if (s.key.mode == modes[m]) {
+                own.push_back(s);
+                y_min = std::min(y_min, s.psnr_finest);
+                y_max = std::max(y_max, s.psnr_finest);
+            }
+        }
+        const std::string pm = p + std::to_string(m + 1) + " ";
+        for (const Setting& s : own) {
+            text.all += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
+        }
+        for (const Setting& s : pareto_front(own, false)) {
+            text.own += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
+        }
+    }
+    titles.push_back(gnuplot_string(
+            volume + (lights > 1 ? " (mean over " + std::to_string(lights) + " lights)" : "")));
+    ranges.push_back(std::isfinite(y_min) ? "\"[" + format("%.1f:", std::floor(y_min - 1.0)) +
+                                                    format("%.1f]\"", std::ceil(y_max + 2.0))
+                                          : "\"[*:*]\"");
+}
+
+}  // namespace
+
+std::string psnr_text(double psnr) {
+    return std::isinf(psnr) ? "inf" : format("%.2f", psnr);
+}
+
+std::string distance_label(double distance) {
+    const double inverse = 1.0 / distance;
+    if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
+        return format("1/%.0f", inverse);
+    }
+    return format("%g", distance);
+}
+
+std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time) {
+    const auto time = [worst_time](const Setting& s) {
+        return worst_time ? s.worst_frame_ms : s.frame_ms;
+    };
+    std::sort(settings.begin(), settings.end(), [&](const Setting& a, const Setting& b) {
+        return time(a) != time(b) ? time(a) < time(b) : more_accurate(a, b);
+    });
+    std::vector<Setting> front;
+    for (const Setting& s : settings) {
+        if (front.empty() || more_accurate(s, front.back())) {
+            if (!front.empty() && s.psnr_finest == front.back().psnr_finest) {
+                continue;  // as accurate and slower
+            }
+            front.push_back(s);
+        }
+    }
+    return front;
+}
+
+base::Status write_csv(const Table& table, const std::filesystem::path& path,
+                       const std::string& where) {
+    std::ofstream out(path);
+    if (!out) {
+        return base::make_error("io_error", "cannot write '" + path.string() + "'", where);
+    }
+    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,width,"
+           "height,timing,frame_ms,light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,"
+           "ssim_finest\n";
+    char line[512];
+    for (const Point& p : table.points) {
+        std::snprintf(line, sizeof line,
+                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,%.6f\n",
+                      p.volume.c_str(), p.light.azimuth, p.light.elevation,
+                      scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
+                      table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
+                      p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
+                      psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
+        out << line;
+    }
+    if (!out) {
+        return base::make_error("io_error", "writing '" + path.string() + "' failed", where);
+    }
+    return base::Ok{};
+}
+
+base::Result<std::string> read_plot_template() {
+    const std::filesystem::path path =
+            base::data_dir("plots").value_or("share/penumbra/plots") / "accuracy.gp";
+    std::ifstream in(path);
+    if (!in) {
+        return base::make_error("not_found",
+                                "cannot read the plot template '" + path.string() + "'", "--plot");
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+std::string plot_script(const Table& table, const std::string& png, const std::string& svg,
+                        std::string_view plot_template) {
+    std::vector<std::string> volumes;
+    std::set<LightAngles> lights;
+    std::vector<scene::Mode> modes;
+    for (const Point& p : table.points) {
+        if (std::find(volumes.begin(), volumes.end(), p.volume) == volumes.end()) {
+            volumes.push_back(p.volume);
+        }
+        lights.insert(p.light);
+        if (p.mode != scene::Mode::reference &&
+            std::find(modes.begin(), modes.end(), p.mode) == modes.end()) {
+            modes.push_back(p.mode);
+        }
+    }
+    std::sort(modes.begin(), modes.end());
+    PlotText text;
+    std::vector<std::string> references[4];  // panel, ms, text, row
+    std::vector<std::string> titles;
+    std::vector<std::string> ranges;
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        add_panel(table, volumes[v], static_cast<int>(v) + 1, lights.size(), modes, text,
+                  references, titles, ranges);
+    }
+    std::string mode_words;
+    for (const scene::Mode mode : modes) {
+        mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
+    }
+    const std::string x_label =
+            table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
+                             : "frame time, ms (wall clock, median; no GPU timer queries on this "
+                               "device; log scale)";
+    std::string script =
+            "# Written by `penumbra bench accuracy`; `gnuplot " +
+            std::filesystem::path(png).replace_extension(".gp").string() +
+            "` in this folder redraws the PNG and SVG.\n"
+            "# x: median frame time with the light buffer cached, y: PSNR vs the reference; "
+            "marks: every setting; curves: each method's Pareto front.\n";
+    script += "png = " + gnuplot_string(png) + "\nsvg = " + gnuplot_string(svg) + "\n";
+    script += "width = " + std::to_string(620 * std::max<std::size_t>(1, volumes.size()) + 80) +
+              "\ntitle_text = " + gnuplot_string(title_of(table)) +
+              "\nx_label = " + gnuplot_string(x_label) +
+              "\npanels = " + std::to_string(volumes.size()) +
+              "\nmodes = " + gnuplot_string(mode_words) +
+              "\nref_count = " + std::to_string(references[0].size()) + "\n";
+    script += gnuplot_array("panel_title", titles) + gnuplot_array("y_range", ranges) +
+              gnuplot_array("ref_panel", references[0]) + gnuplot_array("ref_ms", references[1]) +
+              gnuplot_array("ref_text", references[2]) + gnuplot_array("ref_row", references[3]);
+    script += text.front + "EOD\n" + text.all + "EOD\n" + text.own + "EOD\n\n";
+    return script + std::string(plot_template);
+}
+
+}  // namespace penumbra::quality

@@ -1,0 +1,73 @@
+// The accuracy table for people: labels, Pareto fronts and the plot script around the template.
+
+#include <penumbra/quality/report.hpp>
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace penumbra::quality {
+namespace {
+
+Setting setting(scene::Mode mode, int slices, double ms, double psnr) {
+    Setting s;
+    s.key = {mode, slices, slices > 0 ? 64 : 0, 1.0 / 256};
+    s.count = 1;
+    s.frame_ms = s.worst_frame_ms = ms;
+    s.psnr_finest = psnr;
+    return s;
+}
+
+TEST(Report, LabelsReadAsPeopleWriteThem) {
+    EXPECT_EQ(distance_label(1.0 / 256), "1/256");
+    EXPECT_EQ(distance_label(0.003), "0.003");
+    EXPECT_EQ(psnr_text(infinity), "inf");
+    EXPECT_EQ(psnr_text(23.456), "23.46");
+}
+
+TEST(Report, TheParetoFrontDropsEverySettingBeatenInTimeAndAccuracy) {
+    const auto front = pareto_front(
+            {setting(scene::Mode::sbrc, 64, 30.0, 25.0),
+             setting(scene::Mode::sbrc, 128, 40.0, 24.0),  // beaten
+             setting(scene::Mode::dvr, 0, 10.0, 12.0), setting(scene::Mode::sbrc, 256, 60.0, 28.0)},
+            false);
+    ASSERT_EQ(front.size(), 3u);
+    EXPECT_EQ(front[0].key.mode, scene::Mode::dvr);
+    EXPECT_EQ(front[1].key.slices, 64);
+    EXPECT_EQ(front[2].key.slices, 256);
+}
+
+TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
+    Table table;
+    table.device = "test \"device\"";
+    table.width = table.height = 64;
+    Point p;
+    p.volume = "ch2";
+    p.sample_distance = 1.0 / 256;
+    for (const auto& [mode, ms, psnr] :
+         {std::tuple{scene::Mode::sbrc, 30.0, 25.0}, std::tuple{scene::Mode::phong, 20.0, 18.0},
+          std::tuple{scene::Mode::reference, 90.0, infinity}}) {
+        p.mode = mode;
+        p.frame_ms = ms;
+        p.psnr_finest = psnr;
+        table.points.push_back(p);
+    }
+    const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
+    EXPECT_EQ(script.substr(script.size() - 9), "TEMPLATE\n");
+    EXPECT_NE(script.find("png = \"a.png\""), std::string::npos);
+    EXPECT_NE(script.find("panels = 1\n"), std::string::npos);
+    EXPECT_NE(script.find("modes = \"phong sbrc\""), std::string::npos);
+    EXPECT_NE(script.find("ref_count = 1\n"), std::string::npos);
+    EXPECT_NE(script.find("test \\\"device\\\""), std::string::npos);  // quoted for gnuplot
+    EXPECT_NE(script.find("$own << EOD\n1 1 20 18.0000\n1 2 30 25.0000\nEOD"), std::string::npos)
+            << script;
+}
+
+TEST(Report, ThePlotTemplateIsInstalledData) {
+    auto text = read_plot_template();
+    ASSERT_TRUE(text.ok()) << text.error().to_string();
+    EXPECT_NE(text->find("set multiplot"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra::quality
