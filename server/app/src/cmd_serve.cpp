@@ -321,7 +321,7 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
     if (auto status = read_integers(a, o); !status) {
         return status.error();
     }
-    if (auto status = read_numbers(a, config); !status) {
+    if (auto status = read_numbers(a, o); !status) {
         return status.error();
     }
     if (const auto origins = a.get("allowed-origins")) {

@@ -151,7 +151,7 @@ public:
     // session it is.
     void render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
                 const std::string& client,
-                const std::vector<scene::QualitySample>* quality_table = nullptr);
+                const quality::Table* quality_table = nullptr);
 
     // A job for the current state, at full or interactive quality. With a frame budget and a
     // measured quality table, the most accurate setting that fits replaces the state's mode,
