@@ -29,17 +29,16 @@ constexpr double orbit_step_degrees = 2.0;
 constexpr double light_nudge_degrees = 0.01;
 constexpr double point_light_nudge = 1e-4;  // world units; the volume's longest side is 1
 
-constexpr scene::Mode all_modes[] = {
-        scene::Mode::dvr,        scene::Mode::phong,     scene::Mode::half_angle, scene::Mode::sbrc,
-        scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference};
-constexpr scene::Mode light_buffer_modes[] = {scene::Mode::sbrc, scene::Mode::sbrc_shell,
-                                              scene::Mode::sbrc_cone};
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
                                                   scene::LightBufferBuilder::multi_slice};
 
-int fail(const base::Error& error) { return report_failure("bench", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench", error);
+}
 
 void print_bench_usage() {
     std::puts(
@@ -61,13 +60,14 @@ void print_modes_usage() {
             "\n"
             "Times each mode side by side in one run and prints the ratios that matter:\n"
             "half_angle vs sbrc at equal slices, sbrc's growth with slices, per_slice vs\n"
-            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean something only on a GPU; on a software\n"
+            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean "
+            "something only on a GPU; on a software\n"
             "rasteriser read the ratios.\n"
             "\n"
             "  --volume FILE                  (default %s)\n"
-            "  --modes LIST                   modes to time (default dvr,phong,half_angle,sbrc,\n"
-            "                                 sbrc_shell,sbrc_cone,reference); the builder\n"
-            "                                 comparison runs when a sbrc mode is listed\n"
+            "  --modes LIST                   modes to time, comma-separated (default: every\n"
+            "                                 mode); the builder comparison runs when a sbrc\n"
+            "                                 mode is listed\n"
             "  --slices-list N,...            light slices n to sweep (default 64,128,256)\n"
             "  --light-res-list R,...         light-buffer resolutions R to sweep (default\n"
             "                                 128,256,512)\n"
@@ -117,9 +117,7 @@ base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
         const auto mode = scene::parse_mode(name);
         if (!mode) {
             return base::make_error("invalid_argument",
-                                    "unknown mode '" + name +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone, reference)",
+                                    "unknown mode '" + name + "' (" + scene::mode_names() + ")",
                                     "--modes");
         }
         if (std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
@@ -418,8 +416,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     auto slice_counts = parse_counts(a, "slices-list", "64,128,256");
     auto resolutions = parse_counts(a, "light-res-list", "128,256,512");
-    auto modes = parse_modes(
-            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"));
+    auto modes = parse_modes(a.get("modes").value_or(scene::mode_names(",")));
     auto repeat = a.integer("repeat", 5);
     if (!slice_counts || !resolutions || !modes || !repeat) {
         return fail(!slice_counts  ? slice_counts.error()
@@ -476,12 +473,13 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     std::printf("volume:   %s %ux%ux%u %s\n", volume->name.c_str(), volume->dims.x, volume->dims.y,
                 volume->dims.z, volume::to_string(volume->type));
-    std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
-                "%s%s\n",
-                s.width, s.height, bench.base().transfer_function.name.c_str(),
-                scene::to_string(s.compositing), scene::to_string(s.stage),
-                scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
-                s.phong ? ", phong" : "");
+    std::printf(
+            "frame:    %dx%d, tf %s, %s compositing, %s stage, sbrc builder %s, light lookup "
+            "%s%s\n",
+            s.width, s.height, bench.base().transfer_function.name.c_str(),
+            scene::to_string(s.compositing), scene::to_string(s.stage),
+            scene::to_string(s.light_buffer.builder), scene::to_string(s.light_buffer.lookup),
+            s.phong ? ", phong" : "");
     std::printf(
             "timing:   per point 1 warm-up + %d timed frame(s), the camera orbiting %g deg a "
             "frame;\n          medians of the frame's summed pass wall_ms (gpu: summed timer "
@@ -502,7 +500,8 @@ int run_bench_modes(const std::vector<std::string>& args) {
     const std::string builder_in_use = scene::to_string(s.light_buffer.builder);
 
     std::printf("\nframe time (ms)\n  %-11s %5s %5s %12s %9s\n", "mode", "n", "R", "wall", "gpu");
-    for (const scene::Mode mode : all_modes) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
         if (!contains(*modes, mode) || mode == scene::Mode::half_angle ||
             scene::uses_light_buffer(mode)) {
             continue;
@@ -534,8 +533,9 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
 
     bool any_light_buffer_mode = false;
-    for (const scene::Mode mode : light_buffer_modes) {
-        if (!contains(*modes, mode)) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
+        if (!scene::uses_light_buffer(mode) || !contains(*modes, mode)) {
             continue;
         }
         if (!any_light_buffer_mode) {
@@ -608,8 +608,12 @@ int run_bench_modes(const std::vector<std::string>& args) {
             for (const auto lookup : {scene::LightLookup::interpolate, scene::LightLookup::local}) {
                 scene::FrameRequest request = bench.request(scene::Mode::sbrc, n, r_mid);
                 request.settings.light_buffer.lookup = lookup;
-                const Point point{scene::Mode::sbrc, std::string("lookup_") + scene::to_string(lookup),
-                                  builder_in_use, n, r_mid, {}};
+                const Point point{scene::Mode::sbrc,
+                                  std::string("lookup_") + scene::to_string(lookup),
+                                  builder_in_use,
+                                  n,
+                                  r_mid,
+                                  {}};
                 if (auto status = record(point, request, LightBufferUse::cached, {}); !status) {
                     return fail(status.error());
                 }
@@ -643,7 +647,11 @@ int run_bench_modes(const std::vector<std::string>& args) {
             "  cached frame time at n=%d / at n=%d, R=%d (the paper: it barely grows with n; "
             "GPU target <= 1.20\n  from 64 to 256):\n",
             n_max, n_min, r_mid);
-    for (const scene::Mode mode : light_buffer_modes) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
+        if (!scene::uses_light_buffer(mode)) {
+            continue;
+        }
         std::printf("    %-11s %s\n", scene::to_string(mode),
                     ratio(results.find(mode, "cached", n_max, r_mid),
                           results.find(mode, "cached", n_min, r_mid))

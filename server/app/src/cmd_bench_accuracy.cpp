@@ -64,11 +64,24 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
                                           256,
                                           3};
 
-constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
+// Every mode but the reference, which is always rendered to measure the others against.
+std::string default_modes() {
+    std::string names;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        if (!mode.is_reference) {
+            names += (names.empty() ? "" : ",") + std::string(mode.name);
+        }
+    }
+    return names;
+}
 
-int fail(const base::Error& error) { return report_failure("bench accuracy", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench accuracy", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench accuracy", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench accuracy", error);
+}
 
 void print_usage() {
     std::printf(
@@ -112,7 +125,7 @@ void print_usage() {
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
             "--light-position and --sample-distance are swept instead):\n%s",
-            default_modes, frame_options_help());
+            default_modes().c_str(), frame_options_help());
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -187,13 +200,11 @@ base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text) {
         const auto mode = scene::parse_mode(name);
         if (!mode) {
             return base::make_error("invalid_argument",
-                                    "unknown mode '" + name +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone)",
+                                    "unknown mode '" + name + "' (" + scene::mode_names() + ")",
                                     "--modes");
         }
         // The reference is what the others are measured against; it is always rendered.
-        if (*mode != scene::Mode::reference &&
+        if (!scene::describe(*mode).is_reference &&
             std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
             modes.push_back(*mode);
         }
@@ -308,18 +319,6 @@ base::Status write_csv(const Table& table, const std::string& path) {
 // ---------------------------------------------------------------------------------------------
 // The plot: a gnuplot script with its data inline, run once for PNG and once for SVG.
 
-struct ModeStyle {
-    scene::Mode mode;
-    const char* colour;
-    int point_type;
-};
-
-constexpr ModeStyle mode_styles[] = {
-        {scene::Mode::dvr, "#7f7f7f", 5},         {scene::Mode::phong, "#000000", 7},
-        {scene::Mode::half_angle, "#e07b00", 9},  {scene::Mode::sbrc, "#1f5fbf", 11},
-        {scene::Mode::sbrc_shell, "#2a9d3a", 13}, {scene::Mode::sbrc_cone, "#9b30c0", 15},
-};
-
 std::string gnuplot_string(const std::string& text) {
     std::string quoted = "\"";
     for (const char c : text) {
@@ -428,7 +427,10 @@ std::string gnuplot_script(const Table& table, const std::string& png, const std
                             prefix +
                             "front using 1:2:3 with labels right offset -1.2,0 font \",8\" "
                             "tc rgb \"#505050\" notitle";
-        for (const ModeStyle& style : mode_styles) {
+        for (const scene::ModeInfo& style : scene::modes()) {
+            if (style.is_reference) {
+                continue;  // the reference is the axis the others are measured on
+            }
             std::vector<Setting> own;
             for (const Setting& s : measured) {
                 if (s.key.mode == style.mode) {
@@ -442,11 +444,12 @@ std::string gnuplot_script(const Table& table, const std::string& png, const std
             data += data_block(name + "_all", own);
             data += data_block(name + "_front", pareto_front(own, false));
             plots += ", $" + name + "_all using 1:2 with points pt " +
-                     std::to_string(style.point_type - 1) + " ps 0.6 lc rgb \"" + style.colour +
-                     "\" notitle";
+                     std::to_string(style.plot_point_type - 1) + " ps 0.6 lc rgb \"" +
+                     std::string(style.plot_colour) + "\" notitle";
             plots += ", $" + name + "_front using 1:2 with linespoints lw 2 pt " +
-                     std::to_string(style.point_type) + " ps 1.1 lc rgb \"" + style.colour +
-                     "\" title \"" + scene::to_string(style.mode) + "\"";
+                     std::to_string(style.plot_point_type) + " ps 1.1 lc rgb \"" +
+                     std::string(style.plot_colour) + "\" title \"" + scene::to_string(style.mode) +
+                     "\"";
         }
         body += plots + "\n";
     }
@@ -660,7 +663,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
 
     Sweep sweep;
     auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_modes(a.get("modes").value_or(default_modes));
+    auto modes = parse_modes(a.get("modes").value_or(default_modes()));
     auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
     auto resolutions =
             parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
@@ -738,11 +741,12 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         base.settings.phong = table.phong;
         if (v == 0) {
             describe_frame(table, base);
-            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-                        "%s, slab samples %d, phong %s\n",
-                        table.width, table.height, table.transfer_function.c_str(),
-                        table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
-                        table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
+            std::printf(
+                    "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                    "%s, slab samples %d, phong %s\n",
+                    table.width, table.height, table.transfer_function.c_str(),
+                    table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                    table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
             std::fflush(stdout);
         }
         if (auto status = (*renderer)->set_volume(volume); !status) {

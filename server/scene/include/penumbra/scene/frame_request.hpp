@@ -3,6 +3,8 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/light.hpp>
+#include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/setting_ranges.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
@@ -13,9 +15,6 @@
 
 namespace penumbra::scene {
 
-// The rendering methods of DESIGN.md §1.
-enum class Mode { dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference };
-
 // alpha: classic alpha blending with opacity correction a' = 1 - (1 - a)^(dt/dt0).
 // extinction: the TF opacity is an extinction coefficient tau = a / dt0, a' = 1 - exp(-tau dt).
 enum class Compositing { alpha, extinction };
@@ -24,10 +23,8 @@ enum class Compositing { alpha, extinction };
 // full-screen triangle. Both share one source (DESIGN.md §5 asks that both be measurable).
 enum class RaycastStage { compute, fragment };
 
-const char* to_string(Mode mode);
 const char* to_string(Compositing compositing);
 const char* to_string(RaycastStage stage);
-std::optional<Mode> parse_mode(std::string_view text);
 std::optional<Compositing> parse_compositing(std::string_view text);
 std::optional<RaycastStage> parse_raycast_stage(std::string_view text);
 
@@ -50,19 +47,17 @@ const char* to_string(LightLookup lookup);
 std::optional<LightLookup> parse_light_lookup(std::string_view text);
 
 struct LightBufferSettings {
-    int slices = 128;        // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
-    int resolution = 256;    // R: each layer is R x R texels
+    int slices = 128;      // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
+    int resolution = 256;  // R: each layer is R x R texels
     LightBufferBuilder builder = LightBufferBuilder::multi_slice;
     double compensation = 0.0;  // the paper's (1 + alpha)^n darkening compensation; 0 = off
     // Points sampled across each slice's slab along the light: 1 is the paper's single point on
     // the slice plane; 0 picks one per voxel along the light (optics::resolve_slab_samples).
-    int slab_samples = 0;  // 0 .. kMaxSlabSamples
+    int slab_samples = 0;                     // 0 .. kMaxSlabSamples
     LightLookup lookup = LightLookup::local;  // the buffer's content does not depend on it
 
     bool operator==(const LightBufferSettings&) const = default;
 };
-
-inline constexpr int kMaxSlabSamples = 16;
 
 // Soft shadows from the light buffer. Shell: the light at a sample averaged with its 6 axis
 // neighbours at `shell_radius`, 2·radius, ... (`shell_rings` rings), the centre weighted
@@ -73,7 +68,7 @@ struct ScatteringSettings {
     double shell_radius = 2.0 / 256.0;  // world units
     int shell_rings = 1;                // 1..4
     double shell_center_weight = 0.4;
-    double cone_angle_degrees = 30.0;   // (0, 80]
+    double cone_angle_degrees = 30.0;  // (0, 80]
     double cone_center_weight = 0.2;
 
     bool operator==(const ScatteringSettings&) const = default;
@@ -97,8 +92,7 @@ struct RenderSettings {
     bool operator==(const RenderSettings&) const = default;
 };
 
-// What a mode computes: whether it needs the light buffer, shadow rays, gradients.
-bool uses_light_buffer(Mode mode);
+// Whether the frame computes gradients: its mode's `gradients`, with the `phong` setting.
 bool uses_gradients(const RenderSettings& settings);
 
 // Everything one frame depends on besides the volume itself.
@@ -114,8 +108,8 @@ struct FrameRequest {
 // Device limits that bound what a request may ask for.
 struct Limits {
     int max_image_side = 8192;
-    int max_slices = 2048;              // GL_MAX_ARRAY_TEXTURE_LAYERS
-    int max_light_resolution = 16384;   // GL_MAX_TEXTURE_SIZE
+    int max_slices = 2048;             // GL_MAX_ARRAY_TEXTURE_LAYERS
+    int max_light_resolution = 16384;  // GL_MAX_TEXTURE_SIZE
 };
 
 // Rejects what would make a frame meaningless or unbounded: sizes outside [1, max_image_side],

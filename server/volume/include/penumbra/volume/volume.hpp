@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::volume {
@@ -35,12 +36,12 @@ struct Histogram {
 
 // A scalar volume in memory: x varies fastest, then y, then z (the order of raw, NRRD and NIfTI).
 struct Volume {
-    std::string name;              // shown to users, e.g. the file stem
-    glm::uvec3 dims{0};            // voxels per axis
-    glm::dvec3 spacing{1.0};       // physical size of one voxel (mm for medical data)
+    std::string name;         // shown to users, e.g. the file stem
+    glm::uvec3 dims{0};       // voxels per axis
+    glm::dvec3 spacing{1.0};  // physical size of one voxel (mm for medical data)
     VoxelType type = VoxelType::uint8;
-    std::vector<std::byte> data;   // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
-    ValueRange range;              // over finite voxels
+    std::vector<std::byte> data;  // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
+    ValueRange range;             // over finite voxels
     std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
 
     // Where the voxels lie in patient space, in Penumbra's one convention, RAS (+x toward the
@@ -104,17 +105,22 @@ struct LoadOptions {
 //          ordered along the slice normal; rescale slope/intercept applied (CT in HU).
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
-base::Result<Volume> load_nifti(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
-base::Result<Volume> load_dicom(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
+base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
+base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
 
 // Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
 [[nodiscard]] bool is_dicom_file(const std::filesystem::path& path);
 
-// Chooses the loader: a folder is a DICOM series; files by name (.dcm/.dicom are DICOM), and a
-// file with another name that carries the DICOM marker is DICOM too.
+// The file-name suffixes of the formats a single file holds a whole volume in (NIfTI, NRRD, raw),
+// in lower case; names are compared case-insensitively. DICOM is not among them: its files are
+// the slices of a series, whose folder is the volume.
+[[nodiscard]] const std::vector<std::string_view>& volume_suffixes();
+// Whether the file's name ends in one of volume_suffixes(), in any case ("HEAD.NII.GZ").
+[[nodiscard]] bool is_volume_file_name(const std::filesystem::path& path);
+
+// Chooses the loader: a folder is a DICOM series; files by name (volume_suffixes, .dcm/.dicom are
+// DICOM), and a file with another name that carries the DICOM marker is DICOM too.
 base::Result<Volume> load_volume(const std::filesystem::path& path,
                                  const LoadOptions& options = {});
 
