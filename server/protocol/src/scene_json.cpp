@@ -4,7 +4,6 @@
 #include "patch_document.hpp"
 
 #include <penumbra/scene/camera.hpp>
-#include <penumbra/scene/setting_ranges.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -409,10 +408,7 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     if (auto status = scene::validate(next.frame, scene_limits); !status) {
         // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
         // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
-        std::string where = status.error().where;
-        if (where == "camera.fov_y") {
-            where = "camera.fov";
-        }
+        const std::string& where = status.error().where;
         const auto is_part = [&](std::string_view part) {
             return where == part || where.starts_with(std::string(part) + ".");
         };

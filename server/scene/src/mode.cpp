@@ -2,6 +2,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -14,6 +15,13 @@ bool finite(glm::dvec3 v) {
 
 base::Error invalid(const std::string& field, const std::string& message) {
     return base::make_error("invalid_value", message, field);
+}
+
+// "settings/light_buffer/compensation" -> "light_buffer.compensation", as validate names fields.
+std::string field_name(std::string_view path) {
+    std::string name(path.starts_with("settings/") ? path.substr(9) : path);
+    std::replace(name.begin(), name.end(), '/', '.');
+    return name;
 }
 
 }  // namespace
@@ -163,55 +171,13 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
         return invalid("size", "image size must be within 1.." + std::to_string(max_image_side) +
                                        " pixels per side");
     }
-    const auto check = [](double value, const SettingRange& range, const std::string& field,
-                          const char* what) -> base::Status {
-        if (!range.contains(value)) {
-            return invalid(field, std::string(what) + " must be " + range.describe());
-        }
-        return base::Ok{};
-    };
     const auto check_vec3 = [](glm::dvec3 v, const SettingRange& range) {
         return range.contains(v.x) && range.contains(v.y) && range.contains(v.z);
     };
-
-    const struct {
-        double value;
-        const SettingRange& range;
-        const char* field;
-        const char* what;
-    } numbers[] = {
-            {s.sample_distance, setting::sample_distance, "sample_distance", "sample distance"},
-            {s.opacity_unit_distance, setting::opacity_unit_distance, "opacity_unit_distance",
-             "opacity unit distance"},
-            {s.early_termination, setting::early_termination, "early_termination",
-             "early ray termination"},
-            {request.camera.fov_y_degrees, setting::fov_degrees, "camera.fov_y",
-             "field of view (degrees)"},
-            {request.light.intensity, setting::light_intensity, "light.intensity",
-             "light intensity"},
-            {request.light.ambient, setting::light_ambient, "light.ambient", "ambient light"},
-            {s.shading.diffuse, setting::diffuse, "shading.diffuse", "diffuse"},
-            {s.shading.specular, setting::specular, "shading.specular", "specular"},
-            {s.shading.shininess, setting::shininess, "shading.shininess", "shininess"},
-            {s.light_buffer.compensation, setting::compensation, "light_buffer.compensation",
-             "compensation"},
-            {static_cast<double>(s.light_buffer.slab_samples), setting::slab_samples,
-             "light_buffer.slab_samples", "slab samples (0 = one per voxel)"},
-            {s.scattering.shell_radius, setting::shell_radius, "scattering.shell_radius",
-             "shell radius"},
-            {static_cast<double>(s.scattering.shell_rings), setting::shell_rings,
-             "scattering.shell_rings", "shell rings"},
-            {s.scattering.shell_center_weight, setting::shell_center_weight,
-             "scattering.shell_center_weight", "shell centre weight"},
-            {s.scattering.cone_angle_degrees, setting::cone_angle_degrees, "scattering.cone_angle",
-             "cone angle (degrees)"},
-            {s.scattering.cone_center_weight, setting::cone_center_weight,
-             "scattering.cone_center_weight", "cone centre weight"},
-    };
-
-    for (const auto& number : numbers) {
-        if (auto status = check(number.value, number.range, number.field, number.what); !status) {
-            return status;
+    for (const SettingRange* range : kSettingRanges) {
+        if (range->read != nullptr && !range->contains(range->read(request))) {
+            return invalid(field_name(range->field),
+                           std::string(range->field) + " must be " + range->describe());
         }
     }
     if (!check_vec3(s.background, setting::colour)) {

@@ -4,8 +4,8 @@
 
 #include "examples.hpp"
 
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
-#include <penumbra/scene/setting_ranges.hpp>
 
 #include <gtest/gtest.h>
 

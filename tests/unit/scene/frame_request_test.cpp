@@ -40,7 +40,7 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
             {"camera",
              [](FrameRequest& r) { r.camera.eye.x = std::numeric_limits<double>::quiet_NaN(); }},
             {"camera", [](FrameRequest& r) { r.camera.target = r.camera.eye; }},
-            {"camera.fov_y", [](FrameRequest& r) { r.camera.fov_y_degrees = 180.0; }},
+            {"camera.fov", [](FrameRequest& r) { r.camera.fov_y_degrees = 180.0; }},
             {"light.direction", [](FrameRequest& r) { r.light.direction = glm::dvec3(0.0); }},
             {"light.intensity", [](FrameRequest& r) { r.light.intensity = -1.0; }},
             {"shading.shininess", [](FrameRequest& r) { r.settings.shading.shininess = 0.0; }},

@@ -9,6 +9,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -103,6 +104,104 @@ struct FrameRequest {
     RenderSettings settings;
 
     bool operator==(const FrameRequest&) const = default;
+};
+
+// Each setting's range (SettingRange): adding a setting is its field above and its row here.
+namespace setting {
+
+// Coordinates of the camera and a point light; the volume's longest side is 1.
+inline constexpr SettingRange coordinate{"vec3", -1000.0, 1000.0};
+// Colours (light, background), each channel.
+inline constexpr SettingRange colour{"rgb", 0.0, 1.0};
+
+inline constexpr SettingRange fov_degrees{
+        "camera/fov", 1.0, 170.0, false,
+        [](const FrameRequest& r) { return double(r.camera.fov_y_degrees); }};
+inline constexpr SettingRange orbit_azimuth{"camera/orbit/azimuth", -36000.0, 36000.0};
+inline constexpr SettingRange orbit_elevation{"camera/orbit/elevation", -90.0, 90.0};
+inline constexpr SettingRange orbit_distance{"camera/orbit/distance", 0.01, 100.0};
+
+inline constexpr SettingRange light_intensity{
+        "light/intensity", 0.0, 100.0, false,
+        [](const FrameRequest& r) { return double(r.light.intensity); }};
+inline constexpr SettingRange light_ambient{
+        "light/ambient", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.light.ambient); }};
+
+// Finer than 1/16384 of the box resolves nothing more (volumes have at most a few thousand voxels
+// a side) and only multiplies the work; at 2 a ray takes one sample inside the box. What a frame
+// may cost is bounded separately (FrameWork against the server's max_frame_work).
+inline constexpr SettingRange sample_distance{
+        "settings/sample_distance", 1.0 / 16384.0, 2.0, false,
+        [](const FrameRequest& r) { return double(r.settings.sample_distance); }};
+inline constexpr SettingRange opacity_unit_distance{
+        "settings/opacity_unit_distance", 1e-4, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.opacity_unit_distance); }};
+inline constexpr SettingRange early_termination{
+        "settings/early_termination", 0.01, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.early_termination); }};
+inline constexpr SettingRange frame_budget_ms{"settings/frame_budget_ms", 0.0, 60000.0};
+
+inline constexpr SettingRange diffuse{
+        "settings/shading/diffuse", 0.0, 4.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.diffuse); }};
+inline constexpr SettingRange specular{
+        "settings/shading/specular", 0.0, 4.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.specular); }};
+inline constexpr SettingRange shininess{
+        "settings/shading/shininess", 1.0, 1024.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.shininess); }};
+
+inline constexpr SettingRange compensation{
+        "settings/light_buffer/compensation", 0.0, 1000.0, false,
+        [](const FrameRequest& r) { return double(r.settings.light_buffer.compensation); }};
+inline constexpr SettingRange slab_samples{
+        "settings/light_buffer/slab_samples", 0.0, kMaxSlabSamples, true,
+        [](const FrameRequest& r) { return double(r.settings.light_buffer.slab_samples); }};
+
+inline constexpr SettingRange shell_radius{
+        "settings/scattering/shell_radius", 1e-4, 0.5, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_radius); }};
+inline constexpr SettingRange shell_rings{
+        "settings/scattering/shell_rings", 1.0, 4.0, true,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_rings); }};
+inline constexpr SettingRange shell_center_weight{
+        "settings/scattering/shell_center_weight", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_center_weight); }};
+inline constexpr SettingRange cone_angle_degrees{
+        "settings/scattering/cone_angle", 0.1, 80.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.cone_angle_degrees); }};
+inline constexpr SettingRange cone_center_weight{
+        "settings/scattering/cone_center_weight", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.cone_center_weight); }};
+
+}  // namespace setting
+
+// Every range above. Image size, light-buffer slices and resolution are bounded by the device
+// and the server's configuration instead (scene::Limits, protocol::Limits).
+inline constexpr std::array<const SettingRange*, 22> kSettingRanges{
+        &setting::coordinate,
+        &setting::colour,
+        &setting::fov_degrees,
+        &setting::orbit_azimuth,
+        &setting::orbit_elevation,
+        &setting::orbit_distance,
+        &setting::light_intensity,
+        &setting::light_ambient,
+        &setting::sample_distance,
+        &setting::opacity_unit_distance,
+        &setting::early_termination,
+        &setting::frame_budget_ms,
+        &setting::diffuse,
+        &setting::specular,
+        &setting::shininess,
+        &setting::compensation,
+        &setting::slab_samples,
+        &setting::shell_radius,
+        &setting::shell_rings,
+        &setting::shell_center_weight,
+        &setting::cone_angle_degrees,
+        &setting::cone_center_weight,
 };
 
 // Device limits that bound what a request may ask for.
