@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 penumbra=build/release/server/app/penumbra
 out=docs/images
 mkdir -p "$out" out/modes
-modes=(dvr phong half_angle sbrc sbrc_shell sbrc_cone reference)
+mapfile -t modes < <("$penumbra" render --list-modes)
 for volume in ch2 ch2better; do
     tiles=()
     for mode in "${modes[@]}"; do
@@ -15,7 +15,7 @@ for volume in ch2 ch2better; do
             --slices 256 --light-res 256 --out "out/modes/${volume}_$mode.png" >/dev/null
         tiles+=("out/modes/${volume}_$mode.png")
     done
-    oiiotool "${tiles[@]}" --mosaic 7x1 -o "$out/${volume}_modes.png"
+    oiiotool "${tiles[@]}" --mosaic "${#modes[@]}x1" -o "$out/${volume}_modes.png"
 done
 "$penumbra" render --mode sbrc --phong --size 512x512 --camera 35,5,2.4 --light 75,35 \
     --intensity 1.2 --slices 256 --light-res 256 --out "$out/ch2_sbrc.png" \

@@ -26,6 +26,13 @@ function readJson(file: string): unknown {
   return JSON.parse(readFileSync(file, 'utf8'));
 }
 
+// The mode names the protocol defines; a server's hello lists those it offers.
+const schemaModes = (
+  readJson(path.resolve(__dirname, '../../proto/v1/common.schema.json')) as {
+    $defs: { mode: { enum: string[] } };
+  }
+).$defs.mode.enum;
+
 const valid = readdirSync(path.join(examples, 'valid')).filter((f) => f.endsWith('.json'));
 const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
 const serverMessages = readFileSync(path.join(fixtures, 'server_messages.jsonl'), 'utf8')
@@ -37,7 +44,7 @@ describe('proto/examples/v1/valid', () => {
 
   it.each(valid)('%s is a client message the server accepts', (file) => {
     const message = readJson(path.join(examples, 'valid', file));
-    expect(checkClientMessage(message)).toBeNull();
+    expect(checkClientMessage(message, undefined, schemaModes)).toBeNull();
     // Typed as a ClientMessage, it encodes back to the same JSON.
     const typed = message as ClientMessage;
     expect(JSON.parse(encodeClientMessage(typed))).toEqual(message);
@@ -60,7 +67,7 @@ describe('proto/examples/v1/invalid', () => {
   it('has examples to check', () => expect(cases.length).toBeGreaterThan(40));
 
   it.each(cases)('$file is rejected with the same code and field', ({ example }) => {
-    const problem = checkClientMessage(example['message']);
+    const problem = checkClientMessage(example['message'], undefined, schemaModes);
     expect(problem).not.toBeNull();
     expect({ code: problem?.code, field: problem?.field }).toEqual({
       code: example['code'],
@@ -95,8 +102,12 @@ describe('parseServerMessage', () => {
   it('reads hello with the modes and limits', () => {
     const hello = parseServerMessage(serverMessages[0]!);
     if (hello.type !== 'hello') throw new Error('not hello');
-    expect(hello.modes).toContain('sbrc_cone');
+    expect(hello.modes.map((m) => m.name)).toContain('sbrc_cone');
     expect(hello.modes).toHaveLength(7);
+    expect(hello.modes.find((m) => m.name === 'sbrc_shell')).toMatchObject({
+      shadows: 'light_buffer',
+      scattering: 'shell',
+    });
     expect(hello.limits.max_image_side).toBeGreaterThan(0);
     expect(hello.limits.max_sessions_per_client).toBeGreaterThan(0);
     expect(hello.limits.max_frame_work).toBeGreaterThan(0);

@@ -36,15 +36,18 @@ protected:
     // buffer (48 slices for half-angle) the cases below measured at most 0.016 (sbrc, shell),
     // 0.045 (cone: soft shadows by design) and 0.048 (half-angle) on llvmpipe.
     static double rms_bound(scene::Mode mode) {
-        switch (mode) {
-            case scene::Mode::sbrc:
-            case scene::Mode::sbrc_shell:
-                return 0.03;
-            case scene::Mode::sbrc_cone:
-                return 0.07;
-            default:
-                return 0.08;
+        const scene::ModeInfo& row = scene::describe(mode);
+        if (row.technique == scene::Technique::half_angle_slicing) {
+            return 0.08;
         }
+        switch (row.scattering) {
+            case scene::ScatteringKind::none:
+            case scene::ScatteringKind::shell:
+                return 0.03;
+            case scene::ScatteringKind::cone:
+                return 0.07;
+        }
+        return 0.0;
     }
 
     void check(const scene::FrameRequest& request) {

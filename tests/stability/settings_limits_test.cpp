@@ -16,8 +16,8 @@ namespace {
 
 using Builder = scene::LightBufferBuilder;
 
-constexpr std::array<scene::Mode, 4> slicing_modes{scene::Mode::half_angle, scene::Mode::sbrc,
-                                                   scene::Mode::sbrc_shell, scene::Mode::sbrc_cone};
+const std::vector<scene::Mode> slicing_modes =
+        modes_where([](const scene::ModeInfo& row) { return scene::uses_light_view(row.mode); });
 
 class SettingsTest : public ModeTest {
 protected:
@@ -75,7 +75,10 @@ TEST_F(SettingsTest, TinySampleDistanceGivesASaneImage) {
                 request.settings.width = 8;
                 request.settings.height = 8;
                 break;
-            default:
+            case scene::Mode::phong:
+            case scene::Mode::half_angle:
+            case scene::Mode::sbrc_shell:
+            case scene::Mode::sbrc_cone:
                 request.settings.sample_distance = 1.0 / 8192.0;
                 break;
         }

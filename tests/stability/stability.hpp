@@ -23,14 +23,25 @@
 
 namespace penumbra::stability {
 
-inline constexpr std::array<scene::Mode, 7> all_modes{
-        scene::Mode::dvr,        scene::Mode::phong,     scene::Mode::half_angle, scene::Mode::sbrc,
-        scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference};
+// The modes of scene's mode table that `keep` selects, in its order.
+template <typename Keep>
+[[nodiscard]] std::vector<scene::Mode> modes_where(Keep&& keep) {
+    std::vector<scene::Mode> selected;
+    for (const scene::ModeInfo& row : scene::modes()) {
+        if (keep(row)) {
+            selected.push_back(row.mode);
+        }
+    }
+    return selected;
+}
 
-// The modes whose shadows come from a light buffer or from slicing toward the light.
-inline constexpr std::array<scene::Mode, 5> shadow_modes{
-        scene::Mode::half_angle, scene::Mode::sbrc, scene::Mode::sbrc_shell, scene::Mode::sbrc_cone,
-        scene::Mode::reference};
+inline const std::vector<scene::Mode> all_modes =
+        modes_where([](const scene::ModeInfo&) { return true; });
+
+// The modes whose shadows come from a light buffer, from slicing toward the light or from rays.
+inline const std::vector<scene::Mode> shadow_modes = modes_where([](const scene::ModeInfo& row) {
+    return scene::uses_light_view(row.mode) || row.shadows != scene::ShadowKind::none;
+});
 
 // dvr, phong and reference have a double-precision CPU twin (server/reference).
 [[nodiscard]] bool has_cpu_reference(scene::Mode mode);

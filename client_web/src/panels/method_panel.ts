@@ -1,4 +1,4 @@
-// Method and quality: the rendering mode (the seven the server offers), light-buffer slices and
+// Method and quality: the rendering mode (those the server's hello offers, with what each reads), light-buffer slices and
 // resolution, builder, sample distance, compositing, compensation n, shell/cone parameters,
 // shading, and the output encoding (JPEG quality or PNG). The client does not second-guess the
 // server's ranges on the free-number fields: a bad value comes back as the server's error.
@@ -11,22 +11,25 @@ import {
   COMPOSITINGS,
   DEFAULT_LIMITS,
   ENCODINGS,
-  MODES,
   STAGES,
   type Limits,
-  type Mode,
+  type ModeCapabilities,
   type State,
   type StatePatch,
 } from '../protocol/messages';
 
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
-/** Which parameters matter for which modes (others are greyed out, still settable). */
-const USES: Record<string, (mode: Mode) => boolean> = {
-  light_buffer: (m) => m === 'sbrc' || m === 'sbrc_shell' || m === 'sbrc_cone',
-  slices: (m) => m === 'half_angle' || m.startsWith('sbrc'),
-  shell: (m) => m === 'sbrc_shell',
-  cone: (m) => m === 'sbrc_cone',
+/**
+ * Which parameters matter for a mode, from what the server's hello says it computes (the others
+ * are greyed out, still settable). Before hello, or for a mode hello did not list, all matter.
+ */
+const USES: Record<string, (mode: ModeCapabilities | undefined) => boolean> = {
+  light_buffer: (m) => m === undefined || m.shadows === 'light_buffer',
+  slices: (m) => m === undefined || m.shadows === 'light_buffer' || m.technique === 'half_angle_slicing',
+  shell: (m) => m === undefined || m.scattering === 'shell',
+  cone: (m) => m === undefined || m.scattering === 'cone',
+  phong: (m) => m === undefined || m.gradients === 'with_phong',
 };
 
 export class MethodPanel {
@@ -64,6 +67,7 @@ export class MethodPanel {
   private readonly controllers: Controller[] = [];
   private readonly byKey = new Map<string, Controller>();
   private readonly mode: Controller;
+  private modes = new Map<string, ModeCapabilities>();
   private readonly slices: Controller;
   private readonly resolution: Controller;
   private readonly budget: Controller;
@@ -84,7 +88,8 @@ export class MethodPanel {
     };
     const settings = (s: StatePatch['settings']): StatePatch => ({ settings: s });
 
-    this.mode = add(folder.add(p, 'mode', [...MODES]), 'mode', () => settings({ mode: p.mode as Mode }), false);
+    // The server's modes arrive with its hello (setModes).
+    this.mode = add(folder.add(p, 'mode', [p.mode]), 'mode', () => settings({ mode: p.mode }), false);
     this.mode.onChange(() => this.greyOut());
     add(folder.add(p, 'compositing', [...COMPOSITINGS]), 'compositing', () =>
       settings({ compositing: p.compositing as 'alpha' }), false);
@@ -165,9 +170,13 @@ export class MethodPanel {
     this.resolution.max(limits.max_light_resolution);
   }
 
-  /** The modes this server offers. */
-  setModes(modes: string[]): void {
-    if (modes.length > 0) this.mode.options(modes);
+  /** The modes this server offers, with what each computes (its hello). */
+  setModes(modes: ModeCapabilities[]): void {
+    this.modes = new Map(modes.map((m) => [m.name, m]));
+    if (modes.length > 0) {
+      this.mode.options(modes.map((m) => m.name));
+    }
+    this.greyOut();
   }
 
   /** Shows the session's state. */
@@ -203,7 +212,8 @@ export class MethodPanel {
   }
 
   private greyOut(): void {
-    const mode = this.params.mode as Mode;
+    const mode = this.modes.get(this.params.mode);
+    this.mode.domElement.title = mode?.summary ?? '';
     const dim = (key: string, used: boolean): void => {
       this.byKey.get(key)?.domElement.classList.toggle('unused', !used);
     };
@@ -211,6 +221,7 @@ export class MethodPanel {
     dim('slices', USES['slices']!(mode));
     for (const key of ['shell_radius', 'shell_rings', 'shell_center_weight']) dim(key, USES['shell']!(mode));
     for (const key of ['cone_angle', 'cone_center_weight']) dim(key, USES['cone']!(mode));
+    dim('phong', USES['phong']!(mode));
     dim('jpeg_quality', this.params.encoding === 'jpeg');
   }
 

@@ -8,16 +8,8 @@ export const PROTOCOL_VERSION = 1;
 export type Vec3 = [number, number, number];
 export type Rgb = [number, number, number];
 
-export const MODES = [
-  'dvr',
-  'phong',
-  'half_angle',
-  'sbrc',
-  'sbrc_shell',
-  'sbrc_cone',
-  'reference',
-] as const;
-export type Mode = (typeof MODES)[number];
+/** A mode's name; the server's `hello` lists the modes it offers (ModeCapabilities). */
+export type Mode = string;
 export const ENCODINGS = ['jpeg', 'png'] as const;
 export type Encoding = (typeof ENCODINGS)[number];
 export const PRESETS = ['grey_ramp', 'mri_skin', 'mri_brain', 'ct_skin', 'ct_bone'] as const;
@@ -246,11 +238,21 @@ export type ErrorCode = (typeof ERROR_CODES)[number];
 
 // ---- server to client ---------------------------------------------------------------------------
 
+/** What a mode computes, from the server's mode table: which parameters it reads. */
+export interface ModeCapabilities {
+  name: Mode;
+  summary: string;
+  technique: 'ray_casting' | 'half_angle_slicing';
+  shadows: 'none' | 'light_buffer' | 'rays';
+  scattering: 'none' | 'shell' | 'cone';
+  gradients: 'never' | 'with_phong' | 'always';
+}
+
 export interface HelloMessage {
   v: 1;
   type: 'hello';
   server: string;
-  modes: Mode[];
+  modes: ModeCapabilities[];
   encodings: Encoding[];
   renderer: { renderer: string; version: string; platform: string; software: boolean };
   limits: Limits;
@@ -523,6 +525,13 @@ export function parseServerMessage(text: string): ServerMessage {
     case 'hello': {
       str(o, 'server', '');
       need(Array.isArray(o['modes']), null, 'an array of modes', '/modes');
+      const modes = o['modes'] as Record<string, unknown>;
+      (o['modes'] as unknown[]).forEach((_, i) => {
+        const mode = obj(modes, String(i), '/modes');
+        for (const key of ['name', 'summary', 'technique', 'shadows', 'scattering', 'gradients']) {
+          str(mode, key, `/modes/${i}`);
+        }
+      });
       need(Array.isArray(o['encodings']), null, 'an array of encodings', '/encodings');
       const renderer = obj(o, 'renderer', '');
       for (const key of ['renderer', 'version', 'platform']) {
@@ -738,13 +747,13 @@ function checkTransferFunction(value: Json, at: string): void {
   });
 }
 
-function settingsSpec(limits: Limits): Spec {
+function settingsSpec(limits: Limits, modes: readonly string[] | null): Spec {
   return {
-    mode: oneOf(MODES),
+    mode: modes === null ? string(32) : oneOf(modes),
     compositing: oneOf(COMPOSITINGS),
     stage: oneOf(STAGES),
     size: vector(2, integer(1, limits.max_image_side)),
-    sample_distance: number(1 / 4096, 0.5),
+    sample_distance: number(1 / 16384, 2),
     opacity_unit_distance: number(1e-4, 1),
     early_termination: number(0.01, 1),
     background: rgb,
@@ -786,9 +795,14 @@ function subtract(a: Vec3, b: Vec3): Vec3 {
  * Checks a client message as the server would (§3-§5 at the given limits), except for what needs
  * the session's current state (eye = target after a partial camera patch). Returns null when the
  * server would accept it. The client sends what the person asked for and shows the server's answer;
- * this is for tests and for catching the client's own mistakes during development.
+ * this is for tests and for catching the client's own mistakes during development. `modes`: the
+ * mode names the server offers (its hello); null accepts any name and leaves the mode to the server.
  */
-export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMITS): Problem | null {
+export function checkClientMessage(
+  value: unknown,
+  limits: Limits = DEFAULT_LIMITS,
+  modes: readonly string[] | null = null,
+): Problem | null {
   try {
     if (!isObject(value)) {
       reject('invalid_message', '/', 'not an object');
@@ -866,7 +880,7 @@ export function checkClientMessage(value: unknown, limits: Limits = DEFAULT_LIMI
             }
           },
           transfer_function: checkTransferFunction,
-          settings: (v, at) => members(v, at, settingsSpec(limits)),
+          settings: (v, at) => members(v, at, settingsSpec(limits, modes)),
           output: (v, at) =>
             members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
         });

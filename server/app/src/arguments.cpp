@@ -214,9 +214,7 @@ base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
         const auto mode = scene::parse_mode(name);
         if (!mode) {
             return base::make_error("invalid_argument",
-                                    "unknown mode '" + name +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone, reference)",
+                                    "unknown mode '" + name + "' (" + scene::mode_names() + ")",
                                     "--" + option);
         }
         if (std::find(modes.begin(), modes.end(), *mode) == modes.end()) {

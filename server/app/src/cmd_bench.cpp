@@ -22,11 +22,6 @@ namespace {
 
 using namespace quality;
 
-constexpr scene::Mode all_modes[] = {
-        scene::Mode::dvr,        scene::Mode::phong,     scene::Mode::half_angle, scene::Mode::sbrc,
-        scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference};
-constexpr scene::Mode light_buffer_modes[] = {scene::Mode::sbrc, scene::Mode::sbrc_shell,
-                                              scene::Mode::sbrc_cone};
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
                                                   scene::LightBufferBuilder::multi_slice};
 
@@ -65,9 +60,9 @@ void print_modes_usage() {
             "rasteriser read the ratios.\n"
             "\n"
             "  --volume FILE                  (default %s)\n"
-            "  --modes LIST                   modes to time (default dvr,phong,half_angle,sbrc,\n"
-            "                                 sbrc_shell,sbrc_cone,reference); the builder\n"
-            "                                 comparison runs when a sbrc mode is listed\n"
+            "  --modes LIST                   modes to time, comma-separated (default: every\n"
+            "                                 mode); the builder comparison runs when a sbrc\n"
+            "                                 mode is listed\n"
             "  --slices-list N,...            light slices n to sweep (default 64,128,256)\n"
             "  --light-res-list R,...         light-buffer resolutions R to sweep (default\n"
             "                                 128,256,512)\n"
@@ -138,7 +133,8 @@ struct ModesRun {
 // The modes without a light buffer: one frame series each, half_angle over the grid.
 base::Status measure_frames(ModesRun& run) {
     std::printf("\nframe time (ms)\n  %-11s %5s %5s %12s %9s\n", "mode", "n", "R", "wall", "gpu");
-    for (const scene::Mode mode : all_modes) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
         if (!contains(run.modes, mode) || mode == scene::Mode::half_angle ||
             scene::uses_light_buffer(mode)) {
             continue;
@@ -174,8 +170,9 @@ base::Status measure_frames(ModesRun& run) {
 
 // The light-buffer modes: the buffer cached against rebuilt every frame.
 base::Status measure_light_buffer_modes(ModesRun& run) {
-    for (const scene::Mode mode : light_buffer_modes) {
-        if (!contains(run.modes, mode)) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
+        if (!scene::uses_light_buffer(mode) || !contains(run.modes, mode)) {
             continue;
         }
         if (!run.any_light_buffer_mode) {
@@ -304,7 +301,11 @@ void print_ratios(const ModesRun& run) {
             "  cached frame time at n=%d / at n=%d, R=%d (the paper: it barely grows with n; "
             "GPU target <= 1.20\n  from 64 to 256):\n",
             n_max, n_min, r_mid);
-    for (const scene::Mode mode : light_buffer_modes) {
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const scene::Mode mode = row.mode;
+        if (!scene::uses_light_buffer(mode)) {
+            continue;
+        }
         std::printf("    %-11s %s\n", scene::to_string(mode),
                     ratio(run.results.find(mode, "cached", n_max, r_mid),
                           run.results.find(mode, "cached", n_min, r_mid))
@@ -383,7 +384,7 @@ base::Result<ModesSweep> modes_sweep(const Arguments& a) {
     auto resolutions =
             parse_counts(a.get("light-res-list").value_or("128,256,512"), "light-res-list");
     auto modes = parse_modes(
-            a.get("modes").value_or("dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone,reference"),
+            a.get("modes").value_or(scene::mode_names(",")),
             "modes");
     auto repeat = a.integer("repeat", 5);
     if (!slice_counts || !resolutions || !modes || !repeat) {

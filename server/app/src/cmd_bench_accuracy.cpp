@@ -66,7 +66,16 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
                                           256,
                                           3};
 
-constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
+// Every mode but the reference, which is always rendered to measure the others against.
+std::string default_modes() {
+    std::string names;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        if (!mode.is_reference) {
+            names += (names.empty() ? "" : ",") + std::string(mode.name);
+        }
+    }
+    return names;
+}
 
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);
@@ -118,7 +127,7 @@ void print_usage() {
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
             "--light-position and --sample-distance are swept instead):\n%s",
-            default_modes, frame_options_help());
+            default_modes().c_str(), frame_options_help());
 }
 
 // "1/256,0.002" → distances (numbers accept the fraction form).
@@ -160,7 +169,7 @@ base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
 base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& text) {
     auto modes = parse_modes(text, "modes");
     if (modes) {
-        std::erase(*modes, scene::Mode::reference);
+        std::erase_if(*modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
     }
     return modes;
 }

@@ -14,7 +14,9 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) { return report_failure("render", error); }
+int fail(const base::Error& error) {
+    return report_failure("render", error);
+}
 
 double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
@@ -28,7 +30,7 @@ int run_render(const std::vector<std::string>& args) {
     valued.insert(valued.end(),
                   {"volume", "spacing", "out", "quality", "repeat", "light-inset", "max-load-mb"});
     std::vector<std::string> flags = frame_flag_names();
-    flags.insert(flags.end(), {"help", "debug-gl"});
+    flags.insert(flags.end(), {"help", "debug-gl", "list-modes"});
     auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {
         std::fprintf(stderr, "penumbra render: %s (see --help)\n",
@@ -36,19 +38,28 @@ int run_render(const std::vector<std::string>& args) {
         return 2;
     }
     if (parsed->has("help")) {
-        std::printf("usage: penumbra render [options]\n\n"
-                    "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz],\n"
-                    "                                 a DICOM file or series folder (default %s)\n"
-                    "  --spacing X,Y,Z                override the voxel spacing\n"
-                    "  --max-load-mb M                memory the volume load may take (default\n"
-                    "                                 8192; never more than the machine has)\n"
-                    "  --out FILE                     .png or .jpg (default frame.png)\n"
-                    "  --quality Q                    JPEG quality 1..100 (default 90)\n"
-                    "  --repeat N                     render N times, report median times\n"
-                    "  --light-inset FILE             also write the last light-buffer layer (sbrc\n"
-                    "                                 modes) or half-angle's light buffer (.png)\n"
-                    "  --debug-gl                     GL debug output to the log\n%s",
-                    default_volume_path, frame_options_help());
+        std::printf(
+                "usage: penumbra render [options]\n\n"
+                "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or "
+                "name_XxYxZ_type.raw[.gz],\n"
+                "                                 a DICOM file or series folder (default %s)\n"
+                "  --spacing X,Y,Z                override the voxel spacing\n"
+                "  --max-load-mb M                memory the volume load may take (default\n"
+                "                                 8192; never more than the machine has)\n"
+                "  --out FILE                     .png or .jpg (default frame.png)\n"
+                "  --quality Q                    JPEG quality 1..100 (default 90)\n"
+                "  --repeat N                     render N times, report median times\n"
+                "  --light-inset FILE             also write the last light-buffer layer (sbrc\n"
+                "                                 modes) or half-angle's light buffer (.png)\n"
+                "  --debug-gl                     GL debug output to the log\n"
+                "  --list-modes                   print the modes' names, one a line, and exit\n%s",
+                default_volume_path, frame_options_help());
+        return 0;
+    }
+    if (parsed->has("list-modes")) {
+        for (const scene::ModeInfo& mode : scene::modes()) {
+            std::printf("%s\n", mode.name.data());
+        }
         return 0;
     }
     const Arguments& a = *parsed;
@@ -71,8 +82,8 @@ int run_render(const std::vector<std::string>& args) {
             return fail(spacing.error());
         }
         if (spacing->x <= 0.0 || spacing->y <= 0.0 || spacing->z <= 0.0) {
-            return fail(base::make_error("invalid_argument", "spacing must be positive",
-                                         "--spacing"));
+            return fail(
+                    base::make_error("invalid_argument", "spacing must be positive", "--spacing"));
         }
         loaded->spacing = *spacing;
     }
@@ -83,17 +94,19 @@ int run_render(const std::vector<std::string>& args) {
     }
     const std::string out = a.get("out").value_or("frame.png");
     if (!encode::format_for_path(out)) {
-        return fail(base::make_error("invalid_argument", "output must end in .png or .jpg",
-                                     "--out"));
+        return fail(
+                base::make_error("invalid_argument", "output must end in .png or .jpg", "--out"));
     }
     auto quality = a.integer("quality", 90);
     auto repeat = a.integer("repeat", 1);
     if (!quality || !repeat || *repeat < 1 || *repeat > 10000) {
-        return fail(!quality ? quality.error()
-                             : base::make_error("invalid_argument", "expects 1..10000", "--repeat"));
+        return fail(!quality
+                            ? quality.error()
+                            : base::make_error("invalid_argument", "expects 1..10000", "--repeat"));
     }
 
-    auto renderer = render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+    auto renderer =
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -101,8 +114,8 @@ int run_render(const std::vector<std::string>& args) {
     std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
                 info.platform.c_str());
     std::printf("volume:   %s %ux%ux%u %s, range %g..%g\n", volume->name.c_str(), volume->dims.x,
-                volume->dims.y, volume->dims.z, volume::to_string(volume->type),
-                volume->range.min, volume->range.max);
+                volume->dims.y, volume->dims.z, volume::to_string(volume->type), volume->range.min,
+                volume->range.max);
     if (auto status = (*renderer)->set_volume(volume); !status) {
         return fail(status.error());
     }

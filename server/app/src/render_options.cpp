@@ -4,17 +4,58 @@
 
 #include <penumbra/scene/camera.hpp>
 
+#include <cstdio>
+#include <string>
+
 namespace penumbra::app {
 
 const std::vector<std::string>& frame_option_names() {
-    static const std::vector<std::string> names = {
-            "mode",       "size",          "camera",     "view",     "eye",      "target",    "up",
-            "fov",        "light",         "light-position", "light-color", "intensity",
-            "ambient",    "diffuse",       "specular",   "shininess", "tf",       "sample-distance",
-            "opacity-unit", "compositing", "stage",      "background", "early-termination",
-            "slices",     "light-res",     "builder",    "compensation", "slab-samples", "light-lookup", "shell-radius",
-            "shell-rings", "shell-weight", "cone-angle", "cone-weight"};
+    static const std::vector<std::string> names = {"mode",
+                                                   "size",
+                                                   "camera",
+                                                   "view",
+                                                   "eye",
+                                                   "target",
+                                                   "up",
+                                                   "fov",
+                                                   "light",
+                                                   "light-position",
+                                                   "light-color",
+                                                   "intensity",
+                                                   "ambient",
+                                                   "diffuse",
+                                                   "specular",
+                                                   "shininess",
+                                                   "tf",
+                                                   "sample-distance",
+                                                   "opacity-unit",
+                                                   "compositing",
+                                                   "stage",
+                                                   "background",
+                                                   "early-termination",
+                                                   "slices",
+                                                   "light-res",
+                                                   "builder",
+                                                   "compensation",
+                                                   "slab-samples",
+                                                   "light-lookup",
+                                                   "shell-radius",
+                                                   "shell-rings",
+                                                   "shell-weight",
+                                                   "cone-angle",
+                                                   "cone-weight"};
     return names;
+}
+
+std::string modes_help() {
+    std::string help;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        char line[160];
+        std::snprintf(line, sizeof line, "      %-12s %.*s\n", mode.name.data(),
+                      static_cast<int>(mode.summary.size()), mode.summary.data());
+        help += line;
+    }
+    return help;
 }
 
 const std::vector<std::string>& frame_flag_names() {
@@ -23,47 +64,51 @@ const std::vector<std::string>& frame_flag_names() {
 }
 
 const char* frame_options_help() {
-    return "  --mode MODE                    dvr | phong | half_angle | sbrc | sbrc_shell | sbrc_cone |\n"
-           "                                 reference (default phong)\n"
-           "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
-           "  --no-empty-space-skipping      sample the bricks the TF leaves transparent too\n"
-           "                                 (the same image, slower)\n"
-           "  --jitter                       ray-cast modes: per-pixel jittered sample offsets\n"
-           "                                 (fine noise instead of fixed-step rings)\n"
-           "  --slices N                     light slices, also half-angle's slices (default 128)\n"
-           "  --light-res R                  light buffer R x R texels (default 256)\n"
-           "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
-           "  --compensation N               darkening compensation (1+alpha)^N, 0 = off\n"
-           "  --light-lookup local|interpolate  camera samples read the light buffer: the layer\n"
-           "                                 nearer the light + a march through the rest of\n"
-           "                                 the slab (default), or the paper's interpolation\n"
-           "                                 between the two nearest layers\n"
-           "  --slab-samples K               points per light slab: 1 = the slice plane only\n"
-           "                                 (the paper), 0 = one per voxel (default 0)\n"
-           "  --shell-radius D --shell-rings K --shell-weight W   sbrc_shell (2/256, 1, 0.4)\n"
-           "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
-           "  --size WxH                     image size (default 512x512)\n"
-           "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees about\n"
-           "                                 the volume centre (z up, azimuth 0 = +y), distance in\n"
-           "                                 units of the volume's longest side\n"
-           "  --view SIDE                    the view from that side of the patient: anterior\n"
-           "                                 (the default: the face, superior up), posterior,\n"
-           "                                 left, right (superior up), superior, inferior\n"
-           "                                 (anterior up); world space is RAS\n"
-           "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
-           "  --fov DEG                      vertical field of view (default 30)\n"
-           "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
-           "  --light-position X,Y,Z         point light at this position instead\n"
-           "  --light-color R,G,B --intensity I --ambient A   (defaults 1,1,1  1  0.25)\n"
-           "  --diffuse KD --specular KS --shininess N        Blinn-Phong (0.75 0.3 32)\n"
-           "  --tf PRESET|FILE.json          transfer function (default mri_skin); presets:\n"
-           "                                 grey_ramp mri_skin mri_brain ct_skin ct_bone\n"
-           "  --sample-distance D            ray step, unit = longest side (default 1/256)\n"
-           "  --opacity-unit D               distance the TF opacity refers to (default 1/256)\n"
-           "  --compositing alpha|extinction (default alpha)\n"
-           "  --stage compute|fragment       where the ray caster runs (default compute)\n"
-           "  --background R,G,B             (default 0,0,0)\n"
-           "  --early-termination A          stop rays at this opacity (default 0.99)\n";
+    static const std::string help =
+            "  --mode MODE                    (default phong)\n" + modes_help() +
+            "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
+            "  --no-empty-space-skipping      sample the bricks the TF leaves transparent too\n"
+            "                                 (the same image, slower)\n"
+            "  --jitter                       ray-cast modes: per-pixel jittered sample offsets\n"
+            "                                 (fine noise instead of fixed-step rings)\n"
+            "  --slices N                     light slices, also half-angle's slices (default "
+            "128)\n"
+            "  --light-res R                  light buffer R x R texels (default 256)\n"
+            "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
+            "  --compensation N               darkening compensation (1+alpha)^N, 0 = off\n"
+            "  --light-lookup local|interpolate  camera samples read the light buffer: the layer\n"
+            "                                 nearer the light + a march through the rest of\n"
+            "                                 the slab (default), or the paper's interpolation\n"
+            "                                 between the two nearest layers\n"
+            "  --slab-samples K               points per light slab: 1 = the slice plane only\n"
+            "                                 (the paper), 0 = one per voxel (default 0)\n"
+            "  --shell-radius D --shell-rings K --shell-weight W   sbrc_shell (2/256, 1, 0.4)\n"
+            "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
+            "  --size WxH                     image size (default 512x512)\n"
+            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees "
+            "about\n"
+            "                                 the volume centre (z up, azimuth 0 = +y), distance "
+            "in\n"
+            "                                 units of the volume's longest side\n"
+            "  --view SIDE                    the view from that side of the patient: anterior\n"
+            "                                 (the default: the face, superior up), posterior,\n"
+            "                                 left, right (superior up), superior, inferior\n"
+            "                                 (anterior up); world space is RAS\n"
+            "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
+            "  --fov DEG                      vertical field of view (default 30)\n"
+            "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
+            "  --light-position X,Y,Z         point light at this position instead\n"
+            "  --light-color R,G,B --intensity I --ambient A   (defaults 1,1,1  1  0.25)\n"
+            "  --diffuse KD --specular KS --shininess N        Blinn-Phong (0.75 0.3 32)\n"
+            "  --tf PRESET|FILE.json          transfer function (default mri_skin); presets:\n"
+            "                                 grey_ramp mri_skin mri_brain ct_skin ct_bone\n"
+            "  --sample-distance D            ray step, unit = longest side (default 1/256)\n"
+            "  --opacity-unit D               distance the TF opacity refers to (default 1/256)\n"
+            "  --compositing alpha|extinction (default alpha)\n"
+            "  --stage compute|fragment       where the ray caster runs (default compute)\n"
+            "  --background R,G,B             (default 0,0,0)\n"
+            "  --early-termination A          stop rays at this opacity (default 0.99)\n";
+    return help.c_str();
 }
 
 base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
@@ -75,9 +120,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         const auto parsed = scene::parse_mode(*mode);
         if (!parsed) {
             return base::make_error("invalid_argument",
-                                    "unknown mode '" + *mode +
-                                            "' (dvr, phong, half_angle, sbrc, sbrc_shell, "
-                                            "sbrc_cone, reference)",
+                                    "unknown mode '" + *mode + "' (" + scene::mode_names() + ")",
                                     "--mode");
         }
         s.mode = *parsed;
@@ -152,46 +195,64 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
     light.color = *color;
     s.background = *background;
 
+    // Each option's limits are its setting's (scene::setting), named by the option.
+    const auto out_of_range = [](const char* option, const scene::SettingRange& range) {
+        return base::make_error("invalid_argument", "must be " + range.describe(),
+                                std::string("--") + option);
+    };
+
     struct NumberOption {
         const char* name;
         double* target;
+        const scene::SettingRange& range;
     };
+
     const NumberOption numbers[] = {
-            {"intensity", &light.intensity},
-            {"ambient", &light.ambient},
-            {"diffuse", &s.shading.diffuse},
-            {"specular", &s.shading.specular},
-            {"shininess", &s.shading.shininess},
-            {"sample-distance", &s.sample_distance},
-            {"opacity-unit", &s.opacity_unit_distance},
-            {"early-termination", &s.early_termination},
-            {"compensation", &s.light_buffer.compensation},
-            {"shell-radius", &s.scattering.shell_radius},
-            {"shell-weight", &s.scattering.shell_center_weight},
-            {"cone-angle", &s.scattering.cone_angle_degrees},
-            {"cone-weight", &s.scattering.cone_center_weight},
+            {"intensity", &light.intensity, scene::setting::light_intensity},
+            {"ambient", &light.ambient, scene::setting::light_ambient},
+            {"diffuse", &s.shading.diffuse, scene::setting::diffuse},
+            {"specular", &s.shading.specular, scene::setting::specular},
+            {"shininess", &s.shading.shininess, scene::setting::shininess},
+            {"sample-distance", &s.sample_distance, scene::setting::sample_distance},
+            {"opacity-unit", &s.opacity_unit_distance, scene::setting::opacity_unit_distance},
+            {"early-termination", &s.early_termination, scene::setting::early_termination},
+            {"compensation", &s.light_buffer.compensation, scene::setting::compensation},
+            {"shell-radius", &s.scattering.shell_radius, scene::setting::shell_radius},
+            {"shell-weight", &s.scattering.shell_center_weight,
+             scene::setting::shell_center_weight},
+            {"cone-angle", &s.scattering.cone_angle_degrees, scene::setting::cone_angle_degrees},
+            {"cone-weight", &s.scattering.cone_center_weight, scene::setting::cone_center_weight},
     };
     for (const auto& option : numbers) {
         auto value = args.number(option.name, *option.target);
         if (!value) {
             return value.error();
         }
+        if (!option.range.contains(*value)) {
+            return out_of_range(option.name, option.range);
+        }
         *option.target = *value;
     }
+
     struct IntegerOption {
         const char* name;
         int* target;
+        const scene::SettingRange* range;  // null: bounded by the device (scene::Limits)
     };
+
     const IntegerOption integers[] = {
-            {"slices", &s.light_buffer.slices},
-            {"light-res", &s.light_buffer.resolution},
-            {"shell-rings", &s.scattering.shell_rings},
-            {"slab-samples", &s.light_buffer.slab_samples},
+            {"slices", &s.light_buffer.slices, nullptr},
+            {"light-res", &s.light_buffer.resolution, nullptr},
+            {"shell-rings", &s.scattering.shell_rings, &scene::setting::shell_rings},
+            {"slab-samples", &s.light_buffer.slab_samples, &scene::setting::slab_samples},
     };
     for (const auto& option : integers) {
         auto value = args.integer(option.name, *option.target);
         if (!value) {
             return value.error();
+        }
+        if (option.range != nullptr && !option.range->contains(*value)) {
+            return out_of_range(option.name, *option.range);
         }
         *option.target = *value;
     }

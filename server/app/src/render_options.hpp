@@ -15,6 +15,8 @@ namespace penumbra::app {
 // and the flags.
 const std::vector<std::string>& frame_option_names();
 const std::vector<std::string>& frame_flag_names();
+// One line per mode: its name and what it does (the mode table's summary).
+std::string modes_help();
 
 // Builds a frame request from those options; defaults give a useful view of a head.
 base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,

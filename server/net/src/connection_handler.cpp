@@ -136,16 +136,9 @@ bool ConnectionHandler::take_token() {
 }
 
 void ConnectionHandler::on_open() {
-    std::vector<std::string> modes;
-    for (const auto mode :
-         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle, scene::Mode::sbrc,
-          scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference}) {
-        modes.emplace_back(scene::to_string(mode));
-    }
     const render::RendererInfo& info = context_.services.scheduler.renderer_info();
     send(protocol::hello_message(context_.config.limits,
-                                 {info.renderer, info.version, info.platform, info.software},
-                                 modes));
+                                 {info.renderer, info.version, info.platform, info.software}));
 }
 
 bool ConnectionHandler::admit(std::optional<std::int64_t> id) {

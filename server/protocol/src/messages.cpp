@@ -189,8 +189,16 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     return field_error(code::unknown_type, "/type", "unknown message type '" + *type + "'");
 }
 
-std::string hello_message(const Limits& limits, const RendererSummary& renderer,
-                          const std::vector<std::string>& modes) {
+std::string hello_message(const Limits& limits, const RendererSummary& renderer) {
+    json modes = json::array();
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        modes.push_back({{"name", mode.name},
+                         {"summary", mode.summary},
+                         {"technique", scene::to_string(mode.technique)},
+                         {"shadows", scene::to_string(mode.shadows)},
+                         {"scattering", scene::to_string(mode.scattering)},
+                         {"gradients", scene::to_string(mode.gradients)}});
+    }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},
                     {"modes", modes},

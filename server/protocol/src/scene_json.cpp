@@ -16,22 +16,39 @@ namespace {
 
 using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSON vocabulary
 
-constexpr double max_coordinate = 1000.0;
+constexpr double max_coordinate = scene::setting::coordinate.max;
 constexpr std::size_t max_tf_points = 256;
 
-#define PENUMBRA_TRY(expression)                  \
-    do {                                          \
+#define PENUMBRA_TRY(expression)                     \
+    do {                                             \
         if (auto status_ = (expression); !status_) { \
-            return status_.error();               \
-        }                                         \
+            return status_.error();                  \
+        }                                            \
     } while (false)
+
+// Readers for a number, a whole number and a vector within a setting's range.
+auto in(const scene::SettingRange& range) {
+    return [&range](const json& v, const std::string& q) {
+        return number(v, q, range.min, range.max);
+    };
+}
+
+auto whole_in(const scene::SettingRange& range) {
+    return [&range](const json& v, const std::string& q) {
+        return integer(v, q, static_cast<int>(range.min), static_cast<int>(range.max));
+    };
+}
+
+auto vec3_in(const scene::SettingRange& range) {
+    return [&range](const json& v, const std::string& q) {
+        return vec3(v, q, range.min, range.max);
+    };
+}
 
 base::Status apply_camera(const json& j, const std::string& p, scene::Camera& camera) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(j, p, {"eye", "target", "up", "fov", "orbit", "view"}));
-    const auto coordinates = [](const json& v, const std::string& q) {
-        return vec3(v, q, -max_coordinate, max_coordinate);
-    };
+    const auto coordinates = vec3_in(scene::setting::coordinate);
     if (j.contains("view")) {
         for (const char* other : {"orbit", "eye", "up"}) {
             if (j.contains(other)) {
@@ -68,12 +85,11 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
         double azimuth = 0.0;
         double elevation = 0.0;
         double distance = scene::default_camera_distance;
-        const auto deg = [](double lo, double hi) {
-            return [lo, hi](const json& v, const std::string& q) { return number(v, q, lo, hi); };
-        };
-        PENUMBRA_TRY(optional_member(o, op, "azimuth", azimuth, deg(-36000.0, 36000.0)));
-        PENUMBRA_TRY(optional_member(o, op, "elevation", elevation, deg(-90.0, 90.0)));
-        PENUMBRA_TRY(optional_member(o, op, "distance", distance, deg(0.01, 100.0)));
+        PENUMBRA_TRY(optional_member(o, op, "azimuth", azimuth, in(scene::setting::orbit_azimuth)));
+        PENUMBRA_TRY(optional_member(o, op, "elevation", elevation,
+                                     in(scene::setting::orbit_elevation)));
+        PENUMBRA_TRY(
+                optional_member(o, op, "distance", distance, in(scene::setting::orbit_distance)));
         // The orbit is around the patch's target if it has one, else the current target.
         glm::dvec3 target = camera.target;
         PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
@@ -93,17 +109,15 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
     PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "target", camera.target, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "up", camera.up, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "fov", camera.fov_y_degrees,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 1.0, 170.0);
-                                 }));
+    PENUMBRA_TRY(
+            optional_member(j, p, "fov", camera.fov_y_degrees, in(scene::setting::fov_degrees)));
     return base::Ok{};
 }
 
 base::Status apply_light(const json& j, const std::string& p, scene::Light& light) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"type", "direction", "position", "color", "intensity",
-                                    "ambient"}));
+    PENUMBRA_TRY(
+            only_fields(j, p, {"type", "direction", "position", "color", "intensity", "ambient"}));
     if (j.contains("type")) {
         auto type = string(j.at("type"), p + "/type");
         if (!type) {
@@ -114,22 +128,14 @@ base::Status apply_light(const json& j, const std::string& p, scene::Light& ligh
         }
         light.type = *type == "point" ? scene::LightType::point : scene::LightType::directional;
     }
-    const auto coordinates = [](const json& v, const std::string& q) {
-        return vec3(v, q, -max_coordinate, max_coordinate);
-    };
+    const auto coordinates = vec3_in(scene::setting::coordinate);
     PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "color", light.color, [](const json& v, const std::string& q) {
-        return vec3(v, q, 0.0, 1.0);
-    }));
+    PENUMBRA_TRY(optional_member(j, p, "color", light.color, vec3_in(scene::setting::colour)));
     PENUMBRA_TRY(optional_member(j, p, "intensity", light.intensity,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 0.0, 100.0);
-                                 }));
-    PENUMBRA_TRY(optional_member(j, p, "ambient", light.ambient,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 0.0, 1.0);
-                                 }));
+                                 in(scene::setting::light_intensity)));
+    PENUMBRA_TRY(
+            optional_member(j, p, "ambient", light.ambient, in(scene::setting::light_ambient)));
     return base::Ok{};
 }
 
@@ -240,7 +246,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
 
 template <class Enum, class Parse>
 base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target,
-                        Parse&& parse, const char* expected) {
+                        Parse&& parse, const std::string& expected) {
     if (!j.contains(key)) {
         return base::Ok{};
     }
@@ -250,14 +256,10 @@ base::Status apply_enum(const json& j, const std::string& p, const char* key, En
     }
     auto parsed = parse(*text);
     if (!parsed) {
-        return field_error("invalid_value", p + "/" + key, std::string("expected ") + expected);
+        return field_error("invalid_value", p + "/" + key, "expected " + expected);
     }
     target = *parsed;
     return base::Ok{};
-}
-
-auto range_of(double lo, double hi) {
-    return [lo, hi](const json& v, const std::string& q) { return number(v, q, lo, hi); };
 }
 
 auto int_range_of(int lo, int hi) {
@@ -273,12 +275,12 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
             {"mode", "compositing", "stage", "size", "sample_distance", "opacity_unit_distance",
              "early_termination", "background", "phong", "empty_space_skipping", "jitter",
              "shading", "light_buffer", "scattering", "frame_budget_ms", "refinement_steps"}));
-    PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
-                            "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
+    PENUMBRA_TRY(
+            apply_enum(j, p, "mode", s.mode, scene::parse_mode, "one of " + scene::mode_names()));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
                             "alpha or extinction"));
-    PENUMBRA_TRY(apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage,
-                            "compute or fragment"));
+    PENUMBRA_TRY(
+            apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage, "compute or fragment"));
     if (j.contains("size")) {
         const json& size = j.at("size");
         if (!size.is_array() || size.size() != 2) {
@@ -293,37 +295,39 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         s.height = *h;
     }
     PENUMBRA_TRY(optional_member(j, p, "sample_distance", s.sample_distance,
-                                 range_of(1.0 / 4096.0, 0.5)));
+                                 in(scene::setting::sample_distance)));
     PENUMBRA_TRY(optional_member(j, p, "opacity_unit_distance", s.opacity_unit_distance,
-                                 range_of(1e-4, 1.0)));
+                                 in(scene::setting::opacity_unit_distance)));
     PENUMBRA_TRY(optional_member(j, p, "early_termination", s.early_termination,
-                                 range_of(0.01, 1.0)));
-    PENUMBRA_TRY(optional_member(j, p, "background", s.background,
-                                 [](const json& v, const std::string& q) {
-                                     return vec3(v, q, 0.0, 1.0);
-                                 }));
+                                 in(scene::setting::early_termination)));
+    PENUMBRA_TRY(
+            optional_member(j, p, "background", s.background, vec3_in(scene::setting::colour)));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
     PENUMBRA_TRY(optional_member(j, p, "empty_space_skipping", s.empty_space_skipping, boolean));
     PENUMBRA_TRY(optional_member(j, p, "jitter", s.jitter, boolean));
-    PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms, range_of(0.0, 60000.0)));
+    PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms,
+                                 in(scene::setting::frame_budget_ms)));
     PENUMBRA_TRY(optional_member(j, p, "refinement_steps", refinement_steps,
-                                 int_range_of(0, scene::kMaxRefinementSteps)));
+                                 whole_in(scene::setting::refinement_steps)));
     if (j.contains("shading")) {
         const json& sh = j.at("shading");
         const std::string sp = p + "/shading";
         PENUMBRA_TRY(expect_object(sh, sp));
         PENUMBRA_TRY(only_fields(sh, sp, {"diffuse", "specular", "shininess"}));
-        PENUMBRA_TRY(optional_member(sh, sp, "diffuse", s.shading.diffuse, range_of(0.0, 4.0)));
-        PENUMBRA_TRY(optional_member(sh, sp, "specular", s.shading.specular, range_of(0.0, 4.0)));
+        PENUMBRA_TRY(
+                optional_member(sh, sp, "diffuse", s.shading.diffuse, in(scene::setting::diffuse)));
+        PENUMBRA_TRY(optional_member(sh, sp, "specular", s.shading.specular,
+                                     in(scene::setting::specular)));
         PENUMBRA_TRY(optional_member(sh, sp, "shininess", s.shading.shininess,
-                                     range_of(1.0, 1024.0)));
+                                     in(scene::setting::shininess)));
     }
     if (j.contains("light_buffer")) {
         const json& lb = j.at("light_buffer");
         const std::string lp = p + "/light_buffer";
         PENUMBRA_TRY(expect_object(lb, lp));
-        PENUMBRA_TRY(only_fields(lb, lp, {"slices", "resolution", "builder", "compensation",
-                                          "slab_samples", "lookup"}));
+        PENUMBRA_TRY(only_fields(
+                lb, lp,
+                {"slices", "resolution", "builder", "compensation", "slab_samples", "lookup"}));
         PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
                                      int_range_of(1, limits.max_slices)));
         PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
@@ -331,9 +335,9 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder,
                                 scene::parse_light_buffer_builder, "per_slice or multi_slice"));
         PENUMBRA_TRY(optional_member(lb, lp, "compensation", s.light_buffer.compensation,
-                                     range_of(0.0, 1000.0)));
+                                     in(scene::setting::compensation)));
         PENUMBRA_TRY(optional_member(lb, lp, "slab_samples", s.light_buffer.slab_samples,
-                                     int_range_of(0, scene::kMaxSlabSamples)));
+                                     whole_in(scene::setting::slab_samples)));
         PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup, scene::parse_light_lookup,
                                 "interpolate or local"));
     }
@@ -341,18 +345,20 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         const json& sc = j.at("scattering");
         const std::string cp = p + "/scattering";
         PENUMBRA_TRY(expect_object(sc, cp));
-        PENUMBRA_TRY(only_fields(sc, cp, {"shell_radius", "shell_rings", "shell_center_weight",
-                                          "cone_angle", "cone_center_weight"}));
+        PENUMBRA_TRY(only_fields(sc, cp,
+                                 {"shell_radius", "shell_rings", "shell_center_weight",
+                                  "cone_angle", "cone_center_weight"}));
         PENUMBRA_TRY(optional_member(sc, cp, "shell_radius", s.scattering.shell_radius,
-                                     range_of(1e-4, 0.5)));
+                                     in(scene::setting::shell_radius)));
         PENUMBRA_TRY(optional_member(sc, cp, "shell_rings", s.scattering.shell_rings,
-                                     int_range_of(1, 4)));
+                                     whole_in(scene::setting::shell_rings)));
         PENUMBRA_TRY(optional_member(sc, cp, "shell_center_weight",
-                                     s.scattering.shell_center_weight, range_of(0.0, 1.0)));
+                                     s.scattering.shell_center_weight,
+                                     in(scene::setting::shell_center_weight)));
         PENUMBRA_TRY(optional_member(sc, cp, "cone_angle", s.scattering.cone_angle_degrees,
-                                     range_of(0.1, 80.0)));
-        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight",
-                                     s.scattering.cone_center_weight, range_of(0.0, 1.0)));
+                                     in(scene::setting::cone_angle_degrees)));
+        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight", s.scattering.cone_center_weight,
+                                     in(scene::setting::cone_center_weight)));
     }
     return base::Ok{};
 }
@@ -374,7 +380,9 @@ base::Status apply_output(const json& j, const std::string& p, OutputOptions& ou
     return base::Ok{};
 }
 
-json vec3_json(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
+json vec3_json(glm::dvec3 v) {
+    return json::array({v.x, v.y, v.z});
+}
 
 }  // namespace
 
@@ -390,8 +398,8 @@ base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limit
         return parsed.error();
     }
     PENUMBRA_TRY(expect_object(*parsed, ""));
-    return Patch(std::make_shared<const Patch::Document>(
-            Patch::Document{std::move(parsed.value())}));
+    return Patch(
+            std::make_shared<const Patch::Document>(Patch::Document{std::move(parsed.value())}));
 }
 
 base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
@@ -404,8 +412,8 @@ base::Status apply_patch(std::string_view patch_json, SessionState& state, const
 
 base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits& limits) {
     const json& patch = parsed.document().object;
-    PENUMBRA_TRY(only_fields(patch, "", {"camera", "light", "transfer_function", "settings",
-                                         "output"}));
+    PENUMBRA_TRY(
+            only_fields(patch, "", {"camera", "light", "transfer_function", "settings", "output"}));
     SessionState next = state;
     if (patch.contains("camera")) {
         PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame.camera));
@@ -433,15 +441,12 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     if (auto status = scene::validate(next.frame, scene_limits); !status) {
         // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
         // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
-        std::string where = status.error().where;
-        if (where == "camera.fov_y") {
-            where = "camera.fov";
-        }
+        const std::string& where = status.error().where;
         const auto is_part = [&](std::string_view part) {
             return where == part || where.starts_with(std::string(part) + ".");
         };
-        const bool settings = !is_part("camera") && !is_part("light") &&
-                              !is_part("transfer_function");
+        const bool settings =
+                !is_part("camera") && !is_part("light") && !is_part("transfer_function");
         std::string pointer = (settings ? "/settings/" : "/") + where;
         std::replace(pointer.begin(), pointer.end(), '.', '/');
         return field_error("invalid_value", pointer, status.error().message);

@@ -5,6 +5,8 @@
 #   title_text          the figure's title; x_label the x axis's
 #   panels              one per volume; panel_title[v], y_range[v] ("[low:high]" or "[*:*]")
 #   modes               the measured modes, reference aside, as words; a mode's index is its word
+#   style_modes, style_colours, style_points   every mode's plot colour and point type (the
+#                       mode table's), as words in the same order
 #   ref_count           references; ref_panel[r], ref_ms[r], ref_text[r], ref_row[r]
 #   $front              panel, frame ms, PSNR, label: the Pareto front over all modes
 #   $all                panel, mode, frame ms, PSNR: every setting (means over the lights)
@@ -13,9 +15,6 @@
 # curve, the front over all modes as a wide grey band, the reference's time as a vertical line
 # (its PSNR is infinite).
 
-style_modes = "dvr phong half_angle sbrc sbrc_shell sbrc_cone"
-style_colours = "#7f7f7f #000000 #e07b00 #1f5fbf #2a9d3a #9b30c0"
-style_points = "5 7 9 11 13 15"
 style_index(name) = sum [i=1:words(style_modes)] (word(style_modes, i) eq name ? i : 0)
 colour(name) = style_index(name) > 0 ? word(style_colours, style_index(name)) : "#404040"
 point(name) = style_index(name) > 0 ? int(word(style_points, style_index(name))) : 3

@@ -1,6 +1,7 @@
 #include "penumbra/quality/report.hpp"
 
 #include <penumbra/base/data_dir.hpp>
+#include <penumbra/scene/mode.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -231,6 +232,16 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
     for (const scene::Mode mode : modes) {
         mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
     }
+    // Each mode's colour and point type, from the mode table.
+    std::string style_modes;
+    std::string style_colours;
+    std::string style_points;
+    for (const scene::ModeInfo& row : scene::modes()) {
+        const char* gap = style_modes.empty() ? "" : " ";
+        style_modes += gap + std::string(row.name);
+        style_colours += gap + std::string(row.plot_colour);
+        style_points += gap + std::to_string(row.plot_point_type);
+    }
     const std::string x_label =
             table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
                              : "frame time, ms (wall clock, median; no GPU timer queries on this "
@@ -247,6 +258,9 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
               "\nx_label = " + gnuplot_string(x_label) +
               "\npanels = " + std::to_string(volumes.size()) +
               "\nmodes = " + gnuplot_string(mode_words) +
+              "\nstyle_modes = " + gnuplot_string(style_modes) +
+              "\nstyle_colours = " + gnuplot_string(style_colours) +
+              "\nstyle_points = " + gnuplot_string(style_points) +
               "\nref_count = " + std::to_string(references[0].size()) + "\n";
     script += gnuplot_array("panel_title", titles) + gnuplot_array("y_range", ranges) +
               gnuplot_array("ref_panel", references[0]) + gnuplot_array("ref_ms", references[1]) +

@@ -14,8 +14,9 @@
 
 namespace penumbra::render {
 
-enum class Shadows { none, light_buffer, rays };
-enum class Scattering { none, shell, cone };
+// The mode table's kinds are the shaders' SHADOWS and SCATTERING defines.
+using Shadows = scene::ShadowKind;
+using Scattering = scene::ScatteringKind;
 
 // The effects one ray-cast variant compiles in; everything else is compiled out.
 struct RaycastVariant {

@@ -834,10 +834,14 @@ base::Result<base::ImageRgba8> Renderer::light_inset() const {
         case Impl::LastInset::none:
             break;
     }
+    std::string modes;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        if (scene::uses_light_view(mode.mode)) {
+            modes += (modes.empty() ? "" : ", ") + std::string(mode.name);
+        }
+    }
     return base::make_error("no_light_buffer",
-                            "only sbrc, sbrc_shell, sbrc_cone and half_angle frames have a light "
-                            "buffer to show",
-                            "light_inset");
+                            "only " + modes + " frames have a light buffer to show", "light_inset");
 }
 
 }  // namespace penumbra::render

@@ -13,21 +13,19 @@ int samples_per_ray(const RenderSettings& settings, const Box& box) {
 int iterations_per_sample(const RenderSettings& settings, int samples_per_ray, int slab_samples) {
     const int local_lookup =
             settings.light_buffer.lookup == LightLookup::local ? 1 + slab_samples : 0;
-    switch (settings.mode) {
-        case Mode::dvr:
-        case Mode::phong:
-        case Mode::half_angle:
-            return 1;
-        case Mode::sbrc:
-            return 1 + local_lookup;
-        case Mode::sbrc_shell:
-            return 4 + 2 * settings.scattering.shell_rings + local_lookup;
-        case Mode::sbrc_cone:
-            return 10 + local_lookup;
-        case Mode::reference:
-            return 2 + samples_per_ray;
+    const ModeInfo& mode = describe(settings.mode);
+    int iterations = mode.cost.fixed + mode.cost.per_shell_ring * settings.scattering.shell_rings;
+    switch (mode.shadows) {
+        case ShadowKind::none:
+            break;
+        case ShadowKind::light_buffer:
+            iterations += local_lookup;
+            break;
+        case ShadowKind::rays:
+            iterations += samples_per_ray;
+            break;
     }
-    return 1;
+    return iterations;
 }
 
 FrameWork estimate_work(const FrameRequest& request, const Box& box, int slab_samples) {
@@ -36,7 +34,7 @@ FrameWork estimate_work(const FrameRequest& request, const Box& box, int slab_sa
     const double light_texels =
             static_cast<double>(s.light_buffer.resolution) * s.light_buffer.resolution;
     FrameWork work;
-    if (s.mode == Mode::half_angle) {
+    if (describe(s.mode).technique == Technique::half_angle_slicing) {
         work.slicing = s.light_buffer.slices * (pixels + light_texels);
         return work;
     }

@@ -2,48 +2,98 @@
 
 #include <glm/geometric.hpp>
 
-#include <array>
+#include <algorithm>
 #include <cmath>
 #include <string>
-#include <utility>
 
 namespace penumbra::scene {
 namespace {
 
-constexpr std::array<std::pair<Mode, const char*>, 7> mode_names{{
-        {Mode::dvr, "dvr"},
-        {Mode::phong, "phong"},
-        {Mode::half_angle, "half_angle"},
-        {Mode::sbrc, "sbrc"},
-        {Mode::sbrc_shell, "sbrc_shell"},
-        {Mode::sbrc_cone, "sbrc_cone"},
-        {Mode::reference, "reference"},
-}};
-
-bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(glm::dvec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 base::Error invalid(const std::string& field, const std::string& message) {
     return base::make_error("invalid_value", message, field);
 }
 
+// "settings/light_buffer/compensation" -> "light_buffer.compensation", as validate names fields.
+std::string field_name(std::string_view path) {
+    std::string name(path.starts_with("settings/") ? path.substr(9) : path);
+    std::replace(name.begin(), name.end(), '/', '.');
+    return name;
+}
+
 }  // namespace
 
 const char* to_string(Mode mode) {
-    for (const auto& [m, name] : mode_names) {
-        if (m == mode) {
-            return name;
+    return describe(mode).name.data();
+}
+
+std::optional<Mode> parse_mode(std::string_view text) {
+    for (const ModeInfo& info : kModes) {
+        if (text == info.name) {
+            return info.mode;
         }
+    }
+    return std::nullopt;
+}
+
+const char* to_string(Technique technique) {
+    switch (technique) {
+        case Technique::ray_casting:
+            return "ray_casting";
+        case Technique::half_angle_slicing:
+            return "half_angle_slicing";
     }
     return "?";
 }
 
-std::optional<Mode> parse_mode(std::string_view text) {
-    for (const auto& [m, name] : mode_names) {
-        if (text == name) {
-            return m;
-        }
+const char* to_string(ShadowKind shadows) {
+    switch (shadows) {
+        case ShadowKind::none:
+            return "none";
+        case ShadowKind::light_buffer:
+            return "light_buffer";
+        case ShadowKind::rays:
+            return "rays";
     }
-    return std::nullopt;
+    return "?";
+}
+
+const char* to_string(ScatteringKind scattering) {
+    switch (scattering) {
+        case ScatteringKind::none:
+            return "none";
+        case ScatteringKind::shell:
+            return "shell";
+        case ScatteringKind::cone:
+            return "cone";
+    }
+    return "?";
+}
+
+const char* to_string(Gradients gradients) {
+    switch (gradients) {
+        case Gradients::never:
+            return "never";
+        case Gradients::with_phong:
+            return "with_phong";
+        case Gradients::always:
+            return "always";
+    }
+    return "?";
+}
+
+std::string mode_names(std::string_view separator) {
+    std::string names;
+    for (const ModeInfo& info : kModes) {
+        if (!names.empty()) {
+            names += separator;
+        }
+        names += info.name;
+    }
+    return names;
 }
 
 const char* to_string(Compositing compositing) {
@@ -102,12 +152,16 @@ std::optional<LightLookup> parse_light_lookup(std::string_view text) {
     return std::nullopt;
 }
 
-bool uses_light_buffer(Mode mode) {
-    return mode == Mode::sbrc || mode == Mode::sbrc_shell || mode == Mode::sbrc_cone;
-}
-
 bool uses_gradients(const RenderSettings& settings) {
-    return settings.mode == Mode::phong || (settings.phong && settings.mode != Mode::dvr);
+    switch (describe(settings.mode).gradients) {
+        case Gradients::never:
+            return false;
+        case Gradients::with_phong:
+            return settings.phong;
+        case Gradients::always:
+            return true;
+    }
+    return false;
 }
 
 bool is_ray_cast(Mode mode) {
@@ -129,89 +183,50 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
         return invalid("size", "image size must be within 1.." + std::to_string(max_image_side) +
                                        " pixels per side");
     }
-    // A ray needs at least one sample per voxel layer it could cross to be meaningful, and a
-    // million samples per unit is more than any GPU can march in a frame.
-    // Finer than 1/16384 of the box resolves nothing more (volumes have at most a few thousand
-    // voxels a side) and only multiplies the work.
-    if (!std::isfinite(s.sample_distance) || s.sample_distance < 1.0 / 16384.0 ||
-        s.sample_distance > 2.0) {
-        return invalid("sample_distance",
-                       "sample distance must be finite and within [1/16384, 2]");
+    const auto check_vec3 = [](glm::dvec3 v, const SettingRange& range) {
+        return range.contains(v.x) && range.contains(v.y) && range.contains(v.z);
+    };
+    for (const SettingRange* range : kSettingRanges) {
+        if (range->read != nullptr && !range->contains(range->read(request))) {
+            return invalid(field_name(range->field),
+                           std::string(range->field) + " must be " + range->describe());
+        }
     }
-    if (!std::isfinite(s.opacity_unit_distance) || s.opacity_unit_distance <= 0.0) {
-        return invalid("opacity_unit_distance", "opacity unit distance must be finite and > 0");
-    }
-    if (!std::isfinite(s.early_termination) || s.early_termination <= 0.0 ||
-        s.early_termination > 1.0) {
-        return invalid("early_termination", "early ray termination must be within (0, 1]");
-    }
-    if (!finite(s.background)) {
-        return invalid("background", "background colour must be finite");
+    if (!check_vec3(s.background, setting::colour)) {
+        return invalid("background",
+                       "background colour channels must be " + setting::colour.describe());
     }
     const Camera& c = request.camera;
-    if (!finite(c.eye) || !finite(c.target) || !finite(c.up) || !std::isfinite(c.fov_y_degrees)) {
-        return invalid("camera", "camera vectors and field of view must be finite");
+    if (!check_vec3(c.eye, setting::coordinate) || !check_vec3(c.target, setting::coordinate) ||
+        !finite(c.up)) {
+        return invalid("camera", "camera eye and target coordinates must be " +
+                                         setting::coordinate.describe() + ", up finite");
     }
     if (glm::length(c.target - c.eye) < 1e-9) {
         return invalid("camera", "camera eye and target must differ");
     }
-    if (c.fov_y_degrees <= 0.1 || c.fov_y_degrees >= 179.0) {
-        return invalid("camera.fov_y", "field of view must be within (0.1, 179) degrees");
-    }
     const Light& l = request.light;
-    if (!finite(l.direction) || !finite(l.position) || !finite(l.color) ||
-        !std::isfinite(l.intensity) || !std::isfinite(l.ambient)) {
-        return invalid("light", "light parameters must be finite");
+    if (!finite(l.direction) || !check_vec3(l.position, setting::coordinate)) {
+        return invalid("light", "light direction must be finite, its position " +
+                                        setting::coordinate.describe());
+    }
+    if (!check_vec3(l.color, setting::colour)) {
+        return invalid("light.color",
+                       "light colour channels must be " + setting::colour.describe());
     }
     if (l.type == LightType::directional && glm::length(l.direction) < 1e-9) {
         return invalid("light.direction", "a directional light needs a non-zero direction");
     }
-    if (l.intensity < 0.0 || l.ambient < 0.0 || l.color.r < 0.0 || l.color.g < 0.0 ||
-        l.color.b < 0.0) {
-        return invalid("light", "light colour, intensity and ambient must not be negative");
-    }
-    const Shading& sh = s.shading;
-    if (!std::isfinite(sh.diffuse) || !std::isfinite(sh.specular) || !std::isfinite(sh.shininess) ||
-        sh.diffuse < 0.0 || sh.specular < 0.0 || sh.shininess < 1.0 || sh.shininess > 1024.0) {
-        return invalid("shading", "diffuse/specular must be >= 0 and shininess within [1, 1024]");
-    }
     const LightBufferSettings& lb = s.light_buffer;
     if (lb.slices < 1 || lb.slices > limits.max_slices) {
-        return invalid("light_buffer.slices",
-                       "slices must be within 1.." + std::to_string(limits.max_slices) +
-                               " (this GPU's array-texture layer limit)");
+        return invalid("light_buffer.slices", "slices must be within 1.." +
+                                                      std::to_string(limits.max_slices) +
+                                                      " (this GPU's array-texture layer limit)");
     }
     if (lb.resolution < 1 || lb.resolution > limits.max_light_resolution) {
         return invalid("light_buffer.resolution",
                        "light-buffer resolution must be within 1.." +
                                std::to_string(limits.max_light_resolution));
-    }
-    if (!std::isfinite(lb.compensation) || lb.compensation < 0.0 || lb.compensation > 1000.0) {
-        return invalid("light_buffer.compensation", "compensation must be within [0, 1000]");
-    }
-    if (lb.slab_samples < 0 || lb.slab_samples > kMaxSlabSamples) {
-        return invalid("light_buffer.slab_samples",
-                       "slab samples must be within 0.." + std::to_string(kMaxSlabSamples) +
-                               " (0 = one per voxel)");
-    }
-    const ScatteringSettings& sc = s.scattering;
-    if (!std::isfinite(sc.shell_radius) || sc.shell_radius <= 0.0 || sc.shell_radius > 0.5) {
-        return invalid("scattering.shell_radius", "shell radius must be within (0, 0.5]");
-    }
-    if (sc.shell_rings < 1 || sc.shell_rings > 4) {
-        return invalid("scattering.shell_rings", "shell rings must be within 1..4");
-    }
-    if (!std::isfinite(sc.shell_center_weight) || sc.shell_center_weight < 0.0 ||
-        sc.shell_center_weight > 1.0) {
-        return invalid("scattering.shell_center_weight", "weight must be within [0, 1]");
-    }
-    if (!std::isfinite(sc.cone_angle_degrees) || sc.cone_angle_degrees <= 0.0 ||
-        sc.cone_angle_degrees > 80.0) {
-        return invalid("scattering.cone_angle", "cone angle must be within (0, 80] degrees");
-    }
-    if (!std::isfinite(sc.cone_center_weight) || sc.cone_center_weight < 0.0 ||
-        sc.cone_center_weight > 1.0) {
-        return invalid("scattering.cone_center_weight", "weight must be within [0, 1]");
     }
     return validate(request.transfer_function);
 }

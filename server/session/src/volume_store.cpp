@@ -8,11 +8,6 @@
 namespace penumbra::session {
 namespace {
 
-bool ends_with(const std::string& text, const std::string& suffix) {
-    return text.size() >= suffix.size() &&
-           text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // The DICOM files of one folder make one volume (a series), so such a folder is listed, not its
 // files. Returns the bytes of the folder's files when at least one is DICOM. DICOM file names are
 // arbitrary, so the content decides; the search stops opening files at the first DICOM one.
@@ -25,7 +20,7 @@ std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& fo
          !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
         const std::string name = it->path().filename().string();
         if (!it->is_regular_file(ec) || it->is_symlink(ec) || name.starts_with('.') ||
-            is_volume_file(it->path())) {
+            volume::is_volume_file_name(it->path())) {
             continue;
         }
         bytes += it->file_size(ec);
@@ -35,16 +30,6 @@ std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& fo
 }
 
 }  // namespace
-
-bool is_volume_file(const std::filesystem::path& path) {
-    const std::string name = path.filename().string();
-    for (const char* suffix : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".raw", ".raw.gz"}) {
-        if (ends_with(name, suffix)) {
-            return true;
-        }
-    }
-    return false;
-}
 
 VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
                          volume::LoadOptions load_options,
@@ -114,7 +99,7 @@ base::Status VolumeStore::scan() {
             add_series_if_dicom(it->path());
             continue;
         }
-        if (!it->is_regular_file(ec) || !is_volume_file(it->path())) {
+        if (!it->is_regular_file(ec) || !volume::is_volume_file_name(it->path())) {
             continue;
         }
         VolumeEntry entry;

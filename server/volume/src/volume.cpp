@@ -327,6 +327,42 @@ Histogram compute_histogram(const Volume& volume, std::size_t bin_count) {
     return histogram;
 }
 
+namespace {
+
+using Loader = base::Result<Volume> (*)(const std::filesystem::path&, const LoadOptions&);
+
+struct FileFormat {
+    std::string_view suffix;  // lower case
+    Loader loader;
+};
+
+// The one list of volume file names: load_volume picks by it, serve lists files by it.
+constexpr FileFormat file_formats[] = {
+        {".nii", load_nifti}, {".nii.gz", load_nifti}, {".nrrd", load_nrrd},
+        {".nhdr", load_nrrd}, {".raw", load_raw},      {".raw.gz", load_raw},
+};
+
+constexpr std::string_view dicom_suffixes[] = {".dcm", ".dicom"};
+
+}  // namespace
+
+const std::vector<std::string_view>& volume_suffixes() {
+    static const std::vector<std::string_view> suffixes = [] {
+        std::vector<std::string_view> all;
+        for (const FileFormat& format : file_formats) {
+            all.push_back(format.suffix);
+        }
+        return all;
+    }();
+    return suffixes;
+}
+
+bool is_volume_file_name(const std::filesystem::path& path) {
+    const std::string name = detail::lower_file_name(path);
+    return std::any_of(std::begin(file_formats), std::end(file_formats),
+                       [&](const FileFormat& f) { return detail::has_suffix(name, f.suffix); });
+}
+
 base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) {
@@ -334,28 +370,28 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
     }
     const std::string name = detail::lower_file_name(path);
     using detail::has_suffix;
-    using Loader = base::Result<Volume> (*)(const std::filesystem::path&, const LoadOptions&);
     const auto pick = [&]() -> Loader {
-        if (has_suffix(name, ".nii") || has_suffix(name, ".nii.gz")) {
-            return load_nifti;
-        }
-        if (has_suffix(name, ".nrrd") || has_suffix(name, ".nhdr")) {
-            return load_nrrd;
-        }
-        if (has_suffix(name, ".raw") || has_suffix(name, ".raw.gz")) {
-            return load_raw;
+        for (const FileFormat& format : file_formats) {
+            if (has_suffix(name, format.suffix)) {
+                return format.loader;
+            }
         }
         // DICOM file names are often bare UIDs or IM0001, so the content decides too.
-        if (has_suffix(name, ".dcm") || has_suffix(name, ".dicom") || is_dicom_file(path)) {
-            return load_dicom;
+        for (const std::string_view suffix : dicom_suffixes) {
+            if (has_suffix(name, suffix)) {
+                return load_dicom;
+            }
         }
-        return nullptr;
+        return is_dicom_file(path) ? load_dicom : nullptr;
     }();
     if (pick == nullptr) {
+        std::string supported;
+        for (const FileFormat& format : file_formats) {
+            supported += std::string(format.suffix) + ", ";
+        }
         return base::make_error("unknown_format",
-                                "unknown volume file type; supported: .nii, .nii.gz, .nrrd, "
-                                ".nhdr, .raw, .raw.gz (name_XxYxZ_type.raw), DICOM files "
-                                "and folders",
+                                "unknown volume file type; supported: " + supported +
+                                        "(raw: name_XxYxZ_type.raw), DICOM files and folders",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {

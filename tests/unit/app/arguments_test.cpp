@@ -57,7 +57,7 @@ TEST(RenderOptions, LightBufferRefinementsAreOptions) {
     auto bad_lookup = Arguments::parse({"--light-lookup", "nearest"}, frame_option_names(), {});
     EXPECT_EQ(frame_request_from(*bad_lookup, volume).error().where, "--light-lookup");
     auto bad_samples = Arguments::parse({"--slab-samples", "99"}, frame_option_names(), {});
-    EXPECT_EQ(frame_request_from(*bad_samples, volume).error().where, "light_buffer.slab_samples");
+    EXPECT_EQ(frame_request_from(*bad_samples, volume).error().where, "--slab-samples");
 }
 
 TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
@@ -78,7 +78,12 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
     auto bad_tf = Arguments::parse({"--tf", "nope"}, frame_option_names(), {});
     EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, "unknown_preset");
     auto bad_distance = Arguments::parse({"--sample-distance", "0"}, frame_option_names(), {});
-    EXPECT_EQ(frame_request_from(*bad_distance, volume).error().where, "sample_distance");
+    // The option is checked against its setting's range (scene::setting) and named.
+    const auto distance_error = frame_request_from(*bad_distance, volume).error();
+    EXPECT_EQ(distance_error.where, "--sample-distance");
+    EXPECT_NE(distance_error.message.find(scene::setting::sample_distance.describe()),
+              std::string::npos)
+            << distance_error.message;
 }
 
 TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {

@@ -183,8 +183,7 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     Limits limits;
     limits.max_image_side = 1000;
     limits.max_requests_per_second = 30.5;
-    const json hello =
-            json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux", true}, {"dvr"}));
+    const json hello = json::parse(hello_message(limits, {"llvmpipe", "4.5", "linux", true}));
     EXPECT_EQ(hello.at("type"), "hello");
     EXPECT_EQ(hello.at("v"), 1);
     EXPECT_FALSE(hello.contains("id"));
@@ -192,8 +191,25 @@ TEST(ServerMessages, HelloAnnouncesTheLimits) {
     EXPECT_EQ(hello.at("limits").at("max_message_bytes"), limits.max_message_bytes);
     EXPECT_EQ(hello.at("limits").at("max_requests_per_second"), 30.5);
     EXPECT_EQ(hello.at("limits").at("max_json_depth"), limits.max_json_depth);
-    EXPECT_EQ(hello.at("modes"), json::array({"dvr"}));
     EXPECT_EQ(hello.at("renderer").at("software"), true);
+}
+
+// The client's method panel shows and greys out what the server says each mode computes.
+TEST(ServerMessages, HelloDescribesEveryModeOfTheModeTable) {
+    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    const json& modes = hello.at("modes");
+    ASSERT_EQ(modes.size(), scene::modes().size());
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+        const scene::ModeInfo& row = scene::modes()[i];
+        EXPECT_EQ(modes[i].at("name"), row.name);
+        EXPECT_EQ(modes[i].at("summary"), row.summary);
+        EXPECT_EQ(modes[i].at("technique"), scene::to_string(row.technique));
+        EXPECT_EQ(modes[i].at("shadows"), scene::to_string(row.shadows));
+        EXPECT_EQ(modes[i].at("scattering"), scene::to_string(row.scattering));
+        EXPECT_EQ(modes[i].at("gradients"), scene::to_string(row.gradients));
+    }
+    EXPECT_EQ(modes[5].at("scattering"), "cone");
+    EXPECT_EQ(modes[6].at("shadows"), "rays");
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {

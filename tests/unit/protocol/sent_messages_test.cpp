@@ -24,15 +24,12 @@ using nlohmann::json;
 
 std::vector<std::string> text_messages() {
     std::vector<std::string> out;
-    const std::vector<std::string> all_modes = {"dvr",        "phong",     "half_angle", "sbrc",
-                                                "sbrc_shell", "sbrc_cone", "reference"};
-    out.push_back(hello_message(Limits{},
-                                {"llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core)", "Linux x86_64"},
-                                all_modes));
+    out.push_back(hello_message(
+            Limits{}, {"llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core)", "Linux x86_64"}));
     Limits configured;
     configured.max_message_bytes = 1 << 20;
     configured.max_requests_per_second = 0.5;
-    out.push_back(hello_message(configured, {"NVIDIA H100", "4.6.0 NVIDIA", "Linux"}, {"dvr"}));
+    out.push_back(hello_message(configured, {"NVIDIA H100", "4.6.0 NVIDIA", "Linux"}));
 
     VolumeSummary colin;
     colin.id = "colin27";

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace penumbra::scene {
 namespace {
@@ -13,27 +16,34 @@ FrameRequest valid_request() {
     return request;
 }
 
-TEST(FrameRequest, DefaultsAreValid) { EXPECT_TRUE(validate(valid_request()).ok()); }
+TEST(FrameRequest, DefaultsAreValid) {
+    EXPECT_TRUE(validate(valid_request()).ok());
+}
 
 TEST(FrameRequest, RejectsEachBadFieldByName) {
     struct Case {
         const char* field;
         void (*spoil)(FrameRequest&);
     };
+
     const Case cases[] = {
             {"size", [](FrameRequest& r) { r.settings.width = 0; }},
             {"size", [](FrameRequest& r) { r.settings.height = 100000; }},
             {"sample_distance", [](FrameRequest& r) { r.settings.sample_distance = 0.0; }},
             {"sample_distance",
-             [](FrameRequest& r) { r.settings.sample_distance = std::numeric_limits<double>::infinity(); }},
-            {"opacity_unit_distance", [](FrameRequest& r) { r.settings.opacity_unit_distance = -1.0; }},
+             [](FrameRequest& r) {
+                 r.settings.sample_distance = std::numeric_limits<double>::infinity();
+             }},
+            {"opacity_unit_distance",
+             [](FrameRequest& r) { r.settings.opacity_unit_distance = -1.0; }},
             {"early_termination", [](FrameRequest& r) { r.settings.early_termination = 1.5; }},
-            {"camera", [](FrameRequest& r) { r.camera.eye.x = std::numeric_limits<double>::quiet_NaN(); }},
+            {"camera",
+             [](FrameRequest& r) { r.camera.eye.x = std::numeric_limits<double>::quiet_NaN(); }},
             {"camera", [](FrameRequest& r) { r.camera.target = r.camera.eye; }},
-            {"camera.fov_y", [](FrameRequest& r) { r.camera.fov_y_degrees = 180.0; }},
+            {"camera.fov", [](FrameRequest& r) { r.camera.fov_y_degrees = 180.0; }},
             {"light.direction", [](FrameRequest& r) { r.light.direction = glm::dvec3(0.0); }},
-            {"light", [](FrameRequest& r) { r.light.intensity = -1.0; }},
-            {"shading", [](FrameRequest& r) { r.settings.shading.shininess = 0.0; }},
+            {"light.intensity", [](FrameRequest& r) { r.light.intensity = -1.0; }},
+            {"shading.shininess", [](FrameRequest& r) { r.settings.shading.shininess = 0.0; }},
     };
     for (const auto& c : cases) {
         FrameRequest request = valid_request();
@@ -46,13 +56,72 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
 }
 
 TEST(FrameRequest, ModeNamesRoundTrip) {
-    for (Mode mode : {Mode::dvr, Mode::phong, Mode::half_angle, Mode::sbrc, Mode::sbrc_shell,
-                      Mode::sbrc_cone, Mode::reference}) {
-        EXPECT_EQ(parse_mode(to_string(mode)), mode);
+    for (const ModeInfo& row : modes()) {
+        EXPECT_EQ(parse_mode(to_string(row.mode)), row.mode);
+        EXPECT_EQ(&describe(row.mode), &row);
     }
+    EXPECT_EQ(mode_names(), "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference");
     EXPECT_FALSE(parse_mode("raytrace").has_value());
     EXPECT_EQ(parse_compositing("extinction"), Compositing::extinction);
     EXPECT_EQ(parse_raycast_stage("fragment"), RaycastStage::fragment);
+}
+
+// validate's limits are the setting ranges: each end is accepted, a step beyond it refused.
+TEST(FrameRequest, ValidateAcceptsExactlyTheSettingRanges) {
+    struct Case {
+        const SettingRange& range;
+        std::function<void(FrameRequest&, double)> set;
+    };
+
+    const std::vector<Case> cases = {
+            {setting::sample_distance,
+             [](FrameRequest& r, double v) { r.settings.sample_distance = v; }},
+            {setting::early_termination,
+             [](FrameRequest& r, double v) { r.settings.early_termination = v; }},
+            {setting::fov_degrees, [](FrameRequest& r, double v) { r.camera.fov_y_degrees = v; }},
+            {setting::light_ambient, [](FrameRequest& r, double v) { r.light.ambient = v; }},
+            {setting::compensation,
+             [](FrameRequest& r, double v) { r.settings.light_buffer.compensation = v; }},
+            {setting::slab_samples,
+             [](FrameRequest& r, double v) { r.settings.light_buffer.slab_samples = int(v); }},
+            {setting::shell_rings,
+             [](FrameRequest& r, double v) { r.settings.scattering.shell_rings = int(v); }},
+            {setting::cone_angle_degrees,
+             [](FrameRequest& r, double v) { r.settings.scattering.cone_angle_degrees = v; }},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(std::string(c.range.field));
+        const double step = c.range.integer ? 1.0 : c.range.max * 1e-3;
+        for (const double inside : {c.range.min, c.range.max}) {
+            FrameRequest request;
+            c.set(request, inside);
+            EXPECT_TRUE(validate(request).ok()) << inside;
+        }
+        for (const double outside : {c.range.min - step, c.range.max + step}) {
+            FrameRequest request;
+            c.set(request, outside);
+            EXPECT_FALSE(validate(request).ok()) << outside;
+        }
+    }
+}
+
+// What the planner and the work estimate read from the table: the light buffer for the sbrc
+// modes only, gradients by the `phong` setting except where a mode fixes them.
+TEST(FrameRequest, ModeTableSaysWhatEachModeComputes) {
+    EXPECT_FALSE(uses_light_buffer(Mode::half_angle));
+    EXPECT_TRUE(uses_light_view(Mode::half_angle));
+    EXPECT_TRUE(uses_light_buffer(Mode::sbrc_cone));
+    EXPECT_FALSE(uses_light_view(Mode::reference));
+    EXPECT_EQ(describe(Mode::sbrc_shell).scattering, ScatteringKind::shell);
+    EXPECT_EQ(describe(Mode::reference).shadows, ShadowKind::rays);
+    RenderSettings s;
+    for (const ModeInfo& row : modes()) {
+        s.mode = row.mode;
+        s.phong = false;
+        EXPECT_EQ(uses_gradients(s), row.mode == Mode::phong) << row.name;
+        s.phong = true;
+        EXPECT_EQ(uses_gradients(s), row.mode != Mode::dvr) << row.name;
+    }
 }
 
 }  // namespace

@@ -5,12 +5,18 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace penumbra::scene {
 namespace {
 
-constexpr std::array all_modes{Mode::dvr,        Mode::phong,     Mode::half_angle, Mode::sbrc,
-                               Mode::sbrc_shell, Mode::sbrc_cone, Mode::reference};
+const std::vector<Mode> all_modes = [] {
+    std::vector<Mode> all;
+    for (const ModeInfo& row : modes()) {
+        all.push_back(row.mode);
+    }
+    return all;
+}();
 
 FrameRequest request_in(Mode mode) {
     FrameRequest request;
@@ -131,6 +137,28 @@ TEST(FrameWork, CountsEachPartOfTheFrame) {
     const FrameWork slicing = estimate_work(request, box, slab_samples);
     EXPECT_DOUBLE_EQ(slicing.slicing, 32.0 * (64.0 * 48.0 + 64.0 * 64.0));
     EXPECT_DOUBLE_EQ(slicing.ray_casting + slicing.light_buffer, 0.0);
+}
+
+// The cost per sample the mode table gives each mode: the shader loops' iterations.
+TEST(FrameWork, IterationsPerSampleFollowTheModesLoops) {
+    FrameRequest request = request_in(Mode::dvr);
+    request.settings.scattering.shell_rings = 3;
+    request.settings.light_buffer.lookup = LightLookup::local;
+    const int local = 1 + slab_samples;
+    const int samples = 100;
+    const auto iterations = [&](Mode mode) {
+        request.settings.mode = mode;
+        return iterations_per_sample(request.settings, samples, slab_samples);
+    };
+    EXPECT_EQ(iterations(Mode::dvr), 1);
+    EXPECT_EQ(iterations(Mode::phong), 1);
+    EXPECT_EQ(iterations(Mode::half_angle), 1);
+    EXPECT_EQ(iterations(Mode::sbrc), 1 + local);
+    EXPECT_EQ(iterations(Mode::sbrc_shell), 4 + 2 * 3 + local);
+    EXPECT_EQ(iterations(Mode::sbrc_cone), 10 + local);
+    EXPECT_EQ(iterations(Mode::reference), 2 + samples);
+    request.settings.light_buffer.lookup = LightLookup::interpolate;
+    EXPECT_EQ(iterations(Mode::sbrc_cone), 10);
 }
 
 // The frame of finding 3 (2048^2 pixels, sample distance 1/4096, the reference's shadow rays)

@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <future>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace penumbra::session {
@@ -79,6 +79,19 @@ TEST_F(VolumeStoreTest, ADicomFolderIsOneVolumeAndItsFilesAreNotListed) {
     ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
     EXPECT_EQ((*loaded)->dims, glm::uvec3(4, 4, 3));
     EXPECT_EQ((*loaded)->value(1, 2, 2), 7.0);
+}
+
+// The suffixes are volume's, compared ignoring case as load_volume compares them: every file
+// `penumbra render` opens is offered.
+TEST_F(VolumeStoreTest, VolumeFileNamesInAnyCaseAreListed) {
+    write_text(data_ / "HEAD.NII.GZ", "a NIfTI file");
+    write_text(data_ / "Brain.Nrrd", "a NRRD file");
+    write_text(data_ / "scan_2x2x2_uint8.RAW", "12345678");
+    write_text(data_ / "NOTES.TXT", "not a volume");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store),
+              (std::vector<std::string>{"Brain.Nrrd", "HEAD.NII.GZ", "scan_2x2x2_uint8.RAW"}));
 }
 
 TEST_F(VolumeStoreTest, DicomFilesRightInTheDataFolderAreTheVolumeDot) {

@@ -7,11 +7,26 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string>
+#include <string_view>
 
 namespace penumbra::volume {
 namespace {
 
 using fixtures::as_bytes;
+
+TEST(VolumeFileName, SuffixesMatchInAnyCaseAndDicomFilesAreNotVolumesByThemselves) {
+    for (const char* name : {"head.nii", "HEAD.NII.GZ", "a/b/Brain.Nrrd", "x.nhdr",
+                             "ct_2x2x2_uint8.RAW", "ct_2x2x2_uint8.raw.Gz"}) {
+        EXPECT_TRUE(is_volume_file_name(name)) << name;
+    }
+    for (const char* name : {"notes.txt", "slice.dcm", "IM0001", "head.nii.bak", "nii"}) {
+        EXPECT_FALSE(is_volume_file_name(name)) << name;
+    }
+    for (const std::string_view suffix : volume_suffixes()) {
+        EXPECT_TRUE(is_volume_file_name("volume" + std::string(suffix))) << suffix;
+    }
+}
 
 TEST(VoxelType, SizesAndNames) {
     EXPECT_EQ(bytes_per_voxel(VoxelType::uint8), 1u);

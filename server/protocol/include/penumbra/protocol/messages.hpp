@@ -105,8 +105,8 @@ struct RendererSummary {
     bool software = false;  // a software rasteriser (llvmpipe): no GPU
 };
 
-std::string hello_message(const Limits& limits, const RendererSummary& renderer,
-                          const std::vector<std::string>& modes);
+// Lists every mode of scene's mode table with what it computes, so clients need not know them.
+std::string hello_message(const Limits& limits, const RendererSummary& renderer);
 std::string volumes_message(std::optional<std::int64_t> id,
                             const std::vector<VolumeSummary>& volumes);
 // `state` is the session's full state (what `set` can change), as the client should show it.

@@ -3,18 +3,18 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/light.hpp>
+#include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/setting_ranges.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace penumbra::scene {
-
-// The rendering methods of DESIGN.md §1.
-enum class Mode { dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference };
 
 // alpha: classic alpha blending with opacity correction a' = 1 - (1 - a)^(dt/dt0).
 // extinction: the TF opacity is an extinction coefficient tau = a / dt0, a' = 1 - exp(-tau dt).
@@ -24,10 +24,8 @@ enum class Compositing { alpha, extinction };
 // full-screen triangle. Both share one source (DESIGN.md §5 asks that both be measurable).
 enum class RaycastStage { compute, fragment };
 
-const char* to_string(Mode mode);
 const char* to_string(Compositing compositing);
 const char* to_string(RaycastStage stage);
-std::optional<Mode> parse_mode(std::string_view text);
 std::optional<Compositing> parse_compositing(std::string_view text);
 std::optional<RaycastStage> parse_raycast_stage(std::string_view text);
 
@@ -50,19 +48,17 @@ const char* to_string(LightLookup lookup);
 std::optional<LightLookup> parse_light_lookup(std::string_view text);
 
 struct LightBufferSettings {
-    int slices = 128;        // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
-    int resolution = 256;    // R: each layer is R x R texels
+    int slices = 128;      // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
+    int resolution = 256;  // R: each layer is R x R texels
     LightBufferBuilder builder = LightBufferBuilder::multi_slice;
     double compensation = 0.0;  // the paper's (1 + alpha)^n darkening compensation; 0 = off
     // Points sampled across each slice's slab along the light: 1 is the paper's single point on
     // the slice plane; 0 picks one per voxel along the light (optics::resolve_slab_samples).
-    int slab_samples = 0;  // 0 .. kMaxSlabSamples
+    int slab_samples = 0;                     // 0 .. kMaxSlabSamples
     LightLookup lookup = LightLookup::local;  // the buffer's content does not depend on it
 
     bool operator==(const LightBufferSettings&) const = default;
 };
-
-inline constexpr int kMaxSlabSamples = 16;
 
 // Soft shadows from the light buffer. Shell: the light at a sample averaged with its 6 axis
 // neighbours at `shell_radius`, 2·radius, ... (`shell_rings` rings), the centre weighted
@@ -73,7 +69,7 @@ struct ScatteringSettings {
     double shell_radius = 2.0 / 256.0;  // world units
     int shell_rings = 1;                // 1..4
     double shell_center_weight = 0.4;
-    double cone_angle_degrees = 30.0;   // (0, 80]
+    double cone_angle_degrees = 30.0;  // (0, 80]
     double cone_center_weight = 0.2;
 
     bool operator==(const ScatteringSettings&) const = default;
@@ -104,8 +100,7 @@ struct RenderSettings {
     bool operator==(const RenderSettings&) const = default;
 };
 
-// What a mode computes: whether it needs the light buffer, shadow rays, gradients.
-bool uses_light_buffer(Mode mode);
+// Whether the frame computes gradients: its mode's `gradients`, with the `phong` setting.
 bool uses_gradients(const RenderSettings& settings);
 
 // Progressive stills (jittered ray-cast modes). A still frame with `keep` stays on the GPU; the
@@ -134,11 +129,113 @@ struct FrameRequest {
     bool operator==(const FrameRequest&) const = default;
 };
 
+// Each setting's range (SettingRange): adding a setting is its field above and its row here.
+namespace setting {
+
+// Coordinates of the camera and a point light; the volume's longest side is 1.
+inline constexpr SettingRange coordinate{"vec3", -1000.0, 1000.0};
+// Colours (light, background), each channel.
+inline constexpr SettingRange colour{"rgb", 0.0, 1.0};
+
+inline constexpr SettingRange fov_degrees{
+        "camera/fov", 1.0, 170.0, false,
+        [](const FrameRequest& r) { return double(r.camera.fov_y_degrees); }};
+inline constexpr SettingRange orbit_azimuth{"camera/orbit/azimuth", -36000.0, 36000.0};
+inline constexpr SettingRange orbit_elevation{"camera/orbit/elevation", -90.0, 90.0};
+inline constexpr SettingRange orbit_distance{"camera/orbit/distance", 0.01, 100.0};
+
+inline constexpr SettingRange light_intensity{
+        "light/intensity", 0.0, 100.0, false,
+        [](const FrameRequest& r) { return double(r.light.intensity); }};
+inline constexpr SettingRange light_ambient{
+        "light/ambient", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.light.ambient); }};
+
+// Finer than 1/16384 of the box resolves nothing more (volumes have at most a few thousand voxels
+// a side) and only multiplies the work; at 2 a ray takes one sample inside the box. What a frame
+// may cost is bounded separately (FrameWork against the server's max_frame_work).
+inline constexpr SettingRange sample_distance{
+        "settings/sample_distance", 1.0 / 16384.0, 2.0, false,
+        [](const FrameRequest& r) { return double(r.settings.sample_distance); }};
+inline constexpr SettingRange opacity_unit_distance{
+        "settings/opacity_unit_distance", 1e-4, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.opacity_unit_distance); }};
+inline constexpr SettingRange early_termination{
+        "settings/early_termination", 0.01, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.early_termination); }};
+inline constexpr SettingRange frame_budget_ms{"settings/frame_budget_ms", 0.0, 60000.0};
+// Progressive stills: refinement steps after a still frame (0: none).
+inline constexpr SettingRange refinement_steps{"settings/refinement_steps", 0.0,
+                                               kMaxRefinementSteps, true};
+
+inline constexpr SettingRange diffuse{
+        "settings/shading/diffuse", 0.0, 4.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.diffuse); }};
+inline constexpr SettingRange specular{
+        "settings/shading/specular", 0.0, 4.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.specular); }};
+inline constexpr SettingRange shininess{
+        "settings/shading/shininess", 1.0, 1024.0, false,
+        [](const FrameRequest& r) { return double(r.settings.shading.shininess); }};
+
+inline constexpr SettingRange compensation{
+        "settings/light_buffer/compensation", 0.0, 1000.0, false,
+        [](const FrameRequest& r) { return double(r.settings.light_buffer.compensation); }};
+inline constexpr SettingRange slab_samples{
+        "settings/light_buffer/slab_samples", 0.0, kMaxSlabSamples, true,
+        [](const FrameRequest& r) { return double(r.settings.light_buffer.slab_samples); }};
+
+inline constexpr SettingRange shell_radius{
+        "settings/scattering/shell_radius", 1e-4, 0.5, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_radius); }};
+inline constexpr SettingRange shell_rings{
+        "settings/scattering/shell_rings", 1.0, 4.0, true,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_rings); }};
+inline constexpr SettingRange shell_center_weight{
+        "settings/scattering/shell_center_weight", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.shell_center_weight); }};
+inline constexpr SettingRange cone_angle_degrees{
+        "settings/scattering/cone_angle", 0.1, 80.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.cone_angle_degrees); }};
+inline constexpr SettingRange cone_center_weight{
+        "settings/scattering/cone_center_weight", 0.0, 1.0, false,
+        [](const FrameRequest& r) { return double(r.settings.scattering.cone_center_weight); }};
+
+}  // namespace setting
+
+// Every range above. Image size, light-buffer slices and resolution are bounded by the device
+// and the server's configuration instead (scene::Limits, protocol::Limits).
+inline constexpr std::array<const SettingRange*, 23> kSettingRanges{
+        &setting::coordinate,
+        &setting::colour,
+        &setting::fov_degrees,
+        &setting::orbit_azimuth,
+        &setting::orbit_elevation,
+        &setting::orbit_distance,
+        &setting::light_intensity,
+        &setting::light_ambient,
+        &setting::sample_distance,
+        &setting::opacity_unit_distance,
+        &setting::early_termination,
+        &setting::frame_budget_ms,
+        &setting::refinement_steps,
+        &setting::diffuse,
+        &setting::specular,
+        &setting::shininess,
+        &setting::compensation,
+        &setting::slab_samples,
+        &setting::shell_radius,
+        &setting::shell_rings,
+        &setting::shell_center_weight,
+        &setting::cone_angle_degrees,
+        &setting::cone_center_weight,
+};
+
 // Device limits that bound what a request may ask for.
 struct Limits {
     int max_image_side = 8192;
-    int max_slices = 2048;              // GL_MAX_ARRAY_TEXTURE_LAYERS
-    int max_light_resolution = 16384;   // GL_MAX_TEXTURE_SIZE
+    int max_slices = 2048;             // GL_MAX_ARRAY_TEXTURE_LAYERS
+    int max_light_resolution = 16384;  // GL_MAX_TEXTURE_SIZE
 };
 
 // Rejects what would make a frame meaningless or unbounded: sizes outside [1, max_image_side],

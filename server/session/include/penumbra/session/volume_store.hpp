@@ -93,10 +93,12 @@ private:
     std::vector<VolumeEntry> entries_;
     std::list<std::string> recent_;  // loaded ids, most recent first
     std::size_t loads_ = 0;
+
     struct CachedHistogram {
         std::weak_ptr<const volume::Volume> volume;
         std::shared_ptr<const std::vector<std::uint64_t>> bins;
     };
+
     std::map<const volume::Volume*, CachedHistogram> histograms_;
     std::size_t histograms_computed_ = 0;
 
@@ -108,9 +110,5 @@ private:
     std::thread rescanner_;
     WorkerPool loaders_;  // last: destroyed (joined) first
 };
-
-// Whether a file name is one the loaders read as a volume by itself (DICOM files are not: their
-// folder is the volume).
-bool is_volume_file(const std::filesystem::path& path);
 
 }  // namespace penumbra::session

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::volume {
@@ -159,8 +160,15 @@ base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOpt
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
 [[nodiscard]] bool is_dicom_file(const std::filesystem::path& path);
 
-// Chooses the loader: a folder is a DICOM series; files by name (.dcm/.dicom are DICOM), and a
-// file with another name that carries the DICOM marker is DICOM too.
+// The file-name suffixes of the formats a single file holds a whole volume in (NIfTI, NRRD, raw),
+// in lower case; names are compared case-insensitively. DICOM is not among them: its files are
+// the slices of a series, whose folder is the volume.
+[[nodiscard]] const std::vector<std::string_view>& volume_suffixes();
+// Whether the file's name ends in one of volume_suffixes(), in any case ("HEAD.NII.GZ").
+[[nodiscard]] bool is_volume_file_name(const std::filesystem::path& path);
+
+// Chooses the loader: a folder is a DICOM series; files by name (volume_suffixes, .dcm/.dicom are
+// DICOM), and a file with another name that carries the DICOM marker is DICOM too.
 base::Result<Volume> load_volume(const std::filesystem::path& path,
                                  const LoadOptions& options = {});
 

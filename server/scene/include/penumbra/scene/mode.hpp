@@ -1,0 +1,131 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace penumbra::scene {
+
+// The rendering methods of DESIGN.md §1. Each has one row in `kModes` below, in this order;
+// everything else (planner, work estimate, hello, help texts, benches, tests) reads that row.
+enum class Mode { dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference };
+
+// How a mode draws: a ray caster from the camera, or half-angle slicing (Kniss et al.: an eye
+// pass and a light pass per slice).
+enum class Technique { ray_casting, half_angle_slicing };
+
+// Where a ray-cast sample's light comes from. The values are the shaders' SHADOWS_* defines.
+enum class ShadowKind { none = 0, light_buffer = 1, rays = 2 };
+
+// Soft shadows gathered around a sample in the light buffer. The values are the shaders'
+// SCATTERING_* defines.
+enum class ScatteringKind { none = 0, shell = 1, cone = 2 };
+
+// When a mode computes gradients (central differences) for Blinn-Phong shading.
+enum class Gradients {
+    never,       // plain emission-absorption; the `phong` setting is ignored
+    with_phong,  // when the `phong` setting asks for shading on top of the shadows
+    always,
+};
+
+// Inner-loop iterations one ray-cast sample costs, for the frame's work estimate and the ray
+// caster's loop budget (iterations_per_sample): `fixed` + `per_shell_ring` x the shell rings,
+// plus the local lookup's slab march for light-buffer shadows and a whole ray for shadow rays.
+struct SampleCost {
+    int fixed = 1;
+    int per_shell_ring = 0;
+};
+
+// Everything the code knows about one mode.
+struct ModeInfo {
+    Mode mode;
+    std::string_view name;     // the protocol's and the command line's spelling
+    std::string_view summary;  // one line for help texts and the client's method panel
+    Technique technique;
+    ShadowKind shadows;
+    ScatteringKind scattering;
+    Gradients gradients;
+    SampleCost cost;
+    bool is_reference;             // the ground truth the accuracy benchmark measures against
+    std::string_view plot_colour;  // the benchmark plots' colour and gnuplot point type
+    int plot_point_type;
+};
+
+// clang-format off
+inline constexpr std::array<ModeInfo, 7> kModes{{
+    // mode, name, summary,
+    //     technique, shadows, scattering, gradients, cost {fixed, per shell ring},
+    //     is_reference, plot colour, plot point type
+    {Mode::dvr, "dvr", "ray casting, emission-absorption, no shading",
+        Technique::ray_casting, ShadowKind::none, ScatteringKind::none, Gradients::never, {1, 0},
+        false, "#7f7f7f", 5},
+    {Mode::phong, "phong", "ray casting with gradients and Blinn-Phong shading",
+        Technique::ray_casting, ShadowKind::none, ScatteringKind::none, Gradients::always, {1, 0},
+        false, "#000000", 7},
+    {Mode::half_angle, "half_angle", "half-angle slicing (Kniss et al. 2002)",
+        Technique::half_angle_slicing, ShadowKind::none, ScatteringKind::none,
+        Gradients::with_phong, {1, 0},
+        false, "#e07b00", 9},
+    {Mode::sbrc, "sbrc", "slice-based ray casting: shadows from the light buffer",
+        Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::none,
+        Gradients::with_phong, {1, 0},
+        false, "#1f5fbf", 11},
+    {Mode::sbrc_shell, "sbrc_shell", "sbrc + light averaged over shells of neighbours",
+        Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::shell,
+        Gradients::with_phong, {4, 2},
+        false, "#2a9d3a", 13},
+    {Mode::sbrc_cone, "sbrc_cone", "sbrc + light gathered on a cone toward the light",
+        Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::cone,
+        Gradients::with_phong, {10, 0},
+        false, "#9b30c0", 15},
+    {Mode::reference, "reference", "a shadow ray from every sample: the ground truth",
+        Technique::ray_casting, ShadowKind::rays, ScatteringKind::none, Gradients::with_phong,
+        {2, 0},
+        true, "#d62728", 17},
+}};
+// clang-format on
+
+// A mode without a row, or rows out of order, does not compile: `reference` is the last mode.
+static_assert(kModes.size() == static_cast<std::size_t>(Mode::reference) + 1);
+static_assert([] {
+    for (std::size_t i = 0; i < kModes.size(); ++i) {
+        if (kModes[i].mode != static_cast<Mode>(i)) {
+            return false;
+        }
+    }
+    return true;
+}());
+
+[[nodiscard]] constexpr const ModeInfo& describe(Mode mode) {
+    return kModes[static_cast<std::size_t>(mode)];
+}
+
+[[nodiscard]] constexpr std::span<const ModeInfo> modes() {
+    return kModes;
+}
+
+const char* to_string(Mode mode);
+std::optional<Mode> parse_mode(std::string_view text);
+
+const char* to_string(Technique technique);
+const char* to_string(ShadowKind shadows);
+const char* to_string(ScatteringKind scattering);
+const char* to_string(Gradients gradients);
+
+// "dvr, phong, ..., reference": every mode's name, for help and error texts.
+[[nodiscard]] std::string mode_names(std::string_view separator = ", ");
+
+// Whether the mode reads the light attenuation buffer (and so builds one).
+[[nodiscard]] constexpr bool uses_light_buffer(Mode mode) {
+    return describe(mode).shadows == ShadowKind::light_buffer;
+}
+
+// Whether the mode works in the light's view (a light buffer, or slicing toward the light).
+[[nodiscard]] constexpr bool uses_light_view(Mode mode) {
+    return uses_light_buffer(mode) || describe(mode).technique == Technique::half_angle_slicing;
+}
+
+}  // namespace penumbra::scene

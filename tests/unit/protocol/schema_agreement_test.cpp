@@ -1,0 +1,115 @@
+// The JSON Schemas of proto/v1 against the C++ tables they restate for clients that cannot read
+// C++: scene's mode table and its setting ranges. A mode or a limit changed in one and not the
+// other fails here.
+
+#include "examples.hpp"
+
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/mode.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace penumbra::protocol {
+namespace {
+
+using nlohmann::json;
+
+json schema(const std::string& name) {
+    return json::parse(test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / name));
+}
+
+TEST(SchemaAgreement, ModeEnumIsTheModeTable) {
+    std::vector<std::string> table;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        table.emplace_back(mode.name);
+    }
+    const auto schema_modes = schema("common.schema.json")
+                                      .at("$defs")
+                                      .at("mode")
+                                      .at("enum")
+                                      .get<std::vector<std::string>>();
+    EXPECT_EQ(schema_modes, table);
+}
+
+TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
+    const json hello = schema("hello.schema.json");
+    const json& item = hello.at("properties").at("modes").at("items").at("properties");
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        SCOPED_TRACE(std::string(mode.name));
+        const auto has = [&](const char* field, const char* value) {
+            const auto values = item.at(field).at("enum").get<std::vector<std::string>>();
+            return std::find(values.begin(), values.end(), value) != values.end();
+        };
+        EXPECT_TRUE(has("technique", scene::to_string(mode.technique)));
+        EXPECT_TRUE(has("shadows", scene::to_string(mode.shadows)));
+        EXPECT_TRUE(has("scattering", scene::to_string(mode.scattering)));
+        EXPECT_TRUE(has("gradients", scene::to_string(mode.gradients)));
+    }
+}
+
+// The schema node a range's field names: "settings/scattering/shell_rings" is
+// $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
+// those $defs.
+const json& schema_node(const json& defs, std::string_view field) {
+    if (field == "vec3" || field == "rgb") {
+        return defs.at(std::string(field)).at("items");
+    }
+    std::istringstream parts{std::string(field)};
+    std::string part;
+    std::getline(parts, part, '/');
+    const json* node = &defs.at(part);
+    while (std::getline(parts, part, '/')) {
+        node = &node->at("properties").at(part);
+    }
+    return *node;
+}
+
+TEST(SchemaAgreement, EverySettingRangeIsTheSchemasMinimumAndMaximum) {
+    const json defs = schema("common.schema.json").at("$defs");
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        SCOPED_TRACE(std::string(range->field));
+        const json& node = schema_node(defs, range->field);
+        EXPECT_EQ(node.at("minimum").get<double>(), range->min);
+        EXPECT_EQ(node.at("maximum").get<double>(), range->max);
+        EXPECT_EQ(node.at("type"), range->integer ? "integer" : "number");
+    }
+}
+
+// The other way round: a limit written into the schema for a new setting needs its row in C++.
+void collect_bounded(const json& node, const std::string& field, std::set<std::string>& out) {
+    if (node.contains("minimum") || node.contains("maximum")) {
+        out.insert(field);
+    }
+    if (node.contains("properties")) {
+        for (const auto& [name, child] : node.at("properties").items()) {
+            collect_bounded(child, field + "/" + name, out);
+        }
+    }
+}
+
+TEST(SchemaAgreement, EveryBoundedSettingInTheSchemaHasARange) {
+    const json defs = schema("common.schema.json").at("$defs");
+    std::set<std::string> bounded;
+    for (const char* part : {"camera", "light", "settings"}) {
+        collect_bounded(defs.at(part), part, bounded);
+    }
+    // Bounded by the device and the server's configuration, announced in hello.limits.
+    bounded.erase("settings/light_buffer/slices");
+    bounded.erase("settings/light_buffer/resolution");
+    std::set<std::string> table;
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        table.emplace(range->field);
+    }
+    table.erase("vec3");
+    table.erase("rgb");
+    EXPECT_EQ(bounded, table);
+}
+
+}  // namespace
+}  // namespace penumbra::protocol
