@@ -347,7 +347,7 @@ base::Status finish(const Table& table, const Arguments& a) {
 // The sweep the options ask for, over the defaults of this kind of device.
 base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
     auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_compared_modes(a.get("modes").value_or(default_modes));
+    auto modes = parse_compared_modes(a.get("modes").value_or(default_modes()));
     auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
     auto resolutions =
             parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
