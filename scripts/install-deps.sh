@@ -16,6 +16,8 @@ test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     clang-14 libfuzzer-14-dev
     mricron-data gnuplot-nox
+    # InVesalius' head CT, converted by scripts/cranium-ct.py for the tests, bench and demo data.
+    invesalius-examples
     chromium
     # The loopback cluster test: Debian's nginx in front, a certificate made with openssl, and
     # WebSocket clients (also the container test's).

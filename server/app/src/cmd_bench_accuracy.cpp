@@ -66,9 +66,13 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
 
 constexpr const char* default_modes = "dvr,phong,half_angle,sbrc,sbrc_shell,sbrc_cone";
 
-int fail(const base::Error& error) { return report_failure("bench accuracy", error); }
+int fail(const base::Error& error) {
+    return report_failure("bench accuracy", error);
+}
 
-int usage_error(const base::Error& error) { return report_usage_error("bench accuracy", error); }
+int usage_error(const base::Error& error) {
+    return report_usage_error("bench accuracy", error);
+}
 
 void print_usage() {
     std::printf(
@@ -87,7 +91,9 @@ void print_usage() {
             "\n"
             "Defaults are for a GPU; on a software rasteriser (llvmpipe) lighter ones in [].\n"
             "  --volumes FILE,...             (default ch2, ch2better, inia19-t1-brain from\n"
-            "                                 /usr/share/mricron/templates [ch2])\n"
+            "                                 /usr/share/mricron/templates [ch2], and the head\n"
+            "                                 CT that scripts/demo-data.sh converts, where it "
+            "did)\n"
             "  --lights AZ,EL;AZ,EL...        directional lights in degrees, quote the ';'\n"
             "                                 (default 10,45;100,20;250,60 [10,45])\n"
             "  --modes LIST                   (default %s;\n"
@@ -677,7 +683,11 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     if (*repeat < 1 || *repeat > 1000) {
         return usage_error(base::make_error("invalid_argument", "expects 1..1000", "--repeat"));
     }
-    sweep.volumes = split(a.get("volumes").value_or(defaults.volumes), ',');
+    std::string default_volumes = defaults.volumes;
+    if (const auto ct = demo_ct_path()) {
+        default_volumes += "," + ct->string();
+    }
+    sweep.volumes = split(a.get("volumes").value_or(default_volumes), ',');
     sweep.lights = *lights;
     sweep.modes = *modes;
     sweep.slices = *slices;
@@ -738,11 +748,12 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         base.settings.phong = table.phong;
         if (v == 0) {
             describe_frame(table, base);
-            std::printf("frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-                        "%s, slab samples %d, phong %s\n",
-                        table.width, table.height, table.transfer_function.c_str(),
-                        table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
-                        table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
+            std::printf(
+                    "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                    "%s, slab samples %d, phong %s\n",
+                    table.width, table.height, table.transfer_function.c_str(),
+                    table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                    table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
             std::fflush(stdout);
         }
         if (auto status = (*renderer)->set_volume(volume); !status) {

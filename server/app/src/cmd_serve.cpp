@@ -27,7 +27,20 @@
 namespace penumbra::app {
 namespace {
 
-int fail(const base::Error& error) { return report_failure("serve", error); }
+int fail(const base::Error& error) {
+    return report_failure("serve", error);
+}
+
+// The demo data: scripts/demo-data.sh links the MRI heads beside the CT it converts in the user's
+// cache; without it, the heads alone.
+std::filesystem::path default_data_folder() {
+    std::error_code ec;
+    if (const auto cache = base::user_cache_dir();
+        cache && std::filesystem::is_directory(*cache / "volumes", ec)) {
+        return *cache / "volumes";
+    }
+    return mricron_templates;
+}
 
 // The built web client (share/penumbra/web: installed, or in a build tree a link to
 // client_web/dist), when it has been built.
@@ -50,14 +63,11 @@ std::filesystem::path committed_table_path(const render::RendererInfo& info) {
 // once per kind of device: $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra; nowhere without
 // either variable.
 std::optional<std::filesystem::path> cached_table_path(const std::string& gl_renderer) {
-    std::filesystem::path folder;
-    if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && *cache != '\0') {
-        folder = std::filesystem::path(cache) / "penumbra";
-    } else if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
-        folder = std::filesystem::path(home) / ".cache" / "penumbra";
-    } else {
+    const std::optional<std::filesystem::path> cache = base::user_cache_dir();
+    if (!cache) {
         return std::nullopt;
     }
+    const std::filesystem::path& folder = *cache;
     // "llvmpipe (LLVM 15.0.6, 256 bits)" -> "llvmpipe_LLVM_15.0.6_256_bits": a file name on
     // any file system, still readable.
     std::string name;
@@ -234,16 +244,35 @@ base::Result<QualityTable> adopt_measured(const StartupMeasurement& measured,
 }  // namespace
 
 int run_serve(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(
-            args,
-            {"data", "port", "address", "web-root", "io-threads", "encode-threads",
-             "max-sessions", "max-image-side", "max-slices", "max-light-res",
-             "max-message-bytes", "max-requests-per-second", "max-frame-work",
-             "volume-memory-mb", "max-load-mb", "gpu-memory-mb", "light-buffer-memory-mb",
-             "default-tf", "quality-table", "ping-interval", "ping-timeout",
-             "max-sessions-per-client", "max-sessions-per-connection", "client-address-header",
-             "allowed-origins", "access-token-file", "cluster-secret-file"},
-            {"help", "debug-gl", "quality-measure", "no-quality-measure"});
+    auto parsed = Arguments::parse(args,
+                                   {"data",
+                                    "port",
+                                    "address",
+                                    "web-root",
+                                    "io-threads",
+                                    "encode-threads",
+                                    "max-sessions",
+                                    "max-image-side",
+                                    "max-slices",
+                                    "max-light-res",
+                                    "max-message-bytes",
+                                    "max-requests-per-second",
+                                    "max-frame-work",
+                                    "volume-memory-mb",
+                                    "max-load-mb",
+                                    "gpu-memory-mb",
+                                    "light-buffer-memory-mb",
+                                    "default-tf",
+                                    "quality-table",
+                                    "ping-interval",
+                                    "ping-timeout",
+                                    "max-sessions-per-client",
+                                    "max-sessions-per-connection",
+                                    "client-address-header",
+                                    "allowed-origins",
+                                    "access-token-file",
+                                    "cluster-secret-file"},
+                                   {"help", "debug-gl", "quality-measure", "no-quality-measure"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra serve: %s (see --help)\n",
                      parsed.error().to_string().c_str());
@@ -253,7 +282,12 @@ int run_serve(const std::vector<std::string>& args) {
     if (a.has("help")) {
         std::puts(
                 "usage: penumbra serve [options]\n\n"
-                "  --data DIR                 folder of volumes to offer (default: Debian's\n"
+                "  --data DIR                 folder of volumes to offer; links in it are\n"
+                "                             followed (default: the demo folder that\n"
+                "                             scripts/demo-data.sh makes, the MRI heads of\n"
+                "                             /usr/share/mricron/templates and InVesalius' head\n"
+                "                             CT in $XDG_CACHE_HOME/penumbra/volumes or\n"
+                "                             ~/.cache/penumbra/volumes; where it is missing,\n"
                 "                             /usr/share/mricron/templates)\n"
                 "  --port P                   TCP port (default 8080; 0 = any free port)\n"
                 "  --address A                listen address (default 127.0.0.1)\n"
@@ -288,7 +322,8 @@ int run_serve(const std::vector<std::string>& args) {
                 "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
                 "                             and its session left (default 15)\n"
                 "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
-                "  --quality-table FILE       `bench accuracy` table for sessions that set a frame\n"
+                "  --quality-table FILE       `bench accuracy` table for sessions that set a "
+                "frame\n"
                 "                             budget (default docs/accuracy/llvmpipe.json on\n"
                 "                             llvmpipe, docs/accuracy/gpu.json elsewhere, from\n"
                 "                             share/penumbra/accuracy above the binary, else a\n"
@@ -331,12 +366,14 @@ int run_serve(const std::vector<std::string>& args) {
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
     config.client_address_header = a.get("client-address-header").value_or("");
     protocol::Limits& limits = config.limits;
+
     struct IntegerOption {
         const char* name;
         int* target;
         int min;
         int max;
     };
+
     int port = 8080;
     int encode_threads = 2;
     int volume_memory_mb = 4096;
@@ -412,7 +449,7 @@ int run_serve(const std::vector<std::string>& args) {
         return fail(cluster_secret.error());
     }
 
-    const std::string data = a.get("data").value_or("/usr/share/mricron/templates");
+    const std::string data = a.get("data").value_or(default_data_folder().string());
     volume::LoadOptions load_options;
     load_options.max_bytes = static_cast<std::uint64_t>(max_load_mb) << 20;
     session::VolumeStore volumes(data, static_cast<std::size_t>(volume_memory_mb) << 20,
@@ -513,19 +550,18 @@ int run_serve(const std::vector<std::string>& args) {
         }
     }
 
-    session::SessionRegistry sessions(limits.max_sessions,
-                                      cluster_secret->empty()
-                                              ? session::OwnerTokens()
-                                              : session::OwnerTokens(*cluster_secret),
-                                      limits.max_sessions_per_client,
-                                      limits.max_sessions_per_connection);
+    session::SessionRegistry sessions(
+            limits.max_sessions,
+            cluster_secret->empty() ? session::OwnerTokens()
+                                    : session::OwnerTokens(*cluster_secret),
+            limits.max_sessions_per_client, limits.max_sessions_per_connection);
     std::printf("access:   %s; WebSocket pages from %s\n",
                 config.access_token.empty() ? "no token asked" : "token asked on /ws",
-                config.allowed_origins.empty() ? "this server's own origin only"
-                                               : ("its own origin and " +
-                                                  std::to_string(config.allowed_origins.size()) +
-                                                  " listed")
-                                                         .c_str());
+                config.allowed_origins.empty()
+                        ? "this server's own origin only"
+                        : ("its own origin and " + std::to_string(config.allowed_origins.size()) +
+                           " listed")
+                                  .c_str());
     if (!cluster_secret->empty()) {
         std::printf("cluster:  owner tokens derived from the cluster secret\n");
     }

@@ -48,6 +48,7 @@ struct Header {
     Field<std::int64_t> line_skip;
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
+    bool hounsfield = false;        // key/value "penumbra_units:=HU"
 };
 
 std::string_view trim(std::string_view text) {
@@ -303,7 +304,12 @@ private:
                                                std::string(content) + "'");
         }
         if (colon + 1 < content.size() && content[colon + 1] == '=') {
-            return base::Ok{};  // key/value pairs carry metadata Penumbra does not use
+            // Key/value pairs carry metadata; Penumbra reads one of its own, which marks the
+            // values as Hounsfield units (scripts/cranium-ct.py writes it).
+            if (trim(content.substr(0, colon)) == "penumbra_units") {
+                header_.hounsfield = trim(content.substr(colon + 2)) == "HU";
+            }
+            return base::Ok{};
         }
         const std::string name = lower(trim(content.substr(0, colon)));
         const std::string_view value = trim(content.substr(colon + 1));
@@ -645,7 +651,8 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     const auto folder = std::filesystem::weakly_canonical(
             std::filesystem::absolute(path, ec).parent_path(), ec);
     if (ec) {
-        return base::make_error("read_failed", "cannot resolve the header's folder: " + ec.message(),
+        return base::make_error("read_failed",
+                                "cannot resolve the header's folder: " + ec.message(),
                                 detail::at_file(path));
     }
     const auto resolved = std::filesystem::weakly_canonical(folder / data, ec);
@@ -682,9 +689,8 @@ base::Status skip_lines(std::FILE* file, const std::filesystem::path& path, std:
 
 // Where the samples of raw encoding start: after "byte skip" bytes, or (byte skip -1) so that
 // they are the last bytes of the file. Checks that the file holds them.
-base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path,
-                                            const Layout& layout, std::int64_t byte_skip,
-                                            std::uint64_t offset) {
+base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path, const Layout& layout,
+                                            std::int64_t byte_skip, std::uint64_t offset) {
     auto size = detail::regular_file_size(path);
     if (!size) {
         return size.error();
@@ -736,8 +742,8 @@ base::Status read_raw(std::FILE* file, const std::filesystem::path& path, const 
 base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
                        std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
     // For compressed encodings NRRD applies "byte skip" to the decompressed data.
-    auto inflated = detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip),
-                                         sink);
+    auto inflated =
+            detail::inflate_file(file, path, offset, static_cast<std::uint64_t>(byte_skip), sink);
     if (!inflated) {
         return inflated.error();
     }
@@ -827,10 +833,10 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                     token_start = position;
                 }
                 if (token.size() == max_token) {
-                    return base::make_error("bad_data",
-                                            "a value longer than " + std::to_string(max_token) +
-                                                    " characters",
-                                            detail::at_byte(path, token_start));
+                    return base::make_error(
+                            "bad_data",
+                            "a value longer than " + std::to_string(max_token) + " characters",
+                            detail::at_byte(path, token_start));
                 }
                 token.push_back(chunk[k]);
             } else if (!token.empty()) {
@@ -854,8 +860,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
     return samples;
 }
 
-base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
-                                    const LoadOptions& options) {
+base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const LoadOptions& options) {
     auto file = detail::open_file(path);
     if (!file) {
         return file.error();
@@ -873,17 +878,14 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
         return source.error();
     }
 
-    const detail::SampleLayout samples{.type = layout->type,
-                                       .voxels = layout->voxels,
-                                       .big_endian = layout->big_endian};
-    std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) +
-                       "x" + std::to_string(layout->dims.z) + " " +
-                       detail::sample_name(layout->type);
+    const detail::SampleLayout samples{
+            .type = layout->type, .voxels = layout->voxels, .big_endian = layout->big_endian};
+    std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) + "x" +
+                       std::to_string(layout->dims.z) + " " + detail::sample_name(layout->type);
     if (!detail::is_kept(layout->type)) {
         what += std::string(" kept as ") + to_string(samples.stored());
     }
-    if (auto status = detail::check_budget(samples.stored_bytes(), what, path, options);
-        !status) {
+    if (auto status = detail::check_budget(samples.stored_bytes(), what, path, options); !status) {
         return status.error();
     }
 
@@ -934,13 +936,14 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path,
 
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
-    auto volume = make_volume(name, layout->dims, layout->spacing, samples.stored(),
-                              std::move(stored));
+    auto volume =
+            make_volume(name, layout->dims, layout->spacing, samples.stored(), std::move(stored));
     if (!volume) {
         base::Error error = volume.error();
         error.where = detail::at_file(path);
         return error;
     }
+    volume->hounsfield = header->hounsfield;
     return volume;
 }
 

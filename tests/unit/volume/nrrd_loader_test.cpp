@@ -527,16 +527,16 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
     fixtures::write_bytes(dir / "outside.raw", bytes);
     fixtures::write_bytes(dir / "volumes" / "sub" / "inside.raw", bytes);
     std::filesystem::create_symlink(dir / "outside.raw", dir / "volumes" / "link.raw");
-    const std::string header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
-                               "encoding: raw\ndata file: ";
+    const std::string header =
+            "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+            "encoding: raw\ndata file: ";
     const auto load_with = [&](const std::string& data_file) {
         fixtures::write_text(dir / "volumes" / "h.nhdr", header + data_file + "\n");
         return load_nrrd(dir / "volumes" / "h.nhdr");
     };
-    for (const std::string& refused :
-         {std::string("/etc/passwd"), std::string("../outside.raw"),
-          std::string("sub/../../outside.raw"), (dir / "outside.raw").string(),
-          std::string("link.raw")}) {
+    for (const std::string& refused : {std::string("/etc/passwd"), std::string("../outside.raw"),
+                                       std::string("sub/../../outside.raw"),
+                                       (dir / "outside.raw").string(), std::string("link.raw")}) {
         const auto volume = load_with(refused);
         ASSERT_FALSE(volume.ok()) << refused;
         EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
@@ -570,9 +570,9 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     const std::string last_value_missing = text;
     text += "1e300";  // the last voxel, with no separator after it
     fixtures::write_text(dir / "big.txt", text);
-    fixtures::write_text(dir / "big.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: " +
-                                                   std::to_string(values) +
-                                                   " 1 1\nencoding: ascii\ndata file: big.txt\n");
+    fixtures::write_text(dir / "big.nhdr",
+                         "NRRD0004\ntype: float\ndimension: 3\nsizes: " + std::to_string(values) +
+                                 " 1 1\nencoding: ascii\ndata file: big.txt\n");
     const auto volume = load_nrrd(dir / "big.nhdr");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(volume->value(14000, 0, 0), 0.0);
@@ -583,6 +583,42 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     const auto truncated = load_nrrd(dir / "big.nhdr");
     ASSERT_FALSE(truncated.ok());
     EXPECT_EQ(truncated.error().code, "truncated");
+}
+
+TEST(NrrdLoader, PenumbraUnitsKeyMarksHounsfieldUnits) {
+    fixtures::TempDir dir;
+    auto marked =
+            load_attached(dir, std::string(cube_header) + "penumbra_units:=HU\n", cube_uint8());
+    ASSERT_TRUE(marked.ok()) << marked.error().to_string();
+    EXPECT_TRUE(marked->hounsfield);
+    auto other = load_attached(dir, std::string(cube_header) + "penumbra_units:=none\n",
+                               cube_uint8(), "other.nrrd");
+    ASSERT_TRUE(other.ok()) << other.error().to_string();
+    EXPECT_FALSE(other->hounsfield);
+}
+
+// InVesalius' head CT, converted from Debian's invesalius-examples by scripts/cranium-ct.py in the
+// build (tests/CMakeLists.txt): the voxels of matrix.dat, the spacing of main.plist, marked HU.
+TEST(NrrdLoader, ReadsTheConvertedInvesaliusHeadCt) {
+    auto ct = load_nrrd(PENUMBRA_CRANIUM_CT);
+    ASSERT_TRUE(ct.ok()) << ct.error().to_string()
+                         << " (the build converts it from Debian's invesalius-examples)";
+    EXPECT_EQ(ct->dims, glm::uvec3(256, 256, 108));
+    EXPECT_NEAR(ct->spacing.x, 0.957031, 1e-6);
+    EXPECT_NEAR(ct->spacing.y, 0.957031, 1e-6);
+    EXPECT_DOUBLE_EQ(ct->spacing.z, 1.5);
+    EXPECT_TRUE(ct->hounsfield);
+    EXPECT_EQ(ct->range.min, -1024.0);
+    EXPECT_GT(ct->range.max, 2000.0);
+    // Air around the head, and bone (>= 300 HU) in it.
+    EXPECT_LT(ct->value(0, 0, 54), -900.0);
+    std::size_t bone = 0;
+    for (std::uint32_t y = 0; y < ct->dims.y; ++y) {
+        for (std::uint32_t x = 0; x < ct->dims.x; ++x) {
+            bone += ct->value(x, y, 54) >= 300.0 ? 1 : 0;
+        }
+    }
+    EXPECT_GT(bone, 1000u);
 }
 
 }  // namespace
