@@ -7,13 +7,39 @@
 namespace penumbra::app {
 
 const std::vector<std::string>& frame_option_names() {
-    static const std::vector<std::string> names = {
-            "mode",       "size",          "camera",     "eye",      "target",    "up",
-            "fov",        "light",         "light-position", "light-color", "intensity",
-            "ambient",    "diffuse",       "specular",   "shininess", "tf",       "sample-distance",
-            "opacity-unit", "compositing", "stage",      "background", "early-termination",
-            "slices",     "light-res",     "builder",    "compensation", "slab-samples", "light-lookup", "shell-radius",
-            "shell-rings", "shell-weight", "cone-angle", "cone-weight"};
+    static const std::vector<std::string> names = {"mode",
+                                                   "size",
+                                                   "camera",
+                                                   "eye",
+                                                   "target",
+                                                   "up",
+                                                   "fov",
+                                                   "light",
+                                                   "light-position",
+                                                   "light-color",
+                                                   "intensity",
+                                                   "ambient",
+                                                   "diffuse",
+                                                   "specular",
+                                                   "shininess",
+                                                   "tf",
+                                                   "sample-distance",
+                                                   "opacity-unit",
+                                                   "compositing",
+                                                   "stage",
+                                                   "background",
+                                                   "early-termination",
+                                                   "slices",
+                                                   "light-res",
+                                                   "builder",
+                                                   "compensation",
+                                                   "slab-samples",
+                                                   "light-lookup",
+                                                   "shell-radius",
+                                                   "shell-rings",
+                                                   "shell-weight",
+                                                   "cone-angle",
+                                                   "cone-weight"};
     return names;
 }
 
@@ -23,7 +49,8 @@ const std::vector<std::string>& frame_flag_names() {
 }
 
 const char* frame_options_help() {
-    return "  --mode MODE                    dvr | phong | half_angle | sbrc | sbrc_shell | sbrc_cone |\n"
+    return "  --mode MODE                    dvr | phong | half_angle | sbrc | sbrc_shell | "
+           "sbrc_cone |\n"
            "                                 reference (default phong)\n"
            "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
            "  --slices N                     light slices, also half-angle's slices (default 128)\n"
@@ -40,8 +67,10 @@ const char* frame_options_help() {
            "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
            "  --size WxH                     image size (default 512x512)\n"
            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees about\n"
-           "                                 the volume centre (z up, azimuth 0 = +y), distance in\n"
-           "                                 units of the volume's longest side (default 25,10,2.6)\n"
+           "                                 the volume centre (z up, azimuth 0 = +y), distance "
+           "in\n"
+           "                                 units of the volume's longest side (default "
+           "25,10,2.6)\n"
            "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
            "  --fov DEG                      vertical field of view (default 30)\n"
            "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
@@ -49,7 +78,8 @@ const char* frame_options_help() {
            "  --light-color R,G,B --intensity I --ambient A   (defaults 1,1,1  1  0.25)\n"
            "  --diffuse KD --specular KS --shininess N        Blinn-Phong (0.75 0.3 32)\n"
            "  --tf PRESET|FILE.json          transfer function (default mri_skin); presets:\n"
-           "                                 grey_ramp mri_skin mri_brain ct_skin ct_bone\n"
+           "                                 grey_ramp mri_skin mri_brain, in HU: ct_bone\n"
+           "                                 ct_skin ct_soft_tissue ct_lung ct_angio\n"
            "  --sample-distance D            ray step, unit = longest side (default 1/256)\n"
            "  --opacity-unit D               distance the TF opacity refers to (default 1/256)\n"
            "  --compositing alpha|extinction (default alpha)\n"
@@ -135,6 +165,7 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         const char* name;
         double* target;
     };
+
     const NumberOption numbers[] = {
             {"intensity", &light.intensity},
             {"ambient", &light.ambient},
@@ -157,10 +188,12 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         }
         *option.target = *value;
     }
+
     struct IntegerOption {
         const char* name;
         int* target;
     };
+
     const IntegerOption integers[] = {
             {"slices", &s.light_buffer.slices},
             {"light-res", &s.light_buffer.resolution},

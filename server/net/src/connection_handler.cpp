@@ -33,8 +33,8 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
 session::SessionState from_protocol(const protocol::SessionState& s) {
     session::SessionState out;
     out.frame = s.frame;
-    out.output.format = s.output.encoding == "png" ? encode::ImageFormat::png
-                                                   : encode::ImageFormat::jpeg;
+    out.output.format =
+            s.output.encoding == "png" ? encode::ImageFormat::png : encode::ImageFormat::jpeg;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
     return out;
@@ -55,6 +55,7 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
         out.voxel_type = volume::to_string(v->type);
         out.range[0] = v->range.min;
         out.range[1] = v->range.max;
+        out.hounsfield = v->hounsfield;
     }
     return out;
 }
@@ -129,7 +130,8 @@ void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::
 bool ConnectionHandler::take_token() {
     const double rate = context_.config.limits.max_requests_per_second;
     const Clock::time_point now = Clock::now();
-    tokens_ = std::min(rate, tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
+    tokens_ = std::min(rate,
+                       tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
     last_refill_ = now;
     if (tokens_ >= 1.0) {
         tokens_ -= 1.0;
@@ -142,9 +144,9 @@ bool ConnectionHandler::take_token() {
 
 void ConnectionHandler::on_open() {
     std::vector<std::string> modes;
-    for (const auto mode : {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle,
-                            scene::Mode::sbrc, scene::Mode::sbrc_shell, scene::Mode::sbrc_cone,
-                            scene::Mode::reference}) {
+    for (const auto mode :
+         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::half_angle, scene::Mode::sbrc,
+          scene::Mode::sbrc_shell, scene::Mode::sbrc_cone, scene::Mode::reference}) {
         modes.emplace_back(scene::to_string(mode));
     }
     const render::RendererInfo& info = context_.services.scheduler.renderer_info();
@@ -158,12 +160,13 @@ bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
     if (take_token()) {
         return true;
     }
-    reply_error(id, base::make_error(protocol::code::rate_limited,
-                                     "more than " +
-                                             std::to_string(static_cast<int>(
-                                                     context_.config.limits.max_requests_per_second)) +
-                                             " requests per second",
-                                     "/"));
+    reply_error(id,
+                base::make_error(protocol::code::rate_limited,
+                                 "more than " +
+                                         std::to_string(static_cast<int>(
+                                                 context_.config.limits.max_requests_per_second)) +
+                                         " requests per second",
+                                 "/"));
     return false;
 }
 
@@ -223,18 +226,17 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
             }
             connection->send_text(protocol::error_message(
                     std::nullopt,
-                    base::make_error(protocol::code::render_failed,
-                                     context->services.volumes.relative_paths(
-                                             r.error().to_string()),
-                                     "/")));
+                    base::make_error(
+                            protocol::code::render_failed,
+                            context->services.volumes.relative_paths(r.error().to_string()), "/")));
             context->errors.add();
             return;
         }
         const session::EncodedFrame& frame = **r;
         context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
                                          frame.encode_ms);
-        connection->send_frame(std::make_shared<const std::vector<std::uint8_t>>(
-                pack(frame, session_id, number)));
+        connection->send_frame(
+                std::make_shared<const std::vector<std::uint8_t>>(pack(frame, session_id, number)));
     };
     return {std::move(frames), std::move(state_changed)};
 }
@@ -251,7 +253,9 @@ void ConnectionHandler::leave_session() {
     session_.reset();
 }
 
-void ConnectionHandler::on_close() { leave_session(); }
+void ConnectionHandler::on_close() {
+    leave_session();
+}
 
 void ConnectionHandler::load_then(
         std::optional<std::int64_t> id, const std::string& volume_id,
@@ -311,10 +315,8 @@ void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::s
             viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
             [&](const session::SessionState& state) {
                 send(protocol::opened_message(
-                        id, session_->id(),
-                        summary_of(volume_id, volume->get()), *histogram,
-                        protocol::state_to_json(to_protocol(state)),
-                        session_->owner_token()));
+                        id, session_->id(), summary_of(volume_id, volume->get()), *histogram,
+                        protocol::state_to_json(to_protocol(state)), session_->owner_token()));
             });
     PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
@@ -486,8 +488,8 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         return;
                     }
                     protocol::SessionState state = to_protocol(session_->state());
-                    if (auto status = protocol::apply_patch(message.patch, state,
-                                                            context_.config.limits);
+                    if (auto status =
+                                protocol::apply_patch(message.patch, state, context_.config.limits);
                         !status) {
                         reply_error(id, status.error());
                         return;
@@ -500,9 +502,9 @@ void ConnectionHandler::handle(const protocol::Request& request) {
                         return;
                     }
                     std::weak_ptr<session::Session> weak = session_;
-                    session::RenderJob job = session_->make_job(
-                            id.value_or(-1), message.interactive,
-                            context_.config.quality_table.get());
+                    session::RenderJob job =
+                            session_->make_job(id.value_or(-1), message.interactive,
+                                               context_.config.quality_table.get());
                     // The render time is this client's, whoever's session it is.
                     job.client = client_;
                     context_.services.scheduler.submit(

@@ -74,9 +74,9 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         return field_error(code::invalid_message, "/v", "missing protocol version 'v'");
     }
     if (!j.at("v").is_number_integer() || j.at("v").get<std::int64_t>() != protocol_version) {
-        return field_error(code::unsupported_version, "/v",
-                           "this server speaks protocol version " +
-                                   std::to_string(protocol_version));
+        return field_error(
+                code::unsupported_version, "/v",
+                "this server speaks protocol version " + std::to_string(protocol_version));
     }
     Request request;
     if (j.contains("id")) {
@@ -185,7 +185,8 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         patch.erase("v");
         patch.erase("type");
         patch.erase("id");
-        Patch parsed_patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}));
+        Patch parsed_patch(
+                std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}));
         // Validated against a default state now, so that a bad `set` is rejected whole and
         // the session never sees it.
         SessionState scratch;
@@ -242,6 +243,7 @@ json volume_json(const VolumeSummary& v) {
             {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
             {"voxel_type", v.voxel_type},
             {"range", {v.range[0], v.range[1]}},
+            {"hounsfield", v.hounsfield},
             {"loaded", v.loaded}};
 }
 
@@ -319,8 +321,8 @@ std::string stats_message(std::optional<std::int64_t> id, const StatsReport& r) 
                     {"p95", r.frame_server_p95_ms},
                     {"p99", r.frame_server_p99_ms}}},
                   {"frames_total", r.frames_total},
-                  {"light_buffer", {{"builds", r.light_buffer_builds},
-                                    {"reuses", r.light_buffer_reuses}}},
+                  {"light_buffer",
+                   {{"builds", r.light_buffer_builds}, {"reuses", r.light_buffer_reuses}}},
                   {"gpu_bytes_held", r.gpu_bytes_held},
                   {"renderer", r.renderer}};
     return with_id({{"type", "stats"}, {"stats", stats}}, id).dump();

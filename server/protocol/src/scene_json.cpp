@@ -17,11 +17,11 @@ using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSO
 constexpr double max_coordinate = 1000.0;
 constexpr std::size_t max_tf_points = 256;
 
-#define PENUMBRA_TRY(expression)                  \
-    do {                                          \
+#define PENUMBRA_TRY(expression)                     \
+    do {                                             \
         if (auto status_ = (expression); !status_) { \
-            return status_.error();               \
-        }                                         \
+            return status_.error();                  \
+        }                                            \
     } while (false)
 
 base::Status apply_camera(const json& j, const std::string& p, scene::Camera& camera) {
@@ -66,17 +66,16 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
     PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "target", camera.target, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "up", camera.up, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "fov", camera.fov_y_degrees,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 1.0, 170.0);
-                                 }));
+    PENUMBRA_TRY(optional_member(
+            j, p, "fov", camera.fov_y_degrees,
+            [](const json& v, const std::string& q) { return number(v, q, 1.0, 170.0); }));
     return base::Ok{};
 }
 
 base::Status apply_light(const json& j, const std::string& p, scene::Light& light) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"type", "direction", "position", "color", "intensity",
-                                    "ambient"}));
+    PENUMBRA_TRY(
+            only_fields(j, p, {"type", "direction", "position", "color", "intensity", "ambient"}));
     if (j.contains("type")) {
         auto type = string(j.at("type"), p + "/type");
         if (!type) {
@@ -92,17 +91,15 @@ base::Status apply_light(const json& j, const std::string& p, scene::Light& ligh
     };
     PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "color", light.color, [](const json& v, const std::string& q) {
-        return vec3(v, q, 0.0, 1.0);
-    }));
-    PENUMBRA_TRY(optional_member(j, p, "intensity", light.intensity,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 0.0, 100.0);
-                                 }));
-    PENUMBRA_TRY(optional_member(j, p, "ambient", light.ambient,
-                                 [](const json& v, const std::string& q) {
-                                     return number(v, q, 0.0, 1.0);
-                                 }));
+    PENUMBRA_TRY(optional_member(
+            j, p, "color", light.color,
+            [](const json& v, const std::string& q) { return vec3(v, q, 0.0, 1.0); }));
+    PENUMBRA_TRY(optional_member(
+            j, p, "intensity", light.intensity,
+            [](const json& v, const std::string& q) { return number(v, q, 0.0, 100.0); }));
+    PENUMBRA_TRY(optional_member(
+            j, p, "ambient", light.ambient,
+            [](const json& v, const std::string& q) { return number(v, q, 0.0, 1.0); }));
     return base::Ok{};
 }
 
@@ -131,22 +128,28 @@ base::Result<scene::TransferFunction> transfer_function_from(
     PENUMBRA_TRY(optional_member(j, p, "space", space, [](const json& v, const std::string& q) {
         return string(v, q, 16);
     }));
-    if (space != "normalized" && space != "data") {
-        return field_error("invalid_value", p + "/space", "expected normalized or data");
+    if (space != "normalized" && space != "data" && space != "hounsfield") {
+        return field_error("invalid_value", p + "/space",
+                           "expected normalized, hounsfield or data");
+    }
+    if (space == "hounsfield") {
+        tf.space = scene::PositionSpace::hounsfield;
     }
     if (space == "data" && !range) {
         return field_error("invalid_value", p + "/space", "data positions need a volume range");
     }
     // Positions outside the range are accepted and clamped by validation's own message below.
     const auto to_unit = [&](double x) {
-        if (space == "normalized") {
+        if (space != "data") {
             return x;
         }
         const double width = range->second - range->first;
         return width > 0.0 ? (x - range->first) / width : 0.0;
     };
-    const double position_limit = space == "data" ? 1e30 : 1.0;
-    const double position_low = space == "data" ? -1e30 : 0.0;
+    const double position_limit = space == "data"         ? 1e30
+                                  : space == "hounsfield" ? scene::max_hounsfield_position
+                                                          : 1.0;
+    const double position_low = space == "normalized" ? 0.0 : -position_limit;
     for (const char* list : {"colors", "opacities"}) {
         if (!j.contains(list)) {
             continue;
@@ -240,16 +243,16 @@ auto int_range_of(int lo, int hi) {
 base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
                             double& frame_budget_ms, const Limits& limits) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"mode", "compositing", "stage", "size", "sample_distance",
-                                    "opacity_unit_distance", "early_termination", "background",
-                                    "phong", "shading", "light_buffer", "scattering",
-                                    "frame_budget_ms"}));
+    PENUMBRA_TRY(only_fields(j, p,
+                             {"mode", "compositing", "stage", "size", "sample_distance",
+                              "opacity_unit_distance", "early_termination", "background", "phong",
+                              "shading", "light_buffer", "scattering", "frame_budget_ms"}));
     PENUMBRA_TRY(apply_enum(j, p, "mode", s.mode, scene::parse_mode,
                             "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone or reference"));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
                             "alpha or extinction"));
-    PENUMBRA_TRY(apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage,
-                            "compute or fragment"));
+    PENUMBRA_TRY(
+            apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage, "compute or fragment"));
     if (j.contains("size")) {
         const json& size = j.at("size");
         if (!size.is_array() || size.size() != 2) {
@@ -267,12 +270,11 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                  range_of(1.0 / 4096.0, 0.5)));
     PENUMBRA_TRY(optional_member(j, p, "opacity_unit_distance", s.opacity_unit_distance,
                                  range_of(1e-4, 1.0)));
-    PENUMBRA_TRY(optional_member(j, p, "early_termination", s.early_termination,
-                                 range_of(0.01, 1.0)));
-    PENUMBRA_TRY(optional_member(j, p, "background", s.background,
-                                 [](const json& v, const std::string& q) {
-                                     return vec3(v, q, 0.0, 1.0);
-                                 }));
+    PENUMBRA_TRY(
+            optional_member(j, p, "early_termination", s.early_termination, range_of(0.01, 1.0)));
+    PENUMBRA_TRY(optional_member(
+            j, p, "background", s.background,
+            [](const json& v, const std::string& q) { return vec3(v, q, 0.0, 1.0); }));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
     PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms, range_of(0.0, 60000.0)));
     if (j.contains("shading")) {
@@ -282,15 +284,16 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         PENUMBRA_TRY(only_fields(sh, sp, {"diffuse", "specular", "shininess"}));
         PENUMBRA_TRY(optional_member(sh, sp, "diffuse", s.shading.diffuse, range_of(0.0, 4.0)));
         PENUMBRA_TRY(optional_member(sh, sp, "specular", s.shading.specular, range_of(0.0, 4.0)));
-        PENUMBRA_TRY(optional_member(sh, sp, "shininess", s.shading.shininess,
-                                     range_of(1.0, 1024.0)));
+        PENUMBRA_TRY(
+                optional_member(sh, sp, "shininess", s.shading.shininess, range_of(1.0, 1024.0)));
     }
     if (j.contains("light_buffer")) {
         const json& lb = j.at("light_buffer");
         const std::string lp = p + "/light_buffer";
         PENUMBRA_TRY(expect_object(lb, lp));
-        PENUMBRA_TRY(only_fields(lb, lp, {"slices", "resolution", "builder", "compensation",
-                                          "slab_samples", "lookup"}));
+        PENUMBRA_TRY(only_fields(
+                lb, lp,
+                {"slices", "resolution", "builder", "compensation", "slab_samples", "lookup"}));
         PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
                                      int_range_of(1, limits.max_slices)));
         PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
@@ -308,8 +311,9 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         const json& sc = j.at("scattering");
         const std::string cp = p + "/scattering";
         PENUMBRA_TRY(expect_object(sc, cp));
-        PENUMBRA_TRY(only_fields(sc, cp, {"shell_radius", "shell_rings", "shell_center_weight",
-                                          "cone_angle", "cone_center_weight"}));
+        PENUMBRA_TRY(only_fields(sc, cp,
+                                 {"shell_radius", "shell_rings", "shell_center_weight",
+                                  "cone_angle", "cone_center_weight"}));
         PENUMBRA_TRY(optional_member(sc, cp, "shell_radius", s.scattering.shell_radius,
                                      range_of(1e-4, 0.5)));
         PENUMBRA_TRY(optional_member(sc, cp, "shell_rings", s.scattering.shell_rings,
@@ -318,8 +322,8 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
                                      s.scattering.shell_center_weight, range_of(0.0, 1.0)));
         PENUMBRA_TRY(optional_member(sc, cp, "cone_angle", s.scattering.cone_angle_degrees,
                                      range_of(0.1, 80.0)));
-        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight",
-                                     s.scattering.cone_center_weight, range_of(0.0, 1.0)));
+        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight", s.scattering.cone_center_weight,
+                                     range_of(0.0, 1.0)));
     }
     return base::Ok{};
 }
@@ -341,7 +345,9 @@ base::Status apply_output(const json& j, const std::string& p, OutputOptions& ou
     return base::Ok{};
 }
 
-json vec3_json(glm::dvec3 v) { return json::array({v.x, v.y, v.z}); }
+json vec3_json(glm::dvec3 v) {
+    return json::array({v.x, v.y, v.z});
+}
 
 }  // namespace
 
@@ -357,8 +363,8 @@ base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limit
         return parsed.error();
     }
     PENUMBRA_TRY(expect_object(*parsed, ""));
-    return Patch(std::make_shared<const Patch::Document>(
-            Patch::Document{std::move(parsed.value())}));
+    return Patch(
+            std::make_shared<const Patch::Document>(Patch::Document{std::move(parsed.value())}));
 }
 
 base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
@@ -371,8 +377,8 @@ base::Status apply_patch(std::string_view patch_json, SessionState& state, const
 
 base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits& limits) {
     const json& patch = parsed.document().object;
-    PENUMBRA_TRY(only_fields(patch, "", {"camera", "light", "transfer_function", "settings",
-                                         "output"}));
+    PENUMBRA_TRY(
+            only_fields(patch, "", {"camera", "light", "transfer_function", "settings", "output"}));
     SessionState next = state;
     if (patch.contains("camera")) {
         PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame.camera));
@@ -407,8 +413,8 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
         const auto is_part = [&](std::string_view part) {
             return where == part || where.starts_with(std::string(part) + ".");
         };
-        const bool settings = !is_part("camera") && !is_part("light") &&
-                              !is_part("transfer_function");
+        const bool settings =
+                !is_part("camera") && !is_part("light") && !is_part("transfer_function");
         std::string pointer = (settings ? "/settings/" : "/") + where;
         std::replace(pointer.begin(), pointer.end(), '.', '/');
         return field_error("invalid_value", pointer, status.error().message);
@@ -443,7 +449,7 @@ std::string state_to_json(const SessionState& state) {
               {"ambient", f.light.ambient}}},
             {"transfer_function",
              {{"name", f.transfer_function.name},
-              {"space", "normalized"},
+              {"space", scene::to_string(f.transfer_function.space)},
               {"colors", colors},
               {"opacities", opacities}}},
             {"settings",
@@ -546,9 +552,8 @@ base::Result<std::vector<scene::QualitySample>> parse_quality_table(std::string_
         const auto finite = [](const json& v, const std::string& q) {
             return number(v, q, -max_double, max_double);
         };
-        auto mode_name = read_member("mode", [](const json& v, const std::string& q) {
-            return string(v, q, 64);
-        });
+        auto mode_name = read_member(
+                "mode", [](const json& v, const std::string& q) { return string(v, q, 64); });
         if (!mode_name) {
             return bad(mode_name.error());
         }

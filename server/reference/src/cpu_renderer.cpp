@@ -77,14 +77,16 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const bool phong = scene::uses_gradients(s);
     const bool shadows = s.mode == scene::Mode::reference;
     const VolumeSampler sampler(volume);
-    const TransferFunctionTable tf(request.transfer_function);
+    const TransferFunctionTable tf(request.transfer_function,
+                                   {volume.range.min, volume.range.max, volume.hounsfield});
     const scene::CameraFrame camera =
             scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
 
     base::ImageRgbaF image(s.width, s.height);
     for (int y = 0; y < s.height; ++y) {
         for (int x = 0; x < s.width; ++x) {
-            const glm::dvec3 direction = optics::pixel_ray_direction(camera, x, y, s.width, s.height);
+            const glm::dvec3 direction =
+                    optics::pixel_ray_direction(camera, x, y, s.width, s.height);
             const optics::BoxHit hit = optics::intersect_box(camera.eye, direction, sampler.box());
             glm::dvec4 accumulated(0.0);
             const optics::Marching marching =

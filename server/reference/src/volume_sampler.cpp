@@ -34,8 +34,8 @@ VolumeSampler::VolumeSampler(const volume::Volume& volume)
     for (std::uint32_t z = 0; z < volume.dims.z; ++z) {
         for (std::uint32_t y = 0; y < volume.dims.y; ++y) {
             for (std::uint32_t x = 0; x < volume.dims.x; ++x) {
-                normalized_[i++] = width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width
-                                               : 0.0;
+                normalized_[i++] =
+                        width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width : 0.0;
             }
         }
     }
@@ -66,8 +66,9 @@ glm::dvec3 VolumeSampler::gradient(glm::dvec3 world) const {
            (2.0 * h);
 }
 
-TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf)
-    : table_(scene::bake(tf, scene::default_table_size)) {}
+TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf,
+                                             const scene::ValueDomain& values)
+    : table_(scene::bake(tf, scene::default_table_size, values)) {}
 
 glm::dvec4 TransferFunctionTable::classify(double normalized_value) const {
     const AxisSample s =
