@@ -457,7 +457,11 @@ int run_serve(const std::vector<std::string>& args) {
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }
-    std::printf("data:     %s (%zu volumes)\n", data.c_str(), volumes.list().size());
+    std::printf("data:     %s (%zu volumes", data.c_str(), volumes.list().size());
+    if (const std::size_t skipped = volumes.skipped().size(); skipped > 0) {
+        std::printf(", %zu files skipped, each logged with why", skipped);
+    }
+    std::printf(")\n");
 
     metrics::Registry registry;
     const render::RendererOptions renderer_options{

@@ -648,8 +648,9 @@ base::Result<std::filesystem::path> data_path(const Header& header,
                                 at_field);
     };
     std::error_code ec;
-    const auto folder = std::filesystem::weakly_canonical(
-            std::filesystem::absolute(path, ec).parent_path(), ec);
+    // The header's own folder, also when `path` is a link to it (a data folder may hold links).
+    const auto folder = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec)
+                                .parent_path();
     if (ec) {
         return base::make_error("read_failed",
                                 "cannot resolve the header's folder: " + ec.message(),
@@ -664,7 +665,7 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     if (!lies_within(resolved, folder)) {
         return outside();
     }
-    return data.is_absolute() ? data : path.parent_path() / data;
+    return data.is_absolute() ? data : folder / data;
 }
 
 // Skips `lines` newline-terminated lines of the data file, as "line skip" asks.
