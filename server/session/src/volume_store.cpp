@@ -163,7 +163,12 @@ base::Status VolumeStore::scan() {
                     (path.parent_path() == top && top_is_series) ||
                     std::any_of(found.begin(), found.end(),
                                 [&](const VolumeEntry& e) { return e.path == path.parent_path(); });
-            if (!in_series) {
+            // The data of a .hdr/.img pair, listed as its header.
+            const bool pair_data =
+                    path.extension() == ".img" &&
+                    std::filesystem::exists(std::filesystem::path(path).replace_extension(".hdr"),
+                                            ec);
+            if (!in_series && !pair_data) {
                 skip(path, not_a_volume_reason());
             }
             continue;

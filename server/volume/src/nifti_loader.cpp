@@ -110,13 +110,12 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
             return inflated.error();
         }
         if (inflated->produced < bytes) {
-            return base::make_error("truncated",
-                                    "expected " + std::to_string(bytes) +
-                                            " bytes of voxel data from byte " +
-                                            std::to_string(data_offset) +
-                                            " of the decompressed data, got " +
-                                            std::to_string(inflated->produced),
-                                    detail::at_file(path));
+            return base::make_error(
+                    "truncated",
+                    "expected " + std::to_string(bytes) + " bytes of voxel data from byte " +
+                            std::to_string(data_offset) + " of the decompressed data, got " +
+                            std::to_string(inflated->produced),
+                    detail::at_file(path));
         }
         return base::Ok{};
     }
@@ -151,8 +150,11 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
 base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                      const LoadOptions& options) {
     const std::string lower = detail::lower_file_name(path);
-    if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz")) {
-        return base::make_error("bad_file_name", "a NIfTI file name must end in .nii or .nii.gz",
+    if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz") &&
+        !detail::has_suffix(lower, ".hdr")) {
+        return base::make_error("bad_file_name",
+                                "a NIfTI file name must end in .nii, .nii.gz or .hdr (with its "
+                                ".img beside it)",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {
@@ -200,15 +202,14 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                 detail::at_file(path));
     }
     // In double: a hostile header's counts would overflow an integer product.
-    const double volumes = static_cast<double>(extent(image->nt)) *
-                           static_cast<double>(extent(image->nu)) *
-                           static_cast<double>(extent(image->nv)) *
-                           static_cast<double>(extent(image->nw));
+    const double volumes =
+            static_cast<double>(extent(image->nt)) * static_cast<double>(extent(image->nu)) *
+            static_cast<double>(extent(image->nv)) * static_cast<double>(extent(image->nw));
     if (volumes > 1.0) {
         char count[32];
         std::snprintf(count, sizeof count, "%.0f", volumes);
-        base::log_info(log_component, path.string() + ": " + count +
-                                              " volumes in the file; loading the first");
+        base::log_info(log_component,
+                       path.string() + ": " + count + " volumes in the file; loading the first");
     }
 
     if (image->iname_offset < 0) {
@@ -233,12 +234,12 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     if (auto status = detail::check_budget(layout.stored_bytes(), what, path, options); !status) {
         return status.error();
     }
-    // A two-file header (.hdr/.img magic "ni1" in a file named .nii) keeps its data in the file
-    // the library derives from the header's own name, in the same folder.
+    // A two-file header (.hdr/.img, SPM's output; magic "ni1", or Analyze 7.5) keeps its data in
+    // the file the library derives from the header's own name, in the same folder.
     const std::filesystem::path data_file = image->iname != nullptr ? image->iname : path;
     detail::SampleSink sink(layout);
-    if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset),
-                                   sink, layout.file_bytes());
+    if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset), sink,
+                                   layout.file_bytes());
         !status) {
         return status.error();
     }
@@ -247,7 +248,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                              spacing_or_one(image->dy, 'y', path),
                              spacing_or_one(image->dz, 'z', path));
     const std::string name =
-            detail::strip_suffix(path, std::array<std::string_view, 2>{".nii.gz", ".nii"});
+            detail::strip_suffix(path, std::array<std::string_view, 3>{".nii.gz", ".nii", ".hdr"});
     auto volume = make_volume(
             name,
             glm::uvec3(static_cast<std::uint32_t>(sizes[0]), static_cast<std::uint32_t>(sizes[1]),

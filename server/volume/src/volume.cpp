@@ -236,7 +236,7 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
     using detail::has_suffix;
     using Loader = base::Result<Volume> (*)(const std::filesystem::path&, const LoadOptions&);
     const auto pick = [&]() -> Loader {
-        if (has_suffix(name, ".nii") || has_suffix(name, ".nii.gz")) {
+        if (has_suffix(name, ".nii") || has_suffix(name, ".nii.gz") || has_suffix(name, ".hdr")) {
             return load_nifti;
         }
         if (has_suffix(name, ".nrrd") || has_suffix(name, ".nhdr")) {
@@ -253,9 +253,9 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
     }();
     if (pick == nullptr) {
         return base::make_error("unknown_format",
-                                "unknown volume file type; supported: .nii, .nii.gz, .nrrd, "
-                                ".nhdr, .raw, .raw.gz (name_XxYxZ_type.raw), DICOM files "
-                                "and folders",
+                                "unknown volume file type; supported: .nii, .nii.gz, .hdr "
+                                "(with its .img), .nrrd, .nhdr, .raw, .raw.gz "
+                                "(name_XxYxZ_type.raw), DICOM files and folders",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {

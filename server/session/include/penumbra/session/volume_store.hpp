@@ -121,8 +121,8 @@ private:
 
 // The names of the files the loaders read as a volume by themselves (DICOM files are not: their
 // folder is the volume).
-inline constexpr std::array<const char*, 6> volume_file_suffixes{".nii",  ".nii.gz", ".nrrd",
-                                                                 ".nhdr", ".raw",    ".raw.gz"};
+inline constexpr std::array<const char*, 7> volume_file_suffixes{
+        ".nii", ".nii.gz", ".hdr", ".nrrd", ".nhdr", ".raw", ".raw.gz"};
 
 // Whether a file name ends with one of volume_file_suffixes.
 bool is_volume_file(const std::filesystem::path& path);

@@ -35,12 +35,12 @@ struct Histogram {
 
 // A scalar volume in memory: x varies fastest, then y, then z (the order of raw, NRRD and NIfTI).
 struct Volume {
-    std::string name;              // shown to users, e.g. the file stem
-    glm::uvec3 dims{0};            // voxels per axis
-    glm::dvec3 spacing{1.0};       // physical size of one voxel (mm for medical data)
+    std::string name;         // shown to users, e.g. the file stem
+    glm::uvec3 dims{0};       // voxels per axis
+    glm::dvec3 spacing{1.0};  // physical size of one voxel (mm for medical data)
     VoxelType type = VoxelType::uint8;
-    std::vector<std::byte> data;   // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
-    ValueRange range;              // over finite voxels
+    std::vector<std::byte> data;  // dims.x * dims.y * dims.z * bytes_per_voxel(type), little endian
+    ValueRange range;             // over finite voxels
     std::uint64_t nonfinite_voxels = 0;  // NaN/Inf voxels found at load and replaced by range.min
 
     // Where the voxels lie in patient space, in Penumbra's one convention, RAS (+x toward the
@@ -98,16 +98,15 @@ struct LoadOptions {
 //          spacing 1 unless the file name carries none (the caller may override it).
 //   NRRD:  .nrrd (attached) and .nhdr (detached "data file", which must lie in the header's
 //          folder or below it), encodings raw, gzip and ascii, spacings or space directions.
-//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2); the header through the reference nifti library.
+//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2), and .hdr/.img pairs (SPM's output, Analyze 7.5
+//          too); the header through the reference nifti library.
 //   DICOM: a folder holding the files of one series (any names; the largest series when there
 //          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; rescale slope/intercept applied (CT in HU).
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
-base::Result<Volume> load_nifti(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
-base::Result<Volume> load_dicom(const std::filesystem::path& path,
-                                const LoadOptions& options = {});
+base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
+base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
 
 // Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
