@@ -9,7 +9,7 @@ set -euo pipefail
 build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
-    libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev nlohmann-json3-dev libboost-dev
+    libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
     libssl-dev nodejs
 )
 test=(
@@ -18,6 +18,8 @@ test=(
     mricron-data gnuplot-nox
     # Other projects' volume files for the conformance test, and the readers it compares with.
     python3-nibabel insighttoolkit5-examples heudiconv
+    # InVesalius' head CT, converted by scripts/cranium-ct.py for the tests, bench and demo data.
+    invesalius-examples
     chromium
     # The loopback cluster test: Debian's nginx in front, a certificate made with openssl, and
     # WebSocket clients (also the container test's).

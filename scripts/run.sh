@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The README's first command: install, build, and start the rendering service on the volumes that
-# Debian's mricron-data installs (the Colin27 MRI head ch2.nii.gz and others), serving the web
+# The README's first command: install, build, and start the rendering service on the demo data
+# (scripts/demo-data.sh: the MRI heads of Debian's mricron-data, the Colin27 head ch2.nii.gz and
+# others, and InVesalius' head CT from invesalius-examples), serving the web
 # client and the WebSocket API on http://127.0.0.1:8080/ until Ctrl-C. Extra arguments go to
 # `penumbra serve` (e.g. --port 9000 --address 0.0.0.0).
 set -euo pipefail
@@ -14,4 +15,5 @@ fi
 mkdir -p out
 ./build/release/server/app/penumbra render --mode sbrc --phong --size 512x512 \
     --out out/ch2_sbrc.png
-exec ./build/release/server/app/penumbra serve --data /usr/share/mricron/templates "$@"
+bash scripts/demo-data.sh
+exec ./build/release/server/app/penumbra serve "$@"

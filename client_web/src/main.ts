@@ -30,7 +30,10 @@ const panelElement = document.getElementById('panel') as HTMLElement;
 const view = new FrameView(viewElement);
 const stats = new StatsOverlay(viewElement);
 const connection = new Connection(wsUrl, {
-  presetPoints: (p) => ({ name: p, space: 'normalized', ...structuredClone(PRESET_POINTS[p]) }),
+  presetPoints: (p) => {
+    const points = structuredClone(PRESET_POINTS[p]);
+    return { name: p, space: points.space ?? 'normalized', colors: points.colors, opacities: points.opacities };
+  },
   accessToken: query.get('token') ?? undefined,
   route: { volume: pageVolume, session: joinId ?? undefined },
 });
@@ -210,6 +213,9 @@ connection.on('session', (info, restored) => {
   role = info.role;
   if (!restored || info.role === 'viewer') camera.setFrom(info.state.camera, !restored);
   marker.update(camera.toCamera());
+  const [min, max] = info.volume.range;
+  tfModel.domain = { min, max, hounsfield: info.volume.hounsfield };
+  tfEditor.setHounsfield(info.volume.hounsfield);
   tfModel.load(info.state.transfer_function, false);
   tfEditor.setHistogram(info.histogram);
   tfEditor.refresh();

@@ -1,7 +1,14 @@
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
-import { checkClientMessage, parseServerMessage, PRESETS, type OpenedMessage } from '../src/protocol/messages';
+import {
+  checkClientMessage,
+  HOUNSFIELD_PRESETS,
+  parseServerMessage,
+  PRESETS,
+  type OpenedMessage,
+} from '../src/protocol/messages';
+import { presetsFor } from '../src/panels/tf_editor';
 import { COLOR_MAPS, histogramCurve, MAX_POINTS, PRESET_POINTS, TfModel } from '../src/panels/tf_model';
 
 function sorted(xs: number[]): boolean {
@@ -86,6 +93,26 @@ describe('TfModel', () => {
     expect(calls).toBe(4);
     expect(m.name).toBe('ct_bone');
     expect(() => m.applyColorMap('nope')).toThrow();
+  });
+
+  it('places the CT presets in Hounsfield units on the volume range', () => {
+    const m = new TfModel();
+    m.domain = { min: -2048, max: 4095, hounsfield: true };
+    m.loadPreset('ct_bone');
+    const at = (hu: number) => (hu + 2048) / 6143;
+    expect(m.opacities[0]!.x).toBeCloseTo(at(150), 12);
+    expect(m.opacities[1]!.x).toBeCloseTo(at(300), 12);
+    expect(m.opacities[1]!.alpha).toBe(0.6);
+    // A volume not marked HU: read over the 12-bit CT range, as the server bakes it.
+    m.domain = { min: 0, max: 255, hounsfield: false };
+    m.loadPreset('ct_bone');
+    expect(m.opacities[1]!.x).toBeCloseTo((300 + 1024) / 4095, 12);
+  });
+
+  it('offers the CT presets first for a volume in Hounsfield units', () => {
+    expect(presetsFor(true).slice(0, HOUNSFIELD_PRESETS.length)).toEqual([...HOUNSFIELD_PRESETS]);
+    expect([...presetsFor(true)].sort()).toEqual([...PRESETS].sort());
+    expect(presetsFor(false)).toEqual(PRESETS);
   });
 
   it.each([...PRESETS])('sends preset %s as a set the server accepts', (preset) => {

@@ -7,7 +7,14 @@
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
 import { COLOR_MAPS, histogramCurve, TfModel } from './tf_model';
-import { PRESETS, type Preset, type Rgb } from '../protocol/messages';
+import { HOUNSFIELD_PRESETS, PRESETS, type Preset, type Rgb } from '../protocol/messages';
+
+/** The presets the list offers: for a volume in Hounsfield units the CT ones first. */
+export function presetsFor(hounsfield: boolean): readonly Preset[] {
+  if (!hounsfield) return PRESETS;
+  const ct: readonly Preset[] = HOUNSFIELD_PRESETS;
+  return [...ct, ...PRESETS.filter((p) => !ct.includes(p))];
+}
 
 const HEIGHT = 120; // CSS pixels
 const BAR_HEIGHT = 20;
@@ -36,9 +43,11 @@ export class TfEditor {
   private selected: { kind: 'opacity' | 'color'; index: number } | null = null;
   private readonly params = { preset: 'mri_skin', colormap: '(keep)' };
   private readonly controllers: Controller[] = [];
+  private presetList!: Controller;
+  private hounsfield = false;
 
   constructor(
-    folder: GUI,
+    private readonly folder: GUI,
     readonly model: TfModel,
     private readonly send: (interactive: boolean) => void,
   ) {
@@ -62,7 +71,30 @@ export class TfEditor {
     root.append(this.curve, this.bar, this.picker, hint);
     folder.$children.appendChild(root);
 
-    const preset = folder.add(this.params, 'preset', [...PRESETS]).name('preset');
+    this.buildLists(folder, false);
+
+    this.model.onChange(() => {
+      const name = (PRESETS as readonly string[]).includes(this.model.name) ? this.model.name : 'custom';
+      if (this.params.preset !== name) {
+        this.params.preset = name;
+        this.presetList.updateDisplay();
+      }
+      this.draw();
+    });
+    this.attachCurve();
+    this.attachBar();
+    new ResizeObserver(() => this.draw()).observe(root);
+  }
+
+  /**
+   * The preset and colour-map lists, in that order; the presets offered depend on the volume (the
+   * CT presets, in Hounsfield units, first for a volume whose values are HU).
+   */
+  private buildLists(folder: GUI, hounsfield: boolean): void {
+    for (const c of this.controllers) c.destroy();
+    this.controllers.length = 0;
+    this.hounsfield = hounsfield;
+    const preset = folder.add(this.params, 'preset', [...presetsFor(hounsfield)]).name('preset');
     preset.domElement.dataset['control'] = 'tf-preset';
     preset.onChange((name: string) => {
       this.model.loadPreset(name as Preset);
@@ -76,19 +108,14 @@ export class TfEditor {
       this.model.applyColorMap(name);
       this.send(false);
     });
+    this.presetList = preset;
     this.controllers.push(preset, colormap);
+    for (const c of this.controllers) c.enable(this.enabled);
+  }
 
-    this.model.onChange(() => {
-      const name = (PRESETS as readonly string[]).includes(this.model.name) ? this.model.name : 'custom';
-      if (this.params.preset !== name) {
-        this.params.preset = name;
-        preset.updateDisplay();
-      }
-      this.draw();
-    });
-    this.attachCurve();
-    this.attachBar();
-    new ResizeObserver(() => this.draw()).observe(root);
+  /** After a volume opened: whether its values are Hounsfield units. */
+  setHounsfield(hounsfield: boolean): void {
+    if (hounsfield !== this.hounsfield) this.buildLists(this.folder, hounsfield);
   }
 
   setHistogram(histogram: number[]): void {

@@ -5,14 +5,25 @@
 import type {
   ColorPoint,
   OpacityPoint,
+  PositionSpace,
   Preset,
   Rgb,
   TransferFunctionPatch,
   TransferFunctionPoints,
 } from '../protocol/messages';
 
-/** The server's presets (server/scene/src/transfer_function.cpp), so the editor can show them. */
-export const PRESET_POINTS: Record<Preset, { colors: ColorPoint[]; opacities: OpacityPoint[] }> = {
+/** Points as the server keeps them: positions normalised, or in Hounsfield units. */
+export interface PresetPoints {
+  space?: PositionSpace;
+  colors: ColorPoint[];
+  opacities: OpacityPoint[];
+}
+
+/**
+ * The server's presets (server/scene/src/transfer_function.cpp), so the editor can show them and
+ * the state mirror stays exact. The CT presets are in Hounsfield units.
+ */
+export const PRESET_POINTS: Record<Preset, PresetPoints> = {
   grey_ramp: {
     colors: [
       { x: 0, rgb: [0, 0, 0] },
@@ -52,34 +63,79 @@ export const PRESET_POINTS: Record<Preset, { colors: ColorPoint[]; opacities: Op
       { x: 1, alpha: 0.6 },
     ],
   },
-  ct_skin: {
+  ct_bone: {
+    space: 'hounsfield',
     colors: [
-      { x: 0, rgb: [0.6, 0.4, 0.3] },
-      { x: 0.13, rgb: [0.9, 0.7, 0.6] },
-      { x: 0.3, rgb: [1, 0.95, 0.9] },
-      { x: 1, rgb: [1, 1, 1] },
+      { x: 150, rgb: [0.75, 0.55, 0.4] },
+      { x: 300, rgb: [0.93, 0.85, 0.72] },
+      { x: 700, rgb: [1, 0.98, 0.92] },
+      { x: 3000, rgb: [1, 1, 1] },
     ],
     opacities: [
-      { x: 0, alpha: 0 },
-      { x: 0.12, alpha: 0 },
-      { x: 0.15, alpha: 0.5 },
-      { x: 0.3, alpha: 0.7 },
-      { x: 1, alpha: 0.9 },
+      { x: 150, alpha: 0 },
+      { x: 300, alpha: 0.6 },
+      { x: 700, alpha: 0.9 },
+      { x: 3000, alpha: 1 },
     ],
   },
-  ct_bone: {
+  ct_skin: {
+    space: 'hounsfield',
     colors: [
-      { x: 0, rgb: [0.5, 0.3, 0.2] },
-      { x: 0.3, rgb: [0.9, 0.8, 0.65] },
-      { x: 0.5, rgb: [1, 0.98, 0.92] },
-      { x: 1, rgb: [1, 1, 1] },
+      { x: -1000, rgb: [0.6, 0.4, 0.3] },
+      { x: -500, rgb: [0.9, 0.7, 0.6] },
+      { x: 200, rgb: [1, 0.95, 0.9] },
+      { x: 3000, rgb: [1, 1, 1] },
     ],
     opacities: [
-      { x: 0, alpha: 0 },
-      { x: 0.29, alpha: 0 },
-      { x: 0.33, alpha: 0.4 },
-      { x: 0.5, alpha: 0.85 },
-      { x: 1, alpha: 1 },
+      { x: -600, alpha: 0 },
+      { x: -400, alpha: 0.5 },
+      { x: 100, alpha: 0.7 },
+      { x: 3000, alpha: 0.9 },
+    ],
+  },
+  ct_soft_tissue: {
+    space: 'hounsfield',
+    colors: [
+      { x: -150, rgb: [0.9, 0.8, 0.5] },
+      { x: 40, rgb: [0.8, 0.3, 0.25] },
+      { x: 300, rgb: [1, 0.95, 0.85] },
+    ],
+    opacities: [
+      { x: -200, alpha: 0 },
+      { x: -100, alpha: 0.05 },
+      { x: 0, alpha: 0.05 },
+      { x: 40, alpha: 0.25 },
+      { x: 80, alpha: 0.3 },
+      { x: 200, alpha: 0.15 },
+      { x: 300, alpha: 0.4 },
+      { x: 1000, alpha: 0.6 },
+    ],
+  },
+  ct_lung: {
+    space: 'hounsfield',
+    colors: [
+      { x: -950, rgb: [0.85, 0.5, 0.45] },
+      { x: -450, rgb: [1, 0.8, 0.75] },
+    ],
+    opacities: [
+      { x: -950, alpha: 0 },
+      { x: -750, alpha: 0.1 },
+      { x: -450, alpha: 0.3 },
+      { x: -350, alpha: 0 },
+    ],
+  },
+  ct_angio: {
+    space: 'hounsfield',
+    colors: [
+      { x: 150, rgb: [0.8, 0.1, 0.1] },
+      { x: 400, rgb: [1, 0.5, 0.4] },
+      { x: 1000, rgb: [1, 0.97, 0.92] },
+    ],
+    opacities: [
+      { x: 100, alpha: 0 },
+      { x: 180, alpha: 0.5 },
+      { x: 400, alpha: 0.8 },
+      { x: 3000, alpha: 0.9 },
     ],
   },
 };
@@ -91,7 +147,12 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
     { x: 1, rgb: [1, 1, 1] },
   ],
   skin: PRESET_POINTS.mri_skin.colors,
-  bone: PRESET_POINTS.ct_bone.colors,
+  bone: [
+    { x: 0, rgb: [0.5, 0.3, 0.2] },
+    { x: 0.3, rgb: [0.9, 0.8, 0.65] },
+    { x: 0.5, rgb: [1, 0.98, 0.92] },
+    { x: 1, rgb: [1, 1, 1] },
+  ],
   hot: [
     { x: 0, rgb: [0.05, 0, 0] },
     { x: 0.35, rgb: [0.9, 0.1, 0] },
@@ -147,6 +208,24 @@ function interpolate<P extends { x: number }>(
 
 export type Listener = () => void;
 
+/** The values a table is read over: the volume's range, and whether they are Hounsfield units. */
+export interface ValueDomain {
+  min: number;
+  max: number;
+  hounsfield: boolean;
+}
+
+/** Where Hounsfield positions are read on a volume not marked HU (scene::nominal_ct_domain). */
+export const NOMINAL_CT_DOMAIN: ValueDomain = { min: -1024, max: 3071, hounsfield: true };
+
+/** A position in `space` as a fraction of the volume's range, as the server's bake reads it. */
+export function normalizedPosition(x: number, space: PositionSpace | undefined, domain: ValueDomain): number {
+  if (space !== 'hounsfield') return x;
+  const d = domain.hounsfield ? domain : NOMINAL_CT_DOMAIN;
+  const width = d.max - d.min;
+  return width > 0 ? (x - d.min) / width : 0;
+}
+
 /**
  * Opacity and colour control points; every operation keeps positions within [0, 1] and
  * non-decreasing (a moved point stays between its neighbours), and the values within [0, 1].
@@ -155,6 +234,8 @@ export class TfModel {
   name = 'custom';
   colors: ColorPoint[] = [];
   opacities: OpacityPoint[] = [];
+  /** The open volume's values, for points given in Hounsfield units. */
+  domain: ValueDomain = { min: 0, max: 1, hounsfield: false };
   private listeners: Listener[] = [];
 
   constructor(points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }) {
@@ -169,15 +250,22 @@ export class TfModel {
     for (const l of this.listeners) l();
   }
 
-  /** Replaces every point (from the server's state or a preset); sorted and clamped. */
-  load(points: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }, notify = true): void {
+  /**
+   * Replaces every point (from the server's state or a preset); sorted and clamped. Points in
+   * Hounsfield units are placed on the open volume's range (`domain`).
+   */
+  load(
+    points: { name?: string; space?: PositionSpace; colors: ColorPoint[]; opacities: OpacityPoint[] },
+    notify = true,
+  ): void {
+    const at = (x: number) => clamp(normalizedPosition(x, points.space, this.domain), 0, 1);
     this.name = points.name ?? 'custom';
     this.colors = points.colors
-      .map((p) => ({ x: clamp(p.x, 0, 1), rgb: p.rgb.map((c) => clamp(c, 0, 1)) as Rgb }))
+      .map((p) => ({ x: at(p.x), rgb: p.rgb.map((c) => clamp(c, 0, 1)) as Rgb }))
       .sort((a, b) => a.x - b.x)
       .slice(0, MAX_POINTS);
     this.opacities = points.opacities
-      .map((p) => ({ x: clamp(p.x, 0, 1), alpha: clamp(p.alpha, 0, 1) }))
+      .map((p) => ({ x: at(p.x), alpha: clamp(p.alpha, 0, 1) }))
       .sort((a, b) => a.x - b.x)
       .slice(0, MAX_POINTS);
     if (notify) this.changed();

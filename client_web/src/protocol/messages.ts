@@ -12,7 +12,22 @@ export type Rgb = [number, number, number];
 export type Mode = string;
 export const ENCODINGS = ['jpeg', 'png'] as const;
 export type Encoding = (typeof ENCODINGS)[number];
-export const PRESETS = ['grey_ramp', 'mri_skin', 'mri_brain', 'ct_skin', 'ct_bone'] as const;
+export const PRESETS = [
+  'grey_ramp',
+  'mri_skin',
+  'mri_brain',
+  'ct_bone',
+  'ct_skin',
+  'ct_soft_tissue',
+  'ct_lung',
+  'ct_angio',
+] as const;
+/** The presets in Hounsfield units (server/scene/src/transfer_function.cpp), for CT volumes. */
+export const HOUNSFIELD_PRESETS = ['ct_bone', 'ct_skin', 'ct_soft_tissue', 'ct_lung', 'ct_angio'] as const;
+/** How far Hounsfield positions may reach (scene::max_hounsfield_position). */
+export const MAX_HOUNSFIELD_POSITION = 100000;
+/** Where positions lie: fractions of the volume's range, or Hounsfield units (the CT presets). */
+export type PositionSpace = 'normalized' | 'hounsfield';
 export type Preset = (typeof PRESETS)[number];
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
 export type Compositing = (typeof COMPOSITINGS)[number];
@@ -91,7 +106,7 @@ export interface OpacityPoint {
 
 export interface TransferFunctionPoints {
   name: string;
-  space: 'normalized';
+  space: PositionSpace;
   colors: ColorPoint[];
   opacities: OpacityPoint[];
 }
@@ -100,7 +115,7 @@ export type TransferFunctionPatch =
   | { preset: Preset }
   | {
       name?: string;
-      space?: 'normalized';
+      space?: PositionSpace;
       colors?: ColorPoint[];
       opacities?: OpacityPoint[];
     };
@@ -183,6 +198,8 @@ export interface VolumeSummary {
   spacing: Vec3;
   voxel_type: 'uint8' | 'uint16' | 'float32' | '';
   range: [number, number];
+  /** The values are Hounsfield units: the CT presets (in HU) suit it. */
+  hounsfield: boolean;
   loaded: boolean;
 }
 
@@ -435,6 +452,7 @@ function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
   numbers(o, 'spacing', at, 3);
   str(o, 'voxel_type', at);
   numbers(o, 'range', at, 2);
+  bool(o, 'hounsfield', at);
   bool(o, 'loaded', at);
   return o as unknown as VolumeSummary;
 }
@@ -739,11 +757,13 @@ function checkTransferFunction(value: Json, at: string): void {
     members(value, at, { preset: oneOf(PRESETS) });
     return;
   }
+  const hounsfield = isObject(value) && value['space'] === 'hounsfield';
+  const x = hounsfield ? number(-MAX_HOUNSFIELD_POSITION, MAX_HOUNSFIELD_POSITION) : number(0, 1);
   members(value, at, {
     name: string(64),
-    space: (v, a) => oneOf(['normalized'])(v, a),
-    colors: points({ x: number(0, 1), rgb }, ['x', 'rgb'], 'colors'),
-    opacities: points({ x: number(0, 1), alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
+    space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
+    colors: points({ x, rgb }, ['x', 'rgb'], 'colors'),
+    opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
   });
 }
 
@@ -964,7 +984,7 @@ export function applyPatch(
     } else {
       next.transfer_function = {
         name: tf.name ?? 'custom',
-        space: 'normalized',
+        space: tf.space ?? 'normalized',
         colors: structuredClone(tf.colors ?? []),
         opacities: structuredClone(tf.opacities ?? []),
       };

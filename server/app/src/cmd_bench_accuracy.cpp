@@ -102,7 +102,9 @@ void print_usage() {
             "\n"
             "Defaults are for a GPU; on a software rasteriser (llvmpipe) lighter ones in [].\n"
             "  --volumes FILE,...             (default ch2, ch2better, inia19-t1-brain from\n"
-            "                                 /usr/share/mricron/templates [ch2])\n"
+            "                                 /usr/share/mricron/templates [ch2], and the head\n"
+            "                                 CT that scripts/demo-data.sh converts, where it "
+            "did)\n"
             "  --lights AZ,EL;AZ,EL...        directional lights in degrees, quote the ';'\n"
             "                                 (default 10,45;100,20;250,60 [10,45])\n"
             "  --modes LIST                   (default %s;\n"
@@ -365,7 +367,11 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
     Sweep sweep;
-    sweep.volumes = split_list(a.get("volumes").value_or(defaults.volumes));
+    std::string default_volumes = defaults.volumes;
+    if (const auto ct = demo_ct_path()) {
+        default_volumes += "," + ct->string();
+    }
+    sweep.volumes = split_list(a.get("volumes").value_or(default_volumes));
     sweep.lights = *lights;
     sweep.modes = *modes;
     sweep.slices = *slices;

@@ -114,8 +114,13 @@ quality::StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
 void print_serve_usage() {
     std::puts(
             "usage: penumbra serve [options]\n\n"
-            "  --data DIR                 folder of volumes to offer (default: Debian's\n"
-            "                             /usr/share/mricron/templates)\n"
+            "  --data DIR                 folder of volumes to offer; links in it are\n"
+            "                             followed (default: the demo folder that\n"
+            "                             scripts/demo-data.sh makes, the MRI heads of\n"
+            "                             /usr/share/mricron/templates and InVesalius' head\n"
+            "                             CT in $XDG_CACHE_HOME/penumbra/volumes or\n"
+            "                             ~/.cache/penumbra/volumes; where it is missing,\n"
+            "                             the MRI heads alone)\n"
             "  --port P                   TCP port (default 8080; 0 = any free port)\n"
             "  --address A                listen address (default 127.0.0.1)\n"
             "  --web-root DIR             the built web client (default share/penumbra/web\n"
@@ -180,6 +185,17 @@ void print_serve_usage() {
             "                             died resumes its session on another one\n"
             "  --debug-gl                 GL debug output to the log\n"
             "\nThe address prints on start; SIGINT or SIGTERM shuts down cleanly.");
+}
+
+// The demo data: scripts/demo-data.sh links the MRI heads beside the CT it converts in the user's
+// cache; without it, the heads alone.
+std::filesystem::path default_data_folder() {
+    std::error_code ec;
+    if (const auto cache = base::user_cache_dir();
+        cache && std::filesystem::is_directory(*cache / "volumes", ec)) {
+        return *cache / "volumes";
+    }
+    return mricron_templates;
 }
 
 // Everything `serve` is told, checked.
@@ -312,7 +328,7 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
         o.quality_table = *table;
     }
     o.debug_gl = a.has("debug-gl");
-    o.data = a.get("data").value_or("/usr/share/mricron/templates");
+    o.data = a.get("data").value_or(default_data_folder().string());
     net::ServerConfig& config = o.config;
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
@@ -475,7 +491,11 @@ int run_serve(const std::vector<std::string>& args) {
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }
-    std::printf("data:     %s (%zu volumes)\n", options->data.c_str(), volumes.list().size());
+    std::printf("data:     %s (%zu volumes", options->data.c_str(), volumes.list().size());
+    if (const std::size_t skipped = volumes.skipped().size(); skipped > 0) {
+        std::printf(", %zu files skipped, each logged with why", skipped);
+    }
+    std::printf(")\n");
 
     metrics::Registry registry;
     quality::StartupMeasurement measured;

@@ -1,6 +1,11 @@
 #pragma once
 
+#include <penumbra/base/data_dir.hpp>
+
+#include <filesystem>
+#include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace penumbra::app {
@@ -15,6 +20,20 @@ int run_bench(const std::vector<std::string>& args);
 
 // The volume every command uses when none is given: the Colin27 MRI head that Debian's
 // mricron-data package installs.
+inline constexpr const char* mricron_templates = "/usr/share/mricron/templates";
 inline constexpr const char* default_volume_path = "/usr/share/mricron/templates/ch2.nii.gz";
+
+// InVesalius' head CT (Debian's invesalius-examples) where scripts/demo-data.sh converted it into
+// the user's cache (cranium_ct.nrrd in the demo data folder); nothing before that ran.
+inline std::optional<std::filesystem::path> demo_ct_path() {
+    std::error_code ec;
+    if (const auto cache = base::user_cache_dir()) {
+        const std::filesystem::path path = *cache / "volumes" / "cranium_ct.nrrd";
+        if (std::filesystem::is_regular_file(path, ec)) {
+            return path;
+        }
+    }
+    return std::nullopt;
+}
 
 }  // namespace penumbra::app

@@ -1,5 +1,6 @@
 #include "penumbra/base/data_dir.hpp"
 
+#include <cstdlib>
 #include <system_error>
 
 namespace penumbra::base {
@@ -19,6 +20,16 @@ std::optional<std::filesystem::path> data_dir(std::string_view part) {
         if (folder == folder.root_path()) {
             break;
         }
+    }
+    return std::nullopt;
+}
+
+std::optional<std::filesystem::path> user_cache_dir() {
+    if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache != nullptr && *cache != '\0') {
+        return std::filesystem::path(cache) / "penumbra";
+    }
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+        return std::filesystem::path(home) / ".cache" / "penumbra";
     }
     return std::nullopt;
 }

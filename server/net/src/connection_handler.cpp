@@ -56,6 +56,7 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
         out.voxel_type = volume::to_string(v->type);
         out.range[0] = v->range.min;
         out.range[1] = v->range.max;
+        out.hounsfield = v->hounsfield;
     }
     return out;
 }

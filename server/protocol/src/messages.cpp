@@ -233,6 +233,7 @@ json volume_json(const VolumeSummary& v) {
             {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
             {"voxel_type", v.voxel_type},
             {"range", {v.range[0], v.range[1]}},
+            {"hounsfield", v.hounsfield},
             {"loaded", v.loaded}};
 }
 

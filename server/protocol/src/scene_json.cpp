@@ -164,22 +164,28 @@ base::Result<scene::TransferFunction> transfer_function_from(
     PENUMBRA_TRY(optional_member(j, p, "space", space, [](const json& v, const std::string& q) {
         return string(v, q, 16);
     }));
-    if (space != "normalized" && space != "data") {
-        return field_error("invalid_value", p + "/space", "expected normalized or data");
+    if (space != "normalized" && space != "data" && space != "hounsfield") {
+        return field_error("invalid_value", p + "/space",
+                           "expected normalized, hounsfield or data");
+    }
+    if (space == "hounsfield") {
+        tf.space = scene::PositionSpace::hounsfield;
     }
     if (space == "data" && !range) {
         return field_error("invalid_value", p + "/space", "data positions need a volume range");
     }
     // Positions outside the range are accepted and clamped by validation's own message below.
     const auto to_unit = [&](double x) {
-        if (space == "normalized") {
+        if (space != "data") {
             return x;
         }
         const double width = range->second - range->first;
         return width > 0.0 ? (x - range->first) / width : 0.0;
     };
-    const double position_limit = space == "data" ? 1e30 : 1.0;
-    const double position_low = space == "data" ? -1e30 : 0.0;
+    const double position_limit = space == "data"         ? 1e30
+                                  : space == "hounsfield" ? scene::max_hounsfield_position
+                                                          : 1.0;
+    const double position_low = space == "normalized" ? 0.0 : -position_limit;
     for (const char* list : {"colors", "opacities"}) {
         if (!j.contains(list)) {
             continue;
@@ -481,7 +487,7 @@ std::string state_to_json(const SessionState& state) {
               {"ambient", f.light.ambient}}},
             {"transfer_function",
              {{"name", f.transfer_function.name},
-              {"space", "normalized"},
+              {"space", scene::to_string(f.transfer_function.space)},
               {"colors", colors},
               {"opacities", opacities}}},
             {"settings",

@@ -82,7 +82,8 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const bool phong = scene::uses_gradients(s);
     const bool shadows = s.mode == scene::Mode::reference;
     const VolumeSampler sampler(volume);
-    const TransferFunctionTable tf(request.transfer_function);
+    const TransferFunctionTable tf(request.transfer_function,
+                                   {volume.range.min, volume.range.max, volume.hounsfield});
     const scene::CameraFrame camera =
             scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
 

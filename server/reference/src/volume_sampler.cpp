@@ -70,8 +70,9 @@ glm::dvec3 VolumeSampler::gradient(glm::dvec3 world) const {
     return box_.to_world(along_axes / (2.0 * h));
 }
 
-TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf)
-    : table_(scene::bake(tf, scene::default_table_size)) {}
+TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf,
+                                             const scene::ValueDomain& values)
+    : table_(scene::bake(tf, scene::default_table_size, values)) {}
 
 glm::dvec4 TransferFunctionTable::classify(double normalized_value) const {
     const AxisSample s =

@@ -726,7 +726,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         impl.volume_uploaded_this_frame = false;
     }
     const std::vector<glm::vec4> table =
-            scene::bake(request.transfer_function, scene::default_table_size);
+            scene::bake(request.transfer_function, scene::default_table_size,
+                        {impl.volume->range.min, impl.volume->range.max, impl.volume->hounsfield});
     if (auto tf_ms = impl.update_transfer_function(table)) {
         frame.report.passes.push_back({"transfer_function", 0.0, *tf_ms});
     }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <set>
 
 namespace penumbra::session {
 namespace {
@@ -27,6 +28,15 @@ std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& fo
         found = found || volume::is_dicom_file(it->path());
     }
     return found ? std::optional(bytes) : std::nullopt;
+}
+
+// Why a file was not listed: what a volume's name ends with.
+std::string not_a_volume_reason() {
+    std::string reason = "not a volume (names ending";
+    for (const std::string_view suffix : volume::volume_suffixes()) {
+        reason += " " + std::string(suffix);
+    }
+    return reason + ", or DICOM files in a folder)";
 }
 
 }  // namespace
@@ -77,35 +87,85 @@ base::Status VolumeStore::scan() {
     // Taken before the walk: a change during it asks for another scan.
     const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     std::vector<VolumeEntry> found;
+    std::vector<std::string> skipped;
+    // Ids are the paths as walked, below `top`: lexically, never through the links they pass.
+    std::filesystem::path top = data_dir_;
+    if (!top.has_filename() && top.has_parent_path()) {
+        top = top.parent_path();  // "data/" walks as "data"
+    }
+    const auto relative = [&](const std::filesystem::path& path) {
+        return path.lexically_relative(top).generic_string();
+    };
+    const auto skip = [&](const std::filesystem::path& path, const std::string& why) {
+        skipped.push_back(relative(path) + ": " + why);
+    };
     const auto add_series_if_dicom = [&](const std::filesystem::path& folder) {
         if (const auto bytes = dicom_series_bytes(folder)) {
             VolumeEntry entry;
             entry.path = folder;
-            entry.id = std::filesystem::relative(folder, data_dir_, ec).generic_string();
+            entry.id = relative(folder);
             entry.file_bytes = *bytes;
             found.push_back(std::move(entry));
+            return true;
         }
+        return false;
     };
-    add_series_if_dicom(data_dir_);
+    // Links the administrator put in the data folder are followed, to files and to folders; a
+    // volume keeps the name of the link (clients name volumes by the listed id only, never by
+    // path). A folder reached twice (a link loop, or two links to one folder) is walked once.
+    std::set<std::filesystem::path> walked{std::filesystem::canonical(top, ec)};
+    const bool top_is_series = add_series_if_dicom(top);
     for (auto it = std::filesystem::recursive_directory_iterator(
-                 data_dir_, std::filesystem::directory_options::skip_permission_denied, ec);
+                 top,
+                 std::filesystem::directory_options::skip_permission_denied |
+                         std::filesystem::directory_options::follow_directory_symlink,
+                 ec);
          !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
-        // Links could lead outside the data directory; only plain files and folders inside it
-        // are offered.
-        if (it->is_symlink(ec)) {
+        const std::filesystem::path& path = it->path();
+        const std::string name = path.filename().string();
+        if (name.starts_with('.')) {
+            it.disable_recursion_pending();
             continue;
         }
-        if (it->is_directory(ec)) {
-            add_series_if_dicom(it->path());
+        std::error_code status_error;
+        const auto status = std::filesystem::status(path, status_error);
+        if (status_error || !std::filesystem::exists(status)) {
+            skip(path, it->is_symlink(ec) ? "a link to nothing (" + status_error.message() + ")"
+                                          : "cannot be read (" + status_error.message() + ")");
             continue;
         }
-        if (!it->is_regular_file(ec) || !volume::is_volume_file_name(it->path())) {
+        if (std::filesystem::is_directory(status)) {
+            if (!walked.insert(std::filesystem::canonical(path, ec)).second) {
+                skip(path, "a folder already listed through another path (a link loop?)");
+                it.disable_recursion_pending();
+                continue;
+            }
+            add_series_if_dicom(path);
+            continue;
+        }
+        if (!std::filesystem::is_regular_file(status)) {
+            skip(path, "not a regular file");
+            continue;
+        }
+        if (!volume::is_volume_file_name(path)) {
+            const bool in_series =
+                    (path.parent_path() == top && top_is_series) ||
+                    std::any_of(found.begin(), found.end(),
+                                [&](const VolumeEntry& e) { return e.path == path.parent_path(); });
+            // The data of a .hdr/.img pair, listed as its header.
+            const bool pair_data =
+                    path.extension() == ".img" &&
+                    std::filesystem::exists(std::filesystem::path(path).replace_extension(".hdr"),
+                                            ec);
+            if (!in_series && !pair_data) {
+                skip(path, not_a_volume_reason());
+            }
             continue;
         }
         VolumeEntry entry;
-        entry.path = it->path();
-        entry.id = std::filesystem::relative(it->path(), data_dir_, ec).generic_string();
-        entry.file_bytes = it->file_size(ec);
+        entry.path = path;
+        entry.id = relative(path);
+        entry.file_bytes = std::filesystem::file_size(path, ec);
         found.push_back(std::move(entry));
     }
     std::sort(found.begin(), found.end(),
@@ -118,9 +178,21 @@ base::Status VolumeStore::scan() {
             entry.loaded = old->loaded;
         }
     }
+    // Each skipped file is logged once, not at every rescan.
+    for (const std::string& line : skipped) {
+        if (std::find(skipped_.begin(), skipped_.end(), line) == skipped_.end()) {
+            base::log_warning("volumes", "skipped " + line);
+        }
+    }
     entries_ = std::move(found);
+    skipped_ = std::move(skipped);
     scanned_mtime_ = mtime;
     return base::Ok{};
+}
+
+std::vector<std::string> VolumeStore::skipped() const {
+    const std::lock_guard lock(mutex_);
+    return skipped_;
 }
 
 std::vector<VolumeEntry> VolumeStore::list() const {

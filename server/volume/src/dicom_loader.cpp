@@ -4,7 +4,10 @@
 // Rules this loader adds on top of the library:
 //   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
 //     read; other files (README.txt, .DS_Store, thumbnails) and DICOM objects without pixel data
-//     (DICOMDIR, reports) are skipped and counted in the log. Sub-folders are not searched.
+//     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
+//     secondary captures, float or odd bit depths) are skipped with a warning naming each, so the
+//     series beside them opens; a folder of nothing else is that image's error. Sub-folders are
+//     not searched.
 //   - Several series in one folder: the one with the most slices is loaded and the log names the
 //     ones left out, so a folder exported with a scout or a dose report still opens.
 //   - Slices (and the frames of multi-frame files, whose positions may sit in the functional
@@ -849,9 +852,20 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     }
     std::vector<Image> images;
     std::size_t not_images = 0;
+    std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
     for (const auto& path : *files) {
         Image image;
         auto opened = open_image(path, image);
+        // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
+        // not a slice of any series here: skipped with a warning, so the series beside it opens.
+        if (!opened && opened.error().code == "unsupported_type") {
+            base::log_warning(log_component,
+                              "skipped " + opened.error().where + ": " + opened.error().message);
+            if (!other_kind) {
+                other_kind = opened.error();
+            }
+            continue;
+        }
         if (!opened) {
             return opened.error();
         }
@@ -860,6 +874,9 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
             continue;
         }
         images.push_back(std::move(image));
+    }
+    if (images.empty() && other_kind) {
+        return *other_kind;
     }
     if (images.empty() && not_dicom + not_images == 0) {
         return base::make_error("no_dicom_images", "the folder holds no files",

@@ -207,8 +207,11 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
 base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                      const LoadOptions& options) {
     const std::string lower = detail::lower_file_name(path);
-    if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz")) {
-        return base::make_error("bad_file_name", "a NIfTI file name must end in .nii or .nii.gz",
+    if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz") &&
+        !detail::has_suffix(lower, ".hdr")) {
+        return base::make_error("bad_file_name",
+                                "a NIfTI file name must end in .nii, .nii.gz or .hdr (with its "
+                                ".img beside it)",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {
@@ -288,8 +291,8 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     if (auto status = detail::check_budget(layout.stored_bytes(), what, path, options); !status) {
         return status.error();
     }
-    // A two-file header (.hdr/.img magic "ni1" in a file named .nii) keeps its data in the file
-    // the library derives from the header's own name, in the same folder.
+    // A two-file header (.hdr/.img, SPM's output; magic "ni1", or Analyze 7.5) keeps its data in
+    // the file the library derives from the header's own name, in the same folder.
     const std::filesystem::path data_file = image->iname != nullptr ? image->iname : path;
     detail::SampleSink sink(layout);
     if (auto status = read_samples(data_file, static_cast<std::uint64_t>(image->iname_offset), sink,
@@ -303,7 +306,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
         return geometry.error();
     }
     const std::string name =
-            detail::strip_suffix(path, std::array<std::string_view, 2>{".nii.gz", ".nii"});
+            detail::strip_suffix(path, std::array<std::string_view, 3>{".nii.gz", ".nii", ".hdr"});
     auto volume = make_volume(
             name,
             glm::uvec3(static_cast<std::uint32_t>(sizes[0]), static_cast<std::uint32_t>(sizes[1]),

@@ -7,6 +7,7 @@
 #include "memory_budget.hpp"
 #include "samples.hpp"
 
+#include <penumbra/base/log.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <array>
@@ -17,6 +18,8 @@
 #include <string_view>
 #include <utility>
 
+#include <bzlib.h>
+
 namespace penumbra::volume {
 namespace {
 
@@ -26,7 +29,7 @@ using detail::SampleType;
 // happens to start with the magic from being read whole as "header".
 constexpr std::uint64_t max_header_bytes = std::uint64_t{16} << 20;
 
-enum class Encoding { raw, gzip, ascii };
+enum class Encoding { raw, gzip, bzip2, ascii };
 
 // A header value and the line it came from, for error messages.
 template <class T>
@@ -51,6 +54,7 @@ struct Header {
     bool hounsfield = false;  // the key/value penumbra_units:=HU
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
+    bool hounsfield = false;        // key/value "penumbra_units:=HU"
 };
 
 std::string_view trim(std::string_view text) {
@@ -450,11 +454,11 @@ private:
             return error("bad_header",
                          "dimension must be a positive integer, got '" + std::string(value) + "'");
         }
-        if (*dimension != 3) {
+        if (*dimension != 3 && *dimension != 4) {
             return error("unsupported_dimension",
                          "dimension " + std::to_string(*dimension) +
                                  " is not supported: Penumbra reads 3-D scalar volumes "
-                                 "(dimension: 3)");
+                                 "(dimension: 3) and the first volume of 4-D ones");
         }
         header_.dimension.value = *dimension;
         return base::Ok{};
@@ -497,12 +501,14 @@ private:
             header_.encoding.value = Encoding::raw;
         } else if (encoding == "gzip" || encoding == "gz") {
             header_.encoding.value = Encoding::gzip;
+        } else if (encoding == "bzip2" || encoding == "bz2") {
+            header_.encoding.value = Encoding::bzip2;
         } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
             header_.encoding.value = Encoding::ascii;
         } else {
             return error("unsupported_encoding",
                          "encoding '" + std::string(value) +
-                                 "' is not supported (supported: raw, gzip, ascii)");
+                                 "' is not supported (supported: raw, gzip, bzip2, ascii)");
         }
         return base::Ok{};
     }
@@ -560,7 +566,8 @@ struct Layout {
     Encoding encoding = Encoding::raw;
     bool big_endian = false;
     std::uint64_t voxels = 0;
-    std::uint64_t bytes = 0;
+    std::uint64_t bytes = 0;    // of the volume read (the first of a 4-D file)
+    std::uint64_t volumes = 1;  // a 4-D file's 4th size
 };
 
 base::Result<Layout> check_header(const Header& header, const std::filesystem::path& path) {
@@ -583,11 +590,24 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     }
     const auto at = [&](std::size_t line) { return detail::at_line(path, line); };
     const auto& sizes = *header.sizes.value;
-    if (sizes.size() != 3) {
+    const std::size_t dimension = static_cast<std::size_t>(*header.dimension.value);
+    const std::string is_dimension = " but the dimension is " + std::to_string(dimension);
+    if (sizes.size() != dimension) {
         return base::make_error(
                 "bad_header",
-                "sizes lists " + std::to_string(sizes.size()) + " values but the dimension is 3",
+                "sizes lists " + std::to_string(sizes.size()) + " values" + is_dimension,
                 at(header.sizes.line));
+    }
+    // A 4-D file opens its first volume, as 4-D NIfTI does: its 4th axis must list the volumes
+    // (each volume contiguous); a first axis of values per voxel (DWI gradients, vectors) is not
+    // a stack of volumes.
+    if (dimension == 4 && header.directions.value && header.directions.value->size() == 4 &&
+        (*header.directions.value)[0].empty() && !(*header.directions.value)[3].empty()) {
+        return base::make_error("unsupported_dimension",
+                                "the first axis of this 4-D file is not spatial (values per "
+                                "voxel, as DWI gradients or vectors); Penumbra opens 4-D files "
+                                "whose 4th axis lists volumes",
+                                at(header.directions.line));
     }
     Layout layout;
     layout.dims = glm::uvec3(sizes[0], sizes[1], sizes[2]);
@@ -595,6 +615,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     layout.encoding = *header.encoding.value;
     layout.voxels = std::uint64_t{layout.dims.x} * layout.dims.y * layout.dims.z;
     layout.bytes = layout.voxels * detail::sample_size(layout.type);
+    layout.volumes = dimension == 4 ? sizes[3] : 1;
 
     const bool endian_matters =
             detail::sample_size(layout.type) > 1 && layout.encoding != Encoding::ascii;
@@ -628,10 +649,10 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     glm::dmat3 steps(1.0);
     if (header.directions.value) {
         const auto& directions = *header.directions.value;
-        if (directions.size() != 3) {
+        if (directions.size() != dimension) {
             return base::make_error("bad_header",
                                     "space directions lists " + std::to_string(directions.size()) +
-                                            " entries but the dimension is 3",
+                                            " entries" + is_dimension,
                                     at(header.directions.line));
         }
         for (int axis = 0; axis < 3; ++axis) {
@@ -657,11 +678,11 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
         }
     } else if (header.spacings.value) {
         const auto& spacings = *header.spacings.value;
-        if (spacings.size() != 3) {
-            return base::make_error("bad_header",
-                                    "spacings lists " + std::to_string(spacings.size()) +
-                                            " values but the dimension is 3",
-                                    at(header.spacings.line));
+        if (spacings.size() != dimension) {
+            return base::make_error(
+                    "bad_header",
+                    "spacings lists " + std::to_string(spacings.size()) + " values" + is_dimension,
+                    at(header.spacings.line));
         }
         for (int axis = 0; axis < 3; ++axis) {
             const double spacing = spacings[static_cast<std::size_t>(axis)];
@@ -736,8 +757,9 @@ base::Result<std::filesystem::path> data_path(const Header& header,
                                 at_field);
     };
     std::error_code ec;
-    const auto folder = std::filesystem::weakly_canonical(
-            std::filesystem::absolute(path, ec).parent_path(), ec);
+    // The header's own folder, also when `path` is a link to it (a data folder may hold links).
+    const auto folder = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec)
+                                .parent_path();
     if (ec) {
         return base::make_error("read_failed",
                                 "cannot resolve the header's folder: " + ec.message(),
@@ -752,7 +774,7 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     if (!lies_within(resolved, folder)) {
         return outside();
     }
-    return data.is_absolute() ? data : path.parent_path() / data;
+    return data.is_absolute() ? data : folder / data;
 }
 
 // Skips `lines` newline-terminated lines of the data file, as "line skip" asks.
@@ -784,16 +806,18 @@ base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path, c
         return size.error();
     }
     if (byte_skip == -1) {
-        // "byte skip: -1" means the data are the last bytes of the file.
-        if (*size < offset + layout.bytes) {
+        // "byte skip: -1" means the data are the last bytes of the file (all volumes of a 4-D
+        // file, the first of which is read).
+        const std::uint64_t all_bytes = layout.bytes * layout.volumes;
+        if (*size < offset || *size - offset < all_bytes) {
             return base::make_error("truncated",
-                                    "expected " + std::to_string(layout.bytes) +
+                                    "expected " + std::to_string(all_bytes) +
                                             " bytes of data at the end of the file, after byte " +
                                             std::to_string(offset) + ", but the file holds " +
                                             std::to_string(*size) + " bytes",
                                     detail::at_byte(path, *size));
         }
-        offset = *size - layout.bytes;
+        offset = *size - all_bytes;
     } else {
         offset += static_cast<std::uint64_t>(byte_skip);
     }
@@ -823,6 +847,79 @@ base::Status read_raw(std::FILE* file, const std::filesystem::path& path, const 
                                         " bytes of data from byte " + std::to_string(offset) +
                                         ", read only " + std::to_string(*got),
                                 detail::at_byte(path, offset + *got));
+    }
+    return base::Ok{};
+}
+
+// Decompresses the bzip2 stream at the file's current position (libbz2), drops the first
+// `byte_skip` bytes of output (NRRD applies it to the decompressed data) and fills `sink`. It stops
+// once the sink is full, so a small file that expands to terabytes costs neither memory nor much
+// time.
+base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
+                        std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
+    bz_stream bz{};
+    if (BZ2_bzDecompressInit(&bz, 0, 0) != BZ_OK) {
+        return base::make_error("read_failed", "libbz2 could not start a decompressor",
+                                detail::at_file(path));
+    }
+
+    struct EndDecompress {
+        bz_stream* bz;
+
+        ~EndDecompress() { BZ2_bzDecompressEnd(bz); }
+    } end_decompress{&bz};
+
+    std::vector<char> input(std::size_t{1} << 16);
+    std::array<char, 1 << 14> scratch{};
+    std::uint64_t skip_left = static_cast<std::uint64_t>(byte_skip);
+    std::uint64_t produced = 0;
+    std::uint64_t consumed = 0;
+    bool input_ended = false;
+    while (produced < layout.bytes) {
+        if (bz.avail_in == 0 && !input_ended) {
+            const std::size_t got = std::fread(input.data(), 1, input.size(), file);
+            if (got < input.size() && std::ferror(file)) {
+                return base::make_error("read_failed",
+                                        std::string("read error: ") + std::strerror(errno),
+                                        detail::at_byte(path, offset + consumed));
+            }
+            input_ended = got == 0;
+            bz.next_in = input.data();
+            bz.avail_in = static_cast<unsigned>(got);
+        }
+        const bool skipping = skip_left > 0;
+        const std::span<std::byte> window = skipping ? std::span<std::byte>() : sink.window();
+        if (skipping) {
+            bz.next_out = scratch.data();
+            bz.avail_out =
+                    static_cast<unsigned>(std::min<std::uint64_t>(scratch.size(), skip_left));
+        } else {
+            bz.next_out = reinterpret_cast<char*>(window.data());
+            bz.avail_out = static_cast<unsigned>(std::min<std::uint64_t>(window.size(), 1U << 30));
+        }
+        const unsigned in_before = bz.avail_in;
+        const unsigned out_before = bz.avail_out;
+        const int ret = BZ2_bzDecompress(&bz);
+        consumed += in_before - bz.avail_in;
+        const std::uint64_t out = out_before - bz.avail_out;
+        if (skipping) {
+            skip_left -= out;
+        } else {
+            sink.commit(static_cast<std::size_t>(out));
+            produced += out;
+        }
+        if (ret != BZ_OK && ret != BZ_STREAM_END) {
+            return base::make_error("corrupt_data",
+                                    "invalid bzip2 data (libbz2 error " + std::to_string(ret) + ")",
+                                    detail::at_byte(path, offset + consumed));
+        }
+        if ((ret == BZ_STREAM_END || (input_ended && out == 0)) && produced < layout.bytes) {
+            return base::make_error("truncated",
+                                    "expected " + std::to_string(layout.bytes) +
+                                            " bytes of decompressed data, got " +
+                                            std::to_string(produced),
+                                    detail::at_byte(path, offset));
+        }
     }
     return base::Ok{};
 }
@@ -978,6 +1075,10 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
             .type = layout->type, .voxels = layout->voxels, .big_endian = layout->big_endian};
     std::string what = std::to_string(layout->dims.x) + "x" + std::to_string(layout->dims.y) + "x" +
                        std::to_string(layout->dims.z) + " " + detail::sample_name(layout->type);
+    if (layout->volumes > 1) {
+        base::log_info("volume", path.filename().string() + ": " + std::to_string(layout->volumes) +
+                                         " volumes in the file; loading the first");
+    }
     if (!detail::is_kept(layout->type)) {
         what += std::string(" kept as ") + to_string(samples.stored());
     }
@@ -1021,8 +1122,10 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
             auto start = raw_data_offset(*source, *layout, byte_skip, offset);
             status = start ? read_raw(data, *source, *layout, *start, sink)
                            : base::Status(start.error());
-        } else {
+        } else if (layout->encoding == Encoding::gzip) {
             status = read_gzip(data, *source, *layout, byte_skip, offset, sink);
+        } else {
+            status = read_bzip2(data, *source, *layout, byte_skip, offset, sink);
         }
         if (!status) {
             return status.error();

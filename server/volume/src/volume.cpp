@@ -340,6 +340,7 @@ struct FileFormat {
 constexpr FileFormat file_formats[] = {
         {".nii", load_nifti}, {".nii.gz", load_nifti}, {".nrrd", load_nrrd},
         {".nhdr", load_nrrd}, {".raw", load_raw},      {".raw.gz", load_raw},
+        {".hdr", load_nifti},  // with its .img beside it
 };
 
 constexpr std::string_view dicom_suffixes[] = {".dcm", ".dicom"};
@@ -391,7 +392,7 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
         }
         return base::make_error("unknown_format",
                                 "unknown volume file type; supported: " + supported +
-                                        "(raw: name_XxYxZ_type.raw), DICOM files and folders",
+                                        "(.hdr with its .img; raw: name_XxYxZ_type.raw), DICOM files and folders",
                                 detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {

@@ -48,6 +48,7 @@ std::vector<std::string> text_messages() {
     ct.dims[2] = 113;
     ct.spacing[2] = 2.0;
     ct.voxel_type = "uint16";
+    ct.hounsfield = true;
     VolumeSummary floats = colin;
     floats.id = "float";
     floats.voxel_type = "float32";

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace penumbra::scene {
 namespace {
@@ -57,12 +59,70 @@ TEST(TransferFunction, ValidateRejectsOutOfRangeAndUnsortedPoints) {
     EXPECT_FALSE(validate(tf).ok());
 }
 
+// The value entry i of a table baked over [min, max] stands for.
+double table_value(const ValueDomain& domain, std::size_t i, std::size_t size) {
+    return domain.min +
+           static_cast<double>(i) / static_cast<double>(size - 1) * (domain.max - domain.min);
+}
+
+TEST(TransferFunction, BonePresetSelectsBoneInHounsfieldUnitsOnEveryCtRange) {
+    // Ranges real CTs have: 12-bit scanners, an outside-the-scan value of -2048 or -3024, a
+    // metal implant at the top of int16, a cropped volume.
+    const TransferFunction bone = preset("ct_bone").value();
+    for (const auto& [min, max] : {std::pair{-1024.0, 3071.0},
+                                   {-2048.0, 4095.0},
+                                   {-3024.0, 3071.0},
+                                   {-1024.0, 32767.0},
+                                   {-1000.0, 2000.0},
+                                   {-200.0, 1500.0}}) {
+        const ValueDomain domain{min, max, true};
+        const auto table = bake(bone, default_table_size, domain);
+        for (std::size_t i = 0; i < table.size(); ++i) {
+            const double hu = table_value(domain, i, table.size());
+            if (hu >= 300.0) {
+                EXPECT_GE(table[i].a, 0.5f) << hu << " HU on " << min << ".." << max;
+            } else if (hu < 150.0) {
+                EXPECT_EQ(table[i].a, 0.0f) << hu << " HU on " << min << ".." << max;
+            }
+        }
+    }
+}
+
+TEST(TransferFunction, CtPresetsReadANonHounsfieldVolumeAsTheTwelveBitCtRange) {
+    // A CT stored as a raw int16 file is not marked as HU: its range is taken as -1024..3071.
+    const auto table = bake(preset("ct_bone").value(), default_table_size, {0.0, 255.0, false});
+    EXPECT_EQ(table, bake(preset("ct_bone").value(), default_table_size, nominal_ct_domain));
+}
+
+TEST(TransferFunction, EveryCtPresetIsInHounsfieldUnitsAndSeparatesTissues) {
+    for (const std::string& name : hounsfield_preset_names()) {
+        const TransferFunction tf = preset(name).value();
+        EXPECT_EQ(tf.space, PositionSpace::hounsfield) << name;
+        EXPECT_TRUE(validate(tf).ok()) << name;
+        EXPECT_EQ(tf.evaluate(-1000.0).a, 0.0) << name << " hides air";
+    }
+    EXPECT_GT(preset("ct_lung").value().evaluate(-700.0).a, 0.0);
+    EXPECT_EQ(preset("ct_lung").value().evaluate(40.0).a, 0.0);
+    EXPECT_GT(preset("ct_skin").value().evaluate(-100.0).a, 0.3);
+    EXPECT_GT(preset("ct_soft_tissue").value().evaluate(40.0).a, 0.0);
+    EXPECT_GT(preset("ct_angio").value().evaluate(300.0).a, 0.5);
+    EXPECT_EQ(preset("ct_angio").value().evaluate(40.0).a, 0.0);
+}
+
+TEST(TransferFunction, ValidateBoundsHounsfieldPositions) {
+    TransferFunction tf = preset("ct_bone").value();
+    tf.opacities.back().x = 2.0 * max_hounsfield_position;
+    EXPECT_EQ(validate(tf).error().where, "transfer_function.opacities[3]");
+}
+
 TEST(TransferFunction, EveryPresetIsValidAndUnknownNamesAreListed) {
     for (const auto& name : preset_names()) {
         auto tf = preset(name);
         ASSERT_TRUE(tf.ok()) << name;
         EXPECT_TRUE(validate(*tf).ok()) << name;
-        EXPECT_GT(tf->evaluate(1.0).a, 0.0) << name;
+        const auto table = bake(*tf, default_table_size, nominal_ct_domain);
+        EXPECT_TRUE(std::any_of(table.begin(), table.end(), [](auto e) { return e.a > 0.0f; }))
+                << name << " shows something";
     }
     auto unknown = preset("nope");
     ASSERT_FALSE(unknown.ok());

@@ -104,14 +104,53 @@ TEST_F(VolumeStoreTest, DicomFilesRightInTheDataFolderAreTheVolumeDot) {
     EXPECT_EQ((*loaded)->dims, glm::uvec3(4, 4, 2));
 }
 
-TEST_F(VolumeStoreTest, ALinkedFolderIsNotOffered) {
+// The administrator links volumes and folders kept elsewhere into the data folder: they are
+// listed under the link's name and open through it.
+TEST_F(VolumeStoreTest, LinksInTheDataFolderAreFollowedAndNamedByTheLink) {
     const fs::path outside = data_.parent_path() / (data_.filename().string() + "-outside");
-    write_series(outside, {4, 4, 2});
-    fs::create_directory_symlink(outside, data_ / "link");
+    write_series(outside / "series", {4, 4, 2});
+    write_text(outside / "heads" / "a_2x2x2_uint8.raw", "12345678");
+    fs::create_directory_symlink(outside / "series", data_ / "ct");
+    fs::create_symlink(outside / "heads" / "a_2x2x2_uint8.raw", data_ / "b_2x2x2_uint8.raw");
+    fs::create_directory_symlink(data_, data_ / "loop");  // walked once, not forever
+    fs::create_symlink(data_ / "nothing.nrrd", data_ / "broken.nrrd");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"b_2x2x2_uint8.raw", "ct"}));
+    auto series = store.acquire("ct");
+    ASSERT_TRUE(series.ok()) << series.error().to_string();
+    EXPECT_EQ((*series)->dims, glm::uvec3(4, 4, 2));
+    auto raw = store.acquire("b_2x2x2_uint8.raw");
+    ASSERT_TRUE(raw.ok()) << raw.error().to_string();
+    EXPECT_EQ((*raw)->value(1, 1, 1), static_cast<double>('8'));
+    // Only listed ids open: the link's target by its own path does not.
+    EXPECT_FALSE(store.acquire((outside / "heads" / "a_2x2x2_uint8.raw").string()).ok());
+    EXPECT_FALSE(
+            store.acquire("../" + outside.filename().string() + "/heads/a_2x2x2_uint8.raw").ok());
+    fs::remove_all(outside);
+}
+
+// `--data DIR` showing no volume says why: every file passed over is reported with its reason.
+TEST_F(VolumeStoreTest, EverySkippedFileIsReportedWithWhy) {
+    write_text(data_ / "notes" / "plan.txt", "not a volume");
+    write_text(data_ / "head.nii.bak", "not a volume name either");
+    fs::create_symlink(data_ / "gone.nrrd", data_ / "broken.nrrd");
     VolumeStore store(data_, std::size_t{1} << 20);
     ASSERT_TRUE(store.scan().ok());
     EXPECT_TRUE(store.list().empty());
-    fs::remove_all(outside);
+    const std::vector<std::string> skipped = store.skipped();
+    ASSERT_EQ(skipped.size(), 3U);
+    const auto reason = [&](const std::string& id) {
+        for (const std::string& line : skipped) {
+            if (line.starts_with(id + ": ")) {
+                return line.substr(id.size() + 2);
+            }
+        }
+        return std::string("(not reported)");
+    };
+    EXPECT_NE(reason("notes/plan.txt").find("not a volume"), std::string::npos);
+    EXPECT_NE(reason("head.nii.bak").find(" .nii.gz"), std::string::npos);
+    EXPECT_NE(reason("broken.nrrd").find("a link to nothing"), std::string::npos);
 }
 
 TEST_F(VolumeStoreTest, LoadsRunOnALoaderThreadAndEachVolumeGetsOneHistogram) {

@@ -318,6 +318,34 @@ TEST(DicomLoader, FolderWithSeveralSeriesLoadsTheLargest) {
     expect_ch2_voxels(*volume, words);
 }
 
+// Clinics export a series with an RGB secondary capture (a screenshot) beside it: pydicom's real
+// one (Debian's python3-pydicom) is skipped with a warning and the series opens; alone, it is
+// refused saying why.
+TEST(DicomLoader, AnRgbCaptureInTheFolderIsSkippedAndTheSeriesOpens) {
+    const std::filesystem::path rgb =
+            "/usr/lib/python3/dist-packages/pydicom/data/test_files/SC_rgb_small_odd.dcm";
+    ASSERT_TRUE(std::filesystem::exists(rgb)) << rgb << " comes with Debian's python3-pydicom";
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
+    SeriesSpec spec;
+    spec.dims = {16, 8, 3};
+    fixtures::write_series(dir / "s", spec, words);
+    std::filesystem::copy_file(rgb, dir / "s" / "screenshot.dcm");
+
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(16, 8, 3));
+    expect_ch2_voxels(*volume, words);
+
+    std::filesystem::create_directories(dir / "only");
+    std::filesystem::copy_file(rgb, dir / "only" / "screenshot.dcm");
+    auto alone = load_volume(dir / "only");
+    ASSERT_FALSE(alone.ok());
+    EXPECT_EQ(alone.error().code, "unsupported_type");
+    EXPECT_NE(alone.error().message.find("samples per pixel"), std::string::npos)
+            << alone.error().message;
+}
+
 TEST(DicomLoader, FilesThatAreNotDicomAreSkipped) {
     fixtures::TempDir dir;
     const auto words = fixtures::ch2_box(box_first, {16, 8, 3});

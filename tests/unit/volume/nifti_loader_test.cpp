@@ -218,6 +218,23 @@ TEST(NiftiLoader, FourDimensionalFileLoadsItsFirstVolume) {
     EXPECT_EQ(volume->data, std::vector<std::byte>(data.begin(), data.begin() + 8));
 }
 
+// SPM's default output: a .hdr header with its voxels in the .img beside it.
+TEST(NiftiLoader, HdrImgPairOpensThroughItsHeader) {
+    fixtures::TempDir dir;
+    NiftiSpec spec;
+    spec.nifti_type = NIFTI_FTYPE_NIFTI1_2;
+    spec.spacing = {2.0, 3.0, 4.0};
+    const auto data = sequence_uint8(8);
+    write_nifti(dir / "spm.hdr", spec, data);
+    ASSERT_TRUE(std::filesystem::exists(dir / "spm.img"));
+    auto volume = load_volume(dir / "spm.hdr");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->name, "spm");
+    EXPECT_EQ(volume->dims, glm::uvec3(2, 2, 2));
+    EXPECT_EQ(volume->spacing, glm::dvec3(2.0, 3.0, 4.0));
+    EXPECT_EQ(volume->data, data);
+}
+
 TEST(NiftiLoader, ZeroSpacingBecomesOneAndNegativeSpacingItsSize) {
     fixtures::TempDir dir;
     NiftiSpec spec;

@@ -15,4 +15,9 @@ namespace penumbra::base {
 // Nothing when no folder above the binary has share/penumbra/<part>.
 std::optional<std::filesystem::path> data_dir(std::string_view part);
 
+// The user's cache folder for Penumbra, where what is measured or converted once is kept (the
+// start-up quality table, the CT converted by scripts/cranium-ct.py): $XDG_CACHE_HOME/penumbra,
+// else ~/.cache/penumbra; nothing without either variable. It may not exist yet.
+std::optional<std::filesystem::path> user_cache_dir();
+
 }  // namespace penumbra::base

@@ -95,6 +95,7 @@ struct VolumeSummary {
     double spacing[3] = {1, 1, 1};
     std::string voxel_type;
     double range[2] = {0, 0};
+    bool hounsfield = false;  // the values are Hounsfield units: the CT presets suit it
     bool loaded = false;
 };
 

@@ -40,7 +40,7 @@ private:
 // A baked TF table read like the GPU's linearly filtered, edge-clamped 1D texture.
 class TransferFunctionTable {
 public:
-    explicit TransferFunctionTable(const scene::TransferFunction& tf);
+    TransferFunctionTable(const scene::TransferFunction& tf, const scene::ValueDomain& values);
 
     [[nodiscard]] glm::dvec4 classify(double normalized_value) const;
 

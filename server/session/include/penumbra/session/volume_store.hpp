@@ -4,6 +4,7 @@
 #include <penumbra/session/worker_pool.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -29,10 +30,12 @@ struct VolumeEntry {
 };
 
 // The volumes a server offers: every supported file under one data directory, and every folder
-// holding DICOM files (one series, one volume; its files are not listed apart). A volume is loaded
+// holding DICOM files (one series, one volume; its files are not listed apart). Links in the data
+// directory are followed (the administrator put them there); a volume is named by its path in the
+// data directory, the link's, whatever the link points to. A volume is loaded
 // once, on first use, and shared by every session that opens it; loaded volumes beyond the memory
 // budget are dropped least recently used first (sessions holding one keep it alive). Ids are
-// relative paths that never leave the data directory.
+// relative paths within the data directory; only listed ids are opened.
 //
 // Nothing here that reads files needs to run on the caller's thread: loads run on the store's
 // loader threads (acquire_async), the folder is rescanned by a thread of its own, and list()
@@ -59,6 +62,10 @@ public:
 
     // The volumes of the last scan.
     [[nodiscard]] std::vector<VolumeEntry> list() const;
+
+    // What the last scan passed over, each as "relative/path: why" (not a volume file, a broken
+    // link, a folder reached twice); each is also logged once, when first seen.
+    [[nodiscard]] std::vector<std::string> skipped() const;
 
     // Loads (or returns the loaded) volume `id`. Unknown ids, ids reaching outside the data
     // directory and unreadable files are Errors ("unknown_volume", or the loader's code), whose
@@ -91,6 +98,7 @@ private:
     mutable std::mutex mutex_;
     std::mutex load_mutex_;
     std::vector<VolumeEntry> entries_;
+    std::vector<std::string> skipped_;
     std::list<std::string> recent_;  // loaded ids, most recent first
     std::size_t loads_ = 0;
 

@@ -142,10 +142,12 @@ struct LoadOptions {
 //          spacing 1 unless the file name carries none (the caller may override it).
 //          No orientation: identity axes, origin 0.
 //   NRRD:  .nrrd (attached) and .nhdr (detached "data file", which must lie in the header's
-//          folder or below it), encodings raw, gzip and ascii, spacings or space directions;
-//          axes and origin from space, space directions and space origin.
-//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2); the header through the reference nifti library;
-//          axes and origin from the sform, else the qform.
+//          folder or below it), encodings raw, gzip, bzip2 and ascii, spacings or space
+//          directions; axes and origin from space, space directions and space origin; a 4-D
+//          file opens its first volume.
+//   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2), and .hdr/.img pairs (SPM's output, Analyze 7.5
+//          too); the header through the reference nifti library; axes and origin from the
+//          sform, else the qform.
 //   DICOM: a folder holding the files of one series (any names; the largest series when there
 //          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; axes and origin from Image Orientation/Position
