@@ -54,7 +54,6 @@ struct Header {
     bool hounsfield = false;  // the key/value penumbra_units:=HU
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
-    bool hounsfield = false;        // key/value "penumbra_units:=HU"
 };
 
 std::string_view trim(std::string_view text) {
