@@ -86,7 +86,7 @@ void print_modes_usage() {
             "                                 PSNR between the two images, the light-buffer\n"
             "                                 build with and without, and phong with central\n"
             "                                 differences against the gradient texture\n"
-            "  --csv FILE                     also write one row per measured point\n"
+            "  --csv FILE                     also write one row per point of the sweeps\n"
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices and --light-res are swept\n"
@@ -451,10 +451,17 @@ base::Result<OptimisationOptions> optimisation_options(const Arguments& a,
         return brick_voxels.error();
     }
     if (*brick_voxels < 0 || *brick_voxels > 256) {
-        return base::make_error("invalid_argument", "expects 1..256", "--brick-voxels");
+        return base::make_error("invalid_argument",
+                                "expects 1..256, or 0 for the renderer's default",
+                                "--brick-voxels");
     }
     options.brick_voxels = *brick_voxels;
     options.only = a.has("optimisations-only");
+    if (options.only && a.has("csv")) {
+        return base::make_error("invalid_argument",
+                                "the optimisation table writes no CSV; its rows are printed",
+                                "--csv");
+    }
     return options;
 }
 
@@ -507,14 +514,8 @@ base::Result<std::unique_ptr<render::Renderer>> bench_renderer(const Arguments& 
 }
 
 // The sweeps over slices and light-buffer resolutions, on the volume of --volume.
-base::Status measure_sweeps(const Arguments& a, ModeBench& bench, const ModesSweep& sweep) {
-    std::ofstream csv;
-    if (const auto csv_path = a.get("csv")) {
-        csv.open(*csv_path);
-        if (!csv) {
-            return base::make_error("io_error", "cannot write '" + *csv_path + "'", "--csv");
-        }
-    }
+base::Status measure_sweeps(const Arguments& a, ModeBench& bench, const ModesSweep& sweep,
+                            std::ofstream& csv) {
     const scene::RenderSettings& s = bench.base().settings;
     TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, sweep.repeat);
     ModesRun run{bench,        results,           sweep.modes,
@@ -547,6 +548,14 @@ base::Result<std::vector<TableVolume>> measure_with_renderer(const Arguments& a,
     if (!base_request) {
         return base_request.error();
     }
+    // Opened before anything is measured, so that a path it cannot write fails at once.
+    std::ofstream csv;
+    if (const auto csv_path = a.get("csv")) {
+        csv.open(*csv_path);
+        if (!csv) {
+            return base::make_error("io_error", "cannot write '" + *csv_path + "'", "--csv");
+        }
+    }
     auto renderer = bench_renderer(a, options);
     if (!renderer) {
         return renderer.error();
@@ -560,7 +569,7 @@ base::Result<std::vector<TableVolume>> measure_with_renderer(const Arguments& a,
     if (auto status = (*renderer)->set_volume(volume); !status) {
         return status.error();
     }
-    if (auto status = measure_sweeps(a, bench, sweep); !status) {
+    if (auto status = measure_sweeps(a, bench, sweep, csv); !status) {
         return status.error();
     }
     return phong_cases;
