@@ -3,6 +3,7 @@
 #include "render_options.hpp"
 
 #include <penumbra/quality/mode_bench.hpp>
+#include <penumbra/quality/optimisation_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -67,7 +68,20 @@ void print_modes_usage() {
             "  --light-res-list R,...         light-buffer resolutions R to sweep (default\n"
             "                                 128,256,512)\n"
             "  --repeat N                     timed frames per point after 1 warm-up (default 5)\n"
-            "  --csv FILE                     also write one row per measured point\n"
+            "  --volumes FILE,...             volumes for the optimisation table (default: the\n"
+            "                                 --volume); the sweeps run on --volume\n"
+            "  --gradients automatic|central|texture  where shaded samples get gradients:\n"
+            "                                 central differences, the precomputed texture, or\n"
+            "                                 the one measured faster on this kind of device\n"
+            "                                 (default automatic)\n"
+            "  --brick-voxels N               voxels per side of the bricks empty-space\n"
+            "                                 skipping leaps over (default: the renderer's)\n"
+            "  --optimisations-only           only the optimisation table: each mode's frame\n"
+            "                                 time with and without empty-space skipping, the\n"
+            "                                 PSNR between the two images, the light-buffer\n"
+            "                                 build with and without, and phong with central\n"
+            "                                 differences against the gradient texture\n"
+            "  --csv FILE                     also write one row per point of the sweeps\n"
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices and --light-res are swept\n"
@@ -399,12 +413,175 @@ base::Result<ModesSweep> modes_sweep(const Arguments& a) {
     return ModesSweep{*modes, *slice_counts, *resolutions, *repeat};
 }
 
+// The optimisation table's options.
+struct OptimisationOptions {
+    std::vector<std::string> volumes;
+    render::GradientSource gradients = render::GradientSource::automatic;
+    int brick_voxels = 0;  // 0: the renderer's default
+    bool only = false;     // the table without the sweeps
+};
+
+std::optional<render::GradientSource> parse_gradient_source(const std::string& text) {
+    if (text == "automatic") {
+        return render::GradientSource::automatic;
+    }
+    if (text == "central") {
+        return render::GradientSource::central_differences;
+    }
+    if (text == "texture") {
+        return render::GradientSource::texture;
+    }
+    return std::nullopt;
+}
+
+base::Result<OptimisationOptions> optimisation_options(const Arguments& a,
+                                                       const std::string& volume_path) {
+    OptimisationOptions options;
+    options.volumes = split_list(a.get("volumes").value_or(volume_path));
+    if (options.volumes.empty()) {
+        return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
+    }
+    const auto gradients = parse_gradient_source(a.get("gradients").value_or("automatic"));
+    if (!gradients) {
+        return base::make_error("invalid_argument", "expects automatic, central or texture",
+                                "--gradients");
+    }
+    options.gradients = *gradients;
+    auto brick_voxels = a.integer("brick-voxels", 0);
+    if (!brick_voxels) {
+        return brick_voxels.error();
+    }
+    if (*brick_voxels < 0 || *brick_voxels > 256) {
+        return base::make_error("invalid_argument",
+                                "expects 1..256, or 0 for the renderer's default",
+                                "--brick-voxels");
+    }
+    options.brick_voxels = *brick_voxels;
+    options.only = a.has("optimisations-only");
+    if (options.only && a.has("csv")) {
+        return base::make_error("invalid_argument",
+                                "the optimisation table writes no CSV; its rows are printed",
+                                "--csv");
+    }
+    return options;
+}
+
+// A volume of the optimisation table with its frame, kept for the gradient comparison, which
+// runs once the bench's renderer is gone.
+struct TableVolume {
+    std::shared_ptr<const volume::Volume> volume;
+    scene::FrameRequest request;
+};
+
+// The optimisation table on each of its volumes; the renderer is left on the last of them.
+base::Result<std::vector<TableVolume>> measure_optimisation_tables(
+        const Arguments& a, render::Renderer& renderer, const ModesSweep& sweep,
+        const OptimisationOptions& options, const std::shared_ptr<const volume::Volume>& main,
+        const std::string& main_path) {
+    std::vector<TableVolume> phong_cases;
+    for (const std::string& path : options.volumes) {
+        std::shared_ptr<const volume::Volume> table_volume = main;
+        if (path != main_path) {
+            auto loaded = volume::load_volume(path);
+            if (!loaded) {
+                return loaded.error();
+            }
+            table_volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+        }
+        auto request = frame_request_from(a, *table_volume);
+        if (!request) {
+            return request.error();
+        }
+        if (auto status = renderer.set_volume(table_volume); !status) {
+            return status.error();
+        }
+        ModeBench bench(renderer, *request, sweep.repeat);
+        if (auto table = measure_optimisations(bench, sweep.modes, *table_volume, stdout); !table) {
+            return table.error();
+        }
+        if (contains(sweep.modes, scene::Mode::phong)) {
+            phong_cases.push_back({table_volume, std::move(request.value())});
+        }
+    }
+    return phong_cases;
+}
+
+base::Result<std::unique_ptr<render::Renderer>> bench_renderer(const Arguments& a,
+                                                               const OptimisationOptions& options) {
+    return render::Renderer::create({.shader_dir = {},
+                                     .debug_context = a.has("debug-gl"),
+                                     .brick_voxels = options.brick_voxels,
+                                     .gradients = options.gradients});
+}
+
+// The sweeps over slices and light-buffer resolutions, on the volume of --volume.
+base::Status measure_sweeps(const Arguments& a, ModeBench& bench, const ModesSweep& sweep,
+                            std::ofstream& csv) {
+    const scene::RenderSettings& s = bench.base().settings;
+    TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, sweep.repeat);
+    ModesRun run{bench,        results,           sweep.modes,
+                 sweep.slices, sweep.resolutions, scene::to_string(s.light_buffer.builder)};
+    for (const auto measure :
+         {measure_frames, measure_light_buffer_modes, measure_builders, measure_lookups}) {
+        if (auto status = measure(run); !status) {
+            return status;
+        }
+    }
+    print_ratios(run);
+    if (const auto csv_path = a.get("csv")) {
+        std::printf("csv:      %s\n", csv_path->c_str());
+    }
+    return base::Ok{};
+}
+
+// Everything measured with the bench's renderer, which is gone when this returns; the volumes
+// whose gradient sources are to be compared.
+base::Result<std::vector<TableVolume>> measure_with_renderer(const Arguments& a,
+                                                             const ModesSweep& sweep,
+                                                             const OptimisationOptions& options) {
+    const std::string path = a.get("volume").value_or(default_volume_path);
+    auto loaded = volume::load_volume(path);
+    if (!loaded) {
+        return loaded.error();
+    }
+    auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+    auto base_request = frame_request_from(a, *volume);
+    if (!base_request) {
+        return base_request.error();
+    }
+    // Opened before anything is measured, so that a path it cannot write fails at once.
+    std::ofstream csv;
+    if (const auto csv_path = a.get("csv")) {
+        csv.open(*csv_path);
+        if (!csv) {
+            return base::make_error("io_error", "cannot write '" + *csv_path + "'", "--csv");
+        }
+    }
+    auto renderer = bench_renderer(a, options);
+    if (!renderer) {
+        return renderer.error();
+    }
+    ModeBench bench(**renderer, std::move(base_request.value()), sweep.repeat);
+    print_modes_header((*renderer)->info(), *volume, bench, sweep.repeat);
+    auto phong_cases = measure_optimisation_tables(a, **renderer, sweep, options, volume, path);
+    if (!phong_cases || options.only) {
+        return phong_cases;
+    }
+    if (auto status = (*renderer)->set_volume(volume); !status) {
+        return status.error();
+    }
+    if (auto status = measure_sweeps(a, bench, sweep, csv); !status) {
+        return status.error();
+    }
+    return phong_cases;
+}
+
 int run_bench_modes(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(),
-                  {"volume", "slices-list", "light-res-list", "repeat", "modes", "csv"});
+    valued.insert(valued.end(), {"volume", "volumes", "slices-list", "light-res-list", "repeat",
+                                 "modes", "csv", "gradients", "brick-voxels"});
     std::vector<std::string> flags = frame_flag_names();
-    flags.insert(flags.end(), {"help", "debug-gl"});
+    flags.insert(flags.end(), {"help", "debug-gl", "optimisations-only"});
     auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {
         return usage_error(parsed.error());
@@ -421,51 +598,18 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (!sweep) {
         return fail(sweep.error());
     }
-    const std::string path = a.get("volume").value_or(default_volume_path);
-    auto loaded = volume::load_volume(path);
-    if (!loaded) {
-        return fail(loaded.error());
+    auto options = optimisation_options(a, a.get("volume").value_or(default_volume_path));
+    if (!options) {
+        return usage_error(options.error());
     }
-    auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-    auto base_request = frame_request_from(a, *volume);
-    if (!base_request) {
-        return fail(base_request.error());
+    auto phong_cases = measure_with_renderer(a, *sweep, *options);
+    if (!phong_cases) {
+        return fail(phong_cases.error());
     }
-    std::ofstream csv;
-    if (const auto csv_path = a.get("csv")) {
-        csv.open(*csv_path);
-        if (!csv) {
-            return fail(base::make_error("io_error", "cannot write '" + *csv_path + "'", "--csv"));
+    for (const auto& [volume, request] : *phong_cases) {
+        if (auto compared = compare_gradients(volume, request, sweep->repeat, stdout); !compared) {
+            return fail(compared.error());
         }
-    }
-
-    auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
-    if (!renderer) {
-        return fail(renderer.error());
-    }
-    if (auto status = (*renderer)->set_volume(volume); !status) {
-        return fail(status.error());
-    }
-    ModeBench bench(**renderer, std::move(base_request.value()), sweep->repeat);
-    const scene::RenderSettings& s = bench.base().settings;
-    TimedResults results(csv.is_open() ? &csv : nullptr, s.width, s.height, sweep->repeat);
-    print_modes_header((*renderer)->info(), *volume, bench, sweep->repeat);
-    ModesRun run{bench,
-                 results,
-                 sweep->modes,
-                 sweep->slices,
-                 sweep->resolutions,
-                 scene::to_string(s.light_buffer.builder)};
-    for (const auto measure :
-         {measure_frames, measure_light_buffer_modes, measure_builders, measure_lookups}) {
-        if (auto status = measure(run); !status) {
-            return fail(status.error());
-        }
-    }
-    print_ratios(run);
-    if (const auto csv_path = a.get("csv")) {
-        std::printf("csv:      %s\n", csv_path->c_str());
     }
     return 0;
 }

@@ -54,10 +54,74 @@ std::string point_label(const TimedPoint& point) {
     return label;
 }
 
+namespace {
+
+// The light-buffer state a timed frame of a series must report for the series to measure what
+// its name says.
+base::Status check_light_buffer(const TimedPoint& point, LightBufferUse use,
+                                const std::string& light_buffer) {
+    if (use == LightBufferUse::cached && light_buffer != "reused") {
+        return base::make_error("bench_invalid",
+                                point_label(point) + ": the light buffer was '" + light_buffer +
+                                        "' in a frame where only the camera moved, so 'cached' "
+                                        "would not measure reuse",
+                                "light_buffer");
+    }
+    if (use == LightBufferUse::rebuild && light_buffer != "built") {
+        return base::make_error("bench_invalid",
+                                point_label(point) + ": the light buffer was '" + light_buffer +
+                                        "' in a frame whose light moved, so 'rebuild' would not "
+                                        "measure a rebuild",
+                                "light_buffer");
+    }
+    return base::Ok{};
+}
+
+struct PassTotal {
+    double wall_ms = 0.0;
+    double gpu_ms = 0.0;
+    bool found = false;
+};
+
+// The frame's passes named `pass` summed; all of them where `pass` is empty.
+PassTotal pass_total(const render::FrameReport& report, const std::string& pass) {
+    PassTotal total;
+    for (const auto& timing : report.passes) {
+        if (pass.empty() || timing.name == pass) {
+            total.found = true;
+            total.wall_ms += timing.wall_ms;
+            total.gpu_ms += std::max(timing.gpu_ms, 0.0);
+        }
+    }
+    return total;
+}
+
+Measurement median_of(std::vector<double> wall, std::vector<double> gpu, bool gpu_timers) {
+    Measurement measurement{median(std::move(wall)), std::nullopt};
+    if (gpu_timers) {
+        measurement.gpu_ms = median(std::move(gpu));
+    }
+    return measurement;
+}
+
+}  // namespace
+
 base::Result<Measurement> ModeBench::measure(const TimedPoint& point, scene::FrameRequest request,
                                              LightBufferUse use, const std::string& pass) {
-    std::vector<double> wall;
-    std::vector<double> gpu;
+    auto series = measure_series(point, std::move(request), use, pass);
+    if (!series) {
+        return series.error();
+    }
+    return pass.empty() ? series->frame : *series->pass;
+}
+
+base::Result<Series> ModeBench::measure_series(const TimedPoint& point, scene::FrameRequest request,
+                                               LightBufferUse use, const std::string& pass) {
+    std::vector<double> frame_wall;
+    std::vector<double> frame_gpu;
+    std::vector<double> pass_wall;
+    std::vector<double> pass_gpu;
+    Series series;
     for (int i = 0; i <= repeat_; ++i) {
         request.camera = scene::orbit_camera(orbit_.azimuth + orbit_step_degrees * i,
                                              orbit_.elevation, orbit_.distance, orbit_.target);
@@ -76,47 +140,28 @@ base::Result<Measurement> ModeBench::measure(const TimedPoint& point, scene::Fra
         if (i == 0) {
             continue;
         }
-        const std::string& light_buffer = frame->report.light_buffer;
-        if (use == LightBufferUse::cached && light_buffer != "reused") {
-            return base::make_error(
-                    "bench_invalid",
-                    point_label(point) + ": the light buffer was '" + light_buffer +
-                            "' in a frame where only the camera moved, so 'cached' would "
-                            "not measure reuse",
-                    "light_buffer");
+        if (auto status = check_light_buffer(point, use, frame->report.light_buffer); !status) {
+            return status.error();
         }
-        if (use == LightBufferUse::rebuild && light_buffer != "built") {
-            return base::make_error(
-                    "bench_invalid",
-                    point_label(point) + ": the light buffer was '" + light_buffer +
-                            "' in a frame whose light moved, so 'rebuild' would not "
-                            "measure a rebuild",
-                    "light_buffer");
-        }
-        double wall_ms = 0.0;
-        double gpu_ms = 0.0;
-        bool found = pass.empty();
-        for (const auto& timing : frame->report.passes) {
-            if (pass.empty() || timing.name == pass) {
-                found = true;
-                wall_ms += timing.wall_ms;
-                gpu_ms += std::max(timing.gpu_ms, 0.0);
-            }
-        }
-        if (!found) {
+        const PassTotal whole = pass_total(frame->report, {});
+        const PassTotal named = pass_total(frame->report, pass);
+        if (!pass.empty() && !named.found) {
             return base::make_error("bench_invalid",
                                     point_label(point) + ": no pass '" + pass +
                                             "' in a frame that rebuilt the light buffer",
                                     "light_buffer");
         }
-        wall.push_back(wall_ms);
-        gpu.push_back(gpu_ms);
+        frame_wall.push_back(whole.wall_ms);
+        frame_gpu.push_back(whole.gpu_ms);
+        pass_wall.push_back(named.wall_ms);
+        pass_gpu.push_back(named.gpu_ms);
+        series.last_image = std::move(frame->image);
     }
-    Measurement measurement{median(wall), std::nullopt};
-    if (gpu_timers_) {
-        measurement.gpu_ms = median(gpu);
+    series.frame = median_of(frame_wall, frame_gpu, gpu_timers_);
+    if (!pass.empty()) {
+        series.pass = median_of(pass_wall, pass_gpu, gpu_timers_);
     }
-    return measurement;
+    return series;
 }
 
 }  // namespace penumbra::quality

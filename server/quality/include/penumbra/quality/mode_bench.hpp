@@ -4,6 +4,7 @@
 // the light buffer cached against rebuilt, one pass alone; each series checks that its frames did
 // what its name says (a cached series that rebuilt the buffer would measure the wrong thing).
 
+#include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -26,6 +27,14 @@ inline constexpr double light_nudge_degrees = 0.01;
 struct Measurement {
     double wall_ms = 0.0;
     std::optional<double> gpu_ms;  // absent where the GL's timer queries mean nothing
+};
+
+// A series measured as whole frames and, where a pass was named, as that pass alone; with the
+// image of its last frame, which every series of the same length draws from the same view.
+struct Series {
+    Measurement frame;
+    std::optional<Measurement> pass;
+    base::ImageRgba8 last_image;
 };
 
 // What a series does to the light buffer between its timed frames, and so what each of those
@@ -84,6 +93,10 @@ public:
     // `repeat` timed frames; `pass` empty times the whole frame, otherwise that pass alone.
     base::Result<Measurement> measure(const TimedPoint& point, scene::FrameRequest request,
                                       LightBufferUse use, const std::string& pass = {});
+
+    // As measure, timing the whole frame and `pass` (if named) from the same frames.
+    base::Result<Series> measure_series(const TimedPoint& point, scene::FrameRequest request,
+                                        LightBufferUse use, const std::string& pass = {});
 
 private:
     render::FrameRenderer& renderer_;

@@ -1,0 +1,57 @@
+#pragma once
+
+// The optimisation table of `penumbra bench modes`: what each optimisation buys in each mode,
+// measured by turning it off in the same run (empty-space skipping per frame, and for the
+// light-buffer build; gradients from central differences against the gradient texture).
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/quality/mode_bench.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penumbra::quality {
+
+// One mode with empty-space skipping on and off.
+struct SkippingRow {
+    std::string label;  // "dvr", "sbrc cached", "sbrc cached, no phong"
+    Series on;          // the whole frame and its raycast pass
+    Series off;
+    double psnr = 0.0;  // between the last images of the two series
+};
+
+struct OptimisationTable {
+    std::vector<SkippingRow> rows;
+    // The light-buffer pass alone, rebuilt every frame; absent unless sbrc is among the modes.
+    std::optional<Measurement> build_on;
+    std::optional<Measurement> build_off;
+};
+
+// Each of `modes` but half_angle (which casts no rays) with skipping on and off, the shadow modes
+// with Blinn-Phong as the targets measure them and sbrc once more without; the light
+// buffer cached between timed frames. Prints each row to `out` as it is measured.
+base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
+                                                      const std::vector<scene::Mode>& modes,
+                                                      const volume::Volume& volume, std::FILE* out);
+
+struct GradientComparison {
+    Series central;  // phong, gradients from central differences
+    Series texture;  // phong, gradients from the precomputed texture
+    double texture_build_ms = 0.0;
+    double psnr = 0.0;  // between the two images
+};
+
+// Phong with each gradient source in a renderer of its own (the source is the renderer's
+// choice), each created after the last is gone. A renderer's GL context is current on its thread
+// from its creation, so no other renderer may be alive on this thread.
+base::Result<GradientComparison> compare_gradients(
+        const std::shared_ptr<const volume::Volume>& volume, const scene::FrameRequest& request,
+        int repeat, std::FILE* out);
+
+}  // namespace penumbra::quality

@@ -1,0 +1,227 @@
+#include "penumbra/quality/optimisation_bench.hpp"
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/quality/report.hpp>
+
+#include <algorithm>
+#include <utility>
+
+namespace penumbra::quality {
+namespace {
+
+// The light buffer does not depend on the image size, so its build is timed on small frames
+// whose ray casting adds little to the run.
+constexpr int build_frame_side = 32;
+
+struct SkippingCase {
+    std::string label;
+    scene::Mode mode;
+    bool phong;
+};
+
+std::vector<SkippingCase> skipping_cases(const std::vector<scene::Mode>& modes) {
+    std::vector<SkippingCase> cases;
+    for (const scene::Mode mode : modes) {
+        if (mode == scene::Mode::half_angle) {
+            continue;
+        }
+        const bool shadows = mode != scene::Mode::dvr && mode != scene::Mode::phong;
+        const std::string name = scene::to_string(mode);
+        cases.push_back({scene::uses_light_buffer(mode) ? name + " cached" : name, mode, shadows});
+        if (mode == scene::Mode::sbrc) {
+            cases.push_back({"sbrc cached, no phong", mode, false});
+        }
+    }
+    return cases;
+}
+
+base::Result<double> psnr_between(const base::ImageRgba8& a, const base::ImageRgba8& b) {
+    auto difference = encode::compare_images(base::to_rgba_f(a), base::to_rgba_f(b));
+    if (!difference) {
+        return difference.error();
+    }
+    return difference->psnr;
+}
+
+base::Result<SkippingRow> measure_skipping(ModeBench& bench, const SkippingCase& c) {
+    scene::FrameRequest request = bench.request(c.mode, 0, 0);
+    request.settings.phong = c.phong;
+    const LightBufferUse use =
+            scene::uses_light_buffer(c.mode) ? LightBufferUse::cached : LightBufferUse::none;
+    SkippingRow row{c.label, {}, {}, 0.0};
+    for (const bool skipping : {true, false}) {
+        request.settings.empty_space_skipping = skipping;
+        const TimedPoint point{c.mode, skipping ? "skipping_on" : "skipping_off", "", 0, 0, {}};
+        auto series = bench.measure_series(point, request, use, "raycast");
+        if (!series) {
+            return series.error();
+        }
+        (skipping ? row.on : row.off) = std::move(series.value());
+    }
+    auto psnr = psnr_between(row.on.last_image, row.off.last_image);
+    if (!psnr) {
+        return psnr.error();
+    }
+    row.psnr = *psnr;
+    return row;
+}
+
+// The light-buffer pass alone with skipping on, then off.
+base::Result<std::pair<Measurement, Measurement>> measure_build(ModeBench& bench) {
+    scene::FrameRequest request = bench.request(scene::Mode::sbrc, 0, 0);
+    request.settings.width = build_frame_side;
+    request.settings.height = build_frame_side;
+    const auto& light_buffer = request.settings.light_buffer;
+    const std::string builder = scene::to_string(light_buffer.builder);
+    Measurement built[2];
+    for (const bool skipping : {true, false}) {
+        request.settings.empty_space_skipping = skipping;
+        const TimedPoint point{scene::Mode::sbrc,   "light_buffer_pass",     builder,
+                               light_buffer.slices, light_buffer.resolution, {}};
+        auto measured =
+                bench.measure(point, request, LightBufferUse::rebuild, "light_buffer_" + builder);
+        if (!measured) {
+            return measured.error();
+        }
+        built[skipping ? 0 : 1] = *measured;
+    }
+    return std::pair{built[0], built[1]};
+}
+
+void print_row(std::FILE* out, const SkippingRow& row) {
+    std::fprintf(out, "  %-30s %10.1f %10.1f %7.3f %9s   %.1f | %.1f\n", row.label.c_str(),
+                 row.on.frame.wall_ms, row.off.frame.wall_ms,
+                 row.on.frame.wall_ms / row.off.frame.wall_ms, psnr_text(row.psnr).c_str(),
+                 row.on.pass->wall_ms, row.off.pass->wall_ms);
+    std::fflush(out);
+}
+
+const SkippingRow* find_row(const OptimisationTable& table, const std::string& label) {
+    const auto row = std::find_if(table.rows.begin(), table.rows.end(),
+                                  [&](const SkippingRow& r) { return r.label == label; });
+    return row == table.rows.end() ? nullptr : &*row;
+}
+
+// What the targets compare: the shadows' cost over phong, and the light buffer's
+// lookup (without Blinn-Phong) over the plain ray cast.
+void print_ratios(std::FILE* out, const OptimisationTable& table) {
+    const auto print = [&](const char* what, const SkippingRow* a, const SkippingRow* b) {
+        if (a != nullptr && b != nullptr) {
+            std::fprintf(out, "  %s, skipping on: %.2f (off: %.2f)\n", what,
+                         a->on.frame.wall_ms / b->on.frame.wall_ms,
+                         a->off.frame.wall_ms / b->off.frame.wall_ms);
+        }
+    };
+    print("sbrc cached / phong", find_row(table, "sbrc cached"), find_row(table, "phong"));
+    print("sbrc without Blinn-Phong / dvr", find_row(table, "sbrc cached, no phong"),
+          find_row(table, "dvr"));
+    std::fflush(out);
+}
+
+struct GradientSeries {
+    Series series;
+    double build_ms = 0.0;  // the texture's build in the first frame; 0 for central differences
+};
+
+base::Result<GradientSeries> measure_gradient_source(
+        const std::shared_ptr<const volume::Volume>& volume, const scene::FrameRequest& request,
+        int repeat, render::GradientSource source) {
+    auto renderer = render::Renderer::create({.shader_dir = {}, .gradients = source});
+    if (!renderer) {
+        return renderer.error();
+    }
+    if (auto status = (*renderer)->set_volume(volume); !status) {
+        return status.error();
+    }
+    // The texture is built by a volume's first frame only, which the series' warm-up would hide.
+    auto first = (*renderer)->render(request);
+    if (!first) {
+        return first.error();
+    }
+    GradientSeries measured;
+    for (const auto& timing : first->report.passes) {
+        if (timing.name == "build_gradients") {
+            measured.build_ms += timing.wall_ms;
+        }
+    }
+    ModeBench bench(**renderer, request, repeat);
+    const TimedPoint point{scene::Mode::phong, "gradients", "", 0, 0, {}};
+    auto series = bench.measure_series(point, request, LightBufferUse::none);
+    if (!series) {
+        return series.error();
+    }
+    measured.series = std::move(series.value());
+    return measured;
+}
+
+}  // namespace
+
+base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
+                                                      const std::vector<scene::Mode>& modes,
+                                                      const volume::Volume& volume,
+                                                      std::FILE* out) {
+    std::fprintf(out,
+                 "\noptimisations on %s %ux%ux%u (ms, wall, timed as above from the default "
+                 "view;\nshadow modes with Blinn-Phong unless said; PSNR between the two "
+                 "images)\n  %-30s %10s %10s %7s %9s   %s\n",
+                 volume.name.c_str(), volume.dims.x, volume.dims.y, volume.dims.z, "mode",
+                 "skip on", "skip off", "on/off", "PSNR dB", "raycast pass on | off");
+    OptimisationTable table;
+    for (const SkippingCase& c : skipping_cases(modes)) {
+        auto row = measure_skipping(bench, c);
+        if (!row) {
+            return row.error();
+        }
+        print_row(out, *row);
+        table.rows.push_back(std::move(row.value()));
+    }
+    if (std::find(modes.begin(), modes.end(), scene::Mode::sbrc) != modes.end()) {
+        auto built = measure_build(bench);
+        if (!built) {
+            return built.error();
+        }
+        table.build_on = built->first;
+        table.build_off = built->second;
+        const std::string label = std::string("light_buffer_") +
+                                  scene::to_string(bench.base().settings.light_buffer.builder) +
+                                  " build";
+        std::fprintf(out, "  %-30s %10.1f %10.1f %7.3f %9s\n", label.c_str(),
+                     table.build_on->wall_ms, table.build_off->wall_ms,
+                     table.build_on->wall_ms / table.build_off->wall_ms, "-");
+    }
+    print_ratios(out, table);
+    return table;
+}
+
+base::Result<GradientComparison> compare_gradients(
+        const std::shared_ptr<const volume::Volume>& volume, const scene::FrameRequest& request,
+        int repeat, std::FILE* out) {
+    scene::FrameRequest phong = request;
+    phong.settings.mode = scene::Mode::phong;
+    auto central = measure_gradient_source(volume, phong, repeat,
+                                           render::GradientSource::central_differences);
+    if (!central) {
+        return central.error();
+    }
+    auto texture = measure_gradient_source(volume, phong, repeat, render::GradientSource::texture);
+    if (!texture) {
+        return texture.error();
+    }
+    auto psnr = psnr_between(central->series.last_image, texture->series.last_image);
+    if (!psnr) {
+        return psnr.error();
+    }
+    GradientComparison comparison{std::move(central->series), std::move(texture->series),
+                                  texture->build_ms, *psnr};
+    const double central_ms = comparison.central.frame.wall_ms;
+    const double texture_ms = comparison.texture.frame.wall_ms;
+    std::fprintf(out,
+                 "  gradients on %s, phong: central %.1f ms, texture %.1f ms, texture/central "
+                 "%.3f, PSNR %s dB; texture built once in %.1f ms\n",
+                 volume->name.c_str(), central_ms, texture_ms, texture_ms / central_ms,
+                 psnr_text(comparison.psnr).c_str(), comparison.texture_build_ms);
+    std::fflush(out);
+    return comparison;
+}
+
+}  // namespace penumbra::quality
