@@ -22,16 +22,19 @@ bool brick_occupied(ivec3 brick) {
 }
 
 // How far `direction` (unit or not: the result is in its units) goes from `world` before it
-// leaves `brick`.
+// leaves `brick`. Measured in box space, where the bricks are axis-aligned; the box's axes are
+// orthonormal, so distances are the same as in world space.
 float distance_out_of_brick(vec3 world, vec3 direction, ivec3 brick) {
+    vec3 position = box_coordinate(world);
+    vec3 along = mat3(u.world_to_box) * direction;
     vec3 grid = vec3(textureSize(brick_occupancy, 0));
     vec3 size = u.box_max.xyz - u.box_min.xyz;
     vec3 lower = u.box_min.xyz + vec3(brick) / grid * size;
     vec3 upper = u.box_min.xyz + vec3(brick + 1) / grid * size;
-    vec3 face = mix(lower, upper, greaterThan(direction, vec3(0.0)));
+    vec3 face = mix(lower, upper, greaterThan(along, vec3(0.0)));
     float t = 3.0e38;
     for (int axis = 0; axis < 3; ++axis) {
-        if (direction[axis] != 0.0) t = min(t, (face[axis] - world[axis]) / direction[axis]);
+        if (along[axis] != 0.0) t = min(t, (face[axis] - position[axis]) / along[axis]);
     }
     return max(t, 0.0);
 }

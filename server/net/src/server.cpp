@@ -15,9 +15,12 @@
 namespace penumbra::net {
 
 struct Server::Impl {
+    // Declared before the io_context, so destroyed after it: handlers that the io_context
+    // abandons when it is destroyed still hold connections, whose destructors give back their
+    // per-client slots to the context.
+    Context context;
     asio::io_context io;
     tcp::acceptor acceptor;
-    Context context;
     std::vector<std::thread> threads;
     asio::signal_set signals;
     std::mutex mutex;
@@ -25,9 +28,9 @@ struct Server::Impl {
     bool stopped = false;
 
     Impl(const ServerConfig& config, Services services, int io_threads)
-        : io(io_threads)
+        : context(config, services)
+        , io(io_threads)
         , acceptor(asio::make_strand(io))
-        , context(config, services)
         , signals(io)
         , accept_timer(acceptor.get_executor())
         , accept_failures(services.metrics.counter(

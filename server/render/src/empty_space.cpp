@@ -55,7 +55,10 @@ BrickRanges ranges_of(const volume::Volume& volume, int brick_voxels) {
                         hi = std::max(hi, *mx);
                     }
                 }
-                out.min_max[index++] = {normalised(double(lo)), normalised(double(hi))};
+                // Real values (the rescale applied), in the order a negative slope leaves them.
+                const double a = volume.rescale.apply(double(lo));
+                const double b = volume.rescale.apply(double(hi));
+                out.min_max[index++] = {normalised(std::min(a, b)), normalised(std::max(a, b))};
             }
         }
     }
@@ -70,6 +73,8 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
             return ranges_of<std::uint8_t>(volume, brick_voxels);
         case volume::VoxelType::uint16:
             return ranges_of<std::uint16_t>(volume, brick_voxels);
+        case volume::VoxelType::int16:
+            return ranges_of<std::int16_t>(volume, brick_voxels);
         case volume::VoxelType::float32:
             return ranges_of<float>(volume, brick_voxels);
     }

@@ -322,6 +322,9 @@ TEST(RendererRealData, DicomSeriesRendersLikeTheSameVoxelsInMemory) {
     auto in_memory = volume::make_volume("box", dims, spec.spacing, volume::VoxelType::uint16,
                                          std::move(bytes));
     ASSERT_TRUE(in_memory.ok());
+    // The series is axial LPS: the same voxels lie the same way round when they carry its axes.
+    in_memory->axes = loaded->axes;
+    in_memory->origin = loaded->origin;
 
     auto renderer = Renderer::create();
     ASSERT_TRUE(renderer.ok()) << renderer.error().to_string();

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include <unistd.h>
 #include <fstream>
 #include <string>
 
@@ -29,7 +31,10 @@ Table table_of(scene::Mode mode) {
 class ServeTableTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        folder_ = std::filesystem::path(::testing::TempDir()) / "penumbra_serve_table_test";
+        // One folder per process: CTest runs each test of this fixture in a process of its own,
+        // side by side.
+        folder_ = std::filesystem::path(::testing::TempDir()) /
+                  ("penumbra_serve_table_test_" + std::to_string(::getpid()));
         std::filesystem::remove_all(folder_);
         std::filesystem::create_directories(folder_);
         paths_.committed = folder_ / "llvmpipe.json";
