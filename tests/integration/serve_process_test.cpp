@@ -5,15 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <fcntl.h>
-#include <netinet/in.h>
-#include <signal.h>
-#include <sys/resource.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +14,15 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace penumbra::integration {
 namespace {
@@ -54,8 +54,9 @@ public:
     ServeProcess(const fs::path& data, const fs::path& log, std::vector<std::string> extra,
                  rlim_t max_descriptors = 0)
         : log_(log) {
-        std::vector<std::string> args = {PENUMBRA_CLI, "serve", "--data", data.string(),
-                                         "--port", "0", "--no-quality-measure"};
+        std::vector<std::string> args = {PENUMBRA_CLI,          "serve",  "--data",
+                                         data.string(),         "--port", "0",
+                                         "--no-quality-measure"};
         args.insert(args.end(), extra.begin(), extra.end());
         pid_ = ::fork();
         if (pid_ == 0) {

@@ -10,8 +10,8 @@ namespace penumbra::test {
 // the half-extent) around the centre and `outside` elsewhere.
 volume::Volume sphere_volume(unsigned n, float radius, float inside = 1.0f, float outside = 0.0f);
 
-// A float volume of `n`^3 voxels falling linearly from 1 at the centre to 0 at distance n/2: smooth,
-// so GPU and CPU sample positions that differ by rounding see nearly the same value.
+// A float volume of `n`^3 voxels falling linearly from 1 at the centre to 0 at distance n/2:
+// smooth, so GPU and CPU sample positions that differ by rounding see nearly the same value.
 volume::Volume radial_volume(unsigned n);
 
 // A float volume whose value is constant.

@@ -397,9 +397,7 @@ base::Result<ModesSweep> modes_sweep(const Arguments& a) {
     auto slice_counts = parse_counts(a.get("slices-list").value_or("64,128,256"), "slices-list");
     auto resolutions =
             parse_counts(a.get("light-res-list").value_or("128,256,512"), "light-res-list");
-    auto modes = parse_modes(
-            a.get("modes").value_or(scene::mode_names(",")),
-            "modes");
+    auto modes = parse_modes(a.get("modes").value_or(scene::mode_names(",")), "modes");
     auto repeat = a.integer("repeat", 5);
     if (!slice_counts || !resolutions || !modes || !repeat) {
         return !slice_counts  ? slice_counts.error()

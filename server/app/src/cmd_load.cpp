@@ -126,14 +126,12 @@ void run_client(int index, const Options& o, Clock::time_point end, Totals& tota
     if (!expect_text("opened")) {
         return;
     }
-    (void)client.send_text(R"({"v":1,"type":"set","settings":{"mode":")" + o.mode +
-                           R"(","size":[)" + std::to_string(o.size) + "," +
-                           std::to_string(o.size) + "]" +
-                           (o.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" +
-                                                   std::to_string(o.refine)
-                                         : std::string()) +
-                           R"(},"output":{"encoding":")" + o.encoding +
-                           "\"}}");
+    (void)client.send_text(
+            R"({"v":1,"type":"set","settings":{"mode":")" + o.mode + R"(","size":[)" +
+            std::to_string(o.size) + "," + std::to_string(o.size) + "]" +
+            (o.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" + std::to_string(o.refine)
+                          : std::string()) +
+            R"(},"output":{"encoding":")" + o.encoding + "\"}}");
     if (!expect_text("ack")) {
         return;
     }
@@ -193,29 +191,31 @@ int run_load(const std::vector<std::string>& args) {
                                     "encoding", "token-file", "refine"},
                                    {"help", "interactive"});
     if (!parsed) {
-        std::fprintf(stderr, "penumbra load: %s (see --help)\n", parsed.error().to_string().c_str());
+        std::fprintf(stderr, "penumbra load: %s (see --help)\n",
+                     parsed.error().to_string().c_str());
         return 2;
     }
     const Arguments& a = *parsed;
     if (a.has("help")) {
-        std::puts("usage: penumbra load --port P [options]\n\n"
-                  "N simulated clients on one server, each orbiting the camera and waiting for each\n"
-                  "frame before asking for the next. Reports the latency from request sent to frame\n"
-                  "received (p50/p95/p99), its server-side split, frames/s, bytes/s and errors.\n\n"
-                  "  --host H          (default 127.0.0.1)\n"
-                  "  --port P          the server's port (required)\n"
-                  "  --clients N       simulated clients (default 4, at most 256)\n"
-                  "  --seconds T       how long to run (default 10, at most 3600)\n"
-                  "  --volume ID       volume id from list_volumes (default ch2.nii.gz)\n"
-                  "  --mode MODE       (default sbrc)\n"
-                  "  --size S          frames of S x S pixels (default 512)\n"
-                  "  --encoding E      jpeg | png (default jpeg)\n"
-                  "  --interactive     request interactive-quality frames\n"
-                  "  --refine N        jittered frames, each still refined N times at the lowest\n"
-                  "                    priority (progressive stills; counted apart)\n"
-                  "  --token-file F    the access token a server or proxy asks for\n\n"
-                  "The WebSocket URL names the volume (/ws?volume=ID), as a cluster's proxy routes\n"
-                  "by it (proto/README.md).");
+        std::puts(
+                "usage: penumbra load --port P [options]\n\n"
+                "N simulated clients on one server, each orbiting the camera and waiting for each\n"
+                "frame before asking for the next. Reports the latency from request sent to frame\n"
+                "received (p50/p95/p99), its server-side split, frames/s, bytes/s and errors.\n\n"
+                "  --host H          (default 127.0.0.1)\n"
+                "  --port P          the server's port (required)\n"
+                "  --clients N       simulated clients (default 4, at most 256)\n"
+                "  --seconds T       how long to run (default 10, at most 3600)\n"
+                "  --volume ID       volume id from list_volumes (default ch2.nii.gz)\n"
+                "  --mode MODE       (default sbrc)\n"
+                "  --size S          frames of S x S pixels (default 512)\n"
+                "  --encoding E      jpeg | png (default jpeg)\n"
+                "  --interactive     request interactive-quality frames\n"
+                "  --refine N        jittered frames, each still refined N times at the lowest\n"
+                "                    priority (progressive stills; counted apart)\n"
+                "  --token-file F    the access token a server or proxy asks for\n\n"
+                "The WebSocket URL names the volume (/ws?volume=ID), as a cluster's proxy routes\n"
+                "by it (proto/README.md).");
         return 0;
     }
     Options o;
@@ -248,8 +248,9 @@ int run_load(const std::vector<std::string>& args) {
     auto seconds = a.number("seconds", 10.0);
     if (!port || !clients || !size || !seconds || *port < 1 || *port > 65535 || *clients < 1 ||
         *clients > 256 || *size < 16 || *size > 8192 || *seconds <= 0.0 || *seconds > 3600.0) {
-        std::fprintf(stderr, "penumbra load: --port is required; --clients 1..256, --size "
-                             "16..8192, --seconds (0, 3600]\n");
+        std::fprintf(stderr,
+                     "penumbra load: --port is required; --clients 1..256, --size "
+                     "16..8192, --seconds (0, 3600]\n");
         return 2;
     }
     o.port = static_cast<unsigned short>(*port);
@@ -283,8 +284,8 @@ int run_load(const std::vector<std::string>& args) {
         readback.push_back(s.readback_ms);
         encode.push_back(s.encode_ms);
         // What the server's split does not cover: the request's way in, the frame's way out.
-        send.push_back(std::max(0.0, s.latency_ms - s.queued_ms - s.render_ms - s.readback_ms -
-                                             s.encode_ms));
+        send.push_back(std::max(
+                0.0, s.latency_ms - s.queued_ms - s.render_ms - s.readback_ms - s.encode_ms));
         bytes += s.bytes;
     }
     std::printf("load:     %d client(s), %s %dx%d %s, %.1f s against %s:%u\n", *clients,
@@ -292,8 +293,9 @@ int run_load(const std::vector<std::string>& args) {
                 o.port);
     std::printf("frames:   %zu (%.2f frames/s), %.1f KiB/frame, %.1f KiB/s, errors %llu\n",
                 latency.size(), static_cast<double>(latency.size()) / elapsed,
-                latency.empty() ? 0.0 : static_cast<double>(bytes) / 1024.0 /
-                                                static_cast<double>(latency.size()),
+                latency.empty()
+                        ? 0.0
+                        : static_cast<double>(bytes) / 1024.0 / static_cast<double>(latency.size()),
                 static_cast<double>(bytes) / 1024.0 / elapsed,
                 static_cast<unsigned long long>(totals.errors));
     if (o.refine > 0) {

@@ -284,6 +284,7 @@ base::Status read_numbers(const Arguments& a, ServeOptions& o) {
                                               "--max-frame-work");
     }
     limits.max_frame_work = *frame_work;
+
     struct DurationOption {
         const char* name;
         std::chrono::milliseconds* target;

@@ -18,10 +18,10 @@ std::string Error::to_string() const {
     return text;
 }
 
-void assertion_failed(const char* expression, const char* message, const char* file,
-                      unsigned line, const char* function) {
-    std::fprintf(stderr, "%s:%u: %s: assertion '%s' failed: %s\n", file, line, function,
-                 expression, message);
+void assertion_failed(const char* expression, const char* message, const char* file, unsigned line,
+                      const char* function) {
+    std::fprintf(stderr, "%s:%u: %s: assertion '%s' failed: %s\n", file, line, function, expression,
+                 message);
     std::abort();
 }
 

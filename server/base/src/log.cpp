@@ -14,17 +14,23 @@ std::mutex g_write_mutex;
 
 const char* level_name(LogLevel level) {
     switch (level) {
-        case LogLevel::debug: return "debug";
-        case LogLevel::info: return "info";
-        case LogLevel::warning: return "warning";
-        case LogLevel::error: return "error";
+        case LogLevel::debug:
+            return "debug";
+        case LogLevel::info:
+            return "info";
+        case LogLevel::warning:
+            return "warning";
+        case LogLevel::error:
+            return "error";
     }
     return "?";
 }
 
 }  // namespace
 
-void set_log_level(LogLevel minimum) { g_minimum = minimum; }
+void set_log_level(LogLevel minimum) {
+    g_minimum = minimum;
+}
 
 void log(LogLevel level, std::string_view component, std::string_view message) {
     if (level < g_minimum.load()) {

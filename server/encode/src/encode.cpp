@@ -71,7 +71,9 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
     return std::nullopt;
 }
 
-const char* to_string(ImageFormat format) { return format == ImageFormat::png ? "png" : "jpeg"; }
+const char* to_string(ImageFormat format) {
+    return format == ImageFormat::png ? "png" : "jpeg";
+}
 
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality) {
@@ -119,8 +121,8 @@ base::Status write_image(const std::filesystem::path& path, const base::ImageRgb
                          int jpeg_quality) {
     const auto format = format_for_path(path);
     if (!format) {
-        return base::make_error("unsupported_format",
-                                "output must end in .png, .jpg or .jpeg", path.string());
+        return base::make_error("unsupported_format", "output must end in .png, .jpg or .jpeg",
+                                path.string());
     }
     auto bytes = encode_image(image, *format, jpeg_quality);
     if (!bytes) {

@@ -14,17 +14,28 @@ namespace {
 
 const char* egl_error_name(EGLint code) {
     switch (code) {
-        case EGL_SUCCESS: return "EGL_SUCCESS";
-        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-        default: return "EGL error";
+        case EGL_SUCCESS:
+            return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED:
+            return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS:
+            return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC:
+            return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE:
+            return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG:
+            return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT:
+            return "EGL_BAD_CONTEXT";
+        case EGL_BAD_DISPLAY:
+            return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH:
+            return "EGL_BAD_MATCH";
+        case EGL_BAD_PARAMETER:
+            return "EGL_BAD_PARAMETER";
+        default:
+            return "EGL error";
     }
 }
 
@@ -60,9 +71,15 @@ void GLAPIENTRY forward_debug_message(GLenum /*source*/, GLenum /*type*/, GLuint
                              std::string(message, length > 0 ? static_cast<std::size_t>(length)
                                                              : std::string_view(message).size());
     switch (severity) {
-        case GL_DEBUG_SEVERITY_HIGH: base::log_error("gl", text); break;
-        case GL_DEBUG_SEVERITY_MEDIUM: base::log_warning("gl", text); break;
-        default: base::log_debug("gl", text); break;
+        case GL_DEBUG_SEVERITY_HIGH:
+            base::log_error("gl", text);
+            break;
+        case GL_DEBUG_SEVERITY_MEDIUM:
+            base::log_warning("gl", text);
+            break;
+        default:
+            base::log_debug("gl", text);
+            break;
     }
 }
 
@@ -100,8 +117,8 @@ std::vector<Attempt> candidate_displays(std::string& notes) {
         notes += "EGL_EXT_platform_device not offered; ";
     }
     if (has_extension(client_extensions, "EGL_MESA_platform_surfaceless")) {
-        EGLDisplay display =
-                eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        EGLDisplay display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
+                                                      EGL_DEFAULT_DISPLAY, nullptr);
         if (display != EGL_NO_DISPLAY) {
             attempts.push_back({display, "EGL_MESA_platform_surfaceless"});
         }
@@ -129,7 +146,8 @@ struct Context::State {
     }
 };
 
-Context::Context(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Context::Context(std::unique_ptr<State> state)
+    : state_(std::move(state)) {}
 
 Context::Context(Context&&) noexcept = default;
 
@@ -137,7 +155,9 @@ Context& Context::operator=(Context&&) noexcept = default;
 
 Context::~Context() = default;
 
-const ContextInfo& Context::info() const { return state_->info; }
+const ContextInfo& Context::info() const {
+    return state_->info;
+}
 
 base::Status Context::make_current() const {
     if (eglMakeCurrent(state_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, state_->context) !=
@@ -189,12 +209,15 @@ base::Result<Context> Context::create(const ContextOptions& options) {
             }
             config = nullptr;  // EGL_NO_CONFIG_KHR
         }
-        const EGLint context_attributes[] = {
-                EGL_CONTEXT_MAJOR_VERSION, 4,
-                EGL_CONTEXT_MINOR_VERSION, 5,
-                EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                EGL_CONTEXT_OPENGL_DEBUG, options.debug ? EGL_TRUE : EGL_FALSE,
-                EGL_NONE};
+        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                             4,
+                                             EGL_CONTEXT_MINOR_VERSION,
+                                             5,
+                                             EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                             EGL_CONTEXT_OPENGL_DEBUG,
+                                             options.debug ? EGL_TRUE : EGL_FALSE,
+                                             EGL_NONE};
         state->context =
                 eglCreateContext(attempt.display, config, EGL_NO_CONTEXT, context_attributes);
         if (state->context == EGL_NO_CONTEXT) {

@@ -79,10 +79,14 @@ std::string info_log(GLuint object, bool is_program) {
 
 const char* stage_name(GLenum stage) {
     switch (stage) {
-        case GL_VERTEX_SHADER: return "vertex";
-        case GL_FRAGMENT_SHADER: return "fragment";
-        case GL_COMPUTE_SHADER: return "compute";
-        default: return "shader";
+        case GL_VERTEX_SHADER:
+            return "vertex";
+        case GL_FRAGMENT_SHADER:
+            return "fragment";
+        case GL_COMPUTE_SHADER:
+            return "compute";
+        default:
+            return "shader";
     }
 }
 
@@ -102,7 +106,8 @@ base::Result<Program> link(std::initializer_list<const Shader*> shaders, const s
 
 }  // namespace
 
-ShaderLibrary::ShaderLibrary(std::filesystem::path root) : root_(std::move(root)) {}
+ShaderLibrary::ShaderLibrary(std::filesystem::path root)
+    : root_(std::move(root)) {}
 
 base::Result<ExpandedSource> ShaderLibrary::expand(const std::string& file,
                                                    const Defines& defines) const {
@@ -130,10 +135,10 @@ base::Result<Shader> ShaderLibrary::compile(GLenum stage, const std::string& fil
     GLint compiled = GL_FALSE;
     glGetShaderiv(shader.name(), GL_COMPILE_STATUS, &compiled);
     if (compiled != GL_TRUE) {
-        return shader_error(std::string(stage_name(stage)) + " shader failed to compile:\n" +
-                                    resolve_log_lines(info_log(shader.name(), false),
-                                                      source->files),
-                            file);
+        return shader_error(
+                std::string(stage_name(stage)) + " shader failed to compile:\n" +
+                        resolve_log_lines(info_log(shader.name(), false), source->files),
+                file);
     }
     return shader;
 }

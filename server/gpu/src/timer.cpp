@@ -2,11 +2,16 @@
 
 namespace penumbra::gpu {
 
-GpuTimer::GpuTimer() : query_(create_query(GL_TIME_ELAPSED)) {}
+GpuTimer::GpuTimer()
+    : query_(create_query(GL_TIME_ELAPSED)) {}
 
-void GpuTimer::begin() { glBeginQuery(GL_TIME_ELAPSED, query_.name()); }
+void GpuTimer::begin() {
+    glBeginQuery(GL_TIME_ELAPSED, query_.name());
+}
 
-void GpuTimer::end() { glEndQuery(GL_TIME_ELAPSED); }
+void GpuTimer::end() {
+    glEndQuery(GL_TIME_ELAPSED);
+}
 
 double GpuTimer::milliseconds() const {
     GLuint64 nanoseconds = 0;

@@ -27,7 +27,8 @@ struct Client::Impl {
     beast::flat_buffer buffer;
 };
 
-Client::Client(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Client::Client(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
 
 Client::~Client() {
     if (impl_ && impl_->ws.is_open()) {
@@ -36,8 +37,7 @@ Client::~Client() {
     }
 }
 
-base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host,
-                                                      unsigned short port,
+base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host, unsigned short port,
                                                       const std::string& path,
                                                       std::chrono::milliseconds timeout,
                                                       const std::string& local_address) {
@@ -51,8 +51,7 @@ base::Result<std::unique_ptr<Client>> Client::connect(const std::string& host,
     auto& stream = beast::get_lowest_layer(impl->ws);
     stream.expires_after(timeout);
     if (local_address.empty()) {
-        stream.async_connect(endpoints,
-                             [&](beast::error_code e, const tcp::endpoint&) { ec = e; });
+        stream.async_connect(endpoints, [&](beast::error_code e, const tcp::endpoint&) { ec = e; });
     } else {
         const auto local = asio::ip::make_address(local_address, ec);
         if (!ec) {

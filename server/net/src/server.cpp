@@ -38,25 +38,28 @@ struct Server::Impl {
                   "Connections the listener could not accept (out of descriptors or memory)")) {}
 
     void do_accept() {
-        acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
-            if (ec == asio::error::operation_aborted || !acceptor.is_open()) {
-                return;
-            }
-            if (ec) {
-                // Out of descriptors (EMFILE, ENFILE) or memory, the pending connection stays in
-                // the backlog and accepting again at once fails again at once: wait, longer each
-                // time, so that the loop neither spins nor floods the log.
-                on_accept_failed(ec);
-                return;
-            }
-            accept_delay = std::chrono::milliseconds(0);
-            // Small messages (a camera move, a render request) must not wait for Nagle's
-            // algorithm to meet the peer's delayed ACK: that costs 40 ms a round trip.
-            beast::error_code ignored;
-            socket.set_option(tcp::no_delay(true), ignored);
-            std::make_shared<HttpSession>(std::move(socket), context)->run();
-            do_accept();
-        });
+        acceptor.async_accept(asio::make_strand(io),
+                              [this](beast::error_code ec, tcp::socket socket) {
+                                  if (ec == asio::error::operation_aborted || !acceptor.is_open()) {
+                                      return;
+                                  }
+                                  if (ec) {
+                                      // Out of descriptors (EMFILE, ENFILE) or memory, the pending
+                                      // connection stays in the backlog and accepting again at once
+                                      // fails again at once: wait, longer each time, so that the
+                                      // loop neither spins nor floods the log.
+                                      on_accept_failed(ec);
+                                      return;
+                                  }
+                                  accept_delay = std::chrono::milliseconds(0);
+                                  // Small messages (a camera move, a render request) must not wait
+                                  // for Nagle's algorithm to meet the peer's delayed ACK: that
+                                  // costs 40 ms a round trip.
+                                  beast::error_code ignored;
+                                  socket.set_option(tcp::no_delay(true), ignored);
+                                  std::make_shared<HttpSession>(std::move(socket), context)->run();
+                                  do_accept();
+                              });
     }
 
     void on_accept_failed(const beast::error_code& ec) {
@@ -91,12 +94,14 @@ struct Server::Impl {
     std::chrono::steady_clock::time_point next_failure_log{};
 };
 
-Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Server::Server(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
 
-Server::~Server() { stop(); }
+Server::~Server() {
+    stop();
+}
 
-base::Result<std::unique_ptr<Server>> Server::start(const ServerConfig& config,
-                                                    Services services) {
+base::Result<std::unique_ptr<Server>> Server::start(const ServerConfig& config, Services services) {
     const int io_threads = std::max(1, config.io_threads);
     auto impl = std::make_unique<Impl>(config, services, io_threads);
     beast::error_code ec;

@@ -114,8 +114,7 @@ base::Status check_upgrade(const UpgradePolicy& policy, std::optional<std::strin
     }
     if (!policy.access_token.empty()) {
         const auto token = target.query.find("token");
-        if (token == target.query.end() ||
-            !base::same_secret(token->second, policy.access_token)) {
+        if (token == target.query.end() || !base::same_secret(token->second, policy.access_token)) {
             return base::make_error("unauthorized",
                                     token == target.query.end()
                                             ? "the WebSocket URL carries no access token (?token=)"

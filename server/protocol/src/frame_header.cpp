@@ -36,24 +36,25 @@ std::vector<std::uint8_t> pack_frame(const FrameHeader& h, std::span<const std::
     for (const auto& pass : h.passes) {
         passes.push_back({{"name", pass.name}, {"gpu_ms", pass.gpu_ms}, {"wall_ms", pass.wall_ms}});
     }
-    const std::string header = json{{"frame", h.frame},
-                                    {"request", h.request},
-                                    {"session", h.session},
-                                    {"width", h.width},
-                                    {"height", h.height},
-                                    {"encoding", h.encoding},
-                                    {"mode", h.mode},
-                                    {"interactive", h.interactive},
-                                    {"light_buffer", h.light_buffer},
-                                    {"passes", passes},
-                                    {"timings",
-                                     {{"queued_ms", h.queued_ms},
-                                      {"render_ms", h.render_ms},
-                                      {"readback_ms", h.readback_ms},
-                                      {"encode_ms", h.encode_ms}}},
-                                    {"quality", h.quality},
-                                    {"refinement", h.refinement}}
-                                       .dump();
+    const std::string header = json{
+            {"frame", h.frame},
+            {"request", h.request},
+            {"session", h.session},
+            {"width", h.width},
+            {"height", h.height},
+            {"encoding", h.encoding},
+            {"mode", h.mode},
+            {"interactive", h.interactive},
+            {"light_buffer", h.light_buffer},
+            {"passes", passes},
+            {"timings",
+             {{"queued_ms", h.queued_ms},
+              {"render_ms", h.render_ms},
+              {"readback_ms", h.readback_ms},
+              {"encode_ms", h.encode_ms}}},
+            {"quality", h.quality},
+            {"refinement",
+             h.refinement}}.dump();
     std::vector<std::uint8_t> out;
     out.reserve(prefix_bytes + header.size() + image.size());
     for (const std::uint8_t byte : magic) {
@@ -112,7 +113,8 @@ base::Result<UnpackedFrame> unpack_frame(std::span<const std::uint8_t> bytes) {
     } catch (const json::exception& e) {
         return bad_frame(std::string("header field missing or of the wrong type: ") + e.what());
     }
-    out.image.assign(bytes.begin() + static_cast<std::ptrdiff_t>(prefix_bytes + length), bytes.end());
+    out.image.assign(bytes.begin() + static_cast<std::ptrdiff_t>(prefix_bytes + length),
+                     bytes.end());
     return out;
 }
 

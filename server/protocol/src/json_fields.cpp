@@ -34,6 +34,7 @@ base::Result<json> parse_limited(std::string_view text, int max_depth) {
         std::size_t index = 0;  // elements of an array read so far
         std::string key;        // the member of an object being read
     };
+
     std::vector<Level> levels;
     std::optional<std::string> too_deep;  // pointer of the first container beyond the limit
     const auto pointer = [&] {
@@ -95,8 +96,7 @@ base::Status only_fields(const json& object, const std::string& pointer,
         const bool known = std::any_of(allowed.begin(), allowed.end(),
                                        [&](const char* name) { return key == name; });
         if (!known) {
-            return field_error("unknown_field", pointer + "/" + key,
-                               "unknown field '" + key + "'");
+            return field_error("unknown_field", pointer + "/" + key, "unknown field '" + key + "'");
         }
     }
     return base::Ok{};
@@ -109,8 +109,7 @@ base::Status expect_object(const json& value, const std::string& pointer) {
     return base::Ok{};
 }
 
-base::Result<double> number(const json& value, const std::string& pointer, double min,
-                            double max) {
+base::Result<double> number(const json& value, const std::string& pointer, double min, double max) {
     if (!value.is_number()) {
         return field_error("invalid_value", pointer, "expected a number");
     }
@@ -164,8 +163,8 @@ base::Result<glm::dvec3> vec3(const json& value, const std::string& pointer, dou
     }
     glm::dvec3 out(0.0);
     for (int i = 0; i < 3; ++i) {
-        auto component = number(value[static_cast<std::size_t>(i)], pointer + "/" + std::to_string(i),
-                                min, max);
+        auto component = number(value[static_cast<std::size_t>(i)],
+                                pointer + "/" + std::to_string(i), min, max);
         if (!component) {
             return component.error();
         }

@@ -33,8 +33,7 @@ base::Status only_fields(const json& object, const std::string& pointer,
 
 base::Status expect_object(const json& value, const std::string& pointer);
 
-base::Result<double> number(const json& value, const std::string& pointer, double min,
-                            double max);
+base::Result<double> number(const json& value, const std::string& pointer, double min, double max);
 
 base::Result<int> integer(const json& value, const std::string& pointer, int min, int max);
 

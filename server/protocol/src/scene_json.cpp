@@ -70,9 +70,9 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
         glm::dvec3 target = camera.target;
         PENUMBRA_TRY(optional_member(j, p, "target", target, coordinates));
         const double distance = glm::length(camera.eye - camera.target);
-        camera = scene::view_camera(
-                *view, distance > 0.0 ? distance : scene::default_camera_distance, target,
-                camera.fov_y_degrees);
+        camera = scene::view_camera(*view,
+                                    distance > 0.0 ? distance : scene::default_camera_distance,
+                                    target, camera.fov_y_degrees);
     }
     if (j.contains("orbit")) {
         if (j.contains("eye")) {
@@ -273,8 +273,7 @@ auto int_range_of(int lo, int hi) {
 }
 
 base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
-                            double& frame_budget_ms, int& refinement_steps,
-                            const Limits& limits) {
+                            double& frame_budget_ms, int& refinement_steps, const Limits& limits) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(
             j, p,

@@ -97,8 +97,7 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
             const optics::Marching marching =
                     hit.hit ? optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance)
                             : optics::Marching{};
-            const double offset =
-                    optics::ray_start_offset(s.jitter, x, y, request.refinement.step);
+            const double offset = optics::ray_start_offset(s.jitter, x, y, request.refinement.step);
             for (int i = 0; i < marching.count; ++i) {
                 const glm::dvec3 position =
                         camera.eye + (hit.t_near + (i + offset) * marching.step) * direction;

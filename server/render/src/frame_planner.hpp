@@ -10,10 +10,10 @@ namespace penumbra::render {
 // variant each uses. No light buffer unless the mode casts light-buffer shadows, no gradients
 // unless shading needs them, shadow rays only for the reference.
 struct FramePlan {
-    bool half_angle = false;         // slice-based instead of ray-cast
-    bool needs_light_view = false;   // the light's view-projection (light buffer or half-angle)
+    bool half_angle = false;        // slice-based instead of ray-cast
+    bool needs_light_view = false;  // the light's view-projection (light buffer or half-angle)
     bool needs_light_buffer = false;
-    RaycastVariant variant;          // the ray caster's, or the half-angle passes' defines
+    RaycastVariant variant;  // the ray caster's, or the half-angle passes' defines
 };
 
 FramePlan plan_frame(const scene::FrameRequest& request);

@@ -44,8 +44,9 @@ base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int
     auto light_program = pass_program(true);
     auto resolve_program = programs_.compute("resolve.comp");
     if (!eye_program || !light_program || !resolve_program) {
-        return !eye_program ? eye_program.error()
-                            : !light_program ? light_program.error() : resolve_program.error();
+        return !eye_program     ? eye_program.error()
+               : !light_program ? light_program.error()
+                                : resolve_program.error();
     }
     ensure_buffers(width, height, light_resolution);
     target.ensure(width, height);

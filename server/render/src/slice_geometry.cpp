@@ -6,8 +6,8 @@
 
 namespace penumbra::render {
 
-SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min,
-                                  double max, int count) {
+SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min, double max,
+                                  int count) {
     SliceGeometry geometry;
     geometry.first.reserve(static_cast<std::size_t>(count));
     geometry.count.reserve(static_cast<std::size_t>(count));
@@ -30,7 +30,6 @@ SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, doub
     }
     return geometry;
 }
-
 
 SliceMesh::SliceMesh()
     : vertex_array_(gpu::create_vertex_array()) {}
@@ -55,7 +54,9 @@ void SliceMesh::upload(SliceGeometry geometry) {
     }
 }
 
-void SliceMesh::bind() const { glBindVertexArray(vertex_array_.name()); }
+void SliceMesh::bind() const {
+    glBindVertexArray(vertex_array_.name());
+}
 
 void SliceMesh::draw(int slice) const {
     const auto k = static_cast<std::size_t>(slice);

@@ -19,8 +19,8 @@ struct SliceGeometry {
 
 // The n slice polygons perpendicular to `normal` at min + (k + 0.5)·(max - min)/n, each a triangle
 // fan turned into a triangle list.
-SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min,
-                                  double max, int count);
+SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min, double max,
+                                  int count);
 
 // The geometry on the GPU: a vertex buffer and the vertex array reading it as attribute 0.
 class SliceMesh {

@@ -346,24 +346,24 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.emplace_back([this, frame, image, output = job.output,
-                                    done = std::move(done)]() mutable {
-            const Clock::time_point start = Clock::now();
-            auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
-            if (!bytes) {
-                failures_.add();
-                done(bytes.error());
-                return;
-            }
-            frame->image = std::move(bytes.value());
-            frame->encode_ms = milliseconds_between(start, Clock::now());
-            encode_ms_.observe(frame->encode_ms);
-            frames_.add();
-            if (frame->refinement_step > 0) {
-                refinement_frames_.add();
-            }
-            done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-        });
+        encode_queue_.emplace_back(
+                [this, frame, image, output = job.output, done = std::move(done)]() mutable {
+                    const Clock::time_point start = Clock::now();
+                    auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
+                    if (!bytes) {
+                        failures_.add();
+                        done(bytes.error());
+                        return;
+                    }
+                    frame->image = std::move(bytes.value());
+                    frame->encode_ms = milliseconds_between(start, Clock::now());
+                    encode_ms_.observe(frame->encode_ms);
+                    frames_.add();
+                    if (frame->refinement_step > 0) {
+                        refinement_frames_.add();
+                    }
+                    done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+                });
     }
     encode_ready_.notify_one();
 }

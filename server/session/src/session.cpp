@@ -242,8 +242,7 @@ void Session::deliver(const FrameOutcome& outcome) {
 }
 
 void Session::render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
-                     const std::string& client,
-                     const quality::Table* quality_table) {
+                     const std::string& client, const quality::Table* quality_table) {
     RenderJob job = make_job(request_id, interactive, quality_table);
     job.client = client;
     scheduler.submit(id_, std::move(job), [weak = weak_from_this()](const FrameOutcome& outcome) {

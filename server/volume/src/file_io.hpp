@@ -107,8 +107,7 @@ template <class Target>
 base::Result<std::uint64_t> read_into(std::FILE* file, const std::filesystem::path& path,
                                       std::uint64_t offset, Target& target) {
     std::uint64_t total = 0;
-    for (std::span<std::byte> window = target.window(); !window.empty();
-         window = target.window()) {
+    for (std::span<std::byte> window = target.window(); !window.empty(); window = target.window()) {
         // Bounded reads keep a huge direct window from being one enormous fread.
         window = window.first(std::min<std::size_t>(window.size(), std::size_t{1} << 26));
         auto got = read_some(file, path, offset + total, window);

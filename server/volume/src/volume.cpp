@@ -337,10 +337,11 @@ struct FileFormat {
 };
 
 // The one list of volume file names: load_volume picks by it, serve lists files by it.
-constexpr FileFormat file_formats[] = {
-        {".nii", load_nifti}, {".nii.gz", load_nifti}, {".nrrd", load_nrrd},
-        {".nhdr", load_nrrd}, {".raw", load_raw},      {".raw.gz", load_raw},
-        {".hdr", load_nifti},  // with its .img beside it
+constexpr FileFormat file_formats[] =
+        {
+                {".nii", load_nifti}, {".nii.gz", load_nifti}, {".nrrd", load_nrrd},
+                {".nhdr", load_nrrd}, {".raw", load_raw},      {".raw.gz", load_raw},
+                {".hdr", load_nifti},  // with its .img beside it
 };
 
 constexpr std::string_view dicom_suffixes[] = {".dcm", ".dicom"};
@@ -390,10 +391,11 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
         for (const FileFormat& format : file_formats) {
             supported += std::string(format.suffix) + ", ";
         }
-        return base::make_error("unknown_format",
-                                "unknown volume file type; supported: " + supported +
-                                        "(.hdr with its .img; raw: name_XxYxZ_type.raw), DICOM files and folders",
-                                detail::at_file(path));
+        return base::make_error(
+                "unknown_format",
+                "unknown volume file type; supported: " + supported +
+                        "(.hdr with its .img; raw: name_XxYxZ_type.raw), DICOM files and folders",
+                detail::at_file(path));
     }
     if (auto size = detail::regular_file_size(path); !size) {
         return size.error();

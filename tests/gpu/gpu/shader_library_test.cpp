@@ -28,8 +28,10 @@ protected:
 
 TEST_F(ShaderLibraryTest, ExpandsIncludesOnceWithLineDirectivesAndDefines) {
     write("include/common.glsl", "float twice(float x) { return 2.0 * x; }\n");
-    write("include/user.glsl", "#include \"include/common.glsl\"\nfloat four(float x) { return twice(twice(x)); }\n");
-    write("main.comp", "#include \"include/common.glsl\"\n#include \"include/user.glsl\"\nvoid main() {}\n");
+    write("include/user.glsl",
+          "#include \"include/common.glsl\"\nfloat four(float x) { return twice(twice(x)); }\n");
+    write("main.comp",
+          "#include \"include/common.glsl\"\n#include \"include/user.glsl\"\nvoid main() {}\n");
     ShaderLibrary library(root_);
     auto source = library.expand("main.comp", {{"FLAG", "1"}});
     ASSERT_TRUE(source.ok()) << source.error().to_string();
@@ -64,7 +66,8 @@ TEST_F(ShaderLibraryTest, IncludeCycleEndsBecauseEachFileIsPastedOnce) {
 TEST_F(ShaderLibraryTest, CompileErrorPointsAtTheIncludedFileAndLine) {
     auto context = Context::create();
     ASSERT_TRUE(context.ok()) << context.error().to_string();
-    write("include/broken.glsl", "float ok() { return 1.0; }\n\nfloat bad() { return undefined_name; }\n");
+    write("include/broken.glsl",
+          "float ok() { return 1.0; }\n\nfloat bad() { return undefined_name; }\n");
     write("main.comp",
           "layout(local_size_x = 1) in;\n#include \"include/broken.glsl\"\nvoid main() {}\n");
     ShaderLibrary library(root_);

@@ -158,7 +158,8 @@ TEST_F(RefinementTest, JitterTurnsRingsIntoNoiseWithoutBias) {
         mean_a += a.image.pixels[i];
         mean_b += b.image.pixels[i];
     }
-    EXPECT_NEAR(mean_a / a.image.pixels.size(), mean_b / b.image.pixels.size(), 1.5);
+    EXPECT_NEAR(mean_a / static_cast<double>(a.image.pixels.size()),
+                mean_b / static_cast<double>(b.image.pixels.size()), 1.5);
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 // computes the same integral independently. Tolerances are stated per case; on failure the
 // actual, expected and difference images are written next to the test binary.
 
+#include "dicom_writer.hpp"
+#include "synthetic_volumes.hpp"
+
 #include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
@@ -10,14 +13,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include <unistd.h>
-
-#include "dicom_writer.hpp"
-#include "synthetic_volumes.hpp"
 
 namespace penumbra::render {
 namespace {
@@ -44,9 +44,10 @@ protected:
         request.settings.height = size;
         request.settings.sample_distance = 1.0 / 128.0;
         request.settings.background = {0.2, 0.4, 0.6};
-        request.transfer_function = {"test",
-                                     {{0.0, {0.2, 0.4, 1.0}}, {0.5, {1.0, 0.6, 0.2}}, {1.0, {1.0, 1.0, 1.0}}},
-                                     {{0.0, 0.0}, {0.2, 0.0}, {0.6, 0.1}, {1.0, 0.6}}};
+        request.transfer_function = {
+                "test",
+                {{0.0, {0.2, 0.4, 1.0}}, {0.5, {1.0, 0.6, 0.2}}, {1.0, {1.0, 1.0, 1.0}}},
+                {{0.0, 0.0}, {0.2, 0.0}, {0.6, 0.1}, {1.0, 0.6}}};
         return request;
     }
 
@@ -117,8 +118,8 @@ TEST_F(RendererTest, FragmentStageGivesTheComputeImage) {
     request.settings.stage = scene::RaycastStage::fragment;
     const Frame fragment = render(volume, request);
     EXPECT_EQ(fragment.report.stage, "fragment");
-    auto difference = encode::compare_images(base::to_rgba_f(compute.image),
-                                             base::to_rgba_f(fragment.image));
+    auto difference =
+            encode::compare_images(base::to_rgba_f(compute.image), base::to_rgba_f(fragment.image));
     ASSERT_TRUE(difference.ok());
     EXPECT_LE(difference->max_error, 1.0 / 255.0 + 1e-6);
 }
@@ -243,9 +244,9 @@ TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
     auto no_volume = renderer_->render(request);
     ASSERT_FALSE(no_volume.ok());
     EXPECT_EQ(no_volume.error().code, "no_volume");
-    ASSERT_TRUE(renderer_->set_volume(std::make_shared<const volume::Volume>(
-                                              test::radial_volume(8)))
-                        .ok());
+    ASSERT_TRUE(
+            renderer_->set_volume(std::make_shared<const volume::Volume>(test::radial_volume(8)))
+                    .ok());
     request.settings.sample_distance = -1.0;
     EXPECT_EQ(renderer_->render(request).error().where, "sample_distance");
     request = small_request(scene::Mode::sbrc, 16);

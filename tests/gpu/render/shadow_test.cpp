@@ -2,6 +2,8 @@
 // scattering variants, half-angle slicing and the shadow-ray reference, checked against analytic
 // transmittance, against the CPU reference, and against each other.
 
+#include "synthetic_volumes.hpp"
+
 #include <penumbra/encode/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -11,8 +13,6 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include "synthetic_volumes.hpp"
 
 namespace penumbra::render {
 namespace {
@@ -64,8 +64,8 @@ scene::FrameRequest radial_scene(scene::Mode mode, int size = 48) {
 
 TEST_F(ShadowTest, BothLightBufferBuildersGiveTheSameLayers) {
     use(test::radial_volume(32));
-    for (const auto& [point_light, slab_samples] : {std::pair{false, 1}, std::pair{true, 1},
-                                                    std::pair{false, 3}, std::pair{true, 0}}) {
+    for (const auto& [point_light, slab_samples] :
+         {std::pair{false, 1}, std::pair{true, 1}, std::pair{false, 3}, std::pair{true, 0}}) {
         SCOPED_TRACE(std::string(point_light ? "point light" : "directional light") +
                      ", slab samples " + std::to_string(slab_samples));
         auto request = radial_scene(scene::Mode::sbrc, 16);
@@ -99,7 +99,8 @@ TEST_F(ShadowTest, BothLightBufferBuildersGiveTheSameLayers) {
         // Both write half floats (about 3 significant digits); rasterisation may decide a
         // texel on the box silhouette differently from the compute builder's inside test.
         EXPECT_LT(sum / static_cast<double>(per_slice->values.size()), 1e-3);
-        EXPECT_LT(static_cast<double>(far_off), 0.002 * static_cast<double>(per_slice->values.size()))
+        EXPECT_LT(static_cast<double>(far_off),
+                  0.002 * static_cast<double>(per_slice->values.size()))
                 << "largest difference " << largest;
         EXPECT_LT(darkest, 0.5);  // the medium really casts a shadow
     }
@@ -146,9 +147,8 @@ TEST_P(SlabShadowTest, SlabCastsAShadowOfThePredictedStrength) {
     request.settings.sample_distance = 1.0 / 128.0;
     request.settings.light_buffer.slices = 256;
     request.settings.light_buffer.resolution = 64;
-    request.transfer_function = {"slab",
-                                 {{0.0, {1.0, 1.0, 1.0}}},
-                                 {{0.0, 0.0}, {0.5, slab_alpha}, {1.0, 0.004}}};
+    request.transfer_function = {
+            "slab", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.5, slab_alpha}, {1.0, 0.004}}};
     const Frame frame = render(request);
     // The receiver's middle (world x = -0.25) projects to column 22; world y = ∓0.3 to rows 44 and
     // 20 (the camera looks down -z with +y up).
@@ -167,7 +167,8 @@ TEST_P(SlabShadowTest, SlabCastsAShadowOfThePredictedStrength) {
     const double lit = mean_red(17, 24);
     ASSERT_GT(lit, 40.0);
     const double thickness = 4.0 / n;
-    const double expected = std::exp(-slab_alpha / request.settings.opacity_unit_distance * thickness);
+    const double expected =
+            std::exp(-slab_alpha / request.settings.opacity_unit_distance * thickness);
     EXPECT_NEAR(shadowed / lit, expected, 0.01)
             << scene::to_string(GetParam()) << ": shadowed " << shadowed << ", lit " << lit;
 }
@@ -175,7 +176,9 @@ TEST_P(SlabShadowTest, SlabCastsAShadowOfThePredictedStrength) {
 INSTANTIATE_TEST_SUITE_P(Modes, SlabShadowTest,
                          ::testing::Values(scene::Mode::reference, scene::Mode::sbrc,
                                            scene::Mode::half_angle),
-                         [](const auto& param_info) { return std::string(scene::to_string(param_info.param)); });
+                         [](const auto& param_info) {
+                             return std::string(scene::to_string(param_info.param));
+                         });
 
 TEST_F(ShadowTest, GpuReferenceMatchesCpuReference) {
     const volume::Volume volume = test::radial_volume(32);
@@ -191,8 +194,7 @@ TEST_F(ShadowTest, GpuReferenceMatchesCpuReference) {
         const Frame frame = render(request);
         auto expected = reference::render_cpu(volume, request);
         ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-        auto difference =
-                encode::compare_images(base::to_rgba_f(frame.image), *expected);
+        auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
         ASSERT_TRUE(difference.ok());
         EXPECT_LE(difference->max_error, 3.0 / 255.0);
         EXPECT_LE(difference->mean_error, 0.6 / 255.0);
@@ -236,9 +238,8 @@ TEST_F(ShadowTest, LocalLookupFollowsTheReferenceOnAnOpaqueSurface) {
     request.settings.width = 64;
     request.settings.height = 64;
     request.settings.sample_distance = 1.0 / 256.0;
-    request.transfer_function = {"ball",
-                                 {{0.0, {1.0, 1.0, 1.0}}},
-                                 {{0.0, 0.0}, {0.4, 0.0}, {0.6, 0.5}, {1.0, 0.5}}};
+    request.transfer_function = {
+            "ball", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.4, 0.0}, {0.6, 0.5}, {1.0, 0.5}}};
     request.settings.mode = scene::Mode::reference;
     const base::ImageRgbaF reference = base::to_rgba_f(render(request).image);
 

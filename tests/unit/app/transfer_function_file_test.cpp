@@ -1,9 +1,9 @@
+#include "transfer_function_file.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
-
-#include "transfer_function_file.hpp"
 
 namespace penumbra::app {
 namespace {

@@ -56,7 +56,8 @@ TEST(Encode, RejectsBadQualityEmptyImagesAndGarbage) {
     EXPECT_EQ(encode_image(base::ImageRgba8(), ImageFormat::png).error().code, "encode_failed");
     const std::vector<std::uint8_t> garbage(100, 0x42);
     EXPECT_EQ(decode_image(garbage).error().code, "decode_failed");
-    std::vector<std::uint8_t> truncated = encode_image(gradient_image(16, 16), ImageFormat::png).value();
+    std::vector<std::uint8_t> truncated =
+            encode_image(gradient_image(16, 16), ImageFormat::png).value();
     truncated.resize(40);
     EXPECT_FALSE(decode_image(truncated).ok());
 }

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-
-#include <unistd.h>
 #include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace penumbra::quality {
 namespace {

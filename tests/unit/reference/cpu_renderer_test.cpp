@@ -1,11 +1,11 @@
+#include "synthetic_volumes.hpp"
+
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/reference/volume_sampler.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "synthetic_volumes.hpp"
 
 namespace penumbra::reference {
 namespace {

@@ -113,17 +113,15 @@ TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount
     std::mutex frames_mutex;
     std::vector<int> steps;
     std::promise<void> all;
-    scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 3),
-                       [&](FrameOutcome outcome) {
-                           const auto* frame =
-                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
-                           ASSERT_NE(frame, nullptr);
-                           const std::lock_guard lock(frames_mutex);
-                           steps.push_back((*frame)->refinement_step);
-                           if (steps.size() == 4) {
-                               all.set_value();
-                           }
-                       });
+    scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 3), [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        ASSERT_NE(frame, nullptr);
+        const std::lock_guard lock(frames_mutex);
+        steps.push_back((*frame)->refinement_step);
+        if (steps.size() == 4) {
+            all.set_value();
+        }
+    });
     ASSERT_EQ(all.get_future().wait_for(10s), std::future_status::ready);
     std::this_thread::sleep_for(50ms);  // nothing more comes
     const std::lock_guard lock(frames_mutex);
@@ -146,14 +144,12 @@ TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) 
     // Session "a" refines for a long time (200 steps of 25 chunks); session "b", of another client,
     // drags meanwhile. Every job of b starts after at most one more refinement chunk.
     std::atomic<int> refined{0};
-    scheduler_->submit("a", job(1, 25, "10.0.0.1", false, 200),
-                       [&](FrameOutcome outcome) {
-                           const auto* frame =
-                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
-                           if (frame != nullptr && (*frame)->refinement_step > 0) {
-                               ++refined;
-                           }
-                       });
+    scheduler_->submit("a", job(1, 25, "10.0.0.1", false, 200), [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        if (frame != nullptr && (*frame)->refinement_step > 0) {
+            ++refined;
+        }
+    });
     for (int i = 0; i < 200 && refined.load() < 1; ++i) {
         std::this_thread::sleep_for(10ms);
     }
@@ -183,14 +179,12 @@ TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) 
 TEST_F(SchedulerRefinementTest, ANewJobOfTheSessionEndsTheRefinementOfItsOldView) {
     std::promise<void> first_refined;
     std::atomic<bool> signalled{false};
-    scheduler_->submit("a", job(1, 2, "10.0.0.1", false, 100),
-                       [&](FrameOutcome outcome) {
-                           const auto* frame =
-                                   std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
-                           if (frame != nullptr && (*frame)->refinement_step > 0 && !signalled.exchange(true)) {
-                               first_refined.set_value();
-                           }
-                       });
+    scheduler_->submit("a", job(1, 2, "10.0.0.1", false, 100), [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        if (frame != nullptr && (*frame)->refinement_step > 0 && !signalled.exchange(true)) {
+            first_refined.set_value();
+        }
+    });
     ASSERT_EQ(first_refined.get_future().wait_for(10s), std::future_status::ready);
     std::promise<void> done;
     scheduler_->submit("a", job(2, 1, "10.0.0.1", false, 0), [&](auto) { done.set_value(); });

@@ -11,10 +11,10 @@ namespace penumbra::base {
 
 }  // namespace penumbra::base
 
-#define PENUMBRA_ASSERT(condition, message)                                               \
-    do {                                                                                  \
-        if (!(condition)) [[unlikely]] {                                                  \
-            ::penumbra::base::assertion_failed(#condition, message, __FILE__, __LINE__,   \
-                                               static_cast<const char*>(__func__));       \
-        }                                                                                 \
+#define PENUMBRA_ASSERT(condition, message)                                             \
+    do {                                                                                \
+        if (!(condition)) [[unlikely]] {                                                \
+            ::penumbra::base::assertion_failed(#condition, message, __FILE__, __LINE__, \
+                                               static_cast<const char*>(__func__));     \
+        }                                                                               \
     } while (false)

@@ -19,7 +19,9 @@ struct ImageRgba8 {
         return &pixels[(static_cast<std::size_t>(y) * width + x) * 4];
     }
 
-    std::uint8_t* pixel(int x, int y) { return &pixels[(static_cast<std::size_t>(y) * width + x) * 4]; }
+    std::uint8_t* pixel(int x, int y) {
+        return &pixels[(static_cast<std::size_t>(y) * width + x) * 4];
+    }
 };
 
 // A float RGBA image (linear values, normally in [0,1]), rows top to bottom. The CPU reference

@@ -13,9 +13,11 @@ class Object {
 public:
     Object() = default;
 
-    explicit Object(GLuint name) : name_(name) {}
+    explicit Object(GLuint name)
+        : name_(name) {}
 
-    Object(Object&& other) noexcept : name_(std::exchange(other.name_, 0)) {}
+    Object(Object&& other) noexcept
+        : name_(std::exchange(other.name_, 0)) {}
 
     Object& operator=(Object&& other) noexcept {
         if (this != &other) {
@@ -51,21 +53,27 @@ namespace traits {
 struct Texture {
     static void destroy(GLuint n) { glDeleteTextures(1, &n); }
 };
+
 struct Buffer {
     static void destroy(GLuint n) { glDeleteBuffers(1, &n); }
 };
+
 struct Framebuffer {
     static void destroy(GLuint n) { glDeleteFramebuffers(1, &n); }
 };
+
 struct VertexArray {
     static void destroy(GLuint n) { glDeleteVertexArrays(1, &n); }
 };
+
 struct Query {
     static void destroy(GLuint n) { glDeleteQueries(1, &n); }
 };
+
 struct Program {
     static void destroy(GLuint n) { glDeleteProgram(n); }
 };
+
 struct Shader {
     static void destroy(GLuint n) { glDeleteShader(n); }
 };

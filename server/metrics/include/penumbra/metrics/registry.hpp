@@ -83,6 +83,7 @@ private:
         std::unique_ptr<Gauge> gauge;
         std::unique_ptr<Histogram> histogram;
     };
+
     mutable std::mutex mutex_;
     std::map<std::string, Entry> entries_;
 };

@@ -46,7 +46,8 @@ inline LightTerms blinn_phong(glm::dvec3 normal, glm::dvec3 to_light, glm::dvec3
 inline glm::dvec3 shade(glm::dvec3 tf_color, const LightTerms& terms, const scene::Light& light,
                         const scene::Shading& shading, double light_reaching = 1.0) {
     const glm::dvec3 radiance = light.color * light.intensity;
-    return tf_color * radiance * (light.ambient + shading.diffuse * terms.diffuse * light_reaching) +
+    return tf_color * radiance *
+                   (light.ambient + shading.diffuse * terms.diffuse * light_reaching) +
            radiance * shading.specular * terms.specular * light_reaching;
 }
 

@@ -17,27 +17,27 @@ namespace penumbra::protocol {
 //   then        the encoded image (JPEG or PNG)
 struct PassTime {
     std::string name;
-    double gpu_ms = 0.0;   // -1 where the GL implementation has no usable timer queries
+    double gpu_ms = 0.0;  // -1 where the GL implementation has no usable timer queries
     double wall_ms = 0.0;
 };
 
 struct FrameHeader {
-    std::uint64_t frame = 0;          // per-session frame counter
-    std::int64_t request = -1;        // the id of the render request it answers (-1: none)
+    std::uint64_t frame = 0;    // per-session frame counter
+    std::int64_t request = -1;  // the id of the render request it answers (-1: none)
     std::string session;
     int width = 0;
     int height = 0;
-    std::string encoding;             // "jpeg" | "png"
+    std::string encoding;  // "jpeg" | "png"
     std::string mode;
     bool interactive = false;
-    std::string light_buffer;         // "none" | "built" | "reused"
+    std::string light_buffer;  // "none" | "built" | "reused"
     std::vector<PassTime> passes;
     // Server-side time split, milliseconds.
     double queued_ms = 0.0;
     double render_ms = 0.0;
     double readback_ms = 0.0;
     double encode_ms = 0.0;
-    std::string quality;              // a description of the settings actually used
+    std::string quality;  // a description of the settings actually used
     // Progressive stills: 0 for a frame on its own; k > 0: the still frame refined k times (the
     // mean of k + 1 jittered frames of the same view).
     int refinement = 0;

@@ -8,9 +8,9 @@
 namespace penumbra::render {
 
 // One pass that ran for a frame. `gpu_ms` comes from a GL timer query (0 for passes that issue no
-// GPU work, -1 where the GL implementation's timer queries mean nothing); `wall_ms` is the CPU-side time from issuing the pass until the GPU finished it
-// (glFinish), which is the figure to trust on llvmpipe, whose timer queries do not cover compute
-// dispatches.
+// GPU work, -1 where the GL implementation's timer queries mean nothing); `wall_ms` is the CPU-side
+// time from issuing the pass until the GPU finished it (glFinish), which is the figure to trust on
+// llvmpipe, whose timer queries do not cover compute dispatches.
 struct PassTiming {
     std::string name;
     double gpu_ms = 0.0;

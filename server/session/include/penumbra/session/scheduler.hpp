@@ -56,9 +56,9 @@ struct EncodedFrame {
     std::int64_t request_id = -1;
     bool interactive = false;
     std::string quality;
-    int refinement_step = 0;   // 0: a frame on its own; k: the still frame refined k times
-    double queued_ms = 0.0;    // submitted -> the render thread took it
-    double render_ms = 0.0;    // GPU passes, wall time
+    int refinement_step = 0;  // 0: a frame on its own; k: the still frame refined k times
+    double queued_ms = 0.0;   // submitted -> the render thread took it
+    double render_ms = 0.0;   // GPU passes, wall time
     double readback_ms = 0.0;
     double encode_ms = 0.0;
 };

@@ -150,8 +150,7 @@ public:
     // the viewers of the session while it lives. The render time is `client`'s, whoever's
     // session it is.
     void render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
-                const std::string& client,
-                const quality::Table* quality_table = nullptr);
+                const std::string& client, const quality::Table* quality_table = nullptr);
 
     // A job for the current state, at full or interactive quality. With a frame budget and a
     // measured quality table, the most accurate setting that fits replaces the state's mode,
