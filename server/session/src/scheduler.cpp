@@ -344,26 +344,32 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         light_buffer_reused_.add();
     }
     auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
+    std::string session;
+    {
+        const std::lock_guard lock(mutex_);
+        session = in_flight_.session;
+    }
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.emplace_back(
-                [this, frame, image, output = job.output, done = std::move(done)]() mutable {
-                    const Clock::time_point start = Clock::now();
-                    auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
-                    if (!bytes) {
-                        failures_.add();
-                        done(bytes.error());
-                        return;
-                    }
-                    frame->image = std::move(bytes.value());
-                    frame->encode_ms = milliseconds_between(start, Clock::now());
-                    encode_ms_.observe(frame->encode_ms);
-                    frames_.add();
-                    if (frame->refinement_step > 0) {
-                        refinement_frames_.add();
-                    }
-                    done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-                });
+        encode_queue_.push_back(
+                {std::move(session),
+                 [this, frame, image, output = job.output, done = std::move(done)]() mutable {
+                     const Clock::time_point start = Clock::now();
+                     auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
+                     if (!bytes) {
+                         failures_.add();
+                         done(bytes.error());
+                         return;
+                     }
+                     frame->image = std::move(bytes.value());
+                     frame->encode_ms = milliseconds_between(start, Clock::now());
+                     encode_ms_.observe(frame->encode_ms);
+                     frames_.add();
+                     if (frame->refinement_step > 0) {
+                         refinement_frames_.add();
+                     }
+                     done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+                 }});
     }
     encode_ready_.notify_one();
 }
@@ -377,17 +383,31 @@ bool Scheduler::in_flight_cancelled() const {
 
 void Scheduler::encode_loop() {
     while (true) {
-        std::function<void()> task;
+        EncodeTask task;
         {
             std::unique_lock lock(encode_mutex_);
-            encode_ready_.wait(lock, [&] { return encode_stopping_ || !encode_queue_.empty(); });
-            if (encode_queue_.empty()) {
+            // The oldest frame of a session that no other thread is encoding now.
+            auto next = encode_queue_.end();
+            encode_ready_.wait(lock, [&] {
+                next = std::find_if(encode_queue_.begin(), encode_queue_.end(),
+                                    [&](const EncodeTask& queued) {
+                                        return !sessions_encoding_.contains(queued.session);
+                                    });
+                return next != encode_queue_.end() || (encode_stopping_ && encode_queue_.empty());
+            });
+            if (next == encode_queue_.end()) {
                 return;  // stopping, and everything queued has been encoded
             }
-            task = std::move(encode_queue_.front());
-            encode_queue_.pop_front();
+            task = std::move(*next);
+            encode_queue_.erase(next);
+            sessions_encoding_.insert(task.session);
         }
-        task();
+        task.run();
+        {
+            const std::lock_guard lock(encode_mutex_);
+            sessions_encoding_.erase(task.session);
+        }
+        encode_ready_.notify_all();
     }
 }
 

@@ -198,7 +198,8 @@ TEST(BoxCorners, FollowTheBoxAxes) {
     const scene::Box permuted = scene::box_for_extent({96.0, 90.0, 78.0}, asr);
     const scene::Box ras = scene::box_for_extent({78.0, 96.0, 90.0});
     const auto corners = box_corners(permuted);
-    const std::vector<glm::dvec3> ras_corners(box_corners(ras).begin(), box_corners(ras).end());
+    const auto ras_array = box_corners(ras);
+    const std::vector<glm::dvec3> ras_corners(ras_array.begin(), ras_array.end());
     for (const auto& corner : corners) {
         EXPECT_TRUE(contains_point(ras_corners, corner, 1e-12)) << describe(corner);
     }

@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <variant>
@@ -186,9 +187,18 @@ private:
 
     InFlight in_flight_;
 
+    // Encoding runs on several threads, but one session's frames are encoded one at a time, in
+    // the order they were rendered, so that its viewers get them in that order (a refinement
+    // step never before the still frame it refines).
+    struct EncodeTask {
+        std::string session;
+        std::function<void()> run;
+    };
+
     std::mutex encode_mutex_;
     std::condition_variable encode_ready_;
-    std::deque<std::function<void()>> encode_queue_;
+    std::deque<EncodeTask> encode_queue_;
+    std::set<std::string> sessions_encoding_;
     bool encode_stopping_ = false;
 
     std::thread render_thread_;
