@@ -68,47 +68,14 @@ base::Result<std::string> read_secret(const Arguments& a, const std::string& opt
     return secret;
 }
 
-// Measures the start-up table on the renderer that will serve, on its own thread (its GL context
-// is current there only).
-quality::StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
-                                               session::VolumeStore& volumes, bool forced) {
-    quality::StartupMeasurement result;
-    std::vector<std::string> offered;
-    for (const session::VolumeEntry& entry : volumes.list()) {
-        offered.push_back(entry.id);
-    }
-    const auto id = quality::startup_volume(offered);
-    if (!id) {
-        result.error = base::make_error("no_volume", "no volume to measure on", "--data");
-        return result;
-    }
-    auto volume = volumes.acquire(*id);
-    if (!volume) {
-        result.error = volume.error();
-        return result;
-    }
-    // The defaults of `penumbra render` and `bench accuracy`: the camera, TF and lighting the
-    // committed tables were measured with.
+// The defaults of `penumbra render` and `bench accuracy`: the frame the committed tables were
+// measured from.
+base::Result<scene::FrameRequest> default_frame(const volume::Volume& volume) {
     auto no_options = Arguments::parse({}, frame_option_names(), frame_flag_names());
-    auto frame = no_options ? frame_request_from(*no_options, **volume)
-                            : base::Result<scene::FrameRequest>(no_options.error());
-    if (!frame) {
-        result.error = frame.error();
-        return result;
+    if (!no_options) {
+        return no_options.error();
     }
-    result.volume = *id;
-    const quality::StartupOptions options = quality::startup_options();
-    std::printf("quality:  %s a short table on %s at %dx%d (at most ~%.0f s)\n",
-                forced ? "--quality-measure: measuring" : "no table for this device: measuring",
-                id->c_str(), options.side, options.side, options.time_limit_s);
-    std::fflush(stdout);
-    auto table = quality::measure_startup_table(renderer, *volume, std::move(*frame), options);
-    if (!table) {
-        result.error = table.error();
-        return result;
-    }
-    result.table = std::move(table.value());
-    return result;
+    return frame_request_from(*no_options, volume);
 }
 
 void print_serve_usage() {
@@ -357,10 +324,6 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
     return o;
 }
 
-quality::TablePaths table_paths(const render::RendererInfo& info) {
-    return quality::table_paths(info, std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
-}
-
 // The start-up table is measured in the factory, on the render thread with the renderer that
 // will serve: a GL context is current on one thread only, and a second one would cost another
 // context (and its eglTerminate could pull the display from under the first). The scheduler
@@ -375,20 +338,22 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
             .light_buffer_memory_budget = static_cast<std::size_t>(o.light_buffer_memory_mb) << 20,
             .max_frame_work = o.config.limits.max_frame_work,
             .chunk_work = 0.0};
-    const quality::Measure measure = o.measure;
     session::SchedulerOptions scheduler_options = o.scheduler;
     scheduler_options.encode_threads = o.encode_threads;
+    quality::OfferedVolumes offered;
+    for (const session::VolumeEntry& entry : volumes.list()) {
+        offered.ids.push_back(entry.id);
+    }
+    offered.acquire = [&volumes](const std::string& id) { return volumes.acquire(id); };
     return session::Scheduler::create(
-            [renderer_options, measure, &volumes,
+            [renderer_options, measure = o.measure, offered = std::move(offered),
              &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
                 auto renderer = render::Renderer::create(renderer_options);
                 if (!renderer) {
                     return renderer.error();
                 }
-                if (quality::should_measure(measure, table_paths((*renderer)->info()))) {
-                    measured = measure_at_startup(**renderer, volumes,
-                                                  measure == quality::Measure::always);
-                }
+                measured = quality::measure_at_startup(**renderer, measure, offered, default_frame,
+                                                       stdout);
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
             scheduler_options, registry);
@@ -404,7 +369,7 @@ volume::LoadOptions load_options(const ServeOptions& o) {
 base::Result<std::shared_ptr<const quality::Table>> quality_table(
         const ServeOptions& o, const quality::StartupMeasurement& measured,
         const render::RendererInfo& info) {
-    auto table = quality::serve_table(o.quality_table, measured, table_paths(info));
+    auto table = quality::serve_table(o.quality_table, measured, quality::table_paths(info));
     if (!table) {
         return table.error();
     }
