@@ -251,6 +251,21 @@ TEST_F(ServerTest, HelloAnnouncesLimitsAndListVolumesFindsTheData) {
     EXPECT_NE(volumes.find("\"id\":7"), std::string::npos);
 }
 
+TEST_F(ServerTest, HelloAnnouncesNoMoreThanTheRendererCanAllocate) {
+    protocol::Limits limits;
+    limits.max_image_side = 1 << 30;
+    limits.max_slices = 1 << 30;
+    limits.max_light_resolution = 1 << 30;
+    start(limits);
+    const render::RendererInfo& info = scheduler_->renderer_info();
+    TestClient client(port_);
+    const auto hello = nlohmann::json::parse(client.hello);
+    const auto& announced = hello.at("limits");
+    EXPECT_EQ(announced.at("max_image_side").get<int>(), info.max_texture_size) << client.hello;
+    EXPECT_EQ(announced.at("max_light_resolution").get<int>(), info.max_texture_size);
+    EXPECT_EQ(announced.at("max_slices").get<int>(), info.max_array_texture_layers);
+}
+
 TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
     TestClient client(port_);
     const std::string opened = client.open("heads/ch2.nii.gz");

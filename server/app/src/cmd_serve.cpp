@@ -472,9 +472,6 @@ int run_serve(const std::vector<std::string>& args) {
     const render::RendererInfo& info = (*scheduler)->renderer_info();
     std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
                 info.platform.c_str());
-    limits.max_slices = std::min(limits.max_slices, info.max_array_texture_layers);
-    limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
-    limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
     auto table = quality_table(*options, measured, info);
     if (!table) {
