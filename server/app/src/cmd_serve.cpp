@@ -158,9 +158,8 @@ void print_serve_usage() {
 // cache; without it, the heads alone.
 std::filesystem::path default_data_folder() {
     std::error_code ec;
-    if (const auto cache = base::user_cache_dir();
-        cache && std::filesystem::is_directory(*cache / "volumes", ec)) {
-        return *cache / "volumes";
+    if (const auto folder = demo_data_dir(); folder && std::filesystem::is_directory(*folder, ec)) {
+        return *folder;
     }
     return mricron_templates;
 }
