@@ -3,6 +3,7 @@
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/client.hpp>
+#include <penumbra/net/load.hpp>
 #include <penumbra/net/server.hpp>
 #include <penumbra/protocol/frame_header.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -250,6 +251,21 @@ TEST_F(ServerTest, HelloAnnouncesLimitsAndListVolumesFindsTheData) {
     EXPECT_NE(volumes.find("\"id\":7"), std::string::npos);
 }
 
+TEST_F(ServerTest, HelloAnnouncesNoMoreThanTheRendererCanAllocate) {
+    protocol::Limits limits;
+    limits.max_image_side = 1 << 30;
+    limits.max_slices = 1 << 30;
+    limits.max_light_resolution = 1 << 30;
+    start(limits);
+    const render::RendererInfo& info = scheduler_->renderer_info();
+    TestClient client(port_);
+    const auto hello = nlohmann::json::parse(client.hello);
+    const auto& announced = hello.at("limits");
+    EXPECT_EQ(announced.at("max_image_side").get<int>(), info.max_texture_size) << client.hello;
+    EXPECT_EQ(announced.at("max_light_resolution").get<int>(), info.max_texture_size);
+    EXPECT_EQ(announced.at("max_slices").get<int>(), info.max_array_texture_layers);
+}
+
 TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
     TestClient client(port_);
     const std::string opened = client.open("heads/ch2.nii.gz");
@@ -273,6 +289,60 @@ TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
         }
     }
     EXPECT_GT(lit, 64 * 64 / 5) << "the head should cover a good part of the frame";
+}
+
+// `penumbra load`'s generator: each simulated client opens the volume named in its URL and gets
+// the frames it asks for, one in flight; the report splits their latency.
+TEST_F(ServerTest, LoadClientsEachGetTheirFramesAndTheReportSplitsTheLatency) {
+    // Small frames come faster than a person's requests; the rate limit is not what is tested.
+    protocol::Limits limits;
+    limits.max_requests_per_second = 1e6;
+    start(limits);
+    net::LoadConfig config;
+    config.port = port_;
+    config.clients = 2;
+    config.seconds = 1.0;
+    config.volume = "heads/ch2.nii.gz";
+    config.mode = "dvr";
+    config.size = 32;
+    config.encoding = "png";
+    const net::LoadReport report = net::run_load(config);
+    EXPECT_TRUE(report.ok()) << (report.error_texts.empty() ? "" : report.error_texts.front());
+    EXPECT_GE(report.samples.size(), 2u);
+    EXPECT_GE(report.elapsed_s, 1.0);
+    for (const net::LoadSample& sample : report.samples) {
+        EXPECT_GE(sample.latency_ms, sample.render_ms);
+        EXPECT_GT(sample.bytes, 0u);
+    }
+    std::FILE* out = std::tmpfile();
+    ASSERT_NE(out, nullptr);
+    net::print_load_report(config, report, out);
+    std::rewind(out);
+    std::string printed(4096, '\0');
+    printed.resize(std::fread(printed.data(), 1, printed.size(), out));
+    std::fclose(out);
+    EXPECT_NE(printed.find("load:     2 client(s), dvr 32x32 png"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("latency (client)"), std::string::npos) << printed;
+    EXPECT_EQ(printed.find("error:"), std::string::npos) << printed;
+}
+
+TEST_F(ServerTest, LoadClientsReportAVolumeTheServerRefuses) {
+    net::LoadConfig config;
+    config.port = port_;
+    config.clients = 1;
+    config.seconds = 0.5;
+    config.volume = "no such volume.nii";
+    config.size = 32;
+    const net::LoadReport report = net::run_load(config);
+    EXPECT_FALSE(report.ok());
+    EXPECT_EQ(report.errors, 1u);
+    ASSERT_EQ(report.error_texts.size(), 1u);
+    EXPECT_EQ(report.error_texts.front().rfind("client 0: ", 0), 0u) << report.error_texts.front();
+}
+
+TEST(LoadPath, NamesTheVolumeAndTokenEncodedAsABrowserWould) {
+    EXPECT_EQ(net::load_path("heads/ch2.nii.gz", ""), "/ws?volume=heads%2Fch2.nii.gz");
+    EXPECT_EQ(net::load_path("a b+c", "t/k=1"), "/ws?volume=a+b%2Bc&token=t%2Fk%3D1");
 }
 
 TEST_F(ServerTest, CameraOnlyChangesReuseTheLightBuffer) {

@@ -68,47 +68,14 @@ base::Result<std::string> read_secret(const Arguments& a, const std::string& opt
     return secret;
 }
 
-// Measures the start-up table on the renderer that will serve, on its own thread (its GL context
-// is current there only).
-quality::StartupMeasurement measure_at_startup(render::FrameRenderer& renderer,
-                                               session::VolumeStore& volumes, bool forced) {
-    quality::StartupMeasurement result;
-    std::vector<std::string> offered;
-    for (const session::VolumeEntry& entry : volumes.list()) {
-        offered.push_back(entry.id);
-    }
-    const auto id = quality::startup_volume(offered);
-    if (!id) {
-        result.error = base::make_error("no_volume", "no volume to measure on", "--data");
-        return result;
-    }
-    auto volume = volumes.acquire(*id);
-    if (!volume) {
-        result.error = volume.error();
-        return result;
-    }
-    // The defaults of `penumbra render` and `bench accuracy`: the camera, TF and lighting the
-    // committed tables were measured with.
+// The defaults of `penumbra render` and `bench accuracy`: the frame the committed tables were
+// measured from.
+base::Result<scene::FrameRequest> default_frame(const volume::Volume& volume) {
     auto no_options = Arguments::parse({}, frame_option_names(), frame_flag_names());
-    auto frame = no_options ? frame_request_from(*no_options, **volume)
-                            : base::Result<scene::FrameRequest>(no_options.error());
-    if (!frame) {
-        result.error = frame.error();
-        return result;
+    if (!no_options) {
+        return no_options.error();
     }
-    result.volume = *id;
-    const quality::StartupOptions options = quality::startup_options();
-    std::printf("quality:  %s a short table on %s at %dx%d (at most ~%.0f s)\n",
-                forced ? "--quality-measure: measuring" : "no table for this device: measuring",
-                id->c_str(), options.side, options.side, options.time_limit_s);
-    std::fflush(stdout);
-    auto table = quality::measure_startup_table(renderer, *volume, std::move(*frame), options);
-    if (!table) {
-        result.error = table.error();
-        return result;
-    }
-    result.table = std::move(table.value());
-    return result;
+    return frame_request_from(*no_options, volume);
 }
 
 void print_serve_usage() {
@@ -191,9 +158,8 @@ void print_serve_usage() {
 // cache; without it, the heads alone.
 std::filesystem::path default_data_folder() {
     std::error_code ec;
-    if (const auto cache = base::user_cache_dir();
-        cache && std::filesystem::is_directory(*cache / "volumes", ec)) {
-        return *cache / "volumes";
+    if (const auto folder = demo_data_dir(); folder && std::filesystem::is_directory(*folder, ec)) {
+        return *folder;
     }
     return mricron_templates;
 }
@@ -201,6 +167,9 @@ std::filesystem::path default_data_folder() {
 // Everything `serve` is told, checked.
 struct ServeOptions {
     net::ServerConfig config;
+    // Read as whole numbers, then put into config.
+    int port = net::ServerConfig{}.port;
+    int max_message_bytes = static_cast<int>(protocol::Limits{}.max_message_bytes);
     int encode_threads = 2;
     int volume_memory_mb = 4096;
     int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
@@ -215,27 +184,28 @@ struct ServeOptions {
     std::chrono::milliseconds rescan_interval = std::chrono::seconds(10);
 };
 
-base::Status read_integers(const Arguments& a, ServeOptions& o) {
-    struct IntegerOption {
-        const char* name;
-        int* target;
-        int min;
-        int max;
-    };
+struct IntegerOption {
+    const char* name;
+    int* target;
+    int min;
+    int max;
+};
 
+struct DurationOption {
+    const char* name;
+    std::chrono::milliseconds* target;
+    double min_seconds;
+    double max_seconds;
+};
+
+// serve's whole-number options: each with where it goes and its range.
+std::vector<IntegerOption> integer_options(ServeOptions& o) {
     net::ServerConfig& config = o.config;
     protocol::Limits& limits = config.limits;
-    int port = config.port;
-    int max_message_bytes = static_cast<int>(limits.max_message_bytes);
-    int& encode_threads = o.encode_threads;
-    int& volume_memory_mb = o.volume_memory_mb;
-    int& max_load_mb = o.max_load_mb;
-    int& gpu_memory_mb = o.gpu_memory_mb;
-    int& light_buffer_memory_mb = o.light_buffer_memory_mb;
-    const IntegerOption integers[] = {
-            {"port", &port, 0, 65535},
+    return {
+            {"port", &o.port, 0, 65535},
             {"io-threads", &config.io_threads, 1, 64},
-            {"encode-threads", &encode_threads, 1, 64},
+            {"encode-threads", &o.encode_threads, 1, 64},
             {"max-sessions", &limits.max_sessions, 1, 100000},
             {"max-sessions-per-client", &limits.max_sessions_per_client, 1, 100000},
             {"max-sessions-per-connection", &limits.max_sessions_per_connection, 1, 100000},
@@ -243,13 +213,52 @@ base::Status read_integers(const Arguments& a, ServeOptions& o) {
             {"max-image-side", &limits.max_image_side, 16, 16384},
             {"max-slices", &limits.max_slices, 1, 16384},
             {"max-light-res", &limits.max_light_resolution, 1, 16384},
-            {"max-message-bytes", &max_message_bytes, 1024, 16 << 20},
-            {"volume-memory-mb", &volume_memory_mb, 1, 1 << 20},
-            {"max-load-mb", &max_load_mb, 1, 1 << 24},
-            {"gpu-memory-mb", &gpu_memory_mb, 1, 1 << 20},
-            {"light-buffer-memory-mb", &light_buffer_memory_mb, 1, 1 << 20},
+            {"max-message-bytes", &o.max_message_bytes, 1024, 16 << 20},
+            {"volume-memory-mb", &o.volume_memory_mb, 1, 1 << 20},
+            {"max-load-mb", &o.max_load_mb, 1, 1 << 24},
+            {"gpu-memory-mb", &o.gpu_memory_mb, 1, 1 << 20},
+            {"light-buffer-memory-mb", &o.light_buffer_memory_mb, 1, 1 << 20},
     };
-    for (const auto& option : integers) {
+}
+
+// serve's options in seconds, likewise.
+std::vector<DurationOption> duration_options(ServeOptions& o) {
+    return {
+            {"ping-interval", &o.config.ping_interval, 0.05, 3600.0},
+            {"ping-timeout", &o.config.ping_timeout, 0.05, 3600.0},
+            {"supersede-after", &o.scheduler.supersede_running_after, 0.0, 3600.0},
+            {"rescan-interval", &o.rescan_interval, 0.1, 86400.0},
+    };
+}
+
+// The options that take a value: those of the two tables above, and these.
+const std::vector<std::string>& serve_option_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> all = {"data",
+                                        "address",
+                                        "web-root",
+                                        "default-tf",
+                                        "quality-table",
+                                        "client-address-header",
+                                        "allowed-origins",
+                                        "access-token-file",
+                                        "cluster-secret-file",
+                                        "max-requests-per-second",
+                                        "max-frame-work"};
+        ServeOptions any;
+        for (const auto& option : integer_options(any)) {
+            all.emplace_back(option.name);
+        }
+        for (const auto& option : duration_options(any)) {
+            all.emplace_back(option.name);
+        }
+        return all;
+    }();
+    return names;
+}
+
+base::Status read_integers(const Arguments& a, ServeOptions& o) {
+    for (const auto& option : integer_options(o)) {
         auto value = a.integer(option.name, *option.target);
         if (!value) {
             return value.error();
@@ -262,14 +271,13 @@ base::Status read_integers(const Arguments& a, ServeOptions& o) {
         }
         *option.target = *value;
     }
-    config.port = static_cast<unsigned short>(port);
-    limits.max_message_bytes = static_cast<std::size_t>(max_message_bytes);
+    o.config.port = static_cast<unsigned short>(o.port);
+    o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
     return base::Ok{};
 }
 
 base::Status read_numbers(const Arguments& a, ServeOptions& o) {
-    net::ServerConfig& config = o.config;
-    protocol::Limits& limits = config.limits;
+    protocol::Limits& limits = o.config.limits;
     auto rate = a.number("max-requests-per-second", limits.max_requests_per_second);
     if (!rate || *rate < 1.0) {
         return !rate ? rate.error()
@@ -284,21 +292,7 @@ base::Status read_numbers(const Arguments& a, ServeOptions& o) {
                                               "--max-frame-work");
     }
     limits.max_frame_work = *frame_work;
-
-    struct DurationOption {
-        const char* name;
-        std::chrono::milliseconds* target;
-        double min_seconds;
-        double max_seconds;
-    };
-
-    const DurationOption durations[] = {
-            {"ping-interval", &config.ping_interval, 0.05, 3600.0},
-            {"ping-timeout", &config.ping_timeout, 0.05, 3600.0},
-            {"supersede-after", &o.scheduler.supersede_running_after, 0.0, 3600.0},
-            {"rescan-interval", &o.rescan_interval, 0.1, 86400.0},
-    };
-    for (const auto& option : durations) {
+    for (const auto& option : duration_options(o)) {
         const double fallback = std::chrono::duration<double>(*option.target).count();
         auto seconds = a.number(option.name, fallback);
         if (!seconds || !(*seconds >= option.min_seconds && *seconds <= option.max_seconds)) {
@@ -357,10 +351,6 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
     return o;
 }
 
-quality::TablePaths table_paths(const render::RendererInfo& info) {
-    return quality::table_paths(info, std::getenv("XDG_CACHE_HOME"), std::getenv("HOME"));
-}
-
 // The start-up table is measured in the factory, on the render thread with the renderer that
 // will serve: a GL context is current on one thread only, and a second one would cost another
 // context (and its eglTerminate could pull the display from under the first). The scheduler
@@ -375,20 +365,22 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
             .light_buffer_memory_budget = static_cast<std::size_t>(o.light_buffer_memory_mb) << 20,
             .max_frame_work = o.config.limits.max_frame_work,
             .chunk_work = 0.0};
-    const quality::Measure measure = o.measure;
     session::SchedulerOptions scheduler_options = o.scheduler;
     scheduler_options.encode_threads = o.encode_threads;
+    quality::OfferedVolumes offered;
+    for (const session::VolumeEntry& entry : volumes.list()) {
+        offered.ids.push_back(entry.id);
+    }
+    offered.acquire = [&volumes](const std::string& id) { return volumes.acquire(id); };
     return session::Scheduler::create(
-            [renderer_options, measure, &volumes,
+            [renderer_options, measure = o.measure, offered = std::move(offered),
              &measured]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
                 auto renderer = render::Renderer::create(renderer_options);
                 if (!renderer) {
                     return renderer.error();
                 }
-                if (quality::should_measure(measure, table_paths((*renderer)->info()))) {
-                    measured = measure_at_startup(**renderer, volumes,
-                                                  measure == quality::Measure::always);
-                }
+                measured = quality::measure_at_startup(**renderer, measure, offered, default_frame,
+                                                       stdout);
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
             scheduler_options, registry);
@@ -404,7 +396,7 @@ volume::LoadOptions load_options(const ServeOptions& o) {
 base::Result<std::shared_ptr<const quality::Table>> quality_table(
         const ServeOptions& o, const quality::StartupMeasurement& measured,
         const render::RendererInfo& info) {
-    auto table = quality::serve_table(o.quality_table, measured, table_paths(info));
+    auto table = quality::serve_table(o.quality_table, measured, quality::table_paths(info));
     if (!table) {
         return table.error();
     }
@@ -425,40 +417,6 @@ void print_access(const net::ServerConfig& config, bool cluster) {
     if (cluster) {
         std::printf("cluster:  owner tokens derived from the cluster secret\n");
     }
-}
-
-const std::vector<std::string>& serve_option_names() {
-    static const std::vector<std::string> names = {"data",
-                                                   "port",
-                                                   "address",
-                                                   "web-root",
-                                                   "io-threads",
-                                                   "encode-threads",
-                                                   "max-sessions",
-                                                   "max-image-side",
-                                                   "max-slices",
-                                                   "max-light-res",
-                                                   "max-message-bytes",
-                                                   "max-requests-per-second",
-                                                   "max-frame-work",
-                                                   "volume-memory-mb",
-                                                   "max-load-mb",
-                                                   "gpu-memory-mb",
-                                                   "light-buffer-memory-mb",
-                                                   "default-tf",
-                                                   "quality-table",
-                                                   "ping-interval",
-                                                   "ping-timeout",
-                                                   "max-sessions-per-client",
-                                                   "max-sessions-per-connection",
-                                                   "client-address-header",
-                                                   "max-connections-per-client",
-                                                   "supersede-after",
-                                                   "rescan-interval",
-                                                   "allowed-origins",
-                                                   "access-token-file",
-                                                   "cluster-secret-file"};
-    return names;
 }
 
 const std::vector<std::string>& serve_flag_names() {
@@ -507,9 +465,6 @@ int run_serve(const std::vector<std::string>& args) {
     const render::RendererInfo& info = (*scheduler)->renderer_info();
     std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
                 info.platform.c_str());
-    limits.max_slices = std::min(limits.max_slices, info.max_array_texture_layers);
-    limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
-    limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
 
     auto table = quality_table(*options, measured, info);
     if (!table) {

@@ -122,20 +122,14 @@ base::Result<StartupTable> measure_startup_table(render::FrameRenderer& renderer
     return result;
 }
 
-TablePaths table_paths(const render::RendererInfo& info, const char* xdg_cache_home,
-                       const char* home) {
+TablePaths table_paths(const render::RendererInfo& info,
+                       const std::optional<std::filesystem::path>& cache_dir) {
     TablePaths paths;
     const std::filesystem::path name = info.gpu_timer_queries ? "gpu.json" : "llvmpipe.json";
     paths.committed = base::data_dir("accuracy").value_or("share/penumbra/accuracy") / name;
-    std::filesystem::path folder;
-    if (xdg_cache_home != nullptr && *xdg_cache_home != '\0') {
-        folder = std::filesystem::path(xdg_cache_home) / "penumbra";
-    } else if (home != nullptr && *home != '\0') {
-        folder = std::filesystem::path(home) / ".cache" / "penumbra";
-    } else {
-        return paths;
+    if (cache_dir) {
+        paths.cache = *cache_dir / ("quality-" + file_name_of(info.renderer) + ".json");
     }
-    paths.cache = folder / ("quality-" + file_name_of(info.renderer) + ".json");
     return paths;
 }
 
@@ -158,6 +152,44 @@ std::optional<std::string> startup_volume(const std::vector<std::string>& offere
     }
     const auto ch2 = std::find(offered.begin(), offered.end(), "ch2.nii.gz");
     return ch2 != offered.end() ? *ch2 : offered.front();
+}
+
+StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure measure,
+                                      const OfferedVolumes& volumes, const FrameFor& frame_for,
+                                      std::FILE* out) {
+    StartupMeasurement result;
+    if (!should_measure(measure, table_paths(renderer.info()))) {
+        return result;
+    }
+    const auto id = startup_volume(volumes.ids);
+    if (!id) {
+        result.error = base::make_error("no_volume", "no volume to measure on", "--data");
+        return result;
+    }
+    auto volume = volumes.acquire(*id);
+    if (!volume) {
+        result.error = volume.error();
+        return result;
+    }
+    auto frame = frame_for(**volume);
+    if (!frame) {
+        result.error = frame.error();
+        return result;
+    }
+    result.volume = *id;
+    const StartupOptions options = startup_options();
+    std::fprintf(out, "quality:  %s a short table on %s at %dx%d (at most ~%.0f s)\n",
+                 measure == Measure::always ? "--quality-measure: measuring"
+                                            : "no table for this device: measuring",
+                 id->c_str(), options.side, options.side, options.time_limit_s);
+    std::fflush(out);
+    auto table = measure_startup_table(renderer, *volume, std::move(*frame), options);
+    if (!table) {
+        result.error = table.error();
+        return result;
+    }
+    result.table = std::move(table.value());
+    return result;
 }
 
 base::Result<ServeTable> serve_table(const std::optional<std::filesystem::path>& given,

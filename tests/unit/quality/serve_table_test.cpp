@@ -125,19 +125,72 @@ TEST_F(ServeTableTest, MeasuresOnlyWhereAskedOrNothingExists) {
     EXPECT_TRUE(should_measure(Measure::always, paths_));
 }
 
-TEST(TablePaths, TheCacheIsPerRendererUnderXdgElseHome) {
+TEST(TablePaths, TheCacheIsOneFilePerRendererInTheCacheFolder) {
     render::RendererInfo info;
     info.renderer = "llvmpipe (LLVM 15.0.6, 256 bits)";
     info.gpu_timer_queries = false;
-    const TablePaths xdg = table_paths(info, "/x", "/home/u");
-    ASSERT_TRUE(xdg.cache.has_value());
-    EXPECT_EQ(*xdg.cache, "/x/penumbra/quality-llvmpipe_LLVM_15.0.6_256_bits.json");
-    EXPECT_EQ(xdg.committed.filename(), "llvmpipe.json");
-    EXPECT_EQ(*table_paths(info, "", "/home/u").cache,
-              "/home/u/.cache/penumbra/quality-llvmpipe_LLVM_15.0.6_256_bits.json");
-    EXPECT_FALSE(table_paths(info, nullptr, nullptr).cache.has_value());
+    const TablePaths paths = table_paths(info, "/x/penumbra");
+    ASSERT_TRUE(paths.cache.has_value());
+    EXPECT_EQ(*paths.cache, "/x/penumbra/quality-llvmpipe_LLVM_15.0.6_256_bits.json");
+    EXPECT_EQ(paths.committed.filename(), "llvmpipe.json");
+    EXPECT_FALSE(table_paths(info, std::nullopt).cache.has_value());
     info.gpu_timer_queries = true;
-    EXPECT_EQ(table_paths(info, nullptr, nullptr).committed.filename(), "gpu.json");
+    EXPECT_EQ(table_paths(info, std::nullopt).committed.filename(), "gpu.json");
+}
+
+// A renderer for the start-up policy's paths that render nothing.
+class IdleRenderer final : public render::FrameRenderer {
+public:
+    [[nodiscard]] const render::RendererInfo& info() const override { return info_; }
+
+    base::Status set_volume(std::shared_ptr<const volume::Volume>) override { return base::Ok{}; }
+
+    base::Result<render::Frame> render(const scene::FrameRequest&,
+                                       const render::CancelPredicate&) override {
+        ++frames;
+        return base::make_error("unavailable", "not a renderer");
+    }
+
+    [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
+
+    int frames = 0;
+
+private:
+    render::RendererInfo info_;
+};
+
+TEST(MeasureAtStartup, MeasuresNothingWhenToldNever) {
+    IdleRenderer renderer;
+    bool asked = false;
+    const OfferedVolumes volumes{{"ch2.nii.gz"}, [&](const std::string&) {
+                                     asked = true;
+                                     return base::Result<std::shared_ptr<const volume::Volume>>(
+                                             base::make_error("not_found", "none"));
+                                 }};
+    const StartupMeasurement measured =
+            measure_at_startup(renderer, Measure::never, volumes, {}, stdout);
+    EXPECT_FALSE(measured.table.has_value());
+    EXPECT_FALSE(measured.error.has_value());
+    EXPECT_FALSE(asked);
+    EXPECT_EQ(renderer.frames, 0);
+}
+
+TEST(MeasureAtStartup, ReportsWhyWithoutAVolumeOrWhenTheVolumeFailsToLoad) {
+    IdleRenderer renderer;
+    const auto failing = [](const std::string& id) {
+        return base::Result<std::shared_ptr<const volume::Volume>>(
+                base::make_error("not_found", "cannot read " + id));
+    };
+    const StartupMeasurement none =
+            measure_at_startup(renderer, Measure::always, {{}, failing}, {}, stdout);
+    ASSERT_TRUE(none.error.has_value());
+    EXPECT_EQ(none.error->code, "no_volume");
+    const StartupMeasurement unreadable = measure_at_startup(
+            renderer, Measure::always, {{"a.nii", "ch2.nii.gz"}, failing}, {}, stdout);
+    ASSERT_TRUE(unreadable.error.has_value());
+    EXPECT_EQ(unreadable.error->message, "cannot read ch2.nii.gz");
+    EXPECT_FALSE(unreadable.table.has_value());
+    EXPECT_EQ(renderer.frames, 0);
 }
 
 TEST(StartupVolume, IsCh2WhereOfferedElseTheFirst) {

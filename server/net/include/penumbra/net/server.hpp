@@ -59,6 +59,8 @@ struct Services {
 // works on its own strand.
 class Server {
 public:
+    // The limits of `config` above what the scheduler's renderer can allocate (texture size,
+    // array layers) are lowered to it.
     static base::Result<std::unique_ptr<Server>> start(const ServerConfig& config,
                                                        Services services);
 

@@ -5,6 +5,7 @@
 // share/penumbra/accuracy), else one measured at start-up and cached per GL_RENDERER, so that a
 // frame budget is honoured from the same kind of numbers `bench accuracy` writes.
 
+#include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/result.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/table.hpp>
@@ -12,7 +13,9 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -62,14 +65,15 @@ enum class Measure {
 struct TablePaths {
     // share/penumbra/accuracy/{gpu,llvmpipe}.json: measured by `bench accuracy` and committed.
     std::filesystem::path committed;
-    // $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra, one file per GL_RENDERER; nothing
-    // without either variable.
+    // In the user's cache folder (base::user_cache_dir), one file per GL_RENDERER; nothing
+    // without one.
     std::optional<std::filesystem::path> cache;
 };
 
-// `xdg_cache_home` and `home` are the environment's values (nullptr where unset).
-TablePaths table_paths(const render::RendererInfo& info, const char* xdg_cache_home,
-                       const char* home);
+// `cache_dir`: the user's cache folder, or where a test keeps its files.
+TablePaths table_paths(
+        const render::RendererInfo& info,
+        const std::optional<std::filesystem::path>& cache_dir = base::user_cache_dir());
 
 // Whether the start-up table is to be measured.
 bool should_measure(Measure measure, const TablePaths& paths);
@@ -84,6 +88,24 @@ struct StartupMeasurement {
     std::string volume;
     std::optional<base::Error> error;
 };
+
+// The volumes a server offers, as the start-up measurement sees them.
+struct OfferedVolumes {
+    std::vector<std::string> ids;
+    std::function<base::Result<std::shared_ptr<const volume::Volume>>(const std::string&)> acquire;
+};
+
+// The frame a table is measured from on a volume: the camera, transfer function and lighting of
+// `penumbra render`'s defaults, which the committed tables were measured with.
+using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
+
+// Called on the render thread with the renderer that will serve, before it takes work (its GL
+// context is current on that thread only, and a second context would cost another one): measures
+// the start-up table on startup_volume(volumes.ids) where `measure` and the tables on disk say
+// so, saying so on `out` first. Nothing measured: no table and no error.
+StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure measure,
+                                      const OfferedVolumes& volumes, const FrameFor& frame_for,
+                                      std::FILE* out);
 
 struct ServeTable {
     std::shared_ptr<const Table> table;  // null: frame budgets are ignored
