@@ -80,7 +80,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.encoding = f.format == encode::ImageFormat::png ? "png" : "jpeg";
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
-    h.light_buffer = f.report.light_buffer;
+    h.light_buffer = render::to_string(f.report.light_buffer);
     for (const auto& pass : f.report.passes) {
         h.passes.push_back({pass.name, pass.gpu_ms, pass.wall_ms});
     }
