@@ -199,9 +199,17 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                          {"scattering", scene::to_string(mode.scattering)},
                          {"gradients", scene::to_string(mode.gradients)}});
     }
+    // Each setting's range, so that a client checks and offers what the server accepts without
+    // a copy of its own.
+    json ranges = json::object();
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        ranges[std::string(range->field)] = {
+                {"min", range->min}, {"max", range->max}, {"integer", range->integer}};
+    }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},
                     {"modes", modes},
+                    {"ranges", ranges},
                     {"encodings", {"jpeg", "png"}},
                     {"renderer",
                      {{"renderer", renderer.renderer},
