@@ -39,6 +39,18 @@ TEST(SchemaAgreement, ModeEnumIsTheModeTable) {
     EXPECT_EQ(schema_modes, table);
 }
 
+TEST(SchemaAgreement, ClientTypeEnumIsTheRequestVariant) {
+    auto schema_types = schema("common.schema.json")
+                                .at("$defs")
+                                .at("client_type")
+                                .at("enum")
+                                .get<std::vector<std::string>>();
+    std::vector<std::string> variant(kClientMessageTypes.begin(), kClientMessageTypes.end());
+    std::sort(schema_types.begin(), schema_types.end());
+    std::sort(variant.begin(), variant.end());
+    EXPECT_EQ(schema_types, variant);
+}
+
 TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
     const json hello = schema("hello.schema.json");
     const json& item = hello.at("properties").at("modes").at("items").at("properties");
