@@ -204,6 +204,7 @@ connection.on('status', (status) => {
   if (status.kind === 'connected') {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);
+    method.setRanges(status.hello.ranges);
     // Not while moving to another volume's server: the open that moved it is under way.
     if (!connection.session && !connection.moving) void start();
   }

@@ -14,6 +14,7 @@ import {
   restorePatch,
   UnknownMessageType,
   type ClientMessage,
+  type HelloMessage,
   type OpenedMessage,
   type State,
   type StateMessage,
@@ -39,12 +40,15 @@ const serverMessages = readFileSync(path.join(fixtures, 'server_messages.jsonl')
   .split('\n')
   .filter((l) => l.trim() !== '');
 
+// The settings' ranges a real server announced (protocol_test holds them against the C++ table).
+const serverRanges = (parseServerMessage(serverMessages[0]!) as HelloMessage).ranges;
+
 describe('proto/examples/v1/valid', () => {
   it('has examples', () => expect(valid.length).toBeGreaterThan(20));
 
   it.each(valid)('%s is a client message the server accepts', (file) => {
     const message = readJson(path.join(examples, 'valid', file));
-    expect(checkClientMessage(message, undefined, schemaModes)).toBeNull();
+    expect(checkClientMessage(message, undefined, schemaModes, serverRanges)).toBeNull();
     // Typed as a ClientMessage, it encodes back to the same JSON.
     const typed = message as ClientMessage;
     expect(JSON.parse(encodeClientMessage(typed))).toEqual(message);
@@ -67,7 +71,7 @@ describe('proto/examples/v1/invalid', () => {
   it('has examples to check', () => expect(cases.length).toBeGreaterThan(40));
 
   it.each(cases)('$file is rejected with the same code and field', ({ example }) => {
-    const problem = checkClientMessage(example['message'], undefined, schemaModes);
+    const problem = checkClientMessage(example['message'], undefined, schemaModes, serverRanges);
     expect(problem).not.toBeNull();
     expect({ code: problem?.code, field: problem?.field }).toEqual({
       code: example['code'],
@@ -78,10 +82,33 @@ describe('proto/examples/v1/invalid', () => {
 
 describe('checkClientMessage beyond the examples', () => {
   it('knows settings.frame_budget_ms (0..60000)', () => {
-    expect(checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: 50 } })).toBeNull();
-    expect(checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: 70000 } })).toMatchObject({
+    const check = (ms: number) =>
+      checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: ms } }, undefined, null, serverRanges);
+    expect(check(50)).toBeNull();
+    expect(check(70000)).toMatchObject({ code: 'out_of_range', field: '/settings/frame_budget_ms' });
+  });
+
+  it("checks ranges as the server's hello gives them, and leaves them to the server without one", () => {
+    const set = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 17 } } };
+    expect(checkClientMessage(set)).toBeNull();
+    expect(checkClientMessage(set, undefined, null, serverRanges)).toMatchObject({
       code: 'out_of_range',
-      field: '/settings/frame_budget_ms',
+      field: '/settings/light_buffer/slab_samples',
+    });
+    const wider = { ...serverRanges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
+    expect(checkClientMessage(set, undefined, null, wider)).toBeNull();
+    const fraction = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 1.5 } } };
+    expect(checkClientMessage(fraction, undefined, null, serverRanges)).toMatchObject({ code: 'invalid_value' });
+    const text = { v: 1, type: 'set', camera: { fov: '30' } };
+    expect(checkClientMessage(text)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
+  });
+
+  it('knows settings.empty_space_skipping', () => {
+    const set = (value: unknown) => ({ v: 1, type: 'set', settings: { empty_space_skipping: value } });
+    expect(checkClientMessage(set(false))).toBeNull();
+    expect(checkClientMessage(set(1))).toMatchObject({
+      code: 'invalid_value',
+      field: '/settings/empty_space_skipping',
     });
   });
 
@@ -111,6 +138,17 @@ describe('parseServerMessage', () => {
     expect(hello.limits.max_image_side).toBeGreaterThan(0);
     expect(hello.limits.max_sessions_per_client).toBeGreaterThan(0);
     expect(hello.limits.max_frame_work).toBeGreaterThan(0);
+    expect(hello.ranges['settings/sample_distance']).toMatchObject({ integer: false });
+    expect(hello.ranges['settings/scattering/shell_rings']).toMatchObject({ min: 1, integer: true });
+  });
+
+  it('rejects a hello without ranges or with a range that is not one', () => {
+    const hello = JSON.parse(serverMessages[0]!) as Record<string, unknown>;
+    const without = { ...hello };
+    delete without['ranges'];
+    expect(() => parseServerMessage(JSON.stringify(without))).toThrow(ProtocolError);
+    const broken = { ...hello, ranges: { 'camera/fov': { min: 1, max: '170', integer: false } } };
+    expect(() => parseServerMessage(JSON.stringify(broken))).toThrow(/max/);
   });
 
   it('reads opened with a full state that checks as a set', () => {

@@ -3,7 +3,7 @@
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
 // it and turns the orientation marker, the six view buttons set the named views, a portrait tablet
 // gets the panel as a drawer, changing the mode changes the stats, a bad parameter shows the
-// server's error, a second page
+// server's error, the sliders span hello's ranges and empty-space skipping toggles, a second page
 // joins through the share link, its method panel follows the owner's mode and it sees the same
 // frame, and after the server goes away and comes back the client reconnects and restores the
 // session. Screenshots go to --out.
@@ -349,6 +349,28 @@ try {
   check("a bad parameter shows the server's error", /out_of_range/.test(noticeText), noticeText);
   check('the field shows the value the server kept',
     Number(await sampleDistance.inputValue()) < 1, await sampleDistance.inputValue());
+
+  // 4b. The sliders span the ranges the server's hello announces (the client has none of its
+  // own): a value past the end stops at it. Empty-space skipping is a toggle the server takes.
+  const slabSamples = owner.locator('[data-control="slab_samples"] input');
+  await slabSamples.fill('99');
+  await slabSamples.press('Enter');
+  check('a slider stops at the end of the range hello announced',
+    (await owner.locator('[data-control="slab_samples"] .lil-slider').count()) === 1 &&
+      (await slabSamples.inputValue()) === '16', await slabSamples.inputValue());
+  await slabSamples.fill('0');
+  await slabSamples.press('Enter');
+  info = await waitForStill(owner, info.frame);
+  const skipping = owner.locator('[data-control="empty_space_skipping"] input');
+  const skippingBefore = await skipping.isChecked();
+  await skipping.click();
+  info = await waitForStill(owner, info.frame);
+  check('empty-space skipping toggles and the server keeps it',
+    skippingBefore && !(await skipping.isChecked()) &&
+      (await owner.locator('.notice.error', { hasText: 'empty_space_skipping' }).count()) === 0,
+    `checked ${skippingBefore} -> ${await skipping.isChecked()}`);
+  await skipping.click();
+  info = await waitForStill(owner, info.frame);
 
   // 5. A second page joins through the share link and sees the same frame.
   const link = await owner.locator('#share-link').inputValue();

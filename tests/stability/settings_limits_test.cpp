@@ -256,7 +256,8 @@ TEST_F(LimitsTest, RejectedRequestsLeaveTheNextFrameUnchanged) {
         ASSERT_TRUE(after.has_value());
         EXPECT_EQ(before->image.pixels, after->image.pixels) << scene::to_string(mode);
         if (scene::uses_light_buffer(mode)) {
-            EXPECT_EQ(after->report.light_buffer, "reused") << scene::to_string(mode);
+            EXPECT_EQ(after->report.light_buffer, render::LightBufferState::reused)
+                    << scene::to_string(mode);
         }
     }
 }

@@ -10,6 +10,12 @@ its client message type, and every examples/v1/invalid/*.json must fail it, exce
 error the schemas cannot express (NOT_EXPRESSIBLE below), which must pass it instead so that the
 list stays exact. Prints every failure; exits 1 if there was any.
 
+Which schema checks a message follows from the schemas themselves: each names the type it checks
+(`properties.type`, a const or an enum) at its root, or in `$defs/request` and `$defs/response`
+where one file serves both directions (stats); the types in common.schema.json's
+`$defs/client_type` are the client's, the others the server's. A new message needs its schema
+only.
+
 Needs the jsonschema package (Debian python3-jsonschema, 4.10): run it with /usr/bin/python3.
 """
 
@@ -34,27 +40,6 @@ NOT_EXPRESSIBLE = {
     "size_written_as_float",
 }
 
-# Which schema (file, subschema) validates a message of each type, per direction.
-CLIENT_SCHEMAS = {
-    "list_volumes": ("list_volumes.schema.json", ""),
-    "open": ("open.schema.json", ""),
-    "set": ("set.schema.json", ""),
-    "render": ("render.schema.json", ""),
-    "stats": ("stats.schema.json", "/$defs/request"),
-    "join": ("join.schema.json", ""),
-    "close": ("close.schema.json", ""),
-    "resume": ("resume.schema.json", ""),
-}
-SERVER_SCHEMAS = {
-    "hello": ("hello.schema.json", ""),
-    "volumes": ("volumes.schema.json", ""),
-    "opened": ("opened.schema.json", ""),
-    "joined": ("opened.schema.json", ""),
-    "state": ("state.schema.json", ""),
-    "ack": ("ack.schema.json", ""),
-    "error": ("error.schema.json", ""),
-    "stats": ("stats.schema.json", "/$defs/response"),
-}
 FRAME_HEADER_SCHEMA = ("frame_header.schema.json", "")
 
 
@@ -73,6 +58,14 @@ def strict_loads(text):
     return json.loads(text, parse_constant=no_constant, parse_float=finite_float)
 
 
+def named_types(part):
+    """The message types a (sub)schema checks: its `type` member's const or enum."""
+    member = part.get("properties", {}).get("type", {}) if isinstance(part, dict) else {}
+    if "const" in member:
+        return [member["const"]]
+    return list(member.get("enum", []))
+
+
 class Schemas:
     def __init__(self, folder):
         self.store = {}
@@ -83,6 +76,23 @@ class Schemas:
             self.store[schema["$id"]] = schema
             self.by_file[path.name] = schema
         self.validators = {}
+        self.client, self.server = self.schemas_by_type()
+
+    def schemas_by_type(self):
+        """{type: (file, pointer)} for client and for server messages, read from the schemas."""
+        common = self.by_file.get("common.schema.json", {})
+        client_types = set(common.get("$defs", {}).get("client_type", {}).get("enum", []))
+        self.client_types = client_types
+        client, server = {}, {}
+        for file, schema in self.by_file.items():
+            defs = schema.get("$defs", {})
+            for name in named_types(schema):
+                (client if name in client_types else server)[name] = (file, "")
+            for name in named_types(defs.get("request")):
+                client[name] = (file, "/$defs/request")
+            for name in named_types(defs.get("response")):
+                server[name] = (file, "/$defs/response")
+        return client, server
 
     def validator(self, key):
         if key not in self.validators:
@@ -114,10 +124,10 @@ def within(pointer, ancestor):
     return ancestor == "/" or pointer == ancestor or pointer.startswith(ancestor + "/")
 
 
-def client_schema_for(message):
+def client_schema_for(schemas, message):
     if not isinstance(message, dict) or not isinstance(message.get("type"), str):
         return None
-    return CLIENT_SCHEMAS.get(message["type"])
+    return schemas.client.get(message["type"])
 
 
 def check_sent(schemas, path, failures):
@@ -137,7 +147,7 @@ def check_sent(schemas, path, failures):
         if kind == "frame_header":
             key = FRAME_HEADER_SCHEMA
         elif kind == "text" and isinstance(message, dict):
-            key = SERVER_SCHEMAS.get(message.get("type"))
+            key = schemas.server.get(message.get("type"))
             if key is None:
                 failures.append(f"{where}: no schema for server message type "
                                 f"{message.get('type')!r}")
@@ -161,7 +171,7 @@ def check_examples(schemas, folder, failures):
         failures.append(f"{folder}: expected examples in valid/ and invalid/")
     for path in valid:
         message = strict_loads(path.read_text(encoding="utf-8"))
-        key = client_schema_for(message)
+        key = client_schema_for(schemas, message)
         if key is None:
             failures.append(f"{path}: valid example has no client message type")
             continue
@@ -177,7 +187,7 @@ def check_examples(schemas, folder, failures):
         # The expected error must itself be a valid error message.
         expected = {"v": 1, "type": "error", "code": entry["code"], "message": "",
                     "field": entry["field"]}
-        for error in schemas.errors(SERVER_SCHEMAS["error"], expected):
+        for error in schemas.errors(schemas.server["error"], expected):
             failures.append(f"{path}: expected error is not a valid error message: {error}")
         if "raw" in entry:
             try:
@@ -189,7 +199,7 @@ def check_examples(schemas, folder, failures):
                 continue
         else:
             message = entry["message"]
-            key = client_schema_for(message)
+            key = client_schema_for(schemas, message)
             if key is None:
                 rejected_by = "schema selection (not an object with a client type)"
             else:
@@ -229,6 +239,8 @@ def main():
     schemas = Schemas(args.proto_v1)
     if not schemas.by_file:
         failures.append(f"{args.proto_v1}: no *.schema.json files")
+    for name in sorted(schemas.client_types - set(schemas.client)):
+        failures.append(f"{args.proto_v1}: no schema names the client message type {name!r}")
     for path in args.jsonl:
         count = check_sent(schemas, path, failures)
         print(f"{path}: {count} server messages checked")

@@ -162,6 +162,8 @@ export interface Settings {
   jitter?: boolean;
   /** Refinement steps after a still frame of a jittered ray-cast mode; 0 turns it off. Newer servers. */
   refinement_steps?: number;
+  /** Skip the volume's empty bricks while marching (the image stays the same). Newer servers. */
+  empty_space_skipping?: boolean;
 }
 
 export interface Output {
@@ -265,11 +267,26 @@ export interface ModeCapabilities {
   gradients: 'never' | 'with_phong' | 'always';
 }
 
+/** One setting's range from the server's table, both ends included. */
+export interface SettingRange {
+  min: number;
+  max: number;
+  integer: boolean;
+}
+
+/**
+ * Each setting's range (hello.ranges), keyed by its path in a `set` patch
+ * (`settings/light_buffer/compensation`, `camera/fov`), with `vec3` for each coordinate and `rgb`
+ * for each colour channel. The client holds no ranges of its own.
+ */
+export type SettingRanges = Record<string, SettingRange>;
+
 export interface HelloMessage {
   v: 1;
   type: 'hello';
   server: string;
   modes: ModeCapabilities[];
+  ranges: SettingRanges;
   encodings: Encoding[];
   renderer: { renderer: string; version: string; platform: string; software: boolean };
   limits: Limits;
@@ -550,6 +567,13 @@ export function parseServerMessage(text: string): ServerMessage {
           str(mode, key, `/modes/${i}`);
         }
       });
+      const ranges = obj(o, 'ranges', '');
+      for (const path of Object.keys(ranges)) {
+        const range = obj(ranges, path, '/ranges');
+        num(range, 'min', `/ranges/${path}`);
+        num(range, 'max', `/ranges/${path}`);
+        bool(range, 'integer', `/ranges/${path}`);
+      }
       need(Array.isArray(o['encodings']), null, 'an array of encodings', '/encodings');
       const renderer = obj(o, 'renderer', '');
       for (const key of ['renderer', 'version', 'platform']) {
@@ -708,8 +732,23 @@ const vector =
     value.forEach((v, i) => item(v, `${at}/${i}`));
   };
 
-const coords = vector(3, number(-1000, 1000));
-const rgb = vector(3, number(0, 1));
+/**
+ * A number within the server's range for the setting at `path` (hello.ranges), a whole one where
+ * the range says so; without the server's ranges any number passes and the server judges it.
+ */
+const ranged =
+  (ranges: SettingRanges | null, path: string) =>
+  (value: Json, at: string): void => {
+    const range = ranges?.[path];
+    if (range === undefined) {
+      number(-Infinity, Infinity)(value, at);
+      return;
+    }
+    (range.integer ? integer : number)(range.min, range.max)(value, at);
+  };
+
+const coords = (ranges: SettingRanges | null) => vector(3, ranged(ranges, 'vec3'));
+const rgb = (ranges: SettingRanges | null) => vector(3, ranged(ranges, 'rgb'));
 
 function points(item: Spec, required: string[], valueKey: string) {
   return (value: Json, at: string): void => {
@@ -729,28 +768,32 @@ function points(item: Spec, required: string[], valueKey: string) {
   };
 }
 
-const cameraSpec: Spec = {
-  eye: coords,
-  target: coords,
-  up: coords,
-  fov: number(1, 170),
-  orbit: (value, at) =>
-    members(value, at, {
-      azimuth: number(-36000, 36000),
-      elevation: number(-90, 90),
-      distance: number(0.01, 100),
-    }),
-  view: oneOf(VIEWS),
-};
+function cameraSpec(ranges: SettingRanges | null): Spec {
+  return {
+    eye: coords(ranges),
+    target: coords(ranges),
+    up: coords(ranges),
+    fov: ranged(ranges, 'camera/fov'),
+    orbit: (value, at) =>
+      members(value, at, {
+        azimuth: ranged(ranges, 'camera/orbit/azimuth'),
+        elevation: ranged(ranges, 'camera/orbit/elevation'),
+        distance: ranged(ranges, 'camera/orbit/distance'),
+      }),
+    view: oneOf(VIEWS),
+  };
+}
 
-const lightSpec: Spec = {
-  type: oneOf(LIGHT_TYPES),
-  direction: coords,
-  position: coords,
-  color: rgb,
-  intensity: number(0, 100),
-  ambient: number(0, 1),
-};
+function lightSpec(ranges: SettingRanges | null): Spec {
+  return {
+    type: oneOf(LIGHT_TYPES),
+    direction: coords(ranges),
+    position: coords(ranges),
+    color: rgb(ranges),
+    intensity: ranged(ranges, 'light/intensity'),
+    ambient: ranged(ranges, 'light/ambient'),
+  };
+}
 
 function checkTransferFunction(value: Json, at: string): void {
   if (isObject(value) && 'preset' in value) {
@@ -762,47 +805,49 @@ function checkTransferFunction(value: Json, at: string): void {
   members(value, at, {
     name: string(64),
     space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
-    colors: points({ x, rgb }, ['x', 'rgb'], 'colors'),
+    colors: points({ x, rgb: vector(3, number(0, 1)) }, ['x', 'rgb'], 'colors'),
     opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
   });
 }
 
-function settingsSpec(limits: Limits, modes: readonly string[] | null): Spec {
+function settingsSpec(limits: Limits, modes: readonly string[] | null, ranges: SettingRanges | null): Spec {
+  const setting = (path: string) => ranged(ranges, `settings/${path}`);
   return {
     mode: modes === null ? string(32) : oneOf(modes),
     compositing: oneOf(COMPOSITINGS),
     stage: oneOf(STAGES),
     size: vector(2, integer(1, limits.max_image_side)),
-    sample_distance: number(1 / 16384, 2),
-    opacity_unit_distance: number(1e-4, 1),
-    early_termination: number(0.01, 1),
-    background: rgb,
+    sample_distance: setting('sample_distance'),
+    opacity_unit_distance: setting('opacity_unit_distance'),
+    early_termination: setting('early_termination'),
+    background: rgb(ranges),
     phong: boolean,
-    frame_budget_ms: number(0, 60000),
+    empty_space_skipping: boolean,
+    frame_budget_ms: setting('frame_budget_ms'),
     jitter: boolean,
-    refinement_steps: integer(0, 256),
+    refinement_steps: setting('refinement_steps'),
     shading: (v, at) =>
       members(v, at, {
-        diffuse: number(0, 4),
-        specular: number(0, 4),
-        shininess: number(1, 1024),
+        diffuse: setting('shading/diffuse'),
+        specular: setting('shading/specular'),
+        shininess: setting('shading/shininess'),
       }),
     light_buffer: (v, at) =>
       members(v, at, {
         slices: integer(1, limits.max_slices),
         resolution: integer(1, limits.max_light_resolution),
         builder: oneOf(BUILDERS),
-        compensation: number(0, 1000),
-        slab_samples: integer(0, 16),
+        compensation: setting('light_buffer/compensation'),
+        slab_samples: setting('light_buffer/slab_samples'),
         lookup: oneOf(LIGHT_LOOKUPS),
       }),
     scattering: (v, at) =>
       members(v, at, {
-        shell_radius: number(1e-4, 0.5),
-        shell_rings: integer(1, 4),
-        shell_center_weight: number(0, 1),
-        cone_angle: number(0.1, 80),
-        cone_center_weight: number(0, 1),
+        shell_radius: setting('scattering/shell_radius'),
+        shell_rings: setting('scattering/shell_rings'),
+        shell_center_weight: setting('scattering/shell_center_weight'),
+        cone_angle: setting('scattering/cone_angle'),
+        cone_center_weight: setting('scattering/cone_center_weight'),
       }),
   };
 }
@@ -817,11 +862,14 @@ function subtract(a: Vec3, b: Vec3): Vec3 {
  * server would accept it. The client sends what the person asked for and shows the server's answer;
  * this is for tests and for catching the client's own mistakes during development. `modes`: the
  * mode names the server offers (its hello); null accepts any name and leaves the mode to the server.
+ * `ranges`: the settings' ranges the server announces (its hello); null accepts any number where a
+ * range applies and leaves it to the server.
  */
 export function checkClientMessage(
   value: unknown,
   limits: Limits = DEFAULT_LIMITS,
   modes: readonly string[] | null = null,
+  ranges: SettingRanges | null = null,
 ): Problem | null {
   try {
     if (!isObject(value)) {
@@ -878,7 +926,7 @@ export function checkClientMessage(
         members(o, '', {
           ...envelope,
           camera: (v, at) => {
-            members(v, at, cameraSpec);
+            members(v, at, cameraSpec(ranges));
             const camera = v as CameraPatch;
             if (camera.eye && camera.orbit) {
               reject('invalid_value', `${at}/orbit`, 'give eye or orbit, not both');
@@ -893,14 +941,14 @@ export function checkClientMessage(
             }
           },
           light: (v, at) => {
-            members(v, at, lightSpec);
+            members(v, at, lightSpec(ranges));
             const direction = (v as Partial<Light>).direction;
             if (direction && direction.every((c) => c === 0)) {
               reject('invalid_value', `${at}/direction`, 'zero direction');
             }
           },
           transfer_function: checkTransferFunction,
-          settings: (v, at) => members(v, at, settingsSpec(limits, modes)),
+          settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
           output: (v, at) =>
             members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
         });

@@ -151,7 +151,7 @@ int run_render(const std::vector<std::string>& args) {
         return fail(status.error());
     }
     std::printf("light:    buffer %s, %llu build(s) in %d frame(s)\n",
-                frame.report.light_buffer.c_str(),
+                std::string(render::to_string(frame.report.light_buffer)).c_str(),
                 static_cast<unsigned long long>((*renderer)->light_buffer_builds()), *repeat);
     std::printf("output:   %s (%dx%d)\n", out.c_str(), frame.image.width, frame.image.height);
     if (const auto inset_path = a.get("light-inset")) {

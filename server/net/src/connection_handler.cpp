@@ -80,7 +80,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.encoding = f.format == encode::ImageFormat::png ? "png" : "jpeg";
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
-    h.light_buffer = f.report.light_buffer;
+    h.light_buffer = render::to_string(f.report.light_buffer);
     for (const auto& pass : f.report.passes) {
         h.passes.push_back({pass.name, pass.gpu_ms, pass.wall_ms});
     }
@@ -233,8 +233,7 @@ void ConnectionHandler::leave_session() {
     if (!session_) {
         return;
     }
-    if (context_.services.sessions.leave(*session_, viewer_)) {
-        context_.services.scheduler.cancel(session_->id());
+    if (context_.services.sessions.leave(*session_, viewer_, context_.services.scheduler)) {
         context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
         base::log_info("session", "closed " + session_->id());
     }
@@ -340,34 +339,50 @@ void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
                                       " on " + session_->volume_id());
 }
 
-void ConnectionHandler::resume_held(std::optional<std::int64_t> id,
-                                    const protocol::Resume& message) {
-    const auto found = context_.services.sessions.find(message.session);
+bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std::string& session_id,
+                                      const std::optional<std::string>& owner_token) {
+    // The volume's histogram, computed when it was loaded.
+    const auto found = context_.services.sessions.find(session_id);
     const auto histogram = found ? context_.services.volumes.histogram(found->volume())
                                  : std::make_shared<const std::vector<std::uint64_t>>();
-    Sinks sinks = sinks_for(message.session);
-    // The check of the token and the change of owner are one step of the session's, and finding
-    // it one of the registry's, so that two connections resuming at once cannot both win and an
-    // ended session stays ended.
-    auto resumed = context_.services.sessions.enter(message.session, [&](session::Session& target) {
-        return target.resume(
-                viewer_, message.owner_token, std::move(sinks.frames),
-                std::move(sinks.state_changed), [&](const session::SessionState& state) {
-                    send(protocol::opened_message(
-                            id, target.id(), summary_of(target.volume_id(), target.volume().get()),
-                            *histogram, protocol::state_to_json(to_protocol(state)),
-                            target.owner_token()));
-                });
+    Sinks sinks = sinks_for(session_id);
+    // Finding the session and entering it are one step of the registry's, so a session whose
+    // last viewer is leaving cannot be entered back to life; checking the owner token and
+    // changing the owner are one step of the session's, so two connections resuming at once
+    // cannot both win.
+    auto entered = context_.services.sessions.enter(session_id, [&](session::Session& target) {
+        const auto welcome = [&](const session::SessionState& state) {
+            const protocol::VolumeSummary volume =
+                    summary_of(target.volume_id(), target.volume().get());
+            const std::string state_json = protocol::state_to_json(to_protocol(state));
+            send(owner_token ? protocol::opened_message(id, target.id(), volume, *histogram,
+                                                        state_json, target.owner_token())
+                             : protocol::joined_message(id, target.id(), volume, *histogram,
+                                                        state_json));
+        };
+        // Also when already in it: re-entering replaces the sinks, and the welcome keeps its
+        // reply ahead of every state that follows it.
+        return owner_token ? target.resume(viewer_, *owner_token, std::move(sinks.frames),
+                                           std::move(sinks.state_changed), welcome)
+                           : target.add_viewer(viewer_, std::move(sinks.frames),
+                                               std::move(sinks.state_changed), welcome);
     });
-    if (!resumed) {
-        reply_error(id, resumed.error());
-        return;
+    if (!entered) {
+        reply_error(id, entered.error());
+        return false;
     }
-    if (*resumed != session_) {
+    if (*entered != session_) {
         leave_session();
-        session_ = *resumed;
+        session_ = *entered;
     }
-    base::log_info("session", "resumed " + session_->id());
+    return true;
+}
+
+void ConnectionHandler::resume_held(std::optional<std::int64_t> id,
+                                    const protocol::Resume& message) {
+    if (enter_session(id, message.session, message.owner_token)) {
+        base::log_info("session", "resumed " + session_->id());
+    }
 }
 
 void ConnectionHandler::handle_waiting() {
@@ -412,32 +427,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::O
 }
 
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Join& message) {
-    // The volume's histogram, computed when it was loaded.
-    const auto found = context_.services.sessions.find(message.session);
-    const auto histogram = found ? context_.services.volumes.histogram(found->volume())
-                                 : std::make_shared<const std::vector<std::uint64_t>>();
-    Sinks sinks = sinks_for(message.session);
-    // Finding the session and joining it are one step of the registry's, so a session whose last
-    // viewer is leaving cannot be joined back to life.
-    auto joined = context_.services.sessions.enter(message.session, [&](session::Session& target) {
-        // Also when already in it: re-adding replaces the sinks, and the welcome keeps `joined`
-        // ahead of every state that follows it.
-        return target.add_viewer(
-                viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
-                [&](const session::SessionState& state) {
-                    send(protocol::joined_message(
-                            id, target.id(), summary_of(target.volume_id(), target.volume().get()),
-                            *histogram, protocol::state_to_json(to_protocol(state))));
-                });
-    });
-    if (!joined) {
-        reply_error(id, joined.error());
-        return;
-    }
-    if (*joined != session_) {
-        leave_session();
-        session_ = *joined;
-    }
+    enter_session(id, message.session, std::nullopt);
 }
 
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Resume& message) {

@@ -53,6 +53,12 @@ private:
     // The second half of `open`, on the strand, once the volume is loaded (or is not).
     void finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
                      const LoadedVolume& volume);
+    // Join (no owner token) and resume (the owner's token) of a session this server holds: adds
+    // this connection's viewer to it, or makes it the owner, welcomed with `joined` or `opened`,
+    // and makes it the connection's session. Replies with the error and returns false if the
+    // session refuses.
+    bool enter_session(std::optional<std::int64_t> id, const std::string& session_id,
+                       const std::optional<std::string>& owner_token);
     // Resumes the session this server holds.
     void resume_held(std::optional<std::int64_t> id, const protocol::Resume& message);
     // The second half of a resume that re-creates a session, once the volume is loaded.

@@ -102,20 +102,20 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         }
         return base::Status(base::Ok{});
     };
-    if (*type == "list_volumes" || *type == "stats" || *type == "close") {
+    if (*type == ListVolumes::type || *type == Stats::type || *type == Close::type) {
         if (auto status = fields({}); !status) {
             return status.error();
         }
-        if (*type == "list_volumes") {
+        if (*type == ListVolumes::type) {
             request.message = ListVolumes{};
-        } else if (*type == "stats") {
+        } else if (*type == Stats::type) {
             request.message = Stats{};
         } else {
             request.message = Close{};
         }
         return request;
     }
-    if (*type == "open") {
+    if (*type == Open::type) {
         if (auto status = fields({"volume"}); !status) {
             return status.error();
         }
@@ -126,7 +126,7 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         request.message = Open{*volume};
         return request;
     }
-    if (*type == "join") {
+    if (*type == Join::type) {
         if (auto status = fields({"session"}); !status) {
             return status.error();
         }
@@ -137,7 +137,7 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         request.message = Join{*session};
         return request;
     }
-    if (*type == "resume") {
+    if (*type == Resume::type) {
         if (auto status = fields({"session", "owner_token", "volume"}); !status) {
             return status.error();
         }
@@ -160,7 +160,7 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         request.message = std::move(resume);
         return request;
     }
-    if (*type == "render") {
+    if (*type == Render::type) {
         if (auto status = fields({"interactive"}); !status) {
             return status.error();
         }
@@ -175,7 +175,7 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
         request.message = render;
         return request;
     }
-    if (*type == "set") {
+    if (*type == Set::type) {
         // The message itself becomes the patch: moved, never copied or printed. It is checked once,
         // when it is applied to the session's state (apply_patch), which knows every field.
         json patch = std::move(j);
@@ -199,9 +199,17 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                          {"scattering", scene::to_string(mode.scattering)},
                          {"gradients", scene::to_string(mode.gradients)}});
     }
+    // Each setting's range, so that a client checks and offers what the server accepts without
+    // a copy of its own.
+    json ranges = json::object();
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        ranges[std::string(range->field)] = {
+                {"min", range->min}, {"max", range->max}, {"integer", range->integer}};
+    }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},
                     {"modes", modes},
+                    {"ranges", ranges},
                     {"encodings", {"jpeg", "png"}},
                     {"renderer",
                      {{"renderer", renderer.renderer},

@@ -59,15 +59,16 @@ namespace {
 // The light-buffer state a timed frame of a series must report for the series to measure what
 // its name says.
 base::Status check_light_buffer(const TimedPoint& point, LightBufferUse use,
-                                const std::string& light_buffer) {
-    if (use == LightBufferUse::cached && light_buffer != "reused") {
+                                render::LightBufferState state) {
+    const std::string light_buffer(render::to_string(state));
+    if (use == LightBufferUse::cached && state != render::LightBufferState::reused) {
         return base::make_error("bench_invalid",
                                 point_label(point) + ": the light buffer was '" + light_buffer +
                                         "' in a frame where only the camera moved, so 'cached' "
                                         "would not measure reuse",
                                 "light_buffer");
     }
-    if (use == LightBufferUse::rebuild && light_buffer != "built") {
+    if (use == LightBufferUse::rebuild && state != render::LightBufferState::built) {
         return base::make_error("bench_invalid",
                                 point_label(point) + ": the light buffer was '" + light_buffer +
                                         "' in a frame whose light moved, so 'rebuild' would not "

@@ -103,13 +103,14 @@ base::Result<Timed> AccuracyBench::frame(const scene::FrameRequest& request) {
             continue;
         }
         if (scene::uses_light_buffer(request.settings.mode) &&
-            frame->report.light_buffer != "reused") {
-            return base::make_error("bench_invalid",
-                                    std::string(scene::to_string(request.settings.mode)) +
-                                            ": the light buffer was '" +
-                                            frame->report.light_buffer +
-                                            "' in a repeat of the same request",
-                                    "light_buffer");
+            frame->report.light_buffer != render::LightBufferState::reused) {
+            return base::make_error(
+                    "bench_invalid",
+                    std::string(scene::to_string(request.settings.mode)) +
+                            ": the light buffer was '" +
+                            std::string(render::to_string(frame->report.light_buffer)) +
+                            "' in a repeat of the same request",
+                    "light_buffer");
         }
         double ms = 0.0;
         for (const auto& pass : frame->report.passes) {
@@ -143,11 +144,13 @@ base::Result<double> AccuracyBench::light_buffer_build(scene::FrameRequest reque
         if (!frame) {
             return frame.error();
         }
-        if (frame->report.light_buffer != "built") {
-            return base::make_error("bench_invalid",
-                                    "the light buffer was '" + frame->report.light_buffer +
-                                            "' in a frame whose light moved",
-                                    "light_buffer");
+        if (frame->report.light_buffer != render::LightBufferState::built) {
+            return base::make_error(
+                    "bench_invalid",
+                    "the light buffer was '" +
+                            std::string(render::to_string(frame->report.light_buffer)) +
+                            "' in a frame whose light moved",
+                    "light_buffer");
         }
         if (i == 0) {
             continue;  // warm-up: the builder's shaders compile here

@@ -150,6 +150,18 @@ glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::Came
 
 }  // namespace
 
+std::string_view to_string(LightBufferState state) {
+    switch (state) {
+        case LightBufferState::none:
+            return "none";
+        case LightBufferState::built:
+            return "built";
+        case LightBufferState::reused:
+            return "reused";
+    }
+    return "none";
+}
+
 double FrameReport::gpu_total_ms() const {
     double total = 0.0;
     for (const auto& pass : passes) {
@@ -511,7 +523,7 @@ struct Renderer::Impl {
                                    [&](const CachedLightBuffer& e) { return e.inputs == inputs; });
         if (cached != light_buffers.end()) {
             light_buffers.splice(light_buffers.begin(), light_buffers, cached);
-            report.light_buffer = "reused";
+            report.light_buffer = LightBufferState::reused;
         } else {
             const auto start = Clock::now();
             if (lb.builder == scene::LightBufferBuilder::per_slice) {
@@ -541,7 +553,7 @@ struct Renderer::Impl {
                                      gpu_ms(light_timer), milliseconds_since(start)});
             light_buffers.push_front({std::move(inputs), std::move(buffer)});
             ++light_buffer_builds;
-            report.light_buffer = "built";
+            report.light_buffer = LightBufferState::built;
         }
         last_light_buffer = &light_buffers.front().buffer;
         glBindTextureUnit(2, last_light_buffer->texture());

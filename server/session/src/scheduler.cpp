@@ -338,9 +338,9 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         }
     }
     render_ms_.observe(frame->render_ms);
-    if (frame->report.light_buffer == "built") {
+    if (frame->report.light_buffer == render::LightBufferState::built) {
         light_buffer_built_.add();
-    } else if (frame->report.light_buffer == "reused") {
+    } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
     }
     auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));

@@ -382,15 +382,19 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::enter(
     return found->second;
 }
 
-bool SessionRegistry::leave(Session& session, ViewerId viewer) {
-    const std::lock_guard lock(mutex_);
-    if (session.remove_viewer(viewer) > 0) {
-        return false;
+bool SessionRegistry::leave(Session& session, ViewerId viewer, Scheduler& scheduler) {
+    {
+        const std::lock_guard lock(mutex_);
+        if (session.remove_viewer(viewer) > 0) {
+            return false;
+        }
+        const auto found = sessions_.find(session.id());
+        if (found != sessions_.end() && found->second.get() == &session) {
+            sessions_.erase(found);
+        }
     }
-    const auto found = sessions_.find(session.id());
-    if (found != sessions_.end() && found->second.get() == &session) {
-        sessions_.erase(found);
-    }
+    // Outside the registry's lock: the scheduler takes its own.
+    scheduler.cancel(session.id());
     return true;
 }
 

@@ -62,7 +62,7 @@ protected:
         return frame.ok() ? std::move(frame.value()) : Frame{};
     }
 
-    std::string light_buffer_after(const scene::FrameRequest& request) {
+    LightBufferState light_buffer_after(const scene::FrameRequest& request) {
         return render(request).report.light_buffer;
     }
 
@@ -115,7 +115,7 @@ TEST_F(FrameBudgetTest, RequestOverTheCeilingIsRefusedBeforeAnythingRuns) {
     large.settings.width = small.settings.width;
     large.settings.height = small.settings.height;
     const Frame frame = render(large);
-    EXPECT_EQ(frame.report.light_buffer, "built");
+    EXPECT_EQ(frame.report.light_buffer, render::LightBufferState::built);
     EXPECT_TRUE(std::any_of(frame.report.passes.begin(), frame.report.passes.end(),
                             [](const PassTiming& p) { return p.name == "transfer_function"; }));
 }
@@ -142,7 +142,7 @@ TEST_F(FrameBudgetTest, LightBufferLargerThanTheBudgetIsRefused) {
     scene::FrameRequest request = soft_scene(scene::Mode::sbrc);
     request.settings.light_buffer.slices = 32;
     request.settings.light_buffer.resolution = 128;  // 32 x 128^2 x 2 bytes = 1 MiB: fits
-    EXPECT_EQ(light_buffer_after(request), "built");
+    EXPECT_EQ(light_buffer_after(request), render::LightBufferState::built);
     request.settings.light_buffer.slices = 33;
     auto refused = renderer_->render(request);
     ASSERT_FALSE(refused.ok());
@@ -161,15 +161,15 @@ TEST_F(FrameBudgetTest, EvictionKeepsTheCachedBuffersUnderTheBudget) {
     request.settings.light_buffer.resolution = 128;  // 384 KiB: two fit, three do not
     for (int i = 0; i < 6; ++i) {
         request.light.direction = scene::direction_from_angles(40.0 * i, 20.0);
-        EXPECT_EQ(light_buffer_after(request), "built");
+        EXPECT_EQ(light_buffer_after(request), render::LightBufferState::built);
         EXPECT_LE(renderer_->gpu_bytes_held() - volume_->data.size(), budget) << "after " << i;
     }
     // The two most recent stay cached.
-    EXPECT_EQ(light_buffer_after(request), "reused");
+    EXPECT_EQ(light_buffer_after(request), render::LightBufferState::reused);
     request.light.direction = scene::direction_from_angles(40.0 * 4, 20.0);
-    EXPECT_EQ(light_buffer_after(request), "reused");
+    EXPECT_EQ(light_buffer_after(request), render::LightBufferState::reused);
     request.light.direction = scene::direction_from_angles(0.0, 20.0);
-    EXPECT_EQ(light_buffer_after(request), "built");
+    EXPECT_EQ(light_buffer_after(request), render::LightBufferState::built);
 }
 
 // Finding 7: the cache keyed on a counter that any other session's transfer function advanced,
@@ -180,11 +180,11 @@ TEST_F(FrameBudgetTest, SessionsWithDifferentTransferFunctionsEachReuseTheirOwnB
     scene::FrameRequest second = first;
     second.transfer_function.opacities.back().alpha = 0.3;
     second.camera = scene::orbit_camera(140.0, -10.0, 2.2);
-    EXPECT_EQ(light_buffer_after(first), "built");
-    EXPECT_EQ(light_buffer_after(second), "built");
+    EXPECT_EQ(light_buffer_after(first), render::LightBufferState::built);
+    EXPECT_EQ(light_buffer_after(second), render::LightBufferState::built);
     for (int i = 0; i < 4; ++i) {
-        EXPECT_EQ(light_buffer_after(first), "reused") << "frame " << i;
-        EXPECT_EQ(light_buffer_after(second), "reused") << "frame " << i;
+        EXPECT_EQ(light_buffer_after(first), render::LightBufferState::reused) << "frame " << i;
+        EXPECT_EQ(light_buffer_after(second), render::LightBufferState::reused) << "frame " << i;
     }
     EXPECT_EQ(renderer_->light_buffer_builds(), 2u);
 }
@@ -272,31 +272,34 @@ TEST_F(FrameBudgetTest, LightBufferIsRebuiltExactlyWhenWhatItHoldsChanges) {
             {"TF opacity", [](R& r) { r.transfer_function.opacities.back().alpha = 0.2; }, true},
             {"TF opacity position", [](R& r) { r.transfer_function.opacities[1].x = 0.4; }, true},
     };
-    EXPECT_EQ(light_buffer_after(base), "built");
+    EXPECT_EQ(light_buffer_after(base), render::LightBufferState::built);
     for (const Change& change : changes) {
         scene::FrameRequest changed = base;
         change.apply(changed);
-        EXPECT_EQ(light_buffer_after(changed), change.rebuilds ? "built" : "reused") << change.what;
-        EXPECT_EQ(light_buffer_after(base), "reused") << "back from " << change.what;
+        EXPECT_EQ(light_buffer_after(changed), change.rebuilds ? render::LightBufferState::built
+                                                               : render::LightBufferState::reused)
+                << change.what;
+        EXPECT_EQ(light_buffer_after(base), render::LightBufferState::reused)
+                << "back from " << change.what;
     }
 
     // A point light's buffer depends on its position and not on the unused direction.
     scene::FrameRequest point = base;
     point.light.type = scene::LightType::point;
     point.light.position = {2.0, -1.5, 1.0};
-    EXPECT_EQ(light_buffer_after(point), "built");
+    EXPECT_EQ(light_buffer_after(point), render::LightBufferState::built);
     scene::FrameRequest moved = point;
     moved.light.direction = {1.0, 0.0, 0.0};
-    EXPECT_EQ(light_buffer_after(moved), "reused");
+    EXPECT_EQ(light_buffer_after(moved), render::LightBufferState::reused);
     moved.light.position.z = 1.5;
-    EXPECT_EQ(light_buffer_after(moved), "built");
+    EXPECT_EQ(light_buffer_after(moved), render::LightBufferState::built);
 
     // Another volume is another buffer; the first volume's stays cached.
     const auto first_volume = volume_;
     use(test::radial_volume(20));
-    EXPECT_EQ(light_buffer_after(base), "built");
+    EXPECT_EQ(light_buffer_after(base), render::LightBufferState::built);
     ASSERT_TRUE(renderer_->set_volume(first_volume).ok());
-    EXPECT_EQ(light_buffer_after(base), "reused");
+    EXPECT_EQ(light_buffer_after(base), render::LightBufferState::reused);
 }
 
 // ---- cancellation ----
@@ -393,7 +396,7 @@ TEST_F(FrameBudgetTest, CancelledFramesStopBetweenChunks) {
     scene::FrameRequest after = soft_scene(scene::Mode::sbrc, 8, 8);
     after.settings.light_buffer.slices = 1024;
     after.settings.light_buffer.resolution = 8;
-    EXPECT_EQ(render(after).report.light_buffer, "built");
+    EXPECT_EQ(render(after).report.light_buffer, render::LightBufferState::built);
     EXPECT_EQ(renderer_->light_buffer_builds(), builds + 1);
     EXPECT_EQ(renderer_->gpu_bytes_held(), volume_->data.size() + std::size_t{1024} * 8 * 8 * 2);
 }

@@ -268,7 +268,8 @@ TEST_F(ShadowTest, ScatteringModesStayCloseToSbrcAndSoftenIt) {
     for (const scene::Mode mode : {scene::Mode::sbrc_shell, scene::Mode::sbrc_cone}) {
         request.settings.mode = mode;
         const Frame soft = render(request);
-        EXPECT_EQ(soft.report.light_buffer, "reused") << scene::to_string(mode);
+        EXPECT_EQ(soft.report.light_buffer, render::LightBufferState::reused)
+                << scene::to_string(mode);
         const double difference = error_against(soft, base::to_rgba_f(hard.image));
         EXPECT_GT(difference, 0.0) << scene::to_string(mode);
         EXPECT_LT(difference, 0.05) << scene::to_string(mode);
@@ -287,22 +288,22 @@ TEST_F(ShadowTest, CameraMovesNeverRebuildTheLightBuffer) {
         // How samples read the buffer is not what the buffer holds.
         request.settings.light_buffer.lookup =
                 i % 3 == 0 ? scene::LightLookup::interpolate : scene::LightLookup::local;
-        EXPECT_EQ(render(request).report.light_buffer, "reused");
+        EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::reused);
     }
     EXPECT_EQ(renderer_->light_buffer_builds(), builds);
     // Anything the buffer depends on does rebuild it.
     request.light.direction = scene::direction_from_angles(10.0, 10.0);
-    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::built);
     request.settings.light_buffer.slices = 33;
-    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::built);
     request.transfer_function.opacities.back().alpha = 0.2;
-    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::built);
     request.settings.light_buffer.slab_samples = 5;
-    EXPECT_EQ(render(request).report.light_buffer, "built");
+    EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::built);
     EXPECT_EQ(renderer_->light_buffer_builds(), builds + 4);
     // Modes without light-buffer shadows do not touch it.
     request.settings.mode = scene::Mode::phong;
-    EXPECT_EQ(render(request).report.light_buffer, "none");
+    EXPECT_EQ(render(request).report.light_buffer, render::LightBufferState::none);
     EXPECT_EQ(renderer_->light_buffer_builds(), builds + 4);
 }
 
@@ -311,14 +312,14 @@ TEST_F(ShadowTest, LightBuffersOfSeveralLightsStayCachedForSessionsThatShareTheR
     auto first = radial_scene(scene::Mode::sbrc, 16);
     auto second = first;
     second.light.direction = scene::direction_from_angles(120.0, -10.0);
-    EXPECT_EQ(render(first).report.light_buffer, "built");
-    EXPECT_EQ(render(second).report.light_buffer, "built");
+    EXPECT_EQ(render(first).report.light_buffer, render::LightBufferState::built);
+    EXPECT_EQ(render(second).report.light_buffer, render::LightBufferState::built);
     const std::uint64_t builds = renderer_->light_buffer_builds();
     for (int i = 0; i < 3; ++i) {
         const Frame a = render(first);
         const Frame b = render(second);
-        EXPECT_EQ(a.report.light_buffer, "reused");
-        EXPECT_EQ(b.report.light_buffer, "reused");
+        EXPECT_EQ(a.report.light_buffer, render::LightBufferState::reused);
+        EXPECT_EQ(b.report.light_buffer, render::LightBufferState::reused);
         EXPECT_NE(a.image.pixels, b.image.pixels);  // each used its own light's buffer
     }
     EXPECT_EQ(renderer_->light_buffer_builds(), builds);
@@ -358,7 +359,7 @@ TEST_F(ShadowTest, OneSliceAndTheLayerLimitBothWork) {
             request.settings.light_buffer.resolution = 8;
             request.settings.light_buffer.builder = builder;
             const Frame frame = render(request);
-            EXPECT_EQ(frame.report.light_buffer, "built");
+            EXPECT_EQ(frame.report.light_buffer, render::LightBufferState::built);
             auto buffer = renderer_->read_light_buffer();
             ASSERT_TRUE(buffer.ok());
             EXPECT_EQ(buffer->slices, slices);

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
+#include <algorithm>
+#include <filesystem>
 #include <set>
+#include <string>
+#include <string_view>
 #include <variant>
 
 namespace penumbra::protocol {
@@ -17,12 +20,15 @@ using test::example_files;
 using test::invalid_examples;
 using test::read_text;
 
-// The variant alternative each client message type parses to.
+// The variant alternative each client message type parses to, from the alternatives' own names.
 std::size_t expected_index(const std::string& type) {
-    static const std::map<std::string, std::size_t> index = {
-            {"list_volumes", 0}, {"open", 1}, {"set", 2},   {"render", 3},
-            {"stats", 4},        {"join", 5}, {"close", 6}, {"resume", 7}};
-    return index.at(type);
+    const auto found = std::find(kClientMessageTypes.begin(), kClientMessageTypes.end(), type);
+    EXPECT_NE(found, kClientMessageTypes.end()) << "no alternative of ClientMessage is " << type;
+    return static_cast<std::size_t>(found - kClientMessageTypes.begin());
+}
+
+std::set<std::string> client_message_types() {
+    return {kClientMessageTypes.begin(), kClientMessageTypes.end()};
 }
 
 TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
@@ -45,7 +51,29 @@ TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
             EXPECT_FALSE(request->id.has_value());
         }
     }
-    EXPECT_EQ(types.size(), 8U) << "every client message type has a valid example";
+    EXPECT_EQ(types, client_message_types()) << "every client message type has a valid example";
+}
+
+// A message is added by its alternative in ClientMessage; its schema and example follow its name.
+TEST(ProtocolExamples, EveryClientMessageHasItsSchemaAndItsExample) {
+    for (const std::string_view type : kClientMessageTypes) {
+        const std::string name(type);
+        SCOPED_TRACE(name);
+        const auto schema_path =
+                std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / (name + ".schema.json");
+        ASSERT_TRUE(std::filesystem::exists(schema_path)) << schema_path;
+        const json schema = json::parse(read_text(schema_path));
+        // A schema for both directions (stats) keeps the request in $defs/request.
+        const json& request = schema.contains("$defs") && schema.at("$defs").contains("request")
+                                      ? schema.at("$defs").at("request")
+                                      : schema;
+        EXPECT_EQ(request.at("properties").at("type").at("const"), name);
+        const auto example = test::examples_dir() / "valid" / (name + ".json");
+        ASSERT_TRUE(std::filesystem::exists(example)) << example;
+        const auto parsed = parse_request(read_text(example), Limits{});
+        ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
+        EXPECT_EQ(kClientMessageTypes.at(parsed->message.index()), type);
+    }
 }
 
 TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {

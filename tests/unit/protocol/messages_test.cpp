@@ -212,6 +212,21 @@ TEST(ServerMessages, HelloDescribesEveryModeOfTheModeTable) {
     EXPECT_EQ(modes[6].at("shadows"), "rays");
 }
 
+// The client checks messages and sizes its sliders from these: it holds no ranges of its own.
+TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
+    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    const json& ranges = hello.at("ranges");
+    ASSERT_EQ(ranges.size(), scene::kSettingRanges.size());
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        SCOPED_TRACE(range->field);
+        const json& announced = ranges.at(std::string(range->field));
+        EXPECT_EQ(announced.at("min").get<double>(), range->min);
+        EXPECT_EQ(announced.at("max").get<double>(), range->max);
+        EXPECT_EQ(announced.at("integer").get<bool>(), range->integer);
+    }
+    EXPECT_EQ(ranges.at("settings/light_buffer/slab_samples").at("max"), scene::kMaxSlabSamples);
+}
+
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {
     SessionState state;
     state.frame.transfer_function = scene::preset("mri_skin").value();

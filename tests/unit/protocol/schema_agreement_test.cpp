@@ -1,15 +1,17 @@
 // The JSON Schemas of proto/v1 against the C++ tables they restate for clients that cannot read
-// C++: scene's mode table and its setting ranges. A mode or a limit changed in one and not the
-// other fails here.
+// C++: scene's mode table and its setting ranges; and the hello the web client's tests take their
+// ranges from. A mode or a limit changed in one and not the other fails here.
 
 #include "examples.hpp"
 
+#include <penumbra/protocol/messages.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -35,6 +37,18 @@ TEST(SchemaAgreement, ModeEnumIsTheModeTable) {
                                       .at("enum")
                                       .get<std::vector<std::string>>();
     EXPECT_EQ(schema_modes, table);
+}
+
+TEST(SchemaAgreement, ClientTypeEnumIsTheRequestVariant) {
+    auto schema_types = schema("common.schema.json")
+                                .at("$defs")
+                                .at("client_type")
+                                .at("enum")
+                                .get<std::vector<std::string>>();
+    std::vector<std::string> variant(kClientMessageTypes.begin(), kClientMessageTypes.end());
+    std::sort(schema_types.begin(), schema_types.end());
+    std::sort(variant.begin(), variant.end());
+    EXPECT_EQ(schema_types, variant);
 }
 
 TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
@@ -109,6 +123,21 @@ TEST(SchemaAgreement, EveryBoundedSettingInTheSchemaHasARange) {
     table.erase("vec3");
     table.erase("rgb");
     EXPECT_EQ(bounded, table);
+}
+
+// The web client checks messages with the ranges of a hello (no copy of its own); its tests use
+// one recorded from a server, which must announce what the server announces now.
+TEST(SchemaAgreement, TheWebClientsRecordedHelloHasTheServersRanges) {
+    const std::filesystem::path recorded_file =
+            std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() / "client_web" / "test" /
+            "fixtures" / "server_messages.jsonl";
+    std::ifstream in(recorded_file);
+    std::string first_line;
+    ASSERT_TRUE(std::getline(in, first_line)) << recorded_file;
+    const json recorded = json::parse(first_line);
+    ASSERT_EQ(recorded.at("type"), "hello");
+    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    EXPECT_EQ(recorded.at("ranges"), hello.at("ranges"));
 }
 
 }  // namespace

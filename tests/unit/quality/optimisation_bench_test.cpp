@@ -33,7 +33,8 @@ public:
         if (scene::uses_light_buffer(s.mode)) {
             const bool moved = !lit_ || request.light.direction != last_light_.direction ||
                                request.light.position != last_light_.position;
-            frame.report.light_buffer = moved ? "built" : "reused";
+            frame.report.light_buffer =
+                    moved ? render::LightBufferState::built : render::LightBufferState::reused;
             if (moved) {
                 frame.report.passes.push_back(
                         {"light_buffer_" + std::string(scene::to_string(s.light_buffer.builder)),

@@ -2,6 +2,7 @@
 // a newer request of the session has waited long enough; a fake renderer stands in for the GPU.
 
 #include <penumbra/session/scheduler.hpp>
+#include <penumbra/session/session.hpp>
 
 #include <gtest/gtest.h>
 
@@ -141,6 +142,27 @@ TEST_F(SchedulerCancelTest, ClosingTheSessionCancelsItsFrame) {
     EXPECT_EQ(code_of(long_frame, 5s), "superseded");
     auto next = submit("b", 1);
     EXPECT_EQ(code_of(next, 5s), "frame");
+}
+
+// Leaving is one call of the registry's: the last viewer out also withdraws the session's frame;
+// a viewer leaving while another stays withdraws nothing.
+TEST_F(SchedulerCancelTest, TheLastViewerLeavingASessionCancelsItsFrame) {
+    start({.encode_threads = 1});
+    constexpr ViewerId owner = 1;
+    constexpr ViewerId viewer = 2;
+    SessionRegistry registry(4);
+    auto created = registry.create("v", nullptr, {}, owner);
+    ASSERT_TRUE(created.ok());
+    const std::shared_ptr<Session> session = *created;
+    ASSERT_TRUE(registry.enter(session->id(),
+                               [](Session& s) { return s.add_viewer(viewer, {}, {}, {}); })
+                        .ok());
+    auto long_frame = submit(session->id(), 60000);
+    wait_until_started(1);
+    EXPECT_FALSE(registry.leave(*session, owner, *scheduler_));
+    EXPECT_EQ(code_of(long_frame, 1s), "still rendering") << "a viewer still watches it";
+    EXPECT_TRUE(registry.leave(*session, viewer, *scheduler_));
+    EXPECT_EQ(code_of(long_frame, 5s), "superseded");
 }
 
 TEST_F(SchedulerCancelTest, StoppingCancelsTheFrameInFlight) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -17,6 +18,34 @@ constexpr ViewerId owner = 1;
 constexpr ViewerId first_viewer = 2;
 constexpr ViewerId second_viewer = 3;
 constexpr ViewerId resuming = 4;
+
+// Renders nothing: the registry's tests only need a scheduler to withdraw frames from.
+class NoRenderer final : public render::FrameRenderer {
+public:
+    [[nodiscard]] const render::RendererInfo& info() const override { return info_; }
+
+    base::Status set_volume(std::shared_ptr<const volume::Volume>) override { return base::Ok{}; }
+
+    base::Result<render::Frame> render(const scene::FrameRequest&,
+                                       const render::CancelPredicate&) override {
+        return base::make_error("unexpected", "these tests render nothing", "render");
+    }
+
+    [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
+
+private:
+    render::RendererInfo info_;
+};
+
+std::unique_ptr<Scheduler> idle_scheduler(metrics::Registry& metrics) {
+    auto created = Scheduler::create(
+            []() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                return std::unique_ptr<render::FrameRenderer>(std::make_unique<NoRenderer>());
+            },
+            {}, metrics);
+    EXPECT_TRUE(created.ok());
+    return created.ok() ? std::move(created.value()) : nullptr;
+}
 
 SessionState state_with_mode(scene::Mode mode) {
     SessionState state;
@@ -286,6 +315,8 @@ TEST(SessionRegistry, SessionIdsAreFreshSecretsApartFromTheOwnerTokens) {
 }
 
 TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
+    metrics::Registry metrics;
+    const auto scheduler = idle_scheduler(metrics);
     SessionRegistry registry(4);
     auto created = registry.create("v", nullptr, {}, owner);
     ASSERT_TRUE(created.ok());
@@ -294,9 +325,9 @@ TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
     ASSERT_TRUE(registry.enter(session->id(),
                                [](Session& s) { return s.add_viewer(first_viewer, {}, {}, {}); })
                         .ok());
-    EXPECT_FALSE(registry.leave(*session, owner));
+    EXPECT_FALSE(registry.leave(*session, owner, *scheduler));
     EXPECT_EQ(registry.find(session->id()), session) << "viewers keep it running without owner";
-    EXPECT_TRUE(registry.leave(*session, first_viewer));
+    EXPECT_TRUE(registry.leave(*session, first_viewer, *scheduler));
     EXPECT_EQ(registry.find(session->id()), nullptr);
     EXPECT_EQ(registry.count(), 0U);
     const auto gone = registry.enter(
@@ -318,6 +349,8 @@ TEST(Session, AnEndedSessionTakesNoViewer) {
 // Each race: the session's only viewer leaves while another connection joins it. Whichever wins,
 // the joiner is in a session the registry still holds, or was refused; never in an ended one.
 TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
+    metrics::Registry metrics;
+    const auto scheduler = idle_scheduler(metrics);
     SessionRegistry registry(4);
     int joined_first = 0;
     int refused = 0;
@@ -339,13 +372,13 @@ TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
         ready.fetch_add(1);
         while (ready.load() < 2) {
         }
-        registry.leave(*session, owner);
+        registry.leave(*session, owner, *scheduler);
         joiner.join();
         if (joined.ok()) {
             ++joined_first;
             EXPECT_EQ(registry.find(session->id()), session) << "joined, so it must still run";
             EXPECT_EQ(session->viewer_count(), 1U);
-            EXPECT_TRUE(registry.leave(*session, first_viewer));
+            EXPECT_TRUE(registry.leave(*session, first_viewer, *scheduler));
         } else {
             ++refused;
             EXPECT_EQ(joined.error().code, "unknown_session");

@@ -5,6 +5,7 @@
 #include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -37,10 +38,14 @@ inline constexpr const char* internal_error = "internal_error";
 }  // namespace code
 
 // Client -> server. Every message carries "v": 1, a "type" and an optional client-chosen "id"
-// that the answer repeats.
-struct ListVolumes {};
+// that the answer repeats. Each message knows its type name, which is also the name of its schema
+// (proto/v1/<type>.schema.json) and of its example (proto/examples/v1/valid/<type>.json).
+struct ListVolumes {
+    static constexpr std::string_view type = "list_volumes";
+};
 
 struct Open {
+    static constexpr std::string_view type = "open";
     std::string volume;
 };
 
@@ -48,24 +53,32 @@ struct Open {
 // parts keep their value. Parsed, not yet checked: apply_patch (scene_json.hpp) checks each field
 // once, against the state it changes, and a bad patch changes nothing.
 struct Set {
+    static constexpr std::string_view type = "set";
     Patch patch;
 };
 
 struct Render {
+    static constexpr std::string_view type = "render";
     bool interactive = false;  // reduced quality while the user drags; a still follows
 };
 
-struct Stats {};
+struct Stats {
+    static constexpr std::string_view type = "stats";
+};
 
 struct Join {
+    static constexpr std::string_view type = "join";
     std::string session;
 };
 
-struct Close {};
+struct Close {
+    static constexpr std::string_view type = "close";
+};
 
 // Becomes the owner of a session again, e.g. after the owner's connection dropped; the token is
 // the one its `opened` carried.
 struct Resume {
+    static constexpr std::string_view type = "resume";
     std::string session;
     std::string owner_token;
     // The session's volume. A server of a cluster that shares the secret owner tokens derive from
@@ -74,6 +87,18 @@ struct Resume {
 };
 
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
+
+template <typename Variant>
+struct MessageTypes;
+
+template <typename... Messages>
+struct MessageTypes<std::variant<Messages...>> {
+    static constexpr std::array<std::string_view, sizeof...(Messages)> names{Messages::type...};
+};
+
+// The client message types, in the order of ClientMessage's alternatives: what the tests of the
+// schemas and examples walk, so that a new message needs no list of its own there.
+inline constexpr auto kClientMessageTypes = MessageTypes<ClientMessage>::names;
 
 struct Request {
     std::optional<std::int64_t> id;

@@ -3,6 +3,7 @@
 #include <penumbra/base/image.hpp>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::render {
@@ -17,13 +18,19 @@ struct PassTiming {
     double wall_ms = 0.0;
 };
 
+// What a frame did with the light buffer: `none` (the mode casts no light-buffer shadows),
+// `built`, or `reused` (its inputs had not changed since it was last built: camera moves never
+// rebuild it).
+enum class LightBufferState { none, built, reused };
+
+// The name the frame header and the CLI print ("none", "built", "reused").
+[[nodiscard]] std::string_view to_string(LightBufferState state);
+
 struct FrameReport {
     std::vector<PassTiming> passes;
     std::string variant;  // the shader variant's defines, e.g. "PHONG=1 EXTINCTION=0"
     std::string stage;    // "compute" or "fragment"
-    // "none" (the mode casts no light-buffer shadows), "built", or "reused" (its inputs had not
-    // changed since it was last built: camera moves never rebuild it).
-    std::string light_buffer = "none";
+    LightBufferState light_buffer = LightBufferState::none;
     // Progressive stills: how many refinement steps the image holds beyond the still frame.
     int refinement_step = 0;
 

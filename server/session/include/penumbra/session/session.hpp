@@ -265,9 +265,10 @@ public:
     base::Result<std::shared_ptr<Session>> enter(
             const std::string& id, const std::function<base::Status(Session&)>& enter);
 
-    // Removes `viewer` from `session`; the last viewer leaving ends the session and removes it
-    // from the registry in the same step. Returns whether the session ended.
-    bool leave(Session& session, ViewerId viewer);
+    // Removes `viewer` from `session`; the last viewer leaving ends the session, removes it from
+    // the registry in the same step and withdraws its frames from `scheduler` (nobody is left to
+    // see them). Returns whether the session ended.
+    bool leave(Session& session, ViewerId viewer, Scheduler& scheduler);
 
     [[nodiscard]] std::size_t count() const;
 
