@@ -14,7 +14,7 @@ build=(
 )
 test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
-    clang-14 libfuzzer-14-dev clang-format-14
+    clang-14 libfuzzer-14-dev clang-format-14 clang-tidy-14
     mricron-data gnuplot-nox
     # Other projects' volume files for the conformance test, and the readers it compares with.
     python3-nibabel insighttoolkit5-examples heudiconv

@@ -70,7 +70,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
         if (slot) {
             stream_.expires_never();
             std::make_shared<WebSocketSession>(stream_.release_socket(), context_)
-                    ->run(std::move(request), std::move(client), std::move(slot));
+                    ->run(request, std::move(client), std::move(slot));
             return;
         }
         // Refused before the upgrade, with the HTTP status a browser's WebSocket reports.

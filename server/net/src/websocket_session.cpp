@@ -21,7 +21,7 @@ WebSocketSession::WebSocketSession(tcp::socket&& socket, Context& context)
 
 WebSocketSession::~WebSocketSession() = default;
 
-void WebSocketSession::run(http::request<http::string_body> upgrade, std::string client,
+void WebSocketSession::run(const http::request<http::string_body>& upgrade, std::string client,
                            ClientConnections::Slot slot) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {

@@ -19,7 +19,7 @@ public:
     ~WebSocketSession() override;
 
     // Accepts the upgrade of `client` (client_of), which holds `slot` while the connection lives.
-    void run(http::request<http::string_body> upgrade, std::string client,
+    void run(const http::request<http::string_body>& upgrade, std::string client,
              ClientConnections::Slot slot);
 
     // Who the client of an upgrade on `socket` is, for per-client limits and fair shares: its

@@ -46,7 +46,7 @@ base::Result<std::unique_ptr<Scheduler>> Scheduler::create(RendererFactory facto
     auto started = ready.get_future();
     scheduler->render_thread_ =
             std::thread([s = scheduler.get(), f = std::move(factory),
-                         r = std::move(ready)]() mutable { s->render_loop(std::move(f), r); });
+                         r = std::move(ready)]() mutable { s->render_loop(f, r); });
     auto status = started.get();
     if (!status) {
         scheduler->render_thread_.join();
@@ -106,19 +106,18 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
             in_flight_.superseded = true;
         }
         drop_refinement(session);  // the view it refines is about to change
-        auto found = pending_.find(session);
+        const auto found = pending_.find(session);
         if (found != pending_.end()) {
             replaced = std::move(found->second.done);
-            if (found->second.job.client == job.client) {
-                found->second = Pending{std::move(job), std::move(done)};
-            } else {
+        }
+        if (found != pending_.end() && found->second.job.client == job.client) {
+            found->second = Pending{std::move(job), std::move(done)};
+        } else {
+            if (found != pending_.end()) {
                 // Another viewer's request: the session now waits in that client's turn.
                 unqueue(session, found->second.job.client);
                 pending_.erase(found);
-                found = pending_.end();
             }
-        }
-        if (found == pending_.end()) {
             const std::string client = job.client;
             pending_.emplace(session, Pending{std::move(job), std::move(done)});
             auto& sessions = sessions_of_[client];
@@ -210,7 +209,7 @@ SchedulerCounts Scheduler::counts() const {
             gpu_bytes_.value()};
 }
 
-void Scheduler::render_loop(RendererFactory factory, std::promise<base::Status>& ready) {
+void Scheduler::render_loop(const RendererFactory& factory, std::promise<base::Status>& ready) {
     auto created = factory();
     if (!created) {
         ready.set_value(created.error());

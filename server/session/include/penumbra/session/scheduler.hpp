@@ -135,7 +135,7 @@ public:
 private:
     Scheduler(SchedulerOptions options, metrics::Registry& metrics);
 
-    void render_loop(RendererFactory factory, std::promise<base::Status>& ready);
+    void render_loop(const RendererFactory& factory, std::promise<base::Status>& ready);
     void encode_loop();
     void render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done);
     // Whether the frame in flight should stop; asked by the renderer between chunks.
