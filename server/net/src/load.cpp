@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -28,7 +29,8 @@ double percentile(std::vector<double> values, double q) {
         return 0.0;
     }
     std::sort(values.begin(), values.end());
-    const auto index = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
+    const auto index =
+            static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)));
     return values[std::min(index, values.size() - 1)];
 }
 
@@ -238,6 +240,7 @@ LoadReport run_load(const LoadConfig& config) {
     const Clock::time_point end = start + std::chrono::duration_cast<Clock::duration>(
                                                   std::chrono::duration<double>(config.seconds));
     std::vector<std::thread> threads;
+    threads.reserve(static_cast<std::size_t>(std::max(config.clients, 0)));
     for (int i = 0; i < config.clients; ++i) {
         threads.emplace_back(
                 [i, &config, &shared, end] { LoadClient(i, config, shared).run(end); });

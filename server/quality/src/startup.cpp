@@ -78,10 +78,9 @@ StartupOptions startup_options() {
     return options;
 }
 
-base::Result<StartupTable> measure_startup_table(render::FrameRenderer& renderer,
-                                                 std::shared_ptr<const volume::Volume> volume,
-                                                 scene::FrameRequest frame,
-                                                 const StartupOptions& options) {
+base::Result<StartupTable> measure_startup_table(
+        render::FrameRenderer& renderer, const std::shared_ptr<const volume::Volume>& volume,
+        scene::FrameRequest frame, const StartupOptions& options) {
     using Clock = std::chrono::steady_clock;
     const Clock::time_point start = Clock::now();
     const auto seconds = [&] {

@@ -47,10 +47,9 @@ struct StartupTable {
 
 // Measures the sweep of `options` on `volume`, from `frame` (the camera, transfer function and
 // lighting of `penumbra render`'s defaults; its size is replaced by options.side).
-base::Result<StartupTable> measure_startup_table(render::FrameRenderer& renderer,
-                                                 std::shared_ptr<const volume::Volume> volume,
-                                                 scene::FrameRequest frame,
-                                                 const StartupOptions& options);
+base::Result<StartupTable> measure_startup_table(
+        render::FrameRenderer& renderer, const std::shared_ptr<const volume::Volume>& volume,
+        scene::FrameRequest frame, const StartupOptions& options);
 
 // ---------------------------------------------------------------------------------------------
 // The serve policy.
