@@ -46,55 +46,94 @@ float light_reaching(vec3 position, vec3 to_eye) {
 #endif
 }
 
-// Front-to-back emission–absorption of samples [first, first + budget) of the ray of `pixel`,
-// composited into `accumulated` (premultiplied). The ray is cut into equal steps no longer than
-// the sample distance, each sampled at the same fraction of the step: the midpoint, or the
-// pixel's jittered offset (ray_start_offset).
-void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
-    vec3 origin = u.eye.xyz;
-    vec3 direction = pixel_ray_direction(pixel);
-    vec2 hit = intersect_box(origin, direction);
-    float length_inside = hit.y - hit.x;
-    if (length_inside > 0.0) {
-        int count = int(max(1.0, ceil(length_inside / u.march.x)));
-        float step_length = length_inside / float(count);
-        int last = min(count, first + budget);
+// A ray's march through the box: equal steps no longer than the sample distance, each sampled at
+// the same fraction of the step: the midpoint, or the pixel's jittered offset (ray_start_offset).
+struct RayMarch {
+    vec3 origin;
+    vec3 direction;
+    float start;  // where the ray enters the box
+    float step_length;
+    float offset;
 #if EMPTY_SPACE_SKIPPING
-        // Up to this distance along the ray the bricks are known to be occupied: samples before
-        // it need no look at the grid. A sample just past a face by rounding is looked at again,
-        // which can only keep a sample, never drop one.
-        float occupied_until = -1.0;
+    // Up to this distance along the ray the bricks are known to be occupied: samples before it
+    // need no look at the grid. A sample just past a face by rounding is looked at again, which
+    // can only keep a sample, never drop one.
+    float occupied_until;
 #endif
-        float offset = ray_start_offset(pixel);
-        for (int i = first; i < last; ++i) {
-            float t = hit.x + (float(i) + offset) * step_length;
-            vec3 position = origin + t * direction;
+};
+
+// Sample i classified, or false where it lies in an empty brick: `i` then moves to the last
+// sample in that brick, so that the march's next step leaves it.
+bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out vec4 classified) {
+    float t = march.start + (float(i) + march.offset) * march.step_length;
+    position = march.origin + t * march.direction;
+    classified = vec4(0.0);
 #if EMPTY_SPACE_SKIPPING
-            if (t >= occupied_until) {
-                ivec3 brick = brick_of(position);
-                float run = distance_out_of_brick(position, direction, brick);
-                if (!brick_occupied(brick)) {
-                    i = max(i + 1, i + int(ceil(run / step_length))) - 1;
-                    continue;
-                }
-                occupied_until = t + run;
-            }
-#endif
-            vec4 classified = classify(sample_value(position));
-            if (classified.a <= 0.0) continue;
-            vec3 color = classified.rgb;
-#if PHONG || SHADOWS != SHADOWS_NONE
-            vec2 terms = vec2(1.0, 0.0);
-#if PHONG
-            vec3 normal = normal_from_gradient(sample_gradient(position));
-            terms = blinn_phong(normal, direction_to_light(position), -direction);
-#endif
-            color = shade(color, terms, light_reaching(position, -direction));
-#endif
-            composite_front_to_back(accumulated, color, sample_opacity(classified.a, step_length));
-            if (accumulated.a >= u.march.z) break;
+    if (t >= march.occupied_until) {
+        ivec3 brick = brick_of(position);
+        float run = distance_out_of_brick(position, march.direction, brick);
+        if (!brick_occupied(brick)) {
+            i = max(i + 1, i + int(ceil(run / march.step_length))) - 1;
+            return false;
         }
+        march.occupied_until = t + run;
     }
+#endif
+    classified = classify(sample_value(position));
+    return true;
+}
+
+// Front-to-back emission–absorption of samples [first, first + budget) of the ray of `pixel`,
+// composited into `accumulated` (premultiplied).
+//
+// Where samples are shaded, two loops: the inner one fetches and classifies samples until one is
+// visible, the outer one shades and composites it. A SIMD machine (a GPU's warp, a software
+// rasteriser's vector of pixels) runs a loop turn's whole body while any of its rays needs it:
+// shading in the turn that fetches would cost every transparent sample a gradient and a light
+// lookup as soon as one ray beside it met something.
+void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
+    RayMarch march;
+    march.origin = u.eye.xyz;
+    march.direction = pixel_ray_direction(pixel);
+    vec2 hit = intersect_box(march.origin, march.direction);
+    float length_inside = hit.y - hit.x;
+    if (length_inside <= 0.0) return;
+    int count = int(max(1.0, ceil(length_inside / u.march.x)));
+    march.start = hit.x;
+    march.step_length = length_inside / float(count);
+    march.offset = ray_start_offset(pixel);
+#if EMPTY_SPACE_SKIPPING
+    march.occupied_until = -1.0;
+#endif
+    int last = min(count, first + budget);
+    vec3 position;
+    vec4 classified;
+#if PHONG || SHADOWS != SHADOWS_NONE
+    int i = first;
+    while (i < last) {
+        for (; i < last; ++i) {
+            if (classify_sample(march, i, position, classified) && classified.a > 0.0) break;
+        }
+        if (i >= last) break;
+        vec2 terms = vec2(1.0, 0.0);
+#if PHONG
+        vec3 normal = normal_from_gradient(sample_gradient(position));
+        terms = blinn_phong(normal, direction_to_light(position), -march.direction);
+#endif
+        vec3 color = shade(classified.rgb, terms, light_reaching(position, -march.direction));
+        composite_front_to_back(accumulated, color,
+                                sample_opacity(classified.a, march.step_length));
+        if (accumulated.a >= u.march.z) break;
+        ++i;
+    }
+#else
+    for (int i = first; i < last; ++i) {
+        if (!classify_sample(march, i, position, classified) || classified.a <= 0.0) continue;
+        composite_front_to_back(accumulated, classified.rgb,
+                                sample_opacity(classified.a, march.step_length));
+        if (accumulated.a >= u.march.z) break;
+    }
+#endif
 }
 
 // The whole ray, composited over the background.

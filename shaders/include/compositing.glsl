@@ -2,6 +2,10 @@
 // EXTINCTION (0|1): read TF opacity as an extinction coefficient (paper eq. 6) instead of
 // correcting it for the step length.
 
+// Light dimmed below this fraction cannot matter to an 8-bit image: rays toward the light stop
+// there.
+const float negligible_transmittance = 1e-4;
+
 float sample_opacity(float alpha, float step_length) {
     float unit = u.march.y;
 #if EXTINCTION

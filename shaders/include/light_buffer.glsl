@@ -43,8 +43,10 @@ float light_transmittance_local(vec3 world) {
     vec3 travel = light_travel_at(world);
     float depth = inside * u.light_slicing.w / dot(u.light_travel.xyz, travel);
     int samples = max(1, int(ceil(u.light_buffer_info.z * inside)));
-    return before * slab_transmittance(world - 0.5 * depth * travel, travel, depth,
-                                       u.light_buffer_info.y, samples);
+    // No look at the bricks: the stretch ends at `world`, a visible sample, so its brick is
+    // occupied and the stretch never lies in empty bricks only.
+    float alpha = sampled_slab_opacity(world - 0.5 * depth * travel, travel, depth, samples);
+    return before * slab_transmittance_of(alpha, u.light_buffer_info.y);
 }
 
 // The light a camera sample receives, read the way LOCAL_LIGHT_LOOKUP (0|1) asks.

@@ -12,13 +12,7 @@ bool inside_box(vec3 world) {
 // The slab's opacity from `samples` points spread evenly along the light's ray across it, each
 // corrected for its share of the path. One point (the paper's slice) puts a surface anywhere in
 // the slab at the slice plane, which shows as rings of the slice spacing on lit surfaces.
-float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
-#if EMPTY_SPACE_SKIPPING
-    // A slab is a voxel or two thick: one look at the brick where it starts decides for the
-    // whole slab, where a look per point would cost about as much as the points themselves.
-    vec3 start = centre - 0.5 * path_length * ray;
-    if (inside_box(start) && empty_run(start, ray) >= path_length) return 0.0;
-#endif
+float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
     float step = path_length / float(samples);
     float transmittance = 1.0;
     for (int j = 0; j < samples; ++j) {
@@ -30,10 +24,26 @@ float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
     return 1.0 - transmittance;
 }
 
-float slab_transmittance(vec3 centre, vec3 ray, float path_length, float compensation,
-                         int samples) {
-    float alpha = slab_opacity(centre, ray, path_length, samples);
+// As sampled_slab_opacity, for a slab sampled on its own (not as one of a march's run of slabs,
+// which can walk the bricks once: BrickWalk).
+float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
+#if EMPTY_SPACE_SKIPPING
+    // A slab is a voxel or two thick: one look at the brick where it starts decides for the
+    // whole slab, where a look per point would cost about as much as the points themselves.
+    vec3 start = centre - 0.5 * path_length * ray;
+    if (inside_box(start) && empty_run(start, ray) >= path_length) return 0.0;
+#endif
+    return sampled_slab_opacity(centre, ray, path_length, samples);
+}
+
+// The light a slab of opacity `alpha` lets through.
+float slab_transmittance_of(float alpha, float compensation) {
     // An opaque slice stays opaque: 0 * (1 + a)^c overflows to 0 * inf = NaN for large c.
     if (alpha >= 1.0) return 0.0;
     return min(1.0, (1.0 - alpha) * pow(1.0 + alpha, compensation));
+}
+
+float slab_transmittance(vec3 centre, vec3 ray, float path_length, float compensation,
+                         int samples) {
+    return slab_transmittance_of(slab_opacity(centre, ray, path_length, samples), compensation);
 }

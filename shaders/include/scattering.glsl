@@ -48,10 +48,11 @@ float cone_transmittance(vec3 world, vec3 to_eye) {
     float scattered = mix(sum / 8.0, light_transmittance(centre), u.cone.y);
 #if LOCAL_LIGHT_LOOKUP
     // The disc lies a slab toward the light; what lies between it and the sample still dims the
-    // light, unscattered.
+    // light, unscattered. No look at the bricks: the stretch ends at a visible sample, whose
+    // brick is occupied.
     int samples = max(1, int(u.light_buffer_info.z));
-    scattered *= slab_transmittance(world - 0.5 * spacing * travel, travel, spacing,
-                                    u.light_buffer_info.y, samples);
+    float alpha = sampled_slab_opacity(world - 0.5 * spacing * travel, travel, spacing, samples);
+    scattered *= slab_transmittance_of(alpha, u.light_buffer_info.y);
 #endif
     return scattered;
 }

@@ -1,8 +1,6 @@
 // Ground truth for shadows: a ray marched from the sample to the light through the volume with
 // the camera's sample distance and the same opacity correction. Mirrors the CPU reference.
 
-const float shadow_ray_cutoff = 1e-4;  // below this transmittance the rest cannot matter
-
 float shadow_ray_transmittance(vec3 world) {
     vec3 to_light = direction_to_light(world);
     float t_end = intersect_box(world, to_light).y;
@@ -13,7 +11,7 @@ float shadow_ray_transmittance(vec3 world) {
     int count = int(max(1.0, ceil(t_end / u.march.x)));
     float step_length = t_end / float(count);
     float transmittance = 1.0;
-    for (int i = 0; i < count && transmittance >= shadow_ray_cutoff; ++i) {
+    for (int i = 0; i < count && transmittance >= negligible_transmittance; ++i) {
         vec3 p = world + (float(i) + 0.5) * step_length * to_light;
 #if EMPTY_SPACE_SKIPPING
         int next = next_sample_outside_empty(p, to_light, i, step_length);

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,25 @@ volume::Volume thin_features() {
         }
     }
     auto volume = volume::make_volume("thin", glm::uvec3(side), glm::dvec3(1.0), values);
+    EXPECT_TRUE(volume.ok());
+    return std::move(volume.value());
+}
+
+// Sheets one voxel inside brick faces, where the first sample that reads them lies half a voxel
+// past the face of the brick that holds them: a march that leaps a little too far misses them.
+volume::Volume sheets_inside_bricks() {
+    std::vector<float> values(side * side * side, 0.0f);
+    const auto at = [&](unsigned x, unsigned y, unsigned z) -> float& {
+        return values[(std::size_t(z) * side + y) * side + x];
+    };
+    for (unsigned a = 4; a < side - 4; ++a) {
+        for (unsigned b = 4; b < side - 4; ++b) {
+            at(2 * brick_voxels + 1, a, b) = 1.0f;
+            at(a, 3 * brick_voxels - 2, b) = 0.7f;
+            at(a, b, 4 * brick_voxels + 1) = 0.9f;
+        }
+    }
+    auto volume = volume::make_volume("sheets", glm::uvec3(side), glm::dvec3(1.0), values);
     EXPECT_TRUE(volume.ok());
     return std::move(volume.value());
 }
@@ -155,6 +175,55 @@ TEST_F(EmptySpaceTest, FullyOpaqueTransferFunctionLooksTheSame) {
         auto request = request_for(mode);
         request.transfer_function = {"opaque", {{0.0, {0.9, 0.8, 0.7}}}, {{0.0, 1.0}}};
         EXPECT_GT(expect_same_image(request, scene::to_string(mode)), 1000);
+    }
+}
+
+// The light buffer itself, not only the images it shades: each builder fills the same layers with
+// skipping on and off, for a light along a grid axis (a walk through the bricks that never
+// crosses the other axes' faces) and oblique ones, directional and point.
+TEST_F(EmptySpaceTest, LightBufferLayersAreTheSameWithAndWithoutSkipping) {
+    const scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::multi_slice,
+                                                  scene::LightBufferBuilder::per_slice};
+    const glm::dvec3 directions[] = {{1.0, 0.0, 0.0},
+                                     {0.0, 0.0, -1.0},
+                                     scene::direction_from_angles(-50.0, 30.0),
+                                     scene::direction_from_angles(120.0, -65.0)};
+    for (const auto& volume : {thin_features(), sheets_inside_bricks()}) {
+        ASSERT_TRUE(renderer_->set_volume(std::make_shared<const volume::Volume>(volume)).ok());
+        for (const scene::LightBufferBuilder builder : builders) {
+            for (const glm::dvec3& direction : directions) {
+                for (const bool point_light : {false, true}) {
+                    SCOPED_TRACE(volume.name + ", " + scene::to_string(builder) +
+                                 (point_light ? ", point" : ", directional") + " light from " +
+                                 std::to_string(direction.x) + ", " + std::to_string(direction.y) +
+                                 ", " + std::to_string(direction.z));
+                    auto request = request_for(scene::Mode::sbrc);
+                    request.settings.light_buffer.builder = builder;
+                    request.light.direction = direction;
+                    if (point_light) {
+                        request.light.type = scene::LightType::point;
+                        request.light.position = -1.3 * direction;
+                    }
+                    render(request, true);
+                    auto skipped = renderer_->read_light_buffer();
+                    render(request, false);
+                    auto marched = renderer_->read_light_buffer();
+                    ASSERT_TRUE(skipped.ok() && marched.ok());
+                    ASSERT_EQ(skipped->values.size(), marched->values.size());
+                    float largest = 0.0f;
+                    float darkest = 1.0f;
+                    for (std::size_t i = 0; i < marched->values.size(); ++i) {
+                        largest = std::max(largest,
+                                           std::abs(skipped->values[i] - marched->values[i]));
+                        darkest = std::min(darkest, marched->values[i]);
+                    }
+                    // A slab of empty bricks lets all the light through either way (a factor of
+                    // exactly 1); half floats hold the rest alike.
+                    EXPECT_LE(largest, 1e-3f);
+                    EXPECT_LT(darkest, 0.5f) << "the sheets should cast shadows";
+                }
+            }
+        }
     }
 }
 
