@@ -7,6 +7,7 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "render_options.hpp"
+#include "transfer_function_file.hpp"
 
 #include <penumbra/quality/report.hpp>
 #include <penumbra/quality/sweep.hpp>
@@ -77,6 +78,17 @@ std::string default_modes() {
     return names;
 }
 
+std::string cases_help() {
+    std::string help;
+    for (const AccuracyCase& c : accuracy_cases()) {
+        char line[256];
+        std::snprintf(line, sizeof line, "      %-15s %s (tf %s)\n", c.name, c.what,
+                      c.transfer_function);
+        help += line;
+    }
+    return help;
+}
+
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);
 }
@@ -112,6 +124,14 @@ void print_usage() {
             "  --slices-list N,...            (default 32,64,128,256,512 [32,64,128,256])\n"
             "  --light-res-list R,...         (default 64,128,256,512,1024 [64,128,256])\n"
             "  --sample-distances D,...       numbers or 1/N (default 1/256,1/512 [1/256])\n"
+            "  --skipping on,off              empty-space skipping on and/or off, every\n"
+            "                                 setting and the reference (default on)\n"
+            "  --jitter off,on                ray-cast modes unjittered and/or jittered\n"
+            "                                 (default off; the reference never jitters)\n"
+            "  --refinement K,...             jittered settings also refined by K steps, each\n"
+            "                                 a point (e.g. 0,4,8; needs --jitter with on)\n"
+            "  --case NAME                    a transfer function and the volumes it suits:\n"
+            "%s"
             "  --size WxH                     (default 512x512 [256x256])\n"
             "  --repeat N                     timed frames per point after 1 warm-up\n"
             "                                 (default 7 [3])\n"
@@ -128,8 +148,9 @@ void print_usage() {
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
-            "--light-position and --sample-distance are swept instead):\n%s",
-            default_modes().c_str(), frame_options_help());
+            "--light-position, --sample-distance, --jitter and --no-empty-space-skipping are\n"
+            "swept instead):\n%s",
+            default_modes().c_str(), cases_help().c_str(), frame_options_help());
 }
 
 // "1/256,0.002" → distances (numbers accept the fraction form).
@@ -165,6 +186,49 @@ base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
         lights.push_back({(*numbers)[0], (*numbers)[1]});
     }
     return lights;
+}
+
+// "on,off" -> {true, false}, each once.
+base::Result<std::vector<bool>> parse_switches(const std::string& text, const std::string& option) {
+    std::vector<bool> values;
+    for (const std::string& item : split_list(text)) {
+        if (item != "on" && item != "off") {
+            return base::make_error("invalid_argument", "'" + item + "' is neither on nor off",
+                                    "--" + option);
+        }
+        const bool value = item == "on";
+        if (std::find(values.begin(), values.end(), value) == values.end()) {
+            values.push_back(value);
+        }
+    }
+    if (values.empty()) {
+        return base::make_error("invalid_argument", "expects on, off or on,off", "--" + option);
+    }
+    return values;
+}
+
+// Refinement step counts, sorted, each once, 0 (the still, always measured) left out.
+base::Result<std::vector<int>> parse_refinement(const std::string& text) {
+    std::vector<int> steps;
+    for (const std::string& item : split_list(text)) {
+        auto numbers = parse_numbers(item, "refinement");
+        if (!numbers) {
+            return numbers.error();
+        }
+        const double value = numbers->front();
+        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
+            return base::make_error("invalid_argument",
+                                    "'" + item + "' is not a step count in 0.." +
+                                            std::to_string(scene::kMaxRefinementSteps),
+                                    "--refinement");
+        }
+        if (value > 0.0) {
+            steps.push_back(static_cast<int>(value));
+        }
+    }
+    std::sort(steps.begin(), steps.end());
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    return steps;
 }
 
 // The modes to compare with the reference, which is always rendered.
@@ -346,6 +410,60 @@ base::Status finish(const Table& table, const Arguments& a) {
     return base::Ok{};
 }
 
+// --case, where one is named (an unknown name is an error).
+base::Result<const AccuracyCase*> case_from(const Arguments& a) {
+    const auto name = a.get("case");
+    if (!name) {
+        return nullptr;
+    }
+    const AccuracyCase* found = find_accuracy_case(*name);
+    if (found == nullptr) {
+        std::string names;
+        for (const AccuracyCase& c : accuracy_cases()) {
+            names += (names.empty() ? "" : ", ") + std::string(c.name);
+        }
+        return base::make_error("invalid_argument",
+                                "no case '" + *name + "' (cases: " + names + ")", "--case");
+    }
+    if (a.has("tf")) {
+        return base::make_error("invalid_argument",
+                                "--case sets the transfer function; give one or the other", "--tf");
+    }
+    return found;
+}
+
+// --volumes, else the case's, else this device's defaults with the head CT where it was made.
+base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
+                                                       const SweepDefaults& defaults) {
+    if (const auto volumes = a.get("volumes")) {
+        return split_list(*volumes);
+    }
+    auto named = case_from(a);
+    if (!named) {
+        return named.error();
+    }
+    const AccuracyCase* c = *named;
+    const auto ct = demo_ct_path();
+    if (c != nullptr && c->head_ct) {
+        if (!ct) {
+            return base::make_error("not_found",
+                                    std::string("case ") + c->name +
+                                            " renders the head CT that scripts/demo-data.sh "
+                                            "converts; run it, or name the CT with --volumes",
+                                    "--case");
+        }
+        return std::vector<std::string>{ct->string()};
+    }
+    if (c != nullptr && c->volumes != nullptr) {
+        return split_list(c->volumes);
+    }
+    std::string volumes = defaults.volumes;
+    if (ct && c == nullptr) {
+        volumes += "," + ct->string();
+    }
+    return split_list(volumes);
+}
+
 // The sweep the options ask for, over the defaults of this kind of device.
 base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
     auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
@@ -355,10 +473,15 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
             parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
     auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
     auto repeat = a.integer("repeat", defaults.repeat);
+    auto skipping = parse_switches(a.get("skipping").value_or("on"), "skipping");
+    auto jitter = parse_switches(a.get("jitter").value_or("off"), "jitter");
+    auto refinement = parse_refinement(a.get("refinement").value_or("0"));
     for (const base::Error* error :
          {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
           slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
-          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error()}) {
+          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error(),
+          skipping ? nullptr : &skipping.error(), jitter ? nullptr : &jitter.error(),
+          refinement ? nullptr : &refinement.error()}) {
         if (error != nullptr) {
             return *error;
         }
@@ -366,12 +489,21 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
     if (*repeat < 1 || *repeat > 1000) {
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
-    Sweep sweep;
-    std::string default_volumes = defaults.volumes;
-    if (const auto ct = demo_ct_path()) {
-        default_volumes += "," + ct->string();
+    if (!refinement->empty() && std::find(jitter->begin(), jitter->end(), true) == jitter->end()) {
+        return base::make_error("invalid_argument",
+                                "refinement steps average jittered frames: add --jitter on or "
+                                "--jitter off,on",
+                                "--refinement");
     }
-    sweep.volumes = split_list(a.get("volumes").value_or(default_volumes));
+    Sweep sweep;
+    auto volumes = default_volumes(a, defaults);
+    if (!volumes) {
+        return volumes.error();
+    }
+    sweep.volumes = std::move(*volumes);
+    sweep.skipping = *skipping;
+    sweep.jitter = *jitter;
+    sweep.refinement_steps = *refinement;
     sweep.lights = *lights;
     sweep.modes = *modes;
     sweep.slices = *slices;
@@ -392,7 +524,8 @@ base::Status refuse_swept_options(const Arguments& a) {
             {"light-res", "--light-res-list LIST"},
             {"light", "--lights LIST"},
             {"light-position", "--lights LIST (directional lights only)"},
-            {"sample-distance", "--sample-distances LIST"}};
+            {"sample-distance", "--sample-distances LIST"},
+            {"no-empty-space-skipping", "--skipping on,off"}};
     for (const auto& [option, instead] : swept) {
         if (a.has(option)) {
             return base::make_error("invalid_argument",
@@ -437,6 +570,17 @@ base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume:
                                 "--size");
     }
     request->settings.phong = phong;
+    auto named = case_from(a);
+    if (!named) {
+        return named.error();
+    }
+    if (*named != nullptr) {
+        auto tf = load_transfer_function((*named)->transfer_function, volume.range);
+        if (!tf) {
+            return tf.error();
+        }
+        request->transfer_function = std::move(*tf);
+    }
     return request;
 }
 
@@ -513,10 +657,11 @@ int report_from(const Arguments& a, const std::string& from) {
 
 int run_bench_accuracy(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(),
-                  {"volumes", "lights", "modes", "slices-list", "light-res-list",
-                   "sample-distances", "repeat", "csv", "json", "plot", "budget-ms", "from"});
+    valued.insert(valued.end(), {"volumes", "lights", "modes", "slices-list", "light-res-list",
+                                 "sample-distances", "repeat", "csv", "json", "plot", "budget-ms",
+                                 "from", "skipping", "jitter", "refinement", "case"});
     std::vector<std::string> flags = frame_flag_names();
+    std::erase(flags, "jitter");  // a list here: --jitter off,on
     flags.insert(flags.end(), {"help", "debug-gl", "no-phong"});
     auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {

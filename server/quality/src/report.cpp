@@ -58,7 +58,26 @@ struct PlotText {
     std::string front = "$front << EOD\n";
     std::string all = "$all << EOD\n";
     std::string own = "$own << EOD\n";
+    std::string variants = "$variants << EOD\n";
+    std::set<int> variant_kinds;
 };
+
+// How a setting differs from the request's defaults, as the plot marks it (the template's
+// variant_point and variant_title): 0 plain, else the most telling difference.
+int variant_kind(const SettingKey& key) {
+    if (key.refinement_steps > 0) {
+        return 3;
+    }
+    if (key.jitter) {
+        return 2;
+    }
+    return key.empty_space_skipping ? 0 : 1;
+}
+
+// The time until the setting's image is on screen: a refined image after its still and steps.
+double time_to_image(const Setting& s) {
+    return s.frame_ms * (1.0 + s.key.refinement_steps);
+}
 
 // The figure's title: device, size, lights, sample distances, TF.
 std::string title_of(const Table& table) {
@@ -98,16 +117,38 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
         references[0].push_back(std::to_string(panel));
         references[1].push_back(format("%.6g", s.frame_ms));
         references[2].push_back(gnuplot_string(
-                "reference " + distance_label(s.key.sample_distance) + " (PSNR inf)"));
+                "reference " + distance_label(s.key.sample_distance) +
+                (s.key.empty_space_skipping ? "" : ", no skipping") + " (PSNR inf)"));
         references[3].push_back(std::to_string(row++));
     }
     const std::string p = std::to_string(panel) + " ";
+    std::vector<Setting> plain;
+    for (const Setting& s : measured) {
+        if (s.key.plain()) {
+            plain.push_back(s);
+            continue;
+        }
+        const auto mode = std::find(modes.begin(), modes.end(), s.key.mode) - modes.begin() + 1;
+        const int kind = variant_kind(s.key);
+        text.variant_kinds.insert(kind);
+        text.variants += p + std::to_string(mode) + " " + format("%.6g ", time_to_image(s)) +
+                         format("%.4f ", s.psnr_finest) + std::to_string(kind) + " " +
+                         gnuplot_string(kind == 3 ? std::to_string(s.key.refinement_steps) : "") +
+                         "\n";
+    }
+    measured = plain;
     for (const Setting& s : pareto_front(measured, false)) {
         text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_finest) +
                       gnuplot_string(setting_label(s)) + "\n";
     }
     double y_min = infinity;
     double y_max = -infinity;
+    for (const Setting& s : aggregate(table.points, volume)) {
+        if (s.key.mode != scene::Mode::reference && !s.key.plain()) {
+            y_min = std::min(y_min, s.psnr_finest);
+            y_max = std::max(y_max, s.psnr_finest);
+        }
+    }
     for (std::size_t m = 0; m < modes.size(); ++m) {
         std::vector<Setting> own;
         for (const Setting& s : measured) {
@@ -171,15 +212,17 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
     if (!out) {
         return base::make_error("io_error", "cannot write '" + path.string() + "'", where);
     }
-    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,width,"
-           "height,timing,frame_ms,light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,"
-           "ssim_finest\n";
+    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,"
+           "empty_space_skipping,jitter,refinement_steps,width,height,timing,frame_ms,"
+           "light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,ssim_finest\n";
     char line[512];
     for (const Point& p : table.points) {
         std::snprintf(line, sizeof line,
-                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,%.6f\n",
+                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%d,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,"
+                      "%.6f\n",
                       p.volume.c_str(), p.light.azimuth, p.light.elevation,
                       scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
+                      p.empty_space_skipping ? 1 : 0, p.jitter ? 1 : 0, p.refinement_steps,
                       table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
                       p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
                       psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
@@ -228,6 +271,10 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
         add_panel(table, volumes[v], static_cast<int>(v) + 1, lights.size(), modes, text,
                   references, titles, ranges);
     }
+    std::string kinds;
+    for (const int kind : text.variant_kinds) {
+        kinds += (kinds.empty() ? "" : " ") + std::to_string(kind);
+    }
     std::string mode_words;
     for (const scene::Mode mode : modes) {
         mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
@@ -251,7 +298,8 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
             std::filesystem::path(png).replace_extension(".gp").string() +
             "` in this folder redraws the PNG and SVG.\n"
             "# x: median frame time with the light buffer cached, y: PSNR vs the reference; "
-            "marks: every setting; curves: each method's Pareto front.\n";
+            "marks: every setting; curves: each method's Pareto front; open marks: no "
+            "skipping, jittered, refined (at the time its steps take in all).\n";
     script += "png = " + gnuplot_string(png) + "\nsvg = " + gnuplot_string(svg) + "\n";
     script += "width = " + std::to_string(620 * std::max<std::size_t>(1, volumes.size()) + 80) +
               "\ntitle_text = " + gnuplot_string(title_of(table)) +
@@ -261,11 +309,13 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
               "\nstyle_modes = " + gnuplot_string(style_modes) +
               "\nstyle_colours = " + gnuplot_string(style_colours) +
               "\nstyle_points = " + gnuplot_string(style_points) +
-              "\nref_count = " + std::to_string(references[0].size()) + "\n";
+              "\nref_count = " + std::to_string(references[0].size()) +
+              "\nvariant_kinds = " + gnuplot_string(kinds) + "\n";
     script += gnuplot_array("panel_title", titles) + gnuplot_array("y_range", ranges) +
               gnuplot_array("ref_panel", references[0]) + gnuplot_array("ref_ms", references[1]) +
               gnuplot_array("ref_text", references[2]) + gnuplot_array("ref_row", references[3]);
-    script += text.front + "EOD\n" + text.all + "EOD\n" + text.own + "EOD\n\n";
+    script += text.front + "EOD\n" + text.all + "EOD\n" + text.own + "EOD\n" + text.variants +
+              "EOD\n\n";
     return script + std::string(plot_template);
 }
 
