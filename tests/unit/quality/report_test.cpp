@@ -63,6 +63,40 @@ TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
             << script;
 }
 
+// Settings that differ from the request's defaults are marked apart, by kind, and stay out of
+// the modes' curves; a refined image sits at the time its still and steps take in all.
+TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
+    Table table;
+    table.width = table.height = 64;
+    Point p;
+    p.volume = "ch2";
+    p.sample_distance = 1.0 / 256;
+    p.mode = scene::Mode::sbrc;
+    p.frame_ms = 30.0;
+    p.psnr_finest = 25.0;
+    table.points.push_back(p);
+    Point off = p;
+    off.empty_space_skipping = false;
+    off.frame_ms = 60.0;
+    table.points.push_back(off);
+    Point refined = p;
+    refined.jitter = true;
+    refined.refinement_steps = 3;
+    refined.psnr_finest = 27.0;
+    table.points.push_back(refined);
+    Point reference = off;
+    reference.mode = scene::Mode::reference;
+    reference.psnr_finest = infinity;
+    table.points.push_back(reference);
+    const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
+    EXPECT_NE(script.find("$own << EOD\n1 1 30 25.0000\nEOD"), std::string::npos) << script;
+    EXPECT_NE(script.find("$variants << EOD\n1 1 60 25.0000 1 \"\"\n1 1 120 27.0000 3 \"3\"\nEOD"),
+              std::string::npos)
+            << script;
+    EXPECT_NE(script.find("variant_kinds = \"1 3\""), std::string::npos);
+    EXPECT_NE(script.find("reference 1/256, no skipping"), std::string::npos);
+}
+
 TEST(Report, ThePlotTemplateIsInstalledData) {
     auto text = read_plot_template();
     ASSERT_TRUE(text.ok()) << text.error().to_string();
