@@ -16,17 +16,9 @@
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <memory>
-#include <set>
-#include <sstream>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -240,143 +232,6 @@ base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& t
     return modes;
 }
 
-std::string format(const char* pattern, double value) {
-    char text[256];
-    std::snprintf(text, sizeof text, pattern, value);
-    return text;
-}
-
-// ---------------------------------------------------------------------------------------------
-// The presets.
-
-void print_presets(const Table& table, const std::vector<Preset>& presets) {
-    std::set<std::string> volumes;
-    std::set<LightAngles> lights;
-    for (const Point& p : table.points) {
-        volumes.insert(p.volume);
-        lights.insert(p.light);
-    }
-    std::printf(
-            "\nquality presets: per budget, the most accurate setting (mean PSNR vs reference over "
-            "%zu volume(s) x %zu light(s))\nwhose slowest median frame time fits; %s time, light "
-            "buffer cached (a light or TF edit adds the build)\n",
-            volumes.size(), lights.size(), timing_name(table));
-    std::printf("  %9s  %-11s %5s %5s %7s %8s %6s %9s %9s\n", "budget ms", "mode", "n", "R", "dt",
-                "PSNR dB", "SSIM", "frame ms", "build ms");
-    for (const Preset& preset : presets) {
-        if (!preset.setting) {
-            std::printf("  %9g  nothing measured fits\n", preset.budget_ms);
-            continue;
-        }
-        const Setting& s = *preset.setting;
-        const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
-        const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
-        const std::string build =
-                s.light_buffer_ms > 0.0 ? format("%9.2f", s.light_buffer_ms) : "        -";
-        std::printf("  %9g  %-11s %5s %5s %7s %8s %6.4f %9.2f %s\n", preset.budget_ms,
-                    scene::to_string(s.key.mode), n.c_str(), r.c_str(),
-                    distance_label(s.key.sample_distance).c_str(), psnr_text(s.psnr_finest).c_str(),
-                    s.ssim_finest, s.worst_frame_ms, build.c_str());
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// CSV and JSON.
-
-// ---------------------------------------------------------------------------------------------
-// The plot: the template with the table's data, run by gnuplot once for PNG and once for SVG.
-
-// For the shell that runs gnuplot.
-std::string shell_quoted(const std::string& text) {
-    std::string quoted = "'";
-    for (const char c : text) {
-        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    }
-    return quoted + "'";
-}
-
-// gnuplot writes the images; the script stays beside them, naming them without a folder, so
-// `gnuplot FILE.gp` run in that folder redraws them.
-base::Status write_plot(const Table& table, const std::string& png) {
-    const std::filesystem::path png_path(png);
-    std::filesystem::path folder = png_path.parent_path();
-    if (folder.empty()) {
-        folder = ".";
-    }
-    const std::filesystem::path svg = std::filesystem::path(png_path).replace_extension(".svg");
-    const std::filesystem::path gp = std::filesystem::path(png_path).replace_extension(".gp");
-    auto plot_template = read_plot_template();
-    if (!plot_template) {
-        return plot_template.error();
-    }
-    {
-        std::ofstream out(gp);
-        if (!out) {
-            return base::make_error("io_error", "cannot write '" + gp.string() + "'", "--plot");
-        }
-        out << plot_script(table, png_path.filename().string(), svg.filename().string(),
-                           *plot_template);
-        if (!out) {
-            return base::make_error("io_error", "writing '" + gp.string() + "' failed", "--plot");
-        }
-    }
-    const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
-                                shell_quoted(gp.filename().string());
-    if (std::system(command.c_str()) != 0) {
-        return base::make_error("plot_failed",
-                                "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
-                                "script is " +
-                                        gp.string(),
-                                "--plot");
-    }
-    std::printf("plot:     %s, %s (script %s)\n", png.c_str(), svg.string().c_str(),
-                gp.string().c_str());
-    return base::Ok{};
-}
-
-// ---------------------------------------------------------------------------------------------
-// Measuring.
-
-class Progress {
-public:
-    Progress(std::uint64_t total)
-        : total_(total)
-        , start_(Clock::now()) {}
-
-    // "[ 12%, 1.2 of ~9.8 min]" from the frames done so far.
-    std::string operator()(std::uint64_t done) const {
-        const double minutes = std::chrono::duration<double>(Clock::now() - start_).count() / 60.0;
-        const double fraction =
-                total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
-        char text[64];
-        std::snprintf(text, sizeof text, "[%3.0f%%, %.1f of ~%.1f min]", 100.0 * fraction, minutes,
-                      fraction > 0.0 ? minutes / fraction : 0.0);
-        return text;
-    }
-
-private:
-    using Clock = std::chrono::steady_clock;
-    std::uint64_t total_;
-    Clock::time_point start_;
-};
-
-void print_view_header(const std::string& volume, const LightAngles& light) {
-    std::printf("\n%s, light %g,%g\n  %-11s %5s %5s %7s %9s %9s %8s %7s\n", volume.c_str(),
-                light.azimuth, light.elevation, "mode", "n", "R", "dt", "frame ms", "build ms",
-                "PSNR dB", "SSIM");
-}
-
-void print_point(const Point& p, const std::string& progress) {
-    const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
-    const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
-    const std::string build =
-            p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : std::string("        -");
-    std::printf("  %-11s %5s %5s %7s %9.2f %s %8s %7.4f  %s\n", scene::to_string(p.mode), n.c_str(),
-                r.c_str(), distance_label(p.sample_distance).c_str(), p.frame_ms, build.c_str(),
-                psnr_text(p.psnr).c_str(), p.ssim, progress.c_str());
-    std::fflush(stdout);
-}
-
 base::Status finish(const Table& table, const Arguments& a) {
     std::vector<double> budgets;
     if (const auto text = a.get("budget-ms")) {
@@ -389,7 +244,7 @@ base::Status finish(const Table& table, const Arguments& a) {
         budgets = default_budgets(table.points);
     }
     const std::vector<Preset> presets = choose_presets(table, budgets);
-    print_presets(table, presets);
+    std::fputs(presets_text(table, presets).c_str(), stdout);
     if (const auto path = a.get("csv")) {
         if (auto status = write_csv(table, *path, "--csv"); !status) {
             return status;
@@ -403,9 +258,12 @@ base::Status finish(const Table& table, const Arguments& a) {
         std::printf("json:     %s\n", path->c_str());
     }
     if (const auto path = a.get("plot")) {
-        if (auto status = write_plot(table, *path); !status) {
-            return status;
+        auto files = write_plot(table, *path, "--plot");
+        if (!files) {
+            return files.error();
         }
+        std::printf("plot:     %s, %s (script %s)\n", files->png.c_str(), files->svg.c_str(),
+                    files->script.c_str());
     }
     return base::Ok{};
 }
@@ -584,20 +442,9 @@ base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume:
     return request;
 }
 
-void print_frame(const Table& table) {
-    std::printf(
-            "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-            "%s, slab samples %d, phong %s\n",
-            table.width, table.height, table.transfer_function.c_str(), table.compositing.c_str(),
-            table.stage.c_str(), table.builder.c_str(), table.light_lookup.c_str(),
-            table.slab_samples, table.phong ? "on" : "off");
-    std::fflush(stdout);
-}
-
-// Every volume of the sweep under every light, into `table`.
+// Every volume of the sweep under every light, into `table`, printed as it is measured.
 base::Status measure_all(render::Renderer& renderer, const Arguments& a, const Sweep& sweep,
                          const SweepDefaults& defaults, Table& table) {
-    AccuracyBench bench(renderer, sweep.repeat);
     const std::uint64_t frames =
             frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
     const Progress progress(frames);
@@ -605,37 +452,21 @@ base::Status measure_all(render::Renderer& renderer, const Arguments& a, const S
             "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
             "left)\n",
             sweep.volumes.size(), sweep.lights.size(), static_cast<unsigned long long>(frames));
-    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
-        auto loaded = volume::load_volume(sweep.volumes[v]);
-        if (!loaded) {
-            return loaded.error();
-        }
-        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-        auto base = base_request(a, *volume, defaults, table.phong);
-        if (!base) {
-            return base.error();
-        }
-        if (v == 0) {
-            describe_frame(table, *base);
-            print_frame(table);
-        }
-        if (auto status = renderer.set_volume(volume); !status) {
-            return status;
-        }
-        const PointObserver print = [&](const Point& p) {
-            print_point(p, progress(bench.frames()));
-            return true;
-        };
-        for (const LightAngles& light : sweep.lights) {
-            print_view_header(volume->name, light);
-            if (auto measured =
-                        measure_view(bench, sweep, *base, volume->name, light, print, table.points);
-                !measured) {
-                return measured.error();
-            }
-        }
-    }
-    return base::Ok{};
+    const SweepObserver print{
+            .frame = [](const Table& t) { std::fputs(frame_text(t).c_str(), stdout); },
+            .view =
+                    [](const std::string& volume, const LightAngles& light) {
+                        std::fputs(view_header(volume, light).c_str(), stdout);
+                    },
+            .point =
+                    [&](const Point& p, std::uint64_t done) {
+                        std::printf("%s  %s\n", point_row(p).c_str(), progress(done).c_str());
+                        std::fflush(stdout);
+                    }};
+    const FrameFor frame_for = [&](const volume::Volume& volume) {
+        return base_request(a, volume, defaults, table.phong);
+    };
+    return measure_sweep(renderer, sweep, frame_for, print, table);
 }
 
 // --from: presets, CSV, JSON and plot from a table measured before.

@@ -11,9 +11,9 @@
 #   $front              panel, frame ms, PSNR, label: the Pareto front over all modes
 #   $all                panel, mode, frame ms, PSNR: every setting (means over the lights)
 #   $own                panel, mode, frame ms, PSNR: each mode's own Pareto front
-#   $variants           panel, mode, ms, PSNR, kind, label: the settings that differ from the
-#                       request's defaults, by kind: 1 without empty-space skipping, 2 jittered,
-#                       3 refined (ms: the still and its steps in all; label: the step count)
+#   $variants           panel, mode, ms, PSNR, kind: the settings that differ from the request's
+#                       defaults, by kind: 1 without empty-space skipping, 2 jittered, 3 refined
+#                       (ms: the still and its steps in all)
 #   variant_kinds       the kinds $variants holds, as words
 # One panel per volume: every setting of a mode as a small mark, the mode's own front as its
 # curve, the front over all modes as a wide grey band, the reference's time as a vertical line
@@ -23,8 +23,7 @@ style_index(name) = sum [i=1:words(style_modes)] (word(style_modes, i) eq name ?
 colour(name) = style_index(name) > 0 ? word(style_colours, style_index(name)) : "#404040"
 point(name) = style_index(name) > 0 ? int(word(style_points, style_index(name))) : 3
 variant_point(kind) = kind == 1 ? 8 : (kind == 2 ? 10 : 12)
-variant_title(kind) = kind == 1 ? "no empty-space skipping" : (kind == 2 ? "jittered" : "refined (steps; time of all)")
-refined_kinds = strstrt(variant_kinds, "3") > 0 ? "3" : ""
+variant_title(kind) = kind == 1 ? "no empty-space skipping" : (kind == 2 ? "jittered" : "jittered and refined (time of all steps)")
 
 set logscale x
 set grid xtics ytics mxtics lc rgb "#e8e8e8"
@@ -58,7 +57,6 @@ do for [pass=1:2] {
              for [m=1:words(modes)] $all using ($1 == v && $2 == m ? $3 : NaN):4 with points pt (point(word(modes, m)) - 1) ps 0.6 lc rgb colour(word(modes, m)) notitle, \
              for [m=1:words(modes)] $own using ($1 == v && $2 == m ? $3 : NaN):4 with linespoints lw 2 pt point(word(modes, m)) ps 1.1 lc rgb colour(word(modes, m)) title word(modes, m), \
              for [m=1:words(modes)] for [k in variant_kinds] $variants using ($1 == v && $2 == m && $5 == int(k) ? $3 : NaN):4 with points pt variant_point(int(k)) ps 1.3 lw 1.5 lc rgb colour(word(modes, m)) notitle, \
-             for [k in refined_kinds] $variants using ($1 == v && $5 == 3 ? $3 : NaN):4:6 with labels left offset 0.8,0 font ",8" tc rgb "#505050" notitle, \
              for [k in variant_kinds] NaN with points pt variant_point(int(k)) ps 1.3 lw 1.5 lc rgb "#404040" title variant_title(int(k))
     }
     unset multiplot

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -74,6 +75,19 @@ int variant_kind(const SettingKey& key) {
     return key.empty_space_skipping ? 0 : 1;
 }
 
+// "" (the defaults), "no-skip" (no empty-space skipping), "jit" (jittered), "jit+8" (refined by
+// 8 steps), "no-skip,jit".
+std::string variant_text(const SettingKey& key) {
+    std::string text = key.empty_space_skipping ? "" : "no-skip";
+    if (key.jitter) {
+        text += (text.empty() ? "" : ",") + std::string("jit");
+        if (key.refinement_steps > 0) {
+            text += "+" + std::to_string(key.refinement_steps);
+        }
+    }
+    return text;
+}
+
 // The time until the setting's image is on screen: a refined image after its still and steps.
 double time_to_image(const Setting& s) {
     return s.frame_ms * (1.0 + s.key.refinement_steps);
@@ -132,9 +146,7 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
         const int kind = variant_kind(s.key);
         text.variant_kinds.insert(kind);
         text.variants += p + std::to_string(mode) + " " + format("%.6g ", time_to_image(s)) +
-                         format("%.4f ", s.psnr_finest) + std::to_string(kind) + " " +
-                         gnuplot_string(kind == 3 ? std::to_string(s.key.refinement_steps) : "") +
-                         "\n";
+                         format("%.4f ", s.psnr_finest) + std::to_string(kind) + "\n";
     }
     measured = plain;
     for (const Setting& s : pareto_front(measured, false)) {
@@ -232,6 +244,131 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
         return base::make_error("io_error", "writing '" + path.string() + "' failed", where);
     }
     return base::Ok{};
+}
+
+std::string presets_text(const Table& table, const std::vector<Preset>& presets) {
+    std::set<std::string> volumes;
+    std::set<LightAngles> lights;
+    for (const Point& p : table.points) {
+        volumes.insert(p.volume);
+        lights.insert(p.light);
+    }
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "\nquality presets: per budget, the most accurate setting (mean PSNR vs "
+                  "reference over %zu volume(s) x %zu light(s))\nwhose slowest median frame time "
+                  "fits; %s time, light buffer cached (a light or TF edit adds the build)\n",
+                  volumes.size(), lights.size(), timing_name(table));
+    std::string text = line;
+    std::snprintf(line, sizeof line, "  %9s  %-11s %5s %5s %7s %-13s %8s %6s %9s %9s\n",
+                  "budget ms", "mode", "n", "R", "dt", "variant", "PSNR dB", "SSIM", "frame ms",
+                  "build ms");
+    text += line;
+    for (const Preset& preset : presets) {
+        if (!preset.setting) {
+            std::snprintf(line, sizeof line, "  %9g  nothing measured fits\n", preset.budget_ms);
+            text += line;
+            continue;
+        }
+        const Setting& s = *preset.setting;
+        const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
+        const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
+        const std::string build =
+                s.light_buffer_ms > 0.0 ? format("%9.2f", s.light_buffer_ms) : "        -";
+        std::snprintf(line, sizeof line, "  %9g  %-11s %5s %5s %7s %-13s %8s %6.4f %9.2f %s\n",
+                      preset.budget_ms, scene::to_string(s.key.mode), n.c_str(), r.c_str(),
+                      distance_label(s.key.sample_distance).c_str(), variant_text(s.key).c_str(),
+                      psnr_text(s.psnr_finest).c_str(), s.ssim_finest, s.worst_frame_ms,
+                      build.c_str());
+        text += line;
+    }
+    return text;
+}
+
+std::string frame_text(const Table& table) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                  "%s, slab samples %d, phong %s\n",
+                  table.width, table.height, table.transfer_function.c_str(),
+                  table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                  table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
+    return line;
+}
+
+std::string view_header(const std::string& volume, const LightAngles& light) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "\n%s, light %g,%g\n  %-11s %5s %5s %7s %-13s %9s %9s %8s %7s\n", volume.c_str(),
+                  light.azimuth, light.elevation, "mode", "n", "R", "dt", "variant", "frame ms",
+                  "build ms", "PSNR dB", "SSIM");
+    return line;
+}
+
+std::string point_row(const Point& p) {
+    const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
+    const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
+    const std::string build =
+            p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : "        -";
+    const SettingKey key{
+            p.mode,   p.slices,          p.resolution, p.sample_distance, p.empty_space_skipping,
+            p.jitter, p.refinement_steps};
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-11s %5s %5s %7s %-13s %9.2f %s %8s %7.4f",
+                  scene::to_string(p.mode), n.c_str(), r.c_str(),
+                  distance_label(p.sample_distance).c_str(), variant_text(key).c_str(), p.frame_ms,
+                  build.c_str(), psnr_text(p.psnr).c_str(), p.ssim);
+    return line;
+}
+
+namespace {
+
+// For the shell that runs gnuplot.
+std::string shell_quoted(const std::string& text) {
+    std::string quoted = "'";
+    for (const char c : text) {
+        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    }
+    return quoted + "'";
+}
+
+}  // namespace
+
+base::Result<PlotFiles> write_plot(const Table& table, const std::filesystem::path& png,
+                                   const std::string& where) {
+    std::filesystem::path folder = png.parent_path();
+    if (folder.empty()) {
+        folder = ".";
+    }
+    const PlotFiles files{png, std::filesystem::path(png).replace_extension(".svg"),
+                          std::filesystem::path(png).replace_extension(".gp")};
+    auto plot_template = read_plot_template();
+    if (!plot_template) {
+        return plot_template.error();
+    }
+    {
+        std::ofstream out(files.script);
+        if (!out) {
+            return base::make_error("io_error", "cannot write '" + files.script.string() + "'",
+                                    where);
+        }
+        out << plot_script(table, png.filename().string(), files.svg.filename().string(),
+                           *plot_template);
+        if (!out) {
+            return base::make_error("io_error", "writing '" + files.script.string() + "' failed",
+                                    where);
+        }
+    }
+    const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
+                                shell_quoted(files.script.filename().string());
+    if (std::system(command.c_str()) != 0) {
+        return base::make_error("plot_failed",
+                                "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
+                                "script is " +
+                                        files.script.string(),
+                                where);
+    }
+    return files;
 }
 
 base::Result<std::string> read_plot_template() {

@@ -9,7 +9,9 @@
 #include <penumbra/quality/table.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/volume.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -151,5 +153,33 @@ using PointObserver = std::function<bool(const Point&)>;
 base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
                                 const std::string& volume, const LightAngles& light,
                                 const PointObserver& observer, std::vector<Point>& points);
+
+// How far a run of `total` frames has come: "[ 12%, 1.2 of ~9.8 min]".
+class Progress {
+public:
+    explicit Progress(std::uint64_t total);
+
+    [[nodiscard]] std::string operator()(std::uint64_t done) const;
+
+private:
+    using Clock = std::chrono::steady_clock;
+    std::uint64_t total_;
+    Clock::time_point start_;
+};
+
+// What a whole sweep reports as it goes; every member may be empty.
+struct SweepObserver {
+    std::function<void(const Table&)> frame;  // once the first volume's frame is described
+    std::function<void(const std::string& volume, const LightAngles&)> view;  // before a view
+    std::function<void(const Point&, std::uint64_t frames_done)> point;
+};
+
+// The frame every point of one volume shares (camera, TF, size...).
+using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
+
+// Every volume of the sweep, loaded in turn, under every light, into `table.points`; the table's
+// frame is described from the first volume's. Frames: frames_per_view x lights x volumes.
+base::Status measure_sweep(render::FrameRenderer& renderer, const Sweep& sweep,
+                           const FrameFor& frame_for, const SweepObserver& observer, Table& table);
 
 }  // namespace penumbra::quality
