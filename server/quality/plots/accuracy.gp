@@ -1,7 +1,7 @@
 # The accuracy plot of `penumbra bench accuracy` (installed as share/penumbra/plots/accuracy.gp).
 # The benchmark writes its data and these variables above this text, into one script:
 #   png, svg            the images to write (no folder: run in their folder)
-#   width               pixels; 620 per panel
+#   width               pixels; 620 per panel, at least 960
 #   title_text          the figure's title; x_label the x axis's
 #   panels              one per volume; panel_title[v], y_range[v] ("[low:high]" or "[*:*]")
 #   modes               the measured modes, reference aside, as words; a mode's index is its word

@@ -130,9 +130,9 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
         }
         references[0].push_back(std::to_string(panel));
         references[1].push_back(format("%.6g", s.frame_ms));
-        references[2].push_back(gnuplot_string(
-                "reference " + distance_label(s.key.sample_distance) +
-                (s.key.empty_space_skipping ? "" : ", no skipping") + " (PSNR inf)"));
+        references[2].push_back(
+                gnuplot_string("reference " + distance_label(s.key.sample_distance) +
+                               (s.key.empty_space_skipping ? "" : " no skipping") + " (PSNR inf)"));
         references[3].push_back(std::to_string(row++));
     }
     const std::string p = std::to_string(panel) + " ";
@@ -438,7 +438,8 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
             "marks: every setting; curves: each method's Pareto front; open marks: no "
             "skipping, jittered, refined (at the time its steps take in all).\n";
     script += "png = " + gnuplot_string(png) + "\nsvg = " + gnuplot_string(svg) + "\n";
-    script += "width = " + std::to_string(620 * std::max<std::size_t>(1, volumes.size()) + 80) +
+    // One panel still gets room for the two lines of the figure's title.
+    script += "width = " + std::to_string(std::max<std::size_t>(960, 620 * volumes.size() + 80)) +
               "\ntitle_text = " + gnuplot_string(title_of(table)) +
               "\nx_label = " + gnuplot_string(x_label) +
               "\npanels = " + std::to_string(volumes.size()) +

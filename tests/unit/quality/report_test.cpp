@@ -94,7 +94,7 @@ TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
               std::string::npos)
             << script;
     EXPECT_NE(script.find("variant_kinds = \"1 3\""), std::string::npos);
-    EXPECT_NE(script.find("reference 1/256, no skipping"), std::string::npos);
+    EXPECT_NE(script.find("reference 1/256 no skipping"), std::string::npos);
 }
 
 TEST(Report, ThePlotTemplateIsInstalledData) {
