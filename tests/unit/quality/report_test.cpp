@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 namespace penumbra::quality {
@@ -95,6 +96,42 @@ TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
             << script;
     EXPECT_NE(script.find("variant_kinds = \"1 3\""), std::string::npos);
     EXPECT_NE(script.find("reference 1/256 no skipping"), std::string::npos);
+}
+
+// gnuplot draws the template around a table with variants and one without (where every
+// iteration over the variants is empty).
+TEST(Report, GnuplotDrawsTablesWithAndWithoutVariants) {
+    const std::filesystem::path folder =
+            std::filesystem::path(::testing::TempDir()) / "penumbra_report_test";
+    std::filesystem::create_directories(folder);
+    Table table;
+    table.width = table.height = 64;
+    Point p;
+    p.volume = "ch2";
+    p.sample_distance = 1.0 / 256;
+    p.mode = scene::Mode::sbrc;
+    p.frame_ms = 30.0;
+    p.psnr_finest = 25.0;
+    table.points.push_back(p);
+    p.mode = scene::Mode::reference;
+    p.frame_ms = 90.0;
+    p.psnr_finest = infinity;
+    table.points.push_back(p);
+    for (const bool variants : {false, true}) {
+        if (variants) {
+            p.mode = scene::Mode::sbrc;
+            p.jitter = true;
+            p.refinement_steps = 4;
+            p.psnr_finest = 27.0;
+            table.points.push_back(p);
+        }
+        const std::filesystem::path png = folder / (variants ? "with.png" : "without.png");
+        auto files = write_plot(table, png, "--plot");
+        ASSERT_TRUE(files.ok()) << files.error().to_string();
+        EXPECT_GT(std::filesystem::file_size(files->png), 0u);
+        EXPECT_GT(std::filesystem::file_size(files->svg), 0u);
+    }
+    std::filesystem::remove_all(folder);
 }
 
 TEST(Report, ThePlotTemplateIsInstalledData) {
