@@ -74,7 +74,7 @@ std::vector<Setting> candidates(const std::vector<Point>& points) {
     const int complete = static_cast<int>(views.size());
     std::vector<Setting> result;
     for (const Setting& s : aggregate(points)) {
-        if (s.count == complete && s.key.refinement_steps == 0) {
+        if (s.count == complete && !s.key.jitter && s.key.refinement_steps == 0) {
             result.push_back(s);
         }
     }
@@ -86,10 +86,9 @@ std::string Choice::describe(double budget_ms) const {
     const SettingKey& key = setting.key;
     char text[256];
     std::snprintf(text, sizeof text,
-                  "budget %.0f ms: %s n=%d R=%d dt=1/%.0f%s%s, about %.0f ms, %.1f dB%s", budget_ms,
+                  "budget %.0f ms: %s n=%d R=%d dt=1/%.0f%s, about %.0f ms, %.1f dB%s", budget_ms,
                   scene::to_string(key.mode), key.slices, key.resolution, 1.0 / key.sample_distance,
-                  key.empty_space_skipping ? "" : " no skipping", key.jitter ? " jitter" : "",
-                  estimated_ms, setting.psnr_finest,
+                  key.empty_space_skipping ? "" : " no skipping", estimated_ms, setting.psnr_finest,
                   fits ? "" : " (nothing measured fits; the fastest)");
     return text;
 }
@@ -127,7 +126,6 @@ scene::FrameRequest apply(scene::FrameRequest request, const SettingKey& setting
     }
     s.sample_distance = setting.sample_distance;
     s.empty_space_skipping = setting.empty_space_skipping;
-    s.jitter = setting.jitter;
     return request;
 }
 
@@ -153,7 +151,7 @@ std::vector<double> default_budgets(const std::vector<Point>& points) {
     double slowest = 0.0;
     double reference = 0.0;
     for (const Setting& s : settings) {
-        if (s.key.refinement_steps > 0) {
+        if (s.key.jitter) {
             continue;  // never chosen
         }
         low = std::min(low, s.worst_frame_ms);

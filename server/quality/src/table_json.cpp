@@ -62,7 +62,6 @@ Json preset_json(const Preset& preset) {
             {"resolution", s.key.resolution},
             {"sample_distance", s.key.sample_distance},
             {"empty_space_skipping", s.key.empty_space_skipping},
-            {"jitter", s.key.jitter},
             {"psnr", psnr_json(s.psnr_finest)},
             {"ssim", s.ssim_finest},
             {"frame_ms", s.worst_frame_ms},
@@ -265,7 +264,9 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
             "light_buffer_ms: median light-buffer build, 0 where the mode builds none. slices "
             "and resolution 0 where the mode has none. empty_space_skipping and jitter: how "
             "the point was rendered; refinement_steps > 0: the jittered still after that many "
-            "refinement steps, frame_ms the median of one step's frame (never a preset). "
+            "refinement steps, frame_ms the median of one step's frame; jittered and refined "
+            "points are "
+            "never presets. "
             "presets: per budget_ms, the setting with the highest mean psnr_finest over all "
             "volumes and lights whose slowest frame_ms fits (mode null: none fits).";
     root["device"] = table.device;

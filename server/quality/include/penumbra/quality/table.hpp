@@ -14,10 +14,11 @@
 // figure, decides between two exact ones. The slowest frame, not the mean, must fit because a
 // budget promises every frame, whichever volume and light the viewer has.
 //
-// Empty-space skipping and jitter are part of a setting (skipping changes only the time, jitter
-// the image too) and are applied with it. A refined image (refinement steps after a jittered
-// still) is plotted but never chosen: a budget covers each frame, and the steps that refine a
-// still run after it, at the lowest priority, whatever the budget.
+// Empty-space skipping is part of a setting (it changes only the time) and is applied with it.
+// Jittered settings and refined images (refinement steps after a jittered still) are plotted but
+// never chosen: jitter moves the samples without adding any, so a setting's time holds jittered
+// or not and whether to jitter (and so to refine) stays the viewer's choice; and a budget covers
+// each frame, while the steps that refine a still run after it, at the lowest priority.
 
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -126,8 +127,8 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
 // against it, then the faster slowest frame.
 bool more_accurate(const Setting& a, const Setting& b);
 
-// The settings a budget can choose (no refinement steps) measured on every volume and light of
-// `points`, most accurate first.
+// The settings a budget can choose (unjittered, so unrefined) measured on every volume and light
+// of `points`, most accurate first.
 std::vector<Setting> candidates(const std::vector<Point>& points);
 
 struct Choice {
@@ -145,7 +146,8 @@ struct Choice {
 std::optional<Choice> choose(const Table& table, double budget_ms, int width, int height);
 
 // The request with the chosen setting applied (mode, slices, resolution, sample distance,
-// skipping, jitter); the slices and resolution only where the setting has them.
+// skipping); the slices and resolution only where the setting has them. The request's jitter
+// stays as it is.
 scene::FrameRequest apply(scene::FrameRequest request, const SettingKey& setting);
 
 struct Preset {
