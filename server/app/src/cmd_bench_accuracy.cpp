@@ -74,8 +74,8 @@ std::string cases_help() {
     std::string help;
     for (const AccuracyCase& c : accuracy_cases()) {
         char line[256];
-        std::snprintf(line, sizeof line, "      %-15s %s (tf %s)\n", c.name, c.what,
-                      c.transfer_function);
+        std::snprintf(line, sizeof line, "      %-15s tf %s: %s\n", c.name, c.transfer_function,
+                      c.what);
         help += line;
     }
     return help;

@@ -262,12 +262,11 @@ scene::FrameRequest SweepSetting::applied(scene::FrameRequest request) const {
 
 const std::vector<AccuracyCase>& accuracy_cases() {
     static const std::vector<AccuracyCase> cases = {
-            {"mri_skin", "mri_skin", nullptr, false,
-             "the opaque skin of the MRI heads: rays stop at the surface"},
+            {"mri_skin", "mri_skin", nullptr, false, "the MRI heads' opaque skin, where rays stop"},
             {"mri_brain", "mri_brain", "/usr/share/mricron/templates/ch2bet.nii.gz", false,
-             "the brain of ch2 (ch2bet) with translucent grey and white matter"},
+             "ch2bet, translucent grey and white matter"},
             {"ct_soft_tissue", "ct_soft_tissue", nullptr, true,
-             "the head CT's translucent soft tissue, fat and half-transparent bone"},
+             "the head CT, translucent soft tissue"},
     };
     return cases;
 }
