@@ -7,6 +7,7 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "render_options.hpp"
+#include "transfer_function_file.hpp"
 
 #include <penumbra/quality/report.hpp>
 #include <penumbra/quality/sweep.hpp>
@@ -15,17 +16,9 @@
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <memory>
-#include <set>
-#include <sstream>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -77,6 +70,17 @@ std::string default_modes() {
     return names;
 }
 
+std::string cases_help() {
+    std::string help;
+    for (const AccuracyCase& c : accuracy_cases()) {
+        char line[256];
+        std::snprintf(line, sizeof line, "      %-15s tf %s: %s\n", c.name, c.transfer_function,
+                      c.what);
+        help += line;
+    }
+    return help;
+}
+
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);
 }
@@ -112,6 +116,14 @@ void print_usage() {
             "  --slices-list N,...            (default 32,64,128,256,512 [32,64,128,256])\n"
             "  --light-res-list R,...         (default 64,128,256,512,1024 [64,128,256])\n"
             "  --sample-distances D,...       numbers or 1/N (default 1/256,1/512 [1/256])\n"
+            "  --skipping on,off              empty-space skipping on and/or off, every\n"
+            "                                 setting and the reference (default on)\n"
+            "  --jitter off,on                ray-cast modes unjittered and/or jittered\n"
+            "                                 (default off; the reference never jitters)\n"
+            "  --refinement K,...             jittered settings also refined by K steps, each\n"
+            "                                 a point (e.g. 0,4,8; needs --jitter with on)\n"
+            "  --case NAME                    a transfer function and the volumes it suits:\n"
+            "%s"
             "  --size WxH                     (default 512x512 [256x256])\n"
             "  --repeat N                     timed frames per point after 1 warm-up\n"
             "                                 (default 7 [3])\n"
@@ -128,8 +140,9 @@ void print_usage() {
             "  --debug-gl                     GL debug output to the log\n"
             "\n"
             "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
-            "--light-position and --sample-distance are swept instead):\n%s",
-            default_modes().c_str(), frame_options_help());
+            "--light-position, --sample-distance, --jitter and --no-empty-space-skipping are\n"
+            "swept instead):\n%s",
+            default_modes().c_str(), cases_help().c_str(), frame_options_help());
 }
 
 // "1/256,0.002" → distances (numbers accept the fraction form).
@@ -167,6 +180,49 @@ base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
     return lights;
 }
 
+// "on,off" -> {true, false}, each once.
+base::Result<std::vector<bool>> parse_switches(const std::string& text, const std::string& option) {
+    std::vector<bool> values;
+    for (const std::string& item : split_list(text)) {
+        if (item != "on" && item != "off") {
+            return base::make_error("invalid_argument", "'" + item + "' is neither on nor off",
+                                    "--" + option);
+        }
+        const bool value = item == "on";
+        if (std::find(values.begin(), values.end(), value) == values.end()) {
+            values.push_back(value);
+        }
+    }
+    if (values.empty()) {
+        return base::make_error("invalid_argument", "expects on, off or on,off", "--" + option);
+    }
+    return values;
+}
+
+// Refinement step counts, sorted, each once, 0 (the still, always measured) left out.
+base::Result<std::vector<int>> parse_refinement(const std::string& text) {
+    std::vector<int> steps;
+    for (const std::string& item : split_list(text)) {
+        auto numbers = parse_numbers(item, "refinement");
+        if (!numbers) {
+            return numbers.error();
+        }
+        const double value = numbers->front();
+        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
+            return base::make_error("invalid_argument",
+                                    "'" + item + "' is not a step count in 0.." +
+                                            std::to_string(scene::kMaxRefinementSteps),
+                                    "--refinement");
+        }
+        if (value > 0.0) {
+            steps.push_back(static_cast<int>(value));
+        }
+    }
+    std::sort(steps.begin(), steps.end());
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    return steps;
+}
+
 // The modes to compare with the reference, which is always rendered.
 base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& text) {
     auto modes = parse_modes(text, "modes");
@@ -174,143 +230,6 @@ base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& t
         std::erase_if(*modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
     }
     return modes;
-}
-
-std::string format(const char* pattern, double value) {
-    char text[256];
-    std::snprintf(text, sizeof text, pattern, value);
-    return text;
-}
-
-// ---------------------------------------------------------------------------------------------
-// The presets.
-
-void print_presets(const Table& table, const std::vector<Preset>& presets) {
-    std::set<std::string> volumes;
-    std::set<LightAngles> lights;
-    for (const Point& p : table.points) {
-        volumes.insert(p.volume);
-        lights.insert(p.light);
-    }
-    std::printf(
-            "\nquality presets: per budget, the most accurate setting (mean PSNR vs reference over "
-            "%zu volume(s) x %zu light(s))\nwhose slowest median frame time fits; %s time, light "
-            "buffer cached (a light or TF edit adds the build)\n",
-            volumes.size(), lights.size(), timing_name(table));
-    std::printf("  %9s  %-11s %5s %5s %7s %8s %6s %9s %9s\n", "budget ms", "mode", "n", "R", "dt",
-                "PSNR dB", "SSIM", "frame ms", "build ms");
-    for (const Preset& preset : presets) {
-        if (!preset.setting) {
-            std::printf("  %9g  nothing measured fits\n", preset.budget_ms);
-            continue;
-        }
-        const Setting& s = *preset.setting;
-        const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
-        const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
-        const std::string build =
-                s.light_buffer_ms > 0.0 ? format("%9.2f", s.light_buffer_ms) : "        -";
-        std::printf("  %9g  %-11s %5s %5s %7s %8s %6.4f %9.2f %s\n", preset.budget_ms,
-                    scene::to_string(s.key.mode), n.c_str(), r.c_str(),
-                    distance_label(s.key.sample_distance).c_str(), psnr_text(s.psnr_finest).c_str(),
-                    s.ssim_finest, s.worst_frame_ms, build.c_str());
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// CSV and JSON.
-
-// ---------------------------------------------------------------------------------------------
-// The plot: the template with the table's data, run by gnuplot once for PNG and once for SVG.
-
-// For the shell that runs gnuplot.
-std::string shell_quoted(const std::string& text) {
-    std::string quoted = "'";
-    for (const char c : text) {
-        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    }
-    return quoted + "'";
-}
-
-// gnuplot writes the images; the script stays beside them, naming them without a folder, so
-// `gnuplot FILE.gp` run in that folder redraws them.
-base::Status write_plot(const Table& table, const std::string& png) {
-    const std::filesystem::path png_path(png);
-    std::filesystem::path folder = png_path.parent_path();
-    if (folder.empty()) {
-        folder = ".";
-    }
-    const std::filesystem::path svg = std::filesystem::path(png_path).replace_extension(".svg");
-    const std::filesystem::path gp = std::filesystem::path(png_path).replace_extension(".gp");
-    auto plot_template = read_plot_template();
-    if (!plot_template) {
-        return plot_template.error();
-    }
-    {
-        std::ofstream out(gp);
-        if (!out) {
-            return base::make_error("io_error", "cannot write '" + gp.string() + "'", "--plot");
-        }
-        out << plot_script(table, png_path.filename().string(), svg.filename().string(),
-                           *plot_template);
-        if (!out) {
-            return base::make_error("io_error", "writing '" + gp.string() + "' failed", "--plot");
-        }
-    }
-    const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
-                                shell_quoted(gp.filename().string());
-    if (std::system(command.c_str()) != 0) {
-        return base::make_error("plot_failed",
-                                "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
-                                "script is " +
-                                        gp.string(),
-                                "--plot");
-    }
-    std::printf("plot:     %s, %s (script %s)\n", png.c_str(), svg.string().c_str(),
-                gp.string().c_str());
-    return base::Ok{};
-}
-
-// ---------------------------------------------------------------------------------------------
-// Measuring.
-
-class Progress {
-public:
-    Progress(std::uint64_t total)
-        : total_(total)
-        , start_(Clock::now()) {}
-
-    // "[ 12%, 1.2 of ~9.8 min]" from the frames done so far.
-    std::string operator()(std::uint64_t done) const {
-        const double minutes = std::chrono::duration<double>(Clock::now() - start_).count() / 60.0;
-        const double fraction =
-                total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
-        char text[64];
-        std::snprintf(text, sizeof text, "[%3.0f%%, %.1f of ~%.1f min]", 100.0 * fraction, minutes,
-                      fraction > 0.0 ? minutes / fraction : 0.0);
-        return text;
-    }
-
-private:
-    using Clock = std::chrono::steady_clock;
-    std::uint64_t total_;
-    Clock::time_point start_;
-};
-
-void print_view_header(const std::string& volume, const LightAngles& light) {
-    std::printf("\n%s, light %g,%g\n  %-11s %5s %5s %7s %9s %9s %8s %7s\n", volume.c_str(),
-                light.azimuth, light.elevation, "mode", "n", "R", "dt", "frame ms", "build ms",
-                "PSNR dB", "SSIM");
-}
-
-void print_point(const Point& p, const std::string& progress) {
-    const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
-    const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
-    const std::string build =
-            p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : std::string("        -");
-    std::printf("  %-11s %5s %5s %7s %9.2f %s %8s %7.4f  %s\n", scene::to_string(p.mode), n.c_str(),
-                r.c_str(), distance_label(p.sample_distance).c_str(), p.frame_ms, build.c_str(),
-                psnr_text(p.psnr).c_str(), p.ssim, progress.c_str());
-    std::fflush(stdout);
 }
 
 base::Status finish(const Table& table, const Arguments& a) {
@@ -325,7 +244,7 @@ base::Status finish(const Table& table, const Arguments& a) {
         budgets = default_budgets(table.points);
     }
     const std::vector<Preset> presets = choose_presets(table, budgets);
-    print_presets(table, presets);
+    std::fputs(presets_text(table, presets).c_str(), stdout);
     if (const auto path = a.get("csv")) {
         if (auto status = write_csv(table, *path, "--csv"); !status) {
             return status;
@@ -339,11 +258,68 @@ base::Status finish(const Table& table, const Arguments& a) {
         std::printf("json:     %s\n", path->c_str());
     }
     if (const auto path = a.get("plot")) {
-        if (auto status = write_plot(table, *path); !status) {
-            return status;
+        auto files = write_plot(table, *path, "--plot");
+        if (!files) {
+            return files.error();
         }
+        std::printf("plot:     %s, %s (script %s)\n", files->png.c_str(), files->svg.c_str(),
+                    files->script.c_str());
     }
     return base::Ok{};
+}
+
+// --case, where one is named (an unknown name is an error).
+base::Result<const AccuracyCase*> case_from(const Arguments& a) {
+    const auto name = a.get("case");
+    if (!name) {
+        return nullptr;
+    }
+    const AccuracyCase* found = find_accuracy_case(*name);
+    if (found == nullptr) {
+        std::string names;
+        for (const AccuracyCase& c : accuracy_cases()) {
+            names += (names.empty() ? "" : ", ") + std::string(c.name);
+        }
+        return base::make_error("invalid_argument",
+                                "no case '" + *name + "' (cases: " + names + ")", "--case");
+    }
+    if (a.has("tf")) {
+        return base::make_error("invalid_argument",
+                                "--case sets the transfer function; give one or the other", "--tf");
+    }
+    return found;
+}
+
+// --volumes, else the case's, else this device's defaults with the head CT where it was made.
+base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
+                                                       const SweepDefaults& defaults) {
+    if (const auto volumes = a.get("volumes")) {
+        return split_list(*volumes);
+    }
+    auto named = case_from(a);
+    if (!named) {
+        return named.error();
+    }
+    const AccuracyCase* c = *named;
+    const auto ct = demo_ct_path();
+    if (c != nullptr && c->head_ct) {
+        if (!ct) {
+            return base::make_error("not_found",
+                                    std::string("case ") + c->name +
+                                            " renders the head CT that scripts/demo-data.sh "
+                                            "converts; run it, or name the CT with --volumes",
+                                    "--case");
+        }
+        return std::vector<std::string>{ct->string()};
+    }
+    if (c != nullptr && c->volumes != nullptr) {
+        return split_list(c->volumes);
+    }
+    std::string volumes = defaults.volumes;
+    if (ct && c == nullptr) {
+        volumes += "," + ct->string();
+    }
+    return split_list(volumes);
 }
 
 // The sweep the options ask for, over the defaults of this kind of device.
@@ -355,10 +331,15 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
             parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
     auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
     auto repeat = a.integer("repeat", defaults.repeat);
+    auto skipping = parse_switches(a.get("skipping").value_or("on"), "skipping");
+    auto jitter = parse_switches(a.get("jitter").value_or("off"), "jitter");
+    auto refinement = parse_refinement(a.get("refinement").value_or("0"));
     for (const base::Error* error :
          {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
           slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
-          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error()}) {
+          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error(),
+          skipping ? nullptr : &skipping.error(), jitter ? nullptr : &jitter.error(),
+          refinement ? nullptr : &refinement.error()}) {
         if (error != nullptr) {
             return *error;
         }
@@ -366,12 +347,21 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
     if (*repeat < 1 || *repeat > 1000) {
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
-    Sweep sweep;
-    std::string default_volumes = defaults.volumes;
-    if (const auto ct = demo_ct_path()) {
-        default_volumes += "," + ct->string();
+    if (!refinement->empty() && std::find(jitter->begin(), jitter->end(), true) == jitter->end()) {
+        return base::make_error("invalid_argument",
+                                "refinement steps average jittered frames: add --jitter on or "
+                                "--jitter off,on",
+                                "--refinement");
     }
-    sweep.volumes = split_list(a.get("volumes").value_or(default_volumes));
+    Sweep sweep;
+    auto volumes = default_volumes(a, defaults);
+    if (!volumes) {
+        return volumes.error();
+    }
+    sweep.volumes = std::move(*volumes);
+    sweep.skipping = *skipping;
+    sweep.jitter = *jitter;
+    sweep.refinement_steps = *refinement;
     sweep.lights = *lights;
     sweep.modes = *modes;
     sweep.slices = *slices;
@@ -392,7 +382,8 @@ base::Status refuse_swept_options(const Arguments& a) {
             {"light-res", "--light-res-list LIST"},
             {"light", "--lights LIST"},
             {"light-position", "--lights LIST (directional lights only)"},
-            {"sample-distance", "--sample-distances LIST"}};
+            {"sample-distance", "--sample-distances LIST"},
+            {"no-empty-space-skipping", "--skipping on,off"}};
     for (const auto& [option, instead] : swept) {
         if (a.has(option)) {
             return base::make_error("invalid_argument",
@@ -437,23 +428,23 @@ base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume:
                                 "--size");
     }
     request->settings.phong = phong;
+    auto named = case_from(a);
+    if (!named) {
+        return named.error();
+    }
+    if (*named != nullptr) {
+        auto tf = load_transfer_function((*named)->transfer_function, volume.range);
+        if (!tf) {
+            return tf.error();
+        }
+        request->transfer_function = std::move(*tf);
+    }
     return request;
 }
 
-void print_frame(const Table& table) {
-    std::printf(
-            "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
-            "%s, slab samples %d, phong %s\n",
-            table.width, table.height, table.transfer_function.c_str(), table.compositing.c_str(),
-            table.stage.c_str(), table.builder.c_str(), table.light_lookup.c_str(),
-            table.slab_samples, table.phong ? "on" : "off");
-    std::fflush(stdout);
-}
-
-// Every volume of the sweep under every light, into `table`.
+// Every volume of the sweep under every light, into `table`, printed as it is measured.
 base::Status measure_all(render::Renderer& renderer, const Arguments& a, const Sweep& sweep,
                          const SweepDefaults& defaults, Table& table) {
-    AccuracyBench bench(renderer, sweep.repeat);
     const std::uint64_t frames =
             frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
     const Progress progress(frames);
@@ -461,37 +452,21 @@ base::Status measure_all(render::Renderer& renderer, const Arguments& a, const S
             "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
             "left)\n",
             sweep.volumes.size(), sweep.lights.size(), static_cast<unsigned long long>(frames));
-    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
-        auto loaded = volume::load_volume(sweep.volumes[v]);
-        if (!loaded) {
-            return loaded.error();
-        }
-        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-        auto base = base_request(a, *volume, defaults, table.phong);
-        if (!base) {
-            return base.error();
-        }
-        if (v == 0) {
-            describe_frame(table, *base);
-            print_frame(table);
-        }
-        if (auto status = renderer.set_volume(volume); !status) {
-            return status;
-        }
-        const PointObserver print = [&](const Point& p) {
-            print_point(p, progress(bench.frames()));
-            return true;
-        };
-        for (const LightAngles& light : sweep.lights) {
-            print_view_header(volume->name, light);
-            if (auto measured =
-                        measure_view(bench, sweep, *base, volume->name, light, print, table.points);
-                !measured) {
-                return measured.error();
-            }
-        }
-    }
-    return base::Ok{};
+    const SweepObserver print{
+            .frame = [](const Table& t) { std::fputs(frame_text(t).c_str(), stdout); },
+            .view =
+                    [](const std::string& volume, const LightAngles& light) {
+                        std::fputs(view_header(volume, light).c_str(), stdout);
+                    },
+            .point =
+                    [&](const Point& p, std::uint64_t done) {
+                        std::printf("%s  %s\n", point_row(p).c_str(), progress(done).c_str());
+                        std::fflush(stdout);
+                    }};
+    const FrameFor frame_for = [&](const volume::Volume& volume) {
+        return base_request(a, volume, defaults, table.phong);
+    };
+    return measure_sweep(renderer, sweep, frame_for, print, table);
 }
 
 // --from: presets, CSV, JSON and plot from a table measured before.
@@ -513,10 +488,11 @@ int report_from(const Arguments& a, const std::string& from) {
 
 int run_bench_accuracy(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(),
-                  {"volumes", "lights", "modes", "slices-list", "light-res-list",
-                   "sample-distances", "repeat", "csv", "json", "plot", "budget-ms", "from"});
+    valued.insert(valued.end(), {"volumes", "lights", "modes", "slices-list", "light-res-list",
+                                 "sample-distances", "repeat", "csv", "json", "plot", "budget-ms",
+                                 "from", "skipping", "jitter", "refinement", "case"});
     std::vector<std::string> flags = frame_flag_names();
+    std::erase(flags, "jitter");  // a list here: --jitter off,on
     flags.insert(flags.end(), {"help", "debug-gl", "no-phong"});
     auto parsed = Arguments::parse(args, valued, flags);
     if (!parsed) {

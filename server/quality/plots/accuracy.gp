@@ -1,7 +1,7 @@
 # The accuracy plot of `penumbra bench accuracy` (installed as share/penumbra/plots/accuracy.gp).
 # The benchmark writes its data and these variables above this text, into one script:
 #   png, svg            the images to write (no folder: run in their folder)
-#   width               pixels; 620 per panel
+#   width               pixels; 620 per panel, at least 960
 #   title_text          the figure's title; x_label the x axis's
 #   panels              one per volume; panel_title[v], y_range[v] ("[low:high]" or "[*:*]")
 #   modes               the measured modes, reference aside, as words; a mode's index is its word
@@ -11,13 +11,29 @@
 #   $front              panel, frame ms, PSNR, label: the Pareto front over all modes
 #   $all                panel, mode, frame ms, PSNR: every setting (means over the lights)
 #   $own                panel, mode, frame ms, PSNR: each mode's own Pareto front
+#   $variants           panel, mode, ms, PSNR, kind: the settings that differ from the request's
+#                       defaults, by kind: 1 without empty-space skipping, 2 jittered, 3 refined
+#                       (ms: the still and its steps in all)
+#   variant_kinds       the kinds $variants holds, as words
 # One panel per volume: every setting of a mode as a small mark, the mode's own front as its
 # curve, the front over all modes as a wide grey band, the reference's time as a vertical line
-# (its PSNR is infinite).
+# (its PSNR is infinite), and the variants as open marks in their mode's colour.
 
 style_index(name) = sum [i=1:words(style_modes)] (word(style_modes, i) eq name ? i : 0)
 colour(name) = style_index(name) > 0 ? word(style_colours, style_index(name)) : "#404040"
 point(name) = style_index(name) > 0 ? int(word(style_points, style_index(name))) : 3
+kind(k) = int(word(variant_kinds, k))
+variant_point(kind) = kind == 1 ? 8 : (kind == 2 ? 10 : 12)
+variant_title(kind) = kind == 1 ? "no empty-space skipping" : (kind == 2 ? "jittered" : "jittered and refined (time of all steps)")
+
+# The plot's clauses, as macros: a plot with no variants leaves theirs out (gnuplot evaluates an
+# iteration's clause once even when the iteration is empty).
+common_plot = '$front using ($1 == v ? $2 : NaN):3 with linespoints lw 9 lc rgb "#d0d0d0" pt 6 ps 2.2 title "Pareto front (all methods)", '. \
+    '$front using ($1 == v ? $2 : NaN):3:4 with labels right offset -1.2,0 font ",8" tc rgb "#505050" notitle, '. \
+    'for [m=1:words(modes)] $all using ($1 == v && $2 == m ? $3 : NaN):4 with points pt (point(word(modes, m)) - 1) ps 0.6 lc rgb colour(word(modes, m)) notitle, '. \
+    'for [m=1:words(modes)] $own using ($1 == v && $2 == m ? $3 : NaN):4 with linespoints lw 2 pt point(word(modes, m)) ps 1.1 lc rgb colour(word(modes, m)) title word(modes, m)'
+variant_plot = 'for [m=1:words(modes)] for [k=1:words(variant_kinds)] $variants using ($1 == v && $2 == m && $5 == kind(k) ? $3 : NaN):4 with points pt variant_point(kind(k)) ps 1.3 lw 1.5 lc rgb colour(word(modes, m)) notitle, '. \
+    'for [k=1:words(variant_kinds)] NaN with points pt variant_point(kind(k)) ps 1.3 lw 1.5 lc rgb "#404040" title variant_title(kind(k))'
 
 set logscale x
 set grid xtics ytics mxtics lc rgb "#e8e8e8"
@@ -46,10 +62,11 @@ do for [pass=1:2] {
                 set label ref_text[r] at ref_ms[r], graph (0.97 - 0.05 * ref_row[r]) right offset -0.5,0 tc rgb "#c00000" font ",9"
             }
         }
-        plot $front using ($1 == v ? $2 : NaN):3 with linespoints lw 9 lc rgb "#d0d0d0" pt 6 ps 2.2 title "Pareto front (all methods)", \
-             $front using ($1 == v ? $2 : NaN):3:4 with labels right offset -1.2,0 font ",8" tc rgb "#505050" notitle, \
-             for [m=1:words(modes)] $all using ($1 == v && $2 == m ? $3 : NaN):4 with points pt (point(word(modes, m)) - 1) ps 0.6 lc rgb colour(word(modes, m)) notitle, \
-             for [m=1:words(modes)] $own using ($1 == v && $2 == m ? $3 : NaN):4 with linespoints lw 2 pt point(word(modes, m)) ps 1.1 lc rgb colour(word(modes, m)) title word(modes, m)
+        if (words(variant_kinds) > 0) {
+            plot @common_plot, @variant_plot
+        } else {
+            plot @common_plot
+        }
     }
     unset multiplot
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -58,7 +59,39 @@ struct PlotText {
     std::string front = "$front << EOD\n";
     std::string all = "$all << EOD\n";
     std::string own = "$own << EOD\n";
+    std::string variants = "$variants << EOD\n";
+    std::set<int> variant_kinds;
 };
+
+// How a setting differs from the request's defaults, as the plot marks it (the template's
+// variant_point and variant_title): 0 plain, else the most telling difference.
+int variant_kind(const SettingKey& key) {
+    if (key.refinement_steps > 0) {
+        return 3;
+    }
+    if (key.jitter) {
+        return 2;
+    }
+    return key.empty_space_skipping ? 0 : 1;
+}
+
+// "" (the defaults), "no-skip" (no empty-space skipping), "jit" (jittered), "jit+8" (refined by
+// 8 steps), "no-skip,jit".
+std::string variant_text(const SettingKey& key) {
+    std::string text = key.empty_space_skipping ? "" : "no-skip";
+    if (key.jitter) {
+        text += (text.empty() ? "" : ",") + std::string("jit");
+        if (key.refinement_steps > 0) {
+            text += "+" + std::to_string(key.refinement_steps);
+        }
+    }
+    return text;
+}
+
+// The time until the setting's image is on screen: a refined image after its still and steps.
+double time_to_image(const Setting& s) {
+    return s.frame_ms * (1.0 + s.key.refinement_steps);
+}
 
 // The figure's title: device, size, lights, sample distances, TF.
 std::string title_of(const Table& table) {
@@ -97,17 +130,37 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
         }
         references[0].push_back(std::to_string(panel));
         references[1].push_back(format("%.6g", s.frame_ms));
-        references[2].push_back(gnuplot_string(
-                "reference " + distance_label(s.key.sample_distance) + " (PSNR inf)"));
+        references[2].push_back(
+                gnuplot_string("reference " + distance_label(s.key.sample_distance) +
+                               (s.key.empty_space_skipping ? "" : " no skipping") + " (PSNR inf)"));
         references[3].push_back(std::to_string(row++));
     }
     const std::string p = std::to_string(panel) + " ";
+    std::vector<Setting> plain;
+    for (const Setting& s : measured) {
+        if (s.key.plain()) {
+            plain.push_back(s);
+            continue;
+        }
+        const auto mode = std::find(modes.begin(), modes.end(), s.key.mode) - modes.begin() + 1;
+        const int kind = variant_kind(s.key);
+        text.variant_kinds.insert(kind);
+        text.variants += p + std::to_string(mode) + " " + format("%.6g ", time_to_image(s)) +
+                         format("%.4f ", s.psnr_finest) + std::to_string(kind) + "\n";
+    }
+    measured = plain;
     for (const Setting& s : pareto_front(measured, false)) {
         text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_finest) +
                       gnuplot_string(setting_label(s)) + "\n";
     }
     double y_min = infinity;
     double y_max = -infinity;
+    for (const Setting& s : aggregate(table.points, volume)) {
+        if (s.key.mode != scene::Mode::reference && !s.key.plain()) {
+            y_min = std::min(y_min, s.psnr_finest);
+            y_max = std::max(y_max, s.psnr_finest);
+        }
+    }
     for (std::size_t m = 0; m < modes.size(); ++m) {
         std::vector<Setting> own;
         for (const Setting& s : measured) {
@@ -171,15 +224,17 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
     if (!out) {
         return base::make_error("io_error", "cannot write '" + path.string() + "'", where);
     }
-    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,width,"
-           "height,timing,frame_ms,light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,"
-           "ssim_finest\n";
+    out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,"
+           "empty_space_skipping,jitter,refinement_steps,width,height,timing,frame_ms,"
+           "light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,ssim_finest\n";
     char line[512];
     for (const Point& p : table.points) {
         std::snprintf(line, sizeof line,
-                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,%.6f\n",
+                      "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%d,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,"
+                      "%.6f\n",
                       p.volume.c_str(), p.light.azimuth, p.light.elevation,
                       scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
+                      p.empty_space_skipping ? 1 : 0, p.jitter ? 1 : 0, p.refinement_steps,
                       table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
                       p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
                       psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
@@ -189,6 +244,131 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
         return base::make_error("io_error", "writing '" + path.string() + "' failed", where);
     }
     return base::Ok{};
+}
+
+std::string presets_text(const Table& table, const std::vector<Preset>& presets) {
+    std::set<std::string> volumes;
+    std::set<LightAngles> lights;
+    for (const Point& p : table.points) {
+        volumes.insert(p.volume);
+        lights.insert(p.light);
+    }
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "\nquality presets: per budget, the most accurate setting (mean PSNR vs "
+                  "reference over %zu volume(s) x %zu light(s))\nwhose slowest median frame time "
+                  "fits; %s time, light buffer cached (a light or TF edit adds the build)\n",
+                  volumes.size(), lights.size(), timing_name(table));
+    std::string text = line;
+    std::snprintf(line, sizeof line, "  %9s  %-11s %5s %5s %7s %-13s %8s %6s %9s %9s\n",
+                  "budget ms", "mode", "n", "R", "dt", "variant", "PSNR dB", "SSIM", "frame ms",
+                  "build ms");
+    text += line;
+    for (const Preset& preset : presets) {
+        if (!preset.setting) {
+            std::snprintf(line, sizeof line, "  %9g  nothing measured fits\n", preset.budget_ms);
+            text += line;
+            continue;
+        }
+        const Setting& s = *preset.setting;
+        const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
+        const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
+        const std::string build =
+                s.light_buffer_ms > 0.0 ? format("%9.2f", s.light_buffer_ms) : "        -";
+        std::snprintf(line, sizeof line, "  %9g  %-11s %5s %5s %7s %-13s %8s %6.4f %9.2f %s\n",
+                      preset.budget_ms, scene::to_string(s.key.mode), n.c_str(), r.c_str(),
+                      distance_label(s.key.sample_distance).c_str(), variant_text(s.key).c_str(),
+                      psnr_text(s.psnr_finest).c_str(), s.ssim_finest, s.worst_frame_ms,
+                      build.c_str());
+        text += line;
+    }
+    return text;
+}
+
+std::string frame_text(const Table& table) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
+                  "%s, slab samples %d, phong %s\n",
+                  table.width, table.height, table.transfer_function.c_str(),
+                  table.compositing.c_str(), table.stage.c_str(), table.builder.c_str(),
+                  table.light_lookup.c_str(), table.slab_samples, table.phong ? "on" : "off");
+    return line;
+}
+
+std::string view_header(const std::string& volume, const LightAngles& light) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "\n%s, light %g,%g\n  %-11s %5s %5s %7s %-13s %9s %9s %8s %7s\n", volume.c_str(),
+                  light.azimuth, light.elevation, "mode", "n", "R", "dt", "variant", "frame ms",
+                  "build ms", "PSNR dB", "SSIM");
+    return line;
+}
+
+std::string point_row(const Point& p) {
+    const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
+    const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
+    const std::string build =
+            p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : "        -";
+    const SettingKey key{
+            p.mode,   p.slices,          p.resolution, p.sample_distance, p.empty_space_skipping,
+            p.jitter, p.refinement_steps};
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-11s %5s %5s %7s %-13s %9.2f %s %8s %7.4f",
+                  scene::to_string(p.mode), n.c_str(), r.c_str(),
+                  distance_label(p.sample_distance).c_str(), variant_text(key).c_str(), p.frame_ms,
+                  build.c_str(), psnr_text(p.psnr).c_str(), p.ssim);
+    return line;
+}
+
+namespace {
+
+// For the shell that runs gnuplot.
+std::string shell_quoted(const std::string& text) {
+    std::string quoted = "'";
+    for (const char c : text) {
+        quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    }
+    return quoted + "'";
+}
+
+}  // namespace
+
+base::Result<PlotFiles> write_plot(const Table& table, const std::filesystem::path& png,
+                                   const std::string& where) {
+    std::filesystem::path folder = png.parent_path();
+    if (folder.empty()) {
+        folder = ".";
+    }
+    const PlotFiles files{png, std::filesystem::path(png).replace_extension(".svg"),
+                          std::filesystem::path(png).replace_extension(".gp")};
+    auto plot_template = read_plot_template();
+    if (!plot_template) {
+        return plot_template.error();
+    }
+    {
+        std::ofstream out(files.script);
+        if (!out) {
+            return base::make_error("io_error", "cannot write '" + files.script.string() + "'",
+                                    where);
+        }
+        out << plot_script(table, png.filename().string(), files.svg.filename().string(),
+                           *plot_template);
+        if (!out) {
+            return base::make_error("io_error", "writing '" + files.script.string() + "' failed",
+                                    where);
+        }
+    }
+    const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
+                                shell_quoted(files.script.filename().string());
+    if (std::system(command.c_str()) != 0) {
+        return base::make_error("plot_failed",
+                                "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
+                                "script is " +
+                                        files.script.string(),
+                                where);
+    }
+    return files;
 }
 
 base::Result<std::string> read_plot_template() {
@@ -228,6 +408,10 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
         add_panel(table, volumes[v], static_cast<int>(v) + 1, lights.size(), modes, text,
                   references, titles, ranges);
     }
+    std::string kinds;
+    for (const int kind : text.variant_kinds) {
+        kinds += (kinds.empty() ? "" : " ") + std::to_string(kind);
+    }
     std::string mode_words;
     for (const scene::Mode mode : modes) {
         mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
@@ -251,9 +435,11 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
             std::filesystem::path(png).replace_extension(".gp").string() +
             "` in this folder redraws the PNG and SVG.\n"
             "# x: median frame time with the light buffer cached, y: PSNR vs the reference; "
-            "marks: every setting; curves: each method's Pareto front.\n";
+            "marks: every setting; curves: each method's Pareto front; open marks: no "
+            "skipping, jittered, refined (at the time its steps take in all).\n";
     script += "png = " + gnuplot_string(png) + "\nsvg = " + gnuplot_string(svg) + "\n";
-    script += "width = " + std::to_string(620 * std::max<std::size_t>(1, volumes.size()) + 80) +
+    // One panel still gets room for the two lines of the figure's title.
+    script += "width = " + std::to_string(std::max<std::size_t>(960, 620 * volumes.size() + 80)) +
               "\ntitle_text = " + gnuplot_string(title_of(table)) +
               "\nx_label = " + gnuplot_string(x_label) +
               "\npanels = " + std::to_string(volumes.size()) +
@@ -261,11 +447,13 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
               "\nstyle_modes = " + gnuplot_string(style_modes) +
               "\nstyle_colours = " + gnuplot_string(style_colours) +
               "\nstyle_points = " + gnuplot_string(style_points) +
-              "\nref_count = " + std::to_string(references[0].size()) + "\n";
+              "\nref_count = " + std::to_string(references[0].size()) +
+              "\nvariant_kinds = " + gnuplot_string(kinds) + "\n";
     script += gnuplot_array("panel_title", titles) + gnuplot_array("y_range", ranges) +
               gnuplot_array("ref_panel", references[0]) + gnuplot_array("ref_ms", references[1]) +
               gnuplot_array("ref_text", references[2]) + gnuplot_array("ref_row", references[3]);
-    script += text.front + "EOD\n" + text.all + "EOD\n" + text.own + "EOD\n\n";
+    script += text.front + "EOD\n" + text.all + "EOD\n" + text.own + "EOD\n" + text.variants +
+              "EOD\n\n";
     return script + std::string(plot_template);
 }
 

@@ -9,9 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
+#include <tuple>
 #include <utility>
 
 namespace penumbra::quality {
@@ -30,6 +33,9 @@ bool contains(const std::vector<int>& values, int value) {
 bool contains(const std::vector<scene::Mode>& modes, scene::Mode mode) {
     return std::find(modes.begin(), modes.end(), mode) != modes.end();
 }
+
+// A light buffer's build: its grid point and whether its marches skip empty space.
+using BuildKey = std::tuple<int, int, bool>;
 
 // Whether half_angle is measured at n slices and resolution r of the grid.
 bool half_angle_at(const Sweep& sweep, int n, int r) {
@@ -90,6 +96,14 @@ AccuracyBench::AccuracyBench(render::FrameRenderer& renderer, int repeat)
     , repeat_(repeat)
     , gpu_timers_(renderer.info().gpu_timer_queries) {}
 
+double AccuracyBench::frame_time(const render::Frame& frame) const {
+    double ms = 0.0;
+    for (const auto& pass : frame.report.passes) {
+        ms += gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
+    }
+    return ms;
+}
+
 base::Result<Timed> AccuracyBench::frame(const scene::FrameRequest& request) {
     Timed timed;
     std::vector<double> times;
@@ -112,14 +126,40 @@ base::Result<Timed> AccuracyBench::frame(const scene::FrameRequest& request) {
                             "' in a repeat of the same request",
                     "light_buffer");
         }
-        double ms = 0.0;
-        for (const auto& pass : frame->report.passes) {
-            ms += gpu_timers_ ? std::max(pass.gpu_ms, 0.0) : pass.wall_ms;
-        }
-        times.push_back(ms);
+        times.push_back(frame_time(*frame));
     }
     timed.frame_ms = median(times);
     return timed;
+}
+
+base::Result<std::vector<Timed>> AccuracyBench::refined(scene::FrameRequest request,
+                                                        const std::vector<int>& steps) {
+    std::vector<Timed> images;
+    const int last = steps.empty() ? 0 : *std::max_element(steps.begin(), steps.end());
+    request.refinement = {true, 0};
+    if (auto still = render(request); !still) {
+        return still.error();
+    }
+    std::vector<double> times;
+    for (int step = 1; step <= last; ++step) {
+        request.refinement = {false, step};
+        auto frame = render(request);
+        if (!frame) {
+            return frame.error();
+        }
+        if (frame->report.refinement_step != step) {
+            return base::make_error("bench_invalid",
+                                    "refinement step " + std::to_string(step) + " holds " +
+                                            std::to_string(frame->report.refinement_step) +
+                                            " steps",
+                                    "refinement");
+        }
+        times.push_back(frame_time(*frame));
+        if (contains(steps, step)) {
+            images.push_back({std::move(frame->image), median(times)});
+        }
+    }
+    return images;
 }
 
 base::Result<double> AccuracyBench::light_buffer_build(scene::FrameRequest request) {
@@ -178,19 +218,33 @@ base::Result<render::Frame> AccuracyBench::render(const scene::FrameRequest& req
 
 std::vector<SweepSetting> sweep_settings(const Sweep& sweep) {
     std::vector<SweepSetting> settings;
+    // Every skipping and jitter of the sweep; a mode that casts no rays is never jittered.
+    const auto add = [&](scene::Mode mode, int n, int r) {
+        for (const bool skipping : sweep.skipping) {
+            bool unjittered = false;
+            for (const bool jitter : sweep.jitter) {
+                const bool jittered = jitter && scene::is_ray_cast(mode);
+                if (!jittered && unjittered) {
+                    continue;
+                }
+                unjittered = unjittered || !jittered;
+                settings.push_back({mode, n, r, skipping, jittered});
+            }
+        }
+    };
     for (const scene::Mode mode : sweep.modes) {
         if (mode != scene::Mode::half_angle && !scene::uses_light_buffer(mode)) {
-            settings.push_back({mode, 0, 0});
+            add(mode, 0, 0);
         }
     }
     for (const int n : sweep.slices) {
         for (const int r : sweep.resolutions) {
             if (contains(sweep.modes, scene::Mode::half_angle) && half_angle_at(sweep, n, r)) {
-                settings.push_back({scene::Mode::half_angle, n, r});
+                add(scene::Mode::half_angle, n, r);
             }
             for (const scene::Mode mode : sweep.modes) {
                 if (scene::uses_light_buffer(mode)) {
-                    settings.push_back({mode, n, r});
+                    add(mode, n, r);
                 }
             }
         }
@@ -204,18 +258,50 @@ scene::FrameRequest SweepSetting::applied(scene::FrameRequest request) const {
         request.settings.light_buffer.slices = slices;
         request.settings.light_buffer.resolution = resolution;
     }
+    request.settings.empty_space_skipping = skipping;
+    request.settings.jitter = jitter;
     return request;
+}
+
+const std::vector<AccuracyCase>& accuracy_cases() {
+    static const std::vector<AccuracyCase> cases = {
+            {"mri_skin", "mri_skin", nullptr, false, "the MRI heads' opaque skin, where rays stop"},
+            {"mri_brain", "mri_brain", "/usr/share/mricron/templates/ch2bet.nii.gz", false,
+             "ch2bet, translucent grey and white matter"},
+            {"ct_soft_tissue", "ct_soft_tissue", nullptr, true,
+             "the head CT, translucent soft tissue"},
+    };
+    return cases;
+}
+
+const AccuracyCase* find_accuracy_case(std::string_view name) {
+    for (const AccuracyCase& c : accuracy_cases()) {
+        if (name == c.name) {
+            return &c;
+        }
+    }
+    return nullptr;
+}
+
+int last_refinement_step(const Sweep& sweep) {
+    return sweep.refinement_steps.empty() ? 0
+                                          : *std::max_element(sweep.refinement_steps.begin(),
+                                                              sweep.refinement_steps.end());
 }
 
 std::uint64_t frames_per_view(const Sweep& sweep) {
     const std::uint64_t per_point = static_cast<std::uint64_t>(sweep.repeat) + 1;
     const std::uint64_t distances = sweep.distances.size();
-    std::uint64_t frames = distances * per_point;  // the references
-    std::set<std::pair<int, int>> builds;          // one per light-buffer grid point
+    std::uint64_t frames = distances * sweep.skipping.size() * per_point;  // the references
+    std::set<BuildKey> builds;  // one per light-buffer grid point and skipping
+    const std::uint64_t refinement = static_cast<std::uint64_t>(last_refinement_step(sweep));
     for (const SweepSetting& setting : sweep_settings(sweep)) {
         frames += distances * per_point;
+        if (setting.jitter && refinement > 0) {
+            frames += distances * (1 + refinement);  // the kept still and its steps
+        }
         if (scene::uses_light_buffer(setting.mode)) {
-            builds.insert({setting.slices, setting.resolution});
+            builds.insert({setting.slices, setting.resolution, setting.skipping});
         }
     }
     return frames + builds.size() * per_point;  // the builds, on tiny frames
@@ -230,40 +316,52 @@ base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
                                       std::vector<Point>& points,
                                       std::vector<base::ImageRgbaF>& references) {
     for (const double distance : sweep.distances) {
-        scene::FrameRequest request = base;
-        request.settings.mode = scene::Mode::reference;
-        request.settings.sample_distance = distance;
-        auto timed = bench.frame(request);
-        if (!timed) {
-            return timed.error();
-        }
-        references.push_back(base::to_rgba_f(timed->image));
-        Point p{volume,
-                light,
-                scene::Mode::reference,
-                0,
-                0,
-                distance,
-                timed->frame_ms,
-                0.0,
-                0.0,
-                infinity,
-                1.0,
-                0.0,
-                infinity,
-                1.0};
-        if (references.size() > 1) {
-            auto finest = errors_against(references.front(), timed->image);
-            if (!finest) {
-                return finest.error();
+        for (const bool skipping : sweep.skipping) {
+            scene::FrameRequest request = base;
+            request.settings.mode = scene::Mode::reference;
+            request.settings.sample_distance = distance;
+            request.settings.empty_space_skipping = skipping;
+            request.settings.jitter = false;
+            auto timed = bench.frame(request);
+            if (!timed) {
+                return timed.error();
             }
-            p.rmse_finest = finest->rmse;
-            p.psnr_finest = finest->psnr;
-            p.ssim_finest = finest->ssim;
-        }
-        points.push_back(p);
-        if (!observer(p)) {
-            return false;
+            const bool first_of_distance = skipping == sweep.skipping.front();
+            if (first_of_distance) {
+                references.push_back(base::to_rgba_f(timed->image));
+            }
+            Point p{.volume = volume,
+                    .light = light,
+                    .mode = scene::Mode::reference,
+                    .sample_distance = distance,
+                    .empty_space_skipping = skipping,
+                    .frame_ms = timed->frame_ms,
+                    .psnr = infinity,
+                    .psnr_finest = infinity};
+            // The reference of the other skipping (the same image, or nearly) and of coarser
+            // distances are measured against the first at their distance and the finest.
+            if (!first_of_distance) {
+                auto same = errors_against(references.back(), timed->image);
+                if (!same) {
+                    return same.error();
+                }
+                p.rmse = same->rmse;
+                p.psnr = same->psnr;
+                p.ssim = same->ssim;
+            }
+            if (references.size() > 1 || !first_of_distance) {
+                auto finest = errors_against(references.front(), timed->image);
+                if (!finest) {
+                    return finest.error();
+                }
+                p.rmse_finest = finest->rmse;
+                p.psnr_finest = finest->psnr;
+                p.ssim_finest = finest->ssim;
+            }
+            points.push_back(p);
+            if (!observer(p)) {
+                return false;
+            }
         }
     }
     return true;
@@ -284,12 +382,12 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
     }
     // The light-buffer modes build the same buffer (its key has no mode), so one build time per
     // grid point serves them all.
-    std::map<std::pair<int, int>, double> builds;
+    std::map<BuildKey, double> builds;
     for (const SweepSetting& setting : sweep_settings(sweep)) {
         scene::FrameRequest request = setting.applied(base);
         double build_ms = 0.0;
         if (scene::uses_light_buffer(setting.mode)) {
-            const std::pair<int, int> grid{setting.slices, setting.resolution};
+            const BuildKey grid{setting.slices, setting.resolution, setting.skipping};
             if (!builds.contains(grid)) {
                 auto built = bench.light_buffer_build(request);
                 if (!built) {
@@ -305,32 +403,108 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
             if (!timed) {
                 return timed.error();
             }
-            auto same = errors_against(references[d], timed->image);
-            auto finest = errors_against(references.front(), timed->image);
-            if (!same || !finest) {
-                return !same ? same.error() : finest.error();
+            std::vector<std::pair<int, Timed>> images;
+            images.emplace_back(0, std::move(*timed));
+            if (setting.jitter && last_refinement_step(sweep) > 0) {
+                auto refined = bench.refined(request, sweep.refinement_steps);
+                if (!refined) {
+                    return refined.error();
+                }
+                std::vector<int> steps = sweep.refinement_steps;
+                std::sort(steps.begin(), steps.end());
+                std::erase(steps, 0);
+                steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+                for (std::size_t i = 0; i < refined->size(); ++i) {
+                    images.emplace_back(steps[i], std::move((*refined)[i]));
+                }
             }
-            const Point p{volume,
-                          light,
-                          setting.mode,
-                          setting.slices,
-                          setting.resolution,
-                          sweep.distances[d],
-                          timed->frame_ms,
-                          build_ms,
-                          same->rmse,
-                          same->psnr,
-                          same->ssim,
-                          finest->rmse,
-                          finest->psnr,
-                          finest->ssim};
-            points.push_back(p);
-            if (!observer(p)) {
-                return false;
+            for (const auto& [steps, image] : images) {
+                auto same = errors_against(references[d], image.image);
+                auto finest = errors_against(references.front(), image.image);
+                if (!same || !finest) {
+                    return !same ? same.error() : finest.error();
+                }
+                const Point p{.volume = volume,
+                              .light = light,
+                              .mode = setting.mode,
+                              .slices = setting.slices,
+                              .resolution = setting.resolution,
+                              .sample_distance = sweep.distances[d],
+                              .empty_space_skipping = setting.skipping,
+                              .jitter = setting.jitter,
+                              .refinement_steps = steps,
+                              .frame_ms = image.frame_ms,
+                              .light_buffer_ms = build_ms,
+                              .rmse = same->rmse,
+                              .psnr = same->psnr,
+                              .ssim = same->ssim,
+                              .rmse_finest = finest->rmse,
+                              .psnr_finest = finest->psnr,
+                              .ssim_finest = finest->ssim};
+                points.push_back(p);
+                if (!observer(p)) {
+                    return false;
+                }
             }
         }
     }
     return true;
+}
+
+Progress::Progress(std::uint64_t total)
+    : total_(total)
+    , start_(Clock::now()) {}
+
+std::string Progress::operator()(std::uint64_t done) const {
+    const double minutes = std::chrono::duration<double>(Clock::now() - start_).count() / 60.0;
+    const double fraction =
+            total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+    char text[64];
+    std::snprintf(text, sizeof text, "[%3.0f%%, %.1f of ~%.1f min]", 100.0 * fraction, minutes,
+                  fraction > 0.0 ? minutes / fraction : 0.0);
+    return text;
+}
+
+base::Status measure_sweep(render::FrameRenderer& renderer, const Sweep& sweep,
+                           const FrameFor& frame_for, const SweepObserver& observer, Table& table) {
+    AccuracyBench bench(renderer, sweep.repeat);
+    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
+        auto loaded = volume::load_volume(sweep.volumes[v]);
+        if (!loaded) {
+            return loaded.error();
+        }
+        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
+        auto base = frame_for(*volume);
+        if (!base) {
+            return base.error();
+        }
+        if (v == 0) {
+            describe_frame(table, *base);
+            if (observer.frame) {
+                observer.frame(table);
+            }
+        }
+        if (auto status = renderer.set_volume(volume); !status) {
+            return status;
+        }
+        const PointObserver each_point = [&](const Point& p) {
+            if (observer.point) {
+                observer.point(p, bench.frames());
+            }
+            return true;
+        };
+        for (const LightAngles& light : sweep.lights) {
+            if (observer.view) {
+                observer.view(volume->name, light);
+            }
+            if (auto measured = measure_view(bench, sweep, *base, volume->name, light, each_point,
+                                             table.points);
+                !measured) {
+                return measured.error();
+            }
+        }
+    }
+    return base::Ok{};
 }
 
 }  // namespace penumbra::quality

@@ -13,6 +13,10 @@ const char* timing_name(const Table& table) {
     return table.gpu_timers ? "gpu" : "wall";
 }
 
+bool SettingKey::plain() const {
+    return empty_space_skipping && !jitter && refinement_steps == 0;
+}
+
 std::vector<Setting> aggregate(const std::vector<Point>& points,
                                const std::optional<std::string>& volume) {
     std::map<SettingKey, Setting> settings;
@@ -20,7 +24,13 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
         if (volume && p.volume != *volume) {
             continue;
         }
-        const SettingKey key{p.mode, p.slices, p.resolution, p.sample_distance};
+        const SettingKey key{p.mode,
+                             p.slices,
+                             p.resolution,
+                             p.sample_distance,
+                             p.empty_space_skipping,
+                             p.jitter,
+                             p.refinement_steps};
         Setting& s = settings[key];
         s.key = key;
         ++s.count;
@@ -64,7 +74,7 @@ std::vector<Setting> candidates(const std::vector<Point>& points) {
     const int complete = static_cast<int>(views.size());
     std::vector<Setting> result;
     for (const Setting& s : aggregate(points)) {
-        if (s.count == complete) {
+        if (s.count == complete && !s.key.jitter && s.key.refinement_steps == 0) {
             result.push_back(s);
         }
     }
@@ -76,9 +86,9 @@ std::string Choice::describe(double budget_ms) const {
     const SettingKey& key = setting.key;
     char text[256];
     std::snprintf(text, sizeof text,
-                  "budget %.0f ms: %s n=%d R=%d dt=1/%.0f, about %.0f ms, %.1f dB%s", budget_ms,
+                  "budget %.0f ms: %s n=%d R=%d dt=1/%.0f%s, about %.0f ms, %.1f dB%s", budget_ms,
                   scene::to_string(key.mode), key.slices, key.resolution, 1.0 / key.sample_distance,
-                  estimated_ms, setting.psnr_finest,
+                  key.empty_space_skipping ? "" : " no skipping", estimated_ms, setting.psnr_finest,
                   fits ? "" : " (nothing measured fits; the fastest)");
     return text;
 }
@@ -115,6 +125,7 @@ scene::FrameRequest apply(scene::FrameRequest request, const SettingKey& setting
         s.light_buffer.resolution = setting.resolution;
     }
     s.sample_distance = setting.sample_distance;
+    s.empty_space_skipping = setting.empty_space_skipping;
     return request;
 }
 
@@ -140,6 +151,9 @@ std::vector<double> default_budgets(const std::vector<Point>& points) {
     double slowest = 0.0;
     double reference = 0.0;
     for (const Setting& s : settings) {
+        if (s.key.jitter) {
+            continue;  // never chosen
+        }
         low = std::min(low, s.worst_frame_ms);
         slowest = std::max(slowest, s.worst_frame_ms);
         if (s.key.mode == scene::Mode::reference) {

@@ -38,6 +38,9 @@ Json point_json(const Point& p) {
             {"slices", p.slices},
             {"resolution", p.resolution},
             {"sample_distance", p.sample_distance},
+            {"empty_space_skipping", p.empty_space_skipping},
+            {"jitter", p.jitter},
+            {"refinement_steps", p.refinement_steps},
             {"frame_ms", p.frame_ms},
             {"light_buffer_ms", p.light_buffer_ms},
             {"rmse", p.rmse},
@@ -58,6 +61,7 @@ Json preset_json(const Preset& preset) {
             {"slices", s.key.slices},
             {"resolution", s.key.resolution},
             {"sample_distance", s.key.sample_distance},
+            {"empty_space_skipping", s.key.empty_space_skipping},
             {"psnr", psnr_json(s.psnr_finest)},
             {"ssim", s.ssim_finest},
             {"frame_ms", s.worst_frame_ms},
@@ -160,6 +164,19 @@ std::optional<Point> point_from(const Field& field) {
     if (!(p.sample_distance > 0.0)) {
         throw Malformed{field.pointer + "/sample_distance", "expected a positive number"};
     }
+    // Points written before skipping, jitter and refinement existed were measured without them.
+    p.empty_space_skipping =
+            field.has("empty_space_skipping") && field["empty_space_skipping"].boolean();
+    p.jitter = field.has("jitter") && field["jitter"].boolean();
+    p.refinement_steps = field.has("refinement_steps") ? field["refinement_steps"].whole() : 0;
+    if (p.refinement_steps > scene::kMaxRefinementSteps) {
+        throw Malformed{field.pointer + "/refinement_steps",
+                        "expected at most " + std::to_string(scene::kMaxRefinementSteps)};
+    }
+    if (p.refinement_steps > 0 && !p.jitter) {
+        throw Malformed{field.pointer + "/refinement_steps",
+                        "refinement steps average jittered frames: expected jitter true"};
+    }
     p.frame_ms = field["frame_ms"].number();
     p.light_buffer_ms = field["light_buffer_ms"].number();
     p.rmse = field["rmse"].number();
@@ -245,9 +262,13 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
             "against the reference at the finest sample distance; psnr null = identical "
             "(infinite). frame_ms: median frame time with the light buffer cached; "
             "light_buffer_ms: median light-buffer build, 0 where the mode builds none. slices "
-            "and resolution 0 where the mode has none. presets: per budget_ms, the setting with "
-            "the highest mean psnr_finest over all volumes and lights whose slowest frame_ms "
-            "fits (mode null: none fits).";
+            "and resolution 0 where the mode has none. empty_space_skipping and jitter: how "
+            "the point was rendered; refinement_steps > 0: the jittered still after that many "
+            "refinement steps, frame_ms the median of one step's frame; jittered and refined "
+            "points are "
+            "never presets. "
+            "presets: per budget_ms, the setting with the highest mean psnr_finest over all "
+            "volumes and lights whose slowest frame_ms fits (mode null: none fits).";
     root["device"] = table.device;
     root["renderer"] = {{"vendor", table.vendor},
                         {"version", table.gl_version},

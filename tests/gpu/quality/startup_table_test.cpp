@@ -159,5 +159,55 @@ TEST_F(StartupTableTest, RejectsFramesTooSmallForSsim) {
     EXPECT_FALSE(measure_startup_table(*renderer_, volume_, frame(), options).ok());
 }
 
+// The sweep's switches on a real renderer: every setting with skipping on and off, jittered and
+// refined points apart; skipping changes no image (the references agree exactly).
+TEST_F(StartupTableTest, MeasuresSkippingJitterAndRefinementAsPointsOfTheirOwn) {
+    Sweep sweep;
+    sweep.modes = {scene::Mode::phong, scene::Mode::sbrc};
+    sweep.slices = {8};
+    sweep.resolutions = {16};
+    sweep.distances = {1.0 / 64, 1.0 / 32};
+    sweep.skipping = {true, false};
+    sweep.jitter = {false, true};
+    sweep.refinement_steps = {2, 4};
+    sweep.repeat = 1;
+    scene::FrameRequest base = frame();
+    base.settings.width = base.settings.height = 32;
+    base.settings.phong = true;
+    ASSERT_TRUE(renderer_->set_volume(volume_).ok());
+    AccuracyBench bench(*renderer_, sweep.repeat);
+    std::vector<Point> points;
+    auto measured = measure_view(
+            bench, sweep, base, "radial", {10.0, 45.0}, [](const Point&) { return true; }, points);
+    ASSERT_TRUE(measured.ok()) << measured.error().to_string();
+    EXPECT_TRUE(*measured);
+    EXPECT_EQ(bench.frames(), frames_per_view(sweep));
+    // 2 distances x (2 references + 2 modes x 2 skipping x (1 unjittered + 1 jittered + 2
+    // refined)).
+    ASSERT_EQ(points.size(), 2u * (2u + 2u * 2u * 4u));
+    std::set<std::tuple<scene::Mode, double, bool, bool, int>> settings;
+    for (const Point& p : points) {
+        settings.insert(
+                {p.mode, p.sample_distance, p.empty_space_skipping, p.jitter, p.refinement_steps});
+        EXPECT_GT(p.frame_ms, 0.0);
+        EXPECT_TRUE(p.refinement_steps == 0 || p.jitter);
+        if (p.mode == scene::Mode::reference) {
+            EXPECT_FALSE(p.jitter);
+            EXPECT_TRUE(std::isinf(p.psnr)) << "skipping " << p.empty_space_skipping;
+        }
+    }
+    EXPECT_EQ(settings.size(), points.size()) << "a setting measured twice";
+    // The same setting with and without skipping renders the same image.
+    for (const Point& on : points) {
+        for (const Point& off : points) {
+            if (on.mode == off.mode && on.sample_distance == off.sample_distance &&
+                on.jitter == off.jitter && on.refinement_steps == off.refinement_steps &&
+                on.empty_space_skipping && !off.empty_space_skipping) {
+                EXPECT_DOUBLE_EQ(on.psnr, off.psnr) << scene::to_string(on.mode);
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace penumbra::quality

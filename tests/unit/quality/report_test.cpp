@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 namespace penumbra::quality {
@@ -61,6 +62,76 @@ TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
     EXPECT_NE(script.find("test \\\"device\\\""), std::string::npos);  // quoted for gnuplot
     EXPECT_NE(script.find("$own << EOD\n1 1 20 18.0000\n1 2 30 25.0000\nEOD"), std::string::npos)
             << script;
+}
+
+// Settings that differ from the request's defaults are marked apart, by kind, and stay out of
+// the modes' curves; a refined image sits at the time its still and steps take in all.
+TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
+    Table table;
+    table.width = table.height = 64;
+    Point p;
+    p.volume = "ch2";
+    p.sample_distance = 1.0 / 256;
+    p.mode = scene::Mode::sbrc;
+    p.frame_ms = 30.0;
+    p.psnr_finest = 25.0;
+    table.points.push_back(p);
+    Point off = p;
+    off.empty_space_skipping = false;
+    off.frame_ms = 60.0;
+    table.points.push_back(off);
+    Point refined = p;
+    refined.jitter = true;
+    refined.refinement_steps = 3;
+    refined.psnr_finest = 27.0;
+    table.points.push_back(refined);
+    Point reference = off;
+    reference.mode = scene::Mode::reference;
+    reference.psnr_finest = infinity;
+    table.points.push_back(reference);
+    const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
+    EXPECT_NE(script.find("$own << EOD\n1 1 30 25.0000\nEOD"), std::string::npos) << script;
+    EXPECT_NE(script.find("$variants << EOD\n1 1 60 25.0000 1\n1 1 120 27.0000 3\nEOD"),
+              std::string::npos)
+            << script;
+    EXPECT_NE(script.find("variant_kinds = \"1 3\""), std::string::npos);
+    EXPECT_NE(script.find("reference 1/256 no skipping"), std::string::npos);
+}
+
+// gnuplot draws the template around a table with variants and one without (where every
+// iteration over the variants is empty).
+TEST(Report, GnuplotDrawsTablesWithAndWithoutVariants) {
+    const std::filesystem::path folder =
+            std::filesystem::path(::testing::TempDir()) / "penumbra_report_test";
+    std::filesystem::create_directories(folder);
+    Table table;
+    table.width = table.height = 64;
+    Point p;
+    p.volume = "ch2";
+    p.sample_distance = 1.0 / 256;
+    p.mode = scene::Mode::sbrc;
+    p.frame_ms = 30.0;
+    p.psnr_finest = 25.0;
+    table.points.push_back(p);
+    p.mode = scene::Mode::reference;
+    p.frame_ms = 90.0;
+    p.psnr_finest = infinity;
+    table.points.push_back(p);
+    for (const bool variants : {false, true}) {
+        if (variants) {
+            p.mode = scene::Mode::sbrc;
+            p.jitter = true;
+            p.refinement_steps = 4;
+            p.psnr_finest = 27.0;
+            table.points.push_back(p);
+        }
+        const std::filesystem::path png = folder / (variants ? "with.png" : "without.png");
+        auto files = write_plot(table, png, "--plot");
+        ASSERT_TRUE(files.ok()) << files.error().to_string();
+        EXPECT_GT(std::filesystem::file_size(files->png), 0u);
+        EXPECT_GT(std::filesystem::file_size(files->svg), 0u);
+    }
+    std::filesystem::remove_all(folder);
 }
 
 TEST(Report, ThePlotTemplateIsInstalledData) {

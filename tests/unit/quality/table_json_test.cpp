@@ -36,7 +36,11 @@ Table sample_table() {
     reference.frame_ms = 400.5;
     reference.psnr = infinity;
     reference.psnr_finest = infinity;
+    reference.empty_space_skipping = false;
     Point sbrc = reference;
+    sbrc.empty_space_skipping = true;
+    sbrc.jitter = true;
+    sbrc.refinement_steps = 4;
     sbrc.mode = scene::Mode::sbrc;
     sbrc.slices = 64;
     sbrc.resolution = 128;
@@ -83,6 +87,9 @@ TEST(TableJson, RoundTripsEveryField) {
         EXPECT_EQ(a.slices, b.slices);
         EXPECT_EQ(a.resolution, b.resolution);
         EXPECT_DOUBLE_EQ(a.sample_distance, b.sample_distance);
+        EXPECT_EQ(a.empty_space_skipping, b.empty_space_skipping);
+        EXPECT_EQ(a.jitter, b.jitter);
+        EXPECT_EQ(a.refinement_steps, b.refinement_steps);
         EXPECT_DOUBLE_EQ(a.frame_ms, b.frame_ms);
         EXPECT_DOUBLE_EQ(a.light_buffer_ms, b.light_buffer_ms);
         EXPECT_DOUBLE_EQ(a.rmse, b.rmse);
@@ -161,6 +168,35 @@ TEST(TableJson, AMalformedTableIsRefusedNamingTheMember) {
                    "expected true or false");
     expect_refused(parse_table(std::string(100, '[') + std::string(100, ']'), "t.json"), "t.json",
                    "nested deeper");
+}
+
+// A table written before skipping, jitter and refinement existed was measured without them.
+TEST(TableJson, PointsWithoutSkippingJitterOrRefinementWereMeasuredWithoutThem) {
+    std::string text = table_json(sample_table(), {});
+    for (const std::string member :
+         {"\"empty_space_skipping\": true,", "\"empty_space_skipping\": false,",
+          "\"jitter\": true,", "\"jitter\": false,", "\"refinement_steps\": 4,",
+          "\"refinement_steps\": 0,"}) {
+        const auto at = text.find(member);
+        ASSERT_NE(at, std::string::npos) << member;
+        text.erase(at, member.size());
+    }
+    auto table = parse_table(text, "t.json");
+    ASSERT_TRUE(table.ok()) << table.error().to_string();
+    for (const Point& p : table->points) {
+        EXPECT_FALSE(p.empty_space_skipping);
+        EXPECT_FALSE(p.jitter);
+        EXPECT_EQ(p.refinement_steps, 0);
+    }
+}
+
+TEST(TableJson, RefinementStepsWithoutJitterAreRefused) {
+    expect_refused(parse_edited("\"jitter\": true", "\"jitter\": false"),
+                   "t.json/points/1/refinement_steps", "expected jitter true");
+    expect_refused(parse_edited("\"refinement_steps\": 4", "\"refinement_steps\": 100000"),
+                   "t.json/points/1/refinement_steps", "at most");
+    expect_refused(parse_edited("\"jitter\": true", "\"jitter\": 1"), "t.json/points/1/jitter",
+                   "expected true or false");
 }
 
 TEST(TableJson, PointsOfAnUnknownModeAreSkipped) {

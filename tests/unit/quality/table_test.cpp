@@ -141,5 +141,65 @@ TEST(Presets, DefaultBudgetsRunFromTheFastestToTheReference) {
     }
 }
 
+// Skipping is part of a setting: measured apart, chosen apart, applied with it.
+TEST(Choose, SkippingIsASettingOfItsOwn) {
+    Table t = table();
+    for (Point p : table().points) {
+        if (p.mode == scene::Mode::sbrc && p.slices == 64) {
+            p.empty_space_skipping = false;  // the same image, slower
+            p.frame_ms *= 2.0;
+            t.points.push_back(p);
+        }
+    }
+    // Without skipping n=64 takes 180 ms: it competes (5 candidates), but only with skipping
+    // does it fit.
+    EXPECT_EQ(candidates(t.points).size(), 5u);
+    for (const double budget : {100.0, 140.0}) {
+        const auto choice = choose(t, budget, 256, 256);
+        ASSERT_TRUE(choice.has_value());
+        EXPECT_EQ(choice->setting.key.slices, 64);
+        EXPECT_TRUE(choice->setting.key.empty_space_skipping) << budget;
+    }
+    SettingKey key{scene::Mode::sbrc, 64, 128, 1.0 / 512};
+    key.empty_space_skipping = false;
+    scene::FrameRequest request;
+    request.settings.empty_space_skipping = true;
+    request.settings.jitter = true;
+    const scene::FrameRequest applied = apply(request, key);
+    EXPECT_FALSE(applied.settings.empty_space_skipping);
+    EXPECT_TRUE(applied.settings.jitter);  // the viewer's, whatever the setting
+    Setting chosen;
+    chosen.key = key;
+    const Choice choice{chosen, 10.0, true};
+    EXPECT_NE(choice.describe(50.0).find("no skipping"), std::string::npos);
+}
+
+// A refined image takes its still and every step to arrive: a budget covers each frame, so it
+// chooses the frame's setting, never a refined image, however accurate and fast per step; and
+// jitter, which costs no time, stays the viewer's choice.
+TEST(Choose, AJitteredOrRefinedImageIsNeverChosen) {
+    Table t = table();
+    for (Point p : table().points) {
+        if (p.mode == scene::Mode::sbrc && p.slices == 64) {
+            p.jitter = true;
+            p.psnr_finest = 30.0;
+            t.points.push_back(p);
+            p.refinement_steps = 8;
+            p.psnr_finest = 35.0;
+            t.points.push_back(p);
+        }
+    }
+    for (const Setting& s : candidates(t.points)) {
+        EXPECT_FALSE(s.key.jitter);
+        EXPECT_EQ(s.key.refinement_steps, 0);
+    }
+    EXPECT_EQ(candidates(t.points).size(), 4u);
+    const auto choice = choose(t, 100.0, 256, 256);
+    ASSERT_TRUE(choice.has_value());
+    EXPECT_EQ(choice->setting.key.refinement_steps, 0);
+    EXPECT_DOUBLE_EQ(choice->setting.psnr_finest, 23.0);
+    EXPECT_EQ(default_budgets(t.points), default_budgets(table().points));
+}
+
 }  // namespace
 }  // namespace penumbra::quality

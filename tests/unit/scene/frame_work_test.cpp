@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -159,6 +160,83 @@ TEST(FrameWork, IterationsPerSampleFollowTheModesLoops) {
     EXPECT_EQ(iterations(Mode::reference), 2 + samples);
     request.settings.light_buffer.lookup = LightLookup::interpolate;
     EXPECT_EQ(iterations(Mode::sbrc_cone), 10);
+}
+
+// Jitter moves each sample within its step; the ray takes as many samples either way.
+TEST(FrameWork, JitterLeavesTheWorkAsItIs) {
+    for (const Mode mode : all_modes) {
+        FrameRequest jittered = request_in(mode);
+        jittered.settings.jitter = true;
+        EXPECT_EQ(work_of(jittered), work_of(request_in(mode))) << to_string(mode);
+    }
+}
+
+TEST(FrameWork, BricksPerRayCrossTheGridsDiagonal) {
+    EXPECT_EQ(bricks_per_ray({0, 0, 0}), 0);
+    EXPECT_EQ(bricks_per_ray({1, 1, 1}), 3);      // ceil(sqrt(3)) + 1
+    EXPECT_EQ(bricks_per_ray({23, 28, 23}), 44);  // ch2 in 8^3 bricks: ceil(42.9) + 1
+}
+
+// Without knowing which bricks are visible, skipping promises nothing: the estimate stays the
+// upper bound that decides whether a frame is accepted, with or without skipping.
+TEST(FrameWork, SkippingWithNothingKnownKeepsTheUpperBound) {
+    const WorkContext unknown{.bricks_per_ray = 44};
+    for (const Mode mode : all_modes) {
+        FrameRequest skipping = request_in(mode);
+        skipping.settings.empty_space_skipping = true;
+        FrameRequest marching = skipping;
+        marching.settings.empty_space_skipping = false;
+        EXPECT_EQ(estimate_work(skipping, {}, slab_samples, unknown).total(),
+                  estimate_work(marching, {}, slab_samples).total())
+                << to_string(mode);
+    }
+}
+
+// A quarter of the bricks visible: camera rays, the reference's shadow rays and the light
+// buffer's marches take the samples in visible bricks and one grid look per brick they enter.
+TEST(FrameWork, SkippingCountsTheVisibleBricksAndOneLookPerBrick) {
+    const WorkContext quarter{.bricks_per_ray = 20, .occupied_fraction = 0.25};
+    FrameRequest request = request_in(Mode::sbrc);
+    request.settings.sample_distance = 1.0 / 128.0;
+    request.settings.light_buffer.lookup = LightLookup::interpolate;
+    const Box box;
+    ASSERT_EQ(samples_per_ray(request.settings, box), 223);
+    const double marched = std::ceil(223 * 0.25) + 20;  // 76
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, quarter), marched);
+    FrameWork work = estimate_work(request, box, slab_samples, quarter);
+    EXPECT_DOUBLE_EQ(work.ray_casting, 64.0 * 48.0 * marched);
+    EXPECT_DOUBLE_EQ(work.light_buffer, 64.0 * 64.0 * (std::ceil(32 * slab_samples * 0.25) + 20));
+
+    request.settings.mode = Mode::reference;
+    work = estimate_work(request, box, slab_samples, quarter);
+    EXPECT_DOUBLE_EQ(work.ray_casting, 64.0 * 48.0 * marched * (2.0 + marched));
+
+    // Off, the same context changes nothing; and a ray never costs more than without skipping.
+    request.settings.empty_space_skipping = false;
+    EXPECT_DOUBLE_EQ(estimate_work(request, box, slab_samples, quarter).ray_casting,
+                     64.0 * 48.0 * 223.0 * (2.0 + 223.0));
+    request.settings.empty_space_skipping = true;
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 10, quarter), 10.0);
+}
+
+// Refinement steps of a progressive still are frames of their own at the lowest priority: their
+// work is counted apart from the interactive budget, while the still they refine counts in it.
+TEST(FrameWork, RefinementStepsDoNotCountAgainstTheInteractiveBudget) {
+    for (const Mode mode : all_modes) {
+        FrameRequest still = request_in(mode);
+        still.settings.jitter = true;
+        still.refinement = {true, 0};
+        const FrameWork first = estimate_work(still, {}, slab_samples);
+        EXPECT_GT(first.interactive(), 0.0) << to_string(mode);
+        EXPECT_EQ(first.refinement, 0.0) << to_string(mode);
+
+        FrameRequest step = still;
+        step.refinement = {false, 3};
+        const FrameWork refining = estimate_work(step, {}, slab_samples);
+        EXPECT_EQ(refining.interactive(), 0.0) << to_string(mode);
+        EXPECT_EQ(refining.refinement, first.interactive()) << to_string(mode);
+        EXPECT_EQ(refining.total(), first.total()) << to_string(mode);
+    }
 }
 
 // The frame of finding 3 (2048^2 pixels, sample distance 1/4096, the reference's shadow rays)

@@ -31,6 +31,27 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
 // The plot template, from share/penumbra/plots.
 base::Result<std::string> read_plot_template();
 
+// The presets as `bench accuracy` prints them: a heading, then one row per budget.
+std::string presets_text(const Table& table, const std::vector<Preset>& presets);
+
+// The frame every point of the table shares, one line.
+std::string frame_text(const Table& table);
+
+// The heading of one volume and light's rows, and one point's row under it.
+std::string view_header(const std::string& volume, const LightAngles& light);
+std::string point_row(const Point& p);
+
+struct PlotFiles {
+    std::filesystem::path png;
+    std::filesystem::path svg;
+    std::filesystem::path script;  // FILE.gp, redraws both in its folder
+};
+
+// Writes the gnuplot script beside `png` (naming the images without a folder, so that gnuplot
+// run in that folder redraws them) and runs gnuplot there. Errors name `where`.
+base::Result<PlotFiles> write_plot(const Table& table, const std::filesystem::path& png,
+                                   const std::string& where);
+
 // A gnuplot script that draws `png` and `svg` (names in the folder it runs in): the table's data
 // and the template's variables, then `plot_template`.
 std::string plot_script(const Table& table, const std::string& png, const std::string& svg,

@@ -9,10 +9,13 @@
 #include <penumbra/quality/table.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/volume.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::quality {
@@ -55,12 +58,21 @@ public:
     // buffer, or the time would not be the camera-move cost it claims to be.
     base::Result<Timed> frame(const scene::FrameRequest& request);
 
+    // A progressive still: `request` (jittered) kept, then refinement steps up to the largest of
+    // `steps`; the running mean after each count in `steps`, with the median time of the step
+    // frames so far (each step is timed once: a step changes what the next one averages into).
+    base::Result<std::vector<Timed>> refined(scene::FrameRequest request,
+                                             const std::vector<int>& steps);
+
     // The light-buffer pass alone, rebuilt every frame by nudging the light to and fro, on tiny
     // frames (the buffer does not depend on the image size).
     base::Result<double> light_buffer_build(scene::FrameRequest request);
 
 private:
     base::Result<render::Frame> render(const scene::FrameRequest& request);
+
+    // The frame's passes: GPU time where the timers work, else wall clock.
+    [[nodiscard]] double frame_time(const render::Frame& frame) const;
 
     render::FrameRenderer& renderer_;
     int repeat_;
@@ -81,6 +93,14 @@ struct Sweep {
     std::vector<int> half_angle_slices;
     std::vector<int> half_angle_resolutions;
     std::vector<double> distances;  // finest first
+    // Every setting and the reference with empty-space skipping on and/or off (the images agree;
+    // only the time differs). The first is the one the reference images come from.
+    std::vector<bool> skipping{true};
+    // The ray-cast modes unjittered and/or jittered; the reference and half_angle never jitter.
+    std::vector<bool> jitter{false};
+    // With jitter on: the still refined by each of these step counts (0, the still itself, is
+    // always measured), each a point of its own.
+    std::vector<int> refinement_steps;
     int repeat = 3;
 };
 
@@ -90,14 +110,36 @@ struct SweepSetting {
     scene::Mode mode = scene::Mode::dvr;
     int slices = 0;      // 0 where the mode has none
     int resolution = 0;  // 0 where the mode has no light buffer
+    bool skipping = true;
+    bool jitter = false;
 
     // The request with this setting's fields set.
     [[nodiscard]] scene::FrameRequest applied(scene::FrameRequest request) const;
 };
 
 // The settings of a sweep in the order they are measured: the modes without slices, then per
-// grid point half_angle and the light-buffer modes (which share one build).
+// grid point half_angle and the light-buffer modes (which share one build); each with every
+// skipping and, where the mode ray-casts, every jitter of the sweep.
 std::vector<SweepSetting> sweep_settings(const Sweep& sweep);
+
+// A named case of `bench accuracy --case`: a transfer function and the volumes it suits. How
+// much the light buffer saves depends on it: where camera and shadow rays stop at an opaque
+// surface the reference costs little more than a light-buffer mode; where they cross translucent
+// tissue, a shadow ray per sample costs a march per sample.
+struct AccuracyCase {
+    const char* name;
+    const char* transfer_function;  // a preset
+    const char* volumes;            // files, comma-separated; nullptr: the device's defaults
+    bool head_ct;                   // the volume is the head CT (scripts/demo-data.sh)
+    const char* what;
+};
+
+// mri_skin (the opaque skin on the default MRI heads), mri_brain (ch2bet, the brain alone,
+// translucent grey and white matter) and ct_soft_tissue (the head CT's translucent soft tissue).
+const std::vector<AccuracyCase>& accuracy_cases();
+
+// The case of that name, if there is one.
+const AccuracyCase* find_accuracy_case(std::string_view name);
 
 // Frames one volume and light cost, so a run can say up front how long it will take.
 std::uint64_t frames_per_view(const Sweep& sweep);
@@ -111,5 +153,33 @@ using PointObserver = std::function<bool(const Point&)>;
 base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
                                 const std::string& volume, const LightAngles& light,
                                 const PointObserver& observer, std::vector<Point>& points);
+
+// How far a run of `total` frames has come: "[ 12%, 1.2 of ~9.8 min]".
+class Progress {
+public:
+    explicit Progress(std::uint64_t total);
+
+    [[nodiscard]] std::string operator()(std::uint64_t done) const;
+
+private:
+    using Clock = std::chrono::steady_clock;
+    std::uint64_t total_;
+    Clock::time_point start_;
+};
+
+// What a whole sweep reports as it goes; every member may be empty.
+struct SweepObserver {
+    std::function<void(const Table&)> frame;  // once the first volume's frame is described
+    std::function<void(const std::string& volume, const LightAngles&)> view;  // before a view
+    std::function<void(const Point&, std::uint64_t frames_done)> point;
+};
+
+// The frame every point of one volume shares (camera, TF, size...).
+using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
+
+// Every volume of the sweep, loaded in turn, under every light, into `table.points`; the table's
+// frame is described from the first volume's. Frames: frames_per_view x lights x volumes.
+base::Status measure_sweep(render::FrameRenderer& renderer, const Sweep& sweep,
+                           const FrameFor& frame_for, const SweepObserver& observer, Table& table);
 
 }  // namespace penumbra::quality

@@ -13,6 +13,12 @@
 // decibels), so the exact setting ranks above every approximate one and SSIM, not a made-up
 // figure, decides between two exact ones. The slowest frame, not the mean, must fit because a
 // budget promises every frame, whichever volume and light the viewer has.
+//
+// Empty-space skipping is part of a setting (it changes only the time) and is applied with it.
+// Jittered settings and refined images (refinement steps after a jittered still) are plotted but
+// never chosen: jitter moves the samples without adding any, so a setting's time holds jittered
+// or not and whether to jitter (and so to refine) stays the viewer's choice; and a budget covers
+// each frame, while the steps that refine a still run after it, at the lowest priority.
 
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -43,7 +49,12 @@ struct Point {
     int slices = 0;      // 0 where the mode has no slices
     int resolution = 0;  // 0 where the mode has no light buffer
     double sample_distance = 0.0;
-    double frame_ms = 0.0;         // median, light buffer cached
+    bool empty_space_skipping = true;
+    bool jitter = false;       // ray-cast modes only; never the reference
+    int refinement_steps = 0;  // > 0: the jittered still after this many refinement steps
+    // Median, light buffer cached; for a refined image the median of its steps' frames (the
+    // image is on screen after refinement_steps + 1 frames).
+    double frame_ms = 0.0;
     double light_buffer_ms = 0.0;  // median build; 0 where no separate buffer is built
     // Against the reference of the same sample distance: the error of the shading method alone.
     double rmse = 0.0;
@@ -78,12 +89,19 @@ struct Table {
 // "gpu" (timer queries) or "wall" (wall clock).
 const char* timing_name(const Table& table);
 
-// What a setting is: the fields a chosen setting changes in a request.
+// What a setting is: the fields a chosen setting changes in a request, and the refinement steps
+// that its image holds.
 struct SettingKey {
     scene::Mode mode = scene::Mode::dvr;
     int slices = 0;
     int resolution = 0;
     double sample_distance = 0.0;
+    bool empty_space_skipping = true;
+    bool jitter = false;
+    int refinement_steps = 0;
+
+    // Skipping on, jitter off, no refinement: the request's defaults.
+    [[nodiscard]] bool plain() const;
 
     auto operator<=>(const SettingKey&) const = default;
 };
@@ -109,7 +127,8 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
 // against it, then the faster slowest frame.
 bool more_accurate(const Setting& a, const Setting& b);
 
-// The settings measured on every volume and light of `points`, most accurate first.
+// The settings a budget can choose (unjittered, so unrefined) measured on every volume and light
+// of `points`, most accurate first.
 std::vector<Setting> candidates(const std::vector<Point>& points);
 
 struct Choice {
@@ -126,8 +145,9 @@ struct Choice {
 // Nothing when the table has no candidate.
 std::optional<Choice> choose(const Table& table, double budget_ms, int width, int height);
 
-// The request with the chosen setting applied (mode, slices, resolution, sample distance); the
-// slices and resolution only where the setting has them.
+// The request with the chosen setting applied (mode, slices, resolution, sample distance,
+// skipping); the slices and resolution only where the setting has them. The request's jitter
+// stays as it is.
 scene::FrameRequest apply(scene::FrameRequest request, const SettingKey& setting);
 
 struct Preset {
