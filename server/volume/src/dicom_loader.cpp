@@ -5,11 +5,21 @@
 //   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
 //     read; other files (README.txt, .DS_Store, thumbnails) and DICOM objects without pixel data
 //     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
-//     secondary captures, float or odd bit depths) are skipped with a warning naming each, so the
-//     series beside them opens; a folder of nothing else is that image's error. Sub-folders are
-//     not searched.
-//   - Several series in one folder: the one with the most slices is loaded and the log names the
-//     ones left out, so a folder exported with a scout or a dose report still opens.
+//     secondary captures, float or odd bit depths, Siemens mosaics) are skipped with a warning
+//     naming each, so the series beside them opens; a folder of nothing else is that image's
+//     error. Sub-folders are searched too (unless LoadOptions says not), at most
+//     max_folder_depth levels and max_folder_files files deep: a DICOMDIR export root keeps its
+//     images in DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series.
+//     The DICOMDIR itself is not needed: every image file names its own series.
+//   - Several series in one folder: LoadOptions::dicom_series picks one by SeriesNumber or
+//     SeriesInstanceUID; without it the error "several_series" lists them (a scout beside a
+//     series is a series of its own, and guessing would open the wrong one silently).
+//   - A series holding several volumes (echoes, acquisitions, time points: each position
+//     repeated as often) opens its first volume, the lowest (TemporalPositionIdentifier,
+//     EchoNumbers, AcquisitionNumber, InstanceNumber) at each position, with a note saying so.
+//   - Siemens mosaics (ImageType MOSAIC, or NumberOfImagesInMosaic (0019,100a)) tile a volume's
+//     slices in one image whose true slice positions sit in Siemens' private CSA header; they are
+//     refused saying "mosaic" rather than drawn as one flat slice.
 //   - Slices (and the frames of multi-frame files, whose positions may sit in the functional
 //     groups) are ordered by their position along the slice normal, ImageOrientationPatient's
 //     row x column direction dotted with ImagePositionPatient. The z spacing is the gap between
@@ -47,6 +57,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -216,6 +227,9 @@ struct Frame {
     std::optional<double> slice_thickness;
     std::optional<double> spacing_between_slices;
     std::int32_t instance_number = 0;
+    // Which of several volumes sharing this position the frame belongs to: the lowest is the
+    // first volume (temporal position, echo, acquisition, instance number, frame number).
+    std::array<std::int64_t, 5> volume_key{};
     double slope = 1.0;
     double intercept = 0.0;
 };
@@ -224,6 +238,9 @@ struct Image {
     std::filesystem::path path;
     std::unique_ptr<DcmFileFormat> file;  // pixel data stays on disk until it is read
     std::string series_uid;
+    std::string series_number;
+    std::string series_description;
+    std::string modality;
     bool hounsfield = false;  // Modality CT or RescaleType HU
     PixelFormat format;
     std::uint32_t frame_count = 1;
@@ -281,11 +298,16 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
                                std::uint32_t frame_count) {
     std::vector<Frame> frames(frame_count);
     const auto instance = get_int(dataset, DCM_InstanceNumber).value_or(0);
+    const std::int64_t temporal_position =
+            get_int(dataset, DCM_TemporalPositionIdentifier).value_or(0);
+    const std::int64_t echo = get_int(dataset, DCM_EchoNumbers).value_or(0);
+    const std::int64_t acquisition = get_int(dataset, DCM_AcquisitionNumber).value_or(0);
     for (std::uint32_t f = 0; f < frame_count; ++f) {
         Frame& frame = frames[f];
         frame.image = image_index;
         frame.index = f;
         frame.instance_number = instance;
+        frame.volume_key = {temporal_position, echo, acquisition, instance, f};
         const auto position = frame_value(dataset, f, DCM_PlanePositionSequence, [](DcmItem& item) {
             return get_doubles<3>(item, DCM_ImagePositionPatient);
         });
@@ -316,6 +338,39 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
         frame.intercept = rescale(DCM_RescaleIntercept).value_or(0.0);
     }
     return frames;
+}
+
+// Siemens' NumberOfImagesInMosaic, a private tag of its CSA group.
+const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
+
+// A Siemens mosaic tiles every slice of a volume in one image; the slices' true positions sit in
+// the private CSA header, so it is refused, naming it, rather than drawn as one flat slice.
+base::Status refuse_mosaic(DcmDataset& dataset, const PixelFormat& format,
+                           const std::filesystem::path& path) {
+    OFString image_type;
+    bool mosaic = dataset.tagExists(siemens_images_in_mosaic);
+    if (dataset.findAndGetOFStringArray(DCM_ImageType, image_type).good()) {
+        std::string_view rest(image_type.c_str());
+        while (!mosaic && !rest.empty()) {
+            const auto end = std::min(rest.find('\\'), rest.size());
+            mosaic = rest.substr(0, end) == "MOSAIC";
+            rest.remove_prefix(std::min(end + 1, rest.size()));
+        }
+    }
+    if (!mosaic) {
+        return base::Ok{};
+    }
+    std::string tiles;
+    if (const auto count = get_uint16(dataset, siemens_images_in_mosaic)) {
+        tiles = std::to_string(*count) + " ";
+    }
+    return base::make_error("unsupported_type",
+                            "a Siemens mosaic (" + tiles + "slices tiled in one " +
+                                    std::to_string(format.columns) + "x" +
+                                    std::to_string(format.rows) +
+                                    " image) is not unpacked; convert the series with dcm2niix "
+                                    "(Debian's dcm2niix) and open its NIfTI",
+                            detail::at_file(path));
 }
 
 enum class Opened { image, not_an_image };
@@ -359,6 +414,9 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     if (!format) {
         return format.error();
     }
+    if (auto mosaic = refuse_mosaic(dataset, *format, path); !mosaic) {
+        return mosaic.error();
+    }
     image.format = *format;
     const auto frames = get_int(dataset, DCM_NumberOfFrames).value_or(1);
     if (frames < 1) {
@@ -379,22 +437,51 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     }
     image.frame_count = static_cast<std::uint32_t>(frames);
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+    if (const auto number = get_int(dataset, DCM_SeriesNumber)) {
+        image.series_number = std::to_string(*number);
+    }
+    image.series_description = get_string(dataset, DCM_SeriesDescription);
+    image.modality = get_string(dataset, DCM_Modality);
     image.hounsfield = get_string(dataset, DCM_Modality) == "CT" ||
                        get_string(dataset, DCM_RescaleType) == "HU";
     return Opened::image;
 }
 
-// The files of the folder that carry the DICOM Part 10 marker, in name order so that logs and
-// fallbacks are reproducible.
+// How deep and how wide a folder's search for image files goes: a DICOMDIR export keeps its
+// images four levels below the root (DICOM/<patient>/<study>/<series>/), and no volume has more
+// files than it may have frames; the bounds keep a mistaken `--volume /` from walking a disk.
+constexpr int max_folder_depth = 5;
+constexpr std::uint64_t max_folder_files = max_frames;
+
+// The files below the folder (in sub-folders too when `subfolders`) that carry the DICOM Part 10
+// marker, in path order so that logs and fallbacks are reproducible. Hidden files and folders
+// and links to folders are passed over.
 base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::filesystem::path& folder,
+                                                                bool subfolders,
                                                                 std::size_t& skipped) {
     std::error_code ec;
     std::vector<std::filesystem::path> files;
-    for (auto it = std::filesystem::directory_iterator(folder, ec);
-         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    std::uint64_t seen = 0;
+    for (auto it = std::filesystem::recursive_directory_iterator(
+                 folder, std::filesystem::directory_options::skip_permission_denied, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
         const std::string name = it->path().filename().string();
+        if (it->is_directory(ec)) {
+            if (!subfolders || name.starts_with('.') || it.depth() + 1 >= max_folder_depth) {
+                it.disable_recursion_pending();
+            }
+            continue;
+        }
         if (!it->is_regular_file(ec) || name.starts_with('.')) {
             continue;
+        }
+        if (++seen > max_folder_files) {
+            return base::make_error("too_large",
+                                    "the folder holds more than " +
+                                            std::to_string(max_folder_files) +
+                                            " files (sub-folders included); open the series' "
+                                            "own folder",
+                                    detail::at_file(folder));
         }
         if (is_dicom_file(it->path())) {
             files.push_back(it->path());
@@ -410,31 +497,124 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
     return files;
 }
 
-// Keeps the series with the most frames and logs the others.
-void keep_largest_series(std::vector<Image>& images, const std::filesystem::path& folder) {
-    std::map<std::string, std::size_t> frames_per_series;
+// The image headers of a folder, with what was passed over.
+struct FolderImages {
+    std::vector<Image> images;
+    std::size_t not_dicom = 0;
+    std::size_t not_images = 0;
+    std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
+};
+
+base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool subfolders) {
+    FolderImages found;
+    auto files = dicom_files_in(folder, subfolders, found.not_dicom);
+    if (!files) {
+        return files.error();
+    }
+    for (const auto& path : *files) {
+        Image image;
+        auto opened = open_image(path, image);
+        // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
+        // not a slice of any series here: skipped with a warning, so the series beside it opens.
+        if (!opened && opened.error().code == "unsupported_type") {
+            base::log_warning(log_component,
+                              "skipped " + opened.error().where + ": " + opened.error().message);
+            if (!found.other_kind) {
+                found.other_kind = opened.error();
+            }
+            continue;
+        }
+        if (!opened) {
+            return opened.error();
+        }
+        if (*opened == Opened::not_an_image) {
+            ++found.not_images;
+            continue;
+        }
+        found.images.push_back(std::move(image));
+    }
+    if (found.images.empty() && found.other_kind) {
+        return *found.other_kind;
+    }
+    if (found.images.empty() && found.not_dicom + found.not_images == 0) {
+        return base::make_error("no_dicom_images", "the folder holds no files",
+                                detail::at_file(folder));
+    }
+    if (found.images.empty()) {
+        return base::make_error("no_dicom_images",
+                                "the folder holds no DICOM image files (" +
+                                        std::to_string(found.not_dicom) + " other files, " +
+                                        std::to_string(found.not_images) +
+                                        " DICOM files without pixel data)",
+                                detail::at_file(folder));
+    }
+    return found;
+}
+
+// The series of the images, ordered by SeriesNumber (numerically), then UID.
+std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
+    std::map<std::string, DicomSeries> by_uid;
     for (const Image& image : images) {
-        frames_per_series[image.series_uid] += image.frame_count;
+        DicomSeries& series = by_uid[image.series_uid];
+        if (series.images == 0) {
+            series.uid = image.series_uid;
+            series.number = image.series_number;
+            series.description = image.series_description;
+            series.modality = image.modality;
+        }
+        ++series.images;
+        series.frames += image.frame_count;
     }
-    if (frames_per_series.size() < 2) {
-        return;
+    std::vector<DicomSeries> list;
+    for (auto& [uid, series] : by_uid) {
+        list.push_back(std::move(series));
     }
-    const auto largest =
-            std::max_element(frames_per_series.begin(), frames_per_series.end(),
-                             [](const auto& a, const auto& b) { return a.second < b.second; });
-    const std::string kept = largest->first;
-    std::string left_out;
-    for (const auto& [uid, count] : frames_per_series) {
-        if (uid != kept) {
-            left_out += (left_out.empty() ? "" : ", ") + uid + " (" + std::to_string(count) +
-                        " slices)";
+    const auto number = [](const DicomSeries& s) {
+        return s.number.empty() ? std::numeric_limits<long long>::max() : std::stoll(s.number);
+    };
+    std::stable_sort(list.begin(), list.end(), [&](const DicomSeries& a, const DicomSeries& b) {
+        return number(a) < number(b);
+    });
+    return list;
+}
+
+std::string series_choices(const std::vector<DicomSeries>& list) {
+    std::string text;
+    for (const DicomSeries& series : list) {
+        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.frames) +
+                " slices, " + (series.number.empty() ? "" : "number " + series.number + ", ") +
+                "UID " + series.uid;
+    }
+    return text;
+}
+
+// Keeps the images of the series `wanted` names (its number or UID), or of the only series.
+base::Result<DicomSeries> select_series(std::vector<Image>& images, const std::string& wanted,
+                                        const std::filesystem::path& folder) {
+    const std::vector<DicomSeries> list = series_of(images);
+    std::vector<const DicomSeries*> matches;
+    for (const DicomSeries& series : list) {
+        if (wanted.empty() || series.uid == wanted || series.number == wanted) {
+            matches.push_back(&series);
         }
     }
-    base::log_info(log_component,
-                   folder.string() + ": " + std::to_string(frames_per_series.size()) +
-                           " series in the folder; loading " + kept + " (" +
-                           std::to_string(largest->second) + " slices), leaving out " + left_out);
-    std::erase_if(images, [&](const Image& image) { return image.series_uid != kept; });
+    if (matches.size() != 1) {
+        std::string what;
+        if (wanted.empty()) {
+            what = "the folder holds " + std::to_string(list.size()) +
+                   " series; choose one by number or UID (--series)";
+        } else if (matches.empty()) {
+            what = "the folder holds no series numbered '" + wanted + "' nor with that UID";
+        } else {
+            what = "several series are numbered " + wanted + "; choose one by UID";
+        }
+        return base::make_error(
+                wanted.empty() || !matches.empty() ? "several_series" : "unknown_series",
+                what + ": " + series_choices(list), detail::at_file(folder));
+    }
+    const DicomSeries chosen = *matches.front();
+    std::erase_if(images, [&](const Image& image) { return image.series_uid != chosen.uid; });
+    return chosen;
 }
 
 glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
@@ -451,14 +631,56 @@ std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     return label;
 }
 
-// Sorts the frames into z order and returns the spacing between them.
+// Positions this close along the normal are one position repeated, not two slices: scanners
+// write them to a micrometre or finer, and no series has slices that close.
+constexpr double same_position = 1e-3;  // mm
+
+// Several volumes of one series (echoes, acquisitions, time points) repeat each position as
+// often: keeps the first volume's frame at each position of the frames (sorted by `depth`) and
+// returns how many volumes there are; 1 where no position repeats, or where positions repeat
+// unevenly, which the spacing check then reports at the slice where it happens.
+template <class Depth>
+std::size_t keep_first_volume(std::vector<Frame>& frames, Depth depth) {
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // [begin, end) of each position
+    for (std::size_t begin = 0; begin < frames.size();) {
+        std::size_t end = begin + 1;
+        while (end < frames.size() &&
+               std::abs(depth(frames[end]) - depth(frames[begin])) < same_position) {
+            ++end;
+        }
+        runs.emplace_back(begin, end);
+        begin = end;
+    }
+    const std::size_t volumes = runs.front().second - runs.front().first;
+    if (volumes < 2 || std::any_of(runs.begin(), runs.end(), [&](const auto& run) {
+            return run.second - run.first != volumes;
+        })) {
+        return 1;
+    }
+    std::vector<Frame> first;
+    first.reserve(runs.size());
+    for (const auto& [begin, end] : runs) {
+        first.push_back(*std::min_element(
+                frames.begin() + static_cast<std::ptrdiff_t>(begin),
+                frames.begin() + static_cast<std::ptrdiff_t>(end),
+                [](const Frame& a, const Frame& b) { return a.volume_key < b.volume_key; }));
+    }
+    frames = std::move(first);
+    return volumes;
+}
+
+// Sorts the frames into z order and returns the spacing between them; of a series holding
+// several volumes, keeps the first and says so in `notes`.
 base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<Image>& images,
-                                  const std::filesystem::path& source) {
+                                  const std::filesystem::path& source,
+                                  std::vector<std::string>& notes) {
     const bool positioned = std::all_of(frames.begin(), frames.end(),
                                         [](const Frame& f) { return f.position && f.orientation; });
+    glm::dvec3 normal(0.0);
+    const auto depth = [&](const Frame& f) { return glm::dot(normal, *f.position); };
     if (positioned && frames.size() > 1) {
         const auto& orientation = *frames.front().orientation;
-        glm::dvec3 normal = slice_normal(orientation);
+        normal = slice_normal(orientation);
         if (!(glm::length(normal) > 0.5)) {
             return base::make_error("bad_header",
                                     "ImageOrientationPatient has parallel row and column "
@@ -477,9 +699,17 @@ base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<
                 }
             }
         }
-        const auto depth = [&](const Frame& f) { return glm::dot(normal, *f.position); };
         std::stable_sort(frames.begin(), frames.end(),
                          [&](const Frame& a, const Frame& b) { return depth(a) < depth(b); });
+        if (const std::size_t volumes = keep_first_volume(frames, depth); volumes > 1) {
+            notes.push_back("the series holds " + std::to_string(volumes) +
+                            " volumes (each position repeated: echoes, acquisitions or time "
+                            "points); opened the first, " +
+                            std::to_string(frames.size()) + " slices");
+            base::log_info(log_component, source.string() + ": " + notes.back());
+        }
+    }
+    if (positioned && frames.size() > 1) {
         std::vector<double> gaps;
         for (std::size_t i = 1; i < frames.size(); ++i) {
             gaps.push_back(depth(frames[i]) - depth(frames[i - 1]));
@@ -765,8 +995,8 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
         auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count);
         frames.insert(frames.end(), image_frames.begin(), image_frames.end());
     }
-    const std::uint64_t voxels = all_voxels;
-    auto z_spacing = order_frames(frames, images, source);
+    std::vector<std::string> notes;
+    auto z_spacing = order_frames(frames, images, source, notes);
     if (!z_spacing) {
         return z_spacing.error();
     }
@@ -792,10 +1022,14 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
         slots[frames[z].image].push_back(z);
     }
     const std::size_t slice_voxels = std::size_t{format.rows} * format.columns;
+    const std::uint64_t voxels = std::uint64_t{slice_voxels} * frames.size();
     // Decoded as float32 straight into the bytes the volume keeps when no narrower type fits.
     std::vector<std::byte> decoded(static_cast<std::size_t>(voxels) * sizeof(float));
     auto* values = reinterpret_cast<float*>(decoded.data());
     for (std::size_t i = 0; i < images.size(); ++i) {
+        if (slots[i].empty()) {
+            continue;  // a frame of a later volume of the series
+        }
         auto pixels = pixel_bytes(images[i]);
         if (!pixels) {
             return pixels.error();
@@ -840,65 +1074,35 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     volume->axes = geometry->axes;
     volume->origin = geometry->origin;
     volume->hounsfield = images.front().hounsfield;
+    volume->notes = std::move(notes);
     return volume;
 }
 
 base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
                                        const LoadOptions& options) {
-    std::size_t not_dicom = 0;
-    auto files = dicom_files_in(folder, not_dicom);
-    if (!files) {
-        return files.error();
+    auto found = read_folder(folder, options.dicom_subfolders);
+    if (!found) {
+        return found.error();
     }
-    std::vector<Image> images;
-    std::size_t not_images = 0;
-    std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
-    for (const auto& path : *files) {
-        Image image;
-        auto opened = open_image(path, image);
-        // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
-        // not a slice of any series here: skipped with a warning, so the series beside it opens.
-        if (!opened && opened.error().code == "unsupported_type") {
-            base::log_warning(log_component,
-                              "skipped " + opened.error().where + ": " + opened.error().message);
-            if (!other_kind) {
-                other_kind = opened.error();
-            }
-            continue;
-        }
-        if (!opened) {
-            return opened.error();
-        }
-        if (*opened == Opened::not_an_image) {
-            ++not_images;
-            continue;
-        }
-        images.push_back(std::move(image));
-    }
-    if (images.empty() && other_kind) {
-        return *other_kind;
-    }
-    if (images.empty() && not_dicom + not_images == 0) {
-        return base::make_error("no_dicom_images", "the folder holds no files",
-                                detail::at_file(folder));
-    }
-    if (images.empty()) {
-        return base::make_error("no_dicom_images",
-                                "the folder holds no DICOM image files (" +
-                                        std::to_string(not_dicom) + " other files, " +
-                                        std::to_string(not_images) +
-                                        " DICOM files without pixel data)",
-                                detail::at_file(folder));
-    }
-    if (not_dicom + not_images > 0) {
-        base::log_info(log_component, folder.string() + ": skipped " + std::to_string(not_dicom) +
+    if (found->not_dicom + found->not_images > 0) {
+        base::log_info(log_component, folder.string() + ": skipped " +
+                                              std::to_string(found->not_dicom) +
                                               " files that are not DICOM and " +
-                                              std::to_string(not_images) +
+                                              std::to_string(found->not_images) +
                                               " DICOM files without pixel data");
     }
-    keep_largest_series(images, folder);
-    const std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
-                                                       : folder.filename().string();
+    std::vector<Image>& images = found->images;
+    const std::size_t series_count = series_of(images).size();
+    auto chosen = select_series(images, options.dicom_series, folder);
+    if (!chosen) {
+        return chosen.error();
+    }
+    // One of several series is named for itself, the only one for its folder.
+    std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
+                                                 : folder.filename().string();
+    if (series_count > 1) {
+        name = chosen->label();
+    }
     return assemble(images, name, folder, options);
 }
 
@@ -954,6 +1158,24 @@ base::Result<Volume> load_dicom_path(const std::filesystem::path& path,
 }
 
 }  // namespace
+
+std::string DicomSeries::label() const {
+    std::string text = description;
+    if (!number.empty()) {
+        text += (text.empty() ? "" : " ") + std::string("(series ") + number + ")";
+    }
+    return text.empty() ? uid : text;
+}
+
+base::Result<std::vector<DicomSeries>> list_dicom_series(const std::filesystem::path& folder,
+                                                         bool subfolders) {
+    prepare_library();
+    auto found = read_folder(folder, subfolders);
+    if (!found) {
+        return found.error();
+    }
+    return series_of(found->images);
+}
 
 base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options) {
     return detail::guard_allocation(path, [&] { return load_dicom_path(path, options); });
