@@ -399,6 +399,9 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::L
     std::vector<protocol::VolumeSummary> list;
     for (const auto& entry : context_.services.volumes.list()) {
         list.push_back(summary_of(entry.id, entry.loaded.get()));
+        if (!entry.loaded) {
+            list.back().name = entry.name;  // a DICOM series' description before it is read
+        }
     }
     send(protocol::volumes_message(id, list));
 }
