@@ -1,4 +1,4 @@
-// DICOM through DCMTK (Debian's libdcmtk): a folder holding one series of slices, or one file
+// DICOM through DCMTK (Debian's libdcmtk): a folder holding the slices of one or more series, or one file
 // (a multi-frame image, or a single slice).
 //
 // Rules this loader adds on top of the library:
