@@ -1,5 +1,5 @@
-// DICOM through DCMTK (Debian's libdcmtk): a folder holding the slices of one or more series, or one file
-// (a multi-frame image, or a single slice).
+// DICOM through DCMTK (Debian's libdcmtk): a folder holding the slices of one or more series, or
+// one file (a multi-frame image, or a single slice).
 //
 // Rules this loader adds on top of the library:
 //   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
