@@ -505,7 +505,10 @@ struct FolderImages {
     std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
 };
 
-base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool subfolders) {
+// `keep_files`: keep each image's parsed file for its pixel data (a load), or drop it once its
+// header is read (a listing of a folder's series, which may hold thousands of files).
+base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool subfolders,
+                                       bool keep_files) {
     FolderImages found;
     auto files = dicom_files_in(folder, subfolders, found.not_dicom);
     if (!files) {
@@ -530,6 +533,9 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
         if (*opened == Opened::not_an_image) {
             ++found.not_images;
             continue;
+        }
+        if (!keep_files) {
+            image.file.reset();
         }
         found.images.push_back(std::move(image));
     }
@@ -1080,7 +1086,7 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
 
 base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
                                        const LoadOptions& options) {
-    auto found = read_folder(folder, options.dicom_subfolders);
+    auto found = read_folder(folder, options.dicom_subfolders, true);
     if (!found) {
         return found.error();
     }
@@ -1170,7 +1176,7 @@ std::string DicomSeries::label() const {
 base::Result<std::vector<DicomSeries>> list_dicom_series(const std::filesystem::path& folder,
                                                          bool subfolders) {
     prepare_library();
-    auto found = read_folder(folder, subfolders);
+    auto found = read_folder(folder, subfolders, false);
     if (!found) {
         return found.error();
     }
