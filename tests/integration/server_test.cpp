@@ -1,5 +1,7 @@
 // The service end to end: a real server on 127.0.0.1 and a free port, real WebSocket clients.
 
+#include "dicom_writer.hpp"
+
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/client.hpp>
@@ -248,6 +250,36 @@ TEST_F(ServerTest, HelloAnnouncesLimitsAndListVolumesFindsTheData) {
     EXPECT_EQ(field(volumes, "type"), "volumes");
     EXPECT_NE(volumes.find("\"heads/ch2.nii.gz\""), std::string::npos) << volumes;
     EXPECT_NE(volumes.find("\"id\":7"), std::string::npos);
+}
+
+// A clinic's export folder holding two series: the list shows each under its own id, named by
+// description and number, and each id opens its own series.
+TEST_F(ServerTest, ADicomFolderOfTwoSeriesListsTwoVolumes) {
+    fs::create_directories(data_ / "study");
+    for (const auto& [number, dims] :
+         {std::pair{"2", glm::uvec3(8, 8, 4)}, std::pair{"7", glm::uvec3(6, 6, 3)}}) {
+        volume::fixtures::SeriesSpec spec;
+        spec.dims = dims;
+        spec.series_number = number;
+        spec.series_description = std::string("series ") + number + " head";
+        const auto files = volume::fixtures::write_series(
+                data_ / "export" / number, spec,
+                std::vector<std::uint16_t>(std::size_t{dims.x} * dims.y * dims.z, 100));
+        for (const auto& file : files) {
+            fs::rename(file, data_ / "study" / (std::string(number) + file.filename().string()));
+        }
+    }
+    fs::remove_all(data_ / "export");
+    start(protocol::Limits{});
+    TestClient client(port_);
+    const std::string volumes = client.request(R"({"v":1,"type":"list_volumes","id":3})");
+    for (const char* expected : {R"("id":"study#2")", R"x("name":"series 2 head (series 2)")x",
+                                 R"("id":"study#7")", R"x("name":"series 7 head (series 7)")x"}) {
+        EXPECT_NE(volumes.find(expected), std::string::npos) << expected << " in " << volumes;
+    }
+    EXPECT_EQ(volumes.find(R"("id":"study")"), std::string::npos) << volumes;
+    const std::string opened = client.open("study#7");
+    EXPECT_NE(opened.find(R"("dims":[6,6,3])"), std::string::npos) << opened.substr(0, 300);
 }
 
 TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
