@@ -5,9 +5,9 @@
 //   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
 //     read; other files (README.txt, .DS_Store, thumbnails) and DICOM objects without pixel data
 //     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
-//     secondary captures, float or odd bit depths, Siemens mosaics) are skipped with a warning
-//     naming each, so the series beside them opens; a folder of nothing else is that image's
-//     error. Sub-folders are searched too (unless LoadOptions says not), at most
+//     secondary captures, float or odd bit depths, mosaics that cannot be unpacked) are skipped
+//     with a warning naming each, so the series beside them opens; a folder of nothing else is that
+//     image's error. Sub-folders are searched too (unless LoadOptions says not), at most
 //     max_folder_depth levels and max_folder_files files deep: a DICOMDIR export root keeps its
 //     images in DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series.
 //     The DICOMDIR itself is not needed: every image file names its own series.
@@ -18,8 +18,9 @@
 //     repeated as often) opens its first volume, the lowest (TemporalPositionIdentifier,
 //     EchoNumbers, AcquisitionNumber, InstanceNumber) at each position, with a note saying so.
 //   - Siemens mosaics (ImageType MOSAIC, or NumberOfImagesInMosaic (0019,100a)) tile a volume's
-//     slices in one image whose true slice positions sit in Siemens' private CSA header; they are
-//     refused saying "mosaic" rather than drawn as one flat slice.
+//     slices in one image: unpacked into the slices as nibabel and dcm2niix do (the corner
+//     position corrected, slices along the CSA header's SliceNormalVector); one whose number of
+//     slices is missing or does not tile the image is refused saying "mosaic".
 //   - Slices (and the frames of multi-frame files, whose positions may sit in the functional
 //     groups) are ordered by their position along the slice normal, ImageOrientationPatient's
 //     row x column direction dotted with ImagePositionPatient. The z spacing is the gap between
@@ -217,6 +218,15 @@ struct PixelFormat {
     }
 };
 
+// A Siemens mosaic: `tiles` x `tiles` slices of a volume tiled row by row in one stored image,
+// the first `slices` of them in use.
+struct Mosaic {
+    std::uint32_t tiles = 1;
+    std::uint16_t stored_rows = 0;
+    std::uint16_t stored_columns = 0;
+    std::optional<glm::dvec3> slice_normal;  // CSA SliceNormalVector (LPS)
+};
+
 // One 2-D image of the volume: a single-frame file or one frame of a multi-frame file.
 struct Frame {
     std::size_t image = 0;    // index into the loaded images
@@ -242,9 +252,18 @@ struct Image {
     std::string series_description;
     std::string modality;
     bool hounsfield = false;  // Modality CT or RescaleType HU
-    PixelFormat format;
+    PixelFormat format;       // of one slice: for a mosaic, of one tile
     std::uint32_t frame_count = 1;
+    std::optional<Mosaic> mosaic;
 };
+
+// The pixel words an image stores for all its frames (a mosaic: its whole tiled image).
+std::uint64_t stored_pixels(const Image& image) {
+    if (image.mosaic) {
+        return std::uint64_t{image.mosaic->stored_rows} * image.mosaic->stored_columns;
+    }
+    return std::uint64_t{image.format.rows} * image.format.columns * image.frame_count;
+}
 
 base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
                                             const std::filesystem::path& path) {
@@ -294,8 +313,48 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
     return format;
 }
 
+// The positions of a mosaic's slices. Its ImagePositionPatient is that of the tiled image's
+// first pixel as if it were one slice: the first tile's first pixel lies half the difference of
+// the two sizes further along the rows and columns (the correction nibabel and dcm2niix make);
+// each next slice steps along the CSA slice normal (else the row x column direction) by
+// SpacingBetweenSlices, else SliceThickness. Without position or orientation the slices keep
+// their tile order.
+void place_mosaic_slices(std::vector<Frame>& frames, const Mosaic& mosaic,
+                         const PixelFormat& tile) {
+    const Frame& first = frames.front();
+    if (!first.position || !first.orientation || !first.pixel_spacing) {
+        return;
+    }
+    const auto& cosines = *first.orientation;
+    const glm::dvec3 row(cosines[0], cosines[1], cosines[2]);
+    const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
+    glm::dvec3 normal = glm::cross(row, column);
+    if (mosaic.slice_normal && glm::length(*mosaic.slice_normal) > 0.5) {
+        normal = *mosaic.slice_normal;
+    }
+    if (!(glm::length(normal) > 0.5)) {
+        return;  // parallel directions: order_frames names the error
+    }
+    normal = glm::normalize(normal);
+    double gap = 1.0;
+    if (first.spacing_between_slices && *first.spacing_between_slices > 0.0) {
+        gap = *first.spacing_between_slices;
+    } else if (first.slice_thickness && *first.slice_thickness > 0.0) {
+        gap = *first.slice_thickness;
+    }
+    const auto& spacing = *first.pixel_spacing;  // between rows, between columns
+    const glm::dvec3 corner =
+            *first.position +
+            row * spacing[1] * (double(mosaic.stored_columns) - double(tile.columns)) / 2.0 +
+            column * spacing[0] * (double(mosaic.stored_rows) - double(tile.rows)) / 2.0;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        frames[f].position = corner + static_cast<double>(f) * gap * normal;
+    }
+}
+
 std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
-                               std::uint32_t frame_count) {
+                               std::uint32_t frame_count, const std::optional<Mosaic>& mosaic,
+                               const PixelFormat& format) {
     std::vector<Frame> frames(frame_count);
     const auto instance = get_int(dataset, DCM_InstanceNumber).value_or(0);
     const std::int64_t temporal_position =
@@ -337,40 +396,141 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
         frame.slope = slope && *slope != 0.0 ? *slope : 1.0;
         frame.intercept = rescale(DCM_RescaleIntercept).value_or(0.0);
     }
+    if (mosaic) {
+        place_mosaic_slices(frames, *mosaic, format);
+    }
     return frames;
 }
 
-// Siemens' NumberOfImagesInMosaic, a private tag of its CSA group.
+// Siemens' NumberOfImagesInMosaic and CSA Image Header Info, private tags of its groups.
 const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
+const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
 
-// A Siemens mosaic tiles every slice of a volume in one image; the slices' true positions sit in
-// the private CSA header, so it is refused, naming it, rather than drawn as one flat slice.
-base::Status refuse_mosaic(DcmDataset& dataset, const PixelFormat& format,
-                           const std::filesystem::path& path) {
-    OFString image_type;
-    bool mosaic = dataset.tagExists(siemens_images_in_mosaic);
-    if (dataset.findAndGetOFStringArray(DCM_ImageType, image_type).good()) {
-        std::string_view rest(image_type.c_str());
-        while (!mosaic && !rest.empty()) {
-            const auto end = std::min(rest.find('\\'), rest.size());
-            mosaic = rest.substr(0, end) == "MOSAIC";
-            rest.remove_prefix(std::min(end + 1, rest.size()));
+// The text values of element `name` in a Siemens CSA header of the "SV10" layout (Syngo's, as
+// nibabel's csareader reads it): a count of elements, each a 64-byte name, its multiplicity, VR,
+// and items of a length-prefixed string padded to four bytes. Nothing where the header is absent,
+// of the older layout, damaged, or lacks the element.
+std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) {
+    const Uint8* bytes = nullptr;
+    unsigned long size = 0;
+    if (dataset.findAndGetUint8Array(siemens_csa_image_header, bytes, &size).bad() ||
+        bytes == nullptr || size < 16 || std::memcmp(bytes, "SV10", 4) != 0) {
+        return {};
+    }
+    const auto int32_at = [&](std::size_t at) {
+        std::int32_t value = 0;
+        std::memcpy(&value, bytes + at, 4);
+        return value;
+    };
+    constexpr std::int32_t max_elements = 128;  // nibabel's bound; real headers hold about 100
+    const std::int32_t elements = int32_at(8);
+    if (elements < 1 || elements > max_elements) {
+        return {};
+    }
+    std::size_t at = 16;
+    for (std::int32_t e = 0; e < elements; ++e) {
+        if (at + 84 > size) {
+            return {};
+        }
+        const std::string element(reinterpret_cast<const char*>(bytes + at),
+                                  strnlen(reinterpret_cast<const char*>(bytes + at), 64));
+        const std::int32_t multiplicity = int32_at(at + 64);
+        const std::int32_t items = int32_at(at + 76);
+        at += 84;
+        if (items < 0 || items > 1024) {
+            return {};
+        }
+        std::vector<std::string> values;
+        for (std::int32_t i = 0; i < items; ++i) {
+            if (at + 16 > size) {
+                return {};
+            }
+            const std::int32_t length = int32_at(at + 4);
+            at += 16;
+            if (length < 0 || at + static_cast<std::size_t>(length) > size) {
+                return {};
+            }
+            if (i < multiplicity) {
+                const char* text = reinterpret_cast<const char*>(bytes + at);
+                values.emplace_back(text, strnlen(text, static_cast<std::size_t>(length)));
+            }
+            at += static_cast<std::size_t>(length) + (4 - length % 4) % 4;
+        }
+        if (element == name) {
+            return values;
         }
     }
-    if (!mosaic) {
-        return base::Ok{};
+    return {};
+}
+
+// Whether the image is a Siemens mosaic: ImageType holds MOSAIC, or NumberOfImagesInMosaic is
+// set.
+bool is_mosaic(DcmDataset& dataset) {
+    if (dataset.tagExists(siemens_images_in_mosaic)) {
+        return true;
     }
-    std::string tiles;
-    if (const auto count = get_uint16(dataset, siemens_images_in_mosaic)) {
-        tiles = std::to_string(*count) + " ";
+    OFString image_type;
+    if (dataset.findAndGetOFStringArray(DCM_ImageType, image_type).bad()) {
+        return false;
     }
-    return base::make_error("unsupported_type",
-                            "a Siemens mosaic (" + tiles + "slices tiled in one " +
-                                    std::to_string(format.columns) + "x" +
-                                    std::to_string(format.rows) +
-                                    " image) is not unpacked; convert the series with dcm2niix "
-                                    "(Debian's dcm2niix) and open its NIfTI",
-                            detail::at_file(path));
+    std::string_view rest(image_type.c_str());
+    while (!rest.empty()) {
+        const auto end = std::min(rest.find('\\'), rest.size());
+        if (rest.substr(0, end) == "MOSAIC") {
+            return true;
+        }
+        rest.remove_prefix(std::min(end + 1, rest.size()));
+    }
+    return false;
+}
+
+// A Siemens mosaic tiles every slice of a volume in one image, ceil(sqrt(n)) tiles a side, row by
+// row: unpacked into its n slices, whose positions sit along the CSA header's slice normal (see
+// read_frames). Refused, saying "mosaic", where the number of slices is missing or does not tile
+// the image.
+base::Result<std::optional<Mosaic>> read_mosaic(DcmDataset& dataset, PixelFormat& format,
+                                                std::uint32_t& frame_count,
+                                                const std::filesystem::path& path) {
+    if (!is_mosaic(dataset)) {
+        return std::optional<Mosaic>();
+    }
+    std::optional<std::uint32_t> slices = get_uint16(dataset, siemens_images_in_mosaic);
+    if (!slices) {
+        const auto csa = csa_values(dataset, "NumberOfImagesInMosaic");
+        if (!csa.empty()) {
+            slices = static_cast<std::uint32_t>(std::atoi(csa.front().c_str()));
+        }
+    }
+    const auto refuse = [&](const std::string& why) {
+        return base::make_error("unsupported_type",
+                                "a Siemens mosaic (slices tiled in one " +
+                                        std::to_string(format.columns) + "x" +
+                                        std::to_string(format.rows) + " image) whose " + why +
+                                        "; convert the series with dcm2niix (Debian's dcm2niix) "
+                                        "and open its NIfTI",
+                                detail::at_file(path));
+    };
+    if (!slices || *slices == 0) {
+        return refuse("number of slices is not given (NumberOfImagesInMosaic)");
+    }
+    Mosaic mosaic;
+    while (mosaic.tiles * mosaic.tiles < *slices) {
+        ++mosaic.tiles;
+    }
+    if (frame_count != 1 || format.rows % mosaic.tiles != 0 || format.columns % mosaic.tiles != 0) {
+        return refuse(std::to_string(*slices) + " slices do not tile the image evenly");
+    }
+    const auto normal = csa_values(dataset, "SliceNormalVector");
+    if (normal.size() == 3) {
+        mosaic.slice_normal = glm::dvec3(std::atof(normal[0].c_str()), std::atof(normal[1].c_str()),
+                                         std::atof(normal[2].c_str()));
+    }
+    mosaic.stored_rows = format.rows;
+    mosaic.stored_columns = format.columns;
+    format.rows = static_cast<std::uint16_t>(format.rows / mosaic.tiles);
+    format.columns = static_cast<std::uint16_t>(format.columns / mosaic.tiles);
+    frame_count = *slices;
+    return std::optional<Mosaic>(mosaic);
 }
 
 enum class Opened { image, not_an_image };
@@ -414,9 +574,6 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     if (!format) {
         return format.error();
     }
-    if (auto mosaic = refuse_mosaic(dataset, *format, path); !mosaic) {
-        return mosaic.error();
-    }
     image.format = *format;
     const auto frames = get_int(dataset, DCM_NumberOfFrames).value_or(1);
     if (frames < 1) {
@@ -436,6 +593,11 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
                                 detail::at_file(path));
     }
     image.frame_count = static_cast<std::uint32_t>(frames);
+    auto mosaic = read_mosaic(dataset, image.format, image.frame_count, path);
+    if (!mosaic) {
+        return mosaic.error();
+    }
+    image.mosaic = *mosaic;
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
     if (const auto number = get_int(dataset, DCM_SeriesNumber)) {
         image.series_number = std::to_string(*number);
@@ -847,8 +1009,7 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
                                     detail::at_file(image.path));
         }
     }
-    const std::uint64_t expected = std::uint64_t{image.format.rows} * image.format.columns *
-                                   image.frame_count * (image.format.bits_allocated / 8);
+    const std::uint64_t expected = stored_pixels(image) * (image.format.bits_allocated / 8);
     DcmElement* element = nullptr;
     OFCondition status = dataset.findAndGetElement(DCM_PixelData, element);
     const std::byte* data = nullptr;
@@ -914,20 +1075,35 @@ struct SampleDecoder {
 
 // Writes the values of one frame into `out` (float32 voxels): stored values, or with the frame's
 // rescale applied when `apply_rescale`.
+// A mosaic's frame is its tile: `tiles` a side, row by row.
 void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
-                  std::uint32_t frame_index, const Frame& frame, bool apply_rescale, float* out) {
+                  const std::optional<Mosaic>& mosaic, std::uint32_t frame_index,
+                  const Frame& frame, bool apply_rescale, float* out) {
     const std::size_t count = std::size_t{format.rows} * format.columns;
     const std::size_t width = format.bits_allocated / 8;
-    const std::byte* in = pixels.data() + std::size_t{frame_index} * count * width;
+    // Where pixel i of the frame is stored, in words.
+    const auto stored_at = [&](std::size_t i) {
+        if (!mosaic) {
+            return std::size_t{frame_index} * count + i;
+        }
+        const std::size_t x = i % format.columns;
+        const std::size_t y = i / format.columns;
+        const std::size_t tile_row = frame_index / mosaic->tiles;
+        const std::size_t tile_column = frame_index % mosaic->tiles;
+        return (tile_row * format.rows + y) * mosaic->stored_columns +
+               tile_column * format.columns + x;
+    };
+    const std::byte* in = pixels.data();
     const SampleDecoder decode(format);
     const bool identity = !apply_rescale || (frame.slope == 1.0 && frame.intercept == 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         std::uint32_t word = 0;
+        const std::size_t at = stored_at(i);
         if (width == 1) {
-            word = static_cast<std::uint8_t>(in[i]);
+            word = static_cast<std::uint8_t>(in[at]);
         } else {
             std::uint16_t value = 0;
-            std::memcpy(&value, in + 2 * i, 2);
+            std::memcpy(&value, in + 2 * at, 2);
             word = value;
         }
         const double stored = decode(word);
@@ -968,8 +1144,7 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     for (const Image& image : images) {
         frame_count += image.frame_count;
         largest_image =
-                std::max(largest_image, std::uint64_t{format.rows} * format.columns *
-                                                image.frame_count * (format.bits_allocated / 8u));
+                std::max(largest_image, stored_pixels(image) * (format.bits_allocated / 8u));
     }
     if (frame_count > max_frames) {
         return base::make_error("too_large",
@@ -998,7 +1173,8 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     std::vector<Frame> frames;
     frames.reserve(static_cast<std::size_t>(frame_count));
     for (std::size_t i = 0; i < images.size(); ++i) {
-        auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count);
+        auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count,
+                                        images[i].mosaic, images[i].format);
         frames.insert(frames.end(), image_frames.begin(), image_frames.end());
     }
     std::vector<std::string> notes;
@@ -1041,7 +1217,7 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
             return pixels.error();
         }
         for (const std::size_t z : slots[i]) {
-            decode_frame(*pixels, format, frames[z].index, frames[z], !kept,
+            decode_frame(*pixels, format, images[i].mosaic, frames[z].index, frames[z], !kept,
                          values + z * slice_voxels);
         }
         images[i].file.reset();  // drops the decoded pixel data

@@ -480,9 +480,130 @@ TEST(DicomLoader, ASeriesOfSeveralVolumesOpensTheFirstWithANote) {
     EXPECT_EQ(uneven.error().code, "inconsistent_series");
 }
 
-// Siemens mosaics tile a volume's slices in one image: refused by name, alone or in a folder
-// (where the series beside them still opens). Heudiconv's real ones are in the conformance test.
-TEST(DicomLoader, SiemensMosaicsAreRefusedSayingMosaic) {
+// Siemens' NumberOfImagesInMosaic: a private element of its "SIEMENS MR HEADER" block.
+void put_images_in_mosaic(DcmDataset& dataset, std::uint16_t count) {
+    ASSERT_TRUE(
+            dataset.putAndInsertString(DcmTag(0x0019, 0x0010, EVR_LO), "SIEMENS MR HEADER").good());
+    ASSERT_TRUE(dataset.putAndInsertUint16(DcmTag(0x0019, 0x100a, EVR_US), count).good());
+    ASSERT_TRUE(
+            dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\ND\\MOSAIC").good());
+}
+
+// A Siemens mosaic: five 16x8 slices of the ch2 head tiled three a side in one 48x24 image, whose
+// ImagePositionPatient is that of the tiled image's corner as Siemens writes it. It opens as the
+// five slices, the first tile's corner as origin. (Heudiconv's real mosaics are compared with
+// nibabel's unpacking in the conformance test.)
+TEST(DicomLoader, ASiemensMosaicIsUnpackedIntoItsSlices) {
+    fixtures::TempDir dir;
+    const glm::uvec3 tile{16, 8, 5};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    constexpr unsigned tiles = 3;
+    std::vector<std::uint16_t> tiled(std::size_t{tile.x} * tiles * tile.y * tiles, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / tiles) * tile.y + y) * tile.x * tiles + (f % tiles) * tile.x + x] =
+                        slices[(std::size_t{f} * tile.y + y) * tile.x + x];
+            }
+        }
+    }
+    SeriesSpec spec;
+    spec.dims = {tile.x * tiles, tile.y * tiles, 1};
+    spec.spacing = {0.75, 0.5, 2.0};
+    const glm::dvec3 corner{-10.0, 5.0, 3.0};  // LPS: the first tile's first pixel
+    // Siemens writes the tiled image's corner: a whole tile grid's half-difference away.
+    spec.origin = corner - glm::dvec3(0.75 * (48 - 16) / 2.0, 0.5 * (24 - 8) / 2.0, 0.0);
+    spec.edit = [](DcmDataset& dataset) { put_images_in_mosaic(dataset, 5); };
+    fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+
+    auto volume = load_volume(dir / "mosaic.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, tile);
+    EXPECT_EQ(volume->spacing, glm::dvec3(0.75, 0.5, 2.0));
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(glm::length(volume->origin - lps_to_ras(corner)), 0.0, 1e-9);
+    expect_ch2_voxels(*volume, slices);
+}
+
+// A Siemens CSA image header (0029,1010) of the "SV10" layout holding one element of text items,
+// as Syngo writes them: a 16-byte header per item, the text padded to four bytes.
+std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+    std::vector<Uint8> bytes;
+    const auto put_int = [&](std::int32_t value) {
+        const auto* b = reinterpret_cast<const Uint8*>(&value);
+        bytes.insert(bytes.end(), b, b + 4);
+    };
+    const auto put_text = [&](const std::string& text, std::size_t size) {
+        std::vector<Uint8> field(size, 0);
+        std::copy(text.begin(), text.end(), field.begin());
+        bytes.insert(bytes.end(), field.begin(), field.end());
+    };
+    put_text("SV10", 4);
+    put_text("\4\3\2\1", 4);
+    put_int(1);   // elements
+    put_int(77);  // unused
+    put_text(name, 64);
+    put_int(static_cast<std::int32_t>(items.size()));  // multiplicity
+    put_text("FD", 4);
+    put_int(4);  // SyngoDT
+    put_int(static_cast<std::int32_t>(items.size()));
+    put_int(77);
+    for (const std::string& item : items) {
+        const auto length = static_cast<std::int32_t>(item.size() + 1);  // with its NUL
+        for (const std::int32_t field : {length, length, 77, length}) {
+            put_int(field);
+        }
+        put_text(item, static_cast<std::size_t>(length + (4 - length % 4) % 4));
+    }
+    return bytes;
+}
+
+// The slice order comes from the CSA header's SliceNormalVector: pointing inferior, against the
+// row x column direction, the tiles run from head to foot, so the volume (ordered along +z)
+// holds them in reverse, its origin at the last tile.
+TEST(DicomLoader, AMosaicsSlicesFollowTheCsaSliceNormal) {
+    fixtures::TempDir dir;
+    const glm::uvec3 tile{8, 8, 4};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    std::vector<std::uint16_t> tiled(std::size_t{16} * 16, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / 2) * 8 + y) * 16 + (f % 2) * 8 + x] = slices[(f * 8 + y) * 8 + x];
+            }
+        }
+    }
+    SeriesSpec spec;
+    spec.dims = {16, 16, 1};
+    spec.spacing = {1.0, 1.0, 2.5};
+    spec.origin = glm::dvec3(-4.0, -4.0, 0.0);  // the first tile's corner at (0, 0, 0)
+    spec.edit = [](DcmDataset& dataset) {
+        put_images_in_mosaic(dataset, 4);
+        const auto csa = csa_header("SliceNormalVector", {"0.00000000", "0.00000000", "-1.0"});
+        ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                   csa.size())
+                            .good());
+        ASSERT_TRUE(dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), "SIEMENS CSA HEADER")
+                            .good());
+    };
+    fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+
+    auto volume = load_volume(dir / "mosaic.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, tile);
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(glm::length(volume->origin - glm::dvec3(0.0, 0.0, -7.5)), 0.0, 1e-9);
+    std::vector<std::uint16_t> reversed;
+    for (unsigned k = 0; k < tile.z; ++k) {
+        const auto first = slices.begin() + static_cast<std::ptrdiff_t>((tile.z - 1 - k) * 64);
+        reversed.insert(reversed.end(), first, first + 64);
+    }
+    expect_ch2_voxels(*volume, reversed);
+}
+
+// Mosaics that cannot be unpacked are refused by name: without a number of slices, or with one
+// that does not tile the image; in a folder, the series beside them still opens.
+TEST(DicomLoader, MosaicsThatCannotBeUnpackedAreRefusedSayingMosaic) {
     fixtures::TempDir dir;
     SeriesSpec spec;
     spec.dims = {8, 8, 1};
@@ -490,28 +611,24 @@ TEST(DicomLoader, SiemensMosaicsAreRefusedSayingMosaic) {
     spec.edit = [](DcmDataset& dataset) {
         dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\ND\\MOSAIC");
     };
-    fixtures::write_slice(dir / "mosaic.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
-    auto mosaic = load_volume(dir / "mosaic.dcm");
-    ASSERT_FALSE(mosaic.ok());
-    EXPECT_EQ(mosaic.error().code, "unsupported_type");
-    EXPECT_TRUE(contains(mosaic.error().message, "mosaic")) << mosaic.error().message;
+    fixtures::write_slice(dir / "uncounted.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
+    auto uncounted = load_volume(dir / "uncounted.dcm");
+    ASSERT_FALSE(uncounted.ok());
+    EXPECT_EQ(uncounted.error().code, "unsupported_type");
+    EXPECT_TRUE(contains(uncounted.error().message, "mosaic")) << uncounted.error().message;
 
-    // Siemens' private NumberOfImagesInMosaic alone marks one too.
-    spec.edit = [](DcmDataset& dataset) {
-        ASSERT_TRUE(dataset.putAndInsertString(DcmTag(0x0019, 0x0010, EVR_LO), "SIEMENS MR HEADER")
-                            .good());
-        ASSERT_TRUE(dataset.putAndInsertUint16(DcmTag(0x0019, 0x100a, EVR_US), 4).good());
-    };
-    fixtures::write_slice(dir / "tagged.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
-    auto tagged = load_volume(dir / "tagged.dcm");
-    ASSERT_FALSE(tagged.ok());
-    EXPECT_TRUE(contains(tagged.error().message, "mosaic")) << tagged.error().message;
+    spec.edit = [](DcmDataset& dataset) { put_images_in_mosaic(dataset, 5); };  // 3 x 3 tiles
+    fixtures::write_slice(dir / "untiled.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
+    auto untiled = load_volume(dir / "untiled.dcm");
+    ASSERT_FALSE(untiled.ok());
+    EXPECT_TRUE(contains(untiled.error().message, "mosaic")) << untiled.error().message;
+    EXPECT_TRUE(contains(untiled.error().message, "do not tile")) << untiled.error().message;
 
     const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
     SeriesSpec series;
     series.dims = {16, 8, 3};
     fixtures::write_series(dir / "s", series, words);
-    std::filesystem::copy_file(dir / "mosaic.dcm", dir / "s" / "mosaic.dcm");
+    std::filesystem::copy_file(dir / "uncounted.dcm", dir / "s" / "mosaic.dcm");
     auto volume = load_volume(dir / "s");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     expect_ch2_voxels(*volume, words);

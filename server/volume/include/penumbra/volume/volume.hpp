@@ -163,7 +163,8 @@ struct LoadOptions {
 //          lists them), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; axes and origin from Image Orientation/Position
 //          (Patient); rescale slope/intercept kept as Volume::rescale (CT in HU);
-//          MONOCHROME1 inverted.
+//          MONOCHROME1 inverted; Siemens mosaics unpacked into their slices; a series of several
+//          volumes (echoes, time points) opens its first, with a note.
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
