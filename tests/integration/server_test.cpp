@@ -282,6 +282,28 @@ TEST_F(ServerTest, ADicomFolderOfTwoSeriesListsTwoVolumes) {
     EXPECT_NE(opened.find(R"("dims":[6,6,3])"), std::string::npos) << opened.substr(0, 300);
 }
 
+// A session on a CT (values in Hounsfield units) starts from the CT bone preset, one on an MRI
+// from the server's default.
+TEST_F(ServerTest, ASessionOnACtStartsWithTheCtBonePreset) {
+    {
+        std::ofstream ct(data_ / "ct.nrrd", std::ios::binary);
+        ct << "NRRD0004\ntype: short\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n"
+              "endian: little\npenumbra_units:=HU\n\n";
+        for (int i = 0; i < 64; ++i) {
+            const std::int16_t hu = static_cast<std::int16_t>(i % 2 == 0 ? -1000 : 700);
+            ct.write(reinterpret_cast<const char*>(&hu), sizeof hu);
+        }
+    }
+    start(protocol::Limits{});
+    TestClient ct(port_);
+    const std::string on_ct = ct.open("ct.nrrd");
+    EXPECT_NE(on_ct.find(R"("hounsfield":true)"), std::string::npos) << on_ct.substr(0, 300);
+    EXPECT_NE(on_ct.find(R"("name":"ct_bone")"), std::string::npos) << on_ct;
+    TestClient mri(port_);
+    const std::string on_mri = mri.open("heads/ch2.nii.gz");
+    EXPECT_NE(on_mri.find(R"("name":"mri_skin")"), std::string::npos) << on_mri.substr(0, 300);
+}
+
 TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
     TestClient client(port_);
     const std::string opened = client.open("heads/ch2.nii.gz");
