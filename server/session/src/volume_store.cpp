@@ -100,6 +100,7 @@ base::Status VolumeStore::scan() {
     const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     std::vector<VolumeEntry> found;
     std::vector<std::string> skipped;
+    std::set<std::filesystem::path> dicom_folders;
     // Ids are the paths as walked, below `top`: lexically, never through the links they pass.
     std::filesystem::path top = data_dir_;
     if (!top.has_filename() && top.has_parent_path()) {
@@ -124,6 +125,7 @@ base::Status VolumeStore::scan() {
         entry.id = relative(folder);
         entry.name = entry.id;
         entry.file_bytes = files->bytes;
+        dicom_folders.insert(folder);
         const auto series = dicom_series(folder, files->signature);
         if (!series && series.error().code == "no_dicom_images") {
             skip(folder,
@@ -231,6 +233,12 @@ base::Status VolumeStore::scan() {
         }
     }
     entries_ = std::move(found);
+    {
+        // Folders gone since the last scan leave the cache with them.
+        const std::lock_guard dicom_lock(dicom_mutex_);
+        std::erase_if(dicom_folders_,
+                      [&](const auto& cached) { return !dicom_folders.contains(cached.first); });
+    }
     skipped_ = std::move(skipped);
     scanned_mtime_ = mtime;
     return base::Ok{};

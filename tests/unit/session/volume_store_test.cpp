@@ -122,6 +122,32 @@ TEST_F(VolumeStoreTest, AFolderOfSeveralSeriesListsEachSeries) {
     EXPECT_FALSE(store.acquire("study").ok());
 }
 
+// A folder's series are read from its headers once and kept while its files stay the same; a
+// series added to it shows at the next scan.
+TEST_F(VolumeStoreTest, ASeriesAddedToAFolderIsListedAtTheNextScan) {
+    volume::fixtures::SeriesSpec first;
+    first.dims = {4, 4, 2};
+    first.series_number = "1";
+    volume::fixtures::write_series(data_ / "study", first, std::vector<std::uint16_t>(32, 1));
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study"}));
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study"}));
+
+    volume::fixtures::SeriesSpec second;
+    second.dims = {4, 4, 1};
+    second.series_uid = volume::fixtures::make_uid();
+    second.series_number = "2";
+    volume::fixtures::write_slice(data_ / "study" / "added.dcm", second, 0,
+                                  std::vector<std::uint16_t>(16, 2), 1);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study#1", "study#2"}));
+    auto added = store.acquire("study#2");
+    ASSERT_TRUE(added.ok()) << added.error().to_string();
+    EXPECT_EQ((*added)->dims, glm::uvec3(4, 4, 1));
+}
+
 // A CD export: the DICOMDIR at the root is no volume; the series four folders down is.
 TEST_F(VolumeStoreTest, AnExportRootListsItsSeriesNotItsDicomdir) {
     const fs::path root = data_ / "cdrom";
