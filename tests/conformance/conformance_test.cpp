@@ -52,10 +52,16 @@ constexpr Refusal bits_1{"unsupported_type", "1-bit pixels (a segmentation bitma
 constexpr Refusal no_image{"bad_header",
                            "a DICOM object without an image (no Rows: private sequences, a test of "
                            "a missing transfer syntax)"};
+constexpr Refusal untiled_mosaic{
+        "unsupported_type",
+        "a Siemens mosaic whose 48 slices do not tile its 256x256 image (7 tiles a side of 36.6 "
+        "pixels; nibabel cannot unpack it either)"};
 constexpr Refusal not_dicom{"not_dicom", "no DICOM preamble nor a data set DCMTK can read bare"};
 
 const std::map<std::string, Refusal>& expected_refusals() {
     static const std::map<std::string, Refusal> refusals{
+            {"0.dcm", untiled_mosaic},
+            {"1.dcm", untiled_mosaic},
             {"693_J2KI.dcm", jpeg_2000},
             {"99+PhoenixDocument+00001.dcm", no_pixel_data},
             {"BrainProtonDensitySliceBorder20.nhdr", two_dimensional},

@@ -99,11 +99,39 @@ def nifti_expected(path):
     return result
 
 
+def mosaic_expected(dataset):
+    """A Siemens mosaic as nibabel unpacks it (its MosaicWrapper: tiles, position correction and
+    the CSA slice normal), or None for other images. nibabel's arrays are (row, column, slice)."""
+    from nibabel.nicom import dicomwrappers
+
+    try:
+        wrapper = dicomwrappers.wrapper_from_data(dataset)
+    except Exception:
+        return None
+    if not getattr(wrapper, "is_mosaic", False):
+        return None
+    data = np.asarray(wrapper.get_data(), dtype=np.float64)
+    rows, columns, slices = data.shape
+    affine = np.asarray(wrapper.affine, dtype=np.float64)
+    lps_to_ras = np.diag([-1.0, -1.0, 1.0])
+    # Penumbra's index axes: i along a row (nibabel's column index), j down a column, k slices.
+    steps = lps_to_ras @ affine[:3, [1, 0, 2]]
+    result = geometry((columns, rows, slices), steps, lps_to_ras @ affine[:3, 3])
+    result["modality"] = str(getattr(dataset, "Modality", ""))
+    result["range"] = [float(data.min()), float(data.max())]
+    result["samples"] = [[i, j, k, float(data[j, i, k])]
+                         for i, j, k in sample_indices((columns, rows, slices))]
+    return result
+
+
 def dicom_expected(path):
     import pydicom
     from pydicom.pixel_data_handlers.util import apply_modality_lut
 
     dataset = pydicom.dcmread(path, force=True)
+    mosaic = mosaic_expected(dataset)
+    if mosaic is not None:
+        return mosaic
     if "PixelData" not in dataset or "Columns" not in dataset:
         return {"note": "no pixel data"}
     columns, rows = int(dataset.Columns), int(dataset.Rows)

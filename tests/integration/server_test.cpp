@@ -1,5 +1,7 @@
 // The service end to end: a real server on 127.0.0.1 and a free port, real WebSocket clients.
 
+#include "dicom_writer.hpp"
+
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/client.hpp>
@@ -264,6 +266,58 @@ TEST_F(ServerTest, HelloAnnouncesNoMoreThanTheRendererCanAllocate) {
     EXPECT_EQ(announced.at("max_image_side").get<int>(), info.max_texture_size) << client.hello;
     EXPECT_EQ(announced.at("max_light_resolution").get<int>(), info.max_texture_size);
     EXPECT_EQ(announced.at("max_slices").get<int>(), info.max_array_texture_layers);
+}
+
+// A clinic's export folder holding two series: the list shows each under its own id, named by
+// description and number, and each id opens its own series.
+TEST_F(ServerTest, ADicomFolderOfTwoSeriesListsTwoVolumes) {
+    fs::create_directories(data_ / "study");
+    for (const auto& [number, dims] :
+         {std::pair{"2", glm::uvec3(8, 8, 4)}, std::pair{"7", glm::uvec3(6, 6, 3)}}) {
+        volume::fixtures::SeriesSpec spec;
+        spec.dims = dims;
+        spec.series_number = number;
+        spec.series_description = std::string("series ") + number + " head";
+        const auto files = volume::fixtures::write_series(
+                data_ / "export" / number, spec,
+                std::vector<std::uint16_t>(std::size_t{dims.x} * dims.y * dims.z, 100));
+        for (const auto& file : files) {
+            fs::rename(file, data_ / "study" / (std::string(number) + file.filename().string()));
+        }
+    }
+    fs::remove_all(data_ / "export");
+    start(protocol::Limits{});
+    TestClient client(port_);
+    const std::string volumes = client.request(R"({"v":1,"type":"list_volumes","id":3})");
+    for (const char* expected : {R"("id":"study#2")", R"x("name":"series 2 head (series 2)")x",
+                                 R"("id":"study#7")", R"x("name":"series 7 head (series 7)")x"}) {
+        EXPECT_NE(volumes.find(expected), std::string::npos) << expected << " in " << volumes;
+    }
+    EXPECT_EQ(volumes.find(R"("id":"study")"), std::string::npos) << volumes;
+    const std::string opened = client.open("study#7");
+    EXPECT_NE(opened.find(R"("dims":[6,6,3])"), std::string::npos) << opened.substr(0, 300);
+}
+
+// A session on a CT (values in Hounsfield units) starts from the CT bone preset, one on an MRI
+// from the server's default.
+TEST_F(ServerTest, ASessionOnACtStartsWithTheCtBonePreset) {
+    {
+        std::ofstream ct(data_ / "ct.nrrd", std::ios::binary);
+        ct << "NRRD0004\ntype: short\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n"
+              "endian: little\npenumbra_units:=HU\n\n";
+        for (int i = 0; i < 64; ++i) {
+            const std::int16_t hu = static_cast<std::int16_t>(i % 2 == 0 ? -1000 : 700);
+            ct.write(reinterpret_cast<const char*>(&hu), sizeof hu);
+        }
+    }
+    start(protocol::Limits{});
+    TestClient ct(port_);
+    const std::string on_ct = ct.open("ct.nrrd");
+    EXPECT_NE(on_ct.find(R"("hounsfield":true)"), std::string::npos) << on_ct.substr(0, 300);
+    EXPECT_NE(on_ct.find(R"("name":"ct_bone")"), std::string::npos) << on_ct;
+    TestClient mri(port_);
+    const std::string on_mri = mri.open("heads/ch2.nii.gz");
+    EXPECT_NE(on_mri.find(R"("name":"mri_skin")"), std::string::npos) << on_mri.substr(0, 300);
 }
 
 TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {

@@ -5,22 +5,43 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 
 namespace penumbra::app {
 
 int run_info(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(args, {"volume"}, {"help"});
+    auto parsed = Arguments::parse(args, {"volume", "series"}, {"help"});
     if (!parsed) {
         std::fprintf(stderr, "penumbra info: %s\n", parsed.error().to_string().c_str());
         return 2;
     }
     if (parsed->has("help")) {
         std::puts(
-                "usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)");
+                "usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)\n"
+                "                     [--series NUMBER|UID]          one series of a DICOM folder\n"
+                "A DICOM folder holding several series (sub-folders included) lists them.");
         return 0;
     }
     const std::string path = parsed->get("volume").value_or(default_volume_path);
-    auto volume = volume::load_volume(path);
+    volume::LoadOptions options;
+    options.dicom_series = parsed->get("series").value_or("");
+    std::error_code ec;
+    if (options.dicom_series.empty() && std::filesystem::is_directory(path, ec)) {
+        auto series = volume::list_dicom_series(path);
+        if (series && series->size() > 1) {
+            std::printf("DICOM folder: %s\n%zu series (open one with --series NUMBER|UID):\n",
+                        path.c_str(), series->size());
+            std::printf("  %-8s %-10s %8s  %-40s %s\n", "number", "modality", "slices",
+                        "description", "UID");
+            for (const volume::DicomSeries& one : *series) {
+                std::printf("  %-8s %-10s %8llu  %-40s %s\n", one.number.c_str(),
+                            one.modality.c_str(), static_cast<unsigned long long>(one.frames),
+                            one.description.c_str(), one.uid.c_str());
+            }
+            return 0;
+        }
+    }
+    auto volume = volume::load_volume(path, options);
     if (!volume) {
         std::fprintf(stderr, "penumbra info: %s\n", volume.error().to_string().c_str());
         return 1;
@@ -47,6 +68,9 @@ int run_info(const std::vector<std::string>& args) {
     }
     std::printf("range:       %g .. %g%s\n", v.range.min, v.range.max,
                 v.hounsfield ? " (Hounsfield units)" : "");
+    for (const std::string& note : v.notes) {
+        std::printf("note:        %s\n", note.c_str());
+    }
     if (v.nonfinite_voxels > 0) {
         std::printf("non-finite:  %llu voxels replaced by the minimum\n",
                     static_cast<unsigned long long>(v.nonfinite_voxels));

@@ -27,8 +27,8 @@ double median(std::vector<double> values) {
 
 int run_render(const std::vector<std::string>& args) {
     std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(),
-                  {"volume", "spacing", "out", "quality", "repeat", "light-inset", "max-load-mb"});
+    valued.insert(valued.end(), {"volume", "series", "spacing", "out", "quality", "repeat",
+                                 "light-inset", "max-load-mb"});
     std::vector<std::string> flags = frame_flag_names();
     flags.insert(flags.end(), {"help", "debug-gl", "list-modes"});
     auto parsed = Arguments::parse(args, valued, flags);
@@ -43,6 +43,7 @@ int run_render(const std::vector<std::string>& args) {
                 "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or "
                 "name_XxYxZ_type.raw[.gz],\n"
                 "                                 a DICOM file or series folder (default %s)\n"
+                "  --series NUMBER|UID            the series of a DICOM folder holding several\n"
                 "  --spacing X,Y,Z                override the voxel spacing\n"
                 "  --max-load-mb M                memory the volume load may take (default\n"
                 "                                 8192; never more than the machine has)\n"
@@ -72,6 +73,7 @@ int run_render(const std::vector<std::string>& args) {
                                                     "--max-load-mb"));
     }
     load_options.max_bytes = static_cast<std::uint64_t>(*max_load_mb) << 20;
+    load_options.dicom_series = a.get("series").value_or("");
     auto loaded = volume::load_volume(path, load_options);
     if (!loaded) {
         return fail(loaded.error());

@@ -127,6 +127,7 @@ void print_serve_usage() {
             "  --ping-timeout S           seconds it then has to answer before it is dropped\n"
             "                             and its session left (default 15)\n"
             "  --default-tf PRESET        transfer function of new sessions (mri_skin)\n"
+            "  --default-ct-tf PRESET     ... of new sessions on a CT, in HU (ct_bone)\n"
             "  --quality-table FILE       `bench accuracy` table for sessions that set a "
             "frame\n"
             "                             budget (default docs/accuracy/llvmpipe.json on\n"
@@ -238,6 +239,7 @@ const std::vector<std::string>& serve_option_names() {
                                         "address",
                                         "web-root",
                                         "default-tf",
+                                        "default-ct-tf",
                                         "quality-table",
                                         "client-address-header",
                                         "allowed-origins",
@@ -328,6 +330,7 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
     config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
+    config.default_ct_transfer_function = a.get("default-ct-tf").value_or("ct_bone");
     config.client_address_header = a.get("client-address-header").value_or("");
     if (auto status = read_integers(a, o); !status) {
         return status.error();

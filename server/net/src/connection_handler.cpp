@@ -61,11 +61,12 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
     return out;
 }
 
-// What a new session of this server starts from.
-session::SessionState initial_state(const ServerConfig& config) {
+// What a new session of this server on `volume` starts from: a CT's own preset for a CT.
+session::SessionState initial_state(const ServerConfig& config, const volume::Volume& volume) {
     const protocol::Limits& limits = config.limits;
     return session::default_state(
-            config.default_transfer_function,
+            volume.hounsfield ? config.default_ct_transfer_function
+                              : config.default_transfer_function,
             {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
 }
 
@@ -287,8 +288,9 @@ void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::s
         reply_error(id, volume_error(volume_id, volume.error()));
         return;
     }
-    auto created = context_.services.sessions.create(
-            volume_id, *volume, initial_state(context_.config), viewer_, client_, session_.get());
+    auto created = context_.services.sessions.create(volume_id, *volume,
+                                                     initial_state(context_.config, **volume),
+                                                     viewer_, client_, session_.get());
     if (!created) {
         reply_error(id, created.error());
         return;
@@ -305,7 +307,7 @@ void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
     }
     auto recreated = context_.services.sessions.recreate(
             message.session, message.owner_token, *message.volume, *volume,
-            initial_state(context_.config), viewer_, client_, session_.get());
+            initial_state(context_.config, **volume), viewer_, client_, session_.get());
     if (!recreated) {
         reply_error(id, recreated.error());
         return;
@@ -414,6 +416,9 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::L
     std::vector<protocol::VolumeSummary> list;
     for (const auto& entry : context_.services.volumes.list()) {
         list.push_back(summary_of(entry.id, entry.loaded.get()));
+        if (!entry.loaded) {
+            list.back().name = entry.name;  // a DICOM series' description before it is read
+        }
     }
     send(protocol::volumes_message(id, list));
 }

@@ -9,13 +9,21 @@
 namespace penumbra::session {
 namespace {
 
-// The DICOM files of one folder make one volume (a series), so such a folder is listed, not its
-// files. Returns the bytes of the folder's files when at least one is DICOM. DICOM file names are
-// arbitrary, so the content decides; the search stops opening files at the first DICOM one.
-std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& folder) {
+// The DICOM files of one folder make its series' volumes, so such a folder's series are listed,
+// not its files.
+struct DicomFiles {
+    std::uintmax_t bytes = 0;  // of the folder's files
+    // The names, sizes and modification times of the folder's files: while it stays the same,
+    // so do the series the headers name.
+    std::string signature;
+};
+
+// The folder's files when at least one is DICOM. DICOM file names are arbitrary, so the content
+// decides; the search stops opening files at the first DICOM one.
+std::optional<DicomFiles> dicom_files(const std::filesystem::path& folder) {
     std::error_code ec;
     bool found = false;
-    std::uintmax_t bytes = 0;
+    DicomFiles files;
     for (auto it = std::filesystem::directory_iterator(
                  folder, std::filesystem::directory_options::skip_permission_denied, ec);
          !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
@@ -24,10 +32,14 @@ std::optional<std::uintmax_t> dicom_series_bytes(const std::filesystem::path& fo
             volume::is_volume_file_name(it->path())) {
             continue;
         }
-        bytes += it->file_size(ec);
+        const std::uintmax_t size = it->file_size(ec);
+        files.bytes += size;
+        files.signature += name + '/' + std::to_string(size) + '/' +
+                           std::to_string(it->last_write_time(ec).time_since_epoch().count()) +
+                           '\n';
         found = found || volume::is_dicom_file(it->path());
     }
-    return found ? std::optional(bytes) : std::nullopt;
+    return found ? std::optional(std::move(files)) : std::nullopt;
 }
 
 // Why a file was not listed: what a volume's name ends with.
@@ -88,6 +100,7 @@ base::Status VolumeStore::scan() {
     const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     std::vector<VolumeEntry> found;
     std::vector<std::string> skipped;
+    std::set<std::filesystem::path> dicom_folders;
     // Ids are the paths as walked, below `top`: lexically, never through the links they pass.
     std::filesystem::path top = data_dir_;
     if (!top.has_filename() && top.has_parent_path()) {
@@ -99,16 +112,50 @@ base::Status VolumeStore::scan() {
     const auto skip = [&](const std::filesystem::path& path, const std::string& why) {
         skipped.push_back(relative(path) + ": " + why);
     };
+    // A folder's DICOM files are one entry per series: under the folder's id where it holds one
+    // series, else "folder#number" (or "#UID" where numbers repeat). A folder whose headers
+    // cannot be read is listed whole, so that opening it tells why.
     const auto add_series_if_dicom = [&](const std::filesystem::path& folder) {
-        if (const auto bytes = dicom_series_bytes(folder)) {
-            VolumeEntry entry;
-            entry.path = folder;
-            entry.id = relative(folder);
-            entry.file_bytes = *bytes;
+        const auto files = dicom_files(folder);
+        if (!files) {
+            return false;
+        }
+        VolumeEntry entry;
+        entry.path = folder;
+        entry.id = relative(folder);
+        entry.name = entry.id;
+        entry.file_bytes = files->bytes;
+        dicom_folders.insert(folder);
+        const auto series = dicom_series(folder, files->signature);
+        if (!series && series.error().code == "no_dicom_images") {
+            skip(folder,
+                 "DICOM files without images (" + relative_paths(series.error().message) + ")");
+            return true;
+        }
+        if (!series || series->size() == 1) {
+            entry.dicom_series = series ? series->front().uid : std::string();
             found.push_back(std::move(entry));
             return true;
         }
-        return false;
+        std::size_t all_images = 0;
+        for (const volume::DicomSeries& one : *series) {
+            all_images += one.images;
+        }
+        for (const volume::DicomSeries& one : *series) {
+            const bool number_unique =
+                    !one.number.empty() &&
+                    std::count_if(series->begin(), series->end(), [&](const auto& other) {
+                        return other.number == one.number;
+                    }) == 1;
+            VolumeEntry part = entry;
+            part.id += "#" + (number_unique ? one.number : one.uid);
+            part.name = one.label();
+            part.dicom_series = one.uid;
+            // Each series' share of the folder's bytes, by its number of files.
+            part.file_bytes = entry.file_bytes * one.images / std::max<std::size_t>(1, all_images);
+            found.push_back(std::move(part));
+        }
+        return true;
     };
     // Links the administrator put in the data folder are followed, to files and to folders; a
     // volume keeps the name of the link (clients name volumes by the listed id only, never by
@@ -165,6 +212,7 @@ base::Status VolumeStore::scan() {
         VolumeEntry entry;
         entry.path = path;
         entry.id = relative(path);
+        entry.name = entry.id;
         entry.file_bytes = std::filesystem::file_size(path, ec);
         found.push_back(std::move(entry));
     }
@@ -185,9 +233,31 @@ base::Status VolumeStore::scan() {
         }
     }
     entries_ = std::move(found);
+    {
+        // Folders gone since the last scan leave the cache with them.
+        const std::lock_guard dicom_lock(dicom_mutex_);
+        std::erase_if(dicom_folders_,
+                      [&](const auto& cached) { return !dicom_folders.contains(cached.first); });
+    }
     skipped_ = std::move(skipped);
     scanned_mtime_ = mtime;
     return base::Ok{};
+}
+
+base::Result<std::vector<volume::DicomSeries>> VolumeStore::dicom_series(
+        const std::filesystem::path& folder, const std::string& signature) {
+    {
+        const std::lock_guard lock(dicom_mutex_);
+        const auto cached = dicom_folders_.find(folder);
+        if (cached != dicom_folders_.end() && cached->second.signature == signature) {
+            return cached->second.series;
+        }
+    }
+    // Outside the lock: a folder of a thousand slices takes a moment to read.
+    auto series = volume::list_dicom_series(folder, false);
+    const std::lock_guard lock(dicom_mutex_);
+    dicom_folders_[folder] = {signature, series};
+    return series;
 }
 
 std::vector<std::string> VolumeStore::skipped() const {
@@ -265,6 +335,7 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
     // finds it loaded when it gets the lock.
     const std::lock_guard loading(load_mutex_);
     std::filesystem::path path;
+    volume::LoadOptions options = load_options_;
     {
         const std::lock_guard lock(mutex_);
         // Only ids from the scan are accepted, so "../x" or "/etc/passwd" cannot name a file.
@@ -280,9 +351,13 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
             return entry->loaded;
         }
         path = entry->path;
+        // The series listed, from the folder's own files: its sub-folders are entries of their
+        // own.
+        options.dicom_series = entry->dicom_series;
+        options.dicom_subfolders = false;
     }
     // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
-    auto loaded = volume::load_volume(path, load_options_);
+    auto loaded = volume::load_volume(path, options);
     if (!loaded) {
         base::Error error = loaded.error();
         error.message = relative_paths(std::move(error.message));

@@ -1,15 +1,26 @@
-// DICOM through DCMTK (Debian's libdcmtk): a folder holding one series of slices, or one file
-// (a multi-frame image, or a single slice).
+// DICOM through DCMTK (Debian's libdcmtk): a folder holding the slices of one or more series, or
+// one file (a multi-frame image, or a single slice).
 //
 // Rules this loader adds on top of the library:
 //   - In a folder, only DICOM Part 10 files (the "DICM" marker after the 128-byte preamble) are
 //     read; other files (README.txt, .DS_Store, thumbnails) and DICOM objects without pixel data
 //     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
-//     secondary captures, float or odd bit depths) are skipped with a warning naming each, so the
-//     series beside them opens; a folder of nothing else is that image's error. Sub-folders are
-//     not searched.
-//   - Several series in one folder: the one with the most slices is loaded and the log names the
-//     ones left out, so a folder exported with a scout or a dose report still opens.
+//     secondary captures, float or odd bit depths, mosaics that cannot be unpacked) are skipped
+//     with a warning naming each, so the series beside them opens; a folder of nothing else is that
+//     image's error. Sub-folders are searched too (unless LoadOptions says not), at most
+//     max_folder_depth levels and max_folder_files files deep: a DICOMDIR export root keeps its
+//     images in DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series.
+//     The DICOMDIR itself is not needed: every image file names its own series.
+//   - Several series in one folder: LoadOptions::dicom_series picks one by SeriesNumber or
+//     SeriesInstanceUID; without it the error "several_series" lists them (a scout beside a
+//     series is a series of its own, and guessing would open the wrong one silently).
+//   - A series holding several volumes (echoes, acquisitions, time points: each position
+//     repeated as often) opens its first volume, the lowest (TemporalPositionIdentifier,
+//     EchoNumbers, AcquisitionNumber, InstanceNumber) at each position, with a note saying so.
+//   - Siemens mosaics (ImageType MOSAIC, or NumberOfImagesInMosaic (0019,100a)) tile a volume's
+//     slices in one image: unpacked into the slices as nibabel and dcm2niix do (the corner
+//     position corrected, slices along the CSA header's SliceNormalVector); one whose number of
+//     slices is missing or does not tile the image is refused saying "mosaic".
 //   - Slices (and the frames of multi-frame files, whose positions may sit in the functional
 //     groups) are ordered by their position along the slice normal, ImageOrientationPatient's
 //     row x column direction dotted with ImagePositionPatient. The z spacing is the gap between
@@ -47,6 +58,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -206,6 +218,15 @@ struct PixelFormat {
     }
 };
 
+// A Siemens mosaic: `tiles` x `tiles` slices of a volume tiled row by row in one stored image,
+// the first `slices` of them in use.
+struct Mosaic {
+    std::uint32_t tiles = 1;
+    std::uint16_t stored_rows = 0;
+    std::uint16_t stored_columns = 0;
+    std::optional<glm::dvec3> slice_normal;  // CSA SliceNormalVector (LPS)
+};
+
 // One 2-D image of the volume: a single-frame file or one frame of a multi-frame file.
 struct Frame {
     std::size_t image = 0;    // index into the loaded images
@@ -216,6 +237,9 @@ struct Frame {
     std::optional<double> slice_thickness;
     std::optional<double> spacing_between_slices;
     std::int32_t instance_number = 0;
+    // Which of several volumes sharing this position the frame belongs to: the lowest is the
+    // first volume (temporal position, echo, acquisition, instance number, frame number).
+    std::array<std::int64_t, 5> volume_key{};
     double slope = 1.0;
     double intercept = 0.0;
 };
@@ -224,10 +248,22 @@ struct Image {
     std::filesystem::path path;
     std::unique_ptr<DcmFileFormat> file;  // pixel data stays on disk until it is read
     std::string series_uid;
+    std::string series_number;
+    std::string series_description;
+    std::string modality;
     bool hounsfield = false;  // Modality CT or RescaleType HU
-    PixelFormat format;
+    PixelFormat format;       // of one slice: for a mosaic, of one tile
     std::uint32_t frame_count = 1;
+    std::optional<Mosaic> mosaic;
 };
+
+// The pixel words an image stores for all its frames (a mosaic: its whole tiled image).
+std::uint64_t stored_pixels(const Image& image) {
+    if (image.mosaic) {
+        return std::uint64_t{image.mosaic->stored_rows} * image.mosaic->stored_columns;
+    }
+    return std::uint64_t{image.format.rows} * image.format.columns * image.frame_count;
+}
 
 base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
                                             const std::filesystem::path& path) {
@@ -277,15 +313,60 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
     return format;
 }
 
+// The positions of a mosaic's slices. Its ImagePositionPatient is that of the tiled image's
+// first pixel as if it were one slice: the first tile's first pixel lies half the difference of
+// the two sizes further along the rows and columns (the correction nibabel and dcm2niix make);
+// each next slice steps along the CSA slice normal (else the row x column direction) by
+// SpacingBetweenSlices, else SliceThickness. Without position or orientation the slices keep
+// their tile order.
+void place_mosaic_slices(std::vector<Frame>& frames, const Mosaic& mosaic,
+                         const PixelFormat& tile) {
+    const Frame& first = frames.front();
+    if (!first.position || !first.orientation || !first.pixel_spacing) {
+        return;
+    }
+    const auto& cosines = *first.orientation;
+    const glm::dvec3 row(cosines[0], cosines[1], cosines[2]);
+    const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
+    glm::dvec3 normal = glm::cross(row, column);
+    if (mosaic.slice_normal && glm::length(*mosaic.slice_normal) > 0.5) {
+        normal = *mosaic.slice_normal;
+    }
+    if (!(glm::length(normal) > 0.5)) {
+        return;  // parallel directions: order_frames names the error
+    }
+    normal = glm::normalize(normal);
+    double gap = 1.0;
+    if (first.spacing_between_slices && *first.spacing_between_slices > 0.0) {
+        gap = *first.spacing_between_slices;
+    } else if (first.slice_thickness && *first.slice_thickness > 0.0) {
+        gap = *first.slice_thickness;
+    }
+    const auto& spacing = *first.pixel_spacing;  // between rows, between columns
+    const glm::dvec3 corner =
+            *first.position +
+            row * spacing[1] * (double(mosaic.stored_columns) - double(tile.columns)) / 2.0 +
+            column * spacing[0] * (double(mosaic.stored_rows) - double(tile.rows)) / 2.0;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        frames[f].position = corner + static_cast<double>(f) * gap * normal;
+    }
+}
+
 std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
-                               std::uint32_t frame_count) {
+                               std::uint32_t frame_count, const std::optional<Mosaic>& mosaic,
+                               const PixelFormat& format) {
     std::vector<Frame> frames(frame_count);
     const auto instance = get_int(dataset, DCM_InstanceNumber).value_or(0);
+    const std::int64_t temporal_position =
+            get_int(dataset, DCM_TemporalPositionIdentifier).value_or(0);
+    const std::int64_t echo = get_int(dataset, DCM_EchoNumbers).value_or(0);
+    const std::int64_t acquisition = get_int(dataset, DCM_AcquisitionNumber).value_or(0);
     for (std::uint32_t f = 0; f < frame_count; ++f) {
         Frame& frame = frames[f];
         frame.image = image_index;
         frame.index = f;
         frame.instance_number = instance;
+        frame.volume_key = {temporal_position, echo, acquisition, instance, f};
         const auto position = frame_value(dataset, f, DCM_PlanePositionSequence, [](DcmItem& item) {
             return get_doubles<3>(item, DCM_ImagePositionPatient);
         });
@@ -315,7 +396,141 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
         frame.slope = slope && *slope != 0.0 ? *slope : 1.0;
         frame.intercept = rescale(DCM_RescaleIntercept).value_or(0.0);
     }
+    if (mosaic) {
+        place_mosaic_slices(frames, *mosaic, format);
+    }
     return frames;
+}
+
+// Siemens' NumberOfImagesInMosaic and CSA Image Header Info, private tags of its groups.
+const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
+const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
+
+// The text values of element `name` in a Siemens CSA header of the "SV10" layout (Syngo's, as
+// nibabel's csareader reads it): a count of elements, each a 64-byte name, its multiplicity, VR,
+// and items of a length-prefixed string padded to four bytes. Nothing where the header is absent,
+// of the older layout, damaged, or lacks the element.
+std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) {
+    const Uint8* bytes = nullptr;
+    unsigned long size = 0;
+    if (dataset.findAndGetUint8Array(siemens_csa_image_header, bytes, &size).bad() ||
+        bytes == nullptr || size < 16 || std::memcmp(bytes, "SV10", 4) != 0) {
+        return {};
+    }
+    const auto int32_at = [&](std::size_t at) {
+        std::int32_t value = 0;
+        std::memcpy(&value, bytes + at, 4);
+        return value;
+    };
+    constexpr std::int32_t max_elements = 128;  // nibabel's bound; real headers hold about 100
+    const std::int32_t elements = int32_at(8);
+    if (elements < 1 || elements > max_elements) {
+        return {};
+    }
+    std::size_t at = 16;
+    for (std::int32_t e = 0; e < elements; ++e) {
+        if (at + 84 > size) {
+            return {};
+        }
+        const std::string element(reinterpret_cast<const char*>(bytes + at),
+                                  strnlen(reinterpret_cast<const char*>(bytes + at), 64));
+        const std::int32_t multiplicity = int32_at(at + 64);
+        const std::int32_t items = int32_at(at + 76);
+        at += 84;
+        if (items < 0 || items > 1024) {
+            return {};
+        }
+        std::vector<std::string> values;
+        for (std::int32_t i = 0; i < items; ++i) {
+            if (at + 16 > size) {
+                return {};
+            }
+            const std::int32_t length = int32_at(at + 4);
+            at += 16;
+            if (length < 0 || at + static_cast<std::size_t>(length) > size) {
+                return {};
+            }
+            if (i < multiplicity) {
+                const char* text = reinterpret_cast<const char*>(bytes + at);
+                values.emplace_back(text, strnlen(text, static_cast<std::size_t>(length)));
+            }
+            at += static_cast<std::size_t>(length) + (4 - length % 4) % 4;
+        }
+        if (element == name) {
+            return values;
+        }
+    }
+    return {};
+}
+
+// Whether the image is a Siemens mosaic: ImageType holds MOSAIC, or NumberOfImagesInMosaic is
+// set.
+bool is_mosaic(DcmDataset& dataset) {
+    if (dataset.tagExists(siemens_images_in_mosaic)) {
+        return true;
+    }
+    OFString image_type;
+    if (dataset.findAndGetOFStringArray(DCM_ImageType, image_type).bad()) {
+        return false;
+    }
+    std::string_view rest(image_type.c_str());
+    while (!rest.empty()) {
+        const auto end = std::min(rest.find('\\'), rest.size());
+        if (rest.substr(0, end) == "MOSAIC") {
+            return true;
+        }
+        rest.remove_prefix(std::min(end + 1, rest.size()));
+    }
+    return false;
+}
+
+// A Siemens mosaic tiles every slice of a volume in one image, ceil(sqrt(n)) tiles a side, row by
+// row: unpacked into its n slices, whose positions sit along the CSA header's slice normal (see
+// read_frames). Refused, saying "mosaic", where the number of slices is missing or does not tile
+// the image.
+base::Result<std::optional<Mosaic>> read_mosaic(DcmDataset& dataset, PixelFormat& format,
+                                                std::uint32_t& frame_count,
+                                                const std::filesystem::path& path) {
+    if (!is_mosaic(dataset)) {
+        return std::optional<Mosaic>();
+    }
+    std::optional<std::uint32_t> slices = get_uint16(dataset, siemens_images_in_mosaic);
+    if (!slices) {
+        const auto csa = csa_values(dataset, "NumberOfImagesInMosaic");
+        if (!csa.empty()) {
+            slices = static_cast<std::uint32_t>(std::atoi(csa.front().c_str()));
+        }
+    }
+    const auto refuse = [&](const std::string& why) {
+        return base::make_error("unsupported_type",
+                                "a Siemens mosaic (slices tiled in one " +
+                                        std::to_string(format.columns) + "x" +
+                                        std::to_string(format.rows) + " image) whose " + why +
+                                        "; convert the series with dcm2niix (Debian's dcm2niix) "
+                                        "and open its NIfTI",
+                                detail::at_file(path));
+    };
+    if (!slices || *slices == 0) {
+        return refuse("number of slices is not given (NumberOfImagesInMosaic)");
+    }
+    Mosaic mosaic;
+    while (mosaic.tiles * mosaic.tiles < *slices) {
+        ++mosaic.tiles;
+    }
+    if (frame_count != 1 || format.rows % mosaic.tiles != 0 || format.columns % mosaic.tiles != 0) {
+        return refuse(std::to_string(*slices) + " slices do not tile the image evenly");
+    }
+    const auto normal = csa_values(dataset, "SliceNormalVector");
+    if (normal.size() == 3) {
+        mosaic.slice_normal = glm::dvec3(std::atof(normal[0].c_str()), std::atof(normal[1].c_str()),
+                                         std::atof(normal[2].c_str()));
+    }
+    mosaic.stored_rows = format.rows;
+    mosaic.stored_columns = format.columns;
+    format.rows = static_cast<std::uint16_t>(format.rows / mosaic.tiles);
+    format.columns = static_cast<std::uint16_t>(format.columns / mosaic.tiles);
+    frame_count = *slices;
+    return std::optional<Mosaic>(mosaic);
 }
 
 enum class Opened { image, not_an_image };
@@ -378,23 +593,57 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
                                 detail::at_file(path));
     }
     image.frame_count = static_cast<std::uint32_t>(frames);
+    auto mosaic = read_mosaic(dataset, image.format, image.frame_count, path);
+    if (!mosaic) {
+        return mosaic.error();
+    }
+    image.mosaic = *mosaic;
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+    if (const auto number = get_int(dataset, DCM_SeriesNumber)) {
+        image.series_number = std::to_string(*number);
+    }
+    image.series_description = get_string(dataset, DCM_SeriesDescription);
+    image.modality = get_string(dataset, DCM_Modality);
     image.hounsfield = get_string(dataset, DCM_Modality) == "CT" ||
                        get_string(dataset, DCM_RescaleType) == "HU";
     return Opened::image;
 }
 
-// The files of the folder that carry the DICOM Part 10 marker, in name order so that logs and
-// fallbacks are reproducible.
+// How deep and how wide a folder's search for image files goes: a DICOMDIR export keeps its
+// images four levels below the root (DICOM/<patient>/<study>/<series>/), and no volume has more
+// files than it may have frames; the bounds keep a mistaken `--volume /` from walking a disk.
+constexpr int max_folder_depth = 5;
+constexpr std::uint64_t max_folder_files = max_frames;
+
+// The files below the folder (in sub-folders too when `subfolders`) that carry the DICOM Part 10
+// marker, in path order so that logs and fallbacks are reproducible. Hidden files and folders
+// and links to folders are passed over.
 base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::filesystem::path& folder,
+                                                                bool subfolders,
                                                                 std::size_t& skipped) {
     std::error_code ec;
     std::vector<std::filesystem::path> files;
-    for (auto it = std::filesystem::directory_iterator(folder, ec);
-         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    std::uint64_t seen = 0;
+    for (auto it = std::filesystem::recursive_directory_iterator(
+                 folder, std::filesystem::directory_options::skip_permission_denied, ec);
+         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
         const std::string name = it->path().filename().string();
+        if (it->is_directory(ec)) {
+            if (!subfolders || name.starts_with('.') || it.depth() + 1 >= max_folder_depth) {
+                it.disable_recursion_pending();
+            }
+            continue;
+        }
         if (!it->is_regular_file(ec) || name.starts_with('.')) {
             continue;
+        }
+        if (++seen > max_folder_files) {
+            return base::make_error("too_large",
+                                    "the folder holds more than " +
+                                            std::to_string(max_folder_files) +
+                                            " files (sub-folders included); open the series' "
+                                            "own folder",
+                                    detail::at_file(folder));
         }
         if (is_dicom_file(it->path())) {
             files.push_back(it->path());
@@ -410,31 +659,130 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
     return files;
 }
 
-// Keeps the series with the most frames and logs the others.
-void keep_largest_series(std::vector<Image>& images, const std::filesystem::path& folder) {
-    std::map<std::string, std::size_t> frames_per_series;
+// The image headers of a folder, with what was passed over.
+struct FolderImages {
+    std::vector<Image> images;
+    std::size_t not_dicom = 0;
+    std::size_t not_images = 0;
+    std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
+};
+
+// `keep_files`: keep each image's parsed file for its pixel data (a load), or drop it once its
+// header is read (a listing of a folder's series, which may hold thousands of files).
+base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool subfolders,
+                                       bool keep_files) {
+    FolderImages found;
+    auto files = dicom_files_in(folder, subfolders, found.not_dicom);
+    if (!files) {
+        return files.error();
+    }
+    for (const auto& path : *files) {
+        Image image;
+        auto opened = open_image(path, image);
+        // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
+        // not a slice of any series here: skipped with a warning, so the series beside it opens.
+        if (!opened && opened.error().code == "unsupported_type") {
+            base::log_warning(log_component,
+                              "skipped " + opened.error().where + ": " + opened.error().message);
+            if (!found.other_kind) {
+                found.other_kind = opened.error();
+            }
+            continue;
+        }
+        if (!opened) {
+            return opened.error();
+        }
+        if (*opened == Opened::not_an_image) {
+            ++found.not_images;
+            continue;
+        }
+        if (!keep_files) {
+            image.file.reset();
+        }
+        found.images.push_back(std::move(image));
+    }
+    if (found.images.empty() && found.other_kind) {
+        return *found.other_kind;
+    }
+    if (found.images.empty() && found.not_dicom + found.not_images == 0) {
+        return base::make_error("no_dicom_images", "the folder holds no files",
+                                detail::at_file(folder));
+    }
+    if (found.images.empty()) {
+        return base::make_error("no_dicom_images",
+                                "the folder holds no DICOM image files (" +
+                                        std::to_string(found.not_dicom) + " other files, " +
+                                        std::to_string(found.not_images) +
+                                        " DICOM files without pixel data)",
+                                detail::at_file(folder));
+    }
+    return found;
+}
+
+// The series of the images, ordered by SeriesNumber (numerically), then UID.
+std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
+    std::map<std::string, DicomSeries> by_uid;
     for (const Image& image : images) {
-        frames_per_series[image.series_uid] += image.frame_count;
+        DicomSeries& series = by_uid[image.series_uid];
+        if (series.images == 0) {
+            series.uid = image.series_uid;
+            series.number = image.series_number;
+            series.description = image.series_description;
+            series.modality = image.modality;
+        }
+        ++series.images;
+        series.frames += image.frame_count;
     }
-    if (frames_per_series.size() < 2) {
-        return;
+    std::vector<DicomSeries> list;
+    for (auto& [uid, series] : by_uid) {
+        list.push_back(std::move(series));
     }
-    const auto largest =
-            std::max_element(frames_per_series.begin(), frames_per_series.end(),
-                             [](const auto& a, const auto& b) { return a.second < b.second; });
-    const std::string kept = largest->first;
-    std::string left_out;
-    for (const auto& [uid, count] : frames_per_series) {
-        if (uid != kept) {
-            left_out += (left_out.empty() ? "" : ", ") + uid + " (" + std::to_string(count) +
-                        " slices)";
+    const auto number = [](const DicomSeries& s) {
+        return s.number.empty() ? std::numeric_limits<long long>::max() : std::stoll(s.number);
+    };
+    std::stable_sort(list.begin(), list.end(), [&](const DicomSeries& a, const DicomSeries& b) {
+        return number(a) < number(b);
+    });
+    return list;
+}
+
+std::string series_choices(const std::vector<DicomSeries>& list) {
+    std::string text;
+    for (const DicomSeries& series : list) {
+        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.frames) +
+                " slices, " + (series.number.empty() ? "" : "number " + series.number + ", ") +
+                "UID " + series.uid;
+    }
+    return text;
+}
+
+// Keeps the images of the series `wanted` names (its number or UID), or of the only series.
+base::Result<DicomSeries> select_series(std::vector<Image>& images, const std::string& wanted,
+                                        const std::filesystem::path& folder) {
+    const std::vector<DicomSeries> list = series_of(images);
+    std::vector<const DicomSeries*> matches;
+    for (const DicomSeries& series : list) {
+        if (wanted.empty() || series.uid == wanted || series.number == wanted) {
+            matches.push_back(&series);
         }
     }
-    base::log_info(log_component,
-                   folder.string() + ": " + std::to_string(frames_per_series.size()) +
-                           " series in the folder; loading " + kept + " (" +
-                           std::to_string(largest->second) + " slices), leaving out " + left_out);
-    std::erase_if(images, [&](const Image& image) { return image.series_uid != kept; });
+    if (matches.size() != 1) {
+        std::string what;
+        if (wanted.empty()) {
+            what = "the folder holds " + std::to_string(list.size()) +
+                   " series; choose one by number or UID (--series)";
+        } else if (matches.empty()) {
+            what = "the folder holds no series numbered '" + wanted + "' nor with that UID";
+        } else {
+            what = "several series are numbered " + wanted + "; choose one by UID";
+        }
+        return base::make_error(
+                wanted.empty() || !matches.empty() ? "several_series" : "unknown_series",
+                what + ": " + series_choices(list), detail::at_file(folder));
+    }
+    const DicomSeries chosen = *matches.front();
+    std::erase_if(images, [&](const Image& image) { return image.series_uid != chosen.uid; });
+    return chosen;
 }
 
 glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
@@ -451,14 +799,56 @@ std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     return label;
 }
 
-// Sorts the frames into z order and returns the spacing between them.
+// Positions this close along the normal are one position repeated, not two slices: scanners
+// write them to a micrometre or finer, and no series has slices that close.
+constexpr double same_position = 1e-3;  // mm
+
+// Several volumes of one series (echoes, acquisitions, time points) repeat each position as
+// often: keeps the first volume's frame at each position of the frames (sorted by `depth`) and
+// returns how many volumes there are; 1 where no position repeats, or where positions repeat
+// unevenly, which the spacing check then reports at the slice where it happens.
+template <class Depth>
+std::size_t keep_first_volume(std::vector<Frame>& frames, Depth depth) {
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // [begin, end) of each position
+    for (std::size_t begin = 0; begin < frames.size();) {
+        std::size_t end = begin + 1;
+        while (end < frames.size() &&
+               std::abs(depth(frames[end]) - depth(frames[begin])) < same_position) {
+            ++end;
+        }
+        runs.emplace_back(begin, end);
+        begin = end;
+    }
+    const std::size_t volumes = runs.front().second - runs.front().first;
+    if (volumes < 2 || std::any_of(runs.begin(), runs.end(), [&](const auto& run) {
+            return run.second - run.first != volumes;
+        })) {
+        return 1;
+    }
+    std::vector<Frame> first;
+    first.reserve(runs.size());
+    for (const auto& [begin, end] : runs) {
+        first.push_back(*std::min_element(
+                frames.begin() + static_cast<std::ptrdiff_t>(begin),
+                frames.begin() + static_cast<std::ptrdiff_t>(end),
+                [](const Frame& a, const Frame& b) { return a.volume_key < b.volume_key; }));
+    }
+    frames = std::move(first);
+    return volumes;
+}
+
+// Sorts the frames into z order and returns the spacing between them; of a series holding
+// several volumes, keeps the first and says so in `notes`.
 base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<Image>& images,
-                                  const std::filesystem::path& source) {
+                                  const std::filesystem::path& source,
+                                  std::vector<std::string>& notes) {
     const bool positioned = std::all_of(frames.begin(), frames.end(),
                                         [](const Frame& f) { return f.position && f.orientation; });
+    glm::dvec3 normal(0.0);
+    const auto depth = [&](const Frame& f) { return glm::dot(normal, *f.position); };
     if (positioned && frames.size() > 1) {
         const auto& orientation = *frames.front().orientation;
-        glm::dvec3 normal = slice_normal(orientation);
+        normal = slice_normal(orientation);
         if (!(glm::length(normal) > 0.5)) {
             return base::make_error("bad_header",
                                     "ImageOrientationPatient has parallel row and column "
@@ -477,9 +867,17 @@ base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<
                 }
             }
         }
-        const auto depth = [&](const Frame& f) { return glm::dot(normal, *f.position); };
         std::stable_sort(frames.begin(), frames.end(),
                          [&](const Frame& a, const Frame& b) { return depth(a) < depth(b); });
+        if (const std::size_t volumes = keep_first_volume(frames, depth); volumes > 1) {
+            notes.push_back("the series holds " + std::to_string(volumes) +
+                            " volumes (each position repeated: echoes, acquisitions or time "
+                            "points); opened the first, " +
+                            std::to_string(frames.size()) + " slices");
+            base::log_info(log_component, source.string() + ": " + notes.back());
+        }
+    }
+    if (positioned && frames.size() > 1) {
         std::vector<double> gaps;
         for (std::size_t i = 1; i < frames.size(); ++i) {
             gaps.push_back(depth(frames[i]) - depth(frames[i - 1]));
@@ -611,8 +1009,7 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
                                     detail::at_file(image.path));
         }
     }
-    const std::uint64_t expected = std::uint64_t{image.format.rows} * image.format.columns *
-                                   image.frame_count * (image.format.bits_allocated / 8);
+    const std::uint64_t expected = stored_pixels(image) * (image.format.bits_allocated / 8);
     DcmElement* element = nullptr;
     OFCondition status = dataset.findAndGetElement(DCM_PixelData, element);
     const std::byte* data = nullptr;
@@ -678,20 +1075,35 @@ struct SampleDecoder {
 
 // Writes the values of one frame into `out` (float32 voxels): stored values, or with the frame's
 // rescale applied when `apply_rescale`.
+// A mosaic's frame is its tile: `tiles` a side, row by row.
 void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
-                  std::uint32_t frame_index, const Frame& frame, bool apply_rescale, float* out) {
+                  const std::optional<Mosaic>& mosaic, std::uint32_t frame_index,
+                  const Frame& frame, bool apply_rescale, float* out) {
     const std::size_t count = std::size_t{format.rows} * format.columns;
     const std::size_t width = format.bits_allocated / 8;
-    const std::byte* in = pixels.data() + std::size_t{frame_index} * count * width;
+    // Where pixel i of the frame is stored, in words.
+    const auto stored_at = [&](std::size_t i) {
+        if (!mosaic) {
+            return std::size_t{frame_index} * count + i;
+        }
+        const std::size_t x = i % format.columns;
+        const std::size_t y = i / format.columns;
+        const std::size_t tile_row = frame_index / mosaic->tiles;
+        const std::size_t tile_column = frame_index % mosaic->tiles;
+        return (tile_row * format.rows + y) * mosaic->stored_columns +
+               tile_column * format.columns + x;
+    };
+    const std::byte* in = pixels.data();
     const SampleDecoder decode(format);
     const bool identity = !apply_rescale || (frame.slope == 1.0 && frame.intercept == 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         std::uint32_t word = 0;
+        const std::size_t at = stored_at(i);
         if (width == 1) {
-            word = static_cast<std::uint8_t>(in[i]);
+            word = static_cast<std::uint8_t>(in[at]);
         } else {
             std::uint16_t value = 0;
-            std::memcpy(&value, in + 2 * i, 2);
+            std::memcpy(&value, in + 2 * at, 2);
             word = value;
         }
         const double stored = decode(word);
@@ -732,8 +1144,7 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     for (const Image& image : images) {
         frame_count += image.frame_count;
         largest_image =
-                std::max(largest_image, std::uint64_t{format.rows} * format.columns *
-                                                image.frame_count * (format.bits_allocated / 8u));
+                std::max(largest_image, stored_pixels(image) * (format.bits_allocated / 8u));
     }
     if (frame_count > max_frames) {
         return base::make_error("too_large",
@@ -762,11 +1173,12 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     std::vector<Frame> frames;
     frames.reserve(static_cast<std::size_t>(frame_count));
     for (std::size_t i = 0; i < images.size(); ++i) {
-        auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count);
+        auto image_frames = read_frames(*images[i].file->getDataset(), i, images[i].frame_count,
+                                        images[i].mosaic, images[i].format);
         frames.insert(frames.end(), image_frames.begin(), image_frames.end());
     }
-    const std::uint64_t voxels = all_voxels;
-    auto z_spacing = order_frames(frames, images, source);
+    std::vector<std::string> notes;
+    auto z_spacing = order_frames(frames, images, source, notes);
     if (!z_spacing) {
         return z_spacing.error();
     }
@@ -792,16 +1204,20 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
         slots[frames[z].image].push_back(z);
     }
     const std::size_t slice_voxels = std::size_t{format.rows} * format.columns;
+    const std::uint64_t voxels = std::uint64_t{slice_voxels} * frames.size();
     // Decoded as float32 straight into the bytes the volume keeps when no narrower type fits.
     std::vector<std::byte> decoded(static_cast<std::size_t>(voxels) * sizeof(float));
     auto* values = reinterpret_cast<float*>(decoded.data());
     for (std::size_t i = 0; i < images.size(); ++i) {
+        if (slots[i].empty()) {
+            continue;  // a frame of a later volume of the series
+        }
         auto pixels = pixel_bytes(images[i]);
         if (!pixels) {
             return pixels.error();
         }
         for (const std::size_t z : slots[i]) {
-            decode_frame(*pixels, format, frames[z].index, frames[z], !kept,
+            decode_frame(*pixels, format, images[i].mosaic, frames[z].index, frames[z], !kept,
                          values + z * slice_voxels);
         }
         images[i].file.reset();  // drops the decoded pixel data
@@ -840,65 +1256,35 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     volume->axes = geometry->axes;
     volume->origin = geometry->origin;
     volume->hounsfield = images.front().hounsfield;
+    volume->notes = std::move(notes);
     return volume;
 }
 
 base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
                                        const LoadOptions& options) {
-    std::size_t not_dicom = 0;
-    auto files = dicom_files_in(folder, not_dicom);
-    if (!files) {
-        return files.error();
+    auto found = read_folder(folder, options.dicom_subfolders, true);
+    if (!found) {
+        return found.error();
     }
-    std::vector<Image> images;
-    std::size_t not_images = 0;
-    std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
-    for (const auto& path : *files) {
-        Image image;
-        auto opened = open_image(path, image);
-        // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
-        // not a slice of any series here: skipped with a warning, so the series beside it opens.
-        if (!opened && opened.error().code == "unsupported_type") {
-            base::log_warning(log_component,
-                              "skipped " + opened.error().where + ": " + opened.error().message);
-            if (!other_kind) {
-                other_kind = opened.error();
-            }
-            continue;
-        }
-        if (!opened) {
-            return opened.error();
-        }
-        if (*opened == Opened::not_an_image) {
-            ++not_images;
-            continue;
-        }
-        images.push_back(std::move(image));
-    }
-    if (images.empty() && other_kind) {
-        return *other_kind;
-    }
-    if (images.empty() && not_dicom + not_images == 0) {
-        return base::make_error("no_dicom_images", "the folder holds no files",
-                                detail::at_file(folder));
-    }
-    if (images.empty()) {
-        return base::make_error("no_dicom_images",
-                                "the folder holds no DICOM image files (" +
-                                        std::to_string(not_dicom) + " other files, " +
-                                        std::to_string(not_images) +
-                                        " DICOM files without pixel data)",
-                                detail::at_file(folder));
-    }
-    if (not_dicom + not_images > 0) {
-        base::log_info(log_component, folder.string() + ": skipped " + std::to_string(not_dicom) +
+    if (found->not_dicom + found->not_images > 0) {
+        base::log_info(log_component, folder.string() + ": skipped " +
+                                              std::to_string(found->not_dicom) +
                                               " files that are not DICOM and " +
-                                              std::to_string(not_images) +
+                                              std::to_string(found->not_images) +
                                               " DICOM files without pixel data");
     }
-    keep_largest_series(images, folder);
-    const std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
-                                                       : folder.filename().string();
+    std::vector<Image>& images = found->images;
+    const std::size_t series_count = series_of(images).size();
+    auto chosen = select_series(images, options.dicom_series, folder);
+    if (!chosen) {
+        return chosen.error();
+    }
+    // One of several series is named for itself, the only one for its folder.
+    std::string name = folder.filename().empty() ? folder.parent_path().filename().string()
+                                                 : folder.filename().string();
+    if (series_count > 1) {
+        name = chosen->label();
+    }
     return assemble(images, name, folder, options);
 }
 
@@ -954,6 +1340,24 @@ base::Result<Volume> load_dicom_path(const std::filesystem::path& path,
 }
 
 }  // namespace
+
+std::string DicomSeries::label() const {
+    std::string text = description;
+    if (!number.empty()) {
+        text += (text.empty() ? "" : " ") + std::string("(series ") + number + ")";
+    }
+    return text.empty() ? uid : text;
+}
+
+base::Result<std::vector<DicomSeries>> list_dicom_series(const std::filesystem::path& folder,
+                                                         bool subfolders) {
+    prepare_library();
+    auto found = read_folder(folder, subfolders, false);
+    if (!found) {
+        return found.error();
+    }
+    return series_of(found->images);
+}
 
 base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options) {
     return detail::guard_allocation(path, [&] { return load_dicom_path(path, options); });

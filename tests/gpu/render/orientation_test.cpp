@@ -1,7 +1,11 @@
 // The volume's orientation (Volume::axes): one head stored RAS, LAS, LPS, with its index axes in a
 // sagittal order and rotated obliquely renders the same anatomy from the same camera in every
 // mode, with the same shadows, on the GPU and in the CPU reference; ignoring the orientation
-// would show a mirror image, which these comparisons catch.
+// would show a mirror image, which these comparisons catch. The same holds for DICOM series
+// written axial, sagittal and coronal from one head and read back through the loader: Image
+// Orientation and Position (Patient) place each the same way.
+
+#include "dicom_writer.hpp"
 
 #include <penumbra/encode/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
@@ -13,8 +17,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace penumbra::render {
 namespace {
@@ -220,6 +227,117 @@ TEST_F(OrientationTest, ShearedAxesAreRefusedWithAClearMessage) {
             sheared, head_request(scene::Mode::dvr, scene::orbit_camera(0.0, 0.0, 2.6), 8));
     ASSERT_FALSE(cpu.ok());
     EXPECT_EQ(cpu.error().code, "unsupported_orientation");
+}
+
+// A DICOM series of the head: the slices of the plane whose row and column directions are
+// given (DICOM's LPS), spaced 3 mm every way, and centred on the head like the RAS grid above,
+// so that every plane samples the same points and differs only in how it stores them.
+struct DicomPlane {
+    std::string name;
+    glm::dvec3 row;     // LPS
+    glm::dvec3 column;  // LPS
+};
+
+constexpr double dicom_spacing = 3.0;
+
+// The head's extent along L, P and S in voxels of 3 mm (78 x 96 x 90 mm, as the RAS grid).
+constexpr glm::uvec3 lps_voxels{26, 32, 30};
+
+// Writes the series into `folder` and returns what the loader reads from it.
+volume::Volume write_and_load_dicom(const DicomPlane& plane, const std::filesystem::path& folder) {
+    const glm::dvec3 normal = glm::cross(plane.row, plane.column);
+    const auto voxels_along = [](glm::dvec3 direction) {
+        return static_cast<unsigned>(
+                std::lround(glm::length(glm::abs(direction) * glm::dvec3(lps_voxels))));
+    };
+    volume::fixtures::SeriesSpec spec;
+    spec.dims = {voxels_along(plane.row), voxels_along(plane.column), voxels_along(normal)};
+    spec.spacing = glm::dvec3(dicom_spacing);
+    spec.orientation = {plane.row.x,    plane.row.y,    plane.row.z,
+                        plane.column.x, plane.column.y, plane.column.z};
+    // The first voxel's centre: half the grid back from the head's centre along each axis.
+    spec.origin = -0.5 * dicom_spacing *
+                  (double(spec.dims.x - 1) * plane.row + double(spec.dims.y - 1) * plane.column +
+                   double(spec.dims.z - 1) * normal);
+    std::vector<std::uint16_t> words;
+    for (unsigned k = 0; k < spec.dims.z; ++k) {
+        for (unsigned j = 0; j < spec.dims.y; ++j) {
+            for (unsigned i = 0; i < spec.dims.x; ++i) {
+                const glm::dvec3 lps = spec.origin + dicom_spacing * (double(i) * plane.row +
+                                                                      double(j) * plane.column +
+                                                                      double(k) * normal);
+                words.push_back(static_cast<std::uint16_t>(
+                        std::lround(1000.0 * head(volume::lps_to_ras(lps)))));
+            }
+        }
+    }
+    volume::fixtures::write_series(folder, spec, words);
+    auto loaded = volume::load_volume(folder);
+    EXPECT_TRUE(loaded.ok()) << loaded.error().to_string();
+    if (!loaded.ok()) {
+        return {};
+    }
+    volume::Volume out = std::move(loaded.value());
+    EXPECT_EQ(out.dims, spec.dims);
+    out.range = {0.0, 1000.0};  // the head's values, as the TF positions read them
+    return out;
+}
+
+class DicomOrientationTest : public OrientationTest {
+protected:
+    void SetUp() override {
+        OrientationTest::SetUp();
+        folder_ = std::filesystem::temp_directory_path() /
+                  ("penumbra-dicom-orientation-" + std::to_string(::getpid()));
+        std::filesystem::remove_all(folder_);
+    }
+
+    void TearDown() override {
+        std::error_code ec;
+        std::filesystem::remove_all(folder_, ec);
+    }
+
+    std::filesystem::path folder_;
+};
+
+// Axial (rows toward the patient's left, columns posterior), sagittal (rows posterior, columns
+// inferior, slices toward the right) and coronal (rows left, columns inferior, slices posterior)
+// series of one head render alike from each named view, in a ray-cast and a shadowing mode; drawn
+// ignoring their orientation, the sagittal and coronal ones would be turned.
+TEST_F(DicomOrientationTest, AxialSagittalAndCoronalSeriesRenderTheSameAnatomy) {
+    const std::vector<DicomPlane> planes{{"axial", {1, 0, 0}, {0, 1, 0}},
+                                         {"sagittal", {0, 1, 0}, {0, 0, -1}},
+                                         {"coronal", {1, 0, 0}, {0, 0, -1}}};
+    std::vector<volume::Volume> series;
+    for (const DicomPlane& plane : planes) {
+        series.push_back(write_and_load_dicom(plane, folder_ / plane.name));
+        ASSERT_FALSE(HasFailure()) << plane.name;
+    }
+    EXPECT_EQ(volume::orientation_code(series[0].axes), "LPS");
+    EXPECT_EQ(volume::orientation_code(series[1].axes), "PIR");
+    EXPECT_EQ(volume::orientation_code(series[2].axes), "LIP");
+    for (const scene::Mode mode : {scene::Mode::dvr, scene::Mode::sbrc}) {
+        for (const scene::View view :
+             {scene::View::anterior, scene::View::left, scene::View::superior}) {
+            SCOPED_TRACE(std::string(scene::to_string(mode)) + " from " + scene::to_string(view));
+            const auto request = head_request(mode, scene::view_camera(view, 2.6), 64);
+            const base::ImageRgbaF axial = render(series[0], request);
+            if (mode == scene::Mode::dvr && view == scene::View::anterior) {
+                const auto [left, right_half] = coverage_left_right(axial);
+                EXPECT_GT(left, right_half + 30);  // the right ear, on the viewer's left
+            }
+            for (std::size_t s = 1; s < series.size(); ++s) {
+                SCOPED_TRACE(planes[s].name);
+                const double error = rms(render(series[s], request), axial);
+                EXPECT_LT(error, 0.005);
+                volume::Volume as_stored = series[s];
+                as_stored.axes = series[0].axes;  // the axial series' orientation
+                const double ignored = rms(render(as_stored, request), axial);
+                EXPECT_GT(ignored, 0.05);
+                EXPECT_GT(ignored, 2.0 * error);
+            }
+        }
+    }
 }
 
 // The CPU reference (shadow rays) agrees across storages too.

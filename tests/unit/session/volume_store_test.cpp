@@ -81,6 +81,94 @@ TEST_F(VolumeStoreTest, ADicomFolderIsOneVolumeAndItsFilesAreNotListed) {
     EXPECT_EQ((*loaded)->value(1, 2, 2), 7.0);
 }
 
+// A folder of two series (a localizer beside the scan) lists each under a stable id of the
+// folder and its series number, named by description and number; each id opens its own series.
+// A series in a sub-folder is its own entry, and the folder's own load does not take it in.
+TEST_F(VolumeStoreTest, AFolderOfSeveralSeriesListsEachSeries) {
+    volume::fixtures::SeriesSpec scan;
+    scan.dims = {4, 4, 3};
+    scan.series_number = "2";
+    scan.series_description = "T1 axial";
+    volume::fixtures::write_series(data_ / "study", scan, std::vector<std::uint16_t>(48, 7));
+    volume::fixtures::SeriesSpec localizer;
+    localizer.dims = {4, 4, 1};
+    localizer.series_uid = volume::fixtures::make_uid();
+    localizer.series_number = "1";
+    localizer.series_description = "Localizer";
+    volume::fixtures::write_slice(data_ / "study" / "localizer.dcm", localizer, 0,
+                                  std::vector<std::uint16_t>(16, 3), 1);
+    write_series(data_ / "study" / "later", {4, 4, 2});
+
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study#1", "study#2", "study/later"}));
+    const auto listed = store.list();
+    EXPECT_EQ(listed[0].name, "Localizer (series 1)");
+    EXPECT_EQ(listed[1].name, "T1 axial (series 2)");
+    EXPECT_EQ(listed[2].name, "study/later");
+
+    auto t1 = store.acquire("study#2");
+    ASSERT_TRUE(t1.ok()) << t1.error().to_string();
+    EXPECT_EQ((*t1)->dims, glm::uvec3(4, 4, 3));
+    EXPECT_EQ((*t1)->value(1, 1, 1), 7.0);
+    EXPECT_EQ((*t1)->name, "T1 axial (series 2)");
+    auto scout = store.acquire("study#1");
+    ASSERT_TRUE(scout.ok()) << scout.error().to_string();
+    EXPECT_EQ((*scout)->dims, glm::uvec3(4, 4, 1));
+    EXPECT_EQ((*scout)->value(1, 1, 0), 3.0);
+    auto later = store.acquire("study/later");
+    ASSERT_TRUE(later.ok()) << later.error().to_string();
+    EXPECT_EQ((*later)->dims, glm::uvec3(4, 4, 2));
+    EXPECT_FALSE(store.acquire("study").ok());
+}
+
+// A folder's series are read from its headers once and kept while its files stay the same; a
+// series added to it shows at the next scan.
+TEST_F(VolumeStoreTest, ASeriesAddedToAFolderIsListedAtTheNextScan) {
+    volume::fixtures::SeriesSpec first;
+    first.dims = {4, 4, 2};
+    first.series_number = "1";
+    volume::fixtures::write_series(data_ / "study", first, std::vector<std::uint16_t>(32, 1));
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study"}));
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study"}));
+
+    volume::fixtures::SeriesSpec second;
+    second.dims = {4, 4, 1};
+    second.series_uid = volume::fixtures::make_uid();
+    second.series_number = "2";
+    volume::fixtures::write_slice(data_ / "study" / "added.dcm", second, 0,
+                                  std::vector<std::uint16_t>(16, 2), 1);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"study#1", "study#2"}));
+    auto added = store.acquire("study#2");
+    ASSERT_TRUE(added.ok()) << added.error().to_string();
+    EXPECT_EQ((*added)->dims, glm::uvec3(4, 4, 1));
+}
+
+// A CD export: the DICOMDIR at the root is no volume; the series four folders down is.
+TEST_F(VolumeStoreTest, AnExportRootListsItsSeriesNotItsDicomdir) {
+    const fs::path root = data_ / "cdrom";
+    volume::fixtures::SeriesSpec spec;
+    spec.dims = {4, 4, 2};
+    const auto files = volume::fixtures::write_series(root / "DICOM" / "PAT1" / "STU1" / "SER1",
+                                                      spec, std::vector<std::uint16_t>(32, 5));
+    std::vector<fs::path> renamed;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        renamed.push_back(files[i].parent_path() / ("IM" + std::to_string(i)));
+        fs::rename(files[i], renamed.back());
+    }
+    volume::fixtures::write_dicomdir(root, renamed);
+    VolumeStore store(data_, std::size_t{1} << 20);
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_EQ(ids(store), (std::vector<std::string>{"cdrom/DICOM/PAT1/STU1/SER1"}));
+    auto loaded = store.acquire("cdrom/DICOM/PAT1/STU1/SER1");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
+    EXPECT_EQ((*loaded)->dims, glm::uvec3(4, 4, 2));
+}
+
 // The suffixes are volume's, compared ignoring case as load_volume compares them: every file
 // `penumbra render` opens is offered.
 TEST_F(VolumeStoreTest, VolumeFileNamesInAnyCaseAreListed) {

@@ -298,23 +298,339 @@ TEST(DicomLoader, WithoutPositionsInstanceNumberOrdersAndSliceThicknessSpaces) {
     expect_ch2_voxels(*volume, words);
 }
 
-TEST(DicomLoader, FolderWithSeveralSeriesLoadsTheLargest) {
+// A clinic's export puts a localizer beside the series: each is a series of its own, listed by
+// description and number; a load names the one it wants, and without a name gets the list.
+TEST(DicomLoader, FolderWithSeveralSeriesListsThemAndOpensTheOneChosen) {
     fixtures::TempDir dir;
     const auto words = fixtures::ch2_box(box_first, {16, 8, 6});
-    SeriesSpec big;
-    big.dims = {16, 8, 6};
-    fixtures::write_series(dir / "study", big, words);
+    SeriesSpec t1;
+    t1.dims = {16, 8, 6};
+    t1.series_number = "3";
+    t1.series_description = "T1 axial";
+    fixtures::write_series(dir / "study", t1, words);
     SeriesSpec scout;
     scout.dims = {8, 8, 2};
     scout.series_uid = fixtures::make_uid();
+    scout.series_number = "1";
+    scout.series_description = "Localizer";
     for (std::uint32_t z = 0; z < 2; ++z) {
         fixtures::write_slice(dir / "study" / ("scout" + std::to_string(z)), scout, z,
-                              std::vector<std::uint16_t>(128, 9), 1);
+                              std::vector<std::uint16_t>(128, 9), static_cast<std::int32_t>(z));
     }
 
-    auto volume = load_volume(dir / "study");
+    auto series = list_dicom_series(dir / "study");
+    ASSERT_TRUE(series.ok()) << series.error().to_string();
+    ASSERT_EQ(series->size(), 2u);
+    EXPECT_EQ((*series)[0].label(), "Localizer (series 1)");
+    EXPECT_EQ((*series)[0].uid, scout.series_uid);
+    EXPECT_EQ((*series)[0].frames, 2u);
+    EXPECT_EQ((*series)[1].label(), "T1 axial (series 3)");
+    EXPECT_EQ((*series)[1].images, 6u);
+
+    auto unchosen = load_volume(dir / "study");
+    ASSERT_FALSE(unchosen.ok());
+    EXPECT_EQ(unchosen.error().code, "several_series");
+    EXPECT_TRUE(contains(unchosen.error().message, "Localizer (series 1)"))
+            << unchosen.error().message;
+    EXPECT_TRUE(contains(unchosen.error().message, "T1 axial (series 3)"));
+    EXPECT_TRUE(contains(unchosen.error().message, scout.series_uid));
+
+    LoadOptions by_number;
+    by_number.dicom_series = "3";
+    auto t1_volume = load_volume(dir / "study", by_number);
+    ASSERT_TRUE(t1_volume.ok()) << t1_volume.error().to_string();
+    EXPECT_EQ(t1_volume->dims, glm::uvec3(16, 8, 6));
+    EXPECT_EQ(t1_volume->name, "T1 axial (series 3)");
+    expect_ch2_voxels(*t1_volume, words);
+
+    LoadOptions by_uid;
+    by_uid.dicom_series = scout.series_uid;
+    auto scout_volume = load_volume(dir / "study", by_uid);
+    ASSERT_TRUE(scout_volume.ok()) << scout_volume.error().to_string();
+    EXPECT_EQ(scout_volume->dims, glm::uvec3(8, 8, 2));
+    EXPECT_EQ(scout_volume->value(3, 3, 1), 9.0);
+
+    LoadOptions missing;
+    missing.dicom_series = "7";
+    auto none = load_volume(dir / "study", missing);
+    ASSERT_FALSE(none.ok());
+    EXPECT_EQ(none.error().code, "unknown_series");
+    EXPECT_TRUE(contains(none.error().message, "T1 axial (series 3)")) << none.error().message;
+}
+
+// Series numbers are not unique in every export: the UID still picks one.
+TEST(DicomLoader, SeriesSharingANumberArePickedByUid) {
+    fixtures::TempDir dir;
+    SeriesSpec a;
+    a.dims = {4, 4, 2};
+    a.series_uid = fixtures::make_uid();
+    a.series_number = "5";
+    fixtures::write_series(dir / "s" / "a", a, std::vector<std::uint16_t>(32, 1));
+    SeriesSpec b = a;
+    b.series_uid = fixtures::make_uid();
+    b.dims = {4, 4, 3};
+    fixtures::write_series(dir / "s" / "b", b, std::vector<std::uint16_t>(48, 2));
+    LoadOptions five;
+    five.dicom_series = "5";
+    auto ambiguous = load_volume(dir / "s", five);
+    ASSERT_FALSE(ambiguous.ok());
+    EXPECT_EQ(ambiguous.error().code, "several_series");
+    LoadOptions by_uid;
+    by_uid.dicom_series = b.series_uid;
+    auto volume = load_volume(dir / "s", by_uid);
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
-    EXPECT_EQ(volume->dims, glm::uvec3(16, 8, 6));
+    EXPECT_EQ(volume->dims, glm::uvec3(4, 4, 3));
+    EXPECT_EQ(volume->value(0, 0, 0), 2.0);
+}
+
+// A CD or PACS export: a DICOMDIR at the root and the images four folders down under names
+// without extensions, as dcmmkdir writes them; a study folder with one folder per series. Both
+// open from their root; a folder deeper than the search reaches is not searched.
+TEST(DicomLoader, AnExportRootFindsTheImagesInItsSubFolders) {
+    fixtures::TempDir dir;
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 4});
+    const std::filesystem::path root = dir / "cdrom";
+    SeriesSpec spec;
+    spec.dims = {16, 8, 4};
+    spec.series_number = "2";
+    spec.series_description = "T2";
+    const auto files =
+            fixtures::write_series(root / "DICOM" / "PAT1" / "STU1" / "SER2", spec, words);
+    std::vector<std::filesystem::path> renamed;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        renamed.push_back(files[i].parent_path() / ("IM" + std::to_string(i)));
+        std::filesystem::rename(files[i], renamed.back());
+    }
+    fixtures::write_dicomdir(root, renamed);
+    ASSERT_TRUE(is_dicom_file(root / "DICOMDIR"));
+
+    auto volume = load_volume(root);
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(16, 8, 4));
+    expect_ch2_voxels(*volume, words);
+
+    // Without sub-folders (how `serve` opens a folder it walks itself) the root holds no image.
+    LoadOptions flat;
+    flat.dicom_subfolders = false;
+    auto only_root = load_volume(root, flat);
+    ASSERT_FALSE(only_root.ok());
+    EXPECT_EQ(only_root.error().code, "no_dicom_images");
+
+    SeriesSpec other;
+    other.dims = {4, 4, 2};
+    other.series_number = "4";
+    fixtures::write_series(dir / "study" / "4_t1", other, std::vector<std::uint16_t>(32, 3));
+    fixtures::write_series(dir / "study" / "2_t2", spec, words);
+    auto series = list_dicom_series(dir / "study");
+    ASSERT_TRUE(series.ok()) << series.error().to_string();
+    EXPECT_EQ(series->size(), 2u);
+    LoadOptions t1;
+    t1.dicom_series = "4";
+    auto t1_volume = load_volume(dir / "study", t1);
+    ASSERT_TRUE(t1_volume.ok()) << t1_volume.error().to_string();
+    EXPECT_EQ(t1_volume->dims, glm::uvec3(4, 4, 2));
+
+    fixtures::write_series(dir / "deep" / "a" / "b" / "c" / "d" / "e" / "f", other,
+                           std::vector<std::uint16_t>(32, 3));
+    auto too_deep = load_volume(dir / "deep");
+    ASSERT_FALSE(too_deep.ok());
+    EXPECT_EQ(too_deep.error().code, "no_dicom_images");
+}
+
+// Two echoes in one series: every position twice. The first echo opens, with a note, whatever
+// order the files come in; neither are they interleaved nor is the series refused.
+TEST(DicomLoader, ASeriesOfSeveralVolumesOpensTheFirstWithANote) {
+    fixtures::TempDir dir;
+    const glm::uvec3 dims{16, 8, 5};
+    const auto first_echo = fixtures::ch2_box(box_first, dims);
+    auto second_echo = first_echo;
+    for (auto& word : second_echo) {
+        word = static_cast<std::uint16_t>(word + 1000);
+    }
+    SeriesSpec spec;
+    spec.dims = dims;
+    spec.spacing = {1.0, 1.0, 2.0};
+    spec.series_uid = fixtures::make_uid();
+    std::filesystem::create_directories(dir / "me");
+    for (std::uint32_t z = 0; z < dims.z; ++z) {
+        for (int echo : {2, 1}) {
+            SeriesSpec echo_spec = spec;
+            echo_spec.edit = [echo](DcmDataset& dataset) {
+                dataset.putAndInsertString(DCM_EchoNumbers, std::to_string(echo).c_str());
+            };
+            // Instance numbers put the second echo first, so only the echo number orders them.
+            fixtures::write_slice(
+                    dir / "me" / ("e" + std::to_string(echo) + "z" + std::to_string(z)), echo_spec,
+                    z, echo == 1 ? first_echo : second_echo,
+                    static_cast<std::int32_t>(echo == 2 ? z : 100 + z));
+        }
+    }
+    auto volume = load_volume(dir / "me");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, dims);
+    EXPECT_EQ(volume->spacing.z, 2.0);
+    expect_ch2_voxels(*volume, first_echo);
+    ASSERT_EQ(volume->notes.size(), 1u);
+    EXPECT_TRUE(contains(volume->notes.front(), "2 volumes")) << volume->notes.front();
+
+    // Positions repeated unevenly are a broken series, named as such.
+    std::filesystem::remove(dir / "me" / "e2z3");
+    auto uneven = load_volume(dir / "me");
+    ASSERT_FALSE(uneven.ok());
+    EXPECT_EQ(uneven.error().code, "inconsistent_series");
+}
+
+// Siemens' NumberOfImagesInMosaic: a private element of its "SIEMENS MR HEADER" block.
+void put_images_in_mosaic(DcmDataset& dataset, std::uint16_t count) {
+    ASSERT_TRUE(
+            dataset.putAndInsertString(DcmTag(0x0019, 0x0010, EVR_LO), "SIEMENS MR HEADER").good());
+    ASSERT_TRUE(dataset.putAndInsertUint16(DcmTag(0x0019, 0x100a, EVR_US), count).good());
+    ASSERT_TRUE(
+            dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\ND\\MOSAIC").good());
+}
+
+// A Siemens mosaic: five 16x8 slices of the ch2 head tiled three a side in one 48x24 image, whose
+// ImagePositionPatient is that of the tiled image's corner as Siemens writes it. It opens as the
+// five slices, the first tile's corner as origin. (Heudiconv's real mosaics are compared with
+// nibabel's unpacking in the conformance test.)
+TEST(DicomLoader, ASiemensMosaicIsUnpackedIntoItsSlices) {
+    fixtures::TempDir dir;
+    const glm::uvec3 tile{16, 8, 5};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    constexpr unsigned tiles = 3;
+    std::vector<std::uint16_t> tiled(std::size_t{tile.x} * tiles * tile.y * tiles, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / tiles) * tile.y + y) * tile.x * tiles + (f % tiles) * tile.x + x] =
+                        slices[(std::size_t{f} * tile.y + y) * tile.x + x];
+            }
+        }
+    }
+    SeriesSpec spec;
+    spec.dims = {tile.x * tiles, tile.y * tiles, 1};
+    spec.spacing = {0.75, 0.5, 2.0};
+    const glm::dvec3 corner{-10.0, 5.0, 3.0};  // LPS: the first tile's first pixel
+    // Siemens writes the tiled image's corner: a whole tile grid's half-difference away.
+    spec.origin = corner - glm::dvec3(0.75 * (48 - 16) / 2.0, 0.5 * (24 - 8) / 2.0, 0.0);
+    spec.edit = [](DcmDataset& dataset) { put_images_in_mosaic(dataset, 5); };
+    fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+
+    auto volume = load_volume(dir / "mosaic.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, tile);
+    EXPECT_EQ(volume->spacing, glm::dvec3(0.75, 0.5, 2.0));
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(glm::length(volume->origin - lps_to_ras(corner)), 0.0, 1e-9);
+    expect_ch2_voxels(*volume, slices);
+}
+
+// A Siemens CSA image header (0029,1010) of the "SV10" layout holding one element of text items,
+// as Syngo writes them: a 16-byte header per item, the text padded to four bytes.
+std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+    std::vector<Uint8> bytes;
+    const auto put_int = [&](std::int32_t value) {
+        const auto* b = reinterpret_cast<const Uint8*>(&value);
+        bytes.insert(bytes.end(), b, b + 4);
+    };
+    const auto put_text = [&](const std::string& text, std::size_t size) {
+        std::vector<Uint8> field(size, 0);
+        std::copy(text.begin(), text.end(), field.begin());
+        bytes.insert(bytes.end(), field.begin(), field.end());
+    };
+    put_text("SV10", 4);
+    put_text("\4\3\2\1", 4);
+    put_int(1);   // elements
+    put_int(77);  // unused
+    put_text(name, 64);
+    put_int(static_cast<std::int32_t>(items.size()));  // multiplicity
+    put_text("FD", 4);
+    put_int(4);  // SyngoDT
+    put_int(static_cast<std::int32_t>(items.size()));
+    put_int(77);
+    for (const std::string& item : items) {
+        const auto length = static_cast<std::int32_t>(item.size() + 1);  // with its NUL
+        for (const std::int32_t field : {length, length, 77, length}) {
+            put_int(field);
+        }
+        put_text(item, static_cast<std::size_t>(length + (4 - length % 4) % 4));
+    }
+    return bytes;
+}
+
+// The slice order comes from the CSA header's SliceNormalVector: pointing inferior, against the
+// row x column direction, the tiles run from head to foot, so the volume (ordered along +z)
+// holds them in reverse, its origin at the last tile.
+TEST(DicomLoader, AMosaicsSlicesFollowTheCsaSliceNormal) {
+    fixtures::TempDir dir;
+    const glm::uvec3 tile{8, 8, 4};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    std::vector<std::uint16_t> tiled(std::size_t{16} * 16, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / 2) * 8 + y) * 16 + (f % 2) * 8 + x] = slices[(f * 8 + y) * 8 + x];
+            }
+        }
+    }
+    SeriesSpec spec;
+    spec.dims = {16, 16, 1};
+    spec.spacing = {1.0, 1.0, 2.5};
+    spec.origin = glm::dvec3(-4.0, -4.0, 0.0);  // the first tile's corner at (0, 0, 0)
+    spec.edit = [](DcmDataset& dataset) {
+        put_images_in_mosaic(dataset, 4);
+        const auto csa = csa_header("SliceNormalVector", {"0.00000000", "0.00000000", "-1.0"});
+        ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                   csa.size())
+                            .good());
+        ASSERT_TRUE(dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), "SIEMENS CSA HEADER")
+                            .good());
+    };
+    fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+
+    auto volume = load_volume(dir / "mosaic.dcm");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, tile);
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    EXPECT_NEAR(glm::length(volume->origin - glm::dvec3(0.0, 0.0, -7.5)), 0.0, 1e-9);
+    std::vector<std::uint16_t> reversed;
+    for (unsigned k = 0; k < tile.z; ++k) {
+        const auto first = slices.begin() + static_cast<std::ptrdiff_t>((tile.z - 1 - k) * 64);
+        reversed.insert(reversed.end(), first, first + 64);
+    }
+    expect_ch2_voxels(*volume, reversed);
+}
+
+// Mosaics that cannot be unpacked are refused by name: without a number of slices, or with one
+// that does not tile the image; in a folder, the series beside them still opens.
+TEST(DicomLoader, MosaicsThatCannotBeUnpackedAreRefusedSayingMosaic) {
+    fixtures::TempDir dir;
+    SeriesSpec spec;
+    spec.dims = {8, 8, 1};
+    spec.series_uid = fixtures::make_uid();
+    spec.edit = [](DcmDataset& dataset) {
+        dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\ND\\MOSAIC");
+    };
+    fixtures::write_slice(dir / "uncounted.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
+    auto uncounted = load_volume(dir / "uncounted.dcm");
+    ASSERT_FALSE(uncounted.ok());
+    EXPECT_EQ(uncounted.error().code, "unsupported_type");
+    EXPECT_TRUE(contains(uncounted.error().message, "mosaic")) << uncounted.error().message;
+
+    spec.edit = [](DcmDataset& dataset) { put_images_in_mosaic(dataset, 5); };  // 3 x 3 tiles
+    fixtures::write_slice(dir / "untiled.dcm", spec, 0, std::vector<std::uint16_t>(64, 4), 1);
+    auto untiled = load_volume(dir / "untiled.dcm");
+    ASSERT_FALSE(untiled.ok());
+    EXPECT_TRUE(contains(untiled.error().message, "mosaic")) << untiled.error().message;
+    EXPECT_TRUE(contains(untiled.error().message, "do not tile")) << untiled.error().message;
+
+    const auto words = fixtures::ch2_box(box_first, {16, 8, 3});
+    SeriesSpec series;
+    series.dims = {16, 8, 3};
+    fixtures::write_series(dir / "s", series, words);
+    std::filesystem::copy_file(dir / "uncounted.dcm", dir / "s" / "mosaic.dcm");
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     expect_ch2_voxels(*volume, words);
 }
 

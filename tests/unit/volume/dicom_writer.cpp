@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <dcmtk/config/osconfig.h>  // must come before the other DCMTK headers
+#include <dcmtk/dcmdata/dcddirif.h>
 #include <dcmtk/dcmdata/dcdeftag.h>
 #include <dcmtk/dcmdata/dcfilefo.h>
 #include <dcmtk/dcmdata/dcuid.h>
@@ -60,6 +61,12 @@ void put_image_header(DcmDataset& dataset, const SeriesSpec& spec, std::int32_t 
     put(dataset, DCM_StudyInstanceUID, std::string("1.2.276.0.7230010.3.1.2.1"));
     put(dataset, DCM_SeriesInstanceUID, spec.series_uid);
     put(dataset, DCM_Modality, std::string("MR"));
+    if (!spec.series_number.empty()) {
+        put(dataset, DCM_SeriesNumber, spec.series_number);
+    }
+    if (!spec.series_description.empty()) {
+        put(dataset, DCM_SeriesDescription, spec.series_description);
+    }
     put(dataset, DCM_PatientName, std::string("Colin27^Penumbra"));
     put(dataset, DCM_InstanceNumber, std::to_string(instance));
     put(dataset, DCM_SamplesPerPixel, std::uint16_t{1});
@@ -121,6 +128,20 @@ std::string make_uid() {
     char uid[100];
     dcmGenerateUniqueIdentifier(uid, SITE_INSTANCE_UID_ROOT);
     return uid;
+}
+
+void write_dicomdir(const std::filesystem::path& root,
+                    const std::vector<std::filesystem::path>& files) {
+    const std::filesystem::path dicomdir = root / "DICOMDIR";
+    DicomDirInterface writer;
+    writer.enableInventMode(OFTrue);  // patient id, study id and dates the fixtures leave out
+    check(writer.createNewDicomDir(DicomDirInterface::AP_GeneralPurpose, dicomdir.c_str()),
+          "DICOMDIR");
+    for (const auto& file : files) {
+        check(writer.addDicomFile(file.lexically_relative(root).c_str(), root.c_str()),
+              file.string());
+    }
+    check(writer.writeDicomDir(), "DICOMDIR");
 }
 
 glm::dvec3 slice_position(const SeriesSpec& spec, std::uint32_t z) {

@@ -29,8 +29,10 @@ struct SeriesSpec {
     bool is_signed = false;
     std::optional<double> slope;
     std::optional<double> intercept;
-    std::string series_uid;   // a fresh UID when empty
-    bool explicit_vr = true;  // else implicit VR little endian
+    std::string series_uid;          // a fresh UID when empty
+    std::string series_number;       // SeriesNumber, written when set
+    std::string series_description;  // SeriesDescription, written when set
+    bool explicit_vr = true;         // else implicit VR little endian
     // Last changes to each dataset before it is saved (delete a tag, break a value).
     std::function<void(DcmDataset&)> edit;
 };
@@ -56,6 +58,12 @@ std::vector<std::filesystem::path> write_series(const std::filesystem::path& fol
 void write_multiframe(const std::filesystem::path& path, const SeriesSpec& spec,
                       const std::vector<std::uint16_t>& words,
                       const std::vector<std::uint32_t>& frame_order);
+
+// Writes <root>/DICOMDIR indexing every file below `root` (whose relative paths must be
+// DICOMDIR-legal: upper-case components of at most 8 characters, no extension), as DCMTK's
+// dcmmkdir does for a General Purpose CD export.
+void write_dicomdir(const std::filesystem::path& root,
+                    const std::vector<std::filesystem::path>& files);
 
 // A box of the ch2 MRI head (uint8 voxels) as pixel words, x fastest.
 std::vector<std::uint16_t> ch2_box(glm::uvec3 first, glm::uvec3 dims);

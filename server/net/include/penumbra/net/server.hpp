@@ -23,6 +23,8 @@ struct ServerConfig {
     std::filesystem::path web_root;  // the built web client; empty: a small built-in page
     protocol::Limits limits;
     std::string default_transfer_function = "mri_skin";
+    // New sessions on a volume whose values are Hounsfield units (a CT) start from this one.
+    std::string default_ct_transfer_function = "ct_bone";
     // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
     std::shared_ptr<const quality::Table> quality_table;
     // A WebSocket connection that has sent nothing for `ping_interval` is pinged; one that then

@@ -22,15 +22,21 @@ namespace penumbra::session {
 
 struct VolumeEntry {
     // The file's path relative to the data directory; for a DICOM series, its folder's ("." for
-    // DICOM files right in the data directory).
+    // DICOM files right in the data directory), followed by "#" and the series' number (or its
+    // UID where numbers repeat) when the folder holds several series: "study/ct#3".
     std::string id;
+    // What users see before the volume is loaded: the id, or for one of several DICOM series its
+    // description and number ("T1 axial (series 3)").
+    std::string name;
     std::filesystem::path path;
+    std::string dicom_series;                      // the SeriesInstanceUID a DICOM entry opens
     std::uintmax_t file_bytes = 0;                 // a DICOM folder: the bytes of its files
     std::shared_ptr<const volume::Volume> loaded;  // null until first opened
 };
 
-// The volumes a server offers: every supported file under one data directory, and every folder
-// holding DICOM files (one series, one volume; its files are not listed apart). Links in the data
+// The volumes a server offers: every supported file under one data directory, and every series of
+// DICOM images in a folder (one series, one volume; its files are not listed apart; a folder of
+// several series lists each). Links in the data
 // directory are followed (the administrator put them there); a volume is named by its path in the
 // data directory, the link's, whatever the link points to. A volume is loaded
 // once, on first use, and shared by every session that opens it; loaded volumes beyond the memory
@@ -109,6 +115,18 @@ private:
 
     std::map<const volume::Volume*, CachedHistogram> histograms_;
     std::size_t histograms_computed_ = 0;
+
+    // The series of each DICOM folder, read from its files' headers: kept while the folder's
+    // files keep their names, sizes and times, so a rescan does not reread them.
+    struct DicomFolder {
+        std::string signature;
+        base::Result<std::vector<volume::DicomSeries>> series = std::vector<volume::DicomSeries>{};
+    };
+
+    base::Result<std::vector<volume::DicomSeries>> dicom_series(const std::filesystem::path& folder,
+                                                                const std::string& signature);
+    std::mutex dicom_mutex_;
+    std::map<std::filesystem::path, DicomFolder> dicom_folders_;
 
     std::filesystem::file_time_type scanned_mtime_{};
     mutable std::mutex rescan_mutex_;

@@ -70,6 +70,10 @@ struct Volume {
     // so), which lets CT presets be given in HU rather than as fractions of the range.
     bool hounsfield = false;
 
+    // What the loader chose for the user and they should know, one line each (a DICOM series
+    // holding several volumes opened at its first); `info` prints them.
+    std::vector<std::string> notes;
+
     [[nodiscard]] std::size_t voxel_count() const {
         return static_cast<std::size_t>(dims.x) * dims.y * dims.z;
     }
@@ -130,6 +134,12 @@ struct LoadOptions {
     std::uint64_t max_bytes = std::uint64_t{8} << 30;
     // Also refuse what the machine cannot give now (MemAvailable in /proc/meminfo).
     bool within_available_memory = true;
+    // DICOM: the series to open from a folder holding several, by SeriesNumber or
+    // SeriesInstanceUID (as list_dicom_series gives them); empty opens the folder's only series.
+    std::string dicom_series;
+    // DICOM: a folder's sub-folders are searched too (a DICOMDIR export root, a study folder
+    // with a folder per series), a few levels deep; `serve` walks sub-folders itself.
+    bool dicom_subfolders = true;
 };
 
 // The memory the machine has available now (MemAvailable), or nullopt where it cannot tell.
@@ -148,15 +158,37 @@ struct LoadOptions {
 //   NIfTI: .nii and .nii.gz, NIfTI-1 (and -2), and .hdr/.img pairs (SPM's output, Analyze 7.5
 //          too); the header through the reference nifti library; axes and origin from the
 //          sform, else the qform.
-//   DICOM: a folder holding the files of one series (any names; the largest series when there
-//          are several), or one file (multi-frame or a single slice), through DCMTK. Slices are
+//   DICOM: a folder holding the files of a series (any names, in sub-folders too; where it holds
+//          several series, LoadOptions::dicom_series picks one, else the error "several_series"
+//          lists them), or one file (multi-frame or a single slice), through DCMTK. Slices are
 //          ordered along the slice normal; axes and origin from Image Orientation/Position
 //          (Patient); rescale slope/intercept kept as Volume::rescale (CT in HU);
-//          MONOCHROME1 inverted.
+//          MONOCHROME1 inverted; Siemens mosaics unpacked into their slices; a series of several
+//          volumes (echoes, time points) opens its first, with a note.
 base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// One series of a DICOM folder, as a user chooses among them.
+struct DicomSeries {
+    std::string uid;          // SeriesInstanceUID
+    std::string number;       // SeriesNumber as written (may be empty)
+    std::string description;  // SeriesDescription (may be empty)
+    std::string modality;
+    std::size_t images = 0;  // files
+    std::uint64_t frames = 0;
+
+    // "T1 MPRAGE (series 3)", or what of it the headers have; the UID where they have nothing.
+    [[nodiscard]] std::string label() const;
+};
+
+// The image series of a DICOM folder (searching its sub-folders when `subfolders`), ordered by
+// SeriesNumber then UID, read from the headers only. Images of another kind (colour captures,
+// mosaics) are left out as a load leaves them out; a folder without any image series is the
+// error a load of it gives.
+base::Result<std::vector<DicomSeries>> list_dicom_series(const std::filesystem::path& folder,
+                                                         bool subfolders = true);
 
 // Whether a file carries the DICOM Part 10 marker ("DICM" after a 128-byte preamble), the test
 // that decides which files of a folder belong to a series. Cheap: reads 132 bytes.
