@@ -45,12 +45,13 @@ auto vec3_in(const scene::SettingRange& range) {
     };
 }
 
-// The table's settings that a request holds (those with a `write`), each at the JSON pointer
-// "/" + its field: "/settings/light_buffer/compensation".
+// A setting's JSON pointer, "/" + its field: "/settings/light_buffer/compensation".
 std::string pointer_of(const scene::SettingRange& range) {
     return "/" + std::string(range.field);
 }
 
+// Whether `range` is a setting that a request holds (it has a `write`) and a member of the object
+// at `object_pointer`.
 bool is_member_of(const scene::SettingRange& range, const std::string& object_pointer) {
     const std::string pointer = pointer_of(range);
     return range.write != nullptr && pointer.size() > object_pointer.size() + 1 &&

@@ -26,6 +26,11 @@ struct SettingRange {
     // Stores a value within the range in the request (whole where `integer`): the protocol
     // parser and the command line set the setting through it. Null exactly where `read` is.
     void (*write)(FrameRequest&, double) = nullptr;
+    // What the setting does, for the command line's help; empty where `write` is null.
+    std::string_view summary = {};
+    // The command-line option that sets it, where that is not the field's last part with '-'
+    // for '_' (see option_name).
+    std::string_view option = {};
 
     // NaN and infinities are never within.
     [[nodiscard]] constexpr bool contains(double value) const {
@@ -36,11 +41,18 @@ struct SettingRange {
     [[nodiscard]] std::string describe() const;
 };
 
+// The command-line option that sets `range`: "compensation" for
+// "settings/light_buffer/compensation", "sample-distance" for "settings/sample_distance".
+std::string option_name(const SettingRange& range);
+
 // The range of a setting that one member of a request holds, which `member` picks out of it:
-// request_setting("light/ambient", 0.0, 1.0, [](auto& r) -> auto& { return r.light.ambient; }).
+// request_setting("light/ambient", 0.0, 1.0, "ambient light",
+//                 [](auto& r) -> auto& { return r.light.ambient; }).
 // The row reads and writes that member, and is whole when the member is.
 template <class Member>
-constexpr SettingRange request_setting(std::string_view field, double min, double max, Member) {
+constexpr SettingRange request_setting(std::string_view field, double min, double max,
+                                       std::string_view summary, Member,
+                                       std::string_view option = {}) {
     using Value = std::remove_cvref_t<decltype(Member{}(std::declval<FrameRequest&>()))>;
     static_assert(std::is_arithmetic_v<Value> && !std::is_same_v<Value, bool>,
                   "a setting with a range is a number");
@@ -50,7 +62,9 @@ constexpr SettingRange request_setting(std::string_view field, double min, doubl
             max,
             std::is_integral_v<Value>,
             [](const FrameRequest& r) { return static_cast<double>(Member{}(r)); },
-            [](FrameRequest& r, double value) { Member{}(r) = static_cast<Value>(value); }};
+            [](FrameRequest& r, double value) { Member{}(r) = static_cast<Value>(value); },
+            summary,
+            option};
 }
 
 // The number of points per light slab is capped: past 16 the slab is sampled finer than any
