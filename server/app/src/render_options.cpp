@@ -6,44 +6,33 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace penumbra::app {
 
+namespace {
+
+// The settings of the table that a request holds: each has an option named by option_name.
+bool is_numeric_option(const scene::SettingRange& range) {
+    return range.write != nullptr;
+}
+
+}  // namespace
+
 const std::vector<std::string>& frame_option_names() {
-    static const std::vector<std::string> names = {"mode",
-                                                   "size",
-                                                   "camera",
-                                                   "view",
-                                                   "eye",
-                                                   "target",
-                                                   "up",
-                                                   "fov",
-                                                   "light",
-                                                   "light-position",
-                                                   "light-color",
-                                                   "intensity",
-                                                   "ambient",
-                                                   "diffuse",
-                                                   "specular",
-                                                   "shininess",
-                                                   "tf",
-                                                   "sample-distance",
-                                                   "opacity-unit",
-                                                   "compositing",
-                                                   "stage",
-                                                   "background",
-                                                   "early-termination",
-                                                   "slices",
-                                                   "light-res",
-                                                   "builder",
-                                                   "compensation",
-                                                   "slab-samples",
-                                                   "light-lookup",
-                                                   "shell-radius",
-                                                   "shell-rings",
-                                                   "shell-weight",
-                                                   "cone-angle",
-                                                   "cone-weight"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> all = {
+                "mode",  "size",       "camera",         "view",        "eye",     "target",
+                "up",    "light",      "light-position", "light-color", "tf",      "compositing",
+                "stage", "background", "slices",         "light-res",   "builder", "light-lookup",
+        };
+        for (const scene::SettingRange* range : scene::kSettingRanges) {
+            if (is_numeric_option(*range)) {
+                all.push_back(scene::option_name(*range));
+            }
+        }
+        return all;
+    }();
     return names;
 }
 
@@ -63,6 +52,24 @@ const std::vector<std::string>& frame_flag_names() {
     return names;
 }
 
+// One entry per numeric setting: its option, what it does, its range and its default.
+std::string numeric_options_help() {
+    const scene::FrameRequest defaults;
+    std::string help;
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (!is_numeric_option(*range)) {
+            continue;
+        }
+        const std::string option = scene::option_name(*range) + (range->integer ? " N" : " X");
+        char line[256];
+        std::snprintf(line, sizeof line, "  --%-28s %.*s\n%33s%s, default %g\n", option.c_str(),
+                      static_cast<int>(range->summary.size()), range->summary.data(), "",
+                      range->describe().c_str(), range->read(defaults));
+        help += line;
+    }
+    return help;
+}
+
 const char* frame_options_help() {
     static const std::string help =
             "  --mode MODE                    (default phong)\n" + modes_help() +
@@ -75,15 +82,10 @@ const char* frame_options_help() {
             "128)\n"
             "  --light-res R                  light buffer R x R texels (default 256)\n"
             "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
-            "  --compensation N               darkening compensation (1+alpha)^N, 0 = off\n"
             "  --light-lookup local|interpolate  camera samples read the light buffer: the layer\n"
             "                                 nearer the light + a march through the rest of\n"
             "                                 the slab (default), or the paper's interpolation\n"
             "                                 between the two nearest layers\n"
-            "  --slab-samples K               points per light slab: 1 = the slice plane only\n"
-            "                                 (the paper), 0 = one per voxel (default 0)\n"
-            "  --shell-radius D --shell-rings K --shell-weight W   sbrc_shell (2/256, 1, 0.4)\n"
-            "  --cone-angle DEG --cone-weight W                    sbrc_cone (30, 0.2)\n"
             "  --size WxH                     image size (default 512x512)\n"
             "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees "
             "about\n"
@@ -95,20 +97,16 @@ const char* frame_options_help() {
             "                                 left, right (superior up), superior, inferior\n"
             "                                 (anterior up); world space is RAS\n"
             "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
-            "  --fov DEG                      vertical field of view (default 30)\n"
             "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
             "  --light-position X,Y,Z         point light at this position instead\n"
-            "  --light-color R,G,B --intensity I --ambient A   (defaults 1,1,1  1  0.25)\n"
-            "  --diffuse KD --specular KS --shininess N        Blinn-Phong (0.75 0.3 32)\n"
+            "  --light-color R,G,B            (default 1,1,1)\n"
             "  --tf PRESET|FILE.json          transfer function (default mri_skin); presets:\n"
             "                                 grey_ramp mri_skin mri_brain, in HU: ct_bone\n"
             "                                 ct_skin ct_soft_tissue ct_lung ct_angio\n"
-            "  --sample-distance D            ray step, unit = longest side (default 1/256)\n"
-            "  --opacity-unit D               distance the TF opacity refers to (default 1/256)\n"
             "  --compositing alpha|extinction (default alpha)\n"
             "  --stage compute|fragment       where the ray caster runs (default compute)\n"
-            "  --background R,G,B             (default 0,0,0)\n"
-            "  --early-termination A          stop rays at this opacity (default 0.99)\n";
+            "  --background R,G,B             (default 0,0,0)\n" +
+            numeric_options_help();
     return help.c_str();
 }
 
@@ -163,12 +161,6 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         }
         request.camera = scene::view_camera(*view);
     }
-    auto fov = args.number("fov", 30.0);
-    if (!fov) {
-        return fov.error();
-    }
-    request.camera.fov_y_degrees = *fov;
-
     scene::Light& light = request.light;
     if (args.has("light-position")) {
         auto position = args.vec3("light-position", {});
@@ -196,66 +188,42 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
     light.color = *color;
     s.background = *background;
 
-    // Each option's limits are its setting's (scene::setting), named by the option.
-    const auto out_of_range = [](const char* option, const scene::SettingRange& range) {
-        return base::make_error("invalid_argument", "must be " + range.describe(),
-                                std::string("--") + option);
-    };
-
-    struct NumberOption {
-        const char* name;
-        double* target;
-        const scene::SettingRange& range;
-    };
-
-    const NumberOption numbers[] = {
-            {"intensity", &light.intensity, scene::setting::light_intensity},
-            {"ambient", &light.ambient, scene::setting::light_ambient},
-            {"diffuse", &s.shading.diffuse, scene::setting::diffuse},
-            {"specular", &s.shading.specular, scene::setting::specular},
-            {"shininess", &s.shading.shininess, scene::setting::shininess},
-            {"sample-distance", &s.sample_distance, scene::setting::sample_distance},
-            {"opacity-unit", &s.opacity_unit_distance, scene::setting::opacity_unit_distance},
-            {"early-termination", &s.early_termination, scene::setting::early_termination},
-            {"compensation", &s.light_buffer.compensation, scene::setting::compensation},
-            {"shell-radius", &s.scattering.shell_radius, scene::setting::shell_radius},
-            {"shell-weight", &s.scattering.shell_center_weight,
-             scene::setting::shell_center_weight},
-            {"cone-angle", &s.scattering.cone_angle_degrees, scene::setting::cone_angle_degrees},
-            {"cone-weight", &s.scattering.cone_center_weight, scene::setting::cone_center_weight},
-    };
-    for (const auto& option : numbers) {
-        auto value = args.number(option.name, *option.target);
-        if (!value) {
-            return value.error();
+    // Each numeric setting from its option, within its range (scene::setting), errors named by
+    // the option.
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (!is_numeric_option(*range)) {
+            continue;
         }
-        if (!option.range.contains(*value)) {
-            return out_of_range(option.name, option.range);
+        const std::string option = scene::option_name(*range);
+        const double current = range->read(request);
+        double value = current;
+        if (range->integer) {
+            auto whole = args.integer(option, static_cast<int>(current));
+            if (!whole) {
+                return whole.error();
+            }
+            value = *whole;
+        } else {
+            auto number = args.number(option, current);
+            if (!number) {
+                return number.error();
+            }
+            value = *number;
         }
-        *option.target = *value;
+        if (!range->contains(value)) {
+            return base::make_error("invalid_argument", "must be " + range->describe(),
+                                    "--" + option);
+        }
+        range->write(request, value);
     }
-
-    struct IntegerOption {
-        const char* name;
-        int* target;
-        const scene::SettingRange* range;  // null: bounded by the device (scene::Limits)
-    };
-
-    const IntegerOption integers[] = {
-            {"slices", &s.light_buffer.slices, nullptr},
-            {"light-res", &s.light_buffer.resolution, nullptr},
-            {"shell-rings", &s.scattering.shell_rings, &scene::setting::shell_rings},
-            {"slab-samples", &s.light_buffer.slab_samples, &scene::setting::slab_samples},
-    };
-    for (const auto& option : integers) {
-        auto value = args.integer(option.name, *option.target);
+    // Bounded by the device (scene::Limits), which validate checks.
+    for (const auto& [option, target] : {std::pair{"slices", &s.light_buffer.slices},
+                                         std::pair{"light-res", &s.light_buffer.resolution}}) {
+        auto value = args.integer(option, *target);
         if (!value) {
             return value.error();
         }
-        if (option.range != nullptr && !option.range->contains(*value)) {
-            return out_of_range(option.name, *option.range);
-        }
-        *option.target = *value;
+        *target = *value;
     }
     s.phong = args.has("phong");
     s.empty_space_skipping = !args.has("no-empty-space-skipping");

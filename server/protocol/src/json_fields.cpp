@@ -91,10 +91,17 @@ base::Result<json> parse_limited(std::string_view text, int max_depth) {
 
 base::Status only_fields(const json& object, const std::string& pointer,
                          std::initializer_list<const char*> allowed) {
+    return only_fields(object, pointer, allowed, [](const std::string&) { return false; });
+}
+
+base::Status only_fields(const json& object, const std::string& pointer,
+                         std::initializer_list<const char*> allowed,
+                         const std::function<bool(const std::string& key)>& also_allowed) {
     for (const auto& member : object.items()) {
         const std::string& key = member.key();
         const bool known = std::any_of(allowed.begin(), allowed.end(),
-                                       [&](const char* name) { return key == name; });
+                                       [&](const char* name) { return key == name; }) ||
+                           also_allowed(key);
         if (!known) {
             return field_error("unknown_field", pointer + "/" + key, "unknown field '" + key + "'");
         }

@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -30,6 +31,11 @@ base::Result<json> parse_limited(std::string_view text, int max_depth);
 // Rejects members other than `allowed`.
 base::Status only_fields(const json& object, const std::string& pointer,
                          std::initializer_list<const char*> allowed);
+
+// Rejects members other than `allowed` and those `also_allowed` accepts.
+base::Status only_fields(const json& object, const std::string& pointer,
+                         std::initializer_list<const char*> allowed,
+                         const std::function<bool(const std::string& key)>& also_allowed);
 
 base::Status expect_object(const json& value, const std::string& pointer);
 

@@ -45,9 +45,63 @@ auto vec3_in(const scene::SettingRange& range) {
     };
 }
 
-base::Status apply_camera(const json& j, const std::string& p, scene::Camera& camera) {
+// A setting's JSON pointer, "/" + its field: "/settings/light_buffer/compensation".
+std::string pointer_of(const scene::SettingRange& range) {
+    return "/" + std::string(range.field);
+}
+
+// Whether `range` is a setting that a request holds (it has a `write`) and a member of the object
+// at `object_pointer`.
+bool is_member_of(const scene::SettingRange& range, const std::string& object_pointer) {
+    const std::string pointer = pointer_of(range);
+    return range.write != nullptr && pointer.size() > object_pointer.size() + 1 &&
+           pointer.starts_with(object_pointer + "/") &&
+           pointer.find('/', object_pointer.size() + 1) == std::string::npos;
+}
+
+// Whether `key` of the object at `object_pointer` is one of the table's settings.
+bool is_table_setting(const std::string& object_pointer, const std::string& key) {
+    return std::any_of(scene::kSettingRanges.begin(), scene::kSettingRanges.end(),
+                       [&](const scene::SettingRange* range) {
+                           return is_member_of(*range, object_pointer) &&
+                                  pointer_of(*range) == object_pointer + "/" + key;
+                       });
+}
+
+// Rejects members of the object at `p` other than `allowed` and the table's settings in it.
+base::Status only_fields_and_settings(const json& j, const std::string& p,
+                                      std::initializer_list<const char*> allowed) {
+    return only_fields(j, p, allowed,
+                       [&p](const std::string& key) { return is_table_setting(p, key); });
+}
+
+// Reads each of the table's settings that is a member of the object `j` at `p` into the request,
+// in the table's order, within its range.
+base::Status apply_table_settings(const json& j, const std::string& p,
+                                  scene::FrameRequest& request) {
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (!is_member_of(*range, p)) {
+            continue;
+        }
+        const std::string key = pointer_of(*range).substr(p.size() + 1);
+        if (!j.contains(key)) {
+            continue;
+        }
+        double value = 0.0;
+        if (range->integer) {
+            PENUMBRA_TRY(optional_member(j, p, key.c_str(), value, whole_in(*range)));
+        } else {
+            PENUMBRA_TRY(optional_member(j, p, key.c_str(), value, in(*range)));
+        }
+        range->write(request, value);
+    }
+    return base::Ok{};
+}
+
+base::Status apply_camera(const json& j, const std::string& p, scene::FrameRequest& request) {
+    scene::Camera& camera = request.camera;
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"eye", "target", "up", "fov", "orbit", "view"}));
+    PENUMBRA_TRY(only_fields_and_settings(j, p, {"eye", "target", "up", "orbit", "view"}));
     const auto coordinates = vec3_in(scene::setting::coordinate);
     if (j.contains("view")) {
         for (const char* other : {"orbit", "eye", "up"}) {
@@ -109,15 +163,13 @@ base::Status apply_camera(const json& j, const std::string& p, scene::Camera& ca
     PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "target", camera.target, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "up", camera.up, coordinates));
-    PENUMBRA_TRY(
-            optional_member(j, p, "fov", camera.fov_y_degrees, in(scene::setting::fov_degrees)));
-    return base::Ok{};
+    return apply_table_settings(j, p, request);
 }
 
-base::Status apply_light(const json& j, const std::string& p, scene::Light& light) {
+base::Status apply_light(const json& j, const std::string& p, scene::FrameRequest& request) {
+    scene::Light& light = request.light;
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(
-            only_fields(j, p, {"type", "direction", "position", "color", "intensity", "ambient"}));
+    PENUMBRA_TRY(only_fields_and_settings(j, p, {"type", "direction", "position", "color"}));
     if (j.contains("type")) {
         auto type = string(j.at("type"), p + "/type");
         if (!type) {
@@ -132,11 +184,7 @@ base::Status apply_light(const json& j, const std::string& p, scene::Light& ligh
     PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "color", light.color, vec3_in(scene::setting::colour)));
-    PENUMBRA_TRY(optional_member(j, p, "intensity", light.intensity,
-                                 in(scene::setting::light_intensity)));
-    PENUMBRA_TRY(
-            optional_member(j, p, "ambient", light.ambient, in(scene::setting::light_ambient)));
-    return base::Ok{};
+    return apply_table_settings(j, p, request);
 }
 
 base::Result<scene::TransferFunction> transfer_function_from(
@@ -272,14 +320,15 @@ auto int_range_of(int lo, int hi) {
     return [lo, hi](const json& v, const std::string& q) { return integer(v, q, lo, hi); };
 }
 
-base::Status apply_settings(const json& j, const std::string& p, scene::RenderSettings& s,
+base::Status apply_settings(const json& j, const std::string& p, scene::FrameRequest& request,
                             double& frame_budget_ms, int& refinement_steps, const Limits& limits) {
+    scene::RenderSettings& s = request.settings;
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(
-            j, p,
-            {"mode", "compositing", "stage", "size", "sample_distance", "opacity_unit_distance",
-             "early_termination", "background", "phong", "empty_space_skipping", "jitter",
-             "shading", "light_buffer", "scattering", "frame_budget_ms", "refinement_steps"}));
+    PENUMBRA_TRY(
+            only_fields_and_settings(j, p,
+                                     {"mode", "compositing", "stage", "size", "background", "phong",
+                                      "empty_space_skipping", "jitter", "shading", "light_buffer",
+                                      "scattering", "frame_budget_ms", "refinement_steps"}));
     PENUMBRA_TRY(
             apply_enum(j, p, "mode", s.mode, scene::parse_mode, "one of " + scene::mode_names()));
     PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
@@ -299,12 +348,7 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         s.width = *w;
         s.height = *h;
     }
-    PENUMBRA_TRY(optional_member(j, p, "sample_distance", s.sample_distance,
-                                 in(scene::setting::sample_distance)));
-    PENUMBRA_TRY(optional_member(j, p, "opacity_unit_distance", s.opacity_unit_distance,
-                                 in(scene::setting::opacity_unit_distance)));
-    PENUMBRA_TRY(optional_member(j, p, "early_termination", s.early_termination,
-                                 in(scene::setting::early_termination)));
+    PENUMBRA_TRY(apply_table_settings(j, p, request));
     PENUMBRA_TRY(
             optional_member(j, p, "background", s.background, vec3_in(scene::setting::colour)));
     PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
@@ -318,31 +362,22 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         const json& sh = j.at("shading");
         const std::string sp = p + "/shading";
         PENUMBRA_TRY(expect_object(sh, sp));
-        PENUMBRA_TRY(only_fields(sh, sp, {"diffuse", "specular", "shininess"}));
-        PENUMBRA_TRY(
-                optional_member(sh, sp, "diffuse", s.shading.diffuse, in(scene::setting::diffuse)));
-        PENUMBRA_TRY(optional_member(sh, sp, "specular", s.shading.specular,
-                                     in(scene::setting::specular)));
-        PENUMBRA_TRY(optional_member(sh, sp, "shininess", s.shading.shininess,
-                                     in(scene::setting::shininess)));
+        PENUMBRA_TRY(only_fields_and_settings(sh, sp, {}));
+        PENUMBRA_TRY(apply_table_settings(sh, sp, request));
     }
     if (j.contains("light_buffer")) {
         const json& lb = j.at("light_buffer");
         const std::string lp = p + "/light_buffer";
         PENUMBRA_TRY(expect_object(lb, lp));
-        PENUMBRA_TRY(only_fields(
-                lb, lp,
-                {"slices", "resolution", "builder", "compensation", "slab_samples", "lookup"}));
+        PENUMBRA_TRY(
+                only_fields_and_settings(lb, lp, {"slices", "resolution", "builder", "lookup"}));
         PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
                                      int_range_of(1, limits.max_slices)));
         PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
                                      int_range_of(1, limits.max_light_resolution)));
         PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder,
                                 scene::parse_light_buffer_builder, "per_slice or multi_slice"));
-        PENUMBRA_TRY(optional_member(lb, lp, "compensation", s.light_buffer.compensation,
-                                     in(scene::setting::compensation)));
-        PENUMBRA_TRY(optional_member(lb, lp, "slab_samples", s.light_buffer.slab_samples,
-                                     whole_in(scene::setting::slab_samples)));
+        PENUMBRA_TRY(apply_table_settings(lb, lp, request));
         PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup, scene::parse_light_lookup,
                                 "interpolate or local"));
     }
@@ -350,20 +385,8 @@ base::Status apply_settings(const json& j, const std::string& p, scene::RenderSe
         const json& sc = j.at("scattering");
         const std::string cp = p + "/scattering";
         PENUMBRA_TRY(expect_object(sc, cp));
-        PENUMBRA_TRY(only_fields(sc, cp,
-                                 {"shell_radius", "shell_rings", "shell_center_weight",
-                                  "cone_angle", "cone_center_weight"}));
-        PENUMBRA_TRY(optional_member(sc, cp, "shell_radius", s.scattering.shell_radius,
-                                     in(scene::setting::shell_radius)));
-        PENUMBRA_TRY(optional_member(sc, cp, "shell_rings", s.scattering.shell_rings,
-                                     whole_in(scene::setting::shell_rings)));
-        PENUMBRA_TRY(optional_member(sc, cp, "shell_center_weight",
-                                     s.scattering.shell_center_weight,
-                                     in(scene::setting::shell_center_weight)));
-        PENUMBRA_TRY(optional_member(sc, cp, "cone_angle", s.scattering.cone_angle_degrees,
-                                     in(scene::setting::cone_angle_degrees)));
-        PENUMBRA_TRY(optional_member(sc, cp, "cone_center_weight", s.scattering.cone_center_weight,
-                                     in(scene::setting::cone_center_weight)));
+        PENUMBRA_TRY(only_fields_and_settings(sc, cp, {}));
+        PENUMBRA_TRY(apply_table_settings(sc, cp, request));
     }
     return base::Ok{};
 }
@@ -421,10 +444,10 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
             only_fields(patch, "", {"camera", "light", "transfer_function", "settings", "output"}));
     SessionState next = state;
     if (patch.contains("camera")) {
-        PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame.camera));
+        PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame));
     }
     if (patch.contains("light")) {
-        PENUMBRA_TRY(apply_light(patch.at("light"), "/light", next.frame.light));
+        PENUMBRA_TRY(apply_light(patch.at("light"), "/light", next.frame));
     }
     if (patch.contains("transfer_function")) {
         auto tf = transfer_function_from(patch.at("transfer_function"), "/transfer_function",
@@ -435,7 +458,7 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
         next.frame.transfer_function = std::move(tf.value());
     }
     if (patch.contains("settings")) {
-        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame.settings,
+        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame,
                                     next.frame_budget_ms, next.refinement_steps, limits));
     }
     if (patch.contains("output")) {
@@ -475,15 +498,12 @@ std::string state_to_json(const SessionState& state) {
             {"camera",
              {{"eye", vec3_json(f.camera.eye)},
               {"target", vec3_json(f.camera.target)},
-              {"up", vec3_json(f.camera.up)},
-              {"fov", f.camera.fov_y_degrees}}},
+              {"up", vec3_json(f.camera.up)}}},
             {"light",
              {{"type", f.light.type == scene::LightType::point ? "point" : "directional"},
               {"direction", vec3_json(f.light.direction)},
               {"position", vec3_json(f.light.position)},
-              {"color", vec3_json(f.light.color)},
-              {"intensity", f.light.intensity},
-              {"ambient", f.light.ambient}}},
+              {"color", vec3_json(f.light.color)}}},
             {"transfer_function",
              {{"name", f.transfer_function.name},
               {"space", scene::to_string(f.transfer_function.space)},
@@ -494,35 +514,29 @@ std::string state_to_json(const SessionState& state) {
               {"compositing", scene::to_string(s.compositing)},
               {"stage", scene::to_string(s.stage)},
               {"size", json::array({s.width, s.height})},
-              {"sample_distance", s.sample_distance},
-              {"opacity_unit_distance", s.opacity_unit_distance},
-              {"early_termination", s.early_termination},
               {"background", vec3_json(s.background)},
               {"phong", s.phong},
               {"empty_space_skipping", s.empty_space_skipping},
               {"jitter", s.jitter},
               {"frame_budget_ms", state.frame_budget_ms},
               {"refinement_steps", state.refinement_steps},
-              {"shading",
-               {{"diffuse", s.shading.diffuse},
-                {"specular", s.shading.specular},
-                {"shininess", s.shading.shininess}}},
               {"light_buffer",
                {{"slices", s.light_buffer.slices},
                 {"resolution", s.light_buffer.resolution},
                 {"builder", scene::to_string(s.light_buffer.builder)},
-                {"compensation", s.light_buffer.compensation},
-                {"slab_samples", s.light_buffer.slab_samples},
-                {"lookup", scene::to_string(s.light_buffer.lookup)}}},
-              {"scattering",
-               {{"shell_radius", s.scattering.shell_radius},
-                {"shell_rings", s.scattering.shell_rings},
-                {"shell_center_weight", s.scattering.shell_center_weight},
-                {"cone_angle", s.scattering.cone_angle_degrees},
-                {"cone_center_weight", s.scattering.cone_center_weight}}}}},
+                {"lookup", scene::to_string(s.light_buffer.lookup)}}}}},
             {"output",
              {{"encoding", state.output.encoding}, {"jpeg_quality", state.output.jpeg_quality}}},
     };
+    // The table's settings that a request holds, each at its path.
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (range->read == nullptr) {
+            continue;
+        }
+        const double value = range->read(f);
+        json& member = out[json::json_pointer(pointer_of(*range))];
+        member = range->integer ? json(static_cast<int>(value)) : json(value);
+    }
     return out.dump();
 }
 

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace penumbra::app {
 namespace {
@@ -40,6 +42,45 @@ TEST(Arguments, NumbersMayBeFractions) {
     EXPECT_DOUBLE_EQ(args->number("b", 0.0).value(), -0.75);
     for (const char* name : {"c", "d", "e", "f"}) {
         EXPECT_FALSE(args->number(name, 0.0).ok()) << name;
+    }
+}
+
+// Each numeric setting of the table has its option, named in the help with its range, which
+// sets it alone and refuses a value beyond the range naming the option. A row that the command
+// line leaves out fails here.
+TEST(RenderOptions, EveryTableSettingIsAnOption) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    const std::string help = frame_options_help();
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (range->write == nullptr) {
+            continue;
+        }
+        const std::string option = "--" + scene::option_name(*range);
+        SCOPED_TRACE(option);
+        EXPECT_NE(help.find(option + (range->integer ? " N" : " X")), std::string::npos);
+        EXPECT_NE(help.find(range->describe()), std::string::npos);
+        const double value =
+                range->integer ? range->max : range->min + 0.375 * (range->max - range->min);
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g", value);
+        auto args = Arguments::parse({option, text}, frame_option_names(), {});
+        ASSERT_TRUE(args.ok()) << args.error().to_string();
+        auto request = frame_request_from(*args, volume);
+        ASSERT_TRUE(request.ok()) << request.error().to_string();
+        EXPECT_EQ(range->read(*request), value);
+        auto defaults = frame_request_from(*Arguments::parse({}, frame_option_names(), {}), volume);
+        ASSERT_TRUE(defaults.ok());
+        EXPECT_NE(range->read(*defaults), value);
+        range->write(*defaults, value);
+        EXPECT_EQ(*defaults, *request);
+
+        std::snprintf(text, sizeof text, "%.17g", range->max + 1.0);
+        auto beyond = Arguments::parse({option, text}, frame_option_names(), {});
+        ASSERT_TRUE(beyond.ok());
+        const auto refused = frame_request_from(*beyond, volume);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_EQ(refused.error().where, option);
+        EXPECT_NE(refused.error().message.find(range->describe()), std::string::npos);
     }
 }
 
