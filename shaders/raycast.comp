@@ -23,7 +23,7 @@ void main() {
     imageStore(accumulation, pixel, accumulated);
 }
 #else
-layout(binding = 0, rgba8) uniform writeonly image2D frame_image;
+layout(binding = 0, rgba32f) uniform writeonly image2D frame_image;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

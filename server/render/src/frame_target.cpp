@@ -10,7 +10,7 @@ void FrameTarget::ensure(int width, int height) {
         return;
     }
     texture_ = gpu::create_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(texture_.name(), 1, GL_RGBA8, width, height);
+    glTextureStorage2D(texture_.name(), 1, image_format, width, height);
     framebuffer_ = gpu::create_framebuffer();
     glNamedFramebufferTexture(framebuffer_.name(), GL_COLOR_ATTACHMENT0, texture_.name(), 0);
     width_ = width;

@@ -7,10 +7,14 @@
 
 namespace penumbra::render {
 
-// The RGBA8 image a frame ends in, rows top to bottom, re-created only when the size changes.
-// Compute passes write it as image unit 0; fragment passes draw into its framebuffer.
+// The image a frame ends in, rows top to bottom, re-created only when the size changes. Compute
+// passes write it as image unit 0 (format `image_format`); fragment passes draw into its
+// framebuffer. It holds float colour so that progressive stills average the unrounded frames;
+// read_back rounds to 8 bits, as an RGBA8 target would have done.
 class FrameTarget {
 public:
+    static constexpr GLenum image_format = GL_RGBA32F;
+
     void ensure(int width, int height);
 
     [[nodiscard]] GLuint texture() const { return texture_.name(); }

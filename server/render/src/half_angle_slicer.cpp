@@ -97,7 +97,8 @@ base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int
 
     glUseProgram((*resolve_program)->name());
     glBindTextureUnit(0, eye_.name());
-    glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       FrameTarget::image_format);
     glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((height + 7) / 8),
                       1);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);

@@ -108,7 +108,8 @@ base::Result<int> RaycastPass::run(RaycastVariant variant, int width, int height
     glUseProgram((*program)->name());
     timer.begin();
     if (compute) {
-        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           FrameTarget::image_format);
         glDispatchCompute(static_cast<GLuint>(layout.tile_width / group_side),
                           static_cast<GLuint>(layout.tile_height / group_side), 1);
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -167,7 +168,8 @@ base::Status RaycastPass::run_compute_chunks(const RaycastVariant& variant, int 
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram((*resolve)->name());
     glBindTextureUnit(0, accumulation_.name());
-    glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                       FrameTarget::image_format);
     glDispatchCompute(static_cast<GLuint>(round_up_to_groups(width) / group_side),
                       static_cast<GLuint>(round_up_to_groups(height) / group_side), 1);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);

@@ -303,7 +303,8 @@ struct Renderer::Impl {
         }
         KeptStill& mean = kept_stills.front();
         glUseProgram((*program)->name());
-        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA8);
+        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_READ_WRITE,
+                           FrameTarget::image_format);
         glBindImageTexture(1, mean.mean.name(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glUniform1i(0, mean.frames);
         glDispatchCompute(static_cast<GLuint>((s.width + group_side - 1) / group_side),

@@ -5,10 +5,12 @@
 #include "synthetic_volumes.hpp"
 
 #include <penumbra/encode/compare.hpp>
+#include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -92,7 +94,8 @@ TEST_F(RefinementTest, RefinedStillsConvergeTowardTheFineStepImageInEveryRayCast
             EXPECT_EQ(frame.report.refinement_step, step);
             errors.push_back(rms(frame, answer));
         }
-        // Each step brings the mean closer (up to the 8-bit rounding of each frame), and eight
+        // Each step brings the mean closer (up to how unevenly the first steps' offsets cover
+        // the step: a step after an evenly spread count cannot keep it even), and eight
         // steps leave clearly less error than the fixed step and than one jittered frame. What
         // remains (0.55-0.8 of the fixed step's error here) is the bias of compositing at the
         // coarse step, which averaging offsets cannot remove.
@@ -103,6 +106,39 @@ TEST_F(RefinementTest, RefinedStillsConvergeTowardTheFineStepImageInEveryRayCast
                 << "fixed step " << rings << ", refined " << errors.back();
         EXPECT_LT(errors.back(), 0.85 * errors.front())
                 << "one jittered frame " << errors.front() << ", refined " << errors.back();
+    }
+}
+
+TEST_F(RefinementTest, TheRefinedMeanIsRoundedOnlyOnceNotAtEveryStep) {
+    // The CPU renderer samples at the same jittered offsets in double precision, so the mean of
+    // its steps is what the GPU's mean should be before its one rounding to 8 bits. Rounding
+    // every step before averaging leaves pixels up to a whole level off it (0.69-0.96 levels at
+    // steps 1-8 here).
+    constexpr int steps = 8;
+    constexpr double level = 1.0 / 255.0;
+    scene::FrameRequest request = coarse_request(scene::Mode::dvr);
+    request.settings.width = 40;
+    request.settings.height = 40;
+    request.settings.jitter = true;
+    request.refinement = {true, 0};
+    std::vector<double> exact_sum(std::size_t{4} * 40 * 40, 0.0);
+    for (int step = 0; step <= steps; ++step) {
+        SCOPED_TRACE("step " + std::to_string(step));
+        if (step > 0) {
+            request.refinement = {false, step};
+        }
+        auto exact = reference::render_cpu(*volume_, request);
+        ASSERT_TRUE(exact.ok()) << exact.error().to_string();
+        const Frame frame = render(request);
+        ASSERT_EQ(frame.image.pixels.size(), exact_sum.size());
+        // Half a level is the one rounding; the rest allows for float against double.
+        double worst = 0.0;
+        for (std::size_t i = 0; i < exact_sum.size(); ++i) {
+            exact_sum[i] += exact->pixels[i];
+            const double exact_mean = exact_sum[i] / (step + 1);
+            worst = std::max(worst, std::abs(frame.image.pixels[i] * level - exact_mean) / level);
+        }
+        EXPECT_LE(worst, 0.6) << "levels from the exact mean";
     }
 }
 
