@@ -8,6 +8,7 @@
 #include <penumbra/net/server.hpp>
 #include <penumbra/quality/startup.hpp>
 #include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/default_preset.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
 #include <penumbra/session/volume_store.hpp>
@@ -329,8 +330,10 @@ base::Result<ServeOptions> serve_options(const Arguments& a) {
     net::ServerConfig& config = o.config;
     config.address = a.get("address").value_or("127.0.0.1");
     config.web_root = a.get("web-root").value_or(default_web_root().string());
-    config.default_transfer_function = a.get("default-tf").value_or("mri_skin");
-    config.default_ct_transfer_function = a.get("default-ct-tf").value_or("ct_bone");
+    config.default_transfer_function =
+            a.get("default-tf").value_or(std::string(scene::kDefaultPreset));
+    config.default_ct_transfer_function =
+            a.get("default-ct-tf").value_or(std::string(scene::kDefaultHounsfieldPreset));
     config.client_address_header = a.get("client-address-header").value_or("");
     if (auto status = read_integers(a, o); !status) {
         return status.error();

@@ -3,6 +3,7 @@
 #include "transfer_function_file.hpp"
 
 #include <penumbra/scene/camera.hpp>
+#include <penumbra/scene/default_preset.hpp>
 
 #include <cstdio>
 #include <string>
@@ -100,7 +101,8 @@ const char* frame_options_help() {
             "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
             "  --light-position X,Y,Z         point light at this position instead\n"
             "  --light-color R,G,B            (default 1,1,1)\n"
-            "  --tf PRESET|FILE.json          transfer function (default mri_skin); presets:\n"
+            "  --tf PRESET|FILE.json          transfer function (default mri_skin, on a CT in HU\n"
+            "                                 ct_bone); presets:\n"
             "                                 grey_ramp mri_skin mri_brain, in HU: ct_bone\n"
             "                                 ct_skin ct_soft_tissue ct_lung ct_angio\n"
             "  --compositing alpha|extinction (default alpha)\n"
@@ -259,7 +261,9 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         }
         s.stage = *parsed;
     }
-    auto tf = load_transfer_function(args.get("tf").value_or("mri_skin"), volume.range);
+    auto tf = load_transfer_function(
+            args.get("tf").value_or(std::string(scene::default_preset(volume.hounsfield))),
+            volume.range);
     if (!tf) {
         return tf.error();
     }

@@ -127,6 +127,23 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
             << distance_error.message;
 }
 
+// Without --tf a CT (values in HU) shows its bone, as a new serve session on it does; any other
+// volume the MRI skin.
+TEST(RenderOptions, TheDefaultTransferFunctionFollowsTheVolumesUnits) {
+    auto args = Arguments::parse({}, frame_option_names(), {});
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    volume::Volume ct = test::constant_volume({4, 4, 4}, 1.0f);
+    ct.hounsfield = true;
+    const auto on_ct = frame_request_from(*args, ct);
+    ASSERT_TRUE(on_ct.ok()) << on_ct.error().to_string();
+    EXPECT_EQ(on_ct->transfer_function.name, "ct_bone");
+    const auto on_mri = frame_request_from(*args, test::constant_volume({4, 4, 4}, 1.0f));
+    ASSERT_TRUE(on_mri.ok()) << on_mri.error().to_string();
+    EXPECT_EQ(on_mri->transfer_function.name, "mri_skin");
+    auto named = Arguments::parse({"--tf", "grey_ramp"}, frame_option_names(), {});
+    EXPECT_EQ(frame_request_from(*named, ct)->transfer_function.name, "grey_ramp");
+}
+
 TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {
     EXPECT_EQ(split_list("a, b,,c "), (std::vector<std::string>{"a", "b", "c"}));
     EXPECT_EQ(split_list("10,45; 100,20", ';'), (std::vector<std::string>{"10,45", "100,20"}));

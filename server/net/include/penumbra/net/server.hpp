@@ -4,6 +4,7 @@
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/quality/table.hpp>
+#include <penumbra/scene/default_preset.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
 #include <penumbra/session/volume_store.hpp>
@@ -22,9 +23,9 @@ struct ServerConfig {
     int io_threads = 2;
     std::filesystem::path web_root;  // the built web client; empty: a small built-in page
     protocol::Limits limits;
-    std::string default_transfer_function = "mri_skin";
+    std::string default_transfer_function{scene::kDefaultPreset};
     // New sessions on a volume whose values are Hounsfield units (a CT) start from this one.
-    std::string default_ct_transfer_function = "ct_bone";
+    std::string default_ct_transfer_function{scene::kDefaultHounsfieldPreset};
     // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
     std::shared_ptr<const quality::Table> quality_table;
     // A WebSocket connection that has sent nothing for `ping_interval` is pinged; one that then
