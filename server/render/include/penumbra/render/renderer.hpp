@@ -17,7 +17,9 @@ namespace penumbra::render {
 
 // Where shaded samples get their gradient: central differences of six volume samples each, or
 // one sample of a texture of per-voxel differences built once per volume (8 bytes a voxel more
-// GPU memory). `automatic` takes the one measured faster on the device (`penumbra bench modes`).
+// GPU memory). `automatic` is central differences: the texture is faster on llvmpipe (0.54-0.97
+// of the time, `penumbra bench modes` prints the comparison) but its constant extrapolation at the
+// box faces departs from the reference's clamped samples, so it stays a choice.
 enum class GradientSource { automatic, central_differences, texture };
 
 struct RendererOptions {
