@@ -2,7 +2,6 @@
 
 #include <penumbra/net/client.hpp>
 #include <penumbra/protocol/frame_header.hpp>
-#include <penumbra/protocol/messages.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -177,16 +176,6 @@ private:
             if (!message->binary) {
                 if (message->text.find("\"type\":\"error\"") != std::string::npos) {
                     report_.fail(index_, message->text);
-                    // An error naming this request (rate_limited, too_much_work) is its answer:
-                    // no frame follows, so the next request goes out instead of waiting. Over
-                    // the rate limit the client backs off as a browser's would: the server stops
-                    // answering a client that keeps sending into its limit.
-                    if (protocol::request_id_of(message->text) == id) {
-                        if (message->text.find("\"rate_limited\"") != std::string::npos) {
-                            back_off();
-                        }
-                        return true;
-                    }
                 }
                 continue;
             }
@@ -203,25 +192,14 @@ private:
             } else if (h.request == id) {
                 report_.add({ms_between(sent, received), h.queued_ms, h.render_ms, h.readback_ms,
                              h.encode_ms, message->bytes.size()});
-                backoff_ = initial_backoff;
                 return true;
             }
             // else an earlier frame; ours is still coming
         }
     }
 
-    // Waits before the next request, twice as long each time the server refuses in a row.
-    void back_off() {
-        std::this_thread::sleep_for(backoff_);
-        backoff_ = std::min(backoff_ * 2, max_backoff);
-    }
-
-    static constexpr std::chrono::milliseconds initial_backoff{250};
-    static constexpr std::chrono::milliseconds max_backoff{4000};
-
     int index_;
     const LoadConfig& config_;
-    std::chrono::milliseconds backoff_ = initial_backoff;
     SharedReport& report_;
     std::unique_ptr<Client> client_;
 };
