@@ -12,6 +12,7 @@ import {
 } from '../src/protocol/connection';
 import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
 import { checkClientMessage, type State } from '../src/protocol/messages';
+import { recordedTerms } from './recorded';
 import { FakeClock } from './fake_timers';
 
 const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -39,7 +40,7 @@ class FakeSocket implements SocketLike {
   send(data: string): void {
     const message = JSON.parse(data) as Record<string, unknown>;
     // Everything the client sends must be a message the server accepts.
-    expect(checkClientMessage(message)).toBeNull();
+    expect(checkClientMessage(message, recordedTerms)).toBeNull();
     this.sent.push(message);
   }
 
@@ -113,6 +114,21 @@ describe('Connection', () => {
     expect(socket().sent[0]).toEqual({ v: 1, id: 1, type: 'list_volumes' });
     socket().receive(recorded[1]!);
     expect((await volumes).map((v) => v.id)).toContain('AICHAmc.nii.gz');
+  });
+
+  it('sends any request through request() and resolves with the answer its type takes', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const stats = connection.request({ type: 'stats' });
+    expect(socket().sent[0]).toEqual({ v: 1, id: 1, type: 'stats' });
+    socket().reply('stats', { stats: { frames: 3 } });
+    expect((await stats).stats).toEqual({ frames: 3 });
+    // An answer of another type is no answer to it.
+    const volumes = connection.request({ type: 'list_volumes' });
+    socket().reply('ack', { of: 'list_volumes' });
+    const error = await volumes.catch((e: unknown) => e);
+    expect(error).toBeInstanceOf(RequestFailed);
+    expect((error as Error).message).toBe('list_volumes answered by ack');
   });
 
   it('rejects a request answered by an error with the server code and field', async () => {

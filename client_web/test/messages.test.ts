@@ -15,13 +15,14 @@ import {
   UnknownMessageType,
   type ClientMessage,
   type HelloMessage,
+  type ServerTerms,
   type OpenedMessage,
   type State,
   type StateMessage,
 } from '../src/protocol/messages';
+import { recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
 const examples = path.resolve(__dirname, '../../proto/examples/v1');
-const fixtures = path.resolve(__dirname, 'fixtures');
 
 function readJson(file: string): unknown {
   return JSON.parse(readFileSync(file, 'utf8'));
@@ -36,19 +37,19 @@ const schemaModes = (
 
 const valid = readdirSync(path.join(examples, 'valid')).filter((f) => f.endsWith('.json'));
 const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
-const serverMessages = readFileSync(path.join(fixtures, 'server_messages.jsonl'), 'utf8')
-  .split('\n')
-  .filter((l) => l.trim() !== '');
-
-// The settings' ranges a real server announced (protocol_test holds them against the C++ table).
-const serverRanges = (parseServerMessage(serverMessages[0]!) as HelloMessage).ranges;
+const serverMessages = recordedMessages;
+const serverRanges = recordedRanges;
+/** What the server's hello says, with the mode names the protocol defines. */
+const terms: ServerTerms = { ...recordedTerms, modes: schemaModes };
+/** A message as the server parses it: with the ranges its hello announced. */
+const parse = (text: string) => parseServerMessage(text, serverRanges);
 
 describe('proto/examples/v1/valid', () => {
   it('has examples', () => expect(valid.length).toBeGreaterThan(20));
 
   it.each(valid)('%s is a client message the server accepts', (file) => {
     const message = readJson(path.join(examples, 'valid', file));
-    expect(checkClientMessage(message, undefined, schemaModes, serverRanges)).toBeNull();
+    expect(checkClientMessage(message, terms)).toBeNull();
     // Typed as a ClientMessage, it encodes back to the same JSON.
     const typed = message as ClientMessage;
     expect(JSON.parse(encodeClientMessage(typed))).toEqual(message);
@@ -71,7 +72,7 @@ describe('proto/examples/v1/invalid', () => {
   it('has examples to check', () => expect(cases.length).toBeGreaterThan(40));
 
   it.each(cases)('$file is rejected with the same code and field', ({ example }) => {
-    const problem = checkClientMessage(example['message'], undefined, schemaModes, serverRanges);
+    const problem = checkClientMessage(example['message'], terms);
     expect(problem).not.toBeNull();
     expect({ code: problem?.code, field: problem?.field }).toEqual({
       code: example['code'],
@@ -83,30 +84,53 @@ describe('proto/examples/v1/invalid', () => {
 describe('checkClientMessage beyond the examples', () => {
   it('knows settings.frame_budget_ms (0..60000)', () => {
     const check = (ms: number) =>
-      checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: ms } }, undefined, null, serverRanges);
+      checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: ms } }, recordedTerms);
     expect(check(50)).toBeNull();
     expect(check(70000)).toMatchObject({ code: 'out_of_range', field: '/settings/frame_budget_ms' });
   });
 
-  it("checks ranges as the server's hello gives them, and leaves them to the server without one", () => {
+  it("checks ranges as the server's hello gives them", () => {
     const set = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 17 } } };
-    expect(checkClientMessage(set)).toBeNull();
-    expect(checkClientMessage(set, undefined, null, serverRanges)).toMatchObject({
+    expect(checkClientMessage(set, recordedTerms)).toMatchObject({
       code: 'out_of_range',
       field: '/settings/light_buffer/slab_samples',
     });
     const wider = { ...serverRanges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
-    expect(checkClientMessage(set, undefined, null, wider)).toBeNull();
+    expect(checkClientMessage(set, { ranges: wider })).toBeNull();
     const fraction = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 1.5 } } };
-    expect(checkClientMessage(fraction, undefined, null, serverRanges)).toMatchObject({ code: 'invalid_value' });
+    expect(checkClientMessage(fraction, recordedTerms)).toMatchObject({ code: 'invalid_value' });
     const text = { v: 1, type: 'set', camera: { fov: '30' } };
-    expect(checkClientMessage(text)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
+    expect(checkClientMessage(text, recordedTerms)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
+  });
+
+  it('knows the numbers of a set from the ranges alone: a new one needs no client change', () => {
+    const set = (lb: Record<string, unknown>) => ({ v: 1, type: 'set', settings: { light_buffer: lb } });
+    // A setting the server does not announce is not one.
+    expect(checkClientMessage(set({ glow: 2 }), recordedTerms)).toMatchObject({
+      code: 'unknown_field',
+      field: '/settings/light_buffer/glow',
+    });
+    const ranges = { ...serverRanges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
+    expect(checkClientMessage(set({ glow: 2, compensation: 3 }), { ranges })).toBeNull();
+    expect(checkClientMessage(set({ glow: 5 }), { ranges })).toMatchObject({
+      code: 'out_of_range',
+      field: '/settings/light_buffer/glow',
+    });
+    // ... and so is a setting in a part of its own.
+    const tone = { ...serverRanges, 'settings/tone/exposure': { min: -4, max: 4, integer: false } };
+    const exposure = (value: unknown) => ({ v: 1, type: 'set', settings: { tone: { exposure: value } } });
+    expect(checkClientMessage(exposure(1), { ranges: tone })).toBeNull();
+    expect(checkClientMessage(exposure('1'), { ranges: tone })).toMatchObject({
+      code: 'invalid_value',
+      field: '/settings/tone/exposure',
+    });
+    expect(checkClientMessage(exposure(1), recordedTerms)).toMatchObject({ code: 'unknown_field', field: '/settings/tone' });
   });
 
   it('knows settings.empty_space_skipping', () => {
     const set = (value: unknown) => ({ v: 1, type: 'set', settings: { empty_space_skipping: value } });
-    expect(checkClientMessage(set(false))).toBeNull();
-    expect(checkClientMessage(set(1))).toMatchObject({
+    expect(checkClientMessage(set(false), recordedTerms)).toBeNull();
+    expect(checkClientMessage(set(1), recordedTerms)).toMatchObject({
       code: 'invalid_value',
       field: '/settings/empty_space_skipping',
     });
@@ -115,14 +139,17 @@ describe('checkClientMessage beyond the examples', () => {
   it('uses the limits from hello', () => {
     const limits = { ...DEFAULT_LIMITS, max_image_side: 256 };
     const set = { v: 1, type: 'set', settings: { size: [300, 200] } };
-    expect(checkClientMessage(set)).toBeNull();
-    expect(checkClientMessage(set, limits)).toMatchObject({ code: 'out_of_range', field: '/settings/size/0' });
+    expect(checkClientMessage(set, { ranges: serverRanges })).toBeNull();
+    expect(checkClientMessage(set, { ranges: serverRanges, limits })).toMatchObject({
+      code: 'out_of_range',
+      field: '/settings/size/0',
+    });
   });
 });
 
 describe('parseServerMessage', () => {
   it('reads every message a real server sent', () => {
-    const types = serverMessages.map((text) => parseServerMessage(text).type);
+    const types = serverMessages.map((text) => parse(text).type);
     expect(types).toEqual(['hello', 'volumes', 'opened', 'ack', 'stats', 'error', 'state']);
   });
 
@@ -152,32 +179,69 @@ describe('parseServerMessage', () => {
   });
 
   it('reads opened with a full state that checks as a set', () => {
-    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(opened.session.length).toBeGreaterThan(0);
     expect(opened.histogram.length).toBeGreaterThan(0);
     expect(opened.volume.dims).toEqual([181, 217, 181]);
     // "sending it back restores it"
-    expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) })).toBeNull();
+    expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) }, recordedTerms)).toBeNull();
   });
 
   it("reads opened's owner token, which resume takes back", () => {
-    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(opened.owner_token).toMatch(/^[0-9a-f]{32}$/);
     const resume = { v: 1, type: 'resume', session: opened.session, owner_token: opened.owner_token };
-    expect(checkClientMessage(resume)).toBeNull();
+    expect(checkClientMessage(resume, recordedTerms)).toBeNull();
     const withNumber = { ...(JSON.parse(serverMessages[2]!) as object), owner_token: 5 };
-    expect(() => parseServerMessage(JSON.stringify(withNumber))).toThrow(/owner_token/);
+    expect(() => parse(JSON.stringify(withNumber))).toThrow(/owner_token/);
   });
 
   it("reads state, the owner's change that a viewer gets, in the shape of opened's state", () => {
-    const message = parseServerMessage(serverMessages[6]!) as StateMessage;
+    const message = parse(serverMessages[6]!) as StateMessage;
     expect(message.type).toBe('state');
     expect(message.session.length).toBeGreaterThan(0);
     expect('id' in message).toBe(false);
-    const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+    const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(Object.keys(message.state).sort()).toEqual(Object.keys(opened.state).sort());
     expect(message.state.settings.mode).not.toBe(opened.state.settings.mode);
-    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) })).toBeNull();
+    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) }, recordedTerms)).toBeNull();
+  });
+
+  it("checks a state's numbers by the ranges hello announced", () => {
+    const opened = JSON.parse(serverMessages[2]!) as { state: { settings: Record<string, unknown> } };
+    const withLightBuffer = (lb: Record<string, unknown>) => {
+      const copy = structuredClone(opened);
+      copy.state.settings['light_buffer'] = { ...(copy.state.settings['light_buffer'] as object), ...lb };
+      return JSON.stringify(copy);
+    };
+    expect(() => parse(withLightBuffer({ compensation: 'high' }))).toThrow(
+      /expected a number \(at \/state\/settings\/light_buffer\/compensation\)/,
+    );
+    expect(() => parse(withLightBuffer({ slab_samples: 1.5 }))).toThrow(
+      /expected an integer \(at \/state\/settings\/light_buffer\/slab_samples\)/,
+    );
+    const missing = structuredClone(opened);
+    delete (missing.state.settings['shading'] as Record<string, unknown>)['specular'];
+    expect(() => parse(JSON.stringify(missing))).toThrow(/\/state\/settings\/shading\/specular/);
+    // A setting the server announces is one the state holds: no client change for a new one.
+    const glow = { ...serverRanges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
+    expect(() => parseServerMessage(withLightBuffer({}), glow)).toThrow(/\/state\/settings\/light_buffer\/glow/);
+    const withGlow = parseServerMessage(withLightBuffer({ glow: 2 }), glow) as OpenedMessage;
+    expect(withGlow.state.settings.light_buffer).toMatchObject({ glow: 2 });
+    // Settings older servers leave out of a state may be missing; before hello no state is read.
+    const older = structuredClone(opened);
+    delete older.state.settings['frame_budget_ms'];
+    expect(parse(JSON.stringify(older)).type).toBe('opened');
+    expect(() => parseServerMessage(serverMessages[2]!)).toThrow(/before the server's hello/);
+  });
+
+  it('reads a range with its summary, and refuses a summary that is not text', () => {
+    const hello = JSON.parse(serverMessages[0]!) as Record<string, unknown>;
+    const range = { min: 0, max: 1000, integer: false, summary: 'compensation n' };
+    const withSummary = { ...hello, ranges: { 'settings/light_buffer/compensation': range } };
+    expect((parse(JSON.stringify(withSummary)) as HelloMessage).ranges).toEqual(withSummary.ranges);
+    const broken = { ...hello, ranges: { 'camera/fov': { min: 1, max: 170, integer: false, summary: 3 } } };
+    expect(() => parse(JSON.stringify(broken))).toThrow(/\/ranges\/camera\/fov\/summary/);
   });
 
   it('ignores members it does not know (the server may add some within v1)', () => {
@@ -196,7 +260,7 @@ describe('parseServerMessage', () => {
     ['state without session', '{"v":1,"type":"state","state":{}}', '/session'],
   ])('rejects %s', (_, text, field) => {
     try {
-      parseServerMessage(text);
+      parse(text);
       expect.unreachable();
     } catch (e) {
       expect(e).toBeInstanceOf(ProtocolError);
@@ -207,7 +271,7 @@ describe('parseServerMessage', () => {
 });
 
 describe('state mirror', () => {
-  const opened = parseServerMessage(serverMessages[2]!) as OpenedMessage;
+  const opened = parse(serverMessages[2]!) as OpenedMessage;
   const state: State = opened.state;
 
   it('applies a patch member by member and leaves the rest', () => {

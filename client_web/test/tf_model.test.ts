@@ -1,5 +1,3 @@
-import { readFileSync } from 'node:fs';
-import path from 'node:path';
 import { describe, expect, it } from 'vitest';
 import {
   checkClientMessage,
@@ -10,6 +8,7 @@ import {
 } from '../src/protocol/messages';
 import { presetsFor } from '../src/panels/tf_editor';
 import { COLOR_MAPS, histogramCurve, MAX_POINTS, PRESET_POINTS, TfModel } from '../src/panels/tf_model';
+import { recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
 function sorted(xs: number[]): boolean {
   return xs.every((x, i) => i === 0 || xs[i - 1]! <= x);
@@ -17,8 +16,7 @@ function sorted(xs: number[]): boolean {
 
 describe('TfModel', () => {
   it('holds the server preset that a real server reported (mri_skin)', () => {
-    const lines = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8').split('\n');
-    const opened = parseServerMessage(lines[2]!) as OpenedMessage;
+    const opened = parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage;
     const tf = opened.state.transfer_function;
     expect(tf.name).toBe('mri_skin');
     expect({ colors: tf.colors, opacities: tf.opacities }).toEqual(PRESET_POINTS.mri_skin);
@@ -120,7 +118,7 @@ describe('TfModel', () => {
     m.loadPreset(preset);
     m.addOpacity(0.33, 0.5);
     m.applyColorMap('viridis');
-    expect(checkClientMessage({ v: 1, type: 'set', id: 1, transfer_function: m.toProtocol() })).toBeNull();
+    expect(checkClientMessage({ v: 1, type: 'set', id: 1, transfer_function: m.toProtocol() }, recordedTerms)).toBeNull();
   });
 });
 

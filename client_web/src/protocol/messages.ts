@@ -272,6 +272,8 @@ export interface SettingRange {
   min: number;
   max: number;
   integer: boolean;
+  /** What the setting does, where the server says (the panel shows it as the control's hint). */
+  summary?: string;
 }
 
 /**
@@ -369,6 +371,33 @@ export type ClientMessage =
   | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string; volume?: string };
 
 export type ClientMessageType = ClientMessage['type'];
+
+/**
+ * The message types that answer each request (proto/README.md §4) besides `error`; `render` is
+ * answered by a binary frame. A request type missing here does not compile.
+ */
+export const ANSWERS = {
+  list_volumes: ['volumes'],
+  open: ['opened'],
+  join: ['joined'],
+  set: ['ack'],
+  render: [],
+  stats: ['stats'],
+  close: ['ack'],
+  resume: ['opened'],
+} as const satisfies Record<ClientMessageType, readonly ServerMessage['type'][]>;
+
+/** The message that answers a request of type `T`. */
+export type AnswerTo<T extends ClientMessageType> = ServerMessage extends infer M
+  ? M extends ServerMessage
+    ? [M['type'] & (typeof ANSWERS)[T][number]] extends [never]
+      ? never
+      : M
+    : never
+  : never;
+
+/** A request as a caller gives it: the connection adds `v` and `id`. */
+export type Request = ClientMessage extends infer M ? (M extends ClientMessage ? Omit<M, 'v' | 'id'> : never) : never;
 
 /** Thrown when a server message does not have the shape protocol v1 promises. */
 export class ProtocolError extends Error {
@@ -474,20 +503,43 @@ function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
   return o as unknown as VolumeSummary;
 }
 
-function checkState(v: unknown, at: string): State {
+/**
+ * Settings the server announces a range for that a state may lack: servers older than them leave
+ * them out. Every other announced setting whose part the state has is required in it.
+ */
+const NOT_IN_EVERY_STATE = new Set(['settings/frame_budget_ms', 'settings/refinement_steps']);
+
+/**
+ * The numbers of a state that hello.ranges announces (`settings/light_buffer/compensation`): each
+ * a finite number, a whole one where the range says so. Paths whose part a state does not hold
+ * (`camera/orbit/azimuth`, and `vec3`, `rgb`, which are no members) are left out.
+ */
+function checkRangedNumbers(state: Record<string, unknown>, ranges: SettingRanges, at: string): void {
+  for (const [path, range] of Object.entries(ranges)) {
+    const parts = path.split('/');
+    const name = parts.pop()!;
+    let parent: Record<string, unknown> | undefined = parts.length > 0 ? state : undefined;
+    for (const part of parts) {
+      const next: unknown = parent?.[part];
+      parent = isObject(next) ? next : undefined;
+    }
+    if (parent === undefined || (!(name in parent) && NOT_IN_EVERY_STATE.has(path))) continue;
+    const value = num(parent, name, `${at}/${parts.join('/')}`);
+    need(!range.integer || Number.isInteger(value), value, 'an integer', `${at}/${path}`);
+  }
+}
+
+function checkState(v: unknown, at: string, ranges: SettingRanges): State {
   const o = need(isObject(v), v as Record<string, unknown>, 'a state', at);
   const camera = obj(o, 'camera', at);
   for (const key of ['eye', 'target', 'up']) {
     numbers(camera, key, `${at}/camera`, 3);
   }
-  num(camera, 'fov', `${at}/camera`);
   const light = obj(o, 'light', at);
   str(light, 'type', `${at}/light`);
   numbers(light, 'direction', `${at}/light`, 3);
   numbers(light, 'position', `${at}/light`, 3);
   numbers(light, 'color', `${at}/light`, 3);
-  num(light, 'intensity', `${at}/light`);
-  num(light, 'ambient', `${at}/light`);
   const tf = obj(o, 'transfer_function', at);
   const tfAt = `${at}/transfer_function`;
   need(Array.isArray(tf['colors']), null, 'an array', `${tfAt}/colors`);
@@ -508,44 +560,30 @@ function checkState(v: unknown, at: string): State {
   str(settings, 'compositing', sAt);
   str(settings, 'stage', sAt);
   numbers(settings, 'size', sAt, 2);
-  for (const key of ['sample_distance', 'opacity_unit_distance', 'early_termination']) {
-    num(settings, key, sAt);
-  }
   numbers(settings, 'background', sAt, 3);
   bool(settings, 'phong', sAt);
-  const shading = obj(settings, 'shading', sAt);
-  for (const key of ['diffuse', 'specular', 'shininess']) {
-    num(shading, key, `${sAt}/shading`);
-  }
+  obj(settings, 'shading', sAt);
+  obj(settings, 'scattering', sAt);
   const lb = obj(settings, 'light_buffer', sAt);
+  // Bounded by the server's limits (hello.limits), not by a range.
   num(lb, 'slices', `${sAt}/light_buffer`);
   num(lb, 'resolution', `${sAt}/light_buffer`);
   str(lb, 'builder', `${sAt}/light_buffer`);
-  num(lb, 'compensation', `${sAt}/light_buffer`);
-  num(lb, 'slab_samples', `${sAt}/light_buffer`);
   str(lb, 'lookup', `${sAt}/light_buffer`);
-  const sc = obj(settings, 'scattering', sAt);
-  for (const key of [
-    'shell_radius',
-    'shell_rings',
-    'shell_center_weight',
-    'cone_angle',
-    'cone_center_weight',
-  ]) {
-    num(sc, key, `${sAt}/scattering`);
-  }
   const output = obj(o, 'output', at);
   str(output, 'encoding', `${at}/output`);
   num(output, 'jpeg_quality', `${at}/output`);
+  checkRangedNumbers(o, ranges, at);
   return o as unknown as State;
 }
 
 /**
  * Parses one text message from the server. Throws ProtocolError when it is not JSON, not v1, or
  * lacks a member this client reads, and UnknownMessageType (a ProtocolError) for a type it does not
- * know; members it does not know are kept and ignored.
+ * know; members it does not know are kept and ignored. `ranges`: the server's (its hello), which
+ * say what numbers a state holds; a state before them is refused.
  */
-export function parseServerMessage(text: string): ServerMessage {
+export function parseServerMessage(text: string, ranges?: SettingRanges): ServerMessage {
   let value: unknown;
   try {
     value = JSON.parse(text);
@@ -573,6 +611,7 @@ export function parseServerMessage(text: string): ServerMessage {
         num(range, 'min', `/ranges/${path}`);
         num(range, 'max', `/ranges/${path}`);
         bool(range, 'integer', `/ranges/${path}`);
+        if (range['summary'] !== undefined) str(range, 'summary', `/ranges/${path}`);
       }
       need(Array.isArray(o['encodings']), null, 'an array of encodings', '/encodings');
       const renderer = obj(o, 'renderer', '');
@@ -596,7 +635,7 @@ export function parseServerMessage(text: string): ServerMessage {
       str(o, 'session', '');
       checkVolumeSummary(o['volume'], '/volume');
       numbers(o, 'histogram', '');
-      checkState(o['state'], '/state');
+      checkState(o['state'], '/state', rangesForState(ranges));
       // A server older than resume sends no token; its owner then cannot resume.
       if (o['owner_token'] !== undefined) str(o, 'owner_token', '');
       need(o['recreated'] === undefined || o['recreated'] === true, o['recreated'], 'true', '/recreated');
@@ -604,7 +643,7 @@ export function parseServerMessage(text: string): ServerMessage {
     }
     case 'state':
       str(o, 'session', '');
-      checkState(o['state'], '/state');
+      checkState(o['state'], '/state', rangesForState(ranges));
       return o as unknown as StateMessage;
     case 'ack':
       str(o, 'of', '');
@@ -620,6 +659,13 @@ export function parseServerMessage(text: string): ServerMessage {
     default:
       throw new UnknownMessageType(type);
   }
+}
+
+function rangesForState(ranges: SettingRanges | undefined): SettingRanges {
+  if (ranges === undefined) {
+    throw new ProtocolError("a state before the server's hello (its ranges)", '/state');
+  }
+  return ranges;
 }
 
 /** The text of a client message. */
@@ -646,8 +692,15 @@ function reject(code: ErrorCode, field: string, message: string): never {
   throw new Reject({ code, field, message });
 }
 
+type Check = (value: Json, at: string) => void;
+
 interface Spec {
-  [member: string]: (value: Json, at: string) => void;
+  [member: string]: Check;
+}
+
+/** The members of a part of a `set` that are not numbers with a range, its nested parts as shapes. */
+interface Shape {
+  [member: string]: Check | Shape;
 }
 
 function members(
@@ -734,12 +787,12 @@ const vector =
 
 /**
  * A number within the server's range for the setting at `path` (hello.ranges), a whole one where
- * the range says so; without the server's ranges any number passes and the server judges it.
+ * the range says so; a server that announces no range for it judges it itself.
  */
 const ranged =
-  (ranges: SettingRanges | null, path: string) =>
+  (ranges: SettingRanges, path: string) =>
   (value: Json, at: string): void => {
-    const range = ranges?.[path];
+    const range = ranges[path];
     if (range === undefined) {
       number(-Infinity, Infinity)(value, at);
       return;
@@ -747,8 +800,32 @@ const ranged =
     (range.integer ? integer : number)(range.min, range.max)(value, at);
   };
 
-const coords = (ranges: SettingRanges | null) => vector(3, ranged(ranges, 'vec3'));
-const rgb = (ranges: SettingRanges | null) => vector(3, ranged(ranges, 'rgb'));
+const coords = (ranges: SettingRanges) => vector(3, ranged(ranges, 'vec3'));
+const rgb = (ranges: SettingRanges) => vector(3, ranged(ranges, 'rgb'));
+
+/**
+ * The checks of the members at `path` of a `set` (`settings`, `settings/light_buffer`): those of
+ * `shape`, and for each number hello.ranges announces there the check of its range, a part that a
+ * range's path names (`camera/orbit`) being checked the same way.
+ */
+function specAt(path: string, shape: Shape, ranges: SettingRanges): Spec {
+  const spec: Spec = {};
+  const parts = new Map<string, Shape>();
+  for (const [member, entry] of Object.entries(shape)) {
+    if (typeof entry === 'function') spec[member] = entry;
+    else parts.set(member, entry);
+  }
+  for (const rangePath of Object.keys(ranges)) {
+    if (!rangePath.startsWith(`${path}/`)) continue;
+    const [member, ...deeper] = rangePath.slice(path.length + 1).split('/') as [string, ...string[]];
+    if (deeper.length === 0) spec[member] ??= ranged(ranges, rangePath);
+    else if (!parts.has(member)) parts.set(member, {});
+  }
+  for (const [member, part] of parts) {
+    spec[member] = (value, at) => members(value, at, specAt(`${path}/${member}`, part, ranges));
+  }
+  return spec;
+}
 
 function points(item: Spec, required: string[], valueKey: string) {
   return (value: Json, at: string): void => {
@@ -768,31 +845,16 @@ function points(item: Spec, required: string[], valueKey: string) {
   };
 }
 
-function cameraSpec(ranges: SettingRanges | null): Spec {
-  return {
-    eye: coords(ranges),
-    target: coords(ranges),
-    up: coords(ranges),
-    fov: ranged(ranges, 'camera/fov'),
-    orbit: (value, at) =>
-      members(value, at, {
-        azimuth: ranged(ranges, 'camera/orbit/azimuth'),
-        elevation: ranged(ranges, 'camera/orbit/elevation'),
-        distance: ranged(ranges, 'camera/orbit/distance'),
-      }),
-    view: oneOf(VIEWS),
-  };
+function cameraSpec(ranges: SettingRanges): Spec {
+  return specAt('camera', { eye: coords(ranges), target: coords(ranges), up: coords(ranges), view: oneOf(VIEWS) }, ranges);
 }
 
-function lightSpec(ranges: SettingRanges | null): Spec {
-  return {
-    type: oneOf(LIGHT_TYPES),
-    direction: coords(ranges),
-    position: coords(ranges),
-    color: rgb(ranges),
-    intensity: ranged(ranges, 'light/intensity'),
-    ambient: ranged(ranges, 'light/ambient'),
-  };
+function lightSpec(ranges: SettingRanges): Spec {
+  return specAt(
+    'light',
+    { type: oneOf(LIGHT_TYPES), direction: coords(ranges), position: coords(ranges), color: rgb(ranges) },
+    ranges,
+  );
 }
 
 function checkTransferFunction(value: Json, at: string): void {
@@ -810,67 +872,54 @@ function checkTransferFunction(value: Json, at: string): void {
   });
 }
 
-function settingsSpec(limits: Limits, modes: readonly string[] | null, ranges: SettingRanges | null): Spec {
-  const setting = (path: string) => ranged(ranges, `settings/${path}`);
-  return {
-    mode: modes === null ? string(32) : oneOf(modes),
-    compositing: oneOf(COMPOSITINGS),
-    stage: oneOf(STAGES),
-    size: vector(2, integer(1, limits.max_image_side)),
-    sample_distance: setting('sample_distance'),
-    opacity_unit_distance: setting('opacity_unit_distance'),
-    early_termination: setting('early_termination'),
-    background: rgb(ranges),
-    phong: boolean,
-    empty_space_skipping: boolean,
-    frame_budget_ms: setting('frame_budget_ms'),
-    jitter: boolean,
-    refinement_steps: setting('refinement_steps'),
-    shading: (v, at) =>
-      members(v, at, {
-        diffuse: setting('shading/diffuse'),
-        specular: setting('shading/specular'),
-        shininess: setting('shading/shininess'),
-      }),
-    light_buffer: (v, at) =>
-      members(v, at, {
+function settingsSpec(limits: Limits, modes: readonly string[] | null, ranges: SettingRanges): Spec {
+  return specAt(
+    'settings',
+    {
+      mode: modes === null ? string(32) : oneOf(modes),
+      compositing: oneOf(COMPOSITINGS),
+      stage: oneOf(STAGES),
+      size: vector(2, integer(1, limits.max_image_side)),
+      background: rgb(ranges),
+      phong: boolean,
+      empty_space_skipping: boolean,
+      jitter: boolean,
+      shading: {},
+      light_buffer: {
         slices: integer(1, limits.max_slices),
         resolution: integer(1, limits.max_light_resolution),
         builder: oneOf(BUILDERS),
-        compensation: setting('light_buffer/compensation'),
-        slab_samples: setting('light_buffer/slab_samples'),
         lookup: oneOf(LIGHT_LOOKUPS),
-      }),
-    scattering: (v, at) =>
-      members(v, at, {
-        shell_radius: setting('scattering/shell_radius'),
-        shell_rings: setting('scattering/shell_rings'),
-        shell_center_weight: setting('scattering/shell_center_weight'),
-        cone_angle: setting('scattering/cone_angle'),
-        cone_center_weight: setting('scattering/cone_center_weight'),
-      }),
-  };
+      },
+      scattering: {},
+    },
+    ranges,
+  );
 }
 
 function subtract(a: Vec3, b: Vec3): Vec3 {
   return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 }
 
+/** What a server's hello says about the messages it takes. */
+export interface ServerTerms {
+  /** Its settings' ranges: which members of a `set` are numbers, and their limits. */
+  ranges: SettingRanges;
+  /** Its limits; DEFAULT_LIMITS when not given. */
+  limits?: Limits;
+  /** The mode names it offers; absent or null accepts any name and leaves the mode to the server. */
+  modes?: readonly string[] | null;
+}
+
 /**
- * Checks a client message as the server would (§3-§5 at the given limits), except for what needs
- * the session's current state (eye = target after a partial camera patch). Returns null when the
- * server would accept it. The client sends what the person asked for and shows the server's answer;
- * this is for tests and for catching the client's own mistakes during development. `modes`: the
- * mode names the server offers (its hello); null accepts any name and leaves the mode to the server.
- * `ranges`: the settings' ranges the server announces (its hello); null accepts any number where a
- * range applies and leaves it to the server.
+ * Checks a client message as the server would (§3-§5 at its limits, modes and ranges), except for
+ * what needs the session's current state (eye = target after a partial camera patch). Returns null
+ * when the server would accept it. The client sends what the person asked for and shows the
+ * server's answer; this is for tests and for catching the client's own mistakes during
+ * development.
  */
-export function checkClientMessage(
-  value: unknown,
-  limits: Limits = DEFAULT_LIMITS,
-  modes: readonly string[] | null = null,
-  ranges: SettingRanges | null = null,
-): Problem | null {
+export function checkClientMessage(value: unknown, server: ServerTerms): Problem | null {
+  const { ranges, limits = DEFAULT_LIMITS, modes = null } = server;
   try {
     if (!isObject(value)) {
       reject('invalid_message', '/', 'not an object');
@@ -1039,12 +1088,12 @@ export function applyPatch(
     }
   }
   if (patch.settings) {
-    const s = patch.settings;
-    const { shading, light_buffer, scattering, ...flat } = s;
-    Object.assign(next.settings, structuredClone(flat));
-    if (shading) Object.assign(next.settings.shading, shading);
-    if (light_buffer) Object.assign(next.settings.light_buffer, light_buffer);
-    if (scattering) Object.assign(next.settings.scattering, scattering);
+    // A part (light_buffer, shading, ...) takes the patch's members and keeps the others.
+    const settings = next.settings as unknown as Record<string, unknown>;
+    for (const [key, value] of Object.entries(structuredClone(patch.settings))) {
+      const prev = settings[key];
+      settings[key] = isObject(prev) && isObject(value) ? { ...prev, ...value } : value;
+    }
   }
   if (patch.output) {
     Object.assign(next.output, patch.output);
