@@ -1,8 +1,10 @@
-// Method and quality: the rendering mode (those the server's hello offers, with what each reads), light-buffer slices and
-// resolution, builder, sample distance, compositing, compensation n, shell/cone parameters,
-// shading, empty-space skipping, and the output encoding (JPEG quality or PNG). The sliders span
-// the ranges the server's hello announces; the free-number fields take any number, and a bad one
-// comes back as the server's error.
+// Method and quality: the rendering mode (those the server's hello offers, with what each reads),
+// compositing, ray-caster stage, light-buffer slices, resolution, builder and lookup, the toggles
+// (Blinn-Phong, jitter, empty-space skipping), background and the output encoding, and a control
+// for every numeric setting the server's hello announces a range for (hello.ranges), placed by its
+// path: settings/light_buffer/* under the light buffer, settings/scattering/* under shell & cone,
+// settings/shading/* under shading, settings/* under sampling, another part in a folder of its own.
+// A new numeric setting of the server gets its control here with no change to this file.
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
@@ -23,31 +25,99 @@ import {
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
 /**
- * Which parameters matter for a mode, from what the server's hello says it computes (the others
- * are greyed out, still settable). Before hello, or for a mode hello did not list, all matter.
+ * Whether a mode reads the settings of a part of `settings` (`light_buffer`: the settings under
+ * settings/light_buffer/), from what the server's hello says the mode computes; the settings outside
+ * a part (''), and those of a part not named here, matter to every mode. The others are greyed out,
+ * still settable. Before hello, or for a mode hello did not list, all matter.
  */
-const USES: Record<string, (mode: ModeCapabilities | undefined) => boolean> = {
-  light_buffer: (m) => m === undefined || m.shadows === 'light_buffer',
-  slices: (m) => m === undefined || m.shadows === 'light_buffer' || m.technique === 'half_angle_slicing',
-  shell: (m) => m === undefined || m.scattering === 'shell',
-  cone: (m) => m === undefined || m.scattering === 'cone',
-  phong: (m) => m === undefined || m.gradients === 'with_phong',
+const PART_USED: Record<string, (mode: ModeCapabilities, name: string, phong: boolean) => boolean> = {
+  light_buffer: (m) => m.shadows === 'light_buffer',
+  // The scattering kind names its settings: shell_radius for `shell`, cone_angle for `cone`.
+  scattering: (m, name) => m.scattering !== 'none' && name.startsWith(`${m.scattering}_`),
+  shading: (m, _, phong) => m.gradients === 'always' || (m.gradients === 'with_phong' && phong),
 };
 
-/** The sliders whose ends are the server's ranges (hello.ranges), by control and setting path. */
-const SLIDER_RANGES: Record<string, string> = {
-  slab_samples: 'settings/light_buffer/slab_samples',
-  early_termination: 'settings/early_termination',
-  refinement_steps: 'settings/refinement_steps',
-  shell_radius: 'settings/scattering/shell_radius',
-  shell_rings: 'settings/scattering/shell_rings',
-  shell_center_weight: 'settings/scattering/shell_center_weight',
-  cone_angle: 'settings/scattering/cone_angle',
-  cone_center_weight: 'settings/scattering/cone_center_weight',
-  diffuse: 'settings/shading/diffuse',
-  specular: 'settings/shading/specular',
-  shininess: 'settings/shading/shininess',
-};
+export function settingUsed(mode: ModeCapabilities | undefined, part: string, name: string, phong: boolean): boolean {
+  return mode === undefined || (PART_USED[part]?.(mode, name, phong) ?? true);
+}
+
+/** How one numeric setting of hello.ranges is offered. */
+export interface SettingControl {
+  /** Its path in a `set` patch: settings/light_buffer/compensation. */
+  path: string;
+  /** The members under `settings`: ['light_buffer', 'compensation']. */
+  members: string[];
+  /** The part of `settings` it belongs to ('light_buffer'), '' for a setting directly in it. */
+  part: string;
+  label: string;
+  /** What it does and the values it takes, as the control's hint. */
+  hint: string;
+  /**
+   * `slider`: spans the range (whole numbers where the range says so). `number`: a free number
+   * field, for a range over many decades above zero (distances such as the sample distance), which
+   * a linear slider cannot reach the low end of; the server checks it and says what is wrong.
+   */
+  kind: 'slider' | 'number';
+  min: number;
+  max: number;
+  integer: boolean;
+  /** Decimals a number field shows: enough for the range's low end. */
+  decimals: number;
+}
+
+/** A range whose ends lie this many times apart (above zero) gets a number field, not a slider. */
+const DECADES_FOR_A_NUMBER_FIELD = 1e4;
+
+function labelOf(member: string): string {
+  return member.replace(/_/g, ' ');
+}
+
+/** The control of each numeric setting (settings/...) that hello.ranges announces. */
+export function settingControls(ranges: SettingRanges): SettingControl[] {
+  return Object.entries(ranges)
+    .filter(([path]) => path.startsWith('settings/'))
+    .map(([path, range]) => {
+      const members = path.split('/').slice(1);
+      const name = members[members.length - 1]!;
+      const wide = range.min > 0 && range.max / range.min >= DECADES_FOR_A_NUMBER_FIELD;
+      const within = range.integer ? `${range.min}..${range.max}` : `[${range.min}, ${range.max}]`;
+      return {
+        path,
+        members,
+        part: members.length > 1 ? members[0]! : '',
+        label: labelOf(name),
+        hint: range.summary ? `${range.summary}; within ${within}` : `within ${within}`,
+        kind: wide && !range.integer ? 'number' : 'slider',
+        min: range.min,
+        max: range.max,
+        integer: range.integer,
+        decimals: wide ? Math.ceil(-Math.log10(range.min)) + 2 : 0,
+      };
+    });
+}
+
+/** The `set` patch that gives the setting at `members` (under settings) `value`. */
+export function settingPatch(members: string[], value: number): StatePatch {
+  let inner: unknown = value;
+  for (const member of [...members].reverse()) inner = { [member]: inner };
+  return { settings: inner as StatePatch['settings'] };
+}
+
+/** The value of the setting at `members` in a state's settings, or undefined where it has none. */
+export function settingValue(settings: State['settings'], members: string[]): number | undefined {
+  let value: unknown = settings;
+  for (const member of members) {
+    value = typeof value === 'object' && value !== null ? (value as Record<string, unknown>)[member] : undefined;
+  }
+  return typeof value === 'number' ? value : undefined;
+}
+
+interface RangedControl {
+  setting: SettingControl;
+  controller: Controller;
+  /** hello announces it (a later hello may not). */
+  announced: boolean;
+}
 
 export class MethodPanel {
   readonly params = {
@@ -57,53 +127,37 @@ export class MethodPanel {
     slices: 128,
     resolution: 256,
     builder: 'multi_slice',
-    compensation: 0,
     lookup: 'local',
-    slab_samples: 0,
-    sample_distance: 1 / 256,
-    opacity_unit_distance: 1 / 256,
-    early_termination: 0.99,
     phong: true,
-    diffuse: 0.75,
-    specular: 0.3,
-    shininess: 32,
-    shell_radius: 1 / 128,
-    shell_rings: 1,
-    shell_center_weight: 0.4,
-    cone_angle: 30,
-    cone_center_weight: 0.2,
     background: [0, 0, 0] as number[],
     encoding: 'jpeg',
     jpeg_quality: 85,
-    frame_budget_ms: 0,
     jitter: false,
-    refinement_steps: 8,
     empty_space_skipping: true,
     /** Client side: rendered pixels per device pixel. */
     scale: 1,
   };
+  /** The values of the numeric settings, by path (settings/light_buffer/compensation). */
+  private readonly values: Record<string, number> = {};
   private readonly controllers: Controller[] = [];
   private readonly byKey = new Map<string, Controller>();
+  private readonly ranged = new Map<string, RangedControl>();
+  /** The folder of each part of `settings` ('' for the settings directly in it). */
+  private readonly parts = new Map<string, GUI>();
   private readonly mode: Controller;
   private modes = new Map<string, ModeCapabilities>();
   private readonly slices: Controller;
   private readonly resolution: Controller;
-  private readonly budget: Controller;
+  private enabled = true;
+  private state: State | null = null;
 
   constructor(
-    folder: GUI,
+    private readonly folder: GUI,
     private readonly send: PatchSink,
     private readonly scaleChanged: (scale: number) => void,
   ) {
     const p = this.params;
-    const add = (c: Controller, key: string, patch: () => StatePatch, live = true): Controller => {
-      c.domElement.dataset['control'] = key;
-      if (live) c.onChange(() => this.send(patch(), true));
-      c.onFinishChange(() => this.send(patch(), false));
-      this.controllers.push(c);
-      this.byKey.set(key, c);
-      return c;
-    };
+    const add = this.add.bind(this);
     const settings = (s: StatePatch['settings']): StatePatch => ({ settings: s });
 
     // The server's modes arrive with its hello (setModes).
@@ -121,57 +175,31 @@ export class MethodPanel {
       'resolution', () => settings({ light_buffer: { resolution: p.resolution } }));
     add(lb.add(p, 'builder', [...BUILDERS]), 'builder', () =>
       settings({ light_buffer: { builder: p.builder as 'per_slice' } }), false);
-    // A free number field: the server checks the range (0..1000).
-    add(lb.add(p, 'compensation').name('compensation n'), 'compensation', () =>
-      settings({ light_buffer: { compensation: p.compensation } }), false);
     add(lb.add(p, 'lookup', [...LIGHT_LOOKUPS]).name('light lookup'), 'lookup', () =>
       settings({ light_buffer: { lookup: p.lookup as 'local' } }), false);
-    add(lb.add(p, 'slab_samples').step(1).name('slab samples (0 = per voxel)'), 'slab_samples', () =>
-      settings({ light_buffer: { slab_samples: p.slab_samples } }));
 
     const sampling = folder.addFolder('Sampling');
-    // Free number fields: the server checks the ranges and says what is wrong.
-    add(sampling.add(p, 'sample_distance').name('sample distance').decimals(6), 'sample_distance',
-      () => settings({ sample_distance: p.sample_distance }), false);
-    add(sampling.add(p, 'opacity_unit_distance').name('opacity unit dist.').decimals(6),
-      'opacity_unit_distance', () => settings({ opacity_unit_distance: p.opacity_unit_distance }), false);
-    add(sampling.add(p, 'early_termination').step(0.01).name('early termination'),
-      'early_termination', () => settings({ early_termination: p.early_termination }));
     add(sampling.add(p, 'jitter').name('jittered samples'), 'jitter', () =>
       settings({ jitter: p.jitter }), false);
-    // Progressive stills: the server refines a still frame this many times (0: off).
-    add(sampling.add(p, 'refinement_steps').step(1).name('refinement steps (0 off)'), 'refinement_steps',
-      () => settings({ refinement_steps: p.refinement_steps }), false);
     // Skips the volume's empty bricks while marching: faster, the same image.
     add(sampling.add(p, 'empty_space_skipping').name('empty-space skipping'), 'empty_space_skipping', () =>
       settings({ empty_space_skipping: p.empty_space_skipping }), false);
-    // The server picks mode and quality to fit this frame time (0: as set); newer servers only.
-    this.budget = add(sampling.add(p, 'frame_budget_ms').name('frame budget ms (0 off)'),
-      'frame_budget_ms', () => settings({ frame_budget_ms: p.frame_budget_ms }), false);
 
-    const scattering = folder.addFolder('Shell & cone (sbrc_shell, sbrc_cone)');
+    const scattering = folder.addFolder('Shell & cone scattering');
     scattering.close();
-    add(scattering.add(p, 'shell_radius').step(0.0001).name('shell radius'), 'shell_radius',
-      () => settings({ scattering: { shell_radius: p.shell_radius } }));
-    add(scattering.add(p, 'shell_rings').step(1).name('shell rings'), 'shell_rings', () =>
-      settings({ scattering: { shell_rings: p.shell_rings } }));
-    add(scattering.add(p, 'shell_center_weight').step(0.01).name('shell centre weight'),
-      'shell_center_weight', () => settings({ scattering: { shell_center_weight: p.shell_center_weight } }));
-    add(scattering.add(p, 'cone_angle').step(0.1).name('cone angle °'), 'cone_angle', () =>
-      settings({ scattering: { cone_angle: p.cone_angle } }));
-    add(scattering.add(p, 'cone_center_weight').step(0.01).name('cone centre weight'),
-      'cone_center_weight', () => settings({ scattering: { cone_center_weight: p.cone_center_weight } }));
 
     const shading = folder.addFolder('Shading');
     shading.close();
-    add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () => settings({ phong: p.phong }), false);
-    add(shading.add(p, 'diffuse').step(0.01), 'diffuse', () => settings({ shading: { diffuse: p.diffuse } }));
-    add(shading.add(p, 'specular').step(0.01), 'specular', () =>
-      settings({ shading: { specular: p.specular } }));
-    add(shading.add(p, 'shininess').step(1), 'shininess', () =>
-      settings({ shading: { shininess: p.shininess } }));
+    add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () => settings({ phong: p.phong }), false)
+      .onChange(() => this.greyOut());
     add(shading.addColor(p, 'background', 1), 'background', () =>
       settings({ background: [p.background[0] ?? 0, p.background[1] ?? 0, p.background[2] ?? 0] }));
+
+    // The numeric settings arrive with hello's ranges (setRanges), each in its part's folder.
+    this.parts.set('', sampling);
+    this.parts.set('light_buffer', lb);
+    this.parts.set('scattering', scattering);
+    this.parts.set('shading', shading);
 
     const output = folder.addFolder('Image');
     add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
@@ -185,18 +213,61 @@ export class MethodPanel {
     this.greyOut();
   }
 
+  /** Wires a control: `patch` is what it sends, while it moves (`live`) and when it settles. */
+  private add(c: Controller, key: string, patch: () => StatePatch, live = true): Controller {
+    c.domElement.dataset['control'] = key;
+    if (live) c.onChange(() => this.send(patch(), true));
+    c.onFinishChange(() => this.send(patch(), false));
+    c.enable(this.enabled);
+    this.controllers.push(c);
+    this.byKey.set(key, c);
+    return c;
+  }
+
   /** The server's maxima from `hello`. */
   setLimits(limits: Limits): void {
     this.slices.max(limits.max_slices);
     this.resolution.max(limits.max_light_resolution);
   }
 
-  /** The server's ranges from `hello`: the sliders span them (until then, number fields). */
+  /**
+   * The server's ranges from `hello`: a control for each numeric setting, spanning its range (a
+   * later hello's ranges update them; a setting it no longer announces is hidden).
+   */
   setRanges(ranges: SettingRanges): void {
-    for (const [key, path] of Object.entries(SLIDER_RANGES)) {
-      const range = ranges[path];
-      if (range !== undefined) this.byKey.get(key)?.min(range.min).max(range.max);
+    for (const control of this.ranged.values()) control.announced = false;
+    for (const setting of settingControls(ranges)) {
+      const known = this.ranged.get(setting.path);
+      if (known) {
+        known.announced = true;
+        known.setting = setting;
+        if (setting.kind === 'slider') known.controller.min(setting.min).max(setting.max);
+        known.controller.domElement.title = setting.hint;
+        continue;
+      }
+      this.ranged.set(setting.path, { setting, controller: this.addSetting(setting), announced: true });
     }
+    this.showSettings();
+    this.greyOut();
+  }
+
+  private addSetting(setting: SettingControl): Controller {
+    let folder = this.parts.get(setting.part);
+    if (folder === undefined) {
+      folder = this.folder.addFolder(labelOf(setting.part));
+      this.parts.set(setting.part, folder);
+    }
+    this.values[setting.path] = (this.state && settingValue(this.state.settings, setting.members)) ?? setting.min;
+    const value = () => settingPatch(setting.members, this.values[setting.path]!);
+    const c =
+      setting.kind === 'slider'
+        ? folder.add(this.values, setting.path, setting.min, setting.max, setting.integer ? 1 : undefined)
+        : folder.add(this.values, setting.path).decimals(setting.decimals);
+    c.name(setting.label);
+    c.domElement.title = setting.hint;
+    c.domElement.dataset['setting'] = setting.path;
+    // A number field sends what was typed once it is complete; a slider while it moves.
+    return this.add(c, setting.members[setting.members.length - 1]!, value, setting.kind === 'slider');
   }
 
   /** The modes this server offers, with what each computes (its hello). */
@@ -212,50 +283,58 @@ export class MethodPanel {
   update(state: State): void {
     const p = this.params;
     const s = state.settings;
+    this.state = state;
     p.mode = s.mode;
     p.compositing = s.compositing;
     p.stage = s.stage;
     p.slices = s.light_buffer.slices;
     p.resolution = s.light_buffer.resolution;
     p.builder = s.light_buffer.builder;
-    p.compensation = s.light_buffer.compensation;
     p.lookup = s.light_buffer.lookup;
-    p.slab_samples = s.light_buffer.slab_samples;
-    p.sample_distance = s.sample_distance;
-    p.opacity_unit_distance = s.opacity_unit_distance;
-    p.early_termination = s.early_termination;
-    p.frame_budget_ms = s.frame_budget_ms ?? 0;
     p.jitter = s.jitter ?? false;
-    p.refinement_steps = s.refinement_steps ?? 0;
     p.empty_space_skipping = s.empty_space_skipping ?? true;
-    this.budget.show(s.frame_budget_ms !== undefined);
     p.phong = s.phong;
-    p.diffuse = s.shading.diffuse;
-    p.specular = s.shading.specular;
-    p.shininess = s.shading.shininess;
-    Object.assign(p, s.scattering);
     p.background = [...s.background];
     p.encoding = state.output.encoding;
     p.jpeg_quality = state.output.jpeg_quality;
+    for (const { setting } of this.ranged.values()) {
+      const value = settingValue(s, setting.members);
+      if (value !== undefined) this.values[setting.path] = value;
+    }
+    this.showSettings();
     for (const c of this.controllers) c.updateDisplay();
     this.greyOut();
+  }
+
+  /** A setting is shown where hello announces it and the session's state holds it (older servers lack some). */
+  private showSettings(): void {
+    for (const { setting, controller, announced } of this.ranged.values()) {
+      const held = this.state === null || settingValue(this.state.settings, setting.members) !== undefined;
+      controller.show(announced && held);
+    }
   }
 
   private greyOut(): void {
     const mode = this.modes.get(this.params.mode);
     this.mode.domElement.title = mode?.summary ?? '';
-    const dim = (key: string, used: boolean): void => {
-      this.byKey.get(key)?.domElement.classList.toggle('unused', !used);
+    const dim = (c: Controller | undefined, used: boolean): void => {
+      c?.domElement.classList.toggle('unused', !used);
     };
-    for (const key of ['resolution', 'builder', 'compensation', 'lookup', 'slab_samples']) dim(key, USES['light_buffer']!(mode));
-    dim('slices', USES['slices']!(mode));
-    for (const key of ['shell_radius', 'shell_rings', 'shell_center_weight']) dim(key, USES['shell']!(mode));
-    for (const key of ['cone_angle', 'cone_center_weight']) dim(key, USES['cone']!(mode));
-    dim('phong', USES['phong']!(mode));
-    dim('jpeg_quality', this.params.encoding === 'jpeg');
+    const phong = this.params.phong;
+    for (const key of ['resolution', 'builder', 'lookup']) {
+      dim(this.byKey.get(key), settingUsed(mode, 'light_buffer', key, phong));
+    }
+    // Half-angle slicing slices the volume without a light buffer.
+    dim(this.slices, settingUsed(mode, 'light_buffer', 'slices', phong) || mode?.technique === 'half_angle_slicing');
+    dim(this.byKey.get('phong'), mode === undefined || mode.gradients === 'with_phong');
+    for (const { setting, controller } of this.ranged.values()) {
+      dim(controller, settingUsed(mode, setting.part, setting.members[setting.members.length - 1]!, phong));
+    }
+    dim(this.byKey.get('jpeg_quality'), this.params.encoding === 'jpeg');
   }
 
   setEnabled(enabled: boolean): void {
+    this.enabled = enabled;
     for (const c of this.controllers) c.enable(enabled);
   }
 }

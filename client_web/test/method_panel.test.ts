@@ -1,0 +1,70 @@
+import { describe, expect, it } from 'vitest';
+import { settingControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
+import { checkClientMessage, parseServerMessage, type ModeCapabilities, type OpenedMessage } from '../src/protocol/messages';
+import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
+
+const mode = (name: string): ModeCapabilities => recordedHello.modes.find((m) => m.name === name)!;
+const state = (parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage).state;
+
+describe("the method panel's numeric settings", () => {
+  it('offers every setting hello announces a range for, placed by its path', () => {
+    const controls = settingControls(recordedRanges);
+    const paths = Object.keys(recordedRanges).filter((p) => p.startsWith('settings/'));
+    expect(controls.map((c) => c.path)).toEqual(paths);
+    const byPath = new Map(controls.map((c) => [c.path, c]));
+    expect(byPath.get('settings/light_buffer/compensation')).toMatchObject({
+      part: 'light_buffer', label: 'compensation', kind: 'slider', min: 0, max: 1000, integer: false,
+    });
+    expect(byPath.get('settings/light_buffer/slab_samples')).toMatchObject({ kind: 'slider', integer: true, max: 16 });
+    expect(byPath.get('settings/scattering/shell_rings')).toMatchObject({ part: 'scattering', integer: true });
+    expect(byPath.get('settings/early_termination')).toMatchObject({ part: '', kind: 'slider' });
+    // Distances over many decades: a number field with the decimals their low end needs.
+    expect(byPath.get('settings/sample_distance')).toMatchObject({ part: '', kind: 'number', decimals: 7 });
+    expect(byPath.get('settings/opacity_unit_distance')).toMatchObject({ kind: 'number', decimals: 6 });
+    expect(controls.filter((c) => c.kind === 'number').map((c) => c.path).sort()).toEqual([
+      'settings/opacity_unit_distance',
+      'settings/sample_distance',
+    ]);
+  });
+
+  it('offers a setting new to the client with the patch the server takes, and shows it from the state', () => {
+    const glow = { min: 0, max: 4, integer: false, summary: 'light-buffer glow' };
+    const ranges = { ...recordedRanges, 'settings/light_buffer/glow': glow };
+    const control = settingControls(ranges).find((c) => c.path === 'settings/light_buffer/glow')!;
+    expect(control).toMatchObject({ part: 'light_buffer', label: 'glow', kind: 'slider', hint: 'light-buffer glow; within [0, 4]' });
+    const patch = settingPatch(control.members, 2.5);
+    expect(patch).toEqual({ settings: { light_buffer: { glow: 2.5 } } });
+    expect(checkClientMessage({ v: 1, type: 'set', ...patch }, { ranges })).toBeNull();
+    const withGlow = structuredClone(state);
+    (withGlow.settings.light_buffer as unknown as Record<string, number>)['glow'] = 1.5;
+    expect(settingValue(withGlow.settings, control.members)).toBe(1.5);
+    expect(settingValue(state.settings, control.members)).toBeUndefined();
+  });
+
+  it('sends patches for the recorded settings that the server accepts', () => {
+    for (const control of settingControls(recordedRanges)) {
+      const value = control.integer ? control.max : (control.min + control.max) / 2;
+      expect(checkClientMessage({ v: 1, type: 'set', ...settingPatch(control.members, value) }, recordedTerms)).toBeNull();
+      const held = settingValue(state.settings, control.members);
+      // The recorded state holds every setting but the refinement steps (the server was older than them).
+      if (control.path !== 'settings/refinement_steps') expect(held).toBeTypeOf('number');
+    }
+  });
+
+  it("greys out what the mode does not read, by the part of the settings and hello's capabilities", () => {
+    expect(settingUsed(mode('sbrc'), 'light_buffer', 'compensation', true)).toBe(true);
+    expect(settingUsed(mode('dvr'), 'light_buffer', 'compensation', true)).toBe(false);
+    expect(settingUsed(mode('sbrc_cone'), 'scattering', 'cone_angle', true)).toBe(true);
+    expect(settingUsed(mode('sbrc_cone'), 'scattering', 'shell_radius', true)).toBe(false);
+    expect(settingUsed(mode('sbrc_shell'), 'scattering', 'shell_rings', true)).toBe(true);
+    expect(settingUsed(mode('sbrc'), 'scattering', 'shell_rings', true)).toBe(false);
+    expect(settingUsed(mode('phong'), 'shading', 'diffuse', false)).toBe(true);
+    expect(settingUsed(mode('sbrc'), 'shading', 'diffuse', true)).toBe(true);
+    expect(settingUsed(mode('sbrc'), 'shading', 'diffuse', false)).toBe(false);
+    expect(settingUsed(mode('dvr'), 'shading', 'diffuse', true)).toBe(false);
+    expect(settingUsed(mode('dvr'), '', 'early_termination', true)).toBe(true);
+    // A part the panel does not know matters to every mode; before hello everything does.
+    expect(settingUsed(mode('dvr'), 'tone', 'exposure', true)).toBe(true);
+    expect(settingUsed(undefined, 'light_buffer', 'compensation', true)).toBe(true);
+  });
+});
