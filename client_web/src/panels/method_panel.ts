@@ -25,19 +25,25 @@ import {
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
 /**
- * Whether a mode reads the settings of a part of `settings` (`light_buffer`: the settings under
- * settings/light_buffer/), from what the server's hello says the mode computes; the settings outside
- * a part (''), and those of a part not named here, matter to every mode. The others are greyed out,
- * still settable. Before hello, or for a mode hello did not list, all matter.
+ * Whether a mode reads the settings of a part of `settings` (`light_buffer`: those under
+ * settings/light_buffer/), from what the server's hello says the mode computes; the settings
+ * outside a part (''), and those of a part not named here, matter to every mode. The others are
+ * greyed out, still settable. Before hello, or for a mode hello did not list, all matter.
  */
-const PART_USED: Record<string, (mode: ModeCapabilities, name: string, phong: boolean) => boolean> = {
+type PartUsed = (mode: ModeCapabilities, name: string, phong: boolean) => boolean;
+const PART_USED: Record<string, PartUsed> = {
   light_buffer: (m) => m.shadows === 'light_buffer',
   // The scattering kind names its settings: shell_radius for `shell`, cone_angle for `cone`.
   scattering: (m, name) => m.scattering !== 'none' && name.startsWith(`${m.scattering}_`),
   shading: (m, _, phong) => m.gradients === 'always' || (m.gradients === 'with_phong' && phong),
 };
 
-export function settingUsed(mode: ModeCapabilities | undefined, part: string, name: string, phong: boolean): boolean {
+export function settingUsed(
+  mode: ModeCapabilities | undefined,
+  part: string,
+  name: string,
+  phong: boolean,
+): boolean {
   return mode === undefined || (PART_USED[part]?.(mode, name, phong) ?? true);
 }
 
@@ -107,7 +113,8 @@ export function settingPatch(members: string[], value: number): StatePatch {
 export function settingValue(settings: State['settings'], members: string[]): number | undefined {
   let value: unknown = settings;
   for (const member of members) {
-    value = typeof value === 'object' && value !== null ? (value as Record<string, unknown>)[member] : undefined;
+    const parent = typeof value === 'object' && value !== null ? (value as Record<string, unknown>) : {};
+    value = parent[member];
   }
   return typeof value === 'number' ? value : undefined;
 }
@@ -190,8 +197,9 @@ export class MethodPanel {
 
     const shading = folder.addFolder('Shading');
     shading.close();
-    add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () => settings({ phong: p.phong }), false)
-      .onChange(() => this.greyOut());
+    const phong = add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () =>
+      settings({ phong: p.phong }), false);
+    phong.onChange(() => this.greyOut());
     add(shading.addColor(p, 'background', 1), 'background', () =>
       settings({ background: [p.background[0] ?? 0, p.background[1] ?? 0, p.background[2] ?? 0] }));
 
@@ -245,7 +253,8 @@ export class MethodPanel {
         known.controller.domElement.title = setting.hint;
         continue;
       }
-      this.ranged.set(setting.path, { setting, controller: this.addSetting(setting), announced: true });
+      const controller = this.addSetting(setting);
+      this.ranged.set(setting.path, { setting, controller, announced: true });
     }
     this.showSettings();
     this.greyOut();
@@ -257,17 +266,20 @@ export class MethodPanel {
       folder = this.folder.addFolder(labelOf(setting.part));
       this.parts.set(setting.part, folder);
     }
-    this.values[setting.path] = (this.state && settingValue(this.state.settings, setting.members)) ?? setting.min;
+    const held = this.state ? settingValue(this.state.settings, setting.members) : undefined;
+    this.values[setting.path] = held ?? setting.min;
     const value = () => settingPatch(setting.members, this.values[setting.path]!);
+    const step = setting.integer ? 1 : undefined;
     const c =
       setting.kind === 'slider'
-        ? folder.add(this.values, setting.path, setting.min, setting.max, setting.integer ? 1 : undefined)
+        ? folder.add(this.values, setting.path, setting.min, setting.max, step)
         : folder.add(this.values, setting.path).decimals(setting.decimals);
     c.name(setting.label);
     c.domElement.title = setting.hint;
     c.domElement.dataset['setting'] = setting.path;
     // A number field sends what was typed once it is complete; a slider while it moves.
-    return this.add(c, setting.members[setting.members.length - 1]!, value, setting.kind === 'slider');
+    const name = setting.members[setting.members.length - 1]!;
+    return this.add(c, name, value, setting.kind === 'slider');
   }
 
   /** The modes this server offers, with what each computes (its hello). */
@@ -306,10 +318,14 @@ export class MethodPanel {
     this.greyOut();
   }
 
-  /** A setting is shown where hello announces it and the session's state holds it (older servers lack some). */
+  /**
+   * A setting is shown where hello announces it and the session's state holds it (older servers
+   * lack some).
+   */
   private showSettings(): void {
     for (const { setting, controller, announced } of this.ranged.values()) {
-      const held = this.state === null || settingValue(this.state.settings, setting.members) !== undefined;
+      const held =
+        this.state === null || settingValue(this.state.settings, setting.members) !== undefined;
       controller.show(announced && held);
     }
   }
@@ -325,10 +341,12 @@ export class MethodPanel {
       dim(this.byKey.get(key), settingUsed(mode, 'light_buffer', key, phong));
     }
     // Half-angle slicing slices the volume without a light buffer.
-    dim(this.slices, settingUsed(mode, 'light_buffer', 'slices', phong) || mode?.technique === 'half_angle_slicing');
+    const slicing = mode?.technique === 'half_angle_slicing';
+    dim(this.slices, settingUsed(mode, 'light_buffer', 'slices', phong) || slicing);
     dim(this.byKey.get('phong'), mode === undefined || mode.gradients === 'with_phong');
     for (const { setting, controller } of this.ranged.values()) {
-      dim(controller, settingUsed(mode, setting.part, setting.members[setting.members.length - 1]!, phong));
+      const name = setting.members[setting.members.length - 1]!;
+      dim(controller, settingUsed(mode, setting.part, name, phong));
     }
     dim(this.byKey.get('jpeg_quality'), this.params.encoding === 'jpeg');
   }

@@ -15,11 +15,11 @@ import {
   UnknownMessageType,
   type AnswerTo,
   type ClientMessage,
+  type ClientRequest,
   type ErrorMessage,
   type HelloMessage,
   type OpenedMessage,
   type Preset,
-  type Request,
   type ServerMessage,
   type State,
   type StateMessage,
@@ -164,7 +164,7 @@ export interface ConnectionOptions {
 }
 
 interface Pending {
-  type: Request['type'];
+  type: ClientRequest['type'];
   resolve: (message: ServerMessage) => void;
   reject: (error: Error) => void;
   timer: unknown;
@@ -571,7 +571,7 @@ export class Connection {
     }
   }
 
-  private sendMessage(message: Request): number {
+  private sendMessage(message: ClientRequest): number {
     if (!this.socket || this.socket.readyState !== OPEN || !this.connected) {
       throw new RequestFailed(`${message.type}: not connected`);
     }
@@ -585,7 +585,7 @@ export class Connection {
    * ServerError or RequestFailed. Any request goes this way: a new message type needs its type, its
    * answer and its checks in messages.ts, and no method here.
    */
-  request<R extends Request>(message: R): Promise<AnswerTo<R['type']>> {
+  request<R extends ClientRequest>(message: R): Promise<AnswerTo<R['type']>> {
     return new Promise<AnswerTo<R['type']>>((resolve, reject) => {
       let id: number;
       try {

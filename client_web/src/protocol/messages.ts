@@ -397,7 +397,11 @@ export type AnswerTo<T extends ClientMessageType> = ServerMessage extends infer 
   : never;
 
 /** A request as a caller gives it: the connection adds `v` and `id`. */
-export type Request = ClientMessage extends infer M ? (M extends ClientMessage ? Omit<M, 'v' | 'id'> : never) : never;
+export type ClientRequest = ClientMessage extends infer M
+  ? M extends ClientMessage
+    ? Omit<M, 'v' | 'id'>
+    : never
+  : never;
 
 /** Thrown when a server message does not have the shape protocol v1 promises. */
 export class ProtocolError extends Error {
@@ -514,7 +518,11 @@ const NOT_IN_EVERY_STATE = new Set(['settings/frame_budget_ms', 'settings/refine
  * a finite number, a whole one where the range says so. Paths whose part a state does not hold
  * (`camera/orbit/azimuth`, and `vec3`, `rgb`, which are no members) are left out.
  */
-function checkRangedNumbers(state: Record<string, unknown>, ranges: SettingRanges, at: string): void {
+function checkRangedNumbers(
+  state: Record<string, unknown>,
+  ranges: SettingRanges,
+  at: string,
+): void {
   for (const [path, range] of Object.entries(ranges)) {
     const parts = path.split('/');
     const name = parts.pop()!;
@@ -698,7 +706,7 @@ interface Spec {
   [member: string]: Check;
 }
 
-/** The members of a part of a `set` that are not numbers with a range, its nested parts as shapes. */
+/** The members of a part of a `set` that are no numbers with a range; nested parts as shapes. */
 interface Shape {
   [member: string]: Check | Shape;
 }
@@ -817,7 +825,8 @@ function specAt(path: string, shape: Shape, ranges: SettingRanges): Spec {
   }
   for (const rangePath of Object.keys(ranges)) {
     if (!rangePath.startsWith(`${path}/`)) continue;
-    const [member, ...deeper] = rangePath.slice(path.length + 1).split('/') as [string, ...string[]];
+    const below = rangePath.slice(path.length + 1).split('/') as [string, ...string[]];
+    const [member, ...deeper] = below;
     if (deeper.length === 0) spec[member] ??= ranged(ranges, rangePath);
     else if (!parts.has(member)) parts.set(member, {});
   }
@@ -846,15 +855,18 @@ function points(item: Spec, required: string[], valueKey: string) {
 }
 
 function cameraSpec(ranges: SettingRanges): Spec {
-  return specAt('camera', { eye: coords(ranges), target: coords(ranges), up: coords(ranges), view: oneOf(VIEWS) }, ranges);
+  const shape = { eye: coords(ranges), target: coords(ranges), up: coords(ranges), view: oneOf(VIEWS) };
+  return specAt('camera', shape, ranges);
 }
 
 function lightSpec(ranges: SettingRanges): Spec {
-  return specAt(
-    'light',
-    { type: oneOf(LIGHT_TYPES), direction: coords(ranges), position: coords(ranges), color: rgb(ranges) },
-    ranges,
-  );
+  const shape = {
+    type: oneOf(LIGHT_TYPES),
+    direction: coords(ranges),
+    position: coords(ranges),
+    color: rgb(ranges),
+  };
+  return specAt('light', shape, ranges);
 }
 
 function checkTransferFunction(value: Json, at: string): void {
@@ -872,7 +884,11 @@ function checkTransferFunction(value: Json, at: string): void {
   });
 }
 
-function settingsSpec(limits: Limits, modes: readonly string[] | null, ranges: SettingRanges): Spec {
+function settingsSpec(
+  limits: Limits,
+  modes: readonly string[] | null,
+  ranges: SettingRanges,
+): Spec {
   return specAt(
     'settings',
     {
@@ -907,7 +923,7 @@ export interface ServerTerms {
   ranges: SettingRanges;
   /** Its limits; DEFAULT_LIMITS when not given. */
   limits?: Limits;
-  /** The mode names it offers; absent or null accepts any name and leaves the mode to the server. */
+  /** The mode names it offers; absent or null: any name, left to the server. */
   modes?: readonly string[] | null;
 }
 
