@@ -3,7 +3,8 @@
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
 // it and turns the orientation marker, the six view buttons set the named views, a portrait tablet
 // gets the panel as a drawer, changing the mode changes the stats, a bad parameter shows the
-// server's error, the sliders span hello's ranges and empty-space skipping toggles, a second page
+// server's error, the sliders span hello's ranges, every numeric setting hello announces has a
+// labelled control in its part's folder and empty-space skipping toggles, a second page
 // joins through the share link, its method panel follows the owner's mode and it sees the same
 // frame, and after the server goes away and comes back the client reconnects and restores the
 // session. Screenshots go to --out.
@@ -371,6 +372,40 @@ try {
     `checked ${skippingBefore} -> ${await skipping.isChecked()}`);
   await skipping.click();
   info = await waitForStill(owner, info.frame);
+
+  // 4c. Every numeric setting the server's hello announces has a control, labelled by its name, in
+  // the folder of its part of the settings (the client lists none of them).
+  const announced = await owner.evaluate(() => new Promise((resolve, reject) => {
+    const ws = new WebSocket(`ws://${location.host}/ws`);
+    ws.onmessage = (e) => {
+      ws.close();
+      resolve(Object.keys(JSON.parse(e.data).ranges).filter((p) => p.startsWith('settings/')));
+    };
+    ws.onerror = () => reject(new Error('no hello'));
+  }));
+  const folderOfPart = { '': 'Sampling', light_buffer: 'Light buffer & slices',
+    scattering: 'Shell & cone scattering', shading: 'Shading' };
+  const placed = await owner.evaluate((paths) => paths.map((p) => {
+    const controls = document.querySelectorAll(`[data-setting="${p}"]`);
+    const control = controls[0];
+    const folder = control?.closest('.lil-gui');
+    return {
+      path: p,
+      count: controls.length,
+      visible: control !== undefined && control.offsetParent !== null || folder?.classList.contains('lil-closed'),
+      label: control?.querySelector('.lil-name')?.textContent,
+      folder: folder?.querySelector(':scope > .lil-title')?.textContent,
+    };
+  }), announced);
+  const misplaced = placed.filter(({ path: p, count, visible, label, folder }) => {
+    const members = p.split('/').slice(1);
+    const part = members.length > 1 ? members[0] : '';
+    return count !== 1 || !visible || label !== members[members.length - 1].replace(/_/g, ' ') ||
+      folder !== folderOfPart[part];
+  });
+  check("every numeric setting of hello has a labelled control in its part's folder",
+    announced.length > 10 && misplaced.length === 0,
+    `${announced.length} settings; misplaced: ${JSON.stringify(misplaced)}`);
 
   // 5. A second page joins through the share link and sees the same frame.
   const link = await owner.locator('#share-link').inputValue();
