@@ -205,6 +205,7 @@ connection.on('status', (status) => {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);
     method.setRanges(status.hello.ranges);
+    light.setRanges(status.hello.ranges);
     // Not while moving to another volume's server: the open that moved it is under way.
     if (!connection.session && !connection.moving) void start();
   }
@@ -220,6 +221,7 @@ connection.on('session', (info, restored) => {
   tfModel.load(info.state.transfer_function, false);
   tfEditor.setHistogram(info.histogram);
   tfEditor.refresh();
+  light.setScene({ volume: info.volume, camera: info.state.camera });
   showSessionState();
   picker.updateVolume(info.volume);
   picker.select(info.volume.id);

@@ -1,5 +1,5 @@
 import { describe, expect, it } from 'vitest';
-import { settingControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
+import { methodControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
 import { checkClientMessage, parseServerMessage, type ModeCapabilities, type OpenedMessage } from '../src/protocol/messages';
 import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
@@ -8,7 +8,7 @@ const state = (parseServerMessage(recordedMessages[2]!, recordedRanges) as Opene
 
 describe("the method panel's numeric settings", () => {
   it('offers every setting hello announces a range for, placed by its path', () => {
-    const controls = settingControls(recordedRanges);
+    const controls = methodControls(recordedRanges);
     const paths = Object.keys(recordedRanges).filter((p) => p.startsWith('settings/'));
     expect(controls.map((c) => c.path)).toEqual(paths);
     const byPath = new Map(controls.map((c) => [c.path, c]));
@@ -30,7 +30,7 @@ describe("the method panel's numeric settings", () => {
   it('offers a setting new to the client with the patch the server takes, and shows it from the state', () => {
     const glow = { min: 0, max: 4, integer: false, summary: 'light-buffer glow' };
     const ranges = { ...recordedRanges, 'settings/light_buffer/glow': glow };
-    const control = settingControls(ranges).find((c) => c.path === 'settings/light_buffer/glow')!;
+    const control = methodControls(ranges).find((c) => c.path === 'settings/light_buffer/glow')!;
     expect(control).toMatchObject({ part: 'light_buffer', label: 'glow', kind: 'slider', hint: 'light-buffer glow; within [0, 4]' });
     const patch = settingPatch(control.members, 2.5);
     expect(patch).toEqual({ settings: { light_buffer: { glow: 2.5 } } });
@@ -42,7 +42,7 @@ describe("the method panel's numeric settings", () => {
   });
 
   it('sends patches for the recorded settings that the server accepts', () => {
-    for (const control of settingControls(recordedRanges)) {
+    for (const control of methodControls(recordedRanges)) {
       const value = control.integer ? control.max : (control.min + control.max) / 2;
       expect(checkClientMessage({ v: 1, type: 'set', ...settingPatch(control.members, value) }, recordedTerms)).toBeNull();
       const held = settingValue(state.settings, control.members);

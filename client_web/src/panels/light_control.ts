@@ -1,11 +1,21 @@
 // Light: a small sphere to drag the light direction on (as seen from the camera: the handle is
-// where the light comes from; hollow when it is behind the volume), type, intensity, colour,
-// ambient, and the point light's position.
+// where the light comes from; hollow when it is behind the volume), type, colour, the point
+// light's position, and a slider for every number under `light/` that the server's hello announces
+// a range for (intensity, ambient, and any the server adds), spanning that range.
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
-import type { Camera, Light, StatePatch, Vec3 } from '../protocol/messages';
+import type {
+  Camera,
+  Light,
+  SettingRange,
+  SettingRanges,
+  StatePatch,
+  Vec3,
+  VolumeSummary,
+} from '../protocol/messages';
 import { cameraBasis } from '../interaction/orbit_camera';
+import { nestedAt, rangeText, settingControls, valueAt, type SettingControl } from './ranged_controls';
 
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
@@ -20,26 +30,96 @@ function dot(a: Vec3, b: Vec3): number {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+function clamp(v: number, lo: number, hi: number): number {
+  return Math.min(hi, Math.max(lo, v));
+}
+
+/** The control of each number of the light (light/intensity, light/ambient) hello.ranges announces. */
+export function lightControls(ranges: SettingRanges): SettingControl[] {
+  return settingControls(ranges, 'light');
+}
+
+/**
+ * The radius of the sphere around the origin that holds the volume's box whatever its orientation:
+ * the box is centred on the origin with its longest side 1 (proto/README.md §5), so half its
+ * diagonal. A volume not loaded yet (dims 0) may be any box, so the largest: half a unit cube's.
+ */
+export function volumeRadius(volume: Pick<VolumeSummary, 'dims' | 'spacing'>): number {
+  const extent = volume.dims.map((n, i) => n * volume.spacing[i]!);
+  const longest = Math.max(...extent);
+  if (!(longest > 0)) return Math.sqrt(3) / 2;
+  return Math.hypot(...extent.map((e) => e / longest)) / 2;
+}
+
+/** What a point light's position sliders are fitted to: the opened volume and its first camera. */
+export interface LightScene {
+  volume: Pick<VolumeSummary, 'dims' | 'spacing'>;
+  /** The session's camera when it was opened or joined (the server's view of the volume). */
+  camera: Pick<Camera, 'eye'>;
+}
+
+/**
+ * How far out the scene reaches from the volume's centre (the origin): to the farther of the
+ * volume's edge and the session's first eye. Before a volume is open, a unit cube's corner.
+ */
+export function sceneReach(scene: LightScene | null): number {
+  if (scene === null) return Math.sqrt(3) / 2;
+  return Math.max(volumeRadius(scene.volume), Math.hypot(...scene.camera.eye));
+}
+
+/**
+ * What each coordinate of a point light's position offers on its slider. The server takes any
+ * world coordinate in its `vec3` range (±1000 world units), a thousand times the volume's size
+ * (its longest side is 1): a slider across all of it would move the light by several volume sizes
+ * per pixel. So the slider spans a cube around the volume twice as far out as the farther of the
+ * volume's edge and the session's first eye, room to stand the light beyond the volume as far as
+ * the viewer or behind the viewer, widened to hold the light's current position (another client or
+ * a restored state may have put it farther), and never beyond the server's range.
+ */
+export function positionSpan(
+  coords: SettingRange | undefined,
+  scene: LightScene | null,
+  position: Vec3,
+): { min: number; max: number } {
+  const reach = Math.max(2 * sceneReach(scene), ...position.map(Math.abs));
+  const min = coords === undefined ? -reach : Math.max(coords.min, -reach);
+  const max = coords === undefined ? reach : Math.min(coords.max, reach);
+  return { min, max };
+}
+
+interface RangedLightControl {
+  setting: SettingControl;
+  controller: Controller;
+  /** hello announces it (a later hello may not). */
+  announced: boolean;
+}
+
 export class LightControl {
   private light: Light | null = null;
   private readonly params = {
     type: 'directional',
-    intensity: 1,
-    ambient: 0.25,
     color: [1, 1, 1] as number[],
     x: 0,
     y: 0,
-    z: 3,
+    z: 0,
     behind: false,
   };
+  /** The light's numbers that hello.ranges announces, by path (light/intensity). */
+  private readonly values: Record<string, number> = {};
+  private readonly ranged = new Map<string, RangedLightControl>();
+  /** The server's range of a world coordinate (hello.ranges `vec3`). */
+  private coords: SettingRange | undefined;
+  private scene: LightScene | null = null;
   private readonly canvas: HTMLCanvasElement;
   private readonly controllers: Controller[] = [];
   private readonly positionControllers: Controller[] = [];
+  /** The ranged controls go before it. */
+  private readonly color: Controller;
   private enabled = true;
   private dragging = false;
 
   constructor(
-    folder: GUI,
+    private readonly folder: GUI,
     private readonly camera: () => Camera,
     private readonly send: PatchSink,
   ) {
@@ -57,33 +137,98 @@ export class LightControl {
     folder.$children.appendChild(wrap);
 
     const p = this.params;
-    const add = (c: Controller, key: string): Controller => {
-      c.domElement.dataset['control'] = `light.${key}`;
-      this.controllers.push(c);
-      return c;
-    };
+    const add = this.add.bind(this);
     add(folder.add(p, 'behind').name('from behind'), 'behind').onChange(() => this.draw());
     add(folder.add(p, 'type', ['directional', 'point']), 'type').onChange(() => {
       this.showPosition();
       this.send({ light: { type: p.type as Light['type'] } }, false);
     });
-    add(folder.add(p, 'intensity', 0, 10, 0.05), 'intensity')
-      .onChange(() => this.send({ light: { intensity: p.intensity } }, true))
-      .onFinishChange(() => this.send({ light: { intensity: p.intensity } }, false));
-    add(folder.add(p, 'ambient', 0, 1, 0.01), 'ambient')
-      .onChange(() => this.send({ light: { ambient: p.ambient } }, true))
-      .onFinishChange(() => this.send({ light: { ambient: p.ambient } }, false));
-    add(folder.addColor(p, 'color', 1), 'color')
+    // The light's numbers arrive with hello's ranges (setRanges), placed before the colour.
+    this.color = add(folder.addColor(p, 'color', 1), 'color')
       .onChange(() => this.send({ light: { color: this.rgb() } }, true))
       .onFinishChange(() => this.send({ light: { color: this.rgb() } }, false));
+    // Number fields until hello's coordinate range and the opened volume give them a span.
     for (const axis of ['x', 'y', 'z'] as const) {
-      const c = add(folder.add(p, axis, -5, 5, 0.05).name(`position ${axis}`), `position.${axis}`);
+      const c = add(folder.add(p, axis).name(`position ${axis}`), `position.${axis}`);
       c.onChange(() => this.send({ light: { position: [p.x, p.y, p.z] } }, true));
       c.onFinishChange(() => this.send({ light: { position: [p.x, p.y, p.z] } }, false));
       this.positionControllers.push(c);
     }
     this.attachSphere();
     this.draw();
+  }
+
+  private add(c: Controller, key: string): Controller {
+    c.domElement.dataset['control'] = `light.${key}`;
+    c.enable(this.enabled);
+    this.controllers.push(c);
+    return c;
+  }
+
+  /**
+   * The server's ranges from `hello`: a slider for each number of the light spanning its range (a
+   * later hello's ranges update them; one it no longer announces is hidden), and the coordinate
+   * range the position sliders stay within.
+   */
+  setRanges(ranges: SettingRanges): void {
+    for (const control of this.ranged.values()) control.announced = false;
+    for (const setting of lightControls(ranges)) {
+      const known = this.ranged.get(setting.path);
+      if (known) {
+        known.announced = true;
+        known.setting = setting;
+        known.controller.min(setting.min).max(setting.max);
+        known.controller.domElement.title = setting.hint;
+        continue;
+      }
+      this.ranged.set(setting.path, { setting, controller: this.addRanged(setting), announced: true });
+    }
+    this.coords = ranges['vec3'];
+    const within = this.coords ? ` (the server takes ${rangeText(this.coords)})` : '';
+    for (const c of this.positionControllers) {
+      c.domElement.title = `world coordinate of the point light around the volume${within}`;
+    }
+    this.showRanged();
+    this.spanPosition();
+  }
+
+  /** A slider across the server's range (a light's numbers are few and linear: no number field). */
+  private addRanged(setting: SettingControl): Controller {
+    const held = this.light ? valueAt(this.light, setting.members) : undefined;
+    this.values[setting.path] = held ?? setting.min;
+    const patch = (): StatePatch => ({
+      light: nestedAt(setting.members, this.values[setting.path]!) as StatePatch['light'],
+    });
+    const c = this.folder.add(this.values, setting.path, setting.min, setting.max, setting.integer ? 1 : undefined);
+    c.name(setting.label);
+    c.domElement.title = setting.hint;
+    c.domElement.dataset['setting'] = setting.path;
+    c.onChange(() => this.send(patch(), true));
+    c.onFinishChange(() => this.send(patch(), false));
+    this.folder.$children.insertBefore(c.domElement, this.color.domElement);
+    return this.add(c, setting.members.join('.'));
+  }
+
+  /** A number is shown where hello announces it and the session's light holds it. */
+  private showRanged(): void {
+    for (const { setting, controller, announced } of this.ranged.values()) {
+      const held = this.light === null || valueAt(this.light, setting.members) !== undefined;
+      controller.show(announced && held);
+    }
+  }
+
+  /** The opened volume and the session's camera then, which the position sliders are fitted to. */
+  setScene(scene: LightScene): void {
+    this.scene = { volume: structuredClone(scene.volume), camera: { eye: [...scene.camera.eye] } };
+    this.spanPosition();
+  }
+
+  /** Fits the position sliders to the scene and the light's position (positionSpan). */
+  private spanPosition(): void {
+    if (this.scene === null) return;
+    const p = this.params;
+    const { min, max } = positionSpan(this.coords, this.scene, [p.x, p.y, p.z]);
+    for (const c of this.positionControllers) c.min(min).max(max);
   }
 
   private rgb(): [number, number, number] {
@@ -100,11 +245,15 @@ export class LightControl {
     this.light = structuredClone(light);
     const p = this.params;
     p.type = light.type;
-    p.intensity = light.intensity;
-    p.ambient = light.ambient;
     p.color = [...light.color];
     [p.x, p.y, p.z] = light.position;
+    for (const { setting } of this.ranged.values()) {
+      const value = valueAt(light, setting.members);
+      if (value !== undefined) this.values[setting.path] = value;
+    }
+    this.spanPosition();
     for (const c of this.controllers) c.updateDisplay();
+    this.showRanged();
     this.showPosition();
     this.draw();
   }
@@ -177,15 +326,19 @@ export class LightControl {
     const light = this.light;
     if (!light) return;
     if (light.type === 'point') {
+      // Keeps the light's distance from the target; a light on the target goes as far out as the
+      // scene reaches.
       const distance =
         Math.hypot(
           light.position[0] - camera.target[0],
           light.position[1] - camera.target[1],
           light.position[2] - camera.target[2],
-        ) || 3;
-      const position = world.map((c, i) => camera.target[i]! + c * distance) as Vec3;
+        ) || sceneReach(this.scene);
+      const { min = -Infinity, max = Infinity } = this.coords ?? {};
+      const position = world.map((c, i) => clamp(camera.target[i]! + c * distance, min, max)) as Vec3;
       light.position = position;
       [this.params.x, this.params.y, this.params.z] = position;
+      this.spanPosition();
       for (const c of this.positionControllers) c.updateDisplay();
       this.send({ light: { position } }, interactive);
     } else {

@@ -21,6 +21,7 @@ import {
   type State,
   type StatePatch,
 } from '../protocol/messages';
+import { labelOf, nestedAt, settingControls, valueAt, type SettingControl } from './ranged_controls';
 
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
@@ -47,76 +48,19 @@ export function settingUsed(
   return mode === undefined || (PART_USED[part]?.(mode, name, phong) ?? true);
 }
 
-/** How one numeric setting of hello.ranges is offered. */
-export interface SettingControl {
-  /** Its path in a `set` patch: settings/light_buffer/compensation. */
-  path: string;
-  /** The members under `settings`: ['light_buffer', 'compensation']. */
-  members: string[];
-  /** The part of `settings` it belongs to ('light_buffer'), '' for a setting directly in it. */
-  part: string;
-  label: string;
-  /** What it does and the values it takes, as the control's hint. */
-  hint: string;
-  /**
-   * `slider`: spans the range (whole numbers where the range says so). `number`: a free number
-   * field, for a range over many decades above zero (distances such as the sample distance), which
-   * a linear slider cannot reach the low end of; the server checks it and says what is wrong.
-   */
-  kind: 'slider' | 'number';
-  min: number;
-  max: number;
-  integer: boolean;
-  /** Decimals a number field shows: enough for the range's low end. */
-  decimals: number;
-}
-
-/** A range whose ends lie this many times apart (above zero) gets a number field, not a slider. */
-const DECADES_FOR_A_NUMBER_FIELD = 1e4;
-
-function labelOf(member: string): string {
-  return member.replace(/_/g, ' ');
-}
-
 /** The control of each numeric setting (settings/...) that hello.ranges announces. */
-export function settingControls(ranges: SettingRanges): SettingControl[] {
-  return Object.entries(ranges)
-    .filter(([path]) => path.startsWith('settings/'))
-    .map(([path, range]) => {
-      const members = path.split('/').slice(1);
-      const name = members[members.length - 1]!;
-      const wide = range.min > 0 && range.max / range.min >= DECADES_FOR_A_NUMBER_FIELD;
-      const within = range.integer ? `${range.min}..${range.max}` : `[${range.min}, ${range.max}]`;
-      return {
-        path,
-        members,
-        part: members.length > 1 ? members[0]! : '',
-        label: labelOf(name),
-        hint: range.summary ? `${range.summary}; within ${within}` : `within ${within}`,
-        kind: wide && !range.integer ? 'number' : 'slider',
-        min: range.min,
-        max: range.max,
-        integer: range.integer,
-        decimals: wide ? Math.ceil(-Math.log10(range.min)) + 2 : 0,
-      };
-    });
+export function methodControls(ranges: SettingRanges): SettingControl[] {
+  return settingControls(ranges, 'settings');
 }
 
 /** The `set` patch that gives the setting at `members` (under settings) `value`. */
 export function settingPatch(members: string[], value: number): StatePatch {
-  let inner: unknown = value;
-  for (const member of [...members].reverse()) inner = { [member]: inner };
-  return { settings: inner as StatePatch['settings'] };
+  return { settings: nestedAt(members, value) as StatePatch['settings'] };
 }
 
 /** The value of the setting at `members` in a state's settings, or undefined where it has none. */
 export function settingValue(settings: State['settings'], members: string[]): number | undefined {
-  let value: unknown = settings;
-  for (const member of members) {
-    const parent = typeof value === 'object' && value !== null ? (value as Record<string, unknown>) : {};
-    value = parent[member];
-  }
-  return typeof value === 'number' ? value : undefined;
+  return valueAt(settings, members);
 }
 
 interface RangedControl {
@@ -244,7 +188,7 @@ export class MethodPanel {
    */
   setRanges(ranges: SettingRanges): void {
     for (const control of this.ranged.values()) control.announced = false;
-    for (const setting of settingControls(ranges)) {
+    for (const setting of methodControls(ranges)) {
       const known = this.ranged.get(setting.path);
       if (known) {
         known.announced = true;
