@@ -206,6 +206,7 @@ connection.on('status', (status) => {
     method.setLimits(status.hello.limits);
     method.setRanges(status.hello.ranges);
     light.setRanges(status.hello.ranges);
+    camera.setRanges(status.hello.ranges);
     // Not while moving to another volume's server: the open that moved it is under way.
     if (!connection.session && !connection.moving) void start();
   }

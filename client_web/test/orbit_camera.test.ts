@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
-import { cameraBasis, OrbitCamera } from '../src/interaction/orbit_camera';
-import { checkClientMessage, type Camera } from '../src/protocol/messages';
-import { recordedTerms } from './recorded';
+import { cameraBasis, OrbitCamera, orbitLimits } from '../src/interaction/orbit_camera';
+import { checkClientMessage, type Camera, type SettingRanges } from '../src/protocol/messages';
+import { recordedRanges, recordedTerms } from './recorded';
 
 const start: Camera = { eye: [0, 2.6, 0], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };
 
@@ -41,17 +41,62 @@ describe('OrbitCamera', () => {
     close(cameraBasis(c.toCamera()).back, before.back);
   });
 
-  it('zooms within limits and resets to the camera it started from', () => {
+  it("zooms within the server's orbit distances and resets to the camera it started from", () => {
     const c = new OrbitCamera();
+    c.setRanges(recordedRanges);
     c.setFrom(start, true);
     c.zoom(0.5);
     expect(c.distance).toBeCloseTo(1.3, 12);
     c.zoom(1e-9);
-    expect(c.distance).toBe(0.05);
+    expect(c.distance).toBe(recordedRanges['camera/orbit/distance']!.min);
     c.zoom(Number.NaN);
-    expect(c.distance).toBe(0.05);
+    expect(c.distance).toBe(0.01);
+    c.zoom(1e9);
+    expect(c.distance).toBe(100);
+    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
     c.reset();
     close(c.toCamera().eye, start.eye);
+  });
+
+  it("takes its limits from the server's ranges", () => {
+    expect(orbitLimits(recordedRanges)).toEqual({
+      distance: { min: 0.01, max: 100 },
+      elevation: { min: -89, max: 89 },
+      // Any eye 100 from a target within ±900 is within the server's ±1000.
+      target: { min: -900, max: 900 },
+    });
+    const narrow: SettingRanges = {
+      ...recordedRanges,
+      'camera/orbit/distance': { min: 0.5, max: 10, integer: false },
+      'camera/orbit/elevation': { min: -45, max: 60, integer: false },
+      vec3: { min: -5, max: 5, integer: false },
+    };
+    expect(orbitLimits(narrow)).toEqual({
+      distance: { min: 0.5, max: 10 },
+      elevation: { min: -45, max: 60 },
+      target: { min: 0, max: 0 },
+    });
+    const c = new OrbitCamera();
+    c.setFrom(start);
+    c.setRanges(narrow);
+    c.zoom(100);
+    expect(c.distance).toBe(10);
+    c.rotate(0, 10_000, 200);
+    expect(c.elevation).toBe(60);
+    c.setView('inferior');
+    expect(c.elevation).toBe(-45);
+    c.pan(-5000, 0, 100);
+    expect(c.target).toEqual([0, 0, 0]);
+  });
+
+  it('pans the target no farther than the eye stays within the server\'s coordinates', () => {
+    const c = new OrbitCamera();
+    c.setRanges(recordedRanges);
+    c.setFrom(start);
+    for (let i = 0; i < 200; ++i) c.zoom(10);
+    for (let i = 0; i < 200; ++i) c.pan(-1e6, 1e6, 100);
+    expect(Math.max(...c.target.map(Math.abs))).toBeLessThanOrEqual(900);
+    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
   });
 
   it('produces cameras the server accepts', () => {

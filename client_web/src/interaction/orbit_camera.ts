@@ -5,11 +5,64 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
-import { orbitEye, orbitOf, type Camera, type Vec3, type ViewName } from '../protocol/messages';
+import {
+  orbitEye,
+  orbitOf,
+  type Camera,
+  type SettingRanges,
+  type Vec3,
+  type ViewName,
+} from '../protocol/messages';
 
-const MIN_DISTANCE = 0.05;
-const MAX_DISTANCE = 50;
+/**
+ * How far from the horizon the orbit goes: it keeps +z up, which turns about its axis at the pole,
+ * so it stops 1° short of it (the server's orbit range reaches ±90 and applies ±89.9).
+ */
 const MAX_ELEVATION = 89;
+
+interface Interval {
+  min: number;
+  max: number;
+}
+
+/**
+ * How far the orbit may go, from the server's ranges (hello.ranges): its distance from the target
+ * (`camera/orbit/distance`), its elevation (`camera/orbit/elevation`, within ±MAX_ELEVATION), and
+ * where the target may be panned to: within the coordinates the server takes (`vec3`) by the
+ * largest distance, so that every eye the orbit makes is one it takes too.
+ */
+export interface OrbitLimits {
+  distance: Interval;
+  elevation: Interval;
+  target: Interval;
+}
+
+/** Before the server's hello: the elevation's own limit, the rest left to the server. */
+const UNBOUNDED: OrbitLimits = {
+  distance: { min: 0, max: Infinity },
+  elevation: { min: -MAX_ELEVATION, max: MAX_ELEVATION },
+  target: { min: -Infinity, max: Infinity },
+};
+
+export function orbitLimits(ranges: SettingRanges): OrbitLimits {
+  const distance = ranges['camera/orbit/distance'] ?? UNBOUNDED.distance;
+  const elevation = ranges['camera/orbit/elevation'] ?? UNBOUNDED.elevation;
+  const coords = ranges['vec3'] ?? UNBOUNDED.target;
+  let target = { min: coords.min + distance.max, max: coords.max - distance.max };
+  if (!(target.min <= target.max)) {
+    // The range is narrower than the orbit is wide: the target stays at its centre.
+    const centre = (coords.min + coords.max) / 2;
+    target = { min: centre, max: centre };
+  }
+  return {
+    distance: { min: distance.min, max: distance.max },
+    elevation: {
+      min: Math.max(-MAX_ELEVATION, elevation.min),
+      max: Math.min(MAX_ELEVATION, elevation.max),
+    },
+    target,
+  };
+}
 
 function sub(a: Vec3, b: Vec3): Vec3 {
   return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
@@ -60,14 +113,35 @@ export class OrbitCamera {
   distance = 2.6;
   fov = 30;
   private home: Camera | null = null;
+  private limits: OrbitLimits = UNBOUNDED;
+
+  /** The server's ranges (its hello), which the orbit keeps within (orbitLimits). */
+  setRanges(ranges: SettingRanges): void {
+    this.limits = orbitLimits(ranges);
+    this.elevation = this.clampElevation(this.elevation);
+    this.distance = this.clampDistance(this.distance);
+    this.target = this.target.map((c) => this.clampTarget(c)) as Vec3;
+  }
+
+  private clampElevation(elevation: number): number {
+    return clamp(elevation, this.limits.elevation.min, this.limits.elevation.max);
+  }
+
+  private clampDistance(distance: number): number {
+    return clamp(distance, this.limits.distance.min, this.limits.distance.max);
+  }
+
+  private clampTarget(coordinate: number): number {
+    return clamp(coordinate, this.limits.target.min, this.limits.target.max);
+  }
 
   /** Takes a protocol camera (the session's state); `asHome` makes it what reset() returns to. */
   setFrom(camera: Camera, asHome = false): void {
     const orbit = orbitOf(camera.eye, camera.target);
     this.target = [...camera.target];
     this.azimuth = orbit.azimuth;
-    this.elevation = clamp(orbit.elevation, -MAX_ELEVATION, MAX_ELEVATION);
-    this.distance = clamp(orbit.distance, MIN_DISTANCE, MAX_DISTANCE);
+    this.elevation = this.clampElevation(orbit.elevation);
+    this.distance = this.clampDistance(orbit.distance);
     this.fov = camera.fov;
     if (asHome) this.home = structuredClone(camera);
   }
@@ -90,7 +164,7 @@ export class OrbitCamera {
     const degreesPerPixel = 180 / Math.max(1, height);
     this.azimuth -= dx * degreesPerPixel;
     this.azimuth = ((((this.azimuth + 180) % 360) + 360) % 360) - 180;
-    this.elevation = clamp(this.elevation + dy * degreesPerPixel, -MAX_ELEVATION, MAX_ELEVATION);
+    this.elevation = this.clampElevation(this.elevation + dy * degreesPerPixel);
   }
 
   /** Moves the target so the point under the cursor follows it (at the target's depth). */
@@ -99,24 +173,20 @@ export class OrbitCamera {
     const unitsPerPixel =
       (2 * this.distance * Math.tan(((this.fov / 2) * Math.PI) / 180)) / Math.max(1, height);
     for (let i = 0; i < 3; ++i) {
-      this.target[i] = clamp(
-        this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel,
-        -100,
-        100,
-      );
+      this.target[i] = this.clampTarget(this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel);
     }
   }
 
   /** factor < 1 moves closer. */
   zoom(factor: number): void {
     if (!(factor > 0) || !Number.isFinite(factor)) return;
-    this.distance = clamp(this.distance * factor, MIN_DISTANCE, MAX_DISTANCE);
+    this.distance = this.clampDistance(this.distance * factor);
   }
 
   /** Looks from that side of the patient, keeping the target, distance and field of view. */
   setView(view: ViewName): void {
     this.azimuth = NAMED_VIEWS[view].azimuth;
-    this.elevation = NAMED_VIEWS[view].elevation;
+    this.elevation = this.clampElevation(NAMED_VIEWS[view].elevation);
   }
 
   reset(): void {
