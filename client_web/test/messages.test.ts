@@ -103,6 +103,19 @@ describe('checkClientMessage beyond the examples', () => {
     expect(checkClientMessage(text, recordedTerms)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
   });
 
+  it("checks the transfer function's colours by hello's colour range", () => {
+    const colours = (c: number) => ({
+      v: 1, type: 'set', transfer_function: { colors: [{ x: 0, rgb: [c, 0, 0] }], opacities: [] },
+    });
+    expect(checkClientMessage(colours(1), recordedTerms)).toBeNull();
+    expect(checkClientMessage(colours(1.5), recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/transfer_function/colors/0/rgb/0',
+    });
+    const hdr = { ...serverRanges, rgb: { min: 0, max: 2, integer: false } };
+    expect(checkClientMessage(colours(1.5), { ranges: hdr })).toBeNull();
+  });
+
   it('knows the numbers of a set from the ranges alone: a new one needs no client change', () => {
     const set = (lb: Record<string, unknown>) => ({ v: 1, type: 'set', settings: { light_buffer: lb } });
     // A setting the server does not announce is not one.

@@ -869,7 +869,7 @@ function lightSpec(ranges: SettingRanges): Spec {
   return specAt('light', shape, ranges);
 }
 
-function checkTransferFunction(value: Json, at: string): void {
+const checkTransferFunction = (ranges: SettingRanges) => (value: Json, at: string): void => {
   if (isObject(value) && 'preset' in value) {
     members(value, at, { preset: oneOf(PRESETS) });
     return;
@@ -879,10 +879,10 @@ function checkTransferFunction(value: Json, at: string): void {
   members(value, at, {
     name: string(64),
     space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
-    colors: points({ x, rgb: vector(3, number(0, 1)) }, ['x', 'rgb'], 'colors'),
+    colors: points({ x, rgb: rgb(ranges) }, ['x', 'rgb'], 'colors'),
     opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
   });
-}
+};
 
 function settingsSpec(
   limits: Limits,
@@ -1012,7 +1012,7 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
               reject('invalid_value', `${at}/direction`, 'zero direction');
             }
           },
-          transfer_function: checkTransferFunction,
+          transfer_function: checkTransferFunction(ranges),
           settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
           output: (v, at) =>
             members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
