@@ -207,6 +207,7 @@ connection.on('status', (status) => {
     method.setRanges(status.hello.ranges);
     light.setRanges(status.hello.ranges);
     camera.setRanges(status.hello.ranges);
+    pacer.setRequestRate(status.hello.limits.max_requests_per_second);
     // Not while moving to another volume's server: the open that moved it is under way.
     if (!connection.session && !connection.moving) void start();
   }

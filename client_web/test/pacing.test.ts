@@ -1,6 +1,7 @@
 import { describe, expect, it } from 'vitest';
-import { RenderPacer } from '../src/interaction/pacing';
+import { minSendIntervalMs, RenderPacer } from '../src/interaction/pacing';
 import { FakeClock } from './fake_timers';
+import { recordedHello } from './recorded';
 
 function setup(options: { minIntervalMs?: number; staleMs?: number } = {}) {
   const clock = new FakeClock();
@@ -80,6 +81,19 @@ describe('RenderPacer', () => {
     pacer.request(true);
     expect(sent).toHaveLength(1);
     clock.advance(24);
+    expect(sent).toHaveLength(1);
+    clock.advance(1);
+    expect(sent).toHaveLength(2);
+  });
+
+  it("spaces sends so that a send's requests stay within the server's rate", () => {
+    expect(minSendIntervalMs(recordedHello.limits.max_requests_per_second)).toBeCloseTo(25, 12);
+    const { clock, sent, pacer } = setup();
+    pacer.setRequestRate(40); // a render, a set and one spare request per send: 75 ms apart
+    pacer.request(true);
+    pacer.frameArrived(1);
+    pacer.request(true);
+    clock.advance(74);
     expect(sent).toHaveLength(1);
     clock.advance(1);
     expect(sent).toHaveLength(2);

@@ -4,9 +4,25 @@
 // (full-quality) frame follows. The server coalesces renders and answers with the newest it ran:
 // a frame for request r answers every outstanding request <= r. No DOM.
 
+import { DEFAULT_LIMITS } from '../protocol/messages';
+
+/**
+ * Requests one paced send may make: its render, the `set` of the changes since the last, and one
+ * to spare for the panels' other requests (stats, the volume list).
+ */
+const REQUESTS_PER_SEND = 3;
+
+/** The least time between two sends that keeps a client within `maxRequestsPerSecond` (hello.limits). */
+export function minSendIntervalMs(maxRequestsPerSecond: number): number {
+  return (REQUESTS_PER_SEND * 1000) / maxRequestsPerSecond;
+}
+
 export interface PacerOptions {
   maxInFlight?: number;
-  /** Least time between two sends, so a fast link stays below the server's request rate. */
+  /**
+   * Least time between two sends, so a fast link stays below the server's request rate; by default
+   * that of the server's default rate until setRequestRate gives its own.
+   */
   minIntervalMs?: number;
   /** An outstanding request with no frame after this long is given up (its slot freed). */
   staleMs?: number;
@@ -20,7 +36,7 @@ export type SendRender = (interactive: boolean) => number | null;
 
 export class RenderPacer {
   private readonly maxInFlight: number;
-  private readonly minIntervalMs: number;
+  private minIntervalMs: number;
   private readonly staleMs: number;
   private readonly now: () => number;
   private readonly setTimer: (callback: () => void, ms: number) => unknown;
@@ -40,11 +56,17 @@ export class RenderPacer {
     options: PacerOptions = {},
   ) {
     this.maxInFlight = options.maxInFlight ?? 2;
-    this.minIntervalMs = options.minIntervalMs ?? 25;
+    this.minIntervalMs =
+      options.minIntervalMs ?? minSendIntervalMs(DEFAULT_LIMITS.max_requests_per_second);
     this.staleMs = options.staleMs ?? 10000;
     this.now = options.now ?? (() => performance.now());
     this.setTimer = options.setTimer ?? ((cb, ms) => setTimeout(cb, ms));
     this.clearTimer = options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>));
+  }
+
+  /** The server's request rate (its hello's max_requests_per_second), which the sends keep below. */
+  setRequestRate(maxRequestsPerSecond: number): void {
+    this.minIntervalMs = minSendIntervalMs(maxRequestsPerSecond);
   }
 
   get inFlight(): number {
