@@ -4,7 +4,8 @@
 // it and turns the orientation marker, the six view buttons set the named views, a portrait tablet
 // gets the panel as a drawer, changing the mode changes the stats, a bad parameter shows the
 // server's error, the sliders span hello's ranges, every numeric setting hello announces has a
-// labelled control in its part's folder and empty-space skipping toggles, a second page
+// labelled control in its part's folder and empty-space skipping toggles, the light's sliders reach
+// hello's ends and its position stays within the server's coordinates, a second page
 // joins through the share link, its method panel follows the owner's mode and it sees the same
 // frame, and after the server goes away and comes back the client reconnects and restores the
 // session. Screenshots go to --out.
@@ -375,14 +376,15 @@ try {
 
   // 4c. Every numeric setting the server's hello announces has a control, labelled by its name, in
   // the folder of its part of the settings (the client lists none of them).
-  const announced = await owner.evaluate(() => new Promise((resolve, reject) => {
+  const ranges = await owner.evaluate(() => new Promise((resolve, reject) => {
     const ws = new WebSocket(`ws://${location.host}/ws`);
     ws.onmessage = (e) => {
       ws.close();
-      resolve(Object.keys(JSON.parse(e.data).ranges).filter((p) => p.startsWith('settings/')));
+      resolve(JSON.parse(e.data).ranges);
     };
     ws.onerror = () => reject(new Error('no hello'));
   }));
+  const announced = Object.keys(ranges).filter((p) => p.startsWith('settings/'));
   const folderOfPart = { '': 'Sampling', light_buffer: 'Light buffer & slices',
     scattering: 'Shell & cone scattering', shading: 'Shading' };
   const placed = await owner.evaluate((paths) => paths.map((p) => {
@@ -406,6 +408,37 @@ try {
   check("every numeric setting of hello has a labelled control in its part's folder",
     announced.length > 10 && misplaced.length === 0,
     `${announced.length} settings; misplaced: ${JSON.stringify(misplaced)}`);
+
+  // 4d. The light's sliders reach the ends of hello's ranges (intensity to the server's maximum),
+  // and the point light's position never leaves the server's coordinates.
+  const intensity = owner.locator('[data-control="light.intensity"] input');
+  await intensity.fill(String(ranges['light/intensity'].max * 10));
+  await intensity.press('Enter');
+  const intensityShown = Number(await intensity.inputValue());
+  info = await waitForStill(owner, info.frame);
+  await intensity.fill('1');
+  await intensity.press('Enter');
+  info = await waitForStill(owner, info.frame);
+  check("the light's intensity slider reaches the end of hello's range",
+    intensityShown === ranges['light/intensity'].max &&
+      (await owner.locator('.notice.error', { hasText: '/light/' }).count()) === 0,
+    `typed ${ranges['light/intensity'].max * 10}, shows ${intensityShown}`);
+  await owner.locator('[data-control="light.type"] select').selectOption('point');
+  info = await waitForStill(owner, info.frame);
+  const positionX = owner.locator('[data-control="light.position.x"] input');
+  await positionX.fill(String(ranges.vec3.max * 10));
+  await positionX.press('Enter');
+  const positionShown = Number(await positionX.inputValue());
+  info = await waitForStill(owner, info.frame);
+  check("the point light's position slider stays within the server's coordinates",
+    (await owner.locator('[data-control="light.position.x"] .lil-slider').count()) === 1 &&
+      positionShown > 1 && positionShown <= ranges.vec3.max &&
+      (await owner.locator('.notice.error', { hasText: '/light/' }).count()) === 0,
+    `typed ${ranges.vec3.max * 10}, shows ${positionShown}`);
+  await positionX.fill('0');
+  await positionX.press('Enter');
+  await owner.locator('[data-control="light.type"] select').selectOption('directional');
+  info = await waitForStill(owner, info.frame);
 
   // 5. A second page joins through the share link and sees the same frame.
   const link = await owner.locator('#share-link').inputValue();
