@@ -24,7 +24,7 @@ void main() {
     vec3 travel = light_travel_at(world);
     float path_length = spacing / max(dot(axis, travel), 1e-3);
     // One point per slice, as Kniss et al. slice: the eye pass samples the same point.
-    result = vec4(slab_transmittance(world, travel, path_length, u.light_buffer_info.y, 1));
+    result = vec4(slab_transmittance(world, travel, path_length, 1));
 #else
     vec3 ray = normalize(world - u.eye.xyz);
     float path_length = spacing / max(abs(dot(axis, ray)), 1e-3);

@@ -33,9 +33,8 @@ void main() {
     vec3 travel = u.light_travel.xyz;
     float along_axis = dot(travel, ray);  // > 0: the light view looks along L
     float path_length = u.light_slicing.w / along_axis;
-    float compensation = u.light_buffer_info.y;
     int count = int(u.light_slicing.z);
-    int samples = int(u.light_buffer_info.z);
+    int samples = int(u.light_buffer_info.y);
     // One slice of margin either side: sampled_slab_opacity decides at the box's faces.
     vec2 crossing = intersect_line_box(origin, ray);
     float origin_plane = dot(travel, origin);
@@ -79,7 +78,7 @@ void main() {
         }
         float alpha = sampled_slab_opacity(origin + (start + 0.5 * path_length) * ray, ray,
                                            path_length, samples);
-        transmittance *= slab_transmittance_of(alpha, compensation);
+        transmittance *= slab_transmittance_of(alpha);
         ++k;
     }
     for (; layer < count; ++layer) {

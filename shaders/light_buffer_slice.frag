@@ -15,6 +15,6 @@ void main() {
     float path_length = u.light_slicing.w / dot(u.light_travel.xyz, ray);
     // The polygon is the slice's intersection with the box.
     vec3 inside = clamp_to_box(slice_world);
-    transmittance = vec4(slab_transmittance(inside, ray, path_length, u.light_buffer_info.y,
-                                                   int(u.light_buffer_info.z)));
+    transmittance =
+            vec4(slab_transmittance(inside, ray, path_length, int(u.light_buffer_info.y)));
 }

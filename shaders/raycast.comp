@@ -17,7 +17,7 @@ void main() {
     ivec2 pixel = tile_origin + ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, u.image_size.xy))) return;
     vec4 accumulated = first_sample == 0 ? vec4(0.0) : imageLoad(accumulation, pixel);
-    if (accumulated.a < u.march.z) {
+    if (accumulated.a < settings.early_termination) {
         march_range(pixel, first_sample, sample_budget, accumulated);
     }
     imageStore(accumulation, pixel, accumulated);

@@ -98,7 +98,7 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec2 hit = intersect_box(march.origin, march.direction);
     float length_inside = hit.y - hit.x;
     if (length_inside <= 0.0) return;
-    int count = int(max(1.0, ceil(length_inside / u.march.x)));
+    int count = int(max(1.0, ceil(length_inside / settings.sample_distance)));
     march.start = hit.x;
     march.step_length = length_inside / float(count);
     march.offset = ray_start_offset(pixel);
@@ -123,7 +123,7 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         vec3 color = shade(classified.rgb, terms, light_reaching(position, -march.direction));
         composite_front_to_back(accumulated, color,
                                 sample_opacity(classified.a, march.step_length));
-        if (accumulated.a >= u.march.z) break;
+        if (accumulated.a >= settings.early_termination) break;
         ++i;
     }
 #else
@@ -131,7 +131,7 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         if (!classify_sample(march, i, position, classified) || classified.a <= 0.0) continue;
         composite_front_to_back(accumulated, classified.rgb,
                                 sample_opacity(classified.a, march.step_length));
-        if (accumulated.a >= u.march.z) break;
+        if (accumulated.a >= settings.early_termination) break;
     }
 #endif
 }

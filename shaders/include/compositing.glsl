@@ -7,7 +7,7 @@
 const float negligible_transmittance = 1e-4;
 
 float sample_opacity(float alpha, float step_length) {
-    float unit = u.march.y;
+    float unit = settings.opacity_unit_distance;
 #if EXTINCTION
     return 1.0 - exp(-clamp(alpha, 0.0, 1.0) / unit * step_length);
 #else

@@ -42,11 +42,11 @@ float light_transmittance_local(vec3 world) {
     if (after >= 0.98 * before) return mix(before, after, inside);
     vec3 travel = light_travel_at(world);
     float depth = inside * u.light_slicing.w / dot(u.light_travel.xyz, travel);
-    int samples = max(1, int(ceil(u.light_buffer_info.z * inside)));
+    int samples = max(1, int(ceil(u.light_buffer_info.y * inside)));
     // No look at the bricks: the stretch ends at `world`, a visible sample, so its brick is
     // occupied and the stretch never lies in empty bricks only.
     float alpha = sampled_slab_opacity(world - 0.5 * depth * travel, travel, depth, samples);
-    return before * slab_transmittance_of(alpha, u.light_buffer_info.y);
+    return before * slab_transmittance_of(alpha);
 }
 
 // The light a camera sample receives, read the way LOCAL_LIGHT_LOOKUP (0|1) asks.

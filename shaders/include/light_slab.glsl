@@ -37,13 +37,12 @@ float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
 }
 
 // The light a slab of opacity `alpha` lets through.
-float slab_transmittance_of(float alpha, float compensation) {
+float slab_transmittance_of(float alpha) {
     // An opaque slice stays opaque: 0 * (1 + a)^c overflows to 0 * inf = NaN for large c.
     if (alpha >= 1.0) return 0.0;
-    return min(1.0, (1.0 - alpha) * pow(1.0 + alpha, compensation));
+    return min(1.0, (1.0 - alpha) * pow(1.0 + alpha, settings.light_buffer_compensation));
 }
 
-float slab_transmittance(vec3 centre, vec3 ray, float path_length, float compensation,
-                         int samples) {
-    return slab_transmittance_of(slab_opacity(centre, ray, path_length, samples), compensation);
+float slab_transmittance(vec3 centre, vec3 ray, float path_length, int samples) {
+    return slab_transmittance_of(slab_opacity(centre, ray, path_length, samples));
 }

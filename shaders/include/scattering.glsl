@@ -3,13 +3,13 @@
 
 // Shell: the sample and its 6 axis neighbours at radius r, 2r, ... (rings); ring i weighs 1/i.
 float shell_transmittance(vec3 world) {
-    float centre_weight = u.scattering.z;
-    int rings = int(u.scattering.y);
+    float centre_weight = settings.scattering_shell_center_weight;
+    int rings = settings.scattering_shell_rings;
     float ring_norm = 0.0;
     for (int ring = 1; ring <= rings; ++ring) ring_norm += 1.0 / float(ring);
     float sum = centre_weight * light_at_sample(world);
     for (int ring = 1; ring <= rings; ++ring) {
-        float r = u.scattering.x * float(ring);
+        float r = settings.scattering_shell_radius * float(ring);
         float w = (1.0 - centre_weight) / (float(ring) * ring_norm * 6.0);
         sum += w * (light_transmittance(world + vec3(r, 0, 0)) +
                     light_transmittance(world - vec3(r, 0, 0)) +
@@ -45,14 +45,14 @@ float cone_transmittance(vec3 world, vec3 to_eye) {
         vec3 axis = rotate_about(base, travel, float(k) * 0.78539816339);
         sum += light_transmittance(centre + radius * axis);
     }
-    float scattered = mix(sum / 8.0, light_transmittance(centre), u.cone.y);
+    float scattered = mix(sum / 8.0, light_transmittance(centre), settings.scattering_cone_center_weight);
 #if LOCAL_LIGHT_LOOKUP
     // The disc lies a slab toward the light; what lies between it and the sample still dims the
     // light, unscattered. No look at the bricks: the stretch ends at a visible sample, whose
     // brick is occupied.
-    int samples = max(1, int(u.light_buffer_info.z));
+    int samples = max(1, int(u.light_buffer_info.y));
     float alpha = sampled_slab_opacity(world - 0.5 * spacing * travel, travel, spacing, samples);
-    scattered *= slab_transmittance_of(alpha, u.light_buffer_info.y);
+    scattered *= slab_transmittance_of(alpha);
 #endif
     return scattered;
 }

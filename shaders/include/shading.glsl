@@ -29,14 +29,14 @@ vec2 blinn_phong(vec3 normal, vec3 to_light, vec3 to_eye) {
     // Light exactly opposite the eye has no half vector (normalize(0) is undefined in GLSL).
     if (dot(sum, sum) < 1e-12) return vec2(diffuse, 0.0);
     vec3 half_vector = sum / length(sum);
-    return vec2(diffuse, pow(max(dot(normal, half_vector), 0.0), u.shading.z));
+    return vec2(diffuse, pow(max(dot(normal, half_vector), 0.0), settings.shading_shininess));
 }
 
 // `light` is the fraction of the light that reaches the sample (1 without shadows); ambient light
 // is unshadowed.
 vec3 shade(vec3 tf_color, vec2 terms, float light) {
     vec3 radiance = u.light_radiance.rgb;
-    float ambient = u.light_radiance.w;
-    return tf_color * radiance * (ambient + u.shading.x * terms.x * light) +
-           radiance * u.shading.y * terms.y * light;
+    return tf_color * radiance *
+                   (settings.light_ambient + settings.shading_diffuse * terms.x * light) +
+           radiance * settings.shading_specular * terms.y * light;
 }

@@ -8,7 +8,7 @@ float shadow_ray_transmittance(vec3 world) {
     t_end = min(t_end, distance(u.light_vector.xyz, world));
 #endif
     if (t_end <= 0.0) return 1.0;
-    int count = int(max(1.0, ceil(t_end / u.march.x)));
+    int count = int(max(1.0, ceil(t_end / settings.sample_distance)));
     float step_length = t_end / float(count);
     float transmittance = 1.0;
     for (int i = 0; i < count && transmittance >= negligible_transmittance; ++i) {

@@ -1,5 +1,9 @@
-// One declaration of what the C++ side sends each frame; mirrored field for field by
-// server/render/src/uniforms.hpp (static_asserts there check the std140 offsets).
+// One declaration of what the C++ side derives each frame; mirrored field for field by
+// server/render/src/uniforms.hpp (static_asserts there check the std140 offsets). The request's
+// numeric settings (each row of scene::kSettingRanges) are the generated block `settings`:
+// `settings.light_buffer_compensation`, `settings.sample_distance`, `settings.shading_diffuse`.
+#include "generated/settings.glsl"
+
 layout(std140, binding = 0) uniform FrameUniforms {
     vec4 eye;               // xyz: camera position
     vec4 camera_forward;    // xyz: unit view direction
@@ -9,20 +13,17 @@ layout(std140, binding = 0) uniform FrameUniforms {
     vec4 box_max;           // xyz
     vec4 voxel_size;        // xyz: one voxel's size in world units
     vec4 background;        // rgb
-    vec4 light_radiance;    // rgb: light colour * intensity; w: ambient
+    vec4 light_radiance;    // rgb: light colour * intensity
     vec4 light_vector;      // xyz: direction toward a directional light, or point-light position
-    vec4 shading;           // x: diffuse, y: specular, z: shininess
     vec4 value_map;         // x: scale, y: offset: normalised value = texel * scale + offset
-    vec4 march;             // x: sample distance, y: opacity unit distance, z: early termination
     ivec4 image_size;       // xy: output size in pixels
     // The light attenuation buffer (light_buffer.glsl, light_buffer.comp, light_buffer_slice.*).
     mat4 light_view_projection;          // world -> light clip space (paper eq. 9)
     mat4 light_inverse_view_projection;
     vec4 light_travel;      // xyz: L, the direction light travels (unit); w: 1 for a point light
     vec4 light_slicing;     // x: min, y: max of L.V over the box corners (eq. 7), z: n, w: spacing
-    vec4 light_buffer_info; // x: resolution R, y: compensation exponent, z: points per slab
-    vec4 scattering;        // x: shell radius, y: shell rings, z: shell centre weight
-    vec4 cone;              // x: tan(cone angle), y: cone centre weight
+    vec4 light_buffer_info; // x: resolution R, y: points per slab (slab_samples resolved)
+    vec4 cone;              // x: tan(cone angle)
     // Half-angle slicing (half_angle.*).
     mat4 camera_view_projection;  // world -> camera clip space, image row 0 at the top
     vec4 half_angle_axis;         // xyz: slice axis h; w: slice spacing along h

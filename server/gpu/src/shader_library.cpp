@@ -17,6 +17,7 @@ base::Error shader_error(const std::string& message, const std::string& where) {
 
 struct Expander {
     const std::filesystem::path& root;
+    const GeneratedFiles& generated;
     ExpandedSource out;
     std::set<std::string> seen;
 
@@ -27,10 +28,18 @@ struct Expander {
         if (seen.contains(file)) {
             return base::Ok{};
         }
-        std::ifstream in(root / file);
-        if (!in) {
-            return shader_error("cannot read shader file '" + (root / file).string() + "'",
-                                included_from.empty() ? file : included_from);
+        std::istringstream generated_text;
+        std::ifstream file_text;
+        std::istream* in = &generated_text;
+        if (auto made = generated.find(file); made != generated.end()) {
+            generated_text.str(made->second);
+        } else {
+            file_text.open(root / file);
+            if (!file_text) {
+                return shader_error("cannot read shader file '" + (root / file).string() + "'",
+                                    included_from.empty() ? file : included_from);
+            }
+            in = &file_text;
         }
         seen.insert(file);
         const std::size_t index = out.files.size();
@@ -39,7 +48,7 @@ struct Expander {
         out.text += "#line 1 " + std::to_string(index) + "\n";
         std::string line;
         int line_number = 0;
-        while (std::getline(in, line)) {
+        while (std::getline(*in, line)) {
             ++line_number;
             std::smatch match;
             if (std::regex_match(line, match, include_line)) {
@@ -106,12 +115,13 @@ base::Result<Program> link(std::initializer_list<const Shader*> shaders, const s
 
 }  // namespace
 
-ShaderLibrary::ShaderLibrary(std::filesystem::path root)
-    : root_(std::move(root)) {}
+ShaderLibrary::ShaderLibrary(std::filesystem::path root, GeneratedFiles generated)
+    : root_(std::move(root))
+    , generated_(std::move(generated)) {}
 
 base::Result<ExpandedSource> ShaderLibrary::expand(const std::string& file,
                                                    const Defines& defines) const {
-    Expander expander{root_, {}, {}};
+    Expander expander{root_, generated_, {}, {}};
     expander.out.text = "#version 450 core\n";
     for (const auto& [name, value] : defines) {
         expander.out.text += "#define " + name + " " + value + "\n";

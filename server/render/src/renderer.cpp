@@ -8,6 +8,7 @@
 #include "light_buffer.hpp"
 #include "program_cache.hpp"
 #include "raycast_pass.hpp"
+#include "settings_block.hpp"
 #include "slice_geometry.hpp"
 #include "uniforms.hpp"
 #include "volume_texture.hpp"
@@ -176,6 +177,7 @@ struct Renderer::Impl {
     gpu::ShaderLibrary shaders;
     ProgramCache programs;
     gpu::Buffer uniform_buffer;
+    gpu::Buffer settings_buffer;  // the generated Settings block (settings_block.hpp)
     FrameTarget target;
     RaycastPass raycast;
     LightBufferBuilder light_buffer_builder;
@@ -327,13 +329,18 @@ struct Renderer::Impl {
 
     Impl(gpu::Context&& c, std::filesystem::path shader_dir)
         : context(std::move(c))
-        , shaders(std::move(shader_dir))
+        , shaders(std::move(shader_dir),
+                  {{std::string(settings_block_file), settings_block_glsl()}})
         , programs(shaders)
         , uniform_buffer(gpu::create_buffer())
+        , settings_buffer(gpu::create_buffer())
         , raycast(programs)
         , light_buffer_builder(programs)
         , half_angle(programs) {
         glNamedBufferStorage(uniform_buffer.name(), sizeof(FrameUniforms), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
+        glNamedBufferStorage(settings_buffer.name(),
+                             static_cast<GLsizeiptr>(settings_block_bytes()), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
     }
 
@@ -470,27 +477,19 @@ struct Renderer::Impl {
         u.box_to_world = glm::mat4(glm::mat3(box.axes));
         u.world_to_box = glm::mat4(glm::mat3(box.inverse_axes));
         u.background = v4(s.background, 1.0);
-        u.light_radiance = v4(light.color * light.intensity, light.ambient);
+        u.light_radiance = v4(light.color * light.intensity);
         u.light_vector =
                 v4(light.type == scene::LightType::point ? light.position
                                                          : glm::normalize(light.direction));
-        u.shading = glm::vec4(static_cast<float>(s.shading.diffuse),
-                              static_cast<float>(s.shading.specular),
-                              static_cast<float>(s.shading.shininess), 0.0f);
         u.value_map = glm::vec4(volume_texture->value_map, 0.0f, 0.0f);
-        u.march = glm::vec4(static_cast<float>(s.sample_distance),
-                            static_cast<float>(s.opacity_unit_distance),
-                            static_cast<float>(s.early_termination), 0.0f);
         u.image_size = glm::ivec4(s.width, s.height, 0, 0);
+        // What the shaders need beyond the request's own settings (the Settings block): the
+        // device-bound resolution, the slab samples resolved, the cone's tangent in double.
         u.light_buffer_info = glm::vec4(static_cast<float>(s.light_buffer.resolution),
-                                        static_cast<float>(s.light_buffer.compensation),
-                                        static_cast<float>(g.slab_samples), 0.0f);
-        u.scattering = glm::vec4(static_cast<float>(s.scattering.shell_radius),
-                                 static_cast<float>(s.scattering.shell_rings),
-                                 static_cast<float>(s.scattering.shell_center_weight), 0.0f);
+                                        static_cast<float>(g.slab_samples), 0.0f, 0.0f);
         u.cone = glm::vec4(
-                static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))),
-                static_cast<float>(s.scattering.cone_center_weight), 0.0f, 0.0f);
+                static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))), 0.0f,
+                0.0f, 0.0f);
         u.camera_view_projection =
                 glm::mat4(camera_view_projection(request.camera, camera, aspect, box));
         if (g.light_view) {
@@ -597,9 +596,14 @@ struct Renderer::Impl {
         return info.gpu_timer_queries ? timer.milliseconds() : -1.0;
     }
 
-    void upload(const FrameUniforms& u) const {
+    // The frame's uniforms and the request's settings, bound for every pass that follows.
+    void upload(const FrameUniforms& u, const scene::FrameRequest& request) const {
         glNamedBufferSubData(uniform_buffer.name(), 0, sizeof(FrameUniforms), &u);
         glBindBufferBase(GL_UNIFORM_BUFFER, 0, uniform_buffer.name());
+        const std::vector<std::byte> settings = settings_block_data(request);
+        glNamedBufferSubData(settings_buffer.name(), 0, static_cast<GLsizeiptr>(settings.size()),
+                             settings.data());
+        glBindBufferBase(GL_UNIFORM_BUFFER, settings_block_binding, settings_buffer.name());
     }
 };
 
@@ -744,7 +748,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (auto tf_ms = impl.update_transfer_function(table)) {
         frame.report.passes.push_back({"transfer_function", 0.0, *tf_ms});
     }
-    impl.upload(impl.uniforms_for(request, g));
+    impl.upload(impl.uniforms_for(request, g), request);
     double slice_geometry_ms = 0.0;  // CPU work of the slicing passes, counted in their time
     if (plan.half_angle) {
         const auto geometry_start = Clock::now();

@@ -8,7 +8,9 @@
 namespace penumbra::render {
 
 // Mirrors the FrameUniforms block of shaders/include/uniforms.glsl (std140: every member here is
-// a vec4 or ivec4, so the C++ layout matches without padding rules).
+// a vec4 or ivec4, so the C++ layout matches without padding rules). What the frame derives: the
+// camera, the box, the light's view, resolved counts. The request's numeric settings themselves
+// reach the shaders through the generated Settings block (settings_block.hpp), not through here.
 struct FrameUniforms {
     glm::vec4 eye;
     glm::vec4 camera_forward;
@@ -20,16 +22,13 @@ struct FrameUniforms {
     glm::vec4 background;
     glm::vec4 light_radiance;
     glm::vec4 light_vector;
-    glm::vec4 shading;
     glm::vec4 value_map;
-    glm::vec4 march;
     glm::ivec4 image_size;
     glm::mat4 light_view_projection;
     glm::mat4 light_inverse_view_projection;
     glm::vec4 light_travel;
     glm::vec4 light_slicing;
     glm::vec4 light_buffer_info;
-    glm::vec4 scattering;
     glm::vec4 cone;
     glm::mat4 camera_view_projection;
     glm::vec4 half_angle_axis;
@@ -42,13 +41,14 @@ struct FrameUniforms {
 static_assert(offsetof(FrameUniforms, eye) == 0);
 static_assert(offsetof(FrameUniforms, box_min) == 64);
 static_assert(offsetof(FrameUniforms, light_radiance) == 128);
-static_assert(offsetof(FrameUniforms, march) == 192);
-static_assert(offsetof(FrameUniforms, image_size) == 208);
-static_assert(offsetof(FrameUniforms, light_view_projection) == 224);
-static_assert(offsetof(FrameUniforms, light_travel) == 352);
-static_assert(offsetof(FrameUniforms, camera_view_projection) == 432);
-static_assert(offsetof(FrameUniforms, box_to_world) == 528);
-static_assert(offsetof(FrameUniforms, jitter) == 656);
-static_assert(sizeof(FrameUniforms) == 672);
+static_assert(offsetof(FrameUniforms, value_map) == 160);
+static_assert(offsetof(FrameUniforms, image_size) == 176);
+static_assert(offsetof(FrameUniforms, light_view_projection) == 192);
+static_assert(offsetof(FrameUniforms, light_travel) == 320);
+static_assert(offsetof(FrameUniforms, light_buffer_info) == 352);
+static_assert(offsetof(FrameUniforms, camera_view_projection) == 384);
+static_assert(offsetof(FrameUniforms, box_to_world) == 480);
+static_assert(offsetof(FrameUniforms, jitter) == 608);
+static_assert(sizeof(FrameUniforms) == 624);
 
 }  // namespace penumbra::render

@@ -63,6 +63,22 @@ TEST_F(ShaderLibraryTest, IncludeCycleEndsBecauseEachFileIsPastedOnce) {
     EXPECT_LT(source->text.find("float b;"), source->text.find("float a;"));
 }
 
+TEST_F(ShaderLibraryTest, GeneratedFileIsIncludedByItsPathBeforeTheFolder) {
+    write("include/made.glsl", "float from_the_folder;\n");
+    write("main.comp",
+          "#include \"include/made.glsl\"\n#include \"include/made.glsl\"\nvoid main() {}\n");
+    ShaderLibrary library(root_, {{"include/made.glsl", "float made_here;\nfloat second_line;\n"}});
+    auto source = library.expand("main.comp", {});
+    ASSERT_TRUE(source.ok()) << source.error().to_string();
+    EXPECT_EQ(source->files, (std::vector<std::string>{"main.comp", "include/made.glsl"}));
+    const std::string& text = source->text;
+    EXPECT_EQ(text.find("from_the_folder"), std::string::npos);
+    EXPECT_NE(text.find("#line 1 1\nfloat made_here;\nfloat second_line;\n#line 2 0\n"),
+              std::string::npos)
+            << text;
+    EXPECT_EQ(text.find("made_here"), text.rfind("made_here"));
+}
+
 TEST_F(ShaderLibraryTest, CompileErrorPointsAtTheIncludedFileAndLine) {
     auto context = Context::create();
     ASSERT_TRUE(context.ok()) << context.error().to_string();

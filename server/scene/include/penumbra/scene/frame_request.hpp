@@ -130,6 +130,8 @@ struct FrameRequest {
 };
 
 // Each setting's range (SettingRange): adding a setting is its field above and its row here.
+// A row with a member is also what the shaders read: `settings.light_buffer_compensation` (the
+// path without "settings/", '_' for '/'; render's generated Settings block, shaders/README.md).
 namespace setting {
 
 // Coordinates of the camera and a point light; the volume's longest side is 1.
