@@ -1,8 +1,10 @@
 // The JSON Schemas of proto/v1 against the C++ tables they restate for clients that cannot read
-// C++: scene's mode table and its setting ranges; and the hello the web client's tests take their
-// ranges from. A mode or a limit changed in one and not the other fails here.
+// C++: scene's mode table, its setting ranges and the client message types, which
+// scripts/update-schema.sh writes into common.schema.json; and the hello the web client's tests
+// take their ranges from. A mode or a limit changed in one and not the other fails here.
 
 #include "examples.hpp"
+#include "schema_generator.hpp"
 
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -26,47 +28,6 @@ json schema(const std::string& name) {
     return json::parse(test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / name));
 }
 
-TEST(SchemaAgreement, ModeEnumIsTheModeTable) {
-    std::vector<std::string> table;
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        table.emplace_back(mode.name);
-    }
-    const auto schema_modes = schema("common.schema.json")
-                                      .at("$defs")
-                                      .at("mode")
-                                      .at("enum")
-                                      .get<std::vector<std::string>>();
-    EXPECT_EQ(schema_modes, table);
-}
-
-TEST(SchemaAgreement, ClientTypeEnumIsTheRequestVariant) {
-    auto schema_types = schema("common.schema.json")
-                                .at("$defs")
-                                .at("client_type")
-                                .at("enum")
-                                .get<std::vector<std::string>>();
-    std::vector<std::string> variant(kClientMessageTypes.begin(), kClientMessageTypes.end());
-    std::sort(schema_types.begin(), schema_types.end());
-    std::sort(variant.begin(), variant.end());
-    EXPECT_EQ(schema_types, variant);
-}
-
-TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
-    const json hello = schema("hello.schema.json");
-    const json& item = hello.at("properties").at("modes").at("items").at("properties");
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        SCOPED_TRACE(std::string(mode.name));
-        const auto has = [&](const char* field, const char* value) {
-            const auto values = item.at(field).at("enum").get<std::vector<std::string>>();
-            return std::find(values.begin(), values.end(), value) != values.end();
-        };
-        EXPECT_TRUE(has("technique", scene::to_string(mode.technique)));
-        EXPECT_TRUE(has("shadows", scene::to_string(mode.shadows)));
-        EXPECT_TRUE(has("scattering", scene::to_string(mode.scattering)));
-        EXPECT_TRUE(has("gradients", scene::to_string(mode.gradients)));
-    }
-}
-
 // The schema node a range's field names: "settings/scattering/shell_rings" is
 // $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
 // those $defs.
@@ -84,14 +45,86 @@ const json& schema_node(const json& defs, std::string_view field) {
     return *node;
 }
 
-TEST(SchemaAgreement, EverySettingRangeIsTheSchemasMinimumAndMaximum) {
-    const json defs = schema("common.schema.json").at("$defs");
+// The schema's copies of the tables are written by the generator, never by hand: a mode, a range or
+// a client message type changed in C++ changes what it writes, and the committed file must follow.
+TEST(SchemaAgreement, CommonSchemaIsGenerated) {
+    const std::string committed = test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) /
+                                                  "v1" / "common.schema.json");
+    const auto generated = test::generated_common_schema(committed);
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << "proto/v1/common.schema.json differs from what the C++ tables make of it: run "
+               "scripts/update-schema.sh";
+}
+
+// A setting added to the table reaches the schema with nothing written by hand: from a schema
+// without it, the generator makes its node, its limits and its place in the state.
+TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
+    const auto generated = test::generated_common_schema(
+            R"({"$defs": {"state": {"properties": {"camera": {"allOf": [{}, {}]},
+               "light": {"allOf": [{}, {}]}, "settings": {"allOf": [{}, {}]}}}}})");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    const json defs = json::parse(*generated).at("$defs");
     for (const scene::SettingRange* range : scene::kSettingRanges) {
         SCOPED_TRACE(std::string(range->field));
         const json& node = schema_node(defs, range->field);
         EXPECT_EQ(node.at("minimum").get<double>(), range->min);
         EXPECT_EQ(node.at("maximum").get<double>(), range->max);
         EXPECT_EQ(node.at("type"), range->integer ? "integer" : "number");
+        if (!range->summary.empty()) {
+            EXPECT_EQ(node.at("description"), range->summary);
+        }
+    }
+    // Each setting that a state holds is required there, where the state's part lists them.
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (range->read == nullptr) {
+            continue;
+        }
+        SCOPED_TRACE(std::string(range->field));
+        const std::string field(range->field);
+        const std::size_t part_end = field.find('/');
+        const std::size_t leaf_start = field.rfind('/') + 1;
+        const json* node = &defs.at("state")
+                                    .at("properties")
+                                    .at(field.substr(0, part_end))
+                                    .at("allOf")
+                                    .at(1);
+        std::istringstream middle(field.substr(part_end + 1, leaf_start - part_end - 1));
+        for (std::string part; std::getline(middle, part, '/');) {
+            node = &node->at("properties").at(part);
+        }
+        const auto required = node->at("required").get<std::vector<std::string>>();
+        EXPECT_NE(std::find(required.begin(), required.end(), field.substr(leaf_start)),
+                  required.end());
+    }
+    std::vector<std::string> modes;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        modes.emplace_back(mode.name);
+    }
+    EXPECT_EQ(defs.at("mode").at("enum").get<std::vector<std::string>>(), modes);
+    EXPECT_EQ(defs.at("client_type").at("enum").get<std::vector<std::string>>(),
+              std::vector<std::string>(kClientMessageTypes.begin(), kClientMessageTypes.end()));
+}
+
+TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
+    EXPECT_FALSE(test::generated_common_schema("[1, 2]").ok());
+    EXPECT_FALSE(test::generated_common_schema("{\"$defs\": 1}").ok());
+    EXPECT_FALSE(test::generated_common_schema("{").ok());
+}
+
+TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
+    const json hello = schema("hello.schema.json");
+    const json& item = hello.at("properties").at("modes").at("items").at("properties");
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        SCOPED_TRACE(std::string(mode.name));
+        const auto has = [&](const char* field, const char* value) {
+            const auto values = item.at(field).at("enum").get<std::vector<std::string>>();
+            return std::find(values.begin(), values.end(), value) != values.end();
+        };
+        EXPECT_TRUE(has("technique", scene::to_string(mode.technique)));
+        EXPECT_TRUE(has("shadows", scene::to_string(mode.shadows)));
+        EXPECT_TRUE(has("scattering", scene::to_string(mode.scattering)));
+        EXPECT_TRUE(has("gradients", scene::to_string(mode.gradients)));
     }
 }
 
