@@ -48,8 +48,8 @@ const json& schema_node(const json& defs, std::string_view field) {
 // The schema's copies of the tables are written by the generator, never by hand: a mode, a range or
 // a client message type changed in C++ changes what it writes, and the committed file must follow.
 TEST(SchemaAgreement, CommonSchemaIsGenerated) {
-    const std::string committed = test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) /
-                                                  "v1" / "common.schema.json");
+    const std::string committed = test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" /
+                                                  "common.schema.json");
     const auto generated = test::generated_common_schema(committed);
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
@@ -84,11 +84,8 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
         const std::string field(range->field);
         const std::size_t part_end = field.find('/');
         const std::size_t leaf_start = field.rfind('/') + 1;
-        const json* node = &defs.at("state")
-                                    .at("properties")
-                                    .at(field.substr(0, part_end))
-                                    .at("allOf")
-                                    .at(1);
+        const json* node =
+                &defs.at("state").at("properties").at(field.substr(0, part_end)).at("allOf").at(1);
         std::istringstream middle(field.substr(part_end + 1, leaf_start - part_end - 1));
         for (std::string part; std::getline(middle, part, '/');) {
             node = &node->at("properties").at(part);
