@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Rewrites what proto/v1/common.schema.json restates of the C++ tables (each setting's range from
-# scene::kSettingRanges, the mode names, the client message types) from the tables themselves.
-# Run it after changing one of them; SchemaAgreement.CommonSchemaIsGenerated (protocol_test)
-# fails until the committed schema is what this writes. The rest of the file is written by hand.
+# scene::kSettingRanges, the mode names, the client message types) from the tables themselves,
+# and proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json).
+# Run it after changing one of them; SchemaAgreement.*IsGenerated (protocol_test) fail until the
+# committed files are what this writes. The rest of both files is written by hand.
 #   scripts/update-schema.sh [PRESET]     (default: release; builds the update_schema target)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,4 +12,4 @@ if [ ! -d "build/$preset" ]; then
     cmake --preset "$preset" >/dev/null
 fi
 cmake --build --preset "$preset" --target update_schema
-"build/$preset/tests/unit/protocol/update_schema" proto/v1/common.schema.json
+"build/$preset/tests/unit/protocol/update_schema" proto

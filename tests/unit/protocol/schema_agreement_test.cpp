@@ -57,6 +57,21 @@ TEST(SchemaAgreement, CommonSchemaIsGenerated) {
                "scripts/update-schema.sh";
 }
 
+// proto/README.md's table of the client messages is their schemas' members and descriptions: a new
+// message's schema brings its row.
+TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
+    const std::filesystem::path proto(PENUMBRA_PROTO_DIR);
+    const std::string committed = test::read_text(proto / "README.md");
+    const auto generated = test::generated_readme(committed, proto / "v1");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << "proto/README.md's table of the client messages differs from their schemas: run "
+               "scripts/update-schema.sh";
+    for (const std::string_view type : kClientMessageTypes) {
+        EXPECT_NE(generated->find("| `" + std::string(type) + "` |"), std::string::npos) << type;
+    }
+}
+
 // A setting added to the table reaches the schema with nothing written by hand: from a schema
 // without it, the generator makes its node, its limits and its place in the state.
 TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -85,7 +86,109 @@ void require_in_state(json& defs, std::string_view field) {
     }
 }
 
+// A table cell: '|' escaped, as Markdown tables need.
+std::string cell(std::string_view text) {
+    std::string out;
+    for (const char c : text) {
+        if (c == '|') {
+            out += '\\';
+        }
+        out += c;
+    }
+    return out;
+}
+
+// What the schema says of a member's value: "string ≤ 256 bytes", "boolean"; empty for a $ref.
+std::string value_kind(const json& member) {
+    if (!member.contains("type") || !member.at("type").is_string()) {
+        return "";
+    }
+    std::string kind = member.at("type").get<std::string>();
+    if (member.contains("maxLength")) {
+        kind += " ≤ " + member.at("maxLength").dump() + " bytes";
+    }
+    return kind;
+}
+
+// "`volume` (required, string ≤ 256 bytes): an id from volumes; `interactive` (boolean): ..."
+std::string members_cell(const json& request) {
+    std::string out;
+    const json required = request.value("required", json::array());
+    for (const auto& [name, member] : request.at("properties").items()) {
+        if (name == "v" || name == "type" || name == "id") {
+            continue;
+        }
+        if (!out.empty()) {
+            out += "; ";
+        }
+        out += "`" + name + "`";
+        std::string notes;
+        if (std::find(required.begin(), required.end(), name) != required.end()) {
+            notes = "required";
+        }
+        if (const std::string kind = value_kind(member); !kind.empty()) {
+            notes += (notes.empty() ? "" : ", ") + kind;
+        }
+        if (!notes.empty()) {
+            out += " (" + notes + ")";
+        }
+        if (member.contains("description")) {
+            std::string description = member.at("description").get<std::string>();
+            if (description.ends_with('.')) {
+                description.pop_back();
+            }
+            out += ": " + description;
+        }
+    }
+    return out.empty() ? "–" : cell(out);
+}
+
+base::Result<std::string> message_table(const std::filesystem::path& schema_dir) {
+    std::string table =
+            "| `type` | members besides `v`, `type`, `id` | what it does |\n"
+            "|---|---|---|\n";
+    for (const std::string_view type : kClientMessageTypes) {
+        const std::filesystem::path path = schema_dir / (std::string(type) + ".schema.json");
+        std::ifstream in(path, std::ios::binary);
+        const json schema = json::parse(in, nullptr, false);
+        if (schema.is_discarded() || !schema.is_object()) {
+            return base::make_error("invalid_value", "no JSON schema for " + std::string(type),
+                                    path.string());
+        }
+        // A schema for both directions (stats) keeps the request in $defs/request.
+        const json& request = schema.contains("$defs") && schema.at("$defs").contains("request")
+                                      ? schema.at("$defs").at("request")
+                                      : schema;
+        if (!request.contains("properties") || !request.contains("description")) {
+            return base::make_error("invalid_value",
+                                    "the request has no properties or no description",
+                                    path.string());
+        }
+        table += "| `" + std::string(type) + "` | " + members_cell(request) + " | " +
+                 cell(request.at("description").get<std::string>()) + " |\n";
+    }
+    return table;
+}
+
 }  // namespace
+
+base::Result<std::string> generated_readme(std::string_view committed,
+                                           const std::filesystem::path& schema_dir) {
+    const std::size_t begin = committed.find(kTableBegin);
+    const std::size_t end = committed.find(kTableEnd);
+    if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) {
+        return base::make_error("invalid_value", "no table between \"" + std::string(kTableBegin) +
+                                                         "\" and \"" + std::string(kTableEnd) +
+                                                         "\"");
+    }
+    auto table = message_table(schema_dir);
+    if (!table) {
+        return table.error();
+    }
+    const std::size_t table_start = begin + kTableBegin.size();
+    return std::string(committed.substr(0, table_start)) + "\n" + *table +
+           std::string(committed.substr(end));
+}
 
 base::Result<std::string> generated_common_schema(std::string_view committed) {
     json schema = json::parse(committed, nullptr, false);
