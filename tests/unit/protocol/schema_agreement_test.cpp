@@ -17,6 +17,9 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace penumbra::protocol {
@@ -31,6 +34,14 @@ json schema(const std::string& name) {
 // The schema node a range's field names: "settings/scattering/shell_rings" is
 // $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
 // those $defs.
+// The definition a "$ref": "common.schema.json#/$defs/NAME" names.
+json schema_definition(const json& reference) {
+    const std::string ref = reference.at("$ref").get<std::string>();
+    const std::string prefix = "common.schema.json#/$defs/";
+    EXPECT_TRUE(ref.starts_with(prefix)) << ref;
+    return schema("common.schema.json").at("$defs").at(ref.substr(prefix.size()));
+}
+
 const json& schema_node(const json& defs, std::string_view field) {
     if (field == "vec3" || field == "rgb") {
         return defs.at(std::string(field)).at("items");
@@ -122,6 +133,64 @@ TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
     EXPECT_FALSE(test::generated_common_schema("[1, 2]").ok());
     EXPECT_FALSE(test::generated_common_schema("{\"$defs\": 1}").ok());
     EXPECT_FALSE(test::generated_common_schema("{").ok());
+}
+
+// One member as parse_request reads it and as the schema's `request` part states it: required
+// exactly when it is a plain string, its JSON type and a string's length.
+template <class Message, class Value>
+void expect_member_in_schema(const json& request, const Member<Message, Value>& member) {
+    const std::string name(member.name);
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(request.at("properties").contains(name)) << "the schema does not list it";
+    const json& property = request.at("properties").at(name);
+    const auto required = request.at("required").get<std::set<std::string>>();
+    EXPECT_EQ(required.contains(name), (std::is_same_v<Value, std::string>));
+    if constexpr (std::is_same_v<Value, bool>) {
+        EXPECT_EQ(property.at("type"), "boolean");
+    } else {
+        // A string of its own, or a shared definition of one (owner_token).
+        const json string = property.contains("$ref") ? schema_definition(property) : property;
+        EXPECT_EQ(string.at("type"), "string");
+        EXPECT_EQ(string.at("maxLength").get<std::size_t>(), member.max_bytes);
+    }
+}
+
+// A client message's members as parse_request reads them (its members()) and as its schema states
+// them: the same names, and each alike. `set`'s members are the state's parts, which its schema
+// lists and apply_patch reads.
+template <class Message>
+void expect_members_in_schema() {
+    const std::string type(Message::type);
+    SCOPED_TRACE(type);
+    const json schema = json::parse(test::read_text(test::schema_path(type)));
+    const json& request = test::request_part(schema);
+    if constexpr (!std::is_same_v<Message, Set>) {
+        std::set<std::string> in_schema;
+        for (const auto& [name, property] : request.at("properties").items()) {
+            if (name != "v" && name != "type" && name != "id") {
+                in_schema.insert(name);
+            }
+        }
+        std::set<std::string> in_struct;
+        if constexpr (requires { Message::members(); }) {
+            std::apply(
+                    [&](const auto&... member) {
+                        (in_struct.emplace(member.name), ...);
+                        (expect_member_in_schema(request, member), ...);
+                    },
+                    Message::members());
+        }
+        EXPECT_EQ(in_struct, in_schema);
+    }
+}
+
+template <class... Messages>
+void expect_members_in_schemas(std::type_identity<std::variant<Messages...>>) {
+    (expect_members_in_schema<Messages>(), ...);
+}
+
+TEST(SchemaAgreement, ClientMessageMembersAreTheirSchemasProperties) {
+    expect_members_in_schemas(std::type_identity<ClientMessage>{});
 }
 
 TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
