@@ -128,6 +128,11 @@ struct Resume {
     }
 };
 
+// A new client message is its struct above (its `type` and, for members, `members()`) and its
+// alternative here; its handler, a specialisation of ConnectionHandler::handle in net (without one
+// net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
+// examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
+// and its row into proto/README.md; protocol_test fails until the schema and those agree.
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
 
 template <typename Variant>
