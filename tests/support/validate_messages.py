@@ -5,7 +5,9 @@
 
 Each JSONL line is {"kind": "text" | "frame_header", "message": {...}}: what the server sends.
 Text messages are checked against the schema their "type" names, frame headers against
-frame_header.schema.json. With --examples, every examples/v1/valid/*.json must pass the schema of
+frame_header.schema.json. Every schema's own examples (JSON Schema's `examples`, at its root or in
+`$defs/request` and `$defs/response`) must pass the schema that holds them, and each client message
+type needs at least one. With --examples, every examples/v1/valid/*.json must pass the schema of
 its client message type, and every examples/v1/invalid/*.json must fail it, except the few whose
 error the schemas cannot express (NOT_EXPRESSIBLE below), which must pass it instead so that the
 list stays exact. Prints every failure; exits 1 if there was any.
@@ -117,6 +119,29 @@ class Schemas:
         """(JSON pointer, message) of every violation."""
         return [("/" + "/".join(str(p) for p in e.absolute_path), e.message)
                 for e in self.validator(key).iter_errors(instance)]
+
+
+def check_schema_examples(schemas, failures):
+    """Checks each schema's `examples` against the part of the schema that holds them."""
+    count = 0
+    with_examples = set()
+    for file, schema in sorted(schemas.by_file.items()):
+        defs = schema.get("$defs", {})
+        parts = [("", schema), ("/$defs/request", defs.get("request")),
+                 ("/$defs/response", defs.get("response"))]
+        for pointer, part in parts:
+            if not isinstance(part, dict) or "examples" not in part:
+                continue
+            with_examples.add((file, pointer))
+            for number, example in enumerate(part["examples"]):
+                for error in schemas.errors((file, pointer), example):
+                    failures.append(f"{file}#{pointer}/examples/{number}: example rejected by "
+                                    f"its schema: {error}")
+                count += 1
+    for name, key in sorted(schemas.client.items()):
+        if key not in with_examples:
+            failures.append(f"{key[0]}{key[1]}: the client message {name!r} has no examples")
+    return count
 
 
 def within(pointer, ancestor):
@@ -241,6 +266,8 @@ def main():
         failures.append(f"{args.proto_v1}: no *.schema.json files")
     for name in sorted(schemas.client_types - set(schemas.client)):
         failures.append(f"{args.proto_v1}: no schema names the client message type {name!r}")
+    count = check_schema_examples(schemas, failures)
+    print(f"{args.proto_v1}: {count} examples in the schemas checked")
     for path in args.jsonl:
         count = check_sent(schemas, path, failures)
         print(f"{path}: {count} server messages checked")

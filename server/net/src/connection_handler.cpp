@@ -395,13 +395,6 @@ void ConnectionHandler::handle_waiting() {
     }
 }
 
-void ConnectionHandler::handle(const protocol::Request& request) {
-    // Each alternative goes to its own overload of handle: a message type without one does not
-    // compile.
-    std::visit([this, id = request.id](const auto& message) { handle(id, message); },
-               request.message);
-}
-
 bool ConnectionHandler::need_session(std::optional<std::int64_t> id) {
     if (!session_) {
         reply_error(id, base::make_error(protocol::code::no_session,
@@ -411,6 +404,7 @@ bool ConnectionHandler::need_session(std::optional<std::int64_t> id) {
     return true;
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::ListVolumes&) {
     // The last scan: the store rescans on a thread of its own.
     std::vector<protocol::VolumeSummary> list;
@@ -423,6 +417,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::L
     send(protocol::volumes_message(id, list));
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Open& message) {
     load_then(id, message.volume,
               [this, volume_id = message.volume](std::optional<std::int64_t> request_id,
@@ -431,10 +426,14 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::O
               });
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Join& message) {
     enter_session(id, message.session, std::nullopt);
 }
 
+// Makes this connection the owner of a session again: the one this server holds, or one that the
+// cluster's secret lets it re-create once its volume is loaded.
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Resume& message) {
     if (message.volume &&
         context_.services.sessions.resume_recreates(message.session, message.owner_token)) {
@@ -450,6 +449,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::R
     resume_held(id, message);
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Set& message) {
     if (!need_session(id)) {
         return;
@@ -471,6 +471,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
     send(protocol::ack_message(id, "set"));
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Render& message) {
     if (!need_session(id)) {
         return;
@@ -479,6 +480,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::R
                      context_.config.quality_table.get());
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Stats&) {
     protocol::StatsReport report;
     if (session_) {
@@ -501,9 +503,17 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
     send(protocol::stats_message(id, report));
 }
 
+template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Close&) {
     leave_session();
     send(protocol::ack_message(id, "close"));
+}
+
+// After every handler: each alternative goes to its own specialisation of handle, and one without
+// a specialisation is the deleted template, which does not compile.
+void ConnectionHandler::handle(const protocol::Request& request) {
+    std::visit([this, id = request.id](const auto& message) { handle(id, message); },
+               request.message);
 }
 
 }  // namespace penumbra::net

@@ -32,17 +32,11 @@ public:
 private:
     // Hands the request to the handler of its message type.
     void handle(const protocol::Request& request);
-    // One handler per message type of protocol::ClientMessage.
-    void handle(std::optional<std::int64_t> id, const protocol::ListVolumes& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Open& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Set& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Render& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Stats& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Join& message);
-    void handle(std::optional<std::int64_t> id, const protocol::Close& message);
-    // Makes this connection the owner of a session again: the one this server holds, or one that
-    // the cluster's secret lets it re-create once its volume is loaded.
-    void handle(std::optional<std::int64_t> id, const protocol::Resume& message);
+    // One handler per message type of protocol::ClientMessage: a specialisation each, defined in
+    // the .cpp before the dispatch; a message type without one uses this deleted template and does
+    // not compile.
+    template <class Message>
+    void handle(std::optional<std::int64_t> id, const Message& message) = delete;
 
     using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
     // Loads `volume_id` on the volume store's loader threads, the connection busy meanwhile, and

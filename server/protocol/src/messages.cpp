@@ -5,10 +5,11 @@
 
 #include <penumbra/protocol/scene_json.hpp>
 
-#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <tuple>
+#include <type_traits>
 #include <utility>
 
 namespace penumbra::protocol {
@@ -30,6 +31,110 @@ base::Result<std::string> required_string(const json& j, const char* key, std::s
         return field_error(code::invalid_message, pointer, std::string("missing '") + key + "'");
     }
     return string(j.at(key), pointer, max);
+}
+
+// Reads one member of a client message (messages.hpp's Member says what each kind means).
+template <class Message, class Value>
+base::Status read_member(const json& j, const Member<Message, Value>& member, Message& message) {
+    const std::string key(member.name);
+    const std::string pointer = "/" + key;
+    if constexpr (std::is_same_v<Value, std::string>) {
+        auto value = required_string(j, key.c_str(), member.max_bytes);
+        if (!value) {
+            return value.error();
+        }
+        message.*member.pointer = std::move(value.value());
+    } else if (j.contains(key)) {
+        if constexpr (std::is_same_v<Value, bool>) {
+            auto value = boolean(j.at(key), pointer);
+            if (!value) {
+                return value.error();
+            }
+            message.*member.pointer = *value;
+        } else {
+            auto value = string(j.at(key), pointer, member.max_bytes);
+            if (!value) {
+                return value.error();
+            }
+            message.*member.pointer = std::move(value.value());
+        }
+    }
+    return base::Ok{};
+}
+
+// Whether `key` is one of the members that Message's `members()` lists (none without it).
+template <class Message>
+bool is_member(const std::string& key) {
+    if constexpr (requires { Message::members(); }) {
+        return std::apply([&](const auto&... listed) { return ((key == listed.name) || ...); },
+                          Message::members());
+    } else {
+        return false;
+    }
+}
+
+// A message made of the members it lists: the unknown ones are refused first, then each is read
+// in the listed order.
+template <class Message>
+base::Result<Message> parse_members(const json& j, const std::string& type) {
+    for (const auto& item : j.items()) {
+        const std::string& key = item.key();
+        if (key != "v" && key != "type" && key != "id" && !is_member<Message>(key)) {
+            return field_error(code::unknown_field, "/" + key,
+                               "unknown field '" + key + "' in " + type);
+        }
+    }
+    Message message;
+    if constexpr (requires { Message::members(); }) {
+        base::Status status = base::Ok{};
+        std::apply(
+                [&](const auto&... listed) {
+                    ((status = status ? read_member(j, listed, message) : status), ...);
+                },
+                Message::members());
+        if (!status) {
+            return status.error();
+        }
+    }
+    return message;
+}
+
+template <class Message>
+base::Result<Message> parse_one(json& j, const std::string& type) {
+    return parse_members<Message>(j, type);
+}
+
+// The message itself becomes the patch: moved, never copied or printed. It is checked once, when
+// it is applied to the session's state (apply_patch), which knows every field.
+template <>
+base::Result<Set> parse_one<Set>(json& j, const std::string& /*type*/) {
+    json patch = std::move(j);
+    patch.erase("v");
+    patch.erase("type");
+    patch.erase("id");
+    return Set{Patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}))};
+}
+
+// The alternative of ClientMessage whose name is `type`, read from `j`.
+template <class... Messages>
+base::Result<ClientMessage> parse_message(json& j, const std::string& type,
+                                          std::type_identity<std::variant<Messages...>>) {
+    base::Result<ClientMessage> result =
+            field_error(code::unknown_type, "/type", "unknown message type '" + type + "'");
+    const auto parse_if_named = [&]<class Message>(std::type_identity<Message>) {
+        if (type != Message::type) {
+            return false;
+        }
+        auto parsed = parse_one<Message>(j, type);
+        if (parsed) {
+            result = ClientMessage(std::move(parsed.value()));
+        } else {
+            result = parsed.error();
+        }
+        return true;
+    };
+    (parse_if_named(std::type_identity<Messages>{}) || ...);
+    return result;
 }
 
 // An integer that fits std::int64_t (nlohmann also stores integers up to 2^64 - 1, unsigned).
@@ -89,104 +194,12 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     if (!type) {
         return type.error();
     }
-    const auto fields = [&](std::initializer_list<const char*> extra) {
-        std::vector<const char*> allowed = {"v", "type", "id"};
-        allowed.insert(allowed.end(), extra.begin(), extra.end());
-        for (const auto& member : j.items()) {
-            const std::string& key = member.key();
-            if (std::find_if(allowed.begin(), allowed.end(),
-                             [&](const char* a) { return key == a; }) == allowed.end()) {
-                return base::Status(field_error(code::unknown_field, "/" + key,
-                                                "unknown field '" + key + "' in " + *type));
-            }
-        }
-        return base::Status(base::Ok{});
-    };
-    if (*type == ListVolumes::type || *type == Stats::type || *type == Close::type) {
-        if (auto status = fields({}); !status) {
-            return status.error();
-        }
-        if (*type == ListVolumes::type) {
-            request.message = ListVolumes{};
-        } else if (*type == Stats::type) {
-            request.message = Stats{};
-        } else {
-            request.message = Close{};
-        }
-        return request;
+    auto message = parse_message(j, *type, std::type_identity<ClientMessage>{});
+    if (!message) {
+        return message.error();
     }
-    if (*type == Open::type) {
-        if (auto status = fields({"volume"}); !status) {
-            return status.error();
-        }
-        auto volume = required_string(j, "volume", 256);
-        if (!volume) {
-            return volume.error();
-        }
-        request.message = Open{*volume};
-        return request;
-    }
-    if (*type == Join::type) {
-        if (auto status = fields({"session"}); !status) {
-            return status.error();
-        }
-        auto session = required_string(j, "session", 64);
-        if (!session) {
-            return session.error();
-        }
-        request.message = Join{*session};
-        return request;
-    }
-    if (*type == Resume::type) {
-        if (auto status = fields({"session", "owner_token", "volume"}); !status) {
-            return status.error();
-        }
-        auto session = required_string(j, "session", 64);
-        if (!session) {
-            return session.error();
-        }
-        auto owner_token = required_string(j, "owner_token", 64);
-        if (!owner_token) {
-            return owner_token.error();
-        }
-        Resume resume{*session, *owner_token, std::nullopt};
-        if (j.contains("volume")) {
-            auto volume = required_string(j, "volume", 256);
-            if (!volume) {
-                return volume.error();
-            }
-            resume.volume = *volume;
-        }
-        request.message = std::move(resume);
-        return request;
-    }
-    if (*type == Render::type) {
-        if (auto status = fields({"interactive"}); !status) {
-            return status.error();
-        }
-        Render render;
-        if (j.contains("interactive")) {
-            auto interactive = boolean(j.at("interactive"), "/interactive");
-            if (!interactive) {
-                return interactive.error();
-            }
-            render.interactive = *interactive;
-        }
-        request.message = render;
-        return request;
-    }
-    if (*type == Set::type) {
-        // The message itself becomes the patch: moved, never copied or printed. It is checked once,
-        // when it is applied to the session's state (apply_patch), which knows every field.
-        json patch = std::move(j);
-        patch.erase("v");
-        patch.erase("type");
-        patch.erase("id");
-        request.message = Set{
-                Patch(std::make_shared<const Patch::Document>(Patch::Document{std::move(patch)}))};
-        return request;
-    }
-    return field_error(code::unknown_type, "/type", "unknown message type '" + *type + "'");
+    request.message = std::move(message.value());
+    return request;
 }
 
 std::string hello_message(const Limits& limits, const RendererSummary& renderer) {

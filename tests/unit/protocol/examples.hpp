@@ -1,6 +1,11 @@
 #pragma once
 
-// The example messages of proto/examples/v1, for the tests of this folder.
+// The example messages, for the tests of this folder: each client message's own examples in its
+// schema (JSON Schema's `examples`, proto/v1/<type>.schema.json), more valid ones in
+// proto/examples/v1/valid and the invalid ones with their expected errors in
+// proto/examples/v1/invalid.
+
+#include <penumbra/protocol/messages.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -34,6 +39,47 @@ inline std::vector<std::filesystem::path> example_files(const std::string& kind)
     }
     std::sort(files.begin(), files.end());
     return files;
+}
+
+inline std::filesystem::path schema_path(std::string_view type) {
+    return std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / (std::string(type) + ".schema.json");
+}
+
+// The part of a message's schema that checks what a client sends: the whole schema, or
+// $defs/request where one schema serves both directions (stats).
+inline const nlohmann::json& request_part(const nlohmann::json& schema) {
+    return schema.contains("$defs") && schema.at("$defs").contains("request")
+                   ? schema.at("$defs").at("request")
+                   : schema;
+}
+
+struct ValidExample {
+    std::string name;  // "open.schema.json#/examples/0" or "set_camera_eye.json"
+    std::string text;  // what goes on the wire
+};
+
+// Every valid client message: the examples in the schema of each type of ClientMessage, then the
+// files of examples/v1/valid.
+inline std::vector<ValidExample> valid_examples() {
+    std::vector<ValidExample> out;
+    for (const std::string_view type : kClientMessageTypes) {
+        const std::filesystem::path path = schema_path(type);
+        const auto schema = nlohmann::json::parse(read_text(path), nullptr, false);
+        if (schema.is_discarded() || !request_part(schema).contains("examples")) {
+            continue;  // EveryClientMessageHasItsSchemaAndItsExample names what is missing
+        }
+        const auto& examples = request_part(schema).at("examples");
+        const std::string pointer = &request_part(schema) == &schema ? "" : "/$defs/request";
+        for (std::size_t i = 0; i < examples.size(); ++i) {
+            out.push_back(
+                    {path.filename().string() + "#" + pointer + "/examples/" + std::to_string(i),
+                     examples.at(i).dump()});
+        }
+    }
+    for (const auto& path : example_files("valid")) {
+        out.push_back({path.filename().string(), read_text(path)});
+    }
+    return out;
 }
 
 struct InvalidExample {

@@ -16,9 +16,9 @@ namespace penumbra::protocol {
 namespace {
 
 using nlohmann::json;
-using test::example_files;
 using test::invalid_examples;
 using test::read_text;
+using test::valid_examples;
 
 // The variant alternative each client message type parses to, from the alternatives' own names.
 std::size_t expected_index(const std::string& type) {
@@ -32,12 +32,11 @@ std::set<std::string> client_message_types() {
 }
 
 TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
-    const auto files = example_files("valid");
-    ASSERT_GE(files.size(), 20U);
+    const auto examples = valid_examples();
+    ASSERT_GE(examples.size(), 20U);
     std::set<std::string> types;
-    for (const auto& path : files) {
-        SCOPED_TRACE(path.filename().string());
-        const std::string text = read_text(path);
+    for (const auto& [name, text] : examples) {
+        SCOPED_TRACE(name);
         const auto request = parse_request(text, Limits{});
         ASSERT_TRUE(request.ok()) << request.error().to_string();
         const auto j = json::parse(text);
@@ -54,34 +53,33 @@ TEST(ProtocolExamples, EveryValidExampleParsesToItsType) {
     EXPECT_EQ(types, client_message_types()) << "every client message type has a valid example";
 }
 
-// A message is added by its alternative in ClientMessage; its schema and example follow its name.
+// A message is added by its alternative in ClientMessage; its schema follows its name and holds
+// its examples (JSON Schema's `examples`), each a message of that type.
 TEST(ProtocolExamples, EveryClientMessageHasItsSchemaAndItsExample) {
     for (const std::string_view type : kClientMessageTypes) {
         const std::string name(type);
         SCOPED_TRACE(name);
-        const auto schema_path =
-                std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / (name + ".schema.json");
+        const auto schema_path = test::schema_path(type);
         ASSERT_TRUE(std::filesystem::exists(schema_path)) << schema_path;
         const json schema = json::parse(read_text(schema_path));
-        // A schema for both directions (stats) keeps the request in $defs/request.
-        const json& request = schema.contains("$defs") && schema.at("$defs").contains("request")
-                                      ? schema.at("$defs").at("request")
-                                      : schema;
+        const json& request = test::request_part(schema);
         EXPECT_EQ(request.at("properties").at("type").at("const"), name);
-        const auto example = test::examples_dir() / "valid" / (name + ".json");
-        ASSERT_TRUE(std::filesystem::exists(example)) << example;
-        const auto parsed = parse_request(read_text(example), Limits{});
-        ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
-        EXPECT_EQ(kClientMessageTypes.at(parsed->message.index()), type);
+        ASSERT_TRUE(request.contains("examples")) << schema_path << " has no examples";
+        ASSERT_FALSE(request.at("examples").empty()) << schema_path << " has no examples";
+        for (const json& example : request.at("examples")) {
+            const auto parsed = parse_request(example.dump(), Limits{});
+            ASSERT_TRUE(parsed.ok()) << example.dump() << ": " << parsed.error().to_string();
+            EXPECT_EQ(kClientMessageTypes.at(parsed->message.index()), type) << example.dump();
+        }
     }
 }
 
 TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {
-    for (const auto& path : example_files("valid")) {
-        const auto request = parse_request(read_text(path), Limits{});
+    for (const auto& [name, text] : valid_examples()) {
+        const auto request = parse_request(text, Limits{});
         ASSERT_TRUE(request.ok());
         if (const auto* set = std::get_if<Set>(&request->message)) {
-            SCOPED_TRACE(path.filename().string());
+            SCOPED_TRACE(name);
             SessionState state;
             state.frame.transfer_function = scene::preset("grey_ramp").value();
             const auto status = apply_patch(set->patch, state, Limits{});

@@ -32,13 +32,12 @@ std::vector<SessionState> sample_states() {
     for (const auto& name : scene::preset_names()) {
         states.push_back(preset_state(name.c_str()));
     }
-    for (const auto& path : test::example_files("valid")) {
-        const std::string text = test::read_text(path);
+    for (const auto& [name, text] : test::valid_examples()) {
         if (text.find("\"set\"") == std::string::npos) {
             continue;
         }
         SessionState state = preset_state("mri_brain");
-        EXPECT_TRUE(apply_patch(patch_of(text), state, Limits{}).ok()) << path;
+        EXPECT_TRUE(apply_patch(patch_of(text), state, Limits{}).ok()) << name;
         states.push_back(state);
     }
     return states;

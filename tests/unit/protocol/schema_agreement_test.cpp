@@ -1,8 +1,10 @@
 // The JSON Schemas of proto/v1 against the C++ tables they restate for clients that cannot read
-// C++: scene's mode table and its setting ranges; and the hello the web client's tests take their
-// ranges from. A mode or a limit changed in one and not the other fails here.
+// C++: scene's mode table, its setting ranges and the client message types, which
+// scripts/update-schema.sh writes into common.schema.json; and the hello the web client's tests
+// take their ranges from. A mode or a limit changed in one and not the other fails here.
 
 #include "examples.hpp"
+#include "schema_generator.hpp"
 
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -15,6 +17,9 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace penumbra::protocol {
@@ -26,29 +31,166 @@ json schema(const std::string& name) {
     return json::parse(test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / name));
 }
 
-TEST(SchemaAgreement, ModeEnumIsTheModeTable) {
-    std::vector<std::string> table;
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        table.emplace_back(mode.name);
-    }
-    const auto schema_modes = schema("common.schema.json")
-                                      .at("$defs")
-                                      .at("mode")
-                                      .at("enum")
-                                      .get<std::vector<std::string>>();
-    EXPECT_EQ(schema_modes, table);
+// The schema node a range's field names: "settings/scattering/shell_rings" is
+// $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
+// those $defs.
+// The definition a "$ref": "common.schema.json#/$defs/NAME" names.
+json schema_definition(const json& reference) {
+    const std::string ref = reference.at("$ref").get<std::string>();
+    const std::string prefix = "common.schema.json#/$defs/";
+    EXPECT_TRUE(ref.starts_with(prefix)) << ref;
+    return schema("common.schema.json").at("$defs").at(ref.substr(prefix.size()));
 }
 
-TEST(SchemaAgreement, ClientTypeEnumIsTheRequestVariant) {
-    auto schema_types = schema("common.schema.json")
-                                .at("$defs")
-                                .at("client_type")
-                                .at("enum")
-                                .get<std::vector<std::string>>();
-    std::vector<std::string> variant(kClientMessageTypes.begin(), kClientMessageTypes.end());
-    std::sort(schema_types.begin(), schema_types.end());
-    std::sort(variant.begin(), variant.end());
-    EXPECT_EQ(schema_types, variant);
+const json& schema_node(const json& defs, std::string_view field) {
+    if (field == "vec3" || field == "rgb") {
+        return defs.at(std::string(field)).at("items");
+    }
+    std::istringstream parts{std::string(field)};
+    std::string part;
+    std::getline(parts, part, '/');
+    const json* node = &defs.at(part);
+    while (std::getline(parts, part, '/')) {
+        node = &node->at("properties").at(part);
+    }
+    return *node;
+}
+
+// The schema's copies of the tables are written by the generator, never by hand: a mode, a range or
+// a client message type changed in C++ changes what it writes, and the committed file must follow.
+TEST(SchemaAgreement, CommonSchemaIsGenerated) {
+    const std::string committed = test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" /
+                                                  "common.schema.json");
+    const auto generated = test::generated_common_schema(committed);
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << "proto/v1/common.schema.json differs from what the C++ tables make of it: run "
+               "scripts/update-schema.sh";
+}
+
+// proto/README.md's table of the client messages is their schemas' members and descriptions: a new
+// message's schema brings its row.
+TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
+    const std::filesystem::path proto(PENUMBRA_PROTO_DIR);
+    const std::string committed = test::read_text(proto / "README.md");
+    const auto generated = test::generated_readme(committed, proto / "v1");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << "proto/README.md's table of the client messages differs from their schemas: run "
+               "scripts/update-schema.sh";
+    for (const std::string_view type : kClientMessageTypes) {
+        EXPECT_NE(generated->find("| `" + std::string(type) + "` |"), std::string::npos) << type;
+    }
+}
+
+// A setting added to the table reaches the schema with nothing written by hand: from a schema
+// without it, the generator makes its node, its limits and its place in the state.
+TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
+    const auto generated = test::generated_common_schema(
+            R"({"$defs": {"state": {"properties": {"camera": {"allOf": [{}, {}]},
+               "light": {"allOf": [{}, {}]}, "settings": {"allOf": [{}, {}]}}}}})");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    const json defs = json::parse(*generated).at("$defs");
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        SCOPED_TRACE(std::string(range->field));
+        const json& node = schema_node(defs, range->field);
+        EXPECT_EQ(node.at("minimum").get<double>(), range->min);
+        EXPECT_EQ(node.at("maximum").get<double>(), range->max);
+        EXPECT_EQ(node.at("type"), range->integer ? "integer" : "number");
+        if (!range->summary.empty()) {
+            EXPECT_EQ(node.at("description"), range->summary);
+        }
+    }
+    // Each setting that a state holds is required there, where the state's part lists them.
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (range->read == nullptr) {
+            continue;
+        }
+        SCOPED_TRACE(std::string(range->field));
+        const std::string field(range->field);
+        const std::size_t part_end = field.find('/');
+        const std::size_t leaf_start = field.rfind('/') + 1;
+        const json* node =
+                &defs.at("state").at("properties").at(field.substr(0, part_end)).at("allOf").at(1);
+        std::istringstream middle(field.substr(part_end + 1, leaf_start - part_end - 1));
+        for (std::string part; std::getline(middle, part, '/');) {
+            node = &node->at("properties").at(part);
+        }
+        const auto required = node->at("required").get<std::vector<std::string>>();
+        EXPECT_NE(std::find(required.begin(), required.end(), field.substr(leaf_start)),
+                  required.end());
+    }
+    std::vector<std::string> modes;
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        modes.emplace_back(mode.name);
+    }
+    EXPECT_EQ(defs.at("mode").at("enum").get<std::vector<std::string>>(), modes);
+    EXPECT_EQ(defs.at("client_type").at("enum").get<std::vector<std::string>>(),
+              std::vector<std::string>(kClientMessageTypes.begin(), kClientMessageTypes.end()));
+}
+
+TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
+    EXPECT_FALSE(test::generated_common_schema("[1, 2]").ok());
+    EXPECT_FALSE(test::generated_common_schema("{\"$defs\": 1}").ok());
+    EXPECT_FALSE(test::generated_common_schema("{").ok());
+}
+
+// One member as parse_request reads it and as the schema's `request` part states it: required
+// exactly when it is a plain string, its JSON type and a string's length.
+template <class Message, class Value>
+void expect_member_in_schema(const json& request, const Member<Message, Value>& member) {
+    const std::string name(member.name);
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(request.at("properties").contains(name)) << "the schema does not list it";
+    const json& property = request.at("properties").at(name);
+    const auto required = request.at("required").get<std::set<std::string>>();
+    EXPECT_EQ(required.contains(name), (std::is_same_v<Value, std::string>));
+    if constexpr (std::is_same_v<Value, bool>) {
+        EXPECT_EQ(property.at("type"), "boolean");
+    } else {
+        // A string of its own, or a shared definition of one (owner_token).
+        const json string = property.contains("$ref") ? schema_definition(property) : property;
+        EXPECT_EQ(string.at("type"), "string");
+        EXPECT_EQ(string.at("maxLength").get<std::size_t>(), member.max_bytes);
+    }
+}
+
+// A client message's members as parse_request reads them (its members()) and as its schema states
+// them: the same names, and each alike. `set`'s members are the state's parts, which its schema
+// lists and apply_patch reads.
+template <class Message>
+void expect_members_in_schema() {
+    const std::string type(Message::type);
+    SCOPED_TRACE(type);
+    const json schema = json::parse(test::read_text(test::schema_path(type)));
+    const json& request = test::request_part(schema);
+    if constexpr (!std::is_same_v<Message, Set>) {
+        std::set<std::string> in_schema;
+        for (const auto& [name, property] : request.at("properties").items()) {
+            if (name != "v" && name != "type" && name != "id") {
+                in_schema.insert(name);
+            }
+        }
+        std::set<std::string> in_struct;
+        if constexpr (requires { Message::members(); }) {
+            std::apply(
+                    [&](const auto&... member) {
+                        (in_struct.emplace(member.name), ...);
+                        (expect_member_in_schema(request, member), ...);
+                    },
+                    Message::members());
+        }
+        EXPECT_EQ(in_struct, in_schema);
+    }
+}
+
+template <class... Messages>
+void expect_members_in_schemas(std::type_identity<std::variant<Messages...>>) {
+    (expect_members_in_schema<Messages>(), ...);
+}
+
+TEST(SchemaAgreement, ClientMessageMembersAreTheirSchemasProperties) {
+    expect_members_in_schemas(std::type_identity<ClientMessage>{});
 }
 
 TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
@@ -64,34 +206,6 @@ TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
         EXPECT_TRUE(has("shadows", scene::to_string(mode.shadows)));
         EXPECT_TRUE(has("scattering", scene::to_string(mode.scattering)));
         EXPECT_TRUE(has("gradients", scene::to_string(mode.gradients)));
-    }
-}
-
-// The schema node a range's field names: "settings/scattering/shell_rings" is
-// $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
-// those $defs.
-const json& schema_node(const json& defs, std::string_view field) {
-    if (field == "vec3" || field == "rgb") {
-        return defs.at(std::string(field)).at("items");
-    }
-    std::istringstream parts{std::string(field)};
-    std::string part;
-    std::getline(parts, part, '/');
-    const json* node = &defs.at(part);
-    while (std::getline(parts, part, '/')) {
-        node = &node->at("properties").at(part);
-    }
-    return *node;
-}
-
-TEST(SchemaAgreement, EverySettingRangeIsTheSchemasMinimumAndMaximum) {
-    const json defs = schema("common.schema.json").at("$defs");
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        SCOPED_TRACE(std::string(range->field));
-        const json& node = schema_node(defs, range->field);
-        EXPECT_EQ(node.at("minimum").get<double>(), range->min);
-        EXPECT_EQ(node.at("maximum").get<double>(), range->max);
-        EXPECT_EQ(node.at("type"), range->integer ? "integer" : "number");
     }
 }
 

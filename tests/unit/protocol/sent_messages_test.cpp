@@ -67,8 +67,8 @@ std::vector<std::string> text_messages() {
         states.push_back(state_to_json(state));
     }
     states.push_back(state_to_json(SessionState{}));
-    for (const auto& path : test::example_files("valid")) {
-        const auto request = parse_request(test::read_text(path), Limits{});
+    for (const auto& example : test::valid_examples()) {
+        const auto request = parse_request(example.text, Limits{});
         if (request.ok() && std::holds_alternative<Set>(request->message)) {
             SessionState state;
             state.frame.transfer_function = scene::preset("grey_ramp").value();

@@ -10,6 +10,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -37,9 +39,34 @@ inline constexpr const char* too_much_work = "too_much_work";
 inline constexpr const char* internal_error = "internal_error";
 }  // namespace code
 
+// A member of a client message as the wire carries it, listed next to the message's struct by a
+// static `members()`: parse_request reads each by its name, in the listed order, and refuses
+// members a message does not list (unknown_field), so a message made of such members needs no
+// parsing code of its own. A std::string is required (invalid_message at its pointer when
+// missing); a std::optional<std::string> or a bool may be absent and then keeps the struct's
+// default; a string holds at most `max_bytes` UTF-8 bytes (out_of_range beyond). Wrong JSON types
+// are invalid_value.
+template <class Message, class Value>
+struct Member {
+    std::string_view name;
+    Value Message::*pointer;
+    std::size_t max_bytes = 0;
+};
+
+template <class Message, class Value>
+constexpr Member<Message, Value> member(std::string_view name, Value Message::*pointer,
+                                        std::size_t max_bytes = 0) {
+    static_assert(std::is_same_v<Value, std::string> ||
+                          std::is_same_v<Value, std::optional<std::string>> ||
+                          std::is_same_v<Value, bool>,
+                  "parse_request reads a string, an optional string or a bool");
+    return {name, pointer, max_bytes};
+}
+
 // Client -> server. Every message carries "v": 1, a "type" and an optional client-chosen "id"
 // that the answer repeats. Each message knows its type name, which is also the name of its schema
-// (proto/v1/<type>.schema.json) and of its example (proto/examples/v1/valid/<type>.json).
+// (proto/v1/<type>.schema.json, whose `examples` are the message's examples). A message without
+// `members()` has none besides "v", "type" and "id".
 struct ListVolumes {
     static constexpr std::string_view type = "list_volumes";
 };
@@ -47,11 +74,14 @@ struct ListVolumes {
 struct Open {
     static constexpr std::string_view type = "open";
     std::string volume;
+
+    static constexpr auto members() { return std::tuple{member("volume", &Open::volume, 256)}; }
 };
 
 // Any subset of the session's state (camera, light, transfer_function, settings, output); absent
 // parts keep their value. Parsed, not yet checked: apply_patch (scene_json.hpp) checks each field
-// once, against the state it changes, and a bad patch changes nothing.
+// once, against the state it changes, and a bad patch changes nothing. The one message that
+// parse_request reads by code of its own: the message itself becomes the patch.
 struct Set {
     static constexpr std::string_view type = "set";
     Patch patch;
@@ -60,6 +90,10 @@ struct Set {
 struct Render {
     static constexpr std::string_view type = "render";
     bool interactive = false;  // reduced quality while the user drags; a still follows
+
+    static constexpr auto members() {
+        return std::tuple{member("interactive", &Render::interactive)};
+    }
 };
 
 struct Stats {
@@ -69,6 +103,8 @@ struct Stats {
 struct Join {
     static constexpr std::string_view type = "join";
     std::string session;
+
+    static constexpr auto members() { return std::tuple{member("session", &Join::session, 64)}; }
 };
 
 struct Close {
@@ -84,8 +120,19 @@ struct Resume {
     // The session's volume. A server of a cluster that shares the secret owner tokens derive from
     // re-creates a session it does not hold (its replica died) on this volume.
     std::optional<std::string> volume;
+
+    static constexpr auto members() {
+        return std::tuple{member("session", &Resume::session, 64),
+                          member("owner_token", &Resume::owner_token, 64),
+                          member("volume", &Resume::volume, 256)};
+    }
 };
 
+// A new client message is its struct above (its `type` and, for members, `members()`) and its
+// alternative here; its handler, a specialisation of ConnectionHandler::handle in net (without one
+// net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
+// examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
+// and its row into proto/README.md; protocol_test fails until the schema and those agree.
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
 
 template <typename Variant>

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Rewrites what proto/v1/common.schema.json restates of the C++ tables (each setting's range from
+# scene::kSettingRanges, the mode names, the client message types) from the tables themselves,
+# and proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json).
+# Run it after changing one of them; SchemaAgreement.*IsGenerated (protocol_test) fail until the
+# committed files are what this writes. The rest of both files is written by hand.
+#   scripts/update-schema.sh [PRESET]     (default: release; builds the update_schema target)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+preset=${1:-release}
+if [ ! -d "build/$preset" ]; then
+    cmake --preset "$preset" >/dev/null
+fi
+cmake --build --preset "$preset" --target update_schema
+"build/$preset/tests/unit/protocol/update_schema" proto

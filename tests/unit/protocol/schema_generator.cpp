@@ -1,0 +1,222 @@
+#include "schema_generator.hpp"
+
+#include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/mode.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace penumbra::protocol::test {
+namespace {
+
+// Keeps the hand-written members in the order they are written.
+using json = nlohmann::ordered_json;
+
+// Whole numbers as JSON integers (1000, not 1000.0), as a person writes them.
+json number(double value) {
+    if (value == std::trunc(value) && std::abs(value) < 9.0e15) {
+        return static_cast<std::int64_t>(value);
+    }
+    return value;
+}
+
+std::vector<std::string> parts_of(std::string_view field) {
+    std::vector<std::string> parts;
+    std::istringstream in{std::string(field)};
+    for (std::string part; std::getline(in, part, '/');) {
+        parts.push_back(part);
+    }
+    return parts;
+}
+
+// The node of a range's field, made where it is missing: "settings/scattering/shell_rings" is
+// $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
+// those $defs.
+json& node_of(json& defs, std::string_view field) {
+    if (field == "vec3" || field == "rgb") {
+        return defs[std::string(field)]["items"];
+    }
+    const std::vector<std::string> parts = parts_of(field);
+    json* node = &defs[parts.front()];
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        node = &(*node)["properties"][parts[i]];
+    }
+    return *node;
+}
+
+// Description, type, minimum and maximum first, then whatever else the node says by hand.
+void write_range(json& node, const scene::SettingRange& range) {
+    json written = json::object();
+    if (!range.summary.empty()) {
+        written["description"] = range.summary;
+    } else if (node.is_object() && node.contains("description")) {
+        written["description"] = node.at("description");
+    }
+    written["type"] = range.integer ? "integer" : "number";
+    written["minimum"] = number(range.min);
+    written["maximum"] = number(range.max);
+    if (node.is_object()) {
+        for (const auto& [key, value] : node.items()) {
+            if (!written.contains(key)) {
+                written[key] = value;
+            }
+        }
+    }
+    node = std::move(written);
+}
+
+// A setting that a request holds is a member of every state: required at its place in
+// $defs/state (each part's second allOf entry lists what the state adds to the patch's shape).
+void require_in_state(json& defs, std::string_view field) {
+    const std::vector<std::string> parts = parts_of(field);
+    json* node = &defs["state"]["properties"][parts.front()]["allOf"][1];
+    for (std::size_t i = 1; i + 1 < parts.size(); ++i) {
+        node = &(*node)["properties"][parts[i]];
+    }
+    json& required = (*node)["required"];
+    if (std::find(required.begin(), required.end(), parts.back()) == required.end()) {
+        required.push_back(parts.back());
+    }
+}
+
+// A table cell: '|' escaped, as Markdown tables need.
+std::string cell(std::string_view text) {
+    std::string out;
+    for (const char c : text) {
+        if (c == '|') {
+            out += '\\';
+        }
+        out += c;
+    }
+    return out;
+}
+
+// What the schema says of a member's value: "string ≤ 256 bytes", "boolean"; empty for a $ref.
+std::string value_kind(const json& member) {
+    if (!member.contains("type") || !member.at("type").is_string()) {
+        return "";
+    }
+    std::string kind = member.at("type").get<std::string>();
+    if (member.contains("maxLength")) {
+        kind += " ≤ " + member.at("maxLength").dump() + " bytes";
+    }
+    return kind;
+}
+
+// "`volume` (required, string ≤ 256 bytes): an id from volumes; `interactive` (boolean): ..."
+std::string members_cell(const json& request) {
+    std::string out;
+    const json required = request.value("required", json::array());
+    for (const auto& [name, member] : request.at("properties").items()) {
+        if (name == "v" || name == "type" || name == "id") {
+            continue;
+        }
+        if (!out.empty()) {
+            out += "; ";
+        }
+        out += "`" + name + "`";
+        std::string notes;
+        if (std::find(required.begin(), required.end(), name) != required.end()) {
+            notes = "required";
+        }
+        if (const std::string kind = value_kind(member); !kind.empty()) {
+            notes += (notes.empty() ? "" : ", ") + kind;
+        }
+        if (!notes.empty()) {
+            out += " (" + notes + ")";
+        }
+        if (member.contains("description")) {
+            std::string description = member.at("description").get<std::string>();
+            if (description.ends_with('.')) {
+                description.pop_back();
+            }
+            out += ": " + description;
+        }
+    }
+    return out.empty() ? "–" : cell(out);
+}
+
+base::Result<std::string> message_table(const std::filesystem::path& schema_dir) {
+    std::string table =
+            "| `type` | members besides `v`, `type`, `id` | what it does |\n"
+            "|---|---|---|\n";
+    for (const std::string_view type : kClientMessageTypes) {
+        const std::filesystem::path path = schema_dir / (std::string(type) + ".schema.json");
+        std::ifstream in(path, std::ios::binary);
+        const json schema = json::parse(in, nullptr, false);
+        if (schema.is_discarded() || !schema.is_object()) {
+            return base::make_error("invalid_value", "no JSON schema for " + std::string(type),
+                                    path.string());
+        }
+        // A schema for both directions (stats) keeps the request in $defs/request.
+        const json& request = schema.contains("$defs") && schema.at("$defs").contains("request")
+                                      ? schema.at("$defs").at("request")
+                                      : schema;
+        if (!request.contains("properties") || !request.contains("description")) {
+            return base::make_error("invalid_value",
+                                    "the request has no properties or no description",
+                                    path.string());
+        }
+        table += "| `" + std::string(type) + "` | " + members_cell(request) + " | " +
+                 cell(request.at("description").get<std::string>()) + " |\n";
+    }
+    return table;
+}
+
+}  // namespace
+
+base::Result<std::string> generated_readme(std::string_view committed,
+                                           const std::filesystem::path& schema_dir) {
+    const std::size_t begin = committed.find(kTableBegin);
+    const std::size_t end = committed.find(kTableEnd);
+    if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) {
+        return base::make_error("invalid_value", "no table between \"" + std::string(kTableBegin) +
+                                                         "\" and \"" + std::string(kTableEnd) +
+                                                         "\"");
+    }
+    auto table = message_table(schema_dir);
+    if (!table) {
+        return table.error();
+    }
+    const std::size_t table_start = begin + kTableBegin.size();
+    return std::string(committed.substr(0, table_start)) + "\n" + *table +
+           std::string(committed.substr(end));
+}
+
+base::Result<std::string> generated_common_schema(std::string_view committed) {
+    json schema = json::parse(committed, nullptr, false);
+    if (schema.is_discarded() || !schema.is_object() || !schema.contains("$defs") ||
+        !schema.at("$defs").is_object()) {
+        return base::make_error("invalid_value", "not a JSON object with $defs", "/$defs");
+    }
+    json& defs = schema["$defs"];
+
+    json modes = json::array();
+    for (const scene::ModeInfo& mode : scene::modes()) {
+        modes.push_back(mode.name);
+    }
+    defs["mode"]["enum"] = std::move(modes);
+
+    json client_types = json::array();
+    for (const std::string_view type : kClientMessageTypes) {
+        client_types.push_back(type);
+    }
+    defs["client_type"]["enum"] = std::move(client_types);
+
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        write_range(node_of(defs, range->field), *range);
+        if (range->read != nullptr) {
+            require_in_state(defs, range->field);
+        }
+    }
+    return schema.dump(2) + "\n";
+}
+
+}  // namespace penumbra::protocol::test

@@ -1,0 +1,33 @@
+#pragma once
+
+// What proto/v1/common.schema.json restates of the C++ tables, for clients that cannot read C++:
+// scene's mode table, each setting's range (kSettingRanges: type, minimum, maximum and, where the
+// row has one, its summary as the description; a setting that a state holds is required there)
+// and the client message types (the request variant). The rest of the file is written by hand.
+// proto/README.md's table of the client messages is written from their schemas the same way.
+// update_schema writes these parts into the files (scripts/update-schema.sh) and
+// SchemaAgreement.*IsGenerated fail while a committed file differs.
+
+#include <penumbra/base/result.hpp>
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace penumbra::protocol::test {
+
+// `committed`, the text of common.schema.json, with its generated parts written from the tables,
+// two-space indented as the file is; an error where the text is not a JSON object with `$defs`.
+base::Result<std::string> generated_common_schema(std::string_view committed);
+
+// `committed`, the text of proto/README.md, with the table between kTableBegin and kTableEnd
+// written from the schemas in `schema_dir` (proto/v1) of the client message types, in the order of
+// ClientMessage: each type, its members besides v, type and id (required ones marked, with their
+// descriptions) and its schema's description. An error where a marker or a schema is missing.
+inline constexpr std::string_view kTableBegin =
+        "<!-- The client messages: written from their schemas by scripts/update-schema.sh. -->";
+inline constexpr std::string_view kTableEnd = "<!-- End of the client messages. -->";
+base::Result<std::string> generated_readme(std::string_view committed,
+                                           const std::filesystem::path& schema_dir);
+
+}  // namespace penumbra::protocol::test

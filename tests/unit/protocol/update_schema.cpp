@@ -1,0 +1,66 @@
+// Writes the generated parts of proto/v1/common.schema.json and proto/README.md
+// (schema_generator.hpp) into them: update_schema PROTO_DIR. scripts/update-schema.sh builds and
+// runs it.
+
+#include "schema_generator.hpp"
+
+#include <penumbra/base/result.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+namespace {
+
+// Rewrites `path` with what `generate` makes of its text; false (and a message) on an error.
+bool update(const std::filesystem::path& path,
+            const std::function<penumbra::base::Result<std::string>(std::string_view)>& generate) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        std::cerr << "update_schema: cannot read " << path.string() << "\n";
+        return false;
+    }
+    const std::string committed{std::istreambuf_iterator<char>(in),
+                                std::istreambuf_iterator<char>()};
+    in.close();
+    const auto generated = generate(committed);
+    if (!generated) {
+        std::cerr << "update_schema: " << path.string() << ": " << generated.error().to_string()
+                  << "\n";
+        return false;
+    }
+    if (*generated == committed) {
+        std::cout << path.string() << " is up to date\n";
+        return true;
+    }
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << *generated;
+    if (!out.flush()) {
+        std::cerr << "update_schema: cannot write " << path.string() << "\n";
+        return false;
+    }
+    std::cout << path.string() << " rewritten\n";
+    return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::cerr << "usage: update_schema PROTO_DIR   (the repository's proto/)\n";
+        return 2;
+    }
+    namespace protocol_test = penumbra::protocol::test;
+    const std::filesystem::path proto = argv[1];
+    const bool schema = update(proto / "v1" / "common.schema.json", [](std::string_view text) {
+        return protocol_test::generated_common_schema(text);
+    });
+    const bool readme = update(proto / "README.md", [&](std::string_view text) {
+        return protocol_test::generated_readme(text, proto / "v1");
+    });
+    return schema && readme ? 0 : 1;
+}
