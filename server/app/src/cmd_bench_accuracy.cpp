@@ -4,8 +4,8 @@
 // against it and set beside the frame time. The measured table doubles as the source of quality
 // presets: for a frame-time budget, the most accurate setting that fits.
 
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "render_options.hpp"
 #include "transfer_function_file.hpp"
 
@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,7 +75,7 @@ std::string cases_help() {
     std::string help;
     for (const AccuracyCase& c : accuracy_cases()) {
         char line[256];
-        std::snprintf(line, sizeof line, "      %-15s tf %s: %s\n", c.name, c.transfer_function,
+        std::snprintf(line, sizeof line, "\n  %-15s \ttf %s: %s", c.name, c.transfer_function,
                       c.what);
         help += line;
     }
@@ -89,61 +90,84 @@ int usage_error(const base::Error& error) {
     return report_usage_error("bench accuracy", error);
 }
 
-void print_usage() {
-    std::printf(
-            "usage: penumbra bench accuracy [options]\n"
-            "\n"
-            "Accuracy against the `reference` mode (shadow rays) versus frame time. For every\n"
-            "volume and light the reference is rendered once per sample distance from the same\n"
-            "camera; every other mode x slices x light-buffer resolution x sample distance is\n"
-            "compared with it (RMSE and PSNR via OpenImageIO, SSIM on Rec. 601 luma) and timed:\n"
-            "the median frame time over --repeat frames with the light buffer cached (only the\n"
-            "camera fixed: what a user orbiting the volume pays), and, separately, the median\n"
-            "light-buffer build forced by nudging the light (what a light or TF edit pays).\n"
-            "Times are GPU timer queries where they work, else wall clock (software rasterisers).\n"
-            "Phong shading is on in every mode that has it as an option (shadow modes and the\n"
-            "reference), so the methods differ only in how they shadow; dvr is unlit.\n"
-            "\n"
-            "Defaults are for a GPU; on a software rasteriser (llvmpipe) lighter ones in [].\n"
-            "  --volumes FILE,...             (default ch2, ch2better, inia19-t1-brain from\n"
-            "                                 /usr/share/mricron/templates [ch2], and the head\n"
-            "                                 CT that scripts/demo-data.sh converts, where it "
-            "did)\n"
-            "  --lights AZ,EL;AZ,EL...        directional lights in degrees, quote the ';'\n"
-            "                                 (default 10,45;100,20;250,60 [10,45])\n"
-            "  --modes LIST                   (default %s;\n"
-            "                                 the reference is always rendered)\n"
-            "  --slices-list N,...            (default 32,64,128,256,512 [32,64,128,256])\n"
-            "  --light-res-list R,...         (default 64,128,256,512,1024 [64,128,256])\n"
-            "  --sample-distances D,...       numbers or 1/N (default 1/256,1/512 [1/256])\n"
-            "  --skipping on,off              empty-space skipping on and/or off, every\n"
-            "                                 setting and the reference (default on)\n"
-            "  --jitter off,on                ray-cast modes unjittered and/or jittered\n"
-            "                                 (default off; the reference never jitters)\n"
-            "  --refinement K,...             jittered settings also refined by K steps, each\n"
-            "                                 a point (e.g. 0,4,8; needs --jitter with on)\n"
-            "  --case NAME                    a transfer function and the volumes it suits:\n"
-            "%s"
-            "  --size WxH                     (default 512x512 [256x256])\n"
-            "  --repeat N                     timed frames per point after 1 warm-up\n"
-            "                                 (default 7 [3])\n"
-            "  --no-phong                     shadow modes and reference without Blinn-Phong\n"
-            "  --csv FILE  --json FILE        the measured table (one row per point)\n"
-            "  --plot FILE.png                PSNR over frame time, one curve per method, Pareto\n"
-            "                                 front marked; also FILE.svg and the gnuplot script\n"
-            "                                 FILE.gp (needs gnuplot-nox)\n"
-            "  --budget-ms MS,...             frame-time budgets for the quality presets\n"
-            "                                 (default: six from the fastest setting to the\n"
-            "                                 reference)\n"
-            "  --from FILE.json               measure nothing: presets, CSV, JSON and plot from a\n"
-            "                                 table written by --json\n"
-            "  --debug-gl                     GL debug output to the log\n"
-            "\n"
-            "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
-            "--light-position, --sample-distance, --jitter and --no-empty-space-skipping are\n"
-            "swept instead):\n%s",
-            default_modes().c_str(), cases_help().c_str(), frame_options_help());
+// What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
+const SweptOptions swept = {{"mode", "--modes LIST"},
+                            {"slices", "--slices-list LIST"},
+                            {"light-res", "--light-res-list LIST"},
+                            {"light", "--lights LIST"},
+                            {"light-position", "--lights LIST (directional lights only)"},
+                            {"sample-distance", "--sample-distances LIST"},
+                            {"no-empty-space-skipping", "--skipping on,off"}};
+
+// "(default GPU [software rasteriser])".
+std::string defaults_of(const std::string& gpu, const std::string& software) {
+    return " (default " + gpu + (gpu == software ? "" : " [" + software + "]") + ")";
 }
+
+po::options_description sweep_options() {
+    const SweepDefaults& gpu = gpu_defaults;
+    const SweepDefaults& cpu = software_defaults;
+    const auto list = [](const char* name) { return po::value<std::string>()->value_name(name); };
+    po::options_description options = option_group(
+            "sweep (defaults for a GPU, on a software rasteriser such as llvmpipe lighter ones in "
+            "[])");
+    const std::string lights =
+            "directional lights in degrees, quote the ';'" + defaults_of(gpu.lights, cpu.lights);
+    const std::string modes = "(default " + default_modes() + "; the reference is always rendered)";
+    const std::string distances =
+            "numbers or 1/N" + defaults_of(gpu.sample_distances, cpu.sample_distances);
+    const std::string slices = "light slices" + defaults_of(gpu.slices, cpu.slices);
+    const std::string resolutions =
+            "light-buffer resolutions" + defaults_of(gpu.resolutions, cpu.resolutions);
+    const std::string cases = "a transfer function and the volumes it suits:" + cases_help();
+    const std::string repeat = "timed frames per point after 1 warm-up" +
+                               defaults_of(std::to_string(gpu.repeat), std::to_string(cpu.repeat));
+    options.add_options()("volumes", list("FILE,..."),
+                          "(default ch2, ch2better, inia19-t1-brain from mricron-data [ch2], and "
+                          "the head CT that scripts/demo-data.sh converts, where it did)")(
+            "lights", list("AZ,EL;AZ,EL..."), lights.c_str())("modes", list("LIST"), modes.c_str())(
+            "slices-list", list("N,..."), slices.c_str())(
+            "light-res-list", list("R,..."), resolutions.c_str())("sample-distances", list("D,..."),
+                                                                  distances.c_str())(
+            "skipping", list("on,off")->default_value("on"),
+            "empty-space skipping on and/or off, every setting and the reference")(
+            "jitter", list("off,on")->default_value("off"),
+            "ray-cast modes unjittered and/or jittered (the reference never jitters)")(
+            "refinement", list("K,...")->default_value("0"),
+            "jittered settings also refined by K steps, each a point (needs --jitter with on)")(
+            "case", list("NAME"), cases.c_str())("repeat", po::value<int>()->value_name("N"),
+                                                 repeat.c_str());
+    return options;
+}
+
+po::options_description output_options() {
+    po::options_description options = option_group("output");
+    options.add_options()("help", "this text")("no-phong",
+                                               "shadow modes and reference without Blinn-Phong")(
+            "csv", po::value<std::string>()->value_name("FILE"), "the measured table as CSV")(
+            "json", po::value<std::string>()->value_name("FILE"), "... as JSON")(
+            "plot", po::value<std::string>()->value_name("FILE.png"),
+            "PSNR over frame time, one curve per method, Pareto front marked; also FILE.svg and "
+            "the gnuplot script FILE.gp (needs gnuplot-nox)")(
+            "budget-ms", po::value<std::string>()->value_name("MS,..."),
+            "frame-time budgets for the quality presets (default: six from the fastest setting "
+            "to the reference)")("from", po::value<std::string>()->value_name("FILE.json"),
+                                 "measure nothing: presets, CSV, JSON and plot from a table "
+                                 "written by --json")("debug-gl", "GL debug output to the log");
+    return options;
+}
+
+constexpr const char* about =
+        "Accuracy against the `reference` mode (shadow rays) versus frame time. For every volume "
+        "and light\nthe reference is rendered once per sample distance from the same camera; "
+        "every other mode x slices\nx light-buffer resolution x sample distance is compared "
+        "with it (RMSE and PSNR via OpenImageIO,\nSSIM on Rec. 601 luma) and timed: the median "
+        "frame time over --repeat frames with the light\nbuffer cached (what a user orbiting "
+        "the volume pays), and the median light-buffer build forced\nby nudging the light "
+        "(what a light or TF edit pays). Times are GPU timer queries where they\nwork, else "
+        "wall clock. Phong shading is on in every mode that has it as an option, so the\n"
+        "methods differ only in how they shadow; dvr is unlit. The frame options are those of "
+        "`render`,\nless what the sweep varies.";
 
 // "1/256,0.002" → distances (numbers accept the fraction form).
 base::Result<std::vector<double>> parse_distances(const std::string& text) {
@@ -232,10 +256,10 @@ base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& t
     return modes;
 }
 
-base::Status finish(const Table& table, const Arguments& a) {
+base::Status finish(const Table& table, const po::variables_map& a) {
     std::vector<double> budgets;
-    if (const auto text = a.get("budget-ms")) {
-        auto parsed = parse_numbers(*text, "budget-ms");
+    if (a.count("budget-ms") != 0) {
+        auto parsed = parse_numbers(a["budget-ms"].as<std::string>(), "budget-ms");
         if (!parsed) {
             return parsed.error();
         }
@@ -245,19 +269,22 @@ base::Status finish(const Table& table, const Arguments& a) {
     }
     const std::vector<Preset> presets = choose_presets(table, budgets);
     std::fputs(presets_text(table, presets).c_str(), stdout);
-    if (const auto path = a.get("csv")) {
+    if (a.count("csv") != 0) {
+        const auto path = std::optional(a["csv"].as<std::string>());
         if (auto status = write_csv(table, *path, "--csv"); !status) {
             return status;
         }
         std::printf("csv:      %s\n", path->c_str());
     }
-    if (const auto path = a.get("json")) {
+    if (a.count("json") != 0) {
+        const auto path = std::optional(a["json"].as<std::string>());
         if (auto status = write_table_file(*path, table, presets, "--json"); !status) {
             return status;
         }
         std::printf("json:     %s\n", path->c_str());
     }
-    if (const auto path = a.get("plot")) {
+    if (a.count("plot") != 0) {
+        const auto path = std::optional(a["plot"].as<std::string>());
         auto files = write_plot(table, *path, "--plot");
         if (!files) {
             return files.error();
@@ -269,11 +296,11 @@ base::Status finish(const Table& table, const Arguments& a) {
 }
 
 // --case, where one is named (an unknown name is an error).
-base::Result<const AccuracyCase*> case_from(const Arguments& a) {
-    const auto name = a.get("case");
-    if (!name) {
+base::Result<const AccuracyCase*> case_from(const po::variables_map& a) {
+    if (a.count("case") == 0) {
         return nullptr;
     }
+    const auto name = std::optional(a["case"].as<std::string>());
     const AccuracyCase* found = find_accuracy_case(*name);
     if (found == nullptr) {
         std::string names;
@@ -283,7 +310,7 @@ base::Result<const AccuracyCase*> case_from(const Arguments& a) {
         return base::make_error("invalid_argument",
                                 "no case '" + *name + "' (cases: " + names + ")", "--case");
     }
-    if (a.has("tf")) {
+    if (a.count("tf") != 0) {
         return base::make_error("invalid_argument",
                                 "--case sets the transfer function; give one or the other", "--tf");
     }
@@ -291,10 +318,10 @@ base::Result<const AccuracyCase*> case_from(const Arguments& a) {
 }
 
 // --volumes, else the case's, else this device's defaults with the head CT where it was made.
-base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
+base::Result<std::vector<std::string>> default_volumes(const po::variables_map& a,
                                                        const SweepDefaults& defaults) {
-    if (const auto volumes = a.get("volumes")) {
-        return split_list(*volumes);
+    if (a.count("volumes") != 0) {
+        return split_list(a["volumes"].as<std::string>());
     }
     auto named = case_from(a);
     if (!named) {
@@ -323,28 +350,27 @@ base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
 }
 
 // The sweep the options ask for, over the defaults of this kind of device.
-base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
-    auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_compared_modes(a.get("modes").value_or(default_modes()));
-    auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
+base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& defaults) {
+    auto lights = parse_lights(text_or(a, "lights", defaults.lights));
+    auto modes = parse_compared_modes(text_or(a, "modes", default_modes()));
+    auto slices = parse_counts(text_or(a, "slices-list", defaults.slices), "slices-list");
     auto resolutions =
-            parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
-    auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
-    auto repeat = a.integer("repeat", defaults.repeat);
-    auto skipping = parse_switches(a.get("skipping").value_or("on"), "skipping");
-    auto jitter = parse_switches(a.get("jitter").value_or("off"), "jitter");
-    auto refinement = parse_refinement(a.get("refinement").value_or("0"));
+            parse_counts(text_or(a, "light-res-list", defaults.resolutions), "light-res-list");
+    auto distances = parse_distances(text_or(a, "sample-distances", defaults.sample_distances));
+    const int repeat = a.count("repeat") != 0 ? a["repeat"].as<int>() : defaults.repeat;
+    auto skipping = parse_switches(a["skipping"].as<std::string>(), "skipping");
+    auto jitter = parse_switches(a["jitter"].as<std::string>(), "jitter");
+    auto refinement = parse_refinement(a["refinement"].as<std::string>());
     for (const base::Error* error :
          {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
           slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
-          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error(),
-          skipping ? nullptr : &skipping.error(), jitter ? nullptr : &jitter.error(),
-          refinement ? nullptr : &refinement.error()}) {
+          distances ? nullptr : &distances.error(), skipping ? nullptr : &skipping.error(),
+          jitter ? nullptr : &jitter.error(), refinement ? nullptr : &refinement.error()}) {
         if (error != nullptr) {
             return *error;
         }
     }
-    if (*repeat < 1 || *repeat > 1000) {
+    if (repeat < 1 || repeat > 1000) {
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
     if (!refinement->empty() && std::find(jitter->begin(), jitter->end(), true) == jitter->end()) {
@@ -370,28 +396,8 @@ base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults
     std::sort(sweep.distances.begin(), sweep.distances.end());
     sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
                           sweep.distances.end());
-    sweep.repeat = *repeat;
+    sweep.repeat = repeat;
     return sweep;
-}
-
-// What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
-base::Status refuse_swept_options(const Arguments& a) {
-    const std::pair<const char*, const char*> swept[] = {
-            {"mode", "--modes LIST"},
-            {"slices", "--slices-list LIST"},
-            {"light-res", "--light-res-list LIST"},
-            {"light", "--lights LIST"},
-            {"light-position", "--lights LIST (directional lights only)"},
-            {"sample-distance", "--sample-distances LIST"},
-            {"no-empty-space-skipping", "--skipping on,off"}};
-    for (const auto& [option, instead] : swept) {
-        if (a.has(option)) {
-            return base::make_error("invalid_argument",
-                                    std::string("bench accuracy sweeps this; use ") + instead,
-                                    std::string("--") + option);
-        }
-    }
-    return base::Ok{};
 }
 
 void print_timing(const render::RendererInfo& info, const Sweep& sweep) {
@@ -411,13 +417,14 @@ void print_timing(const render::RendererInfo& info, const Sweep& sweep) {
 }
 
 // The frame every point of one volume shares: the frame options over the defaults.
-base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume::Volume& volume,
+base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
+                                               const volume::Volume& volume,
                                                const SweepDefaults& defaults, bool phong) {
     auto request = frame_request_from(a, volume);
     if (!request) {
         return request.error();
     }
-    if (!a.has("size")) {
+    if (a["size"].defaulted()) {
         request->settings.width = defaults.side;
         request->settings.height = defaults.side;
     }
@@ -443,7 +450,7 @@ base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume:
 }
 
 // Every volume of the sweep under every light, into `table`, printed as it is measured.
-base::Status measure_all(render::Renderer& renderer, const Arguments& a, const Sweep& sweep,
+base::Status measure_all(render::Renderer& renderer, const po::variables_map& a, const Sweep& sweep,
                          const SweepDefaults& defaults, Table& table) {
     const std::uint64_t frames =
             frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
@@ -470,7 +477,7 @@ base::Status measure_all(render::Renderer& renderer, const Arguments& a, const S
 }
 
 // --from: presets, CSV, JSON and plot from a table measured before.
-int report_from(const Arguments& a, const std::string& from) {
+int report_from(const po::variables_map& a, const std::string& from) {
     auto table = read_table_file(from);
     if (!table) {
         return fail(table.error());
@@ -487,30 +494,24 @@ int report_from(const Arguments& a, const std::string& from) {
 }  // namespace
 
 int run_bench_accuracy(const std::vector<std::string>& args) {
-    std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volumes", "lights", "modes", "slices-list", "light-res-list",
-                                 "sample-distances", "repeat", "csv", "json", "plot", "budget-ms",
-                                 "from", "skipping", "jitter", "refinement", "case"});
-    std::vector<std::string> flags = frame_flag_names();
-    std::erase(flags, "jitter");  // a list here: --jitter off,on
-    flags.insert(flags.end(), {"help", "debug-gl", "no-phong"});
-    auto parsed = Arguments::parse(args, valued, flags);
+    po::options_description options = sweep_options();
+    std::vector<std::string> not_framed = names_of(swept);
+    not_framed.push_back("jitter");  // a list here: --jitter off,on
+    options.add(output_options()).add(frame_options(not_framed));
+    auto parsed = parse_options(args, options);
     if (!parsed) {
-        return usage_error(parsed.error());
+        return usage_error(explain_swept(parsed.error(), swept, "bench accuracy"));
     }
-    const Arguments& a = *parsed;
-    if (a.has("help")) {
-        print_usage();
+    const po::variables_map& a = *parsed;
+    if (a.count("help") != 0) {
+        print_help("bench accuracy [options]", about, options);
         return 0;
     }
-    if (auto status = refuse_swept_options(a); !status) {
-        return usage_error(status.error());
-    }
-    if (const auto from = a.get("from")) {
-        return report_from(a, *from);
+    if (a.count("from") != 0) {
+        return report_from(a, a["from"].as<std::string>());
     }
     auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -520,7 +521,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     if (!sweep) {
         return usage_error(sweep.error());
     }
-    Table table = make_table(info, sweep->repeat, !a.has("no-phong"));
+    Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
     print_timing(info, *sweep);
     if (auto status = measure_all(**renderer, a, *sweep, defaults, table); !status) {
         return status.error().where == "--size" ? usage_error(status.error())

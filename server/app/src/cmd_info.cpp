@@ -1,30 +1,34 @@
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace penumbra::app {
 
 int run_info(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(args, {"volume", "series"}, {"help"});
+    std::string path = default_volume_path;
+    volume::LoadOptions options;
+    po::options_description described = option_group("options");
+    described.add_options()("help", "this text")(
+            "volume", po::value(&path)->value_name("FILE|DICOM-FOLDER")->default_value(path),
+            "the volume; a DICOM folder holding several series (sub-folders included) lists "
+            "them")("series", po::value(&options.dicom_series)->value_name("NUMBER|UID"),
+                    "one series of a DICOM folder");
+    auto parsed = parse_options(args, described);
     if (!parsed) {
-        std::fprintf(stderr, "penumbra info: %s\n", parsed.error().to_string().c_str());
-        return 2;
+        return report_usage_error("info", parsed.error());
     }
-    if (parsed->has("help")) {
-        std::puts(
-                "usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)\n"
-                "                     [--series NUMBER|UID]          one series of a DICOM folder\n"
-                "A DICOM folder holding several series (sub-folders included) lists them.");
+    if (parsed->count("help") != 0) {
+        print_help("info [options]", "A volume's dimensions, spacing, type, range and histogram.",
+                   described);
         return 0;
     }
-    const std::string path = parsed->get("volume").value_or(default_volume_path);
-    volume::LoadOptions options;
-    options.dicom_series = parsed->get("series").value_or("");
     std::error_code ec;
     if (options.dicom_series.empty() && std::filesystem::is_directory(path, ec)) {
         auto series = volume::list_dicom_series(path);

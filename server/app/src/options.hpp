@@ -1,0 +1,96 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/scene/frame_request.hpp>
+
+#include <boost/program_options.hpp>
+#include <glm/vec3.hpp>
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace penumbra::app {
+
+namespace po = boost::program_options;
+
+// Value types of the command line, read by program_options through `validate` and shown in the
+// help (defaults) through `<<`.
+
+// A number, or a fraction "a/b": sample distances are usually quoted as 1/256.
+struct Number {
+    double value = 0.0;
+};
+
+// "x,y,z".
+struct Triple {
+    glm::dvec3 value{0.0};
+};
+
+// "WxH".
+struct ImageSize {
+    int width = 0;
+    int height = 0;
+};
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int);
+void validate(boost::any& out, const std::vector<std::string>& texts, Triple*, int);
+void validate(boost::any& out, const std::vector<std::string>& texts, ImageSize*, int);
+std::ostream& operator<<(std::ostream& out, const Number& number);
+std::ostream& operator<<(std::ostream& out, const Triple& triple);
+std::ostream& operator<<(std::ostream& out, const ImageSize& size);
+
+// How the help and the errors write a number (%g).
+std::string shown(double value);
+
+// A value refused by a validator or a range check; the error names the option.
+class BadValue : public po::error_with_option_name {
+public:
+    explicit BadValue(const std::string& message)
+        : po::error_with_option_name(message)
+        , message_(message) {}
+
+    [[nodiscard]] const std::string& message() const { return message_; }
+
+private:
+    std::string message_;
+};
+
+// A group of options laid out for the help (100 columns, descriptions from column 40).
+po::options_description option_group(const std::string& caption);
+
+// A whole number stored in `target`, whose value is the default, refused outside min..max.
+po::typed_value<int>* whole_number(int* target, int min, int max);
+
+// Parses `args` against `options` and runs their checks and stores: an unknown option, a stray
+// argument, a missing or malformed value is an error naming the option.
+base::Result<po::variables_map> parse_options(const std::vector<std::string>& args,
+                                              const po::options_description& options);
+
+// The text of option `name`, or `fallback` where it is not given.
+std::string text_or(const po::variables_map& options, const char* name, std::string fallback);
+
+// "usage: penumbra <usage>", what the command does (`about`, may be empty) and its options.
+void print_help(const std::string& usage, const std::string& about,
+                const po::options_description& options);
+
+// Prints "penumbra <command>: <error>" on stderr and returns the exit status of a failed run (1).
+int report_failure(const char* command, const base::Error& error);
+
+// The same for a wrong command line (exit status 2), pointing at --help.
+int report_usage_error(const char* command, const base::Error& error);
+
+// Splits "a,b,c" into numbers (each may be a fraction); errors name the option.
+base::Result<std::vector<double>> parse_numbers(const std::string& text, const std::string& option);
+
+// "a, b,c" -> {"a", "b", "c"}: items trimmed of blanks, empty ones dropped.
+std::vector<std::string> split_list(const std::string& text, char separator = ',');
+
+// "64,128,256" -> whole numbers from 1 to 65536, each once, in the order given.
+base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option);
+
+// "dvr,sbrc" -> modes, each once, in the order given.
+base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
+                                                   const std::string& option);
+
+}  // namespace penumbra::app
