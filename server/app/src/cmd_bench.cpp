@@ -14,6 +14,7 @@
 #include <vector>
 
 namespace penumbra::app {
+
 namespace {
 
 int fail(const base::Error& error) {
@@ -22,22 +23,6 @@ int fail(const base::Error& error) {
 
 int usage_error(const base::Error& error) {
     return report_usage_error("bench modes", error);
-}
-
-void print_bench_usage() {
-    std::puts(
-            "usage: penumbra bench <benchmark> [options]\n"
-            "\n"
-            "benchmarks:\n"
-            "  modes    frame time of every rendering mode over slices x light-buffer resolution,\n"
-            "           light-buffer reuse vs rebuild, and the two light-buffer builders\n"
-            "  accuracy error vs the reference (RMSE, PSNR, SSIM) against frame time over\n"
-            "           modes x slices x light-buffer resolution x sample distance; quality\n"
-            "           presets per frame-time budget; CSV, JSON and a plot\n"
-            "  refine   progressive stills: PSNR of each refinement step against a reference at\n"
-            "           1/8 of the sample distance, next to the unjittered frame\n"
-            "\n"
-            "`penumbra bench <benchmark> --help` lists its options.");
 }
 
 const SweptOptions swept = {{"mode", "--modes LIST"},
@@ -188,33 +173,23 @@ int run_bench_modes(const std::vector<std::string>& args) {
 
 }  // namespace
 
-// In cmd_bench_accuracy.cpp.
-int run_bench_accuracy(const std::vector<std::string>& args);
-
-// In cmd_bench_refine.cpp.
-int run_bench_refine(const std::vector<std::string>& args);
-
 int run_bench(const std::vector<std::string>& args) {
-    if (args.empty()) {
-        print_bench_usage();
-        return 2;
-    }
-    if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-        print_bench_usage();
-        return 0;
-    }
-    if (args[0] == "accuracy") {
-        return run_bench_accuracy({args.begin() + 1, args.end()});
-    }
-    if (args[0] == "refine") {
-        return run_bench_refine({args.begin() + 1, args.end()});
-    }
-    if (args[0] != "modes") {
-        std::fprintf(stderr, "penumbra bench: unknown benchmark '%s'\n\n", args[0].c_str());
-        print_bench_usage();
-        return 2;
-    }
-    return run_bench_modes({args.begin() + 1, args.end()});
+    return run_subcommand(
+            "penumbra bench", "benchmark",
+            {{"modes",
+              "frame time of every rendering mode over slices x light-buffer resolution,\n\t"
+              "light-buffer reuse vs rebuild, and the two light-buffer builders",
+              run_bench_modes},
+             {"accuracy",
+              "error vs the reference (RMSE, PSNR, SSIM) against frame time over\n\tmodes x "
+              "slices x light-buffer resolution x sample distance; quality\n\tpresets per "
+              "frame-time budget; CSV, JSON and a plot",
+              run_bench_accuracy},
+             {"refine",
+              "progressive stills: PSNR of each refinement step against a reference at\n\t1/8 "
+              "of the sample distance, next to the unjittered frame",
+              run_bench_refine}},
+            args);
 }
 
 }  // namespace penumbra::app

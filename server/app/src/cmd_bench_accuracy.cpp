@@ -9,7 +9,7 @@
 #include "render_options.hpp"
 #include "transfer_function_file.hpp"
 
-#include <penumbra/quality/report.hpp>
+#include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -24,8 +24,6 @@
 #include <vector>
 
 namespace penumbra::app {
-
-int run_bench_accuracy(const std::vector<std::string>& args);
 
 namespace {
 
@@ -256,43 +254,23 @@ base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& t
     return modes;
 }
 
-base::Status finish(const Table& table, const po::variables_map& a) {
-    std::vector<double> budgets;
+// The presets' budgets and the files the options ask for.
+base::Result<AccuracyReport> report_from(const po::variables_map& a) {
+    AccuracyReport report;
     if (a.count("budget-ms") != 0) {
-        auto parsed = parse_numbers(a["budget-ms"].as<std::string>(), "budget-ms");
-        if (!parsed) {
-            return parsed.error();
+        auto budgets = parse_numbers(a["budget-ms"].as<std::string>(), "budget-ms");
+        if (!budgets) {
+            return budgets.error();
         }
-        budgets = *parsed;
-    } else {
-        budgets = default_budgets(table.points);
+        report.budgets_ms = *budgets;
     }
-    const std::vector<Preset> presets = choose_presets(table, budgets);
-    std::fputs(presets_text(table, presets).c_str(), stdout);
-    if (a.count("csv") != 0) {
-        const auto path = std::optional(a["csv"].as<std::string>());
-        if (auto status = write_csv(table, *path, "--csv"); !status) {
-            return status;
+    for (auto [name, file] : {std::pair{"csv", &report.csv}, std::pair{"json", &report.json},
+                              std::pair{"plot", &report.plot}}) {
+        if (a.count(name) != 0) {
+            *file = a[name].as<std::string>();
         }
-        std::printf("csv:      %s\n", path->c_str());
     }
-    if (a.count("json") != 0) {
-        const auto path = std::optional(a["json"].as<std::string>());
-        if (auto status = write_table_file(*path, table, presets, "--json"); !status) {
-            return status;
-        }
-        std::printf("json:     %s\n", path->c_str());
-    }
-    if (a.count("plot") != 0) {
-        const auto path = std::optional(a["plot"].as<std::string>());
-        auto files = write_plot(table, *path, "--plot");
-        if (!files) {
-            return files.error();
-        }
-        std::printf("plot:     %s, %s (script %s)\n", files->png.c_str(), files->svg.c_str(),
-                    files->script.c_str());
-    }
-    return base::Ok{};
+    return report;
 }
 
 // --case, where one is named (an unknown name is an error).
@@ -400,22 +378,6 @@ base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& 
     return sweep;
 }
 
-void print_timing(const render::RendererInfo& info, const Sweep& sweep) {
-    std::printf("penumbra bench accuracy\n");
-    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
-                info.platform.c_str());
-    if (info.gpu_timer_queries) {
-        std::printf("timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
-                    sweep.repeat);
-    } else {
-        std::printf(
-                "timing:   wall clock (this GL's timer queries mean nothing: software "
-                "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
-                "defaults for a software rasteriser\n",
-                sweep.repeat);
-    }
-}
-
 // The frame every point of one volume shares: the frame options over the defaults.
 base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
                                                const volume::Volume& volume,
@@ -449,43 +411,40 @@ base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
     return request;
 }
 
-// Every volume of the sweep under every light, into `table`, printed as it is measured.
-base::Status measure_all(render::Renderer& renderer, const po::variables_map& a, const Sweep& sweep,
-                         const SweepDefaults& defaults, Table& table) {
-    const std::uint64_t frames =
-            frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
-    const Progress progress(frames);
-    std::printf(
-            "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
-            "left)\n",
-            sweep.volumes.size(), sweep.lights.size(), static_cast<unsigned long long>(frames));
-    const SweepObserver print{
-            .frame = [](const Table& t) { std::fputs(frame_text(t).c_str(), stdout); },
-            .view =
-                    [](const std::string& volume, const LightAngles& light) {
-                        std::fputs(view_header(volume, light).c_str(), stdout);
-                    },
-            .point =
-                    [&](const Point& p, std::uint64_t done) {
-                        std::printf("%s  %s\n", point_row(p).c_str(), progress(done).c_str());
-                        std::fflush(stdout);
-                    }};
-    const FrameFor frame_for = [&](const volume::Volume& volume) {
-        return base_request(a, volume, defaults, table.phong);
-    };
-    return measure_sweep(renderer, sweep, frame_for, print, table);
-}
-
 // --from: presets, CSV, JSON and plot from a table measured before.
-int report_from(const po::variables_map& a, const std::string& from) {
+base::Status report_table_file(const std::string& from, const AccuracyReport& report) {
     auto table = read_table_file(from);
     if (!table) {
-        return fail(table.error());
+        return table.error();
     }
     std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
                 from.c_str(), table->device.c_str(), table->gl_version.c_str(),
                 table->points.size());
-    if (auto status = finish(*table, a); !status) {
+    return report_accuracy(*table, report, stdout);
+}
+
+// Measures the sweep the options ask for and reports its table.
+int measure(const po::variables_map& a, const AccuracyReport& report) {
+    auto renderer =
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
+    if (!renderer) {
+        return fail(renderer.error());
+    }
+    const render::RendererInfo& info = (*renderer)->info();
+    const SweepDefaults& defaults = info.gpu_timer_queries ? gpu_defaults : software_defaults;
+    auto sweep = sweep_from(a, defaults);
+    if (!sweep) {
+        return usage_error(sweep.error());
+    }
+    Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
+    const FrameFor frame_for = [&](const volume::Volume& volume) {
+        return base_request(a, volume, defaults, table.phong);
+    };
+    if (auto status = bench_accuracy(**renderer, *sweep, frame_for, table, stdout); !status) {
+        return status.error().where == "--size" ? usage_error(status.error())
+                                                : fail(status.error());
+    }
+    if (auto status = report_accuracy(table, report, stdout); !status) {
         return fail(status.error());
     }
     return 0;
@@ -507,30 +466,15 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         print_help("bench accuracy [options]", about, options);
         return 0;
     }
+    auto report = report_from(a);
+    if (!report) {
+        return usage_error(report.error());
+    }
     if (a.count("from") != 0) {
-        return report_from(a, a["from"].as<std::string>());
+        auto status = report_table_file(a["from"].as<std::string>(), *report);
+        return status ? 0 : fail(status.error());
     }
-    auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
-    if (!renderer) {
-        return fail(renderer.error());
-    }
-    const render::RendererInfo& info = (*renderer)->info();
-    const SweepDefaults& defaults = info.gpu_timer_queries ? gpu_defaults : software_defaults;
-    auto sweep = sweep_from(a, defaults);
-    if (!sweep) {
-        return usage_error(sweep.error());
-    }
-    Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
-    print_timing(info, *sweep);
-    if (auto status = measure_all(**renderer, a, *sweep, defaults, table); !status) {
-        return status.error().where == "--size" ? usage_error(status.error())
-                                                : fail(status.error());
-    }
-    if (auto status = finish(table, a); !status) {
-        return fail(status.error());
-    }
-    return 0;
+    return measure(a, *report);
 }
 
 }  // namespace penumbra::app

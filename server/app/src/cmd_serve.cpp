@@ -213,8 +213,8 @@ po::options_description data_options(ServeOptions& o) {
             "cluster-secret-file", po::value<std::string>()->value_name("FILE"),
             "owner tokens are derived from session ids with this secret (else "
             "$PENUMBRA_CLUSTER_SECRET), the same on every server of a cluster: an owner whose "
-            "server died resumes its session on another one")(
-            "debug-gl", "GL debug output to the log");
+            "server died resumes its session on another one")("debug-gl",
+                                                              "GL debug output to the log");
     return options;
 }
 

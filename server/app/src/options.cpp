@@ -159,6 +159,31 @@ void print_help(const std::string& usage, const std::string& about,
     std::cout << options;
 }
 
+int run_subcommand(const std::string& prefix, const char* kind,
+                   const std::vector<Subcommand>& subcommands,
+                   const std::vector<std::string>& args) {
+    const std::string name = args.empty() ? "" : args.front();
+    for (const Subcommand& subcommand : subcommands) {
+        if (name == subcommand.name) {
+            return subcommand.run({args.begin() + 1, args.end()});
+        }
+    }
+    const bool help = name == "--help" || name == "-h" || name == "help";
+    if (!help && !name.empty()) {
+        std::fprintf(stderr, "%s: unknown %s '%s'\n\n", prefix.c_str(), kind, name.c_str());
+    }
+    std::printf("usage: %s <%s> [options]\n\n%ss:\n", prefix.c_str(), kind, kind);
+    for (const Subcommand& subcommand : subcommands) {
+        std::string summary = subcommand.summary;
+        for (auto tab = summary.find('\t'); tab != std::string::npos; tab = summary.find('\t')) {
+            summary.replace(tab, 1, std::string(11, ' '));
+        }
+        std::printf("  %-8s %s\n", subcommand.name, summary.c_str());
+    }
+    std::printf("\n`%s <%s> --help` lists its options.\n", prefix.c_str(), kind);
+    return help ? 0 : 2;
+}
+
 int report_failure(const char* command, const base::Error& error) {
     std::fprintf(stderr, "penumbra %s: %s\n", command, error.to_string().c_str());
     return 1;

@@ -74,6 +74,20 @@ std::string text_or(const po::variables_map& options, const char* name, std::str
 void print_help(const std::string& usage, const std::string& about,
                 const po::options_description& options);
 
+// A command (or a benchmark) by name: what it does and how it runs.
+struct Subcommand {
+    const char* name;
+    const char* summary;  // lines after the first start with a tab
+    int (*run)(const std::vector<std::string>& args);
+};
+
+// Runs the subcommand args[0] names with the arguments after it. Without one, or for an unknown
+// one, lists them (exit status 2); for --help likewise, with 0. `kind` is "command" or
+// "benchmark", `prefix` "penumbra" or "penumbra bench".
+int run_subcommand(const std::string& prefix, const char* kind,
+                   const std::vector<Subcommand>& subcommands,
+                   const std::vector<std::string>& args);
+
 // Prints "penumbra <command>: <error>" on stderr and returns the exit status of a failed run (1).
 int report_failure(const char* command, const base::Error& error);
 
