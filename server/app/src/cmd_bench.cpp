@@ -34,14 +34,11 @@ po::options_description modes_options(quality::ModesBenchConfig& config) {
     options.add_options()("help", "this text")(
             "volume", po::value(&config.volume)->value_name("FILE")->default_value(config.volume),
             "the volume the sweeps run on")(
-            "modes", po::value<std::string>()->value_name("LIST"),
+            "modes", po::value<Modes>()->value_name("LIST"),
             "modes to time, comma-separated (default: every mode); the builder comparison runs "
             "when a sbrc mode is listed")(
-            "slices-list",
-            po::value<std::string>()->value_name("N,...")->default_value("64,128,256"),
-            "light slices to sweep")(
-            "light-res-list",
-            po::value<std::string>()->value_name("R,...")->default_value("128,256,512"),
+            "slices-list", with_default<Counts>("N,...", "64,128,256"), "light slices to sweep")(
+            "light-res-list", with_default<Counts>("R,...", "128,256,512"),
             "light-buffer resolutions to sweep")("repeat", whole_number(&config.repeat, 1, 1000),
                                                  "timed frames per point after 1 warm-up")(
             "volumes", po::value<std::string>()->value_name("FILE,..."),
@@ -59,23 +56,6 @@ po::options_description modes_options(quality::ModesBenchConfig& config) {
             "also write one row per point of the sweeps")("debug-gl", "GL debug output to the log");
     options.add(frame_options(names_of(swept)));
     return options;
-}
-
-// What `bench modes` sweeps, into `config`.
-base::Status read_sweep(const po::variables_map& a, quality::ModesBenchConfig& config) {
-    auto slice_counts = parse_counts(a["slices-list"].as<std::string>(), "slices-list");
-    auto resolutions = parse_counts(a["light-res-list"].as<std::string>(), "light-res-list");
-    auto modes = parse_modes(
-            a.count("modes") != 0 ? a["modes"].as<std::string>() : scene::mode_names(","), "modes");
-    if (!slice_counts || !resolutions || !modes) {
-        return !slice_counts  ? slice_counts.error()
-               : !resolutions ? resolutions.error()
-                              : modes.error();
-    }
-    config.slices = std::move(*slice_counts);
-    config.resolutions = std::move(*resolutions);
-    config.modes = std::move(*modes);
-    return base::Ok{};
 }
 
 std::optional<render::GradientSource> parse_gradient_source(const std::string& text) {
@@ -155,9 +135,9 @@ int run_bench_modes(const std::vector<std::string>& args) {
     }
     config.debug_gl = a.count("debug-gl") != 0;
     config.frame_for = [&a](const volume::Volume& volume) { return frame_request_from(a, volume); };
-    if (auto status = read_sweep(a, config); !status) {
-        return fail(status.error());
-    }
+    config.slices = a["slices-list"].as<Counts>().values;
+    config.resolutions = a["light-res-list"].as<Counts>().values;
+    config.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
     if (auto status = read_optimisation_options(a, config); !status) {
         return usage_error(status.error());
     }

@@ -80,6 +80,87 @@ std::string cases_help() {
     return help;
 }
 
+// The sweep's own lists, read by program_options (validate): sample distances in (0, 1], each
+// may be a fraction; lights "AZ,EL;AZ,EL"; switches "on,off", each once; refinement step counts,
+// sorted, each once, 0 (the still, always measured) left out.
+struct Distances {
+    std::vector<double> values;
+};
+
+struct Lights {
+    std::vector<LightAngles> values;
+};
+
+struct Switches {
+    std::vector<bool> values;
+};
+
+struct Steps {
+    std::vector<int> values;
+};
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Distances*, int) {
+    Distances distances;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        const auto number = parse_numbers(item, "");
+        if (!number || number->size() != 1 || !(number->front() > 0.0 && number->front() <= 1.0)) {
+            throw BadValue("'" + item + "' is not a distance in (0, 1]");
+        }
+        distances.values.push_back(number->front());
+    }
+    std::sort(distances.values.begin(), distances.values.end());
+    distances.values.erase(std::unique(distances.values.begin(), distances.values.end()),
+                           distances.values.end());
+    out = distances;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Lights*, int) {
+    Lights lights;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts), ';')) {
+        const auto numbers = parse_numbers(item, "");
+        if (!numbers || numbers->size() != 2) {
+            throw BadValue("expects AZIMUTH,ELEVATION pairs separated by ';'");
+        }
+        lights.values.push_back({(*numbers)[0], (*numbers)[1]});
+    }
+    out = lights;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Switches*, int) {
+    Switches switches;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        if (item != "on" && item != "off") {
+            throw BadValue("'" + item + "' is neither on nor off");
+        }
+        if (std::find(switches.values.begin(), switches.values.end(), item == "on") ==
+            switches.values.end()) {
+            switches.values.push_back(item == "on");
+        }
+    }
+    if (switches.values.empty()) {
+        throw BadValue("expects on, off or on,off");
+    }
+    out = switches;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Steps*, int) {
+    Steps steps;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        const auto number = parse_numbers(item, "");
+        const double value = number && number->size() == 1 ? number->front() : -1.0;
+        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
+            throw BadValue("'" + item + "' is not a step count in 0.." +
+                           std::to_string(scene::kMaxRefinementSteps));
+        }
+        if (value > 0.0) {
+            steps.values.push_back(static_cast<int>(value));
+        }
+    }
+    std::sort(steps.values.begin(), steps.values.end());
+    steps.values.erase(std::unique(steps.values.begin(), steps.values.end()), steps.values.end());
+    out = steps;
+}
+
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);
 }
@@ -123,15 +204,16 @@ po::options_description sweep_options() {
     options.add_options()("volumes", list("FILE,..."),
                           "(default ch2, ch2better, inia19-t1-brain from mricron-data [ch2], and "
                           "the head CT that scripts/demo-data.sh converts, where it did)")(
-            "lights", list("AZ,EL;AZ,EL..."), lights.c_str())("modes", list("LIST"), modes.c_str())(
-            "slices-list", list("N,..."), slices.c_str())(
-            "light-res-list", list("R,..."), resolutions.c_str())("sample-distances", list("D,..."),
-                                                                  distances.c_str())(
-            "skipping", list("on,off")->default_value("on"),
+            "lights", po::value<Lights>()->value_name("AZ,EL;AZ,EL..."), lights.c_str())(
+            "modes", po::value<Modes>()->value_name("LIST"), modes.c_str())(
+            "slices-list", po::value<Counts>()->value_name("N,..."), slices.c_str())(
+            "light-res-list", po::value<Counts>()->value_name("R,..."), resolutions.c_str())(
+            "sample-distances", po::value<Distances>()->value_name("D,..."), distances.c_str())(
+            "skipping", with_default<Switches>("on,off", "on"),
             "empty-space skipping on and/or off, every setting and the reference")(
-            "jitter", list("off,on")->default_value("off"),
+            "jitter", with_default<Switches>("off,on", "off"),
             "ray-cast modes unjittered and/or jittered (the reference never jitters)")(
-            "refinement", list("K,...")->default_value("0"),
+            "refinement", with_default<Steps>("K,...", "0"),
             "jittered settings also refined by K steps, each a point (needs --jitter with on)")(
             "case", list("NAME"), cases.c_str())("repeat", po::value<int>()->value_name("N"),
                                                  repeat.c_str());
@@ -147,7 +229,7 @@ po::options_description output_options() {
             "plot", po::value<std::string>()->value_name("FILE.png"),
             "PSNR over frame time, one curve per method, Pareto front marked; also FILE.svg and "
             "the gnuplot script FILE.gp (needs gnuplot-nox)")(
-            "budget-ms", po::value<std::string>()->value_name("MS,..."),
+            "budget-ms", po::value<Numbers>()->value_name("MS,..."),
             "frame-time budgets for the quality presets (default: six from the fastest setting "
             "to the reference)")("from", po::value<std::string>()->value_name("FILE.json"),
                                  "measure nothing: presets, CSV, JSON and plot from a table "
@@ -167,102 +249,11 @@ constexpr const char* about =
         "methods differ only in how they shadow; dvr is unlit. The frame options are those of "
         "`render`,\nless what the sweep varies.";
 
-// "1/256,0.002" → distances (numbers accept the fraction form).
-base::Result<std::vector<double>> parse_distances(const std::string& text) {
-    std::vector<double> distances;
-    for (const std::string& item : split_list(text)) {
-        auto number = parse_numbers(item, "sample-distances");
-        if (!number) {
-            return number.error();
-        }
-        const double value = number->front();
-        if (!std::isfinite(value) || value <= 0.0 || value > 1.0) {
-            return base::make_error("invalid_argument",
-                                    "'" + item + "' is not a distance in (0, 1]",
-                                    "--sample-distances");
-        }
-        distances.push_back(value);
-    }
-    return distances;
-}
-
-base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
-    std::vector<LightAngles> lights;
-    for (const std::string& item : split_list(text, ';')) {
-        auto numbers = parse_numbers(item, "lights");
-        if (!numbers) {
-            return numbers.error();
-        }
-        if (numbers->size() != 2) {
-            return base::make_error("invalid_argument",
-                                    "expects AZIMUTH,ELEVATION pairs separated by ';'", "--lights");
-        }
-        lights.push_back({(*numbers)[0], (*numbers)[1]});
-    }
-    return lights;
-}
-
-// "on,off" -> {true, false}, each once.
-base::Result<std::vector<bool>> parse_switches(const std::string& text, const std::string& option) {
-    std::vector<bool> values;
-    for (const std::string& item : split_list(text)) {
-        if (item != "on" && item != "off") {
-            return base::make_error("invalid_argument", "'" + item + "' is neither on nor off",
-                                    "--" + option);
-        }
-        const bool value = item == "on";
-        if (std::find(values.begin(), values.end(), value) == values.end()) {
-            values.push_back(value);
-        }
-    }
-    if (values.empty()) {
-        return base::make_error("invalid_argument", "expects on, off or on,off", "--" + option);
-    }
-    return values;
-}
-
-// Refinement step counts, sorted, each once, 0 (the still, always measured) left out.
-base::Result<std::vector<int>> parse_refinement(const std::string& text) {
-    std::vector<int> steps;
-    for (const std::string& item : split_list(text)) {
-        auto numbers = parse_numbers(item, "refinement");
-        if (!numbers) {
-            return numbers.error();
-        }
-        const double value = numbers->front();
-        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
-            return base::make_error("invalid_argument",
-                                    "'" + item + "' is not a step count in 0.." +
-                                            std::to_string(scene::kMaxRefinementSteps),
-                                    "--refinement");
-        }
-        if (value > 0.0) {
-            steps.push_back(static_cast<int>(value));
-        }
-    }
-    std::sort(steps.begin(), steps.end());
-    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
-    return steps;
-}
-
-// The modes to compare with the reference, which is always rendered.
-base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& text) {
-    auto modes = parse_modes(text, "modes");
-    if (modes) {
-        std::erase_if(*modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
-    }
-    return modes;
-}
-
 // The presets' budgets and the files the options ask for.
 base::Result<AccuracyReport> report_from(const po::variables_map& a) {
     AccuracyReport report;
     if (a.count("budget-ms") != 0) {
-        auto budgets = parse_numbers(a["budget-ms"].as<std::string>(), "budget-ms");
-        if (!budgets) {
-            return budgets.error();
-        }
-        report.budgets_ms = *budgets;
+        report.budgets_ms = a["budget-ms"].as<Numbers>().values;
     }
     for (auto [name, file] : {std::pair{"csv", &report.csv}, std::pair{"json", &report.json},
                               std::pair{"plot", &report.plot}}) {
@@ -329,52 +320,32 @@ base::Result<std::vector<std::string>> default_volumes(const po::variables_map& 
 
 // The sweep the options ask for, over the defaults of this kind of device.
 base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& defaults) {
-    auto lights = parse_lights(text_or(a, "lights", defaults.lights));
-    auto modes = parse_compared_modes(text_or(a, "modes", default_modes()));
-    auto slices = parse_counts(text_or(a, "slices-list", defaults.slices), "slices-list");
-    auto resolutions =
-            parse_counts(text_or(a, "light-res-list", defaults.resolutions), "light-res-list");
-    auto distances = parse_distances(text_or(a, "sample-distances", defaults.sample_distances));
-    const int repeat = a.count("repeat") != 0 ? a["repeat"].as<int>() : defaults.repeat;
-    auto skipping = parse_switches(a["skipping"].as<std::string>(), "skipping");
-    auto jitter = parse_switches(a["jitter"].as<std::string>(), "jitter");
-    auto refinement = parse_refinement(a["refinement"].as<std::string>());
-    for (const base::Error* error :
-         {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
-          slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
-          distances ? nullptr : &distances.error(), skipping ? nullptr : &skipping.error(),
-          jitter ? nullptr : &jitter.error(), refinement ? nullptr : &refinement.error()}) {
-        if (error != nullptr) {
-            return *error;
-        }
-    }
-    if (repeat < 1 || repeat > 1000) {
+    Sweep sweep;
+    sweep.lights = value_or<Lights>(a, "lights", defaults.lights).values;
+    sweep.modes = value_or<Modes>(a, "modes", default_modes()).values;
+    std::erase_if(sweep.modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
+    sweep.slices = value_or<Counts>(a, "slices-list", defaults.slices).values;
+    sweep.resolutions = value_or<Counts>(a, "light-res-list", defaults.resolutions).values;
+    sweep.distances = value_or<Distances>(a, "sample-distances", defaults.sample_distances).values;
+    sweep.repeat = a.count("repeat") != 0 ? a["repeat"].as<int>() : defaults.repeat;
+    sweep.skipping = a["skipping"].as<Switches>().values;
+    sweep.jitter = a["jitter"].as<Switches>().values;
+    sweep.refinement_steps = a["refinement"].as<Steps>().values;
+    if (sweep.repeat < 1 || sweep.repeat > 1000) {
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
-    if (!refinement->empty() && std::find(jitter->begin(), jitter->end(), true) == jitter->end()) {
+    if (!sweep.refinement_steps.empty() &&
+        std::find(sweep.jitter.begin(), sweep.jitter.end(), true) == sweep.jitter.end()) {
         return base::make_error("invalid_argument",
                                 "refinement steps average jittered frames: add --jitter on or "
                                 "--jitter off,on",
                                 "--refinement");
     }
-    Sweep sweep;
     auto volumes = default_volumes(a, defaults);
     if (!volumes) {
         return volumes.error();
     }
     sweep.volumes = std::move(*volumes);
-    sweep.skipping = *skipping;
-    sweep.jitter = *jitter;
-    sweep.refinement_steps = *refinement;
-    sweep.lights = *lights;
-    sweep.modes = *modes;
-    sweep.slices = *slices;
-    sweep.resolutions = *resolutions;
-    sweep.distances = *distances;
-    std::sort(sweep.distances.begin(), sweep.distances.end());
-    sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
-                          sweep.distances.end());
-    sweep.repeat = repeat;
     return sweep;
 }
 

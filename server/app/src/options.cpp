@@ -50,6 +50,43 @@ void validate(boost::any& out, const std::vector<std::string>& texts, Number*, i
     out = Number{*value};
 }
 
+void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, int) {
+    auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
+    if (!numbers) {
+        throw BadValue(numbers.error().message);
+    }
+    out = Numbers{*numbers};
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, int) {
+    auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
+    Counts counts;
+    for (const double number : numbers ? *numbers : std::vector<double>{0.0}) {
+        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
+            throw BadValue("expects whole numbers from 1 to 65536");
+        }
+        if (std::find(counts.values.begin(), counts.values.end(), int(number)) ==
+            counts.values.end()) {
+            counts.values.push_back(static_cast<int>(number));
+        }
+    }
+    out = counts;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Modes*, int) {
+    Modes modes;
+    for (const std::string& name : split_list(po::validators::get_single_string(texts))) {
+        const auto mode = scene::parse_mode(name);
+        if (!mode) {
+            throw BadValue("unknown mode '" + name + "' (" + scene::mode_names() + ")");
+        }
+        if (std::find(modes.values.begin(), modes.values.end(), *mode) == modes.values.end()) {
+            modes.values.push_back(*mode);
+        }
+    }
+    out = modes;
+}
+
 void validate(boost::any& out, const std::vector<std::string>& texts, Triple*, int) {
     auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
     if (!numbers || numbers->size() != 3) {
@@ -226,41 +263,6 @@ std::vector<std::string> split_list(const std::string& text, char separator) {
         start = end + 1;
     }
     return out;
-}
-
-base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option) {
-    auto numbers = parse_numbers(text, option);
-    if (!numbers) {
-        return numbers.error();
-    }
-    std::vector<int> counts;
-    for (const double number : *numbers) {
-        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
-            return base::make_error("invalid_argument", "expects whole numbers from 1 to 65536",
-                                    "--" + option);
-        }
-        if (std::find(counts.begin(), counts.end(), static_cast<int>(number)) == counts.end()) {
-            counts.push_back(static_cast<int>(number));
-        }
-    }
-    return counts;
-}
-
-base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
-                                                   const std::string& option) {
-    std::vector<scene::Mode> modes;
-    for (const std::string& name : split_list(text)) {
-        const auto mode = scene::parse_mode(name);
-        if (!mode) {
-            return base::make_error("invalid_argument",
-                                    "unknown mode '" + name + "' (" + scene::mode_names() + ")",
-                                    "--" + option);
-        }
-        if (std::find(modes.begin(), modes.end(), *mode) == modes.end()) {
-            modes.push_back(*mode);
-        }
-    }
-    return modes;
 }
 
 }  // namespace penumbra::app

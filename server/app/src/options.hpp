@@ -33,7 +33,24 @@ struct ImageSize {
     int height = 0;
 };
 
+// "a,b,c" lists: numbers (each may be a fraction); whole numbers from 1 to 65536, each once
+// (slices, resolutions); modes, each once. In the order given.
+struct Numbers {
+    std::vector<double> values;
+};
+
+struct Counts {
+    std::vector<int> values;
+};
+
+struct Modes {
+    std::vector<scene::Mode> values;
+};
+
 void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int);
+void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, int);
+void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, int);
+void validate(boost::any& out, const std::vector<std::string>& texts, Modes*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, Triple*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, ImageSize*, int);
 std::ostream& operator<<(std::ostream& out, const Number& number);
@@ -70,6 +87,26 @@ base::Result<po::variables_map> parse_options(const std::vector<std::string>& ar
 // The text of option `name`, or `fallback` where it is not given.
 std::string text_or(const po::variables_map& options, const char* name, std::string fallback);
 
+// `text` read as program_options reads an option's text (a default, valid).
+template <class T>
+T parsed(const std::string& text) {
+    boost::any value;
+    validate(value, {text}, static_cast<T*>(nullptr), 0);
+    return boost::any_cast<T>(value);
+}
+
+// An option whose default is given as text.
+template <class T>
+po::typed_value<T>* with_default(const char* value_name, const std::string& fallback) {
+    return po::value<T>()->value_name(value_name)->default_value(parsed<T>(fallback), fallback);
+}
+
+// The value of option `name`, or `fallback` read as the option's text.
+template <class T>
+T value_or(const po::variables_map& options, const char* name, const std::string& fallback) {
+    return options.count(name) != 0 ? options[name].as<T>() : parsed<T>(fallback);
+}
+
 // "usage: penumbra <usage>", what the command does (`about`, may be empty) and its options.
 void print_help(const std::string& usage, const std::string& about,
                 const po::options_description& options);
@@ -99,12 +136,5 @@ base::Result<std::vector<double>> parse_numbers(const std::string& text, const s
 
 // "a, b,c" -> {"a", "b", "c"}: items trimmed of blanks, empty ones dropped.
 std::vector<std::string> split_list(const std::string& text, char separator = ',');
-
-// "64,128,256" -> whole numbers from 1 to 65536, each once, in the order given.
-base::Result<std::vector<int>> parse_counts(const std::string& text, const std::string& option);
-
-// "dvr,sbrc" -> modes, each once, in the order given.
-base::Result<std::vector<scene::Mode>> parse_modes(const std::string& text,
-                                                   const std::string& option);
 
 }  // namespace penumbra::app

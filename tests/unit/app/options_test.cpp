@@ -207,22 +207,38 @@ TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {
     EXPECT_TRUE(split_list("").empty());
 }
 
+po::options_description list_options() {
+    po::options_description options = option_group("test");
+    options.add_options()("slices-list", po::value<Counts>(), "counts")(
+            "modes", po::value<Modes>(), "modes")("budget-ms", po::value<Numbers>(), "numbers");
+    return options;
+}
+
 TEST(ListOptions, CountsAreWholeNumbersInRangeEachOnce) {
-    EXPECT_EQ(parse_counts("64,128,64", "slices-list").value(), (std::vector<int>{64, 128}));
+    auto parsed = parse_options({"--slices-list", "64,128,64"}, list_options());
+    ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
+    EXPECT_EQ((*parsed)["slices-list"].as<Counts>().values, (std::vector<int>{64, 128}));
     for (const char* bad : {"0", "1.5", "65537", "x"}) {
-        auto counts = parse_counts(bad, "slices-list");
+        auto counts = parse_options({"--slices-list", bad}, list_options());
         ASSERT_FALSE(counts.ok()) << bad;
         EXPECT_EQ(counts.error().where, "--slices-list") << bad;
     }
 }
 
 TEST(ListOptions, ModesAreKnownNamesEachOnce) {
-    EXPECT_EQ(parse_modes("sbrc, dvr,sbrc", "modes").value(),
+    EXPECT_EQ(parsed<Modes>("sbrc, dvr,sbrc").values,
               (std::vector<scene::Mode>{scene::Mode::sbrc, scene::Mode::dvr}));
-    auto unknown = parse_modes("dvr,shiny", "modes");
+    auto unknown = parse_options({"--modes", "dvr,shiny"}, list_options());
     ASSERT_FALSE(unknown.ok());
     EXPECT_NE(unknown.error().message.find("'shiny'"), std::string::npos);
     EXPECT_EQ(unknown.error().where, "--modes");
+}
+
+TEST(ListOptions, NumbersMayBeFractions) {
+    EXPECT_EQ(parsed<Numbers>("1/2,3").values, (std::vector<double>{0.5, 3.0}));
+    auto bad = parse_options({"--budget-ms", "1,x"}, list_options());
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().where, "--budget-ms");
 }
 
 }  // namespace
