@@ -43,7 +43,10 @@ po::options_description modes_options(quality::ModesBenchConfig& config) {
                                                  "timed frames per point after 1 warm-up")(
             "volumes", po::value<std::string>()->value_name("FILE,..."),
             "volumes for the optimisation table (default: the --volume)")(
-            "gradients", po::value<std::string>()->value_name("automatic|central|texture"),
+            "gradients",
+            po::value<std::string>()
+                    ->value_name("automatic|central|texture")
+                    ->default_value("automatic"),
             "where shaded samples get gradients: central differences, the precomputed texture, or "
             "the renderer's default (automatic: central differences, which the reference matches)")(
             "brick-voxels", po::value(&config.brick_voxels)->value_name("N")->default_value(0),
@@ -79,8 +82,7 @@ base::Status read_optimisation_options(const po::variables_map& a,
     if (config.volumes.empty()) {
         return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
     }
-    const auto gradients = parse_gradient_source(
-            a.count("gradients") != 0 ? a["gradients"].as<std::string>() : "automatic");
+    const auto gradients = parse_gradient_source(a["gradients"].as<std::string>());
     if (!gradients) {
         return base::make_error("invalid_argument", "expects automatic, central or texture",
                                 "--gradients");

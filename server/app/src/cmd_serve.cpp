@@ -304,12 +304,6 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
             scheduler_options, registry);
 }
 
-volume::LoadOptions load_options(const ServeOptions& o) {
-    volume::LoadOptions load;
-    load.max_bytes = static_cast<std::uint64_t>(o.max_load_mb) << 20;
-    return load;
-}
-
 // The accuracy table sessions with a frame budget choose from; null: budgets are ignored.
 base::Result<std::shared_ptr<const quality::Table>> quality_table(
         const ServeOptions& o, const quality::StartupMeasurement& measured,
@@ -359,8 +353,10 @@ int run_serve(const std::vector<std::string>& args) {
     }
     net::ServerConfig& config = o.config;
     protocol::Limits& limits = config.limits;
-    session::VolumeStore volumes(o.data, static_cast<std::size_t>(o.volume_memory_mb) << 20,
-                                 load_options(o), o.rescan_interval);
+    volume::LoadOptions load;
+    load.max_bytes = static_cast<std::uint64_t>(o.max_load_mb) << 20;
+    session::VolumeStore volumes(o.data, static_cast<std::size_t>(o.volume_memory_mb) << 20, load,
+                                 o.rescan_interval);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }

@@ -183,10 +183,6 @@ base::Result<po::variables_map> parse_options(const std::vector<std::string>& ar
     return values;
 }
 
-std::string text_or(const po::variables_map& options, const char* name, std::string fallback) {
-    return options.count(name) != 0 ? options[name].as<std::string>() : std::move(fallback);
-}
-
 void print_help(const std::string& usage, const std::string& about,
                 const po::options_description& options) {
     std::cout << "usage: penumbra " << usage << "\n\n";

@@ -84,9 +84,6 @@ po::typed_value<int>* whole_number(int* target, int min, int max);
 base::Result<po::variables_map> parse_options(const std::vector<std::string>& args,
                                               const po::options_description& options);
 
-// The text of option `name`, or `fallback` where it is not given.
-std::string text_or(const po::variables_map& options, const char* name, std::string fallback);
-
 // `text` read as program_options reads an option's text (a default, valid).
 template <class T>
 T parsed(const std::string& text) {
