@@ -28,9 +28,7 @@ double median(std::vector<double> values) {
 // render's own options, and where they go.
 struct RenderOptions {
     std::string volume = default_volume_path;
-    std::string series;
-    std::optional<Triple> spacing;
-    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
+    volume::LoadOptions load;
     std::string out = "frame.png";
     int quality = 90;
     int repeat = 1;
@@ -41,10 +39,10 @@ po::options_description render_options(RenderOptions& o) {
     options.add_options()("help", "this text")(
             "volume", po::value(&o.volume)->value_name("FILE")->default_value(o.volume),
             ".nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz], a DICOM file or series folder")(
-            "series", po::value(&o.series)->value_name("NUMBER|UID"),
+            "series", po::value(&o.load.dicom_series)->value_name("NUMBER|UID"),
             "the series of a DICOM folder holding several")(
             "spacing", po::value<Triple>()->value_name("X,Y,Z"), "override the voxel spacing")(
-            "max-load-mb", whole_number(&o.max_load_mb, 1, 1 << 24),
+            "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
             "memory the volume load may take (never more than the machine has)")(
             "out", po::value(&o.out)->value_name("FILE")->default_value(o.out), ".png or .jpg")(
             "quality", whole_number(&o.quality, 1, 100), "JPEG quality")(
@@ -60,10 +58,7 @@ po::options_description render_options(RenderOptions& o) {
 // The volume --volume names (a DICOM folder's --series), with --spacing applied.
 base::Result<std::shared_ptr<const volume::Volume>> load_for_render(const RenderOptions& o,
                                                                     const po::variables_map& a) {
-    volume::LoadOptions load_options;
-    load_options.max_bytes = static_cast<std::uint64_t>(o.max_load_mb) << 20;
-    load_options.dicom_series = o.series;
-    auto loaded = volume::load_volume(o.volume, load_options);
+    auto loaded = volume::load_volume(o.volume, o.load);
     if (!loaded) {
         return loaded.error();
     }

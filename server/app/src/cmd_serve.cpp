@@ -97,16 +97,14 @@ struct ServeOptions {
     int port = net::ServerConfig{}.port;
     int max_message_bytes = static_cast<int>(protocol::Limits{}.max_message_bytes);
     int encode_threads = 2;
-    int volume_memory_mb = 4096;
-    int max_load_mb = static_cast<int>(volume::LoadOptions{}.max_bytes >> 20);
-    int gpu_memory_mb = 2048;
-    int light_buffer_memory_mb = 1024;
+    std::size_t volume_memory = std::size_t{4} << 30;
+    volume::LoadOptions load;
+    render::RendererOptions renderer;
     std::string data;
     std::string web_root;
     std::string cluster_secret;
     quality::Measure measure = quality::Measure::where_missing;
     std::optional<std::filesystem::path> quality_table;
-    bool debug_gl = false;
     session::SchedulerOptions scheduler;
     std::chrono::milliseconds rescan_interval = std::chrono::seconds(10);
 };
@@ -185,14 +183,13 @@ po::options_description data_options(ServeOptions& o) {
             "the built web client (default share/penumbra/web above the binary: client_web/dist, "
             "installed)")("rescan-interval", seconds(&o.rescan_interval, 0.1, 86400.0),
                           "seconds between scans of the data folder (a file added at its top is "
-                          "seen sooner)")("volume-memory-mb",
-                                          whole_number(&o.volume_memory_mb, 1, 1 << 20),
+                          "seen sooner)")("volume-memory-mb", megabytes(&o.volume_memory, 1 << 20),
                                           "loaded volumes kept in memory")(
-            "max-load-mb", whole_number(&o.max_load_mb, 1, 1 << 24),
+            "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
             "memory one volume load may take (never more than the machine has available)")(
-            "gpu-memory-mb", whole_number(&o.gpu_memory_mb, 1, 1 << 20),
+            "gpu-memory-mb", megabytes(&o.renderer.volume_memory_budget, 1 << 20),
             "volume textures kept on the GPU")(
-            "light-buffer-memory-mb", whole_number(&o.light_buffer_memory_mb, 1, 1 << 20),
+            "light-buffer-memory-mb", megabytes(&o.renderer.light_buffer_memory_budget, 1 << 20),
             "light buffers kept on the GPU; a larger one is refused")(
             "default-tf",
             po::value(&c.default_transfer_function)
@@ -249,7 +246,7 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     if (a.count("quality-table") != 0) {
         o.quality_table = a["quality-table"].as<std::string>();
     }
-    o.debug_gl = a.count("debug-gl") != 0;
+    o.renderer.debug_context = a.count("debug-gl") != 0;
     o.config.web_root = o.web_root;
     o.config.port = static_cast<unsigned short>(o.port);
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
@@ -276,13 +273,8 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
 base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
         const ServeOptions& o, session::VolumeStore& volumes, metrics::Registry& registry,
         quality::StartupMeasurement& measured) {
-    const render::RendererOptions renderer_options{
-            .shader_dir = {},
-            .debug_context = o.debug_gl,
-            .volume_memory_budget = static_cast<std::size_t>(o.gpu_memory_mb) << 20,
-            .light_buffer_memory_budget = static_cast<std::size_t>(o.light_buffer_memory_mb) << 20,
-            .max_frame_work = o.config.limits.max_frame_work,
-            .chunk_work = 0.0};
+    render::RendererOptions renderer_options = o.renderer;
+    renderer_options.max_frame_work = o.config.limits.max_frame_work;
     session::SchedulerOptions scheduler_options = o.scheduler;
     scheduler_options.encode_threads = o.encode_threads;
     quality::OfferedVolumes offered;
@@ -353,10 +345,7 @@ int run_serve(const std::vector<std::string>& args) {
     }
     net::ServerConfig& config = o.config;
     protocol::Limits& limits = config.limits;
-    volume::LoadOptions load;
-    load.max_bytes = static_cast<std::uint64_t>(o.max_load_mb) << 20;
-    session::VolumeStore volumes(o.data, static_cast<std::size_t>(o.volume_memory_mb) << 20, load,
-                                 o.rescan_interval);
+    session::VolumeStore volumes(o.data, o.volume_memory, o.load, o.rescan_interval);
     if (auto status = volumes.scan(); !status) {
         return fail(status.error());
     }

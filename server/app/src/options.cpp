@@ -131,14 +131,17 @@ po::options_description option_group(const std::string& caption) {
     return po::options_description(caption, 100, 60);
 }
 
+std::function<void(int)> in_range(int min, int max) {
+    return [min, max](int value) {
+        if (value < min || value > max) {
+            throw BadValue("must be within " + std::to_string(min) + ".." + std::to_string(max));
+        }
+    };
+}
+
 po::typed_value<int>* whole_number(int* target, int min, int max) {
     return po::value<int>(target)->value_name("N")->default_value(*target)->notifier(
-            [min, max](int value) {
-                if (value < min || value > max) {
-                    throw BadValue("must be within " + std::to_string(min) + ".." +
-                                   std::to_string(max));
-                }
-            });
+            in_range(min, max));
 }
 
 base::Result<po::variables_map> parse_options(const std::vector<std::string>& args,

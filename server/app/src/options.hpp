@@ -6,6 +6,7 @@
 #include <boost/program_options.hpp>
 #include <glm/vec3.hpp>
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -76,8 +77,24 @@ private:
 // A group of options laid out for the help (100 columns, descriptions from column 40).
 po::options_description option_group(const std::string& caption);
 
+// Refuses a whole number outside min..max (a notifier).
+std::function<void(int)> in_range(int min, int max);
+
 // A whole number stored in `target`, whose value is the default, refused outside min..max.
 po::typed_value<int>* whole_number(int* target, int min, int max);
+
+// A memory size given in MiB, refused outside 1..max_mb, stored in bytes in `target`, whose
+// value is the default.
+template <class Bytes>
+po::typed_value<int>* megabytes(Bytes* target, int max_mb) {
+    return po::value<int>()
+            ->value_name("M")
+            ->default_value(static_cast<int>(*target >> 20))
+            ->notifier([target, check = in_range(1, max_mb)](int mb) {
+                check(mb);
+                *target = static_cast<Bytes>(mb) << 20;
+            });
+}
 
 // Parses `args` against `options` and runs their checks and stores: an unknown option, a stray
 // argument, a missing or malformed value is an error naming the option.
