@@ -58,17 +58,6 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
                                           256,
                                           3};
 
-// Every mode but the reference, which is always rendered to measure the others against.
-std::string default_modes() {
-    std::string names;
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        if (!mode.is_reference) {
-            names += (names.empty() ? "" : ",") + std::string(mode.name);
-        }
-    }
-    return names;
-}
-
 std::string cases_help() {
     std::string help;
     for (const AccuracyCase& c : accuracy_cases()) {
@@ -192,7 +181,6 @@ po::options_description sweep_options() {
             "[])");
     const std::string lights =
             "directional lights in degrees, quote the ';'" + defaults_of(gpu.lights, cpu.lights);
-    const std::string modes = "(default " + default_modes() + "; the reference is always rendered)";
     const std::string distances =
             "numbers or 1/N" + defaults_of(gpu.sample_distances, cpu.sample_distances);
     const std::string slices = "light slices" + defaults_of(gpu.slices, cpu.slices);
@@ -205,7 +193,8 @@ po::options_description sweep_options() {
                           "(default ch2, ch2better, inia19-t1-brain from mricron-data [ch2], and "
                           "the head CT that scripts/demo-data.sh converts, where it did)")(
             "lights", po::value<Lights>()->value_name("AZ,EL;AZ,EL..."), lights.c_str())(
-            "modes", po::value<Modes>()->value_name("LIST"), modes.c_str())(
+            "modes", po::value<Modes>()->value_name("LIST"),
+            "(default: every mode; the reference is always rendered)")(
             "slices-list", po::value<Counts>()->value_name("N,..."), slices.c_str())(
             "light-res-list", po::value<Counts>()->value_name("R,..."), resolutions.c_str())(
             "sample-distances", po::value<Distances>()->value_name("D,..."), distances.c_str())(
@@ -322,7 +311,7 @@ base::Result<std::vector<std::string>> default_volumes(const po::variables_map& 
 base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& defaults) {
     Sweep sweep;
     sweep.lights = value_or<Lights>(a, "lights", defaults.lights).values;
-    sweep.modes = value_or<Modes>(a, "modes", default_modes()).values;
+    sweep.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
     std::erase_if(sweep.modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
     sweep.slices = value_or<Counts>(a, "slices-list", defaults.slices).values;
     sweep.resolutions = value_or<Counts>(a, "light-res-list", defaults.resolutions).values;
