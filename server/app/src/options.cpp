@@ -61,7 +61,7 @@ void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, 
 void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, int) {
     auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
     Counts counts;
-    for (const double number : numbers ? *numbers : std::vector<double>{0.0}) {
+    for (const double number : numbers.ok() ? *numbers : std::vector<double>{}) {
         if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
             throw BadValue("expects whole numbers from 1 to 65536");
         }
@@ -69,6 +69,9 @@ void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, i
             counts.values.end()) {
             counts.values.push_back(static_cast<int>(number));
         }
+    }
+    if (counts.values.empty()) {
+        throw BadValue("expects whole numbers from 1 to 65536");
     }
     out = counts;
 }
@@ -159,7 +162,8 @@ base::Result<po::variables_map> parse_options(const std::vector<std::string>& ar
         if (!unrecognised.empty()) {
             const std::string& first = unrecognised.front();
             return first.starts_with("-")
-                           ? base::make_error("invalid_argument", "unknown option", first)
+                           ? base::make_error("invalid_argument", "unknown option",
+                                              first.substr(0, first.find('=')))
                            : base::make_error("invalid_argument",
                                               "unexpected argument '" + first + "'", first);
         }

@@ -41,6 +41,7 @@ TEST(Options, RejectsUnknownMissingAndMalformedValues) {
     };
     EXPECT_EQ(error({"--colour", "red"}).where, "--colour");
     EXPECT_EQ(error({"--colour", "red"}).message, "unknown option");
+    EXPECT_EQ(error({"--colour=red"}).where, "--colour");
     // An abbreviation is not guessed: a misspelt option must not pick another.
     EXPECT_EQ(error({"--si", "64x32"}).where, "--si");
     EXPECT_EQ(error({"--size"}).message, "needs a value");
@@ -218,7 +219,7 @@ TEST(ListOptions, CountsAreWholeNumbersInRangeEachOnce) {
     auto parsed = parse_options({"--slices-list", "64,128,64"}, list_options());
     ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
     EXPECT_EQ((*parsed)["slices-list"].as<Counts>().values, (std::vector<int>{64, 128}));
-    for (const char* bad : {"0", "1.5", "65537", "x"}) {
+    for (const char* bad : {"0", "1.5", "65537", "x", "64,x", ""}) {
         auto counts = parse_options({"--slices-list", bad}, list_options());
         ASSERT_FALSE(counts.ok()) << bad;
         EXPECT_EQ(counts.error().where, "--slices-list") << bad;
