@@ -10,6 +10,7 @@ build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
+    libboost-program-options-dev
     libssl-dev nodejs
 )
 test=(

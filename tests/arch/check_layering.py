@@ -36,13 +36,13 @@ ALLOWED_DEPENDENCIES = {
 ALLOWED_DEPENDENCIES["app"] = set(ALLOWED_DEPENDENCIES) - {"gpu"}
 MODULES = set(ALLOWED_DEPENDENCIES)
 
-# Third-party headers (by the first component of the include path) and the modules they are
-# confined to. quality reads and writes the accuracy tables' JSON files; app may use nlohmann for
-# a file of its own (STYLE.md §8.1).
+# Third-party headers (by the longest leading part of the include path listed) and the modules they
+# are confined to. quality reads and writes the accuracy tables' JSON files; app may use nlohmann for
+# a file of its own, and parses its command line with Boost.Program_options (STYLE.md §8.1).
 CONFINED = {
     "nlohmann": {"protocol", "quality", "app"},
     "OpenImageIO": {"encode"},
-    "boost": {"net"},
+    "boost": {"net"}, "boost/program_options": {"app"},
     "epoxy": {"gpu"}, "EGL": {"gpu"}, "GL": {"gpu"},
     "nifti1_io.h": {"volume"}, "nifti2_io.h": {"volume"}, "zlib.h": {"volume"},
     "dcmtk": {"volume"},
@@ -109,11 +109,19 @@ def check(root):
                     if target not in allowed:
                         problems.append(f"{path}:{number}: {module} includes {header}, but "
                                         f"does not declare {target}")
-                elif first in CONFINED and module not in CONFINED[first]:
-                    owners = ", ".join(sorted(CONFINED[first]))
+                elif (confined := confined_as(header)) and module not in CONFINED[confined]:
+                    owners = ", ".join(sorted(CONFINED[confined]))
                     problems.append(f"{path}:{number}: {module} includes {header}, which is "
                                     f"confined to {owners}")
     return problems
+
+
+def confined_as(header):
+    """The key of CONFINED that names `header` most closely ("boost/program_options" before
+    "boost"), or None."""
+    names = [key for key in CONFINED
+             if header == key or header.startswith(key + "/") or header.startswith(key + ".")]
+    return max(names, key=len, default=None)
 
 
 def self_test():
@@ -143,7 +151,9 @@ def self_test():
                          "#include <penumbra/render/renderer.hpp>\n"})
         module("app", "target_link_libraries(penumbra_app_lib PUBLIC penumbra::net penumbra::gpu)",
                {"a.cpp": "#include <penumbra/net/server.hpp>\n"
-                         "#include <penumbra/session/session.hpp>\n"})
+                         "#include <penumbra/session/session.hpp>\n"
+                         "#include <boost/program_options.hpp>\n"
+                         "#include <boost/beast/core.hpp>\n"})
         found = "\n".join(check(root))
         expected = [
             "session includes penumbra/gpu/context.hpp",  # render links gpu PRIVATE
@@ -152,6 +162,7 @@ def self_test():
             "net includes penumbra/render/renderer.hpp",  # session passes render on, undeclared
             "app includes penumbra/session/session.hpp",  # app declares only net
             "app must not depend on gpu",  # gpu stays inside render
+            "app includes boost/beast/core.hpp",  # Boost.Beast is net's, program_options app's
         ]
         missing = [text for text in expected if text not in found]
         unexpected = [line for line in found.splitlines()

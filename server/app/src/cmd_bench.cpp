@@ -1,5 +1,5 @@
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "render_options.hpp"
 
 #include <penumbra/quality/modes_bench.hpp>
@@ -14,108 +14,51 @@
 #include <vector>
 
 namespace penumbra::app {
+
 namespace {
 
 int fail(const base::Error& error) {
-    return report_failure("bench", error);
+    return report_failure("bench modes", error);
 }
 
 int usage_error(const base::Error& error) {
-    return report_usage_error("bench", error);
+    return report_usage_error("bench modes", error);
 }
 
-void print_bench_usage() {
-    std::puts(
-            "usage: penumbra bench <benchmark> [options]\n"
-            "\n"
-            "benchmarks:\n"
-            "  modes    frame time of every rendering mode over slices x light-buffer resolution,\n"
-            "           light-buffer reuse vs rebuild, and the two light-buffer builders\n"
-            "  accuracy error vs the reference (RMSE, PSNR, SSIM) against frame time over\n"
-            "           modes x slices x light-buffer resolution x sample distance; quality\n"
-            "           presets per frame-time budget; CSV, JSON and a plot\n"
-            "  refine   progressive stills: PSNR of each refinement step against a reference at\n"
-            "           1/8 of the sample distance, next to the unjittered frame\n"
-            "\n"
-            "`penumbra bench <benchmark> --help` lists its options.");
-}
+const SweptOptions swept = {{"mode", "--modes LIST"},
+                            {"slices", "--slices-list LIST"},
+                            {"light-res", "--light-res-list LIST"}};
 
-void print_modes_usage() {
-    std::printf(
-            "usage: penumbra bench modes [options]\n"
-            "\n"
-            "Times each mode side by side in one run and prints the ratios that matter:\n"
-            "half_angle vs sbrc at equal slices, sbrc's growth with slices, per_slice vs\n"
-            "multi_slice builder, the local light lookup vs the paper's. Absolute times mean "
-            "something only on a GPU; on a software\n"
-            "rasteriser read the ratios.\n"
-            "\n"
-            "  --volume FILE                  (default %s)\n"
-            "  --modes LIST                   modes to time, comma-separated (default: every\n"
-            "                                 mode); the builder comparison runs when a sbrc\n"
-            "                                 mode is listed\n"
-            "  --slices-list N,...            light slices n to sweep (default 64,128,256)\n"
-            "  --light-res-list R,...         light-buffer resolutions R to sweep (default\n"
-            "                                 128,256,512)\n"
-            "  --repeat N                     timed frames per point after 1 warm-up (default 5)\n"
-            "  --volumes FILE,...             volumes for the optimisation table (default: the\n"
-            "                                 --volume); the sweeps run on --volume\n"
-            "  --gradients automatic|central|texture  where shaded samples get gradients:\n"
-            "                                 central differences, the precomputed texture, or\n"
-            "                                 the renderer's default (automatic: central\n"
-            "                                 differences, which the reference matches)\n"
-            "  --brick-voxels N               voxels per side of the bricks empty-space\n"
-            "                                 skipping leaps over (default: the renderer's)\n"
-            "  --optimisations-only           only the optimisation table: each mode's frame\n"
-            "                                 time with and without empty-space skipping, the\n"
-            "                                 PSNR between the two images, the light-buffer\n"
-            "                                 build with and without, and phong with central\n"
-            "                                 differences against the gradient texture\n"
-            "  --csv FILE                     also write one row per point of the sweeps\n"
-            "  --debug-gl                     GL debug output to the log\n"
-            "\n"
-            "frame options (as for `penumbra render`; --mode, --slices and --light-res are swept\n"
-            "instead; --builder and --light-lookup pick what the sbrc modes use; the paper's\n"
-            "method is --light-lookup interpolate --slab-samples 1):\n%s",
-            default_volume_path, frame_options_help());
-}
-
-base::Status refuse_swept_options(const Arguments& a) {
-    // These three are what the benchmark sweeps; accepting one would silently ignore it.
-    const std::pair<const char*, const char*> swept[] = {
-            {"mode", "--modes"}, {"slices", "--slices-list"}, {"light-res", "--light-res-list"}};
-    for (const auto& [option, instead] : swept) {
-        if (a.has(option)) {
-            return base::make_error(
-                    "invalid_argument",
-                    std::string("bench modes sweeps this; use ") + instead + " LIST",
-                    std::string("--") + option);
-        }
-    }
-    return base::Ok{};
-}
-
-// What `bench modes` sweeps, into `config`.
-base::Status read_sweep(const Arguments& a, quality::ModesBenchConfig& config) {
-    auto slice_counts = parse_counts(a.get("slices-list").value_or("64,128,256"), "slices-list");
-    auto resolutions =
-            parse_counts(a.get("light-res-list").value_or("128,256,512"), "light-res-list");
-    auto modes = parse_modes(a.get("modes").value_or(scene::mode_names(",")), "modes");
-    auto repeat = a.integer("repeat", config.repeat);
-    if (!slice_counts || !resolutions || !modes || !repeat) {
-        return !slice_counts  ? slice_counts.error()
-               : !resolutions ? resolutions.error()
-               : !modes       ? modes.error()
-                              : repeat.error();
-    }
-    if (*repeat < 1 || *repeat > 1000) {
-        return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
-    }
-    config.slices = std::move(*slice_counts);
-    config.resolutions = std::move(*resolutions);
-    config.modes = std::move(*modes);
-    config.repeat = *repeat;
-    return base::Ok{};
+po::options_description modes_options(quality::ModesBenchConfig& config) {
+    po::options_description options = option_group("options");
+    options.add_options()("help", "this text")(
+            "volume", po::value(&config.volume)->value_name("FILE")->default_value(config.volume),
+            "the volume the sweeps run on")(
+            "modes", po::value<Modes>()->value_name("LIST"),
+            "modes to time, comma-separated (default: every mode); the builder comparison runs "
+            "when a sbrc mode is listed")(
+            "slices-list", with_default<Counts>("N,...", "64,128,256"), "light slices to sweep")(
+            "light-res-list", with_default<Counts>("R,...", "128,256,512"),
+            "light-buffer resolutions to sweep")("repeat", whole_number(&config.repeat, 1, 1000),
+                                                 "timed frames per point after 1 warm-up")(
+            "volumes", po::value<std::string>()->value_name("FILE,..."),
+            "volumes for the optimisation table (default: the --volume)")(
+            "gradients",
+            po::value<std::string>()
+                    ->value_name("automatic|central|texture")
+                    ->default_value("automatic"),
+            "where shaded samples get gradients: central differences, the precomputed texture, or "
+            "the renderer's default (automatic: central differences, which the reference matches)")(
+            "brick-voxels", po::value(&config.brick_voxels)->value_name("N")->default_value(0),
+            "voxels per side of the bricks empty-space skipping leaps over (0: the renderer's)")(
+            "optimisations-only",
+            "only the optimisation table: each mode's frame time with and without empty-space "
+            "skipping, the PSNR between the two images, the light-buffer build with and without, "
+            "and phong with central differences against the gradient texture")(
+            "csv", po::value<std::string>()->value_name("FILE"),
+            "also write one row per point of the sweeps")("debug-gl", "GL debug output to the log");
+    options.add(frame_options(names_of(swept)));
+    return options;
 }
 
 std::optional<render::GradientSource> parse_gradient_source(const std::string& text) {
@@ -132,29 +75,26 @@ std::optional<render::GradientSource> parse_gradient_source(const std::string& t
 }
 
 // The optimisation table's options, into `config`.
-base::Status read_optimisation_options(const Arguments& a, quality::ModesBenchConfig& config) {
-    config.volumes = split_list(a.get("volumes").value_or(config.volume));
+base::Status read_optimisation_options(const po::variables_map& a,
+                                       quality::ModesBenchConfig& config) {
+    config.volumes =
+            split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>() : config.volume);
     if (config.volumes.empty()) {
         return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
     }
-    const auto gradients = parse_gradient_source(a.get("gradients").value_or("automatic"));
+    const auto gradients = parse_gradient_source(a["gradients"].as<std::string>());
     if (!gradients) {
         return base::make_error("invalid_argument", "expects automatic, central or texture",
                                 "--gradients");
     }
     config.gradients = *gradients;
-    auto brick_voxels = a.integer("brick-voxels", 0);
-    if (!brick_voxels) {
-        return brick_voxels.error();
-    }
-    if (*brick_voxels < 0 || *brick_voxels > 256) {
+    if (config.brick_voxels < 0 || config.brick_voxels > 256) {
         return base::make_error("invalid_argument",
                                 "expects 1..256, or 0 for the renderer's default",
                                 "--brick-voxels");
     }
-    config.brick_voxels = *brick_voxels;
-    config.only_table = a.has("optimisations-only");
-    if (config.only_table && a.has("csv")) {
+    config.only_table = a.count("optimisations-only") != 0;
+    if (config.only_table && a.count("csv") != 0) {
         return base::make_error("invalid_argument",
                                 "the optimisation table writes no CSV; its rows are printed",
                                 "--csv");
@@ -163,43 +103,43 @@ base::Status read_optimisation_options(const Arguments& a, quality::ModesBenchCo
 }
 
 // Opened before anything is measured, so that a path it cannot write fails at once.
-base::Status open_csv(const Arguments& a, std::ofstream& csv, quality::ModesBenchConfig& config) {
-    if (const auto csv_path = a.get("csv")) {
-        csv.open(*csv_path);
+base::Status open_csv(const po::variables_map& a, std::ofstream& csv,
+                      quality::ModesBenchConfig& config) {
+    if (a.count("csv") != 0) {
+        config.csv_path = a["csv"].as<std::string>();
+        csv.open(config.csv_path);
         if (!csv) {
-            return base::make_error("io_error", "cannot write '" + *csv_path + "'", "--csv");
+            return base::make_error("io_error", "cannot write '" + config.csv_path + "'", "--csv");
         }
         config.csv = &csv;
-        config.csv_path = *csv_path;
     }
     return base::Ok{};
 }
 
 int run_bench_modes(const std::vector<std::string>& args) {
-    std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volume", "volumes", "slices-list", "light-res-list", "repeat",
-                                 "modes", "csv", "gradients", "brick-voxels"});
-    std::vector<std::string> flags = frame_flag_names();
-    flags.insert(flags.end(), {"help", "debug-gl", "optimisations-only"});
-    auto parsed = Arguments::parse(args, valued, flags);
+    quality::ModesBenchConfig config;
+    config.volume = default_volume_path;
+    const po::options_description options = modes_options(config);
+    auto parsed = parse_options(args, options);
     if (!parsed) {
-        return usage_error(parsed.error());
+        return usage_error(explain_swept(parsed.error(), swept, "bench modes"));
     }
-    if (parsed->has("help")) {
-        print_modes_usage();
+    const po::variables_map& a = *parsed;
+    if (a.count("help") != 0) {
+        print_help("bench modes [options]",
+                   "Times each mode side by side in one run and prints the ratios that matter: "
+                   "half_angle vs sbrc\nat equal slices, sbrc's growth with slices, per_slice vs "
+                   "multi_slice builder, the local light\nlookup vs the paper's (--light-lookup "
+                   "interpolate --slab-samples 1). Absolute times mean\nsomething only on a GPU; "
+                   "on a software rasteriser read the ratios.",
+                   options);
         return 0;
     }
-    const Arguments& a = *parsed;
-    if (auto status = refuse_swept_options(a); !status) {
-        return usage_error(status.error());
-    }
-    quality::ModesBenchConfig config;
-    config.volume = a.get("volume").value_or(default_volume_path);
-    config.debug_gl = a.has("debug-gl");
+    config.debug_gl = a.count("debug-gl") != 0;
     config.frame_for = [&a](const volume::Volume& volume) { return frame_request_from(a, volume); };
-    if (auto status = read_sweep(a, config); !status) {
-        return fail(status.error());
-    }
+    config.slices = a["slices-list"].as<Counts>().values;
+    config.resolutions = a["light-res-list"].as<Counts>().values;
+    config.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
     if (auto status = read_optimisation_options(a, config); !status) {
         return usage_error(status.error());
     }
@@ -215,33 +155,23 @@ int run_bench_modes(const std::vector<std::string>& args) {
 
 }  // namespace
 
-// In cmd_bench_accuracy.cpp.
-int run_bench_accuracy(const std::vector<std::string>& args);
-
-// In cmd_bench_refine.cpp.
-int run_bench_refine(const std::vector<std::string>& args);
-
 int run_bench(const std::vector<std::string>& args) {
-    if (args.empty()) {
-        print_bench_usage();
-        return 2;
-    }
-    if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-        print_bench_usage();
-        return 0;
-    }
-    if (args[0] == "accuracy") {
-        return run_bench_accuracy({args.begin() + 1, args.end()});
-    }
-    if (args[0] == "refine") {
-        return run_bench_refine({args.begin() + 1, args.end()});
-    }
-    if (args[0] != "modes") {
-        std::fprintf(stderr, "penumbra bench: unknown benchmark '%s'\n\n", args[0].c_str());
-        print_bench_usage();
-        return 2;
-    }
-    return run_bench_modes({args.begin() + 1, args.end()});
+    return run_subcommand(
+            "penumbra bench", "benchmark",
+            {{"modes",
+              "frame time of every rendering mode over slices x light-buffer resolution,\n\t"
+              "light-buffer reuse vs rebuild, and the two light-buffer builders",
+              run_bench_modes},
+             {"accuracy",
+              "error vs the reference (RMSE, PSNR, SSIM) against frame time over\n\tmodes x "
+              "slices x light-buffer resolution x sample distance; quality\n\tpresets per "
+              "frame-time budget; CSV, JSON and a plot",
+              run_bench_accuracy},
+             {"refine",
+              "progressive stills: PSNR of each refinement step against a reference at\n\t1/8 "
+              "of the sample distance, next to the unjittered frame",
+              run_bench_refine}},
+            args);
 }
 
 }  // namespace penumbra::app

@@ -4,12 +4,12 @@
 // against it and set beside the frame time. The measured table doubles as the source of quality
 // presets: for a frame-time budget, the most accurate setting that fits.
 
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "render_options.hpp"
 #include "transfer_function_file.hpp"
 
-#include <penumbra/quality/report.hpp>
+#include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -18,13 +18,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace penumbra::app {
-
-int run_bench_accuracy(const std::vector<std::string>& args);
 
 namespace {
 
@@ -59,26 +58,96 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
                                           256,
                                           3};
 
-// Every mode but the reference, which is always rendered to measure the others against.
-std::string default_modes() {
-    std::string names;
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        if (!mode.is_reference) {
-            names += (names.empty() ? "" : ",") + std::string(mode.name);
-        }
-    }
-    return names;
-}
-
 std::string cases_help() {
     std::string help;
     for (const AccuracyCase& c : accuracy_cases()) {
         char line[256];
-        std::snprintf(line, sizeof line, "      %-15s tf %s: %s\n", c.name, c.transfer_function,
+        std::snprintf(line, sizeof line, "\n  %-15s \ttf %s: %s", c.name, c.transfer_function,
                       c.what);
         help += line;
     }
     return help;
+}
+
+// The sweep's own lists, read by program_options (validate): sample distances in (0, 1], each
+// may be a fraction; lights "AZ,EL;AZ,EL"; switches "on,off", each once; refinement step counts,
+// sorted, each once, 0 (the still, always measured) left out.
+struct Distances {
+    std::vector<double> values;
+};
+
+struct Lights {
+    std::vector<LightAngles> values;
+};
+
+struct Switches {
+    std::vector<bool> values;
+};
+
+struct Steps {
+    std::vector<int> values;
+};
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Distances*, int) {
+    Distances distances;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        const auto number = parse_numbers(item, "");
+        if (!number || number->size() != 1 || !(number->front() > 0.0 && number->front() <= 1.0)) {
+            throw BadValue("'" + item + "' is not a distance in (0, 1]");
+        }
+        distances.values.push_back(number->front());
+    }
+    std::sort(distances.values.begin(), distances.values.end());
+    distances.values.erase(std::unique(distances.values.begin(), distances.values.end()),
+                           distances.values.end());
+    out = distances;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Lights*, int) {
+    Lights lights;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts), ';')) {
+        const auto numbers = parse_numbers(item, "");
+        if (!numbers || numbers->size() != 2) {
+            throw BadValue("expects AZIMUTH,ELEVATION pairs separated by ';'");
+        }
+        lights.values.push_back({(*numbers)[0], (*numbers)[1]});
+    }
+    out = lights;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Switches*, int) {
+    Switches switches;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        if (item != "on" && item != "off") {
+            throw BadValue("'" + item + "' is neither on nor off");
+        }
+        if (std::find(switches.values.begin(), switches.values.end(), item == "on") ==
+            switches.values.end()) {
+            switches.values.push_back(item == "on");
+        }
+    }
+    if (switches.values.empty()) {
+        throw BadValue("expects on, off or on,off");
+    }
+    out = switches;
+}
+
+void validate(boost::any& out, const std::vector<std::string>& texts, Steps*, int) {
+    Steps steps;
+    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
+        const auto number = parse_numbers(item, "");
+        const double value = number && number->size() == 1 ? number->front() : -1.0;
+        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
+            throw BadValue("'" + item + "' is not a step count in 0.." +
+                           std::to_string(scene::kMaxRefinementSteps));
+        }
+        if (value > 0.0) {
+            steps.values.push_back(static_cast<int>(value));
+        }
+    }
+    std::sort(steps.values.begin(), steps.values.end());
+    steps.values.erase(std::unique(steps.values.begin(), steps.values.end()), steps.values.end());
+    out = steps;
 }
 
 int fail(const base::Error& error) {
@@ -89,191 +158,107 @@ int usage_error(const base::Error& error) {
     return report_usage_error("bench accuracy", error);
 }
 
-void print_usage() {
-    std::printf(
-            "usage: penumbra bench accuracy [options]\n"
-            "\n"
-            "Accuracy against the `reference` mode (shadow rays) versus frame time. For every\n"
-            "volume and light the reference is rendered once per sample distance from the same\n"
-            "camera; every other mode x slices x light-buffer resolution x sample distance is\n"
-            "compared with it (RMSE and PSNR via OpenImageIO, SSIM on Rec. 601 luma) and timed:\n"
-            "the median frame time over --repeat frames with the light buffer cached (only the\n"
-            "camera fixed: what a user orbiting the volume pays), and, separately, the median\n"
-            "light-buffer build forced by nudging the light (what a light or TF edit pays).\n"
-            "Times are GPU timer queries where they work, else wall clock (software rasterisers).\n"
-            "Phong shading is on in every mode that has it as an option (shadow modes and the\n"
-            "reference), so the methods differ only in how they shadow; dvr is unlit.\n"
-            "\n"
-            "Defaults are for a GPU; on a software rasteriser (llvmpipe) lighter ones in [].\n"
-            "  --volumes FILE,...             (default ch2, ch2better, inia19-t1-brain from\n"
-            "                                 /usr/share/mricron/templates [ch2], and the head\n"
-            "                                 CT that scripts/demo-data.sh converts, where it "
-            "did)\n"
-            "  --lights AZ,EL;AZ,EL...        directional lights in degrees, quote the ';'\n"
-            "                                 (default 10,45;100,20;250,60 [10,45])\n"
-            "  --modes LIST                   (default %s;\n"
-            "                                 the reference is always rendered)\n"
-            "  --slices-list N,...            (default 32,64,128,256,512 [32,64,128,256])\n"
-            "  --light-res-list R,...         (default 64,128,256,512,1024 [64,128,256])\n"
-            "  --sample-distances D,...       numbers or 1/N (default 1/256,1/512 [1/256])\n"
-            "  --skipping on,off              empty-space skipping on and/or off, every\n"
-            "                                 setting and the reference (default on)\n"
-            "  --jitter off,on                ray-cast modes unjittered and/or jittered\n"
-            "                                 (default off; the reference never jitters)\n"
-            "  --refinement K,...             jittered settings also refined by K steps, each\n"
-            "                                 a point (e.g. 0,4,8; needs --jitter with on)\n"
-            "  --case NAME                    a transfer function and the volumes it suits:\n"
-            "%s"
-            "  --size WxH                     (default 512x512 [256x256])\n"
-            "  --repeat N                     timed frames per point after 1 warm-up\n"
-            "                                 (default 7 [3])\n"
-            "  --no-phong                     shadow modes and reference without Blinn-Phong\n"
-            "  --csv FILE  --json FILE        the measured table (one row per point)\n"
-            "  --plot FILE.png                PSNR over frame time, one curve per method, Pareto\n"
-            "                                 front marked; also FILE.svg and the gnuplot script\n"
-            "                                 FILE.gp (needs gnuplot-nox)\n"
-            "  --budget-ms MS,...             frame-time budgets for the quality presets\n"
-            "                                 (default: six from the fastest setting to the\n"
-            "                                 reference)\n"
-            "  --from FILE.json               measure nothing: presets, CSV, JSON and plot from a\n"
-            "                                 table written by --json\n"
-            "  --debug-gl                     GL debug output to the log\n"
-            "\n"
-            "frame options (as for `penumbra render`; --mode, --slices, --light-res, --light,\n"
-            "--light-position, --sample-distance, --jitter and --no-empty-space-skipping are\n"
-            "swept instead):\n%s",
-            default_modes().c_str(), cases_help().c_str(), frame_options_help());
+// What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
+const SweptOptions swept = {{"mode", "--modes LIST"},
+                            {"slices", "--slices-list LIST"},
+                            {"light-res", "--light-res-list LIST"},
+                            {"light", "--lights LIST"},
+                            {"light-position", "--lights LIST (directional lights only)"},
+                            {"sample-distance", "--sample-distances LIST"},
+                            {"no-empty-space-skipping", "--skipping on,off"}};
+
+// "(default GPU [software rasteriser])".
+std::string defaults_of(const std::string& gpu, const std::string& software) {
+    return " (default " + gpu + (gpu == software ? "" : " [" + software + "]") + ")";
 }
 
-// "1/256,0.002" → distances (numbers accept the fraction form).
-base::Result<std::vector<double>> parse_distances(const std::string& text) {
-    std::vector<double> distances;
-    for (const std::string& item : split_list(text)) {
-        auto number = parse_numbers(item, "sample-distances");
-        if (!number) {
-            return number.error();
-        }
-        const double value = number->front();
-        if (!std::isfinite(value) || value <= 0.0 || value > 1.0) {
-            return base::make_error("invalid_argument",
-                                    "'" + item + "' is not a distance in (0, 1]",
-                                    "--sample-distances");
-        }
-        distances.push_back(value);
-    }
-    return distances;
+po::options_description sweep_options() {
+    const SweepDefaults& gpu = gpu_defaults;
+    const SweepDefaults& cpu = software_defaults;
+    const auto list = [](const char* name) { return po::value<std::string>()->value_name(name); };
+    po::options_description options = option_group(
+            "sweep (defaults for a GPU, on a software rasteriser such as llvmpipe lighter ones in "
+            "[])");
+    const std::string lights =
+            "directional lights in degrees, quote the ';'" + defaults_of(gpu.lights, cpu.lights);
+    const std::string distances =
+            "numbers or 1/N" + defaults_of(gpu.sample_distances, cpu.sample_distances);
+    const std::string slices = "light slices" + defaults_of(gpu.slices, cpu.slices);
+    const std::string resolutions =
+            "light-buffer resolutions" + defaults_of(gpu.resolutions, cpu.resolutions);
+    const std::string cases = "a transfer function and the volumes it suits:" + cases_help();
+    const std::string repeat = "timed frames per point after 1 warm-up" +
+                               defaults_of(std::to_string(gpu.repeat), std::to_string(cpu.repeat));
+    options.add_options()("volumes", list("FILE,..."),
+                          "(default ch2, ch2better, inia19-t1-brain from mricron-data [ch2], and "
+                          "the head CT that scripts/demo-data.sh converts, where it did)")(
+            "lights", po::value<Lights>()->value_name("AZ,EL;AZ,EL..."), lights.c_str())(
+            "modes", po::value<Modes>()->value_name("LIST"),
+            "(default: every mode; the reference is always rendered)")(
+            "slices-list", po::value<Counts>()->value_name("N,..."), slices.c_str())(
+            "light-res-list", po::value<Counts>()->value_name("R,..."), resolutions.c_str())(
+            "sample-distances", po::value<Distances>()->value_name("D,..."), distances.c_str())(
+            "skipping", with_default<Switches>("on,off", "on"),
+            "empty-space skipping on and/or off, every setting and the reference")(
+            "jitter", with_default<Switches>("off,on", "off"),
+            "ray-cast modes unjittered and/or jittered (the reference never jitters)")(
+            "refinement", with_default<Steps>("K,...", "0"),
+            "jittered settings also refined by K steps, each a point (needs --jitter with on)")(
+            "case", list("NAME"), cases.c_str())("repeat", po::value<int>()->value_name("N"),
+                                                 repeat.c_str());
+    return options;
 }
 
-base::Result<std::vector<LightAngles>> parse_lights(const std::string& text) {
-    std::vector<LightAngles> lights;
-    for (const std::string& item : split_list(text, ';')) {
-        auto numbers = parse_numbers(item, "lights");
-        if (!numbers) {
-            return numbers.error();
-        }
-        if (numbers->size() != 2) {
-            return base::make_error("invalid_argument",
-                                    "expects AZIMUTH,ELEVATION pairs separated by ';'", "--lights");
-        }
-        lights.push_back({(*numbers)[0], (*numbers)[1]});
-    }
-    return lights;
+po::options_description output_options() {
+    po::options_description options = option_group("output");
+    options.add_options()("help", "this text")("no-phong",
+                                               "shadow modes and reference without Blinn-Phong")(
+            "csv", po::value<std::string>()->value_name("FILE"), "the measured table as CSV")(
+            "json", po::value<std::string>()->value_name("FILE"), "... as JSON")(
+            "plot", po::value<std::string>()->value_name("FILE.png"),
+            "PSNR over frame time, one curve per method, Pareto front marked; also FILE.svg and "
+            "the gnuplot script FILE.gp (needs gnuplot-nox)")(
+            "budget-ms", po::value<Numbers>()->value_name("MS,..."),
+            "frame-time budgets for the quality presets (default: six from the fastest setting "
+            "to the reference)")("from", po::value<std::string>()->value_name("FILE.json"),
+                                 "measure nothing: presets, CSV, JSON and plot from a table "
+                                 "written by --json")("debug-gl", "GL debug output to the log");
+    return options;
 }
 
-// "on,off" -> {true, false}, each once.
-base::Result<std::vector<bool>> parse_switches(const std::string& text, const std::string& option) {
-    std::vector<bool> values;
-    for (const std::string& item : split_list(text)) {
-        if (item != "on" && item != "off") {
-            return base::make_error("invalid_argument", "'" + item + "' is neither on nor off",
-                                    "--" + option);
-        }
-        const bool value = item == "on";
-        if (std::find(values.begin(), values.end(), value) == values.end()) {
-            values.push_back(value);
-        }
-    }
-    if (values.empty()) {
-        return base::make_error("invalid_argument", "expects on, off or on,off", "--" + option);
-    }
-    return values;
-}
+constexpr const char* about =
+        "Accuracy against the `reference` mode (shadow rays) versus frame time. For every volume "
+        "and light\nthe reference is rendered once per sample distance from the same camera; "
+        "every other mode x slices\nx light-buffer resolution x sample distance is compared "
+        "with it (RMSE and PSNR via OpenImageIO,\nSSIM on Rec. 601 luma) and timed: the median "
+        "frame time over --repeat frames with the light\nbuffer cached (what a user orbiting "
+        "the volume pays), and the median light-buffer build forced\nby nudging the light "
+        "(what a light or TF edit pays). Times are GPU timer queries where they\nwork, else "
+        "wall clock. Phong shading is on in every mode that has it as an option, so the\n"
+        "methods differ only in how they shadow; dvr is unlit. The frame options are those of "
+        "`render`,\nless what the sweep varies.";
 
-// Refinement step counts, sorted, each once, 0 (the still, always measured) left out.
-base::Result<std::vector<int>> parse_refinement(const std::string& text) {
-    std::vector<int> steps;
-    for (const std::string& item : split_list(text)) {
-        auto numbers = parse_numbers(item, "refinement");
-        if (!numbers) {
-            return numbers.error();
-        }
-        const double value = numbers->front();
-        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
-            return base::make_error("invalid_argument",
-                                    "'" + item + "' is not a step count in 0.." +
-                                            std::to_string(scene::kMaxRefinementSteps),
-                                    "--refinement");
-        }
-        if (value > 0.0) {
-            steps.push_back(static_cast<int>(value));
+// The presets' budgets and the files the options ask for.
+base::Result<AccuracyReport> report_from(const po::variables_map& a) {
+    AccuracyReport report;
+    if (a.count("budget-ms") != 0) {
+        report.budgets_ms = a["budget-ms"].as<Numbers>().values;
+    }
+    for (auto [name, file] : {std::pair{"csv", &report.csv}, std::pair{"json", &report.json},
+                              std::pair{"plot", &report.plot}}) {
+        if (a.count(name) != 0) {
+            *file = a[name].as<std::string>();
         }
     }
-    std::sort(steps.begin(), steps.end());
-    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
-    return steps;
-}
-
-// The modes to compare with the reference, which is always rendered.
-base::Result<std::vector<scene::Mode>> parse_compared_modes(const std::string& text) {
-    auto modes = parse_modes(text, "modes");
-    if (modes) {
-        std::erase_if(*modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
-    }
-    return modes;
-}
-
-base::Status finish(const Table& table, const Arguments& a) {
-    std::vector<double> budgets;
-    if (const auto text = a.get("budget-ms")) {
-        auto parsed = parse_numbers(*text, "budget-ms");
-        if (!parsed) {
-            return parsed.error();
-        }
-        budgets = *parsed;
-    } else {
-        budgets = default_budgets(table.points);
-    }
-    const std::vector<Preset> presets = choose_presets(table, budgets);
-    std::fputs(presets_text(table, presets).c_str(), stdout);
-    if (const auto path = a.get("csv")) {
-        if (auto status = write_csv(table, *path, "--csv"); !status) {
-            return status;
-        }
-        std::printf("csv:      %s\n", path->c_str());
-    }
-    if (const auto path = a.get("json")) {
-        if (auto status = write_table_file(*path, table, presets, "--json"); !status) {
-            return status;
-        }
-        std::printf("json:     %s\n", path->c_str());
-    }
-    if (const auto path = a.get("plot")) {
-        auto files = write_plot(table, *path, "--plot");
-        if (!files) {
-            return files.error();
-        }
-        std::printf("plot:     %s, %s (script %s)\n", files->png.c_str(), files->svg.c_str(),
-                    files->script.c_str());
-    }
-    return base::Ok{};
+    return report;
 }
 
 // --case, where one is named (an unknown name is an error).
-base::Result<const AccuracyCase*> case_from(const Arguments& a) {
-    const auto name = a.get("case");
-    if (!name) {
+base::Result<const AccuracyCase*> case_from(const po::variables_map& a) {
+    if (a.count("case") == 0) {
         return nullptr;
     }
+    const auto name = std::optional(a["case"].as<std::string>());
     const AccuracyCase* found = find_accuracy_case(*name);
     if (found == nullptr) {
         std::string names;
@@ -283,7 +268,7 @@ base::Result<const AccuracyCase*> case_from(const Arguments& a) {
         return base::make_error("invalid_argument",
                                 "no case '" + *name + "' (cases: " + names + ")", "--case");
     }
-    if (a.has("tf")) {
+    if (a.count("tf") != 0) {
         return base::make_error("invalid_argument",
                                 "--case sets the transfer function; give one or the other", "--tf");
     }
@@ -291,10 +276,10 @@ base::Result<const AccuracyCase*> case_from(const Arguments& a) {
 }
 
 // --volumes, else the case's, else this device's defaults with the head CT where it was made.
-base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
+base::Result<std::vector<std::string>> default_volumes(const po::variables_map& a,
                                                        const SweepDefaults& defaults) {
-    if (const auto volumes = a.get("volumes")) {
-        return split_list(*volumes);
+    if (a.count("volumes") != 0) {
+        return split_list(a["volumes"].as<std::string>());
     }
     auto named = case_from(a);
     if (!named) {
@@ -323,101 +308,45 @@ base::Result<std::vector<std::string>> default_volumes(const Arguments& a,
 }
 
 // The sweep the options ask for, over the defaults of this kind of device.
-base::Result<Sweep> sweep_from(const Arguments& a, const SweepDefaults& defaults) {
-    auto lights = parse_lights(a.get("lights").value_or(defaults.lights));
-    auto modes = parse_compared_modes(a.get("modes").value_or(default_modes()));
-    auto slices = parse_counts(a.get("slices-list").value_or(defaults.slices), "slices-list");
-    auto resolutions =
-            parse_counts(a.get("light-res-list").value_or(defaults.resolutions), "light-res-list");
-    auto distances = parse_distances(a.get("sample-distances").value_or(defaults.sample_distances));
-    auto repeat = a.integer("repeat", defaults.repeat);
-    auto skipping = parse_switches(a.get("skipping").value_or("on"), "skipping");
-    auto jitter = parse_switches(a.get("jitter").value_or("off"), "jitter");
-    auto refinement = parse_refinement(a.get("refinement").value_or("0"));
-    for (const base::Error* error :
-         {lights ? nullptr : &lights.error(), modes ? nullptr : &modes.error(),
-          slices ? nullptr : &slices.error(), resolutions ? nullptr : &resolutions.error(),
-          distances ? nullptr : &distances.error(), repeat ? nullptr : &repeat.error(),
-          skipping ? nullptr : &skipping.error(), jitter ? nullptr : &jitter.error(),
-          refinement ? nullptr : &refinement.error()}) {
-        if (error != nullptr) {
-            return *error;
-        }
-    }
-    if (*repeat < 1 || *repeat > 1000) {
+base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& defaults) {
+    Sweep sweep;
+    sweep.lights = value_or<Lights>(a, "lights", defaults.lights).values;
+    sweep.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
+    std::erase_if(sweep.modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
+    sweep.slices = value_or<Counts>(a, "slices-list", defaults.slices).values;
+    sweep.resolutions = value_or<Counts>(a, "light-res-list", defaults.resolutions).values;
+    sweep.distances = value_or<Distances>(a, "sample-distances", defaults.sample_distances).values;
+    sweep.repeat = a.count("repeat") != 0 ? a["repeat"].as<int>() : defaults.repeat;
+    sweep.skipping = a["skipping"].as<Switches>().values;
+    sweep.jitter = a["jitter"].as<Switches>().values;
+    sweep.refinement_steps = a["refinement"].as<Steps>().values;
+    if (sweep.repeat < 1 || sweep.repeat > 1000) {
         return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
     }
-    if (!refinement->empty() && std::find(jitter->begin(), jitter->end(), true) == jitter->end()) {
+    if (!sweep.refinement_steps.empty() &&
+        std::find(sweep.jitter.begin(), sweep.jitter.end(), true) == sweep.jitter.end()) {
         return base::make_error("invalid_argument",
                                 "refinement steps average jittered frames: add --jitter on or "
                                 "--jitter off,on",
                                 "--refinement");
     }
-    Sweep sweep;
     auto volumes = default_volumes(a, defaults);
     if (!volumes) {
         return volumes.error();
     }
     sweep.volumes = std::move(*volumes);
-    sweep.skipping = *skipping;
-    sweep.jitter = *jitter;
-    sweep.refinement_steps = *refinement;
-    sweep.lights = *lights;
-    sweep.modes = *modes;
-    sweep.slices = *slices;
-    sweep.resolutions = *resolutions;
-    sweep.distances = *distances;
-    std::sort(sweep.distances.begin(), sweep.distances.end());
-    sweep.distances.erase(std::unique(sweep.distances.begin(), sweep.distances.end()),
-                          sweep.distances.end());
-    sweep.repeat = *repeat;
     return sweep;
 }
 
-// What the benchmark sweeps or fixes itself; accepting one would silently ignore it.
-base::Status refuse_swept_options(const Arguments& a) {
-    const std::pair<const char*, const char*> swept[] = {
-            {"mode", "--modes LIST"},
-            {"slices", "--slices-list LIST"},
-            {"light-res", "--light-res-list LIST"},
-            {"light", "--lights LIST"},
-            {"light-position", "--lights LIST (directional lights only)"},
-            {"sample-distance", "--sample-distances LIST"},
-            {"no-empty-space-skipping", "--skipping on,off"}};
-    for (const auto& [option, instead] : swept) {
-        if (a.has(option)) {
-            return base::make_error("invalid_argument",
-                                    std::string("bench accuracy sweeps this; use ") + instead,
-                                    std::string("--") + option);
-        }
-    }
-    return base::Ok{};
-}
-
-void print_timing(const render::RendererInfo& info, const Sweep& sweep) {
-    std::printf("penumbra bench accuracy\n");
-    std::printf("gl:       %s | %s | %s\n", info.renderer.c_str(), info.version.c_str(),
-                info.platform.c_str());
-    if (info.gpu_timer_queries) {
-        std::printf("timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
-                    sweep.repeat);
-    } else {
-        std::printf(
-                "timing:   wall clock (this GL's timer queries mean nothing: software "
-                "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
-                "defaults for a software rasteriser\n",
-                sweep.repeat);
-    }
-}
-
 // The frame every point of one volume shares: the frame options over the defaults.
-base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume::Volume& volume,
+base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
+                                               const volume::Volume& volume,
                                                const SweepDefaults& defaults, bool phong) {
     auto request = frame_request_from(a, volume);
     if (!request) {
         return request.error();
     }
-    if (!a.has("size")) {
+    if (a["size"].defaulted()) {
         request->settings.width = defaults.side;
         request->settings.height = defaults.side;
     }
@@ -442,75 +371,22 @@ base::Result<scene::FrameRequest> base_request(const Arguments& a, const volume:
     return request;
 }
 
-// Every volume of the sweep under every light, into `table`, printed as it is measured.
-base::Status measure_all(render::Renderer& renderer, const Arguments& a, const Sweep& sweep,
-                         const SweepDefaults& defaults, Table& table) {
-    const std::uint64_t frames =
-            frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
-    const Progress progress(frames);
-    std::printf(
-            "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
-            "left)\n",
-            sweep.volumes.size(), sweep.lights.size(), static_cast<unsigned long long>(frames));
-    const SweepObserver print{
-            .frame = [](const Table& t) { std::fputs(frame_text(t).c_str(), stdout); },
-            .view =
-                    [](const std::string& volume, const LightAngles& light) {
-                        std::fputs(view_header(volume, light).c_str(), stdout);
-                    },
-            .point =
-                    [&](const Point& p, std::uint64_t done) {
-                        std::printf("%s  %s\n", point_row(p).c_str(), progress(done).c_str());
-                        std::fflush(stdout);
-                    }};
-    const FrameFor frame_for = [&](const volume::Volume& volume) {
-        return base_request(a, volume, defaults, table.phong);
-    };
-    return measure_sweep(renderer, sweep, frame_for, print, table);
-}
-
 // --from: presets, CSV, JSON and plot from a table measured before.
-int report_from(const Arguments& a, const std::string& from) {
+base::Status report_table_file(const std::string& from, const AccuracyReport& report) {
     auto table = read_table_file(from);
     if (!table) {
-        return fail(table.error());
+        return table.error();
     }
     std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
                 from.c_str(), table->device.c_str(), table->gl_version.c_str(),
                 table->points.size());
-    if (auto status = finish(*table, a); !status) {
-        return fail(status.error());
-    }
-    return 0;
+    return report_accuracy(*table, report, stdout);
 }
 
-}  // namespace
-
-int run_bench_accuracy(const std::vector<std::string>& args) {
-    std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volumes", "lights", "modes", "slices-list", "light-res-list",
-                                 "sample-distances", "repeat", "csv", "json", "plot", "budget-ms",
-                                 "from", "skipping", "jitter", "refinement", "case"});
-    std::vector<std::string> flags = frame_flag_names();
-    std::erase(flags, "jitter");  // a list here: --jitter off,on
-    flags.insert(flags.end(), {"help", "debug-gl", "no-phong"});
-    auto parsed = Arguments::parse(args, valued, flags);
-    if (!parsed) {
-        return usage_error(parsed.error());
-    }
-    const Arguments& a = *parsed;
-    if (a.has("help")) {
-        print_usage();
-        return 0;
-    }
-    if (auto status = refuse_swept_options(a); !status) {
-        return usage_error(status.error());
-    }
-    if (const auto from = a.get("from")) {
-        return report_from(a, *from);
-    }
+// Measures the sweep the options ask for and reports its table.
+int measure(const po::variables_map& a, const AccuracyReport& report) {
     auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -520,16 +396,45 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     if (!sweep) {
         return usage_error(sweep.error());
     }
-    Table table = make_table(info, sweep->repeat, !a.has("no-phong"));
-    print_timing(info, *sweep);
-    if (auto status = measure_all(**renderer, a, *sweep, defaults, table); !status) {
+    Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
+    const FrameFor frame_for = [&](const volume::Volume& volume) {
+        return base_request(a, volume, defaults, table.phong);
+    };
+    if (auto status = bench_accuracy(**renderer, *sweep, frame_for, table, stdout); !status) {
         return status.error().where == "--size" ? usage_error(status.error())
                                                 : fail(status.error());
     }
-    if (auto status = finish(table, a); !status) {
+    if (auto status = report_accuracy(table, report, stdout); !status) {
         return fail(status.error());
     }
     return 0;
+}
+
+}  // namespace
+
+int run_bench_accuracy(const std::vector<std::string>& args) {
+    po::options_description options = sweep_options();
+    std::vector<std::string> not_framed = names_of(swept);
+    not_framed.push_back("jitter");  // a list here: --jitter off,on
+    options.add(output_options()).add(frame_options(not_framed));
+    auto parsed = parse_options(args, options);
+    if (!parsed) {
+        return usage_error(explain_swept(parsed.error(), swept, "bench accuracy"));
+    }
+    const po::variables_map& a = *parsed;
+    if (a.count("help") != 0) {
+        print_help("bench accuracy [options]", about, options);
+        return 0;
+    }
+    auto report = report_from(a);
+    if (!report) {
+        return usage_error(report.error());
+    }
+    if (a.count("from") != 0) {
+        auto status = report_table_file(a["from"].as<std::string>(), *report);
+        return status ? 0 : fail(status.error());
+    }
+    return measure(a, *report);
 }
 
 }  // namespace penumbra::app

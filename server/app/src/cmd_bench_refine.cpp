@@ -1,7 +1,7 @@
 // `penumbra bench refine`: the options of quality::bench_refinement.
 
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "render_options.hpp"
 
 #include <penumbra/quality/refine_bench.hpp>
@@ -20,40 +20,22 @@ int fail(const base::Error& error) {
     return report_failure("bench refine", error);
 }
 
-void print_refine_usage() {
-    std::printf(
-            "usage: penumbra bench refine [options]\n"
-            "\n"
-            "PSNR against a reference at 1/%g of the sample distance: the unjittered frame, then\n"
-            "the jittered still and each refinement step (the GPU's running mean).\n"
-            "\n"
-            "  --volume PATH    (default %s)\n"
-            "  --steps K        refinement steps after the still (default 8, 1..%d)\n"
-            "  --images PREFIX  write PREFIX_rings.png (unjittered) and PREFIX_refined.png\n"
-            "%s",
-            quality::refine_reference_divisor, default_volume_path, scene::kMaxRefinementSteps,
-            frame_options_help());
-}
-
-base::Result<quality::RefineOptions> refine_options(const Arguments& a) {
-    quality::RefineOptions options;
-    auto steps = a.integer("steps", options.steps);
-    if (!steps) {
-        return steps.error();
-    }
-    if (*steps < 1 || *steps > scene::kMaxRefinementSteps) {
-        return base::make_error("invalid_argument",
-                                "expects 1.." + std::to_string(scene::kMaxRefinementSteps),
-                                "--steps");
-    }
-    options.steps = *steps;
-    options.images = a.get("images");
+po::options_description refine_options(std::string& volume, quality::RefineOptions& o) {
+    po::options_description options = option_group("options");
+    options.add_options()("help", "this text")(
+            "volume", po::value(&volume)->value_name("PATH")->default_value(volume), "the volume")(
+            "steps", whole_number(&o.steps, 1, scene::kMaxRefinementSteps),
+            "refinement steps after the still")(
+            "images", po::value<std::string>()->value_name("PREFIX"),
+            "write PREFIX_rings.png (unjittered) and PREFIX_refined.png");
+    options.add(frame_options());
     return options;
 }
 
 // Loads the volume, builds the frame and measures on a renderer of its own.
-base::Status bench_refine(const Arguments& a, const quality::RefineOptions& options) {
-    auto loaded = volume::load_volume(a.get("volume").value_or(default_volume_path));
+base::Status bench_refine(const po::variables_map& a, const std::string& path,
+                          const quality::RefineOptions& options) {
+    auto loaded = volume::load_volume(path);
     if (!loaded) {
         return loaded.error();
     }
@@ -79,23 +61,25 @@ base::Status bench_refine(const Arguments& a, const quality::RefineOptions& opti
 }  // namespace
 
 int run_bench_refine(const std::vector<std::string>& args) {
-    std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volume", "steps", "images"});
-    std::vector<std::string> flags = frame_flag_names();
-    flags.push_back("help");
-    auto parsed = Arguments::parse(args, valued, flags);
+    std::string volume = default_volume_path;
+    quality::RefineOptions refine;
+    const po::options_description options = refine_options(volume, refine);
+    auto parsed = parse_options(args, options);
     if (!parsed) {
         return report_usage_error("bench refine", parsed.error());
     }
-    if (parsed->has("help")) {
-        print_refine_usage();
+    if (parsed->count("help") != 0) {
+        print_help("bench refine [options]",
+                   "PSNR against a reference at 1/" + shown(quality::refine_reference_divisor) +
+                           " of the sample distance: the unjittered frame, then the jittered "
+                           "still\nand each refinement step (the GPU's running mean).",
+                   options);
         return 0;
     }
-    auto options = refine_options(*parsed);
-    if (!options) {
-        return fail(options.error());
+    if (parsed->count("images") != 0) {
+        refine.images = (*parsed)["images"].as<std::string>();
     }
-    if (auto status = bench_refine(*parsed, *options); !status) {
+    if (auto status = bench_refine(*parsed, volume, refine); !status) {
         return fail(status.error());
     }
     return 0;

@@ -1,52 +1,41 @@
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace penumbra::app {
 
-int run_info(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(args, {"volume", "series"}, {"help"});
-    if (!parsed) {
-        std::fprintf(stderr, "penumbra info: %s\n", parsed.error().to_string().c_str());
-        return 2;
-    }
-    if (parsed->has("help")) {
-        std::puts(
-                "usage: penumbra info [--volume FILE|DICOM-FOLDER]   (default: the ch2 MRI head)\n"
-                "                     [--series NUMBER|UID]          one series of a DICOM folder\n"
-                "A DICOM folder holding several series (sub-folders included) lists them.");
-        return 0;
-    }
-    const std::string path = parsed->get("volume").value_or(default_volume_path);
-    volume::LoadOptions options;
-    options.dicom_series = parsed->get("series").value_or("");
+namespace {
+
+// A DICOM folder holding several series lists them instead of opening one; true when it did.
+bool listed_series(const std::string& path) {
     std::error_code ec;
-    if (options.dicom_series.empty() && std::filesystem::is_directory(path, ec)) {
-        auto series = volume::list_dicom_series(path);
-        if (series && series->size() > 1) {
-            std::printf("DICOM folder: %s\n%zu series (open one with --series NUMBER|UID):\n",
-                        path.c_str(), series->size());
-            std::printf("  %-8s %-10s %8s  %-40s %s\n", "number", "modality", "slices",
-                        "description", "UID");
-            for (const volume::DicomSeries& one : *series) {
-                std::printf("  %-8s %-10s %8llu  %-40s %s\n", one.number.c_str(),
-                            one.modality.c_str(), static_cast<unsigned long long>(one.frames),
-                            one.description.c_str(), one.uid.c_str());
-            }
-            return 0;
-        }
+    if (!std::filesystem::is_directory(path, ec)) {
+        return false;
     }
-    auto volume = volume::load_volume(path, options);
-    if (!volume) {
-        std::fprintf(stderr, "penumbra info: %s\n", volume.error().to_string().c_str());
-        return 1;
+    auto series = volume::list_dicom_series(path);
+    if (!series || series->size() <= 1) {
+        return false;
     }
-    const volume::Volume& v = *volume;
+    std::printf("DICOM folder: %s\n%zu series (open one with --series NUMBER|UID):\n", path.c_str(),
+                series->size());
+    std::printf("  %-8s %-10s %8s  %-40s %s\n", "number", "modality", "slices", "description",
+                "UID");
+    for (const volume::DicomSeries& one : *series) {
+        std::printf("  %-8s %-10s %8llu  %-40s %s\n", one.number.c_str(), one.modality.c_str(),
+                    static_cast<unsigned long long>(one.frames), one.description.c_str(),
+                    one.uid.c_str());
+    }
+    return true;
+}
+
+void print_volume(const volume::Volume& v, const std::string& path) {
     std::printf("volume:      %s (%s)\n", v.name.c_str(), path.c_str());
     std::printf("dimensions:  %u x %u x %u (%zu voxels)\n", v.dims.x, v.dims.y, v.dims.z,
                 v.voxel_count());
@@ -75,6 +64,9 @@ int run_info(const std::vector<std::string>& args) {
         std::printf("non-finite:  %llu voxels replaced by the minimum\n",
                     static_cast<unsigned long long>(v.nonfinite_voxels));
     }
+}
+
+void print_histogram(const volume::Volume& v) {
     const volume::Histogram histogram = volume::compute_histogram(v, 16);
     const std::uint64_t peak = *std::max_element(histogram.bins.begin(), histogram.bins.end());
     std::puts("histogram (16 bins, log-free bar length relative to the fullest bin):");
@@ -88,6 +80,37 @@ int run_info(const std::vector<std::string>& args) {
                     static_cast<unsigned long long>(histogram.bins[i]),
                     std::string(static_cast<std::size_t>(bar), '#').c_str());
     }
+}
+
+}  // namespace
+
+int run_info(const std::vector<std::string>& args) {
+    std::string path = default_volume_path;
+    volume::LoadOptions options;
+    po::options_description described = option_group("options");
+    described.add_options()("help", "this text")(
+            "volume", po::value(&path)->value_name("FILE|DICOM-FOLDER")->default_value(path),
+            "the volume; a DICOM folder holding several series (sub-folders included) lists "
+            "them")("series", po::value(&options.dicom_series)->value_name("NUMBER|UID"),
+                    "one series of a DICOM folder");
+    auto parsed = parse_options(args, described);
+    if (!parsed) {
+        return report_usage_error("info", parsed.error());
+    }
+    if (parsed->count("help") != 0) {
+        print_help("info [options]", "A volume's dimensions, spacing, type, range and histogram.",
+                   described);
+        return 0;
+    }
+    if (options.dicom_series.empty() && listed_series(path)) {
+        return 0;
+    }
+    auto volume = volume::load_volume(path, options);
+    if (!volume) {
+        return report_failure("info", volume.error());
+    }
+    print_volume(*volume, path);
+    print_histogram(*volume);
     return 0;
 }
 

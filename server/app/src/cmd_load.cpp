@@ -1,5 +1,5 @@
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -12,90 +12,84 @@
 namespace penumbra::app {
 namespace {
 
-void print_load_usage() {
-    std::puts(
-            "usage: penumbra load --port P [options]\n\n"
-            "N simulated clients on one server, each orbiting the camera and waiting for each\n"
-            "frame before asking for the next. Reports the latency from request sent to frame\n"
-            "received (p50/p95/p99), its server-side split, frames/s, bytes/s and errors.\n\n"
-            "  --host H          (default 127.0.0.1)\n"
-            "  --port P          the server's port (required)\n"
-            "  --clients N       simulated clients (default 4, at most 256)\n"
-            "  --seconds T       how long to run (default 10, at most 3600)\n"
-            "  --volume ID       volume id from list_volumes (default ch2.nii.gz)\n"
-            "  --mode MODE       (default sbrc)\n"
-            "  --size S          frames of S x S pixels (default 512)\n"
-            "  --encoding E      jpeg | png (default jpeg)\n"
-            "  --interactive     request interactive-quality frames\n"
-            "  --refine N        jittered frames, each still refined N times at the lowest\n"
-            "                    priority (progressive stills; counted apart)\n"
-            "  --token-file F    the access token a server or proxy asks for\n\n"
-            "The WebSocket URL names the volume (/ws?volume=ID), as a cluster's proxy routes\n"
-            "by it (proto/README.md).");
+po::options_description load_options(net::LoadConfig& c, int& port, Number& seconds) {
+    po::options_description options = option_group("options");
+    options.add_options()("help", "this text")(
+            "host", po::value(&c.host)->value_name("H")->default_value(c.host), "server address")(
+            "port", po::value(&port)->value_name("P"), "the server's port (required)")(
+            "clients", po::value(&c.clients)->value_name("N")->default_value(c.clients),
+            "simulated clients (at most 256)")(
+            "seconds", po::value(&seconds)->value_name("T")->default_value(seconds),
+            "how long to run (at most 3600)")(
+            "volume", po::value(&c.volume)->value_name("ID")->default_value(c.volume),
+            "volume id from list_volumes")(
+            "mode", po::value(&c.mode)->value_name("MODE")->default_value(c.mode),
+            "rendering mode")("size", po::value(&c.size)->value_name("S")->default_value(c.size),
+                              "frames of S x S pixels")(
+            "encoding", po::value(&c.encoding)->value_name("jpeg|png")->default_value(c.encoding),
+            "frame encoding")("interactive", "request interactive-quality frames")(
+            "refine", po::value(&c.refine)->value_name("N")->default_value(c.refine),
+            "jittered frames, each still refined N times at the lowest priority (progressive "
+            "stills; counted apart)")("token-file", po::value<std::string>()->value_name("F"),
+                                      "the access token a server or proxy asks for");
+    return options;
 }
 
-// The load run the options describe; a message for stderr where they are wrong.
-base::Result<net::LoadConfig> load_config(const Arguments& a) {
-    net::LoadConfig config;
-    config.host = a.get("host").value_or(config.host);
-    config.volume = a.get("volume").value_or(config.volume);
-    config.mode = a.get("mode").value_or(config.mode);
-    config.encoding = a.get("encoding").value_or(config.encoding);
-    config.interactive = a.has("interactive");
-    const auto refine = a.integer("refine", 0);
-    if (!refine || *refine < 0 || *refine > scene::kMaxRefinementSteps) {
+// The checks of the load run the options describe; a message for stderr where they are wrong.
+base::Status check_config(net::LoadConfig& config, const po::variables_map& a, int port,
+                          double seconds) {
+    config.interactive = a.count("interactive") != 0;
+    if (config.refine < 0 || config.refine > scene::kMaxRefinementSteps) {
         return base::make_error(
                 "invalid_argument",
                 "--refine takes 0.." + std::to_string(scene::kMaxRefinementSteps) + " steps");
     }
-    config.refine = *refine;
-    if (const auto token_file = a.get("token-file")) {
-        std::ifstream in(*token_file);
+    if (a.count("token-file") != 0) {
+        const auto& token_file = a["token-file"].as<std::string>();
+        std::ifstream in(token_file);
         if (!in || !std::getline(in, config.token) || config.token.empty()) {
             return base::make_error("invalid_argument",
-                                    "--token-file: cannot read a token from '" + *token_file + "'");
+                                    "--token-file: cannot read a token from '" + token_file + "'");
         }
     }
-    auto port = a.integer("port", 0);
-    auto clients = a.integer("clients", config.clients);
-    auto size = a.integer("size", config.size);
-    auto seconds = a.number("seconds", config.seconds);
-    if (!port || !clients || !size || !seconds || *port < 1 || *port > 65535 || *clients < 1 ||
-        *clients > 256 || *size < 16 || *size > 8192 || *seconds <= 0.0 || *seconds > 3600.0) {
+    if (port < 1 || port > 65535 || config.clients < 1 || config.clients > 256 ||
+        config.size < 16 || config.size > 8192 || seconds <= 0.0 || seconds > 3600.0) {
         return base::make_error("invalid_argument",
                                 "--port is required; --clients 1..256, --size 16..8192, "
                                 "--seconds (0, 3600]");
     }
-    config.port = static_cast<unsigned short>(*port);
-    config.clients = *clients;
-    config.size = *size;
-    config.seconds = *seconds;
-    return config;
+    config.port = static_cast<unsigned short>(port);
+    config.seconds = seconds;
+    return base::Ok{};
 }
 
 }  // namespace
 
 int run_load(const std::vector<std::string>& args) {
-    auto parsed = Arguments::parse(args,
-                                   {"host", "port", "clients", "seconds", "volume", "mode", "size",
-                                    "encoding", "token-file", "refine"},
-                                   {"help", "interactive"});
+    net::LoadConfig config;
+    int port = 0;
+    Number seconds{config.seconds};
+    const po::options_description options = load_options(config, port, seconds);
+    auto parsed = parse_options(args, options);
     if (!parsed) {
-        std::fprintf(stderr, "penumbra load: %s (see --help)\n",
-                     parsed.error().to_string().c_str());
-        return 2;
+        return report_usage_error("load", parsed.error());
     }
-    if (parsed->has("help")) {
-        print_load_usage();
+    if (parsed->count("help") != 0) {
+        print_help("load --port P [options]",
+                   "N simulated clients on one server, each orbiting the camera and waiting for "
+                   "each frame before\nasking for the next. Reports the latency from request sent "
+                   "to frame received (p50/p95/p99),\nits server-side split, frames/s, bytes/s and "
+                   "errors. The WebSocket URL names the volume\n(/ws?volume=ID), as a cluster's "
+                   "proxy routes by it (proto/README.md).",
+                   options);
         return 0;
     }
-    const auto config = load_config(*parsed);
-    if (!config) {
-        std::fprintf(stderr, "penumbra load: %s\n", config.error().message.c_str());
+    if (auto status = check_config(config, *parsed, port, seconds.value); !status) {
+        std::fprintf(stderr, "penumbra load: %s\n", status.error().message.c_str());
         return 2;
     }
-    const net::LoadReport report = net::run_load(*config);
-    net::print_load_report(*config, report, stdout);
+    const net::LoadReport report = net::run_load(config);
+    net::print_load_report(config, report, stdout);
     return report.ok() ? 0 : 1;
 }
 

@@ -1,5 +1,5 @@
-#include "arguments.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "render_options.hpp"
 
 #include <penumbra/encode/encode.hpp>
@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
+#include <string>
 
 namespace penumbra::app {
 namespace {
@@ -23,79 +25,51 @@ double median(std::vector<double> values) {
     return values.empty() ? 0.0 : values[values.size() / 2];
 }
 
-void print_render_usage() {
-    std::printf(
-            "usage: penumbra render [options]\n\n"
-            "  --volume FILE                  .nii[.gz], .nrrd/.nhdr or "
-            "name_XxYxZ_type.raw[.gz],\n"
-            "                                 a DICOM file or series folder (default %s)\n"
-            "  --series NUMBER|UID            the series of a DICOM folder holding several\n"
-            "  --spacing X,Y,Z                override the voxel spacing\n"
-            "  --max-load-mb M                memory the volume load may take (default\n"
-            "                                 8192; never more than the machine has)\n"
-            "  --out FILE                     .png or .jpg (default frame.png)\n"
-            "  --quality Q                    JPEG quality 1..100 (default 90)\n"
-            "  --repeat N                     render N times, report median times\n"
-            "  --light-inset FILE             also write the last light-buffer layer (sbrc\n"
-            "                                 modes) or half-angle's light buffer (.png)\n"
-            "  --debug-gl                     GL debug output to the log\n"
-            "  --list-modes                   print the modes' names, one a line, and exit\n%s",
-            default_volume_path, frame_options_help());
-}
-
-// The volume --volume names (a DICOM folder's --series), with --spacing applied.
-base::Result<std::shared_ptr<const volume::Volume>> load_for_render(const Arguments& a) {
-    const std::string path = a.get("volume").value_or(default_volume_path);
-    volume::LoadOptions load_options;
-    auto max_load_mb = a.integer("max-load-mb", static_cast<int>(load_options.max_bytes >> 20));
-    if (!max_load_mb) {
-        return max_load_mb.error();
-    }
-    if (*max_load_mb < 1) {
-        return base::make_error("invalid_argument", "must be at least 1", "--max-load-mb");
-    }
-    load_options.max_bytes = static_cast<std::uint64_t>(*max_load_mb) << 20;
-    load_options.dicom_series = a.get("series").value_or("");
-    auto loaded = volume::load_volume(path, load_options);
-    if (!loaded) {
-        return loaded.error();
-    }
-    if (a.has("spacing")) {
-        auto spacing = a.vec3("spacing", {});
-        if (!spacing) {
-            return spacing.error();
-        }
-        if (spacing->x <= 0.0 || spacing->y <= 0.0 || spacing->z <= 0.0) {
-            return base::make_error("invalid_argument", "spacing must be positive", "--spacing");
-        }
-        loaded->spacing = *spacing;
-    }
-    return std::make_shared<const volume::Volume>(std::move(loaded.value()));
-}
-
-struct OutputOptions {
-    std::string path;
+// render's own options, and where they go.
+struct RenderOptions {
+    std::string volume = default_volume_path;
+    volume::LoadOptions load;
+    std::string out = "frame.png";
     int quality = 90;
     int repeat = 1;
 };
 
-base::Result<OutputOptions> output_options(const Arguments& a) {
-    OutputOptions output;
-    output.path = a.get("out").value_or("frame.png");
-    if (!encode::format_for_path(output.path)) {
-        return base::make_error("invalid_argument", "output must end in .png or .jpg", "--out");
+po::options_description render_options(RenderOptions& o) {
+    po::options_description options = option_group("options");
+    options.add_options()("help", "this text")(
+            "volume", po::value(&o.volume)->value_name("FILE")->default_value(o.volume),
+            ".nii[.gz], .nrrd/.nhdr or name_XxYxZ_type.raw[.gz], a DICOM file or series folder")(
+            "series", po::value(&o.load.dicom_series)->value_name("NUMBER|UID"),
+            "the series of a DICOM folder holding several")(
+            "spacing", po::value<Triple>()->value_name("X,Y,Z"), "override the voxel spacing")(
+            "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
+            "memory the volume load may take (never more than the machine has)")(
+            "out", po::value(&o.out)->value_name("FILE")->default_value(o.out), ".png or .jpg")(
+            "quality", whole_number(&o.quality, 1, 100), "JPEG quality")(
+            "repeat", whole_number(&o.repeat, 1, 10000), "render N times, report median times")(
+            "light-inset", po::value<std::string>()->value_name("FILE"),
+            "also write the last light-buffer layer (sbrc modes) or half-angle's light buffer "
+            "(.png)")("debug-gl", "GL debug output to the log")(
+            "list-modes", "print the modes' names, one a line, and exit");
+    options.add(frame_options());
+    return options;
+}
+
+// The volume --volume names (a DICOM folder's --series), with --spacing applied.
+base::Result<std::shared_ptr<const volume::Volume>> load_for_render(const RenderOptions& o,
+                                                                    const po::variables_map& a) {
+    auto loaded = volume::load_volume(o.volume, o.load);
+    if (!loaded) {
+        return loaded.error();
     }
-    auto quality = a.integer("quality", output.quality);
-    if (!quality) {
-        return quality.error();
+    if (a.count("spacing") != 0) {
+        const glm::dvec3 spacing = a["spacing"].as<Triple>().value;
+        if (spacing.x <= 0.0 || spacing.y <= 0.0 || spacing.z <= 0.0) {
+            return base::make_error("invalid_argument", "spacing must be positive", "--spacing");
+        }
+        loaded->spacing = spacing;
     }
-    auto repeat = a.integer("repeat", output.repeat);
-    if (!repeat || *repeat < 1 || *repeat > 10000) {
-        return base::make_error("invalid_argument", "expects 1..10000", "--repeat");
-    }
-    output.quality = *quality;
-    output.repeat = *repeat;
-    return output;
+    return std::make_shared<const volume::Volume>(std::move(loaded.value()));
 }
 
 // Renders `repeat` times and prints each pass's median times, in the order the passes first ran.
@@ -147,29 +121,29 @@ base::Status write_light_inset(render::Renderer& renderer, const std::string& pa
 }  // namespace
 
 int run_render(const std::vector<std::string>& args) {
-    std::vector<std::string> valued = frame_option_names();
-    valued.insert(valued.end(), {"volume", "series", "spacing", "out", "quality", "repeat",
-                                 "light-inset", "max-load-mb"});
-    std::vector<std::string> flags = frame_flag_names();
-    flags.insert(flags.end(), {"help", "debug-gl", "list-modes"});
-    auto parsed = Arguments::parse(args, valued, flags);
+    RenderOptions o;
+    const po::options_description options = render_options(o);
+    auto parsed = parse_options(args, options);
     if (!parsed) {
-        std::fprintf(stderr, "penumbra render: %s (see --help)\n",
-                     parsed.error().to_string().c_str());
-        return 2;
+        return report_usage_error("render", parsed.error());
     }
-    if (parsed->has("help")) {
-        print_render_usage();
+    const po::variables_map& a = *parsed;
+    if (a.count("help") != 0) {
+        print_help("render [options]", "", options);
         return 0;
     }
-    if (parsed->has("list-modes")) {
+    if (a.count("list-modes") != 0) {
         for (const scene::ModeInfo& mode : scene::modes()) {
             std::printf("%s\n", mode.name.data());
         }
         return 0;
     }
-    const Arguments& a = *parsed;
-    auto volume = load_for_render(a);
+    if (!encode::format_for_path(o.out)) {
+        return report_usage_error(
+                "render",
+                base::make_error("invalid_argument", "output must end in .png or .jpg", "--out"));
+    }
+    auto volume = load_for_render(o, a);
     if (!volume) {
         return fail(volume.error());
     }
@@ -177,12 +151,8 @@ int run_render(const std::vector<std::string>& args) {
     if (!request) {
         return fail(request.error());
     }
-    auto output = output_options(a);
-    if (!output) {
-        return fail(output.error());
-    }
     auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.has("debug-gl")});
+            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -195,21 +165,20 @@ int run_render(const std::vector<std::string>& args) {
     if (auto status = (*renderer)->set_volume(*volume); !status) {
         return fail(status.error());
     }
-    auto frame = render_repeated(**renderer, *request, output->repeat);
+    auto frame = render_repeated(**renderer, *request, o.repeat);
     if (!frame) {
         return fail(frame.error());
     }
-    if (auto status = encode::write_image(output->path, frame->image, output->quality); !status) {
+    if (auto status = encode::write_image(o.out, frame->image, o.quality); !status) {
         return fail(status.error());
     }
     std::printf("light:    buffer %s, %llu build(s) in %d frame(s)\n",
                 std::string(render::to_string(frame->report.light_buffer)).c_str(),
-                static_cast<unsigned long long>((*renderer)->light_buffer_builds()),
-                output->repeat);
-    std::printf("output:   %s (%dx%d)\n", output->path.c_str(), frame->image.width,
-                frame->image.height);
-    if (const auto inset_path = a.get("light-inset")) {
-        if (auto status = write_light_inset(**renderer, *inset_path); !status) {
+                static_cast<unsigned long long>((*renderer)->light_buffer_builds()), o.repeat);
+    std::printf("output:   %s (%dx%d)\n", o.out.c_str(), frame->image.width, frame->image.height);
+    if (a.count("light-inset") != 0) {
+        const auto& inset_path = a["light-inset"].as<std::string>();
+        if (auto status = write_light_inset(**renderer, inset_path); !status) {
             return fail(status.error());
         }
     }

@@ -15,8 +15,10 @@ int run_render(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
 int run_serve(const std::vector<std::string>& args);
 int run_load(const std::vector<std::string>& args);
-// `bench modes`: frame times of the rendering modes measured side by side, and their ratios.
+// `bench modes`, `bench accuracy` and `bench refine`.
 int run_bench(const std::vector<std::string>& args);
+int run_bench_accuracy(const std::vector<std::string>& args);
+int run_bench_refine(const std::vector<std::string>& args);
 
 // The volume every command uses when none is given: the Colin27 MRI head that Debian's
 // mricron-data package installs.

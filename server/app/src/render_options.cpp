@@ -5,7 +5,9 @@
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -18,161 +20,71 @@ bool is_numeric_option(const scene::SettingRange& range) {
     return range.write != nullptr;
 }
 
-}  // namespace
-
-const std::vector<std::string>& frame_option_names() {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> all = {
-                "mode",  "size",       "camera",         "view",        "eye",     "target",
-                "up",    "light",      "light-position", "light-color", "tf",      "compositing",
-                "stage", "background", "slices",         "light-res",   "builder", "light-lookup",
-        };
-        for (const scene::SettingRange* range : scene::kSettingRanges) {
-            if (is_numeric_option(*range)) {
-                all.push_back(scene::option_name(*range));
-            }
-        }
-        return all;
-    }();
-    return names;
-}
-
+// One line per mode: its name and what it does (the mode table's summary).
 std::string modes_help() {
-    std::string help;
+    std::string help = "rendering mode:";
     for (const scene::ModeInfo& mode : scene::modes()) {
         char line[160];
-        std::snprintf(line, sizeof line, "      %-12s %.*s\n", mode.name.data(),
+        std::snprintf(line, sizeof line, "\n  %-12s \t%.*s", mode.name.data(),
                       static_cast<int>(mode.summary.size()), mode.summary.data());
         help += line;
     }
     return help;
 }
 
-const std::vector<std::string>& frame_flag_names() {
-    static const std::vector<std::string> names = {"phong", "no-empty-space-skipping", "jitter"};
-    return names;
+template <class T>
+std::optional<T> value_of(const po::variables_map& options, const char* name) {
+    return options.count(name) != 0 ? std::optional<T>(options[name].as<T>()) : std::nullopt;
 }
 
-// One entry per numeric setting: its option, what it does, its range and its default.
-std::string numeric_options_help() {
-    const scene::FrameRequest defaults;
-    std::string help;
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (!is_numeric_option(*range)) {
-            continue;
-        }
-        const std::string option = scene::option_name(*range) + (range->integer ? " N" : " X");
-        char line[256];
-        std::snprintf(line, sizeof line, "  --%-28s %.*s\n%33s%s, default %g\n", option.c_str(),
-                      static_cast<int>(range->summary.size()), range->summary.data(), "",
-                      range->describe().c_str(), range->read(defaults));
-        help += line;
-    }
-    return help;
-}
-
-const char* frame_options_help() {
-    static const std::string help =
-            "  --mode MODE                    (default phong)\n" + modes_help() +
-            "  --phong                        Blinn-Phong on top of shadows (shadow modes)\n"
-            "  --no-empty-space-skipping      sample the bricks the TF leaves transparent too\n"
-            "                                 (the same image, slower)\n"
-            "  --jitter                       ray-cast modes: per-pixel jittered sample offsets\n"
-            "                                 (fine noise instead of fixed-step rings)\n"
-            "  --slices N                     light slices, also half-angle's slices (default "
-            "128)\n"
-            "  --light-res R                  light buffer R x R texels (default 256)\n"
-            "  --builder per_slice|multi_slice  light-buffer builder (default multi_slice)\n"
-            "  --light-lookup local|interpolate  camera samples read the light buffer: the layer\n"
-            "                                 nearer the light + a march through the rest of\n"
-            "                                 the slab (default), or the paper's interpolation\n"
-            "                                 between the two nearest layers\n"
-            "  --size WxH                     image size (default 512x512)\n"
-            "  --camera AZ,EL,DIST            orbit camera: azimuth and elevation in degrees "
-            "about\n"
-            "                                 the volume centre (z up, azimuth 0 = +y), distance "
-            "in\n"
-            "                                 units of the volume's longest side\n"
-            "  --view SIDE                    the view from that side of the patient: anterior\n"
-            "                                 (the default: the face, superior up), posterior,\n"
-            "                                 left, right (superior up), superior, inferior\n"
-            "                                 (anterior up); world space is RAS\n"
-            "  --eye X,Y,Z --target X,Y,Z --up X,Y,Z   explicit camera instead of --camera\n"
-            "  --light AZ,EL                  directional light from these angles (default 10,45)\n"
-            "  --light-position X,Y,Z         point light at this position instead\n"
-            "  --light-color R,G,B            (default 1,1,1)\n"
-            "  --tf PRESET|FILE.json          transfer function (default mri_skin, on a CT in HU\n"
-            "                                 ct_bone); presets:\n"
-            "                                 grey_ramp mri_skin mri_brain, in HU: ct_bone\n"
-            "                                 ct_skin ct_soft_tissue ct_lung ct_angio\n"
-            "  --compositing alpha|extinction (default alpha)\n"
-            "  --stage compute|fragment       where the ray caster runs (default compute)\n"
-            "  --background R,G,B             (default 0,0,0)\n" +
-            numeric_options_help();
-    return help.c_str();
-}
-
-base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
-                                                     const volume::Volume& volume) {
-    scene::FrameRequest request;
-    scene::RenderSettings& s = request.settings;
-    s.mode = scene::Mode::phong;
-    if (const auto mode = args.get("mode")) {
-        const auto parsed = scene::parse_mode(*mode);
+// An option naming one of an enum's values, parsed by `parse`; `target` keeps its value when the
+// option is not given.
+template <class E>
+base::Status read_choice(const po::variables_map& options, const char* name,
+                         std::optional<E> (*parse)(std::string_view), const char* expected,
+                         E& target) {
+    if (const auto text = value_of<std::string>(options, name)) {
+        const auto parsed = parse(*text);
         if (!parsed) {
-            return base::make_error("invalid_argument",
-                                    "unknown mode '" + *mode + "' (" + scene::mode_names() + ")",
-                                    "--mode");
+            return base::make_error("invalid_argument", std::string("expects ") + expected,
+                                    std::string("--") + name);
         }
-        s.mode = *parsed;
+        target = *parsed;
     }
-    auto size = args.size("size", {512, 512});
-    if (!size) {
-        return size.error();
-    }
-    s.width = size->first;
-    s.height = size->second;
+    return base::Ok{};
+}
 
-    const bool explicit_camera = args.has("eye") || args.has("target") || args.has("up");
-    if (int(explicit_camera) + int(args.has("camera")) + int(args.has("view")) > 1) {
+base::Status read_camera(const po::variables_map& options, scene::Camera& camera) {
+    const bool explicit_camera =
+            options.count("eye") + options.count("target") + options.count("up") > 0;
+    if (int(explicit_camera) + options.count("camera") + options.count("view") > 1) {
         return base::make_error("invalid_argument",
                                 "give one of --view, --camera and --eye/--target/--up", "--view");
     }
     if (explicit_camera) {
-        auto eye = args.vec3("eye", request.camera.eye);
-        auto target = args.vec3("target", request.camera.target);
-        auto up = args.vec3("up", request.camera.up);
-        if (!eye || !target || !up) {
-            return !eye ? eye.error() : !target ? target.error() : up.error();
-        }
-        request.camera.eye = *eye;
-        request.camera.target = *target;
-        request.camera.up = *up;
-    } else if (args.has("camera")) {
-        auto orbit = args.vec3("camera", {});
-        if (!orbit) {
-            return orbit.error();
-        }
-        request.camera = scene::orbit_camera(orbit->x, orbit->y, orbit->z);
-    } else if (const auto name = args.get("view")) {
+        camera.eye = value_of<Triple>(options, "eye").value_or(Triple{camera.eye}).value;
+        camera.target = value_of<Triple>(options, "target").value_or(Triple{camera.target}).value;
+        camera.up = value_of<Triple>(options, "up").value_or(Triple{camera.up}).value;
+    } else if (const auto orbit = value_of<Triple>(options, "camera")) {
+        camera = scene::orbit_camera(orbit->value.x, orbit->value.y, orbit->value.z);
+    } else if (const auto name = value_of<std::string>(options, "view")) {
         const auto view = scene::parse_view(*name);
         if (!view) {
             return base::make_error("invalid_argument",
                                     "unknown view '" + *name + "' (" + scene::view_names() + ")",
                                     "--view");
         }
-        request.camera = scene::view_camera(*view);
+        camera = scene::view_camera(*view);
     }
-    scene::Light& light = request.light;
-    if (args.has("light-position")) {
-        auto position = args.vec3("light-position", {});
-        if (!position) {
-            return position.error();
-        }
+    return base::Ok{};
+}
+
+base::Status read_light(const po::variables_map& options, scene::Light& light) {
+    if (const auto position = value_of<Triple>(options, "light-position")) {
         light.type = scene::LightType::point;
-        light.position = *position;
-    } else {
-        auto numbers = parse_numbers(args.get("light").value_or("10,45"), "light");
+        light.position = position->value;
+    } else if (const auto angles = value_of<std::string>(options, "light")) {
+        auto numbers = parse_numbers(*angles, "light");
         if (!numbers) {
             return numbers.error();
         }
@@ -182,87 +94,151 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         }
         light.direction = scene::direction_from_angles((*numbers)[0], (*numbers)[1]);
     }
-    auto color = args.vec3("light-color", light.color);
-    auto background = args.vec3("background", s.background);
-    if (!color || !background) {
-        return !color ? color.error() : background.error();
-    }
-    light.color = *color;
-    s.background = *background;
+    light.color = options["light-color"].as<Triple>().value;
+    return base::Ok{};
+}
 
-    // Each numeric setting from its option, within its range (scene::setting), errors named by
-    // the option.
+// Each numeric setting of the table from its option, within its range (scene::setting), errors
+// named by the option.
+base::Status read_numeric_settings(const po::variables_map& options, scene::FrameRequest& request) {
     for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (!is_numeric_option(*range)) {
+        const std::string option = scene::option_name(*range);
+        if (!is_numeric_option(*range) || options.count(option) == 0) {
             continue;
         }
-        const std::string option = scene::option_name(*range);
-        const double current = range->read(request);
-        double value = current;
-        if (range->integer) {
-            auto whole = args.integer(option, static_cast<int>(current));
-            if (!whole) {
-                return whole.error();
-            }
-            value = *whole;
-        } else {
-            auto number = args.number(option, current);
-            if (!number) {
-                return number.error();
-            }
-            value = *number;
-        }
+        const double value =
+                range->integer ? options[option].as<int>() : options[option].as<Number>().value;
         if (!range->contains(value)) {
             return base::make_error("invalid_argument", "must be " + range->describe(),
                                     "--" + option);
         }
         range->write(request, value);
     }
+    return base::Ok{};
+}
+
+base::Status read_settings(const po::variables_map& options, scene::RenderSettings& s) {
+    if (const auto name = value_of<std::string>(options, "mode")) {
+        const auto mode = scene::parse_mode(*name);
+        if (!mode) {
+            return base::make_error("invalid_argument",
+                                    "unknown mode '" + *name + "' (" + scene::mode_names() + ")",
+                                    "--mode");
+        }
+        s.mode = *mode;
+    }
+    const auto size = options["size"].as<ImageSize>();
+    s.width = size.width;
+    s.height = size.height;
+    s.background = options["background"].as<Triple>().value;
     // Bounded by the device (scene::Limits), which validate checks.
-    for (const auto& [option, target] : {std::pair{"slices", &s.light_buffer.slices},
-                                         std::pair{"light-res", &s.light_buffer.resolution}}) {
-        auto value = args.integer(option, *target);
-        if (!value) {
-            return value.error();
+    s.light_buffer.slices = value_of<int>(options, "slices").value_or(s.light_buffer.slices);
+    s.light_buffer.resolution =
+            value_of<int>(options, "light-res").value_or(s.light_buffer.resolution);
+    s.phong = options.count("phong") != 0;
+    s.empty_space_skipping = options.count("no-empty-space-skipping") == 0;
+    s.jitter = options.count("jitter") != 0;
+    for (const base::Status& status :
+         {read_choice(options, "builder", scene::parse_light_buffer_builder,
+                      "per_slice or multi_slice", s.light_buffer.builder),
+          read_choice(options, "light-lookup", scene::parse_light_lookup, "local or interpolate",
+                      s.light_buffer.lookup),
+          read_choice(options, "compositing", scene::parse_compositing, "alpha or extinction",
+                      s.compositing),
+          read_choice(options, "stage", scene::parse_raycast_stage, "compute or fragment",
+                      s.stage)}) {
+        if (!status) {
+            return status;
         }
-        *target = *value;
     }
-    s.phong = args.has("phong");
-    s.empty_space_skipping = !args.has("no-empty-space-skipping");
-    s.jitter = args.has("jitter");
-    if (const auto builder = args.get("builder")) {
-        const auto parsed = scene::parse_light_buffer_builder(*builder);
-        if (!parsed) {
-            return base::make_error("invalid_argument", "expects per_slice or multi_slice",
-                                    "--builder");
+    return base::Ok{};
+}
+
+}  // namespace
+
+po::options_description frame_options(const std::vector<std::string>& swept) {
+    const scene::FrameRequest defaults;
+    const scene::RenderSettings& s = defaults.settings;
+    po::options_description options = option_group("frame options");
+    const auto add = [&](const std::string& name, const po::value_semantic* value,
+                         const std::string& help) {
+        if (std::find(swept.begin(), swept.end(), name) == swept.end()) {
+            options.add(boost::shared_ptr<po::option_description>(
+                    new po::option_description(name.c_str(), value, help.c_str())));
+        } else {
+            delete value;
         }
-        s.light_buffer.builder = *parsed;
+    };
+    const auto text = [](const char* name, const std::string& fallback = {}) {
+        auto* value = po::value<std::string>()->value_name(name);
+        return fallback.empty() ? value : value->default_value(fallback);
+    };
+    const auto triple = [](const char* name) { return po::value<Triple>()->value_name(name); };
+    add("mode", text("MODE", "phong"), modes_help());
+    add("phong", new po::untyped_value(true), "Blinn-Phong on top of shadows (shadow modes)");
+    add("no-empty-space-skipping", new po::untyped_value(true),
+        "sample the bricks the transfer function leaves transparent too (the same image, slower)");
+    add("jitter", new po::untyped_value(true),
+        "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)");
+    add("size", po::value<ImageSize>()->value_name("WxH")->default_value({512, 512}), "image size");
+    add("camera", triple("AZ,EL,DIST"),
+        "orbit camera: azimuth and elevation in degrees about the volume centre (z up, azimuth 0 "
+        "= +y), distance in units of the volume's longest side");
+    add("view", text("SIDE"),
+        "the view from that side of the patient (world space is RAS): anterior (the default: "
+        "the face, superior up), posterior, left, right (superior up), superior, inferior "
+        "(anterior up)");
+    add("eye", triple("X,Y,Z"), "explicit camera instead of --camera, with --target and --up");
+    add("target", triple("X,Y,Z"), "the point the explicit camera looks at");
+    add("up", triple("X,Y,Z"), "the explicit camera's up direction");
+    add("light", text("AZ,EL", "10,45"), "directional light from these angles in degrees");
+    add("light-position", triple("X,Y,Z"), "point light at this position instead");
+    add("light-color", triple("R,G,B")->default_value({defaults.light.color}), "light colour");
+    add("background", triple("R,G,B")->default_value({s.background}), "background colour");
+    add("tf", text("PRESET|FILE.json"),
+        "transfer function (default mri_skin, on a CT in HU ct_bone); presets: grey_ramp "
+        "mri_skin mri_brain, in HU: ct_bone ct_skin ct_soft_tissue ct_lung ct_angio");
+    add("compositing", text("alpha|extinction", scene::to_string(s.compositing)), "compositing");
+    add("stage", text("compute|fragment", scene::to_string(s.stage)), "where the ray caster runs");
+    add("slices", po::value<int>()->value_name("N")->default_value(s.light_buffer.slices),
+        "light slices, also half-angle's slices");
+    add("light-res", po::value<int>()->value_name("R")->default_value(s.light_buffer.resolution),
+        "light buffer R x R texels");
+    add("builder", text("per_slice|multi_slice", scene::to_string(s.light_buffer.builder)),
+        "light-buffer builder");
+    add("light-lookup", text("local|interpolate", scene::to_string(s.light_buffer.lookup)),
+        "camera samples read the light buffer: the layer nearer the light + a march through the "
+        "rest of the slab (local), or the paper's interpolation between the two nearest layers");
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (!is_numeric_option(*range)) {
+            continue;
+        }
+        const std::string help = std::string(range->summary) + "; " + range->describe();
+        const double fallback = range->read(defaults);
+        add(scene::option_name(*range),
+            range->integer
+                    ? po::value<int>()->value_name("N")->default_value(int(fallback))
+                    : static_cast<po::value_semantic*>(
+                              po::value<Number>()->value_name("X")->default_value({fallback})),
+            help);
     }
-    if (const auto lookup = args.get("light-lookup")) {
-        const auto parsed = scene::parse_light_lookup(*lookup);
-        if (!parsed) {
-            return base::make_error("invalid_argument", "expects local or interpolate",
-                                    "--light-lookup");
+    return options;
+}
+
+base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
+                                                     const volume::Volume& volume) {
+    scene::FrameRequest request;
+    request.settings.mode = scene::Mode::phong;
+    for (const base::Status& status :
+         {read_settings(options, request.settings), read_camera(options, request.camera),
+          read_light(options, request.light), read_numeric_settings(options, request)}) {
+        if (!status) {
+            return status.error();
         }
-        s.light_buffer.lookup = *parsed;
-    }
-    if (const auto compositing = args.get("compositing")) {
-        const auto parsed = scene::parse_compositing(*compositing);
-        if (!parsed) {
-            return base::make_error("invalid_argument", "expects alpha or extinction",
-                                    "--compositing");
-        }
-        s.compositing = *parsed;
-    }
-    if (const auto stage = args.get("stage")) {
-        const auto parsed = scene::parse_raycast_stage(*stage);
-        if (!parsed) {
-            return base::make_error("invalid_argument", "expects compute or fragment", "--stage");
-        }
-        s.stage = *parsed;
     }
     auto tf = load_transfer_function(
-            args.get("tf").value_or(std::string(scene::default_preset(volume.hounsfield))),
+            value_of<std::string>(options, "tf")
+                    .value_or(std::string(scene::default_preset(volume.hounsfield))),
             volume.range);
     if (!tf) {
         return tf.error();
@@ -272,6 +248,23 @@ base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
         return status.error();
     }
     return request;
+}
+
+std::vector<std::string> names_of(const SweptOptions& swept) {
+    std::vector<std::string> names;
+    for (const auto& [name, instead] : swept) {
+        names.push_back(name);
+    }
+    return names;
+}
+
+base::Error explain_swept(base::Error error, const SweptOptions& swept, const char* benchmark) {
+    for (const auto& [name, instead] : swept) {
+        if (error.where == "--" + name) {
+            error.message = std::string(benchmark) + " sweeps this; use " + instead;
+        }
+    }
+    return error;
 }
 
 }  // namespace penumbra::app

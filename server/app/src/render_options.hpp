@@ -1,28 +1,32 @@
 #pragma once
 
-#include "arguments.hpp"
+#include "options.hpp"
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penumbra::app {
 
-// The options that describe a frame, shared by every command that renders: those with a value,
-// and the flags.
-const std::vector<std::string>& frame_option_names();
-const std::vector<std::string>& frame_flag_names();
-// One line per mode: its name and what it does (the mode table's summary).
-std::string modes_help();
+// The options that describe a frame, shared by every command that renders, less those a
+// benchmark sweeps itself (`swept`).
+po::options_description frame_options(const std::vector<std::string>& swept = {});
 
 // Builds a frame request from those options; defaults give a useful view of a head.
-base::Result<scene::FrameRequest> frame_request_from(const Arguments& args,
+base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
                                                      const volume::Volume& volume);
 
-// Help text for those options.
-const char* frame_options_help();
+// A benchmark's options it sweeps itself, each with what to give instead.
+using SweptOptions = std::vector<std::pair<std::string, std::string>>;
+
+// The names of `swept`.
+std::vector<std::string> names_of(const SweptOptions& swept);
+
+// A usage error for a swept option says that `benchmark` sweeps it and what to give instead.
+base::Error explain_swept(base::Error error, const SweptOptions& swept, const char* benchmark);
 
 }  // namespace penumbra::app

@@ -1,0 +1,78 @@
+#include "penumbra/quality/accuracy_bench.hpp"
+
+#include <penumbra/quality/report.hpp>
+#include <penumbra/quality/table_json.hpp>
+
+namespace penumbra::quality {
+namespace {
+
+void print_timing(std::FILE* out, const render::RendererInfo& info, const Sweep& sweep) {
+    std::fprintf(out, "penumbra bench accuracy\ngl:       %s | %s | %s\n", info.renderer.c_str(),
+                 info.version.c_str(), info.platform.c_str());
+    if (info.gpu_timer_queries) {
+        std::fprintf(out, "timing:   GPU timer queries, median of %d frame(s) after 1 warm-up\n",
+                     sweep.repeat);
+    } else {
+        std::fprintf(out,
+                     "timing:   wall clock (this GL's timer queries mean nothing: software "
+                     "rasteriser),\n          median of %d frame(s) after 1 warm-up; lighter "
+                     "defaults for a software rasteriser\n",
+                     sweep.repeat);
+    }
+}
+
+}  // namespace
+
+base::Status bench_accuracy(render::Renderer& renderer, const Sweep& sweep,
+                            const FrameFor& frame_for, Table& table, std::FILE* out) {
+    print_timing(out, renderer.info(), sweep);
+    const std::uint64_t frames =
+            frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
+    const Progress progress(frames);
+    std::fprintf(out,
+                 "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
+                 "left)\n",
+                 sweep.volumes.size(), sweep.lights.size(),
+                 static_cast<unsigned long long>(frames));
+    const SweepObserver print{
+            .frame = [out](const Table& t) { std::fputs(frame_text(t).c_str(), out); },
+            .view =
+                    [out](const std::string& volume, const LightAngles& light) {
+                        std::fputs(view_header(volume, light).c_str(), out);
+                    },
+            .point =
+                    [out, &progress](const Point& p, std::uint64_t done) {
+                        std::fprintf(out, "%s  %s\n", point_row(p).c_str(), progress(done).c_str());
+                        std::fflush(out);
+                    }};
+    return measure_sweep(renderer, sweep, frame_for, print, table);
+}
+
+base::Status report_accuracy(const Table& table, const AccuracyReport& report, std::FILE* out) {
+    const std::vector<Preset> presets = choose_presets(
+            table, report.budgets_ms.empty() ? default_budgets(table.points) : report.budgets_ms);
+    std::fputs(presets_text(table, presets).c_str(), out);
+    if (report.csv) {
+        if (auto status = write_csv(table, *report.csv, "--csv"); !status) {
+            return status;
+        }
+        std::fprintf(out, "csv:      %s\n", report.csv->c_str());
+    }
+    if (report.json) {
+        if (auto status = write_table_file(*report.json, table, presets, "--json"); !status) {
+            return status;
+        }
+        std::fprintf(out, "json:     %s\n", report.json->c_str());
+    }
+    if (report.plot) {
+        auto files = write_plot(table, *report.plot, "--plot");
+        if (!files) {
+            return files.error();
+        }
+        std::fprintf(out, "plot:     %s, %s (script %s)\n", files->png.c_str(), files->svg.c_str(),
+                     files->script.c_str());
+    }
+    return base::Ok{};
+}
+
+}  // namespace penumbra::quality

@@ -1,0 +1,246 @@
+#include "options.hpp"
+
+#include "render_options.hpp"
+#include "synthetic_volumes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+namespace penumbra::app {
+namespace {
+
+po::options_description test_options() {
+    po::options_description options = option_group("test");
+    options.add_options()("help", "help")("size", po::value<ImageSize>(), "size")(
+            "fov", po::value<Number>(), "fov")("eye", po::value<Triple>(), "eye");
+    return options;
+}
+
+TEST(Options, ParsesValuesFlagsAndInlineValues) {
+    auto args = parse_options({"--size", "64x32", "--fov=45", "--eye", "-1,2,3/4", "--help"},
+                              test_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    EXPECT_EQ(args->count("help"), 1U);
+    EXPECT_EQ((*args)["size"].as<ImageSize>().width, 64);
+    EXPECT_EQ((*args)["size"].as<ImageSize>().height, 32);
+    EXPECT_DOUBLE_EQ((*args)["fov"].as<Number>().value, 45.0);
+    EXPECT_EQ((*args)["eye"].as<Triple>().value, glm::dvec3(-1.0, 2.0, 0.75));
+}
+
+// Each mistake is an error naming the option (or the stray argument).
+TEST(Options, RejectsUnknownMissingAndMalformedValues) {
+    const auto error = [](const std::vector<std::string>& args) {
+        auto parsed = parse_options(args, test_options());
+        EXPECT_FALSE(parsed.ok());
+        return parsed.ok() ? base::Error{} : parsed.error();
+    };
+    EXPECT_EQ(error({"--colour", "red"}).where, "--colour");
+    EXPECT_EQ(error({"--colour", "red"}).message, "unknown option");
+    EXPECT_EQ(error({"--colour=red"}).where, "--colour");
+    // An abbreviation is not guessed: a misspelt option must not pick another.
+    EXPECT_EQ(error({"--si", "64x32"}).where, "--si");
+    EXPECT_EQ(error({"--size"}).message, "needs a value");
+    EXPECT_EQ(error({"--size"}).where, "--size");
+    EXPECT_EQ(error({"stray"}).message, "unexpected argument 'stray'");
+    EXPECT_EQ(error({"--help=yes"}).where, "--help");
+    for (const std::vector<std::string>& args : {std::vector<std::string>{"--size", "64by32"},
+                                                 {"--size", "0x32"},
+                                                 {"--fov", "nan"},
+                                                 {"--eye", "1,2"}}) {
+        EXPECT_EQ(error(args).where, args[0]) << args[1];
+    }
+}
+
+TEST(Options, NumbersMayBeFractions) {
+    auto args = parse_options({"--fov", "1/512"}, test_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    EXPECT_DOUBLE_EQ((*args)["fov"].as<Number>().value, 1.0 / 512.0);
+    EXPECT_DOUBLE_EQ(parse_numbers("-3/4", "fov").value().front(), -0.75);
+    for (const char* bad : {"1/0", "1/", "/2", "1/2/3"}) {
+        EXPECT_FALSE(parse_options({"--fov", bad}, test_options()).ok()) << bad;
+        EXPECT_FALSE(parse_numbers(bad, "fov").ok()) << bad;
+    }
+}
+
+// A whole number outside its range is refused naming the option; within, it reaches its target.
+TEST(Options, WholeNumbersAreCheckedAgainstTheirRange) {
+    int repeat = 1;
+    po::options_description options = option_group("test");
+    options.add_options()("repeat", whole_number(&repeat, 1, 100), "repeat");
+    ASSERT_TRUE(parse_options({"--repeat", "7"}, options).ok());
+    EXPECT_EQ(repeat, 7);
+    for (const char* bad : {"0", "101", "2.5", "x"}) {
+        auto refused = parse_options({"--repeat", bad}, options);
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_EQ(refused.error().where, "--repeat") << bad;
+    }
+    EXPECT_EQ(parse_options({"--repeat", "0"}, options).error().message, "must be within 1..100");
+}
+
+// Each numeric setting of the table has its option, named in the help with its range, which
+// sets it alone and refuses a value beyond the range naming the option. A row that the command
+// line leaves out fails here.
+TEST(RenderOptions, EveryTableSettingIsAnOption) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    // The help as one line: it wraps descriptions at its width.
+    std::ostringstream help_text;
+    help_text << frame_options();
+    std::string help;
+    for (const char c : help_text.str()) {
+        if (!std::isspace(static_cast<unsigned char>(c)) || (!help.empty() && help.back() != ' ')) {
+            help += std::isspace(static_cast<unsigned char>(c)) ? ' ' : c;
+        }
+    }
+    for (const scene::SettingRange* range : scene::kSettingRanges) {
+        if (range->write == nullptr) {
+            continue;
+        }
+        const std::string option = "--" + scene::option_name(*range);
+        SCOPED_TRACE(option);
+        EXPECT_NE(help.find(option + (range->integer ? " N" : " X")), std::string::npos);
+        EXPECT_NE(help.find(range->describe()), std::string::npos);
+        const double value =
+                range->integer ? range->max : range->min + 0.375 * (range->max - range->min);
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g", value);
+        auto args = parse_options({option, text}, frame_options());
+        ASSERT_TRUE(args.ok()) << args.error().to_string();
+        auto request = frame_request_from(*args, volume);
+        ASSERT_TRUE(request.ok()) << request.error().to_string();
+        EXPECT_EQ(range->read(*request), value);
+        auto defaults = frame_request_from(*parse_options({}, frame_options()), volume);
+        ASSERT_TRUE(defaults.ok());
+        EXPECT_NE(range->read(*defaults), value);
+        range->write(*defaults, value);
+        EXPECT_EQ(*defaults, *request);
+
+        std::snprintf(text, sizeof text, "%.17g", range->max + 1.0);
+        auto beyond = parse_options({option, text}, frame_options());
+        ASSERT_TRUE(beyond.ok());
+        const auto refused = frame_request_from(*beyond, volume);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_EQ(refused.error().where, option);
+        EXPECT_NE(refused.error().message.find(range->describe()), std::string::npos);
+    }
+}
+
+TEST(RenderOptions, LightBufferRefinementsAreOptions) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    auto args = parse_options({"--mode", "sbrc", "--light-lookup", "interpolate", "--slab-samples",
+                               "3", "--sample-distance", "1/512"},
+                              frame_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    auto request = frame_request_from(*args, volume);
+    ASSERT_TRUE(request.ok()) << request.error().to_string();
+    EXPECT_EQ(request->settings.light_buffer.lookup, scene::LightLookup::interpolate);
+    EXPECT_EQ(request->settings.light_buffer.slab_samples, 3);
+    EXPECT_DOUBLE_EQ(request->settings.sample_distance, 1.0 / 512.0);
+    auto bad_lookup = parse_options({"--light-lookup", "nearest"}, frame_options());
+    EXPECT_EQ(frame_request_from(*bad_lookup, volume).error().where, "--light-lookup");
+    auto bad_samples = parse_options({"--slab-samples", "99"}, frame_options());
+    EXPECT_EQ(frame_request_from(*bad_samples, volume).error().where, "--slab-samples");
+}
+
+TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    auto args = parse_options({"--mode", "dvr", "--size", "64x48", "--camera", "90,10,3", "--tf",
+                               "grey_ramp", "--light-position", "1,2,3"},
+                              frame_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    auto request = frame_request_from(*args, volume);
+    ASSERT_TRUE(request.ok()) << request.error().to_string();
+    EXPECT_EQ(request->settings.mode, scene::Mode::dvr);
+    EXPECT_EQ(request->settings.width, 64);
+    EXPECT_EQ(request->light.type, scene::LightType::point);
+    EXPECT_NEAR(request->camera.eye.x, 3.0 * std::cos(10.0 * M_PI / 180.0), 1e-9);
+
+    auto bad_mode = parse_options({"--mode", "magic"}, frame_options());
+    EXPECT_EQ(frame_request_from(*bad_mode, volume).error().where, "--mode");
+    auto bad_tf = parse_options({"--tf", "nope"}, frame_options());
+    EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, "unknown_preset");
+    auto bad_distance = parse_options({"--sample-distance", "0"}, frame_options());
+    // The option is checked against its setting's range (scene::setting) and named.
+    const auto distance_error = frame_request_from(*bad_distance, volume).error();
+    EXPECT_EQ(distance_error.where, "--sample-distance");
+    EXPECT_NE(distance_error.message.find(scene::setting::sample_distance.describe()),
+              std::string::npos)
+            << distance_error.message;
+}
+
+// Without --tf a CT (values in HU) shows its bone, as a new serve session on it does; any other
+// volume the MRI skin.
+TEST(RenderOptions, TheDefaultTransferFunctionFollowsTheVolumesUnits) {
+    auto args = parse_options({}, frame_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    volume::Volume ct = test::constant_volume({4, 4, 4}, 1.0f);
+    ct.hounsfield = true;
+    const auto on_ct = frame_request_from(*args, ct);
+    ASSERT_TRUE(on_ct.ok()) << on_ct.error().to_string();
+    EXPECT_EQ(on_ct->transfer_function.name, "ct_bone");
+    const auto on_mri = frame_request_from(*args, test::constant_volume({4, 4, 4}, 1.0f));
+    ASSERT_TRUE(on_mri.ok()) << on_mri.error().to_string();
+    EXPECT_EQ(on_mri->transfer_function.name, "mri_skin");
+    auto named = parse_options({"--tf", "grey_ramp"}, frame_options());
+    EXPECT_EQ(frame_request_from(*named, ct)->transfer_function.name, "grey_ramp");
+}
+
+// A benchmark's frame options leave out what it sweeps; giving one says what to give instead.
+TEST(RenderOptions, SweptOptionsAreRefusedWithWhatToGiveInstead) {
+    const SweptOptions swept = {{"slices", "--slices-list LIST"}};
+    const po::options_description options = frame_options(names_of(swept));
+    EXPECT_EQ(options.find_nothrow("slices", false), nullptr);
+    EXPECT_NE(options.find_nothrow("light-res", false), nullptr);
+    auto refused = parse_options({"--slices", "64"}, options);
+    ASSERT_FALSE(refused.ok());
+    const base::Error error = explain_swept(refused.error(), swept, "bench modes");
+    EXPECT_EQ(error.where, "--slices");
+    EXPECT_EQ(error.message, "bench modes sweeps this; use --slices-list LIST");
+}
+
+TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {
+    EXPECT_EQ(split_list("a, b,,c "), (std::vector<std::string>{"a", "b", "c"}));
+    EXPECT_EQ(split_list("10,45; 100,20", ';'), (std::vector<std::string>{"10,45", "100,20"}));
+    EXPECT_TRUE(split_list("").empty());
+}
+
+po::options_description list_options() {
+    po::options_description options = option_group("test");
+    options.add_options()("slices-list", po::value<Counts>(), "counts")(
+            "modes", po::value<Modes>(), "modes")("budget-ms", po::value<Numbers>(), "numbers");
+    return options;
+}
+
+TEST(ListOptions, CountsAreWholeNumbersInRangeEachOnce) {
+    auto parsed = parse_options({"--slices-list", "64,128,64"}, list_options());
+    ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
+    EXPECT_EQ((*parsed)["slices-list"].as<Counts>().values, (std::vector<int>{64, 128}));
+    for (const char* bad : {"0", "1.5", "65537", "x", "64,x", ""}) {
+        auto counts = parse_options({"--slices-list", bad}, list_options());
+        ASSERT_FALSE(counts.ok()) << bad;
+        EXPECT_EQ(counts.error().where, "--slices-list") << bad;
+    }
+}
+
+TEST(ListOptions, ModesAreKnownNamesEachOnce) {
+    EXPECT_EQ(parsed<Modes>("sbrc, dvr,sbrc").values,
+              (std::vector<scene::Mode>{scene::Mode::sbrc, scene::Mode::dvr}));
+    auto unknown = parse_options({"--modes", "dvr,shiny"}, list_options());
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("'shiny'"), std::string::npos);
+    EXPECT_EQ(unknown.error().where, "--modes");
+}
+
+TEST(ListOptions, NumbersMayBeFractions) {
+    EXPECT_EQ(parsed<Numbers>("1/2,3").values, (std::vector<double>{0.5, 3.0}));
+    auto bad = parse_options({"--budget-ms", "1,x"}, list_options());
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().where, "--budget-ms");
+}
+
+}  // namespace
+}  // namespace penumbra::app
