@@ -3,7 +3,7 @@
 # 1. the `asan` preset (GCC, Debug, -Werror, AddressSanitizer + UndefinedBehaviorSanitizer) runs
 #    the unit, stability, GPU and integration tests; any sanitizer report fails the test;
 # 2. a ThreadSanitizer build of the session and integration tests (scheduler, registry, volume
-#    store, the network server) runs them;
+#    store, the network server, the load client) runs them;
 # 3. the `fuzz` preset (clang-14, ASan + UBSan + libFuzzer) replays the inputs that once crashed a
 #    parser and fuzzes every target for PENUMBRA_FUZZ_SECONDS (default 20) from a fixed seed.
 # The browser, CLI and deploy tests stay in the release run: they drive the binary from outside
@@ -29,11 +29,13 @@ ASAN_OPTIONS="$asan_common:detect_leaks=0" \
         -LE unit -E '^(browser|cli|deploy)\.'
 
 cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPENUMBRA_SANITIZE=thread
-cmake --build build/tsan --target session_test integration_test
+cmake --build build/tsan --target session_test integration_test load_client_test
 TSAN_OPTIONS="halt_on_error=1:suppressions=$PWD/tests/sanitizers/tsan.supp" \
     build/tsan/tests/unit/session/session_test
 TSAN_OPTIONS="halt_on_error=1:suppressions=$PWD/tests/sanitizers/tsan.supp" \
     build/tsan/tests/integration/integration_test
+TSAN_OPTIONS="halt_on_error=1:suppressions=$PWD/tests/sanitizers/tsan.supp" \
+    build/tsan/tests/integration/load_client_test
 
 cmake --preset fuzz -DPENUMBRA_FUZZ_SECONDS="${PENUMBRA_FUZZ_SECONDS:-20}"
 cmake --build --preset fuzz

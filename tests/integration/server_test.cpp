@@ -1183,6 +1183,30 @@ TEST_F(ServerTest, AFrameOverTheWorkCeilingIsRefusedWithItsEstimateAndTheCeiling
     EXPECT_EQ(client.next_frame().header.request, 2);
 }
 
+// A frame the renderer refuses (here over the work ceiling, which the parser cannot see: it is the
+// product of size and sample distance) answers its render request by that request's id, so that a
+// client can tell which request failed; a render without id gets an error without one.
+TEST_F(ServerTest, AFrameTheRendererRefusesIsAnsweredWithItsRequestsId) {
+    protocol::Limits limits;
+    limits.max_frame_work = 1e8;
+    start(limits);
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 64);
+    ASSERT_EQ(
+            field(client.request(R"({"v":1,"type":"set","id":3,"settings":{"size":[1024,1024]}})"),
+                  "type"),
+            "ack");
+    client.send(R"({"v":1,"type":"render","id":41})");
+    const auto refused = nlohmann::json::parse(client.next_text());
+    EXPECT_EQ(refused.value("code", ""), "too_much_work") << refused;
+    ASSERT_TRUE(refused.contains("id")) << refused;
+    EXPECT_EQ(refused.at("id"), 41) << refused;
+    client.send(R"({"v":1,"type":"render"})");
+    const auto anonymous = nlohmann::json::parse(client.next_text());
+    EXPECT_EQ(anonymous.value("code", ""), "too_much_work") << anonymous;
+    EXPECT_FALSE(anonymous.contains("id")) << anonymous;
+}
+
 // Finding 3: a frame that would hold the only render thread for many minutes (2048^2 pixels at
 // sample distance 1/4096: about 3e10 iterations, under the default ceiling) gives it up between
 // two of its chunks when its session asks for a newer frame, and when its session closes. The

@@ -200,27 +200,30 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
                     session_id, protocol::state_to_json(to_protocol(state))));
         }
     };
-    auto frames = [weak,
-                   context](const base::Result<std::shared_ptr<const session::SharedFrame>>& r) {
+    auto frames = [weak, context](const session::ViewerOutcome& outcome) {
         auto connection = weak.lock();
         if (!connection) {
             return;
         }
-        if (!r) {
-            // A frame over the work ceiling is the client's to shrink: a code of its own.
-            const bool too_much_work = r.error().code == protocol::code::too_much_work;
+        if (const auto* failure = std::get_if<session::FrameFailure>(&outcome)) {
+            // A frame over the work ceiling is the client's to shrink: a code of its own. The
+            // error answers the request that asked for the frame, as the frame would have.
+            const base::Error& error = failure->error;
+            const bool too_much_work = error.code == protocol::code::too_much_work;
             connection->send_text(protocol::error_message(
-                    std::nullopt, base::make_error(too_much_work ? protocol::code::too_much_work
-                                                                 : protocol::code::render_failed,
-                                                   context->services.volumes.relative_paths(
-                                                           too_much_work ? r.error().message
-                                                                         : r.error().to_string()),
-                                                   "/")));
+                    failure->request_id == -1 ? std::nullopt
+                                              : std::optional<std::int64_t>(failure->request_id),
+                    base::make_error(too_much_work ? protocol::code::too_much_work
+                                                   : protocol::code::render_failed,
+                                     context->services.volumes.relative_paths(
+                                             too_much_work ? error.message : error.to_string()),
+                                     "/")));
             context->errors.add();
             return;
         }
         // Packed by the first viewer's connection, shared by every other one.
-        connection->send_frame((*r)->packed([context](const session::SharedFrame& shared) {
+        const auto& shared_frame = std::get<std::shared_ptr<const session::SharedFrame>>(outcome);
+        connection->send_frame(shared_frame->packed([context](const session::SharedFrame& shared) {
             const session::EncodedFrame& frame = shared.frame();
             context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
                                              frame.encode_ms);

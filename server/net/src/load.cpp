@@ -2,6 +2,7 @@
 
 #include <penumbra/net/client.hpp>
 #include <penumbra/protocol/frame_header.hpp>
+#include <penumbra/protocol/messages.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -114,6 +115,7 @@ public:
         if (!open_session()) {
             return;
         }
+        end_ = end;
         double azimuth = 17.0 * index_;
         std::int64_t id = 0;
         while (Clock::now() < end) {
@@ -160,7 +162,8 @@ private:
         }
     }
 
-    // Moves the camera, asks for frame `id` and waits for it; false where the connection failed.
+    // Moves the camera, asks for frame `id` and waits for it, or for an error naming `id`; false
+    // where the connection failed.
     bool request_frame(double azimuth, std::int64_t id) {
         (void)client_->send_text(R"({"v":1,"type":"set","camera":{"orbit":{"azimuth":)" +
                                  std::to_string(azimuth) + R"(,"elevation":10,"distance":2.6}}})");
@@ -176,6 +179,18 @@ private:
             if (!message->binary) {
                 if (message->text.find("\"type\":\"error\"") != std::string::npos) {
                     report_.fail(index_, message->text);
+                    // An error naming this request (rate_limited, too_much_work) is its answer:
+                    // no frame follows.
+                    if (protocol::request_id_of(message->text) == id) {
+                        if (message->text.find(std::string("\"code\":\"") +
+                                               protocol::code::rate_limited + "\"") !=
+                            std::string::npos) {
+                            back_off();
+                        } else {
+                            refusals_ = 0;
+                        }
+                        return true;
+                    }
                 }
                 continue;
             }
@@ -192,16 +207,28 @@ private:
             } else if (h.request == id) {
                 report_.add({ms_between(sent, received), h.queued_ms, h.render_ms, h.readback_ms,
                              h.encode_ms, message->bytes.size()});
+                refusals_ = 0;
                 return true;
             }
             // else an earlier frame; ours is still coming
         }
     }
 
+    // Over the rate limit the client waits before its next request, as a browser's would, longer
+    // each time in a row: the server stops answering a client that keeps sending into its limit.
+    // The wait ends with the run.
+    void back_off() {
+        ++refusals_;
+        const Clock::time_point resume = Clock::now() + rate_limited_backoff(refusals_);
+        std::this_thread::sleep_until(std::min(resume, end_));
+    }
+
     int index_;
     const LoadConfig& config_;
     SharedReport& report_;
     std::unique_ptr<Client> client_;
+    Clock::time_point end_;
+    int refusals_ = 0;  // rate_limited answers in a row
 };
 
 // Each part of the latency over the samples, in the report's row order.
@@ -225,6 +252,16 @@ struct LatencyParts {
 };
 
 }  // namespace
+
+std::chrono::milliseconds rate_limited_backoff(int refusals) {
+    constexpr std::chrono::milliseconds first{250};
+    constexpr std::chrono::milliseconds longest{4000};
+    std::chrono::milliseconds wait = first;
+    for (int i = 1; i < refusals && wait < longest; ++i) {
+        wait *= 2;
+    }
+    return std::min(wait, longest);
+}
 
 std::string load_path(const std::string& volume, const std::string& token) {
     std::string path = "/ws?volume=" + url_encode(volume);

@@ -274,7 +274,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     queued_ms_.observe(queued_ms);
     if (auto status = renderer.set_volume(job.volume); !status) {
         failures_.add();
-        done(status.error());
+        done(FrameFailure{status.error(), job.request_id});
         return;
     }
     const scene::Refinement refinement = job.request.refinement;
@@ -315,7 +315,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     }
     if (!rendered) {
         failures_.add();
-        done(rendered.error());
+        done(FrameFailure{rendered.error(), job.request_id});
         return;
     }
     auto frame = std::make_shared<EncodedFrame>();
@@ -357,7 +357,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
                      auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
                      if (!bytes) {
                          failures_.add();
-                         done(bytes.error());
+                         done(FrameFailure{bytes.error(), frame->request_id});
                          return;
                      }
                      frame->image = std::move(bytes.value());

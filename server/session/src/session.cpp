@@ -227,10 +227,9 @@ void Session::deliver(const FrameOutcome& outcome) {
             sinks.push_back(viewer_sinks.frames);
         }
     }
-    const base::Result<std::shared_ptr<const SharedFrame>> result =
-            std::holds_alternative<base::Error>(outcome)
-                    ? base::Result<std::shared_ptr<const SharedFrame>>(
-                              std::get<base::Error>(outcome))
+    const ViewerOutcome result =
+            std::holds_alternative<FrameFailure>(outcome)
+                    ? ViewerOutcome(std::get<FrameFailure>(outcome))
                     : std::make_shared<const SharedFrame>(
                               std::get<std::shared_ptr<const EncodedFrame>>(outcome), id_,
                               ++frames_);

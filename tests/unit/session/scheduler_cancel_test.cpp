@@ -95,8 +95,8 @@ protected:
         if (const auto* withdrawn = std::get_if<Withdrawn>(&outcome)) {
             return *withdrawn == Withdrawn::superseded ? "superseded" : "shutting_down";
         }
-        if (const auto* error = std::get_if<base::Error>(&outcome)) {
-            return error->code;
+        if (const auto* failure = std::get_if<FrameFailure>(&outcome)) {
+            return failure->error.code;
         }
         return "frame";
     }

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -106,8 +109,10 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     for (const ViewerId viewer : {owner, first_viewer}) {
         ASSERT_TRUE(session.add_viewer(
                 viewer,
-                [&delivered, viewer](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
-                    delivered.emplace_back(viewer, (*r)->number());
+                [&delivered, viewer](const ViewerOutcome& outcome) {
+                    delivered.emplace_back(
+                            viewer,
+                            std::get<std::shared_ptr<const SharedFrame>>(outcome)->number());
                 },
                 {}, {}));
     }
@@ -128,13 +133,14 @@ TEST(Session, AFrameIsPackedOnceAndEveryViewerSendsTheSameBytes) {
     };
     std::vector<SharedFrame::Bytes> sent;
     for (const ViewerId viewer : {owner, first_viewer, second_viewer}) {
-        ASSERT_TRUE(
-                session.add_viewer(viewer,
-                                   [&](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
-                                       ASSERT_TRUE(r.ok());
-                                       sent.push_back((*r)->packed(pack));
-                                   },
-                                   {}, {}));
+        ASSERT_TRUE(session.add_viewer(
+                viewer,
+                [&](const ViewerOutcome& outcome) {
+                    const auto* frame = std::get_if<std::shared_ptr<const SharedFrame>>(&outcome);
+                    ASSERT_NE(frame, nullptr);
+                    sent.push_back((*frame)->packed(pack));
+                },
+                {}, {}));
     }
     auto frame = std::make_shared<EncodedFrame>();
     frame->image = {1, 2, 3};
@@ -152,17 +158,78 @@ TEST(Session, WithdrawnJobsReachNobodyAndFailuresReachEveryViewer) {
     for (const ViewerId viewer : {owner, first_viewer}) {
         ASSERT_TRUE(session.add_viewer(
                 viewer,
-                [&heard](const base::Result<std::shared_ptr<const SharedFrame>>& r) {
-                    heard.push_back(r ? "frame" : r.error().code);
+                [&heard](const ViewerOutcome& outcome) {
+                    const auto* failure = std::get_if<FrameFailure>(&outcome);
+                    heard.push_back(failure != nullptr ? failure->error.code + " answering " +
+                                                                 std::to_string(failure->request_id)
+                                                       : "frame");
                 },
                 {}, {}));
     }
     session.deliver(Withdrawn::superseded);
     session.deliver(Withdrawn::shutting_down);
     EXPECT_TRUE(heard.empty());
-    session.deliver(base::make_error("too_much_work", "over the ceiling"));
-    EXPECT_EQ(heard, (std::vector<std::string>{"too_much_work", "too_much_work"}));
+    session.deliver(FrameFailure{base::make_error("too_much_work", "over the ceiling"), 7});
+    EXPECT_EQ(heard,
+              (std::vector<std::string>{"too_much_work answering 7", "too_much_work answering 7"}));
     EXPECT_EQ(session.frame_count(), 0U);
+}
+
+// Refuses every frame as the renderer refuses one over the work ceiling: before it runs.
+class RefusingRenderer final : public render::FrameRenderer {
+public:
+    [[nodiscard]] const render::RendererInfo& info() const override { return info_; }
+
+    base::Status set_volume(std::shared_ptr<const volume::Volume>) override { return base::Ok{}; }
+
+    base::Result<render::Frame> render(const scene::FrameRequest&,
+                                       const render::CancelPredicate&) override {
+        return base::make_error("too_much_work", "over the ceiling", "render");
+    }
+
+    [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
+
+private:
+    render::RendererInfo info_;
+};
+
+// A frame the renderer refuses answers the request that asked for it: every viewer hears the
+// failure with that request's id, as a frame would carry it.
+TEST(Session, AFrameTheRendererRefusesAnswersItsRequestId) {
+    metrics::Registry metrics;
+    auto scheduler = Scheduler::create(
+            []() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
+                return std::unique_ptr<render::FrameRenderer>(std::make_unique<RefusingRenderer>());
+            },
+            {}, metrics);
+    ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
+    auto session = std::make_shared<Session>("s", "v", nullptr, SessionState{}, owner);
+    std::mutex mutex;
+    std::condition_variable heard_all;
+    std::vector<std::pair<ViewerId, std::string>> heard;
+    for (const ViewerId viewer : {owner, first_viewer}) {
+        ASSERT_TRUE(session->add_viewer(
+                viewer,
+                [&, viewer](const ViewerOutcome& outcome) {
+                    const auto* failure = std::get_if<FrameFailure>(&outcome);
+                    const std::lock_guard lock(mutex);
+                    heard.emplace_back(viewer, failure != nullptr
+                                                       ? failure->error.code + " answering " +
+                                                                 std::to_string(failure->request_id)
+                                                       : "frame");
+                    heard_all.notify_all();
+                },
+                {}, {}));
+    }
+    session->render(**scheduler, 42, false, "10.0.0.1");
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(
+            heard_all.wait_for(lock, std::chrono::seconds(30), [&] { return heard.size() == 2; }));
+    EXPECT_EQ(heard, (std::vector<std::pair<ViewerId, std::string>>{
+                             {owner, "too_much_work answering 42"},
+                             {first_viewer, "too_much_work answering 42"}}));
+    lock.unlock();
+    (*scheduler)->stop();
 }
 
 TEST(Session, OnlyTheOwnerChangesTheStateAndAFailedChangeLeavesItAsItWas) {
@@ -239,9 +306,7 @@ TEST(Session, AViewerWithTheTokenMayResumeTooAndFramesStillReachEveryone) {
     Session session("s", "v", nullptr, {}, owner);
     std::vector<ViewerId> delivered;
     const auto frames_to = [&delivered](ViewerId viewer) {
-        return [&delivered, viewer](const base::Result<std::shared_ptr<const SharedFrame>>&) {
-            delivered.push_back(viewer);
-        };
+        return [&delivered, viewer](const ViewerOutcome&) { delivered.push_back(viewer); };
     };
     ASSERT_TRUE(session.add_viewer(owner, frames_to(owner), {}, {}));
     ASSERT_TRUE(session.add_viewer(first_viewer, frames_to(first_viewer), {}, {}));

@@ -5,6 +5,7 @@
 // request in flight); the latency from request sent to frame received, with the server's split
 // from each frame's header.
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -53,8 +54,14 @@ struct LoadReport {
 // writes a volume alike and a proxy hashes it alike.
 std::string load_path(const std::string& volume, const std::string& token);
 
-// Runs `config.clients` simulated users for `config.seconds`, each on a thread of its own.
+// Runs `config.clients` simulated users for `config.seconds`, each on a thread of its own. An
+// error naming a request answers it; a client refused with rate_limited waits
+// rate_limited_backoff before its next request.
 LoadReport run_load(const LoadConfig& config);
+
+// How long a load client waits after the `refusals`-th rate_limited answer in a row (from 1):
+// 250 ms, doubling up to 4 s.
+std::chrono::milliseconds rate_limited_backoff(int refusals);
 
 // The report as `penumbra load` prints it: the run, frames/s and bytes/s, and p50/p95/p99 of
 // the latency and of its parts.

@@ -35,7 +35,7 @@ struct RenderJob {
     std::shared_ptr<const volume::Volume> volume;
     scene::FrameRequest request;
     OutputFormat output;
-    std::int64_t request_id = -1;
+    std::int64_t request_id = -1;  // the id of the request that asked for the frame; -1: none
     bool interactive = false;
     std::string quality;  // how the request was reduced, for the frame header
     Clock::time_point submitted = Clock::now();
@@ -70,8 +70,15 @@ enum class Withdrawn {
     shutting_down,  // the scheduler stopped
 };
 
-// How a job ended: with its frame, withdrawn, or with why rendering or encoding failed.
-using FrameOutcome = std::variant<std::shared_ptr<const EncodedFrame>, Withdrawn, base::Error>;
+// Why a job's rendering or encoding failed, and the request that asked for the frame, so that
+// the failure answers that request as its frame would have.
+struct FrameFailure {
+    base::Error error;
+    std::int64_t request_id = -1;  // the job's RenderJob::request_id
+};
+
+// How a job ended: with its frame, withdrawn, or failed.
+using FrameOutcome = std::variant<std::shared_ptr<const EncodedFrame>, Withdrawn, FrameFailure>;
 
 // Called once per submitted job, then once more per refinement step of a still frame
 // (RenderJob::refinement_steps) with the refined frame only; on a scheduler thread: it must only

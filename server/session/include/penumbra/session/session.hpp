@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace penumbra::session {
@@ -51,10 +52,12 @@ private:
     mutable Bytes bytes_;
 };
 
-// Receives each frame of the session, or why one failed. Called on a scheduler thread: it must
-// only hand the frame on.
-using ViewerSink =
-        std::function<void(const base::Result<std::shared_ptr<const SharedFrame>>& result)>;
+// What a viewer receives: each frame of the session, or why one failed and which request it
+// answers.
+using ViewerOutcome = std::variant<std::shared_ptr<const SharedFrame>, FrameFailure>;
+
+// Receives each ViewerOutcome. Called on a scheduler thread: it must only hand it on.
+using ViewerSink = std::function<void(const ViewerOutcome& outcome)>;
 
 struct SessionState {
     scene::FrameRequest frame;
