@@ -36,6 +36,29 @@ const schemaModes = (
 ).$defs.mode.enum;
 
 const valid = readdirSync(path.join(examples, 'valid')).filter((f) => f.endsWith('.json'));
+
+/** The client message types the protocol defines (common.schema.json's client_type). */
+const clientTypes = (
+  readJson(path.resolve(__dirname, '../../proto/v1/common.schema.json')) as {
+    $defs: { client_type: { enum: string[] } };
+  }
+).$defs.client_type.enum;
+
+interface MessageSchema {
+  examples?: unknown[];
+  $defs?: { request?: MessageSchema };
+}
+
+/**
+ * Each client message's main examples, from its schema (JSON Schema's `examples`): the whole
+ * schema's, or those of `$defs/request` where one schema serves both directions (stats).
+ */
+const schemaExamples = clientTypes.map((type) => {
+  const schema = readJson(path.resolve(__dirname, `../../proto/v1/${type}.schema.json`)) as MessageSchema;
+  const request = schema.$defs?.request ?? schema;
+  const pointer = request === schema ? '' : '/$defs/request';
+  return { type, name: `${type}.schema.json#${pointer}/examples`, examples: request.examples ?? [] };
+});
 const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
 const serverMessages = recordedMessages;
 const serverRanges = recordedRanges;
@@ -43,6 +66,22 @@ const serverRanges = recordedRanges;
 const terms: ServerTerms = { ...recordedTerms, modes: schemaModes };
 /** A message as the server parses it: with the ranges its hello announced. */
 const parse = (text: string) => parseServerMessage(text, serverRanges);
+
+describe("proto/v1: each client message's schema examples", () => {
+  it.each(schemaExamples)('$name has an example of a $type message', ({ type, examples }) => {
+    expect(examples.length).toBeGreaterThan(0);
+    for (const example of examples) expect(example).toMatchObject({ type });
+  });
+
+  const cases = schemaExamples.flatMap(({ name, examples }) =>
+    examples.map((message, index) => ({ name: `${name}/${index}`, message })),
+  );
+  it.each(cases)('$name is a client message the server accepts', ({ message }) => {
+    expect(checkClientMessage(message, terms)).toBeNull();
+    // Typed as a ClientMessage, it encodes back to the same JSON.
+    expect(JSON.parse(encodeClientMessage(message as ClientMessage))).toEqual(message);
+  });
+});
 
 describe('proto/examples/v1/valid', () => {
   it('has examples', () => expect(valid.length).toBeGreaterThan(20));

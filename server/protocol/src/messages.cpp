@@ -213,11 +213,14 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                          {"gradients", scene::to_string(mode.gradients)}});
     }
     // Each setting's range, so that a client checks and offers what the server accepts without
-    // a copy of its own.
+    // a copy of its own, and says what the setting does where the table does.
     json ranges = json::object();
     for (const scene::SettingRange* range : scene::kSettingRanges) {
-        ranges[std::string(range->field)] = {
-                {"min", range->min}, {"max", range->max}, {"integer", range->integer}};
+        json& announced = ranges[std::string(range->field)];
+        announced = {{"min", range->min}, {"max", range->max}, {"integer", range->integer}};
+        if (!range->summary.empty()) {
+            announced["summary"] = range->summary;
+        }
     }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},

@@ -223,8 +223,15 @@ TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
         EXPECT_EQ(announced.at("min").get<double>(), range->min);
         EXPECT_EQ(announced.at("max").get<double>(), range->max);
         EXPECT_EQ(announced.at("integer").get<bool>(), range->integer);
+        // A client's hint for the setting's control; a row without a summary announces none.
+        if (range->summary.empty()) {
+            EXPECT_FALSE(announced.contains("summary"));
+        } else {
+            EXPECT_EQ(announced.at("summary").get<std::string>(), range->summary);
+        }
     }
     EXPECT_EQ(ranges.at("settings/light_buffer/slab_samples").at("max"), scene::kMaxSlabSamples);
+    EXPECT_EQ(ranges.at("camera/fov").at("summary"), scene::setting::fov_degrees.summary);
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {

@@ -27,9 +27,10 @@ struct RendererOptions {
     bool debug_context = false;        // GL debug output routed to the log
     // Volume textures stay on the GPU, least recently used evicted first, while they fit this.
     std::size_t volume_memory_budget = std::size_t{2} << 30;
-    // Light buffers stay cached by what their content depends on (volume, the TF's opacity,
-    // light, n, R, builder, compositing, compensation, slab samples), least recently used evicted
-    // first so that together they never exceed this; a single buffer larger than it is refused.
+    // Light buffers stay cached by what their content depends on (the volume, the TF's opacity
+    // and the request less what the builders do not read: light_buffer_inputs in renderer.cpp),
+    // least recently used evicted first so that together they never exceed this; a single buffer
+    // larger than it is refused.
     std::size_t light_buffer_memory_budget = std::size_t{1} << 30;
     // The most work one frame may ask for, in shader inner-loop iterations
     // (scene::estimate_work); larger requests are refused with `too_much_work` before anything

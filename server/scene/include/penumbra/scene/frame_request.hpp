@@ -210,9 +210,9 @@ inline constexpr SettingRange cone_center_weight = request_setting(
 
 }  // namespace setting
 
-// Every range above. Image size, light-buffer slices and resolution are bounded by the device
-// and the server's configuration instead (scene::Limits, protocol::Limits).
-inline constexpr std::array<const SettingRange*, 23> kSettingRanges{
+// Every range above; its size is the list's. Image size, light-buffer slices and resolution are
+// bounded by the device and the server's configuration instead (scene::Limits, protocol::Limits).
+inline constexpr auto kSettingRanges = std::to_array<const SettingRange*>({
         &setting::coordinate,
         &setting::colour,
         &setting::fov_degrees,
@@ -236,7 +236,7 @@ inline constexpr std::array<const SettingRange*, 23> kSettingRanges{
         &setting::shell_center_weight,
         &setting::cone_angle_degrees,
         &setting::cone_center_weight,
-};
+});
 
 // Device limits that bound what a request may ask for.
 struct Limits {

@@ -26,7 +26,8 @@ struct SettingRange {
     // Stores a value within the range in the request (whole where `integer`): the protocol
     // parser and the command line set the setting through it. Null exactly where `read` is.
     void (*write)(FrameRequest&, double) = nullptr;
-    // What the setting does, for the command line's help; empty where `write` is null.
+    // What the setting does, for the command line's help and hello's ranges (a client's hint);
+    // empty where `write` is null.
     std::string_view summary = {};
     // The command-line option that sets it, where that is not the field's last part with '-'
     // for '_' (see option_name).
