@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Rewrites what proto/v1/common.schema.json restates of the C++ tables (each setting's range from
 # scene::kSettingRanges, the mode names, the client message types) from the tables themselves,
-# and proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json).
-# Run it after changing one of them; SchemaAgreement.*IsGenerated (protocol_test) fail until the
-# committed files are what this writes. The rest of both files is written by hand.
+# proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), and
+# the ranges of the hello the web client's tests recorded (client_web/test/fixtures).
+# Run it after changing one of them; SchemaAgreement.*IsGenerated and
+# SchemaAgreement.TheWebClientsRecordedHelloHasTheServersRanges (protocol_test) fail until the
+# committed files are what this writes. The rest of each file is written by hand.
 #   scripts/update-schema.sh [PRESET]     (default: release; builds the update_schema target)
 set -euo pipefail
 cd "$(dirname "$0")/.."

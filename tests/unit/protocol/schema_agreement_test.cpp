@@ -245,13 +245,24 @@ TEST(SchemaAgreement, TheWebClientsRecordedHelloHasTheServersRanges) {
     const std::filesystem::path recorded_file =
             std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() / "client_web" / "test" /
             "fixtures" / "server_messages.jsonl";
-    std::ifstream in(recorded_file);
-    std::string first_line;
-    ASSERT_TRUE(std::getline(in, first_line)) << recorded_file;
-    const json recorded = json::parse(first_line);
-    ASSERT_EQ(recorded.at("type"), "hello");
-    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
-    EXPECT_EQ(recorded.at("ranges"), hello.at("ranges"));
+    const std::string committed = test::read_text(recorded_file);
+    const auto generated = test::generated_recorded_hello(committed);
+    ASSERT_TRUE(generated) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << recorded_file << " records a hello whose ranges are not the server's: run "
+            << "scripts/update-schema.sh";
+}
+
+TEST(SchemaAgreement, TheRecordedHelloIsRewrittenWithTheServersRanges) {
+    const auto stale = test::generated_recorded_hello(
+            "{\"ranges\":{},\"type\":\"hello\",\"v\":1}\n{\"type\":\"opened\"}\n");
+    ASSERT_TRUE(stale) << stale.error().to_string();
+    const json hello = json::parse(stale->substr(0, stale->find('\n')));
+    EXPECT_EQ(
+            hello.at("ranges"),
+            json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true})).at("ranges"));
+    EXPECT_EQ(stale->substr(stale->find('\n')), "\n{\"type\":\"opened\"}\n");
+    EXPECT_FALSE(test::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
 }
 
 }  // namespace

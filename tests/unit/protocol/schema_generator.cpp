@@ -219,4 +219,18 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     return schema.dump(2) + "\n";
 }
 
+base::Result<std::string> generated_recorded_hello(std::string_view committed) {
+    const std::size_t line_end = std::min(committed.find('\n'), committed.size());
+    // The server writes its messages with nlohmann's default (sorted) objects; so is the recording.
+    const auto recorded = nlohmann::json::parse(committed.substr(0, line_end), nullptr, false);
+    if (!recorded.is_object() || recorded.value("type", "") != "hello") {
+        return base::make_error("invalid_argument", "the first recorded message is not a hello",
+                                "1");
+    }
+    auto hello = recorded;
+    hello["ranges"] = nlohmann::json::parse(
+            hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}))["ranges"];
+    return hello.dump() + std::string(committed.substr(line_end));
+}
+
 }  // namespace penumbra::protocol::test

@@ -4,7 +4,8 @@
 // scene's mode table, each setting's range (kSettingRanges: type, minimum, maximum and, where the
 // row has one, its summary as the description; a setting that a state holds is required there)
 // and the client message types (the request variant). The rest of the file is written by hand.
-// proto/README.md's table of the client messages is written from their schemas the same way.
+// proto/README.md's table of the client messages is written from their schemas the same way, and
+// the ranges of the hello the web client's tests recorded from the server.
 // update_schema writes these parts into the files (scripts/update-schema.sh) and
 // SchemaAgreement.*IsGenerated fail while a committed file differs.
 
@@ -29,5 +30,11 @@ inline constexpr std::string_view kTableBegin =
 inline constexpr std::string_view kTableEnd = "<!-- End of the client messages. -->";
 base::Result<std::string> generated_readme(std::string_view committed,
                                            const std::filesystem::path& schema_dir);
+
+// `committed`, the text of the web client's recorded server messages
+// (client_web/test/fixtures/server_messages.jsonl, one message a line, hello first), with the
+// hello's `ranges` the server announces now, so that the client's tests see the current table.
+// The rest of the recording is left as it was; an error where the first line is not a hello.
+base::Result<std::string> generated_recorded_hello(std::string_view committed);
 
 }  // namespace penumbra::protocol::test
