@@ -2,6 +2,7 @@
 #include "options.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/quality/modes_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -77,8 +78,8 @@ std::optional<render::GradientSource> parse_gradient_source(const std::string& t
 // The optimisation table's options, into `config`.
 base::Status read_optimisation_options(const po::variables_map& a,
                                        quality::ModesBenchConfig& config) {
-    config.volumes =
-            split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>() : config.volume);
+    config.volumes = base::split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>()
+                                                              : config.volume);
     if (config.volumes.empty()) {
         return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
     }

@@ -4,6 +4,7 @@
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
+#include <penumbra/base/text.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
 #include <penumbra/quality/startup.hpp>
@@ -251,7 +252,7 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     o.config.port = static_cast<unsigned short>(o.port);
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
     if (a.count("allowed-origins") != 0) {
-        o.config.allowed_origins = split_list(a["allowed-origins"].as<std::string>());
+        o.config.allowed_origins = base::split_list(a["allowed-origins"].as<std::string>());
     }
     auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
     if (!access_token) {

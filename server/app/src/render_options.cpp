@@ -2,6 +2,7 @@
 
 #include "transfer_function_file.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
 
@@ -84,7 +85,7 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
         light.type = scene::LightType::point;
         light.position = position->value;
     } else if (const auto angles = value_of<std::string>(options, "light")) {
-        auto numbers = parse_numbers(*angles, "light");
+        auto numbers = base::parse_numbers(*angles, "--light");
         if (!numbers) {
             return numbers.error();
         }
