@@ -9,11 +9,11 @@
 #include "render_options.hpp"
 #include "transfer_function_file.hpp"
 
+#include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/text.hpp>
 #include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/sweep_spec.hpp>
-#include <penumbra/quality/table_json.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -189,7 +189,7 @@ SweepSpec spec_from(const po::variables_map& a, const AccuracyCase* accuracy_cas
     spec.jitter = a["jitter"].as<Switches>().values;
     spec.refinement_steps = a["refinement"].as<Steps>().values;
     spec.accuracy_case = accuracy_case;
-    spec.head_ct = demo_ct_path();
+    spec.head_ct = base::demo_ct_path();
     return spec;
 }
 
@@ -221,18 +221,6 @@ base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
         request->transfer_function = std::move(*tf);
     }
     return request;
-}
-
-// --from: presets, CSV, JSON and plot from a table measured before.
-base::Status report_table_file(const std::string& from, const AccuracyReport& report) {
-    auto table = read_table_file(from);
-    if (!table) {
-        return table.error();
-    }
-    std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
-                from.c_str(), table->device.c_str(), table->gl_version.c_str(),
-                table->points.size());
-    return report_accuracy(*table, report, stdout);
 }
 
 // Measures the sweep the options ask for and reports its table.
@@ -284,7 +272,7 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
     }
     const AccuracyReport report = report_from(a);
     if (a.count("from") != 0) {
-        auto status = report_table_file(a["from"].as<std::string>(), report);
+        auto status = report_accuracy_file(a["from"].as<std::string>(), report, stdout);
         return status ? 0 : fail(status.error());
     }
     return measure(a, report);

@@ -62,7 +62,8 @@ base::Result<scene::FrameRequest> default_frame(const volume::Volume& volume) {
 // cache; without it, the heads alone.
 std::filesystem::path default_data_folder() {
     std::error_code ec;
-    if (const auto folder = demo_data_dir(); folder && std::filesystem::is_directory(*folder, ec)) {
+    if (const auto folder = base::demo_data_dir();
+        folder && std::filesystem::is_directory(*folder, ec)) {
         return *folder;
     }
     return mricron_templates;
