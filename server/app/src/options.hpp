@@ -132,12 +132,6 @@ po::typed_value<T>* with_default(const char* value_name, const std::string& fall
     return po::value<T>()->value_name(value_name)->default_value(parsed<T>(fallback), fallback);
 }
 
-// The value of option `name`, or `fallback` read as the option's text.
-template <class T>
-T value_or(const po::variables_map& options, const char* name, const std::string& fallback) {
-    return options.count(name) != 0 ? options[name].as<T>() : parsed<T>(fallback);
-}
-
 // "usage: penumbra <usage>", what the command does (`about`, may be empty) and its options.
 void print_help(const std::string& usage, const std::string& about,
                 const po::options_description& options);
