@@ -2,13 +2,13 @@
 #include "options.hpp"
 #include "render_options.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/quality/modes_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
 #include <fstream>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,28 +61,15 @@ po::options_description modes_options(quality::ModesBenchConfig& config) {
     return options;
 }
 
-std::optional<render::GradientSource> parse_gradient_source(const std::string& text) {
-    if (text == "automatic") {
-        return render::GradientSource::automatic;
-    }
-    if (text == "central") {
-        return render::GradientSource::central_differences;
-    }
-    if (text == "texture") {
-        return render::GradientSource::texture;
-    }
-    return std::nullopt;
-}
-
 // The optimisation table's options, into `config`.
 base::Status read_optimisation_options(const po::variables_map& a,
                                        quality::ModesBenchConfig& config) {
-    config.volumes =
-            split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>() : config.volume);
+    config.volumes = base::split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>()
+                                                              : config.volume);
     if (config.volumes.empty()) {
         return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
     }
-    const auto gradients = parse_gradient_source(a["gradients"].as<std::string>());
+    const auto gradients = render::parse_gradient_source(a["gradients"].as<std::string>());
     if (!gradients) {
         return base::make_error("invalid_argument", "expects automatic, central or texture",
                                 "--gradients");
@@ -139,7 +126,8 @@ int run_bench_modes(const std::vector<std::string>& args) {
     config.frame_for = [&a](const volume::Volume& volume) { return frame_request_from(a, volume); };
     config.slices = a["slices-list"].as<Counts>().values;
     config.resolutions = a["light-res-list"].as<Counts>().values;
-    config.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
+    config.modes = a.count("modes") != 0 ? a["modes"].as<Modes>().values
+                                         : app::parsed<Modes>(scene::mode_names(",")).values;
     if (auto status = read_optimisation_options(a, config); !status) {
         return usage_error(status.error());
     }

@@ -9,14 +9,14 @@
 #include "render_options.hpp"
 #include "transfer_function_file.hpp"
 
+#include <penumbra/base/data_dir.hpp>
+#include <penumbra/base/text.hpp>
 #include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
-#include <penumbra/quality/table_json.hpp>
+#include <penumbra/quality/sweep_spec.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -29,35 +29,6 @@ namespace {
 
 using namespace quality;
 
-// Defaults sized for a GPU, and lighter ones for a software rasteriser (no working timer queries,
-// llvmpipe here), where the full sweep would take hours; the lighter sweep takes minutes at 256².
-struct SweepDefaults {
-    const char* volumes;
-    const char* lights;
-    const char* slices;
-    const char* resolutions;
-    const char* sample_distances;
-    int side;
-    int repeat;
-};
-
-constexpr SweepDefaults gpu_defaults{
-        "/usr/share/mricron/templates/ch2.nii.gz,/usr/share/mricron/templates/ch2better.nii.gz,"
-        "/usr/share/mricron/templates/inia19-t1-brain.nii.gz",
-        "10,45;100,20;250,60",
-        "32,64,128,256,512",
-        "64,128,256,512,1024",
-        "1/256,1/512",
-        512,
-        7};
-constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.gz",
-                                          "10,45",
-                                          "32,64,128,256",
-                                          "64,128,256",
-                                          "1/256",
-                                          256,
-                                          3};
-
 std::string cases_help() {
     std::string help;
     for (const AccuracyCase& c : accuracy_cases()) {
@@ -69,86 +40,11 @@ std::string cases_help() {
     return help;
 }
 
-// The sweep's own lists, read by program_options (validate): sample distances in (0, 1], each
-// may be a fraction; lights "AZ,EL;AZ,EL"; switches "on,off", each once; refinement step counts,
-// sorted, each once, 0 (the still, always measured) left out.
-struct Distances {
-    std::vector<double> values;
-};
-
-struct Lights {
-    std::vector<LightAngles> values;
-};
-
-struct Switches {
-    std::vector<bool> values;
-};
-
-struct Steps {
-    std::vector<int> values;
-};
-
-void validate(boost::any& out, const std::vector<std::string>& texts, Distances*, int) {
-    Distances distances;
-    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
-        const auto number = parse_numbers(item, "");
-        if (!number || number->size() != 1 || !(number->front() > 0.0 && number->front() <= 1.0)) {
-            throw BadValue("'" + item + "' is not a distance in (0, 1]");
-        }
-        distances.values.push_back(number->front());
-    }
-    std::sort(distances.values.begin(), distances.values.end());
-    distances.values.erase(std::unique(distances.values.begin(), distances.values.end()),
-                           distances.values.end());
-    out = distances;
-}
-
-void validate(boost::any& out, const std::vector<std::string>& texts, Lights*, int) {
-    Lights lights;
-    for (const std::string& item : split_list(po::validators::get_single_string(texts), ';')) {
-        const auto numbers = parse_numbers(item, "");
-        if (!numbers || numbers->size() != 2) {
-            throw BadValue("expects AZIMUTH,ELEVATION pairs separated by ';'");
-        }
-        lights.values.push_back({(*numbers)[0], (*numbers)[1]});
-    }
-    out = lights;
-}
-
-void validate(boost::any& out, const std::vector<std::string>& texts, Switches*, int) {
-    Switches switches;
-    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
-        if (item != "on" && item != "off") {
-            throw BadValue("'" + item + "' is neither on nor off");
-        }
-        if (std::find(switches.values.begin(), switches.values.end(), item == "on") ==
-            switches.values.end()) {
-            switches.values.push_back(item == "on");
-        }
-    }
-    if (switches.values.empty()) {
-        throw BadValue("expects on, off or on,off");
-    }
-    out = switches;
-}
-
-void validate(boost::any& out, const std::vector<std::string>& texts, Steps*, int) {
-    Steps steps;
-    for (const std::string& item : split_list(po::validators::get_single_string(texts))) {
-        const auto number = parse_numbers(item, "");
-        const double value = number && number->size() == 1 ? number->front() : -1.0;
-        if (value != std::floor(value) || value < 0.0 || value > scene::kMaxRefinementSteps) {
-            throw BadValue("'" + item + "' is not a step count in 0.." +
-                           std::to_string(scene::kMaxRefinementSteps));
-        }
-        if (value > 0.0) {
-            steps.values.push_back(static_cast<int>(value));
-        }
-    }
-    std::sort(steps.values.begin(), steps.values.end());
-    steps.values.erase(std::unique(steps.values.begin(), steps.values.end()), steps.values.end());
-    out = steps;
-}
+// The sweep's own lists, read by quality's parsers.
+using Distances = ListOf<&parse_distances>;
+using Lights = ListOf<&parse_lights>;
+using Switches = ListOf<&parse_switches>;
+using Steps = ListOf<&parse_refinement_steps>;
 
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);
@@ -173,8 +69,8 @@ std::string defaults_of(const std::string& gpu, const std::string& software) {
 }
 
 po::options_description sweep_options() {
-    const SweepDefaults& gpu = gpu_defaults;
-    const SweepDefaults& cpu = software_defaults;
+    const SweepDefaults& gpu = sweep_defaults(true);
+    const SweepDefaults& cpu = sweep_defaults(false);
     const auto list = [](const char* name) { return po::value<std::string>()->value_name(name); };
     po::options_description options = option_group(
             "sweep (defaults for a GPU, on a software rasteriser such as llvmpipe lighter ones in "
@@ -239,7 +135,7 @@ constexpr const char* about =
         "`render`,\nless what the sweep varies.";
 
 // The presets' budgets and the files the options ask for.
-base::Result<AccuracyReport> report_from(const po::variables_map& a) {
+AccuracyReport report_from(const po::variables_map& a) {
     AccuracyReport report;
     if (a.count("budget-ms") != 0) {
         report.budgets_ms = a["budget-ms"].as<Numbers>().values;
@@ -253,95 +149,55 @@ base::Result<AccuracyReport> report_from(const po::variables_map& a) {
     return report;
 }
 
-// --case, where one is named (an unknown name is an error).
+// --case, where one is named.
 base::Result<const AccuracyCase*> case_from(const po::variables_map& a) {
     if (a.count("case") == 0) {
         return nullptr;
     }
-    const auto name = std::optional(a["case"].as<std::string>());
-    const AccuracyCase* found = find_accuracy_case(*name);
-    if (found == nullptr) {
-        std::string names;
-        for (const AccuracyCase& c : accuracy_cases()) {
-            names += (names.empty() ? "" : ", ") + std::string(c.name);
-        }
-        return base::make_error("invalid_argument",
-                                "no case '" + *name + "' (cases: " + names + ")", "--case");
-    }
-    if (a.count("tf") != 0) {
+    auto named = accuracy_case_named(a["case"].as<std::string>());
+    if (named && a.count("tf") != 0) {
         return base::make_error("invalid_argument",
                                 "--case sets the transfer function; give one or the other", "--tf");
     }
-    return found;
+    return named;
 }
 
-// --volumes, else the case's, else this device's defaults with the head CT where it was made.
-base::Result<std::vector<std::string>> default_volumes(const po::variables_map& a,
-                                                       const SweepDefaults& defaults) {
+// The values of list option `name`, where it was given.
+template <class List>
+void take(const po::variables_map& a, const char* name,
+          std::optional<decltype(List::values)>& values) {
+    if (a.count(name) != 0) {
+        values = a[name].as<List>().values;
+    }
+}
+
+// The sweep the options ask for.
+SweepSpec spec_from(const po::variables_map& a, const AccuracyCase* accuracy_case) {
+    SweepSpec spec;
     if (a.count("volumes") != 0) {
-        return split_list(a["volumes"].as<std::string>());
+        spec.volumes = base::split_list(a["volumes"].as<std::string>());
     }
-    auto named = case_from(a);
-    if (!named) {
-        return named.error();
+    take<Lights>(a, "lights", spec.lights);
+    take<Modes>(a, "modes", spec.modes);
+    take<Counts>(a, "slices-list", spec.slices);
+    take<Counts>(a, "light-res-list", spec.resolutions);
+    take<Distances>(a, "sample-distances", spec.distances);
+    if (a.count("repeat") != 0) {
+        spec.repeat = a["repeat"].as<int>();
     }
-    const AccuracyCase* c = *named;
-    const auto ct = demo_ct_path();
-    if (c != nullptr && c->head_ct) {
-        if (!ct) {
-            return base::make_error("not_found",
-                                    std::string("case ") + c->name +
-                                            " renders the head CT that scripts/demo-data.sh "
-                                            "converts; run it, or name the CT with --volumes",
-                                    "--case");
-        }
-        return std::vector<std::string>{ct->string()};
-    }
-    if (c != nullptr && c->volumes != nullptr) {
-        return split_list(c->volumes);
-    }
-    std::string volumes = defaults.volumes;
-    if (ct && c == nullptr) {
-        volumes += "," + ct->string();
-    }
-    return split_list(volumes);
-}
-
-// The sweep the options ask for, over the defaults of this kind of device.
-base::Result<Sweep> sweep_from(const po::variables_map& a, const SweepDefaults& defaults) {
-    Sweep sweep;
-    sweep.lights = value_or<Lights>(a, "lights", defaults.lights).values;
-    sweep.modes = value_or<Modes>(a, "modes", scene::mode_names(",")).values;
-    std::erase_if(sweep.modes, [](scene::Mode mode) { return scene::describe(mode).is_reference; });
-    sweep.slices = value_or<Counts>(a, "slices-list", defaults.slices).values;
-    sweep.resolutions = value_or<Counts>(a, "light-res-list", defaults.resolutions).values;
-    sweep.distances = value_or<Distances>(a, "sample-distances", defaults.sample_distances).values;
-    sweep.repeat = a.count("repeat") != 0 ? a["repeat"].as<int>() : defaults.repeat;
-    sweep.skipping = a["skipping"].as<Switches>().values;
-    sweep.jitter = a["jitter"].as<Switches>().values;
-    sweep.refinement_steps = a["refinement"].as<Steps>().values;
-    if (sweep.repeat < 1 || sweep.repeat > 1000) {
-        return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
-    }
-    if (!sweep.refinement_steps.empty() &&
-        std::find(sweep.jitter.begin(), sweep.jitter.end(), true) == sweep.jitter.end()) {
-        return base::make_error("invalid_argument",
-                                "refinement steps average jittered frames: add --jitter on or "
-                                "--jitter off,on",
-                                "--refinement");
-    }
-    auto volumes = default_volumes(a, defaults);
-    if (!volumes) {
-        return volumes.error();
-    }
-    sweep.volumes = std::move(*volumes);
-    return sweep;
+    spec.skipping = a["skipping"].as<Switches>().values;
+    spec.jitter = a["jitter"].as<Switches>().values;
+    spec.refinement_steps = a["refinement"].as<Steps>().values;
+    spec.accuracy_case = accuracy_case;
+    spec.head_ct = base::demo_ct_path();
+    return spec;
 }
 
 // The frame every point of one volume shares: the frame options over the defaults.
 base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
                                                const volume::Volume& volume,
-                                               const SweepDefaults& defaults, bool phong) {
+                                               const SweepDefaults& defaults,
+                                               const AccuracyCase* accuracy_case, bool phong) {
     auto request = frame_request_from(a, volume);
     if (!request) {
         return request.error();
@@ -357,30 +213,14 @@ base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
                                 "--size");
     }
     request->settings.phong = phong;
-    auto named = case_from(a);
-    if (!named) {
-        return named.error();
-    }
-    if (*named != nullptr) {
-        auto tf = load_transfer_function((*named)->transfer_function, volume.range);
+    if (accuracy_case != nullptr) {
+        auto tf = load_transfer_function(accuracy_case->transfer_function, volume.range);
         if (!tf) {
             return tf.error();
         }
         request->transfer_function = std::move(*tf);
     }
     return request;
-}
-
-// --from: presets, CSV, JSON and plot from a table measured before.
-base::Status report_table_file(const std::string& from, const AccuracyReport& report) {
-    auto table = read_table_file(from);
-    if (!table) {
-        return table.error();
-    }
-    std::printf("penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
-                from.c_str(), table->device.c_str(), table->gl_version.c_str(),
-                table->points.size());
-    return report_accuracy(*table, report, stdout);
 }
 
 // Measures the sweep the options ask for and reports its table.
@@ -391,14 +231,18 @@ int measure(const po::variables_map& a, const AccuracyReport& report) {
         return fail(renderer.error());
     }
     const render::RendererInfo& info = (*renderer)->info();
-    const SweepDefaults& defaults = info.gpu_timer_queries ? gpu_defaults : software_defaults;
-    auto sweep = sweep_from(a, defaults);
+    const SweepDefaults& defaults = sweep_defaults(info.gpu_timer_queries);
+    auto accuracy_case = case_from(a);
+    if (!accuracy_case) {
+        return usage_error(accuracy_case.error());
+    }
+    auto sweep = make_sweep(spec_from(a, *accuracy_case), defaults);
     if (!sweep) {
         return usage_error(sweep.error());
     }
     Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
     const FrameFor frame_for = [&](const volume::Volume& volume) {
-        return base_request(a, volume, defaults, table.phong);
+        return base_request(a, volume, defaults, *accuracy_case, table.phong);
     };
     if (auto status = bench_accuracy(**renderer, *sweep, frame_for, table, stdout); !status) {
         return status.error().where == "--size" ? usage_error(status.error())
@@ -426,15 +270,12 @@ int run_bench_accuracy(const std::vector<std::string>& args) {
         print_help("bench accuracy [options]", about, options);
         return 0;
     }
-    auto report = report_from(a);
-    if (!report) {
-        return usage_error(report.error());
-    }
+    const AccuracyReport report = report_from(a);
     if (a.count("from") != 0) {
-        auto status = report_table_file(a["from"].as<std::string>(), *report);
+        auto status = report_accuracy_file(a["from"].as<std::string>(), report, stdout);
         return status ? 0 : fail(status.error());
     }
-    return measure(a, *report);
+    return measure(a, report);
 }
 
 }  // namespace penumbra::app

@@ -3,10 +3,10 @@
 #include "render_options.hpp"
 
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
-#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -18,11 +18,6 @@ namespace {
 
 int fail(const base::Error& error) {
     return report_failure("render", error);
-}
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values.empty() ? 0.0 : values[values.size() / 2];
 }
 
 // render's own options, and where they go.
@@ -98,10 +93,10 @@ base::Result<render::Frame> render_repeated(render::Renderer& renderer,
                 request.settings.height, scene::to_string(request.settings.compositing),
                 frame.report.variant.c_str());
     for (const auto& name : order) {
-        const double gpu = median(gpu_ms[name]);
+        const double gpu = quality::median(gpu_ms[name]);
         const std::string gpu_text = gpu < 0.0 ? "      n/a" : std::to_string(gpu).substr(0, 9);
         std::printf("pass:     %-24s gpu %9s ms   wall %9.3f ms   (median of %zu)\n", name.c_str(),
-                    gpu_text.c_str(), median(wall_ms[name]), gpu_ms[name].size());
+                    gpu_text.c_str(), quality::median(wall_ms[name]), gpu_ms[name].size());
     }
     return frame;
 }

@@ -4,6 +4,8 @@
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
+#include <penumbra/base/secret.hpp>
+#include <penumbra/base/text.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
 #include <penumbra/quality/startup.hpp>
@@ -13,14 +15,10 @@
 #include <penumbra/session/session.hpp>
 #include <penumbra/session/volume_store.hpp>
 
-#include <cctype>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -40,34 +38,14 @@ std::filesystem::path default_web_root() {
                                                                    : std::filesystem::path();
 }
 
-// A secret from the file `option` names, else from the environment variable; empty when neither
-// is given. A secret is not a command-line value, which every user of the machine can read.
+// The secret from the file `option` names, else from the environment variable.
 base::Result<std::string> read_secret(const po::variables_map& a, const std::string& option,
                                       const char* variable) {
-    std::string secret;
+    std::optional<std::filesystem::path> file;
     if (a.count(option) != 0) {
-        const auto& path = a[option].as<std::string>();
-        std::ifstream in(path);
-        if (!in) {
-            return base::make_error("not_found", "cannot read '" + path + "'", "--" + option);
-        }
-        std::stringstream text;
-        text << in.rdbuf();
-        secret = text.str();
-    } else if (const char* value = std::getenv(variable); value != nullptr) {
-        secret = value;
-    } else {
-        return std::string();
+        file = a[option].as<std::string>();
     }
-    // Editors and `echo` end a file with a newline that is no part of the secret.
-    while (!secret.empty() && std::isspace(static_cast<unsigned char>(secret.back())) != 0) {
-        secret.pop_back();
-    }
-    if (secret.empty()) {
-        return base::make_error("invalid_argument", "the secret is empty",
-                                a.count(option) != 0 ? "--" + option : std::string(variable));
-    }
-    return secret;
+    return base::read_secret(file, variable, "--" + option);
 }
 
 // The defaults of `penumbra render` and `bench accuracy`: the frame the committed tables were
@@ -84,7 +62,8 @@ base::Result<scene::FrameRequest> default_frame(const volume::Volume& volume) {
 // cache; without it, the heads alone.
 std::filesystem::path default_data_folder() {
     std::error_code ec;
-    if (const auto folder = demo_data_dir(); folder && std::filesystem::is_directory(*folder, ec)) {
+    if (const auto folder = base::demo_data_dir();
+        folder && std::filesystem::is_directory(*folder, ec)) {
         return *folder;
     }
     return mricron_templates;
@@ -96,7 +75,6 @@ struct ServeOptions {
     // Read as whole numbers, then put into config.
     int port = net::ServerConfig{}.port;
     int max_message_bytes = static_cast<int>(protocol::Limits{}.max_message_bytes);
-    int encode_threads = 2;
     std::size_t volume_memory = std::size_t{4} << 30;
     volume::LoadOptions load;
     render::RendererOptions renderer;
@@ -106,7 +84,7 @@ struct ServeOptions {
     quality::Measure measure = quality::Measure::where_missing;
     std::optional<std::filesystem::path> quality_table;
     session::SchedulerOptions scheduler;
-    std::chrono::milliseconds rescan_interval = std::chrono::seconds(10);
+    std::chrono::milliseconds rescan_interval = session::VolumeStore::default_rescan_interval;
 };
 
 // A number stored in `target`, whose value is the default, refused below `min`.
@@ -139,7 +117,8 @@ po::options_description network_options(ServeOptions& o) {
     options.add_options()("port", whole_number(&o.port, 0, 65535), "TCP port (0 = any free port)")(
             "address", po::value(&c.address)->value_name("A")->default_value(c.address),
             "listen address")("io-threads", whole_number(&c.io_threads, 1, 64), "network threads")(
-            "encode-threads", whole_number(&o.encode_threads, 1, 64), "JPEG/PNG encoder threads")(
+            "encode-threads", whole_number(&o.scheduler.encode_threads, 1, 64),
+            "JPEG/PNG encoder threads")(
             "max-sessions", whole_number(&limits.max_sessions, 1, 100000), "sessions in all")(
             "max-sessions-per-client", whole_number(&limits.max_sessions_per_client, 1, 100000),
             "sessions one client address may hold")(
@@ -251,7 +230,7 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     o.config.port = static_cast<unsigned short>(o.port);
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
     if (a.count("allowed-origins") != 0) {
-        o.config.allowed_origins = split_list(a["allowed-origins"].as<std::string>());
+        o.config.allowed_origins = base::split_list(a["allowed-origins"].as<std::string>());
     }
     auto access_token = read_secret(a, "access-token-file", "PENUMBRA_ACCESS_TOKEN");
     if (!access_token) {
@@ -275,8 +254,6 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
         quality::StartupMeasurement& measured) {
     render::RendererOptions renderer_options = o.renderer;
     renderer_options.max_frame_work = o.config.limits.max_frame_work;
-    session::SchedulerOptions scheduler_options = o.scheduler;
-    scheduler_options.encode_threads = o.encode_threads;
     quality::OfferedVolumes offered;
     for (const session::VolumeEntry& entry : volumes.list()) {
         offered.ids.push_back(entry.id);
@@ -293,7 +270,7 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
                                                        stdout);
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
-            scheduler_options, registry);
+            o.scheduler, registry);
 }
 
 // The accuracy table sessions with a frame budget choose from; null: budgets are ignored.

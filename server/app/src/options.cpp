@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include <penumbra/base/text.hpp>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -9,76 +11,27 @@
 #include <string_view>
 
 namespace penumbra::app {
-namespace {
-
-std::optional<double> parse_plain_double(std::string_view text) {
-    double value = 0.0;
-    const char* end = text.data() + text.size();
-    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-    if (ec != std::errc() || ptr != end) {
-        return std::nullopt;
-    }
-    return value;
-}
-
-// A finite number, or a fraction "a/b".
-std::optional<double> parse_number(std::string_view text) {
-    const std::size_t slash = text.find('/');
-    std::optional<double> value;
-    if (slash == std::string_view::npos) {
-        value = parse_plain_double(text);
-    } else if (const auto numerator = parse_plain_double(text.substr(0, slash)),
-               denominator = parse_plain_double(text.substr(slash + 1));
-               numerator && denominator) {
-        value = *numerator / *denominator;
-    }
-    return value && std::isfinite(*value) ? value : std::nullopt;
-}
-
-std::string not_a_number(const std::string& text) {
-    return "'" + text + "' is not a finite number";
-}
-
-}  // namespace
 
 void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int) {
     const std::string& text = po::validators::get_single_string(texts);
-    const auto value = parse_number(text);
+    const auto value = base::parse_number(text);
     if (!value) {
-        throw BadValue(not_a_number(text));
+        throw BadValue(base::not_a_number(text));
     }
     out = Number{*value};
 }
 
 void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, int) {
-    auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
+    auto numbers = base::parse_numbers(po::validators::get_single_string(texts));
     if (!numbers) {
         throw BadValue(numbers.error().message);
     }
     out = Numbers{*numbers};
 }
 
-void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, int) {
-    auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
-    Counts counts;
-    for (const double number : numbers.ok() ? *numbers : std::vector<double>{}) {
-        if (number < 1.0 || number > 65536.0 || std::floor(number) != number) {
-            throw BadValue("expects whole numbers from 1 to 65536");
-        }
-        if (std::find(counts.values.begin(), counts.values.end(), int(number)) ==
-            counts.values.end()) {
-            counts.values.push_back(static_cast<int>(number));
-        }
-    }
-    if (counts.values.empty()) {
-        throw BadValue("expects whole numbers from 1 to 65536");
-    }
-    out = counts;
-}
-
 void validate(boost::any& out, const std::vector<std::string>& texts, Modes*, int) {
     Modes modes;
-    for (const std::string& name : split_list(po::validators::get_single_string(texts))) {
+    for (const std::string& name : base::split_list(po::validators::get_single_string(texts))) {
         const auto mode = scene::parse_mode(name);
         if (!mode) {
             throw BadValue("unknown mode '" + name + "' (" + scene::mode_names() + ")");
@@ -91,7 +44,7 @@ void validate(boost::any& out, const std::vector<std::string>& texts, Modes*, in
 }
 
 void validate(boost::any& out, const std::vector<std::string>& texts, Triple*, int) {
-    auto numbers = parse_numbers(po::validators::get_single_string(texts), "");
+    auto numbers = base::parse_numbers(po::validators::get_single_string(texts));
     if (!numbers || numbers->size() != 3) {
         throw BadValue("expects three comma-separated numbers x,y,z");
     }
@@ -232,40 +185,6 @@ int report_failure(const char* command, const base::Error& error) {
 int report_usage_error(const char* command, const base::Error& error) {
     std::fprintf(stderr, "penumbra %s: %s (see --help)\n", command, error.to_string().c_str());
     return 2;
-}
-
-base::Result<std::vector<double>> parse_numbers(const std::string& text,
-                                                const std::string& option) {
-    std::vector<double> numbers;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma - start);
-        const auto value = parse_number(item);
-        if (!value) {
-            return base::make_error("invalid_argument", not_a_number(item), "--" + option);
-        }
-        numbers.push_back(*value);
-        if (comma == std::string::npos) {
-            return numbers;
-        }
-        start = comma + 1;
-    }
-}
-
-std::vector<std::string> split_list(const std::string& text, char separator) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t end = std::min(text.find(separator, start), text.size());
-        const std::string item = text.substr(start, end - start);
-        const auto first = item.find_first_not_of(" \t");
-        if (first != std::string::npos) {
-            out.push_back(item.substr(first, item.find_last_not_of(" \t") - first + 1));
-        }
-        start = end + 1;
-    }
-    return out;
 }
 
 }  // namespace penumbra::app

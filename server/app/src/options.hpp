@@ -1,6 +1,7 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/quality/sweep_spec.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <boost/program_options.hpp>
@@ -9,6 +10,9 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace penumbra::app {
@@ -34,23 +38,27 @@ struct ImageSize {
     int height = 0;
 };
 
-// "a,b,c" lists: numbers (each may be a fraction); whole numbers from 1 to 65536, each once
-// (slices, resolutions); modes, each once. In the order given.
+// "a,b,c" lists in the order given: numbers (each may be a fraction); modes, each once.
 struct Numbers {
     std::vector<double> values;
-};
-
-struct Counts {
-    std::vector<int> values;
 };
 
 struct Modes {
     std::vector<scene::Mode> values;
 };
 
+// A list read by `parse`, the function of the module whose list it is (a Result, its error a
+// message).
+template <auto parse>
+struct ListOf {
+    std::decay_t<decltype(*parse(std::string_view{}))> values;
+};
+
+// Whole numbers from 1 to 65536, each once (slices, resolutions).
+using Counts = ListOf<&quality::parse_counts>;
+
 void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, int);
-void validate(boost::any& out, const std::vector<std::string>& texts, Counts*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, Modes*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, Triple*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, ImageSize*, int);
@@ -73,6 +81,15 @@ public:
 private:
     std::string message_;
 };
+
+template <auto parse>
+void validate(boost::any& out, const std::vector<std::string>& texts, ListOf<parse>*, int) {
+    auto values = parse(po::validators::get_single_string(texts));
+    if (!values) {
+        throw BadValue(values.error().message);
+    }
+    out = ListOf<parse>{std::move(*values)};
+}
 
 // A group of options laid out for the help (100 columns, descriptions from column 40).
 po::options_description option_group(const std::string& caption);
@@ -115,12 +132,6 @@ po::typed_value<T>* with_default(const char* value_name, const std::string& fall
     return po::value<T>()->value_name(value_name)->default_value(parsed<T>(fallback), fallback);
 }
 
-// The value of option `name`, or `fallback` read as the option's text.
-template <class T>
-T value_or(const po::variables_map& options, const char* name, const std::string& fallback) {
-    return options.count(name) != 0 ? options[name].as<T>() : parsed<T>(fallback);
-}
-
 // "usage: penumbra <usage>", what the command does (`about`, may be empty) and its options.
 void print_help(const std::string& usage, const std::string& about,
                 const po::options_description& options);
@@ -144,11 +155,5 @@ int report_failure(const char* command, const base::Error& error);
 
 // The same for a wrong command line (exit status 2), pointing at --help.
 int report_usage_error(const char* command, const base::Error& error);
-
-// Splits "a,b,c" into numbers (each may be a fraction); errors name the option.
-base::Result<std::vector<double>> parse_numbers(const std::string& text, const std::string& option);
-
-// "a, b,c" -> {"a", "b", "c"}: items trimmed of blanks, empty ones dropped.
-std::vector<std::string> split_list(const std::string& text, char separator = ',');
 
 }  // namespace penumbra::app

@@ -2,14 +2,17 @@
 
 #include "transfer_function_file.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace penumbra::app {
 
@@ -30,6 +33,20 @@ std::string modes_help() {
         help += line;
     }
     return help;
+}
+
+// The defaults and the presets, normalised then in HU, from scene's lists.
+std::string tf_help() {
+    const std::vector<std::string> hu = scene::hounsfield_preset_names();
+    std::string normalised;
+    std::string in_hu;
+    for (const std::string& name : scene::preset_names()) {
+        std::string& list = std::find(hu.begin(), hu.end(), name) == hu.end() ? normalised : in_hu;
+        list += (list.empty() ? "" : " ") + name;
+    }
+    return "transfer function (default " + std::string(scene::kDefaultPreset) + ", on a CT in HU " +
+           std::string(scene::kDefaultHounsfieldPreset) + "); presets: " + normalised +
+           ", in HU: " + in_hu;
 }
 
 template <class T>
@@ -84,7 +101,7 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
         light.type = scene::LightType::point;
         light.position = position->value;
     } else if (const auto angles = value_of<std::string>(options, "light")) {
-        auto numbers = parse_numbers(*angles, "light");
+        auto numbers = base::parse_numbers(*angles, "--light");
         if (!numbers) {
             return numbers.error();
         }
@@ -195,9 +212,7 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
     add("light-position", triple("X,Y,Z"), "point light at this position instead");
     add("light-color", triple("R,G,B")->default_value({defaults.light.color}), "light colour");
     add("background", triple("R,G,B")->default_value({s.background}), "background colour");
-    add("tf", text("PRESET|FILE.json"),
-        "transfer function (default mri_skin, on a CT in HU ct_bone); presets: grey_ramp "
-        "mri_skin mri_brain, in HU: ct_bone ct_skin ct_soft_tissue ct_lung ct_angio");
+    add("tf", text("PRESET|FILE.json"), tf_help());
     add("compositing", text("alpha|extinction", scene::to_string(s.compositing)), "compositing");
     add("stage", text("compute|fragment", scene::to_string(s.stage)), "where the ray caster runs");
     add("slices", po::value<int>()->value_name("N")->default_value(s.light_buffer.slices),

@@ -34,4 +34,22 @@ std::optional<std::filesystem::path> user_cache_dir() {
     return std::nullopt;
 }
 
+std::optional<std::filesystem::path> demo_data_dir() {
+    if (const auto cache = user_cache_dir()) {
+        return *cache / "volumes";
+    }
+    return std::nullopt;
+}
+
+std::optional<std::filesystem::path> demo_ct_path() {
+    std::error_code ec;
+    if (const auto folder = demo_data_dir()) {
+        std::filesystem::path path = *folder / "cranium_ct.nrrd";
+        if (std::filesystem::is_regular_file(path, ec)) {
+            return path;
+        }
+    }
+    return std::nullopt;
+}
+
 }  // namespace penumbra::base

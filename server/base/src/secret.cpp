@@ -1,6 +1,10 @@
 #include "penumbra/base/secret.hpp"
 
+#include <cctype>
 #include <cstddef>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 namespace penumbra::base {
 
@@ -13,6 +17,32 @@ bool same_secret(std::string_view a, std::string_view b) {
         difference |= static_cast<unsigned char>(a[i] ^ b[i]);
     }
     return difference == 0;
+}
+
+Result<std::string> read_secret(const std::optional<std::filesystem::path>& file,
+                                const char* variable, const std::string& file_where) {
+    std::string secret;
+    if (file) {
+        std::ifstream in(*file);
+        if (!in) {
+            return make_error("not_found", "cannot read '" + file->string() + "'", file_where);
+        }
+        std::stringstream text;
+        text << in.rdbuf();
+        secret = text.str();
+    } else if (const char* value = std::getenv(variable); value != nullptr) {
+        secret = value;
+    } else {
+        return std::string();
+    }
+    while (!secret.empty() && std::isspace(static_cast<unsigned char>(secret.back())) != 0) {
+        secret.pop_back();
+    }
+    if (secret.empty()) {
+        return make_error("invalid_argument", "the secret is empty",
+                          file ? file_where : std::string(variable));
+    }
+    return secret;
 }
 
 }  // namespace penumbra::base

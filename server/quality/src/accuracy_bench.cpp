@@ -75,4 +75,16 @@ base::Status report_accuracy(const Table& table, const AccuracyReport& report, s
     return base::Ok{};
 }
 
+base::Status report_accuracy_file(const std::string& path, const AccuracyReport& report,
+                                  std::FILE* out) {
+    auto table = read_table_file(path);
+    if (!table) {
+        return table.error();
+    }
+    std::fprintf(out, "penumbra bench accuracy (from %s)\ngl:       %s | %s\npoints:   %zu\n",
+                 path.c_str(), table->device.c_str(), table->gl_version.c_str(),
+                 table->points.size());
+    return report_accuracy(*table, report, out);
+}
+
 }  // namespace penumbra::quality

@@ -151,6 +151,19 @@ glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::Came
 
 }  // namespace
 
+std::optional<GradientSource> parse_gradient_source(std::string_view text) {
+    if (text == "automatic") {
+        return GradientSource::automatic;
+    }
+    if (text == "central") {
+        return GradientSource::central_differences;
+    }
+    if (text == "texture") {
+        return GradientSource::texture;
+    }
+    return std::nullopt;
+}
+
 std::string_view to_string(LightBufferState state) {
     switch (state) {
         case LightBufferState::none:

@@ -14,6 +14,14 @@
 namespace penumbra::render {
 namespace {
 
+TEST(GradientSource, ParsesItsCommandLineNames) {
+    EXPECT_EQ(parse_gradient_source("automatic"), GradientSource::automatic);
+    EXPECT_EQ(parse_gradient_source("central"), GradientSource::central_differences);
+    EXPECT_EQ(parse_gradient_source("texture"), GradientSource::texture);
+    EXPECT_FALSE(parse_gradient_source("central_differences").has_value());
+    EXPECT_FALSE(parse_gradient_source("").has_value());
+}
+
 struct Rendered {
     std::vector<Frame> frames;
 };

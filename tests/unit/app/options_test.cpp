@@ -60,10 +60,8 @@ TEST(Options, NumbersMayBeFractions) {
     auto args = parse_options({"--fov", "1/512"}, test_options());
     ASSERT_TRUE(args.ok()) << args.error().to_string();
     EXPECT_DOUBLE_EQ((*args)["fov"].as<Number>().value, 1.0 / 512.0);
-    EXPECT_DOUBLE_EQ(parse_numbers("-3/4", "fov").value().front(), -0.75);
     for (const char* bad : {"1/0", "1/", "/2", "1/2/3"}) {
         EXPECT_FALSE(parse_options({"--fov", bad}, test_options()).ok()) << bad;
-        EXPECT_FALSE(parse_numbers(bad, "fov").ok()) << bad;
     }
 }
 
@@ -200,12 +198,6 @@ TEST(RenderOptions, SweptOptionsAreRefusedWithWhatToGiveInstead) {
     const base::Error error = explain_swept(refused.error(), swept, "bench modes");
     EXPECT_EQ(error.where, "--slices");
     EXPECT_EQ(error.message, "bench modes sweeps this; use --slices-list LIST");
-}
-
-TEST(ListOptions, SplitTrimsItemsAndDropsEmptyOnes) {
-    EXPECT_EQ(split_list("a, b,,c "), (std::vector<std::string>{"a", "b", "c"}));
-    EXPECT_EQ(split_list("10,45; 100,20", ';'), (std::vector<std::string>{"10,45", "100,20"}));
-    EXPECT_TRUE(split_list("").empty());
 }
 
 po::options_description list_options() {

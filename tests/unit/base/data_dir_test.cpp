@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 
@@ -56,6 +58,21 @@ TEST(UserCacheDir, IsUnderXdgCacheHomeElseHomeElseNothing) {
         const ScopedVariable home("HOME", nullptr);
         EXPECT_FALSE(user_cache_dir().has_value());
     }
+}
+
+TEST(DemoData, TheHeadCtIsFoundOnlyOnceConverted) {
+    const auto cache = std::filesystem::temp_directory_path() / "penumbra_demo_data_test";
+    std::filesystem::remove_all(cache);
+    const ScopedVariable xdg("XDG_CACHE_HOME", cache.c_str());
+    EXPECT_EQ(demo_data_dir(), cache / "penumbra" / "volumes");
+    EXPECT_FALSE(demo_ct_path().has_value());
+    std::filesystem::create_directories(*demo_data_dir());
+    std::ofstream(*demo_data_dir() / "cranium_ct.nrrd") << "NRRD0004\n";
+    EXPECT_EQ(demo_ct_path(), cache / "penumbra" / "volumes" / "cranium_ct.nrrd");
+    std::filesystem::remove_all(cache);
+    const ScopedVariable home("HOME", nullptr);
+    const ScopedVariable no_xdg("XDG_CACHE_HOME", nullptr);
+    EXPECT_FALSE(demo_data_dir().has_value());
 }
 
 }  // namespace

@@ -20,4 +20,12 @@ std::optional<std::filesystem::path> data_dir(std::string_view part);
 // else ~/.cache/penumbra; nothing without either variable. It may not exist yet.
 std::optional<std::filesystem::path> user_cache_dir();
 
+// The demo data folder that scripts/demo-data.sh makes in the user's cache folder: the CT it
+// converts beside links to the MRI heads. It may not exist.
+std::optional<std::filesystem::path> demo_data_dir();
+
+// InVesalius' head CT (Debian's invesalius-examples) where scripts/demo-data.sh converted it into
+// the demo data folder; nothing before that ran.
+std::optional<std::filesystem::path> demo_ct_path();
+
 }  // namespace penumbra::base

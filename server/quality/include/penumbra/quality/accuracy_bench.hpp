@@ -33,4 +33,9 @@ base::Status bench_accuracy(render::Renderer& renderer, const Sweep& sweep,
 // The presets for the budgets, printed, and the files written.
 base::Status report_accuracy(const Table& table, const AccuracyReport& report, std::FILE* out);
 
+// The same from a table measured before (written by --json), measuring nothing: the file, the
+// renderer it was measured on and its size printed first.
+base::Status report_accuracy_file(const std::string& path, const AccuracyReport& report,
+                                  std::FILE* out);
+
 }  // namespace penumbra::quality

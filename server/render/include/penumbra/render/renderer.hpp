@@ -10,7 +10,9 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::render {
@@ -21,6 +23,9 @@ namespace penumbra::render {
 // of the time, `penumbra bench modes` prints the comparison) but its constant extrapolation at the
 // box faces departs from the reference's clamped samples, so it stays a choice.
 enum class GradientSource { automatic, central_differences, texture };
+
+// "automatic", "central" or "texture" (as `penumbra bench modes --gradients` takes them).
+std::optional<GradientSource> parse_gradient_source(std::string_view text);
 
 struct RendererOptions {
     std::filesystem::path shader_dir;  // empty: the default search (gpu::default_shader_dir)

@@ -50,13 +50,15 @@ class VolumeStore {
 public:
     // How many bins a volume's histogram has (the transfer-function editor's backdrop).
     static constexpr int histogram_bins = 256;
+    // How old the listed scan may get unless told otherwise.
+    static constexpr std::chrono::milliseconds default_rescan_interval{10'000};
 
     // `load_options` bound what one load may take (volume::LoadOptions). `rescan_interval`: how
     // old the listed scan may get; a change of the data directory's modification time (a file
     // added or removed at its top) asks for a rescan sooner.
     VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
                 volume::LoadOptions load_options = {},
-                std::chrono::milliseconds rescan_interval = std::chrono::seconds(10),
+                std::chrono::milliseconds rescan_interval = default_rescan_interval,
                 int loader_threads = 2);
 
     VolumeStore(const VolumeStore&) = delete;

@@ -1,0 +1,73 @@
+#pragma once
+
+// An accuracy sweep as a person asks for it: its lists as typed ("10,45;100,20", "1/256,1/512"),
+// the defaults of the kind of device it runs on, and a named case; make_sweep turns them into the
+// Sweep that is measured (sweep.hpp).
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/quality/sweep.hpp>
+#include <penumbra/quality/table.hpp>
+#include <penumbra/scene/mode.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penumbra::quality {
+
+// The lists' texts read. The errors say what is expected; where they are is the caller's to say.
+// Whole numbers from 1 to 65536, each once, in the order given (light slices, resolutions).
+base::Result<std::vector<int>> parse_counts(std::string_view text);
+// Sample distances in (0, 1], each may be a fraction "1/N"; finest first, each once.
+base::Result<std::vector<double>> parse_distances(std::string_view text);
+// Directional lights in degrees: "AZIMUTH,ELEVATION;AZIMUTH,ELEVATION...".
+base::Result<std::vector<LightAngles>> parse_lights(std::string_view text);
+// "on", "off", "on,off" or "off,on": each once, in the order given.
+base::Result<std::vector<bool>> parse_switches(std::string_view text);
+// Refinement step counts in 0..scene::kMaxRefinementSteps, sorted, each once; 0 (the still, which
+// is always measured) left out.
+base::Result<std::vector<int>> parse_refinement_steps(std::string_view text);
+
+// A sweep's defaults, in the lists' text form (help texts show them as they are). A GPU's, and
+// lighter ones for a software rasteriser (no working timer queries, llvmpipe here), where the full
+// sweep would take hours; the lighter sweep takes minutes at 256².
+struct SweepDefaults {
+    const char* volumes;
+    const char* lights;
+    const char* slices;
+    const char* resolutions;
+    const char* sample_distances;
+    int side;  // the images' width and height
+    int repeat;
+};
+
+// The defaults of a device whose GPU timer queries work, or of one whose do not.
+const SweepDefaults& sweep_defaults(bool gpu_timers);
+
+// What was asked for; each list not given takes the device's default.
+struct SweepSpec {
+    std::optional<std::vector<std::string>> volumes;  // none: the case's, else the defaults
+    std::optional<std::vector<LightAngles>> lights;
+    std::optional<std::vector<scene::Mode>> modes;  // none: every mode; never the reference
+    std::optional<std::vector<int>> slices;
+    std::optional<std::vector<int>> resolutions;
+    std::optional<std::vector<double>> distances;
+    std::optional<int> repeat;  // 1..1000
+    std::vector<bool> skipping{true};
+    std::vector<bool> jitter{false};
+    std::vector<int> refinement_steps;  // needs jitter on
+    const AccuracyCase* accuracy_case = nullptr;
+    // The head CT where scripts/demo-data.sh converted it: the head-CT case's volume, and one of
+    // the defaults without a case.
+    std::optional<std::filesystem::path> head_ct;
+};
+
+// The sweep to measure; errors name the option at fault (--repeat, --refinement, --case).
+base::Result<Sweep> make_sweep(const SweepSpec& spec, const SweepDefaults& defaults);
+
+// The case of that name; else an error listing the cases, at --case.
+base::Result<const AccuracyCase*> accuracy_case_named(std::string_view name);
+
+}  // namespace penumbra::quality
