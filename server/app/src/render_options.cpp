@@ -54,16 +54,14 @@ std::optional<T> value_of(const po::variables_map& options, const char* name) {
     return options.count(name) != 0 ? std::optional<T>(options[name].as<T>()) : std::nullopt;
 }
 
-// An option naming one of an enum's values, parsed by `parse`; `target` keeps its value when the
-// option is not given.
-template <class E>
-base::Status read_choice(const po::variables_map& options, const char* name,
-                         std::optional<E> (*parse)(std::string_view), const char* expected,
-                         E& target) {
+// An option naming one of an enum's values, spelled as its scene name table says; `target` keeps
+// its value when the option is not given.
+template <scene::NamedEnum E>
+base::Status read_choice(const po::variables_map& options, const char* name, E& target) {
     if (const auto text = value_of<std::string>(options, name)) {
-        const auto parsed = parse(*text);
+        const auto parsed = scene::parse_name<E>(*text);
         if (!parsed) {
-            return base::make_error("invalid_argument", std::string("expects ") + expected,
+            return base::make_error("invalid_argument", "expects " + scene::choices<E>(),
                                     std::string("--") + name);
         }
         target = *parsed;
@@ -155,15 +153,10 @@ base::Status read_settings(const po::variables_map& options, scene::RenderSettin
     s.phong = options.count("phong") != 0;
     s.empty_space_skipping = options.count("no-empty-space-skipping") == 0;
     s.jitter = options.count("jitter") != 0;
-    for (const base::Status& status :
-         {read_choice(options, "builder", scene::parse_light_buffer_builder,
-                      "per_slice or multi_slice", s.light_buffer.builder),
-          read_choice(options, "light-lookup", scene::parse_light_lookup, "local or interpolate",
-                      s.light_buffer.lookup),
-          read_choice(options, "compositing", scene::parse_compositing, "alpha or extinction",
-                      s.compositing),
-          read_choice(options, "stage", scene::parse_raycast_stage, "compute or fragment",
-                      s.stage)}) {
+    for (const base::Status& status : {read_choice(options, "builder", s.light_buffer.builder),
+                                       read_choice(options, "light-lookup", s.light_buffer.lookup),
+                                       read_choice(options, "compositing", s.compositing),
+                                       read_choice(options, "stage", s.stage)}) {
         if (!status) {
             return status;
         }
@@ -186,9 +179,14 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
             delete value;
         }
     };
-    const auto text = [](const char* name, const std::string& fallback = {}) {
+    const auto text = [](const std::string& name, const std::string& fallback = {}) {
         auto* value = po::value<std::string>()->value_name(name);
         return fallback.empty() ? value : value->default_value(fallback);
+    };
+    // "alpha|extinction", the current value the default.
+    const auto choice = [&text](auto value) {
+        using Enum = decltype(value);
+        return text(scene::name_list<Enum>("|"), scene::to_string(value));
     };
     const auto triple = [](const char* name) { return po::value<Triple>()->value_name(name); };
     add("mode", text("MODE", "phong"), modes_help());
@@ -213,15 +211,14 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
     add("light-color", triple("R,G,B")->default_value({defaults.light.color}), "light colour");
     add("background", triple("R,G,B")->default_value({s.background}), "background colour");
     add("tf", text("PRESET|FILE.json"), tf_help());
-    add("compositing", text("alpha|extinction", scene::to_string(s.compositing)), "compositing");
-    add("stage", text("compute|fragment", scene::to_string(s.stage)), "where the ray caster runs");
+    add("compositing", choice(s.compositing), "compositing");
+    add("stage", choice(s.stage), "where the ray caster runs");
     add("slices", po::value<int>()->value_name("N")->default_value(s.light_buffer.slices),
         "light slices, also half-angle's slices");
     add("light-res", po::value<int>()->value_name("R")->default_value(s.light_buffer.resolution),
         "light buffer R x R texels");
-    add("builder", text("per_slice|multi_slice", scene::to_string(s.light_buffer.builder)),
-        "light-buffer builder");
-    add("light-lookup", text("local|interpolate", scene::to_string(s.light_buffer.lookup)),
+    add("builder", choice(s.light_buffer.builder), "light-buffer builder");
+    add("light-lookup", choice(s.light_buffer.lookup),
         "camera samples read the light buffer: the layer nearer the light + a march through the "
         "rest of the slab (local), or the paper's interpolation between the two nearest layers");
     for (const scene::SettingRange* range : scene::kSettingRanges) {

@@ -316,6 +316,12 @@ base::Status apply_enum(const json& j, const std::string& p, const char* key, En
     return base::Ok{};
 }
 
+// A value named in its enum's table (scene/enum_names.hpp); the error lists the names.
+template <scene::NamedEnum Enum>
+base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target) {
+    return apply_enum(j, p, key, target, scene::parse_name<Enum>, scene::choices<Enum>());
+}
+
 auto int_range_of(int lo, int hi) {
     return [lo, hi](const json& v, const std::string& q) { return integer(v, q, lo, hi); };
 }
@@ -331,10 +337,8 @@ base::Status apply_settings(const json& j, const std::string& p, scene::FrameReq
                                       "scattering", "frame_budget_ms", "refinement_steps"}));
     PENUMBRA_TRY(
             apply_enum(j, p, "mode", s.mode, scene::parse_mode, "one of " + scene::mode_names()));
-    PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing, scene::parse_compositing,
-                            "alpha or extinction"));
-    PENUMBRA_TRY(
-            apply_enum(j, p, "stage", s.stage, scene::parse_raycast_stage, "compute or fragment"));
+    PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing));
+    PENUMBRA_TRY(apply_enum(j, p, "stage", s.stage));
     if (j.contains("size")) {
         const json& size = j.at("size");
         if (!size.is_array() || size.size() != 2) {
@@ -375,11 +379,9 @@ base::Status apply_settings(const json& j, const std::string& p, scene::FrameReq
                                      int_range_of(1, limits.max_slices)));
         PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
                                      int_range_of(1, limits.max_light_resolution)));
-        PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder,
-                                scene::parse_light_buffer_builder, "per_slice or multi_slice"));
+        PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder));
         PENUMBRA_TRY(apply_table_settings(lb, lp, request));
-        PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup, scene::parse_light_lookup,
-                                "interpolate or local"));
+        PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup));
     }
     if (j.contains("scattering")) {
         const json& sc = j.at("scattering");

@@ -39,52 +39,6 @@ std::optional<Mode> parse_mode(std::string_view text) {
     return std::nullopt;
 }
 
-const char* to_string(Technique technique) {
-    switch (technique) {
-        case Technique::ray_casting:
-            return "ray_casting";
-        case Technique::half_angle_slicing:
-            return "half_angle_slicing";
-    }
-    return "?";
-}
-
-const char* to_string(ShadowKind shadows) {
-    switch (shadows) {
-        case ShadowKind::none:
-            return "none";
-        case ShadowKind::light_buffer:
-            return "light_buffer";
-        case ShadowKind::rays:
-            return "rays";
-    }
-    return "?";
-}
-
-const char* to_string(ScatteringKind scattering) {
-    switch (scattering) {
-        case ScatteringKind::none:
-            return "none";
-        case ScatteringKind::shell:
-            return "shell";
-        case ScatteringKind::cone:
-            return "cone";
-    }
-    return "?";
-}
-
-const char* to_string(Gradients gradients) {
-    switch (gradients) {
-        case Gradients::never:
-            return "never";
-        case Gradients::with_phong:
-            return "with_phong";
-        case Gradients::always:
-            return "always";
-    }
-    return "?";
-}
-
 std::string mode_names(std::string_view separator) {
     std::string names;
     for (const ModeInfo& info : kModes) {
@@ -94,62 +48,6 @@ std::string mode_names(std::string_view separator) {
         names += info.name;
     }
     return names;
-}
-
-const char* to_string(Compositing compositing) {
-    return compositing == Compositing::alpha ? "alpha" : "extinction";
-}
-
-std::optional<Compositing> parse_compositing(std::string_view text) {
-    if (text == "alpha") {
-        return Compositing::alpha;
-    }
-    if (text == "extinction") {
-        return Compositing::extinction;
-    }
-    return std::nullopt;
-}
-
-const char* to_string(RaycastStage stage) {
-    return stage == RaycastStage::compute ? "compute" : "fragment";
-}
-
-std::optional<RaycastStage> parse_raycast_stage(std::string_view text) {
-    if (text == "compute") {
-        return RaycastStage::compute;
-    }
-    if (text == "fragment") {
-        return RaycastStage::fragment;
-    }
-    return std::nullopt;
-}
-
-const char* to_string(LightBufferBuilder builder) {
-    return builder == LightBufferBuilder::per_slice ? "per_slice" : "multi_slice";
-}
-
-std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view text) {
-    if (text == "per_slice") {
-        return LightBufferBuilder::per_slice;
-    }
-    if (text == "multi_slice") {
-        return LightBufferBuilder::multi_slice;
-    }
-    return std::nullopt;
-}
-
-const char* to_string(LightLookup lookup) {
-    return lookup == LightLookup::interpolate ? "interpolate" : "local";
-}
-
-std::optional<LightLookup> parse_light_lookup(std::string_view text) {
-    if (text == "interpolate") {
-        return LightLookup::interpolate;
-    }
-    if (text == "local") {
-        return LightLookup::local;
-    }
-    return std::nullopt;
 }
 
 bool uses_gradients(const RenderSettings& settings) {

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -62,8 +63,54 @@ TEST(FrameRequest, ModeNamesRoundTrip) {
     }
     EXPECT_EQ(mode_names(), "dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference");
     EXPECT_FALSE(parse_mode("raytrace").has_value());
-    EXPECT_EQ(parse_compositing("extinction"), Compositing::extinction);
-    EXPECT_EQ(parse_raycast_stage("fragment"), RaycastStage::fragment);
+}
+
+// Every value of every named enum has a name that reads back as that value, and the names differ.
+template <NamedEnum Enum>
+void expect_names_round_trip() {
+    std::set<std::string_view> seen;
+    for (const EnumName<Enum>& row : names<Enum>()) {
+        EXPECT_EQ(parse_name<Enum>(to_string(row.value)), row.value) << row.name;
+        EXPECT_EQ(name_of(row.value), row.name);
+        EXPECT_TRUE(seen.insert(row.name).second) << row.name << " twice";
+    }
+    EXPECT_FALSE(parse_name<Enum>("").has_value());
+    EXPECT_FALSE(parse_name<Enum>("raytrace").has_value());
+}
+
+TEST(EnumNames, EveryValueRoundTrips) {
+    expect_names_round_trip<Compositing>();
+    expect_names_round_trip<RaycastStage>();
+    expect_names_round_trip<LightBufferBuilder>();
+    expect_names_round_trip<LightLookup>();
+    expect_names_round_trip<Technique>();
+    expect_names_round_trip<ShadowKind>();
+    expect_names_round_trip<ScatteringKind>();
+    expect_names_round_trip<Gradients>();
+}
+
+TEST(EnumNames, ListsAndChoicesFollowTheTable) {
+    EXPECT_EQ(parse_name<Compositing>("extinction"), Compositing::extinction);
+    EXPECT_EQ(parse_name<RaycastStage>("fragment"), RaycastStage::fragment);
+    EXPECT_EQ(choices<LightBufferBuilder>(), "per_slice or multi_slice");
+    EXPECT_EQ(choices<ScatteringKind>(), "none, shell or cone");
+    EXPECT_EQ(name_list<Compositing>("|"), "alpha|extinction");
+}
+
+// The check each table's static_assert makes refuses a missing, misplaced or unnamed row.
+TEST(EnumNames, TheCoverageCheckRefusesGaps) {
+    EXPECT_TRUE(names_each_value(kShadowKindNames, ShadowKind::rays));
+    const std::array<EnumName<ShadowKind>, 2> missing{
+            {{ShadowKind::none, "none"}, {ShadowKind::light_buffer, "light_buffer"}}};
+    EXPECT_FALSE(names_each_value(missing, ShadowKind::rays));
+    const std::array<EnumName<ShadowKind>, 3> swapped{{{ShadowKind::none, "none"},
+                                                       {ShadowKind::rays, "rays"},
+                                                       {ShadowKind::light_buffer, "light_buffer"}}};
+    EXPECT_FALSE(names_each_value(swapped, ShadowKind::rays));
+    const std::array<EnumName<ShadowKind>, 3> unnamed{{{ShadowKind::none, "none"},
+                                                       {ShadowKind::light_buffer, ""},
+                                                       {ShadowKind::rays, "rays"}}};
+    EXPECT_FALSE(names_each_value(unnamed, ShadowKind::rays));
 }
 
 // validate's limits are the setting ranges: each end is accepted, a step beyond it refused.

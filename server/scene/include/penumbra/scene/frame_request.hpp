@@ -2,6 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/camera.hpp>
+#include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/light.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/setting_ranges.hpp>
@@ -20,22 +21,44 @@ namespace penumbra::scene {
 // extinction: the TF opacity is an extinction coefficient tau = a / dt0, a' = 1 - exp(-tau dt).
 enum class Compositing { alpha, extinction };
 
+inline constexpr std::array<EnumName<Compositing>, 2> kCompositingNames{{
+        {Compositing::alpha, "alpha"},
+        {Compositing::extinction, "extinction"},
+}};
+static_assert(names_each_value(kCompositingNames, Compositing::extinction));
+
+constexpr std::span<const EnumName<Compositing>> names_of(Compositing) {
+    return kCompositingNames;
+}
+
 // Where the ray caster runs: a compute shader writing an image, or a fragment shader over a
 // full-screen triangle. Both share one source (DESIGN.md §5 asks that both be measurable).
 enum class RaycastStage { compute, fragment };
 
-const char* to_string(Compositing compositing);
-const char* to_string(RaycastStage stage);
-std::optional<Compositing> parse_compositing(std::string_view text);
-std::optional<RaycastStage> parse_raycast_stage(std::string_view text);
+inline constexpr std::array<EnumName<RaycastStage>, 2> kRaycastStageNames{{
+        {RaycastStage::compute, "compute"},
+        {RaycastStage::fragment, "fragment"},
+}};
+static_assert(names_each_value(kRaycastStageNames, RaycastStage::fragment));
+
+constexpr std::span<const EnumName<RaycastStage>> names_of(RaycastStage) {
+    return kRaycastStageNames;
+}
 
 // How the light attenuation buffer is filled: `per_slice` is the paper's (one pass per slice,
 // blending, then a copy into layer k); `multi_slice` is ours (one compute dispatch marching every
 // light-space texel through all slices), the paper's "multi-slice per pass" future work.
 enum class LightBufferBuilder { per_slice, multi_slice };
 
-const char* to_string(LightBufferBuilder builder);
-std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view text);
+inline constexpr std::array<EnumName<LightBufferBuilder>, 2> kLightBufferBuilderNames{{
+        {LightBufferBuilder::per_slice, "per_slice"},
+        {LightBufferBuilder::multi_slice, "multi_slice"},
+}};
+static_assert(names_each_value(kLightBufferBuilderNames, LightBufferBuilder::multi_slice));
+
+constexpr std::span<const EnumName<LightBufferBuilder>> names_of(LightBufferBuilder) {
+    return kLightBufferBuilderNames;
+}
 
 // How a camera sample reads the light buffer. `interpolate` is the paper's: linear between the
 // two nearest layers, which spreads a surface's own shadow over a whole slab and shows rings of
@@ -44,8 +67,15 @@ std::optional<LightBufferBuilder> parse_light_buffer_builder(std::string_view te
 // lands where the surface is; it costs up to one slab's samples per lookup.
 enum class LightLookup { interpolate, local };
 
-const char* to_string(LightLookup lookup);
-std::optional<LightLookup> parse_light_lookup(std::string_view text);
+inline constexpr std::array<EnumName<LightLookup>, 2> kLightLookupNames{{
+        {LightLookup::interpolate, "interpolate"},
+        {LightLookup::local, "local"},
+}};
+static_assert(names_each_value(kLightLookupNames, LightLookup::local));
+
+constexpr std::span<const EnumName<LightLookup>> names_of(LightLookup) {
+    return kLightLookupNames;
+}
 
 struct LightBufferSettings {
     int slices = 128;      // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS

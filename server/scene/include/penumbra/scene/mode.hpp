@@ -1,5 +1,7 @@
 #pragma once
 
+#include <penumbra/scene/enum_names.hpp>
+
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -17,12 +19,44 @@ enum class Mode { dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference
 // pass and a light pass per slice).
 enum class Technique { ray_casting, half_angle_slicing };
 
+inline constexpr std::array<EnumName<Technique>, 2> kTechniqueNames{{
+        {Technique::ray_casting, "ray_casting"},
+        {Technique::half_angle_slicing, "half_angle_slicing"},
+}};
+static_assert(names_each_value(kTechniqueNames, Technique::half_angle_slicing));
+
+constexpr std::span<const EnumName<Technique>> names_of(Technique) {
+    return kTechniqueNames;
+}
+
 // Where a ray-cast sample's light comes from. The values are the shaders' SHADOWS_* defines.
 enum class ShadowKind { none = 0, light_buffer = 1, rays = 2 };
+
+inline constexpr std::array<EnumName<ShadowKind>, 3> kShadowKindNames{{
+        {ShadowKind::none, "none"},
+        {ShadowKind::light_buffer, "light_buffer"},
+        {ShadowKind::rays, "rays"},
+}};
+static_assert(names_each_value(kShadowKindNames, ShadowKind::rays));
+
+constexpr std::span<const EnumName<ShadowKind>> names_of(ShadowKind) {
+    return kShadowKindNames;
+}
 
 // Soft shadows gathered around a sample in the light buffer. The values are the shaders'
 // SCATTERING_* defines.
 enum class ScatteringKind { none = 0, shell = 1, cone = 2 };
+
+inline constexpr std::array<EnumName<ScatteringKind>, 3> kScatteringKindNames{{
+        {ScatteringKind::none, "none"},
+        {ScatteringKind::shell, "shell"},
+        {ScatteringKind::cone, "cone"},
+}};
+static_assert(names_each_value(kScatteringKindNames, ScatteringKind::cone));
+
+constexpr std::span<const EnumName<ScatteringKind>> names_of(ScatteringKind) {
+    return kScatteringKindNames;
+}
 
 // When a mode computes gradients (central differences) for Blinn-Phong shading.
 enum class Gradients {
@@ -30,6 +64,17 @@ enum class Gradients {
     with_phong,  // when the `phong` setting asks for shading on top of the shadows
     always,
 };
+
+inline constexpr std::array<EnumName<Gradients>, 3> kGradientsNames{{
+        {Gradients::never, "never"},
+        {Gradients::with_phong, "with_phong"},
+        {Gradients::always, "always"},
+}};
+static_assert(names_each_value(kGradientsNames, Gradients::always));
+
+constexpr std::span<const EnumName<Gradients>> names_of(Gradients) {
+    return kGradientsNames;
+}
 
 // Inner-loop iterations one ray-cast sample costs, for the frame's work estimate and the ray
 // caster's loop budget (iterations_per_sample): `fixed` + `per_shell_ring` x the shell rings,
@@ -109,11 +154,6 @@ static_assert([] {
 
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(std::string_view text);
-
-const char* to_string(Technique technique);
-const char* to_string(ShadowKind shadows);
-const char* to_string(ScatteringKind scattering);
-const char* to_string(Gradients gradients);
 
 // "dvr, phong, ..., reference": every mode's name, for help and error texts.
 [[nodiscard]] std::string mode_names(std::string_view separator = ", ");
