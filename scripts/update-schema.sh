@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Rewrites what proto/v1/common.schema.json restates of the C++ tables (each setting's range from
-# scene::kSettingRanges, the mode names, the client message types) from the tables themselves,
+# scene::kSettingRanges, the mode names, the settings' enum names from scene's name tables, the
+# client message types) from the tables themselves,
 # proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), and
 # the ranges of the hello the web client's tests recorded (client_web/test/fixtures).
 # Run it after changing one of them; SchemaAgreement.*IsGenerated and

@@ -7,6 +7,7 @@
 #include "schema_generator.hpp"
 
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 
@@ -83,6 +84,15 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     }
 }
 
+template <scene::NamedEnum Enum>
+json names_in_table() {
+    json names = json::array();
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.push_back(row.name);
+    }
+    return names;
+}
+
 // A setting added to the table reaches the schema with nothing written by hand: from a schema
 // without it, the generator makes its node, its limits and its place in the state.
 TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
@@ -127,6 +137,12 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
     EXPECT_EQ(defs.at("mode").at("enum").get<std::vector<std::string>>(), modes);
     EXPECT_EQ(defs.at("client_type").at("enum").get<std::vector<std::string>>(),
               std::vector<std::string>(kClientMessageTypes.begin(), kClientMessageTypes.end()));
+    const json& settings = defs.at("settings").at("properties");
+    EXPECT_EQ(settings.at("compositing").at("enum"), names_in_table<scene::Compositing>());
+    EXPECT_EQ(settings.at("stage").at("enum"), names_in_table<scene::RaycastStage>());
+    const json& light_buffer = settings.at("light_buffer").at("properties");
+    EXPECT_EQ(light_buffer.at("builder").at("enum"), names_in_table<scene::LightBufferBuilder>());
+    EXPECT_EQ(light_buffer.at("lookup").at("enum"), names_in_table<scene::LightLookup>());
 }
 
 TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {

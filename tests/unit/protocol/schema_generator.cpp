@@ -1,6 +1,7 @@
 #include "schema_generator.hpp"
 
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 
@@ -190,6 +191,16 @@ base::Result<std::string> generated_readme(std::string_view committed,
            std::string(committed.substr(end));
 }
 
+// The enum of the field that holds one of `Enum`'s values: its names from scene's name table.
+template <scene::NamedEnum Enum>
+void write_names(json& defs, std::string_view field) {
+    json names = json::array();
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.push_back(row.name);
+    }
+    node_of(defs, field)["enum"] = std::move(names);
+}
+
 base::Result<std::string> generated_common_schema(std::string_view committed) {
     json schema = json::parse(committed, nullptr, false);
     if (schema.is_discarded() || !schema.is_object() || !schema.contains("$defs") ||
@@ -203,6 +214,10 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
         modes.push_back(mode.name);
     }
     defs["mode"]["enum"] = std::move(modes);
+    write_names<scene::Compositing>(defs, "settings/compositing");
+    write_names<scene::RaycastStage>(defs, "settings/stage");
+    write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");
+    write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
 
     json client_types = json::array();
     for (const std::string_view type : kClientMessageTypes) {
