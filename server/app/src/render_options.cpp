@@ -83,11 +83,12 @@ base::Status read_camera(const po::variables_map& options, scene::Camera& camera
     } else if (const auto orbit = value_of<Triple>(options, "camera")) {
         camera = scene::orbit_camera(orbit->value.x, orbit->value.y, orbit->value.z);
     } else if (const auto name = value_of<std::string>(options, "view")) {
-        const auto view = scene::parse_view(*name);
+        const auto view = scene::parse_name<scene::View>(*name);
         if (!view) {
-            return base::make_error("invalid_argument",
-                                    "unknown view '" + *name + "' (" + scene::view_names() + ")",
-                                    "--view");
+            return base::make_error(
+                    "invalid_argument",
+                    "unknown view '" + *name + "' (" + scene::name_list<scene::View>(", ") + ")",
+                    "--view");
         }
         camera = scene::view_camera(*view);
     }

@@ -98,6 +98,30 @@ base::Status apply_table_settings(const json& j, const std::string& p,
     return base::Ok{};
 }
 
+template <class Enum, class Parse>
+base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target,
+                        Parse&& parse, const std::string& expected) {
+    if (!j.contains(key)) {
+        return base::Ok{};
+    }
+    auto text = string(j.at(key), p + "/" + key, 32);
+    if (!text) {
+        return text.error();
+    }
+    auto parsed = parse(*text);
+    if (!parsed) {
+        return field_error("invalid_value", p + "/" + key, "expected " + expected);
+    }
+    target = *parsed;
+    return base::Ok{};
+}
+
+// A value named in its enum's table (scene/enum_names.hpp); the error lists the names.
+template <scene::NamedEnum Enum>
+base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target) {
+    return apply_enum(j, p, key, target, scene::parse_name<Enum>, scene::choices<Enum>());
+}
+
 base::Status apply_camera(const json& j, const std::string& p, scene::FrameRequest& request) {
     scene::Camera& camera = request.camera;
     PENUMBRA_TRY(expect_object(j, p));
@@ -114,10 +138,11 @@ base::Status apply_camera(const json& j, const std::string& p, scene::FrameReque
         if (!name) {
             return name.error();
         }
-        const auto view = scene::parse_view(*name);
+        const auto view = scene::parse_name<scene::View>(*name);
         if (!view) {
-            return field_error("invalid_value", p + "/view",
-                               "unknown view '" + *name + "' (" + scene::view_names() + ")");
+            return field_error(
+                    "invalid_value", p + "/view",
+                    "unknown view '" + *name + "' (" + scene::name_list<scene::View>(", ") + ")");
         }
         // The view keeps the camera's distance from the target it looks at (the patch's, else
         // the current one), so that naming a side never zooms.
@@ -170,16 +195,7 @@ base::Status apply_light(const json& j, const std::string& p, scene::FrameReques
     scene::Light& light = request.light;
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields_and_settings(j, p, {"type", "direction", "position", "color"}));
-    if (j.contains("type")) {
-        auto type = string(j.at("type"), p + "/type");
-        if (!type) {
-            return type.error();
-        }
-        if (*type != "directional" && *type != "point") {
-            return field_error("invalid_value", p + "/type", "expected directional or point");
-        }
-        light.type = *type == "point" ? scene::LightType::point : scene::LightType::directional;
-    }
+    PENUMBRA_TRY(apply_enum(j, p, "type", light.type));
     const auto coordinates = vec3_in(scene::setting::coordinate);
     PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
     PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
@@ -296,30 +312,6 @@ base::Result<scene::TransferFunction> transfer_function_from(
         return field_error("invalid_value", pointer, status.error().message);
     }
     return tf;
-}
-
-template <class Enum, class Parse>
-base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target,
-                        Parse&& parse, const std::string& expected) {
-    if (!j.contains(key)) {
-        return base::Ok{};
-    }
-    auto text = string(j.at(key), p + "/" + key, 32);
-    if (!text) {
-        return text.error();
-    }
-    auto parsed = parse(*text);
-    if (!parsed) {
-        return field_error("invalid_value", p + "/" + key, "expected " + expected);
-    }
-    target = *parsed;
-    return base::Ok{};
-}
-
-// A value named in its enum's table (scene/enum_names.hpp); the error lists the names.
-template <scene::NamedEnum Enum>
-base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target) {
-    return apply_enum(j, p, key, target, scene::parse_name<Enum>, scene::choices<Enum>());
 }
 
 auto int_range_of(int lo, int hi) {
@@ -502,7 +494,7 @@ std::string state_to_json(const SessionState& state) {
               {"target", vec3_json(f.camera.target)},
               {"up", vec3_json(f.camera.up)}}},
             {"light",
-             {{"type", f.light.type == scene::LightType::point ? "point" : "directional"},
+             {{"type", scene::to_string(f.light.type)},
               {"direction", vec3_json(f.light.direction)},
               {"position", vec3_json(f.light.position)},
               {"color", vec3_json(f.light.color)}}},

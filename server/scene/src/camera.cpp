@@ -12,23 +12,32 @@ namespace {
 
 struct ViewPose {
     View view;
-    const char* name;
     glm::dvec3 side;  // from the target toward the eye (RAS)
     glm::dvec3 up;
 };
 
 constexpr std::array<ViewPose, 6> view_poses{{
-        {View::anterior, "anterior", {0, 1, 0}, {0, 0, 1}},
-        {View::posterior, "posterior", {0, -1, 0}, {0, 0, 1}},
-        {View::left, "left", {-1, 0, 0}, {0, 0, 1}},
-        {View::right, "right", {1, 0, 0}, {0, 0, 1}},
-        {View::superior, "superior", {0, 0, 1}, {0, 1, 0}},
-        {View::inferior, "inferior", {0, 0, -1}, {0, 1, 0}},
+        {View::anterior, {0, 1, 0}, {0, 0, 1}},
+        {View::posterior, {0, -1, 0}, {0, 0, 1}},
+        {View::left, {-1, 0, 0}, {0, 0, 1}},
+        {View::right, {1, 0, 0}, {0, 0, 1}},
+        {View::superior, {0, 0, 1}, {0, 1, 0}},
+        {View::inferior, {0, 0, -1}, {0, 1, 0}},
 }};
 
+// A view without a pose, or poses out of View's order, do not compile.
+static_assert(view_poses.size() == kViewNames.size());
+static_assert([] {
+    for (std::size_t i = 0; i < view_poses.size(); ++i) {
+        if (view_poses[i].view != static_cast<View>(i)) {
+            return false;
+        }
+    }
+    return true;
+}());
+
 const ViewPose& pose_of(View view) {
-    return *std::find_if(view_poses.begin(), view_poses.end(),
-                         [view](const ViewPose& pose) { return pose.view == view; });
+    return view_poses[static_cast<std::size_t>(view)];
 }
 
 }  // namespace
@@ -62,27 +71,6 @@ Camera orbit_camera(double azimuth_degrees, double elevation_degrees, double dis
     camera.eye = target + distance * direction_from_angles(azimuth_degrees, elevation);
     camera.up = glm::dvec3(0.0, 0.0, 1.0);
     return camera;
-}
-
-const char* to_string(View view) {
-    return pose_of(view).name;
-}
-
-std::optional<View> parse_view(std::string_view text) {
-    for (const ViewPose& pose : view_poses) {
-        if (text == pose.name) {
-            return pose.view;
-        }
-    }
-    return std::nullopt;
-}
-
-std::string view_names() {
-    std::string names;
-    for (const ViewPose& pose : view_poses) {
-        names += std::string(names.empty() ? "" : ", ") + pose.name;
-    }
-    return names;
 }
 
 Camera view_camera(View view, double distance, glm::dvec3 target, double fov_y_degrees) {

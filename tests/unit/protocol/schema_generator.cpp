@@ -214,6 +214,8 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
         modes.push_back(mode.name);
     }
     defs["mode"]["enum"] = std::move(modes);
+    write_names<scene::View>(defs, "camera/view");
+    write_names<scene::LightType>(defs, "light/type");
     write_names<scene::Compositing>(defs, "settings/compositing");
     write_names<scene::RaycastStage>(defs, "settings/stage");
     write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");

@@ -76,10 +76,10 @@ TEST(View, LooksFromItsSideWithTheAnatomicalUp) {
         EXPECT_NEAR(glm::length(frame.forward - e.forward), 0.0, eps);
         EXPECT_NEAR(glm::length(glm::normalize(frame.up) - e.screen_up), 0.0, eps);
         EXPECT_NEAR(glm::length(glm::normalize(frame.right) - e.screen_right), 0.0, eps);
-        EXPECT_EQ(parse_view(to_string(e.view)), e.view);
+        EXPECT_EQ(parse_name<View>(to_string(e.view)), e.view);
     }
-    EXPECT_FALSE(parse_view("front").has_value());
-    EXPECT_EQ(view_names(), "anterior, posterior, left, right, superior, inferior");
+    EXPECT_FALSE(parse_name<View>("front").has_value());
+    EXPECT_EQ(name_list<View>(", "), "anterior, posterior, left, right, superior, inferior");
 }
 
 // The default camera is the anterior view: it looks at the face with superior up.

@@ -87,6 +87,8 @@ TEST(EnumNames, EveryValueRoundTrips) {
     expect_names_round_trip<ShadowKind>();
     expect_names_round_trip<ScatteringKind>();
     expect_names_round_trip<Gradients>();
+    expect_names_round_trip<LightType>();
+    expect_names_round_trip<View>();
 }
 
 TEST(EnumNames, ListsAndChoicesFollowTheTable) {

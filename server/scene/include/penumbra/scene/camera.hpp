@@ -1,5 +1,7 @@
 #pragma once
 
+#include <penumbra/scene/enum_names.hpp>
+
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -50,14 +52,19 @@ struct CameraFrame {
 // patient. Horizontal views keep superior up; the superior and inferior views put anterior up.
 enum class View { anterior, posterior, left, right, superior, inferior };
 
-inline constexpr std::array all_views{View::anterior, View::posterior, View::left,
-                                      View::right,    View::superior,  View::inferior};
+inline constexpr std::array<EnumName<View>, 6> kViewNames{{
+        {View::anterior, "anterior"},
+        {View::posterior, "posterior"},
+        {View::left, "left"},
+        {View::right, "right"},
+        {View::superior, "superior"},
+        {View::inferior, "inferior"},
+}};
+static_assert(names_each_value(kViewNames, View::inferior));
 
-[[nodiscard]] const char* to_string(View view);
-[[nodiscard]] std::optional<View> parse_view(std::string_view text);
-
-// "anterior, posterior, ...": the names for messages that list what is accepted.
-[[nodiscard]] std::string view_names();
+constexpr std::span<const EnumName<View>> names_of(View) {
+    return kViewNames;
+}
 
 // The camera that sees `target` from that side at `distance`, keeping `fov_y_degrees`.
 [[nodiscard]] Camera view_camera(View view, double distance = default_camera_distance,

@@ -1,10 +1,25 @@
 #pragma once
 
+#include <penumbra/scene/enum_names.hpp>
+
 #include <glm/vec3.hpp>
+
+#include <array>
+#include <span>
 
 namespace penumbra::scene {
 
 enum class LightType { directional, point };
+
+inline constexpr std::array<EnumName<LightType>, 2> kLightTypeNames{{
+        {LightType::directional, "directional"},
+        {LightType::point, "point"},
+}};
+static_assert(names_each_value(kLightTypeNames, LightType::point));
+
+constexpr std::span<const EnumName<LightType>> names_of(LightType) {
+    return kLightTypeNames;
+}
 
 struct Light {
     LightType type = LightType::directional;
