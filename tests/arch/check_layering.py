@@ -31,6 +31,9 @@ ALLOWED_DEPENDENCIES = {
     "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},
     # net translates session's volumes and scenes into protocol messages: it reads both.
     "net": {"session", "quality", "protocol", "metrics", "volume", "scene", "base"},
+    # The command line's vocabulary: frame options read into scene's requests, transfer-function
+    # files in the protocol's shape.
+    "cli": {"protocol", "volume", "scene", "base"},
 }
 # app, the executable, is over every module; it declares what it links like any other.
 ALLOWED_DEPENDENCIES["app"] = set(ALLOWED_DEPENDENCIES) - {"gpu"}
@@ -38,11 +41,12 @@ MODULES = set(ALLOWED_DEPENDENCIES)
 
 # Third-party headers (by the longest leading part of the include path listed) and the modules they
 # are confined to. quality reads and writes the accuracy tables' JSON files; app may use nlohmann for
-# a file of its own, and parses its command line with Boost.Program_options (STYLE.md §8.1).
+# a file of its own; cli holds Boost.Program_options, and app describes its commands' options in
+# cli's terms (STYLE.md §8.1).
 CONFINED = {
     "nlohmann": {"protocol", "quality", "app"},
     "OpenImageIO": {"encode"},
-    "boost": {"net"}, "boost/program_options": {"app"},
+    "boost": {"net"}, "boost/program_options": {"cli"},
     "epoxy": {"gpu"}, "EGL": {"gpu"}, "GL": {"gpu"},
     "nifti1_io.h": {"volume"}, "nifti2_io.h": {"volume"}, "zlib.h": {"volume"},
     "dcmtk": {"volume"},
@@ -149,6 +153,8 @@ def self_test():
         module("net", "penumbra_add_module(net SOURCES src/a.cpp DEPENDS session)",
                {"a.cpp": "#include <penumbra/session/session.hpp>\n"
                          "#include <penumbra/render/renderer.hpp>\n"})
+        module("cli", "penumbra_add_module(cli SOURCES src/a.cpp DEPENDS base)",
+               {"a.cpp": "#include <boost/program_options.hpp>\n"})
         module("app", "target_link_libraries(penumbra_app_lib PUBLIC penumbra::net penumbra::gpu)",
                {"a.cpp": "#include <penumbra/net/server.hpp>\n"
                          "#include <penumbra/session/session.hpp>\n"
@@ -162,7 +168,8 @@ def self_test():
             "net includes penumbra/render/renderer.hpp",  # session passes render on, undeclared
             "app includes penumbra/session/session.hpp",  # app declares only net
             "app must not depend on gpu",  # gpu stays inside render
-            "app includes boost/beast/core.hpp",  # Boost.Beast is net's, program_options app's
+            "app includes boost/beast/core.hpp",  # Boost.Beast is net's
+            "app includes boost/program_options.hpp",  # cli's
         ]
         missing = [text for text in expected if text not in found]
         unexpected = [line for line in found.splitlines()

@@ -1,8 +1,9 @@
 #include "commands.hpp"
-#include "options.hpp"
-#include "render_options.hpp"
+#include "sweep_lists.hpp"
 
 #include <penumbra/base/text.hpp>
+#include <penumbra/cli/frame_options.hpp>
+#include <penumbra/cli/options.hpp>
 #include <penumbra/quality/modes_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -14,6 +15,8 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
 
 namespace {
 
@@ -127,7 +130,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     config.slices = a["slices-list"].as<Counts>().values;
     config.resolutions = a["light-res-list"].as<Counts>().values;
     config.modes = a.count("modes") != 0 ? a["modes"].as<Modes>().values
-                                         : app::parsed<Modes>(scene::mode_names(",")).values;
+                                         : cli::parsed<Modes>(scene::mode_names(",")).values;
     if (auto status = read_optimisation_options(a, config); !status) {
         return usage_error(status.error());
     }

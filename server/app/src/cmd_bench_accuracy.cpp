@@ -5,12 +5,13 @@
 // presets: for a frame-time budget, the most accurate setting that fits.
 
 #include "commands.hpp"
-#include "options.hpp"
-#include "render_options.hpp"
-#include "transfer_function_file.hpp"
+#include "sweep_lists.hpp"
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/text.hpp>
+#include <penumbra/cli/frame_options.hpp>
+#include <penumbra/cli/options.hpp>
+#include <penumbra/cli/transfer_function_file.hpp>
 #include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/sweep_spec.hpp>
@@ -24,6 +25,8 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
 
 namespace {
 
@@ -39,12 +42,6 @@ std::string cases_help() {
     }
     return help;
 }
-
-// The sweep's own lists, read by quality's parsers.
-using Distances = ListOf<&parse_distances>;
-using Lights = ListOf<&parse_lights>;
-using Switches = ListOf<&parse_switches>;
-using Steps = ListOf<&parse_refinement_steps>;
 
 int fail(const base::Error& error) {
     return report_failure("bench accuracy", error);

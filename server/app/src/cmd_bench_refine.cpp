@@ -1,9 +1,9 @@
 // `penumbra bench refine`: the options of quality::bench_refinement.
 
 #include "commands.hpp"
-#include "options.hpp"
-#include "render_options.hpp"
 
+#include <penumbra/cli/frame_options.hpp>
+#include <penumbra/cli/options.hpp>
 #include <penumbra/quality/refine_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -14,6 +14,9 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
+
 namespace {
 
 int fail(const base::Error& error) {

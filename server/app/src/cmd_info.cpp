@@ -1,6 +1,6 @@
 #include "commands.hpp"
-#include "options.hpp"
 
+#include <penumbra/cli/options.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
@@ -10,6 +10,8 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
 
 namespace {
 

@@ -1,6 +1,6 @@
 #include "commands.hpp"
-#include "options.hpp"
 
+#include <penumbra/cli/options.hpp>
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
@@ -10,6 +10,9 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
+
 namespace {
 
 po::options_description load_options(net::LoadConfig& c, int& port, Number& seconds) {

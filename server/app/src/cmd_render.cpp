@@ -1,7 +1,7 @@
 #include "commands.hpp"
-#include "options.hpp"
-#include "render_options.hpp"
 
+#include <penumbra/cli/frame_options.hpp>
+#include <penumbra/cli/options.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -14,6 +14,9 @@
 #include <string>
 
 namespace penumbra::app {
+
+using namespace cli;
+
 namespace {
 
 int fail(const base::Error& error) {

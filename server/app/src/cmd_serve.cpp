@@ -1,11 +1,11 @@
 #include "commands.hpp"
-#include "options.hpp"
-#include "render_options.hpp"
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/log.hpp>
 #include <penumbra/base/secret.hpp>
 #include <penumbra/base/text.hpp>
+#include <penumbra/cli/frame_options.hpp>
+#include <penumbra/cli/options.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
 #include <penumbra/quality/startup.hpp>
@@ -24,6 +24,9 @@
 #include <vector>
 
 namespace penumbra::app {
+
+using namespace cli;
+
 namespace {
 
 int fail(const base::Error& error) {
@@ -86,29 +89,6 @@ struct ServeOptions {
     session::SchedulerOptions scheduler;
     std::chrono::milliseconds rescan_interval = session::VolumeStore::default_rescan_interval;
 };
-
-// A number stored in `target`, whose value is the default, refused below `min`.
-po::typed_value<Number>* at_least(double* target, double min) {
-    return po::value<Number>()->value_name("X")->default_value({*target})->notifier(
-            [target, min](Number number) {
-                if (!(number.value >= min)) {
-                    throw BadValue("must be at least " + shown(min));
-                }
-                *target = number.value;
-            });
-}
-
-// A time in seconds stored in `target`, whose value is the default, refused outside min..max.
-po::typed_value<Number>* seconds(std::chrono::milliseconds* target, double min, double max) {
-    const Number fallback{std::chrono::duration<double>(*target).count()};
-    return po::value<Number>()->value_name("S")->default_value(fallback)->notifier(
-            [target, min, max](Number number) {
-                if (!(number.value >= min && number.value <= max)) {
-                    throw BadValue("must be within " + shown(min) + ".." + shown(max) + " seconds");
-                }
-                *target = std::chrono::milliseconds(static_cast<std::int64_t>(number.value * 1e3));
-            });
-}
 
 po::options_description network_options(ServeOptions& o) {
     net::ServerConfig& c = o.config;

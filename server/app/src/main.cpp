@@ -1,12 +1,13 @@
 #include "commands.hpp"
-#include "options.hpp"
+
+#include <penumbra/cli/options.hpp>
 
 #include <string>
 #include <vector>
 
 int main(int argc, char** argv) {
     using namespace penumbra::app;
-    return run_subcommand(
+    return penumbra::cli::run_subcommand(
             "penumbra", "command",
             {{"render", "render one frame of a volume to a PNG or JPEG file", run_render},
              {"serve", "run the rendering service (HTTP + WebSocket) on a folder of volumes",

@@ -1,8 +1,7 @@
-#include "render_options.hpp"
-
-#include "transfer_function_file.hpp"
+#include "penumbra/cli/frame_options.hpp"
 
 #include <penumbra/base/text.hpp>
+#include <penumbra/cli/transfer_function_file.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
 #include <penumbra/scene/transfer_function.hpp>
@@ -14,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 
 namespace {
 
@@ -280,4 +279,4 @@ base::Error explain_swept(base::Error error, const SweptOptions& swept, const ch
     return error;
 }
 
-}  // namespace penumbra::app
+}  // namespace penumbra::cli

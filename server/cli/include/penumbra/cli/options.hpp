@@ -1,12 +1,12 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
-#include <penumbra/quality/sweep_spec.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <boost/program_options.hpp>
 #include <glm/vec3.hpp>
 
+#include <chrono>
 #include <functional>
 #include <iosfwd>
 #include <string>
@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 
 namespace po = boost::program_options;
 
@@ -53,9 +53,6 @@ template <auto parse>
 struct ListOf {
     std::decay_t<decltype(*parse(std::string_view{}))> values;
 };
-
-// Whole numbers from 1 to 65536, each once (slices, resolutions).
-using Counts = ListOf<&quality::parse_counts>;
 
 void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int);
 void validate(boost::any& out, const std::vector<std::string>& texts, Numbers*, int);
@@ -99,6 +96,12 @@ std::function<void(int)> in_range(int min, int max);
 
 // A whole number stored in `target`, whose value is the default, refused outside min..max.
 po::typed_value<int>* whole_number(int* target, int min, int max);
+
+// A number stored in `target`, whose value is the default, refused below `min`.
+po::typed_value<Number>* at_least(double* target, double min);
+
+// A time in seconds stored in `target`, whose value is the default, refused outside min..max.
+po::typed_value<Number>* seconds(std::chrono::milliseconds* target, double min, double max);
 
 // A memory size given in MiB, refused outside 1..max_mb, stored in bytes in `target`, whose
 // value is the default.
@@ -156,4 +159,4 @@ int report_failure(const char* command, const base::Error& error);
 // The same for a wrong command line (exit status 2), pointing at --help.
 int report_usage_error(const char* command, const base::Error& error);
 
-}  // namespace penumbra::app
+}  // namespace penumbra::cli

@@ -1,11 +1,11 @@
-#include "transfer_function_file.hpp"
+#include <penumbra/cli/transfer_function_file.hpp>
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 namespace {
 
 const volume::ValueRange range{0.0, 200.0};
@@ -43,4 +43,4 @@ TEST(TransferFunctionFile, LoadsPresetsByNameAndReportsMissingFiles) {
 }
 
 }  // namespace
-}  // namespace penumbra::app
+}  // namespace penumbra::cli

@@ -1,16 +1,18 @@
-#include "options.hpp"
+#include "penumbra/cli/options.hpp"
 
 #include <penumbra/base/text.hpp>
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <optional>
 #include <string_view>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 
 void validate(boost::any& out, const std::vector<std::string>& texts, Number*, int) {
     const std::string& text = po::validators::get_single_string(texts);
@@ -100,6 +102,27 @@ po::typed_value<int>* whole_number(int* target, int min, int max) {
             in_range(min, max));
 }
 
+po::typed_value<Number>* at_least(double* target, double min) {
+    return po::value<Number>()->value_name("X")->default_value({*target})->notifier(
+            [target, min](Number number) {
+                if (!(number.value >= min)) {
+                    throw BadValue("must be at least " + shown(min));
+                }
+                *target = number.value;
+            });
+}
+
+po::typed_value<Number>* seconds(std::chrono::milliseconds* target, double min, double max) {
+    const Number fallback{std::chrono::duration<double>(*target).count()};
+    return po::value<Number>()->value_name("S")->default_value(fallback)->notifier(
+            [target, min, max](Number number) {
+                if (!(number.value >= min && number.value <= max)) {
+                    throw BadValue("must be within " + shown(min) + ".." + shown(max) + " seconds");
+                }
+                *target = std::chrono::milliseconds(static_cast<std::int64_t>(number.value * 1e3));
+            });
+}
+
 base::Result<po::variables_map> parse_options(const std::vector<std::string>& args,
                                               const po::options_description& options) {
     using style = po::command_line_style::style_t;
@@ -187,4 +210,4 @@ int report_usage_error(const char* command, const base::Error& error) {
     return 2;
 }
 
-}  // namespace penumbra::app
+}  // namespace penumbra::cli

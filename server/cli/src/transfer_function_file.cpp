@@ -1,11 +1,11 @@
-#include "transfer_function_file.hpp"
+#include "penumbra/cli/transfer_function_file.hpp"
 
 #include <penumbra/protocol/scene_json.hpp>
 
 #include <fstream>
 #include <sstream>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 
 base::Result<scene::TransferFunction> load_transfer_function(const std::string& preset_or_path,
                                                              const volume::ValueRange& range) {
@@ -24,4 +24,4 @@ base::Result<scene::TransferFunction> load_transfer_function(const std::string& 
                                              preset_or_path);
 }
 
-}  // namespace penumbra::app
+}  // namespace penumbra::cli

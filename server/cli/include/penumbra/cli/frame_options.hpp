@@ -1,8 +1,7 @@
 #pragma once
 
-#include "options.hpp"
-
 #include <penumbra/base/result.hpp>
+#include <penumbra/cli/options.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -10,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace penumbra::app {
+namespace penumbra::cli {
 
 // The options that describe a frame, shared by every command that renders, less those a
 // benchmark sweeps itself (`swept`).
@@ -29,4 +28,4 @@ std::vector<std::string> names_of(const SweptOptions& swept);
 // A usage error for a swept option says that `benchmark` sweeps it and what to give instead.
 base::Error explain_swept(base::Error error, const SweptOptions& swept, const char* benchmark);
 
-}  // namespace penumbra::app
+}  // namespace penumbra::cli
