@@ -1,11 +1,13 @@
 #include "commands.hpp"
+#include "load_options.hpp"
 
+#include <penumbra/base/secret.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -13,16 +15,15 @@ namespace penumbra::app {
 
 using namespace cli;
 
-namespace {
-
-po::options_description load_options(net::LoadConfig& c, int& port, Number& seconds) {
+po::options_description load_options(LoadOptions& o) {
+    net::LoadConfig& c = o.config;
     po::options_description options = option_group("options");
     options.add_options()("help", "this text")(
             "host", po::value(&c.host)->value_name("H")->default_value(c.host), "server address")(
-            "port", po::value(&port)->value_name("P"), "the server's port (required)")(
+            "port", po::value(&o.port)->value_name("P"), "the server's port (required)")(
             "clients", po::value(&c.clients)->value_name("N")->default_value(c.clients),
             "simulated clients (at most 256)")(
-            "seconds", po::value(&seconds)->value_name("T")->default_value(seconds),
+            "seconds", po::value(&o.seconds)->value_name("T")->default_value(o.seconds),
             "how long to run (at most 3600)")(
             "volume", po::value(&c.volume)->value_name("ID")->default_value(c.volume),
             "volume id from list_volumes")(
@@ -38,9 +39,8 @@ po::options_description load_options(net::LoadConfig& c, int& port, Number& seco
     return options;
 }
 
-// The checks of the load run the options describe; a message for stderr where they are wrong.
-base::Status check_config(net::LoadConfig& config, const po::variables_map& a, int port,
-                          double seconds) {
+base::Status finish_load_options(const po::variables_map& a, LoadOptions& o) {
+    net::LoadConfig& config = o.config;
     config.interactive = a.count("interactive") != 0;
     if (config.refine < 0 || config.refine > scene::kMaxRefinementSteps) {
         return base::make_error(
@@ -48,31 +48,31 @@ base::Status check_config(net::LoadConfig& config, const po::variables_map& a, i
                 "--refine takes 0.." + std::to_string(scene::kMaxRefinementSteps) + " steps");
     }
     if (a.count("token-file") != 0) {
-        const auto& token_file = a["token-file"].as<std::string>();
-        std::ifstream in(token_file);
-        if (!in || !std::getline(in, config.token) || config.token.empty()) {
-            return base::make_error("invalid_argument",
-                                    "--token-file: cannot read a token from '" + token_file + "'");
+        // Read as `serve` reads its secrets: the line end an editor or `echo` leaves (LF or CRLF)
+        // is no part of it. A file is named, so the environment variable is not consulted.
+        const std::filesystem::path file = a["token-file"].as<std::string>();
+        auto token = base::read_secret(file, "PENUMBRA_ACCESS_TOKEN", "--token-file");
+        if (!token) {
+            return base::make_error("invalid_argument", "--token-file: cannot read a token from '" +
+                                                                file.string() + "'");
         }
+        config.token = *token;
     }
-    if (port < 1 || port > 65535 || config.clients < 1 || config.clients > 256 ||
+    const double seconds = o.seconds.value;
+    if (o.port < 1 || o.port > 65535 || config.clients < 1 || config.clients > 256 ||
         config.size < 16 || config.size > 8192 || seconds <= 0.0 || seconds > 3600.0) {
         return base::make_error("invalid_argument",
                                 "--port is required; --clients 1..256, --size 16..8192, "
                                 "--seconds (0, 3600]");
     }
-    config.port = static_cast<unsigned short>(port);
+    config.port = static_cast<unsigned short>(o.port);
     config.seconds = seconds;
     return base::Ok{};
 }
 
-}  // namespace
-
 int run_load(const std::vector<std::string>& args) {
-    net::LoadConfig config;
-    int port = 0;
-    Number seconds{config.seconds};
-    const po::options_description options = load_options(config, port, seconds);
+    LoadOptions o;
+    const po::options_description options = load_options(o);
     auto parsed = parse_options(args, options);
     if (!parsed) {
         return report_usage_error("load", parsed.error());
@@ -87,12 +87,12 @@ int run_load(const std::vector<std::string>& args) {
                    options);
         return 0;
     }
-    if (auto status = check_config(config, *parsed, port, seconds.value); !status) {
+    if (auto status = finish_load_options(*parsed, o); !status) {
         std::fprintf(stderr, "penumbra load: %s\n", status.error().message.c_str());
         return 2;
     }
-    const net::LoadReport report = net::run_load(config);
-    net::print_load_report(config, report, stdout);
+    const net::LoadReport report = net::run_load(o.config);
+    net::print_load_report(o.config, report, stdout);
     return report.ok() ? 0 : 1;
 }
 
