@@ -51,16 +51,6 @@ base::Result<std::string> read_secret(const po::variables_map& a, const std::str
     return base::read_secret(file, variable, "--" + option);
 }
 
-// The defaults of `penumbra render` and `bench accuracy`: the frame the committed tables were
-// measured from.
-base::Result<scene::FrameRequest> default_frame(const volume::Volume& volume) {
-    auto no_options = parse_options({}, frame_options());
-    if (!no_options) {
-        return no_options.error();
-    }
-    return frame_request_from(*no_options, volume);
-}
-
 // The demo data: scripts/demo-data.sh links the MRI heads beside the CT it converts in the user's
 // cache; without it, the heads alone.
 std::filesystem::path default_data_folder() {
@@ -246,8 +236,8 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
                 if (!renderer) {
                     return renderer.error();
                 }
-                measured = quality::measure_at_startup(**renderer, measure, offered, default_frame,
-                                                       stdout);
+                measured = quality::measure_at_startup(**renderer, measure, offered,
+                                                       default_frame_request, stdout);
                 return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
             },
             o.scheduler, registry);

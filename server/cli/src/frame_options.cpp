@@ -262,6 +262,14 @@ base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& op
     return request;
 }
 
+base::Result<scene::FrameRequest> default_frame_request(const volume::Volume& volume) {
+    auto no_options = parse_options({}, frame_options());
+    if (!no_options) {
+        return no_options.error();
+    }
+    return frame_request_from(*no_options, volume);
+}
+
 std::vector<std::string> names_of(const SweptOptions& swept) {
     std::vector<std::string> names;
     for (const auto& [name, instead] : swept) {

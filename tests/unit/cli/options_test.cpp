@@ -176,14 +176,13 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
 // Without --tf a CT (values in HU) shows its bone, as a new serve session on it does; any other
 // volume the MRI skin.
 TEST(RenderOptions, TheDefaultTransferFunctionFollowsTheVolumesUnits) {
-    auto args = parse_options({}, frame_options());
-    ASSERT_TRUE(args.ok()) << args.error().to_string();
     volume::Volume ct = test::constant_volume({4, 4, 4}, 1.0f);
     ct.hounsfield = true;
-    const auto on_ct = frame_request_from(*args, ct);
+    const auto on_ct = default_frame_request(ct);
     ASSERT_TRUE(on_ct.ok()) << on_ct.error().to_string();
     EXPECT_EQ(on_ct->transfer_function.name, "ct_bone");
-    const auto on_mri = frame_request_from(*args, test::constant_volume({4, 4, 4}, 1.0f));
+    EXPECT_EQ(on_ct->settings.mode, scene::Mode::phong);
+    const auto on_mri = default_frame_request(test::constant_volume({4, 4, 4}, 1.0f));
     ASSERT_TRUE(on_mri.ok()) << on_mri.error().to_string();
     EXPECT_EQ(on_mri->transfer_function.name, "mri_skin");
     auto named = parse_options({"--tf", "grey_ramp"}, frame_options());

@@ -19,6 +19,10 @@ po::options_description frame_options(const std::vector<std::string>& swept = {}
 base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
                                                      const volume::Volume& volume);
 
+// The frame those options give when none is given: the defaults of `penumbra render` and
+// `bench accuracy`, from which the committed accuracy tables were measured.
+base::Result<scene::FrameRequest> default_frame_request(const volume::Volume& volume);
+
 // A benchmark's options it sweeps itself, each with what to give instead.
 using SweptOptions = std::vector<std::pair<std::string, std::string>>;
 
