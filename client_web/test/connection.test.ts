@@ -12,7 +12,7 @@ import {
 } from '../src/protocol/connection';
 import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
 import { checkClientMessage, type State } from '../src/protocol/messages';
-import { recordedTerms } from './recorded';
+import { recordedHello, recordedTerms } from './recorded';
 import { FakeClock } from './fake_timers';
 
 const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -210,6 +210,19 @@ describe('Connection', () => {
     socket().receive(JSON.stringify({ v: 1, type: 'error', code: 'render_failed', message: 'GL', field: '' }));
     expect(frames).toEqual([5]);
     expect(errors).toEqual(['no_session render', 'render_failed -']);
+  });
+
+  it("mirrors a preset as the server's hello announced it", async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const preset = recordedHello.presets.find((p) => p.space === 'hounsfield')!;
+    const set = connection.set({ transfer_function: { preset: preset.name } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    expect(connection.session?.state.transfer_function).toEqual(preset);
   });
 
   it('reports a server that cannot be reached and keeps trying', () => {

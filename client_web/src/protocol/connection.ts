@@ -19,12 +19,10 @@ import {
   type ErrorMessage,
   type HelloMessage,
   type OpenedMessage,
-  type Preset,
   type ServerMessage,
   type State,
   type StateMessage,
   type StatePatch,
-  type TransferFunctionPoints,
   type VolumeSummary,
 } from './messages';
 
@@ -151,8 +149,6 @@ export interface ConnectionOptions {
   requestTimeoutMs?: number;
   setTimer?: (callback: () => void, ms: number) => unknown;
   clearTimer?: (handle: unknown) => void;
-  /** The client's copy of the server's presets, to keep the state mirror exact. */
-  presetPoints?: (preset: Preset) => TransferFunctionPoints | undefined;
   /** The access token the server asks for on the WebSocket upgrade (`?token=`). */
   accessToken?: string;
   /** What the first WebSocket URL names (the page's volume or join link). */
@@ -197,9 +193,9 @@ export class Connection {
   private reconnectTimer: unknown = null;
   private stopped = false;
   private readonly options: Required<
-    Omit<ConnectionOptions, 'presetPoints' | 'accessToken' | 'route'>
+    Omit<ConnectionOptions, 'accessToken' | 'route'>
   > &
-    Pick<ConnectionOptions, 'presetPoints' | 'accessToken'>;
+    Pick<ConnectionOptions, 'accessToken'>;
   /** What the current (or next) WebSocket URL names. */
   private route: Route;
   /** Waits for the hello of a WebSocket opened for another volume. */
@@ -224,7 +220,6 @@ export class Connection {
       requestTimeoutMs: options.requestTimeoutMs ?? 30000,
       setTimer: options.setTimer ?? ((cb, ms) => setTimeout(cb, ms)),
       clearTimer: options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>)),
-      presetPoints: options.presetPoints,
       accessToken: options.accessToken,
       followOwnerMs: options.followOwnerMs ?? 15000,
       followRetryMs: options.followRetryMs ?? 500,
@@ -659,7 +654,11 @@ export class Connection {
   async set(patch: StatePatch): Promise<void> {
     await this.request({ type: 'set', ...patch });
     if (this.session) {
-      this.session.state = applyPatch(this.session.state, patch, this.options.presetPoints);
+      // A preset is mirrored as the server's hello announced it, as the server sets it.
+      const presets = this.hello?.presets ?? [];
+      this.session.state = applyPatch(this.session.state, patch, (name) =>
+        structuredClone(presets.find((p) => p.name === name)),
+      );
     }
   }
 
