@@ -74,6 +74,8 @@ const pacer = new RenderPacer((interactive) => {
   return id;
 });
 
+pacer.listenTo(connection);
+
 function change(patch: StatePatch, interactive: boolean): void {
   if (role !== 'owner') return;
   pendingPatch = pendingPatch ? mergePatches(pendingPatch, patch) : patch;
@@ -263,7 +265,6 @@ connection.on('frame', (frame) => {
   const refined = (frame.header.refinement ?? 0) > 0;
   const requestSent = role === 'owner' && !refined ? sentAt.get(frame.header.request) : undefined;
   const arrived = performance.now();
-  pacer.frameArrived(frame.header.request);
   view.show(frame);
   stats.add({
     header: frame.header,
@@ -273,10 +274,7 @@ connection.on('frame', (frame) => {
   });
 });
 
-connection.on('serverError', (error) => {
-  if (error.id !== undefined) pacer.failed(error.id);
-  notices.show('error', 'Server error', error.describe());
-});
+connection.on('serverError', (error) => notices.show('error', 'Server error', error.describe()));
 
 connection.on('problem', (message) => notices.show('warning', 'Problem', message));
 

@@ -136,6 +136,12 @@ export interface ConnectionEvents {
   /** A render request was sent (id, interactive). */
   renderSent: (id: number, interactive: boolean) => void;
   /**
+   * A render of this connection was answered by an error instead of a frame (`too_much_work`,
+   * `render_failed`, `no_session`: the server sends the render's id with it); `serverError`
+   * reports the error too.
+   */
+  renderFailed: (id: number, error: ServerError) => void;
+  /**
    * A viewer's session is gone from the server it reconnected to (its server died): it waits for
    * the owner to re-open it (`waiting`), or gave up after `followOwnerMs` (`ended`).
    */
@@ -186,6 +192,7 @@ export class Connection {
     serverError: [],
     problem: [],
     renderSent: [],
+    renderFailed: [],
     sessionLost: [],
   };
   private attempt = 0;
@@ -539,8 +546,16 @@ export class Connection {
       return;
     }
     if (message.type === 'error') {
-      const wasRender = id !== undefined && this.renderIds.delete(id);
-      this.emit('serverError', new ServerError(message, wasRender ? 'render' : undefined));
+      const render = id !== undefined && this.renderIds.has(id) ? id : undefined;
+      const error = new ServerError(message, render !== undefined ? 'render' : undefined);
+      if (render !== undefined) {
+        // Renders are answered in order: an older one still outstanding was superseded by it.
+        this.renderIds.forEach((r) => {
+          if (r <= render) this.renderIds.delete(r);
+        });
+        this.emit('renderFailed', render, error);
+      }
+      this.emit('serverError', error);
       return;
     }
     this.emit('problem', `unexpected ${message.type} from the server`);
