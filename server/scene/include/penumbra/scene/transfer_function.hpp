@@ -37,7 +37,7 @@ inline constexpr std::array<EnumName<PositionSpace>, 2> kPositionSpaceNames{{
         {PositionSpace::normalized, "normalized"},
         {PositionSpace::hounsfield, "hounsfield"},
 }};
-static_assert(names_each_value(kPositionSpaceNames, PositionSpace::hounsfield));
+static_assert(names_each_value(kPositionSpaceNames));
 
 constexpr std::span<const EnumName<PositionSpace>> names_of(PositionSpace) {
     return kPositionSpaceNames;
