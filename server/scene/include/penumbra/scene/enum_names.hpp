@@ -46,7 +46,8 @@ template <typename Enum, std::size_t index>
     return text[at + std::string_view("Value = ").size()] != '(';
 }
 
-// Whether `Enum`'s values are exactly 0..count-1: a value added after them is an enumerator too.
+// Whether `Enum` has no value `count`: after rows for 0..count-1 (our enums count from 0 without
+// gaps), no value follows, so a value added after the last row is caught.
 template <typename Enum, std::size_t count>
 [[nodiscard]] constexpr bool has_values_up_to() {
     return !is_enumerator<Enum, count>();
