@@ -46,7 +46,7 @@ export class TfEditor {
   private histogram: number[] = [];
   private enabled = true;
   private selected: { kind: 'opacity' | 'color'; index: number } | null = null;
-  private readonly params = { preset: 'mri_skin', colormap: '(keep)' };
+  private readonly params = { preset: 'custom', colormap: '(keep)' };
   private readonly controllers: Controller[] = [];
   private presetList!: Controller;
   private hounsfield = false;
