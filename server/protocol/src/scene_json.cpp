@@ -17,6 +17,9 @@ namespace {
 using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSON vocabulary
 
 constexpr double max_coordinate = scene::setting::coordinate.max;
+// A transfer function's positions in the volume's own values: the spelling of transfer-function
+// files (not of the protocol's states), turned into normalised positions as they are read.
+constexpr std::string_view data_space_name = "data";
 
 #define PENUMBRA_TRY(expression)                     \
     do {                                             \
@@ -227,15 +230,13 @@ base::Result<scene::TransferFunction> transfer_function_from(
     PENUMBRA_TRY(optional_member(j, p, "space", space, [](const json& v, const std::string& q) {
         return string(v, q, 16);
     }));
-    // Positions in the volume's own values: a transfer-function file's spelling, turned into
-    // normalised positions here, so no state holds them.
-    const bool data_space = space == "data";
+    const bool data_space = space == data_space_name;
     if (!data_space) {
         const auto parsed = scene::parse_name<scene::PositionSpace>(space);
         if (!parsed) {
-            return field_error(
-                    "invalid_value", p + "/space",
-                    "expected " + scene::name_list<scene::PositionSpace>(", ") + " or data");
+            return field_error("invalid_value", p + "/space",
+                               "expected " + scene::name_list<scene::PositionSpace>(", ") + " or " +
+                                       std::string(data_space_name));
         }
         tf.space = *parsed;
     }
