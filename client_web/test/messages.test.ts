@@ -278,6 +278,28 @@ describe('parseServerMessage', () => {
     expect(() => parseServerMessage(JSON.stringify(broken))).toThrow(/max/);
   });
 
+  it('needs the presets, the nominal CT range and the fixed limits of hello', () => {
+    const hello = JSON.parse(serverMessages[0]!) as Record<string, unknown>;
+    const read = parseServerMessage(serverMessages[0]!) as HelloMessage;
+    expect(read.presets.length).toBeGreaterThan(0);
+    expect(read.nominal_ct_range).toHaveLength(2);
+    expect(read.limits.max_string_bytes['open/volume']).toBeGreaterThan(0);
+    for (const member of ['presets', 'nominal_ct_range']) {
+      const without = { ...hello };
+      delete without[member];
+      expect(() => parseServerMessage(JSON.stringify(without))).toThrow(`/${member}`);
+    }
+    const limits = hello['limits'] as Record<string, unknown>;
+    for (const member of ['max_transfer_function_points', 'max_hounsfield_position', 'max_string_bytes']) {
+      const fewer = { ...limits };
+      delete fewer[member];
+      expect(() => parseServerMessage(JSON.stringify({ ...hello, limits: fewer }))).toThrow(ProtocolError);
+    }
+    const presets = structuredClone(read.presets) as unknown as Record<string, unknown>[];
+    delete presets[1]!['opacities'];
+    expect(() => parseServerMessage(JSON.stringify({ ...hello, presets }))).toThrow('/presets/1/opacities');
+  });
+
   it('reads opened with a full state that checks as a set', () => {
     const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(opened.session.length).toBeGreaterThan(0);
