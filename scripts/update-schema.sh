@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Rewrites what proto/v1/common.schema.json restates of the C++ tables (each setting's range from
 # scene::kSettingRanges, the mode names, the settings' enum names from scene's name tables, the
-# client message types) from the tables themselves,
+# preset names, the transfer function's position spaces and limits, the client message types) and
+# what hello.schema.json restates (the mode capabilities' names) from the tables themselves,
 # proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), and
-# the ranges of the hello the web client's tests recorded (client_web/test/fixtures).
+# the hello the web client's tests recorded (client_web/test/fixtures) as the server sends it.
 # Run it after changing one of them; SchemaAgreement.*IsGenerated and
-# SchemaAgreement.TheWebClientsRecordedHelloHasTheServersRanges (protocol_test) fail until the
+# SchemaAgreement.TheWebClientsRecordedHelloIsTheServers (protocol_test) fail until the
 # committed files are what this writes. The rest of each file is written by hand.
 #   scripts/update-schema.sh [PRESET]     (default: release; builds the update_schema target)
 set -euo pipefail

@@ -15,7 +15,7 @@ import { SessionPanel } from './panels/session_panel';
 import { LightControl } from './panels/light_control';
 import { MethodPanel } from './panels/method_panel';
 import { TfEditor } from './panels/tf_editor';
-import { PRESET_POINTS, TfModel } from './panels/tf_model';
+import { TfModel, tfTerms } from './panels/tf_model';
 
 const query = new URLSearchParams(location.search);
 const joinId = query.get('join');
@@ -29,11 +29,8 @@ const viewElement = document.getElementById('view') as HTMLElement;
 const panelElement = document.getElementById('panel') as HTMLElement;
 const view = new FrameView(viewElement);
 const stats = new StatsOverlay(viewElement);
+const tfModel = new TfModel();
 const connection = new Connection(wsUrl, {
-  presetPoints: (p) => {
-    const points = structuredClone(PRESET_POINTS[p]);
-    return { name: p, space: points.space ?? 'normalized', colors: points.colors, opacities: points.opacities };
-  },
   accessToken: query.get('token') ?? undefined,
   route: { volume: pageVolume, session: joinId ?? undefined },
 });
@@ -42,7 +39,6 @@ const notices = new Notices(document.body, () => connection.retryNow());
 const camera = new OrbitCamera();
 const marker = new OrientationMarker(viewElement);
 marker.update(camera.toCamera());
-const tfModel = new TfModel();
 let role: SessionInfo['role'] = 'none';
 let scale = 1;
 
@@ -77,6 +73,8 @@ const pacer = new RenderPacer((interactive) => {
   if (sentAt.size > 64) sentAt.delete(sentAt.keys().next().value as number);
   return id;
 });
+
+pacer.listenTo(connection);
 
 function change(patch: StatePatch, interactive: boolean): void {
   if (role !== 'owner') return;
@@ -207,6 +205,8 @@ connection.on('status', (status) => {
     method.setRanges(status.hello.ranges);
     light.setRanges(status.hello.ranges);
     camera.setRanges(status.hello.ranges);
+    tfModel.terms = tfTerms(status.hello);
+    tfEditor.termsChanged();
     pacer.setRequestRate(status.hello.limits.max_requests_per_second);
     // Not while moving to another volume's server: the open that moved it is under way.
     if (!connection.session && !connection.moving) void start();
@@ -265,7 +265,6 @@ connection.on('frame', (frame) => {
   const refined = (frame.header.refinement ?? 0) > 0;
   const requestSent = role === 'owner' && !refined ? sentAt.get(frame.header.request) : undefined;
   const arrived = performance.now();
-  pacer.frameArrived(frame.header.request);
   view.show(frame);
   stats.add({
     header: frame.header,
@@ -275,10 +274,7 @@ connection.on('frame', (frame) => {
   });
 });
 
-connection.on('serverError', (error) => {
-  if (error.id !== undefined) pacer.failed(error.id);
-  notices.show('error', 'Server error', error.describe());
-});
+connection.on('serverError', (error) => notices.show('error', 'Server error', error.describe()));
 
 connection.on('problem', (message) => notices.show('warning', 'Problem', message));
 

@@ -12,7 +12,8 @@ import {
 } from '../src/protocol/connection';
 import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
 import { checkClientMessage, type State } from '../src/protocol/messages';
-import { recordedTerms } from './recorded';
+import { RenderPacer } from '../src/interaction/pacing';
+import { recordedHello, recordedTerms } from './recorded';
 import { FakeClock } from './fake_timers';
 
 const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -210,6 +211,58 @@ describe('Connection', () => {
     socket().receive(JSON.stringify({ v: 1, type: 'error', code: 'render_failed', message: 'GL', field: '' }));
     expect(frames).toEqual([5]);
     expect(errors).toEqual(['no_session render', 'render_failed -']);
+  });
+
+  it("answers a pacer's render by the error that carries its id, so the next wish is sent", async () => {
+    const { clock, socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const pacer = new RenderPacer((interactive) => connection.render(interactive), {
+      minIntervalMs: 0,
+      now: () => clock.now,
+      setTimer: clock.setTimer,
+      clearTimer: clock.clearTimer,
+    });
+    pacer.listenTo(connection);
+    const failed: string[] = [];
+    connection.on('renderFailed', (id, e) => failed.push(`${id} ${e.code} ${e.requestType ?? '-'}`));
+    const renders = () => socket().sent.filter((m) => m['type'] === 'render').map((m) => m['id'] as number);
+    pacer.request(false);
+    pacer.request(false);
+    pacer.request(false); // waits: two are in flight
+    const [first, second] = renders();
+    expect(renders()).toHaveLength(2);
+    expect(pacer.hasWanted).toBe(true);
+    const refused = { v: 1, type: 'error', code: 'too_much_work', message: 'estimate 2e11 > 1e11', field: '' };
+    socket().receive(JSON.stringify({ ...refused, id: second }));
+    // The refused render and the older one it superseded are answered: the wish goes out.
+    expect(failed).toEqual([`${second} too_much_work render`]);
+    expect(pacer.inFlight).toBe(1);
+    expect(renders()).toHaveLength(3);
+    expect(pacer.hasWanted).toBe(false);
+    const third = renders()[2]!;
+    socket().receive(JSON.stringify({ v: 1, type: 'error', id: third, code: 'render_failed', message: 'GL [x]', field: '' }));
+    expect(failed).toEqual([`${second} too_much_work render`, `${third} render_failed render`]);
+    expect(pacer.inFlight).toBe(0);
+    // An error for no render of its own (another request's id, or none) answers none.
+    socket().receive(JSON.stringify({ ...refused, id: first }));
+    socket().receive(JSON.stringify({ ...refused }));
+    expect(failed).toHaveLength(2);
+  });
+
+  it("mirrors a preset as the server's hello announced it", async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const preset = recordedHello.presets.find((p) => p.space === 'hounsfield')!;
+    const set = connection.set({ transfer_function: { preset: preset.name } });
+    socket().reply('ack', { of: 'set' });
+    await set;
+    expect(connection.session?.state.transfer_function).toEqual(preset);
   });
 
   it('reports a server that cannot be reached and keeps trying', () => {

@@ -23,8 +23,8 @@ describe("the light control's ranges", () => {
     const control = lightControls(ranges).find((c) => c.path === 'light/falloff')!;
     expect(control).toMatchObject({ label: 'falloff', kind: 'slider', integer: true, hint: 'within 0..8' });
     const set = { v: 1, type: 'set', light: nestedAt(control.members, control.max) };
-    expect(checkClientMessage(set, { ranges })).toBeNull();
-    expect(checkClientMessage(set, { ranges: { ...ranges, 'light/falloff': { min: 0, max: 4, integer: true } } }))
+    expect(checkClientMessage(set, { ...recordedTerms, ranges })).toBeNull();
+    expect(checkClientMessage(set, { ...recordedTerms, ranges: { ...ranges, 'light/falloff': { min: 0, max: 4, integer: true } } }))
       .toMatchObject({ code: 'out_of_range', field: '/light/falloff' });
   });
 

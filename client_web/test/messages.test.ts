@@ -4,7 +4,6 @@ import { describe, expect, it } from 'vitest';
 import {
   applyPatch,
   checkClientMessage,
-  DEFAULT_LIMITS,
   encodeClientMessage,
   mergePatches,
   orbitEye,
@@ -20,7 +19,7 @@ import {
   type State,
   type StateMessage,
 } from '../src/protocol/messages';
-import { recordedMessages, recordedRanges, recordedTerms } from './recorded';
+import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
 const examples = path.resolve(__dirname, '../../proto/examples/v1');
 
@@ -135,7 +134,7 @@ describe('checkClientMessage beyond the examples', () => {
       field: '/settings/light_buffer/slab_samples',
     });
     const wider = { ...serverRanges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
-    expect(checkClientMessage(set, { ranges: wider })).toBeNull();
+    expect(checkClientMessage(set, { ...recordedTerms, ranges: wider })).toBeNull();
     const fraction = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 1.5 } } };
     expect(checkClientMessage(fraction, recordedTerms)).toMatchObject({ code: 'invalid_value' });
     const text = { v: 1, type: 'set', camera: { fov: '30' } };
@@ -152,7 +151,7 @@ describe('checkClientMessage beyond the examples', () => {
       field: '/transfer_function/colors/0/rgb/0',
     });
     const hdr = { ...serverRanges, rgb: { min: 0, max: 2, integer: false } };
-    expect(checkClientMessage(colours(1.5), { ranges: hdr })).toBeNull();
+    expect(checkClientMessage(colours(1.5), { ...recordedTerms, ranges: hdr })).toBeNull();
   });
 
   it('knows the numbers of a set from the ranges alone: a new one needs no client change', () => {
@@ -163,16 +162,16 @@ describe('checkClientMessage beyond the examples', () => {
       field: '/settings/light_buffer/glow',
     });
     const ranges = { ...serverRanges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
-    expect(checkClientMessage(set({ glow: 2, compensation: 3 }), { ranges })).toBeNull();
-    expect(checkClientMessage(set({ glow: 5 }), { ranges })).toMatchObject({
+    expect(checkClientMessage(set({ glow: 2, compensation: 3 }), { ...recordedTerms, ranges })).toBeNull();
+    expect(checkClientMessage(set({ glow: 5 }), { ...recordedTerms, ranges })).toMatchObject({
       code: 'out_of_range',
       field: '/settings/light_buffer/glow',
     });
     // ... and so is a setting in a part of its own.
     const tone = { ...serverRanges, 'settings/tone/exposure': { min: -4, max: 4, integer: false } };
     const exposure = (value: unknown) => ({ v: 1, type: 'set', settings: { tone: { exposure: value } } });
-    expect(checkClientMessage(exposure(1), { ranges: tone })).toBeNull();
-    expect(checkClientMessage(exposure('1'), { ranges: tone })).toMatchObject({
+    expect(checkClientMessage(exposure(1), { ...recordedTerms, ranges: tone })).toBeNull();
+    expect(checkClientMessage(exposure('1'), { ...recordedTerms, ranges: tone })).toMatchObject({
       code: 'invalid_value',
       field: '/settings/tone/exposure',
     });
@@ -189,13 +188,62 @@ describe('checkClientMessage beyond the examples', () => {
   });
 
   it('uses the limits from hello', () => {
-    const limits = { ...DEFAULT_LIMITS, max_image_side: 256 };
+    const limits = { ...recordedTerms.limits, max_image_side: 256 };
     const set = { v: 1, type: 'set', settings: { size: [300, 200] } };
-    expect(checkClientMessage(set, { ranges: serverRanges })).toBeNull();
-    expect(checkClientMessage(set, { ranges: serverRanges, limits })).toMatchObject({
+    expect(checkClientMessage(set, recordedTerms)).toBeNull();
+    expect(checkClientMessage(set, { ...recordedTerms, limits })).toMatchObject({
       code: 'out_of_range',
       field: '/settings/size/0',
     });
+  });
+
+  it("takes the transfer function's points, its Hounsfield reach and the strings' lengths from hello", () => {
+    const announced = recordedTerms.limits;
+    const tf = (n: number, x: number, space = 'hounsfield') => ({
+      v: 1,
+      type: 'set',
+      transfer_function: { space, colors: [], opacities: Array.from({ length: n }, () => ({ x, alpha: 0.5 })) },
+    });
+    const most = announced.max_transfer_function_points;
+    const reach = announced.max_hounsfield_position;
+    expect(checkClientMessage(tf(most, reach), recordedTerms)).toBeNull();
+    expect(checkClientMessage(tf(most + 1, 0), recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/transfer_function/opacities',
+    });
+    expect(checkClientMessage(tf(1, -reach * 1.5), recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/transfer_function/opacities/0/x',
+    });
+    // Another server's limits, not a copy of this one's.
+    const fewer = { ...announced, max_transfer_function_points: 2, max_hounsfield_position: 10 };
+    expect(checkClientMessage(tf(3, 0), { ...recordedTerms, limits: fewer })).toMatchObject({ code: 'out_of_range' });
+    expect(checkClientMessage(tf(1, 20), { ...recordedTerms, limits: fewer })).toMatchObject({ code: 'out_of_range' });
+
+    const bytes = announced.max_string_bytes;
+    const open = (volume: string) => ({ v: 1, type: 'open', volume });
+    expect(checkClientMessage(open('a'.repeat(bytes['open/volume']!)), recordedTerms)).toBeNull();
+    expect(checkClientMessage(open('a'.repeat(bytes['open/volume']! + 1)), recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/volume',
+    });
+    const resume = { v: 1, type: 'resume', session: 's', owner_token: 'a'.repeat(bytes['resume/owner_token']! + 1) };
+    expect(checkClientMessage(resume, recordedTerms)).toMatchObject({ code: 'out_of_range', field: '/owner_token' });
+    const shorter = { ...announced, max_string_bytes: { ...bytes, 'join/session': 4 } };
+    expect(checkClientMessage({ v: 1, type: 'join', session: 'abcde' }, { ...recordedTerms, limits: shorter }))
+      .toMatchObject({ code: 'out_of_range', field: '/session' });
+    const named = { v: 1, type: 'set', transfer_function: { name: 'n'.repeat(bytes['set/transfer_function/name']! + 1) } };
+    expect(checkClientMessage(named, recordedTerms)).toMatchObject({ code: 'out_of_range', field: '/transfer_function/name' });
+  });
+
+  it("accepts the presets the server's hello names, and no other", () => {
+    const preset = (name: string) => ({ v: 1, type: 'set', transfer_function: { preset: name } });
+    for (const p of recordedHello.presets) expect(checkClientMessage(preset(p.name), recordedTerms)).toBeNull();
+    expect(checkClientMessage(preset('ct_heart'), recordedTerms)).toMatchObject({
+      code: 'invalid_value',
+      field: '/transfer_function/preset',
+    });
+    expect(checkClientMessage(preset('ct_heart'), { ...recordedTerms, presets: ['ct_heart'] })).toBeNull();
   });
 });
 
@@ -228,6 +276,28 @@ describe('parseServerMessage', () => {
     expect(() => parseServerMessage(JSON.stringify(without))).toThrow(ProtocolError);
     const broken = { ...hello, ranges: { 'camera/fov': { min: 1, max: '170', integer: false } } };
     expect(() => parseServerMessage(JSON.stringify(broken))).toThrow(/max/);
+  });
+
+  it('needs the presets, the nominal CT range and the fixed limits of hello', () => {
+    const hello = JSON.parse(serverMessages[0]!) as Record<string, unknown>;
+    const read = parseServerMessage(serverMessages[0]!) as HelloMessage;
+    expect(read.presets.length).toBeGreaterThan(0);
+    expect(read.nominal_ct_range).toHaveLength(2);
+    expect(read.limits.max_string_bytes['open/volume']).toBeGreaterThan(0);
+    for (const member of ['presets', 'nominal_ct_range']) {
+      const without = { ...hello };
+      delete without[member];
+      expect(() => parseServerMessage(JSON.stringify(without))).toThrow(`/${member}`);
+    }
+    const limits = hello['limits'] as Record<string, unknown>;
+    for (const member of ['max_transfer_function_points', 'max_hounsfield_position', 'max_string_bytes']) {
+      const fewer = { ...limits };
+      delete fewer[member];
+      expect(() => parseServerMessage(JSON.stringify({ ...hello, limits: fewer }))).toThrow(ProtocolError);
+    }
+    const presets = structuredClone(read.presets) as unknown as Record<string, unknown>[];
+    delete presets[1]!['opacities'];
+    expect(() => parseServerMessage(JSON.stringify({ ...hello, presets }))).toThrow('/presets/1/opacities');
   });
 
   it('reads opened with a full state that checks as a set', () => {

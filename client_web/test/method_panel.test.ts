@@ -34,7 +34,7 @@ describe("the method panel's numeric settings", () => {
     expect(control).toMatchObject({ part: 'light_buffer', label: 'glow', kind: 'slider', hint: 'light-buffer glow; within [0, 4]' });
     const patch = settingPatch(control.members, 2.5);
     expect(patch).toEqual({ settings: { light_buffer: { glow: 2.5 } } });
-    expect(checkClientMessage({ v: 1, type: 'set', ...patch }, { ranges })).toBeNull();
+    expect(checkClientMessage({ v: 1, type: 'set', ...patch }, { ...recordedTerms, ranges })).toBeNull();
     const withGlow = structuredClone(state);
     (withGlow.settings.light_buffer as unknown as Record<string, number>)['glow'] = 1.5;
     expect(settingValue(withGlow.settings, control.members)).toBe(1.5);

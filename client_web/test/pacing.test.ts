@@ -119,6 +119,16 @@ describe('RenderPacer', () => {
     expect(sent).toHaveLength(3);
   });
 
+  it('answers the older renders too when a newer one failed: they were superseded', () => {
+    const { sent, pacer } = setup();
+    pacer.request(false);
+    pacer.request(false);
+    pacer.failed(2);
+    expect(pacer.inFlight).toBe(0);
+    pacer.failed(7); // none of its own: nothing changes
+    expect(sent).toHaveLength(2);
+  });
+
   it('keeps the wish while disconnected and forgets what was in flight on reset', () => {
     const { sent, pacer, setConnected } = setup();
     pacer.request(false);

@@ -2,7 +2,8 @@
 // which the client's checks of its own messages take.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { parseServerMessage, type HelloMessage, type ServerTerms } from '../src/protocol/messages';
+import { parseServerMessage, termsOf, type HelloMessage, type ServerTerms } from '../src/protocol/messages';
+import { tfTerms, type TfTerms } from '../src/panels/tf_model';
 
 /** hello, volumes, opened, ack, stats, error, state: each one line of JSON text. */
 export const recordedMessages = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -14,5 +15,8 @@ export const recordedHello = parseServerMessage(recordedMessages[0]!) as HelloMe
 /** The settings' ranges the server announced (protocol_test holds them against the C++ table). */
 export const recordedRanges = recordedHello.ranges;
 
-/** Its ranges and limits, with any mode name. */
-export const recordedTerms: ServerTerms = { ranges: recordedRanges, limits: recordedHello.limits };
+/** Its ranges, limits and preset names, with any mode name. */
+export const recordedTerms: ServerTerms = { ...termsOf(recordedHello), modes: null };
+
+/** Its presets, nominal CT range and point limit, as the transfer-function model takes them. */
+export const recordedTfTerms: TfTerms = tfTerms(recordedHello);

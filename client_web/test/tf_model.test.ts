@@ -1,25 +1,37 @@
 import { describe, expect, it } from 'vitest';
-import {
-  checkClientMessage,
-  HOUNSFIELD_PRESETS,
-  parseServerMessage,
-  PRESETS,
-  type OpenedMessage,
-} from '../src/protocol/messages';
+import { checkClientMessage, parseServerMessage, type OpenedMessage } from '../src/protocol/messages';
 import { presetsFor } from '../src/panels/tf_editor';
-import { COLOR_MAPS, histogramCurve, MAX_POINTS, PRESET_POINTS, TfModel } from '../src/panels/tf_model';
-import { recordedMessages, recordedRanges, recordedTerms } from './recorded';
+import { COLOR_MAPS, histogramCurve, TfModel } from '../src/panels/tf_model';
+import { recordedHello, recordedMessages, recordedRanges, recordedTerms, recordedTfTerms } from './recorded';
+
+const presetNames = recordedHello.presets.map((p) => p.name);
+const inHounsfield = recordedHello.presets.filter((p) => p.space === 'hounsfield').map((p) => p.name);
 
 function sorted(xs: number[]): boolean {
   return xs.every((x, i) => i === 0 || xs[i - 1]! <= x);
 }
 
 describe('TfModel', () => {
-  it('holds the server preset that a real server reported (mri_skin)', () => {
+  it("holds a preset as the server's hello announced it and a real server's state reported it (mri_skin)", () => {
     const opened = parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage;
     const tf = opened.state.transfer_function;
     expect(tf.name).toBe('mri_skin');
-    expect({ colors: tf.colors, opacities: tf.opacities }).toEqual(PRESET_POINTS.mri_skin);
+    const m = new TfModel(recordedTfTerms);
+    expect(m.preset('mri_skin')).toEqual(tf);
+    m.loadPreset('mri_skin');
+    expect({ name: m.name, colors: m.colors, opacities: m.opacities }).toEqual({
+      name: tf.name,
+      colors: tf.colors,
+      opacities: tf.opacities,
+    });
+    expect(m.preset('no_such_preset')).toBeUndefined();
+    expect(() => m.loadPreset('no_such_preset')).toThrow();
+  });
+
+  it('has no presets and takes no points before a server said what it holds', () => {
+    const m = new TfModel();
+    expect(m.addOpacity(0.5, 0.5)).toBe(-1);
+    expect(() => m.loadPreset('mri_skin')).toThrow();
   });
 
   it('loads points sorted and clamped', () => {
@@ -30,7 +42,7 @@ describe('TfModel', () => {
   });
 
   it('inserts opacity points in order and keeps moved points between their neighbours', () => {
-    const m = new TfModel({ colors: [], opacities: [{ x: 0, alpha: 0 }, { x: 1, alpha: 1 }] });
+    const m = new TfModel(recordedTfTerms, { colors: [], opacities: [{ x: 0, alpha: 0 }, { x: 1, alpha: 1 }] });
     const i = m.addOpacity(0.5, 0.25);
     expect(i).toBe(1);
     expect(m.opacities.map((p) => p.x)).toEqual([0, 0.5, 1]);
@@ -45,7 +57,7 @@ describe('TfModel', () => {
   });
 
   it('adds colour stops with the colour already there, moves and recolours them', () => {
-    const m = new TfModel({ colors: COLOR_MAPS['grey']!, opacities: [] });
+    const m = new TfModel(recordedTfTerms, { colors: COLOR_MAPS['grey']!, opacities: [] });
     const i = m.addColor(0.25);
     expect(m.colors[i]!.rgb).toEqual([0.25, 0.25, 0.25]);
     m.setColor(i, [1, 0, 0]);
@@ -58,7 +70,7 @@ describe('TfModel', () => {
   });
 
   it('interpolates like the server: linear inside, constant beyond the ends', () => {
-    const m = new TfModel({ colors: [{ x: 0.2, rgb: [0, 0, 0] }, { x: 0.6, rgb: [1, 0.5, 0] }], opacities: [{ x: 0.5, alpha: 0.2 }, { x: 1, alpha: 1 }] });
+    const m = new TfModel(recordedTfTerms, { colors: [{ x: 0.2, rgb: [0, 0, 0] }, { x: 0.6, rgb: [1, 0.5, 0] }], opacities: [{ x: 0.5, alpha: 0.2 }, { x: 1, alpha: 1 }] });
     expect(m.opacityAt(0)).toBe(0.2);
     expect(m.opacityAt(0.75)).toBeCloseTo(0.6, 12);
     m.colorAt(0.4).forEach((c, k) => expect(c).toBeCloseTo([0.5, 0.25, 0][k]!, 12));
@@ -67,21 +79,26 @@ describe('TfModel', () => {
   });
 
   it('picks the nearest point within the radius', () => {
-    const m = new TfModel({ colors: [{ x: 0.5, rgb: [0, 0, 0] }], opacities: [{ x: 0.1, alpha: 0.1 }, { x: 0.15, alpha: 0.9 }] });
+    const m = new TfModel(recordedTfTerms, { colors: [{ x: 0.5, rgb: [0, 0, 0] }], opacities: [{ x: 0.1, alpha: 0.1 }, { x: 0.15, alpha: 0.9 }] });
     expect(m.pickOpacity(0.12, 0.85, 0.08)).toBe(1);
     expect(m.pickOpacity(0.5, 0.5, 0.05)).toBe(-1);
     expect(m.pickColor(0.52, 0.05)).toBe(0);
     expect(m.pickColor(0.7, 0.05)).toBe(-1);
   });
 
-  it('stops at 256 points, the protocol limit', () => {
-    const m = new TfModel();
-    for (let k = 0; k < MAX_POINTS; ++k) expect(m.addOpacity(k / MAX_POINTS, 0.5)).toBeGreaterThanOrEqual(0);
+  it("stops at the server's point limit (hello.limits)", () => {
+    const most = recordedHello.limits.max_transfer_function_points;
+    const m = new TfModel(recordedTfTerms);
+    for (let k = 0; k < most; ++k) expect(m.addOpacity(k / most, 0.5)).toBeGreaterThanOrEqual(0);
     expect(m.addOpacity(0.5, 0.5)).toBe(-1);
+    expect(m.addColor(0.5)).toBeGreaterThanOrEqual(0);
+    const few = new TfModel({ ...recordedTfTerms, maxPoints: 2 }, { colors: [], opacities: [{ x: 0, alpha: 1 }] });
+    expect(few.addOpacity(0.5, 1)).toBe(1);
+    expect(few.addOpacity(0.7, 1)).toBe(-1);
   });
 
   it('notifies on every change', () => {
-    const m = new TfModel();
+    const m = new TfModel(recordedTfTerms);
     let calls = 0;
     m.onChange(() => (calls += 1));
     m.addOpacity(0.5, 0.5);
@@ -94,27 +111,41 @@ describe('TfModel', () => {
   });
 
   it('places the CT presets in Hounsfield units on the volume range', () => {
-    const m = new TfModel();
+    const m = new TfModel(recordedTfTerms);
     m.domain = { min: -2048, max: 4095, hounsfield: true };
     m.loadPreset('ct_bone');
     const at = (hu: number) => (hu + 2048) / 6143;
     expect(m.opacities[0]!.x).toBeCloseTo(at(150), 12);
     expect(m.opacities[1]!.x).toBeCloseTo(at(300), 12);
     expect(m.opacities[1]!.alpha).toBe(0.6);
-    // A volume not marked HU: read over the 12-bit CT range, as the server bakes it.
+    // A volume not marked HU: read over the server's nominal CT range, as it bakes it.
+    const [low, high] = recordedHello.nominal_ct_range;
     m.domain = { min: 0, max: 255, hounsfield: false };
     m.loadPreset('ct_bone');
-    expect(m.opacities[1]!.x).toBeCloseTo((300 + 1024) / 4095, 12);
+    expect(m.opacities[1]!.x).toBeCloseTo((300 - low) / (high - low), 12);
+    const wider = new TfModel({ ...recordedTfTerms, nominalCtRange: [-2000, 6000] });
+    wider.domain = m.domain;
+    wider.loadPreset('ct_bone');
+    expect(wider.opacities[1]!.x).toBeCloseTo(2300 / 8000, 12);
   });
 
-  it('offers the CT presets first for a volume in Hounsfield units', () => {
-    expect(presetsFor(true).slice(0, HOUNSFIELD_PRESETS.length)).toEqual([...HOUNSFIELD_PRESETS]);
-    expect([...presetsFor(true)].sort()).toEqual([...PRESETS].sort());
-    expect(presetsFor(false)).toEqual(PRESETS);
+  it("offers the client's colour maps and the colours of the server's normalised presets", () => {
+    const m = new TfModel(recordedTfTerms);
+    expect(Object.keys(m.colorMaps)).toEqual(expect.arrayContaining([...Object.keys(COLOR_MAPS), 'mri_skin']));
+    expect(m.colorMaps['mri_skin']).toEqual(m.preset('mri_skin')!.colors);
+    expect(m.colorMaps['ct_bone']).toBeUndefined(); // in HU: no fractions of the range
   });
 
-  it.each([...PRESETS])('sends preset %s as a set the server accepts', (preset) => {
-    const m = new TfModel();
+  it('offers the presets in Hounsfield units first for a volume in Hounsfield units', () => {
+    const presets = recordedHello.presets;
+    expect(inHounsfield.length).toBeGreaterThan(0);
+    expect(presetsFor(presets, true).slice(0, inHounsfield.length)).toEqual(inHounsfield);
+    expect([...presetsFor(presets, true)].sort()).toEqual([...presetNames].sort());
+    expect(presetsFor(presets, false)).toEqual(presetNames);
+  });
+
+  it.each(presetNames)('sends preset %s as a set the server accepts', (preset) => {
+    const m = new TfModel(recordedTfTerms);
     m.loadPreset(preset);
     m.addOpacity(0.33, 0.5);
     m.applyColorMap('viridis');

@@ -1,8 +1,9 @@
 #!/usr/bin/env node
 // End-to-end test of the web client: Debian's chromium (driven by playwright-core) against a real
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
-// it and turns the orientation marker, the six view buttons set the named views, a portrait tablet
-// gets the panel as a drawer, changing the mode changes the stats, a bad parameter shows the
+// it and turns the orientation marker, the preset list is hello's and a preset changes the frame,
+// the six view buttons set the named views, a portrait tablet gets the panel as a drawer,
+// changing the mode changes the stats, a bad parameter shows the
 // server's error, the sliders span hello's ranges, every numeric setting hello announces has a
 // labelled control in its part's folder and empty-space skipping toggles, the light's sliders reach
 // hello's ends and its position stays within the server's coordinates, a second page
@@ -277,6 +278,31 @@ try {
   check('dragging an opacity point changes the frame', difference(before, after) > 1,
     `mean grey difference ${difference(before, after).toFixed(1)}, lit ${(after.lit * 100).toFixed(1)}%`);
   await owner.screenshot({ path: path.join(outDir, '02c_transfer_function.png') });
+
+  // 2d. The preset list is the server's (its hello's presets), and picking one shows it.
+  const presetNames = await owner.evaluate(
+    (url) =>
+      new Promise((resolve, reject) => {
+        const ws = new WebSocket(url);
+        ws.onmessage = (e) => {
+          resolve(JSON.parse(e.data).presets.map((p) => p.name));
+          ws.close();
+        };
+        ws.onerror = () => reject(new Error('no hello'));
+      }),
+    `${server.url.replace(/^http/, 'ws')}ws?volume=${encodeURIComponent(options.volume)}`,
+  );
+  const offered = await owner.locator('[data-control="tf-preset"] select option').evaluateAll((els) =>
+    els.map((e) => e.value));
+  check("the preset list offers hello's presets",
+    offered.length > 0 && [...offered].sort().join() === [...presetNames].sort().join(), offered.join(', '));
+  before = after;
+  await owner.locator('[data-control="tf-preset"] select').selectOption('grey_ramp');
+  info = await waitForStill(owner, info.frame);
+  after = await canvasSignature(owner);
+  check('picking a preset changes the frame', difference(before, after) > 1,
+    `mean grey difference ${difference(before, after).toFixed(1)}`);
+  await owner.screenshot({ path: path.join(outDir, '02d_preset.png') });
 
   // 3. Changing the mode changes the stats.
   const passesBefore = await owner.locator('[data-stat^="pass:"]').count();

@@ -34,6 +34,15 @@ export interface PacerOptions {
 /** Sends one render; returns its request id, or null when it could not be sent. */
 export type SendRender = (interactive: boolean) => number | null;
 
+/**
+ * What answers renders (the connection's events): a frame for request r, or an error carrying the
+ * id of the render that asked for it (`too_much_work`, `render_failed`).
+ */
+export interface RenderAnswers {
+  on(event: 'frame', listener: (frame: { header: { request: number } }) => void): void;
+  on(event: 'renderFailed', listener: (requestId: number) => void): void;
+}
+
 export class RenderPacer {
   private readonly maxInFlight: number;
   private minIntervalMs: number;
@@ -109,9 +118,22 @@ export class RenderPacer {
     return sentAt;
   }
 
-  /** A request was answered by an error instead of a frame. */
+  /**
+   * A request was answered by an error instead of a frame. Renders are answered in order, so an
+   * older one still outstanding was superseded by it and gets nothing either.
+   */
   failed(requestId: number): void {
-    if (this.outstanding.delete(requestId)) this.pump();
+    if (!this.outstanding.has(requestId)) return;
+    for (const id of [...this.outstanding.keys()]) {
+      if (id <= requestId) this.outstanding.delete(id);
+    }
+    this.pump();
+  }
+
+  /** Takes every answer to its renders from `answers` (the connection): frames and errors. */
+  listenTo(answers: RenderAnswers): void {
+    answers.on('frame', (frame) => this.frameArrived(frame.header.request));
+    answers.on('renderFailed', (requestId) => this.failed(requestId));
   }
 
   /** The connection went away: nothing is outstanding any more (a wish stays). */

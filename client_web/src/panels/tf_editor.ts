@@ -1,19 +1,24 @@
 // Transfer-function editor: the volume's histogram behind the opacity curve, whose control points
 // are dragged (click on empty space adds one, double-click or right-click removes one, Delete
 // removes the selected one), and a colour bar whose stops are dragged likewise (double-click a
-// stop to pick its colour). Presets and colour maps come from tf_model.ts. Applied live:
+// stop to pick its colour). The presets are the server's (its hello, through the model), the
+// colour maps tf_model.ts's and the presets' own. Applied live:
 // interactive frames while dragging, a still frame on release.
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
-import { COLOR_MAPS, histogramCurve, TfModel } from './tf_model';
-import { HOUNSFIELD_PRESETS, PRESETS, type Preset, type Rgb } from '../protocol/messages';
+import { histogramCurve, TfModel } from './tf_model';
+import type { Preset, Rgb, TransferFunctionPoints } from '../protocol/messages';
 
-/** The presets the list offers: for a volume in Hounsfield units the CT ones first. */
-export function presetsFor(hounsfield: boolean): readonly Preset[] {
-  if (!hounsfield) return PRESETS;
-  const ct: readonly Preset[] = HOUNSFIELD_PRESETS;
-  return [...ct, ...PRESETS.filter((p) => !ct.includes(p))];
+/**
+ * The names the preset list offers, in the server's order; for a volume in Hounsfield units those
+ * in Hounsfield units (the CT presets) first.
+ */
+export function presetsFor(presets: readonly TransferFunctionPoints[], hounsfield: boolean): Preset[] {
+  const names = presets.map((p) => p.name);
+  if (!hounsfield) return names;
+  const inHu = presets.filter((p) => p.space === 'hounsfield').map((p) => p.name);
+  return [...inHu, ...names.filter((name) => !inHu.includes(name))];
 }
 
 const HEIGHT = 120; // CSS pixels
@@ -41,7 +46,7 @@ export class TfEditor {
   private histogram: number[] = [];
   private enabled = true;
   private selected: { kind: 'opacity' | 'color'; index: number } | null = null;
-  private readonly params = { preset: 'mri_skin', colormap: '(keep)' };
+  private readonly params = { preset: 'custom', colormap: '(keep)' };
   private readonly controllers: Controller[] = [];
   private presetList!: Controller;
   private hounsfield = false;
@@ -74,7 +79,7 @@ export class TfEditor {
     this.buildLists(folder, false);
 
     this.model.onChange(() => {
-      const name = (PRESETS as readonly string[]).includes(this.model.name) ? this.model.name : 'custom';
+      const name = this.presetName();
       if (this.params.preset !== name) {
         this.params.preset = name;
         this.presetList.updateDisplay();
@@ -94,13 +99,13 @@ export class TfEditor {
     for (const c of this.controllers) c.destroy();
     this.controllers.length = 0;
     this.hounsfield = hounsfield;
-    const preset = folder.add(this.params, 'preset', [...presetsFor(hounsfield)]).name('preset');
+    const preset = folder.add(this.params, 'preset', presetsFor(this.model.terms.presets, hounsfield)).name('preset');
     preset.domElement.dataset['control'] = 'tf-preset';
     preset.onChange((name: string) => {
       this.model.loadPreset(name as Preset);
       this.send(false);
     });
-    const colormap = folder.add(this.params, 'colormap', ['(keep)', ...Object.keys(COLOR_MAPS)]);
+    const colormap = folder.add(this.params, 'colormap', ['(keep)', ...Object.keys(this.model.colorMaps)]);
     colormap.name('colour map');
     colormap.domElement.dataset['control'] = 'tf-colormap';
     colormap.onChange((name: string) => {
@@ -113,9 +118,20 @@ export class TfEditor {
     for (const c of this.controllers) c.enable(this.enabled);
   }
 
+  /** The model's preset of the model's name, else 'custom'. */
+  private presetName(): string {
+    return this.model.preset(this.model.name) ? this.model.name : 'custom';
+  }
+
   /** After a volume opened: whether its values are Hounsfield units. */
   setHounsfield(hounsfield: boolean): void {
     if (hounsfield !== this.hounsfield) this.buildLists(this.folder, hounsfield);
+  }
+
+  /** After the server's hello: its presets (the model's terms) fill the lists. */
+  termsChanged(): void {
+    this.buildLists(this.folder, this.hounsfield);
+    this.refresh();
   }
 
   setHistogram(histogram: number[]): void {
@@ -125,7 +141,7 @@ export class TfEditor {
 
   /** After the model was loaded from the session's state. */
   refresh(): void {
-    this.params.preset = (PRESETS as readonly string[]).includes(this.model.name) ? this.model.name : 'custom';
+    this.params.preset = this.presetName();
     this.params.colormap = '(keep)';
     for (const c of this.controllers) c.updateDisplay();
     this.draw();

@@ -1,9 +1,10 @@
 // The transfer-function editor's model: opacity and colour control points over normalised value
-// positions [0, 1], the presets, colour maps and the histogram curve. No DOM: the editor
+// positions [0, 1], the server's presets (from its hello), colour maps and the histogram curve. No DOM: the editor
 // (tf_editor.ts) draws it and turns pointer events into these operations; tests drive it directly.
 
 import type {
   ColorPoint,
+  HelloMessage,
   OpacityPoint,
   PositionSpace,
   Preset,
@@ -12,133 +13,28 @@ import type {
   TransferFunctionPoints,
 } from '../protocol/messages';
 
-/** Points as the server keeps them: positions normalised, or in Hounsfield units. */
-export interface PresetPoints {
-  space?: PositionSpace;
-  colors: ColorPoint[];
-  opacities: OpacityPoint[];
+/**
+ * What the server says about transfer functions (its hello): its presets, with the points each
+ * sets, in the shape a state holds them (the CT presets in Hounsfield units); the range over which
+ * Hounsfield positions are read on a volume whose values are not marked HU; and how many points a
+ * list may hold. The client keeps no copy of its own.
+ */
+export interface TfTerms {
+  presets: readonly TransferFunctionPoints[];
+  nominalCtRange: readonly [number, number];
+  maxPoints: number;
 }
 
-/**
- * The server's presets (server/scene/src/transfer_function.cpp), so the editor can show them and
- * the state mirror stays exact. The CT presets are in Hounsfield units.
- */
-export const PRESET_POINTS: Record<Preset, PresetPoints> = {
-  grey_ramp: {
-    colors: [
-      { x: 0, rgb: [0, 0, 0] },
-      { x: 1, rgb: [1, 1, 1] },
-    ],
-    opacities: [
-      { x: 0, alpha: 0 },
-      { x: 1, alpha: 1 },
-    ],
-  },
-  mri_skin: {
-    colors: [
-      { x: 0, rgb: [0.55, 0.35, 0.25] },
-      { x: 0.2, rgb: [0.93, 0.72, 0.6] },
-      { x: 0.5, rgb: [0.98, 0.86, 0.78] },
-      { x: 1, rgb: [1, 1, 1] },
-    ],
-    opacities: [
-      { x: 0, alpha: 0 },
-      { x: 0.12, alpha: 0 },
-      { x: 0.2, alpha: 0.6 },
-      { x: 1, alpha: 0.9 },
-    ],
-  },
-  mri_brain: {
-    colors: [
-      { x: 0, rgb: [0.2, 0.1, 0.1] },
-      { x: 0.35, rgb: [0.75, 0.45, 0.4] },
-      { x: 0.6, rgb: [0.95, 0.8, 0.7] },
-      { x: 1, rgb: [1, 1, 0.95] },
-    ],
-    opacities: [
-      { x: 0, alpha: 0 },
-      { x: 0.3, alpha: 0 },
-      { x: 0.45, alpha: 0.05 },
-      { x: 0.7, alpha: 0.35 },
-      { x: 1, alpha: 0.6 },
-    ],
-  },
-  ct_bone: {
-    space: 'hounsfield',
-    colors: [
-      { x: 150, rgb: [0.75, 0.55, 0.4] },
-      { x: 300, rgb: [0.93, 0.85, 0.72] },
-      { x: 700, rgb: [1, 0.98, 0.92] },
-      { x: 3000, rgb: [1, 1, 1] },
-    ],
-    opacities: [
-      { x: 150, alpha: 0 },
-      { x: 300, alpha: 0.6 },
-      { x: 700, alpha: 0.9 },
-      { x: 3000, alpha: 1 },
-    ],
-  },
-  ct_skin: {
-    space: 'hounsfield',
-    colors: [
-      { x: -1000, rgb: [0.6, 0.4, 0.3] },
-      { x: -500, rgb: [0.9, 0.7, 0.6] },
-      { x: 200, rgb: [1, 0.95, 0.9] },
-      { x: 3000, rgb: [1, 1, 1] },
-    ],
-    opacities: [
-      { x: -600, alpha: 0 },
-      { x: -400, alpha: 0.5 },
-      { x: 100, alpha: 0.7 },
-      { x: 3000, alpha: 0.9 },
-    ],
-  },
-  ct_soft_tissue: {
-    space: 'hounsfield',
-    colors: [
-      { x: -150, rgb: [0.9, 0.8, 0.5] },
-      { x: 40, rgb: [0.8, 0.3, 0.25] },
-      { x: 300, rgb: [1, 0.95, 0.85] },
-    ],
-    opacities: [
-      { x: -200, alpha: 0 },
-      { x: -100, alpha: 0.05 },
-      { x: 0, alpha: 0.05 },
-      { x: 40, alpha: 0.25 },
-      { x: 80, alpha: 0.3 },
-      { x: 200, alpha: 0.15 },
-      { x: 300, alpha: 0.4 },
-      { x: 1000, alpha: 0.6 },
-    ],
-  },
-  ct_lung: {
-    space: 'hounsfield',
-    colors: [
-      { x: -950, rgb: [0.85, 0.5, 0.45] },
-      { x: -450, rgb: [1, 0.8, 0.75] },
-    ],
-    opacities: [
-      { x: -950, alpha: 0 },
-      { x: -750, alpha: 0.1 },
-      { x: -450, alpha: 0.3 },
-      { x: -350, alpha: 0 },
-    ],
-  },
-  ct_angio: {
-    space: 'hounsfield',
-    colors: [
-      { x: 150, rgb: [0.8, 0.1, 0.1] },
-      { x: 400, rgb: [1, 0.5, 0.4] },
-      { x: 1000, rgb: [1, 0.97, 0.92] },
-    ],
-    opacities: [
-      { x: 100, alpha: 0 },
-      { x: 180, alpha: 0.5 },
-      { x: 400, alpha: 0.8 },
-      { x: 3000, alpha: 0.9 },
-    ],
-  },
-};
+export function tfTerms(hello: HelloMessage): TfTerms {
+  return {
+    presets: hello.presets,
+    nominalCtRange: hello.nominal_ct_range,
+    maxPoints: hello.limits.max_transfer_function_points,
+  };
+}
+
+/** Until a server's hello arrives: no presets, and no points may be added. */
+const NO_TERMS: TfTerms = { presets: [], nominalCtRange: [0, 1], maxPoints: 0 };
 
 /** Colour maps that replace only the colour points. */
 export const COLOR_MAPS: Record<string, ColorPoint[]> = {
@@ -146,7 +42,6 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
     { x: 0, rgb: [0, 0, 0] },
     { x: 1, rgb: [1, 1, 1] },
   ],
-  skin: PRESET_POINTS.mri_skin.colors,
   bone: [
     { x: 0, rgb: [0.5, 0.3, 0.2] },
     { x: 0.3, rgb: [0.9, 0.8, 0.65] },
@@ -173,7 +68,17 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
   ],
 };
 
-export const MAX_POINTS = 256;
+/**
+ * The colour maps the editor offers: the client's own and the colours of each of the server's
+ * presets whose positions are normalised (`mri_skin`'s skin tones), under the preset's name.
+ */
+export function colorMaps(presets: readonly TransferFunctionPoints[]): Record<string, ColorPoint[]> {
+  const maps: Record<string, ColorPoint[]> = { ...COLOR_MAPS };
+  for (const preset of presets) {
+    if (preset.space === 'normalized' && !(preset.name in maps)) maps[preset.name] = preset.colors;
+  }
+  return maps;
+}
 
 function clamp(v: number, lo: number, hi: number): number {
   return Math.min(hi, Math.max(lo, v));
@@ -215,15 +120,21 @@ export interface ValueDomain {
   hounsfield: boolean;
 }
 
-/** Where Hounsfield positions are read on a volume not marked HU (scene::nominal_ct_domain). */
-export const NOMINAL_CT_DOMAIN: ValueDomain = { min: -1024, max: 3071, hounsfield: true };
-
-/** A position in `space` as a fraction of the volume's range, as the server's bake reads it. */
-export function normalizedPosition(x: number, space: PositionSpace | undefined, domain: ValueDomain): number {
+/**
+ * A position in `space` as a fraction of the volume's range, as the server's bake reads it: a
+ * Hounsfield position over the volume's range when its values are HU, else over
+ * `nominalCtRange` (the server's, from hello).
+ */
+export function normalizedPosition(
+  x: number,
+  space: PositionSpace | undefined,
+  domain: ValueDomain,
+  nominalCtRange: readonly [number, number],
+): number {
   if (space !== 'hounsfield') return x;
-  const d = domain.hounsfield ? domain : NOMINAL_CT_DOMAIN;
-  const width = d.max - d.min;
-  return width > 0 ? (x - d.min) / width : 0;
+  const [min, max] = domain.hounsfield ? [domain.min, domain.max] : nominalCtRange;
+  const width = max - min;
+  return width > 0 ? (x - min) / width : 0;
 }
 
 /**
@@ -236,10 +147,24 @@ export class TfModel {
   opacities: OpacityPoint[] = [];
   /** The open volume's values, for points given in Hounsfield units. */
   domain: ValueDomain = { min: 0, max: 1, hounsfield: false };
+  /** The server's presets, nominal CT range and point limit (setTerms, from its hello). */
+  terms: TfTerms = NO_TERMS;
   private listeners: Listener[] = [];
 
-  constructor(points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }) {
+  constructor(terms?: TfTerms, points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }) {
+    if (terms) this.terms = terms;
     if (points) this.load(points, false);
+  }
+
+  /** The colour maps offered with the server's presets (colorMaps). */
+  get colorMaps(): Record<string, ColorPoint[]> {
+    return colorMaps(this.terms.presets);
+  }
+
+  /** The server's preset of that name, as a state holds it; undefined when it has none. */
+  preset(name: string): TransferFunctionPoints | undefined {
+    const found = this.terms.presets.find((p) => p.name === name);
+    return found ? structuredClone(found) : undefined;
   }
 
   onChange(listener: Listener): void {
@@ -251,33 +176,35 @@ export class TfModel {
   }
 
   /**
-   * Replaces every point (from the server's state or a preset); sorted and clamped. Points in
-   * Hounsfield units are placed on the open volume's range (`domain`).
+   * Replaces every point (from the server's state or a preset, within its point limit); sorted
+   * and clamped. Points in Hounsfield units are placed on the open volume's range (`domain`).
    */
   load(
     points: { name?: string; space?: PositionSpace; colors: ColorPoint[]; opacities: OpacityPoint[] },
     notify = true,
   ): void {
-    const at = (x: number) => clamp(normalizedPosition(x, points.space, this.domain), 0, 1);
+    const at = (x: number) =>
+      clamp(normalizedPosition(x, points.space, this.domain, this.terms.nominalCtRange), 0, 1);
     this.name = points.name ?? 'custom';
     this.colors = points.colors
       .map((p) => ({ x: at(p.x), rgb: p.rgb.map((c) => clamp(c, 0, 1)) as Rgb }))
-      .sort((a, b) => a.x - b.x)
-      .slice(0, MAX_POINTS);
+      .sort((a, b) => a.x - b.x);
     this.opacities = points.opacities
       .map((p) => ({ x: at(p.x), alpha: clamp(p.alpha, 0, 1) }))
-      .sort((a, b) => a.x - b.x)
-      .slice(0, MAX_POINTS);
+      .sort((a, b) => a.x - b.x);
     if (notify) this.changed();
   }
 
-  loadPreset(preset: Preset): void {
-    this.load({ name: preset, ...structuredClone(PRESET_POINTS[preset]) });
+  /** Loads the server's preset of that name (hello's presets). */
+  loadPreset(name: Preset): void {
+    const preset = this.preset(name);
+    if (!preset) throw new Error(`the server has no preset "${name}"`);
+    this.load(preset);
   }
 
   /** Replaces the colours by a colour map, keeping the opacities. */
   applyColorMap(name: string): void {
-    const map = COLOR_MAPS[name];
+    const map = this.colorMaps[name];
     if (!map) throw new Error(`unknown colour map "${name}"`);
     this.colors = structuredClone(map);
     this.name = 'custom';
@@ -286,7 +213,7 @@ export class TfModel {
 
   /** Inserts an opacity point in order; returns its index, or -1 when the list is full. */
   addOpacity(x: number, alpha: number): number {
-    if (this.opacities.length >= MAX_POINTS) return -1;
+    if (this.opacities.length >= this.terms.maxPoints) return -1;
     const point = { x: clamp(x, 0, 1), alpha: clamp(alpha, 0, 1) };
     let i = this.opacities.findIndex((p) => p.x > point.x);
     if (i < 0) i = this.opacities.length;
@@ -316,7 +243,7 @@ export class TfModel {
   }
 
   addColor(x: number, rgb?: Rgb): number {
-    if (this.colors.length >= MAX_POINTS) return -1;
+    if (this.colors.length >= this.terms.maxPoints) return -1;
     const at = clamp(x, 0, 1);
     const point = { x: at, rgb: rgb ?? this.colorAt(at) };
     let i = this.colors.findIndex((p) => p.x > at);
@@ -391,7 +318,7 @@ export class TfModel {
   /** What `set` sends: the whole transfer function as points. */
   toProtocol(): TransferFunctionPatch & TransferFunctionPoints {
     return {
-      name: this.name.slice(0, 64),
+      name: this.name,
       space: 'normalized',
       colors: structuredClone(this.colors),
       opacities: structuredClone(this.opacities),

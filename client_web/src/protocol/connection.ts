@@ -19,12 +19,10 @@ import {
   type ErrorMessage,
   type HelloMessage,
   type OpenedMessage,
-  type Preset,
   type ServerMessage,
   type State,
   type StateMessage,
   type StatePatch,
-  type TransferFunctionPoints,
   type VolumeSummary,
 } from './messages';
 
@@ -138,6 +136,12 @@ export interface ConnectionEvents {
   /** A render request was sent (id, interactive). */
   renderSent: (id: number, interactive: boolean) => void;
   /**
+   * A render of this connection was answered by an error instead of a frame (`too_much_work`,
+   * `render_failed`, `no_session`: the server sends the render's id with it); `serverError`
+   * reports the error too.
+   */
+  renderFailed: (id: number, error: ServerError) => void;
+  /**
    * A viewer's session is gone from the server it reconnected to (its server died): it waits for
    * the owner to re-open it (`waiting`), or gave up after `followOwnerMs` (`ended`).
    */
@@ -151,8 +155,6 @@ export interface ConnectionOptions {
   requestTimeoutMs?: number;
   setTimer?: (callback: () => void, ms: number) => unknown;
   clearTimer?: (handle: unknown) => void;
-  /** The client's copy of the server's presets, to keep the state mirror exact. */
-  presetPoints?: (preset: Preset) => TransferFunctionPoints | undefined;
   /** The access token the server asks for on the WebSocket upgrade (`?token=`). */
   accessToken?: string;
   /** What the first WebSocket URL names (the page's volume or join link). */
@@ -190,6 +192,7 @@ export class Connection {
     serverError: [],
     problem: [],
     renderSent: [],
+    renderFailed: [],
     sessionLost: [],
   };
   private attempt = 0;
@@ -197,9 +200,9 @@ export class Connection {
   private reconnectTimer: unknown = null;
   private stopped = false;
   private readonly options: Required<
-    Omit<ConnectionOptions, 'presetPoints' | 'accessToken' | 'route'>
+    Omit<ConnectionOptions, 'accessToken' | 'route'>
   > &
-    Pick<ConnectionOptions, 'presetPoints' | 'accessToken'>;
+    Pick<ConnectionOptions, 'accessToken'>;
   /** What the current (or next) WebSocket URL names. */
   private route: Route;
   /** Waits for the hello of a WebSocket opened for another volume. */
@@ -224,7 +227,6 @@ export class Connection {
       requestTimeoutMs: options.requestTimeoutMs ?? 30000,
       setTimer: options.setTimer ?? ((cb, ms) => setTimeout(cb, ms)),
       clearTimer: options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>)),
-      presetPoints: options.presetPoints,
       accessToken: options.accessToken,
       followOwnerMs: options.followOwnerMs ?? 15000,
       followRetryMs: options.followRetryMs ?? 500,
@@ -544,8 +546,16 @@ export class Connection {
       return;
     }
     if (message.type === 'error') {
-      const wasRender = id !== undefined && this.renderIds.delete(id);
-      this.emit('serverError', new ServerError(message, wasRender ? 'render' : undefined));
+      const render = id !== undefined && this.renderIds.has(id) ? id : undefined;
+      const error = new ServerError(message, render !== undefined ? 'render' : undefined);
+      if (render !== undefined) {
+        // Renders are answered in order: an older one still outstanding was superseded by it.
+        this.renderIds.forEach((r) => {
+          if (r <= render) this.renderIds.delete(r);
+        });
+        this.emit('renderFailed', render, error);
+      }
+      this.emit('serverError', error);
       return;
     }
     this.emit('problem', `unexpected ${message.type} from the server`);
@@ -659,7 +669,11 @@ export class Connection {
   async set(patch: StatePatch): Promise<void> {
     await this.request({ type: 'set', ...patch });
     if (this.session) {
-      this.session.state = applyPatch(this.session.state, patch, this.options.presetPoints);
+      // A preset is mirrored as the server's hello announced it, as the server sets it.
+      const presets = this.hello?.presets ?? [];
+      this.session.state = applyPatch(this.session.state, patch, (name) =>
+        structuredClone(presets.find((p) => p.name === name)),
+      );
     }
   }
 

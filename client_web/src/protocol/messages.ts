@@ -12,23 +12,10 @@ export type Rgb = [number, number, number];
 export type Mode = string;
 export const ENCODINGS = ['jpeg', 'png'] as const;
 export type Encoding = (typeof ENCODINGS)[number];
-export const PRESETS = [
-  'grey_ramp',
-  'mri_skin',
-  'mri_brain',
-  'ct_bone',
-  'ct_skin',
-  'ct_soft_tissue',
-  'ct_lung',
-  'ct_angio',
-] as const;
-/** The presets in Hounsfield units (server/scene/src/transfer_function.cpp), for CT volumes. */
-export const HOUNSFIELD_PRESETS = ['ct_bone', 'ct_skin', 'ct_soft_tissue', 'ct_lung', 'ct_angio'] as const;
-/** How far Hounsfield positions may reach (scene::max_hounsfield_position). */
-export const MAX_HOUNSFIELD_POSITION = 100000;
 /** Where positions lie: fractions of the volume's range, or Hounsfield units (the CT presets). */
 export type PositionSpace = 'normalized' | 'hounsfield';
-export type Preset = (typeof PRESETS)[number];
+/** A transfer-function preset's name; the server's `hello` lists its presets with their points. */
+export type Preset = string;
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
 export type Compositing = (typeof COMPOSITINGS)[number];
 export const STAGES = ['compute', 'fragment'] as const;
@@ -205,7 +192,8 @@ export interface VolumeSummary {
   loaded: boolean;
 }
 
-export interface Limits {
+/** The limits a server is configured with (`penumbra serve` options). */
+export interface ConfiguredLimits {
   max_message_bytes: number;
   max_image_side: number;
   max_slices: number;
@@ -219,7 +207,20 @@ export interface Limits {
   max_json_depth: number;
 }
 
-export const DEFAULT_LIMITS: Limits = {
+/**
+ * What a server accepts (hello.limits): its configured limits, and those the protocol fixes: the
+ * points of a transfer function's list, how far a Hounsfield position reaches, and the longest
+ * string each string member of a request takes, keyed `type/member` (`open/volume`,
+ * `set/transfer_function/name`).
+ */
+export interface Limits extends ConfiguredLimits {
+  max_transfer_function_points: number;
+  max_hounsfield_position: number;
+  max_string_bytes: Record<string, number>;
+}
+
+/** A server's configured limits at their defaults: what the controls span until its hello. */
+export const DEFAULT_LIMITS: ConfiguredLimits = {
   max_message_bytes: 65536,
   max_image_side: 2048,
   max_slices: 1024,
@@ -289,6 +290,10 @@ export interface HelloMessage {
   server: string;
   modes: ModeCapabilities[];
   ranges: SettingRanges;
+  /** The transfer-function presets, each as a state holds it once `{preset: name}` set it. */
+  presets: TransferFunctionPoints[];
+  /** [min, max] HU over which Hounsfield positions are read on a volume not marked HU. */
+  nominal_ct_range: [number, number];
   encodings: Encoding[];
   renderer: { renderer: string; version: string; platform: string; software: boolean };
   limits: Limits;
@@ -537,19 +542,8 @@ function checkRangedNumbers(
   }
 }
 
-function checkState(v: unknown, at: string, ranges: SettingRanges): State {
-  const o = need(isObject(v), v as Record<string, unknown>, 'a state', at);
-  const camera = obj(o, 'camera', at);
-  for (const key of ['eye', 'target', 'up']) {
-    numbers(camera, key, `${at}/camera`, 3);
-  }
-  const light = obj(o, 'light', at);
-  str(light, 'type', `${at}/light`);
-  numbers(light, 'direction', `${at}/light`, 3);
-  numbers(light, 'position', `${at}/light`, 3);
-  numbers(light, 'color', `${at}/light`, 3);
-  const tf = obj(o, 'transfer_function', at);
-  const tfAt = `${at}/transfer_function`;
+/** A transfer function's colour and opacity points (a state's, a preset's). */
+function checkPoints(tf: Record<string, unknown>, tfAt: string): void {
   need(Array.isArray(tf['colors']), null, 'an array', `${tfAt}/colors`);
   need(Array.isArray(tf['opacities']), null, 'an array', `${tfAt}/opacities`);
   (tf['colors'] as unknown[]).forEach((p, i) => {
@@ -562,6 +556,20 @@ function checkState(v: unknown, at: string, ranges: SettingRanges): State {
     num(point, 'x', `${tfAt}/opacities/${i}`);
     num(point, 'alpha', `${tfAt}/opacities/${i}`);
   });
+}
+
+function checkState(v: unknown, at: string, ranges: SettingRanges): State {
+  const o = need(isObject(v), v as Record<string, unknown>, 'a state', at);
+  const camera = obj(o, 'camera', at);
+  for (const key of ['eye', 'target', 'up']) {
+    numbers(camera, key, `${at}/camera`, 3);
+  }
+  const light = obj(o, 'light', at);
+  str(light, 'type', `${at}/light`);
+  numbers(light, 'direction', `${at}/light`, 3);
+  numbers(light, 'position', `${at}/light`, 3);
+  numbers(light, 'color', `${at}/light`, 3);
+  checkPoints(obj(o, 'transfer_function', at), `${at}/transfer_function`);
   const settings = obj(o, 'settings', at);
   const sAt = `${at}/settings`;
   str(settings, 'mode', sAt);
@@ -621,6 +629,14 @@ export function parseServerMessage(text: string, ranges?: SettingRanges): Server
         bool(range, 'integer', `/ranges/${path}`);
         if (range['summary'] !== undefined) str(range, 'summary', `/ranges/${path}`);
       }
+      need(Array.isArray(o['presets']), null, 'an array of presets', '/presets');
+      (o['presets'] as unknown[]).forEach((p, i) => {
+        const preset = need(isObject(p), p as Record<string, unknown>, 'a preset', `/presets/${i}`);
+        str(preset, 'name', `/presets/${i}`);
+        str(preset, 'space', `/presets/${i}`);
+        checkPoints(preset, `/presets/${i}`);
+      });
+      numbers(o, 'nominal_ct_range', '', 2);
       need(Array.isArray(o['encodings']), null, 'an array of encodings', '/encodings');
       const renderer = obj(o, 'renderer', '');
       for (const key of ['renderer', 'version', 'platform']) {
@@ -628,9 +644,11 @@ export function parseServerMessage(text: string, ranges?: SettingRanges): Server
       }
       bool(renderer, 'software', '/renderer');
       const limits = obj(o, 'limits', '');
-      for (const key of Object.keys(DEFAULT_LIMITS)) {
+      for (const key of [...Object.keys(DEFAULT_LIMITS), 'max_transfer_function_points', 'max_hounsfield_position']) {
         num(limits, key, '/limits');
       }
+      const lengths = obj(limits, 'max_string_bytes', '/limits');
+      for (const key of Object.keys(lengths)) num(lengths, key, '/limits/max_string_bytes');
       return o as unknown as HelloMessage;
     }
     case 'volumes': {
@@ -681,7 +699,7 @@ export function encodeClientMessage(message: ClientMessage): string {
   return JSON.stringify(message);
 }
 
-// ---- client message checks (as the server does them, at the default limits) --------------------
+// ---- client message checks (as the server does them, at its hello's terms) ------------------
 
 /** A problem the server would report: its error code and JSON pointer. */
 export interface Problem {
@@ -794,6 +812,14 @@ const vector =
   };
 
 /**
+ * A string no longer than the server takes for the member `key` (`open/volume`,
+ * hello.limits.max_string_bytes); a member it announces no length for is left to it.
+ */
+function textOf(limits: Limits, key: string): Check {
+  return string(limits.max_string_bytes[key] ?? Infinity);
+}
+
+/**
  * A number within the server's range for the setting at `path` (hello.ranges), a whole one where
  * the range says so; a server that announces no range for it judges it itself.
  */
@@ -836,13 +862,13 @@ function specAt(path: string, shape: Shape, ranges: SettingRanges): Spec {
   return spec;
 }
 
-function points(item: Spec, required: string[], valueKey: string) {
+function points(item: Spec, required: string[], valueKey: string, maxPoints: number) {
   return (value: Json, at: string): void => {
     if (!Array.isArray(value)) {
       reject('invalid_value', at, 'expected an array');
     }
-    if (value.length > 256) {
-      reject('out_of_range', at, 'more than 256 points');
+    if (value.length > maxPoints) {
+      reject('out_of_range', at, `more than ${maxPoints} points`);
     }
     value.forEach((p, i) => members(p, `${at}/${i}`, item, required, 'invalid_value'));
     for (let i = 1; i < value.length; ++i) {
@@ -869,20 +895,24 @@ function lightSpec(ranges: SettingRanges): Spec {
   return specAt('light', shape, ranges);
 }
 
-const checkTransferFunction = (ranges: SettingRanges) => (value: Json, at: string): void => {
-  if (isObject(value) && 'preset' in value) {
-    members(value, at, { preset: oneOf(PRESETS) });
-    return;
-  }
-  const hounsfield = isObject(value) && value['space'] === 'hounsfield';
-  const x = hounsfield ? number(-MAX_HOUNSFIELD_POSITION, MAX_HOUNSFIELD_POSITION) : number(0, 1);
-  members(value, at, {
-    name: string(64),
-    space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
-    colors: points({ x, rgb: rgb(ranges) }, ['x', 'rgb'], 'colors'),
-    opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities'),
-  });
-};
+const checkTransferFunction =
+  (ranges: SettingRanges, limits: Limits, presets: readonly string[] | null) =>
+  (value: Json, at: string): void => {
+    if (isObject(value) && 'preset' in value) {
+      members(value, at, { preset: presets === null ? string(Infinity) : oneOf(presets) });
+      return;
+    }
+    const hounsfield = isObject(value) && value['space'] === 'hounsfield';
+    const reach = limits.max_hounsfield_position;
+    const x = hounsfield ? number(-reach, reach) : number(0, 1);
+    const most = limits.max_transfer_function_points;
+    members(value, at, {
+      name: textOf(limits, 'set/transfer_function/name'),
+      space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
+      colors: points({ x, rgb: rgb(ranges) }, ['x', 'rgb'], 'colors', most),
+      opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities', most),
+    });
+  };
 
 function settingsSpec(
   limits: Limits,
@@ -921,10 +951,22 @@ function subtract(a: Vec3, b: Vec3): Vec3 {
 export interface ServerTerms {
   /** Its settings' ranges: which members of a `set` are numbers, and their limits. */
   ranges: SettingRanges;
-  /** Its limits; DEFAULT_LIMITS when not given. */
-  limits?: Limits;
+  /** Its limits. */
+  limits: Limits;
   /** The mode names it offers; absent or null: any name, left to the server. */
   modes?: readonly string[] | null;
+  /** Its presets' names; absent or null: any name, left to the server. */
+  presets?: readonly string[] | null;
+}
+
+/** The terms a server's hello states: its ranges, limits, modes and presets. */
+export function termsOf(hello: HelloMessage): ServerTerms {
+  return {
+    ranges: hello.ranges,
+    limits: hello.limits,
+    modes: hello.modes.map((m) => m.name),
+    presets: hello.presets.map((p) => p.name),
+  };
 }
 
 /**
@@ -935,7 +977,7 @@ export interface ServerTerms {
  * development.
  */
 export function checkClientMessage(value: unknown, server: ServerTerms): Problem | null {
-  const { ranges, limits = DEFAULT_LIMITS, modes = null } = server;
+  const { ranges, limits, modes = null, presets = null } = server;
   try {
     if (!isObject(value)) {
       reject('invalid_message', '/', 'not an object');
@@ -971,16 +1013,21 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
         members(o, '', envelope);
         break;
       case 'open':
-        members(o, '', { ...envelope, volume: string(256) }, ['volume']);
+        members(o, '', { ...envelope, volume: textOf(limits, 'open/volume') }, ['volume']);
         break;
       case 'join':
-        members(o, '', { ...envelope, session: string(64) }, ['session']);
+        members(o, '', { ...envelope, session: textOf(limits, 'join/session') }, ['session']);
         break;
       case 'resume':
         members(
           o,
           '',
-          { ...envelope, session: string(64), owner_token: string(64), volume: string(256) },
+          {
+            ...envelope,
+            session: textOf(limits, 'resume/session'),
+            owner_token: textOf(limits, 'resume/owner_token'),
+            volume: textOf(limits, 'resume/volume'),
+          },
           ['session', 'owner_token'],
         );
         break;
@@ -1012,7 +1059,7 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
               reject('invalid_value', `${at}/direction`, 'zero direction');
             }
           },
-          transfer_function: checkTransferFunction(ranges),
+          transfer_function: checkTransferFunction(ranges, limits, presets),
           settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
           output: (v, at) =>
             members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
@@ -1062,8 +1109,8 @@ export function orbitOf(eye: Vec3, target: Vec3): Required<Orbit> {
 
 /**
  * The state after the server accepted `patch` (its `ack`), so a reconnecting client can send it
- * back. A preset transfer function is kept as `presetPoints` gives it (the client's copy of the
- * server's presets), or left as it was when that is not known.
+ * back. A preset transfer function is kept as `presetPoints` gives it (the server's presets, from
+ * its hello), or left as it was when that is not known.
  */
 export function applyPatch(
   state: State,

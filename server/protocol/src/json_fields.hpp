@@ -3,6 +3,7 @@
 // Strict reading of JSON fields: every failure names the JSON pointer of the field.
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
@@ -65,5 +66,9 @@ base::Status optional_member(const json& object, const std::string& pointer, con
     target = *value;
     return base::Ok{};
 }
+
+// A transfer function in the shape `set` takes and a state reports: {"name", "space", "colors":
+// [{"x", "rgb"}], "opacities": [{"x", "alpha"}]} (hello's presets too).
+json transfer_function_json(const scene::TransferFunction& tf);
 
 }  // namespace penumbra::protocol::json_fields

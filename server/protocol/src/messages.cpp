@@ -4,6 +4,7 @@
 #include "patch_document.hpp"
 
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <cstdint>
 #include <limits>
@@ -202,6 +203,46 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     return request;
 }
 
+namespace {
+
+// The longest string each member of a client message takes, keyed "type/member" (the members its
+// `members()` lists, and a transfer function's name in `set`), so that a client checks its
+// requests against the server's own lengths.
+template <class... Messages>
+json max_string_bytes(std::type_identity<std::variant<Messages...>>) {
+    json lengths = json::object();
+    const auto add = [&]<class Message>(std::type_identity<Message>) {
+        if constexpr (requires { Message::members(); }) {
+            std::apply(
+                    [&](const auto&... listed) {
+                        const auto add_string = [&](const auto& member) {
+                            if (member.max_bytes > 0) {
+                                lengths[std::string(Message::type) + "/" +
+                                        std::string(member.name)] = member.max_bytes;
+                            }
+                        };
+                        (add_string(listed), ...);
+                    },
+                    Message::members());
+        }
+    };
+    (add(std::type_identity<Messages>{}), ...);
+    lengths[std::string(Set::type) + "/transfer_function/name"] = max_transfer_function_name_bytes;
+    return lengths;
+}
+
+// The transfer-function presets, in the shape a state reports them, so that a client offers and
+// shows them without copies of its own.
+json presets_json() {
+    json presets = json::array();
+    for (const std::string& name : scene::preset_names()) {
+        presets.push_back(transfer_function_json(scene::preset(name).value()));
+    }
+    return presets;
+}
+
+}  // namespace
+
 std::string hello_message(const Limits& limits, const RendererSummary& renderer) {
     json modes = json::array();
     for (const scene::ModeInfo& mode : scene::modes()) {
@@ -226,6 +267,9 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                     {"server", "penumbra"},
                     {"modes", modes},
                     {"ranges", ranges},
+                    {"presets", presets_json()},
+                    {"nominal_ct_range",
+                     {scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}},
                     {"encodings", {"jpeg", "png"}},
                     {"renderer",
                      {{"renderer", renderer.renderer},
@@ -243,7 +287,11 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                       {"max_requests_per_second", limits.max_requests_per_second},
                       {"max_send_queue", limits.max_send_queue},
                       {"max_frame_work", limits.max_frame_work},
-                      {"max_json_depth", limits.max_json_depth}}}},
+                      {"max_json_depth", limits.max_json_depth},
+                      {"max_transfer_function_points", max_transfer_function_points},
+                      {"max_hounsfield_position", scene::max_hounsfield_position},
+                      {"max_string_bytes",
+                       max_string_bytes(std::type_identity<ClientMessage>{})}}}},
                    std::nullopt)
             .dump();
 }

@@ -17,7 +17,9 @@ namespace {
 using namespace json_fields;  // NOLINT(google-build-using-namespace): local JSON vocabulary
 
 constexpr double max_coordinate = scene::setting::coordinate.max;
-constexpr std::size_t max_tf_points = 256;
+// A transfer function's positions in the volume's own values: the spelling of transfer-function
+// files (not of the protocol's states), turned into normalised positions as they are read.
+constexpr std::string_view data_space_name = "data";
 
 #define PENUMBRA_TRY(expression)                     \
     do {                                             \
@@ -222,34 +224,39 @@ base::Result<scene::TransferFunction> transfer_function_from(
     scene::TransferFunction tf;
     tf.name = "custom";
     PENUMBRA_TRY(optional_member(j, p, "name", tf.name, [](const json& v, const std::string& q) {
-        return string(v, q, 64);
+        return string(v, q, max_transfer_function_name_bytes);
     }));
-    std::string space = "normalized";
+    std::string space(scene::name_of(scene::PositionSpace::normalized));
     PENUMBRA_TRY(optional_member(j, p, "space", space, [](const json& v, const std::string& q) {
         return string(v, q, 16);
     }));
-    if (space != "normalized" && space != "data" && space != "hounsfield") {
-        return field_error("invalid_value", p + "/space",
-                           "expected normalized, hounsfield or data");
+    const bool data_space = space == data_space_name;
+    if (!data_space) {
+        const auto parsed = scene::parse_name<scene::PositionSpace>(space);
+        if (!parsed) {
+            return field_error("invalid_value", p + "/space",
+                               "expected " + scene::name_list<scene::PositionSpace>(", ") + " or " +
+                                       std::string(data_space_name));
+        }
+        tf.space = *parsed;
     }
-    if (space == "hounsfield") {
-        tf.space = scene::PositionSpace::hounsfield;
-    }
-    if (space == "data" && !range) {
+    if (data_space && !range) {
         return field_error("invalid_value", p + "/space", "data positions need a volume range");
     }
     // Positions outside the range are accepted and clamped by validation's own message below.
     const auto to_unit = [&](double x) {
-        if (space != "data") {
+        if (!data_space) {
             return x;
         }
         const double width = range->second - range->first;
         return width > 0.0 ? (x - range->first) / width : 0.0;
     };
-    const double position_limit = space == "data"         ? 1e30
-                                  : space == "hounsfield" ? scene::max_hounsfield_position
-                                                          : 1.0;
-    const double position_low = space == "normalized" ? 0.0 : -position_limit;
+    const double position_limit = data_space ? 1e30
+                                  : tf.space == scene::PositionSpace::hounsfield
+                                          ? scene::max_hounsfield_position
+                                          : 1.0;
+    const double position_low =
+            !data_space && tf.space == scene::PositionSpace::normalized ? 0.0 : -position_limit;
     for (const char* list : {"colors", "opacities"}) {
         if (!j.contains(list)) {
             continue;
@@ -259,9 +266,10 @@ base::Result<scene::TransferFunction> transfer_function_from(
         if (!points.is_array()) {
             return field_error("invalid_value", lp, "expected an array");
         }
-        if (points.size() > max_tf_points) {
-            return field_error("out_of_range", lp,
-                               "at most " + std::to_string(max_tf_points) + " points");
+        if (points.size() > max_transfer_function_points) {
+            return field_error(
+                    "out_of_range", lp,
+                    "at most " + std::to_string(max_transfer_function_points) + " points");
         }
         const bool colors = std::string(list) == "colors";
         for (std::size_t i = 0; i < points.size(); ++i) {
@@ -477,17 +485,28 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     return base::Ok{};
 }
 
-std::string state_to_json(const SessionState& state) {
-    const scene::FrameRequest& f = state.frame;
-    const scene::RenderSettings& s = f.settings;
+namespace json_fields {
+
+json transfer_function_json(const scene::TransferFunction& tf) {
     json colors = json::array();
-    for (const auto& c : f.transfer_function.colors) {
+    for (const auto& c : tf.colors) {
         colors.push_back({{"x", c.x}, {"rgb", vec3_json(c.rgb)}});
     }
     json opacities = json::array();
-    for (const auto& o : f.transfer_function.opacities) {
+    for (const auto& o : tf.opacities) {
         opacities.push_back({{"x", o.x}, {"alpha", o.alpha}});
     }
+    return {{"name", tf.name},
+            {"space", scene::to_string(tf.space)},
+            {"colors", std::move(colors)},
+            {"opacities", std::move(opacities)}};
+}
+
+}  // namespace json_fields
+
+std::string state_to_json(const SessionState& state) {
+    const scene::FrameRequest& f = state.frame;
+    const scene::RenderSettings& s = f.settings;
     json out = {
             {"camera",
              {{"eye", vec3_json(f.camera.eye)},
@@ -498,11 +517,7 @@ std::string state_to_json(const SessionState& state) {
               {"direction", vec3_json(f.light.direction)},
               {"position", vec3_json(f.light.position)},
               {"color", vec3_json(f.light.color)}}},
-            {"transfer_function",
-             {{"name", f.transfer_function.name},
-              {"space", scene::to_string(f.transfer_function.space)},
-              {"colors", colors},
-              {"opacities", opacities}}},
+            {"transfer_function", transfer_function_json(f.transfer_function)},
             {"settings",
              {{"mode", scene::to_string(s.mode)},
               {"compositing", scene::to_string(s.compositing)},

@@ -126,10 +126,6 @@ std::vector<std::string> hounsfield_preset_names() {
     return {"ct_bone", "ct_skin", "ct_soft_tissue", "ct_lung", "ct_angio"};
 }
 
-const char* to_string(PositionSpace space) {
-    return space == PositionSpace::hounsfield ? "hounsfield" : "normalized";
-}
-
 base::Result<TransferFunction> preset(std::string_view name) {
     // The MRI presets are fractions of the value range, chosen on the Colin27 head (values
     // 0..254): air and noise below ~0.12, skin/scalp around 0.15-0.3, grey and white matter

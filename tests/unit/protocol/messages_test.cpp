@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace penumbra::protocol {
 namespace {
@@ -232,6 +233,90 @@ TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
     }
     EXPECT_EQ(ranges.at("settings/light_buffer/slab_samples").at("max"), scene::kMaxSlabSamples);
     EXPECT_EQ(ranges.at("camera/fov").at("summary"), scene::setting::fov_degrees.summary);
+}
+
+// The client offers and shows the presets from hello: each is what `{"preset": NAME}` sets, in
+// the shape a state reports it, so that sending it back as points gives the same function.
+TEST(ServerMessages, HelloCarriesEveryPresetAsAStateHoldsIt) {
+    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    const json& presets = hello.at("presets");
+    const std::vector<std::string> names = scene::preset_names();
+    ASSERT_EQ(presets.size(), names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        SCOPED_TRACE(names[i]);
+        const scene::TransferFunction expected = scene::preset(names[i]).value();
+        EXPECT_EQ(presets[i].at("name"), names[i]);
+        EXPECT_EQ(presets[i].at("space"), scene::to_string(expected.space));
+
+        SessionState by_name;
+        ASSERT_TRUE(apply_patch(json({{"transfer_function", {{"preset", names[i]}}}}).dump(),
+                                by_name, Limits{}));
+        EXPECT_EQ(presets[i], json::parse(state_to_json(by_name)).at("transfer_function"));
+        SessionState by_points;
+        ASSERT_TRUE(
+                apply_patch(json({{"transfer_function", presets[i]}}).dump(), by_points, Limits{}));
+        EXPECT_EQ(by_points.frame.transfer_function, expected);
+    }
+    EXPECT_EQ(hello.at("nominal_ct_range"),
+              json::array({scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}));
+}
+
+// The limits a client needs for its own checks that are not configured but fixed by the protocol
+// and scene: the points of a transfer function, how far a Hounsfield position reaches, and the
+// longest string each string member of a request takes, as parse_request reads it.
+TEST(ServerMessages, HelloAnnouncesTheFixedLimitsTheParserApplies) {
+    const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    const json& limits = hello.at("limits");
+    EXPECT_EQ(limits.at("max_transfer_function_points"), max_transfer_function_points);
+    EXPECT_EQ(limits.at("max_hounsfield_position").get<double>(), scene::max_hounsfield_position);
+    const json& lengths = limits.at("max_string_bytes");
+    EXPECT_EQ(lengths, json({{"open/volume", 256},
+                             {"join/session", 64},
+                             {"resume/session", 64},
+                             {"resume/owner_token", 64},
+                             {"resume/volume", 256},
+                             {"set/transfer_function/name", 64}}));
+    // Each announced length is the one the parser holds the member to.
+    for (const auto& [key, bytes] : lengths.items()) {
+        SCOPED_TRACE(key);
+        const std::size_t slash = key.find('/');
+        const std::string type = key.substr(0, slash);
+        const std::string pointer = key.substr(slash);
+        json message = {
+                {"v", 1}, {"type", type}, {"session", "s"}, {"owner_token", "t"}, {"volume", "v"}};
+        if (type == "open") {
+            message.erase("session");
+            message.erase("owner_token");
+        } else if (type == "join") {
+            message.erase("volume");
+            message.erase("owner_token");
+        } else if (type == "set") {
+            message = {{"v", 1}, {"type", "set"}};
+        }
+        const std::size_t n = bytes.get<std::size_t>();
+        message[json::json_pointer(pointer)] = std::string(n, 'a');
+        const auto fits = parse_request(message.dump(), Limits{});
+        ASSERT_TRUE(fits.ok()) << fits.error().to_string();
+        if (type == "set") {
+            SessionState state;
+            EXPECT_TRUE(apply_patch(std::get<Set>(fits->message).patch, state, Limits{}));
+        }
+        message[json::json_pointer(pointer)] = std::string(n + 1, 'a');
+        const auto too_long = parse_request(message.dump(), Limits{});
+        if (type == "set") {
+            ASSERT_TRUE(too_long.ok());
+            SessionState state;
+            const auto applied =
+                    apply_patch(std::get<Set>(too_long->message).patch, state, Limits{});
+            ASSERT_FALSE(applied);
+            EXPECT_EQ(applied.error().code, code::out_of_range);
+            EXPECT_EQ(applied.error().where, "/transfer_function/name");
+        } else {
+            ASSERT_FALSE(too_long.ok());
+            EXPECT_EQ(too_long.error().code, code::out_of_range);
+            EXPECT_EQ(too_long.error().where, pointer);
+        }
+    }
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {

@@ -241,6 +241,30 @@ TEST(ApplyPatch, NamesADecreasingTransferFunctionPoint) {
     EXPECT_EQ(status.error().where, "/transfer_function/colors/1");
 }
 
+// A transfer function's space is a name of scene's table, or "data" in a file, which is read over
+// the volume's range into normalised positions; any other name is refused, naming the choices.
+TEST(TransferFunctionJson, SpacesAreTheTablesNamesAndDataInFiles) {
+    SessionState state;
+    ASSERT_TRUE(apply_patch(R"({"transfer_function":{"space":"hounsfield",
+                               "opacities":[{"x":-500,"alpha":0}]}})",
+                            state, Limits{}));
+    EXPECT_EQ(state.frame.transfer_function.space, scene::PositionSpace::hounsfield);
+    const auto kelvin = apply_patch(R"({"transfer_function":{"space":"kelvin"}})", state, Limits{});
+    ASSERT_FALSE(kelvin.ok());
+    EXPECT_EQ(kelvin.error().where, "/transfer_function/space");
+    EXPECT_EQ(kelvin.error().message, "expected normalized, hounsfield or data");
+    const auto without_range =
+            apply_patch(R"({"transfer_function":{"space":"data"}})", state, Limits{});
+    ASSERT_FALSE(without_range.ok());
+    EXPECT_EQ(without_range.error().where, "/transfer_function/space");
+    const auto from_file =
+            parse_transfer_function(R"({"space":"data","opacities":[{"x":50,"alpha":1}]})",
+                                    std::pair{0.0, 200.0}, "tf.json");
+    ASSERT_TRUE(from_file.ok()) << from_file.error().to_string();
+    EXPECT_EQ(from_file->space, scene::PositionSpace::normalized);
+    EXPECT_DOUBLE_EQ(from_file->opacities.at(0).x, 0.25);
+}
+
 }  // namespace
 }  // namespace penumbra::protocol
 

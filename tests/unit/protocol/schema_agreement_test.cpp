@@ -10,6 +10,7 @@
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>
 
@@ -213,6 +214,41 @@ TEST(SchemaAgreement, ClientMessageMembersAreTheirSchemasProperties) {
     expect_members_in_schemas(std::type_identity<ClientMessage>{});
 }
 
+// hello.schema.json's mode capabilities are written from the kinds' name tables, never by hand.
+TEST(SchemaAgreement, HelloSchemaIsGenerated) {
+    const std::string committed =
+            test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / "hello.schema.json");
+    const auto generated = test::generated_hello_schema(committed);
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    EXPECT_TRUE(*generated == committed)
+            << "proto/v1/hello.schema.json differs from what the C++ tables make of it: run "
+               "scripts/update-schema.sh";
+    const json written = json::parse(*test::generated_hello_schema(R"({"title": "hello"})"));
+    const json& item = written.at("properties").at("modes").at("items").at("properties");
+    EXPECT_EQ(item.at("technique").at("enum"), names_in_table<scene::Technique>());
+    EXPECT_EQ(item.at("gradients").at("enum"), names_in_table<scene::Gradients>());
+    EXPECT_FALSE(test::generated_hello_schema("[1]").ok());
+}
+
+// What the transfer function's schema restates of C++: the preset names, the position spaces, the
+// most points, the longest name and how far a Hounsfield position reaches.
+TEST(SchemaAgreement, GeneratorWritesTheTransferFunctionsNamesAndLimits) {
+    const auto generated = test::generated_common_schema(R"({"$defs": {}})");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    const json defs = json::parse(*generated).at("$defs");
+    EXPECT_EQ(defs.at("preset").at("enum").get<std::vector<std::string>>(), scene::preset_names());
+    const json& points = defs.at("transfer_function").at("oneOf").at(1).at("properties");
+    EXPECT_EQ(points.at("space").at("enum"), names_in_table<scene::PositionSpace>());
+    EXPECT_EQ(points.at("name").at("maxLength"), max_transfer_function_name_bytes);
+    for (const char* list : {"colors", "opacities"}) {
+        SCOPED_TRACE(list);
+        EXPECT_EQ(points.at(list).at("maxItems"), max_transfer_function_points);
+        const json& x = points.at(list).at("items").at("properties").at("x");
+        EXPECT_EQ(x.at("maximum").get<double>(), scene::max_hounsfield_position);
+        EXPECT_EQ(x.at("minimum").get<double>(), -scene::max_hounsfield_position);
+    }
+}
+
 // hello.schema.json names the mode capabilities as scene's name tables do: every kind, no other.
 TEST(SchemaAgreement, HelloModeCapabilitiesNameEveryKind) {
     const json hello = schema("hello.schema.json");
@@ -254,8 +290,9 @@ TEST(SchemaAgreement, EveryBoundedSettingInTheSchemaHasARange) {
 }
 
 // The web client checks messages with the ranges of a hello (no copy of its own); its tests use
-// one recorded from a server, which must announce what the server announces now.
-TEST(SchemaAgreement, TheWebClientsRecordedHelloHasTheServersRanges) {
+// one recorded from a server, which must announce what the server announces now (its renderer
+// aside).
+TEST(SchemaAgreement, TheWebClientsRecordedHelloIsTheServers) {
     const std::filesystem::path recorded_file =
             std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() / "client_web" / "test" /
             "fixtures" / "server_messages.jsonl";
@@ -263,18 +300,19 @@ TEST(SchemaAgreement, TheWebClientsRecordedHelloHasTheServersRanges) {
     const auto generated = test::generated_recorded_hello(committed);
     ASSERT_TRUE(generated) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
-            << recorded_file << " records a hello whose ranges are not the server's: run "
+            << recorded_file << " records a hello that is not the server's: run "
             << "scripts/update-schema.sh";
 }
 
-TEST(SchemaAgreement, TheRecordedHelloIsRewrittenWithTheServersRanges) {
+TEST(SchemaAgreement, TheRecordedHelloIsRewrittenAsTheServerSendsIt) {
     const auto stale = test::generated_recorded_hello(
-            "{\"ranges\":{},\"type\":\"hello\",\"v\":1}\n{\"type\":\"opened\"}\n");
+            "{\"ranges\":{},\"renderer\":{\"renderer\":\"r\"},\"type\":\"hello\",\"v\":1}\n"
+            "{\"type\":\"opened\"}\n");
     ASSERT_TRUE(stale) << stale.error().to_string();
     const json hello = json::parse(stale->substr(0, stale->find('\n')));
-    EXPECT_EQ(
-            hello.at("ranges"),
-            json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true})).at("ranges"));
+    json sent = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
+    sent["renderer"] = {{"renderer", "r"}};
+    EXPECT_EQ(hello, sent);
     EXPECT_EQ(stale->substr(stale->find('\n')), "\n{\"type\":\"opened\"}\n");
     EXPECT_FALSE(test::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
 }

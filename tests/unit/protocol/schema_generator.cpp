@@ -4,6 +4,7 @@
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -191,14 +192,47 @@ base::Result<std::string> generated_readme(std::string_view committed,
            std::string(committed.substr(end));
 }
 
-// The enum of the field that holds one of `Enum`'s values: its names from scene's name table.
+// `Enum`'s names from scene's name table, in its order.
 template <scene::NamedEnum Enum>
-void write_names(json& defs, std::string_view field) {
+json names_of_enum() {
     json names = json::array();
     for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
         names.push_back(row.name);
     }
-    node_of(defs, field)["enum"] = std::move(names);
+    return names;
+}
+
+// The enum of the field that holds one of `Enum`'s values.
+template <scene::NamedEnum Enum>
+void write_names(json& defs, std::string_view field) {
+    node_of(defs, field)["enum"] = names_of_enum<Enum>();
+}
+
+// What $defs/transfer_function's points form restates: the preset names, the position spaces,
+// the longest name, the most points and how far a Hounsfield position reaches.
+void write_transfer_function(json& defs) {
+    json presets = json::array();
+    for (const std::string& name : scene::preset_names()) {
+        presets.push_back(name);
+    }
+    defs["preset"]["enum"] = std::move(presets);
+    json& oneof = defs["transfer_function"]["oneOf"];
+    if (!oneof.is_array() || oneof.size() < 2) {
+        oneof = json::array({json::object(), json::object()});
+    }
+    json& points = oneof[1]["properties"];
+    points["name"]["type"] = "string";
+    points["name"]["maxLength"] = max_transfer_function_name_bytes;
+    points["space"]["enum"] = names_of_enum<scene::PositionSpace>();
+    for (const char* list : {"colors", "opacities"}) {
+        json& node = points[list];
+        node["type"] = "array";
+        node["maxItems"] = max_transfer_function_points;
+        json& x = node["items"]["properties"]["x"];
+        x["type"] = "number";
+        x["minimum"] = number(-scene::max_hounsfield_position);
+        x["maximum"] = number(scene::max_hounsfield_position);
+    }
 }
 
 base::Result<std::string> generated_common_schema(std::string_view committed) {
@@ -220,6 +254,7 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     write_names<scene::RaycastStage>(defs, "settings/stage");
     write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");
     write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
+    write_transfer_function(defs);
 
     json client_types = json::array();
     for (const std::string_view type : kClientMessageTypes) {
@@ -236,6 +271,19 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     return schema.dump(2) + "\n";
 }
 
+base::Result<std::string> generated_hello_schema(std::string_view committed) {
+    json schema = json::parse(committed, nullptr, false);
+    if (schema.is_discarded() || !schema.is_object()) {
+        return base::make_error("invalid_value", "not a JSON object", "/");
+    }
+    json& capabilities = schema["properties"]["modes"]["items"]["properties"];
+    capabilities["technique"]["enum"] = names_of_enum<scene::Technique>();
+    capabilities["shadows"]["enum"] = names_of_enum<scene::ShadowKind>();
+    capabilities["scattering"]["enum"] = names_of_enum<scene::ScatteringKind>();
+    capabilities["gradients"]["enum"] = names_of_enum<scene::Gradients>();
+    return schema.dump(2) + "\n";
+}
+
 base::Result<std::string> generated_recorded_hello(std::string_view committed) {
     const std::size_t line_end = std::min(committed.find('\n'), committed.size());
     // The server writes its messages with nlohmann's default (sorted) objects; so is the recording.
@@ -244,9 +292,9 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
         return base::make_error("invalid_argument", "the first recorded message is not a hello",
                                 "1");
     }
-    auto hello = recorded;
-    hello["ranges"] = nlohmann::json::parse(
-            hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}))["ranges"];
+    // Everything but the renderer, which says what the recording's machine drew with.
+    auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    hello["renderer"] = recorded.value("renderer", nlohmann::json::object());
     return hello.dump() + std::string(committed.substr(line_end));
 }
 

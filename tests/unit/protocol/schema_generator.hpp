@@ -1,13 +1,15 @@
 #pragma once
 
 // What proto/v1/common.schema.json restates of the C++ tables, for clients that cannot read C++:
-// scene's mode table, the names of the settings' enums (scene's name tables), each setting's range
+// scene's mode table, the names of the settings' enums (scene's name tables), the transfer
+// function's preset names, position spaces and limits, each setting's range
 // (kSettingRanges: type, minimum, maximum and, where the row has one, its summary as the
 // description; a setting that a state holds is required there) and the client message types (the
 // request variant). The rest of the file is written by hand. proto/README.md's table of the client
-// messages is written from their schemas the same way, and the ranges of the hello the web client's
-// tests recorded from the server. update_schema writes these parts into the files
-// (scripts/update-schema.sh) and SchemaAgreement.*IsGenerated fail while a committed file differs.
+// messages is written from their schemas the same way, hello.schema.json's mode capabilities from
+// the kinds' name tables, and the hello the web client's tests recorded from the server.
+// update_schema writes these parts into the files (scripts/update-schema.sh) and
+// SchemaAgreement.*IsGenerated fail while a committed file differs.
 
 #include <penumbra/base/result.hpp>
 
@@ -31,10 +33,16 @@ inline constexpr std::string_view kTableEnd = "<!-- End of the client messages. 
 base::Result<std::string> generated_readme(std::string_view committed,
                                            const std::filesystem::path& schema_dir);
 
+// `committed`, the text of hello.schema.json, with the mode capabilities' names (technique,
+// shadows, scattering, gradients) written from scene's name tables; an error where it is not an
+// object.
+base::Result<std::string> generated_hello_schema(std::string_view committed);
+
 // `committed`, the text of the web client's recorded server messages
 // (client_web/test/fixtures/server_messages.jsonl, one message a line, hello first), with the
-// hello's `ranges` the server announces now, so that the client's tests see the current table.
-// The rest of the recording is left as it was; an error where the first line is not a hello.
+// hello the server sends now (its modes, ranges, presets and limits at their defaults; the
+// recorded renderer kept), so that the client's tests see the current tables. The rest of the
+// recording is left as it was; an error where the first line is not a hello.
 base::Result<std::string> generated_recorded_hello(std::string_view committed);
 
 }  // namespace penumbra::protocol::test

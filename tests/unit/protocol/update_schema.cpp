@@ -1,6 +1,6 @@
-// Writes the generated parts of proto/v1/common.schema.json, proto/README.md and the ranges of the
-// hello the web client's tests recorded (schema_generator.hpp) into them: update_schema PROTO_DIR.
-// scripts/update-schema.sh builds and runs it.
+// Writes the generated parts of proto/v1/common.schema.json and hello.schema.json, proto/README.md
+// and the hello the web client's tests recorded (schema_generator.hpp) into them: update_schema
+// PROTO_DIR. scripts/update-schema.sh builds and runs it.
 
 #include "schema_generator.hpp"
 
@@ -59,11 +59,14 @@ int main(int argc, char** argv) {
     const bool schema = update(proto / "v1" / "common.schema.json", [](std::string_view text) {
         return protocol_test::generated_common_schema(text);
     });
+    const bool hello = update(proto / "v1" / "hello.schema.json", [](std::string_view text) {
+        return protocol_test::generated_hello_schema(text);
+    });
     const bool readme = update(proto / "README.md", [&](std::string_view text) {
         return protocol_test::generated_readme(text, proto / "v1");
     });
     const bool recorded_hello = update(
             proto.parent_path() / "client_web" / "test" / "fixtures" / "server_messages.jsonl",
             [](std::string_view text) { return protocol_test::generated_recorded_hello(text); });
-    return schema && readme && recorded_hello ? 0 : 1;
+    return schema && hello && readme && recorded_hello ? 0 : 1;
 }

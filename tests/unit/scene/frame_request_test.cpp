@@ -99,20 +99,29 @@ TEST(EnumNames, ListsAndChoicesFollowTheTable) {
     EXPECT_EQ(name_list<Compositing>("|"), "alpha|extinction");
 }
 
-// The check each table's static_assert makes refuses a missing, misplaced or unnamed row.
+// An enum that grew a value after the last row of its table.
+enum class Grown { first, second, added_later };
+
+// The check each table's static_assert makes refuses a missing, misplaced or unnamed row, and a
+// value added after the last row (no table names its enum's last value by hand).
 TEST(EnumNames, TheCoverageCheckRefusesGaps) {
-    EXPECT_TRUE(names_each_value(kShadowKindNames, ShadowKind::rays));
+    EXPECT_TRUE(names_each_value(kShadowKindNames));
     const std::array<EnumName<ShadowKind>, 2> missing{
             {{ShadowKind::none, "none"}, {ShadowKind::light_buffer, "light_buffer"}}};
-    EXPECT_FALSE(names_each_value(missing, ShadowKind::rays));
+    EXPECT_FALSE(names_each_value(missing));
+    const std::array<EnumName<Grown>, 2> grown{
+            {{Grown::first, "first"}, {Grown::second, "second"}}};
+    EXPECT_FALSE(names_each_value(grown));
+    static_assert(is_enumerator<Grown, 2>() && !is_enumerator<Grown, 3>());
+    static_assert(has_values_up_to<Grown, 3>() && !has_values_up_to<Grown, 2>());
     const std::array<EnumName<ShadowKind>, 3> swapped{{{ShadowKind::none, "none"},
                                                        {ShadowKind::rays, "rays"},
                                                        {ShadowKind::light_buffer, "light_buffer"}}};
-    EXPECT_FALSE(names_each_value(swapped, ShadowKind::rays));
+    EXPECT_FALSE(names_each_value(swapped));
     const std::array<EnumName<ShadowKind>, 3> unnamed{{{ShadowKind::none, "none"},
                                                        {ShadowKind::light_buffer, ""},
                                                        {ShadowKind::rays, "rays"}}};
-    EXPECT_FALSE(names_each_value(unnamed, ShadowKind::rays));
+    EXPECT_FALSE(names_each_value(unnamed));
 }
 
 // validate's limits are the setting ranges: each end is accepted, a step beyond it refused.

@@ -26,6 +26,11 @@ struct Limits {
     int max_json_depth = 16;
 };
 
+// Fixed by the protocol rather than configured, announced in `hello.limits` with the rest: the
+// points a transfer function's colour or opacity list may hold, and the bytes of its name.
+inline constexpr std::size_t max_transfer_function_points = 256;
+inline constexpr std::size_t max_transfer_function_name_bytes = 64;
+
 inline constexpr int protocol_version = 1;
 
 }  // namespace penumbra::protocol

@@ -60,7 +60,7 @@ inline constexpr std::array<EnumName<View>, 6> kViewNames{{
         {View::superior, "superior"},
         {View::inferior, "inferior"},
 }};
-static_assert(names_each_value(kViewNames, View::inferior));
+static_assert(names_each_value(kViewNames));
 
 constexpr std::span<const EnumName<View>> names_of(View) {
     return kViewNames;

@@ -25,13 +25,40 @@ concept NamedEnum = std::is_enum_v<Enum> && requires(Enum value) {
     { names_of(value) } -> std::convertible_to<std::span<const EnumName<Enum>>>;
 };
 
-// Whether `table` names every value from the first to `last` in the enum's order, each with a
-// name: each table's static_assert, so a value without a row, or rows out of order, do not
-// compile.
+namespace detail {
+
+// The compiler's signature of this function for `Value`: GCC and Clang spell an enumerator by its
+// name in it ("Value = penumbra::scene::LightType::point") and any other value of the enum's type
+// as a cast ("Value = (penumbra::scene::LightType)2").
+template <auto Value>
+[[nodiscard]] constexpr std::string_view signature() {
+    return __PRETTY_FUNCTION__;
+}
+
+}  // namespace detail
+
+// Whether the value `index` of `Enum` is one of its enumerators (see detail::signature).
+template <typename Enum, std::size_t index>
+[[nodiscard]] constexpr bool is_enumerator() {
+    constexpr std::string_view text = detail::signature<static_cast<Enum>(index)>();
+    constexpr std::size_t at = text.find("Value = ");
+    static_assert(at != std::string_view::npos, "a compiler that spells signatures otherwise");
+    return text[at + std::string_view("Value = ").size()] != '(';
+}
+
+// Whether `Enum` has no value `count`: after rows for 0..count-1 (our enums count from 0 without
+// gaps), no value follows, so a value added after the last row is caught.
+template <typename Enum, std::size_t count>
+[[nodiscard]] constexpr bool has_values_up_to() {
+    return !is_enumerator<Enum, count>();
+}
+
+// Whether `table` names every value of the enum in its order, each with a name, and no value
+// follows the last row: each table's static_assert, so a value without a row (the last one
+// included), or rows out of order, do not compile.
 template <typename Enum, std::size_t N>
-[[nodiscard]] constexpr bool names_each_value(const std::array<EnumName<Enum>, N>& table,
-                                              Enum last) {
-    if (N != static_cast<std::size_t>(last) + 1) {
+[[nodiscard]] constexpr bool names_each_value(const std::array<EnumName<Enum>, N>& table) {
+    if (!has_values_up_to<Enum, N>()) {
         return false;
     }
     for (std::size_t i = 0; i < N; ++i) {

@@ -25,7 +25,7 @@ inline constexpr std::array<EnumName<Compositing>, 2> kCompositingNames{{
         {Compositing::alpha, "alpha"},
         {Compositing::extinction, "extinction"},
 }};
-static_assert(names_each_value(kCompositingNames, Compositing::extinction));
+static_assert(names_each_value(kCompositingNames));
 
 constexpr std::span<const EnumName<Compositing>> names_of(Compositing) {
     return kCompositingNames;
@@ -39,7 +39,7 @@ inline constexpr std::array<EnumName<RaycastStage>, 2> kRaycastStageNames{{
         {RaycastStage::compute, "compute"},
         {RaycastStage::fragment, "fragment"},
 }};
-static_assert(names_each_value(kRaycastStageNames, RaycastStage::fragment));
+static_assert(names_each_value(kRaycastStageNames));
 
 constexpr std::span<const EnumName<RaycastStage>> names_of(RaycastStage) {
     return kRaycastStageNames;
@@ -54,7 +54,7 @@ inline constexpr std::array<EnumName<LightBufferBuilder>, 2> kLightBufferBuilder
         {LightBufferBuilder::per_slice, "per_slice"},
         {LightBufferBuilder::multi_slice, "multi_slice"},
 }};
-static_assert(names_each_value(kLightBufferBuilderNames, LightBufferBuilder::multi_slice));
+static_assert(names_each_value(kLightBufferBuilderNames));
 
 constexpr std::span<const EnumName<LightBufferBuilder>> names_of(LightBufferBuilder) {
     return kLightBufferBuilderNames;
@@ -71,7 +71,7 @@ inline constexpr std::array<EnumName<LightLookup>, 2> kLightLookupNames{{
         {LightLookup::interpolate, "interpolate"},
         {LightLookup::local, "local"},
 }};
-static_assert(names_each_value(kLightLookupNames, LightLookup::local));
+static_assert(names_each_value(kLightLookupNames));
 
 constexpr std::span<const EnumName<LightLookup>> names_of(LightLookup) {
     return kLightLookupNames;

@@ -15,7 +15,7 @@ inline constexpr std::array<EnumName<LightType>, 2> kLightTypeNames{{
         {LightType::directional, "directional"},
         {LightType::point, "point"},
 }};
-static_assert(names_each_value(kLightTypeNames, LightType::point));
+static_assert(names_each_value(kLightTypeNames));
 
 constexpr std::span<const EnumName<LightType>> names_of(LightType) {
     return kLightTypeNames;

@@ -23,7 +23,7 @@ inline constexpr std::array<EnumName<Technique>, 2> kTechniqueNames{{
         {Technique::ray_casting, "ray_casting"},
         {Technique::half_angle_slicing, "half_angle_slicing"},
 }};
-static_assert(names_each_value(kTechniqueNames, Technique::half_angle_slicing));
+static_assert(names_each_value(kTechniqueNames));
 
 constexpr std::span<const EnumName<Technique>> names_of(Technique) {
     return kTechniqueNames;
@@ -37,7 +37,7 @@ inline constexpr std::array<EnumName<ShadowKind>, 3> kShadowKindNames{{
         {ShadowKind::light_buffer, "light_buffer"},
         {ShadowKind::rays, "rays"},
 }};
-static_assert(names_each_value(kShadowKindNames, ShadowKind::rays));
+static_assert(names_each_value(kShadowKindNames));
 
 constexpr std::span<const EnumName<ShadowKind>> names_of(ShadowKind) {
     return kShadowKindNames;
@@ -52,7 +52,7 @@ inline constexpr std::array<EnumName<ScatteringKind>, 3> kScatteringKindNames{{
         {ScatteringKind::shell, "shell"},
         {ScatteringKind::cone, "cone"},
 }};
-static_assert(names_each_value(kScatteringKindNames, ScatteringKind::cone));
+static_assert(names_each_value(kScatteringKindNames));
 
 constexpr std::span<const EnumName<ScatteringKind>> names_of(ScatteringKind) {
     return kScatteringKindNames;
@@ -70,7 +70,7 @@ inline constexpr std::array<EnumName<Gradients>, 3> kGradientsNames{{
         {Gradients::with_phong, "with_phong"},
         {Gradients::always, "always"},
 }};
-static_assert(names_each_value(kGradientsNames, Gradients::always));
+static_assert(names_each_value(kGradientsNames));
 
 constexpr std::span<const EnumName<Gradients>> names_of(Gradients) {
     return kGradientsNames;
@@ -133,8 +133,9 @@ inline constexpr std::array<ModeInfo, 7> kModes{{
 }};
 // clang-format on
 
-// A mode without a row, or rows out of order, does not compile: `reference` is the last mode.
-static_assert(kModes.size() == static_cast<std::size_t>(Mode::reference) + 1);
+// A mode without a row (one added after `reference` included), or rows out of order, does not
+// compile.
+static_assert(has_values_up_to<Mode, kModes.size()>());
 static_assert([] {
     for (std::size_t i = 0; i < kModes.size(); ++i) {
         if (kModes[i].mode != static_cast<Mode>(i)) {

@@ -1,10 +1,13 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/scene/enum_names.hpp>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <array>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +32,16 @@ struct OpacityPoint {
 };
 
 enum class PositionSpace { normalized, hounsfield };
+
+inline constexpr std::array<EnumName<PositionSpace>, 2> kPositionSpaceNames{{
+        {PositionSpace::normalized, "normalized"},
+        {PositionSpace::hounsfield, "hounsfield"},
+}};
+static_assert(names_each_value(kPositionSpaceNames));
+
+constexpr std::span<const EnumName<PositionSpace>> names_of(PositionSpace) {
+    return kPositionSpaceNames;
+}
 
 struct TransferFunction {
     std::string name;
@@ -78,7 +91,5 @@ std::vector<std::string> preset_names();
 
 // The presets in Hounsfield units, the ones that suit a volume whose values are HU.
 std::vector<std::string> hounsfield_preset_names();
-
-[[nodiscard]] const char* to_string(PositionSpace space);
 
 }  // namespace penumbra::scene
