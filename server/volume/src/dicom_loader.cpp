@@ -7,10 +7,13 @@
 //     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
 //     secondary captures, float or odd bit depths, mosaics that cannot be unpacked) are skipped
 //     with a warning naming each, so the series beside them opens; a folder of nothing else is that
-//     image's error. Sub-folders are searched too (unless LoadOptions says not), at most
-//     max_folder_depth levels and max_folder_files files deep: a DICOMDIR export root keeps its
-//     images in DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series.
-//     The DICOMDIR itself is not needed: every image file names its own series.
+//     image's error. Damaged files (cut short, unreadable headers) are skipped too, each named in
+//     a note on the volume; a slice of the series lost with one is a gap, which refuses the series
+//     (the spacing check, or the damaged file's own position where DCMTK read that far).
+//     Sub-folders are searched too (unless LoadOptions says not), at most max_folder_depth levels
+//     and max_folder_files files deep: a DICOMDIR export root keeps its images in
+//     DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series. The DICOMDIR
+//     itself is not needed: every image file names its own series.
 //   - Several series in one folder: LoadOptions::dicom_series picks one by SeriesNumber or
 //     SeriesInstanceUID; without it the error "several_series" lists them (a scout beside a
 //     series is a series of its own, and guessing would open the wrong one silently).
@@ -618,9 +621,9 @@ constexpr std::uint64_t max_folder_files = max_frames;
 // The files below the folder (in sub-folders too when `subfolders`) that carry the DICOM Part 10
 // marker, in path order so that logs and fallbacks are reproducible. Hidden files and folders
 // and links to folders are passed over.
-base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::filesystem::path& folder,
-                                                                bool subfolders,
-                                                                std::size_t& skipped) {
+base::Result<std::vector<std::filesystem::path>> dicom_files_in(
+        const std::filesystem::path& folder, bool subfolders,
+        std::vector<std::filesystem::path>& not_dicom) {
     std::error_code ec;
     std::vector<std::filesystem::path> files;
     std::uint64_t seen = 0;
@@ -648,7 +651,7 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
         if (is_dicom_file(it->path())) {
             files.push_back(it->path());
         } else {
-            ++skipped;
+            not_dicom.push_back(it->path());
         }
     }
     if (ec) {
@@ -662,10 +665,60 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
 // The image headers of a folder, with what was passed over.
 struct FolderImages {
     std::vector<Image> images;
-    std::size_t not_dicom = 0;
+    std::vector<std::filesystem::path> not_dicom;
     std::size_t not_images = 0;
     std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
+
+    // Files with the DICOM marker that cannot be read as an image (cut short, damaged headers),
+    // in path order: each one's error, and what of its header was read before the damage.
+    struct Damaged {
+        base::Error error;
+        std::string series_uid;
+        std::optional<std::array<double, 3>> position;  // ImagePositionPatient (LPS)
+    };
+
+    std::vector<Damaged> damaged;
+
+    // What a volume of the folder says about the files it passed over, one line each: every
+    // damaged file (the volume lacks whatever slices it held), and the files that are not DICOM.
+    [[nodiscard]] std::vector<std::string> notes() const;
+    // " (skipped as damaged: a, b)" where files were skipped, else empty: the likely cause of a
+    // gap in the series.
+    [[nodiscard]] std::string damaged_suffix() const;
 };
+
+std::vector<std::string> FolderImages::notes() const {
+    std::vector<std::string> lines;
+    for (const Damaged& file : damaged) {
+        lines.push_back("skipped " + file.error.where + " (" + file.error.code + ": " +
+                        file.error.message + "); whatever slices it holds are not in the volume");
+    }
+    if (!not_dicom.empty()) {
+        // A few names say what the files are; an export's thousand thumbnails need no list.
+        constexpr std::size_t named = 5;
+        std::string names;
+        for (std::size_t i = 0; i < std::min(named, not_dicom.size()); ++i) {
+            names += (i == 0 ? "" : ", ") + not_dicom[i].filename().string();
+        }
+        if (not_dicom.size() > named) {
+            names += ", ...";
+        }
+        lines.push_back("skipped " + std::to_string(not_dicom.size()) +
+                        " file(s) that are not DICOM (no DICM marker): " + names);
+    }
+    return lines;
+}
+
+std::string FolderImages::damaged_suffix() const {
+    if (damaged.empty()) {
+        return {};
+    }
+    std::string names;
+    for (const Damaged& file : damaged) {
+        names += (names.empty() ? "" : ", ") + file.error.where;
+    }
+    return " (skipped as damaged: " + names + ")";
+}
 
 // `keep_files`: keep each image's parsed file for its pixel data (a load), or drop it once its
 // header is read (a listing of a folder's series, which may hold thousands of files).
@@ -689,8 +742,22 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
             }
             continue;
         }
+        // A file carrying the DICOM marker that cannot be read (a copy cut short, a damaged
+        // header) is no reason to refuse its neighbours: skipped and noted, and a slice it held
+        // inside the series shows as the gap the spacing check refuses.
         if (!opened) {
-            return opened.error();
+            base::log_warning(log_component, "skipped " + opened.error().to_string());
+            // DCMTK keeps what it parsed before the damage: a file cut short in its pixel data
+            // still says where its slice lies, which tells a gap inside the series from a
+            // slice missing at an end.
+            FolderImages::Damaged damaged{opened.error(), {}, {}};
+            if (image.file && image.file->getDataset() != nullptr) {
+                DcmDataset& dataset = *image.file->getDataset();
+                damaged.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+                damaged.position = get_doubles<3>(dataset, DCM_ImagePositionPatient);
+            }
+            found.damaged.push_back(std::move(damaged));
+            continue;
         }
         if (*opened == Opened::not_an_image) {
             ++found.not_images;
@@ -701,17 +768,20 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
         }
         found.images.push_back(std::move(image));
     }
+    if (found.images.empty() && !found.damaged.empty()) {
+        return found.damaged.front().error;
+    }
     if (found.images.empty() && found.other_kind) {
         return *found.other_kind;
     }
-    if (found.images.empty() && found.not_dicom + found.not_images == 0) {
+    if (found.images.empty() && found.not_dicom.empty() && found.not_images == 0) {
         return base::make_error("no_dicom_images", "the folder holds no files",
                                 detail::at_file(folder));
     }
     if (found.images.empty()) {
         return base::make_error("no_dicom_images",
                                 "the folder holds no DICOM image files (" +
-                                        std::to_string(found.not_dicom) + " other files, " +
+                                        std::to_string(found.not_dicom.size()) + " other files, " +
                                         std::to_string(found.not_images) +
                                         " DICOM files without pixel data)",
                                 detail::at_file(folder));
@@ -1266,9 +1336,9 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     if (!found) {
         return found.error();
     }
-    if (found->not_dicom + found->not_images > 0) {
+    if (!found->not_dicom.empty() || found->not_images > 0) {
         base::log_info(log_component, folder.string() + ": skipped " +
-                                              std::to_string(found->not_dicom) +
+                                              std::to_string(found->not_dicom.size()) +
                                               " files that are not DICOM and " +
                                               std::to_string(found->not_images) +
                                               " DICOM files without pixel data");
@@ -1285,7 +1355,42 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     if (series_count > 1) {
         name = chosen->label();
     }
-    return assemble(images, name, folder, options);
+    auto volume = assemble(images, name, folder, options);
+    if (!volume) {
+        base::Error error = volume.error();
+        if (error.code == "inconsistent_series") {
+            error.message += found->damaged_suffix();
+        }
+        return error;
+    }
+    // A damaged slice of this series that lay between two slices of the volume leaves a gap that
+    // the spacing check cannot see where the slices left are evenly spaced (every other one
+    // damaged; two slices have one gap, always "even"): refused, as a gap is. One at a slice's
+    // own position (a damaged copy beside the intact file) or past an end takes nothing from
+    // between the slices; the note names it.
+    const double step = volume->spacing.z;
+    const double last_depth = step * static_cast<double>(volume->dims.z - 1);
+    for (const FolderImages::Damaged& file : found->damaged) {
+        if (file.series_uid != chosen->uid || !file.position || volume->dims.z < 2) {
+            continue;
+        }
+        const glm::dvec3 position((*file.position)[0], (*file.position)[1], (*file.position)[2]);
+        const double depth = glm::dot(volume->axes[2], lps_to_ras(position) - volume->origin);
+        const double off_grid = std::abs(depth / step - std::round(depth / step));
+        if (depth > same_position && depth < last_depth - same_position &&
+            off_grid > gap_tolerance) {
+            return base::make_error("inconsistent_series",
+                                    "the series lacks its slice " + millimetres(depth) +
+                                            " from its first along the slice normal, whose "
+                                            "file is damaged (" +
+                                            file.error.code + ": " + file.error.message + ")",
+                                    file.error.where);
+        }
+    }
+    auto notes = found->notes();
+    notes.insert(notes.end(), volume->notes.begin(), volume->notes.end());
+    volume->notes = std::move(notes);
+    return volume;
 }
 
 base::Result<Volume> load_dicom_file(const std::filesystem::path& path,

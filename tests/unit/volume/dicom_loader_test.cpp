@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numeric>
 #include <random>
 
@@ -707,7 +708,7 @@ TEST(DicomLoader, NonDicomFileNamedDcmIsAnError) {
     EXPECT_TRUE(contains(volume.error().where, "fake.dcm")) << volume.error().to_string();
 }
 
-TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsNamed) {
+TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsSkippedAndNamed) {
     fixtures::TempDir dir;
     SeriesSpec spec;
     fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 1));
@@ -715,10 +716,20 @@ TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsNamed) {
     std::memcpy(bytes.data() + 128, "DICM", 4);
     fixtures::write_bytes(dir / "s" / "broken", bytes);
     auto volume = load_volume(dir / "s");
-    ASSERT_FALSE(volume.ok());
-    EXPECT_TRUE(volume.error().code == "bad_header" || volume.error().code == "truncated")
-            << volume.error().to_string();
-    EXPECT_TRUE(contains(volume.error().where, "broken")) << volume.error().to_string();
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    ASSERT_EQ(volume->notes.size(), 1u);
+    EXPECT_TRUE(contains(volume->notes.front(), "broken")) << volume->notes.front();
+    EXPECT_TRUE(contains(volume->notes.front(), "bad_header") ||
+                contains(volume->notes.front(), "truncated"))
+            << volume->notes.front();
+
+    std::filesystem::create_directories(dir / "alone");
+    fixtures::write_bytes(dir / "alone" / "broken", bytes);
+    auto alone = load_volume(dir / "alone");
+    ASSERT_FALSE(alone.ok());
+    EXPECT_TRUE(alone.error().code == "bad_header" || alone.error().code == "truncated")
+            << alone.error().to_string();
+    EXPECT_TRUE(contains(alone.error().where, "broken")) << alone.error().to_string();
 }
 
 TEST(DicomLoader, MixedImageSizesAreAnError) {
@@ -780,6 +791,8 @@ TEST(DicomLoader, RepeatedPositionIsAnError) {
             << volume.error().to_string();
 }
 
+// A slice cut short inside the series is skipped, and the gap it leaves refuses the series,
+// naming it; a file of only that slice is refused as truncated.
 TEST(DicomLoader, TruncatedPixelDataIsAnError) {
     fixtures::TempDir dir;
     SeriesSpec spec;
@@ -789,8 +802,13 @@ TEST(DicomLoader, TruncatedPixelDataIsAnError) {
     std::filesystem::resize_file(paths[1], size - 500);
     auto volume = load_volume(dir / "s");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
-    EXPECT_TRUE(contains(volume.error().where, "slice_001.dcm")) << volume.error().to_string();
+    EXPECT_EQ(volume.error().code, "inconsistent_series") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().to_string(), "slice_001.dcm"))
+            << volume.error().to_string();
+    auto slice = load_volume(paths[1]);
+    ASSERT_FALSE(slice.ok());
+    EXPECT_EQ(slice.error().code, "truncated") << slice.error().to_string();
+    EXPECT_TRUE(contains(slice.error().where, "slice_001.dcm")) << slice.error().to_string();
 }
 
 TEST(DicomLoader, MissingRowsTagIsNamed) {
@@ -899,6 +917,103 @@ TEST(DicomLoader, RealTruncatedFileIsReportedAsTruncated) {
     auto volume = load_volume(pydicom_files / "MR_truncated.dcm");
     ASSERT_FALSE(volume.ok());
     EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+}
+
+// A real CT series of five 16x16 slices, 2.5 mm apart (pydicom's DICOMDIR test set).
+const std::filesystem::path real_ct_series = pydicom_files / "dicomdirtests/98892001/CT5N";
+
+// Copies the real series into `folder`, its files named as pydicom ships them.
+void copy_real_ct_series(const std::filesystem::path& folder) {
+    std::filesystem::create_directories(folder);
+    for (const auto& entry : std::filesystem::directory_iterator(real_ct_series)) {
+        std::filesystem::copy_file(entry.path(), folder / entry.path().filename());
+    }
+}
+
+// The first `bytes` bytes of a file, as a copy cut short in transfer leaves it.
+void write_cut_copy(const std::filesystem::path& from, const std::filesystem::path& to,
+                    std::size_t bytes) {
+    std::ifstream in(from, std::ios::binary);
+    std::vector<char> head(bytes);
+    ASSERT_TRUE(in.read(head.data(), static_cast<std::streamsize>(bytes)));
+    std::ofstream(to, std::ios::binary).write(head.data(), static_cast<std::streamsize>(bytes));
+}
+
+bool any_note_names(const Volume& volume, const std::string& file, const std::string& why) {
+    return std::any_of(volume.notes.begin(), volume.notes.end(), [&](const std::string& note) {
+        return contains(note, file) && contains(note, why);
+    });
+}
+
+// A damaged file among the slices (a copy cut short, a file of junk behind a DICOM marker) is
+// skipped with a note naming it, and the series opens with every voxel of its intact slices.
+TEST(DicomLoader, DamagedFilesBesideARealSeriesAreSkippedWithANote) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "clean");
+    auto clean = load_volume(dir / "clean");
+    ASSERT_TRUE(clean.ok()) << clean.error().to_string();
+    ASSERT_EQ(clean->dims, glm::uvec3(16, 16, 5));
+    EXPECT_TRUE(clean->notes.empty());
+
+    copy_real_ct_series(dir / "s");
+    write_cut_copy(real_ct_series / "2392", dir / "s" / "2392_copy", 2000);
+    std::vector<std::byte> junk(300, std::byte{0x5a});
+    std::memcpy(junk.data() + 128, "DICM", 4);
+    fixtures::write_bytes(dir / "s" / "junk_with_marker", junk);
+    fixtures::write_text(dir / "s" / "junk.txt", "not an image");
+
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, clean->dims);
+    EXPECT_EQ(volume->spacing, clean->spacing);
+    EXPECT_EQ(volume->data, clean->data);
+    EXPECT_TRUE(any_note_names(*volume, "2392_copy", "truncated"))
+            << ::testing::PrintToString(volume->notes);
+    EXPECT_TRUE(any_note_names(*volume, "junk_with_marker", "skipped"))
+            << ::testing::PrintToString(volume->notes);
+    EXPECT_TRUE(any_note_names(*volume, "junk.txt", "not DICOM"))
+            << ::testing::PrintToString(volume->notes);
+}
+
+// A skipped slice inside the series leaves a gap: refused, naming the skipped file as the cause,
+// never rendered with a slice silently missing.
+TEST(DicomLoader, ADamagedSliceInsideARealSeriesIsRefusedNamingIt) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "s");
+    std::filesystem::resize_file(dir / "s" / "2693", 2000);  // the middle slice of five
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "not evenly spaced"))
+            << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "2693")) << volume.error().to_string();
+}
+
+// A damaged end slice leaves no gap to see: the volume opens one slice shorter, and says why.
+TEST(DicomLoader, ADamagedEndSliceOfARealSeriesOpensTheRestWithANote) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "s");
+    std::filesystem::resize_file(dir / "s" / "3353", 2000);  // the lowest slice
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(16, 16, 4));
+    EXPECT_TRUE(any_note_names(*volume, "3353", "not in the volume"))
+            << ::testing::PrintToString(volume->notes);
+}
+
+// Only damaged files: the folder's error is the first file's own.
+TEST(DicomLoader, AFolderOfOnlyDamagedFilesIsTheirError) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "s");
+    write_cut_copy(real_ct_series / "2392", dir / "s" / "2392", 2000);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "2392")) << volume.error().to_string();
 }
 
 TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {
