@@ -409,28 +409,36 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
 const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
 const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
 
-// The text values of element `name` in a Siemens CSA header of the "SV10" layout (Syngo's, as
-// nibabel's csareader reads it): a count of elements, each a 64-byte name, its multiplicity, VR,
-// and items of a length-prefixed string padded to four bytes. Nothing where the header is absent,
-// of the older layout, damaged, or lacks the element.
+// The text values of element `name` in a Siemens CSA header, or nothing where the header is
+// absent, damaged, or lacks the element. Syngo writes two layouts, both read as nibabel's
+// csareader and SPM's spm_dicom_headers read them:
+//   - "SV10" (CSA2): the signature, 4 unused bytes, a count of elements and an unused word; each
+//     element a 64-byte name, its multiplicity, VR, SyngoDT, a count of items and an unused word;
+//     each item four words, the second its length, then the text padded to four bytes.
+//   - the older CSA1, which archives of older Siemens scanners still hold: no signature, the
+//     count of elements first; elements as in CSA2, but an item's length is its
+//     first word less the first element's count of items, and an impossible length ends that
+//     element's items (the reader goes on with the next element).
 std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) {
     const Uint8* bytes = nullptr;
     unsigned long size = 0;
     if (dataset.findAndGetUint8Array(siemens_csa_image_header, bytes, &size).bad() ||
-        bytes == nullptr || size < 16 || std::memcmp(bytes, "SV10", 4) != 0) {
+        bytes == nullptr || size < 16) {
         return {};
     }
+    const bool csa2 = std::memcmp(bytes, "SV10", 4) == 0;
     const auto int32_at = [&](std::size_t at) {
         std::int32_t value = 0;
         std::memcpy(&value, bytes + at, 4);
         return value;
     };
     constexpr std::int32_t max_elements = 128;  // nibabel's bound; real headers hold about 100
-    const std::int32_t elements = int32_at(8);
+    const std::int32_t elements = int32_at(csa2 ? 8 : 0);
     if (elements < 1 || elements > max_elements) {
         return {};
     }
-    std::size_t at = 16;
+    std::size_t at = csa2 ? 16 : 8;
+    std::int32_t first_element_items = 0;  // CSA1's item lengths are offset by it
     for (std::int32_t e = 0; e < elements; ++e) {
         if (at + 84 > size) {
             return {};
@@ -443,15 +451,22 @@ std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) 
         if (items < 0 || items > 1024) {
             return {};
         }
+        if (e == 0) {
+            first_element_items = items;
+        }
         std::vector<std::string> values;
         for (std::int32_t i = 0; i < items; ++i) {
             if (at + 16 > size) {
                 return {};
             }
-            const std::int32_t length = int32_at(at + 4);
+            const std::int32_t length =
+                    csa2 ? int32_at(at + 4) : int32_at(at) - first_element_items;
             at += 16;
             if (length < 0 || at + static_cast<std::size_t>(length) > size) {
-                return {};
+                if (csa2) {
+                    return {};
+                }
+                break;
             }
             if (i < multiplicity) {
                 const char* text = reinterpret_cast<const char*>(bytes + at);

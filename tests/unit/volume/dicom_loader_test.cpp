@@ -526,9 +526,21 @@ TEST(DicomLoader, ASiemensMosaicIsUnpackedIntoItsSlices) {
     expect_ch2_voxels(*volume, slices);
 }
 
-// A Siemens CSA image header (0029,1010) of the "SV10" layout holding one element of text items,
-// as Syngo writes them: a 16-byte header per item, the text padded to four bytes.
-std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+// One element of a Siemens CSA header: its name, multiplicity and text items (as many as
+// `items`; those past the given values are empty, as Syngo pads its elements to six items).
+struct CsaElement {
+    std::string name;
+    std::vector<std::string> values;
+    std::int32_t items = 6;
+};
+
+enum class CsaLayout { sv10, csa1 };
+
+// A Siemens CSA image header (0029,1010), built byte by byte as Syngo writes one: "SV10" (CSA2)
+// with its signature, each item's length its second word; or the older CSA1 without one, each
+// item's length its first word less the first element's count of items. Either way a 16-byte
+// header per item and the text padded to four bytes.
+std::vector<Uint8> csa_header(CsaLayout layout, const std::vector<CsaElement>& elements) {
     std::vector<Uint8> bytes;
     const auto put_int = [&](std::int32_t value) {
         const auto* b = reinterpret_cast<const Uint8*>(&value);
@@ -539,24 +551,37 @@ std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::st
         std::copy(text.begin(), text.end(), field.begin());
         bytes.insert(bytes.end(), field.begin(), field.end());
     };
-    put_text("SV10", 4);
-    put_text("\4\3\2\1", 4);
-    put_int(1);   // elements
+    if (layout == CsaLayout::sv10) {
+        put_text("SV10", 4);
+        put_text("\4\3\2\1", 4);
+    }
+    put_int(static_cast<std::int32_t>(elements.size()));
     put_int(77);  // unused
-    put_text(name, 64);
-    put_int(static_cast<std::int32_t>(items.size()));  // multiplicity
-    put_text("FD", 4);
-    put_int(4);  // SyngoDT
-    put_int(static_cast<std::int32_t>(items.size()));
-    put_int(77);
-    for (const std::string& item : items) {
-        const auto length = static_cast<std::int32_t>(item.size() + 1);  // with its NUL
-        for (const std::int32_t field : {length, length, 77, length}) {
-            put_int(field);
+    const std::int32_t length_offset = layout == CsaLayout::csa1 ? elements.front().items : 0;
+    for (const CsaElement& element : elements) {
+        put_text(element.name, 64);
+        put_int(static_cast<std::int32_t>(element.values.size()));  // multiplicity
+        put_text("FD", 4);
+        put_int(4);  // SyngoDT
+        put_int(element.items);
+        put_int(77);
+        for (std::int32_t i = 0; i < element.items; ++i) {
+            const std::string text =
+                    i < static_cast<std::int32_t>(element.values.size()) ? element.values[i] : "";
+            // With its NUL; an empty item is no bytes at all.
+            const auto length = static_cast<std::int32_t>(text.empty() ? 0 : text.size() + 1);
+            const std::int32_t word = length + length_offset;
+            for (const std::int32_t field : {word, word, 77, word}) {
+                put_int(field);
+            }
+            put_text(text, static_cast<std::size_t>(length + (4 - length % 4) % 4));
         }
-        put_text(item, static_cast<std::size_t>(length + (4 - length % 4) % 4));
     }
     return bytes;
+}
+
+std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+    return csa_header(CsaLayout::sv10, {{name, items, static_cast<std::int32_t>(items.size())}});
 }
 
 // The slice order comes from the CSA header's SliceNormalVector: pointing inferior, against the
@@ -600,6 +625,57 @@ TEST(DicomLoader, AMosaicsSlicesFollowTheCsaSliceNormal) {
         reversed.insert(reversed.end(), first, first + 64);
     }
     expect_ch2_voxels(*volume, reversed);
+}
+
+// The older CSA1 layout (no "SV10" signature) is read as the newer: a mosaic whose number of
+// slices and slice normal only its CSA header gives opens alike from either, the header holding
+// an element before them whose item count offsets CSA1's item lengths.
+TEST(DicomLoader, AMosaicsCsaHeaderIsReadInEitherLayout) {
+    const glm::uvec3 tile{8, 8, 4};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    std::vector<std::uint16_t> tiled(std::size_t{16} * 16, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / 2) * 8 + y) * 16 + (f % 2) * 8 + x] = slices[(f * 8 + y) * 8 + x];
+            }
+        }
+    }
+    std::vector<std::uint16_t> reversed;  // the normal points against row x column
+    for (unsigned k = 0; k < tile.z; ++k) {
+        const auto first = slices.begin() + static_cast<std::ptrdiff_t>((tile.z - 1 - k) * 64);
+        reversed.insert(reversed.end(), first, first + 64);
+    }
+    for (const CsaLayout layout : {CsaLayout::sv10, CsaLayout::csa1}) {
+        SCOPED_TRACE(layout == CsaLayout::sv10 ? "SV10" : "CSA1");
+        fixtures::TempDir dir;
+        SeriesSpec spec;
+        spec.dims = {16, 16, 1};
+        spec.spacing = {1.0, 1.0, 2.5};
+        spec.origin = glm::dvec3(-4.0, -4.0, 0.0);
+        spec.edit = [layout](DcmDataset& dataset) {
+            // MOSAIC in ImageType, but no NumberOfImagesInMosaic (0019,100a): the count comes
+            // from the CSA header alone.
+            ASSERT_TRUE(dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\MOSAIC")
+                                .good());
+            const auto csa = csa_header(
+                    layout, {{"EchoLinePosition", {"128"}, 6},
+                             {"NumberOfImagesInMosaic", {"4"}, 6},
+                             {"SliceNormalVector", {"0.00000000", "0.00000000", "-1.0"}, 6}});
+            ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                       csa.size())
+                                .good());
+            ASSERT_TRUE(
+                    dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), "SIEMENS CSA HEADER")
+                            .good());
+        };
+        fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+        auto volume = load_volume(dir / "mosaic.dcm");
+        ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+        EXPECT_EQ(volume->dims, tile);
+        EXPECT_NEAR(glm::length(volume->origin - glm::dvec3(0.0, 0.0, -7.5)), 0.0, 1e-9);
+        expect_ch2_voxels(*volume, reversed);
+    }
 }
 
 // Mosaics that cannot be unpacked are refused by name: without a number of slices, or with one
