@@ -29,7 +29,7 @@ bool listed_series(const std::string& path) {
                 "UID");
     for (const volume::DicomSeries& one : *series) {
         std::printf("  %-8s %-10s %8llu  %-40s %s\n", one.number.c_str(), one.modality.c_str(),
-                    static_cast<unsigned long long>(one.frames), one.description.c_str(),
+                    static_cast<unsigned long long>(one.slices), one.description.c_str(),
                     one.uid.c_str());
     }
     return true;

@@ -258,6 +258,10 @@ struct Image {
     PixelFormat format;       // of one slice: for a mosaic, of one tile
     std::uint32_t frame_count = 1;
     std::optional<Mosaic> mosaic;
+    // Where each frame lies along the slice normal (ImagePositionPatient dotted with the
+    // normal of ImageOrientationPatient), read with the header so that a listing can count a
+    // series' slices without its pixel data; empty where a frame lacks either.
+    std::vector<double> frame_depths;
 };
 
 // The pixel words an image stores for all its frames (a mosaic: its whole tiled image).
@@ -353,6 +357,12 @@ void place_mosaic_slices(std::vector<Frame>& frames, const Mosaic& mosaic,
     for (std::size_t f = 0; f < frames.size(); ++f) {
         frames[f].position = corner + static_cast<double>(f) * gap * normal;
     }
+}
+
+glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
+    const glm::dvec3 row(orientation[0], orientation[1], orientation[2]);
+    const glm::dvec3 column(orientation[3], orientation[4], orientation[5]);
+    return glm::cross(row, column);
 }
 
 std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
@@ -616,6 +626,16 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
         return mosaic.error();
     }
     image.mosaic = *mosaic;
+    for (const Frame& frame :
+         read_frames(dataset, 0, image.frame_count, image.mosaic, image.format)) {
+        if (!frame.position || !frame.orientation) {
+            image.frame_depths.clear();
+            break;
+        }
+        const glm::dvec3 normal = slice_normal(*frame.orientation);
+        image.frame_depths.push_back(glm::dot(normal, *frame.position) /
+                                     std::max(glm::length(normal), 1e-12));
+    }
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
     if (const auto number = get_int(dataset, DCM_SeriesNumber)) {
         image.series_number = std::to_string(*number);
@@ -804,10 +824,42 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
     return found;
 }
 
+// Positions this close along the normal are one position repeated, not two slices: scanners
+// write them to a micrometre or finer, and no series has slices that close.
+constexpr double same_position = 1e-3;  // mm
+
+// The slices a load of the images opens: their frames' distinct positions along the slice
+// normal, as a series of several volumes (echoes, time points, a mosaic per time point) repeats
+// each position once per volume; every frame where any lacks a position, since a load then keeps
+// them all.
+std::uint64_t count_slices(const std::vector<const Image*>& images) {
+    std::vector<double> depths;
+    for (const Image* image : images) {
+        if (image->frame_depths.size() != image->frame_count) {
+            std::uint64_t frames = 0;
+            for (const Image* each : images) {
+                frames += each->frame_count;
+            }
+            return frames;
+        }
+        depths.insert(depths.end(), image->frame_depths.begin(), image->frame_depths.end());
+    }
+    std::sort(depths.begin(), depths.end());
+    std::uint64_t slices = 0;
+    for (std::size_t i = 0; i < depths.size(); ++i) {
+        if (i == 0 || depths[i] - depths[i - 1] >= same_position) {
+            ++slices;
+        }
+    }
+    return slices;
+}
+
 // The series of the images, ordered by SeriesNumber (numerically), then UID.
 std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
     std::map<std::string, DicomSeries> by_uid;
+    std::map<std::string, std::vector<const Image*>> images_by_uid;
     for (const Image& image : images) {
+        images_by_uid[image.series_uid].push_back(&image);
         DicomSeries& series = by_uid[image.series_uid];
         if (series.images == 0) {
             series.uid = image.series_uid;
@@ -820,6 +872,7 @@ std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
     }
     std::vector<DicomSeries> list;
     for (auto& [uid, series] : by_uid) {
+        series.slices = count_slices(images_by_uid[uid]);
         list.push_back(std::move(series));
     }
     const auto number = [](const DicomSeries& s) {
@@ -834,7 +887,7 @@ std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
 std::string series_choices(const std::vector<DicomSeries>& list) {
     std::string text;
     for (const DicomSeries& series : list) {
-        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.frames) +
+        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.slices) +
                 " slices, " + (series.number.empty() ? "" : "number " + series.number + ", ") +
                 "UID " + series.uid;
     }
@@ -870,12 +923,6 @@ base::Result<DicomSeries> select_series(std::vector<Image>& images, const std::s
     return chosen;
 }
 
-glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
-    const glm::dvec3 row(orientation[0], orientation[1], orientation[2]);
-    const glm::dvec3 column(orientation[3], orientation[4], orientation[5]);
-    return glm::cross(row, column);
-}
-
 std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     std::string label = images[frame.image].path.string();
     if (images[frame.image].frame_count > 1) {
@@ -883,10 +930,6 @@ std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     }
     return label;
 }
-
-// Positions this close along the normal are one position repeated, not two slices: scanners
-// write them to a micrometre or finer, and no series has slices that close.
-constexpr double same_position = 1e-3;  // mm
 
 // Several volumes of one series (echoes, acquisitions, time points) repeat each position as
 // often: keeps the first volume's frame at each position of the frames (sorted by `depth`) and

@@ -1092,6 +1092,41 @@ TEST(DicomLoader, AFolderOfOnlyDamagedFilesIsTheirError) {
     EXPECT_TRUE(contains(volume.error().where, "2392")) << volume.error().to_string();
 }
 
+// A folder of two real series: the CT above, and heudiconv's diffusion series of three Siemens
+// mosaics, one per volume, each tiling the same 81 slices. A listing counts what a load opens
+// (81 slices) apart from the 2-D images the files hold (243 tiles in 3 files).
+TEST(DicomLoader, SeriesListingsCountSlicesApartFromFramesOnRealSeries) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    const std::filesystem::path mosaics =
+            "/usr/lib/python3/dist-packages/heudiconv/tests/data/b0dwiForFmap";
+    ASSERT_TRUE(std::filesystem::exists(mosaics)) << mosaics << " comes with Debian's heudiconv";
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "study" / "ct");
+    std::filesystem::create_directories(dir / "study" / "dwi");
+    for (const auto& entry : std::filesystem::directory_iterator(mosaics)) {
+        std::filesystem::create_symlink(entry.path(),
+                                        dir / "study" / "dwi" / entry.path().filename());
+    }
+    auto series = list_dicom_series(dir / "study");
+    ASSERT_TRUE(series.ok()) << series.error().to_string();
+    ASSERT_EQ(series->size(), 2u);
+    const auto& dwi = series->front().images == 3 ? series->front() : series->back();
+    const auto& ct = series->front().images == 3 ? series->back() : series->front();
+    EXPECT_EQ(dwi.images, 3u);
+    EXPECT_EQ(dwi.frames, 243u);
+    EXPECT_EQ(dwi.slices, 81u);
+    EXPECT_EQ(ct.images, 5u);
+    EXPECT_EQ(ct.frames, 5u);
+    EXPECT_EQ(ct.slices, 5u);
+
+    // The choice a load asks for names each series with the slices it would open.
+    auto several = load_volume(dir / "study");
+    ASSERT_FALSE(several.ok());
+    EXPECT_EQ(several.error().code, "several_series");
+    EXPECT_TRUE(contains(several.error().message, "81 slices")) << several.error().message;
+    EXPECT_FALSE(contains(several.error().message, "243")) << several.error().message;
+}
+
 TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {
     SKIP_WITHOUT_PYDICOM_FILES();
     auto volume = load_volume(pydicom_files / "MR_small_jp2klossless.dcm");
