@@ -129,19 +129,28 @@ public:
 
 private:
     // hello, open the volume, set the frame's settings; false where one failed (reported) or the
-    // run ended first. The settings are asked again after a rate_limited refusal, as a render
-    // is: a server that refused them would otherwise lose the client for the whole run.
+    // run ended first. The open and the settings are asked again after a rate_limited refusal, as
+    // a render is: a server that refused them would otherwise lose the client for the whole run.
     bool open_session() {
         if (expect_text("hello") != Reply::expected) {
             return false;
         }
-        (void)client_->send_text(R"({"v":1,"type":"open","volume":")" + config_.volume + "\"}");
-        if (expect_text("opened") != Reply::expected) {
-            return false;
-        }
+        return ask_until_answered(
+                       [this] {
+                           return R"({"v":1,"type":"open","id":)" + std::to_string(++last_id_) +
+                                  R"(,"volume":")" + config_.volume + "\"}";
+                       },
+                       "opened") &&
+               ask_until_answered([this] { return settings_message(config_, ++last_id_); }, "ack");
+    }
+
+    // Sends the message `make` writes until the answer of `type` comes, backing off after each
+    // rate_limited refusal; false on another error, no answer, or the run's end.
+    template <class Make>
+    bool ask_until_answered(Make make, const char* type) {
         while (true) {
-            (void)client_->send_text(settings_message(config_, ++last_id_));
-            switch (expect_text("ack")) {
+            (void)client_->send_text(make());
+            switch (expect_text(type)) {
                 case Reply::expected:
                     refusals_ = 0;
                     return true;
