@@ -254,8 +254,8 @@ TEST_F(EmptySpaceTest, TransferFunctionChangeShowsBricksThatWereEmpty) {
 }
 
 // The reference mode's shadow rays on the real Colin27 head: they leap the bricks the transfer
-// function leaves transparent and look the grid up once per occupied brick, and every sample they leave
-// out is exactly transparent, so the image is the same to the byte with and without skipping.
+// function leaves transparent and look the grid up once per occupied brick, and every sample they
+// leave out is exactly transparent, so the image is the same to the byte with and without skipping.
 // The times of both are printed: the shadow rays are most of the reference's work.
 TEST(EmptySpaceRealData, ReferenceShadowRaysGiveTheSameBytesWithAndWithoutSkipping) {
     auto loaded = volume::load_volume("/usr/share/mricron/templates/ch2.nii.gz");
