@@ -32,15 +32,18 @@ using tcp = asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-// A server over its rate limit, on 127.0.0.1 and a free port: it greets, opens and acknowledges
-// the first `set` (the session's settings) as penumbra's server does, then refuses every message
+// A server over its rate limit, on 127.0.0.1 and a free port: it greets, refuses the first
+// `refused_setup` `open` messages and as many first `set` messages (the session's settings) with
+// rate_limited, opens and acknowledges the next as penumbra's server does, then refuses every
+// message
 // with rate_limited (a request's refusal carries its id) and, after `answered_refusals`
 // refusals on a connection, answers nothing more there, as penumbra's server stops answering a
-// client that keeps sending into its limit. It notes when each render arrived.
+// client that keeps sending into its limit. It notes when each render and each set arrived.
 class RateLimitedServer {
 public:
-    explicit RateLimitedServer(int answered_refusals)
+    explicit RateLimitedServer(int answered_refusals, int refused_setup = 0)
         : answered_refusals_(answered_refusals)
+        , refused_setup_(refused_setup)
         , acceptor_(io_, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0))
         , port_(acceptor_.local_endpoint().port()) {
         accept();
@@ -76,6 +79,18 @@ public:
         return renders_;
     }
 
+    // When each open arrived, per connection.
+    [[nodiscard]] std::vector<std::vector<Clock::time_point>> opens() const {
+        const std::lock_guard lock(mutex_);
+        return opens_;
+    }
+
+    // When each set arrived before the session's settings were acknowledged, per connection.
+    [[nodiscard]] std::vector<std::vector<Clock::time_point>> sets() const {
+        const std::lock_guard lock(mutex_);
+        return sets_;
+    }
+
 private:
     struct Connection {
         explicit Connection(tcp::socket socket)
@@ -85,6 +100,8 @@ private:
         beast::flat_buffer buffer;
         std::string reply;
         bool session_set = false;
+        int refused_opens = 0;
+        int refused_sets = 0;
         int refusals = 0;
         std::size_t index = 0;  // into renders_
     };
@@ -103,6 +120,8 @@ private:
                 const std::lock_guard lock(mutex_);
                 connection->index = renders_.size();
                 renders_.emplace_back();
+                opens_.emplace_back();
+                sets_.emplace_back();
             }
             connections_.push_back(connection);
             connection->ws.async_accept([this, connection](beast::error_code error) {
@@ -143,10 +162,28 @@ private:
                                 ? std::optional<std::int64_t>(request.at("id").get<std::int64_t>())
                                 : std::nullopt;
         if (type == "open") {
+            {
+                const std::lock_guard lock(mutex_);
+                opens_[connection->index].push_back(Clock::now());
+            }
+            if (connection->refused_opens < refused_setup_) {
+                ++connection->refused_opens;
+                refuse(connection, id);
+                return;
+            }
             write(connection, R"({"v":1,"type":"opened"})");
             return;
         }
         if (type == "set" && !connection->session_set) {
+            {
+                const std::lock_guard lock(mutex_);
+                sets_[connection->index].push_back(Clock::now());
+            }
+            if (connection->refused_sets < refused_setup_) {
+                ++connection->refused_sets;
+                refuse(connection, id);
+                return;
+            }
             connection->session_set = true;
             write(connection, protocol::ack_message(id, "set"));
             return;
@@ -160,18 +197,25 @@ private:
             return;
         }
         ++connection->refusals;
+        refuse(connection, id);
+    }
+
+    void refuse(const Shared& connection, std::optional<std::int64_t> id) {
         write(connection, protocol::error_message(
                                   id, base::make_error(protocol::code::rate_limited,
                                                        "more than 2 requests per second", "/")));
     }
 
     const int answered_refusals_;
+    const int refused_setup_;
     asio::io_context io_;
     tcp::acceptor acceptor_;
     const unsigned short port_;
     std::vector<std::weak_ptr<Connection>> connections_;  // on io_'s thread only
     mutable std::mutex mutex_;
     std::vector<std::vector<Clock::time_point>> renders_;
+    std::vector<std::vector<Clock::time_point>> opens_;
+    std::vector<std::vector<Clock::time_point>> sets_;
     std::thread thread_;
 };
 
@@ -225,6 +269,46 @@ TEST(LoadClient, BacksOffOverTheRateLimitAndEndsOnTime) {
             EXPECT_GE(arrivals[i] - arrivals[i - 1], net::rate_limited_backoff(static_cast<int>(i)))
                     << "request " << i + 1 << " came too early after its refusal";
         }
+    }
+}
+
+// A session's open and first `set` refused over the rate limit are asked again after the backoff,
+// as a render is, and the client goes on to render once they are answered.
+TEST(LoadClient, RetriesARateLimitedOpenAndFirstSetAfterTheBackoff) {
+    constexpr int refused = 2;
+    RateLimitedServer server(64, refused);
+    net::LoadConfig config;
+    config.port = server.port();
+    config.clients = 2;
+    config.seconds = 3.0;
+    config.size = 32;
+    auto run = std::async(std::launch::async, [&config] { return net::run_load(config); });
+    if (run.wait_for(std::chrono::duration<double>(config.seconds) + 10s) !=
+        std::future_status::ready) {
+        server.drop_connections();
+    }
+    const net::LoadReport report = run.get();
+    ASSERT_FALSE(report.error_texts.empty());
+    for (const std::string& text : report.error_texts) {
+        EXPECT_NE(text.find("rate_limited"), std::string::npos) << text;
+    }
+
+    const auto renders = server.renders();
+    ASSERT_EQ(renders.size(), static_cast<std::size_t>(config.clients));
+    for (const auto& [what, arrivals] :
+         {std::pair{"open", server.opens()}, {"set", server.sets()}}) {
+        for (std::size_t c = 0; c < arrivals.size(); ++c) {
+            SCOPED_TRACE(std::string(what) + " of client " + std::to_string(c));
+            ASSERT_EQ(arrivals[c].size(), static_cast<std::size_t>(refused + 1));
+            for (std::size_t i = 1; i < arrivals[c].size(); ++i) {
+                EXPECT_GE(arrivals[c][i] - arrivals[c][i - 1],
+                          net::rate_limited_backoff(static_cast<int>(i)))
+                        << "attempt " << i + 1 << " came too early after its refusal";
+            }
+        }
+    }
+    for (std::size_t c = 0; c < renders.size(); ++c) {
+        EXPECT_FALSE(renders[c].empty()) << "client " << c << " gave up before rendering";
     }
 }
 

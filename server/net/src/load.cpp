@@ -86,13 +86,14 @@ private:
     LoadReport report_;
 };
 
-std::string settings_message(const LoadConfig& config) {
+std::string settings_message(const LoadConfig& config, std::int64_t id) {
     const std::string size = std::to_string(config.size);
     const std::string refine = config.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" +
                                                            std::to_string(config.refine)
                                                  : std::string();
-    return R"({"v":1,"type":"set","settings":{"mode":")" + config.mode + R"(","size":[)" + size +
-           "," + size + "]" + refine + R"(},"output":{"encoding":")" + config.encoding + "\"}}";
+    return R"({"v":1,"type":"set","id":)" + std::to_string(id) + R"(,"settings":{"mode":")" +
+           config.mode + R"(","size":[)" + size + "," + size + "]" + refine +
+           R"(},"output":{"encoding":")" + config.encoding + "\"}}";
 }
 
 // One simulated user: opens the volume, then orbits the camera and asks for a frame, waiting for
@@ -112,15 +113,14 @@ public:
             return;
         }
         client_ = std::move(connected.value());
+        end_ = end;
         if (!open_session()) {
             return;
         }
-        end_ = end;
         double azimuth = 17.0 * index_;
-        std::int64_t id = 0;
         while (Clock::now() < end) {
             azimuth += 3.0;
-            if (!request_frame(azimuth, ++id)) {
+            if (!request_frame(azimuth, ++last_id_)) {
                 return;
             }
         }
@@ -128,38 +128,71 @@ public:
     }
 
 private:
-    // hello, open the volume, set the frame's settings; false where one failed (reported).
+    // hello, open the volume, set the frame's settings; false where one failed (reported) or the
+    // run ended first. The open and the settings are asked again after a rate_limited refusal, as
+    // a render is: a server that refused them would otherwise lose the client for the whole run.
     bool open_session() {
-        if (!expect_text("hello")) {
+        if (expect_text("hello") != Reply::expected) {
             return false;
         }
-        (void)client_->send_text(R"({"v":1,"type":"open","volume":")" + config_.volume + "\"}");
-        if (!expect_text("opened")) {
-            return false;
-        }
-        (void)client_->send_text(settings_message(config_));
-        return expect_text("ack");
+        return ask_until_answered(
+                       [this] {
+                           return R"({"v":1,"type":"open","id":)" + std::to_string(++last_id_) +
+                                  R"(,"volume":")" + config_.volume + "\"}";
+                       },
+                       "opened") &&
+               ask_until_answered([this] { return settings_message(config_, ++last_id_); }, "ack");
     }
 
-    // Skips frames up to the text message of `type`; false on an error message or none.
-    bool expect_text(const char* type) {
+    // Sends the message `make` writes until the answer of `type` comes, backing off after each
+    // rate_limited refusal; false on another error, no answer, or the run's end.
+    template <class Make>
+    bool ask_until_answered(Make make, const char* type) {
+        while (true) {
+            (void)client_->send_text(make());
+            switch (expect_text(type)) {
+                case Reply::expected:
+                    refusals_ = 0;
+                    return true;
+                case Reply::failed:
+                    return false;
+                case Reply::rate_limited:
+                    back_off();
+                    if (Clock::now() >= end_) {
+                        return false;
+                    }
+                    break;
+            }
+        }
+    }
+
+    enum class Reply { expected, rate_limited, failed };
+
+    // Skips frames up to the text message of `type`; an error message (reported) or none is not
+    // it, and a rate_limited error says so, since a later attempt may pass.
+    Reply expect_text(const char* type) {
         while (true) {
             auto message = client_->receive(reply_timeout);
             if (!message) {
                 report_.fail(index_, message.error().to_string());
-                return false;
+                return Reply::failed;
             }
             if (message->binary) {
                 continue;
             }
             if (message->text.find(std::string("\"type\":\"") + type + "\"") != std::string::npos) {
-                return true;
+                return Reply::expected;
             }
             if (message->text.find("\"type\":\"error\"") != std::string::npos) {
                 report_.fail(index_, message->text);
-                return false;
+                return is_rate_limited(message->text) ? Reply::rate_limited : Reply::failed;
             }
         }
+    }
+
+    static bool is_rate_limited(const std::string& error_text) {
+        return error_text.find(std::string("\"code\":\"") + protocol::code::rate_limited + "\"") !=
+               std::string::npos;
     }
 
     // Moves the camera, asks for frame `id` and waits for it, or for an error naming `id`; false
@@ -182,9 +215,7 @@ private:
                     // An error naming this request (rate_limited, too_much_work) is its answer:
                     // no frame follows.
                     if (protocol::request_id_of(message->text) == id) {
-                        if (message->text.find(std::string("\"code\":\"") +
-                                               protocol::code::rate_limited + "\"") !=
-                            std::string::npos) {
+                        if (is_rate_limited(message->text)) {
                             back_off();
                         } else {
                             refusals_ = 0;
@@ -228,7 +259,8 @@ private:
     SharedReport& report_;
     std::unique_ptr<Client> client_;
     Clock::time_point end_;
-    int refusals_ = 0;  // rate_limited answers in a row
+    int refusals_ = 0;          // rate_limited answers in a row
+    std::int64_t last_id_ = 0;  // of the last request sent: settings and renders count alike
 };
 
 // Each part of the latency over the samples, in the report's row order.

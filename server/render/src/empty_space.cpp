@@ -2,6 +2,8 @@
 
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -81,18 +83,44 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
     return {};
 }
 
+double occupied_fraction(const BrickRanges& ranges, const std::vector<glm::vec4>& table) {
+    if (ranges.min_max.empty() || table.empty()) {
+        return 1.0;
+    }
+    const int entries = static_cast<int>(table.size());
+    std::vector<std::uint32_t> visible_before(table.size() + 1, 0);
+    for (std::size_t i = 0; i < table.size(); ++i) {
+        visible_before[i + 1] = visible_before[i] + (table[i].a > 0.0f ? 1u : 0u);
+    }
+    std::size_t occupied = 0;
+    for (const glm::vec2& stored : ranges.min_max) {
+        // The shader's arithmetic, in float as there, so both count the same bricks.
+        const glm::vec2 range = glm::clamp(stored, 0.0f, 1.0f);
+        const int lowest = std::clamp(
+                static_cast<int>(std::floor(range.x * float(entries) - 0.5f)) - 1, 0, entries - 1);
+        const int highest = std::clamp(
+                static_cast<int>(std::floor(range.y * float(entries) - 0.5f)) + 2, 0, entries - 1);
+        if (visible_before[static_cast<std::size_t>(highest) + 1] >
+            visible_before[static_cast<std::size_t>(lowest)]) {
+            ++occupied;
+        }
+    }
+    return static_cast<double>(occupied) / static_cast<double>(ranges.min_max.size());
+}
+
 EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
-    : grid_(ranges.grid)
+    : ranges_on_cpu_(ranges)
     , ranges_(gpu::create_texture(GL_TEXTURE_3D))
     , occupancy_(gpu::create_texture(GL_TEXTURE_3D))
     , visible_entries_(gpu::create_buffer()) {
-    glTextureStorage3D(ranges_.name(), 1, GL_RG32F, grid_.x, grid_.y, grid_.z);
+    const glm::ivec3 grid = ranges.grid;
+    glTextureStorage3D(ranges_.name(), 1, GL_RG32F, grid.x, grid.y, grid.z);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(ranges_.name(), 0, 0, 0, 0, grid_.x, grid_.y, grid_.z, GL_RG, GL_FLOAT,
+    glTextureSubImage3D(ranges_.name(), 0, 0, 0, 0, grid.x, grid.y, grid.z, GL_RG, GL_FLOAT,
                         ranges.min_max.data());
     glTextureParameteri(ranges_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(ranges_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureStorage3D(occupancy_.name(), 1, GL_R8UI, grid_.x, grid_.y, grid_.z);
+    glTextureStorage3D(occupancy_.name(), 1, GL_R8UI, grid.x, grid.y, grid.z);
     glTextureParameteri(occupancy_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(occupancy_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glNamedBufferStorage(visible_entries_.name(),
@@ -100,6 +128,7 @@ EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
 }
 
 base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
+    const glm::ivec3 grid = ranges_on_cpu_.grid;
     auto program = programs.compute("brick_classify.comp");
     if (!program) {
         return program.error();
@@ -113,7 +142,7 @@ base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUniform1i(0, 1);
     const auto groups = [](int bricks) { return static_cast<GLuint>((bricks + 3) / 4); };
-    glDispatchCompute(groups(grid_.x), groups(grid_.y), groups(grid_.z));
+    glDispatchCompute(groups(grid.x), groups(grid.y), groups(grid.z));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     return base::Ok{};
 }

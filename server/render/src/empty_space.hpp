@@ -8,6 +8,7 @@
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <vector>
 
@@ -28,6 +29,13 @@ struct BrickRanges {
 
 BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels);
 
+// The fraction of the bricks that a TF table leaves visible, by shaders/brick_classify.comp's
+// rule, on the CPU: the frame's work estimate needs it before anything is uploaded, so that a
+// request on a mostly transparent volume is not refused for samples its rays leap. 1 for an empty
+// grid (nothing known, nothing skipped).
+[[nodiscard]] double occupied_fraction(const BrickRanges& ranges,
+                                       const std::vector<glm::vec4>& table);
+
 // A volume's bricks on the GPU: the ranges, uploaded once, and the occupancy that
 // shaders/brick_classify.comp derives from them and the current TF table (bound on unit 1).
 class EmptySpaceMap {
@@ -41,10 +49,15 @@ public:
     // The R8UI occupancy grid that shaders/include/empty_space.glsl reads.
     [[nodiscard]] GLuint occupancy() const { return occupancy_.name(); }
 
-    [[nodiscard]] glm::ivec3 grid() const { return grid_; }
+    [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
+
+    // occupied_fraction of this volume's bricks under `table`.
+    [[nodiscard]] double occupied_fraction(const std::vector<glm::vec4>& table) const {
+        return render::occupied_fraction(ranges_on_cpu_, table);
+    }
 
 private:
-    glm::ivec3 grid_{0};
+    BrickRanges ranges_on_cpu_;  // kept for the work estimate, which runs before the GPU does
     gpu::Texture ranges_;
     gpu::Texture occupancy_;
     gpu::Buffer visible_entries_;

@@ -417,17 +417,32 @@ struct Renderer::Impl {
         return g;
     }
 
+    // What the work estimate knows of the current volume's empty space under the frame's TF
+    // table: its rays leap the bricks the table leaves transparent.
+    [[nodiscard]] scene::WorkContext work_context(const scene::FrameRequest& request,
+                                                  const std::vector<glm::vec4>& table) const {
+        if (!request.settings.empty_space_skipping) {
+            return {};
+        }
+        const EmptySpaceMap& bricks = volumes.front().empty_space;
+        return {scene::bricks_per_ray(bricks.grid()), bricks.occupied_fraction(table)};
+    }
+
     // Refuses, before anything runs, a frame over the work ceiling or a light buffer that the
     // budget could never hold.
     [[nodiscard]] base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,
-                                     const FrameGeometry& g) const {
-        const scene::FrameWork work = scene::estimate_work(request, g.box, g.slab_samples);
+                                     const FrameGeometry& g,
+                                     const std::vector<glm::vec4>& table) const {
+        const scene::FrameWork work =
+                scene::estimate_work(request, g.box, g.slab_samples, work_context(request, table));
         if (work.total() > max_frame_work) {
             return base::make_error(
                     "too_much_work",
                     "this frame asks for about " + scientific(work.total()) +
-                            " shader iterations (image pixels x samples per ray x the mode's "
-                            "cost per sample, plus light-buffer texels x slices x slab "
+                            " shader iterations (image pixels x samples per ray, those in bricks "
+                            "the "
+                            "transfer function leaves visible where empty space is skipped, x "
+                            "the mode's cost per sample, plus light-buffer texels x slices x slab "
                             "samples), more than this server's ceiling of " +
                             scientific(max_frame_work) +
                             " per frame; use a smaller image, a larger sample distance or "
@@ -730,7 +745,10 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         return geometry.error();
     }
     const FrameGeometry& g = *geometry;
-    if (auto status = impl.admit(request, plan, g); !status) {
+    const std::vector<glm::vec4> table =
+            scene::bake(request.transfer_function, scene::default_table_size,
+                        {impl.volume->range.min, impl.volume->range.max, impl.volume->hounsfield});
+    if (auto status = impl.admit(request, plan, g, table); !status) {
         return status.error();
     }
     auto kept = impl.kept_stills.end();
@@ -755,9 +773,6 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         frame.report.passes.push_back({"brick_ranges", 0.0, impl.brick_ranges_ms});
         impl.volume_uploaded_this_frame = false;
     }
-    const std::vector<glm::vec4> table =
-            scene::bake(request.transfer_function, scene::default_table_size,
-                        {impl.volume->range.min, impl.volume->range.max, impl.volume->hounsfield});
     if (auto tf_ms = impl.update_transfer_function(table)) {
         frame.report.passes.push_back({"transfer_function", 0.0, *tf_ms});
     }

@@ -86,7 +86,7 @@ std::string describe_series(const std::vector<DicomSeries>& series) {
            "UID");
     for (const DicomSeries& one : series) {
         append(text, "  %-8s %-10s %8llu  %-40s %s\n", one.number.c_str(), one.modality.c_str(),
-               static_cast<unsigned long long>(one.frames), one.description.c_str(),
+               static_cast<unsigned long long>(one.slices), one.description.c_str(),
                one.uid.c_str());
     }
     return text;

@@ -7,10 +7,13 @@
 //     (DICOMDIR, reports) are skipped and counted in the log, and images of another kind (colour
 //     secondary captures, float or odd bit depths, mosaics that cannot be unpacked) are skipped
 //     with a warning naming each, so the series beside them opens; a folder of nothing else is that
-//     image's error. Sub-folders are searched too (unless LoadOptions says not), at most
-//     max_folder_depth levels and max_folder_files files deep: a DICOMDIR export root keeps its
-//     images in DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series.
-//     The DICOMDIR itself is not needed: every image file names its own series.
+//     image's error. Damaged files (cut short, unreadable headers) are skipped too, each named in
+//     a note on the volume; a slice of the series lost with one is a gap, which refuses the series
+//     (the spacing check, or the damaged file's own position where DCMTK read that far).
+//     Sub-folders are searched too (unless LoadOptions says not), at most max_folder_depth levels
+//     and max_folder_files files deep: a DICOMDIR export root keeps its images in
+//     DICOM/<patient>/<study>/<series>/ and a study folder has one folder per series. The DICOMDIR
+//     itself is not needed: every image file names its own series.
 //   - Several series in one folder: LoadOptions::dicom_series picks one by SeriesNumber or
 //     SeriesInstanceUID; without it the error "several_series" lists them (a scout beside a
 //     series is a series of its own, and guessing would open the wrong one silently).
@@ -255,6 +258,10 @@ struct Image {
     PixelFormat format;       // of one slice: for a mosaic, of one tile
     std::uint32_t frame_count = 1;
     std::optional<Mosaic> mosaic;
+    // Where each frame lies along the slice normal (ImagePositionPatient dotted with the
+    // normal of ImageOrientationPatient), read with the header so that a listing can count a
+    // series' slices without its pixel data; empty where a frame lacks either.
+    std::vector<double> frame_depths;
 };
 
 // The pixel words an image stores for all its frames (a mosaic: its whole tiled image).
@@ -352,6 +359,12 @@ void place_mosaic_slices(std::vector<Frame>& frames, const Mosaic& mosaic,
     }
 }
 
+glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
+    const glm::dvec3 row(orientation[0], orientation[1], orientation[2]);
+    const glm::dvec3 column(orientation[3], orientation[4], orientation[5]);
+    return glm::cross(row, column);
+}
+
 std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
                                std::uint32_t frame_count, const std::optional<Mosaic>& mosaic,
                                const PixelFormat& format) {
@@ -406,28 +419,36 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
 const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
 const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
 
-// The text values of element `name` in a Siemens CSA header of the "SV10" layout (Syngo's, as
-// nibabel's csareader reads it): a count of elements, each a 64-byte name, its multiplicity, VR,
-// and items of a length-prefixed string padded to four bytes. Nothing where the header is absent,
-// of the older layout, damaged, or lacks the element.
+// The text values of element `name` in a Siemens CSA header, or nothing where the header is
+// absent, damaged, or lacks the element. Syngo writes two layouts, both read as nibabel's
+// csareader and SPM's spm_dicom_headers read them:
+//   - "SV10" (CSA2): the signature, 4 unused bytes, a count of elements and an unused word; each
+//     element a 64-byte name, its multiplicity, VR, SyngoDT, a count of items and an unused word;
+//     each item four words, the second its length, then the text padded to four bytes.
+//   - the older CSA1, which archives of older Siemens scanners still hold: no signature, the
+//     count of elements first; elements as in CSA2, but an item's length is its
+//     first word less the first element's count of items, and an impossible length ends that
+//     element's items (the reader goes on with the next element).
 std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) {
     const Uint8* bytes = nullptr;
     unsigned long size = 0;
     if (dataset.findAndGetUint8Array(siemens_csa_image_header, bytes, &size).bad() ||
-        bytes == nullptr || size < 16 || std::memcmp(bytes, "SV10", 4) != 0) {
+        bytes == nullptr || size < 16) {
         return {};
     }
+    const bool csa2 = std::memcmp(bytes, "SV10", 4) == 0;
     const auto int32_at = [&](std::size_t at) {
         std::int32_t value = 0;
         std::memcpy(&value, bytes + at, 4);
         return value;
     };
     constexpr std::int32_t max_elements = 128;  // nibabel's bound; real headers hold about 100
-    const std::int32_t elements = int32_at(8);
+    const std::int32_t elements = int32_at(csa2 ? 8 : 0);
     if (elements < 1 || elements > max_elements) {
         return {};
     }
-    std::size_t at = 16;
+    std::size_t at = csa2 ? 16 : 8;
+    std::int32_t first_element_items = 0;  // CSA1's item lengths are offset by it
     for (std::int32_t e = 0; e < elements; ++e) {
         if (at + 84 > size) {
             return {};
@@ -440,15 +461,22 @@ std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) 
         if (items < 0 || items > 1024) {
             return {};
         }
+        if (e == 0) {
+            first_element_items = items;
+        }
         std::vector<std::string> values;
         for (std::int32_t i = 0; i < items; ++i) {
             if (at + 16 > size) {
                 return {};
             }
-            const std::int32_t length = int32_at(at + 4);
+            const std::int32_t length =
+                    csa2 ? int32_at(at + 4) : int32_at(at) - first_element_items;
             at += 16;
             if (length < 0 || at + static_cast<std::size_t>(length) > size) {
-                return {};
+                if (csa2) {
+                    return {};
+                }
+                break;
             }
             if (i < multiplicity) {
                 const char* text = reinterpret_cast<const char*>(bytes + at);
@@ -598,6 +626,16 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
         return mosaic.error();
     }
     image.mosaic = *mosaic;
+    for (const Frame& frame :
+         read_frames(dataset, 0, image.frame_count, image.mosaic, image.format)) {
+        if (!frame.position || !frame.orientation) {
+            image.frame_depths.clear();
+            break;
+        }
+        const glm::dvec3 normal = slice_normal(*frame.orientation);
+        image.frame_depths.push_back(glm::dot(normal, *frame.position) /
+                                     std::max(glm::length(normal), 1e-12));
+    }
     image.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
     if (const auto number = get_int(dataset, DCM_SeriesNumber)) {
         image.series_number = std::to_string(*number);
@@ -618,9 +656,9 @@ constexpr std::uint64_t max_folder_files = max_frames;
 // The files below the folder (in sub-folders too when `subfolders`) that carry the DICOM Part 10
 // marker, in path order so that logs and fallbacks are reproducible. Hidden files and folders
 // and links to folders are passed over.
-base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::filesystem::path& folder,
-                                                                bool subfolders,
-                                                                std::size_t& skipped) {
+base::Result<std::vector<std::filesystem::path>> dicom_files_in(
+        const std::filesystem::path& folder, bool subfolders,
+        std::vector<std::filesystem::path>& not_dicom) {
     std::error_code ec;
     std::vector<std::filesystem::path> files;
     std::uint64_t seen = 0;
@@ -648,7 +686,7 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
         if (is_dicom_file(it->path())) {
             files.push_back(it->path());
         } else {
-            ++skipped;
+            not_dicom.push_back(it->path());
         }
     }
     if (ec) {
@@ -662,10 +700,60 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(const std::files
 // The image headers of a folder, with what was passed over.
 struct FolderImages {
     std::vector<Image> images;
-    std::size_t not_dicom = 0;
+    std::vector<std::filesystem::path> not_dicom;
     std::size_t not_images = 0;
     std::optional<base::Error> other_kind;  // the first image of a kind a volume cannot hold
+
+    // Files with the DICOM marker that cannot be read as an image (cut short, damaged headers),
+    // in path order: each one's error, and what of its header was read before the damage.
+    struct Damaged {
+        base::Error error;
+        std::string series_uid;
+        std::optional<std::array<double, 3>> position;  // ImagePositionPatient (LPS)
+    };
+
+    std::vector<Damaged> damaged;
+
+    // What a volume of the folder says about the files it passed over, one line each: every
+    // damaged file (the volume lacks whatever slices it held), and the files that are not DICOM.
+    [[nodiscard]] std::vector<std::string> notes() const;
+    // " (skipped as damaged: a, b)" where files were skipped, else empty: the likely cause of a
+    // gap in the series.
+    [[nodiscard]] std::string damaged_suffix() const;
 };
+
+std::vector<std::string> FolderImages::notes() const {
+    std::vector<std::string> lines;
+    for (const Damaged& file : damaged) {
+        lines.push_back("skipped " + file.error.where + " (" + file.error.code + ": " +
+                        file.error.message + "); whatever slices it holds are not in the volume");
+    }
+    if (!not_dicom.empty()) {
+        // A few names say what the files are; an export's thousand thumbnails need no list.
+        constexpr std::size_t named = 5;
+        std::string names;
+        for (std::size_t i = 0; i < std::min(named, not_dicom.size()); ++i) {
+            names += (i == 0 ? "" : ", ") + not_dicom[i].filename().string();
+        }
+        if (not_dicom.size() > named) {
+            names += ", ...";
+        }
+        lines.push_back("skipped " + std::to_string(not_dicom.size()) +
+                        " file(s) that are not DICOM (no DICM marker): " + names);
+    }
+    return lines;
+}
+
+std::string FolderImages::damaged_suffix() const {
+    if (damaged.empty()) {
+        return {};
+    }
+    std::string names;
+    for (const Damaged& file : damaged) {
+        names += (names.empty() ? "" : ", ") + file.error.where;
+    }
+    return " (skipped as damaged: " + names + ")";
+}
 
 // `keep_files`: keep each image's parsed file for its pixel data (a load), or drop it once its
 // header is read (a listing of a folder's series, which may hold thousands of files).
@@ -689,8 +777,22 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
             }
             continue;
         }
+        // A file carrying the DICOM marker that cannot be read (a copy cut short, a damaged
+        // header) is no reason to refuse its neighbours: skipped and noted, and a slice it held
+        // inside the series shows as the gap the spacing check refuses.
         if (!opened) {
-            return opened.error();
+            base::log_warning(log_component, "skipped " + opened.error().to_string());
+            // DCMTK keeps what it parsed before the damage: a file cut short in its pixel data
+            // still says where its slice lies, which tells a gap inside the series from a
+            // slice missing at an end.
+            FolderImages::Damaged damaged{opened.error(), {}, {}};
+            if (image.file && image.file->getDataset() != nullptr) {
+                DcmDataset& dataset = *image.file->getDataset();
+                damaged.series_uid = get_string(dataset, DCM_SeriesInstanceUID);
+                damaged.position = get_doubles<3>(dataset, DCM_ImagePositionPatient);
+            }
+            found.damaged.push_back(std::move(damaged));
+            continue;
         }
         if (*opened == Opened::not_an_image) {
             ++found.not_images;
@@ -701,17 +803,20 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
         }
         found.images.push_back(std::move(image));
     }
+    if (found.images.empty() && !found.damaged.empty()) {
+        return found.damaged.front().error;
+    }
     if (found.images.empty() && found.other_kind) {
         return *found.other_kind;
     }
-    if (found.images.empty() && found.not_dicom + found.not_images == 0) {
+    if (found.images.empty() && found.not_dicom.empty() && found.not_images == 0) {
         return base::make_error("no_dicom_images", "the folder holds no files",
                                 detail::at_file(folder));
     }
     if (found.images.empty()) {
         return base::make_error("no_dicom_images",
                                 "the folder holds no DICOM image files (" +
-                                        std::to_string(found.not_dicom) + " other files, " +
+                                        std::to_string(found.not_dicom.size()) + " other files, " +
                                         std::to_string(found.not_images) +
                                         " DICOM files without pixel data)",
                                 detail::at_file(folder));
@@ -719,10 +824,42 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
     return found;
 }
 
+// Positions this close along the normal are one position repeated, not two slices: scanners
+// write them to a micrometre or finer, and no series has slices that close.
+constexpr double same_position = 1e-3;  // mm
+
+// The slices a load of the images opens: their frames' distinct positions along the slice
+// normal, as a series of several volumes (echoes, time points, a mosaic per time point) repeats
+// each position once per volume; every frame where any lacks a position, since a load then keeps
+// them all.
+std::uint64_t count_slices(const std::vector<const Image*>& images) {
+    std::vector<double> depths;
+    for (const Image* image : images) {
+        if (image->frame_depths.size() != image->frame_count) {
+            std::uint64_t frames = 0;
+            for (const Image* each : images) {
+                frames += each->frame_count;
+            }
+            return frames;
+        }
+        depths.insert(depths.end(), image->frame_depths.begin(), image->frame_depths.end());
+    }
+    std::sort(depths.begin(), depths.end());
+    std::uint64_t slices = 0;
+    for (std::size_t i = 0; i < depths.size(); ++i) {
+        if (i == 0 || depths[i] - depths[i - 1] >= same_position) {
+            ++slices;
+        }
+    }
+    return slices;
+}
+
 // The series of the images, ordered by SeriesNumber (numerically), then UID.
 std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
     std::map<std::string, DicomSeries> by_uid;
+    std::map<std::string, std::vector<const Image*>> images_by_uid;
     for (const Image& image : images) {
+        images_by_uid[image.series_uid].push_back(&image);
         DicomSeries& series = by_uid[image.series_uid];
         if (series.images == 0) {
             series.uid = image.series_uid;
@@ -735,6 +872,7 @@ std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
     }
     std::vector<DicomSeries> list;
     for (auto& [uid, series] : by_uid) {
+        series.slices = count_slices(images_by_uid[uid]);
         list.push_back(std::move(series));
     }
     const auto number = [](const DicomSeries& s) {
@@ -749,7 +887,7 @@ std::vector<DicomSeries> series_of(const std::vector<Image>& images) {
 std::string series_choices(const std::vector<DicomSeries>& list) {
     std::string text;
     for (const DicomSeries& series : list) {
-        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.frames) +
+        text += (text.empty() ? "" : "; ") + series.label() + ": " + std::to_string(series.slices) +
                 " slices, " + (series.number.empty() ? "" : "number " + series.number + ", ") +
                 "UID " + series.uid;
     }
@@ -785,12 +923,6 @@ base::Result<DicomSeries> select_series(std::vector<Image>& images, const std::s
     return chosen;
 }
 
-glm::dvec3 slice_normal(const std::array<double, 6>& orientation) {
-    const glm::dvec3 row(orientation[0], orientation[1], orientation[2]);
-    const glm::dvec3 column(orientation[3], orientation[4], orientation[5]);
-    return glm::cross(row, column);
-}
-
 std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     std::string label = images[frame.image].path.string();
     if (images[frame.image].frame_count > 1) {
@@ -798,10 +930,6 @@ std::string frame_label(const Frame& frame, const std::vector<Image>& images) {
     }
     return label;
 }
-
-// Positions this close along the normal are one position repeated, not two slices: scanners
-// write them to a micrometre or finer, and no series has slices that close.
-constexpr double same_position = 1e-3;  // mm
 
 // Several volumes of one series (echoes, acquisitions, time points) repeat each position as
 // often: keeps the first volume's frame at each position of the frames (sorted by `depth`) and
@@ -1266,9 +1394,9 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     if (!found) {
         return found.error();
     }
-    if (found->not_dicom + found->not_images > 0) {
+    if (!found->not_dicom.empty() || found->not_images > 0) {
         base::log_info(log_component, folder.string() + ": skipped " +
-                                              std::to_string(found->not_dicom) +
+                                              std::to_string(found->not_dicom.size()) +
                                               " files that are not DICOM and " +
                                               std::to_string(found->not_images) +
                                               " DICOM files without pixel data");
@@ -1285,7 +1413,42 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     if (series_count > 1) {
         name = chosen->label();
     }
-    return assemble(images, name, folder, options);
+    auto volume = assemble(images, name, folder, options);
+    if (!volume) {
+        base::Error error = volume.error();
+        if (error.code == "inconsistent_series") {
+            error.message += found->damaged_suffix();
+        }
+        return error;
+    }
+    // A damaged slice of this series that lay between two slices of the volume leaves a gap that
+    // the spacing check cannot see where the slices left are evenly spaced (every other one
+    // damaged; two slices have one gap, always "even"): refused, as a gap is. One at a slice's
+    // own position (a damaged copy beside the intact file) or past an end takes nothing from
+    // between the slices; the note names it.
+    const double step = volume->spacing.z;
+    const double last_depth = step * static_cast<double>(volume->dims.z - 1);
+    for (const FolderImages::Damaged& file : found->damaged) {
+        if (file.series_uid != chosen->uid || !file.position || volume->dims.z < 2) {
+            continue;
+        }
+        const glm::dvec3 position((*file.position)[0], (*file.position)[1], (*file.position)[2]);
+        const double depth = glm::dot(volume->axes[2], lps_to_ras(position) - volume->origin);
+        const double off_grid = std::abs(depth / step - std::round(depth / step));
+        if (depth > same_position && depth < last_depth - same_position &&
+            off_grid > gap_tolerance) {
+            return base::make_error("inconsistent_series",
+                                    "the series lacks its slice " + millimetres(depth) +
+                                            " from its first along the slice normal, whose "
+                                            "file is damaged (" +
+                                            file.error.code + ": " + file.error.message + ")",
+                                    file.error.where);
+        }
+    }
+    auto notes = found->notes();
+    notes.insert(notes.end(), volume->notes.begin(), volume->notes.end());
+    volume->notes = std::move(notes);
+    return volume;
 }
 
 base::Result<Volume> load_dicom_file(const std::filesystem::path& path,

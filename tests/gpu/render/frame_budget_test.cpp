@@ -7,6 +7,7 @@
 #include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/box.hpp>
+#include <penumbra/scene/frame_work.hpp>
 
 #include <gtest/gtest.h>
 
@@ -132,6 +133,55 @@ TEST_F(FrameBudgetTest, CeilingCountsTheLightBufferAndHalfAngleSlices) {
         ASSERT_FALSE(refused.ok()) << scene::to_string(mode);
         EXPECT_EQ(refused.error().code, "too_much_work");
     }
+}
+
+// A small sphere in a 64^3 volume: 8 of its 512 bricks hold values a TF that is transparent
+// below 0.5 shows, so a ray marches few samples and leaps the rest.
+struct MostlyEmpty {
+    volume::Volume volume = test::sphere_volume(64, 0.2f);
+    scene::FrameRequest request = soft_scene(scene::Mode::dvr, 64, 64);
+
+    MostlyEmpty() {
+        request.transfer_function.opacities = {{0.0, 0.0}, {0.5, 0.0}, {0.51, 0.6}, {1.0, 0.6}};
+    }
+
+    // The estimate that knows nothing of empty space: what admission counted before it did.
+    [[nodiscard]] double every_sample_work() const {
+        const scene::Box box = scene::box_for_extent(volume.extent(), volume.axes);
+        return scene::estimate_work(request, box, 0).total();
+    }
+};
+
+TEST_F(FrameBudgetTest, AMostlyEmptyVolumeIsAdmittedForTheWorkItsRaysDo) {
+    const MostlyEmpty scene;
+    // Half what marching every sample costs: with skipping the rays march about a sixth of it.
+    create(with(&RendererOptions::max_frame_work, scene.every_sample_work() / 2.0));
+    use(scene.volume);
+    EXPECT_TRUE(renderer_->render(scene.request).ok());
+
+    scene::FrameRequest unskipped = scene.request;
+    unskipped.settings.empty_space_skipping = false;
+    auto refused = renderer_->render(unskipped);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "too_much_work");
+}
+
+TEST_F(FrameBudgetTest, AVolumeWhoseBricksAreAllVisibleIsEstimatedAsEverySample) {
+    MostlyEmpty scene;
+    scene.request.transfer_function.opacities = {{0.0, 0.02}, {1.0, 0.6}};  // nothing transparent
+    const double work = scene.every_sample_work();
+    create(with(&RendererOptions::max_frame_work, work * 0.99));
+    use(scene.volume);
+    auto refused = renderer_->render(scene.request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "too_much_work");
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "about %.2g shader", work);
+    EXPECT_NE(refused.error().message.find(expected), std::string::npos)
+            << refused.error().message << " (expected " << expected << ")";
+
+    create(with(&RendererOptions::max_frame_work, work));
+    EXPECT_TRUE(renderer_->render(scene.request).ok());
 }
 
 // ---- the light-buffer cache ----

@@ -81,19 +81,22 @@ TEST(Describe, RescaleNotesAndReplacedVoxelsAreShown) {
     EXPECT_EQ(lines[13], "non-finite:  1 voxels replaced by the minimum");
 }
 
-TEST(Describe, DicomSeriesAreAlignedColumns) {
+// The slices column counts what a load opens, not the frames (a mosaic's tiles, a second volume).
+TEST(Describe, DicomSeriesAreAlignedColumnsOfSlices) {
     DicomSeries head{.uid = "1.2.3.4",
                      .number = "2",
                      .description = "ch2 head",
                      .modality = "MR",
-                     .images = 24,
-                     .frames = 24};
+                     .images = 3,
+                     .frames = 72,
+                     .slices = 24};
     DicomSeries localiser{.uid = "1.2.3.5",
                           .number = "",
                           .description = "",
                           .modality = "CT",
                           .images = 3,
-                          .frames = 3};
+                          .frames = 3,
+                          .slices = 3};
     EXPECT_EQ(
             lines_of(describe_series({head, localiser})),
             (std::vector<std::string>{

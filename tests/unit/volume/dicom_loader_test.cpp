@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numeric>
 #include <random>
 
@@ -525,9 +526,21 @@ TEST(DicomLoader, ASiemensMosaicIsUnpackedIntoItsSlices) {
     expect_ch2_voxels(*volume, slices);
 }
 
-// A Siemens CSA image header (0029,1010) of the "SV10" layout holding one element of text items,
-// as Syngo writes them: a 16-byte header per item, the text padded to four bytes.
-std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+// One element of a Siemens CSA header: its name, multiplicity and text items (as many as
+// `items`; those past the given values are empty, as Syngo pads its elements to six items).
+struct CsaElement {
+    std::string name;
+    std::vector<std::string> values;
+    std::int32_t items = 6;
+};
+
+enum class CsaLayout { sv10, csa1 };
+
+// A Siemens CSA image header (0029,1010), built byte by byte as Syngo writes one: "SV10" (CSA2)
+// with its signature, each item's length its second word; or the older CSA1 without one, each
+// item's length its first word less the first element's count of items. Either way a 16-byte
+// header per item and the text padded to four bytes.
+std::vector<Uint8> csa_header(CsaLayout layout, const std::vector<CsaElement>& elements) {
     std::vector<Uint8> bytes;
     const auto put_int = [&](std::int32_t value) {
         const auto* b = reinterpret_cast<const Uint8*>(&value);
@@ -538,24 +551,37 @@ std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::st
         std::copy(text.begin(), text.end(), field.begin());
         bytes.insert(bytes.end(), field.begin(), field.end());
     };
-    put_text("SV10", 4);
-    put_text("\4\3\2\1", 4);
-    put_int(1);   // elements
+    if (layout == CsaLayout::sv10) {
+        put_text("SV10", 4);
+        put_text("\4\3\2\1", 4);
+    }
+    put_int(static_cast<std::int32_t>(elements.size()));
     put_int(77);  // unused
-    put_text(name, 64);
-    put_int(static_cast<std::int32_t>(items.size()));  // multiplicity
-    put_text("FD", 4);
-    put_int(4);  // SyngoDT
-    put_int(static_cast<std::int32_t>(items.size()));
-    put_int(77);
-    for (const std::string& item : items) {
-        const auto length = static_cast<std::int32_t>(item.size() + 1);  // with its NUL
-        for (const std::int32_t field : {length, length, 77, length}) {
-            put_int(field);
+    const std::int32_t length_offset = layout == CsaLayout::csa1 ? elements.front().items : 0;
+    for (const CsaElement& element : elements) {
+        put_text(element.name, 64);
+        put_int(static_cast<std::int32_t>(element.values.size()));  // multiplicity
+        put_text("FD", 4);
+        put_int(4);  // SyngoDT
+        put_int(element.items);
+        put_int(77);
+        for (std::int32_t i = 0; i < element.items; ++i) {
+            const std::string text =
+                    i < static_cast<std::int32_t>(element.values.size()) ? element.values[i] : "";
+            // With its NUL; an empty item is no bytes at all.
+            const auto length = static_cast<std::int32_t>(text.empty() ? 0 : text.size() + 1);
+            const std::int32_t word = length + length_offset;
+            for (const std::int32_t field : {word, word, 77, word}) {
+                put_int(field);
+            }
+            put_text(text, static_cast<std::size_t>(length + (4 - length % 4) % 4));
         }
-        put_text(item, static_cast<std::size_t>(length + (4 - length % 4) % 4));
     }
     return bytes;
+}
+
+std::vector<Uint8> csa_header(const std::string& name, const std::vector<std::string>& items) {
+    return csa_header(CsaLayout::sv10, {{name, items, static_cast<std::int32_t>(items.size())}});
 }
 
 // The slice order comes from the CSA header's SliceNormalVector: pointing inferior, against the
@@ -599,6 +625,57 @@ TEST(DicomLoader, AMosaicsSlicesFollowTheCsaSliceNormal) {
         reversed.insert(reversed.end(), first, first + 64);
     }
     expect_ch2_voxels(*volume, reversed);
+}
+
+// The older CSA1 layout (no "SV10" signature) is read as the newer: a mosaic whose number of
+// slices and slice normal only its CSA header gives opens alike from either, the header holding
+// an element before them whose item count offsets CSA1's item lengths.
+TEST(DicomLoader, AMosaicsCsaHeaderIsReadInEitherLayout) {
+    const glm::uvec3 tile{8, 8, 4};
+    const auto slices = fixtures::ch2_box(box_first, tile);
+    std::vector<std::uint16_t> tiled(std::size_t{16} * 16, 0);
+    for (unsigned f = 0; f < tile.z; ++f) {
+        for (unsigned y = 0; y < tile.y; ++y) {
+            for (unsigned x = 0; x < tile.x; ++x) {
+                tiled[((f / 2) * 8 + y) * 16 + (f % 2) * 8 + x] = slices[(f * 8 + y) * 8 + x];
+            }
+        }
+    }
+    std::vector<std::uint16_t> reversed;  // the normal points against row x column
+    for (unsigned k = 0; k < tile.z; ++k) {
+        const auto first = slices.begin() + static_cast<std::ptrdiff_t>((tile.z - 1 - k) * 64);
+        reversed.insert(reversed.end(), first, first + 64);
+    }
+    for (const CsaLayout layout : {CsaLayout::sv10, CsaLayout::csa1}) {
+        SCOPED_TRACE(layout == CsaLayout::sv10 ? "SV10" : "CSA1");
+        fixtures::TempDir dir;
+        SeriesSpec spec;
+        spec.dims = {16, 16, 1};
+        spec.spacing = {1.0, 1.0, 2.5};
+        spec.origin = glm::dvec3(-4.0, -4.0, 0.0);
+        spec.edit = [layout](DcmDataset& dataset) {
+            // MOSAIC in ImageType, but no NumberOfImagesInMosaic (0019,100a): the count comes
+            // from the CSA header alone.
+            ASSERT_TRUE(dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\MOSAIC")
+                                .good());
+            const auto csa = csa_header(
+                    layout, {{"EchoLinePosition", {"128"}, 6},
+                             {"NumberOfImagesInMosaic", {"4"}, 6},
+                             {"SliceNormalVector", {"0.00000000", "0.00000000", "-1.0"}, 6}});
+            ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                       csa.size())
+                                .good());
+            ASSERT_TRUE(
+                    dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), "SIEMENS CSA HEADER")
+                            .good());
+        };
+        fixtures::write_slice(dir / "mosaic.dcm", spec, 0, tiled, 1);
+        auto volume = load_volume(dir / "mosaic.dcm");
+        ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+        EXPECT_EQ(volume->dims, tile);
+        EXPECT_NEAR(glm::length(volume->origin - glm::dvec3(0.0, 0.0, -7.5)), 0.0, 1e-9);
+        expect_ch2_voxels(*volume, reversed);
+    }
 }
 
 // Mosaics that cannot be unpacked are refused by name: without a number of slices, or with one
@@ -707,7 +784,7 @@ TEST(DicomLoader, NonDicomFileNamedDcmIsAnError) {
     EXPECT_TRUE(contains(volume.error().where, "fake.dcm")) << volume.error().to_string();
 }
 
-TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsNamed) {
+TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsSkippedAndNamed) {
     fixtures::TempDir dir;
     SeriesSpec spec;
     fixtures::write_series(dir / "s", spec, std::vector<std::uint16_t>(24, 1));
@@ -715,10 +792,20 @@ TEST(DicomLoader, CorruptFileWithTheDicomMarkerIsNamed) {
     std::memcpy(bytes.data() + 128, "DICM", 4);
     fixtures::write_bytes(dir / "s" / "broken", bytes);
     auto volume = load_volume(dir / "s");
-    ASSERT_FALSE(volume.ok());
-    EXPECT_TRUE(volume.error().code == "bad_header" || volume.error().code == "truncated")
-            << volume.error().to_string();
-    EXPECT_TRUE(contains(volume.error().where, "broken")) << volume.error().to_string();
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    ASSERT_EQ(volume->notes.size(), 1u);
+    EXPECT_TRUE(contains(volume->notes.front(), "broken")) << volume->notes.front();
+    EXPECT_TRUE(contains(volume->notes.front(), "bad_header") ||
+                contains(volume->notes.front(), "truncated"))
+            << volume->notes.front();
+
+    std::filesystem::create_directories(dir / "alone");
+    fixtures::write_bytes(dir / "alone" / "broken", bytes);
+    auto alone = load_volume(dir / "alone");
+    ASSERT_FALSE(alone.ok());
+    EXPECT_TRUE(alone.error().code == "bad_header" || alone.error().code == "truncated")
+            << alone.error().to_string();
+    EXPECT_TRUE(contains(alone.error().where, "broken")) << alone.error().to_string();
 }
 
 TEST(DicomLoader, MixedImageSizesAreAnError) {
@@ -780,6 +867,8 @@ TEST(DicomLoader, RepeatedPositionIsAnError) {
             << volume.error().to_string();
 }
 
+// A slice cut short inside the series is skipped, and the gap it leaves refuses the series,
+// naming it; a file of only that slice is refused as truncated.
 TEST(DicomLoader, TruncatedPixelDataIsAnError) {
     fixtures::TempDir dir;
     SeriesSpec spec;
@@ -789,8 +878,13 @@ TEST(DicomLoader, TruncatedPixelDataIsAnError) {
     std::filesystem::resize_file(paths[1], size - 500);
     auto volume = load_volume(dir / "s");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
-    EXPECT_TRUE(contains(volume.error().where, "slice_001.dcm")) << volume.error().to_string();
+    EXPECT_EQ(volume.error().code, "inconsistent_series") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().to_string(), "slice_001.dcm"))
+            << volume.error().to_string();
+    auto slice = load_volume(paths[1]);
+    ASSERT_FALSE(slice.ok());
+    EXPECT_EQ(slice.error().code, "truncated") << slice.error().to_string();
+    EXPECT_TRUE(contains(slice.error().where, "slice_001.dcm")) << slice.error().to_string();
 }
 
 TEST(DicomLoader, MissingRowsTagIsNamed) {
@@ -899,6 +993,138 @@ TEST(DicomLoader, RealTruncatedFileIsReportedAsTruncated) {
     auto volume = load_volume(pydicom_files / "MR_truncated.dcm");
     ASSERT_FALSE(volume.ok());
     EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+}
+
+// A real CT series of five 16x16 slices, 2.5 mm apart (pydicom's DICOMDIR test set).
+const std::filesystem::path real_ct_series = pydicom_files / "dicomdirtests/98892001/CT5N";
+
+// Copies the real series into `folder`, its files named as pydicom ships them.
+void copy_real_ct_series(const std::filesystem::path& folder) {
+    std::filesystem::create_directories(folder);
+    for (const auto& entry : std::filesystem::directory_iterator(real_ct_series)) {
+        std::filesystem::copy_file(entry.path(), folder / entry.path().filename());
+    }
+}
+
+// The first `bytes` bytes of a file, as a copy cut short in transfer leaves it.
+void write_cut_copy(const std::filesystem::path& from, const std::filesystem::path& to,
+                    std::size_t bytes) {
+    std::ifstream in(from, std::ios::binary);
+    std::vector<char> head(bytes);
+    ASSERT_TRUE(in.read(head.data(), static_cast<std::streamsize>(bytes)));
+    std::ofstream(to, std::ios::binary).write(head.data(), static_cast<std::streamsize>(bytes));
+}
+
+bool any_note_names(const Volume& volume, const std::string& file, const std::string& why) {
+    return std::any_of(volume.notes.begin(), volume.notes.end(), [&](const std::string& note) {
+        return contains(note, file) && contains(note, why);
+    });
+}
+
+// A damaged file among the slices (a copy cut short, a file of junk behind a DICOM marker) is
+// skipped with a note naming it, and the series opens with every voxel of its intact slices.
+TEST(DicomLoader, DamagedFilesBesideARealSeriesAreSkippedWithANote) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "clean");
+    auto clean = load_volume(dir / "clean");
+    ASSERT_TRUE(clean.ok()) << clean.error().to_string();
+    ASSERT_EQ(clean->dims, glm::uvec3(16, 16, 5));
+    EXPECT_TRUE(clean->notes.empty());
+
+    copy_real_ct_series(dir / "s");
+    write_cut_copy(real_ct_series / "2392", dir / "s" / "2392_copy", 2000);
+    std::vector<std::byte> junk(300, std::byte{0x5a});
+    std::memcpy(junk.data() + 128, "DICM", 4);
+    fixtures::write_bytes(dir / "s" / "junk_with_marker", junk);
+    fixtures::write_text(dir / "s" / "junk.txt", "not an image");
+
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, clean->dims);
+    EXPECT_EQ(volume->spacing, clean->spacing);
+    EXPECT_EQ(volume->data, clean->data);
+    EXPECT_TRUE(any_note_names(*volume, "2392_copy", "truncated"))
+            << ::testing::PrintToString(volume->notes);
+    EXPECT_TRUE(any_note_names(*volume, "junk_with_marker", "skipped"))
+            << ::testing::PrintToString(volume->notes);
+    EXPECT_TRUE(any_note_names(*volume, "junk.txt", "not DICOM"))
+            << ::testing::PrintToString(volume->notes);
+}
+
+// A skipped slice inside the series leaves a gap: refused, naming the skipped file as the cause,
+// never rendered with a slice silently missing.
+TEST(DicomLoader, ADamagedSliceInsideARealSeriesIsRefusedNamingIt) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "s");
+    std::filesystem::resize_file(dir / "s" / "2693", 2000);  // the middle slice of five
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "inconsistent_series") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "not evenly spaced"))
+            << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().message, "2693")) << volume.error().to_string();
+}
+
+// A damaged end slice leaves no gap to see: the volume opens one slice shorter, and says why.
+TEST(DicomLoader, ADamagedEndSliceOfARealSeriesOpensTheRestWithANote) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "s");
+    std::filesystem::resize_file(dir / "s" / "3353", 2000);  // the lowest slice
+    auto volume = load_volume(dir / "s");
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(16, 16, 4));
+    EXPECT_TRUE(any_note_names(*volume, "3353", "not in the volume"))
+            << ::testing::PrintToString(volume->notes);
+}
+
+// Only damaged files: the folder's error is the first file's own.
+TEST(DicomLoader, AFolderOfOnlyDamagedFilesIsTheirError) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    fixtures::TempDir dir;
+    std::filesystem::create_directories(dir / "s");
+    write_cut_copy(real_ct_series / "2392", dir / "s" / "2392", 2000);
+    auto volume = load_volume(dir / "s");
+    ASSERT_FALSE(volume.ok());
+    EXPECT_EQ(volume.error().code, "truncated") << volume.error().to_string();
+    EXPECT_TRUE(contains(volume.error().where, "2392")) << volume.error().to_string();
+}
+
+// A folder of two real series: the CT above, and heudiconv's diffusion series of three Siemens
+// mosaics, one per volume, each tiling the same 81 slices. A listing counts what a load opens
+// (81 slices) apart from the 2-D images the files hold (243 tiles in 3 files).
+TEST(DicomLoader, SeriesListingsCountSlicesApartFromFramesOnRealSeries) {
+    SKIP_WITHOUT_PYDICOM_FILES();
+    const std::filesystem::path mosaics =
+            "/usr/lib/python3/dist-packages/heudiconv/tests/data/b0dwiForFmap";
+    ASSERT_TRUE(std::filesystem::exists(mosaics)) << mosaics << " comes with Debian's heudiconv";
+    fixtures::TempDir dir;
+    copy_real_ct_series(dir / "study" / "ct");
+    std::filesystem::create_directories(dir / "study" / "dwi");
+    for (const auto& entry : std::filesystem::directory_iterator(mosaics)) {
+        std::filesystem::create_symlink(entry.path(),
+                                        dir / "study" / "dwi" / entry.path().filename());
+    }
+    auto series = list_dicom_series(dir / "study");
+    ASSERT_TRUE(series.ok()) << series.error().to_string();
+    ASSERT_EQ(series->size(), 2u);
+    const auto& dwi = series->front().images == 3 ? series->front() : series->back();
+    const auto& ct = series->front().images == 3 ? series->back() : series->front();
+    EXPECT_EQ(dwi.images, 3u);
+    EXPECT_EQ(dwi.frames, 243u);
+    EXPECT_EQ(dwi.slices, 81u);
+    EXPECT_EQ(ct.images, 5u);
+    EXPECT_EQ(ct.frames, 5u);
+    EXPECT_EQ(ct.slices, 5u);
+
+    // The choice a load asks for names each series with the slices it would open.
+    auto several = load_volume(dir / "study");
+    ASSERT_FALSE(several.ok());
+    EXPECT_EQ(several.error().code, "several_series");
+    EXPECT_TRUE(contains(several.error().message, "81 slices")) << several.error().message;
+    EXPECT_FALSE(contains(several.error().message, "243")) << several.error().message;
 }
 
 TEST(DicomLoader, JpegTwoThousandIsRefusedByName) {

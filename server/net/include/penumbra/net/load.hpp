@@ -56,7 +56,8 @@ std::string load_path(const std::string& volume, const std::string& token);
 
 // Runs `config.clients` simulated users for `config.seconds`, each on a thread of its own. An
 // error naming a request answers it; a client refused with rate_limited waits
-// rate_limited_backoff before its next request.
+// rate_limited_backoff before its next request, and asks again for its session (the open and
+// the first `set`, the frame's settings) where those were refused.
 LoadReport run_load(const LoadConfig& config);
 
 // How long a load client waits after the `refusals`-th rate_limited answer in a row (from 1):

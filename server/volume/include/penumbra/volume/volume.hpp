@@ -177,7 +177,13 @@ struct DicomSeries {
     std::string description;  // SeriesDescription (may be empty)
     std::string modality;
     std::size_t images = 0;  // files
+    // 2-D images in all the files: one per single-frame file, each frame of a multi-frame file,
+    // each tile of a Siemens mosaic. A series of several volumes (echoes, time points) holds
+    // each slice once per volume.
     std::uint64_t frames = 0;
+    // The slices a load of the series opens: its distinct positions along the slice normal (a
+    // series of several volumes opens its first); its frames where they carry no positions.
+    std::uint64_t slices = 0;
 
     // "T1 MPRAGE (series 3)", or what of it the headers have; the UID where they have nothing.
     [[nodiscard]] std::string label() const;
