@@ -18,8 +18,10 @@ struct Limits {
     int max_sessions_per_connection = 4;
     double max_requests_per_second = 120.0;  // per connection, averaged over one second
     int max_send_queue = 4;                  // frames waiting per connection before dropping
-    // Shader iterations one frame may ask for (scene::estimate_work): a 512^2 reference frame at
-    // sample distance 1/256 asks for 5e10, a 2048^2 sbrc_shell frame at the default settings 2e10.
+    // Shader iterations one frame may ask for (scene::estimate_work, which with empty-space
+    // skipping counts only the bricks the frame's TF leaves visible): a 512^2 reference frame at
+    // sample distance 1/256 of a fully visible volume asks for 5e10, a 2048^2 sbrc_shell frame at
+    // the default settings 2e10.
     double max_frame_work = 1e11;
     // Containers nested in one JSON text (the message object is 1; the deepest valid message
     // has 5). Checked while parsing, so no deeper document is ever built or walked.
