@@ -50,7 +50,7 @@ base::Status LightBufferBuilder::build(LightBuffer& target, scene::LightBufferBu
     const double texel_work = std::max(1, slab_samples);
     const double layer_texels = double(target.resolution()) * target.resolution();
     timer.begin();
-    const base::Status status =
+    base::Status status =
             per_slice ? build_per_slice(target, mesh, **built, layer_texels * texel_work, chunks)
                       : build_multi_slice(target, **built, target.slices() * texel_work, chunks);
     timer.end();

@@ -58,7 +58,7 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
                          std::chrono::milliseconds rescan_interval, int loader_threads)
     : data_dir_(std::move(data_dir))
     , memory_budget_(memory_budget)
-    , load_options_(load_options)
+    , load_options_(std::move(load_options))
     , rescan_interval_(rescan_interval)
     , loaders_(loader_threads) {
     rescanner_ = std::thread([this] { rescan_loop(); });

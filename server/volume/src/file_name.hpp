@@ -26,7 +26,7 @@ inline bool has_suffix(std::string_view text, std::string_view suffix) {
 // stem "head" of "head.nii.gz" for {".nii.gz", ".nii"}; list longer suffixes first.
 template <class Suffixes>
 std::string strip_suffix(const std::filesystem::path& path, const Suffixes& suffixes) {
-    const std::string name = path.filename().string();
+    std::string name = path.filename().string();
     const std::string lower = lower_file_name(path);
     for (std::string_view suffix : suffixes) {
         if (has_suffix(lower, suffix)) {
