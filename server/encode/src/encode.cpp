@@ -1,5 +1,7 @@
 #include "penumbra/encode/encode.hpp"
 
+#include <penumbra/base/assert.hpp>
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
@@ -71,8 +73,24 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
     return std::nullopt;
 }
 
+std::optional<ImageFormat> frame_format_named(std::string_view name) {
+    for (const FrameFormat& row : kFrameFormats) {
+        if (row.name == name) {
+            return row.format;
+        }
+    }
+    return std::nullopt;
+}
+
 const char* to_string(ImageFormat format) {
-    return format == ImageFormat::png ? "png" : "jpeg";
+    for (const FrameFormat& row : kFrameFormats) {
+        if (row.format == format) {
+            // The names are string literals, so each view ends in a NUL.
+            return row.name.data();
+        }
+    }
+    PENUMBRA_ASSERT(false, "every image format has its row in kFrameFormats");
+    return "";
 }
 
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,

@@ -3,6 +3,7 @@
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -14,8 +15,25 @@ namespace penumbra::encode {
 
 enum class ImageFormat { png, jpeg };
 
+// A format frames are written in, by the name the protocol and `hello` give it.
+struct FrameFormat {
+    ImageFormat format;
+    std::string_view name;
+};
+
+// The formats this module writes frames in, the first the default: `hello.encodings`, the
+// protocol's `output.encoding` and the frame header's `encoding` are these names.
+inline constexpr std::array<FrameFormat, 2> kFrameFormats{{
+        {ImageFormat::jpeg, "jpeg"},
+        {ImageFormat::png, "png"},
+}};
+
+// The format `name` names in kFrameFormats; none for another name.
+std::optional<ImageFormat> frame_format_named(std::string_view name);
+
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
+// The format's name in kFrameFormats.
 const char* to_string(ImageFormat format);
 
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is 1..100.
