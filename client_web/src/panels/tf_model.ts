@@ -2,15 +2,17 @@
 // positions [0, 1], the server's presets (from its hello), colour maps and the histogram curve. No DOM: the editor
 // (tf_editor.ts) draws it and turns pointer events into these operations; tests drive it directly.
 
-import type {
-  ColorPoint,
-  HelloMessage,
-  OpacityPoint,
-  PositionSpace,
-  Preset,
-  Rgb,
-  TransferFunctionPatch,
-  TransferFunctionPoints,
+import {
+  HOUNSFIELD,
+  NORMALIZED,
+  type ColorPoint,
+  type HelloMessage,
+  type OpacityPoint,
+  type PositionSpace,
+  type Preset,
+  type Rgb,
+  type TransferFunctionPatch,
+  type TransferFunctionPoints,
 } from '../protocol/messages';
 
 /**
@@ -75,7 +77,7 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
 export function colorMaps(presets: readonly TransferFunctionPoints[]): Record<string, ColorPoint[]> {
   const maps: Record<string, ColorPoint[]> = { ...COLOR_MAPS };
   for (const preset of presets) {
-    if (preset.space === 'normalized' && !(preset.name in maps)) maps[preset.name] = preset.colors;
+    if (preset.space === NORMALIZED && !(preset.name in maps)) maps[preset.name] = preset.colors;
   }
   return maps;
 }
@@ -131,7 +133,7 @@ export function normalizedPosition(
   domain: ValueDomain,
   nominalCtRange: readonly [number, number],
 ): number {
-  if (space !== 'hounsfield') return x;
+  if (space !== HOUNSFIELD) return x;
   const [min, max] = domain.hounsfield ? [domain.min, domain.max] : nominalCtRange;
   const width = max - min;
   return width > 0 ? (x - min) / width : 0;
@@ -319,7 +321,7 @@ export class TfModel {
   toProtocol(): TransferFunctionPatch & TransferFunctionPoints {
     return {
       name: this.name,
-      space: 'normalized',
+      space: NORMALIZED,
       colors: structuredClone(this.colors),
       opacities: structuredClone(this.opacities),
     };

@@ -6,16 +6,20 @@
 #include "examples.hpp"
 #include "schema_generator.hpp"
 
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -150,6 +154,25 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
     EXPECT_EQ(light_buffer.at("lookup").at("enum"), names_in_table<scene::LightLookup>());
 }
 
+// The numbers the schema states of the defaults: an orbit's members left out (the default camera's)
+// and the maxima hello.limits announces for a server configured with nothing else.
+TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
+    const auto generated = test::generated_common_schema(R"({"$defs": {}})");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    const json defs = json::parse(*generated).at("$defs");
+    const json& orbit = schema_node(defs, "camera/orbit").at("properties");
+    const scene::Camera from_defaults = scene::orbit_camera(
+            orbit.at("azimuth").at("default").get<double>(),
+            orbit.at("elevation").at("default").get<double>(),
+            orbit.at("distance").at("default").get<double>());
+    EXPECT_LT(glm::length(from_defaults.eye - scene::Camera{}.eye), 1e-12);
+    const Limits limits;
+    EXPECT_EQ(schema_node(defs, "settings/size").at("items").at("maximum"), limits.max_image_side);
+    EXPECT_EQ(schema_node(defs, "settings/light_buffer/slices").at("maximum"), limits.max_slices);
+    EXPECT_EQ(schema_node(defs, "settings/light_buffer/resolution").at("maximum"),
+              limits.max_light_resolution);
+}
+
 TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
     EXPECT_FALSE(test::generated_common_schema("[1, 2]").ok());
     EXPECT_FALSE(test::generated_common_schema("{\"$defs\": 1}").ok());
@@ -227,6 +250,19 @@ TEST(SchemaAgreement, HelloSchemaIsGenerated) {
     const json& item = written.at("properties").at("modes").at("items").at("properties");
     EXPECT_EQ(item.at("technique").at("enum"), names_in_table<scene::Technique>());
     EXPECT_EQ(item.at("gradients").at("enum"), names_in_table<scene::Gradients>());
+    // Each limit's default is what hello sends with nothing configured.
+    const json& limits = written.at("properties").at("limits").at("properties");
+    const Limits defaults;
+    EXPECT_EQ(limits.at("max_message_bytes").at("default"), defaults.max_message_bytes);
+    EXPECT_EQ(limits.at("max_image_side").at("default"), defaults.max_image_side);
+    EXPECT_EQ(limits.at("max_slices").at("default"), defaults.max_slices);
+    EXPECT_EQ(limits.at("max_requests_per_second").at("default").get<double>(),
+              defaults.max_requests_per_second);
+    EXPECT_EQ(limits.at("max_frame_work").at("default").get<double>(), defaults.max_frame_work);
+    EXPECT_EQ(limits.at("max_transfer_function_points").at("default"),
+              max_transfer_function_points);
+    EXPECT_EQ(limits.at("max_hounsfield_position").at("default").get<double>(),
+              scene::max_hounsfield_position);
     EXPECT_FALSE(test::generated_hello_schema("[1]").ok());
 }
 
@@ -315,6 +351,83 @@ TEST(SchemaAgreement, TheRecordedHelloIsRewrittenAsTheServerSendsIt) {
     EXPECT_EQ(hello, sent);
     EXPECT_EQ(stale->substr(stale->find('\n')), "\n{\"type\":\"opened\"}\n");
     EXPECT_FALSE(test::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
+}
+
+// The web client's names and views are the server's: a name, a format or a view pose changed in C++
+// changes the module the script writes, and the committed one must follow.
+TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
+    const std::filesystem::path file = std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() /
+                                       "client_web" / test::kClientTablesPath;
+    ASSERT_TRUE(std::filesystem::exists(file)) << file << ": run scripts/update-schema.sh";
+    EXPECT_TRUE(test::generated_client_tables() == test::read_text(file))
+            << file << " differs from what the C++ tables make of it: run "
+            << "scripts/update-schema.sh";
+}
+
+// The list `constant` as the generated module writes it: "export const NAME = ['a', 'b'] as
+// const;".
+std::vector<std::string> generated_list(const std::string& text, const std::string& constant) {
+    const std::regex list("export const " + constant + R"( = \[([^\]]*)\] as const;)");
+    std::smatch match;
+    EXPECT_TRUE(std::regex_search(text, match, list)) << constant;
+    std::vector<std::string> names;
+    const std::string items = match[1].str();
+    const std::regex name("'([^']*)'");
+    for (auto it = std::sregex_iterator(items.begin(), items.end(), name);
+         it != std::sregex_iterator(); ++it) {
+        names.push_back((*it)[1].str());
+    }
+    return names;
+}
+
+template <scene::NamedEnum Enum>
+std::vector<std::string> table_names() {
+    std::vector<std::string> names;
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.emplace_back(row.name);
+    }
+    return names;
+}
+
+glm::dvec3 generated_vec3(const std::string& text) {
+    glm::dvec3 v{};
+    std::istringstream in(text);
+    char separator = 0;
+    in >> v.x >> separator >> v.y >> separator >> v.z;
+    return v;
+}
+
+TEST(SchemaAgreement, TheClientTablesHoldTheServersNamesAndViews) {
+    const std::string text = test::generated_client_tables();
+    std::vector<std::string> encodings;
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.emplace_back(format.name);
+    }
+    EXPECT_EQ(generated_list(text, "ENCODINGS"), encodings);
+    EXPECT_EQ(generated_list(text, "COMPOSITINGS"), table_names<scene::Compositing>());
+    EXPECT_EQ(generated_list(text, "STAGES"), table_names<scene::RaycastStage>());
+    EXPECT_EQ(generated_list(text, "BUILDERS"), table_names<scene::LightBufferBuilder>());
+    EXPECT_EQ(generated_list(text, "LIGHT_LOOKUPS"), table_names<scene::LightLookup>());
+    EXPECT_EQ(generated_list(text, "LIGHT_TYPES"), table_names<scene::LightType>());
+    EXPECT_EQ(generated_list(text, "POSITION_SPACES"), table_names<scene::PositionSpace>());
+    EXPECT_EQ(generated_list(text, "VIEWS"), table_names<scene::View>());
+    // Each view's eye direction and up, as the server poses its camera for that view.
+    for (const scene::EnumName<scene::View>& row : scene::names<scene::View>()) {
+        SCOPED_TRACE(std::string(row.name));
+        const std::regex pose("  " + std::string(row.name) +
+                              R"(: \{ side: \[([^\]]*)\], up: \[([^\]]*)\] \},)");
+        std::smatch match;
+        ASSERT_TRUE(std::regex_search(text, match, pose));
+        const scene::Camera camera = scene::view_camera(row.value, 3.0, glm::dvec3(0.5, -1, 2));
+        const glm::dvec3 side = generated_vec3(match[1].str());
+        const glm::dvec3 up = generated_vec3(match[2].str());
+        EXPECT_LT(glm::length(camera.target + 3.0 * side - camera.eye), 1e-12);
+        EXPECT_LT(glm::length(up - camera.up), 1e-12);
+    }
+    const std::regex distance(R"(export const DEFAULT_CAMERA_DISTANCE = ([0-9.]+);)");
+    std::smatch match;
+    ASSERT_TRUE(std::regex_search(text, match, distance));
+    EXPECT_EQ(std::stod(match[1].str()), scene::default_camera_distance);
 }
 
 }  // namespace

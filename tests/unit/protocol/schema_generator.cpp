@@ -1,11 +1,16 @@
 #include "schema_generator.hpp"
 
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -235,6 +240,18 @@ void write_transfer_function(json& defs) {
     }
 }
 
+// What an orbit's members are when a patch leaves them out: the default camera's angles and
+// distance, as the parser takes them.
+void write_orbit_defaults(json& defs) {
+    const scene::Camera camera;
+    const glm::dvec3 offset = camera.eye - camera.target;
+    const double distance = glm::length(offset);
+    json& orbit = node_of(defs, "camera/orbit")["properties"];
+    orbit["azimuth"]["default"] = number(glm::degrees(std::atan2(offset.x, offset.y)));
+    orbit["elevation"]["default"] = number(glm::degrees(std::asin(offset.z / distance)));
+    orbit["distance"]["default"] = number(distance);
+}
+
 base::Result<std::string> generated_common_schema(std::string_view committed) {
     json schema = json::parse(committed, nullptr, false);
     if (schema.is_discarded() || !schema.is_object() || !schema.contains("$defs") ||
@@ -255,6 +272,13 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");
     write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
     write_transfer_function(defs);
+
+    write_orbit_defaults(defs);
+    // The maxima a server configured otherwise announces in hello.limits, at their defaults.
+    const Limits limits;
+    node_of(defs, "settings/size")["items"]["maximum"] = limits.max_image_side;
+    node_of(defs, "settings/light_buffer/slices")["maximum"] = limits.max_slices;
+    node_of(defs, "settings/light_buffer/resolution")["maximum"] = limits.max_light_resolution;
 
     json client_types = json::array();
     for (const std::string_view type : kClientMessageTypes) {
@@ -281,6 +305,15 @@ base::Result<std::string> generated_hello_schema(std::string_view committed) {
     capabilities["shadows"]["enum"] = names_of_enum<scene::ShadowKind>();
     capabilities["scattering"]["enum"] = names_of_enum<scene::ScatteringKind>();
     capabilities["gradients"]["enum"] = names_of_enum<scene::Gradients>();
+    // Each limit as a server configured with nothing else sends it (and the fixed ones as every
+    // server does).
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    json& limits = schema["properties"]["limits"]["properties"];
+    for (const auto& [name, value] : hello.at("limits").items()) {
+        if (value.is_number()) {
+            limits[name]["default"] = number(value.get<double>());
+        }
+    }
     return schema.dump(2) + "\n";
 }
 
@@ -296,6 +329,91 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
     auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
     hello["renderer"] = recorded.value("renderer", nlohmann::json::object());
     return hello.dump() + std::string(committed.substr(line_end));
+}
+
+namespace {
+
+// A number as TypeScript reads it back exactly: whole numbers without a point, no "-0".
+std::string ts_number(double value) {
+    if (value == 0.0) {
+        return "0";
+    }
+    return number(value).dump();
+}
+
+std::string ts_vec3(glm::dvec3 v) {
+    return "[" + ts_number(v.x) + ", " + ts_number(v.y) + ", " + ts_number(v.z) + "]";
+}
+
+std::string ts_names(std::string_view constant, std::string_view summary,
+                     const std::vector<std::string_view>& names) {
+    std::string out =
+            "/** " + std::string(summary) + " */\nexport const " + std::string(constant) + " = [";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        out += (i > 0 ? ", '" : "'") + std::string(names[i]) + "'";
+    }
+    return out + "] as const;\n";
+}
+
+template <scene::NamedEnum Enum>
+std::string ts_enum(std::string_view constant, std::string_view summary) {
+    std::vector<std::string_view> names;
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.push_back(row.name);
+    }
+    return ts_names(constant, summary, names);
+}
+
+}  // namespace
+
+std::string generated_client_tables() {
+    std::vector<std::string_view> encodings;
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    std::string out =
+            "// The server's names and views for the web client, written from its C++ tables by\n"
+            "// scripts/update-schema.sh; protocol_test (SchemaAgreement.TheWebClientsServerTables"
+            "AreGenerated)\n"
+            "// fails while this file differs from what they make. Not edited by hand.\n\n";
+    out += ts_names("ENCODINGS", "The formats frames are written in, the first the default.",
+                    encodings);
+    out += ts_enum<scene::Compositing>("COMPOSITINGS", "settings.compositing");
+    out += ts_enum<scene::RaycastStage>("STAGES", "settings.stage: the ray caster's stage.");
+    out += ts_enum<scene::LightBufferBuilder>("BUILDERS", "settings.light_buffer.builder");
+    out += ts_enum<scene::LightLookup>("LIGHT_LOOKUPS", "settings.light_buffer.lookup");
+    out += ts_enum<scene::LightType>("LIGHT_TYPES", "light.type");
+    out += ts_enum<scene::PositionSpace>(
+            "POSITION_SPACES",
+            "Where a transfer function's positions lie: fractions of the volume's range, or "
+            "Hounsfield units.");
+    out += ts_enum<scene::View>(
+            "VIEWS",
+            "The views named by anatomy (world space is RAS: +x right, +y anterior, +z "
+            "superior).");
+    out += "\n/** Each view's eye direction from its target (a unit vector) and its up, as the "
+           "server poses them. */\n"
+           "export const VIEW_POSES: Readonly<\n"
+           "  Record<(typeof VIEWS)[number], { side: readonly [number, number, number]; up: "
+           "readonly [number, number, number] }>\n"
+           "> = {\n";
+    for (const scene::EnumName<scene::View>& row : scene::names<scene::View>()) {
+        const scene::Camera camera = scene::view_camera(row.value, 1.0);
+        out += "  " + std::string(row.name) +
+               ": { side: " + ts_vec3(glm::normalize(camera.eye - camera.target)) +
+               ", up: " + ts_vec3(camera.up) + " },\n";
+    }
+    out += "};\n\n";
+    const scene::Camera default_camera;
+    out += "/** How far the default camera and the named views stand from the target, in box "
+           "units. */\n"
+           "export const DEFAULT_CAMERA_DISTANCE = " +
+           ts_number(scene::default_camera_distance) +
+           ";\n"
+           "/** The default camera's vertical field of view, in degrees. */\n"
+           "export const DEFAULT_FOV = " +
+           ts_number(default_camera.fov_y_degrees) + ";\n";
+    return out;
 }
 
 }  // namespace penumbra::protocol::test

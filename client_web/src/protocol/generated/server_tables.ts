@@ -1,0 +1,37 @@
+// The server's names and views for the web client, written from its C++ tables by
+// scripts/update-schema.sh; protocol_test (SchemaAgreement.TheWebClientsServerTablesAreGenerated)
+// fails while this file differs from what they make. Not edited by hand.
+
+/** The formats frames are written in, the first the default. */
+export const ENCODINGS = ['jpeg', 'png'] as const;
+/** settings.compositing */
+export const COMPOSITINGS = ['alpha', 'extinction'] as const;
+/** settings.stage: the ray caster's stage. */
+export const STAGES = ['compute', 'fragment'] as const;
+/** settings.light_buffer.builder */
+export const BUILDERS = ['per_slice', 'multi_slice'] as const;
+/** settings.light_buffer.lookup */
+export const LIGHT_LOOKUPS = ['interpolate', 'local'] as const;
+/** light.type */
+export const LIGHT_TYPES = ['directional', 'point'] as const;
+/** Where a transfer function's positions lie: fractions of the volume's range, or Hounsfield units. */
+export const POSITION_SPACES = ['normalized', 'hounsfield'] as const;
+/** The views named by anatomy (world space is RAS: +x right, +y anterior, +z superior). */
+export const VIEWS = ['anterior', 'posterior', 'left', 'right', 'superior', 'inferior'] as const;
+
+/** Each view's eye direction from its target (a unit vector) and its up, as the server poses them. */
+export const VIEW_POSES: Readonly<
+  Record<(typeof VIEWS)[number], { side: readonly [number, number, number]; up: readonly [number, number, number] }>
+> = {
+  anterior: { side: [0, 1, 0], up: [0, 0, 1] },
+  posterior: { side: [0, -1, 0], up: [0, 0, 1] },
+  left: { side: [-1, 0, 0], up: [0, 0, 1] },
+  right: { side: [1, 0, 0], up: [0, 0, 1] },
+  superior: { side: [0, 0, 1], up: [0, 1, 0] },
+  inferior: { side: [0, 0, -1], up: [0, 1, 0] },
+};
+
+/** How far the default camera and the named views stand from the target, in box units. */
+export const DEFAULT_CAMERA_DISTANCE = 2.6;
+/** The default camera's vertical field of view, in degrees. */
+export const DEFAULT_FOV = 30;
