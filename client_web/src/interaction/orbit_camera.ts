@@ -17,7 +17,8 @@ import {
 
 /**
  * How far from the horizon the orbit goes: it keeps +z up, which turns about its axis at the pole,
- * so it stops 1° short of it (the server's orbit range reaches ±90 and applies ±89.9).
+ * so it stops 1° short of it (the server's orbit range reaches ±90 and applies
+ * ±MAX_ORBIT_ELEVATION).
  */
 const MAX_ELEVATION = 89;
 

@@ -7,11 +7,15 @@ import {
   BUILDERS,
   COMPOSITINGS,
   DEFAULT_CAMERA_DISTANCE,
+  DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
+  DEFAULT_POSITION_SPACE,
   ENCODINGS,
   LIGHT_LOOKUPS,
   LIGHT_TYPES,
+  MAX_ORBIT_ELEVATION,
   POSITION_SPACES,
   STAGES,
+  UNNAMED_TRANSFER_FUNCTION,
   VIEW_POSES,
   VIEWS,
 } from './generated/server_tables';
@@ -221,19 +225,7 @@ export interface Limits extends ConfiguredLimits {
 }
 
 /** A server's configured limits at their defaults: what the controls span until its hello. */
-export const DEFAULT_LIMITS: ConfiguredLimits = {
-  max_message_bytes: 65536,
-  max_image_side: 2048,
-  max_slices: 1024,
-  max_light_resolution: 1024,
-  max_sessions: 64,
-  max_sessions_per_client: 16,
-  max_sessions_per_connection: 4,
-  max_requests_per_second: 120,
-  max_send_queue: 4,
-  max_frame_work: 1e11,
-  max_json_depth: 16,
-};
+export const DEFAULT_LIMITS: ConfiguredLimits = SERVER_DEFAULT_LIMITS;
 
 export const ERROR_CODES = [
   'malformed_json',
@@ -645,7 +637,8 @@ export function parseServerMessage(text: string, ranges?: SettingRanges): Server
       }
       bool(renderer, 'software', '/renderer');
       const limits = obj(o, 'limits', '');
-      for (const key of [...Object.keys(DEFAULT_LIMITS), 'max_transfer_function_points', 'max_hounsfield_position']) {
+      // Every number a server's hello.limits has (the generated defaults name them).
+      for (const key of Object.keys(SERVER_DEFAULT_LIMITS)) {
         num(limits, key, '/limits');
       }
       const lengths = obj(limits, 'max_string_bytes', '/limits');
@@ -1088,7 +1081,7 @@ function deg(radians: number): number {
 /** The eye an `orbit` puts around `target` (§5): azimuth from +y toward +x about +z. */
 export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
   const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
-  const el = ((Math.max(-89.9, Math.min(89.9, orbit.elevation ?? 0)) * Math.PI) / 180);
+  const el = (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) * Math.PI) / 180;
   const d = orbit.distance ?? DEFAULT_CAMERA_DISTANCE;
   return [
     target[0] + d * Math.cos(el) * Math.sin(az),
@@ -1144,8 +1137,8 @@ export function applyPatch(
       }
     } else {
       next.transfer_function = {
-        name: tf.name ?? 'custom',
-        space: tf.space ?? NORMALIZED,
+        name: tf.name ?? UNNAMED_TRANSFER_FUNCTION,
+        space: tf.space ?? DEFAULT_POSITION_SPACE,
         colors: structuredClone(tf.colors ?? []),
         opacities: structuredClone(tf.opacities ?? []),
       };

@@ -223,7 +223,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
     }
     PENUMBRA_TRY(only_fields(j, p, {"name", "space", "colors", "opacities"}));
     scene::TransferFunction tf;
-    tf.name = "custom";
+    tf.name = unnamed_transfer_function;
     PENUMBRA_TRY(optional_member(j, p, "name", tf.name, [](const json& v, const std::string& q) {
         return string(v, q, max_transfer_function_name_bytes);
     }));

@@ -161,10 +161,10 @@ TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     const json defs = json::parse(*generated).at("$defs");
     const json& orbit = schema_node(defs, "camera/orbit").at("properties");
-    const scene::Camera from_defaults = scene::orbit_camera(
-            orbit.at("azimuth").at("default").get<double>(),
-            orbit.at("elevation").at("default").get<double>(),
-            orbit.at("distance").at("default").get<double>());
+    const scene::Camera from_defaults =
+            scene::orbit_camera(orbit.at("azimuth").at("default").get<double>(),
+                                orbit.at("elevation").at("default").get<double>(),
+                                orbit.at("distance").at("default").get<double>());
     EXPECT_LT(glm::length(from_defaults.eye - scene::Camera{}.eye), 1e-12);
     const Limits limits;
     EXPECT_EQ(schema_node(defs, "settings/size").at("items").at("maximum"), limits.max_image_side);
@@ -276,6 +276,8 @@ TEST(SchemaAgreement, GeneratorWritesTheTransferFunctionsNamesAndLimits) {
     const json& points = defs.at("transfer_function").at("oneOf").at(1).at("properties");
     EXPECT_EQ(points.at("space").at("enum"), names_in_table<scene::PositionSpace>());
     EXPECT_EQ(points.at("name").at("maxLength"), max_transfer_function_name_bytes);
+    EXPECT_EQ(points.at("name").at("default"), unnamed_transfer_function);
+    EXPECT_EQ(points.at("space").at("default"), scene::name_of(scene::TransferFunction{}.space));
     for (const char* list : {"colors", "opacities"}) {
         SCOPED_TRACE(list);
         EXPECT_EQ(points.at(list).at("maxItems"), max_transfer_function_points);
@@ -424,10 +426,33 @@ TEST(SchemaAgreement, TheClientTablesHoldTheServersNamesAndViews) {
         EXPECT_LT(glm::length(camera.target + 3.0 * side - camera.eye), 1e-12);
         EXPECT_LT(glm::length(up - camera.up), 1e-12);
     }
-    const std::regex distance(R"(export const DEFAULT_CAMERA_DISTANCE = ([0-9.]+);)");
-    std::smatch match;
-    ASSERT_TRUE(std::regex_search(text, match, distance));
-    EXPECT_EQ(std::stod(match[1].str()), scene::default_camera_distance);
+    const auto constant = [&](const std::string& name) {
+        const std::regex number("export const " + name + R"( = ([0-9.e+]+);)");
+        std::smatch match;
+        EXPECT_TRUE(std::regex_search(text, match, number)) << name;
+        return match.empty() ? -1.0 : std::stod(match[1].str());
+    };
+    EXPECT_EQ(constant("DEFAULT_CAMERA_DISTANCE"), scene::default_camera_distance);
+    EXPECT_EQ(constant("DEFAULT_FOV"), scene::Camera{}.fov_y_degrees);
+    EXPECT_EQ(constant("MAX_ORBIT_ELEVATION"), scene::max_orbit_elevation);
+    EXPECT_NE(text.find("export const UNNAMED_TRANSFER_FUNCTION = '" +
+                        std::string(unnamed_transfer_function) + "';"),
+              std::string::npos);
+    EXPECT_NE(text.find("= '" + std::string(scene::name_of(scene::TransferFunction{}.space)) +
+                        "';\n/** The name of a transfer function"),
+              std::string::npos);
+    // The limits a server sends with nothing configured, each as hello has it.
+    const Limits defaults;
+    const auto limit = [&](const std::string& name) {
+        const std::regex number("  " + name + R"(: ([0-9.e+]+),)");
+        std::smatch match;
+        EXPECT_TRUE(std::regex_search(text, match, number)) << name;
+        return match.empty() ? -1.0 : std::stod(match[1].str());
+    };
+    EXPECT_EQ(limit("max_image_side"), defaults.max_image_side);
+    EXPECT_EQ(limit("max_requests_per_second"), defaults.max_requests_per_second);
+    EXPECT_EQ(limit("max_frame_work"), defaults.max_frame_work);
+    EXPECT_EQ(limit("max_transfer_function_points"), max_transfer_function_points);
 }
 
 }  // namespace

@@ -228,7 +228,9 @@ void write_transfer_function(json& defs) {
     json& points = oneof[1]["properties"];
     points["name"]["type"] = "string";
     points["name"]["maxLength"] = max_transfer_function_name_bytes;
+    points["name"]["default"] = unnamed_transfer_function;
     points["space"]["enum"] = names_of_enum<scene::PositionSpace>();
+    points["space"]["default"] = scene::name_of(scene::TransferFunction{}.space);
     for (const char* list : {"colors", "opacities"}) {
         json& node = points[list];
         node["type"] = "array";
@@ -404,6 +406,17 @@ std::string generated_client_tables() {
                ", up: " + ts_vec3(camera.up) + " },\n";
     }
     out += "};\n\n";
+    out += "/** The space of a transfer function's positions when it names none. */\n"
+           "export const DEFAULT_POSITION_SPACE: (typeof POSITION_SPACES)[number] = '" +
+           std::string(scene::name_of(scene::TransferFunction{}.space)) +
+           "';\n"
+           "/** The name of a transfer function given by its points that names none. */\n"
+           "export const UNNAMED_TRANSFER_FUNCTION = '" +
+           std::string(unnamed_transfer_function) + "';\n";
+    out += "\n/** How far from the horizon an orbit's eye goes, in degrees (the server keeps it "
+           "short of the poles). */\n"
+           "export const MAX_ORBIT_ELEVATION = " +
+           ts_number(scene::max_orbit_elevation) + ";\n";
     const scene::Camera default_camera;
     out += "/** How far the default camera and the named views stand from the target, in box "
            "units. */\n"
@@ -413,6 +426,16 @@ std::string generated_client_tables() {
            "/** The default camera's vertical field of view, in degrees. */\n"
            "export const DEFAULT_FOV = " +
            ts_number(default_camera.fov_y_degrees) + ";\n";
+    // hello.limits' numbers as a server configured with nothing else sends them.
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    out += "\n/** hello.limits' numbers as a server configured with nothing else sends them. */\n"
+           "export const DEFAULT_LIMITS = {\n";
+    for (const auto& [name, value] : hello.at("limits").items()) {
+        if (value.is_number()) {
+            out += "  " + name + ": " + ts_number(value.get<double>()) + ",\n";
+        }
+    }
+    out += "} as const;\n";
     return out;
 }
 

@@ -31,7 +31,31 @@ export const VIEW_POSES: Readonly<
   inferior: { side: [0, 0, -1], up: [0, 1, 0] },
 };
 
+/** The space of a transfer function's positions when it names none. */
+export const DEFAULT_POSITION_SPACE: (typeof POSITION_SPACES)[number] = 'normalized';
+/** The name of a transfer function given by its points that names none. */
+export const UNNAMED_TRANSFER_FUNCTION = 'custom';
+
+/** How far from the horizon an orbit's eye goes, in degrees (the server keeps it short of the poles). */
+export const MAX_ORBIT_ELEVATION = 89.9;
 /** How far the default camera and the named views stand from the target, in box units. */
 export const DEFAULT_CAMERA_DISTANCE = 2.6;
 /** The default camera's vertical field of view, in degrees. */
 export const DEFAULT_FOV = 30;
+
+/** hello.limits' numbers as a server configured with nothing else sends them. */
+export const DEFAULT_LIMITS = {
+  max_frame_work: 100000000000,
+  max_hounsfield_position: 100000,
+  max_image_side: 2048,
+  max_json_depth: 16,
+  max_light_resolution: 1024,
+  max_message_bytes: 65536,
+  max_requests_per_second: 120,
+  max_send_queue: 4,
+  max_sessions: 64,
+  max_sessions_per_client: 16,
+  max_sessions_per_connection: 4,
+  max_slices: 1024,
+  max_transfer_function_points: 256,
+} as const;
