@@ -87,6 +87,21 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     for (const std::string_view type : kClientMessageTypes) {
         EXPECT_NE(generated->find("| `" + std::string(type) + "` |"), std::string::npos) << type;
     }
+    // The limits' table (§8) states the values a server configured with nothing else sends.
+    const Limits limits;
+    EXPECT_NE(
+            generated->find("| `max_image_side` | " + std::to_string(limits.max_image_side) + " |"),
+            std::string::npos);
+    EXPECT_NE(generated->find("| `max_transfer_function_points` | " +
+                              std::to_string(max_transfer_function_points) + " |"),
+              std::string::npos);
+    const auto stale = test::generated_readme(std::string(test::kTableBegin) + "\n" +
+                                                      std::string(test::kTableEnd) +
+                                                      "\n| `max_slices` | 7 | slices |\n",
+                                              proto / "v1");
+    ASSERT_TRUE(stale.ok()) << stale.error().to_string();
+    EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
+                                 " | slices |\n"));
 }
 
 template <scene::NamedEnum Enum>
@@ -155,7 +170,8 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
 }
 
 // The numbers the schema states of the defaults: an orbit's members left out (the default camera's)
-// and the maxima hello.limits announces for a server configured with nothing else.
+// and the maxima hello.limits announces for a server configured with nothing else; and the names
+// of the formats frames are written in.
 TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
     const auto generated = test::generated_common_schema(R"({"$defs": {}})");
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
@@ -168,6 +184,11 @@ TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
     EXPECT_LT(glm::length(from_defaults.eye - scene::Camera{}.eye), 1e-12);
     const Limits limits;
     EXPECT_EQ(schema_node(defs, "settings/size").at("items").at("maximum"), limits.max_image_side);
+    json encodings = json::array();
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    EXPECT_EQ(defs.at("encoding").at("enum"), encodings);
     EXPECT_EQ(schema_node(defs, "settings/light_buffer/slices").at("maximum"), limits.max_slices);
     EXPECT_EQ(schema_node(defs, "settings/light_buffer/resolution").at("maximum"),
               limits.max_light_resolution);

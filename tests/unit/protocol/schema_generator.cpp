@@ -14,8 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -177,6 +179,51 @@ base::Result<std::string> message_table(const std::filesystem::path& schema_dir)
     return table;
 }
 
+// A limit's value as the README writes it: "65536", "1e11", `{"join/session": 64, ...}`.
+std::string readme_value(const nlohmann::json& value) {
+    if (value.is_object()) {
+        std::string text;
+        for (const auto& [key, member] : value.items()) {
+            text += (text.empty() ? "" : ", ") + nlohmann::json(key).dump() + ": " + member.dump();
+        }
+        return "`{" + text + "}`";
+    }
+    const double number = value.get<double>();
+    if (number == std::trunc(number) && std::abs(number) < 1e9) {
+        return std::to_string(static_cast<std::int64_t>(number));
+    }
+    std::array<char, 32> text{};
+    std::snprintf(text.data(), text.size(), "%g", number);
+    std::string written = text.data();
+    if (const std::size_t plus = written.find("e+"); plus != std::string::npos) {
+        written.erase(plus + 1, 1);
+    }
+    return written;
+}
+
+// The README's limit tables (§8) with each row's value (its second cell) as the hello of a server
+// configured with nothing else states it; the rows and the other cells are written by hand.
+std::string with_limit_values(const std::string& text) {
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    std::istringstream in(text);
+    std::string out;
+    for (std::string line; std::getline(in, line);) {
+        for (const auto& [name, value] : hello.at("limits").items()) {
+            const std::string row = "| `" + name + "` | ";
+            const std::size_t cell_end = line.find(" | ", row.size());
+            if (line.starts_with(row) && cell_end != std::string::npos) {
+                line = row + readme_value(value) + line.substr(cell_end);
+                break;
+            }
+        }
+        out += line + "\n";
+    }
+    if (!text.ends_with('\n') && !out.empty()) {
+        out.pop_back();
+    }
+    return out;
+}
+
 }  // namespace
 
 base::Result<std::string> generated_readme(std::string_view committed,
@@ -193,8 +240,8 @@ base::Result<std::string> generated_readme(std::string_view committed,
         return table.error();
     }
     const std::size_t table_start = begin + kTableBegin.size();
-    return std::string(committed.substr(0, table_start)) + "\n" + *table +
-           std::string(committed.substr(end));
+    return with_limit_values(std::string(committed.substr(0, table_start)) + "\n" + *table +
+                             std::string(committed.substr(end)));
 }
 
 // `Enum`'s names from scene's name table, in its order.
@@ -275,6 +322,11 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
     write_transfer_function(defs);
 
+    json encodings = json::array();
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    defs["encoding"]["enum"] = std::move(encodings);
     write_orbit_defaults(defs);
     // The maxima a server configured otherwise announces in hello.limits, at their defaults.
     const Limits limits;
