@@ -77,7 +77,8 @@ interface RangedControl {
 
 export class MethodPanel {
   readonly params = {
-    mode: 'sbrc' as string,
+    /** None until the server's hello names its modes. */
+    mode: '' as string,
     // Until the session's state arrives, the first of each of the server's names.
     compositing: COMPOSITINGS[0] as Compositing,
     stage: STAGES[0] as Stage,

@@ -10,11 +10,15 @@ import {
   DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
   DEFAULT_POSITION_SPACE,
   ENCODINGS,
+  GRADIENTS,
   LIGHT_LOOKUPS,
   LIGHT_TYPES,
   MAX_ORBIT_ELEVATION,
   POSITION_SPACES,
+  SCATTERING_KINDS,
+  SHADOW_KINDS,
   STAGES,
+  TECHNIQUES,
   UNNAMED_TRANSFER_FUNCTION,
   VIEW_POSES,
   VIEWS,
@@ -255,10 +259,10 @@ export type ErrorCode = (typeof ERROR_CODES)[number];
 export interface ModeCapabilities {
   name: Mode;
   summary: string;
-  technique: 'ray_casting' | 'half_angle_slicing';
-  shadows: 'none' | 'light_buffer' | 'rays';
-  scattering: 'none' | 'shell' | 'cone';
-  gradients: 'never' | 'with_phong' | 'always';
+  technique: (typeof TECHNIQUES)[number];
+  shadows: (typeof SHADOW_KINDS)[number];
+  scattering: (typeof SCATTERING_KINDS)[number];
+  gradients: (typeof GRADIENTS)[number];
 }
 
 /** One setting's range from the server's table, both ends included. */

@@ -434,6 +434,10 @@ TEST(SchemaAgreement, TheClientTablesHoldTheServersNamesAndViews) {
     EXPECT_EQ(generated_list(text, "LIGHT_TYPES"), table_names<scene::LightType>());
     EXPECT_EQ(generated_list(text, "POSITION_SPACES"), table_names<scene::PositionSpace>());
     EXPECT_EQ(generated_list(text, "VIEWS"), table_names<scene::View>());
+    EXPECT_EQ(generated_list(text, "TECHNIQUES"), table_names<scene::Technique>());
+    EXPECT_EQ(generated_list(text, "SHADOW_KINDS"), table_names<scene::ShadowKind>());
+    EXPECT_EQ(generated_list(text, "SCATTERING_KINDS"), table_names<scene::ScatteringKind>());
+    EXPECT_EQ(generated_list(text, "GRADIENTS"), table_names<scene::Gradients>());
     // Each view's eye direction and up, as the server poses its camera for that view.
     for (const scene::EnumName<scene::View>& row : scene::names<scene::View>()) {
         SCOPED_TRACE(std::string(row.name));

@@ -441,6 +441,11 @@ std::string generated_client_tables() {
             "POSITION_SPACES",
             "Where a transfer function's positions lie: fractions of the volume's range, or "
             "Hounsfield units.");
+    out += ts_enum<scene::Technique>("TECHNIQUES", "A mode's technique (hello.modes).");
+    out += ts_enum<scene::ShadowKind>("SHADOW_KINDS", "How a mode shadows (hello.modes).");
+    out += ts_enum<scene::ScatteringKind>("SCATTERING_KINDS",
+                                          "What a mode scatters with (hello.modes).");
+    out += ts_enum<scene::Gradients>("GRADIENTS", "When a mode reads gradients (hello.modes).");
     out += ts_enum<scene::View>(
             "VIEWS",
             "The views named by anatomy (world space is RAS: +x right, +y anterior, +z "

@@ -16,6 +16,14 @@ export const LIGHT_LOOKUPS = ['interpolate', 'local'] as const;
 export const LIGHT_TYPES = ['directional', 'point'] as const;
 /** Where a transfer function's positions lie: fractions of the volume's range, or Hounsfield units. */
 export const POSITION_SPACES = ['normalized', 'hounsfield'] as const;
+/** A mode's technique (hello.modes). */
+export const TECHNIQUES = ['ray_casting', 'half_angle_slicing'] as const;
+/** How a mode shadows (hello.modes). */
+export const SHADOW_KINDS = ['none', 'light_buffer', 'rays'] as const;
+/** What a mode scatters with (hello.modes). */
+export const SCATTERING_KINDS = ['none', 'shell', 'cone'] as const;
+/** When a mode reads gradients (hello.modes). */
+export const GRADIENTS = ['never', 'with_phong', 'always'] as const;
 /** The views named by anatomy (world space is RAS: +x right, +y anterior, +z superior). */
 export const VIEWS = ['anterior', 'posterior', 'left', 'right', 'superior', 'inferior'] as const;
 
