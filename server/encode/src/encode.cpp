@@ -82,6 +82,17 @@ std::optional<ImageFormat> frame_format_named(std::string_view name) {
     return std::nullopt;
 }
 
+std::string frame_format_names(std::string_view separator, std::string_view last) {
+    std::string text;
+    for (std::size_t i = 0; i < kFrameFormats.size(); ++i) {
+        if (i > 0) {
+            text += i + 1 == kFrameFormats.size() ? last : separator;
+        }
+        text += kFrameFormats[i].name;
+    }
+    return text;
+}
+
 const char* to_string(ImageFormat format) {
     for (const FrameFormat& row : kFrameFormats) {
         if (row.format == format) {

@@ -394,23 +394,11 @@ base::Status apply_settings(const json& j, const std::string& p, scene::FrameReq
     return base::Ok{};
 }
 
-// "jpeg or png": the names of the formats frames are written in.
-std::string frame_format_choices() {
-    std::string text;
-    for (std::size_t i = 0; i < encode::kFrameFormats.size(); ++i) {
-        if (i > 0) {
-            text += i + 1 == encode::kFrameFormats.size() ? " or " : ", ";
-        }
-        text += encode::kFrameFormats[i].name;
-    }
-    return text;
-}
-
 base::Status apply_output(const json& j, const std::string& p, OutputOptions& output) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
     PENUMBRA_TRY(apply_enum(j, p, "encoding", output.encoding, encode::frame_format_named,
-                            frame_format_choices()));
+                            encode::frame_format_names(", ", " or ")));
     PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality, int_range_of(1, 100)));
     return base::Ok{};
 }

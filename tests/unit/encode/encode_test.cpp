@@ -75,6 +75,13 @@ TEST(Encode, FrameFormatsAreNamedByTheirTable) {
         ASSERT_TRUE(bytes.ok()) << bytes.error().to_string();
         EXPECT_TRUE(decode_image(*bytes).ok());
     }
+    std::string listed;
+    for (const FrameFormat& row : kFrameFormats) {
+        listed += (listed.empty() ? "" : "|") + std::string(row.name);
+    }
+    EXPECT_EQ(frame_format_names("|", "|"), listed);
+    EXPECT_TRUE(frame_format_names(", ", " or ")
+                        .ends_with(" or " + std::string(kFrameFormats.back().name)));
     EXPECT_EQ(frame_format_named("webp"), std::nullopt);
     EXPECT_EQ(frame_format_named("JPEG"), std::nullopt);
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -30,6 +31,10 @@ inline constexpr std::array<FrameFormat, 2> kFrameFormats{{
 
 // The format `name` names in kFrameFormats; none for another name.
 std::optional<ImageFormat> frame_format_named(std::string_view name);
+
+// The formats' names in kFrameFormats' order: "jpeg|png" with separator "|"; with `last`, that
+// goes before the last name instead ("jpeg or png"), for help and error texts.
+std::string frame_format_names(std::string_view separator, std::string_view last);
 
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
