@@ -4,9 +4,13 @@
 # preset names, the transfer function's position spaces and limits, the client message types) and
 # what hello.schema.json restates (the mode capabilities' names) from the tables themselves,
 # proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), and
-# the hello the web client's tests recorded (client_web/test/fixtures) as the server sends it.
-# Run it after changing one of them; SchemaAgreement.*IsGenerated and
-# SchemaAgreement.TheWebClientsRecordedHelloIsTheServers (protocol_test) fail until the
+# the hello the web client's tests recorded (client_web/test/fixtures) as the server sends it, and
+# the web client's module of the server's names and views
+# (client_web/src/protocol/generated/server_tables.ts: the frame formats, the settings' enum names,
+# the position spaces, the views and their poses) whole.
+# Run it after changing one of them; SchemaAgreement.*IsGenerated,
+# SchemaAgreement.TheWebClientsRecordedHelloIsTheServers and
+# SchemaAgreement.TheWebClientsServerTablesAreGenerated (protocol_test) fail until the
 # committed files are what this writes. The rest of each file is written by hand.
 #   scripts/update-schema.sh [PRESET]     (default: release; builds the update_schema target)
 set -euo pipefail

@@ -138,7 +138,7 @@ function cameraMoved(interactive = false): void {
   change({ camera: camera.toCamera() }, interactive);
 }
 
-// The six views named by anatomy, over the image beside the orientation marker.
+// The views named by anatomy (the server's), over the image beside the orientation marker.
 const viewButtons = document.createElement('div');
 viewButtons.className = 'view-buttons';
 viewButtons.setAttribute('role', 'toolbar');

@@ -1,6 +1,7 @@
 import { describe, expect, it } from 'vitest';
-import { cameraBasis, OrbitCamera, orbitLimits } from '../src/interaction/orbit_camera';
-import { checkClientMessage, type Camera, type SettingRanges } from '../src/protocol/messages';
+import { cameraBasis, OrbitCamera, orbitLimits, viewAngles } from '../src/interaction/orbit_camera';
+import { VIEW_POSES } from '../src/protocol/generated/server_tables';
+import { checkClientMessage, orbitEye, VIEWS, type Camera, type SettingRanges } from '../src/protocol/messages';
 import { recordedRanges, recordedTerms } from './recorded';
 
 const start: Camera = { eye: [0, 2.6, 0], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };
@@ -10,6 +11,20 @@ function close(a: number[], b: number[], digits = 9): void {
 }
 
 describe('OrbitCamera', () => {
+  it("turns each of the server's view poses into orbit angles on the pose's side", () => {
+    // VIEW_POSES is written from scene::view_camera (SchemaAgreement.TheClientTablesHold...).
+    for (const view of VIEWS) {
+      const { side, up } = VIEW_POSES[view];
+      const angles = viewAngles(view);
+      close(orbitEye([0, 0, 0], { ...angles, distance: 1 }), [...side], 2);
+      // Short of the pole, the image's up leans the way the pose's up points.
+      const camera = new OrbitCamera();
+      camera.setView(view);
+      const imageUp = cameraBasis(camera.toCamera()).up;
+      expect(imageUp[0] * up[0] + imageUp[1] * up[1] + imageUp[2] * up[2]).toBeGreaterThan(0.99);
+    }
+  });
+
   it('round-trips a protocol camera', () => {
     const c = new OrbitCamera();
     c.setFrom({ eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189], target: [0, 0, 0], up: [0, 0, 1], fov: 30 });

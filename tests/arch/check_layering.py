@@ -25,7 +25,8 @@ ALLOWED_DEPENDENCIES = {
     "gpu": {"base"},
     "render": {"volume", "scene", "optics", "base", "gpu"},
     "encode": {"base"},
-    "protocol": {"scene", "base"},
+    # protocol names the formats frames are written in from encode's table.
+    "protocol": {"encode", "scene", "base"},
     "metrics": {"base"},
     "quality": {"render", "encode", "volume", "scene", "base"},
     "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},

@@ -5,6 +5,7 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
+import { DEFAULT_CAMERA_DISTANCE, DEFAULT_FOV, VIEW_POSES } from '../protocol/generated/server_tables';
 import {
   orbitEye,
   orbitOf,
@@ -16,7 +17,8 @@ import {
 
 /**
  * How far from the horizon the orbit goes: it keeps +z up, which turns about its axis at the pole,
- * so it stops 1° short of it (the server's orbit range reaches ±90 and applies ±89.9).
+ * so it stops 1° short of it (the server's orbit range reaches ±90 and applies
+ * ±MAX_ORBIT_ELEVATION).
  */
 const MAX_ELEVATION = 89;
 
@@ -91,27 +93,33 @@ export function cameraBasis(camera: Camera): { right: Vec3; up: Vec3; back: Vec3
   return { right, up, back: [-forward[0], -forward[1], -forward[2]] };
 }
 
+function degrees(radians: number): number {
+  return (radians * 180) / Math.PI;
+}
+
 /**
- * The views named by anatomy (proto/README.md `camera.view`; world space is RAS): the view from
- * that side of the patient, superior up for the horizontal ones and anterior up from above and
- * below. As orbit angles: the orbit keeps +z up, so the views from above and below stop at the
- * orbit's elevation limit and take their azimuth from which way anterior must point.
+ * A view named by anatomy (proto/README.md `camera.view`) as orbit angles, from the server's pose
+ * of it (VIEW_POSES: the side its eye lies on and its up). The orbit keeps +z up, so a view from
+ * above or below (its up horizontal) stops at the orbit's elevation limit and takes its azimuth
+ * from which way its up must point on the image: near the pole the image's up is the horizontal
+ * direction away from the eye's side from above, toward it from below.
  */
-export const NAMED_VIEWS: Record<ViewName, { azimuth: number; elevation: number }> = {
-  anterior: { azimuth: 0, elevation: 0 },
-  posterior: { azimuth: 180, elevation: 0 },
-  left: { azimuth: -90, elevation: 0 },
-  right: { azimuth: 90, elevation: 0 },
-  superior: { azimuth: 180, elevation: MAX_ELEVATION },
-  inferior: { azimuth: 0, elevation: -MAX_ELEVATION },
-};
+export function viewAngles(view: ViewName): { azimuth: number; elevation: number } {
+  const { side, up } = VIEW_POSES[view];
+  const elevation = degrees(Math.asin(Math.max(-1, Math.min(1, side[2]))));
+  if (Math.hypot(side[0], side[1]) > 1e-9) {
+    return { azimuth: degrees(Math.atan2(side[0], side[1])), elevation };
+  }
+  const away = side[2] > 0 ? -1 : 1;
+  return { azimuth: degrees(Math.atan2(away * up[0], away * up[1])), elevation };
+}
 
 export class OrbitCamera {
   target: Vec3 = [0, 0, 0];
   azimuth = 0; // the anterior view, as the server's default camera
   elevation = 0;
-  distance = 2.6;
-  fov = 30;
+  distance = DEFAULT_CAMERA_DISTANCE;
+  fov = DEFAULT_FOV;
   private home: Camera | null = null;
   private limits: OrbitLimits = UNBOUNDED;
 
@@ -185,8 +193,9 @@ export class OrbitCamera {
 
   /** Looks from that side of the patient, keeping the target, distance and field of view. */
   setView(view: ViewName): void {
-    this.azimuth = NAMED_VIEWS[view].azimuth;
-    this.elevation = this.clampElevation(NAMED_VIEWS[view].elevation);
+    const { azimuth, elevation } = viewAngles(view);
+    this.azimuth = azimuth;
+    this.elevation = this.clampElevation(elevation);
   }
 
   reset(): void {

@@ -5,14 +5,16 @@
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
-import type {
-  Camera,
-  Light,
-  SettingRange,
-  SettingRanges,
-  StatePatch,
-  Vec3,
-  VolumeSummary,
+import {
+  LIGHT_TYPES,
+  type Camera,
+  type Light,
+  type LightType,
+  type SettingRange,
+  type SettingRanges,
+  type StatePatch,
+  type Vec3,
+  type VolumeSummary,
 } from '../protocol/messages';
 import { cameraBasis } from '../interaction/orbit_camera';
 import { nestedAt, rangeText, settingControls, valueAt, type SettingControl } from './ranged_controls';
@@ -97,7 +99,7 @@ interface RangedLightControl {
 export class LightControl {
   private light: Light | null = null;
   private readonly params = {
-    type: 'directional',
+    type: LIGHT_TYPES[0] as LightType,
     color: [1, 1, 1] as number[],
     x: 0,
     y: 0,
@@ -139,9 +141,9 @@ export class LightControl {
     const p = this.params;
     const add = this.add.bind(this);
     add(folder.add(p, 'behind').name('from behind'), 'behind').onChange(() => this.draw());
-    add(folder.add(p, 'type', ['directional', 'point']), 'type').onChange(() => {
+    add(folder.add(p, 'type', [...LIGHT_TYPES]), 'type').onChange(() => {
       this.showPosition();
-      this.send({ light: { type: p.type as Light['type'] } }, false);
+      this.send({ light: { type: p.type } }, false);
     });
     // The light's numbers arrive with hello's ranges (setRanges), placed before the colour.
     this.color = add(folder.addColor(p, 'color', 1), 'color')

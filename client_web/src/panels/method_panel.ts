@@ -15,9 +15,14 @@ import {
   DEFAULT_LIMITS,
   ENCODINGS,
   STAGES,
+  type Builder,
+  type Compositing,
+  type Encoding,
+  type LightLookup,
   type Limits,
   type ModeCapabilities,
   type SettingRanges,
+  type Stage,
   type State,
   type StatePatch,
 } from '../protocol/messages';
@@ -72,16 +77,18 @@ interface RangedControl {
 
 export class MethodPanel {
   readonly params = {
-    mode: 'sbrc' as string,
-    compositing: 'alpha',
-    stage: 'compute',
+    /** None until the server's hello names its modes. */
+    mode: '' as string,
+    // Until the session's state arrives, the first of each of the server's names.
+    compositing: COMPOSITINGS[0] as Compositing,
+    stage: STAGES[0] as Stage,
     slices: 128,
     resolution: 256,
-    builder: 'multi_slice',
-    lookup: 'local',
+    builder: BUILDERS[0] as Builder,
+    lookup: LIGHT_LOOKUPS[0] as LightLookup,
     phong: true,
     background: [0, 0, 0] as number[],
-    encoding: 'jpeg',
+    encoding: ENCODINGS[0] as Encoding,
     jpeg_quality: 85,
     jitter: false,
     empty_space_skipping: true,
@@ -115,9 +122,9 @@ export class MethodPanel {
     this.mode = add(folder.add(p, 'mode', [p.mode]), 'mode', () => settings({ mode: p.mode }), false);
     this.mode.onChange(() => this.greyOut());
     add(folder.add(p, 'compositing', [...COMPOSITINGS]), 'compositing', () =>
-      settings({ compositing: p.compositing as 'alpha' }), false);
+      settings({ compositing: p.compositing }), false);
     add(folder.add(p, 'stage', [...STAGES]).name('ray caster stage'), 'stage', () =>
-      settings({ stage: p.stage as 'compute' }), false);
+      settings({ stage: p.stage }), false);
 
     const lb = folder.addFolder('Light buffer & slices');
     this.slices = add(lb.add(p, 'slices', 1, DEFAULT_LIMITS.max_slices, 1), 'slices', () =>
@@ -125,9 +132,9 @@ export class MethodPanel {
     this.resolution = add(lb.add(p, 'resolution', 1, DEFAULT_LIMITS.max_light_resolution, 1).name('resolution R'),
       'resolution', () => settings({ light_buffer: { resolution: p.resolution } }));
     add(lb.add(p, 'builder', [...BUILDERS]), 'builder', () =>
-      settings({ light_buffer: { builder: p.builder as 'per_slice' } }), false);
+      settings({ light_buffer: { builder: p.builder } }), false);
     add(lb.add(p, 'lookup', [...LIGHT_LOOKUPS]).name('light lookup'), 'lookup', () =>
-      settings({ light_buffer: { lookup: p.lookup as 'local' } }), false);
+      settings({ light_buffer: { lookup: p.lookup } }), false);
 
     const sampling = folder.addFolder('Sampling');
     add(sampling.add(p, 'jitter').name('jittered samples'), 'jitter', () =>
@@ -155,7 +162,7 @@ export class MethodPanel {
 
     const output = folder.addFolder('Image');
     add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
-      ({ output: { encoding: p.encoding as 'jpeg' } }), false).onChange(() => this.greyOut());
+      ({ output: { encoding: p.encoding } }), false).onChange(() => this.greyOut());
     add(output.add(p, 'jpeg_quality', 1, 100, 1).name('JPEG quality'), 'jpeg_quality', () =>
       ({ output: { jpeg_quality: p.jpeg_quality } }), false);
     const scale = output.add(p, 'scale', 0.25, 2, 0.05).name('pixels per device px');

@@ -8,7 +8,7 @@
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
 import { histogramCurve, TfModel } from './tf_model';
-import type { Preset, Rgb, TransferFunctionPoints } from '../protocol/messages';
+import { HOUNSFIELD, type Preset, type Rgb, type TransferFunctionPoints } from '../protocol/messages';
 
 /**
  * The names the preset list offers, in the server's order; for a volume in Hounsfield units those
@@ -17,7 +17,7 @@ import type { Preset, Rgb, TransferFunctionPoints } from '../protocol/messages';
 export function presetsFor(presets: readonly TransferFunctionPoints[], hounsfield: boolean): Preset[] {
   const names = presets.map((p) => p.name);
   if (!hounsfield) return names;
-  const inHu = presets.filter((p) => p.space === 'hounsfield').map((p) => p.name);
+  const inHu = presets.filter((p) => p.space === HOUNSFIELD).map((p) => p.name);
   return [...inHu, ...names.filter((name) => !inHu.includes(name))];
 }
 

@@ -2,15 +2,18 @@
 // positions [0, 1], the server's presets (from its hello), colour maps and the histogram curve. No DOM: the editor
 // (tf_editor.ts) draws it and turns pointer events into these operations; tests drive it directly.
 
-import type {
-  ColorPoint,
-  HelloMessage,
-  OpacityPoint,
-  PositionSpace,
-  Preset,
-  Rgb,
-  TransferFunctionPatch,
-  TransferFunctionPoints,
+import { UNNAMED_TRANSFER_FUNCTION } from '../protocol/generated/server_tables';
+import {
+  HOUNSFIELD,
+  NORMALIZED,
+  type ColorPoint,
+  type HelloMessage,
+  type OpacityPoint,
+  type PositionSpace,
+  type Preset,
+  type Rgb,
+  type TransferFunctionPatch,
+  type TransferFunctionPoints,
 } from '../protocol/messages';
 
 /**
@@ -75,7 +78,7 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
 export function colorMaps(presets: readonly TransferFunctionPoints[]): Record<string, ColorPoint[]> {
   const maps: Record<string, ColorPoint[]> = { ...COLOR_MAPS };
   for (const preset of presets) {
-    if (preset.space === 'normalized' && !(preset.name in maps)) maps[preset.name] = preset.colors;
+    if (preset.space === NORMALIZED && !(preset.name in maps)) maps[preset.name] = preset.colors;
   }
   return maps;
 }
@@ -131,7 +134,7 @@ export function normalizedPosition(
   domain: ValueDomain,
   nominalCtRange: readonly [number, number],
 ): number {
-  if (space !== 'hounsfield') return x;
+  if (space !== HOUNSFIELD) return x;
   const [min, max] = domain.hounsfield ? [domain.min, domain.max] : nominalCtRange;
   const width = max - min;
   return width > 0 ? (x - min) / width : 0;
@@ -142,7 +145,7 @@ export function normalizedPosition(
  * non-decreasing (a moved point stays between its neighbours), and the values within [0, 1].
  */
 export class TfModel {
-  name = 'custom';
+  name = UNNAMED_TRANSFER_FUNCTION;
   colors: ColorPoint[] = [];
   opacities: OpacityPoint[] = [];
   /** The open volume's values, for points given in Hounsfield units. */
@@ -185,7 +188,7 @@ export class TfModel {
   ): void {
     const at = (x: number) =>
       clamp(normalizedPosition(x, points.space, this.domain, this.terms.nominalCtRange), 0, 1);
-    this.name = points.name ?? 'custom';
+    this.name = points.name ?? UNNAMED_TRANSFER_FUNCTION;
     this.colors = points.colors
       .map((p) => ({ x: at(p.x), rgb: p.rgb.map((c) => clamp(c, 0, 1)) as Rgb }))
       .sort((a, b) => a.x - b.x);
@@ -207,7 +210,7 @@ export class TfModel {
     const map = this.colorMaps[name];
     if (!map) throw new Error(`unknown colour map "${name}"`);
     this.colors = structuredClone(map);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
@@ -218,7 +221,7 @@ export class TfModel {
     let i = this.opacities.findIndex((p) => p.x > point.x);
     if (i < 0) i = this.opacities.length;
     this.opacities.splice(i, 0, point);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
     return i;
   }
@@ -231,14 +234,14 @@ export class TfModel {
     const hi = this.opacities[i + 1]?.x ?? 1;
     p.x = clamp(x, lo, hi);
     p.alpha = clamp(alpha, 0, 1);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
   removeOpacity(i: number): void {
     if (i < 0 || i >= this.opacities.length) return;
     this.opacities.splice(i, 1);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
@@ -249,7 +252,7 @@ export class TfModel {
     let i = this.colors.findIndex((p) => p.x > at);
     if (i < 0) i = this.colors.length;
     this.colors.splice(i, 0, point);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
     return i;
   }
@@ -258,7 +261,7 @@ export class TfModel {
     const p = this.colors[i];
     if (!p) return;
     p.x = clamp(x, this.colors[i - 1]?.x ?? 0, this.colors[i + 1]?.x ?? 1);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
@@ -266,14 +269,14 @@ export class TfModel {
     const p = this.colors[i];
     if (!p) return;
     p.rgb = rgb.map((c) => clamp(c, 0, 1)) as Rgb;
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
   removeColor(i: number): void {
     if (i < 0 || i >= this.colors.length) return;
     this.colors.splice(i, 1);
-    this.name = 'custom';
+    this.name = UNNAMED_TRANSFER_FUNCTION;
     this.changed();
   }
 
@@ -319,7 +322,7 @@ export class TfModel {
   toProtocol(): TransferFunctionPatch & TransferFunctionPoints {
     return {
       name: this.name,
-      space: 'normalized',
+      space: NORMALIZED,
       colors: structuredClone(this.colors),
       opacities: structuredClone(this.opacities),
     };

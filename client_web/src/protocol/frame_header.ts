@@ -1,6 +1,7 @@
 // Binary frames (proto/README.md §6): "PNBF", u16 LE version, u32 LE header length H, H bytes of
 // UTF-8 JSON header, then the JPEG or PNG bytes. No DOM.
 
+import { ENCODINGS } from './generated/server_tables';
 import type { Encoding, Mode } from './messages';
 
 export const FRAME_MAGIC = [0x50, 0x4e, 0x42, 0x46] as const; // "PNBF"
@@ -42,7 +43,7 @@ export interface Frame {
   /** The encoded image, a view into the message's buffer. */
   image: Uint8Array;
   /** MIME type of `image`. */
-  mime: 'image/jpeg' | 'image/png';
+  mime: string;
   /** Size of the whole binary message. */
   bytes: number;
 }
@@ -57,6 +58,9 @@ export class FrameError extends Error {
 function isRecord(v: unknown): v is Record<string, unknown> {
   return typeof v === 'object' && v !== null && !Array.isArray(v);
 }
+
+/** How the browser names each format the server writes frames in (a new one fails to compile here). */
+const MIME_TYPES: Record<Encoding, string> = { jpeg: 'image/jpeg', png: 'image/png' };
 
 function checkHeader(value: unknown): FrameHeader {
   if (!isRecord(value)) throw new FrameError('frame header is not a JSON object');
@@ -73,7 +77,7 @@ function checkHeader(value: unknown): FrameHeader {
   need('interactive', 'boolean');
   need('light_buffer', 'string');
   need('quality', 'string');
-  if (value['encoding'] !== 'jpeg' && value['encoding'] !== 'png') {
+  if (!(ENCODINGS as readonly unknown[]).includes(value['encoding'])) {
     throw new FrameError(`frame header: unknown encoding "${String(value['encoding'])}"`);
   }
   const passes = value['passes'];
@@ -119,7 +123,7 @@ export function parseFrame(data: ArrayBuffer | Uint8Array): Frame {
   return {
     header,
     image: bytes.subarray(FRAME_PREFIX_BYTES + headerLength),
-    mime: header.encoding === 'png' ? 'image/png' : 'image/jpeg',
+    mime: MIME_TYPES[header.encoding],
     bytes: bytes.length,
   };
 }

@@ -3,6 +3,30 @@
 // members are ignored, as §3 asks), client messages are checked as strictly as the server does, so
 // the tests can hold them against proto/examples/v1. No DOM here.
 
+import {
+  BUILDERS,
+  COMPOSITINGS,
+  DEFAULT_CAMERA_DISTANCE,
+  DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
+  DEFAULT_POSITION_SPACE,
+  ENCODINGS,
+  GRADIENTS,
+  LIGHT_LOOKUPS,
+  LIGHT_TYPES,
+  MAX_ORBIT_ELEVATION,
+  POSITION_SPACES,
+  SCATTERING_KINDS,
+  SHADOW_KINDS,
+  STAGES,
+  TECHNIQUES,
+  UNNAMED_TRANSFER_FUNCTION,
+  VIEW_POSES,
+  VIEWS,
+} from './generated/server_tables';
+
+// The server's names and views, written from its tables into generated/ (scripts/update-schema.sh).
+export { BUILDERS, COMPOSITINGS, ENCODINGS, LIGHT_LOOKUPS, LIGHT_TYPES, POSITION_SPACES, STAGES, VIEWS };
+
 export const PROTOCOL_VERSION = 1;
 
 export type Vec3 = [number, number, number];
@@ -10,37 +34,22 @@ export type Rgb = [number, number, number];
 
 /** A mode's name; the server's `hello` lists the modes it offers (ModeCapabilities). */
 export type Mode = string;
-export const ENCODINGS = ['jpeg', 'png'] as const;
 export type Encoding = (typeof ENCODINGS)[number];
 /** Where positions lie: fractions of the volume's range, or Hounsfield units (the CT presets). */
-export type PositionSpace = 'normalized' | 'hounsfield';
+export type PositionSpace = (typeof POSITION_SPACES)[number];
+/** The space of the CT presets' positions, read as Hounsfield units. */
+export const HOUNSFIELD: PositionSpace = 'hounsfield';
+/** The space of a transfer function that names none. */
+export const NORMALIZED: PositionSpace = 'normalized';
 /** A transfer-function preset's name; the server's `hello` lists its presets with their points. */
 export type Preset = string;
-export const COMPOSITINGS = ['alpha', 'extinction'] as const;
 export type Compositing = (typeof COMPOSITINGS)[number];
-export const STAGES = ['compute', 'fragment'] as const;
 export type Stage = (typeof STAGES)[number];
-export const BUILDERS = ['per_slice', 'multi_slice'] as const;
 export type Builder = (typeof BUILDERS)[number];
-export const LIGHT_LOOKUPS = ['local', 'interpolate'] as const;
 export type LightLookup = (typeof LIGHT_LOOKUPS)[number];
-export const LIGHT_TYPES = ['directional', 'point'] as const;
-
-/** The views named by anatomy (world space is RAS: +x right, +y anterior, +z superior). */
-export const VIEWS = ['anterior', 'posterior', 'left', 'right', 'superior', 'inferior'] as const;
 export type ViewName = (typeof VIEWS)[number];
 
-/** Where each view's eye lies from the target, and its up (as the server's scene poses them). */
-const VIEW_POSES: Record<ViewName, { side: Vec3; up: Vec3 }> = {
-  anterior: { side: [0, 1, 0], up: [0, 0, 1] },
-  posterior: { side: [0, -1, 0], up: [0, 0, 1] },
-  left: { side: [-1, 0, 0], up: [0, 0, 1] },
-  right: { side: [1, 0, 0], up: [0, 0, 1] },
-  superior: { side: [0, 0, 1], up: [0, 1, 0] },
-  inferior: { side: [0, 0, -1], up: [0, 1, 0] },
-};
-
-/** The eye and up of `view` looking at `target` from `distance`. */
+/** The eye and up of `view` looking at `target` from `distance`, as the server poses them. */
 export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
   const { side, up } = VIEW_POSES[view];
   return {
@@ -220,19 +229,7 @@ export interface Limits extends ConfiguredLimits {
 }
 
 /** A server's configured limits at their defaults: what the controls span until its hello. */
-export const DEFAULT_LIMITS: ConfiguredLimits = {
-  max_message_bytes: 65536,
-  max_image_side: 2048,
-  max_slices: 1024,
-  max_light_resolution: 1024,
-  max_sessions: 64,
-  max_sessions_per_client: 16,
-  max_sessions_per_connection: 4,
-  max_requests_per_second: 120,
-  max_send_queue: 4,
-  max_frame_work: 1e11,
-  max_json_depth: 16,
-};
+export const DEFAULT_LIMITS: ConfiguredLimits = SERVER_DEFAULT_LIMITS;
 
 export const ERROR_CODES = [
   'malformed_json',
@@ -262,10 +259,10 @@ export type ErrorCode = (typeof ERROR_CODES)[number];
 export interface ModeCapabilities {
   name: Mode;
   summary: string;
-  technique: 'ray_casting' | 'half_angle_slicing';
-  shadows: 'none' | 'light_buffer' | 'rays';
-  scattering: 'none' | 'shell' | 'cone';
-  gradients: 'never' | 'with_phong' | 'always';
+  technique: (typeof TECHNIQUES)[number];
+  shadows: (typeof SHADOW_KINDS)[number];
+  scattering: (typeof SCATTERING_KINDS)[number];
+  gradients: (typeof GRADIENTS)[number];
 }
 
 /** One setting's range from the server's table, both ends included. */
@@ -644,7 +641,8 @@ export function parseServerMessage(text: string, ranges?: SettingRanges): Server
       }
       bool(renderer, 'software', '/renderer');
       const limits = obj(o, 'limits', '');
-      for (const key of [...Object.keys(DEFAULT_LIMITS), 'max_transfer_function_points', 'max_hounsfield_position']) {
+      // Every number a server's hello.limits has (the generated defaults name them).
+      for (const key of Object.keys(SERVER_DEFAULT_LIMITS)) {
         num(limits, key, '/limits');
       }
       const lengths = obj(limits, 'max_string_bytes', '/limits');
@@ -902,13 +900,13 @@ const checkTransferFunction =
       members(value, at, { preset: presets === null ? string(Infinity) : oneOf(presets) });
       return;
     }
-    const hounsfield = isObject(value) && value['space'] === 'hounsfield';
+    const hounsfield = isObject(value) && value['space'] === HOUNSFIELD;
     const reach = limits.max_hounsfield_position;
     const x = hounsfield ? number(-reach, reach) : number(0, 1);
     const most = limits.max_transfer_function_points;
     members(value, at, {
       name: textOf(limits, 'set/transfer_function/name'),
-      space: (v, a) => oneOf(['normalized', 'hounsfield'])(v, a),
+      space: oneOf(POSITION_SPACES),
       colors: points({ x, rgb: rgb(ranges) }, ['x', 'rgb'], 'colors', most),
       opacities: points({ x, alpha: number(0, 1) }, ['x', 'alpha'], 'opacities', most),
     });
@@ -1087,8 +1085,8 @@ function deg(radians: number): number {
 /** The eye an `orbit` puts around `target` (§5): azimuth from +y toward +x about +z. */
 export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
   const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
-  const el = ((Math.max(-89.9, Math.min(89.9, orbit.elevation ?? 0)) * Math.PI) / 180);
-  const d = orbit.distance ?? 2.6;
+  const el = (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) * Math.PI) / 180;
+  const d = orbit.distance ?? DEFAULT_CAMERA_DISTANCE;
   return [
     target[0] + d * Math.cos(el) * Math.sin(az),
     target[1] + d * Math.cos(el) * Math.cos(az),
@@ -1128,7 +1126,7 @@ export function applyPatch(
       next.camera.up = [0, 0, 1];
     }
     if (view) {
-      Object.assign(next.camera, viewPose(view, next.camera.target, distance > 0 ? distance : 2.6));
+      Object.assign(next.camera, viewPose(view, next.camera.target, distance > 0 ? distance : DEFAULT_CAMERA_DISTANCE));
     }
   }
   if (patch.light) {
@@ -1143,8 +1141,8 @@ export function applyPatch(
       }
     } else {
       next.transfer_function = {
-        name: tf.name ?? 'custom',
-        space: tf.space ?? 'normalized',
+        name: tf.name ?? UNNAMED_TRANSFER_FUNCTION,
+        space: tf.space ?? DEFAULT_POSITION_SPACE,
         colors: structuredClone(tf.colors ?? []),
         opacities: structuredClone(tf.opacities ?? []),
       };

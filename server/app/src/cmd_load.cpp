@@ -3,6 +3,7 @@
 
 #include <penumbra/base/secret.hpp>
 #include <penumbra/cli/options.hpp>
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
@@ -30,7 +31,10 @@ po::options_description load_options(LoadOptions& o) {
             "mode", po::value(&c.mode)->value_name("MODE")->default_value(c.mode),
             "rendering mode")("size", po::value(&c.size)->value_name("S")->default_value(c.size),
                               "frames of S x S pixels")(
-            "encoding", po::value(&c.encoding)->value_name("jpeg|png")->default_value(c.encoding),
+            "encoding",
+            po::value(&c.encoding)
+                    ->value_name(encode::frame_format_names("|", "|"))
+                    ->default_value(c.encoding),
             "frame encoding")("interactive", "request interactive-quality frames")(
             "refine", po::value(&c.refine)->value_name("N")->default_value(c.refine),
             "jittered frames, each still refined N times at the lowest priority (progressive "

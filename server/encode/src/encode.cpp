@@ -1,5 +1,7 @@
 #include "penumbra/encode/encode.hpp"
 
+#include <penumbra/base/assert.hpp>
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
@@ -71,8 +73,35 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
     return std::nullopt;
 }
 
+std::optional<ImageFormat> frame_format_named(std::string_view name) {
+    for (const FrameFormat& row : kFrameFormats) {
+        if (row.name == name) {
+            return row.format;
+        }
+    }
+    return std::nullopt;
+}
+
+std::string frame_format_names(std::string_view separator, std::string_view last) {
+    std::string text;
+    for (std::size_t i = 0; i < kFrameFormats.size(); ++i) {
+        if (i > 0) {
+            text += i + 1 == kFrameFormats.size() ? last : separator;
+        }
+        text += kFrameFormats[i].name;
+    }
+    return text;
+}
+
 const char* to_string(ImageFormat format) {
-    return format == ImageFormat::png ? "png" : "jpeg";
+    for (const FrameFormat& row : kFrameFormats) {
+        if (row.format == format) {
+            // The names are string literals, so each view ends in a NUL.
+            return row.name.data();
+        }
+    }
+    PENUMBRA_ASSERT(false, "every image format has its row in kFrameFormats");
+    return "";
 }
 
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,

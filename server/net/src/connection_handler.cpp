@@ -23,7 +23,7 @@ constexpr std::size_t max_waiting_requests = 64;
 protocol::SessionState to_protocol(const session::SessionState& s) {
     protocol::SessionState out;
     out.frame = s.frame;
-    out.output.encoding = s.output.format == encode::ImageFormat::png ? "png" : "jpeg";
+    out.output.encoding = s.output.format;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
     out.refinement_steps = s.refinement_steps;
@@ -33,8 +33,7 @@ protocol::SessionState to_protocol(const session::SessionState& s) {
 session::SessionState from_protocol(const protocol::SessionState& s) {
     session::SessionState out;
     out.frame = s.frame;
-    out.output.format =
-            s.output.encoding == "png" ? encode::ImageFormat::png : encode::ImageFormat::jpeg;
+    out.output.format = s.output.encoding;
     out.output.jpeg_quality = s.output.jpeg_quality;
     out.frame_budget_ms = s.frame_budget_ms;
     out.refinement_steps = s.refinement_steps;
@@ -78,7 +77,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.session = shared.session();
     h.width = f.width;
     h.height = f.height;
-    h.encoding = f.format == encode::ImageFormat::png ? "png" : "jpeg";
+    h.encoding = encode::to_string(f.format);
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
     h.light_buffer = render::to_string(f.report.light_buffer);

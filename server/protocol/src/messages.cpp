@@ -3,6 +3,7 @@
 #include "json_fields.hpp"
 #include "patch_document.hpp"
 
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
@@ -263,6 +264,10 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
             announced["summary"] = range->summary;
         }
     }
+    json encodings = json::array();
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},
                     {"modes", modes},
@@ -270,7 +275,7 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                     {"presets", presets_json()},
                     {"nominal_ct_range",
                      {scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}},
-                    {"encodings", {"jpeg", "png"}},
+                    {"encodings", encodings},
                     {"renderer",
                      {{"renderer", renderer.renderer},
                       {"version", renderer.version},

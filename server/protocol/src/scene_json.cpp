@@ -3,6 +3,7 @@
 #include "json_fields.hpp"
 #include "patch_document.hpp"
 
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/scene/camera.hpp>
 
 #include <glm/geometric.hpp>
@@ -222,7 +223,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
     }
     PENUMBRA_TRY(only_fields(j, p, {"name", "space", "colors", "opacities"}));
     scene::TransferFunction tf;
-    tf.name = "custom";
+    tf.name = unnamed_transfer_function;
     PENUMBRA_TRY(optional_member(j, p, "name", tf.name, [](const json& v, const std::string& q) {
         return string(v, q, max_transfer_function_name_bytes);
     }));
@@ -396,16 +397,8 @@ base::Status apply_settings(const json& j, const std::string& p, scene::FrameReq
 base::Status apply_output(const json& j, const std::string& p, OutputOptions& output) {
     PENUMBRA_TRY(expect_object(j, p));
     PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
-    if (j.contains("encoding")) {
-        auto encoding = string(j.at("encoding"), p + "/encoding", 8);
-        if (!encoding) {
-            return encoding.error();
-        }
-        if (*encoding != "jpeg" && *encoding != "png") {
-            return field_error("invalid_value", p + "/encoding", "expected jpeg or png");
-        }
-        output.encoding = *encoding;
-    }
+    PENUMBRA_TRY(apply_enum(j, p, "encoding", output.encoding, encode::frame_format_named,
+                            encode::frame_format_names(", ", " or ")));
     PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality, int_range_of(1, 100)));
     return base::Ok{};
 }
@@ -535,7 +528,8 @@ std::string state_to_json(const SessionState& state) {
                 {"builder", scene::to_string(s.light_buffer.builder)},
                 {"lookup", scene::to_string(s.light_buffer.lookup)}}}}},
             {"output",
-             {{"encoding", state.output.encoding}, {"jpeg_quality", state.output.jpeg_quality}}},
+             {{"encoding", encode::to_string(state.output.encoding)},
+              {"jpeg_quality", state.output.jpeg_quality}}},
     };
     // The table's settings that a request holds, each at its path.
     for (const scene::SettingRange* range : scene::kSettingRanges) {

@@ -65,7 +65,8 @@ glm::dvec3 direction_from_angles(double azimuth_degrees, double elevation_degree
 
 Camera orbit_camera(double azimuth_degrees, double elevation_degrees, double distance,
                     glm::dvec3 target) {
-    const double elevation = std::clamp(elevation_degrees, -89.9, 89.9);
+    const double elevation =
+            std::clamp(elevation_degrees, -max_orbit_elevation, max_orbit_elevation);
     Camera camera;
     camera.target = target;
     camera.eye = target + distance * direction_from_angles(azimuth_degrees, elevation);

@@ -6,16 +6,20 @@
 #include "examples.hpp"
 #include "schema_generator.hpp"
 
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -83,6 +87,21 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     for (const std::string_view type : kClientMessageTypes) {
         EXPECT_NE(generated->find("| `" + std::string(type) + "` |"), std::string::npos) << type;
     }
+    // The limits' table (§8) states the values a server configured with nothing else sends.
+    const Limits limits;
+    EXPECT_NE(
+            generated->find("| `max_image_side` | " + std::to_string(limits.max_image_side) + " |"),
+            std::string::npos);
+    EXPECT_NE(generated->find("| `max_transfer_function_points` | " +
+                              std::to_string(max_transfer_function_points) + " |"),
+              std::string::npos);
+    const auto stale = test::generated_readme(std::string(test::kTableBegin) + "\n" +
+                                                      std::string(test::kTableEnd) +
+                                                      "\n| `max_slices` | 7 | slices |\n",
+                                              proto / "v1");
+    ASSERT_TRUE(stale.ok()) << stale.error().to_string();
+    EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
+                                 " | slices |\n"));
 }
 
 template <scene::NamedEnum Enum>
@@ -148,6 +167,31 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
     const json& light_buffer = settings.at("light_buffer").at("properties");
     EXPECT_EQ(light_buffer.at("builder").at("enum"), names_in_table<scene::LightBufferBuilder>());
     EXPECT_EQ(light_buffer.at("lookup").at("enum"), names_in_table<scene::LightLookup>());
+}
+
+// The numbers the schema states of the defaults: an orbit's members left out (the default camera's)
+// and the maxima hello.limits announces for a server configured with nothing else; and the names
+// of the formats frames are written in.
+TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
+    const auto generated = test::generated_common_schema(R"({"$defs": {}})");
+    ASSERT_TRUE(generated.ok()) << generated.error().to_string();
+    const json defs = json::parse(*generated).at("$defs");
+    const json& orbit = schema_node(defs, "camera/orbit").at("properties");
+    const scene::Camera from_defaults =
+            scene::orbit_camera(orbit.at("azimuth").at("default").get<double>(),
+                                orbit.at("elevation").at("default").get<double>(),
+                                orbit.at("distance").at("default").get<double>());
+    EXPECT_LT(glm::length(from_defaults.eye - scene::Camera{}.eye), 1e-12);
+    const Limits limits;
+    EXPECT_EQ(schema_node(defs, "settings/size").at("items").at("maximum"), limits.max_image_side);
+    json encodings = json::array();
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    EXPECT_EQ(defs.at("encoding").at("enum"), encodings);
+    EXPECT_EQ(schema_node(defs, "settings/light_buffer/slices").at("maximum"), limits.max_slices);
+    EXPECT_EQ(schema_node(defs, "settings/light_buffer/resolution").at("maximum"),
+              limits.max_light_resolution);
 }
 
 TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
@@ -227,6 +271,19 @@ TEST(SchemaAgreement, HelloSchemaIsGenerated) {
     const json& item = written.at("properties").at("modes").at("items").at("properties");
     EXPECT_EQ(item.at("technique").at("enum"), names_in_table<scene::Technique>());
     EXPECT_EQ(item.at("gradients").at("enum"), names_in_table<scene::Gradients>());
+    // Each limit's default is what hello sends with nothing configured.
+    const json& limits = written.at("properties").at("limits").at("properties");
+    const Limits defaults;
+    EXPECT_EQ(limits.at("max_message_bytes").at("default"), defaults.max_message_bytes);
+    EXPECT_EQ(limits.at("max_image_side").at("default"), defaults.max_image_side);
+    EXPECT_EQ(limits.at("max_slices").at("default"), defaults.max_slices);
+    EXPECT_EQ(limits.at("max_requests_per_second").at("default").get<double>(),
+              defaults.max_requests_per_second);
+    EXPECT_EQ(limits.at("max_frame_work").at("default").get<double>(), defaults.max_frame_work);
+    EXPECT_EQ(limits.at("max_transfer_function_points").at("default"),
+              max_transfer_function_points);
+    EXPECT_EQ(limits.at("max_hounsfield_position").at("default").get<double>(),
+              scene::max_hounsfield_position);
     EXPECT_FALSE(test::generated_hello_schema("[1]").ok());
 }
 
@@ -240,6 +297,8 @@ TEST(SchemaAgreement, GeneratorWritesTheTransferFunctionsNamesAndLimits) {
     const json& points = defs.at("transfer_function").at("oneOf").at(1).at("properties");
     EXPECT_EQ(points.at("space").at("enum"), names_in_table<scene::PositionSpace>());
     EXPECT_EQ(points.at("name").at("maxLength"), max_transfer_function_name_bytes);
+    EXPECT_EQ(points.at("name").at("default"), unnamed_transfer_function);
+    EXPECT_EQ(points.at("space").at("default"), scene::name_of(scene::TransferFunction{}.space));
     for (const char* list : {"colors", "opacities"}) {
         SCOPED_TRACE(list);
         EXPECT_EQ(points.at(list).at("maxItems"), max_transfer_function_points);
@@ -315,6 +374,110 @@ TEST(SchemaAgreement, TheRecordedHelloIsRewrittenAsTheServerSendsIt) {
     EXPECT_EQ(hello, sent);
     EXPECT_EQ(stale->substr(stale->find('\n')), "\n{\"type\":\"opened\"}\n");
     EXPECT_FALSE(test::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
+}
+
+// The web client's names and views are the server's: a name, a format or a view pose changed in C++
+// changes the module the script writes, and the committed one must follow.
+TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
+    const std::filesystem::path file = std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() /
+                                       "client_web" / test::kClientTablesPath;
+    ASSERT_TRUE(std::filesystem::exists(file)) << file << ": run scripts/update-schema.sh";
+    EXPECT_TRUE(test::generated_client_tables() == test::read_text(file))
+            << file << " differs from what the C++ tables make of it: run "
+            << "scripts/update-schema.sh";
+}
+
+// The list `constant` as the generated module writes it: "export const NAME = ['a', 'b'] as
+// const;".
+std::vector<std::string> generated_list(const std::string& text, const std::string& constant) {
+    const std::regex list("export const " + constant + R"( = \[([^\]]*)\] as const;)");
+    std::smatch match;
+    EXPECT_TRUE(std::regex_search(text, match, list)) << constant;
+    std::vector<std::string> names;
+    const std::string items = match[1].str();
+    const std::regex name("'([^']*)'");
+    for (auto it = std::sregex_iterator(items.begin(), items.end(), name);
+         it != std::sregex_iterator(); ++it) {
+        names.push_back((*it)[1].str());
+    }
+    return names;
+}
+
+template <scene::NamedEnum Enum>
+std::vector<std::string> table_names() {
+    std::vector<std::string> names;
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.emplace_back(row.name);
+    }
+    return names;
+}
+
+glm::dvec3 generated_vec3(const std::string& text) {
+    glm::dvec3 v{};
+    std::istringstream in(text);
+    char separator = 0;
+    in >> v.x >> separator >> v.y >> separator >> v.z;
+    return v;
+}
+
+TEST(SchemaAgreement, TheClientTablesHoldTheServersNamesAndViews) {
+    const std::string text = test::generated_client_tables();
+    std::vector<std::string> encodings;
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.emplace_back(format.name);
+    }
+    EXPECT_EQ(generated_list(text, "ENCODINGS"), encodings);
+    EXPECT_EQ(generated_list(text, "COMPOSITINGS"), table_names<scene::Compositing>());
+    EXPECT_EQ(generated_list(text, "STAGES"), table_names<scene::RaycastStage>());
+    EXPECT_EQ(generated_list(text, "BUILDERS"), table_names<scene::LightBufferBuilder>());
+    EXPECT_EQ(generated_list(text, "LIGHT_LOOKUPS"), table_names<scene::LightLookup>());
+    EXPECT_EQ(generated_list(text, "LIGHT_TYPES"), table_names<scene::LightType>());
+    EXPECT_EQ(generated_list(text, "POSITION_SPACES"), table_names<scene::PositionSpace>());
+    EXPECT_EQ(generated_list(text, "VIEWS"), table_names<scene::View>());
+    EXPECT_EQ(generated_list(text, "TECHNIQUES"), table_names<scene::Technique>());
+    EXPECT_EQ(generated_list(text, "SHADOW_KINDS"), table_names<scene::ShadowKind>());
+    EXPECT_EQ(generated_list(text, "SCATTERING_KINDS"), table_names<scene::ScatteringKind>());
+    EXPECT_EQ(generated_list(text, "GRADIENTS"), table_names<scene::Gradients>());
+    // Each view's eye direction and up, as the server poses its camera for that view.
+    for (const scene::EnumName<scene::View>& row : scene::names<scene::View>()) {
+        SCOPED_TRACE(std::string(row.name));
+        const std::regex pose("  " + std::string(row.name) +
+                              R"(: \{ side: \[([^\]]*)\], up: \[([^\]]*)\] \},)");
+        std::smatch match;
+        ASSERT_TRUE(std::regex_search(text, match, pose));
+        const scene::Camera camera = scene::view_camera(row.value, 3.0, glm::dvec3(0.5, -1, 2));
+        const glm::dvec3 side = generated_vec3(match[1].str());
+        const glm::dvec3 up = generated_vec3(match[2].str());
+        EXPECT_LT(glm::length(camera.target + 3.0 * side - camera.eye), 1e-12);
+        EXPECT_LT(glm::length(up - camera.up), 1e-12);
+    }
+    const auto constant = [&](const std::string& name) {
+        const std::regex number("export const " + name + R"( = ([0-9.e+]+);)");
+        std::smatch match;
+        EXPECT_TRUE(std::regex_search(text, match, number)) << name;
+        return match.empty() ? -1.0 : std::stod(match[1].str());
+    };
+    EXPECT_EQ(constant("DEFAULT_CAMERA_DISTANCE"), scene::default_camera_distance);
+    EXPECT_EQ(constant("DEFAULT_FOV"), scene::Camera{}.fov_y_degrees);
+    EXPECT_EQ(constant("MAX_ORBIT_ELEVATION"), scene::max_orbit_elevation);
+    EXPECT_NE(text.find("export const UNNAMED_TRANSFER_FUNCTION = '" +
+                        std::string(unnamed_transfer_function) + "';"),
+              std::string::npos);
+    EXPECT_NE(text.find("= '" + std::string(scene::name_of(scene::TransferFunction{}.space)) +
+                        "';\n/** The name of a transfer function"),
+              std::string::npos);
+    // The limits a server sends with nothing configured, each as hello has it.
+    const Limits defaults;
+    const auto limit = [&](const std::string& name) {
+        const std::regex number("  " + name + R"(: ([0-9.e+]+),)");
+        std::smatch match;
+        EXPECT_TRUE(std::regex_search(text, match, number)) << name;
+        return match.empty() ? -1.0 : std::stod(match[1].str());
+    };
+    EXPECT_EQ(limit("max_image_side"), defaults.max_image_side);
+    EXPECT_EQ(limit("max_requests_per_second"), defaults.max_requests_per_second);
+    EXPECT_EQ(limit("max_frame_work"), defaults.max_frame_work);
+    EXPECT_EQ(limit("max_transfer_function_points"), max_transfer_function_points);
 }
 
 }  // namespace

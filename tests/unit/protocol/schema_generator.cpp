@@ -1,16 +1,23 @@
 #include "schema_generator.hpp"
 
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -172,6 +179,51 @@ base::Result<std::string> message_table(const std::filesystem::path& schema_dir)
     return table;
 }
 
+// A limit's value as the README writes it: "65536", "1e11", `{"join/session": 64, ...}`.
+std::string readme_value(const nlohmann::json& value) {
+    if (value.is_object()) {
+        std::string text;
+        for (const auto& [key, member] : value.items()) {
+            text += (text.empty() ? "" : ", ") + nlohmann::json(key).dump() + ": " + member.dump();
+        }
+        return "`{" + text + "}`";
+    }
+    const double number = value.get<double>();
+    if (number == std::trunc(number) && std::abs(number) < 1e9) {
+        return std::to_string(static_cast<std::int64_t>(number));
+    }
+    std::array<char, 32> text{};
+    std::snprintf(text.data(), text.size(), "%g", number);
+    std::string written = text.data();
+    if (const std::size_t plus = written.find("e+"); plus != std::string::npos) {
+        written.erase(plus + 1, 1);
+    }
+    return written;
+}
+
+// The README's limit tables (§8) with each row's value (its second cell) as the hello of a server
+// configured with nothing else states it; the rows and the other cells are written by hand.
+std::string with_limit_values(const std::string& text) {
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    std::istringstream in(text);
+    std::string out;
+    for (std::string line; std::getline(in, line);) {
+        for (const auto& [name, value] : hello.at("limits").items()) {
+            const std::string row = "| `" + name + "` | ";
+            const std::size_t cell_end = line.find(" | ", row.size());
+            if (line.starts_with(row) && cell_end != std::string::npos) {
+                line = row + readme_value(value) + line.substr(cell_end);
+                break;
+            }
+        }
+        out += line + "\n";
+    }
+    if (!text.ends_with('\n') && !out.empty()) {
+        out.pop_back();
+    }
+    return out;
+}
+
 }  // namespace
 
 base::Result<std::string> generated_readme(std::string_view committed,
@@ -188,8 +240,8 @@ base::Result<std::string> generated_readme(std::string_view committed,
         return table.error();
     }
     const std::size_t table_start = begin + kTableBegin.size();
-    return std::string(committed.substr(0, table_start)) + "\n" + *table +
-           std::string(committed.substr(end));
+    return with_limit_values(std::string(committed.substr(0, table_start)) + "\n" + *table +
+                             std::string(committed.substr(end)));
 }
 
 // `Enum`'s names from scene's name table, in its order.
@@ -223,7 +275,9 @@ void write_transfer_function(json& defs) {
     json& points = oneof[1]["properties"];
     points["name"]["type"] = "string";
     points["name"]["maxLength"] = max_transfer_function_name_bytes;
+    points["name"]["default"] = unnamed_transfer_function;
     points["space"]["enum"] = names_of_enum<scene::PositionSpace>();
+    points["space"]["default"] = scene::name_of(scene::TransferFunction{}.space);
     for (const char* list : {"colors", "opacities"}) {
         json& node = points[list];
         node["type"] = "array";
@@ -233,6 +287,18 @@ void write_transfer_function(json& defs) {
         x["minimum"] = number(-scene::max_hounsfield_position);
         x["maximum"] = number(scene::max_hounsfield_position);
     }
+}
+
+// What an orbit's members are when a patch leaves them out: the default camera's angles and
+// distance, as the parser takes them.
+void write_orbit_defaults(json& defs) {
+    const scene::Camera camera;
+    const glm::dvec3 offset = camera.eye - camera.target;
+    const double distance = glm::length(offset);
+    json& orbit = node_of(defs, "camera/orbit")["properties"];
+    orbit["azimuth"]["default"] = number(glm::degrees(std::atan2(offset.x, offset.y)));
+    orbit["elevation"]["default"] = number(glm::degrees(std::asin(offset.z / distance)));
+    orbit["distance"]["default"] = number(distance);
 }
 
 base::Result<std::string> generated_common_schema(std::string_view committed) {
@@ -255,6 +321,18 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");
     write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
     write_transfer_function(defs);
+
+    json encodings = json::array();
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    defs["encoding"]["enum"] = std::move(encodings);
+    write_orbit_defaults(defs);
+    // The maxima a server configured otherwise announces in hello.limits, at their defaults.
+    const Limits limits;
+    node_of(defs, "settings/size")["items"]["maximum"] = limits.max_image_side;
+    node_of(defs, "settings/light_buffer/slices")["maximum"] = limits.max_slices;
+    node_of(defs, "settings/light_buffer/resolution")["maximum"] = limits.max_light_resolution;
 
     json client_types = json::array();
     for (const std::string_view type : kClientMessageTypes) {
@@ -281,6 +359,15 @@ base::Result<std::string> generated_hello_schema(std::string_view committed) {
     capabilities["shadows"]["enum"] = names_of_enum<scene::ShadowKind>();
     capabilities["scattering"]["enum"] = names_of_enum<scene::ScatteringKind>();
     capabilities["gradients"]["enum"] = names_of_enum<scene::Gradients>();
+    // Each limit as a server configured with nothing else sends it (and the fixed ones as every
+    // server does).
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    json& limits = schema["properties"]["limits"]["properties"];
+    for (const auto& [name, value] : hello.at("limits").items()) {
+        if (value.is_number()) {
+            limits[name]["default"] = number(value.get<double>());
+        }
+    }
     return schema.dump(2) + "\n";
 }
 
@@ -296,6 +383,117 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
     auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
     hello["renderer"] = recorded.value("renderer", nlohmann::json::object());
     return hello.dump() + std::string(committed.substr(line_end));
+}
+
+namespace {
+
+// A number as TypeScript reads it back exactly: whole numbers without a point, no "-0".
+std::string ts_number(double value) {
+    if (value == 0.0) {
+        return "0";
+    }
+    return number(value).dump();
+}
+
+std::string ts_vec3(glm::dvec3 v) {
+    return "[" + ts_number(v.x) + ", " + ts_number(v.y) + ", " + ts_number(v.z) + "]";
+}
+
+std::string ts_names(std::string_view constant, std::string_view summary,
+                     const std::vector<std::string_view>& names) {
+    std::string out =
+            "/** " + std::string(summary) + " */\nexport const " + std::string(constant) + " = [";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        out += (i > 0 ? ", '" : "'") + std::string(names[i]) + "'";
+    }
+    return out + "] as const;\n";
+}
+
+template <scene::NamedEnum Enum>
+std::string ts_enum(std::string_view constant, std::string_view summary) {
+    std::vector<std::string_view> names;
+    for (const scene::EnumName<Enum>& row : scene::names<Enum>()) {
+        names.push_back(row.name);
+    }
+    return ts_names(constant, summary, names);
+}
+
+}  // namespace
+
+std::string generated_client_tables() {
+    std::vector<std::string_view> encodings;
+    for (const encode::FrameFormat& format : encode::kFrameFormats) {
+        encodings.push_back(format.name);
+    }
+    std::string out =
+            "// The server's names and views for the web client, written from its C++ tables by\n"
+            "// scripts/update-schema.sh; protocol_test (SchemaAgreement.TheWebClientsServerTables"
+            "AreGenerated)\n"
+            "// fails while this file differs from what they make. Not edited by hand.\n\n";
+    out += ts_names("ENCODINGS", "The formats frames are written in, the first the default.",
+                    encodings);
+    out += ts_enum<scene::Compositing>("COMPOSITINGS", "settings.compositing");
+    out += ts_enum<scene::RaycastStage>("STAGES", "settings.stage: the ray caster's stage.");
+    out += ts_enum<scene::LightBufferBuilder>("BUILDERS", "settings.light_buffer.builder");
+    out += ts_enum<scene::LightLookup>("LIGHT_LOOKUPS", "settings.light_buffer.lookup");
+    out += ts_enum<scene::LightType>("LIGHT_TYPES", "light.type");
+    out += ts_enum<scene::PositionSpace>(
+            "POSITION_SPACES",
+            "Where a transfer function's positions lie: fractions of the volume's range, or "
+            "Hounsfield units.");
+    out += ts_enum<scene::Technique>("TECHNIQUES", "A mode's technique (hello.modes).");
+    out += ts_enum<scene::ShadowKind>("SHADOW_KINDS", "How a mode shadows (hello.modes).");
+    out += ts_enum<scene::ScatteringKind>("SCATTERING_KINDS",
+                                          "What a mode scatters with (hello.modes).");
+    out += ts_enum<scene::Gradients>("GRADIENTS", "When a mode reads gradients (hello.modes).");
+    out += ts_enum<scene::View>(
+            "VIEWS",
+            "The views named by anatomy (world space is RAS: +x right, +y anterior, +z "
+            "superior).");
+    out += "\n/** Each view's eye direction from its target (a unit vector) and its up, as the "
+           "server poses them. */\n"
+           "export const VIEW_POSES: Readonly<\n"
+           "  Record<(typeof VIEWS)[number], { side: readonly [number, number, number]; up: "
+           "readonly [number, number, number] }>\n"
+           "> = {\n";
+    for (const scene::EnumName<scene::View>& row : scene::names<scene::View>()) {
+        const scene::Camera camera = scene::view_camera(row.value, 1.0);
+        out += "  " + std::string(row.name) +
+               ": { side: " + ts_vec3(glm::normalize(camera.eye - camera.target)) +
+               ", up: " + ts_vec3(camera.up) + " },\n";
+    }
+    out += "};\n\n";
+    out += "/** The space of a transfer function's positions when it names none. */\n"
+           "export const DEFAULT_POSITION_SPACE: (typeof POSITION_SPACES)[number] = '" +
+           std::string(scene::name_of(scene::TransferFunction{}.space)) +
+           "';\n"
+           "/** The name of a transfer function given by its points that names none. */\n"
+           "export const UNNAMED_TRANSFER_FUNCTION = '" +
+           std::string(unnamed_transfer_function) + "';\n";
+    out += "\n/** How far from the horizon an orbit's eye goes, in degrees (the server keeps it "
+           "short of the poles). */\n"
+           "export const MAX_ORBIT_ELEVATION = " +
+           ts_number(scene::max_orbit_elevation) + ";\n";
+    const scene::Camera default_camera;
+    out += "/** How far the default camera and the named views stand from the target, in box "
+           "units. */\n"
+           "export const DEFAULT_CAMERA_DISTANCE = " +
+           ts_number(scene::default_camera_distance) +
+           ";\n"
+           "/** The default camera's vertical field of view, in degrees. */\n"
+           "export const DEFAULT_FOV = " +
+           ts_number(default_camera.fov_y_degrees) + ";\n";
+    // hello.limits' numbers as a server configured with nothing else sends them.
+    const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
+    out += "\n/** hello.limits' numbers as a server configured with nothing else sends them. */\n"
+           "export const DEFAULT_LIMITS = {\n";
+    for (const auto& [name, value] : hello.at("limits").items()) {
+        if (value.is_number()) {
+            out += "  " + name + ": " + ts_number(value.get<double>()) + ",\n";
+        }
+    }
+    out += "} as const;\n";
+    return out;
 }
 
 }  // namespace penumbra::protocol::test

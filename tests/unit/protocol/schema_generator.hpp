@@ -1,14 +1,16 @@
 #pragma once
 
 // What proto/v1/common.schema.json restates of the C++ tables, for clients that cannot read C++:
-// scene's mode table, the names of the settings' enums (scene's name tables), the transfer
-// function's preset names, position spaces and limits, each setting's range
-// (kSettingRanges: type, minimum, maximum and, where the row has one, its summary as the
-// description; a setting that a state holds is required there) and the client message types (the
-// request variant). The rest of the file is written by hand. proto/README.md's table of the client
-// messages is written from their schemas the same way, hello.schema.json's mode capabilities from
-// the kinds' name tables, and the hello the web client's tests recorded from the server.
-// update_schema writes these parts into the files (scripts/update-schema.sh) and
+// the frame formats (encode::kFrameFormats), scene's mode table, the names of the settings' enums
+// (scene's name tables), the transfer function's preset names, position spaces, limits and
+// defaults, each setting's range (kSettingRanges: type, minimum, maximum and, where the row has
+// one, its summary as the description; a setting that a state holds is required there), the
+// orbit's defaults (the default camera's), the configurable maxima at their defaults and the client
+// message types (the request variant). The rest of the file is written by hand. proto/README.md's
+// table of the client messages is written from their schemas the same way, hello.schema.json's
+// mode capabilities from the kinds' name tables and its limits' defaults from the hello a server
+// configured with nothing else sends, and the hello the web client's tests recorded from the
+// server. update_schema writes these parts into the files (scripts/update-schema.sh) and
 // SchemaAgreement.*IsGenerated fail while a committed file differs.
 
 #include <penumbra/base/result.hpp>
@@ -44,5 +46,14 @@ base::Result<std::string> generated_hello_schema(std::string_view committed);
 // recorded renderer kept), so that the client's tests see the current tables. The rest of the
 // recording is left as it was; an error where the first line is not a hello.
 base::Result<std::string> generated_recorded_hello(std::string_view committed);
+
+// The TypeScript module that gives the web client the server's names and views
+// (client_web/src/protocol/generated/server_tables.ts): the formats frames are written in
+// (encode::kFrameFormats), the names of the settings' enums, the light types, the transfer
+// function's position spaces, the mode table's kinds and the views (scene's name tables), each view's eye direction and
+// up (scene::view_camera) and the default camera's distance and field of view. It is written
+// whole: the client keeps no copy of its own.
+inline constexpr std::string_view kClientTablesPath = "src/protocol/generated/server_tables.ts";
+std::string generated_client_tables();
 
 }  // namespace penumbra::protocol::test

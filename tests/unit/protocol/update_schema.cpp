@@ -1,6 +1,7 @@
 // Writes the generated parts of proto/v1/common.schema.json and hello.schema.json, proto/README.md
-// and the hello the web client's tests recorded (schema_generator.hpp) into them: update_schema
-// PROTO_DIR. scripts/update-schema.sh builds and runs it.
+// and the hello the web client's tests recorded (schema_generator.hpp) into them, and the web
+// client's module of the server's names and views whole: update_schema PROTO_DIR.
+// scripts/update-schema.sh builds and runs it.
 
 #include "schema_generator.hpp"
 
@@ -16,17 +17,19 @@
 
 namespace {
 
-// Rewrites `path` with what `generate` makes of its text; false (and a message) on an error.
+// Rewrites `path` with what `generate` makes of its text (empty for a file not written yet);
+// false (and a message) on an error.
 bool update(const std::filesystem::path& path,
             const std::function<penumbra::base::Result<std::string>(std::string_view)>& generate) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        std::cerr << "update_schema: cannot read " << path.string() << "\n";
-        return false;
+    std::string committed;
+    if (std::filesystem::exists(path)) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) {
+            std::cerr << "update_schema: cannot read " << path.string() << "\n";
+            return false;
+        }
+        committed.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
-    const std::string committed{std::istreambuf_iterator<char>(in),
-                                std::istreambuf_iterator<char>()};
-    in.close();
     const auto generated = generate(committed);
     if (!generated) {
         std::cerr << "update_schema: " << path.string() << ": " << generated.error().to_string()
@@ -37,6 +40,7 @@ bool update(const std::filesystem::path& path,
         std::cout << path.string() << " is up to date\n";
         return true;
     }
+    std::filesystem::create_directories(path.parent_path());
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << *generated;
     if (!out.flush()) {
@@ -68,5 +72,8 @@ int main(int argc, char** argv) {
     const bool recorded_hello = update(
             proto.parent_path() / "client_web" / "test" / "fixtures" / "server_messages.jsonl",
             [](std::string_view text) { return protocol_test::generated_recorded_hello(text); });
-    return schema && hello && readme && recorded_hello ? 0 : 1;
+    const bool client_tables =
+            update(proto.parent_path() / "client_web" / protocol_test::kClientTablesPath,
+                   [](std::string_view) { return protocol_test::generated_client_tables(); });
+    return schema && hello && readme && recorded_hello && client_tables ? 0 : 1;
 }

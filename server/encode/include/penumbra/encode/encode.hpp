@@ -3,10 +3,12 @@
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -14,8 +16,29 @@ namespace penumbra::encode {
 
 enum class ImageFormat { png, jpeg };
 
+// A format frames are written in, by the name the protocol and `hello` give it.
+struct FrameFormat {
+    ImageFormat format;
+    std::string_view name;
+};
+
+// The formats this module writes frames in, the first the default: `hello.encodings`, the
+// protocol's `output.encoding` and the frame header's `encoding` are these names.
+inline constexpr std::array<FrameFormat, 2> kFrameFormats{{
+        {ImageFormat::jpeg, "jpeg"},
+        {ImageFormat::png, "png"},
+}};
+
+// The format `name` names in kFrameFormats; none for another name.
+std::optional<ImageFormat> frame_format_named(std::string_view name);
+
+// The formats' names in kFrameFormats' order: "jpeg|png" with separator "|"; with `last`, that
+// goes before the last name instead ("jpeg or png"), for help and error texts.
+std::string frame_format_names(std::string_view separator, std::string_view last);
+
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
+// The format's name in kFrameFormats.
 const char* to_string(ImageFormat format);
 
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is 1..100.

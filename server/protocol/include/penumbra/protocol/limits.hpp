@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 
 namespace penumbra::protocol {
 
@@ -32,6 +33,8 @@ struct Limits {
 // points a transfer function's colour or opacity list may hold, and the bytes of its name.
 inline constexpr std::size_t max_transfer_function_points = 256;
 inline constexpr std::size_t max_transfer_function_name_bytes = 64;
+// The name a transfer function given by its points takes when the patch names none.
+inline constexpr std::string_view unnamed_transfer_function = "custom";
 
 inline constexpr int protocol_version = 1;
 

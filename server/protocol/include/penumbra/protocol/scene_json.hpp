@@ -1,6 +1,7 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
@@ -15,7 +16,8 @@ namespace penumbra::protocol {
 
 // How frames leave the server.
 struct OutputOptions {
-    std::string encoding = "jpeg";  // "jpeg" | "png"
+    // One of encode::kFrameFormats, by its name on the wire.
+    encode::ImageFormat encoding = encode::kFrameFormats.front().format;
     int jpeg_quality = 85;
 };
 

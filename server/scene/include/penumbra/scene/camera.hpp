@@ -39,8 +39,12 @@ struct CameraFrame {
 
 [[nodiscard]] CameraFrame camera_frame(const Camera& camera, double aspect);
 
+// How far from the horizon an orbit's eye goes, in degrees: short of the poles, so that `up` (+z)
+// stays defined.
+inline constexpr double max_orbit_elevation = 89.9;
+
 // A camera on a sphere around `target`: azimuth about +z, measured from +y toward +x, elevation
-// above the xy plane, both in degrees. Elevation is kept within ±89.9° so `up` (+z) stays defined.
+// above the xy plane, both in degrees. Elevation is kept within ±max_orbit_elevation.
 // Azimuth 0 looks at a RAS head's face (+y is anterior).
 [[nodiscard]] Camera orbit_camera(double azimuth_degrees, double elevation_degrees, double distance,
                                   glm::dvec3 target = glm::dvec3(0.0));
