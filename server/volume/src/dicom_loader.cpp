@@ -57,6 +57,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -336,7 +337,8 @@ void place_mosaic_slices(std::vector<Frame>& frames, const Mosaic& mosaic,
     const glm::dvec3 row(cosines[0], cosines[1], cosines[2]);
     const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
     glm::dvec3 normal = glm::cross(row, column);
-    if (mosaic.slice_normal && glm::length(*mosaic.slice_normal) > 0.5) {
+    if (mosaic.slice_normal && glm::length(*mosaic.slice_normal) > 0.5 &&
+        std::isfinite(glm::length(*mosaic.slice_normal))) {
         normal = *mosaic.slice_normal;
     }
     if (!(glm::length(normal) > 0.5)) {
@@ -415,13 +417,27 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
     return frames;
 }
 
+// A CSA item's text as a whole number: digits only, around blanks, within 32 bits; a header's text
+// is untrusted, and a negative or huge count must not pass as a slice count.
+bool parse_whole(std::string_view text, std::uint32_t& value) {
+    const auto first = text.find_first_not_of(' ');
+    const auto last = text.find_last_not_of(' ');
+    if (first == std::string_view::npos) {
+        return false;
+    }
+    const std::string_view digits = text.substr(first, last - first + 1);
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    return error == std::errc() && end == digits.data() + digits.size();
+}
+
 // Siemens' NumberOfImagesInMosaic and CSA Image Header Info, private tags of its groups.
 const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
 const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
 
 // The text values of element `name` in a Siemens CSA header, or nothing where the header is
-// absent, damaged, or lacks the element. Syngo writes two layouts, both read as nibabel's
-// csareader and SPM's spm_dicom_headers read them:
+// absent, damaged, or lacks the element. Syngo writes two layouts, both read as SPM's
+// spm_dicom_headers reads them (nibabel's csareader offsets CSA1's item lengths by the second
+// element's count of items instead of the first's):
 //   - "SV10" (CSA2): the signature, 4 unused bytes, a count of elements and an unused word; each
 //     element a 64-byte name, its multiplicity, VR, SyngoDT, a count of items and an unused word;
 //     each item four words, the second its length, then the text padded to four bytes.
@@ -525,8 +541,9 @@ base::Result<std::optional<Mosaic>> read_mosaic(DcmDataset& dataset, PixelFormat
     std::optional<std::uint32_t> slices = get_uint16(dataset, siemens_images_in_mosaic);
     if (!slices) {
         const auto csa = csa_values(dataset, "NumberOfImagesInMosaic");
-        if (!csa.empty()) {
-            slices = static_cast<std::uint32_t>(std::atoi(csa.front().c_str()));
+        std::uint32_t parsed = 0;
+        if (!csa.empty() && parse_whole(csa.front(), parsed)) {
+            slices = parsed;
         }
     }
     const auto refuse = [&](const std::string& why) {
@@ -541,8 +558,13 @@ base::Result<std::optional<Mosaic>> read_mosaic(DcmDataset& dataset, PixelFormat
     if (!slices || *slices == 0) {
         return refuse("number of slices is not given (NumberOfImagesInMosaic)");
     }
+    // Each tile holds at least one pixel, which also bounds the search for the tiles a side.
+    if (std::uint64_t{*slices} > std::uint64_t{format.rows} * format.columns) {
+        return refuse("number of slices (" + std::to_string(*slices) +
+                      ") is more than the image has pixels");
+    }
     Mosaic mosaic;
-    while (mosaic.tiles * mosaic.tiles < *slices) {
+    while (std::uint64_t{mosaic.tiles} * mosaic.tiles < *slices) {
         ++mosaic.tiles;
     }
     if (frame_count != 1 || format.rows % mosaic.tiles != 0 || format.columns % mosaic.tiles != 0) {

@@ -711,6 +711,31 @@ TEST(DicomLoader, MosaicsThatCannotBeUnpackedAreRefusedSayingMosaic) {
     expect_ch2_voxels(*volume, words);
 }
 
+// A CSA header is untrusted text: a slice count that is negative, past 32 bits, not a number, or
+// more than the image has pixels is refused saying "mosaic" (a count of 2^32 - 1 once left the
+// search for the tiles a side running for ever).
+TEST(DicomLoader, AMosaicsImpossibleCsaSliceCountIsRefused) {
+    for (const std::string count : {"-1", "4294967295", "99999999999", "4x", "", "257"}) {
+        SCOPED_TRACE(count);
+        fixtures::TempDir dir;
+        SeriesSpec spec;
+        spec.dims = {16, 16, 1};
+        spec.edit = [&count](DcmDataset& dataset) {
+            ASSERT_TRUE(dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\MOSAIC")
+                                .good());
+            const auto csa = csa_header("NumberOfImagesInMosaic", {count});
+            ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                       csa.size())
+                                .good());
+        };
+        fixtures::write_slice(dir / "mosaic.dcm", spec, 0, std::vector<std::uint16_t>(256, 4), 1);
+        auto volume = load_volume(dir / "mosaic.dcm");
+        ASSERT_FALSE(volume.ok());
+        EXPECT_EQ(volume.error().code, "unsupported_type");
+        EXPECT_TRUE(contains(volume.error().message, "mosaic")) << volume.error().message;
+    }
+}
+
 // Clinics export a series with an RGB secondary capture (a screenshot) beside it: pydicom's real
 // one (Debian's python3-pydicom) is skipped with a warning and the series opens; alone, it is
 // refused saying why.
