@@ -433,6 +433,10 @@ bool parse_whole(std::string_view text, std::uint32_t& value) {
 // Siemens' NumberOfImagesInMosaic and CSA Image Header Info, private tags of its groups.
 const DcmTagKey siemens_images_in_mosaic(0x0019, 0x100a);
 const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
+// The private creator that reserves (0029,10xx): only under it is (0029,1010) a CSA header; other
+// vendors' private groups reuse the numbers, and CSA1 has no signature to tell them apart.
+const DcmTagKey siemens_csa_creator(0x0029, 0x0010);
+constexpr std::string_view siemens_csa_creator_name = "SIEMENS CSA HEADER";
 
 // The text values of element `name` in a Siemens CSA header, or nothing where the header is
 // absent, damaged, or lacks the element. Syngo writes two layouts, both read as SPM's
@@ -446,6 +450,12 @@ const DcmTagKey siemens_csa_image_header(0x0029, 0x1010);
 //     first word less the first element's count of items, and an impossible length ends that
 //     element's items (the reader goes on with the next element).
 std::vector<std::string> csa_values(DcmDataset& dataset, std::string_view name) {
+    OFString creator;
+    if (dataset.findAndGetOFString(siemens_csa_creator, creator).bad() ||
+        std::string_view(creator.c_str()).substr(0, siemens_csa_creator_name.size()) !=
+                siemens_csa_creator_name) {
+        return {};
+    }
     const Uint8* bytes = nullptr;
     unsigned long size = 0;
     if (dataset.findAndGetUint8Array(siemens_csa_image_header, bytes, &size).bad() ||

@@ -727,12 +727,46 @@ TEST(DicomLoader, AMosaicsImpossibleCsaSliceCountIsRefused) {
             ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
                                                        csa.size())
                                 .good());
+            ASSERT_TRUE(
+                    dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), "SIEMENS CSA HEADER")
+                            .good());
         };
         fixtures::write_slice(dir / "mosaic.dcm", spec, 0, std::vector<std::uint16_t>(256, 4), 1);
         auto volume = load_volume(dir / "mosaic.dcm");
         ASSERT_FALSE(volume.ok());
         EXPECT_EQ(volume.error().code, "unsupported_type");
         EXPECT_TRUE(contains(volume.error().message, "mosaic")) << volume.error().message;
+    }
+}
+
+// (0029,1010) is a CSA header only under the private creator "SIEMENS CSA HEADER": under another
+// vendor's, a mosaic's count there is not read, and the mosaic is refused for lacking one.
+TEST(DicomLoader, ACsaHeaderUnderAnotherPrivateCreatorIsNotRead) {
+    for (const std::string creator : {"SIEMENS CSA HEADER", "ACME PRIVATE"}) {
+        SCOPED_TRACE(creator);
+        fixtures::TempDir dir;
+        SeriesSpec spec;
+        spec.dims = {16, 16, 1};
+        spec.edit = [&creator](DcmDataset& dataset) {
+            ASSERT_TRUE(dataset.putAndInsertString(DCM_ImageType, "ORIGINAL\\PRIMARY\\M\\MOSAIC")
+                                .good());
+            const auto csa = csa_header("NumberOfImagesInMosaic", {"4"});
+            ASSERT_TRUE(dataset.putAndInsertUint8Array(DcmTag(0x0029, 0x1010, EVR_OB), csa.data(),
+                                                       csa.size())
+                                .good());
+            ASSERT_TRUE(dataset.putAndInsertString(DcmTag(0x0029, 0x0010, EVR_LO), creator.c_str())
+                                .good());
+        };
+        fixtures::write_slice(dir / "mosaic.dcm", spec, 0, std::vector<std::uint16_t>(256, 4), 1);
+        auto volume = load_volume(dir / "mosaic.dcm");
+        if (creator == "SIEMENS CSA HEADER") {
+            ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+            EXPECT_EQ(volume->dims, glm::uvec3(8, 8, 4));
+        } else {
+            ASSERT_FALSE(volume.ok());
+            EXPECT_TRUE(contains(volume.error().message, "NumberOfImagesInMosaic"))
+                    << volume.error().message;
+        }
     }
 }
 
