@@ -252,6 +252,40 @@ describe('Connection', () => {
     expect(failed).toHaveLength(2);
   });
 
+  it('answers only the render a rate_limited error names: the older ones are still queued', async () => {
+    const { clock, socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const pacer = new RenderPacer((interactive) => connection.render(interactive), {
+      maxInFlight: 3,
+      minIntervalMs: 0,
+      now: () => clock.now,
+      setTimer: clock.setTimer,
+      clearTimer: clock.clearTimer,
+    });
+    pacer.listenTo(connection);
+    const failed: string[] = [];
+    connection.on('renderFailed', (id, e) => failed.push(`${id} ${e.code}`));
+    const renders = () => socket().sent.filter((m) => m['type'] === 'render').map((m) => m['id'] as number);
+    pacer.request(false);
+    pacer.request(false);
+    pacer.request(false);
+    const [first, second, third] = renders();
+    expect(renders()).toHaveLength(3);
+    const error = (id: number, code: string) => JSON.stringify({ v: 1, type: 'error', id, code, message: 'm', field: '/' });
+    socket().receive(error(third!, 'rate_limited'));
+    expect(failed).toEqual([`${third} rate_limited`]);
+    expect(pacer.inFlight).toBe(2);
+    // The older two are still the connection's renders: the scheduler's answers to them count.
+    socket().receive(error(first!, 'render_failed'));
+    expect(failed).toEqual([`${third} rate_limited`, `${first} render_failed`]);
+    expect(pacer.inFlight).toBe(1);
+    socket().receive(packFrame({ ...frameHeader, request: second! }, new Uint8Array([0xff, 0xd8])).buffer as ArrayBuffer);
+    expect(pacer.inFlight).toBe(0);
+  });
+
   it("mirrors a preset as the server's hello announced it", async () => {
     const { socket, connection } = setup();
     socket().open();

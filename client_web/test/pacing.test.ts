@@ -3,7 +3,7 @@ import { minSendIntervalMs, RenderPacer } from '../src/interaction/pacing';
 import { FakeClock } from './fake_timers';
 import { recordedHello } from './recorded';
 
-function setup(options: { minIntervalMs?: number; staleMs?: number } = {}) {
+function setup(options: { minIntervalMs?: number; staleMs?: number; maxInFlight?: number } = {}) {
   const clock = new FakeClock();
   const sent: { id: number; interactive: boolean }[] = [];
   let connected = true;
@@ -16,6 +16,7 @@ function setup(options: { minIntervalMs?: number; staleMs?: number } = {}) {
       return id;
     },
     {
+      maxInFlight: options.maxInFlight ?? 2,
       minIntervalMs: options.minIntervalMs ?? 0,
       staleMs: options.staleMs ?? 10000,
       now: () => clock.now,
@@ -115,7 +116,7 @@ describe('RenderPacer', () => {
     pacer.request(false);
     pacer.request(false);
     pacer.request(false);
-    pacer.failed(1);
+    pacer.failed(1, 'render_failed');
     expect(sent).toHaveLength(3);
   });
 
@@ -123,10 +124,29 @@ describe('RenderPacer', () => {
     const { sent, pacer } = setup();
     pacer.request(false);
     pacer.request(false);
-    pacer.failed(2);
+    pacer.failed(2, 'too_much_work');
     expect(pacer.inFlight).toBe(0);
-    pacer.failed(7); // none of its own: nothing changes
+    pacer.failed(7, 'render_failed'); // none of its own: nothing changes
     expect(sent).toHaveLength(2);
+  });
+
+  it('answers only the refused render when the error is not the scheduler\'s: older ones still wait', () => {
+    const { sent, pacer } = setup({ maxInFlight: 3 });
+    pacer.request(false);
+    pacer.request(false);
+    pacer.request(false);
+    expect(sent.map((s) => s.id)).toEqual([1, 2, 3]);
+    pacer.failed(3, 'rate_limited');
+    expect(pacer.inFlight).toBe(2);
+    pacer.request(false);
+    pacer.request(false); // the window is full again: one wish waits
+    expect(sent).toHaveLength(4);
+    expect(pacer.hasWanted).toBe(true);
+    pacer.failed(4, 'invalid_message'); // its slot alone is freed: the wish takes it
+    expect(sent).toHaveLength(5);
+    expect(pacer.inFlight).toBe(3);
+    pacer.frameArrived(2); // the older renders get their frame after all
+    expect(pacer.inFlight).toBe(1);
   });
 
   it('keeps the wish while disconnected and forgets what was in flight on reset', () => {

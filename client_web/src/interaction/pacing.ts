@@ -4,7 +4,7 @@
 // (full-quality) frame follows. The server coalesces renders and answers with the newest it ran:
 // a frame for request r answers every outstanding request <= r. No DOM.
 
-import { DEFAULT_LIMITS } from '../protocol/messages';
+import { answersOlderRenders, DEFAULT_LIMITS } from '../protocol/messages';
 
 /**
  * Requests one paced send may make: its render, the `set` of the changes since the last, and one
@@ -36,11 +36,11 @@ export type SendRender = (interactive: boolean) => number | null;
 
 /**
  * What answers renders (the connection's events): a frame for request r, or an error carrying the
- * id of the render that asked for it (`too_much_work`, `render_failed`).
+ * id of the render that asked for it (`too_much_work`, `render_failed`, `rate_limited`, ...).
  */
 export interface RenderAnswers {
   on(event: 'frame', listener: (frame: { header: { request: number } }) => void): void;
-  on(event: 'renderFailed', listener: (requestId: number) => void): void;
+  on(event: 'renderFailed', listener: (requestId: number, error: { code: string }) => void): void;
 }
 
 export class RenderPacer {
@@ -119,13 +119,18 @@ export class RenderPacer {
   }
 
   /**
-   * A request was answered by an error instead of a frame. Renders are answered in order, so an
-   * older one still outstanding was superseded by it and gets nothing either.
+   * A request was answered by an error (`code`) instead of a frame. The scheduler's errors come in
+   * order, so an older request still outstanding was superseded and gets nothing either; any other
+   * error answers its own request only, while the older ones still wait for theirs.
    */
-  failed(requestId: number): void {
+  failed(requestId: number, code: string): void {
     if (!this.outstanding.has(requestId)) return;
-    for (const id of [...this.outstanding.keys()]) {
-      if (id <= requestId) this.outstanding.delete(id);
+    if (answersOlderRenders(code)) {
+      for (const id of [...this.outstanding.keys()]) {
+        if (id <= requestId) this.outstanding.delete(id);
+      }
+    } else {
+      this.outstanding.delete(requestId);
     }
     this.pump();
   }
@@ -133,7 +138,7 @@ export class RenderPacer {
   /** Takes every answer to its renders from `answers` (the connection): frames and errors. */
   listenTo(answers: RenderAnswers): void {
     answers.on('frame', (frame) => this.frameArrived(frame.header.request));
-    answers.on('renderFailed', (requestId) => this.failed(requestId));
+    answers.on('renderFailed', (requestId, error) => this.failed(requestId, error.code));
   }
 
   /** The connection went away: nothing is outstanding any more (a wish stays). */

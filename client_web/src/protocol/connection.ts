@@ -8,6 +8,7 @@
 import { parseFrame, type Frame } from './frame_header';
 import {
   ANSWERS,
+  answersOlderRenders,
   applyPatch,
   encodeClientMessage,
   parseServerMessage,
@@ -137,8 +138,9 @@ export interface ConnectionEvents {
   renderSent: (id: number, interactive: boolean) => void;
   /**
    * A render of this connection was answered by an error instead of a frame (`too_much_work`,
-   * `render_failed`, `no_session`: the server sends the render's id with it); `serverError`
-   * reports the error too.
+   * `render_failed`, `rate_limited`, `no_session`: the server sends the render's id with it);
+   * answersOlderRenders says whether it answers the older renders too. `serverError` reports the
+   * error too.
    */
   renderFailed: (id: number, error: ServerError) => void;
   /**
@@ -549,10 +551,13 @@ export class Connection {
       const render = id !== undefined && this.renderIds.has(id) ? id : undefined;
       const error = new ServerError(message, render !== undefined ? 'render' : undefined);
       if (render !== undefined) {
-        // Renders are answered in order: an older one still outstanding was superseded by it.
-        this.renderIds.forEach((r) => {
-          if (r <= render) this.renderIds.delete(r);
-        });
+        if (answersOlderRenders(error.code)) {
+          this.renderIds.forEach((r) => {
+            if (r <= render) this.renderIds.delete(r);
+          });
+        } else {
+          this.renderIds.delete(render);
+        }
         this.emit('renderFailed', render, error);
       }
       this.emit('serverError', error);

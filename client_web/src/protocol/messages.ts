@@ -253,6 +253,20 @@ export const ERROR_CODES = [
 ] as const;
 export type ErrorCode = (typeof ERROR_CODES)[number];
 
+/**
+ * The codes the server's scheduler sends in a render's place (its frame sink in
+ * connection_handler.cpp). The scheduler answers renders in order, coalescing, so such an error
+ * for render r, like a frame for r, also answers every older render still outstanding. Any other
+ * code carrying a render's id (`rate_limited`, a message the parser refused, `no_session`) is sent
+ * the moment the render arrives, while the older ones are still queued: it answers that render only.
+ */
+const ANSWERED_IN_ORDER: readonly ErrorCode[] = ['too_much_work', 'render_failed'];
+
+/** Whether an error with this code for render r answers the older outstanding renders too. */
+export function answersOlderRenders(code: string): boolean {
+  return (ANSWERED_IN_ORDER as readonly string[]).includes(code);
+}
+
 // ---- server to client ---------------------------------------------------------------------------
 
 /** What a mode computes, from the server's mode table: which parameters it reads. */

@@ -6,7 +6,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <set>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -261,6 +264,54 @@ TEST(ServerMessages, HelloCarriesEveryPresetAsAStateHoldsIt) {
               json::array({scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}));
 }
 
+template <class Message, class Value>
+constexpr bool holds_string(const Member<Message, Value>&) {
+    return !std::is_same_v<Value, bool>;
+}
+
+// The string members of the client messages as hello's max_string_bytes keys them
+// ("type/member"), read from each message's own `members()`.
+template <class... Messages>
+std::set<std::string> string_member_keys(std::type_identity<std::variant<Messages...>>) {
+    std::set<std::string> keys;
+    const auto add = [&]<class Message>(std::type_identity<Message>) {
+        if constexpr (requires { Message::members(); }) {
+            std::apply(
+                    [&](const auto&... listed) {
+                        ((holds_string(listed) ? void(keys.insert(std::string(Message::type) + "/" +
+                                                                  std::string(listed.name)))
+                                               : void()),
+                         ...);
+                    },
+                    Message::members());
+        }
+    };
+    (add(std::type_identity<Messages>{}), ...);
+    return keys;
+}
+
+// A message of `type` that parse_request accepts: each string member its `members()` lists, one
+// byte long.
+template <class... Messages>
+json smallest_message(const std::string& type, std::type_identity<std::variant<Messages...>>) {
+    json message = {{"v", 1}, {"type", type}};
+    const auto fill = [&]<class Message>(std::type_identity<Message>) {
+        if constexpr (requires { Message::members(); }) {
+            if (type == Message::type) {
+                std::apply(
+                        [&](const auto&... listed) {
+                            ((holds_string(listed) ? void(message[std::string(listed.name)] = "a")
+                                                   : void()),
+                             ...);
+                        },
+                        Message::members());
+            }
+        }
+    };
+    (fill(std::type_identity<Messages>{}), ...);
+    return message;
+}
+
 // The limits a client needs for its own checks that are not configured but fixed by the protocol
 // and scene: the points of a transfer function, how far a Hounsfield position reaches, and the
 // longest string each string member of a request takes, as parse_request reads it.
@@ -270,40 +321,33 @@ TEST(ServerMessages, HelloAnnouncesTheFixedLimitsTheParserApplies) {
     EXPECT_EQ(limits.at("max_transfer_function_points"), max_transfer_function_points);
     EXPECT_EQ(limits.at("max_hounsfield_position").get<double>(), scene::max_hounsfield_position);
     const json& lengths = limits.at("max_string_bytes");
-    EXPECT_EQ(lengths, json({{"open/volume", 256},
-                             {"join/session", 64},
-                             {"resume/session", 64},
-                             {"resume/owner_token", 64},
-                             {"resume/volume", 256},
-                             {"set/transfer_function/name", 64}}));
+    // Every string member is announced (one declared without a length would be missing), and a
+    // transfer function's name, which `set`'s patch carries.
+    std::set<std::string> expected_keys = string_member_keys(std::type_identity<ClientMessage>{});
+    expected_keys.insert(std::string(Set::type) + "/transfer_function/name");
+    std::set<std::string> announced_keys;
+    for (const auto& item : lengths.items()) {
+        announced_keys.insert(item.key());
+    }
+    EXPECT_EQ(announced_keys, expected_keys);
     // Each announced length is the one the parser holds the member to.
     for (const auto& [key, bytes] : lengths.items()) {
         SCOPED_TRACE(key);
         const std::size_t slash = key.find('/');
         const std::string type = key.substr(0, slash);
         const std::string pointer = key.substr(slash);
-        json message = {
-                {"v", 1}, {"type", type}, {"session", "s"}, {"owner_token", "t"}, {"volume", "v"}};
-        if (type == "open") {
-            message.erase("session");
-            message.erase("owner_token");
-        } else if (type == "join") {
-            message.erase("volume");
-            message.erase("owner_token");
-        } else if (type == "set") {
-            message = {{"v", 1}, {"type", "set"}};
-        }
+        json message = smallest_message(type, std::type_identity<ClientMessage>{});
         const std::size_t n = bytes.get<std::size_t>();
         message[json::json_pointer(pointer)] = std::string(n, 'a');
         const auto fits = parse_request(message.dump(), Limits{});
         ASSERT_TRUE(fits.ok()) << fits.error().to_string();
-        if (type == "set") {
+        if (type == Set::type) {
             SessionState state;
             EXPECT_TRUE(apply_patch(std::get<Set>(fits->message).patch, state, Limits{}));
         }
         message[json::json_pointer(pointer)] = std::string(n + 1, 'a');
         const auto too_long = parse_request(message.dump(), Limits{});
-        if (type == "set") {
+        if (type == Set::type) {
             ASSERT_TRUE(too_long.ok());
             SessionState state;
             const auto applied =
