@@ -42,9 +42,9 @@ struct WorkContext {
 // spends one loop turn leaping each empty one; in the visible ones it takes a sample per step,
 // and its steps are never shorter than sample_distance * L / (L + sample_distance) for a ray
 // L long inside the box, so the samples there are at most ceil(C / sample_distance) + 1 + B,
-// where C bounds the length of a line inside the visible bricks (B of them times a brick's
-// diagonal, and the diagonal of the block that holds them) and B the visible bricks one line
-// crosses. Never more than `samples`: each turn advances the march by at least one sample.
+// where B bounds the visible bricks one line crosses (their count, and bricks_per_ray of their
+// block) and C its length inside them (the smaller of B bricks' diagonals and the block's
+// diagonal). Never more than `samples`: each turn advances the march by at least one sample.
 [[nodiscard]] double marched_samples(const RenderSettings& settings, int samples, const Box& box,
                                      const WorkContext& context);
 
