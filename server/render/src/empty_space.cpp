@@ -83,17 +83,24 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
     return {};
 }
 
-double occupied_fraction(const BrickRanges& ranges, const std::vector<glm::vec4>& table) {
-    if (ranges.min_max.empty() || table.empty()) {
-        return 1.0;
+scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
+                                      const std::vector<glm::vec4>& table) {
+    scene::OccupiedBricks occupied;
+    occupied.first = ranges.grid;
+    if (table.empty()) {
+        return {static_cast<std::int64_t>(ranges.min_max.size()), glm::ivec3(0), ranges.grid - 1};
     }
     const int entries = static_cast<int>(table.size());
     std::vector<std::uint32_t> visible_before(table.size() + 1, 0);
     for (std::size_t i = 0; i < table.size(); ++i) {
         visible_before[i + 1] = visible_before[i] + (table[i].a > 0.0f ? 1u : 0u);
     }
-    std::size_t occupied = 0;
+    std::size_t index = 0;
     for (const glm::vec2& stored : ranges.min_max) {
+        const glm::ivec3 brick(static_cast<int>(index % ranges.grid.x),
+                               static_cast<int>(index / ranges.grid.x % ranges.grid.y),
+                               static_cast<int>(index / ranges.grid.x / ranges.grid.y));
+        ++index;
         // The shader's arithmetic, in float as there, so both count the same bricks.
         const glm::vec2 range = glm::clamp(stored, 0.0f, 1.0f);
         const int lowest = std::clamp(
@@ -102,10 +109,15 @@ double occupied_fraction(const BrickRanges& ranges, const std::vector<glm::vec4>
                 static_cast<int>(std::floor(range.y * float(entries) - 0.5f)) + 2, 0, entries - 1);
         if (visible_before[static_cast<std::size_t>(highest) + 1] >
             visible_before[static_cast<std::size_t>(lowest)]) {
-            ++occupied;
+            ++occupied.count;
+            occupied.first = glm::min(occupied.first, brick);
+            occupied.last = glm::max(occupied.last, brick);
         }
     }
-    return static_cast<double>(occupied) / static_cast<double>(ranges.min_max.size());
+    if (occupied.count == 0) {
+        occupied.first = glm::ivec3(0);
+    }
+    return occupied;
 }
 
 EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)

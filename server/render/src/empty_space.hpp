@@ -4,6 +4,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/gpu/objects.hpp>
+#include <penumbra/scene/frame_work.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <glm/vec2.hpp>
@@ -29,12 +30,12 @@ struct BrickRanges {
 
 BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels);
 
-// The fraction of the bricks that a TF table leaves visible, by shaders/brick_classify.comp's
-// rule, on the CPU: the frame's work estimate needs it before anything is uploaded, so that a
-// request on a mostly transparent volume is not refused for samples its rays leap. 1 for an empty
-// grid (nothing known, nothing skipped).
-[[nodiscard]] double occupied_fraction(const BrickRanges& ranges,
-                                       const std::vector<glm::vec4>& table);
+// The bricks that a TF table leaves visible, by shaders/brick_classify.comp's rule, on the CPU:
+// the frame's work estimate needs them before anything is uploaded, so that a request on a mostly
+// transparent volume is not refused for samples its rays leap. An empty table (nothing known)
+// leaves every brick visible.
+[[nodiscard]] scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
+                                                    const std::vector<glm::vec4>& table);
 
 // A volume's bricks on the GPU: the ranges, uploaded once, and the occupancy that
 // shaders/brick_classify.comp derives from them and the current TF table (bound on unit 1).
@@ -51,9 +52,9 @@ public:
 
     [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
 
-    // occupied_fraction of this volume's bricks under `table`.
-    [[nodiscard]] double occupied_fraction(const std::vector<glm::vec4>& table) const {
-        return render::occupied_fraction(ranges_on_cpu_, table);
+    // occupied_bricks of this volume's bricks under `table`.
+    [[nodiscard]] scene::OccupiedBricks occupied_bricks(const std::vector<glm::vec4>& table) const {
+        return render::occupied_bricks(ranges_on_cpu_, table);
     }
 
 private:

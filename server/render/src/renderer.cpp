@@ -418,14 +418,15 @@ struct Renderer::Impl {
     }
 
     // What the work estimate knows of the current volume's empty space under the frame's TF
-    // table: its rays leap the bricks the table leaves transparent.
+    // table: its rays leap the bricks the table leaves transparent, and no ray of any camera
+    // spends more samples in the visible ones than fit along its longest stretch through them.
     [[nodiscard]] scene::WorkContext work_context(const scene::FrameRequest& request,
                                                   const std::vector<glm::vec4>& table) const {
         if (!request.settings.empty_space_skipping) {
             return {};
         }
         const EmptySpaceMap& bricks = volumes.front().empty_space;
-        return {scene::bricks_per_ray(bricks.grid()), bricks.occupied_fraction(table)};
+        return {bricks.grid(), bricks.occupied_bricks(table)};
     }
 
     // Refuses, before anything runs, a frame over the work ceiling or a light buffer that the
@@ -439,11 +440,11 @@ struct Renderer::Impl {
             return base::make_error(
                     "too_much_work",
                     "this frame asks for about " + scientific(work.total()) +
-                            " shader iterations (image pixels x samples per ray, those in bricks "
-                            "the "
-                            "transfer function leaves visible where empty space is skipped, x "
-                            "the mode's cost per sample, plus light-buffer texels x slices x slab "
-                            "samples), more than this server's ceiling of " +
+                            " shader iterations (image pixels x the samples the longest ray "
+                            "can take, where empty space is skipped those that fit in the bricks "
+                            "the transfer function leaves visible plus one per brick leapt, x "
+                            "the mode's cost per sample, plus light-buffer texels x the slab "
+                            "samples one can take), more than this server's ceiling of " +
                             scientific(max_frame_work) +
                             " per frame; use a smaller image, a larger sample distance or "
                             "fewer slices",

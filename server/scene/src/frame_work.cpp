@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace penumbra::scene {
 
@@ -18,12 +19,62 @@ int bricks_per_ray(glm::ivec3 grid) {
     return static_cast<int>(std::ceil(glm::length(glm::dvec3(grid)))) + 1;
 }
 
-double marched_samples(const RenderSettings& settings, int samples, const WorkContext& context) {
-    if (!settings.empty_space_skipping || context.bricks_per_ray <= 0) {
+namespace {
+
+bool skips(const RenderSettings& settings, const WorkContext& context) {
+    return settings.empty_space_skipping && bricks_per_ray(context.brick_grid) > 0;
+}
+
+// The most any one line can have of the visible bricks: a bound on its length inside them, and
+// on how many of them it crosses.
+struct VisibleStretch {
+    double length = 0.0;
+    double bricks = 0.0;
+};
+
+VisibleStretch longest_visible_stretch(const Box& box, const WorkContext& context) {
+    const glm::ivec3 grid = context.brick_grid;
+    const OccupiedBricks occupied = context.occupied.value_or(OccupiedBricks{
+            static_cast<std::int64_t>(grid.x) * grid.y * grid.z, glm::ivec3(0), grid - 1});
+    if (occupied.count <= 0) {
+        return {};
+    }
+    const glm::dvec3 brick = box.size() / glm::dvec3(grid);
+    const glm::ivec3 block = occupied.last - occupied.first + 1;
+    const auto bricks =
+            static_cast<double>(std::min<std::int64_t>(occupied.count, bricks_per_ray(block)));
+    const double length =
+            std::min(bricks * glm::length(brick), glm::length(glm::dvec3(block) * brick));
+    return {length, bricks};
+}
+
+}  // namespace
+
+double marched_samples(const RenderSettings& settings, int samples, const Box& box,
+                       const WorkContext& context) {
+    if (!skips(settings, context)) {
         return samples;
     }
-    const double visible = std::clamp(context.occupied_fraction, 0.0, 1.0);
-    return std::min<double>(samples, std::ceil(samples * visible) + context.bricks_per_ray);
+    const VisibleStretch visible = longest_visible_stretch(box, context);
+    const double in_visible =
+            std::ceil(visible.length / settings.sample_distance) + 1.0 + visible.bricks;
+    const double leaps = bricks_per_ray(context.brick_grid);
+    return std::min<double>(samples, in_visible + leaps);
+}
+
+double marched_slab_samples(const RenderSettings& settings, int slab_samples, const Box& box,
+                            const WorkContext& context) {
+    const int slices = settings.light_buffer.slices;
+    const double every_slab = static_cast<double>(slices) * slab_samples;
+    if (!skips(settings, context)) {
+        return every_slab;
+    }
+    const VisibleStretch visible = longest_visible_stretch(box, context);
+    const glm::dvec3 size = box.size();
+    const double shortest_slab = std::min({size.x, size.y, size.z}) / slices;
+    const double sampled_slabs = std::min<double>(
+            slices, std::ceil(visible.length / shortest_slab) + 2.0 * visible.bricks);
+    return std::min(every_slab, sampled_slabs * slab_samples + slices);
 }
 
 int iterations_per_sample(const RenderSettings& settings, int samples_per_ray, int slab_samples) {
@@ -55,16 +106,16 @@ FrameWork estimate_work(const FrameRequest& request, const Box& box, int slab_sa
         work.slicing = s.light_buffer.slices * (pixels + light_texels);
     } else {
         const int samples = samples_per_ray(s, box);
-        // Camera rays and the reference's shadow rays cross the same box and leap the same
-        // bricks; the shadow ray's count is whole, as the loop it bounds.
-        const double marched = marched_samples(s, samples, context);
+        // The reference's shadow rays are lines through the same box at the same sample distance
+        // as the camera rays, so the same bound holds for them; their count is whole, as the
+        // loop it bounds.
+        const double marched = marched_samples(s, samples, box, context);
         const int per_sample =
                 iterations_per_sample(s, static_cast<int>(std::ceil(marched)), slab_samples);
         work.ray_casting = pixels * marched * static_cast<double>(per_sample);
         if (uses_light_buffer(s.mode)) {
-            // Each light texel marches every slice's slab toward the far side of the box.
-            const int light_samples = s.light_buffer.slices * slab_samples;
-            work.light_buffer = light_texels * marched_samples(s, light_samples, context);
+            // Each light texel marches the slices' slabs toward the far side of the box.
+            work.light_buffer = light_texels * marched_slab_samples(s, slab_samples, box, context);
         }
     }
     if (request.refinement.step > 0) {

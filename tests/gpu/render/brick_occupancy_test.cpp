@@ -1,6 +1,7 @@
-// The occupied-brick fraction the work estimate reads (occupied_fraction, on the CPU, before a
-// frame runs) counts the bricks that shaders/brick_classify.comp marks occupied, exactly: on the
-// real ch2 head, with transfer functions from all transparent to all visible.
+// The occupied bricks the work estimate reads (occupied_bricks, on the CPU, before a frame runs)
+// are the bricks that shaders/brick_classify.comp marks occupied, exactly, and the block it names
+// is the smallest that holds them: on the real ch2 head, with transfer functions from all
+// transparent to all visible.
 
 #include "empty_space.hpp"
 #include "program_cache.hpp"
@@ -11,6 +12,7 @@
 #include <penumbra/scene/transfer_function.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,12 +68,31 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
         std::vector<std::uint8_t> occupancy(bricks);
         glGetTextureImage(map.occupancy(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
                           static_cast<GLsizei>(occupancy.size()), occupancy.data());
-        const auto marked = static_cast<std::size_t>(
-                std::count_if(occupancy.begin(), occupancy.end(), [](auto v) { return v != 0; }));
-        const double fraction = occupied_fraction(ranges, table);
-        EXPECT_EQ(fraction, static_cast<double>(marked) / static_cast<double>(bricks))
+        std::size_t marked = 0;
+        glm::ivec3 first = grid;
+        glm::ivec3 last(-1);
+        for (std::size_t i = 0; i < occupancy.size(); ++i) {
+            if (occupancy[i] == 0) {
+                continue;
+            }
+            const glm::ivec3 brick(static_cast<int>(i % std::size_t(grid.x)),
+                                   static_cast<int>(i / std::size_t(grid.x) % std::size_t(grid.y)),
+                                   static_cast<int>(i / std::size_t(grid.x) / std::size_t(grid.y)));
+            ++marked;
+            first = glm::min(first, brick);
+            last = glm::max(last, brick);
+        }
+        const scene::OccupiedBricks occupied = occupied_bricks(ranges, table);
+        EXPECT_EQ(occupied.count, static_cast<std::int64_t>(marked))
                 << marked << " of " << bricks << " bricks marked on the GPU";
-        EXPECT_EQ(map.occupied_fraction(table), fraction);
+        if (marked > 0) {
+            EXPECT_EQ(occupied.first, first);
+            EXPECT_EQ(occupied.last, last);
+        }
+        const scene::OccupiedBricks held = map.occupied_bricks(table);
+        EXPECT_EQ(held.count, occupied.count);
+        EXPECT_EQ(held.first, occupied.first);
+        EXPECT_EQ(held.last, occupied.last);
         partly += marked > 0 && marked < bricks ? 1 : 0;
     }
     EXPECT_GE(partly, 4u);  // the thresholds cut through the head's values

@@ -154,7 +154,9 @@ struct MostlyEmpty {
 
 TEST_F(FrameBudgetTest, AMostlyEmptyVolumeIsAdmittedForTheWorkItsRaysDo) {
     const MostlyEmpty scene;
-    // Half what marching every sample costs: with skipping the rays march about a sixth of it.
+    // Half what marching every sample costs: with skipping a ray marches at most the samples
+    // along the longest line through the 2 x 2 x 2 block of visible bricks and one per brick it
+    // leaps: 49 of its 112.
     create(with(&RendererOptions::max_frame_work, scene.every_sample_work() / 2.0));
     use(scene.volume);
     EXPECT_TRUE(renderer_->render(scene.request).ok());
@@ -164,6 +166,50 @@ TEST_F(FrameBudgetTest, AMostlyEmptyVolumeIsAdmittedForTheWorkItsRaysDo) {
     auto refused = renderer_->render(unskipped);
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().code, "too_much_work");
+}
+
+// Found in review: admission counted the volume-wide fraction of visible bricks, an average. One
+// visible column of an 8^3 brick grid (1/64 of its bricks) seen down its length at a fine sample
+// distance: every ray samples the whole column, 512 samples, while the fraction counted 29 per
+// ray, so a frame far over the ceiling ran.
+TEST_F(FrameBudgetTest, AVisibleColumnSeenAlongItIsCountedForTheSamplesItsRaysTake) {
+    // Visible only inside brick column (3, 3): voxels 25..30 of x and y, clear of the one-voxel
+    // border that the neighbouring bricks' ranges include.
+    const glm::uvec3 dims(64);
+    std::vector<float> values(std::size_t{64} * 64 * 64, 0.0f);
+    for (unsigned z = 0; z < dims.z; ++z) {
+        for (unsigned y = 25; y <= 30; ++y) {
+            for (unsigned x = 25; x <= 30; ++x) {
+                values[(std::size_t(z) * dims.y + y) * dims.x + x] = 1.0f;
+            }
+        }
+    }
+    const volume::Volume column =
+            volume::make_volume("column", dims, glm::dvec3(1.0), values).value();
+    const scene::Box box = scene::box_for_extent(column.extent(), column.axes);
+
+    scene::FrameRequest request = soft_scene(scene::Mode::dvr, 32, 32);
+    request.transfer_function.opacities = {{0.0, 0.0}, {0.5, 0.0}, {0.51, 0.001}, {1.0, 0.001}};
+    request.settings.sample_distance = box.size().z / 512.0;
+    // A narrow view down the middle of the column: every pixel's ray stays inside it from the
+    // box's near face to its far face.
+    const glm::dvec3 middle =
+            box.to_world(box.min + glm::dvec3(28.0 / 64.0, 28.0 / 64.0, 0.5) * box.size());
+    request.camera.eye = middle - glm::dvec3(0.0, 0.0, 3.0 * box.size().z);
+    request.camera.target = middle;
+    request.camera.up = {0.0, 1.0, 0.0};
+    request.camera.fov_y_degrees = 1.0;
+    const double samples_down_the_column =
+            32.0 * 32.0 * std::ceil(box.size().z / request.settings.sample_distance);
+
+    create(with(&RendererOptions::max_frame_work, 0.9 * samples_down_the_column));
+    use(column);
+    auto refused = renderer_->render(request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, "too_much_work");
+    // The bound is close: the longest line through the column is hardly longer than the column.
+    create(with(&RendererOptions::max_frame_work, 1.1 * samples_down_the_column));
+    EXPECT_TRUE(renderer_->render(request).ok());
 }
 
 TEST_F(FrameBudgetTest, AVolumeWhoseBricksAreAllVisibleIsEstimatedAsEverySample) {

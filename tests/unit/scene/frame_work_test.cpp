@@ -1,7 +1,10 @@
 #include <penumbra/scene/frame_work.hpp>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -180,7 +183,7 @@ TEST(FrameWork, BricksPerRayCrossTheGridsDiagonal) {
 // Without knowing which bricks are visible, skipping promises nothing: the estimate stays the
 // upper bound that decides whether a frame is accepted, with or without skipping.
 TEST(FrameWork, SkippingWithNothingKnownKeepsTheUpperBound) {
-    const WorkContext unknown{.bricks_per_ray = 44};
+    const WorkContext unknown{.brick_grid = {23, 28, 23}, .occupied = std::nullopt};
     for (const Mode mode : all_modes) {
         FrameRequest skipping = request_in(mode);
         skipping.settings.empty_space_skipping = true;
@@ -192,31 +195,138 @@ TEST(FrameWork, SkippingWithNothingKnownKeepsTheUpperBound) {
     }
 }
 
-// A quarter of the bricks visible: camera rays, the reference's shadow rays and the light
-// buffer's marches take the samples in visible bricks and one grid look per brick they enter.
-TEST(FrameWork, SkippingCountsTheVisibleBricksAndOneLookPerBrick) {
-    const WorkContext quarter{.bricks_per_ray = 20, .occupied_fraction = 0.25};
+// A 2 x 2 x 2 block of a 16^3 grid visible: a camera ray, a reference shadow ray and a light
+// texel's march take at most the samples that fit along the block's diagonal (the longest line
+// through it), a few for the steps and brick faces, and one look per brick the march enters.
+TEST(FrameWork, SkippingCountsTheLongestStretchThroughVisibleBricksAndOneLookPerBrick) {
+    const WorkContext block{.brick_grid = {16, 16, 16},
+                            .occupied = OccupiedBricks{8, glm::ivec3(4), glm::ivec3(5)}};
     FrameRequest request = request_in(Mode::sbrc);
     request.settings.sample_distance = 1.0 / 128.0;
     request.settings.light_buffer.lookup = LightLookup::interpolate;
     const Box box;
     ASSERT_EQ(samples_per_ray(request.settings, box), 223);
-    const double marched = std::ceil(223 * 0.25) + 20;  // 76
-    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, quarter), marched);
-    FrameWork work = estimate_work(request, box, slab_samples, quarter);
+    const double diagonal = std::sqrt(3.0) * 2.0 / 16.0;  // the block's, in the box's units
+    const int crossed = bricks_per_ray({2, 2, 2});        // 5 of the 8 at most
+    const double marched =
+            std::ceil(diagonal * 128.0) + 1.0 + crossed + bricks_per_ray({16, 16, 16});
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, box, block), marched);
+    FrameWork work = estimate_work(request, box, slab_samples, block);
     EXPECT_DOUBLE_EQ(work.ray_casting, 64.0 * 48.0 * marched);
-    EXPECT_DOUBLE_EQ(work.light_buffer, 64.0 * 64.0 * (std::ceil(32 * slab_samples * 0.25) + 20));
+    // Slabs are 1/32 of the box long: the ones reaching into the block, each at most 4 samples,
+    // and a look at each of the 32 slabs.
+    const double sampled_slabs = std::ceil(diagonal * 32.0) + 2.0 * crossed;
+    EXPECT_DOUBLE_EQ(work.light_buffer, 64.0 * 64.0 * (sampled_slabs * slab_samples + 32.0));
 
     request.settings.mode = Mode::reference;
-    work = estimate_work(request, box, slab_samples, quarter);
+    work = estimate_work(request, box, slab_samples, block);
     EXPECT_DOUBLE_EQ(work.ray_casting, 64.0 * 48.0 * marched * (2.0 + marched));
 
     // Off, the same context changes nothing; and a ray never costs more than without skipping.
     request.settings.empty_space_skipping = false;
-    EXPECT_DOUBLE_EQ(estimate_work(request, box, slab_samples, quarter).ray_casting,
+    EXPECT_DOUBLE_EQ(estimate_work(request, box, slab_samples, block).ray_casting,
                      64.0 * 48.0 * 223.0 * (2.0 + 223.0));
     request.settings.empty_space_skipping = true;
-    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 10, quarter), 10.0);
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 10, box, block), 10.0);
+    // Nothing visible: one look per brick entered, and per slab.
+    const WorkContext nothing{.brick_grid = {16, 16, 16}, .occupied = OccupiedBricks{}};
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, box, nothing),
+                     1.0 + bricks_per_ray({16, 16, 16}));
+    EXPECT_DOUBLE_EQ(marched_slab_samples(request.settings, slab_samples, box, nothing), 32.0);
+}
+
+// The loop turns of one march with empty-space skipping, as raycast.glsl's classify_sample
+// takes them, worked out on the line itself: `count` samples evenly over the line's length
+// inside the box, one turn per sample in a visible brick, and one per leap to the first sample
+// past the empty brick a sample lies in.
+int march_turns(const Box& box, glm::ivec3 grid, const std::function<bool(glm::ivec3)>& visible,
+                glm::dvec3 origin, glm::dvec3 direction, double sample_distance) {
+    // The line's crossing with the (axis-aligned) box.
+    double near = 0.0;
+    double far = 1e300;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (direction[axis] == 0.0) {
+            continue;
+        }
+        const double t0 = (box.min[axis] - origin[axis]) / direction[axis];
+        const double t1 = (box.max[axis] - origin[axis]) / direction[axis];
+        near = std::max(near, std::min(t0, t1));
+        far = std::min(far, std::max(t0, t1));
+    }
+    const double length = far - near;
+    const int count = static_cast<int>(std::max(1.0, std::ceil(length / sample_distance)));
+    const double step = length / count;
+    const glm::dvec3 brick_size = box.size() / glm::dvec3(grid);
+    int turns = 0;
+    for (int i = 0; i < count; ++turns) {
+        const double t = near + (i + 0.5) * step;
+        const glm::dvec3 p = origin + t * direction;
+        const glm::ivec3 brick = glm::clamp(glm::ivec3(glm::floor((p - box.min) / brick_size)),
+                                            glm::ivec3(0), grid - 1);
+        if (visible(brick)) {
+            ++i;
+            continue;
+        }
+        double exit = 1e300;
+        for (int axis = 0; axis < 3; ++axis) {
+            if (direction[axis] == 0.0) {
+                continue;
+            }
+            const double face = box.min[axis] +
+                                (brick[axis] + (direction[axis] > 0.0 ? 1 : 0)) * brick_size[axis];
+            exit = std::min(exit, (face - p[axis]) / direction[axis]);
+        }
+        i = std::max(i + 1, i + static_cast<int>(std::ceil(exit / step)));
+    }
+    return turns;
+}
+
+// Found in review: the estimate counted the volume-wide fraction of visible bricks, an average.
+// A TF that shows one column of a 32^3 grid (1/1024 of its bricks), seen along the column at a
+// fine sample distance, has rays that sample all the way through it: the estimate counted 59
+// turns for their 1024, and in the reference mode, whose shadow rays run down the column too,
+// about 1/150 of what the frame did.
+TEST(FrameWork, AVisibleColumnSeenAlongItIsCountedForEverySampleItsRaysTake) {
+    const glm::ivec3 grid{32, 32, 32};
+    const glm::ivec3 column{16, 16, 0};
+    const WorkContext context{.brick_grid = grid,
+                              .occupied = OccupiedBricks{32, column, glm::ivec3(16, 16, 31)}};
+    const auto in_column = [&](glm::ivec3 brick) {
+        return brick.x == column.x && brick.y == column.y;
+    };
+    const Box box;
+    FrameRequest request = request_in(Mode::dvr);
+    request.settings.empty_space_skipping = true;
+    request.settings.sample_distance = 1.0 / 1024.0;
+    const int samples = samples_per_ray(request.settings, box);
+    const double estimate = marched_samples(request.settings, samples, box, context);
+
+    // Down the middle of the column, and at a slant through it from one corner of its end to the
+    // opposite corner of the other (the longest line through it).
+    const glm::dvec3 brick = box.size() / glm::dvec3(grid);
+    const glm::dvec3 column_min = box.min + glm::dvec3(column) * brick;
+    const glm::dvec3 column_max = column_min + glm::dvec3(1.0, 1.0, 32.0) * brick;
+    const glm::dvec3 middle = 0.5 * (column_min + column_max);
+    const int along = march_turns(box, grid, in_column, {middle.x, middle.y, -2.0}, {0, 0, 1},
+                                  request.settings.sample_distance);
+    EXPECT_EQ(along, 1024);
+    const glm::dvec3 slant = glm::normalize(column_max - column_min);
+    const glm::dvec3 corner = column_min + 1e-9 * (column_max - column_min);
+    const int slanted = march_turns(box, grid, in_column, corner - 2.0 * slant, slant,
+                                    request.settings.sample_distance);
+    EXPECT_GE(estimate, along);
+    EXPECT_GE(estimate, slanted);
+
+    // The reference's shadow rays, with the light behind the camera, run back up the column: the
+    // sample k steps in marches k + 1 more. Every pixel may be such a ray.
+    request.settings.mode = Mode::reference;
+    const double pixels = 64.0 * 48.0;
+    double reference_ray = 0.0;
+    for (int k = 0; k < along; ++k) {
+        reference_ray += 2.0 + (k + 1);
+    }
+    EXPECT_GE(estimate_work(request, box, slab_samples, context).ray_casting,
+              pixels * reference_ray);
 }
 
 // Refinement steps of a progressive still are frames of their own at the lowest priority: their

@@ -19,8 +19,10 @@ struct Limits {
     int max_sessions_per_connection = 4;
     double max_requests_per_second = 120.0;  // per connection, averaged over one second
     int max_send_queue = 4;                  // frames waiting per connection before dropping
-    // Shader iterations one frame may ask for (scene::estimate_work, which with empty-space
-    // skipping counts only the bricks the frame's TF leaves visible): a 512^2 reference frame at
+    // Shader iterations one frame may ask for (scene::estimate_work, an upper bound for any
+    // camera: with empty-space skipping, per ray the samples that fit along the longest line
+    // through the bricks the frame's TF leaves visible, plus one per brick leapt, never more
+    // than without skipping): a 512^2 reference frame at
     // sample distance 1/256 of a fully visible volume asks for 5e10, a 2048^2 sbrc_shell frame at
     // the default settings 2e10.
     double max_frame_work = 1e11;

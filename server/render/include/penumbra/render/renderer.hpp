@@ -38,10 +38,11 @@ struct RendererOptions {
     // larger than it is refused.
     std::size_t light_buffer_memory_budget = std::size_t{1} << 30;
     // The most work one frame may ask for, in shader inner-loop iterations
-    // (scene::estimate_work, counting with empty-space skipping only the samples in the bricks
-    // the frame's TF leaves visible); larger requests are refused with `too_much_work` before
-    // anything runs. No ceiling by default: the CLI renders what it is asked; `serve` sets its
-    // own.
+    // (scene::estimate_work: an upper bound for any camera and light; with empty-space skipping,
+    // per ray the samples that fit along the longest line through the bricks the frame's TF
+    // leaves visible, plus one per brick leapt); larger requests are refused with
+    // `too_much_work` before anything runs. No ceiling by default: the CLI renders what it is
+    // asked; `serve` sets its own.
     double max_frame_work = std::numeric_limits<double>::infinity();
     // Frames are issued in chunks of about this much work (tiles of the image, ranges of steps
     // along the rays, tiles or groups of slices of the light buffer), between which the renderer

@@ -5,6 +5,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
+#include <optional>
+
 namespace penumbra::scene {
 
 // Samples the longest ray takes through the box at the settings' sample distance: it crosses the
@@ -15,22 +18,44 @@ namespace penumbra::scene {
 // in bricks, plus one for a ray that starts inside a brick. 0 for an empty grid.
 [[nodiscard]] int bricks_per_ray(glm::ivec3 grid);
 
-// What an estimate may know besides the request and the volume's box.
-struct WorkContext {
-    // Bricks the longest ray can enter (bricks_per_ray of the volume's brick grid); 0: the
-    // volume has no brick grid, so nothing is skipped.
-    int bricks_per_ray = 0;
-    // The fraction of the volume's bricks the transfer function leaves visible, where it is
-    // known. With empty-space skipping a ray marches only the samples in visible bricks and
-    // leaps each transparent one at the cost of one look at the grid; 1 (nothing known, every
-    // brick visible) keeps the estimate an upper bound.
-    double occupied_fraction = 1.0;
+// The bricks a transfer function leaves visible: how many, and the smallest block of the grid
+// that holds them all (first and last brick per axis, inclusive). No block when none is visible.
+struct OccupiedBricks {
+    std::int64_t count = 0;
+    glm::ivec3 first{0};
+    glm::ivec3 last{-1};
 };
 
-// Loop iterations one march of `samples` samples costs: all of them without skipping; with it,
-// the fraction in visible bricks plus one grid look per brick the march enters.
-[[nodiscard]] double marched_samples(const RenderSettings& settings, int samples,
+// What an estimate may know besides the request and the volume's box.
+struct WorkContext {
+    // Bricks per axis of the volume's brick grid; 0: the volume has none, so nothing is skipped.
+    // Brick (i, j, k) covers [i, i + 1) / grid of the box along each axis, as the shaders cut it.
+    glm::ivec3 brick_grid{0};
+    // The bricks the transfer function leaves visible, where known; unknown counts every brick
+    // as visible, which keeps the estimate an upper bound.
+    std::optional<OccupiedBricks> occupied;
+};
+
+// Loop iterations one march of at most `samples` samples through `box` costs, at most: every
+// sample without skipping. With it, the client picks the camera as well as the TF, so the bound
+// holds for the worst ray, not for an average: a ray enters at most bricks_per_ray bricks and
+// spends one loop turn leaping each empty one; in the visible ones it takes a sample per step,
+// and its steps are never shorter than sample_distance * L / (L + sample_distance) for a ray
+// L long inside the box, so the samples there are at most ceil(C / sample_distance) + 1 + B,
+// where B bounds the visible bricks one line crosses (their count, and bricks_per_ray of their
+// block) and C its length inside them (the smaller of B bricks' diagonals and the block's
+// diagonal). Never more than `samples`: each turn advances the march by at least one sample.
+[[nodiscard]] double marched_samples(const RenderSettings& settings, int samples, const Box& box,
                                      const WorkContext& context);
+
+// Loop iterations one light-buffer texel's march costs, at most: `slices` x `slab_samples`
+// without skipping. With it, a slab whose stretch of the texel's line lies in empty bricks costs
+// one look (the per-slice builder looks once per slab, the marching one once per run of empty
+// slabs), and only the slabs that reach into visible bricks take their samples. Slabs are at
+// least the box's smallest side / slices long along any line, so a line meets at most
+// ceil(C / that) + 2 B slabs that reach into visible bricks (C and B as for marched_samples).
+[[nodiscard]] double marched_slab_samples(const RenderSettings& settings, int slab_samples,
+                                          const Box& box, const WorkContext& context);
 
 // Inner-loop iterations one ray-cast sample costs in the settings' mode: 1 to classify and
 // composite it, plus the shadow ray the reference marches toward the light (up to a whole ray),
@@ -43,11 +68,14 @@ struct WorkContext {
 
 // The work one frame asks for, in inner-loop iterations of its shaders (each reads the volume at
 // least once), counted before anything runs so that a request too large for the server can be
-// refused and a long one cut into chunks. Upper bounds: early ray termination, empty space the
-// context does not know of and rays that miss the box only make a frame cheaper.
+// refused and a long one cut into chunks. Upper bounds for every camera and light the client may
+// choose, not averages: early ray termination, empty space the context does not know of, rays
+// shorter than the box's diagonal or missing it only make a frame cheaper.
 struct FrameWork {
-    double ray_casting = 0.0;   // pixels x samples per ray x iterations per sample
-    double light_buffer = 0.0;  // the light buffer's texels x slices x slab samples
+    // pixels x marched_samples x iterations per sample (with the reference's shadow ray at
+    // marched_samples too)
+    double ray_casting = 0.0;
+    double light_buffer = 0.0;  // the light buffer's texels x marched_slab_samples
     double slicing = 0.0;       // half-angle slicing: slices x (pixels + light texels)
     // A refinement step of a progressive still (request.refinement.step > 0): the whole frame,
     // counted here and not in the parts above. Steps run at the lowest priority, only while no
