@@ -22,9 +22,8 @@ struct Limits {
     // Shader iterations one frame may ask for (scene::estimate_work, an upper bound for any
     // camera: with empty-space skipping, per ray the samples that fit along the longest line
     // through the bricks the frame's TF leaves visible, plus one per brick leapt, never more
-    // than without skipping): a 512^2 reference frame at
-    // sample distance 1/256 of a fully visible volume asks for 5e10, a 2048^2 sbrc_shell frame at
-    // the default settings 2e10.
+    // than without skipping): a 512^2 reference frame at sample distance 1/256 of a fully
+    // visible volume asks for 5e10, a 2048^2 sbrc_shell frame at the default settings 2e10.
     double max_frame_work = 1e11;
     // Containers nested in one JSON text (the message object is 1; the deepest valid message
     // has 5). Checked while parsing, so no deeper document is ever built or walked.
