@@ -7,7 +7,7 @@
 # the hello the web client's tests recorded (client_web/test/fixtures) as the server sends it, and
 # the web client's module of the server's names and views
 # (client_web/src/protocol/generated/server_tables.ts: the frame formats, the settings' enum names,
-# the position spaces, the views and their poses) whole.
+# the position spaces, the views and their poses, a new session's settings and output) whole.
 # Run it after changing one of them; SchemaAgreement.*IsGenerated,
 # SchemaAgreement.TheWebClientsRecordedHelloIsTheServers and
 # SchemaAgreement.TheWebClientsServerTablesAreGenerated (protocol_test) fail until the

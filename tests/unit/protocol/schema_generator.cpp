@@ -3,6 +3,7 @@
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -409,6 +410,31 @@ std::string ts_names(std::string_view constant, std::string_view summary,
     return out + "] as const;\n";
 }
 
+// A JSON value as a TypeScript literal, objects a member a line at `indent`.
+std::string ts_value(const nlohmann::json& value, const std::string& indent) {
+    if (value.is_object()) {
+        std::string out = "{\n";
+        for (const auto& [key, member] : value.items()) {
+            out += indent + "  " + key + ": " + ts_value(member, indent + "  ") + ",\n";
+        }
+        return out + indent + "}";
+    }
+    if (value.is_array()) {
+        std::string out = "[";
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            out += (i > 0 ? ", " : "") + ts_value(value[i], indent);
+        }
+        return out + "]";
+    }
+    if (value.is_string()) {
+        return "'" + value.get<std::string>() + "'";
+    }
+    if (value.is_number()) {
+        return ts_number(value.get<double>());
+    }
+    return value.dump();
+}
+
 template <scene::NamedEnum Enum>
 std::string ts_enum(std::string_view constant, std::string_view summary) {
     std::vector<std::string_view> names;
@@ -493,6 +519,21 @@ std::string generated_client_tables() {
         }
     }
     out += "} as const;\n";
+    // A new session's state on a server configured with nothing else, as `state` sends it.
+    const Limits limits;
+    SessionState state;
+    state.frame = scene::starting_frame(
+            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const auto sent = nlohmann::json::parse(state_to_json(state));
+    out += "\n/** The settings a new session starts from (as its `state` holds them), shown until "
+           "its "
+           "state arrives. */\n"
+           "export const DEFAULT_SETTINGS = " +
+           ts_value(sent.at("settings"), "") +
+           " as const;\n"
+           "/** The output a new session starts from. */\n"
+           "export const DEFAULT_OUTPUT = " +
+           ts_value(sent.at("output"), "") + " as const;\n";
     return out;
 }
 

@@ -50,9 +50,10 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed);
 // The TypeScript module that gives the web client the server's names and views
 // (client_web/src/protocol/generated/server_tables.ts): the formats frames are written in
 // (encode::kFrameFormats), the names of the settings' enums, the light types, the transfer
-// function's position spaces, the mode table's kinds and the views (scene's name tables), each view's eye direction and
-// up (scene::view_camera) and the default camera's distance and field of view. It is written
-// whole: the client keeps no copy of its own.
+// function's position spaces, the mode table's kinds and the views (scene's name tables), each
+// view's eye direction and up (scene::view_camera), the default camera's distance and field of
+// view, hello.limits' defaults and a new session's settings and output (scene::starting_frame
+// through state_to_json). It is written whole: the client keeps no copy of its own.
 inline constexpr std::string_view kClientTablesPath = "src/protocol/generated/server_tables.ts";
 std::string generated_client_tables();
 
