@@ -28,7 +28,9 @@ base::Result<std::string> generated_common_schema(std::string_view committed);
 // `committed`, the text of proto/README.md, with the table between kTableBegin and kTableEnd
 // written from the schemas in `schema_dir` (proto/v1) of the client message types, in the order of
 // ClientMessage: each type, its members besides v, type and id (required ones marked, with their
-// descriptions) and its schema's description. An error where a marker or a schema is missing.
+// descriptions) and its schema's description; the limits tables' values (§8) as hello states them
+// and the last cell of §5's `settings` and `output` rows as a new session's state holds them. An
+// error where a marker or a schema is missing.
 inline constexpr std::string_view kTableBegin =
         "<!-- The client messages: written from their schemas by scripts/update-schema.sh. -->";
 inline constexpr std::string_view kTableEnd = "<!-- End of the client messages. -->";
