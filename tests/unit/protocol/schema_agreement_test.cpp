@@ -219,7 +219,8 @@ TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
 }
 
 // One member as parse_request reads it and as the schema's `request` part states it: required
-// exactly when it is a plain string, its JSON type and a string's length.
+// exactly when it is a plain string, its JSON type, a string's length and a flag's default (what
+// the parser leaves it at when the message leaves it out).
 template <class Message, class Value>
 void expect_member_in_schema(const json& request, const Member<Message, Value>& member) {
     const std::string name(member.name);
@@ -230,6 +231,7 @@ void expect_member_in_schema(const json& request, const Member<Message, Value>& 
     EXPECT_EQ(required.contains(name), (std::is_same_v<Value, std::string>));
     if constexpr (std::is_same_v<Value, bool>) {
         EXPECT_EQ(property.at("type"), "boolean");
+        EXPECT_EQ(property.value("default", json()), json(Message{}.*member.pointer));
     } else {
         // A string of its own, or a shared definition of one (owner_token).
         const json string = property.contains("$ref") ? schema_definition(property) : property;

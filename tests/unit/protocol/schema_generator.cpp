@@ -108,7 +108,8 @@ std::string cell(std::string_view text) {
     return out;
 }
 
-// What the schema says of a member's value: "string ≤ 256 bytes", "boolean"; empty for a $ref.
+// What the schema says of a member's value: "string ≤ 256 bytes", "boolean, default false"; empty
+// for a $ref.
 std::string value_kind(const json& member) {
     if (!member.contains("type") || !member.at("type").is_string()) {
         return "";
@@ -116,6 +117,9 @@ std::string value_kind(const json& member) {
     std::string kind = member.at("type").get<std::string>();
     if (member.contains("maxLength")) {
         kind += " ≤ " + member.at("maxLength").dump() + " bytes";
+    }
+    if (member.contains("default")) {
+        kind += ", default " + member.at("default").dump();
     }
     return kind;
 }
