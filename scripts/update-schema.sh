@@ -3,11 +3,12 @@
 # scene::kSettingRanges, the mode names, the settings' enum names from scene's name tables, the
 # preset names, the transfer function's position spaces and limits, the client message types) and
 # what hello.schema.json restates (the mode capabilities' names) from the tables themselves,
-# proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), and
+# proto/README.md's table of the client messages from their schemas (v1/<type>.schema.json), its
+# limits' values and a new session's settings and output (§5), and
 # the hello the web client's tests recorded (client_web/test/fixtures) as the server sends it, and
 # the web client's module of the server's names and views
 # (client_web/src/protocol/generated/server_tables.ts: the frame formats, the settings' enum names,
-# the position spaces, the views and their poses) whole.
+# the position spaces, the views and their poses, a new session's settings and output) whole.
 # Run it after changing one of them; SchemaAgreement.*IsGenerated,
 # SchemaAgreement.TheWebClientsRecordedHelloIsTheServers and
 # SchemaAgreement.TheWebClientsServerTablesAreGenerated (protocol_test) fail until the

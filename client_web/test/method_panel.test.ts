@@ -1,6 +1,13 @@
 import { describe, expect, it } from 'vitest';
 import { methodControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
-import { checkClientMessage, parseServerMessage, type ModeCapabilities, type OpenedMessage } from '../src/protocol/messages';
+import {
+  checkClientMessage,
+  DEFAULT_OUTPUT,
+  DEFAULT_SETTINGS,
+  parseServerMessage,
+  type ModeCapabilities,
+  type OpenedMessage,
+} from '../src/protocol/messages';
 import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
 const mode = (name: string): ModeCapabilities => recordedHello.modes.find((m) => m.name === name)!;
@@ -66,5 +73,15 @@ describe("the method panel's numeric settings", () => {
     // A part the panel does not know matters to every mode; before hello everything does.
     expect(settingUsed(mode('dvr'), 'tone', 'exposure', true)).toBe(true);
     expect(settingUsed(undefined, 'light_buffer', 'compensation', true)).toBe(true);
+  });
+});
+
+describe('the settings shown before the state arrives', () => {
+  it("are a new session's, which the server's own checks take", () => {
+    // The recorded session opened on a server configured with nothing else, which started it from
+    // them (it was recorded before some of today's settings were).
+    expect(DEFAULT_SETTINGS).toMatchObject(state.settings);
+    expect(state.output).toEqual(DEFAULT_OUTPUT);
+    expect(checkClientMessage({ v: 1, type: 'set', settings: DEFAULT_SETTINGS, output: DEFAULT_OUTPUT }, recordedTerms)).toBeNull();
   });
 });

@@ -31,7 +31,7 @@ ALLOWED_DEPENDENCIES = {
     "quality": {"render", "encode", "volume", "scene", "base"},
     "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},
     # net translates session's volumes and scenes into protocol messages: it reads both.
-    "net": {"session", "quality", "protocol", "metrics", "volume", "scene", "base"},
+    "net": {"session", "quality", "protocol", "metrics", "volume", "scene", "encode", "base"},
     # The command line's vocabulary: frame options read into scene's requests, transfer-function
     # files in the protocol's shape.
     "cli": {"protocol", "volume", "scene", "base"},

@@ -13,6 +13,8 @@ import {
   LIGHT_LOOKUPS,
   COMPOSITINGS,
   DEFAULT_LIMITS,
+  DEFAULT_OUTPUT,
+  DEFAULT_SETTINGS,
   ENCODINGS,
   STAGES,
   type Builder,
@@ -79,19 +81,19 @@ export class MethodPanel {
   readonly params = {
     /** None until the server's hello names its modes. */
     mode: '' as string,
-    // Until the session's state arrives, the first of each of the server's names.
-    compositing: COMPOSITINGS[0] as Compositing,
-    stage: STAGES[0] as Stage,
-    slices: 128,
-    resolution: 256,
-    builder: BUILDERS[0] as Builder,
-    lookup: LIGHT_LOOKUPS[0] as LightLookup,
-    phong: true,
-    background: [0, 0, 0] as number[],
-    encoding: ENCODINGS[0] as Encoding,
-    jpeg_quality: 85,
-    jitter: false,
-    empty_space_skipping: true,
+    // Until the session's state arrives, what a new session of the server starts from.
+    compositing: DEFAULT_SETTINGS.compositing as Compositing,
+    stage: DEFAULT_SETTINGS.stage as Stage,
+    slices: DEFAULT_SETTINGS.light_buffer.slices as number,
+    resolution: DEFAULT_SETTINGS.light_buffer.resolution as number,
+    builder: DEFAULT_SETTINGS.light_buffer.builder as Builder,
+    lookup: DEFAULT_SETTINGS.light_buffer.lookup as LightLookup,
+    phong: DEFAULT_SETTINGS.phong as boolean,
+    background: [...DEFAULT_SETTINGS.background] as number[],
+    encoding: DEFAULT_OUTPUT.encoding as Encoding,
+    jpeg_quality: DEFAULT_OUTPUT.jpeg_quality as number,
+    jitter: DEFAULT_SETTINGS.jitter as boolean,
+    empty_space_skipping: DEFAULT_SETTINGS.empty_space_skipping as boolean,
     /** Client side: rendered pixels per device pixel. */
     scale: 1,
   };
@@ -254,8 +256,9 @@ export class MethodPanel {
     p.resolution = s.light_buffer.resolution;
     p.builder = s.light_buffer.builder;
     p.lookup = s.light_buffer.lookup;
-    p.jitter = s.jitter ?? false;
-    p.empty_space_skipping = s.empty_space_skipping ?? true;
+    // A server older than these settings renders as a new session of this one starts.
+    p.jitter = s.jitter ?? DEFAULT_SETTINGS.jitter;
+    p.empty_space_skipping = s.empty_space_skipping ?? DEFAULT_SETTINGS.empty_space_skipping;
     p.phong = s.phong;
     p.background = [...s.background];
     p.encoding = state.output.encoding;

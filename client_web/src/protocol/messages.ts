@@ -8,7 +8,9 @@ import {
   COMPOSITINGS,
   DEFAULT_CAMERA_DISTANCE,
   DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
+  DEFAULT_OUTPUT,
   DEFAULT_POSITION_SPACE,
+  DEFAULT_SETTINGS,
   ENCODINGS,
   GRADIENTS,
   LIGHT_LOOKUPS,
@@ -25,7 +27,18 @@ import {
 } from './generated/server_tables';
 
 // The server's names and views, written from its tables into generated/ (scripts/update-schema.sh).
-export { BUILDERS, COMPOSITINGS, ENCODINGS, LIGHT_LOOKUPS, LIGHT_TYPES, POSITION_SPACES, STAGES, VIEWS };
+export {
+  BUILDERS,
+  COMPOSITINGS,
+  DEFAULT_OUTPUT,
+  DEFAULT_SETTINGS,
+  ENCODINGS,
+  LIGHT_LOOKUPS,
+  LIGHT_TYPES,
+  POSITION_SPACES,
+  STAGES,
+  VIEWS,
+};
 
 export const PROTOCOL_VERSION = 1;
 

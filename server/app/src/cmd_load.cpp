@@ -62,6 +62,10 @@ base::Status finish_load_options(const po::variables_map& a, LoadOptions& o) {
         }
         config.token = *token;
     }
+    if (!encode::frame_format_named(config.encoding)) {
+        return base::make_error("invalid_argument",
+                                "--encoding takes " + encode::frame_format_names(", ", " or "));
+    }
     const double seconds = o.seconds.value;
     if (o.port < 1 || o.port > 65535 || config.clients < 1 || config.clients > 256 ||
         config.size < 16 || config.size > 8192 || seconds <= 0.0 || seconds > 3600.0) {

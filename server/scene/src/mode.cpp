@@ -66,6 +66,20 @@ bool is_ray_cast(Mode mode) {
     return mode != Mode::half_angle;
 }
 
+FrameRequest starting_frame(const Limits& limits) {
+    FrameRequest frame;
+    frame.camera = Camera{};
+    frame.light.direction = direction_from_angles(10.0, 45.0);
+    RenderSettings& s = frame.settings;
+    s.mode = Mode::sbrc;
+    s.phong = true;
+    s.width = std::min(512, limits.max_image_side);
+    s.height = s.width;
+    s.light_buffer.slices = std::min(128, limits.max_slices);
+    s.light_buffer.resolution = std::min(256, limits.max_light_resolution);
+    return frame;
+}
+
 base::Status validate(const FrameRequest& request, const Limits& limits) {
     const RenderSettings& s = request.settings;
     const Refinement& r = request.refinement;

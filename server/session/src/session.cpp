@@ -49,17 +49,9 @@ const SharedFrame::Bytes& SharedFrame::packed(const Packer& pack) const {
 
 SessionState default_state(const std::string& transfer_function, const scene::Limits& limits) {
     SessionState state;
-    state.frame.camera = scene::Camera{};  // the anterior view
-    state.frame.light.direction = scene::direction_from_angles(10.0, 45.0);
+    state.frame = scene::starting_frame(limits);
     auto tf = scene::preset(transfer_function);
     state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
-    scene::RenderSettings& s = state.frame.settings;
-    s.mode = scene::Mode::sbrc;
-    s.phong = true;
-    s.width = std::min(512, limits.max_image_side);
-    s.height = s.width;
-    s.light_buffer.slices = std::min(128, limits.max_slices);
-    s.light_buffer.resolution = std::min(256, limits.max_light_resolution);
     return state;
 }
 

@@ -102,6 +102,24 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     ASSERT_TRUE(stale.ok()) << stale.error().to_string();
     EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
                                  " | slices |\n"));
+    // §5's last column states what a new session starts from, whatever the committed cell says.
+    const scene::FrameRequest start = scene::starting_frame(
+            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const auto settings = test::generated_readme(
+            std::string(test::kTableBegin) + "\n" + std::string(test::kTableEnd) +
+                    "\n**`settings`**\n\n| `mode` | string | a mode | `dvr` |\n| `phong` | "
+                    "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 1..100 | 7 |\n",
+            proto / "v1");
+    ASSERT_TRUE(settings.ok()) << settings.error().to_string();
+    EXPECT_NE(settings->find("| `mode` | string | a mode | `" +
+                             std::string(scene::to_string(start.settings.mode)) + "` |"),
+              std::string::npos);
+    EXPECT_NE(settings->find(std::string("| `phong` | boolean | | `") +
+                             (start.settings.phong ? "true" : "false") + "` |"),
+              std::string::npos);
+    EXPECT_NE(settings->find("| `jpeg_quality` | int | 1..100 | " +
+                             std::to_string(encode::kDefaultFrameJpegQuality) + " |"),
+              std::string::npos);
 }
 
 template <scene::NamedEnum Enum>
@@ -201,7 +219,8 @@ TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
 }
 
 // One member as parse_request reads it and as the schema's `request` part states it: required
-// exactly when it is a plain string, its JSON type and a string's length.
+// exactly when it is a plain string, its JSON type, a string's length and a flag's default (what
+// the parser leaves it at when the message leaves it out).
 template <class Message, class Value>
 void expect_member_in_schema(const json& request, const Member<Message, Value>& member) {
     const std::string name(member.name);
@@ -212,6 +231,7 @@ void expect_member_in_schema(const json& request, const Member<Message, Value>& 
     EXPECT_EQ(required.contains(name), (std::is_same_v<Value, std::string>));
     if constexpr (std::is_same_v<Value, bool>) {
         EXPECT_EQ(property.at("type"), "boolean");
+        EXPECT_EQ(property.value("default", json()), json(Message{}.*member.pointer));
     } else {
         // A string of its own, or a shared definition of one (owner_token).
         const json string = property.contains("$ref") ? schema_definition(property) : property;
@@ -385,6 +405,32 @@ TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
     EXPECT_TRUE(test::generated_client_tables() == test::read_text(file))
             << file << " differs from what the C++ tables make of it: run "
             << "scripts/update-schema.sh";
+    // What the method panel shows before a session's state arrives: a new session's settings.
+    const Limits limits;
+    const scene::FrameRequest start = scene::starting_frame(
+            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const std::string text = test::generated_client_tables();
+    const std::size_t settings = text.find("export const DEFAULT_SETTINGS = {\n");
+    ASSERT_NE(settings, std::string::npos);
+    for (const std::string& member :
+         {"  mode: '" + std::string(scene::to_string(start.settings.mode)) + "',\n",
+          std::string("  phong: ") + (start.settings.phong ? "true" : "false") + ",\n",
+          "    slices: " + std::to_string(start.settings.light_buffer.slices) + ",\n",
+          "    builder: '" + std::string(scene::to_string(start.settings.light_buffer.builder)) +
+                  "',\n",
+          "  size: [" + std::to_string(start.settings.width) + ", " +
+                  std::to_string(start.settings.height) + "],\n"}) {
+        EXPECT_NE(text.find(member, settings), std::string::npos) << member;
+    }
+    const std::size_t output = text.find("export const DEFAULT_OUTPUT = {\n");
+    ASSERT_NE(output, std::string::npos);
+    EXPECT_NE(text.find("  encoding: '" + std::string(encode::kFrameFormats.front().name) + "',\n",
+                        output),
+              std::string::npos);
+    EXPECT_NE(
+            text.find("  jpeg_quality: " + std::to_string(encode::kDefaultFrameJpegQuality) + ",\n",
+                      output),
+            std::string::npos);
 }
 
 // The list `constant` as the generated module writes it: "export const NAME = ['a', 'b'] as

@@ -3,6 +3,7 @@
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/messages.hpp>
+#include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -107,7 +108,8 @@ std::string cell(std::string_view text) {
     return out;
 }
 
-// What the schema says of a member's value: "string ≤ 256 bytes", "boolean"; empty for a $ref.
+// What the schema says of a member's value: "string ≤ 256 bytes", "boolean, default false"; empty
+// for a $ref.
 std::string value_kind(const json& member) {
     if (!member.contains("type") || !member.at("type").is_string()) {
         return "";
@@ -115,6 +117,9 @@ std::string value_kind(const json& member) {
     std::string kind = member.at("type").get<std::string>();
     if (member.contains("maxLength")) {
         kind += " ≤ " + member.at("maxLength").dump() + " bytes";
+    }
+    if (member.contains("default")) {
+        kind += ", default " + member.at("default").dump();
     }
     return kind;
 }
@@ -224,6 +229,72 @@ std::string with_limit_values(const std::string& text) {
     return out;
 }
 
+// A new session's state as `state` sends it, on a server configured with nothing else.
+nlohmann::json starting_state() {
+    const Limits limits;
+    SessionState state;
+    state.frame = scene::starting_frame(
+            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    return nlohmann::json::parse(state_to_json(state));
+}
+
+// A state's value as the README writes it: `multi_slice`, 0.99, `[512, 512]`, an object's
+// members "`slices` 128, `lookup` `local`".
+std::string readme_state_value(const nlohmann::json& value) {
+    if (value.is_object()) {
+        std::string text;
+        for (const auto& [key, member] : value.items()) {
+            text += (text.empty() ? "`" : ", `") + key + "` " + readme_state_value(member);
+        }
+        return text;
+    }
+    if (value.is_array()) {
+        std::string text;
+        for (const auto& item : value) {
+            text += (text.empty() ? "" : ", ") + readme_value(item);
+        }
+        return "`[" + text + "]`";
+    }
+    if (value.is_number()) {
+        return readme_value(value);
+    }
+    return "`" + (value.is_string() ? value.get<std::string>() : value.dump()) + "`";
+}
+
+// §5's tables of `settings` and `output` with each member's last cell (a new session's value) as
+// a new session's state holds it; the rows and the other cells are written by hand.
+std::string with_state_values(const std::string& text) {
+    const nlohmann::json state = starting_state();
+    std::istringstream in(text);
+    std::string out;
+    std::string part;
+    for (std::string line; std::getline(in, line);) {
+        if (line.starts_with("**`") || line.starts_with("#")) {
+            part.clear();
+            for (const char* name : {"settings", "output"}) {
+                if (line.starts_with("**`" + std::string(name) + "`**")) {
+                    part = name;
+                }
+            }
+        }
+        const std::size_t name_end = line.find("` | ");
+        const std::size_t last_cell = line.rfind(" | ");
+        if (!part.empty() && line.starts_with("| `") && line.ends_with(" |") &&
+            name_end != std::string::npos && last_cell > name_end) {
+            const std::string name = line.substr(3, name_end - 3);
+            if (state.at(part).contains(name)) {
+                line = line.substr(0, last_cell + 3) +
+                       cell(readme_state_value(state.at(part).at(name))) + " |";
+            }
+        }
+        out += line + "\n";
+    }
+    if (!text.ends_with('\n') && !out.empty()) {
+        out.pop_back();
+    }
+    return out;
+}
+
 }  // namespace
 
 base::Result<std::string> generated_readme(std::string_view committed,
@@ -240,8 +311,8 @@ base::Result<std::string> generated_readme(std::string_view committed,
         return table.error();
     }
     const std::size_t table_start = begin + kTableBegin.size();
-    return with_limit_values(std::string(committed.substr(0, table_start)) + "\n" + *table +
-                             std::string(committed.substr(end)));
+    return with_state_values(with_limit_values(std::string(committed.substr(0, table_start)) +
+                                               "\n" + *table + std::string(committed.substr(end))));
 }
 
 // `Enum`'s names from scene's name table, in its order.
@@ -409,6 +480,31 @@ std::string ts_names(std::string_view constant, std::string_view summary,
     return out + "] as const;\n";
 }
 
+// A JSON value as a TypeScript literal, objects a member a line at `indent`.
+std::string ts_value(const nlohmann::json& value, const std::string& indent) {
+    if (value.is_object()) {
+        std::string out = "{\n";
+        for (const auto& [key, member] : value.items()) {
+            out += indent + "  " + key + ": " + ts_value(member, indent + "  ") + ",\n";
+        }
+        return out + indent + "}";
+    }
+    if (value.is_array()) {
+        std::string out = "[";
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            out += (i > 0 ? ", " : "") + ts_value(value[i], indent);
+        }
+        return out + "]";
+    }
+    if (value.is_string()) {
+        return "'" + value.get<std::string>() + "'";
+    }
+    if (value.is_number()) {
+        return ts_number(value.get<double>());
+    }
+    return value.dump();
+}
+
 template <scene::NamedEnum Enum>
 std::string ts_enum(std::string_view constant, std::string_view summary) {
     std::vector<std::string_view> names;
@@ -493,6 +589,16 @@ std::string generated_client_tables() {
         }
     }
     out += "} as const;\n";
+    const nlohmann::json sent = starting_state();
+    out += "\n/** The settings a new session starts from (as its `state` holds them), shown until "
+           "its "
+           "state arrives. */\n"
+           "export const DEFAULT_SETTINGS = " +
+           ts_value(sent.at("settings"), "") +
+           " as const;\n"
+           "/** The output a new session starts from. */\n"
+           "export const DEFAULT_OUTPUT = " +
+           ts_value(sent.at("output"), "") + " as const;\n";
     return out;
 }
 

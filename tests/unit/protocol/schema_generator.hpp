@@ -28,7 +28,9 @@ base::Result<std::string> generated_common_schema(std::string_view committed);
 // `committed`, the text of proto/README.md, with the table between kTableBegin and kTableEnd
 // written from the schemas in `schema_dir` (proto/v1) of the client message types, in the order of
 // ClientMessage: each type, its members besides v, type and id (required ones marked, with their
-// descriptions) and its schema's description. An error where a marker or a schema is missing.
+// descriptions) and its schema's description; the limits tables' values (§8) as hello states them
+// and the last cell of §5's `settings` and `output` rows as a new session's state holds them. An
+// error where a marker or a schema is missing.
 inline constexpr std::string_view kTableBegin =
         "<!-- The client messages: written from their schemas by scripts/update-schema.sh. -->";
 inline constexpr std::string_view kTableEnd = "<!-- End of the client messages. -->";
@@ -51,8 +53,9 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed);
 // (client_web/src/protocol/generated/server_tables.ts): the formats frames are written in
 // (encode::kFrameFormats), the names of the settings' enums, the light types, the transfer
 // function's position spaces, the mode table's kinds and the views (scene's name tables), each
-// view's eye direction and up (scene::view_camera) and the default camera's distance and field of
-// view. It is written whole: the client keeps no copy of its own.
+// view's eye direction and up (scene::view_camera), the default camera's distance and field of
+// view, hello.limits' defaults and a new session's settings and output (scene::starting_frame
+// through state_to_json). It is written whole: the client keeps no copy of its own.
 inline constexpr std::string_view kClientTablesPath = "src/protocol/generated/server_tables.ts";
 std::string generated_client_tables();
 

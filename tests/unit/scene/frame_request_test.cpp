@@ -21,6 +21,22 @@ TEST(FrameRequest, DefaultsAreValid) {
     EXPECT_TRUE(validate(valid_request()).ok());
 }
 
+// A new session starts from a frame that the device's limits admit, however small they are.
+TEST(FrameRequest, StartingFrameFitsTheLimits) {
+    const auto with_preset = [](FrameRequest frame) {
+        frame.transfer_function = preset("grey_ramp").value();
+        return frame;
+    };
+    EXPECT_TRUE(validate(with_preset(starting_frame({})), {}).ok());
+    const Limits small{64, 16, 32};
+    const FrameRequest frame = with_preset(starting_frame(small));
+    EXPECT_EQ(frame.settings.width, 64);
+    EXPECT_EQ(frame.settings.height, 64);
+    EXPECT_EQ(frame.settings.light_buffer.slices, 16);
+    EXPECT_EQ(frame.settings.light_buffer.resolution, 32);
+    EXPECT_TRUE(validate(frame, small).ok());
+}
+
 TEST(FrameRequest, RejectsEachBadFieldByName) {
     struct Case {
         const char* field;

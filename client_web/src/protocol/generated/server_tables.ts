@@ -67,3 +67,45 @@ export const DEFAULT_LIMITS = {
   max_slices: 1024,
   max_transfer_function_points: 256,
 } as const;
+
+/** The settings a new session starts from (as its `state` holds them), shown until its state arrives. */
+export const DEFAULT_SETTINGS = {
+  background: [0, 0, 0],
+  compositing: 'alpha',
+  early_termination: 0.99,
+  empty_space_skipping: true,
+  frame_budget_ms: 0,
+  jitter: false,
+  light_buffer: {
+    builder: 'multi_slice',
+    compensation: 0,
+    lookup: 'local',
+    resolution: 256,
+    slab_samples: 0,
+    slices: 128,
+  },
+  mode: 'sbrc',
+  opacity_unit_distance: 0.00390625,
+  phong: true,
+  refinement_steps: 8,
+  sample_distance: 0.00390625,
+  scattering: {
+    cone_angle: 30,
+    cone_center_weight: 0.2,
+    shell_center_weight: 0.4,
+    shell_radius: 0.0078125,
+    shell_rings: 1,
+  },
+  shading: {
+    diffuse: 0.75,
+    shininess: 32,
+    specular: 0.3,
+  },
+  size: [512, 512],
+  stage: 'compute',
+} as const;
+/** The output a new session starts from. */
+export const DEFAULT_OUTPUT = {
+  encoding: 'jpeg',
+  jpeg_quality: 85,
+} as const;

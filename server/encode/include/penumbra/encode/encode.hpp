@@ -29,6 +29,9 @@ inline constexpr std::array<FrameFormat, 2> kFrameFormats{{
         {ImageFormat::png, "png"},
 }};
 
+// The JPEG quality frames are written at until a client asks for another.
+inline constexpr int kDefaultFrameJpegQuality = 85;
+
 // The format `name` names in kFrameFormats; none for another name.
 std::optional<ImageFormat> frame_format_named(std::string_view name);
 

@@ -18,7 +18,7 @@ namespace penumbra::protocol {
 struct OutputOptions {
     // One of encode::kFrameFormats, by its name on the wire.
     encode::ImageFormat encoding = encode::kFrameFormats.front().format;
-    int jpeg_quality = 85;
+    int jpeg_quality = encode::kDefaultFrameJpegQuality;
 };
 
 // Everything a `set` can change.
@@ -30,7 +30,7 @@ struct SessionState {
     double frame_budget_ms = 0.0;
     // Progressive stills: how many refinement steps follow a still frame of a jittered ray-cast
     // mode; 0 turns refinement off.
-    int refinement_steps = 8;
+    int refinement_steps = scene::kDefaultRefinementSteps;
 };
 
 // A `set` patch (a JSON object with any of "camera", "light", "transfer_function", "settings",

@@ -144,6 +144,8 @@ struct Refinement {
 };
 
 inline constexpr int kMaxRefinementSteps = 256;
+// How many refinement steps follow a still frame in a new session.
+inline constexpr int kDefaultRefinementSteps = 8;
 
 // Whether a mode marches camera rays, the only ones jitter and refinement change.
 bool is_ray_cast(Mode mode);
@@ -279,5 +281,11 @@ struct Limits {
 // non-finite or non-positive distances, a degenerate camera, invalid TF, slices or light-buffer
 // sizes beyond the limits, scattering parameters out of range.
 base::Status validate(const FrameRequest& request, const Limits& limits = {});
+
+// What a new session's frame starts from: the default camera (the anterior view), a light from
+// 10° azimuth and 45° elevation, sbrc with Blinn-Phong, and a 512-pixel image, 128 light-buffer
+// slices and a 256-texel light buffer as far as `limits` allow; the transfer function is left as
+// TransferFunction's default (the session picks its preset).
+FrameRequest starting_frame(const Limits& limits);
 
 }  // namespace penumbra::scene

@@ -27,8 +27,8 @@ namespace penumbra::session {
 using Clock = std::chrono::steady_clock;
 
 struct OutputFormat {
-    encode::ImageFormat format = encode::ImageFormat::jpeg;
-    int jpeg_quality = 85;
+    encode::ImageFormat format = encode::kFrameFormats.front().format;
+    int jpeg_quality = encode::kDefaultFrameJpegQuality;
 };
 
 struct RenderJob {

@@ -63,7 +63,8 @@ struct SessionState {
     scene::FrameRequest frame;
     OutputFormat output;
     double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
-    int refinement_steps = 8;      // refinement steps after a still frame (jittered ray casts)
+    int refinement_steps = scene::kDefaultRefinementSteps;  // refinement steps after a still frame
+                                                            // (jittered ray casts)
 };
 
 // The state a new session starts from: an orbit view lit from above, `transfer_function` (a
