@@ -15,8 +15,8 @@ namespace penumbra::volume {
 // replaced: one "label: value" line each, each line ending in '\n'.
 [[nodiscard]] std::string describe(const Volume& volume, const std::string& source);
 
-// The distribution of its values: `bins` (at least one) equal-width bins, one line each with the bin's lower
-// edge, its count and a bar proportional to the fullest bin.
+// The distribution of its values: `bins` (at least one) equal-width bins, one line each with the
+// bin's lower edge, its count and a bar proportional to the fullest bin.
 [[nodiscard]] std::string describe_histogram(const Volume& volume, std::size_t bins = 16);
 
 // The series of a DICOM folder, as list_dicom_series gives them: a table of number, modality,
