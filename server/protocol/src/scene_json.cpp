@@ -459,9 +459,7 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     if (patch.contains("output")) {
         PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
     }
-    const scene::Limits scene_limits{limits.max_image_side, limits.max_slices,
-                                     limits.max_light_resolution};
-    if (auto status = scene::validate(next.frame, scene_limits); !status) {
+    if (auto status = scene::validate(next.frame, scene_limits(limits)); !status) {
         // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
         // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
         const std::string& where = status.error().where;

@@ -103,8 +103,7 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
                                  " | slices |\n"));
     // §5's last column states what a new session starts from, whatever the committed cell says.
-    const scene::FrameRequest start = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
     const auto settings = test::generated_readme(
             std::string(test::kTableBegin) + "\n" + std::string(test::kTableEnd) +
                     "\n**`settings`**\n\n| `mode` | string | a mode | `dvr` |\n| `phong` | "
@@ -407,8 +406,7 @@ TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
             << "scripts/update-schema.sh";
     // What the method panel shows before a session's state arrives: a new session's settings.
     const Limits limits;
-    const scene::FrameRequest start = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
     const std::string text = test::generated_client_tables();
     const std::size_t settings = text.find("export const DEFAULT_SETTINGS = {\n");
     ASSERT_NE(settings, std::string::npos);

@@ -233,8 +233,7 @@ std::string with_limit_values(const std::string& text) {
 nlohmann::json starting_state() {
     const Limits limits;
     SessionState state;
-    state.frame = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    state.frame = scene::starting_frame(scene_limits(limits));
     return nlohmann::json::parse(state_to_json(state));
 }
 
