@@ -399,7 +399,8 @@ base::Status apply_output(const json& j, const std::string& p, OutputOptions& ou
     PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
     PENUMBRA_TRY(apply_enum(j, p, "encoding", output.encoding, encode::frame_format_named,
                             encode::frame_format_names(", ", " or ")));
-    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality, int_range_of(1, 100)));
+    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality,
+                                 whole_in(kJpegQualityRange)));
     return base::Ok{};
 }
 

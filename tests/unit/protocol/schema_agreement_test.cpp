@@ -102,12 +102,13 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     ASSERT_TRUE(stale.ok()) << stale.error().to_string();
     EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
                                  " | slices |\n"));
-    // §5's last column states what a new session starts from, whatever the committed cell says.
+    // §5's last column states what a new session starts from, and the JPEG quality's range cell
+    // the one the parser holds a patch to, whatever the committed cells say.
     const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
     const auto settings = test::generated_readme(
             std::string(test::kTableBegin) + "\n" + std::string(test::kTableEnd) +
                     "\n**`settings`**\n\n| `mode` | string | a mode | `dvr` |\n| `phong` | "
-                    "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 1..100 | 7 |\n",
+                    "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 2..7 | 7 |\n",
             proto / "v1");
     ASSERT_TRUE(settings.ok()) << settings.error().to_string();
     EXPECT_NE(settings->find("| `mode` | string | a mode | `" +
@@ -116,7 +117,8 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     EXPECT_NE(settings->find(std::string("| `phong` | boolean | | `") +
                              (start.settings.phong ? "true" : "false") + "` |"),
               std::string::npos);
-    EXPECT_NE(settings->find("| `jpeg_quality` | int | 1..100 | " +
+    EXPECT_NE(settings->find("| `jpeg_quality` | int | " + std::to_string(encode::kMinJpegQuality) +
+                             ".." + std::to_string(encode::kMaxJpegQuality) + " | " +
                              std::to_string(encode::kDefaultFrameJpegQuality) + " |"),
               std::string::npos);
 }
