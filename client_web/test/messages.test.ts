@@ -141,6 +141,18 @@ describe('checkClientMessage beyond the examples', () => {
     expect(checkClientMessage(text, recordedTerms)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
   });
 
+  it("checks the JPEG quality by hello's range", () => {
+    const set = (quality: number) => ({ v: 1, type: 'set', output: { jpeg_quality: quality } });
+    expect(checkClientMessage(set(100), recordedTerms)).toBeNull();
+    expect(checkClientMessage(set(101), recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/output/jpeg_quality',
+    });
+    expect(checkClientMessage(set(1.5), recordedTerms)).toMatchObject({ code: 'invalid_value' });
+    const wider = { ...serverRanges, 'output/jpeg_quality': { min: 1, max: 120, integer: true } };
+    expect(checkClientMessage(set(101), { ...recordedTerms, ranges: wider })).toBeNull();
+  });
+
   it("checks the transfer function's colours by hello's colour range", () => {
     const colours = (c: number) => ({
       v: 1, type: 'set', transfer_function: { colors: [{ x: 0, rgb: [c, 0, 0] }], opacities: [] },

@@ -165,7 +165,8 @@ export class MethodPanel {
     const output = folder.addFolder('Image');
     add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
       ({ output: { encoding: p.encoding } }), false).onChange(() => this.greyOut());
-    add(output.add(p, 'jpeg_quality', 1, 100, 1).name('JPEG quality'), 'jpeg_quality', () =>
+    // A slider once hello's ranges give its ends (setRanges).
+    add(output.add(p, 'jpeg_quality').step(1).name('JPEG quality'), 'jpeg_quality', () =>
       ({ output: { jpeg_quality: p.jpeg_quality } }), false);
     const scale = output.add(p, 'scale', 0.25, 2, 0.05).name('pixels per device px');
     scale.domElement.dataset['control'] = 'scale';
@@ -209,6 +210,8 @@ export class MethodPanel {
       const controller = this.addSetting(setting);
       this.ranged.set(setting.path, { setting, controller, announced: true });
     }
+    const quality = ranges['output/jpeg_quality'];
+    if (quality) this.byKey.get('jpeg_quality')?.min(quality.min).max(quality.max);
     this.showSettings();
     this.greyOut();
   }

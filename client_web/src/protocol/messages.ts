@@ -1087,7 +1087,10 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
           transfer_function: checkTransferFunction(ranges, limits, presets),
           settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
           output: (v, at) =>
-            members(v, at, { encoding: oneOf(ENCODINGS), jpeg_quality: integer(1, 100) }),
+            members(v, at, {
+              encoding: oneOf(ENCODINGS),
+              jpeg_quality: ranged(ranges, 'output/jpeg_quality'),
+            }),
         });
         break;
       }

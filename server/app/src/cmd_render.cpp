@@ -43,8 +43,9 @@ po::options_description render_options(RenderOptions& o) {
             "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
             "memory the volume load may take (never more than the machine has)")(
             "out", po::value(&o.out)->value_name("FILE")->default_value(o.out), ".png or .jpg")(
-            "quality", whole_number(&o.quality, 1, 100), "JPEG quality")(
-            "repeat", whole_number(&o.repeat, 1, 10000), "render N times, report median times")(
+            "quality", whole_number(&o.quality, encode::kMinJpegQuality, encode::kMaxJpegQuality),
+            "JPEG quality")("repeat", whole_number(&o.repeat, 1, 10000),
+                            "render N times, report median times")(
             "light-inset", po::value<std::string>()->value_name("FILE"),
             "also write the last light-buffer layer (sbrc modes) or half-angle's light buffer "
             "(.png)")("debug-gl", "GL debug output to the log")(

@@ -109,8 +109,11 @@ base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& ima
     if (image.width <= 0 || image.height <= 0) {
         return base::make_error("encode_failed", "cannot encode an empty image", "image");
     }
-    if (jpeg_quality < 1 || jpeg_quality > 100) {
-        return base::make_error("invalid_value", "JPEG quality must be within 1..100", "quality");
+    if (jpeg_quality < kMinJpegQuality || jpeg_quality > kMaxJpegQuality) {
+        return base::make_error("invalid_value",
+                                "JPEG quality must be within " + std::to_string(kMinJpegQuality) +
+                                        ".." + std::to_string(kMaxJpegQuality),
+                                "quality");
     }
     std::vector<unsigned char> bytes;
     oiio::Filesystem::IOVecOutput memory(bytes);

@@ -62,11 +62,9 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
 
 // What a new session of this server on `volume` starts from: a CT's own preset for a CT.
 session::SessionState initial_state(const ServerConfig& config, const volume::Volume& volume) {
-    const protocol::Limits& limits = config.limits;
-    return session::default_state(
-            volume.hounsfield ? config.default_ct_transfer_function
-                              : config.default_transfer_function,
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    return session::default_state(volume.hounsfield ? config.default_ct_transfer_function
+                                                    : config.default_transfer_function,
+                                  protocol::scene_limits(config.limits));
 }
 
 std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {

@@ -257,7 +257,7 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
     // Each setting's range, so that a client checks and offers what the server accepts without
     // a copy of its own, and says what the setting does where the table does.
     json ranges = json::object();
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
+    for (const scene::SettingRange* range : kAnnouncedRanges) {
         json& announced = ranges[std::string(range->field)];
         announced = {{"min", range->min}, {"max", range->max}, {"integer", range->integer}};
         if (!range->summary.empty()) {

@@ -399,7 +399,8 @@ base::Status apply_output(const json& j, const std::string& p, OutputOptions& ou
     PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
     PENUMBRA_TRY(apply_enum(j, p, "encoding", output.encoding, encode::frame_format_named,
                             encode::frame_format_names(", ", " or ")));
-    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality, int_range_of(1, 100)));
+    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality,
+                                 whole_in(kJpegQualityRange)));
     return base::Ok{};
 }
 
@@ -459,9 +460,7 @@ base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits&
     if (patch.contains("output")) {
         PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
     }
-    const scene::Limits scene_limits{limits.max_image_side, limits.max_slices,
-                                     limits.max_light_resolution};
-    if (auto status = scene::validate(next.frame, scene_limits); !status) {
+    if (auto status = scene::validate(next.frame, scene_limits(limits)); !status) {
         // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
         // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
         const std::string& where = status.error().where;

@@ -220,8 +220,8 @@ TEST(ServerMessages, HelloDescribesEveryModeOfTheModeTable) {
 TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
     const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
     const json& ranges = hello.at("ranges");
-    ASSERT_EQ(ranges.size(), scene::kSettingRanges.size());
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
+    ASSERT_EQ(ranges.size(), kAnnouncedRanges.size());
+    for (const scene::SettingRange* range : kAnnouncedRanges) {
         SCOPED_TRACE(range->field);
         const json& announced = ranges.at(std::string(range->field));
         EXPECT_EQ(announced.at("min").get<double>(), range->min);
@@ -236,6 +236,8 @@ TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
     }
     EXPECT_EQ(ranges.at("settings/light_buffer/slab_samples").at("max"), scene::kMaxSlabSamples);
     EXPECT_EQ(ranges.at("camera/fov").at("summary"), scene::setting::fov_degrees.summary);
+    EXPECT_EQ(ranges.at("output/jpeg_quality").at("min"), encode::kMinJpegQuality);
+    EXPECT_EQ(ranges.at("output/jpeg_quality").at("max"), encode::kMaxJpegQuality);
 }
 
 // The client offers and shows the presets from hello: each is what `{"preset": NAME}` sets, in

@@ -102,13 +102,13 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     ASSERT_TRUE(stale.ok()) << stale.error().to_string();
     EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
                                  " | slices |\n"));
-    // §5's last column states what a new session starts from, whatever the committed cell says.
-    const scene::FrameRequest start = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    // §5's last column states what a new session starts from, and the JPEG quality's range cell
+    // the one the parser holds a patch to, whatever the committed cells say.
+    const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
     const auto settings = test::generated_readme(
             std::string(test::kTableBegin) + "\n" + std::string(test::kTableEnd) +
                     "\n**`settings`**\n\n| `mode` | string | a mode | `dvr` |\n| `phong` | "
-                    "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 1..100 | 7 |\n",
+                    "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 2..7 | 7 |\n",
             proto / "v1");
     ASSERT_TRUE(settings.ok()) << settings.error().to_string();
     EXPECT_NE(settings->find("| `mode` | string | a mode | `" +
@@ -117,7 +117,8 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     EXPECT_NE(settings->find(std::string("| `phong` | boolean | | `") +
                              (start.settings.phong ? "true" : "false") + "` |"),
               std::string::npos);
-    EXPECT_NE(settings->find("| `jpeg_quality` | int | 1..100 | " +
+    EXPECT_NE(settings->find("| `jpeg_quality` | int | " + std::to_string(encode::kMinJpegQuality) +
+                             ".." + std::to_string(encode::kMaxJpegQuality) + " | " +
                              std::to_string(encode::kDefaultFrameJpegQuality) + " |"),
               std::string::npos);
 }
@@ -407,8 +408,7 @@ TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
             << "scripts/update-schema.sh";
     // What the method panel shows before a session's state arrives: a new session's settings.
     const Limits limits;
-    const scene::FrameRequest start = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
     const std::string text = test::generated_client_tables();
     const std::size_t settings = text.find("export const DEFAULT_SETTINGS = {\n");
     ASSERT_NE(settings, std::string::npos);

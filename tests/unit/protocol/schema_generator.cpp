@@ -233,8 +233,7 @@ std::string with_limit_values(const std::string& text) {
 nlohmann::json starting_state() {
     const Limits limits;
     SessionState state;
-    state.frame = scene::starting_frame(
-            {limits.max_image_side, limits.max_slices, limits.max_light_resolution});
+    state.frame = scene::starting_frame(scene_limits(limits));
     return nlohmann::json::parse(state_to_json(state));
 }
 
@@ -282,10 +281,21 @@ std::string with_state_values(const std::string& text) {
         if (!part.empty() && line.starts_with("| `") && line.ends_with(" |") &&
             name_end != std::string::npos && last_cell > name_end) {
             const std::string name = line.substr(3, name_end - 3);
-            if (state.at(part).contains(name)) {
-                line = line.substr(0, last_cell + 3) +
-                       cell(readme_state_value(state.at(part).at(name))) + " |";
+            std::string cells = line.substr(0, last_cell);
+            std::string last = line.substr(last_cell);
+            // The output's ranges (whole numbers) are written as "1..100" in the third cell.
+            const std::size_t type_end = cells.find(" | ", name_end + 4);
+            for (const scene::SettingRange* range : kAnnouncedRanges) {
+                if (part == "output" && range->field == part + "/" + name && range->integer &&
+                    type_end != std::string::npos) {
+                    cells = cells.substr(0, type_end + 3) + readme_value(range->min) + ".." +
+                            readme_value(range->max);
+                }
             }
+            if (state.at(part).contains(name)) {
+                last = " | " + cell(readme_state_value(state.at(part).at(name))) + " |";
+            }
+            line = cells + last;
         }
         out += line + "\n";
     }
@@ -411,7 +421,7 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     }
     defs["client_type"]["enum"] = std::move(client_types);
 
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
+    for (const scene::SettingRange* range : kAnnouncedRanges) {
         write_range(node_of(defs, range->field), *range);
         if (range->read != nullptr) {
             require_in_state(defs, range->field);

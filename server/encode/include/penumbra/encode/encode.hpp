@@ -29,6 +29,11 @@ inline constexpr std::array<FrameFormat, 2> kFrameFormats{{
         {ImageFormat::png, "png"},
 }};
 
+// The JPEG qualities an image may be written at, both ends included: the protocol's
+// `output.jpeg_quality` (announced in hello.ranges) and `penumbra render --quality` are held to it.
+inline constexpr int kMinJpegQuality = 1;
+inline constexpr int kMaxJpegQuality = 100;
+
 // The JPEG quality frames are written at until a client asks for another.
 inline constexpr int kDefaultFrameJpegQuality = 85;
 
@@ -44,7 +49,8 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 // The format's name in kFrameFormats.
 const char* to_string(ImageFormat format);
 
-// Frames are opaque, so both formats store RGB. `jpeg_quality` is 1..100.
+// Frames are opaque, so both formats store RGB. `jpeg_quality` is within
+// kMinJpegQuality..kMaxJpegQuality.
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality = 90);
 

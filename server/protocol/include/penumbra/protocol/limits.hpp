@@ -1,5 +1,7 @@
 #pragma once
 
+#include <penumbra/scene/frame_request.hpp>
+
 #include <cstddef>
 #include <string_view>
 
@@ -29,6 +31,11 @@ struct Limits {
     // has 5). Checked while parsing, so no deeper document is ever built or walked.
     int max_json_depth = 16;
 };
+
+// The part of `limits` that scene::validate and scene::starting_frame hold a frame to.
+inline scene::Limits scene_limits(const Limits& limits) {
+    return {limits.max_image_side, limits.max_slices, limits.max_light_resolution};
+}
 
 // Fixed by the protocol rather than configured, announced in `hello.limits` with the rest: the
 // points a transfer function's colour or opacity list may hold, and the bytes of its name.

@@ -5,6 +5,8 @@
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
+#include <algorithm>
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +22,19 @@ struct OutputOptions {
     encode::ImageFormat encoding = encode::kFrameFormats.front().format;
     int jpeg_quality = encode::kDefaultFrameJpegQuality;
 };
+
+// `output.jpeg_quality`'s range, which the parser holds a patch to.
+inline constexpr scene::SettingRange kJpegQualityRange{
+        "output/jpeg_quality", encode::kMinJpegQuality, encode::kMaxJpegQuality, true};
+
+// The ranges hello.ranges announces and the schema generator writes into common.schema.json:
+// scene::kSettingRanges' rows, then the output's.
+inline constexpr auto kAnnouncedRanges = [] {
+    std::array<const scene::SettingRange*, scene::kSettingRanges.size() + 1> all{};
+    std::copy(scene::kSettingRanges.begin(), scene::kSettingRanges.end(), all.begin());
+    all.back() = &kJpegQualityRange;
+    return all;
+}();
 
 // Everything a `set` can change.
 struct SessionState {
