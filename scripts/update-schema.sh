@@ -21,4 +21,4 @@ if [ ! -d "build/$preset" ]; then
     cmake --preset "$preset" >/dev/null
 fi
 cmake --build --preset "$preset" --target update_schema
-"build/$preset/tests/unit/protocol/update_schema" proto
+"build/$preset/server/codegen/update_schema" proto

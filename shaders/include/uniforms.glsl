@@ -1,7 +1,8 @@
 // One declaration of what the C++ side derives each frame; mirrored field for field by
 // server/render/src/uniforms.hpp (static_asserts there check the std140 offsets). The request's
-// numeric settings (each row of scene::kSettingRanges) are the generated block `settings`:
-// `settings.light_buffer_compensation`, `settings.sample_distance`, `settings.shading_diffuse`.
+// settings (each row of scene::kSettings that a frame carries) are the generated block `settings`:
+// `settings.light_buffer_compensation`, `settings.sample_distance`, `settings.compositing ==
+// SETTINGS_COMPOSITING_EXTINCTION`, `settings.background`.
 #include "generated/settings.glsl"
 
 layout(std140, binding = 0) uniform FrameUniforms {

@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace penumbra;
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     const protocol::Limits limits;
-    protocol::SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("mri_skin").value();
     const std::string before = protocol::state_to_json(state);
     const auto applied = protocol::apply_patch(text, state, limits);
@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                         "a refused patch leaves the state as it was");
         return 0;
     }
-    protocol::SessionState again;
+    scene::State again;
     again.frame.transfer_function = scene::preset("grey_ramp").value();
     PENUMBRA_ASSERT(protocol::apply_patch(protocol::state_to_json(state), again, limits).ok(),
                     "the state a patch produced reads back as a patch");

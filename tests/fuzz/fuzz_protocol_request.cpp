@@ -23,11 +23,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         return 0;
     }
     if (const auto* set = std::get_if<protocol::Set>(&request->message)) {
-        protocol::SessionState state;
+        scene::State state;
         state.frame.transfer_function = scene::preset("grey_ramp").value();
         const auto applied = protocol::apply_patch(set->patch, state, limits);
         if (applied.ok()) {
-            protocol::SessionState again;
+            scene::State again;
             again.frame.transfer_function = scene::preset("grey_ramp").value();
             PENUMBRA_ASSERT(
                     protocol::apply_patch(protocol::state_to_json(state), again, limits).ok(),

@@ -3,9 +3,9 @@
 
 #include <penumbra/base/secret.hpp>
 #include <penumbra/cli/options.hpp>
-#include <penumbra/encode/encode.hpp>
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/state.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -33,7 +33,7 @@ po::options_description load_options(LoadOptions& o) {
                               "frames of S x S pixels")(
             "encoding",
             po::value(&c.encoding)
-                    ->value_name(encode::frame_format_names("|", "|"))
+                    ->value_name(scene::name_list<scene::FrameFormat>("|"))
                     ->default_value(c.encoding),
             "frame encoding")("interactive", "request interactive-quality frames")(
             "refine", po::value(&c.refine)->value_name("N")->default_value(c.refine),
@@ -62,9 +62,9 @@ base::Status finish_load_options(const po::variables_map& a, LoadOptions& o) {
         }
         config.token = *token;
     }
-    if (!encode::frame_format_named(config.encoding)) {
+    if (!scene::parse_name<scene::FrameFormat>(config.encoding)) {
         return base::make_error("invalid_argument",
-                                "--encoding takes " + encode::frame_format_names(", ", " or "));
+                                "--encoding takes " + scene::choices<scene::FrameFormat>());
     }
     const double seconds = o.seconds.value;
     if (o.port < 1 || o.port > 65535 || config.clients < 1 || config.clients > 256 ||

@@ -4,6 +4,7 @@
 #include <penumbra/cli/transfer_function_file.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
+#include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <algorithm>
@@ -17,21 +18,116 @@ namespace penumbra::cli {
 
 namespace {
 
-// The settings of the table that a request holds: each has an option named by option_name.
-bool is_numeric_option(const scene::SettingRange& range) {
-    return range.write != nullptr;
+// The rows of scene's table that the command line sets with an option of their own.
+bool has_option(const scene::Setting& setting) {
+    return setting.in_frame() && setting.command_line == scene::CommandLine::option;
 }
 
-// One line per mode: its name and what it does (the mode table's summary).
-std::string modes_help() {
-    std::string help = "rendering mode:";
-    for (const scene::ModeInfo& mode : scene::modes()) {
+// A boolean that is on until said otherwise is turned off by `--no-<name>`.
+bool is_negated(const scene::Setting& setting, const scene::FrameRequest& defaults) {
+    return setting.kind == scene::SettingKind::boolean && setting.read_frame(defaults).x != 0.0;
+}
+
+std::string option_of(const scene::Setting& setting, const scene::FrameRequest& defaults) {
+    return (is_negated(setting, defaults) ? "no-" : "") + scene::option_name(setting);
+}
+
+// The frame the command line starts from: a new request's, shaded with Blinn-Phong.
+scene::FrameRequest command_line_defaults() {
+    scene::FrameRequest request;
+    request.settings.mode = scene::Mode::phong;
+    return request;
+}
+
+// The help line of a setting: its summary, its range where no device bounds it, and for a choice
+// whose values say what they do, one line each.
+std::string help_of(const scene::Setting& setting, const scene::FrameRequest& defaults) {
+    std::string help(setting.summary);
+    if (is_negated(setting, defaults)) {
+        help = "turn off: " + help;
+    }
+    const bool ranged =
+            setting.kind == scene::SettingKind::number || setting.kind == scene::SettingKind::whole;
+    if (ranged && setting.limit == nullptr) {
+        help += "; " + setting.describe();
+    }
+    for (std::size_t i = 0; i < setting.choice_summaries.size(); ++i) {
         char line[160];
-        std::snprintf(line, sizeof line, "\n  %-12s \t%.*s", mode.name.data(),
-                      static_cast<int>(mode.summary.size()), mode.summary.data());
+        std::snprintf(line, sizeof line, "\n  %-12s \t%.*s", setting.choices[i].data(),
+                      static_cast<int>(setting.choice_summaries[i].size()),
+                      setting.choice_summaries[i].data());
         help += line;
     }
     return help;
+}
+
+// The option's value, with the default the command line starts from.
+po::value_semantic* value_of(const scene::Setting& setting, const scene::FrameRequest& defaults) {
+    const scene::SettingValue fallback = setting.read_frame(defaults);
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+            return po::value<Number>()->value_name("X")->default_value({fallback.x});
+        case scene::SettingKind::whole:
+            return po::value<int>()->value_name("N")->default_value(static_cast<int>(fallback.x));
+        case scene::SettingKind::boolean:
+            return new po::untyped_value(true);
+        case scene::SettingKind::choice:
+            return po::value<std::string>()
+                    ->value_name(scene::choice_list(setting, "|", "|"))
+                    ->default_value(
+                            std::string(setting.choices[static_cast<std::size_t>(fallback.x)]));
+        case scene::SettingKind::vector:
+            return po::value<Triple>()
+                    ->value_name(setting.min >= 0.0 ? "R,G,B" : "X,Y,Z")
+                    ->default_value({fallback});
+        case scene::SettingKind::size:
+            return po::value<ImageSize>()->value_name("WxH")->default_value(
+                    {static_cast<int>(fallback.x), static_cast<int>(fallback.y)});
+    }
+    return nullptr;
+}
+
+// The value an option gives a setting; none where the option is not given.
+base::Result<std::optional<scene::SettingValue>> given_value(const po::variables_map& options,
+                                                             const scene::Setting& setting,
+                                                             const scene::FrameRequest& defaults) {
+    const std::string option = option_of(setting, defaults);
+    if (setting.kind == scene::SettingKind::boolean) {
+        // A flag: given, it says the opposite of the default.
+        const bool given = options.count(option) != 0;
+        return std::optional(scene::SettingValue(given != is_negated(setting, defaults), 0, 0));
+    }
+    if (options.count(option) == 0) {
+        return std::optional<scene::SettingValue>();
+    }
+    const po::variable_value& given = options[option];
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+            return std::optional(scene::SettingValue(given.as<Number>().value, 0, 0));
+        case scene::SettingKind::whole:
+            return std::optional(scene::SettingValue(given.as<int>(), 0, 0));
+        case scene::SettingKind::boolean:
+            break;
+        case scene::SettingKind::choice: {
+            const std::string& text = given.as<std::string>();
+            const auto& names = setting.choices;
+            const auto found = std::find(names.begin(), names.end(), text);
+            if (found == names.end()) {
+                return base::make_error("invalid_argument",
+                                        "expects " + scene::choice_list(setting, ", ", " or "),
+                                        "--" + option);
+            }
+            return std::optional(
+                    scene::SettingValue(static_cast<double>(found - names.begin()), 0, 0));
+        }
+        case scene::SettingKind::vector:
+            return std::optional(given.as<Triple>().value);
+        case scene::SettingKind::size: {
+            const auto size = given.as<ImageSize>();
+            return std::optional(scene::SettingValue(size.width, size.height, 0));
+        }
+    }
+    return std::optional<scene::SettingValue>();
 }
 
 // The defaults and the presets, normalised then in HU, from scene's lists.
@@ -51,21 +147,6 @@ std::string tf_help() {
 template <class T>
 std::optional<T> value_of(const po::variables_map& options, const char* name) {
     return options.count(name) != 0 ? std::optional<T>(options[name].as<T>()) : std::nullopt;
-}
-
-// An option naming one of an enum's values, spelled as its scene name table says; `target` keeps
-// its value when the option is not given.
-template <scene::NamedEnum E>
-base::Status read_choice(const po::variables_map& options, const char* name, E& target) {
-    if (const auto text = value_of<std::string>(options, name)) {
-        const auto parsed = scene::parse_name<E>(*text);
-        if (!parsed) {
-            return base::make_error("invalid_argument", "expects " + scene::choices<E>(),
-                                    std::string("--") + name);
-        }
-        target = *parsed;
-    }
-    return base::Ok{};
 }
 
 base::Status read_camera(const po::variables_map& options, scene::Camera& camera) {
@@ -109,66 +190,46 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
         }
         light.direction = scene::direction_from_angles((*numbers)[0], (*numbers)[1]);
     }
-    light.color = options["light-color"].as<Triple>().value;
     return base::Ok{};
 }
 
-// Each numeric setting of the table from its option, within its range (scene::setting), errors
-// named by the option.
-base::Status read_numeric_settings(const po::variables_map& options, scene::FrameRequest& request) {
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        const std::string option = scene::option_name(*range);
-        if (!is_numeric_option(*range) || options.count(option) == 0) {
+// Each setting of the table from its option, within its range; errors name the option. The
+// device's bounds (image size, slices, light-buffer resolution) are validate's to check.
+base::Status read_settings(const po::variables_map& options, scene::FrameRequest& request) {
+    const scene::FrameRequest defaults = command_line_defaults();
+    scene::State state;
+    state.frame = std::move(request);
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (!has_option(*setting)) {
             continue;
         }
-        const double value =
-                range->integer ? options[option].as<int>() : options[option].as<Number>().value;
-        if (!range->contains(value)) {
-            return base::make_error("invalid_argument", "must be " + range->describe(),
-                                    "--" + option);
+        auto value = given_value(options, *setting, defaults);
+        if (!value) {
+            return value.error();
         }
-        range->write(request, value);
-    }
-    return base::Ok{};
-}
-
-base::Status read_settings(const po::variables_map& options, scene::RenderSettings& s) {
-    if (const auto name = value_of<std::string>(options, "mode")) {
-        const auto mode = scene::parse_mode(*name);
-        if (!mode) {
-            return base::make_error("invalid_argument",
-                                    "unknown mode '" + *name + "' (" + scene::mode_names() + ")",
-                                    "--mode");
+        if (!*value) {
+            continue;
         }
-        s.mode = *mode;
-    }
-    const auto size = options["size"].as<ImageSize>();
-    s.width = size.width;
-    s.height = size.height;
-    s.background = options["background"].as<Triple>().value;
-    // Bounded by the device (scene::Limits), which validate checks.
-    s.light_buffer.slices = value_of<int>(options, "slices").value_or(s.light_buffer.slices);
-    s.light_buffer.resolution =
-            value_of<int>(options, "light-res").value_or(s.light_buffer.resolution);
-    s.phong = options.count("phong") != 0;
-    s.empty_space_skipping = options.count("no-empty-space-skipping") == 0;
-    s.jitter = options.count("jitter") != 0;
-    for (const base::Status& status : {read_choice(options, "builder", s.light_buffer.builder),
-                                       read_choice(options, "light-lookup", s.light_buffer.lookup),
-                                       read_choice(options, "compositing", s.compositing),
-                                       read_choice(options, "stage", s.stage)}) {
-        if (!status) {
-            return status;
+        if (setting->limit == nullptr) {
+            if (auto within = scene::validate_value(*setting, **value, scene::Limits{}); !within) {
+                return base::make_error(
+                        "invalid_argument",
+                        "must be " + setting->describe() +
+                                (setting->kind == scene::SettingKind::vector ? " in each component"
+                                                                             : ""),
+                        "--" + option_of(*setting, defaults));
+            }
         }
+        setting->write(state, **value);
     }
+    request = std::move(state.frame);
     return base::Ok{};
 }
 
 }  // namespace
 
 po::options_description frame_options(const std::vector<std::string>& swept) {
-    const scene::FrameRequest defaults;
-    const scene::RenderSettings& s = defaults.settings;
+    const scene::FrameRequest defaults = command_line_defaults();
     po::options_description options = option_group("frame options");
     const auto add = [&](const std::string& name, const po::value_semantic* value,
                          const std::string& help) {
@@ -183,19 +244,7 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
         auto* value = po::value<std::string>()->value_name(name);
         return fallback.empty() ? value : value->default_value(fallback);
     };
-    // "alpha|extinction", the current value the default.
-    const auto choice = [&text](auto value) {
-        using Enum = decltype(value);
-        return text(scene::name_list<Enum>("|"), scene::to_string(value));
-    };
     const auto triple = [](const char* name) { return po::value<Triple>()->value_name(name); };
-    add("mode", text("MODE", "phong"), modes_help());
-    add("phong", new po::untyped_value(true), "Blinn-Phong on top of shadows (shadow modes)");
-    add("no-empty-space-skipping", new po::untyped_value(true),
-        "sample the bricks the transfer function leaves transparent too (the same image, slower)");
-    add("jitter", new po::untyped_value(true),
-        "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)");
-    add("size", po::value<ImageSize>()->value_name("WxH")->default_value({512, 512}), "image size");
     add("camera", triple("AZ,EL,DIST"),
         "orbit camera: azimuth and elevation in degrees about the volume centre (z up, azimuth 0 "
         "= +y), distance in units of the volume's longest side");
@@ -208,42 +257,22 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
     add("up", triple("X,Y,Z"), "the explicit camera's up direction");
     add("light", text("AZ,EL", "10,45"), "directional light from these angles in degrees");
     add("light-position", triple("X,Y,Z"), "point light at this position instead");
-    add("light-color", triple("R,G,B")->default_value({defaults.light.color}), "light colour");
-    add("background", triple("R,G,B")->default_value({s.background}), "background colour");
     add("tf", text("PRESET|FILE.json"), tf_help());
-    add("compositing", choice(s.compositing), "compositing");
-    add("stage", choice(s.stage), "where the ray caster runs");
-    add("slices", po::value<int>()->value_name("N")->default_value(s.light_buffer.slices),
-        "light slices, also half-angle's slices");
-    add("light-res", po::value<int>()->value_name("R")->default_value(s.light_buffer.resolution),
-        "light buffer R x R texels");
-    add("builder", choice(s.light_buffer.builder), "light-buffer builder");
-    add("light-lookup", choice(s.light_buffer.lookup),
-        "camera samples read the light buffer: the layer nearer the light + a march through the "
-        "rest of the slab (local), or the paper's interpolation between the two nearest layers");
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (!is_numeric_option(*range)) {
-            continue;
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (has_option(*setting)) {
+            add(option_of(*setting, defaults), value_of(*setting, defaults),
+                help_of(*setting, defaults));
         }
-        const std::string help = std::string(range->summary) + "; " + range->describe();
-        const double fallback = range->read(defaults);
-        add(scene::option_name(*range),
-            range->integer
-                    ? po::value<int>()->value_name("N")->default_value(int(fallback))
-                    : static_cast<po::value_semantic*>(
-                              po::value<Number>()->value_name("X")->default_value({fallback})),
-            help);
     }
     return options;
 }
 
 base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
                                                      const volume::Volume& volume) {
-    scene::FrameRequest request;
-    request.settings.mode = scene::Mode::phong;
+    scene::FrameRequest request = command_line_defaults();
     for (const base::Status& status :
-         {read_settings(options, request.settings), read_camera(options, request.camera),
-          read_light(options, request.light), read_numeric_settings(options, request)}) {
+         {read_camera(options, request.camera), read_light(options, request.light),
+          read_settings(options, request)}) {
         if (!status) {
             return status.error();
         }

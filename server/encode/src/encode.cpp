@@ -73,37 +73,6 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
     return std::nullopt;
 }
 
-std::optional<ImageFormat> frame_format_named(std::string_view name) {
-    for (const FrameFormat& row : kFrameFormats) {
-        if (row.name == name) {
-            return row.format;
-        }
-    }
-    return std::nullopt;
-}
-
-std::string frame_format_names(std::string_view separator, std::string_view last) {
-    std::string text;
-    for (std::size_t i = 0; i < kFrameFormats.size(); ++i) {
-        if (i > 0) {
-            text += i + 1 == kFrameFormats.size() ? last : separator;
-        }
-        text += kFrameFormats[i].name;
-    }
-    return text;
-}
-
-const char* to_string(ImageFormat format) {
-    for (const FrameFormat& row : kFrameFormats) {
-        if (row.format == format) {
-            // The names are string literals, so each view ends in a NUL.
-            return row.name.data();
-        }
-    }
-    PENUMBRA_ASSERT(false, "every image format has its row in kFrameFormats");
-    return "";
-}
-
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality) {
     if (image.width <= 0 || image.height <= 0) {
@@ -120,7 +89,7 @@ base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& ima
     auto output = oiio::ImageOutput::create(nominal_file_name(format), &memory);
     if (!output) {
         return base::make_error("encode_failed", "no writer: " + oiio::geterror(),
-                                to_string(format));
+                                nominal_file_name(format));
     }
     oiio::ImageSpec spec(image.width, image.height, 3, oiio::TypeDesc::UINT8);
     if (format == ImageFormat::jpeg) {
@@ -129,7 +98,7 @@ base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& ima
     const std::vector<std::uint8_t> rgb = rgb_of(image);
     if (!output->open(nominal_file_name(format), spec) ||
         !output->write_image(oiio::TypeDesc::UINT8, rgb.data()) || !output->close()) {
-        return base::make_error("encode_failed", output->geterror(), to_string(format));
+        return base::make_error("encode_failed", output->geterror(), nominal_file_name(format));
     }
     return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
 }

@@ -20,26 +20,6 @@ constexpr std::uint64_t max_unanswered_errors = 64;
 // Requests that may wait while a volume loads for this connection; more are refused.
 constexpr std::size_t max_waiting_requests = 64;
 
-protocol::SessionState to_protocol(const session::SessionState& s) {
-    protocol::SessionState out;
-    out.frame = s.frame;
-    out.output.encoding = s.output.format;
-    out.output.jpeg_quality = s.output.jpeg_quality;
-    out.frame_budget_ms = s.frame_budget_ms;
-    out.refinement_steps = s.refinement_steps;
-    return out;
-}
-
-session::SessionState from_protocol(const protocol::SessionState& s) {
-    session::SessionState out;
-    out.frame = s.frame;
-    out.output.format = s.output.encoding;
-    out.output.jpeg_quality = s.output.jpeg_quality;
-    out.frame_budget_ms = s.frame_budget_ms;
-    out.refinement_steps = s.refinement_steps;
-    return out;
-}
-
 protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* v) {
     protocol::VolumeSummary out;
     out.id = id;
@@ -61,7 +41,7 @@ protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* 
 }
 
 // What a new session of this server on `volume` starts from: a CT's own preset for a CT.
-session::SessionState initial_state(const ServerConfig& config, const volume::Volume& volume) {
+scene::State initial_state(const ServerConfig& config, const volume::Volume& volume) {
     return session::default_state(volume.hounsfield ? config.default_ct_transfer_function
                                                     : config.default_transfer_function,
                                   protocol::scene_limits(config.limits));
@@ -75,7 +55,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.session = shared.session();
     h.width = f.width;
     h.height = f.height;
-    h.encoding = encode::to_string(f.format);
+    h.encoding = scene::to_string(f.format);
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
     h.light_buffer = render::to_string(f.report.light_buffer);
@@ -191,10 +171,9 @@ void ConnectionHandler::on_text(std::string_view text) {
 ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session_id) {
     std::weak_ptr<Connection> weak = connection_;
     Context* context = &context_;
-    auto state_changed = [weak, session_id](const session::SessionState& state) {
+    auto state_changed = [weak, session_id](const scene::State& state) {
         if (auto connection = weak.lock()) {
-            connection->send_state(protocol::state_message(
-                    session_id, protocol::state_to_json(to_protocol(state))));
+            connection->send_state(protocol::state_message(session_id, state));
         }
     };
     auto frames = [weak, context](const session::ViewerOutcome& outcome) {
@@ -329,11 +308,10 @@ void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
     // Cannot fail: the session ends only when its owner, this connection, leaves.
     const auto added = session_->add_viewer(
             viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
-            [&](const session::SessionState& state) {
+            [&](const scene::State& state) {
                 send(protocol::opened_message(
                         id, session_->id(), summary_of(session_->volume_id(), &volume), *histogram,
-                        protocol::state_to_json(to_protocol(state)), session_->owner_token(),
-                        recreated));
+                        state, session_->owner_token(), recreated));
             });
     PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
@@ -353,14 +331,13 @@ bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std:
     // changing the owner are one step of the session's, so two connections resuming at once
     // cannot both win.
     auto entered = context_.services.sessions.enter(session_id, [&](session::Session& target) {
-        const auto welcome = [&](const session::SessionState& state) {
+        const auto welcome = [&](const scene::State& state) {
             const protocol::VolumeSummary volume =
                     summary_of(target.volume_id(), target.volume().get());
-            const std::string state_json = protocol::state_to_json(to_protocol(state));
-            send(owner_token ? protocol::opened_message(id, target.id(), volume, *histogram,
-                                                        state_json, target.owner_token())
-                             : protocol::joined_message(id, target.id(), volume, *histogram,
-                                                        state_json));
+            send(owner_token
+                         ? protocol::opened_message(id, target.id(), volume, *histogram, state,
+                                                    target.owner_token())
+                         : protocol::joined_message(id, target.id(), volume, *histogram, state));
         };
         // Also when already in it: re-entering replaces the sinks, and the welcome keeps its
         // reply ahead of every state that follows it.
@@ -454,21 +431,16 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
     if (!need_session(id)) {
         return;
     }
-    // The viewers' panels follow the owner's: each gets the new state.
-    const auto changed = session_->change_state(viewer_, [&](session::SessionState& state) {
-        protocol::SessionState patched = to_protocol(state);
-        if (auto status = protocol::apply_patch(message.patch, patched, context_.config.limits);
-            !status) {
-            return status;
-        }
-        state = from_protocol(patched);
-        return base::Status(base::Ok{});
+    // The viewers' panels follow the owner's: each gets the new state; the owner gets it as the
+    // answer.
+    const auto changed = session_->change_state(viewer_, [&](scene::State& state) {
+        return protocol::apply_patch(message.patch, state, context_.config.limits);
     });
     if (!changed) {
         reply_error(id, changed.error());
         return;
     }
-    send(protocol::ack_message(id, "set"));
+    send(protocol::set_ack_message(id, *changed));
 }
 
 template <>

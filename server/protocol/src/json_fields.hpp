@@ -3,6 +3,7 @@
 // Strict reading of JSON fields: every failure names the JSON pointer of the field.
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/scene/state.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
@@ -70,5 +71,9 @@ base::Status optional_member(const json& object, const std::string& pointer, con
 // A transfer function in the shape `set` takes and a state reports: {"name", "space", "colors":
 // [{"x", "rgb"}], "opacities": [{"x", "alpha"}]} (hello's presets too).
 json transfer_function_json(const scene::TransferFunction& tf);
+
+// A session's state as `state` messages carry it and `set` takes it: every setting of scene's
+// table at its path, and the transfer function.
+json state_json(const scene::State& state);
 
 }  // namespace penumbra::protocol::json_fields

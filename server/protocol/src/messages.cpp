@@ -3,8 +3,8 @@
 #include "json_fields.hpp"
 #include "patch_document.hpp"
 
-#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <cstdint>
@@ -244,6 +244,12 @@ json presets_json() {
 
 }  // namespace
 
+bool announces_range(const scene::Setting& setting) {
+    const bool numeric =
+            setting.kind == scene::SettingKind::number || setting.kind == scene::SettingKind::whole;
+    return numeric && setting.limit == nullptr;
+}
+
 std::string hello_message(const Limits& limits, const RendererSummary& renderer) {
     json modes = json::array();
     for (const scene::ModeInfo& mode : scene::modes()) {
@@ -254,19 +260,23 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                          {"scattering", scene::to_string(mode.scattering)},
                          {"gradients", scene::to_string(mode.gradients)}});
     }
-    // Each setting's range, so that a client checks and offers what the server accepts without
-    // a copy of its own, and says what the setting does where the table does.
+    // Each number's range, so that a client checks and offers what the server accepts without
+    // a copy of its own, and says what the setting does; the ranges the device and the server's
+    // configuration set (the image size, slices, light-buffer resolution) are its limits below.
     json ranges = json::object();
-    for (const scene::SettingRange* range : kAnnouncedRanges) {
-        json& announced = ranges[std::string(range->field)];
-        announced = {{"min", range->min}, {"max", range->max}, {"integer", range->integer}};
-        if (!range->summary.empty()) {
-            announced["summary"] = range->summary;
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (!announces_range(*setting)) {
+            continue;
+        }
+        json& announced = ranges[std::string(setting->path)];
+        announced = {{"min", setting->min}, {"max", setting->max}, {"integer", setting->integer()}};
+        if (!setting->summary.empty()) {
+            announced["summary"] = setting->summary;
         }
     }
     json encodings = json::array();
-    for (const encode::FrameFormat& format : encode::kFrameFormats) {
-        encodings.push_back(format.name);
+    for (const std::string_view name : scene::setting::encoding.choices) {
+        encodings.push_back(name);
     }
     return with_id({{"type", "hello"},
                     {"server", "penumbra"},
@@ -327,14 +337,11 @@ std::string volumes_message(std::optional<std::int64_t> id,
 
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, const std::string& owner_token,
+                           const scene::State& state, const std::string& owner_token,
                            bool recreated) {
-    json message = {{"type", "opened"},
-                    {"session", session},
-                    {"volume", volume_json(volume)},
-                    {"histogram", histogram},
-                    {"state", json::parse(state_json)},
-                    {"owner_token", owner_token}};
+    json message = {
+            {"type", "opened"},       {"session", session},         {"volume", volume_json(volume)},
+            {"histogram", histogram}, {"state", state_json(state)}, {"owner_token", owner_token}};
     if (recreated) {
         message["recreated"] = true;
     }
@@ -343,24 +350,28 @@ std::string opened_message(std::optional<std::int64_t> id, const std::string& se
 
 std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json) {
+                           const scene::State& state) {
     return with_id({{"type", "joined"},
                     {"session", session},
                     {"volume", volume_json(volume)},
                     {"histogram", histogram},
-                    {"state", json::parse(state_json)}},
+                    {"state", state_json(state)}},
                    id)
             .dump();
 }
 
-std::string state_message(const std::string& session, const std::string& state_json) {
-    return with_id({{"type", "state"}, {"session", session}, {"state", json::parse(state_json)}},
+std::string state_message(const std::string& session, const scene::State& state) {
+    return with_id({{"type", "state"}, {"session", session}, {"state", state_json(state)}},
                    std::nullopt)
             .dump();
 }
 
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {
     return with_id({{"type", "ack"}, {"of", what}}, id).dump();
+}
+
+std::string set_ack_message(std::optional<std::int64_t> id, const scene::State& state) {
+    return with_id({{"type", "ack"}, {"of", Set::type}, {"state", state_json(state)}}, id).dump();
 }
 
 std::string error_message(std::optional<std::int64_t> id, const base::Error& error) {

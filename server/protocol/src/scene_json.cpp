@@ -3,14 +3,15 @@
 #include "json_fields.hpp"
 #include "patch_document.hpp"
 
-#include <penumbra/encode/encode.hpp>
 #include <penumbra/scene/camera.hpp>
+#include <penumbra/scene/setting_table.hpp>
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace penumbra::protocol {
 namespace {
@@ -29,106 +30,160 @@ constexpr std::string_view data_space_name = "data";
         }                                            \
     } while (false)
 
-// Readers for a number, a whole number and a vector within a setting's range.
-auto in(const scene::SettingRange& range) {
+// Readers for a number and a vector within a setting's range.
+auto in(const scene::Setting& range) {
     return [&range](const json& v, const std::string& q) {
         return number(v, q, range.min, range.max);
     };
 }
 
-auto whole_in(const scene::SettingRange& range) {
-    return [&range](const json& v, const std::string& q) {
-        return integer(v, q, static_cast<int>(range.min), static_cast<int>(range.max));
-    };
-}
-
-auto vec3_in(const scene::SettingRange& range) {
+auto vec3_in(const scene::Setting& range) {
     return [&range](const json& v, const std::string& q) {
         return vec3(v, q, range.min, range.max);
     };
 }
 
-// A setting's JSON pointer, "/" + its field: "/settings/light_buffer/compensation".
-std::string pointer_of(const scene::SettingRange& range) {
-    return "/" + std::string(range.field);
+// "settings/light_buffer" for "/settings/light_buffer": a JSON pointer as a setting's path.
+std::string_view path_of(const std::string& pointer) {
+    return std::string_view(pointer).substr(1);
 }
 
-// Whether `range` is a setting that a request holds (it has a `write`) and a member of the object
-// at `object_pointer`.
-bool is_member_of(const scene::SettingRange& range, const std::string& object_pointer) {
-    const std::string pointer = pointer_of(range);
-    return range.write != nullptr && pointer.size() > object_pointer.size() + 1 &&
-           pointer.starts_with(object_pointer + "/") &&
-           pointer.find('/', object_pointer.size() + 1) == std::string::npos;
-}
-
-// Whether `key` of the object at `object_pointer` is one of the table's settings.
-bool is_table_setting(const std::string& object_pointer, const std::string& key) {
-    return std::any_of(scene::kSettingRanges.begin(), scene::kSettingRanges.end(),
-                       [&](const scene::SettingRange* range) {
-                           return is_member_of(*range, object_pointer) &&
-                                  pointer_of(*range) == object_pointer + "/" + key;
+// Whether `path` is a setting a state holds, or a part of the state that holds some
+// ("settings/light_buffer").
+bool is_setting_or_part(const std::string& path) {
+    return std::any_of(scene::kSettings.begin(), scene::kSettings.end(),
+                       [&](const scene::Setting* setting) {
+                           return setting->held() &&
+                                  (setting->path == path || setting->path.starts_with(path + "/"));
                        });
 }
 
-// Rejects members of the object at `p` other than `allowed` and the table's settings in it.
-base::Status only_fields_and_settings(const json& j, const std::string& p,
-                                      std::initializer_list<const char*> allowed) {
-    return only_fields(j, p, allowed,
-                       [&p](const std::string& key) { return is_table_setting(p, key); });
+// The member of the object at `parent` (a path) that `path` lies in: "light_buffer" for
+// "settings/light_buffer/slices" under "settings"; empty where `path` is not under `parent`.
+std::string_view member_under(std::string_view path, std::string_view parent) {
+    if (path.size() <= parent.size() + 1 || !path.starts_with(parent) ||
+        path[parent.size()] != '/') {
+        return {};
+    }
+    const std::string_view rest = path.substr(parent.size() + 1);
+    return rest.substr(0, rest.find('/'));
 }
 
-// Reads each of the table's settings that is a member of the object `j` at `p` into the request,
-// in the table's order, within its range.
-base::Status apply_table_settings(const json& j, const std::string& p,
-                                  scene::FrameRequest& request) {
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (!is_member_of(*range, p)) {
-            continue;
+// Reads the value of `setting` at `q`, checked against its kind and range.
+base::Result<scene::SettingValue> read_value(const scene::Setting& setting, const json& v,
+                                             const std::string& q, const Limits& limits) {
+    const double max = setting.max_under(scene_limits(limits));
+    switch (setting.kind) {
+        case scene::SettingKind::number: {
+            auto value = number(v, q, setting.min, max);
+            if (!value) {
+                return value.error();
+            }
+            return scene::SettingValue(*value, 0.0, 0.0);
         }
-        const std::string key = pointer_of(*range).substr(p.size() + 1);
-        if (!j.contains(key)) {
-            continue;
+        case scene::SettingKind::whole: {
+            auto value = integer(v, q, static_cast<int>(setting.min), static_cast<int>(max));
+            if (!value) {
+                return value.error();
+            }
+            return scene::SettingValue(*value, 0.0, 0.0);
         }
-        double value = 0.0;
-        if (range->integer) {
-            PENUMBRA_TRY(optional_member(j, p, key.c_str(), value, whole_in(*range)));
-        } else {
-            PENUMBRA_TRY(optional_member(j, p, key.c_str(), value, in(*range)));
+        case scene::SettingKind::boolean: {
+            auto value = boolean(v, q);
+            if (!value) {
+                return value.error();
+            }
+            return scene::SettingValue(*value ? 1.0 : 0.0, 0.0, 0.0);
         }
-        range->write(request, value);
+        case scene::SettingKind::choice: {
+            auto text = string(v, q, 32);
+            if (!text) {
+                return text.error();
+            }
+            const auto& names = setting.choices;
+            const auto found = std::find(names.begin(), names.end(), *text);
+            if (found == names.end()) {
+                return field_error("invalid_value", q,
+                                   "expected " + scene::choice_list(setting, ", ", " or "));
+            }
+            return scene::SettingValue(static_cast<double>(found - names.begin()), 0.0, 0.0);
+        }
+        case scene::SettingKind::vector:
+            return vec3(v, q, setting.min, max);
+        case scene::SettingKind::size: {
+            if (!v.is_array() || v.size() != 2) {
+                return field_error("invalid_value", q, "expected [width, height]");
+            }
+            const int low = static_cast<int>(setting.min);
+            auto width = integer(v[0], q + "/0", low, static_cast<int>(max));
+            auto height = integer(v[1], q + "/1", low, static_cast<int>(max));
+            if (!width || !height) {
+                return !width ? width.error() : height.error();
+            }
+            return scene::SettingValue(*width, *height, 0.0);
+        }
     }
-    return base::Ok{};
+    return field_error("invalid_value", q, "unknown kind of setting");
 }
 
-template <class Enum, class Parse>
-base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target,
-                        Parse&& parse, const std::string& expected) {
-    if (!j.contains(key)) {
-        return base::Ok{};
+// The value of `setting` as the protocol spells it.
+json value_json(const scene::Setting& setting, scene::SettingValue value) {
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+            return value.x;
+        case scene::SettingKind::whole:
+            return static_cast<int>(value.x);
+        case scene::SettingKind::boolean:
+            return value.x != 0.0;
+        case scene::SettingKind::choice:
+            return setting.choices[static_cast<std::size_t>(value.x)];
+        case scene::SettingKind::vector:
+            return json::array({value.x, value.y, value.z});
+        case scene::SettingKind::size:
+            return json::array({static_cast<int>(value.x), static_cast<int>(value.y)});
     }
-    auto text = string(j.at(key), p + "/" + key, 32);
-    if (!text) {
-        return text.error();
-    }
-    auto parsed = parse(*text);
-    if (!parsed) {
-        return field_error("invalid_value", p + "/" + key, "expected " + expected);
-    }
-    target = *parsed;
-    return base::Ok{};
+    return nullptr;
 }
 
-// A value named in its enum's table (scene/enum_names.hpp); the error lists the names.
-template <scene::NamedEnum Enum>
-base::Status apply_enum(const json& j, const std::string& p, const char* key, Enum& target) {
-    return apply_enum(j, p, key, target, scene::parse_name<Enum>, scene::choices<Enum>());
-}
-
-base::Status apply_camera(const json& j, const std::string& p, scene::FrameRequest& request) {
-    scene::Camera& camera = request.camera;
+// Applies the object `j` at `p` ("/settings") onto `state`: each setting of the table whose path
+// is a member of it, then each part in it ("/settings/light_buffer"), in the table's order.
+// `instructions` are the members the caller reads itself (a camera's view and orbit).
+base::Status apply_object(const json& j, const std::string& p, scene::State& state,
+                          const Limits& limits,
+                          std::initializer_list<const char*> instructions = {}) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields_and_settings(j, p, {"eye", "target", "up", "orbit", "view"}));
+    const std::string path(path_of(p));
+    PENUMBRA_TRY(only_fields(j, p, instructions, [&path](const std::string& key) {
+        return is_setting_or_part(path + "/" + key);
+    }));
+    std::vector<std::string> parts;
+    for (const scene::Setting* setting : scene::kSettings) {
+        const std::string member(member_under(setting->path, path));
+        if (!setting->held() || member.empty() || !j.contains(member)) {
+            continue;
+        }
+        if (setting->path.size() == path.size() + 1 + member.size()) {
+            auto value = read_value(*setting, j.at(member), p + "/" + member, limits);
+            if (!value) {
+                return value.error();
+            }
+            setting->write(state, *value);
+        } else if (std::find(parts.begin(), parts.end(), member) == parts.end()) {
+            parts.push_back(member);
+        }
+    }
+    for (const std::string& part : parts) {
+        PENUMBRA_TRY(apply_object(j.at(part), p + "/" + part, state, limits));
+    }
+    return base::Ok{};
+}
+
+// The camera's instructions, before its settings: a named view (the pose of that side of the
+// patient, at the current distance) or an orbit around the target.
+base::Status apply_camera(const json& j, const std::string& p, scene::State& state,
+                          const Limits& limits) {
+    scene::Camera& camera = state.frame.camera;
+    PENUMBRA_TRY(expect_object(j, p));
     const auto coordinates = vec3_in(scene::setting::coordinate);
     if (j.contains("view")) {
         for (const char* other : {"orbit", "eye", "up"}) {
@@ -188,22 +243,7 @@ base::Status apply_camera(const json& j, const std::string& p, scene::FrameReque
         camera = orbit;
         camera.fov_y_degrees = fov;
     }
-    PENUMBRA_TRY(optional_member(j, p, "eye", camera.eye, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "target", camera.target, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "up", camera.up, coordinates));
-    return apply_table_settings(j, p, request);
-}
-
-base::Status apply_light(const json& j, const std::string& p, scene::FrameRequest& request) {
-    scene::Light& light = request.light;
-    PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields_and_settings(j, p, {"type", "direction", "position", "color"}));
-    PENUMBRA_TRY(apply_enum(j, p, "type", light.type));
-    const auto coordinates = vec3_in(scene::setting::coordinate);
-    PENUMBRA_TRY(optional_member(j, p, "direction", light.direction, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "position", light.position, coordinates));
-    PENUMBRA_TRY(optional_member(j, p, "color", light.color, vec3_in(scene::setting::colour)));
-    return apply_table_settings(j, p, request);
+    return apply_object(j, p, state, limits, {"view", "orbit"});
 }
 
 base::Result<scene::TransferFunction> transfer_function_from(
@@ -323,91 +363,6 @@ base::Result<scene::TransferFunction> transfer_function_from(
     return tf;
 }
 
-auto int_range_of(int lo, int hi) {
-    return [lo, hi](const json& v, const std::string& q) { return integer(v, q, lo, hi); };
-}
-
-base::Status apply_settings(const json& j, const std::string& p, scene::FrameRequest& request,
-                            double& frame_budget_ms, int& refinement_steps, const Limits& limits) {
-    scene::RenderSettings& s = request.settings;
-    PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(
-            only_fields_and_settings(j, p,
-                                     {"mode", "compositing", "stage", "size", "background", "phong",
-                                      "empty_space_skipping", "jitter", "shading", "light_buffer",
-                                      "scattering", "frame_budget_ms", "refinement_steps"}));
-    PENUMBRA_TRY(
-            apply_enum(j, p, "mode", s.mode, scene::parse_mode, "one of " + scene::mode_names()));
-    PENUMBRA_TRY(apply_enum(j, p, "compositing", s.compositing));
-    PENUMBRA_TRY(apply_enum(j, p, "stage", s.stage));
-    if (j.contains("size")) {
-        const json& size = j.at("size");
-        if (!size.is_array() || size.size() != 2) {
-            return field_error("invalid_value", p + "/size", "expected [width, height]");
-        }
-        auto w = integer(size[0], p + "/size/0", 1, limits.max_image_side);
-        auto h = integer(size[1], p + "/size/1", 1, limits.max_image_side);
-        if (!w || !h) {
-            return !w ? w.error() : h.error();
-        }
-        s.width = *w;
-        s.height = *h;
-    }
-    PENUMBRA_TRY(apply_table_settings(j, p, request));
-    PENUMBRA_TRY(
-            optional_member(j, p, "background", s.background, vec3_in(scene::setting::colour)));
-    PENUMBRA_TRY(optional_member(j, p, "phong", s.phong, boolean));
-    PENUMBRA_TRY(optional_member(j, p, "empty_space_skipping", s.empty_space_skipping, boolean));
-    PENUMBRA_TRY(optional_member(j, p, "jitter", s.jitter, boolean));
-    PENUMBRA_TRY(optional_member(j, p, "frame_budget_ms", frame_budget_ms,
-                                 in(scene::setting::frame_budget_ms)));
-    PENUMBRA_TRY(optional_member(j, p, "refinement_steps", refinement_steps,
-                                 whole_in(scene::setting::refinement_steps)));
-    if (j.contains("shading")) {
-        const json& sh = j.at("shading");
-        const std::string sp = p + "/shading";
-        PENUMBRA_TRY(expect_object(sh, sp));
-        PENUMBRA_TRY(only_fields_and_settings(sh, sp, {}));
-        PENUMBRA_TRY(apply_table_settings(sh, sp, request));
-    }
-    if (j.contains("light_buffer")) {
-        const json& lb = j.at("light_buffer");
-        const std::string lp = p + "/light_buffer";
-        PENUMBRA_TRY(expect_object(lb, lp));
-        PENUMBRA_TRY(
-                only_fields_and_settings(lb, lp, {"slices", "resolution", "builder", "lookup"}));
-        PENUMBRA_TRY(optional_member(lb, lp, "slices", s.light_buffer.slices,
-                                     int_range_of(1, limits.max_slices)));
-        PENUMBRA_TRY(optional_member(lb, lp, "resolution", s.light_buffer.resolution,
-                                     int_range_of(1, limits.max_light_resolution)));
-        PENUMBRA_TRY(apply_enum(lb, lp, "builder", s.light_buffer.builder));
-        PENUMBRA_TRY(apply_table_settings(lb, lp, request));
-        PENUMBRA_TRY(apply_enum(lb, lp, "lookup", s.light_buffer.lookup));
-    }
-    if (j.contains("scattering")) {
-        const json& sc = j.at("scattering");
-        const std::string cp = p + "/scattering";
-        PENUMBRA_TRY(expect_object(sc, cp));
-        PENUMBRA_TRY(only_fields_and_settings(sc, cp, {}));
-        PENUMBRA_TRY(apply_table_settings(sc, cp, request));
-    }
-    return base::Ok{};
-}
-
-base::Status apply_output(const json& j, const std::string& p, OutputOptions& output) {
-    PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"encoding", "jpeg_quality"}));
-    PENUMBRA_TRY(apply_enum(j, p, "encoding", output.encoding, encode::frame_format_named,
-                            encode::frame_format_names(", ", " or ")));
-    PENUMBRA_TRY(optional_member(j, p, "jpeg_quality", output.jpeg_quality,
-                                 whole_in(kJpegQualityRange)));
-    return base::Ok{};
-}
-
-json vec3_json(glm::dvec3 v) {
-    return json::array({v.x, v.y, v.z});
-}
-
 }  // namespace
 
 Patch::Patch(std::shared_ptr<const Document> document)
@@ -426,7 +381,7 @@ base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limit
             std::make_shared<const Patch::Document>(Patch::Document{std::move(parsed.value())}));
 }
 
-base::Status apply_patch(std::string_view patch_json, SessionState& state, const Limits& limits) {
+base::Status apply_patch(std::string_view patch_json, scene::State& state, const Limits& limits) {
     auto patch = parse_patch(patch_json, limits);
     if (!patch) {
         return patch.error();
@@ -434,42 +389,32 @@ base::Status apply_patch(std::string_view patch_json, SessionState& state, const
     return apply_patch(*patch, state, limits);
 }
 
-base::Status apply_patch(const Patch& parsed, SessionState& state, const Limits& limits) {
+base::Status apply_patch(const Patch& parsed, scene::State& state, const Limits& limits) {
     const json& patch = parsed.document().object;
-    PENUMBRA_TRY(
-            only_fields(patch, "", {"camera", "light", "transfer_function", "settings", "output"}));
-    SessionState next = state;
-    if (patch.contains("camera")) {
-        PENUMBRA_TRY(apply_camera(patch.at("camera"), "/camera", next.frame));
-    }
-    if (patch.contains("light")) {
-        PENUMBRA_TRY(apply_light(patch.at("light"), "/light", next.frame));
-    }
-    if (patch.contains("transfer_function")) {
-        auto tf = transfer_function_from(patch.at("transfer_function"), "/transfer_function",
-                                         std::nullopt);
-        if (!tf) {
-            return tf.error();
+    PENUMBRA_TRY(only_fields(patch, "", {"transfer_function"},
+                             [](const std::string& key) { return is_setting_or_part(key); }));
+    scene::State next = state;
+    for (const auto& [key, value] : patch.items()) {
+        if (key == "camera") {
+            PENUMBRA_TRY(apply_camera(value, "/camera", next, limits));
+        } else if (key == "transfer_function") {
+            auto tf = transfer_function_from(value, "/transfer_function", std::nullopt);
+            if (!tf) {
+                return tf.error();
+            }
+            next.frame.transfer_function = std::move(tf.value());
+        } else {
+            PENUMBRA_TRY(apply_object(value, "/" + key, next, limits));
         }
-        next.frame.transfer_function = std::move(tf.value());
     }
-    if (patch.contains("settings")) {
-        PENUMBRA_TRY(apply_settings(patch.at("settings"), "/settings", next.frame,
-                                    next.frame_budget_ms, next.refinement_steps, limits));
-    }
-    if (patch.contains("output")) {
-        PENUMBRA_TRY(apply_output(patch.at("output"), "/output", next.output));
-    }
-    if (auto status = scene::validate(next.frame, scene_limits(limits)); !status) {
+    if (auto status = scene::validate(next, scene_limits(limits)); !status) {
         // scene names fields with dots ("camera", "light.direction", "light_buffer.slices"); as
         // a pointer into the patch: "/camera", "/light/direction", "/settings/light_buffer/slices".
         const std::string& where = status.error().where;
-        const auto is_part = [&](std::string_view part) {
-            return where == part || where.starts_with(std::string(part) + ".");
-        };
-        const bool settings =
-                !is_part("camera") && !is_part("light") && !is_part("transfer_function");
-        std::string pointer = (settings ? "/settings/" : "/") + where;
+        const std::string part = where.substr(0, where.find('.'));
+        std::string pointer =
+                (is_setting_or_part(part) || part == "transfer_function" ? "/" : "/settings/") +
+                where;
         std::replace(pointer.begin(), pointer.end(), '.', '/');
         return field_error("invalid_value", pointer, status.error().message);
     }
@@ -482,7 +427,7 @@ namespace json_fields {
 json transfer_function_json(const scene::TransferFunction& tf) {
     json colors = json::array();
     for (const auto& c : tf.colors) {
-        colors.push_back({{"x", c.x}, {"rgb", vec3_json(c.rgb)}});
+        colors.push_back({{"x", c.x}, {"rgb", json::array({c.rgb.x, c.rgb.y, c.rgb.z})}});
     }
     json opacities = json::array();
     for (const auto& o : tf.opacities) {
@@ -494,52 +439,22 @@ json transfer_function_json(const scene::TransferFunction& tf) {
             {"opacities", std::move(opacities)}};
 }
 
+json state_json(const scene::State& state) {
+    json out = json::object();
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (setting->held()) {
+            out[json::json_pointer("/" + std::string(setting->path))] =
+                    value_json(*setting, setting->read(state));
+        }
+    }
+    out["transfer_function"] = transfer_function_json(state.frame.transfer_function);
+    return out;
+}
+
 }  // namespace json_fields
 
-std::string state_to_json(const SessionState& state) {
-    const scene::FrameRequest& f = state.frame;
-    const scene::RenderSettings& s = f.settings;
-    json out = {
-            {"camera",
-             {{"eye", vec3_json(f.camera.eye)},
-              {"target", vec3_json(f.camera.target)},
-              {"up", vec3_json(f.camera.up)}}},
-            {"light",
-             {{"type", scene::to_string(f.light.type)},
-              {"direction", vec3_json(f.light.direction)},
-              {"position", vec3_json(f.light.position)},
-              {"color", vec3_json(f.light.color)}}},
-            {"transfer_function", transfer_function_json(f.transfer_function)},
-            {"settings",
-             {{"mode", scene::to_string(s.mode)},
-              {"compositing", scene::to_string(s.compositing)},
-              {"stage", scene::to_string(s.stage)},
-              {"size", json::array({s.width, s.height})},
-              {"background", vec3_json(s.background)},
-              {"phong", s.phong},
-              {"empty_space_skipping", s.empty_space_skipping},
-              {"jitter", s.jitter},
-              {"frame_budget_ms", state.frame_budget_ms},
-              {"refinement_steps", state.refinement_steps},
-              {"light_buffer",
-               {{"slices", s.light_buffer.slices},
-                {"resolution", s.light_buffer.resolution},
-                {"builder", scene::to_string(s.light_buffer.builder)},
-                {"lookup", scene::to_string(s.light_buffer.lookup)}}}}},
-            {"output",
-             {{"encoding", encode::to_string(state.output.encoding)},
-              {"jpeg_quality", state.output.jpeg_quality}}},
-    };
-    // The table's settings that a request holds, each at its path.
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (range->read == nullptr) {
-            continue;
-        }
-        const double value = range->read(f);
-        json& member = out[json::json_pointer(pointer_of(*range))];
-        member = range->integer ? json(static_cast<int>(value)) : json(value);
-    }
-    return out.dump();
+std::string state_to_json(const scene::State& state) {
+    return state_json(state).dump();
 }
 
 base::Result<scene::TransferFunction> parse_transfer_function(

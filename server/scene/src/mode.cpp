@@ -1,4 +1,5 @@
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/setting_table.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -8,10 +9,6 @@
 
 namespace penumbra::scene {
 namespace {
-
-bool finite(glm::dvec3 v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 base::Error invalid(const std::string& field, const std::string& message) {
     return base::make_error("invalid_value", message, field);
@@ -90,57 +87,53 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
     if ((r.step > 0 || r.keep) && (!s.jitter || !is_ray_cast(s.mode))) {
         return invalid("refinement", "refinement needs a jittered ray-cast mode");
     }
-    const int max_image_side = limits.max_image_side;
-    if (s.width < 1 || s.height < 1 || s.width > max_image_side || s.height > max_image_side) {
-        return invalid("size", "image size must be within 1.." + std::to_string(max_image_side) +
-                                       " pixels per side");
-    }
-    const auto check_vec3 = [](glm::dvec3 v, const SettingRange& range) {
-        return range.contains(v.x) && range.contains(v.y) && range.contains(v.z);
-    };
-    for (const SettingRange* range : kSettingRanges) {
-        if (range->read != nullptr && !range->contains(range->read(request))) {
-            return invalid(field_name(range->field),
-                           std::string(range->field) + " must be " + range->describe());
+    for (const Setting* setting : kSettings) {
+        if (setting->in_frame()) {
+            if (auto status = validate_value(*setting, setting->read_frame(request), limits);
+                !status) {
+                return status;
+            }
         }
     }
-    if (!check_vec3(s.background, setting::colour)) {
-        return invalid("background",
-                       "background colour channels must be " + setting::colour.describe());
-    }
     const Camera& c = request.camera;
-    if (!check_vec3(c.eye, setting::coordinate) || !check_vec3(c.target, setting::coordinate) ||
-        !finite(c.up)) {
-        return invalid("camera", "camera eye and target coordinates must be " +
-                                         setting::coordinate.describe() + ", up finite");
-    }
     if (glm::length(c.target - c.eye) < 1e-9) {
         return invalid("camera", "camera eye and target must differ");
     }
     const Light& l = request.light;
-    if (!finite(l.direction) || !check_vec3(l.position, setting::coordinate)) {
-        return invalid("light", "light direction must be finite, its position " +
-                                        setting::coordinate.describe());
-    }
-    if (!check_vec3(l.color, setting::colour)) {
-        return invalid("light.color",
-                       "light colour channels must be " + setting::colour.describe());
-    }
     if (l.type == LightType::directional && glm::length(l.direction) < 1e-9) {
         return invalid("light.direction", "a directional light needs a non-zero direction");
     }
-    const LightBufferSettings& lb = s.light_buffer;
-    if (lb.slices < 1 || lb.slices > limits.max_slices) {
-        return invalid("light_buffer.slices", "slices must be within 1.." +
-                                                      std::to_string(limits.max_slices) +
-                                                      " (this GPU's array-texture layer limit)");
-    }
-    if (lb.resolution < 1 || lb.resolution > limits.max_light_resolution) {
-        return invalid("light_buffer.resolution",
-                       "light-buffer resolution must be within 1.." +
-                               std::to_string(limits.max_light_resolution));
-    }
     return validate(request.transfer_function);
+}
+
+base::Status validate_value(const Setting& setting, SettingValue value, const Limits& limits) {
+    const double max = setting.max_under(limits);
+    const auto within = [&](double component) {
+        return component >= setting.min && component <= max;
+    };
+    bool ok = true;
+    switch (setting.kind) {
+        case SettingKind::number:
+        case SettingKind::whole:
+        case SettingKind::boolean:
+        case SettingKind::choice:
+            ok = within(value.x);
+            break;
+        case SettingKind::vector:
+            ok = within(value.x) && within(value.y) && within(value.z);
+            break;
+        case SettingKind::size:
+            ok = within(value.x) && within(value.y);
+            break;
+    }
+    if (!ok) {
+        const bool components =
+                setting.kind == SettingKind::vector || setting.kind == SettingKind::size;
+        return invalid(field_name(setting.path), std::string(setting.path) +
+                                                         (components ? " components" : "") +
+                                                         " must be " + setting.describe(limits));
+    }
+    return base::Ok{};
 }
 
 }  // namespace penumbra::scene

@@ -1,12 +1,29 @@
 #include "penumbra/session/scheduler.hpp"
 
 #include <penumbra/base/log.hpp>
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/scene/setting_table.hpp>
 
 #include <algorithm>
 #include <future>
 
 namespace penumbra::session {
 namespace {
+
+// The protocol's JPEG quality is the scale encode writes at.
+static_assert(scene::setting::jpeg_quality.min == encode::kMinJpegQuality &&
+              scene::setting::jpeg_quality.max == encode::kMaxJpegQuality);
+
+// The codec that writes a session's frames in `format`.
+encode::ImageFormat image_format(scene::FrameFormat format) {
+    switch (format) {
+        case scene::FrameFormat::jpeg:
+            return encode::ImageFormat::jpeg;
+        case scene::FrameFormat::png:
+            return encode::ImageFormat::png;
+    }
+    return encode::ImageFormat::jpeg;
+}
 
 double milliseconds_between(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
@@ -350,25 +367,26 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     }
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.push_back(
-                {std::move(session),
-                 [this, frame, image, output = job.output, done = std::move(done)]() mutable {
-                     const Clock::time_point start = Clock::now();
-                     auto bytes = encode::encode_image(*image, output.format, output.jpeg_quality);
-                     if (!bytes) {
-                         failures_.add();
-                         done(FrameFailure{bytes.error(), frame->request_id});
-                         return;
-                     }
-                     frame->image = std::move(bytes.value());
-                     frame->encode_ms = milliseconds_between(start, Clock::now());
-                     encode_ms_.observe(frame->encode_ms);
-                     frames_.add();
-                     if (frame->refinement_step > 0) {
-                         refinement_frames_.add();
-                     }
-                     done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-                 }});
+        encode_queue_.push_back({std::move(session), [this, frame, image, output = job.output,
+                                                      done = std::move(done)]() mutable {
+                                     const Clock::time_point start = Clock::now();
+                                     auto bytes = encode::encode_image(*image,
+                                                                       image_format(output.format),
+                                                                       output.jpeg_quality);
+                                     if (!bytes) {
+                                         failures_.add();
+                                         done(FrameFailure{bytes.error(), frame->request_id});
+                                         return;
+                                     }
+                                     frame->image = std::move(bytes.value());
+                                     frame->encode_ms = milliseconds_between(start, Clock::now());
+                                     encode_ms_.observe(frame->encode_ms);
+                                     frames_.add();
+                                     if (frame->refinement_step > 0) {
+                                         refinement_frames_.add();
+                                     }
+                                     done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+                                 }});
     }
     encode_ready_.notify_one();
 }

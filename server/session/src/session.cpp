@@ -47,8 +47,8 @@ const SharedFrame::Bytes& SharedFrame::packed(const Packer& pack) const {
     return bytes_;
 }
 
-SessionState default_state(const std::string& transfer_function, const scene::Limits& limits) {
-    SessionState state;
+scene::State default_state(const std::string& transfer_function, const scene::Limits& limits) {
+    scene::State state;
     state.frame = scene::starting_frame(limits);
     auto tf = scene::preset(transfer_function);
     state.frame.transfer_function = tf ? *tf : scene::preset("grey_ramp").value();
@@ -87,13 +87,13 @@ bool OwnerTokens::proves(const std::string& session_id, std::string_view owner_t
 }
 
 Session::Session(std::string id, std::string volume_id,
-                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::shared_ptr<const volume::Volume> volume, scene::State state, ViewerId owner,
                  std::string client)
     : Session(std::move(id), std::move(volume_id), std::move(volume), std::move(state), owner,
               std::move(client), random_secret()) {}
 
 Session::Session(std::string id, std::string volume_id,
-                 std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+                 std::shared_ptr<const volume::Volume> volume, scene::State state, ViewerId owner,
                  std::string client, std::string owner_token)
     : id_(std::move(id))
     , volume_id_(std::move(volume_id))
@@ -116,12 +116,12 @@ bool Session::is_owner(ViewerId viewer) const {
     return owner_ == viewer;
 }
 
-SessionState Session::state() const {
+scene::State Session::state() const {
     const std::lock_guard lock(mutex_);
     return state_;
 }
 
-void Session::set_state(SessionState state, ViewerId changed_by) {
+void Session::set_state(scene::State state, ViewerId changed_by) {
     const std::lock_guard lock(mutex_);
     state_ = std::move(state);
     for (const auto& [viewer, sinks] : viewers_) {
@@ -131,16 +131,16 @@ void Session::set_state(SessionState state, ViewerId changed_by) {
     }
 }
 
-base::Status Session::change_state(ViewerId viewer, const StateChange& change) {
+base::Result<scene::State> Session::change_state(ViewerId viewer, const StateChange& change) {
     const std::lock_guard lock(mutex_);
     if (owner_ != viewer) {
         return base::make_error("invalid_message",
                                 "only the session's owner can change it; viewers who joined watch",
                                 "/type");
     }
-    SessionState next = state_;
+    scene::State next = state_;
     if (auto status = change(next); !status) {
-        return status;
+        return status.error();
     }
     state_ = std::move(next);
     for (const auto& [other, sinks] : viewers_) {
@@ -148,7 +148,7 @@ base::Status Session::change_state(ViewerId viewer, const StateChange& change) {
             sinks.state_changed(state_);
         }
     }
-    return base::Ok{};
+    return state_;
 }
 
 base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
@@ -245,7 +245,7 @@ void Session::render(Scheduler& scheduler, std::int64_t request_id, bool interac
 
 RenderJob Session::make_job(std::int64_t request_id, bool interactive,
                             const quality::Table* quality_table) const {
-    SessionState current = state();
+    scene::State current = state();
     std::string budget_note;
     if (current.frame_budget_ms > 0.0 && quality_table != nullptr) {
         const auto choice =
@@ -314,7 +314,7 @@ base::Status SessionRegistry::check_limits(ViewerId owner, const std::string& cl
 }
 
 base::Result<std::shared_ptr<Session>> SessionRegistry::create(
-        std::string volume_id, std::shared_ptr<const volume::Volume> volume, SessionState state,
+        std::string volume_id, std::shared_ptr<const volume::Volume> volume, scene::State state,
         ViewerId owner, const std::string& client, const Session* replacing) {
     const std::lock_guard lock(mutex_);
     if (auto allowed = check_limits(owner, client, replacing, "/volume"); !allowed) {
@@ -331,7 +331,7 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::create(
 
 base::Result<SessionRegistry::Recreated> SessionRegistry::recreate(
         const std::string& id, std::string_view owner_token, std::string volume_id,
-        std::shared_ptr<const volume::Volume> volume, SessionState state, ViewerId owner,
+        std::shared_ptr<const volume::Volume> volume, scene::State state, ViewerId owner,
         const std::string& client, const Session* replacing) {
     if (!owner_tokens_.derived()) {
         return base::make_error("unknown_session", "no session '" + id + "'", "/session");

@@ -3,6 +3,7 @@
 #include <penumbra/base/text.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
+#include <penumbra/scene/setting_table.hpp>
 
 #include <gtest/gtest.h>
 
@@ -83,9 +84,9 @@ TEST(Options, WholeNumbersAreCheckedAgainstTheirRange) {
     EXPECT_EQ(parse_options({"--repeat", "0"}, options).error().message, "must be within 1..100");
 }
 
-// Each numeric setting of the table has its option, named in the help with its range, which
-// sets it alone and refuses a value beyond the range naming the option. A row that the command
-// line leaves out fails here.
+// Each number of the table has its option, named in the help with its range, which sets it
+// alone and refuses a value beyond the range naming the option. A row that the command line leaves
+// out fails here.
 TEST(RenderOptions, EveryTableSettingIsAnOption) {
     const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
     // The help as one line: it wraps descriptions at its width.
@@ -97,28 +98,33 @@ TEST(RenderOptions, EveryTableSettingIsAnOption) {
             help += std::isspace(static_cast<unsigned char>(c)) ? ' ' : c;
         }
     }
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (range->write == nullptr) {
+    for (const scene::Setting* range : scene::kSettings) {
+        const bool numeric = range->kind == scene::SettingKind::number ||
+                             range->kind == scene::SettingKind::whole;
+        if (!numeric || !range->in_frame() || range->limit != nullptr ||
+            range->command_line != scene::CommandLine::option) {
             continue;
         }
         const std::string option = "--" + scene::option_name(*range);
         SCOPED_TRACE(option);
-        EXPECT_NE(help.find(option + (range->integer ? " N" : " X")), std::string::npos);
+        EXPECT_NE(help.find(option + (range->integer() ? " N" : " X")), std::string::npos);
         EXPECT_NE(help.find(range->describe()), std::string::npos);
         const double value =
-                range->integer ? range->max : range->min + 0.375 * (range->max - range->min);
+                range->integer() ? range->max : range->min + 0.375 * (range->max - range->min);
         char text[64];
         std::snprintf(text, sizeof text, "%.17g", value);
         auto args = parse_options({option, text}, frame_options());
         ASSERT_TRUE(args.ok()) << args.error().to_string();
         auto request = frame_request_from(*args, volume);
         ASSERT_TRUE(request.ok()) << request.error().to_string();
-        EXPECT_EQ(range->read(*request), value);
+        EXPECT_EQ(range->read_frame(*request).x, value);
         auto defaults = frame_request_from(*parse_options({}, frame_options()), volume);
         ASSERT_TRUE(defaults.ok());
-        EXPECT_NE(range->read(*defaults), value);
-        range->write(*defaults, value);
-        EXPECT_EQ(*defaults, *request);
+        EXPECT_NE(range->read_frame(*defaults).x, value);
+        scene::State state;
+        state.frame = *defaults;
+        range->write(state, scene::SettingValue(value, 0.0, 0.0));
+        EXPECT_EQ(state.frame, *request);
 
         std::snprintf(text, sizeof text, "%.17g", range->max + 1.0);
         auto beyond = parse_options({option, text}, frame_options());
@@ -128,6 +134,62 @@ TEST(RenderOptions, EveryTableSettingIsAnOption) {
         EXPECT_EQ(refused.error().where, option);
         EXPECT_NE(refused.error().message.find(range->describe()), std::string::npos);
     }
+}
+
+// Every other setting the command line takes from the table: a flag turns a boolean from its
+// default (`--phong`, `--no-empty-space-skipping`), a choice takes a name, a vector "x,y,z", a
+// size "WxH"; each sets its setting alone.
+TEST(RenderOptions, EveryBooleanChoiceVectorAndSizeIsAnOption) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    const auto defaults = frame_request_from(*parse_options({}, frame_options()), volume);
+    ASSERT_TRUE(defaults.ok());
+    int seen = 0;
+    for (const scene::Setting* row : scene::kSettings) {
+        const bool numeric =
+                row->kind == scene::SettingKind::number || row->kind == scene::SettingKind::whole;
+        if (numeric || !row->in_frame() || row->command_line != scene::CommandLine::option) {
+            continue;
+        }
+        const scene::SettingValue before = row->read_frame(*defaults);
+        scene::SettingValue wanted = before;
+        std::vector<std::string> args;
+        const std::string name = scene::option_name(*row);
+        switch (row->kind) {
+            case scene::SettingKind::boolean:
+                wanted.x = before.x != 0.0 ? 0.0 : 1.0;
+                args = {"--" + std::string(before.x != 0.0 ? "no-" : "") + name};
+                break;
+            case scene::SettingKind::choice:
+                wanted.x = before.x == 0.0 ? 1.0 : 0.0;
+                args = {"--" + name, std::string(row->choices[static_cast<std::size_t>(wanted.x)])};
+                break;
+            case scene::SettingKind::vector:
+                wanted = scene::SettingValue(0.25, 0.5, 0.75);
+                args = {"--" + name, "0.25,0.5,0.75"};
+                break;
+            case scene::SettingKind::size:
+                wanted = scene::SettingValue(40, 24, 0);
+                args = {"--" + name, "40x24"};
+                break;
+            case scene::SettingKind::number:
+            case scene::SettingKind::whole:
+                break;
+        }
+        SCOPED_TRACE(args.front());
+        auto parsed = parse_options(args, frame_options());
+        ASSERT_TRUE(parsed.ok()) << parsed.error().to_string();
+        auto request = frame_request_from(*parsed, volume);
+        ASSERT_TRUE(request.ok()) << request.error().to_string();
+        EXPECT_EQ(row->read_frame(*request), wanted);
+        scene::State state;
+        state.frame = *defaults;
+        row->write(state, wanted);
+        EXPECT_EQ(state.frame, *request);
+        ++seen;
+    }
+    // mode, compositing, stage, size, background, phong, empty-space skipping, jitter, builder,
+    // lookup and the light's colour at least.
+    EXPECT_GE(seen, 11);
 }
 
 TEST(RenderOptions, LightBufferRefinementsAreOptions) {

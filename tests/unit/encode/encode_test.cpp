@@ -64,28 +64,6 @@ TEST(Encode, RejectsBadQualityEmptyImagesAndGarbage) {
     EXPECT_FALSE(decode_image(truncated).ok());
 }
 
-// The frame formats' names are one table: each names its format both ways, and a frame written in
-// each decodes again.
-TEST(Encode, FrameFormatsAreNamedByTheirTable) {
-    for (const FrameFormat& row : kFrameFormats) {
-        SCOPED_TRACE(std::string(row.name));
-        EXPECT_EQ(frame_format_named(row.name), row.format);
-        EXPECT_EQ(std::string_view(to_string(row.format)), row.name);
-        auto bytes = encode_image(gradient_image(8, 8), row.format);
-        ASSERT_TRUE(bytes.ok()) << bytes.error().to_string();
-        EXPECT_TRUE(decode_image(*bytes).ok());
-    }
-    std::string listed;
-    for (const FrameFormat& row : kFrameFormats) {
-        listed += (listed.empty() ? "" : "|") + std::string(row.name);
-    }
-    EXPECT_EQ(frame_format_names("|", "|"), listed);
-    EXPECT_TRUE(frame_format_names(", ", " or ")
-                        .ends_with(" or " + std::string(kFrameFormats.back().name)));
-    EXPECT_EQ(frame_format_named("webp"), std::nullopt);
-    EXPECT_EQ(frame_format_named("JPEG"), std::nullopt);
-}
-
 TEST(Encode, WritesFilesByExtension) {
     const auto dir = std::filesystem::temp_directory_path() / "penumbra_encode_test";
     std::filesystem::create_directories(dir);

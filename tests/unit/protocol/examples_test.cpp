@@ -80,7 +80,7 @@ TEST(ProtocolExamples, ValidSetExamplesApplyToADefaultSession) {
         ASSERT_TRUE(request.ok());
         if (const auto* set = std::get_if<Set>(&request->message)) {
             SCOPED_TRACE(name);
-            SessionState state;
+            scene::State state;
             state.frame.transfer_function = scene::preset("grey_ramp").value();
             const auto status = apply_patch(set->patch, state, Limits{});
             EXPECT_TRUE(status.ok()) << status.error().to_string();
@@ -99,7 +99,7 @@ base::Status refusal(const std::string& text) {
     if (set == nullptr) {
         return base::Ok{};
     }
-    SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("grey_ramp").value();
     return apply_patch(set->patch, state, Limits{});
 }
@@ -141,7 +141,7 @@ TEST(ProtocolExamples, InvalidSetPatchesLeaveTheSessionUnchanged) {
         j.erase("v");
         j.erase("type");
         j.erase("id");
-        SessionState state;
+        scene::State state;
         state.frame.transfer_function = scene::preset("ct_bone").value();
         state.frame.settings.mode = scene::Mode::sbrc;
         const std::string before = state_to_json(state);

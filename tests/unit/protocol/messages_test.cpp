@@ -1,5 +1,6 @@
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>
@@ -55,14 +56,14 @@ TEST(ParseRequest, SetCarriesOnlyThePatch) {
             R"({"v":1,"type":"set","id":3,"light":{"intensity":2},"output":{"encoding":"png"}})",
             Limits{});
     ASSERT_TRUE(request.ok());
-    SessionState state;
+    scene::State state;
     ASSERT_TRUE(apply_patch(std::get<Set>(request->message).patch, state, Limits{}).ok());
-    SessionState expected;
+    scene::State expected;
     ASSERT_TRUE(apply_patch(R"({"light":{"intensity":2},"output":{"encoding":"png"}})", expected,
                             Limits{})
                         .ok());
     EXPECT_EQ(state_to_json(state), state_to_json(expected));
-    EXPECT_NE(state_to_json(state), state_to_json(SessionState{}));
+    EXPECT_NE(state_to_json(state), state_to_json(scene::State{}));
 }
 
 TEST(ParseRequest, AcceptsTheExtremeIds) {
@@ -95,7 +96,7 @@ base::Status parsed_then_applied(const std::string& text, const Limits& limits) 
         ADD_FAILURE() << "a set is not checked when it is parsed: " << request.error().to_string();
         return request.error();
     }
-    SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("grey_ramp").value();
     state.frame.settings.width = std::min(state.frame.settings.width, limits.max_image_side);
     state.frame.settings.height = std::min(state.frame.settings.height, limits.max_image_side);
@@ -220,13 +221,18 @@ TEST(ServerMessages, HelloDescribesEveryModeOfTheModeTable) {
 TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
     const json hello = json::parse(hello_message(Limits{}, {"llvmpipe", "4.5", "linux", true}));
     const json& ranges = hello.at("ranges");
-    ASSERT_EQ(ranges.size(), kAnnouncedRanges.size());
-    for (const scene::SettingRange* range : kAnnouncedRanges) {
-        SCOPED_TRACE(range->field);
-        const json& announced = ranges.at(std::string(range->field));
+    std::size_t announced_rows = 0;
+    for (const scene::Setting* range : scene::kSettings) {
+        if (!announces_range(*range)) {
+            EXPECT_FALSE(ranges.contains(std::string(range->path))) << range->path;
+            continue;
+        }
+        ++announced_rows;
+        SCOPED_TRACE(range->path);
+        const json& announced = ranges.at(std::string(range->path));
         EXPECT_EQ(announced.at("min").get<double>(), range->min);
         EXPECT_EQ(announced.at("max").get<double>(), range->max);
-        EXPECT_EQ(announced.at("integer").get<bool>(), range->integer);
+        EXPECT_EQ(announced.at("integer").get<bool>(), range->integer());
         // A client's hint for the setting's control; a row without a summary announces none.
         if (range->summary.empty()) {
             EXPECT_FALSE(announced.contains("summary"));
@@ -234,10 +240,11 @@ TEST(ServerMessages, HelloAnnouncesEverySettingsRangeOfTheTable) {
             EXPECT_EQ(announced.at("summary").get<std::string>(), range->summary);
         }
     }
+    EXPECT_EQ(ranges.size(), announced_rows);
     EXPECT_EQ(ranges.at("settings/light_buffer/slab_samples").at("max"), scene::kMaxSlabSamples);
     EXPECT_EQ(ranges.at("camera/fov").at("summary"), scene::setting::fov_degrees.summary);
-    EXPECT_EQ(ranges.at("output/jpeg_quality").at("min"), encode::kMinJpegQuality);
-    EXPECT_EQ(ranges.at("output/jpeg_quality").at("max"), encode::kMaxJpegQuality);
+    EXPECT_EQ(ranges.at("output/jpeg_quality").at("min"), scene::setting::jpeg_quality.min);
+    EXPECT_EQ(ranges.at("output/jpeg_quality").at("max"), scene::setting::jpeg_quality.max);
 }
 
 // The client offers and shows the presets from hello: each is what `{"preset": NAME}` sets, in
@@ -253,11 +260,11 @@ TEST(ServerMessages, HelloCarriesEveryPresetAsAStateHoldsIt) {
         EXPECT_EQ(presets[i].at("name"), names[i]);
         EXPECT_EQ(presets[i].at("space"), scene::to_string(expected.space));
 
-        SessionState by_name;
+        scene::State by_name;
         ASSERT_TRUE(apply_patch(json({{"transfer_function", {{"preset", names[i]}}}}).dump(),
                                 by_name, Limits{}));
         EXPECT_EQ(presets[i], json::parse(state_to_json(by_name)).at("transfer_function"));
-        SessionState by_points;
+        scene::State by_points;
         ASSERT_TRUE(
                 apply_patch(json({{"transfer_function", presets[i]}}).dump(), by_points, Limits{}));
         EXPECT_EQ(by_points.frame.transfer_function, expected);
@@ -344,14 +351,14 @@ TEST(ServerMessages, HelloAnnouncesTheFixedLimitsTheParserApplies) {
         const auto fits = parse_request(message.dump(), Limits{});
         ASSERT_TRUE(fits.ok()) << fits.error().to_string();
         if (type == Set::type) {
-            SessionState state;
+            scene::State state;
             EXPECT_TRUE(apply_patch(std::get<Set>(fits->message).patch, state, Limits{}));
         }
         message[json::json_pointer(pointer)] = std::string(n + 1, 'a');
         const auto too_long = parse_request(message.dump(), Limits{});
         if (type == Set::type) {
             ASSERT_TRUE(too_long.ok());
-            SessionState state;
+            scene::State state;
             const auto applied =
                     apply_patch(std::get<Set>(too_long->message).patch, state, Limits{});
             ASSERT_FALSE(applied);
@@ -366,28 +373,28 @@ TEST(ServerMessages, HelloAnnouncesTheFixedLimitsTheParserApplies) {
 }
 
 TEST(ServerMessages, OpenedAndJoinedCarryTheSessionStateAndOnlyOpenedTheOwnerToken) {
-    SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("mri_skin").value();
     VolumeSummary volume;
     volume.id = "colin27";
     const std::string state_json = state_to_json(state);
-    const json opened = json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff"));
+    const json opened = json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state, "00ff"));
     EXPECT_EQ(opened.at("type"), "opened");
     EXPECT_EQ(opened.at("state"), json::parse(state_json));
     EXPECT_EQ(opened.at("histogram"), json::array({1, 2, 3}));
     EXPECT_EQ(opened.at("owner_token"), "00ff");
     EXPECT_FALSE(opened.contains("recreated"));
     const json recreated =
-            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state_json, "00ff", true));
+            json::parse(opened_message(1, "s1", volume, {1, 2, 3}, state, "00ff", true));
     EXPECT_EQ(recreated.at("recreated"), true);
-    const json joined = json::parse(joined_message(1, "s1", volume, {}, state_json));
+    const json joined = json::parse(joined_message(1, "s1", volume, {}, state));
     EXPECT_EQ(joined.at("type"), "joined");
     EXPECT_EQ(joined.at("state"), json::parse(state_json));
     EXPECT_FALSE(joined.contains("owner_token"));
 }
 
 TEST(ParseRequest, EmptySpaceSkippingIsOnUntilASessionTurnsItOff) {
-    SessionState state;
+    scene::State state;
     EXPECT_TRUE(state.frame.settings.empty_space_skipping);
     ASSERT_TRUE(
             apply_patch(R"({"settings":{"empty_space_skipping":false}})", state, Limits{}).ok());
@@ -399,17 +406,36 @@ TEST(ParseRequest, EmptySpaceSkippingIsOnUntilASessionTurnsItOff) {
 }
 
 TEST(ServerMessages, StateCarriesTheSessionAndItsFullStateWithoutAnId) {
-    SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("ct_bone").value();
     state.frame.settings.mode = scene::Mode::dvr;
     const std::string state_json = state_to_json(state);
-    const json message = json::parse(state_message("s1", state_json));
+    const json message = json::parse(state_message("s1", state));
     EXPECT_EQ(message.at("v"), 1);
     EXPECT_EQ(message.at("type"), "state");
     EXPECT_EQ(message.at("session"), "s1");
     EXPECT_EQ(message.at("state"), json::parse(state_json));
     EXPECT_EQ(message.at("state").at("settings").at("mode"), "dvr");
     EXPECT_FALSE(message.contains("id"));
+}
+
+// A set is answered with the state as the server made it: an orbit's eye, a view's pose and a
+// preset's points as the server puts them, so a client keeps no rules of its own.
+TEST(ServerMessages, ASetIsAnsweredWithTheStateAsApplied) {
+    scene::State state;
+    ASSERT_TRUE(
+            apply_patch(
+                    R"({"camera":{"orbit":{"azimuth":90}},"transfer_function":{"preset":"ct_bone"}})",
+                    state, Limits{})
+                    .ok());
+    const json message = json::parse(set_ack_message(7, state));
+    EXPECT_EQ(message.at("type"), "ack");
+    EXPECT_EQ(message.at("of"), "set");
+    EXPECT_EQ(message.at("id"), 7);
+    EXPECT_EQ(message.at("state"), json::parse(state_to_json(state)));
+    EXPECT_GT(message.at("state").at("camera").at("eye").at(0).get<double>(), 1.0);
+    EXPECT_EQ(message.at("state").at("transfer_function").at("name"), "ct_bone");
+    EXPECT_TRUE(message.at("state").at("transfer_function").contains("opacities"));
 }
 
 }  // namespace

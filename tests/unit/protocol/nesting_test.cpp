@@ -65,7 +65,7 @@ TEST(JsonDepth, ASetNestedBeyondTheLimitIsOutOfRangeAtTheFirstContainerBeyondIt)
     // Depth 6 is allowed, so the value itself is judged, when the patch is applied.
     const auto within = parse_request(deep_set(4), limits);
     ASSERT_TRUE(within.ok()) << within.error().to_string();
-    SessionState state;
+    scene::State state;
     state.frame.transfer_function = scene::preset("grey_ramp").value();
     const auto applied = apply_patch(std::get<Set>(within->message).patch, state, limits);
     ASSERT_FALSE(applied.ok());
@@ -108,7 +108,7 @@ TEST(JsonDepth, HundredThousandLevelsAreRefusedWithoutCrashingASmallStack) {
         deepest_result = parse_request(deepest, large);
         within_size_result = parse_request(within_size, Limits{});
         id = request_id_of(deepest);
-        SessionState state;
+        scene::State state;
         patch_status =
                 apply_patch(R"({"camera":{"eye":)" + nested_arrays(100000) + "}}", state, large);
         auto tf = parse_transfer_function(R"({"colors":)" + nested_arrays(100000) + "}",

@@ -4,14 +4,14 @@
 // take their ranges from. A mode or a limit changed in one and not the other fails here.
 
 #include "examples.hpp"
-#include "schema_generator.hpp"
 
-#include <penumbra/encode/encode.hpp>
+#include <penumbra/codegen/schema_generator.hpp>
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/geometric.hpp>
@@ -67,7 +67,7 @@ const json& schema_node(const json& defs, std::string_view field) {
 TEST(SchemaAgreement, CommonSchemaIsGenerated) {
     const std::string committed = test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" /
                                                   "common.schema.json");
-    const auto generated = test::generated_common_schema(committed);
+    const auto generated = codegen::generated_common_schema(committed);
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
             << "proto/v1/common.schema.json differs from what the C++ tables make of it: run "
@@ -79,7 +79,7 @@ TEST(SchemaAgreement, CommonSchemaIsGenerated) {
 TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     const std::filesystem::path proto(PENUMBRA_PROTO_DIR);
     const std::string committed = test::read_text(proto / "README.md");
-    const auto generated = test::generated_readme(committed, proto / "v1");
+    const auto generated = codegen::generated_readme(committed, proto / "v1");
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
             << "proto/README.md's table of the client messages differs from their schemas: run "
@@ -95,18 +95,18 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     EXPECT_NE(generated->find("| `max_transfer_function_points` | " +
                               std::to_string(max_transfer_function_points) + " |"),
               std::string::npos);
-    const auto stale = test::generated_readme(std::string(test::kTableBegin) + "\n" +
-                                                      std::string(test::kTableEnd) +
-                                                      "\n| `max_slices` | 7 | slices |\n",
-                                              proto / "v1");
+    const auto stale = codegen::generated_readme(std::string(codegen::kTableBegin) + "\n" +
+                                                         std::string(codegen::kTableEnd) +
+                                                         "\n| `max_slices` | 7 | slices |\n",
+                                                 proto / "v1");
     ASSERT_TRUE(stale.ok()) << stale.error().to_string();
     EXPECT_TRUE(stale->ends_with("| `max_slices` | " + std::to_string(limits.max_slices) +
                                  " | slices |\n"));
     // §5's last column states what a new session starts from, and the JPEG quality's range cell
     // the one the parser holds a patch to, whatever the committed cells say.
     const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
-    const auto settings = test::generated_readme(
-            std::string(test::kTableBegin) + "\n" + std::string(test::kTableEnd) +
+    const auto settings = codegen::generated_readme(
+            std::string(codegen::kTableBegin) + "\n" + std::string(codegen::kTableEnd) +
                     "\n**`settings`**\n\n| `mode` | string | a mode | `dvr` |\n| `phong` | "
                     "boolean | | |\n\n**`output`**\n\n| `jpeg_quality` | int | 2..7 | 7 |\n",
             proto / "v1");
@@ -117,9 +117,11 @@ TEST(SchemaAgreement, ReadmeMessageTableIsGenerated) {
     EXPECT_NE(settings->find(std::string("| `phong` | boolean | | `") +
                              (start.settings.phong ? "true" : "false") + "` |"),
               std::string::npos);
-    EXPECT_NE(settings->find("| `jpeg_quality` | int | " + std::to_string(encode::kMinJpegQuality) +
-                             ".." + std::to_string(encode::kMaxJpegQuality) + " | " +
-                             std::to_string(encode::kDefaultFrameJpegQuality) + " |"),
+    EXPECT_NE(settings->find("| `jpeg_quality` | int | " +
+                             std::to_string(static_cast<int>(scene::setting::jpeg_quality.min)) +
+                             ".." +
+                             std::to_string(static_cast<int>(scene::setting::jpeg_quality.max)) +
+                             " | " + std::to_string(scene::kDefaultFrameJpegQuality) + " |"),
               std::string::npos);
 }
 
@@ -133,30 +135,57 @@ json names_in_table() {
 }
 
 // A setting added to the table reaches the schema with nothing written by hand: from a schema
-// without it, the generator makes its node, its limits and its place in the state.
-TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
-    const auto generated = test::generated_common_schema(
+// without it, the generator makes its node (by its kind: a range, a boolean, names, a vector's or
+// a size's items), and its place in the state.
+TEST(SchemaAgreement, GeneratorWritesEverySettingFromTheTable) {
+    const auto generated = codegen::generated_common_schema(
             R"({"$defs": {"state": {"properties": {"camera": {"allOf": [{}, {}]},
-               "light": {"allOf": [{}, {}]}, "settings": {"allOf": [{}, {}]}}}}})");
+               "light": {"allOf": [{}, {}]}, "settings": {"allOf": [{}, {}]},
+               "output": {"allOf": [{}, {}]}}}}})");
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     const json defs = json::parse(*generated).at("$defs");
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        SCOPED_TRACE(std::string(range->field));
-        const json& node = schema_node(defs, range->field);
-        EXPECT_EQ(node.at("minimum").get<double>(), range->min);
-        EXPECT_EQ(node.at("maximum").get<double>(), range->max);
-        EXPECT_EQ(node.at("type"), range->integer ? "integer" : "number");
-        if (!range->summary.empty()) {
-            EXPECT_EQ(node.at("description"), range->summary);
+    const scene::Limits limits = scene_limits(Limits{});
+    for (const scene::Setting* setting : scene::kSettings) {
+        SCOPED_TRACE(std::string(setting->path));
+        const json& node = schema_node(defs, setting->path);
+        const double max = setting->max_under(limits);
+        switch (setting->kind) {
+            case scene::SettingKind::number:
+            case scene::SettingKind::whole:
+                EXPECT_EQ(node.at("minimum").get<double>(), setting->min);
+                EXPECT_EQ(node.at("maximum").get<double>(), max);
+                EXPECT_EQ(node.at("type"), setting->integer() ? "integer" : "number");
+                break;
+            case scene::SettingKind::boolean:
+                EXPECT_EQ(node.at("type"), "boolean");
+                break;
+            case scene::SettingKind::choice:
+                EXPECT_EQ(
+                        node.at("enum").get<std::vector<std::string>>(),
+                        std::vector<std::string>(setting->choices.begin(), setting->choices.end()));
+                break;
+            case scene::SettingKind::vector:
+            case scene::SettingKind::size: {
+                const int count = setting->kind == scene::SettingKind::vector ? 3 : 2;
+                EXPECT_EQ(node.at("minItems"), count);
+                EXPECT_EQ(node.at("maxItems"), count);
+                EXPECT_EQ(node.at("items").at("minimum").get<double>(), setting->min);
+                EXPECT_EQ(node.at("items").at("maximum").get<double>(), max);
+                EXPECT_EQ(node.at("items").at("type"), setting->integer() ? "integer" : "number");
+                break;
+            }
+        }
+        if (!setting->summary.empty()) {
+            EXPECT_TRUE(node.at("description").get<std::string>().starts_with(setting->summary));
         }
     }
     // Each setting that a state holds is required there, where the state's part lists them.
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        if (range->read == nullptr) {
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (!setting->held()) {
             continue;
         }
-        SCOPED_TRACE(std::string(range->field));
-        const std::string field(range->field);
+        SCOPED_TRACE(std::string(setting->path));
+        const std::string field(setting->path);
         const std::size_t part_end = field.find('/');
         const std::size_t leaf_start = field.rfind('/') + 1;
         const json* node =
@@ -192,7 +221,7 @@ TEST(SchemaAgreement, GeneratorWritesEveryRangeFromTheTable) {
 // and the maxima hello.limits announces for a server configured with nothing else; and the names
 // of the formats frames are written in.
 TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
-    const auto generated = test::generated_common_schema(R"({"$defs": {}})");
+    const auto generated = codegen::generated_common_schema(R"({"$defs": {}})");
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     const json defs = json::parse(*generated).at("$defs");
     const json& orbit = schema_node(defs, "camera/orbit").at("properties");
@@ -203,20 +232,18 @@ TEST(SchemaAgreement, GeneratorWritesTheDefaults) {
     EXPECT_LT(glm::length(from_defaults.eye - scene::Camera{}.eye), 1e-12);
     const Limits limits;
     EXPECT_EQ(schema_node(defs, "settings/size").at("items").at("maximum"), limits.max_image_side);
-    json encodings = json::array();
-    for (const encode::FrameFormat& format : encode::kFrameFormats) {
-        encodings.push_back(format.name);
-    }
-    EXPECT_EQ(defs.at("encoding").at("enum"), encodings);
+    EXPECT_EQ(defs.at("encoding").at("enum").get<std::vector<std::string>>(),
+              std::vector<std::string>(scene::setting::encoding.choices.begin(),
+                                       scene::setting::encoding.choices.end()));
     EXPECT_EQ(schema_node(defs, "settings/light_buffer/slices").at("maximum"), limits.max_slices);
     EXPECT_EQ(schema_node(defs, "settings/light_buffer/resolution").at("maximum"),
               limits.max_light_resolution);
 }
 
 TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
-    EXPECT_FALSE(test::generated_common_schema("[1, 2]").ok());
-    EXPECT_FALSE(test::generated_common_schema("{\"$defs\": 1}").ok());
-    EXPECT_FALSE(test::generated_common_schema("{").ok());
+    EXPECT_FALSE(codegen::generated_common_schema("[1, 2]").ok());
+    EXPECT_FALSE(codegen::generated_common_schema("{\"$defs\": 1}").ok());
+    EXPECT_FALSE(codegen::generated_common_schema("{").ok());
 }
 
 // One member as parse_request reads it and as the schema's `request` part states it: required
@@ -283,12 +310,12 @@ TEST(SchemaAgreement, ClientMessageMembersAreTheirSchemasProperties) {
 TEST(SchemaAgreement, HelloSchemaIsGenerated) {
     const std::string committed =
             test::read_text(std::filesystem::path(PENUMBRA_PROTO_DIR) / "v1" / "hello.schema.json");
-    const auto generated = test::generated_hello_schema(committed);
+    const auto generated = codegen::generated_hello_schema(committed);
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
             << "proto/v1/hello.schema.json differs from what the C++ tables make of it: run "
                "scripts/update-schema.sh";
-    const json written = json::parse(*test::generated_hello_schema(R"({"title": "hello"})"));
+    const json written = json::parse(*codegen::generated_hello_schema(R"({"title": "hello"})"));
     const json& item = written.at("properties").at("modes").at("items").at("properties");
     EXPECT_EQ(item.at("technique").at("enum"), names_in_table<scene::Technique>());
     EXPECT_EQ(item.at("gradients").at("enum"), names_in_table<scene::Gradients>());
@@ -305,13 +332,13 @@ TEST(SchemaAgreement, HelloSchemaIsGenerated) {
               max_transfer_function_points);
     EXPECT_EQ(limits.at("max_hounsfield_position").at("default").get<double>(),
               scene::max_hounsfield_position);
-    EXPECT_FALSE(test::generated_hello_schema("[1]").ok());
+    EXPECT_FALSE(codegen::generated_hello_schema("[1]").ok());
 }
 
 // What the transfer function's schema restates of C++: the preset names, the position spaces, the
 // most points, the longest name and how far a Hounsfield position reaches.
 TEST(SchemaAgreement, GeneratorWritesTheTransferFunctionsNamesAndLimits) {
-    const auto generated = test::generated_common_schema(R"({"$defs": {}})");
+    const auto generated = codegen::generated_common_schema(R"({"$defs": {}})");
     ASSERT_TRUE(generated.ok()) << generated.error().to_string();
     const json defs = json::parse(*generated).at("$defs");
     EXPECT_EQ(defs.at("preset").at("enum").get<std::vector<std::string>>(), scene::preset_names());
@@ -354,18 +381,17 @@ void collect_bounded(const json& node, const std::string& field, std::set<std::s
 TEST(SchemaAgreement, EveryBoundedSettingInTheSchemaHasARange) {
     const json defs = schema("common.schema.json").at("$defs");
     std::set<std::string> bounded;
-    for (const char* part : {"camera", "light", "settings"}) {
+    for (const char* part : {"camera", "light", "settings", "output"}) {
         collect_bounded(defs.at(part), part, bounded);
     }
-    // Bounded by the device and the server's configuration, announced in hello.limits.
-    bounded.erase("settings/light_buffer/slices");
-    bounded.erase("settings/light_buffer/resolution");
     std::set<std::string> table;
-    for (const scene::SettingRange* range : scene::kSettingRanges) {
-        table.emplace(range->field);
+    for (const scene::Setting* setting : scene::kSettings) {
+        const bool bounded_kind = setting->kind == scene::SettingKind::number ||
+                                  setting->kind == scene::SettingKind::whole;
+        if (bounded_kind && setting->path.find('/') != std::string_view::npos) {
+            table.emplace(setting->path);
+        }
     }
-    table.erase("vec3");
-    table.erase("rgb");
     EXPECT_EQ(bounded, table);
 }
 
@@ -377,7 +403,7 @@ TEST(SchemaAgreement, TheWebClientsRecordedHelloIsTheServers) {
             std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() / "client_web" / "test" /
             "fixtures" / "server_messages.jsonl";
     const std::string committed = test::read_text(recorded_file);
-    const auto generated = test::generated_recorded_hello(committed);
+    const auto generated = codegen::generated_recorded_hello(committed);
     ASSERT_TRUE(generated) << generated.error().to_string();
     EXPECT_TRUE(*generated == committed)
             << recorded_file << " records a hello that is not the server's: run "
@@ -385,7 +411,7 @@ TEST(SchemaAgreement, TheWebClientsRecordedHelloIsTheServers) {
 }
 
 TEST(SchemaAgreement, TheRecordedHelloIsRewrittenAsTheServerSendsIt) {
-    const auto stale = test::generated_recorded_hello(
+    const auto stale = codegen::generated_recorded_hello(
             "{\"ranges\":{},\"renderer\":{\"renderer\":\"r\"},\"type\":\"hello\",\"v\":1}\n"
             "{\"type\":\"opened\"}\n");
     ASSERT_TRUE(stale) << stale.error().to_string();
@@ -394,22 +420,22 @@ TEST(SchemaAgreement, TheRecordedHelloIsRewrittenAsTheServerSendsIt) {
     sent["renderer"] = {{"renderer", "r"}};
     EXPECT_EQ(hello, sent);
     EXPECT_EQ(stale->substr(stale->find('\n')), "\n{\"type\":\"opened\"}\n");
-    EXPECT_FALSE(test::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
+    EXPECT_FALSE(codegen::generated_recorded_hello("{\"type\":\"opened\"}\n").ok());
 }
 
 // The web client's names and views are the server's: a name, a format or a view pose changed in C++
 // changes the module the script writes, and the committed one must follow.
 TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
     const std::filesystem::path file = std::filesystem::path(PENUMBRA_PROTO_DIR).parent_path() /
-                                       "client_web" / test::kClientTablesPath;
+                                       "client_web" / codegen::kClientTablesPath;
     ASSERT_TRUE(std::filesystem::exists(file)) << file << ": run scripts/update-schema.sh";
-    EXPECT_TRUE(test::generated_client_tables() == test::read_text(file))
+    EXPECT_TRUE(codegen::generated_client_tables() == test::read_text(file))
             << file << " differs from what the C++ tables make of it: run "
             << "scripts/update-schema.sh";
     // What the method panel shows before a session's state arrives: a new session's settings.
     const Limits limits;
     const scene::FrameRequest start = scene::starting_frame(scene_limits(limits));
-    const std::string text = test::generated_client_tables();
+    const std::string text = codegen::generated_client_tables();
     const std::size_t settings = text.find("export const DEFAULT_SETTINGS = {\n");
     ASSERT_NE(settings, std::string::npos);
     for (const std::string& member :
@@ -424,11 +450,12 @@ TEST(SchemaAgreement, TheWebClientsServerTablesAreGenerated) {
     }
     const std::size_t output = text.find("export const DEFAULT_OUTPUT = {\n");
     ASSERT_NE(output, std::string::npos);
-    EXPECT_NE(text.find("  encoding: '" + std::string(encode::kFrameFormats.front().name) + "',\n",
-                        output),
-              std::string::npos);
     EXPECT_NE(
-            text.find("  jpeg_quality: " + std::to_string(encode::kDefaultFrameJpegQuality) + ",\n",
+            text.find("  encoding: '" + std::string(scene::name_of(scene::FrameFormat{})) + "',\n",
+                      output),
+            std::string::npos);
+    EXPECT_NE(
+            text.find("  jpeg_quality: " + std::to_string(scene::kDefaultFrameJpegQuality) + ",\n",
                       output),
             std::string::npos);
 }
@@ -467,11 +494,9 @@ glm::dvec3 generated_vec3(const std::string& text) {
 }
 
 TEST(SchemaAgreement, TheClientTablesHoldTheServersNamesAndViews) {
-    const std::string text = test::generated_client_tables();
-    std::vector<std::string> encodings;
-    for (const encode::FrameFormat& format : encode::kFrameFormats) {
-        encodings.emplace_back(format.name);
-    }
+    const std::string text = codegen::generated_client_tables();
+    const std::vector<std::string> encodings(scene::setting::encoding.choices.begin(),
+                                             scene::setting::encoding.choices.end());
     EXPECT_EQ(generated_list(text, "ENCODINGS"), encodings);
     EXPECT_EQ(generated_list(text, "COMPOSITINGS"), table_names<scene::Compositing>());
     EXPECT_EQ(generated_list(text, "STAGES"), table_names<scene::RaycastStage>());

@@ -60,20 +60,20 @@ std::vector<std::string> text_messages() {
     out.push_back(volumes_message(1, {colin, ct, floats, unloaded}));
     out.push_back(volumes_message(std::nullopt, {}));
 
-    std::vector<std::string> states;
+    std::vector<scene::State> states;
     for (const auto& name : scene::preset_names()) {
-        SessionState state;
+        scene::State state;
         state.frame.transfer_function = scene::preset(name).value();
-        states.push_back(state_to_json(state));
+        states.push_back(state);
     }
-    states.push_back(state_to_json(SessionState{}));
+    states.emplace_back();
     for (const auto& example : test::valid_examples()) {
         const auto request = parse_request(example.text, Limits{});
         if (request.ok() && std::holds_alternative<Set>(request->message)) {
-            SessionState state;
+            scene::State state;
             state.frame.transfer_function = scene::preset("grey_ramp").value();
             EXPECT_TRUE(apply_patch(std::get<Set>(request->message).patch, state, Limits{}).ok());
-            states.push_back(state_to_json(state));
+            states.push_back(state);
         }
     }
     std::vector<std::uint64_t> histogram(256, 7);
@@ -91,10 +91,14 @@ std::vector<std::string> text_messages() {
         out.push_back(state_message("s" + std::to_string(i), states[i]));
     }
 
-    for (const char* of : {"set", "close"}) {
+    for (const char* of : {"close"}) {
         out.push_back(ack_message(5, of));
         out.push_back(ack_message(std::nullopt, of));
     }
+    for (const scene::State& state : states) {
+        out.push_back(set_ack_message(5, state));
+    }
+    out.push_back(set_ack_message(std::nullopt, states.front()));
     for (const char* c :
          {code::malformed_json, code::invalid_message, code::unknown_type, code::unknown_field,
           code::unsupported_version, code::invalid_value, code::out_of_range,
@@ -111,7 +115,7 @@ std::vector<std::string> text_messages() {
             out.push_back(error_message(request_id_of(example.text), request.error()));
             continue;
         }
-        SessionState state;
+        scene::State state;
         state.frame.transfer_function = scene::preset("grey_ramp").value();
         const auto applied = apply_patch(std::get<Set>(request->message).patch, state, Limits{});
         EXPECT_FALSE(applied.ok()) << example.name;

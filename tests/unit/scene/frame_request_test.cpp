@@ -1,7 +1,9 @@
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/setting_table.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <set>
@@ -54,7 +56,7 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
             {"opacity_unit_distance",
              [](FrameRequest& r) { r.settings.opacity_unit_distance = -1.0; }},
             {"early_termination", [](FrameRequest& r) { r.settings.early_termination = 1.5; }},
-            {"camera",
+            {"camera.eye",
              [](FrameRequest& r) { r.camera.eye.x = std::numeric_limits<double>::quiet_NaN(); }},
             {"camera", [](FrameRequest& r) { r.camera.target = r.camera.eye; }},
             {"camera.fov", [](FrameRequest& r) { r.camera.fov_y_degrees = 180.0; }},
@@ -143,7 +145,7 @@ TEST(EnumNames, TheCoverageCheckRefusesGaps) {
 // validate's limits are the setting ranges: each end is accepted, a step beyond it refused.
 TEST(FrameRequest, ValidateAcceptsExactlyTheSettingRanges) {
     struct Case {
-        const SettingRange& range;
+        const Setting& range;
         std::function<void(FrameRequest&, double)> set;
     };
 
@@ -164,8 +166,8 @@ TEST(FrameRequest, ValidateAcceptsExactlyTheSettingRanges) {
              [](FrameRequest& r, double v) { r.settings.scattering.cone_angle_degrees = v; }},
     };
     for (const Case& c : cases) {
-        SCOPED_TRACE(std::string(c.range.field));
-        const double step = c.range.integer ? 1.0 : c.range.max * 1e-3;
+        SCOPED_TRACE(std::string(c.range.path));
+        const double step = c.range.integer() ? 1.0 : c.range.max * 1e-3;
         for (const double inside : {c.range.min, c.range.max}) {
             FrameRequest request;
             c.set(request, inside);
@@ -177,6 +179,66 @@ TEST(FrameRequest, ValidateAcceptsExactlyTheSettingRanges) {
             EXPECT_FALSE(validate(request).ok()) << outside;
         }
     }
+}
+
+// Every setting a state holds, of every kind, is checked by its row: each component at either end
+// of its range is accepted, a step beyond either end refused, naming the setting (a choice beyond
+// its last name too; a boolean has no value beyond its two).
+TEST(State, ValidateHoldsEverySettingToItsRow) {
+    const Limits limits;
+    for (const Setting* row : kSettings) {
+        if (!row->held()) {
+            continue;
+        }
+        SCOPED_TRACE(std::string(row->path));
+        const double max = row->max_under(limits);
+        const double step = row->integer() || row->kind == SettingKind::choice
+                                    ? 1.0
+                                    : std::max(1e-6, (max - row->min) * 1e-3);
+        const auto with = [&](double component) {
+            State state;
+            state.frame.camera.eye = {0.0, 3.0, 0.0};
+            state.frame.light.direction = {0.0, 0.0, 1.0};
+            // Every component at the value, so that a vector or a size is at its end.
+            row->write(state, SettingValue(component));
+            return state;
+        };
+        // The camera's eye and target must differ, and a directional light needs a direction.
+        const bool degenerate_at_zero = row == &setting::camera_eye ||
+                                        row == &setting::camera_target ||
+                                        row == &setting::light_direction;
+        for (const double inside : {row->min, max}) {
+            const State state = with(inside);
+            if (degenerate_at_zero && inside == 0.0) {
+                continue;
+            }
+            EXPECT_TRUE(validate(state, limits).ok()) << inside;
+        }
+        if (row->kind == SettingKind::boolean) {
+            continue;
+        }
+        for (const double outside : {row->min - step, max + step}) {
+            const auto status = validate(with(outside), limits);
+            ASSERT_FALSE(status.ok()) << outside;
+            std::string field(row->path.starts_with("settings/") ? row->path.substr(9) : row->path);
+            std::replace(field.begin(), field.end(), '/', '.');
+            EXPECT_EQ(status.error().where, field);
+        }
+    }
+}
+
+// A choice's names are its enum's, in order; the frame formats are named both ways.
+TEST(State, ChoicesAreTheirEnumsNames) {
+    EXPECT_EQ(setting::encoding.choices.size(), kFrameFormatNames.size());
+    for (const EnumName<FrameFormat>& row : kFrameFormatNames) {
+        EXPECT_EQ(setting::encoding.choices[static_cast<std::size_t>(row.value)], row.name);
+        EXPECT_EQ(parse_name<FrameFormat>(row.name), row.value);
+    }
+    EXPECT_EQ(setting::mode.choices.size(), kModes.size());
+    EXPECT_EQ(setting::mode.choices.back(), "reference");
+    EXPECT_EQ(setting::mode.choice_summaries.front(), kModes.front().summary);
+    EXPECT_EQ(choice_list(setting::compositing, ", ", " or "), "alpha or extinction");
+    EXPECT_EQ(parse_name<FrameFormat>("JPEG"), std::nullopt);
 }
 
 // What the planner and the work estimate read from the table: the light buffer for the sbrc

@@ -73,7 +73,7 @@ protected:
         RenderJob job;
         job.request.settings.width = ms;
         job.request.settings.height = 1;
-        job.output.format = encode::ImageFormat::png;
+        job.output.format = scene::FrameFormat::png;
         scheduler_->submit(session, std::move(job),
                            [promise](Outcome outcome) { promise->set_value(std::move(outcome)); });
         return future;

@@ -90,7 +90,7 @@ struct RecordingScheduler {
         RenderJob job;
         job.request.settings.width = ms;
         job.request.settings.height = name;
-        job.output.format = encode::ImageFormat::png;
+        job.output.format = scene::FrameFormat::png;
         job.client = client;
         scheduler->submit(session, std::move(job), [promise](FrameOutcome outcome) {
             promise->set_value({std::move(outcome), Clock::now()});
@@ -168,7 +168,7 @@ TEST(SchedulerFairness, ClientsTakeTurnsBeforeTheSessionsOfOneClientDo) {
         RenderJob job;
         job.request.settings.width = ms;
         job.request.settings.height = name;
-        job.output.format = encode::ImageFormat::png;
+        job.output.format = scene::FrameFormat::png;
         job.client = client;
         scheduler.submit(session, std::move(job), [promise](auto) { promise->set_value(); });
     };

@@ -90,7 +90,7 @@ protected:
         RenderJob job;
         job.request.settings.width = chunks;
         job.request.settings.height = name;
-        job.output.format = encode::ImageFormat::png;
+        job.output.format = scene::FrameFormat::png;
         job.client = client;
         job.interactive = interactive;
         job.refinement_steps = refinement_steps;

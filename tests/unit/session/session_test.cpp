@@ -50,8 +50,8 @@ std::unique_ptr<Scheduler> idle_scheduler(metrics::Registry& metrics) {
     return created.ok() ? std::move(created.value()) : nullptr;
 }
 
-SessionState state_with_mode(scene::Mode mode) {
-    SessionState state;
+scene::State state_with_mode(scene::Mode mode) {
+    scene::State state;
     state.frame.settings.mode = mode;
     return state;
 }
@@ -61,7 +61,7 @@ struct Heard {
     std::vector<std::string> events;
 
     StateSink sink(const std::string& what) {
-        return [this, what](const SessionState& state) {
+        return [this, what](const scene::State& state) {
             events.push_back(what + ":" + scene::to_string(state.frame.settings.mode));
         };
     }
@@ -203,7 +203,7 @@ TEST(Session, AFrameTheRendererRefusesAnswersItsRequestId) {
             },
             {}, metrics);
     ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
-    auto session = std::make_shared<Session>("s", "v", nullptr, SessionState{}, owner);
+    auto session = std::make_shared<Session>("s", "v", nullptr, scene::State{}, owner);
     std::mutex mutex;
     std::condition_variable heard_all;
     std::vector<std::pair<ViewerId, std::string>> heard;
@@ -237,14 +237,14 @@ TEST(Session, OnlyTheOwnerChangesTheStateAndAFailedChangeLeavesItAsItWas) {
     Heard by_viewer;
     ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
     ASSERT_TRUE(session.add_viewer(first_viewer, {}, by_viewer.sink("changed"), {}));
-    const auto to_dvr = [](SessionState& state) {
+    const auto to_dvr = [](scene::State& state) {
         state.frame.settings.mode = scene::Mode::dvr;
         return base::Status(base::Ok{});
     };
     const auto refused = session.change_state(first_viewer, to_dvr);
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().code, "invalid_message");
-    const auto failed = session.change_state(owner, [](SessionState& state) {
+    const auto failed = session.change_state(owner, [](scene::State& state) {
         state.frame.settings.mode = scene::Mode::phong;
         return base::Status(base::make_error("invalid_value", "no", "/settings"));
     });

@@ -51,6 +51,153 @@ export const DEFAULT_CAMERA_DISTANCE = 2.6;
 /** The default camera's vertical field of view, in degrees. */
 export const DEFAULT_FOV = 30;
 
+/** A point or a direction in world space (RAS), or a colour's channels. */
+export type Vec3 = [number, number, number];
+/** An image's width and height in pixels. */
+export type Size = [number, number];
+
+/**
+ * Every setting a session's state holds, by its path: its kind, its range (each component's; `limited`:
+ * bounded by hello.limits instead, at its default here) or its names, and what it does.
+ */
+export const SETTINGS = {
+  'camera/eye': { kind: 'vector', min: -1000, max: 1000, summary: "camera position" },
+  'camera/target': { kind: 'vector', min: -1000, max: 1000, summary: "the point the camera looks at" },
+  'camera/up': { kind: 'vector', min: -1000, max: 1000, summary: "the camera's up direction" },
+  'camera/fov': { kind: 'number', min: 1, max: 170, summary: "vertical field of view in degrees" },
+  'light/type': { kind: 'choice', choices: ['directional', 'point'], summary: "a directional light, or a point light" },
+  'light/direction': { kind: 'vector', min: -1000, max: 1000, summary: "toward a directional light; not zero for one" },
+  'light/position': { kind: 'vector', min: -1000, max: 1000, summary: "a point light's position" },
+  'light/color': { kind: 'vector', min: 0, max: 1, summary: "light colour" },
+  'light/intensity': { kind: 'number', min: 0, max: 100, summary: "light intensity" },
+  'light/ambient': { kind: 'number', min: 0, max: 1, summary: "ambient light, a fraction of the light colour" },
+  'settings/mode': { kind: 'choice', choices: ['dvr', 'phong', 'half_angle', 'sbrc', 'sbrc_shell', 'sbrc_cone', 'reference'], summary: "rendering mode" },
+  'settings/compositing': { kind: 'choice', choices: ['alpha', 'extinction'], summary: "compositing" },
+  'settings/stage': { kind: 'choice', choices: ['compute', 'fragment'], summary: "where the ray caster runs" },
+  'settings/size': { kind: 'size', min: 1, max: 2048, limited: true, summary: "image size" },
+  'settings/sample_distance': { kind: 'number', min: 6.103515625e-05, max: 2, summary: "ray step, unit = the volume's longest side" },
+  'settings/opacity_unit_distance': { kind: 'number', min: 0.0001, max: 1, summary: "distance the TF opacity refers to" },
+  'settings/early_termination': { kind: 'number', min: 0.01, max: 1, summary: "stop a ray once its opacity reaches this" },
+  'settings/background': { kind: 'vector', min: 0, max: 1, summary: "background colour" },
+  'settings/phong': { kind: 'boolean', summary: "Blinn-Phong on top of shadows (shadow modes)" },
+  'settings/empty_space_skipping': { kind: 'boolean', summary: "leap over the bricks the transfer function leaves transparent (the same image, faster)" },
+  'settings/jitter': { kind: 'boolean', summary: "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)" },
+  'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
+  'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "refinement steps that follow a still frame (jittered ray casts); 0 = none" },
+  'settings/shading/diffuse': { kind: 'number', min: 0, max: 4, summary: "Blinn-Phong diffuse weight" },
+  'settings/shading/specular': { kind: 'number', min: 0, max: 4, summary: "Blinn-Phong specular weight" },
+  'settings/shading/shininess': { kind: 'number', min: 1, max: 1024, summary: "Blinn-Phong exponent" },
+  'settings/light_buffer/slices': { kind: 'integer', min: 1, max: 1024, limited: true, summary: "light slices, also half-angle's slices" },
+  'settings/light_buffer/resolution': { kind: 'integer', min: 1, max: 1024, limited: true, summary: "light buffer R x R texels" },
+  'settings/light_buffer/builder': { kind: 'choice', choices: ['per_slice', 'multi_slice'], summary: "light-buffer builder" },
+  'settings/light_buffer/compensation': { kind: 'number', min: 0, max: 1000, summary: "light-buffer darkening compensation, n in (1+alpha)^n; 0 = off" },
+  'settings/light_buffer/slab_samples': { kind: 'integer', min: 0, max: 16, summary: "points per light slab: 1 = the slice plane (the paper), 0 = one per voxel" },
+  'settings/light_buffer/lookup': { kind: 'choice', choices: ['interpolate', 'local'], summary: "camera samples read the light buffer: the layer nearer the light + a march through the rest of the slab (local), or the paper's interpolation between the two nearest layers" },
+  'settings/scattering/shell_radius': { kind: 'number', min: 0.0001, max: 0.5, summary: "sbrc_shell: distance of the first ring of neighbours, world units" },
+  'settings/scattering/shell_rings': { kind: 'integer', min: 1, max: 4, summary: "sbrc_shell: rings of neighbours" },
+  'settings/scattering/shell_center_weight': { kind: 'number', min: 0, max: 1, summary: "sbrc_shell: the centre's weight" },
+  'settings/scattering/cone_angle': { kind: 'number', min: 0.1, max: 80, summary: "sbrc_cone: angle of the cone of samples, in degrees" },
+  'settings/scattering/cone_center_weight': { kind: 'number', min: 0, max: 1, summary: "sbrc_cone: the disc centre's weight" },
+  'output/encoding': { kind: 'choice', choices: ['jpeg', 'png'], summary: "the format frames are written in" },
+  'output/jpeg_quality': { kind: 'integer', min: 1, max: 100, summary: "JPEG quality" },
+} as const;
+
+/** A session's state as `state` carries it, but for the transfer function. */
+export interface StateSettings {
+  camera: {
+    /** camera position */
+    eye: Vec3;
+    /** the point the camera looks at */
+    target: Vec3;
+    /** the camera's up direction */
+    up: Vec3;
+    /** vertical field of view in degrees */
+    fov: number;
+  };
+  light: {
+    /** a directional light, or a point light */
+    type: 'directional' | 'point';
+    /** toward a directional light; not zero for one */
+    direction: Vec3;
+    /** a point light's position */
+    position: Vec3;
+    /** light colour */
+    color: Vec3;
+    /** light intensity */
+    intensity: number;
+    /** ambient light, a fraction of the light colour */
+    ambient: number;
+  };
+  settings: {
+    /** rendering mode */
+    mode: 'dvr' | 'phong' | 'half_angle' | 'sbrc' | 'sbrc_shell' | 'sbrc_cone' | 'reference';
+    /** compositing */
+    compositing: 'alpha' | 'extinction';
+    /** where the ray caster runs */
+    stage: 'compute' | 'fragment';
+    /** image size */
+    size: Size;
+    /** ray step, unit = the volume's longest side */
+    sample_distance: number;
+    /** distance the TF opacity refers to */
+    opacity_unit_distance: number;
+    /** stop a ray once its opacity reaches this */
+    early_termination: number;
+    /** background colour */
+    background: Vec3;
+    /** Blinn-Phong on top of shadows (shadow modes) */
+    phong: boolean;
+    /** leap over the bricks the transfer function leaves transparent (the same image, faster) */
+    empty_space_skipping: boolean;
+    /** ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings) */
+    jitter: boolean;
+    /** milliseconds a frame may take: the server picks the method and quality; 0 = as set */
+    frame_budget_ms: number;
+    /** refinement steps that follow a still frame (jittered ray casts); 0 = none */
+    refinement_steps: number;
+    shading: {
+      /** Blinn-Phong diffuse weight */
+      diffuse: number;
+      /** Blinn-Phong specular weight */
+      specular: number;
+      /** Blinn-Phong exponent */
+      shininess: number;
+    };
+    light_buffer: {
+      /** light slices, also half-angle's slices */
+      slices: number;
+      /** light buffer R x R texels */
+      resolution: number;
+      /** light-buffer builder */
+      builder: 'per_slice' | 'multi_slice';
+      /** light-buffer darkening compensation, n in (1+alpha)^n; 0 = off */
+      compensation: number;
+      /** points per light slab: 1 = the slice plane (the paper), 0 = one per voxel */
+      slab_samples: number;
+      /** camera samples read the light buffer: the layer nearer the light + a march through the rest of the slab (local), or the paper's interpolation between the two nearest layers */
+      lookup: 'interpolate' | 'local';
+    };
+    scattering: {
+      /** sbrc_shell: distance of the first ring of neighbours, world units */
+      shell_radius: number;
+      /** sbrc_shell: rings of neighbours */
+      shell_rings: number;
+      /** sbrc_shell: the centre's weight */
+      shell_center_weight: number;
+      /** sbrc_cone: angle of the cone of samples, in degrees */
+      cone_angle: number;
+      /** sbrc_cone: the disc centre's weight */
+      cone_center_weight: number;
+    };
+  };
+  output: {
+    /** the format frames are written in */
+    encoding: 'jpeg' | 'png';
+    /** JPEG quality */
+    jpeg_quality: number;
+  };
+}
+
 /** hello.limits' numbers as a server configured with nothing else sends them. */
 export const DEFAULT_LIMITS = {
   max_frame_work: 100000000000,

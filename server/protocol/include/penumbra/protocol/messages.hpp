@@ -3,7 +3,8 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/setting.hpp>
+#include <penumbra/scene/state.hpp>
 
 #include <array>
 #include <cstdint>
@@ -178,6 +179,10 @@ struct RendererSummary {
     bool software = false;  // a software rasteriser (llvmpipe): no GPU
 };
 
+// Whether hello.ranges announces `setting`'s range: a number or a whole number that no device or
+// server configuration bounds (those bounds are hello.limits).
+bool announces_range(const scene::Setting& setting);
+
 // Lists every mode of scene's mode table with what it computes, so clients need not know them.
 std::string hello_message(const Limits& limits, const RendererSummary& renderer);
 std::string volumes_message(std::optional<std::int64_t> id,
@@ -188,15 +193,18 @@ std::string volumes_message(std::optional<std::int64_t> id,
 // it is gone), so the owner sends its state back.
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json, const std::string& owner_token,
+                           const scene::State& state, const std::string& owner_token,
                            bool recreated = false);
 std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
-                           const std::string& state_json);
+                           const scene::State& state);
 // The session's full state after its owner changed it, for the other connections in the session.
 // It answers no request of theirs, so it has no id.
-std::string state_message(const std::string& session, const std::string& state_json);
+std::string state_message(const std::string& session, const scene::State& state);
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
+// Answers a `set` with the state as it now is, the patch applied: the client shows what the
+// server made of it (an orbit's eye, a view's pose, a preset's points) without rules of its own.
+std::string set_ack_message(std::optional<std::int64_t> id, const scene::State& state);
 std::string error_message(std::optional<std::int64_t> id, const base::Error& error);
 std::string stats_message(std::optional<std::int64_t> id, const std::string& stats_json);
 

@@ -5,7 +5,6 @@
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/light.hpp>
 #include <penumbra/scene/mode.hpp>
-#include <penumbra/scene/setting_ranges.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
@@ -76,6 +75,10 @@ static_assert(names_each_value(kLightLookupNames));
 constexpr std::span<const EnumName<LightLookup>> names_of(LightLookup) {
     return kLightLookupNames;
 }
+
+// The number of points per light slab is capped: past 16 the slab is sampled finer than any
+// volume needs and the build only slows down.
+inline constexpr int kMaxSlabSamples = 16;
 
 struct LightBufferSettings {
     int slices = 128;      // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
@@ -160,115 +163,6 @@ struct FrameRequest {
 
     bool operator==(const FrameRequest&) const = default;
 };
-
-// Each setting's range (SettingRange): adding a setting is its field above and its row here.
-// A row with a member is also what the shaders read: `settings.light_buffer_compensation` (the
-// path without "settings/", '_' for '/'; render's generated Settings block, shaders/README.md).
-namespace setting {
-
-// Coordinates of the camera and a point light; the volume's longest side is 1.
-inline constexpr SettingRange coordinate{"vec3", -1000.0, 1000.0};
-// Colours (light, background), each channel.
-inline constexpr SettingRange colour{"rgb", 0.0, 1.0};
-
-inline constexpr SettingRange fov_degrees = request_setting(
-        "camera/fov", 1.0, 170.0, "vertical field of view in degrees",
-        [](auto& r) -> auto& { return r.camera.fov_y_degrees; });
-inline constexpr SettingRange orbit_azimuth{"camera/orbit/azimuth", -36000.0, 36000.0};
-inline constexpr SettingRange orbit_elevation{"camera/orbit/elevation", -90.0, 90.0};
-inline constexpr SettingRange orbit_distance{"camera/orbit/distance", 0.01, 100.0};
-
-inline constexpr SettingRange light_intensity = request_setting(
-        "light/intensity", 0.0, 100.0, "light intensity",
-        [](auto& r) -> auto& { return r.light.intensity; });
-inline constexpr SettingRange light_ambient = request_setting(
-        "light/ambient", 0.0, 1.0, "ambient light, a fraction of the light colour",
-        [](auto& r) -> auto& { return r.light.ambient; });
-
-// Finer than 1/16384 of the box resolves nothing more (volumes have at most a few thousand voxels
-// a side) and only multiplies the work; at 2 a ray takes one sample inside the box. What a frame
-// may cost is bounded separately (FrameWork against the server's max_frame_work).
-inline constexpr SettingRange sample_distance = request_setting(
-        "settings/sample_distance", 1.0 / 16384.0, 2.0,
-        "ray step, unit = the volume's longest side",
-        [](auto& r) -> auto& { return r.settings.sample_distance; });
-inline constexpr SettingRange opacity_unit_distance = request_setting(
-        "settings/opacity_unit_distance", 1e-4, 1.0, "distance the TF opacity refers to",
-        [](auto& r) -> auto& { return r.settings.opacity_unit_distance; }, "opacity-unit");
-inline constexpr SettingRange early_termination = request_setting(
-        "settings/early_termination", 0.01, 1.0, "stop a ray once its opacity reaches this",
-        [](auto& r) -> auto& { return r.settings.early_termination; });
-inline constexpr SettingRange frame_budget_ms{"settings/frame_budget_ms", 0.0, 60000.0};
-// Progressive stills: refinement steps after a still frame (0: none).
-inline constexpr SettingRange refinement_steps{"settings/refinement_steps", 0.0,
-                                               kMaxRefinementSteps, true};
-
-inline constexpr SettingRange diffuse = request_setting(
-        "settings/shading/diffuse", 0.0, 4.0, "Blinn-Phong diffuse weight",
-        [](auto& r) -> auto& { return r.settings.shading.diffuse; });
-inline constexpr SettingRange specular = request_setting(
-        "settings/shading/specular", 0.0, 4.0, "Blinn-Phong specular weight",
-        [](auto& r) -> auto& { return r.settings.shading.specular; });
-inline constexpr SettingRange shininess = request_setting(
-        "settings/shading/shininess", 1.0, 1024.0, "Blinn-Phong exponent",
-        [](auto& r) -> auto& { return r.settings.shading.shininess; });
-
-inline constexpr SettingRange compensation = request_setting(
-        "settings/light_buffer/compensation", 0.0, 1000.0,
-        "light-buffer darkening compensation, n in (1+alpha)^n; 0 = off",
-        [](auto& r) -> auto& { return r.settings.light_buffer.compensation; });
-inline constexpr SettingRange slab_samples = request_setting(
-        "settings/light_buffer/slab_samples", 0.0, kMaxSlabSamples,
-        "points per light slab: 1 = the slice plane (the paper), 0 = one per voxel",
-        [](auto& r) -> auto& { return r.settings.light_buffer.slab_samples; });
-
-inline constexpr SettingRange shell_radius = request_setting(
-        "settings/scattering/shell_radius", 1e-4, 0.5,
-        "sbrc_shell: distance of the first ring of neighbours, world units",
-        [](auto& r) -> auto& { return r.settings.scattering.shell_radius; });
-inline constexpr SettingRange shell_rings = request_setting(
-        "settings/scattering/shell_rings", 1.0, 4.0, "sbrc_shell: rings of neighbours",
-        [](auto& r) -> auto& { return r.settings.scattering.shell_rings; });
-inline constexpr SettingRange shell_center_weight = request_setting(
-        "settings/scattering/shell_center_weight", 0.0, 1.0, "sbrc_shell: the centre's weight",
-        [](auto& r) -> auto& { return r.settings.scattering.shell_center_weight; }, "shell-weight");
-inline constexpr SettingRange cone_angle_degrees = request_setting(
-        "settings/scattering/cone_angle", 0.1, 80.0,
-        "sbrc_cone: angle of the cone of samples, in degrees",
-        [](auto& r) -> auto& { return r.settings.scattering.cone_angle_degrees; });
-inline constexpr SettingRange cone_center_weight = request_setting(
-        "settings/scattering/cone_center_weight", 0.0, 1.0, "sbrc_cone: the disc centre's weight",
-        [](auto& r) -> auto& { return r.settings.scattering.cone_center_weight; }, "cone-weight");
-
-}  // namespace setting
-
-// Every range above; its size is the list's. Image size, light-buffer slices and resolution are
-// bounded by the device and the server's configuration instead (scene::Limits, protocol::Limits).
-inline constexpr auto kSettingRanges = std::to_array<const SettingRange*>({
-        &setting::coordinate,
-        &setting::colour,
-        &setting::fov_degrees,
-        &setting::orbit_azimuth,
-        &setting::orbit_elevation,
-        &setting::orbit_distance,
-        &setting::light_intensity,
-        &setting::light_ambient,
-        &setting::sample_distance,
-        &setting::opacity_unit_distance,
-        &setting::early_termination,
-        &setting::frame_budget_ms,
-        &setting::refinement_steps,
-        &setting::diffuse,
-        &setting::specular,
-        &setting::shininess,
-        &setting::compensation,
-        &setting::slab_samples,
-        &setting::shell_radius,
-        &setting::shell_rings,
-        &setting::shell_center_weight,
-        &setting::cone_angle_degrees,
-        &setting::cone_center_weight,
-});
 
 // Device limits that bound what a request may ask for.
 struct Limits {

@@ -1,10 +1,9 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
-#include <penumbra/encode/encode.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/render/renderer.hpp>
-#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/state.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <chrono>
@@ -26,15 +25,10 @@ namespace penumbra::session {
 
 using Clock = std::chrono::steady_clock;
 
-struct OutputFormat {
-    encode::ImageFormat format = encode::kFrameFormats.front().format;
-    int jpeg_quality = encode::kDefaultFrameJpegQuality;
-};
-
 struct RenderJob {
     std::shared_ptr<const volume::Volume> volume;
     scene::FrameRequest request;
-    OutputFormat output;
+    scene::Output output;
     std::int64_t request_id = -1;  // the id of the request that asked for the frame; -1: none
     bool interactive = false;
     std::string quality;  // how the request was reduced, for the frame header
@@ -51,7 +45,7 @@ struct EncodedFrame {
     std::vector<std::uint8_t> image;  // JPEG or PNG bytes
     int width = 0;
     int height = 0;
-    encode::ImageFormat format = encode::ImageFormat::jpeg;
+    scene::FrameFormat format = scene::FrameFormat::jpeg;
     scene::Mode mode = scene::Mode::dvr;
     render::FrameReport report;
     std::int64_t request_id = -1;

@@ -2,7 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/quality/table.hpp>
-#include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/state.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -59,22 +59,14 @@ using ViewerOutcome = std::variant<std::shared_ptr<const SharedFrame>, FrameFail
 // Receives each ViewerOutcome. Called on a scheduler thread: it must only hand it on.
 using ViewerSink = std::function<void(const ViewerOutcome& outcome)>;
 
-struct SessionState {
-    scene::FrameRequest frame;
-    OutputFormat output;
-    double frame_budget_ms = 0.0;  // > 0: settings chosen from the quality table to fit this
-    int refinement_steps = scene::kDefaultRefinementSteps;  // refinement steps after a still frame
-                                                            // (jittered ray casts)
-};
-
 // The state a new session starts from: an orbit view lit from above, `transfer_function` (a
 // preset; grey_ramp if there is none of that name), and an image, light buffer and slices that
 // `limits` allow.
-SessionState default_state(const std::string& transfer_function, const scene::Limits& limits);
+scene::State default_state(const std::string& transfer_function, const scene::Limits& limits);
 
 // Receives a session's state. Called under the session's lock, so that each viewer learns of the
 // states in the order they were set: it must only queue a message.
-using StateSink = std::function<void(const SessionState& state)>;
+using StateSink = std::function<void(const scene::State& state)>;
 
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
 // watch it (its owner and anyone who joined). The owner may leave (its network dropped) while
@@ -86,11 +78,11 @@ public:
     // at random.
     // `client` names who opened it (a remote address), for per-client limits.
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
-            SessionState state, ViewerId owner, std::string client = {});
+            scene::State state, ViewerId owner, std::string client = {});
 
     // The same with the owner token given (derived from the id, see OwnerTokens).
     Session(std::string id, std::string volume_id, std::shared_ptr<const volume::Volume> volume,
-            SessionState state, ViewerId owner, std::string client, std::string owner_token);
+            scene::State state, ViewerId owner, std::string client, std::string owner_token);
 
     [[nodiscard]] const std::string& id() const { return id_; }
 
@@ -111,20 +103,20 @@ public:
     // The secret that lets a connection become the owner again (resume). Only its owner learns it.
     [[nodiscard]] const std::string& owner_token() const { return owner_token_; }
 
-    [[nodiscard]] SessionState state() const;
+    [[nodiscard]] scene::State state() const;
 
     // Replaces the state and hands it to the state sink of every viewer but `changed_by`, who
     // knows it already.
-    void set_state(SessionState state, ViewerId changed_by);
+    void set_state(scene::State state, ViewerId changed_by);
 
     // What a viewer asks to change, applied to the current state; an error leaves it unchanged.
-    using StateChange = std::function<base::Status(SessionState& state)>;
+    using StateChange = std::function<base::Status(scene::State& state)>;
 
     // Lets `viewer` change the state, as set_state, if it is the owner (viewers who joined watch):
     // reading, changing and storing the state are one step, so no other change comes between.
-    // Fails with invalid_message at /type for a viewer that is not the owner, or with the error
-    // of `change`.
-    base::Status change_state(ViewerId viewer, const StateChange& change);
+    // Returns the state as changed. Fails with invalid_message at /type for a viewer that is not
+    // the owner, or with the error of `change`.
+    base::Result<scene::State> change_state(ViewerId viewer, const StateChange& change);
 
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
@@ -180,7 +172,7 @@ private:
 
     std::optional<ViewerId> owner_;
     bool ended_ = false;  // its last viewer left: nobody may come back
-    SessionState state_;
+    scene::State state_;
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 };
@@ -224,7 +216,7 @@ public:
     // connection leaves for the new one, is not counted.
     base::Result<std::shared_ptr<Session>> create(std::string volume_id,
                                                   std::shared_ptr<const volume::Volume> volume,
-                                                  SessionState state, ViewerId owner,
+                                                  scene::State state, ViewerId owner,
                                                   const std::string& client = {},
                                                   const Session* replacing = nullptr);
 
@@ -242,7 +234,7 @@ public:
     base::Result<Recreated> recreate(const std::string& id, std::string_view owner_token,
                                      std::string volume_id,
                                      std::shared_ptr<const volume::Volume> volume,
-                                     SessionState state, ViewerId owner,
+                                     scene::State state, ViewerId owner,
                                      const std::string& client = {},
                                      const Session* replacing = nullptr);
 

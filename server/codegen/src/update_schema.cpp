@@ -3,9 +3,8 @@
 // client's module of the server's names and views whole: update_schema PROTO_DIR.
 // scripts/update-schema.sh builds and runs it.
 
-#include "schema_generator.hpp"
-
 #include <penumbra/base/result.hpp>
+#include <penumbra/codegen/schema_generator.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -58,7 +57,7 @@ int main(int argc, char** argv) {
         std::cerr << "usage: update_schema PROTO_DIR   (the repository's proto/)\n";
         return 2;
     }
-    namespace protocol_test = penumbra::protocol::test;
+    namespace protocol_test = penumbra::codegen;
     const std::filesystem::path proto = argv[1];
     const bool schema = update(proto / "v1" / "common.schema.json", [](std::string_view text) {
         return protocol_test::generated_common_schema(text);

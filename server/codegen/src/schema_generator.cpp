@@ -1,6 +1,5 @@
-#include "schema_generator.hpp"
+#include "penumbra/codegen/schema_generator.hpp"
 
-#include <penumbra/encode/encode.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
@@ -8,6 +7,7 @@
 #include <penumbra/scene/enum_names.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/mode.hpp>
+#include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/geometric.hpp>
@@ -23,7 +23,20 @@
 #include <sstream>
 #include <vector>
 
-namespace penumbra::protocol::test {
+namespace penumbra::codegen {
+
+// What the generator restates: the protocol's messages, limits and state as the server sends them.
+using protocol::apply_patch;
+using protocol::hello_message;
+using protocol::kClientMessageTypes;
+using protocol::Limits;
+using protocol::max_transfer_function_name_bytes;
+using protocol::max_transfer_function_points;
+using protocol::scene_limits;
+using protocol::Set;
+using protocol::state_to_json;
+using protocol::unnamed_transfer_function;
+
 namespace {
 
 // Keeps the hand-written members in the order they are written.
@@ -61,20 +74,68 @@ json& node_of(json& defs, std::string_view field) {
     return *node;
 }
 
-// Description, type, minimum and maximum first, then whatever else the node says by hand.
-void write_range(json& node, const scene::SettingRange& range) {
+// "; at most hello.limits.max_slices (its default here)" for a setting the device and the
+// server's configuration bound; empty for another.
+std::string bounded_by(const scene::Setting& setting) {
+    const std::pair<int scene::Limits::*, const char*> names[] = {
+            {&scene::Limits::max_image_side, "max_image_side"},
+            {&scene::Limits::max_slices, "max_slices"},
+            {&scene::Limits::max_light_resolution, "max_light_resolution"},
+    };
+    for (const auto& [limit, name] : names) {
+        if (setting.limit == limit) {
+            return std::string("; at most hello.limits.") + name + " (its default here)";
+        }
+    }
+    return "";
+}
+
+// What the schema says of a setting, written from its row: its description (the summary), then
+// its type and range by kind (a choice's names; a vector's or a size's items), then whatever else
+// the node says by hand. A setting bounded by the device and the server's configuration has the
+// default limit as its maximum.
+void write_setting(json& node, const scene::Setting& setting) {
+    const double max = setting.max_under(scene_limits(Limits{}));
     json written = json::object();
-    if (!range.summary.empty()) {
-        written["description"] = range.summary;
+    if (!setting.summary.empty()) {
+        written["description"] = std::string(setting.summary) + bounded_by(setting);
     } else if (node.is_object() && node.contains("description")) {
         written["description"] = node.at("description");
     }
-    written["type"] = range.integer ? "integer" : "number";
-    written["minimum"] = number(range.min);
-    written["maximum"] = number(range.max);
+    const auto items = [&](const char* type, int count) {
+        written["type"] = "array";
+        written["items"] = {
+                {"type", type}, {"minimum", number(setting.min)}, {"maximum", number(max)}};
+        written["minItems"] = count;
+        written["maxItems"] = count;
+    };
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+        case scene::SettingKind::whole:
+            written["type"] = setting.integer() ? "integer" : "number";
+            written["minimum"] = number(setting.min);
+            written["maximum"] = number(max);
+            break;
+        case scene::SettingKind::boolean:
+            written["type"] = "boolean";
+            break;
+        case scene::SettingKind::choice:
+            written["enum"] = json::array();
+            for (const std::string_view name : setting.choices) {
+                written["enum"].push_back(name);
+            }
+            break;
+        case scene::SettingKind::vector:
+            items("number", 3);
+            break;
+        case scene::SettingKind::size:
+            items("integer", 2);
+            break;
+    }
     if (node.is_object()) {
         for (const auto& [key, value] : node.items()) {
-            if (!written.contains(key)) {
+            // The row says what the value is: a reference to a shared shape would say it twice.
+            if (!written.contains(key) && key != "$ref") {
                 written[key] = value;
             }
         }
@@ -232,7 +293,7 @@ std::string with_limit_values(const std::string& text) {
 // A new session's state as `state` sends it, on a server configured with nothing else.
 nlohmann::json starting_state() {
     const Limits limits;
-    SessionState state;
+    scene::State state;
     state.frame = scene::starting_frame(scene_limits(limits));
     return nlohmann::json::parse(state_to_json(state));
 }
@@ -285,11 +346,11 @@ std::string with_state_values(const std::string& text) {
             std::string last = line.substr(last_cell);
             // The output's ranges (whole numbers) are written as "1..100" in the third cell.
             const std::size_t type_end = cells.find(" | ", name_end + 4);
-            for (const scene::SettingRange* range : kAnnouncedRanges) {
-                if (part == "output" && range->field == part + "/" + name && range->integer &&
-                    type_end != std::string::npos) {
-                    cells = cells.substr(0, type_end + 3) + readme_value(range->min) + ".." +
-                            readme_value(range->max);
+            for (const scene::Setting* setting : scene::kSettings) {
+                if (part == "output" && setting->path == part + "/" + name &&
+                    setting->kind == scene::SettingKind::whole && type_end != std::string::npos) {
+                    cells = cells.substr(0, type_end + 3) + readme_value(setting->min) + ".." +
+                            readme_value(setting->max);
                 }
             }
             if (state.at(part).contains(name)) {
@@ -390,30 +451,18 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     }
     json& defs = schema["$defs"];
 
-    json modes = json::array();
-    for (const scene::ModeInfo& mode : scene::modes()) {
-        modes.push_back(mode.name);
+    // The names other schemas refer to (hello's modes and encodings).
+    for (const scene::Setting* named : {&scene::setting::mode, &scene::setting::encoding}) {
+        json names = json::array();
+        for (const std::string_view name : named->choices) {
+            names.push_back(name);
+        }
+        defs[std::string(named->path.substr(named->path.rfind('/') + 1))]["enum"] =
+                std::move(names);
     }
-    defs["mode"]["enum"] = std::move(modes);
     write_names<scene::View>(defs, "camera/view");
-    write_names<scene::LightType>(defs, "light/type");
-    write_names<scene::Compositing>(defs, "settings/compositing");
-    write_names<scene::RaycastStage>(defs, "settings/stage");
-    write_names<scene::LightBufferBuilder>(defs, "settings/light_buffer/builder");
-    write_names<scene::LightLookup>(defs, "settings/light_buffer/lookup");
     write_transfer_function(defs);
-
-    json encodings = json::array();
-    for (const encode::FrameFormat& format : encode::kFrameFormats) {
-        encodings.push_back(format.name);
-    }
-    defs["encoding"]["enum"] = std::move(encodings);
     write_orbit_defaults(defs);
-    // The maxima a server configured otherwise announces in hello.limits, at their defaults.
-    const Limits limits;
-    node_of(defs, "settings/size")["items"]["maximum"] = limits.max_image_side;
-    node_of(defs, "settings/light_buffer/slices")["maximum"] = limits.max_slices;
-    node_of(defs, "settings/light_buffer/resolution")["maximum"] = limits.max_light_resolution;
 
     json client_types = json::array();
     for (const std::string_view type : kClientMessageTypes) {
@@ -421,10 +470,10 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     }
     defs["client_type"]["enum"] = std::move(client_types);
 
-    for (const scene::SettingRange* range : kAnnouncedRanges) {
-        write_range(node_of(defs, range->field), *range);
-        if (range->read != nullptr) {
-            require_in_state(defs, range->field);
+    for (const scene::Setting* setting : scene::kSettings) {
+        write_setting(node_of(defs, setting->path), *setting);
+        if (setting->held()) {
+            require_in_state(defs, setting->path);
         }
     }
     return schema.dump(2) + "\n";
@@ -463,7 +512,44 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
     // Everything but the renderer, which says what the recording's machine drew with.
     auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
     hello["renderer"] = recorded.value("renderer", nlohmann::json::object());
-    return hello.dump() + std::string(committed.substr(line_end));
+    std::string out = hello.dump();
+    // Each recorded state as the server reports it now: its values kept, a setting added since
+    // at a new state's value; a set's ack with the state it answers (the last one recorded).
+    nlohmann::json last_state;
+    std::size_t number = 1;
+    for (std::size_t start = line_end; start < committed.size();) {
+        std::size_t end = std::min(committed.find('\n', start + 1), committed.size());
+        const std::string_view line = committed.substr(start + 1, end - start - 1);
+        start = end;
+        ++number;
+        if (line.empty()) {
+            out += "\n";
+            continue;
+        }
+        auto message = nlohmann::json::parse(line, nullptr, false);
+        if (!message.is_object()) {
+            return base::make_error("invalid_argument", "not a JSON object",
+                                    std::to_string(number));
+        }
+        if (message.contains("state")) {
+            scene::State state;
+            if (auto applied = apply_patch(message.at("state").dump(), state, Limits{}); !applied) {
+                return base::make_error("invalid_argument",
+                                        "a recorded state the server no longer takes: " +
+                                                applied.error().to_string(),
+                                        std::to_string(number));
+            }
+            message["state"] = nlohmann::json::parse(state_to_json(state));
+        }
+        if (message.value("type", "") == "ack" && message.value("of", "") == Set::type) {
+            message["state"] = last_state;
+        }
+        if (message.contains("state")) {
+            last_state = message.at("state");
+        }
+        out += "\n" + message.dump();
+    }
+    return out;
 }
 
 namespace {
@@ -524,13 +610,118 @@ std::string ts_enum(std::string_view constant, std::string_view summary) {
     return ts_names(constant, summary, names);
 }
 
+// A setting's type in TypeScript: number, boolean, a union of a choice's names, a tuple.
+std::string ts_type(const scene::Setting& setting) {
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+        case scene::SettingKind::whole:
+            return "number";
+        case scene::SettingKind::boolean:
+            return "boolean";
+        case scene::SettingKind::choice: {
+            std::string names;
+            for (const std::string_view name : setting.choices) {
+                names += (names.empty() ? "'" : " | '") + std::string(name) + "'";
+            }
+            return names;
+        }
+        case scene::SettingKind::vector:
+            return "Vec3";
+        case scene::SettingKind::size:
+            return "Size";
+    }
+    return "never";
+}
+
+// The members of the state's object at `path` ("" for the state itself, "settings/light_buffer"),
+// a line each at `indent`, a part as a nested object: each setting of the table that a state holds.
+std::string ts_members(const std::string& path, const std::string& indent) {
+    std::string out;
+    std::vector<std::string> parts;
+    for (const scene::Setting* setting : scene::kSettings) {
+        const std::string_view full = setting->path;
+        if (!setting->held() || (!path.empty() && !full.starts_with(path + "/"))) {
+            continue;
+        }
+        const std::string_view rest = full.substr(path.empty() ? 0 : path.size() + 1);
+        const std::size_t slash = rest.find('/');
+        if (slash == std::string_view::npos) {
+            if (!setting->summary.empty()) {
+                out += indent + "/** " + std::string(setting->summary) + " */\n";
+            }
+            out += indent + std::string(rest) + ": " + ts_type(*setting) + ";\n";
+            continue;
+        }
+        const std::string part(rest.substr(0, slash));
+        if (std::find(parts.begin(), parts.end(), part) == parts.end()) {
+            parts.push_back(part);
+            const std::string inner = path.empty() ? part : path + "/" + part;
+            out += indent + part + ": {\n" + ts_members(inner, indent + "  ") + indent + "};\n";
+        }
+    }
+    return out;
+}
+
+// A setting as SETTINGS describes it: its kind, range or names and summary.
+std::string ts_setting(const scene::Setting& setting) {
+    const double max = setting.max_under(scene_limits(Limits{}));
+    std::string out = "{ kind: '" + std::string(scene::name_of(setting.kind)) + "'";
+    switch (setting.kind) {
+        case scene::SettingKind::number:
+        case scene::SettingKind::whole:
+        case scene::SettingKind::vector:
+        case scene::SettingKind::size:
+            out += ", min: " + ts_number(setting.min) + ", max: " + ts_number(max);
+            break;
+        case scene::SettingKind::choice: {
+            out += ", choices: [";
+            for (std::size_t i = 0; i < setting.choices.size(); ++i) {
+                out += (i > 0 ? ", '" : "'") + std::string(setting.choices[i]) + "'";
+            }
+            out += "]";
+            break;
+        }
+        case scene::SettingKind::boolean:
+            break;
+    }
+    if (setting.limit != nullptr) {
+        out += ", limited: true";
+    }
+    return out + ", summary: " + nlohmann::json(setting.summary).dump() + " }";
+}
+
+// The settings a state holds: each with its kind, range and summary (SETTINGS), and the state's
+// type made of them (StateSettings; the transfer function is typed by hand).
+std::string client_settings() {
+    std::string out =
+            "\n/** A point or a direction in world space (RAS), or a colour's channels. */\n"
+            "export type Vec3 = [number, number, number];\n"
+            "/** An image's width and height in pixels. */\n"
+            "export type Size = [number, number];\n"
+            "\n/**\n"
+            " * Every setting a session's state holds, by its path: its kind, its range (each "
+            "component's; `limited`:\n"
+            " * bounded by hello.limits instead, at its default here) or its names, and what it "
+            "does.\n"
+            " */\n"
+            "export const SETTINGS = {\n";
+    for (const scene::Setting* setting : scene::kSettings) {
+        if (setting->held()) {
+            out += "  '" + std::string(setting->path) + "': " + ts_setting(*setting) + ",\n";
+        }
+    }
+    out += "} as const;\n"
+           "\n/** A session's state as `state` carries it, but for the transfer function. */\n"
+           "export interface StateSettings {\n" +
+           ts_members("", "  ") + "}\n";
+    return out;
+}
+
 }  // namespace
 
 std::string generated_client_tables() {
-    std::vector<std::string_view> encodings;
-    for (const encode::FrameFormat& format : encode::kFrameFormats) {
-        encodings.push_back(format.name);
-    }
+    const std::vector<std::string_view> encodings(scene::setting::encoding.choices.begin(),
+                                                  scene::setting::encoding.choices.end());
     std::string out =
             "// The server's names and views for the web client, written from its C++ tables by\n"
             "// scripts/update-schema.sh; protocol_test (SchemaAgreement.TheWebClientsServerTables"
@@ -589,6 +780,7 @@ std::string generated_client_tables() {
            "/** The default camera's vertical field of view, in degrees. */\n"
            "export const DEFAULT_FOV = " +
            ts_number(default_camera.fov_y_degrees) + ";\n";
+    out += client_settings();
     // hello.limits' numbers as a server configured with nothing else sends them.
     const auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
     out += "\n/** hello.limits' numbers as a server configured with nothing else sends them. */\n"
@@ -612,4 +804,4 @@ std::string generated_client_tables() {
     return out;
 }
 
-}  // namespace penumbra::protocol::test
+}  // namespace penumbra::codegen

@@ -19,7 +19,7 @@
 #include <string>
 #include <string_view>
 
-namespace penumbra::protocol::test {
+namespace penumbra::codegen {
 
 // `committed`, the text of common.schema.json, with its generated parts written from the tables,
 // two-space indented as the file is; an error where the text is not a JSON object with `$defs`.
@@ -45,8 +45,10 @@ base::Result<std::string> generated_hello_schema(std::string_view committed);
 // `committed`, the text of the web client's recorded server messages
 // (client_web/test/fixtures/server_messages.jsonl, one message a line, hello first), with the
 // hello the server sends now (its modes, ranges, presets and limits at their defaults; the
-// recorded renderer kept), so that the client's tests see the current tables. The rest of the
-// recording is left as it was; an error where the first line is not a hello.
+// recorded renderer kept), and every recorded state as the server reports it now (the recorded
+// values, a setting added since at a new state's value; a set's ack with the state it answers), so
+// that the client's tests see the current tables. An error where the first line is not a hello or
+// a recorded state is one the server no longer takes.
 base::Result<std::string> generated_recorded_hello(std::string_view committed);
 
 // The TypeScript module that gives the web client the server's names and views
@@ -59,4 +61,4 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed);
 inline constexpr std::string_view kClientTablesPath = "src/protocol/generated/server_tables.ts";
 std::string generated_client_tables();
 
-}  // namespace penumbra::protocol::test
+}  // namespace penumbra::codegen
