@@ -11,7 +11,8 @@ import {
   type SocketLike,
 } from '../src/protocol/connection';
 import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
-import { checkClientMessage, type State } from '../src/protocol/messages';
+import { mergePatches, type State, type StatePatch } from '../src/protocol/messages';
+import { checkClientMessage } from './client_checks';
 import { RenderPacer } from '../src/interaction/pacing';
 import { recordedHello, recordedTerms } from './recorded';
 import { FakeClock } from './fake_timers';
@@ -63,7 +64,26 @@ class FakeSocket implements SocketLike {
 
   reply(type: string, extra: Record<string, unknown> = {}): void {
     const last = this.sent[this.sent.length - 1]!;
+    if (extra['state'] !== undefined) this.state = structuredClone(extra['state']) as State;
     this.receive(JSON.stringify({ v: 1, ...extra, type, id: last['id'] }));
+  }
+
+  /** The session's state as this fake server holds it: the last one it sent. */
+  state: State | null = null;
+
+  /**
+   * Answers the last `set` as the server does, with the state the patch makes: its members in
+   * place, a preset's points as hello announced them.
+   */
+  ackSet(): void {
+    const patch = { ...this.sent[this.sent.length - 1]! } as Record<string, unknown> & StatePatch;
+    for (const envelope of ['v', 'type', 'id']) delete patch[envelope];
+    let state = mergePatches(this.state as StatePatch, patch) as State;
+    const tf = patch.transfer_function;
+    if (tf && 'preset' in tf) {
+      state = { ...state, transfer_function: structuredClone(recordedHello.presets.find((p) => p.name === tf.preset)!) };
+    }
+    this.reply('ack', { of: 'set', state });
   }
 
   fail(reason = ''): void {
@@ -153,7 +173,7 @@ describe('Connection', () => {
     socket().reply('opened', OPENED);
     expect((await opened).role).toBe('owner');
     const set = connection.set({ settings: { mode: 'phong', light_buffer: { slices: 32 } } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await set;
     expect(connection.session?.state.settings.mode).toBe('phong');
     expect(connection.session?.state.settings.light_buffer.slices).toBe(32);
@@ -294,7 +314,7 @@ describe('Connection', () => {
     await opened;
     const preset = recordedHello.presets.find((p) => p.space === 'hounsfield')!;
     const set = connection.set({ transfer_function: { preset: preset.name } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await set;
     expect(connection.session?.state.transfer_function).toEqual(preset);
   });
@@ -321,7 +341,7 @@ describe('Connection', () => {
     socket().reply('opened', OPENED_WITHOUT_TOKEN);
     expect((await opened).ownerToken).toBeUndefined();
     const set = connection.set({ settings: { mode: 'sbrc_cone' } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await set;
     const pending = connection.stats();
     socket().fail();
@@ -344,7 +364,7 @@ describe('Connection', () => {
     expect(Object.keys(restore).sort()).toEqual(
       ['camera', 'id', 'light', 'output', 'settings', 'transfer_function', 'type', 'v'],
     );
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await flush();
     expect(restored).toEqual(['reopened']);
     expect(connection.session?.session).toBe('new-session');
@@ -360,7 +380,7 @@ describe('Connection', () => {
     socket().reply('opened', { ...OPENED, session });
     expect((await opened).ownerToken).toBe(OWNER_TOKEN);
     const set = connection.set({ settings: { mode: 'sbrc_cone' } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await set;
     const restored: (string | false)[] = [];
     connection.on('session', (info, r) => restored.push(r && `${r} ${info.session}`));
@@ -397,7 +417,7 @@ describe('Connection', () => {
     // It is the owner: it may set again.
     const set = connection.set({ camera: { fov: 40 } });
     expect(socket().sent[1]).toMatchObject({ type: 'set', camera: { fov: 40 } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await set;
     expect(connection.session?.state.camera.fov).toBe(40);
   });
@@ -417,7 +437,7 @@ describe('Connection', () => {
     socket().reply('opened', { ...OPENED, session: 'new-session', owner_token: 'ab'.repeat(16) });
     await flush();
     expect(socket().sent[2]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await flush();
     expect(restored).toEqual(['reopened new-session']);
     expect(problems).toEqual([]);
@@ -557,7 +577,7 @@ describe('Connection', () => {
     socket().reply('opened', { ...OPENED, session: 'mine', recreated: true });
     await flush();
     expect(socket().sent[1]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
-    socket().reply('ack', { of: 'set' });
+    socket().ackSet();
     await flush();
     expect(restored).toEqual(['recreated mine']);
     expect(connection.session).toMatchObject({ session: 'mine', ownerToken: OWNER_TOKEN });

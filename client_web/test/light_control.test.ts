@@ -1,10 +1,11 @@
 import { describe, expect, it } from 'vitest';
 import { lightControls, positionSpan, sceneReach, volumeRadius } from '../src/panels/light_control';
 import { nestedAt } from '../src/panels/ranged_controls';
-import { checkClientMessage, parseServerMessage, type OpenedMessage, type SettingRanges } from '../src/protocol/messages';
+import { parseServerMessage, type OpenedMessage, type SettingRanges } from '../src/protocol/messages';
+import { checkClientMessage } from './client_checks';
 import { recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
-const opened = parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage;
+const opened = parseServerMessage(recordedMessages[2]!) as OpenedMessage;
 const scene = { volume: opened.volume, camera: opened.state.camera };
 
 describe("the light control's ranges", () => {

@@ -1,25 +1,24 @@
 import { readdirSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 import { describe, expect, it } from 'vitest';
+import { orbitEye, orbitOf } from '../src/interaction/orbit_camera';
 import {
-  applyPatch,
-  checkClientMessage,
   encodeClientMessage,
   mergePatches,
-  orbitEye,
-  orbitOf,
   parseServerMessage,
   ProtocolError,
   restorePatch,
+  SETTINGS,
   UnknownMessageType,
+  type AckMessage,
   type ClientMessage,
   type HelloMessage,
-  type ServerTerms,
   type OpenedMessage,
   type State,
   type StateMessage,
 } from '../src/protocol/messages';
-import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
+import { checkClientMessage, type ServerTerms } from './client_checks';
+import { recordedHello, recordedMessages, recordedTerms } from './recorded';
 
 const examples = path.resolve(__dirname, '../../proto/examples/v1');
 
@@ -60,11 +59,9 @@ const schemaExamples = clientTypes.map((type) => {
 });
 const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
 const serverMessages = recordedMessages;
-const serverRanges = recordedRanges;
 /** What the server's hello says, with the mode names the protocol defines. */
 const terms: ServerTerms = { ...recordedTerms, modes: schemaModes };
-/** A message as the server parses it: with the ranges its hello announced. */
-const parse = (text: string) => parseServerMessage(text, serverRanges);
+const parse = (text: string) => parseServerMessage(text);
 
 describe("proto/v1: each client message's schema examples", () => {
   it.each(schemaExamples)('$name has an example of a $type message', ({ type, examples }) => {
@@ -133,7 +130,7 @@ describe('checkClientMessage beyond the examples', () => {
       code: 'out_of_range',
       field: '/settings/light_buffer/slab_samples',
     });
-    const wider = { ...serverRanges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
+    const wider = { ...recordedTerms.ranges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
     expect(checkClientMessage(set, { ...recordedTerms, ranges: wider })).toBeNull();
     const fraction = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 1.5 } } };
     expect(checkClientMessage(fraction, recordedTerms)).toMatchObject({ code: 'invalid_value' });
@@ -149,7 +146,7 @@ describe('checkClientMessage beyond the examples', () => {
       field: '/output/jpeg_quality',
     });
     expect(checkClientMessage(set(1.5), recordedTerms)).toMatchObject({ code: 'invalid_value' });
-    const wider = { ...serverRanges, 'output/jpeg_quality': { min: 1, max: 120, integer: true } };
+    const wider = { ...recordedTerms.ranges, 'output/jpeg_quality': { min: 1, max: 120, integer: true } };
     expect(checkClientMessage(set(101), { ...recordedTerms, ranges: wider })).toBeNull();
   });
 
@@ -162,7 +159,7 @@ describe('checkClientMessage beyond the examples', () => {
       code: 'out_of_range',
       field: '/transfer_function/colors/0/rgb/0',
     });
-    const hdr = { ...serverRanges, rgb: { min: 0, max: 2, integer: false } };
+    const hdr = { ...recordedTerms.ranges, rgb: { min: 0, max: 2, integer: false } };
     expect(checkClientMessage(colours(1.5), { ...recordedTerms, ranges: hdr })).toBeNull();
   });
 
@@ -173,14 +170,14 @@ describe('checkClientMessage beyond the examples', () => {
       code: 'unknown_field',
       field: '/settings/light_buffer/glow',
     });
-    const ranges = { ...serverRanges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
+    const ranges = { ...recordedTerms.ranges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
     expect(checkClientMessage(set({ glow: 2, compensation: 3 }), { ...recordedTerms, ranges })).toBeNull();
     expect(checkClientMessage(set({ glow: 5 }), { ...recordedTerms, ranges })).toMatchObject({
       code: 'out_of_range',
       field: '/settings/light_buffer/glow',
     });
     // ... and so is a setting in a part of its own.
-    const tone = { ...serverRanges, 'settings/tone/exposure': { min: -4, max: 4, integer: false } };
+    const tone = { ...recordedTerms.ranges, 'settings/tone/exposure': { min: -4, max: 4, integer: false } };
     const exposure = (value: unknown) => ({ v: 1, type: 'set', settings: { tone: { exposure: value } } });
     expect(checkClientMessage(exposure(1), { ...recordedTerms, ranges: tone })).toBeNull();
     expect(checkClientMessage(exposure('1'), { ...recordedTerms, ranges: tone })).toMatchObject({
@@ -341,7 +338,7 @@ describe('parseServerMessage', () => {
     expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) }, recordedTerms)).toBeNull();
   });
 
-  it("checks a state's numbers by the ranges hello announced", () => {
+  it("checks a state by the server's table: every setting there, of its kind", () => {
     const opened = JSON.parse(serverMessages[2]!) as { state: { settings: Record<string, unknown> } };
     const withLightBuffer = (lb: Record<string, unknown>) => {
       const copy = structuredClone(opened);
@@ -354,19 +351,27 @@ describe('parseServerMessage', () => {
     expect(() => parse(withLightBuffer({ slab_samples: 1.5 }))).toThrow(
       /expected an integer \(at \/state\/settings\/light_buffer\/slab_samples\)/,
     );
+    expect(() => parse(withLightBuffer({ builder: 3 }))).toThrow(/\/state\/settings\/light_buffer\/builder/);
     const missing = structuredClone(opened);
     delete (missing.state.settings['shading'] as Record<string, unknown>)['specular'];
     expect(() => parse(JSON.stringify(missing))).toThrow(/\/state\/settings\/shading\/specular/);
-    // A setting the server announces is one the state holds: no client change for a new one.
-    const glow = { ...serverRanges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
-    expect(() => parseServerMessage(withLightBuffer({}), glow)).toThrow(/\/state\/settings\/light_buffer\/glow/);
-    const withGlow = parseServerMessage(withLightBuffer({ glow: 2 }), glow) as OpenedMessage;
-    expect(withGlow.state.settings.light_buffer).toMatchObject({ glow: 2 });
-    // Settings older servers leave out of a state may be missing; before hello no state is read.
-    const older = structuredClone(opened);
-    delete older.state.settings['frame_budget_ms'];
-    expect(parse(JSON.stringify(older)).type).toBe('opened');
-    expect(() => parseServerMessage(serverMessages[2]!)).toThrow(/before the server's hello/);
+    const flat = structuredClone(opened);
+    flat.state.settings['background'] = [0, 0];
+    expect(() => parse(JSON.stringify(flat))).toThrow(/\/state\/settings\/background/);
+    // Every setting the table lists is one a recorded state holds.
+    const state = (parse(serverMessages[2]!) as OpenedMessage).state as unknown as Record<string, unknown>;
+    for (const path of Object.keys(SETTINGS)) {
+      const value = path.split('/').reduce<unknown>((at, part) => (at as Record<string, unknown>)[part], state);
+      expect(value, path).toBeDefined();
+    }
+  });
+
+  it("reads a set's ack with the state the server made of the patch", () => {
+    const opened = JSON.parse(serverMessages[2]!) as { state: State };
+    const ack = parse(JSON.stringify({ v: 1, type: 'ack', id: 4, of: 'set', state: opened.state })) as AckMessage;
+    expect(ack.state).toEqual(opened.state);
+    const broken = { ...opened.state, camera: { ...opened.state.camera, eye: [0, 0] } };
+    expect(() => parse(JSON.stringify({ v: 1, type: 'ack', of: 'set', state: broken }))).toThrow(/\/state\/camera\/eye/);
   });
 
   it('reads a range with its summary, and refuses a summary that is not text', () => {
@@ -404,31 +409,9 @@ describe('parseServerMessage', () => {
   });
 });
 
-describe('state mirror', () => {
+describe('patches', () => {
   const opened = parse(serverMessages[2]!) as OpenedMessage;
   const state: State = opened.state;
-
-  it('applies a patch member by member and leaves the rest', () => {
-    const next = applyPatch(state, {
-      settings: { mode: 'dvr', light_buffer: { slices: 64 } },
-      light: { intensity: 2 },
-    });
-    expect(next.settings.mode).toBe('dvr');
-    expect(next.settings.light_buffer).toEqual({ ...state.settings.light_buffer, slices: 64 });
-    expect(next.light.intensity).toBe(2);
-    expect(next.light.direction).toEqual(state.light.direction);
-    expect(state.settings.mode).not.toBe('dvr'); // the input is not changed
-  });
-
-  it('replaces the transfer function whole', () => {
-    const next = applyPatch(state, { transfer_function: { opacities: [{ x: 0.5, alpha: 1 }] } });
-    expect(next.transfer_function).toEqual({
-      name: 'custom',
-      space: 'normalized',
-      colors: [],
-      opacities: [{ x: 0.5, alpha: 1 }],
-    });
-  });
 
   it('puts an orbit eye where the server does', () => {
     // The default camera of the server: azimuth 25, elevation 10, distance 2.6 (see opened).
@@ -438,19 +421,30 @@ describe('state mirror', () => {
     expect(orbit.azimuth).toBeCloseTo(25, 9);
     expect(orbit.elevation).toBeCloseTo(10, 9);
     expect(orbit.distance).toBeCloseTo(2.6, 9);
-    const next = applyPatch(state, { camera: { orbit: { azimuth: 90, elevation: 0, distance: 1 } } });
-    expect(next.camera.eye[0]).toBeCloseTo(1, 9);
-    expect(next.camera.up).toEqual([0, 0, 1]);
   });
 
-  it('merges patches, the later winning', () => {
+  it('merges patches member by member, the later winning; lists and the transfer function replace', () => {
     const merged = mergePatches(
-      { camera: { eye: [1, 0, 0], fov: 30 }, settings: { light_buffer: { slices: 8 }, mode: 'dvr' } },
-      { camera: { orbit: { azimuth: 3 } }, settings: { light_buffer: { resolution: 64 } } },
+      {
+        camera: { eye: [1, 0, 0], fov: 30 },
+        settings: { light_buffer: { slices: 8 }, mode: 'dvr', size: [64, 64] },
+        transfer_function: { preset: 'ct_bone' },
+      },
+      {
+        camera: { eye: [0, 1, 0] },
+        settings: { light_buffer: { resolution: 64 }, size: [32, 16] },
+        transfer_function: { opacities: [{ x: 0.5, alpha: 1 }] },
+      },
     );
     expect(merged).toEqual({
-      camera: { fov: 30, orbit: { azimuth: 3 } },
-      settings: { mode: 'dvr', light_buffer: { slices: 8, resolution: 64 } },
+      camera: { eye: [0, 1, 0], fov: 30 },
+      settings: { mode: 'dvr', size: [32, 16], light_buffer: { slices: 8, resolution: 64 } },
+      transfer_function: { opacities: [{ x: 0.5, alpha: 1 }] },
     });
+  });
+
+  it('restores a state whole, as a set the server takes', () => {
+    expect(restorePatch(state)).toEqual(state);
+    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(state) }, recordedTerms)).toBeNull();
   });
 });

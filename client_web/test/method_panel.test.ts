@@ -1,17 +1,18 @@
 import { describe, expect, it } from 'vitest';
-import { methodControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
+import { methodControls, settingPatch, settingUsed, settingValue, toggleControls } from '../src/panels/method_panel';
 import {
-  checkClientMessage,
+  SETTINGS,
   DEFAULT_OUTPUT,
   DEFAULT_SETTINGS,
   parseServerMessage,
   type ModeCapabilities,
   type OpenedMessage,
 } from '../src/protocol/messages';
+import { checkClientMessage } from './client_checks';
 import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from './recorded';
 
 const mode = (name: string): ModeCapabilities => recordedHello.modes.find((m) => m.name === name)!;
-const state = (parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage).state;
+const state = (parseServerMessage(recordedMessages[2]!) as OpenedMessage).state;
 
 describe("the method panel's numeric settings", () => {
   it('offers every setting hello announces a range for, placed by its path', () => {
@@ -48,13 +49,31 @@ describe("the method panel's numeric settings", () => {
     expect(settingValue(state.settings, control.members)).toBeUndefined();
   });
 
+  it("offers every boolean and choice of the server's table it places nowhere else, in its part's folder", () => {
+    // Today's table: the panel places each of them itself.
+    expect(toggleControls(SETTINGS)).toEqual([]);
+    const table = {
+      ...SETTINGS,
+      'settings/light_buffer/soft_edges': { kind: 'boolean', summary: 'blur the buffer' },
+      'settings/tone': { kind: 'choice', choices: ['linear', 'filmic'], summary: 'tone curve' },
+      'light/glow': { kind: 'boolean', summary: 'not the panel\'s' },
+    };
+    expect(toggleControls(table)).toEqual([
+      { path: 'settings/light_buffer/soft_edges', members: ['light_buffer', 'soft_edges'], part: 'light_buffer', label: 'soft edges', hint: 'blur the buffer' },
+      { path: 'settings/tone', members: ['tone'], part: '', label: 'tone', hint: 'tone curve', choices: ['linear', 'filmic'] },
+    ]);
+    expect(settingPatch(['light_buffer', 'soft_edges'], true)).toEqual({ settings: { light_buffer: { soft_edges: true } } });
+    // Without its own controls the panel would offer every boolean and choice of the table.
+    const all = toggleControls(SETTINGS, new Set()).map((c) => c.path);
+    expect(all).toEqual(expect.arrayContaining(['settings/mode', 'settings/phong', 'settings/light_buffer/lookup']));
+  });
+
   it('sends patches for the recorded settings that the server accepts', () => {
     for (const control of methodControls(recordedRanges)) {
       const value = control.integer ? control.max : (control.min + control.max) / 2;
       expect(checkClientMessage({ v: 1, type: 'set', ...settingPatch(control.members, value) }, recordedTerms)).toBeNull();
       const held = settingValue(state.settings, control.members);
-      // The recorded state holds every setting but the refinement steps (the server was older than them).
-      if (control.path !== 'settings/refinement_steps') expect(held).toBeTypeOf('number');
+      expect(held).toBeTypeOf('number');
     }
   });
 

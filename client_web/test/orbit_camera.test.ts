@@ -1,7 +1,9 @@
 import { describe, expect, it } from 'vitest';
 import { cameraBasis, OrbitCamera, orbitLimits, viewAngles } from '../src/interaction/orbit_camera';
 import { VIEW_POSES } from '../src/protocol/generated/server_tables';
-import { checkClientMessage, orbitEye, VIEWS, type Camera, type SettingRanges } from '../src/protocol/messages';
+import { orbitEye } from '../src/interaction/orbit_camera';
+import { VIEWS, type Camera, type SettingRanges } from '../src/protocol/messages';
+import { checkClientMessage } from './client_checks';
 import { recordedRanges, recordedTerms } from './recorded';
 
 const start: Camera = { eye: [0, 2.6, 0], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };

@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { OrbitCamera } from '../src/interaction/orbit_camera';
-import { applyPatch, VIEWS, type Camera, type State, type ViewName } from '../src/protocol/messages';
+import { viewPose, VIEWS, type Camera, type ViewName } from '../src/protocol/messages';
 import { markerEnds } from '../src/view/orientation_marker';
 
 // Which label lies furthest right and which furthest up on screen.
@@ -42,11 +42,11 @@ describe('named views and the orientation marker', () => {
   });
 
   it('points each button view the way the server poses the named view', () => {
-    const state = { camera: { eye: [0, 0, 3], target: [0, 0, 0], up: [0, 0, 1], fov: 30 } } as unknown as State;
+    const start: Camera = { eye: [0, 0, 3], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };
     for (const view of VIEWS) {
-      const server = applyPatch(state, { camera: { view } }).camera;
+      const server: Camera = { ...start, ...viewPose(view, start.target, 3) };
       const camera = new OrbitCamera();
-      camera.setFrom(state.camera);
+      camera.setFrom(start);
       camera.setView(view);
       const client = camera.toCamera();
       // The same side and, on screen, the same up (the orbit stops 1 degree short of the poles).

@@ -2,7 +2,8 @@
 // which the client's checks of its own messages take.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { parseServerMessage, termsOf, type HelloMessage, type ServerTerms } from '../src/protocol/messages';
+import { parseServerMessage, type HelloMessage } from '../src/protocol/messages';
+import { termsOf, type ServerTerms } from './client_checks';
 import { tfTerms, type TfTerms } from '../src/panels/tf_model';
 
 /** hello, volumes, opened, ack, stats, error, state: each one line of JSON text. */

@@ -1,8 +1,9 @@
 import { describe, expect, it } from 'vitest';
-import { checkClientMessage, parseServerMessage, type OpenedMessage } from '../src/protocol/messages';
+import { parseServerMessage, type OpenedMessage } from '../src/protocol/messages';
+import { checkClientMessage } from './client_checks';
 import { presetsFor } from '../src/panels/tf_editor';
 import { COLOR_MAPS, histogramCurve, TfModel } from '../src/panels/tf_model';
-import { recordedHello, recordedMessages, recordedRanges, recordedTerms, recordedTfTerms } from './recorded';
+import { recordedHello, recordedMessages, recordedTerms, recordedTfTerms } from './recorded';
 
 const presetNames = recordedHello.presets.map((p) => p.name);
 const inHounsfield = recordedHello.presets.filter((p) => p.space === 'hounsfield').map((p) => p.name);
@@ -13,7 +14,7 @@ function sorted(xs: number[]): boolean {
 
 describe('TfModel', () => {
   it("holds a preset as the server's hello announced it and a real server's state reported it (mri_skin)", () => {
-    const opened = parseServerMessage(recordedMessages[2]!, recordedRanges) as OpenedMessage;
+    const opened = parseServerMessage(recordedMessages[2]!) as OpenedMessage;
     const tf = opened.state.transfer_function;
     expect(tf.name).toBe('mri_skin');
     const m = new TfModel(recordedTfTerms);

@@ -5,15 +5,13 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
-import { DEFAULT_CAMERA_DISTANCE, DEFAULT_FOV, VIEW_POSES } from '../protocol/generated/server_tables';
 import {
-  orbitEye,
-  orbitOf,
-  type Camera,
-  type SettingRanges,
-  type Vec3,
-  type ViewName,
-} from '../protocol/messages';
+  DEFAULT_CAMERA_DISTANCE,
+  DEFAULT_FOV,
+  MAX_ORBIT_ELEVATION,
+  VIEW_POSES,
+} from '../protocol/generated/server_tables';
+import type { Camera, Orbit, SettingRanges, Vec3, ViewName } from '../protocol/messages';
 
 /**
  * How far from the horizon the orbit goes: it keeps +z up, which turns about its axis at the pole,
@@ -68,6 +66,33 @@ export function orbitLimits(ranges: SettingRanges): OrbitLimits {
 
 function sub(a: Vec3, b: Vec3): Vec3 {
   return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+}
+
+function deg(radians: number): number {
+  return (radians * 180) / Math.PI;
+}
+
+/** The eye an `orbit` puts around `target`, as the server does (§5): azimuth from +y toward +x about +z. */
+export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
+  const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
+  const el = (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) * Math.PI) / 180;
+  const d = orbit.distance ?? DEFAULT_CAMERA_DISTANCE;
+  return [
+    target[0] + d * Math.cos(el) * Math.sin(az),
+    target[1] + d * Math.cos(el) * Math.cos(az),
+    target[2] + d * Math.sin(el),
+  ];
+}
+
+/** Azimuth, elevation (degrees) and distance of `eye` around `target`; the inverse of orbitEye. */
+export function orbitOf(eye: Vec3, target: Vec3): Required<Orbit> {
+  const [x, y, z] = sub(eye, target);
+  const distance = Math.hypot(x, y, z);
+  return {
+    azimuth: deg(Math.atan2(x, y)),
+    elevation: distance > 0 ? deg(Math.asin(Math.max(-1, Math.min(1, z / distance)))) : 0,
+    distance,
+  };
 }
 
 function cross(a: Vec3, b: Vec3): Vec3 {

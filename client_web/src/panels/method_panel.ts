@@ -3,8 +3,10 @@
 // (Blinn-Phong, jitter, empty-space skipping), background and the output encoding, and a control
 // for every numeric setting the server's hello announces a range for (hello.ranges), placed by its
 // path: settings/light_buffer/* under the light buffer, settings/scattering/* under shell & cone,
-// settings/shading/* under shading, settings/* under sampling, another part in a folder of its own.
-// A new numeric setting of the server gets its control here with no change to this file.
+// settings/shading/* under shading, settings/* under sampling, another part in a folder of its own;
+// and a checkbox or a list for every boolean or choice of the server's table (SETTINGS) that it
+// places nowhere else, in the same folders. A new numeric, boolean or choice setting of the server
+// gets its control here with no change to this file.
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
@@ -22,8 +24,10 @@ import {
   type Encoding,
   type LightLookup,
   type Limits,
+  type Mode,
   type ModeCapabilities,
   type SettingRanges,
+  SETTINGS,
   type Stage,
   type State,
   type StatePatch,
@@ -61,13 +65,72 @@ export function methodControls(ranges: SettingRanges): SettingControl[] {
 }
 
 /** The `set` patch that gives the setting at `members` (under settings) `value`. */
-export function settingPatch(members: string[], value: number): StatePatch {
+export function settingPatch(members: string[], value: number | boolean | string): StatePatch {
   return { settings: nestedAt(members, value) as StatePatch['settings'] };
+}
+
+/** The booleans and choices under settings/ that the panel has controls of its own for. */
+const PLACED = new Set([
+  'settings/mode',
+  'settings/compositing',
+  'settings/stage',
+  'settings/phong',
+  'settings/jitter',
+  'settings/empty_space_skipping',
+  'settings/light_buffer/builder',
+  'settings/light_buffer/lookup',
+]);
+
+/** A boolean or a choice of the server's table, offered as a checkbox or a list. */
+export interface ToggleControl {
+  path: string;
+  /** The members under `settings`: ['light_buffer', 'builder']. */
+  members: string[];
+  part: string;
+  label: string;
+  hint: string;
+  /** A choice's names; none for a boolean. */
+  choices?: readonly string[];
+}
+
+interface TableSetting {
+  kind: string;
+  summary: string;
+  choices?: readonly string[];
+}
+
+/** The booleans and choices of `table` (SETTINGS) under settings/ that `placed` leaves out. */
+export function toggleControls(
+  table: Readonly<Record<string, TableSetting>>,
+  placed: ReadonlySet<string> = PLACED,
+): ToggleControl[] {
+  return Object.entries(table)
+    .filter(([path, s]) => path.startsWith('settings/') && !placed.has(path) && (s.kind === 'boolean' || s.kind === 'choice'))
+    .map(([path, s]) => {
+      const members = path.split('/').slice(1);
+      return {
+        path,
+        members,
+        part: members.length > 1 ? members[0]! : '',
+        label: labelOf(members[members.length - 1]!),
+        hint: s.summary,
+        ...(s.kind === 'choice' ? { choices: s.choices } : {}),
+      };
+    });
 }
 
 /** The value of the setting at `members` in a state's settings, or undefined where it has none. */
 export function settingValue(settings: State['settings'], members: string[]): number | undefined {
   return valueAt(settings, members);
+}
+
+/** A boolean or a name at `members` in a state's settings, or undefined where it has none. */
+function valueIn(settings: State['settings'] | undefined, members: string[]): boolean | string | undefined {
+  let value: unknown = settings;
+  for (const member of members) {
+    value = typeof value === 'object' && value !== null ? (value as Record<string, unknown>)[member] : undefined;
+  }
+  return typeof value === 'boolean' || typeof value === 'string' ? value : undefined;
 }
 
 interface RangedControl {
@@ -99,6 +162,9 @@ export class MethodPanel {
   };
   /** The values of the numeric settings, by path (settings/light_buffer/compensation). */
   private readonly values: Record<string, number> = {};
+  /** The values of the table's other booleans and choices, by path. */
+  private readonly toggles: Record<string, boolean | string> = {};
+  private readonly toggled: ToggleControl[] = toggleControls(SETTINGS);
   private readonly controllers: Controller[] = [];
   private readonly byKey = new Map<string, Controller>();
   private readonly ranged = new Map<string, RangedControl>();
@@ -121,7 +187,7 @@ export class MethodPanel {
     const settings = (s: StatePatch['settings']): StatePatch => ({ settings: s });
 
     // The server's modes arrive with its hello (setModes).
-    this.mode = add(folder.add(p, 'mode', [p.mode]), 'mode', () => settings({ mode: p.mode }), false);
+    this.mode = add(folder.add(p, 'mode', [p.mode]), 'mode', () => settings({ mode: p.mode as Mode }), false);
     this.mode.onChange(() => this.greyOut());
     add(folder.add(p, 'compositing', [...COMPOSITINGS]), 'compositing', () =>
       settings({ compositing: p.compositing }), false);
@@ -161,6 +227,8 @@ export class MethodPanel {
     this.parts.set('light_buffer', lb);
     this.parts.set('scattering', scattering);
     this.parts.set('shading', shading);
+
+    for (const toggle of this.toggled) this.addToggle(toggle);
 
     const output = folder.addFolder('Image');
     add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
@@ -217,11 +285,7 @@ export class MethodPanel {
   }
 
   private addSetting(setting: SettingControl): Controller {
-    let folder = this.parts.get(setting.part);
-    if (folder === undefined) {
-      folder = this.folder.addFolder(labelOf(setting.part));
-      this.parts.set(setting.part, folder);
-    }
+    const folder = this.folderOf(setting.part);
     const held = this.state ? settingValue(this.state.settings, setting.members) : undefined;
     this.values[setting.path] = held ?? setting.min;
     const value = () => settingPatch(setting.members, this.values[setting.path]!);
@@ -236,6 +300,29 @@ export class MethodPanel {
     // A number field sends what was typed once it is complete; a slider while it moves.
     const name = setting.members[setting.members.length - 1]!;
     return this.add(c, name, value, setting.kind === 'slider');
+  }
+
+  private folderOf(part: string): GUI {
+    let folder = this.parts.get(part);
+    if (folder === undefined) {
+      folder = this.folder.addFolder(labelOf(part));
+      this.parts.set(part, folder);
+    }
+    return folder;
+  }
+
+  private addToggle(toggle: ToggleControl): void {
+    const held = valueIn(this.state?.settings, toggle.members);
+    this.toggles[toggle.path] = held ?? (toggle.choices ? toggle.choices[0]! : false);
+    const folder = this.folderOf(toggle.part);
+    const c = toggle.choices
+      ? folder.add(this.toggles, toggle.path, [...toggle.choices])
+      : folder.add(this.toggles, toggle.path);
+    c.name(toggle.label);
+    c.domElement.title = toggle.hint;
+    c.domElement.dataset['setting'] = toggle.path;
+    const name = toggle.members[toggle.members.length - 1]!;
+    this.add(c, name, () => settingPatch(toggle.members, this.toggles[toggle.path]!), false);
   }
 
   /** The modes this server offers, with what each computes (its hello). */
@@ -269,6 +356,10 @@ export class MethodPanel {
     for (const { setting } of this.ranged.values()) {
       const value = settingValue(s, setting.members);
       if (value !== undefined) this.values[setting.path] = value;
+    }
+    for (const toggle of this.toggled) {
+      const value = valueIn(s, toggle.members);
+      if (value !== undefined) this.toggles[toggle.path] = value;
     }
     this.showSettings();
     for (const c of this.controllers) c.updateDisplay();

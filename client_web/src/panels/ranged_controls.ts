@@ -75,7 +75,7 @@ export function valueAt(part: object, members: string[]): number | undefined {
 }
 
 /** `value` nested under `members`: { light_buffer: { compensation: value } }. */
-export function nestedAt(members: string[], value: number): Record<string, unknown> {
+export function nestedAt(members: string[], value: unknown): Record<string, unknown> {
   let inner: unknown = value;
   for (const member of [...members].reverse()) inner = { [member]: inner };
   return inner as Record<string, unknown>;

@@ -9,7 +9,6 @@ import { parseFrame, type Frame } from './frame_header';
 import {
   ANSWERS,
   answersOlderRenders,
-  applyPatch,
   encodeClientMessage,
   parseServerMessage,
   restorePatch,
@@ -294,7 +293,7 @@ export class Connection {
       if (typeof event.data === 'string') {
         let message: ServerMessage;
         try {
-          message = parseServerMessage(event.data, this.hello?.ranges);
+          message = parseServerMessage(event.data);
         } catch (e) {
           // A newer server may send types this client does not know (§3): nothing to do for them.
           if (!(e instanceof UnknownMessageType)) {
@@ -670,15 +669,14 @@ export class Connection {
     return this.session;
   }
 
-  /** Patches the session's state (owner only); the mirror follows once the server acknowledges. */
+  /**
+   * Patches the session's state (owner only); the mirror becomes the state the server answers
+   * with, the patch as it applied it.
+   */
   async set(patch: StatePatch): Promise<void> {
-    await this.request({ type: 'set', ...patch });
-    if (this.session) {
-      // A preset is mirrored as the server's hello announced it, as the server sets it.
-      const presets = this.hello?.presets ?? [];
-      this.session.state = applyPatch(this.session.state, patch, (name) =>
-        structuredClone(presets.find((p) => p.name === name)),
-      );
+    const answer = await this.request({ type: 'set', ...patch });
+    if (this.session && answer.state) {
+      this.session.state = answer.state;
     }
   }
 
