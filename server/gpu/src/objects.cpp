@@ -32,4 +32,41 @@ Query create_query(GLenum target) {
     return Query(name);
 }
 
+Texture create_texture_1d(GLenum format, int width) {
+    Texture texture = create_texture(GL_TEXTURE_1D);
+    glTextureStorage1D(texture.name(), 1, format, width);
+    return texture;
+}
+
+Texture create_texture_2d(GLenum format, int width, int height) {
+    Texture texture = create_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(texture.name(), 1, format, width, height);
+    return texture;
+}
+
+Texture create_texture_3d(GLenum format, int width, int height, int depth) {
+    Texture texture = create_texture(GL_TEXTURE_3D);
+    glTextureStorage3D(texture.name(), 1, format, width, height, depth);
+    return texture;
+}
+
+Texture create_texture_array(GLenum format, int width, int height, int layers) {
+    Texture texture = create_texture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(texture.name(), 1, format, width, height, layers);
+    return texture;
+}
+
+Buffer create_storage_buffer(std::size_t bytes) {
+    Buffer buffer = create_buffer();
+    glNamedBufferStorage(buffer.name(), static_cast<GLsizeiptr>(bytes), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    return buffer;
+}
+
+Framebuffer create_framebuffer(const Texture& colour) {
+    Framebuffer framebuffer = create_framebuffer();
+    glNamedFramebufferTexture(framebuffer.name(), GL_COLOR_ATTACHMENT0, colour.name(), 0);
+    return framebuffer;
+}
+
 }  // namespace penumbra::gpu

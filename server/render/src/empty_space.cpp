@@ -1,5 +1,6 @@
 #include "empty_space.hpp"
 
+#include <penumbra/gpu/commands.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/common.hpp>
@@ -122,21 +123,15 @@ scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
 
 EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
     : ranges_on_cpu_(ranges)
-    , ranges_(gpu::create_texture(GL_TEXTURE_3D))
-    , occupancy_(gpu::create_texture(GL_TEXTURE_3D))
-    , visible_entries_(gpu::create_buffer()) {
+    , ranges_(gpu::create_texture_3d(GL_RG32F, ranges.grid.x, ranges.grid.y, ranges.grid.z))
+    , occupancy_(gpu::create_texture_3d(GL_R8UI, ranges.grid.x, ranges.grid.y, ranges.grid.z))
+    , visible_entries_(
+              gpu::create_storage_buffer(sizeof(std::uint32_t) * (scene::default_table_size + 1))) {
     const glm::ivec3 grid = ranges.grid;
-    glTextureStorage3D(ranges_.name(), 1, GL_RG32F, grid.x, grid.y, grid.z);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(ranges_.name(), 0, 0, 0, 0, grid.x, grid.y, grid.z, GL_RG, GL_FLOAT,
-                        ranges.min_max.data());
-    glTextureParameteri(ranges_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(ranges_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureStorage3D(occupancy_.name(), 1, GL_R8UI, grid.x, grid.y, grid.z);
-    glTextureParameteri(occupancy_.name(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(occupancy_.name(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glNamedBufferStorage(visible_entries_.name(),
-                         sizeof(std::uint32_t) * (scene::default_table_size + 1), nullptr, 0);
+    gpu::upload_3d(ranges_, grid.x, grid.y, grid.z, GL_RG, GL_FLOAT, ranges.min_max.data());
+    // Read with texelFetch; a filter without mipmaps keeps their single level complete.
+    gpu::set_sampling(ranges_, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    gpu::set_sampling(occupancy_, GL_NEAREST, GL_CLAMP_TO_EDGE);
 }
 
 base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
@@ -145,17 +140,15 @@ base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
     if (!program) {
         return program.error();
     }
-    glUseProgram((*program)->name());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, visible_entries_.name());
-    glBindTextureUnit(4, ranges_.name());
-    glBindImageTexture(0, occupancy_.name(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
-    glUniform1i(0, 0);
-    glDispatchCompute(1, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glUniform1i(0, 1);
-    const auto groups = [](int bricks) { return static_cast<GLuint>((bricks + 3) / 4); };
-    glDispatchCompute(groups(grid.x), groups(grid.y), groups(grid.z));
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    const gpu::Program& classify = **program;
+    gpu::bind_storage_buffer(0, visible_entries_);
+    gpu::bind_texture(4, ranges_);
+    gpu::bind_image(0, occupancy_, GL_WRITE_ONLY, GL_R8UI);
+    gpu::set_uniform(classify, 0, 0);  // the table's visible entries, into the buffer
+    gpu::dispatch(classify, {}, GL_SHADER_STORAGE_BARRIER_BIT);
+    gpu::set_uniform(classify, 0, 1);  // each brick against them
+    gpu::dispatch(classify, gpu::groups_covering(4, grid.x, grid.y, grid.z),
+                  GL_TEXTURE_FETCH_BARRIER_BIT);
     return base::Ok{};
 }
 

@@ -48,7 +48,7 @@ public:
     base::Status classify(ProgramCache& programs) const;
 
     // The R8UI occupancy grid that shaders/include/empty_space.glsl reads.
-    [[nodiscard]] GLuint occupancy() const { return occupancy_.name(); }
+    [[nodiscard]] const gpu::Texture& occupancy() const { return occupancy_; }
 
     [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
 

@@ -1,5 +1,7 @@
 #include "frame_target.hpp"
 
+#include <penumbra/gpu/commands.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,19 +11,16 @@ void FrameTarget::ensure(int width, int height) {
     if (texture_ && width == width_ && height == height_) {
         return;
     }
-    texture_ = gpu::create_texture(GL_TEXTURE_2D);
-    glTextureStorage2D(texture_.name(), 1, image_format, width, height);
-    framebuffer_ = gpu::create_framebuffer();
-    glNamedFramebufferTexture(framebuffer_.name(), GL_COLOR_ATTACHMENT0, texture_.name(), 0);
+    texture_ = gpu::create_texture_2d(image_format, width, height);
+    framebuffer_ = gpu::create_framebuffer(texture_);
     width_ = width;
     height_ = height;
 }
 
 void FrameTarget::read_back(base::ImageRgba8& image) const {
     image = base::ImageRgba8(width_, height_);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(texture_.name(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                      static_cast<GLsizei>(image.pixels.size()), image.pixels.data());
+    gpu::read_texture(texture_, GL_RGBA, GL_UNSIGNED_BYTE,
+                      std::as_writable_bytes(std::span(image.pixels)));
 }
 
 base::ImageRgba8 transmittance_image(std::span<const float> values, int size) {

@@ -17,9 +17,9 @@ public:
 
     void ensure(int width, int height);
 
-    [[nodiscard]] GLuint texture() const { return texture_.name(); }
+    [[nodiscard]] const gpu::Texture& texture() const { return texture_; }
 
-    [[nodiscard]] GLuint framebuffer() const { return framebuffer_.name(); }
+    [[nodiscard]] const gpu::Framebuffer& framebuffer() const { return framebuffer_; }
 
     void read_back(base::ImageRgba8& image) const;
 

@@ -1,5 +1,7 @@
 #include "gradient_texture.hpp"
 
+#include <penumbra/gpu/commands.hpp>
+
 namespace penumbra::render {
 
 std::size_t gradient_texture_bytes(glm::uvec3 dims) {
@@ -12,26 +14,18 @@ base::Result<gpu::Texture> build_gradient_texture(ProgramCache& programs,
     if (!program) {
         return program.error();
     }
-    gpu::Texture gradients = gpu::create_texture(GL_TEXTURE_3D);
-    const GLuint name = gradients.name();
-    glTextureStorage3D(name, 1, GL_RGBA16F, static_cast<GLsizei>(dims.x),
-                       static_cast<GLsizei>(dims.y), static_cast<GLsizei>(dims.z));
-    if (glGetError() == GL_OUT_OF_MEMORY) {
+    const glm::ivec3 size(dims);
+    gpu::Texture gradients = gpu::create_texture_3d(GL_RGBA16F, size.x, size.y, size.z);
+    if (gpu::take_error() == GL_OUT_OF_MEMORY) {
         return base::make_error("gpu_out_of_memory", "not enough GPU memory for the gradients",
                                 "gradients");
     }
-    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glUseProgram((*program)->name());
-    glBindTextureUnit(0, volume.texture.name());
-    glBindImageTexture(0, name, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glUniform2f(0, volume.value_map.x, volume.value_map.y);
-    const auto groups = [](unsigned voxels) { return static_cast<GLuint>((voxels + 3) / 4); };
-    glDispatchCompute(groups(dims.x), groups(dims.y), groups(dims.z));
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    gpu::set_sampling(gradients, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    gpu::bind_texture(0, volume.texture);
+    gpu::bind_image(0, gradients, GL_WRITE_ONLY, GL_RGBA16F);
+    gpu::set_uniform(**program, 0, volume.value_map.x, volume.value_map.y);
+    gpu::dispatch(**program, gpu::groups_covering(4, size.x, size.y, size.z),
+                  GL_TEXTURE_FETCH_BARRIER_BIT);
     return gradients;
 }
 

@@ -2,35 +2,77 @@
 
 #include "frame_target.hpp"
 
+#include <penumbra/gpu/commands.hpp>
+
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <span>
 
 namespace penumbra::render {
 
+LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
+                                      std::uint64_t volume_generation,
+                                      const std::vector<glm::vec4>& table, int slab_samples) {
+    LightBufferInputs inputs{volume_generation, {}, request};
+    inputs.opacities.reserve(table.size());
+    for (const glm::vec4& entry : table) {
+        inputs.opacities.push_back(entry.a);
+    }
+    const scene::FrameRequest defaults;
+    scene::FrameRequest& r = inputs.request;
+    // The camera and the image, and how the ray caster shades and reads the buffer.
+    r.camera = defaults.camera;
+    r.transfer_function = {};  // in `opacities`, as the builders see it
+    scene::RenderSettings& s = r.settings;
+    const scene::RenderSettings& d = defaults.settings;
+    s.width = d.width;
+    s.height = d.height;
+    s.mode = d.mode;  // every light-buffer mode fills the same buffer
+    s.stage = d.stage;
+    s.sample_distance = d.sample_distance;
+    s.early_termination = d.early_termination;
+    s.background = d.background;
+    s.shading = d.shading;
+    s.phong = d.phong;
+    s.jitter = d.jitter;
+    r.refinement = defaults.refinement;
+    s.scattering = d.scattering;
+    s.light_buffer.lookup = d.light_buffer.lookup;
+    // "One per voxel" and the count it resolves to fill the same buffer.
+    s.light_buffer.slab_samples = slab_samples;
+    // The buffer holds the fraction of the light that arrives, not its colour or strength; a
+    // directional light is only its direction, a point light only its position.
+    scene::Light& l = r.light;
+    l.color = defaults.light.color;
+    l.intensity = defaults.light.intensity;
+    l.ambient = defaults.light.ambient;
+    if (l.type == scene::LightType::directional) {
+        l.direction = glm::normalize(l.direction);
+        l.position = defaults.light.position;
+    } else {
+        l.direction = defaults.light.direction;
+    }
+    return inputs;
+}
+
 LightBuffer::LightBuffer(int slices, int resolution)
-    : layers_(gpu::create_texture(GL_TEXTURE_2D_ARRAY))
+    : layers_(gpu::create_texture_array(GL_R16F, resolution, resolution, slices))
     , slices_(slices)
     , resolution_(resolution) {
-    glTextureStorage3D(layers_.name(), 1, GL_R16F, resolution, resolution, slices);
-    glTextureParameteri(layers_.name(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(layers_.name(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(layers_.name(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(layers_.name(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gpu::set_sampling(layers_, GL_LINEAR, GL_CLAMP_TO_EDGE);
 }
 
 std::vector<float> LightBuffer::read() const {
     std::vector<float> values(static_cast<std::size_t>(resolution_) * resolution_ * slices_);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTextureImage(layers_.name(), 0, GL_RED, GL_FLOAT,
-                      static_cast<GLsizei>(values.size() * sizeof(float)), values.data());
+    gpu::read_texture(layers_, GL_RED, GL_FLOAT, std::as_writable_bytes(std::span(values)));
     return values;
 }
 
 base::ImageRgba8 LightBuffer::layer_image(int layer) const {
     std::vector<float> values(static_cast<std::size_t>(resolution_) * resolution_);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTextureSubImage(layers_.name(), 0, 0, 0, layer, resolution_, resolution_, 1, GL_RED,
-                         GL_FLOAT, static_cast<GLsizei>(values.size() * sizeof(float)),
-                         values.data());
+    gpu::read_texture_layer(layers_, layer, resolution_, resolution_, GL_RED, GL_FLOAT,
+                            std::as_writable_bytes(std::span(values)));
     return transmittance_image(values, resolution_);
 }
 
@@ -60,24 +102,21 @@ base::Status LightBufferBuilder::build(LightBuffer& target, scene::LightBufferBu
 // Builder B in tiles of texels, each dispatch marching its texels through every slice.
 base::Status LightBufferBuilder::build_multi_slice(LightBuffer& target, const gpu::Program& program,
                                                    double work_per_texel, WorkChunks& chunks) {
-    const float one = 1.0f;
-    glClearTexImage(target.texture(), 0, GL_RED, GL_FLOAT, &one);
-    glUseProgram(program.name());
-    glBindImageTexture(0, target.texture(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    gpu::clear(target.texture(), {1.0f, 1.0f, 1.0f, 1.0f});
+    gpu::bind_image(0, target.texture(), GL_WRITE_ONLY, GL_R16F);
     const int resolution = target.resolution();
     const Tile tile = tile_of(chunks.work_per_chunk() / work_per_texel, resolution, resolution);
+    const gpu::Groups groups = gpu::groups_covering(group_side, tile.width, tile.height);
     for (int y = 0; y < resolution; y += tile.height) {
         for (int x = 0; x < resolution; x += tile.width) {
-            glUniform2i(0, x, y);
-            glDispatchCompute(static_cast<GLuint>(tile.width / group_side),
-                              static_cast<GLuint>(tile.height / group_side), 1);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            gpu::set_uniform(program, 0, x, y);
+            gpu::dispatch(program, groups, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             if (!chunks.continue_after_chunk()) {
                 return cancelled_error();
             }
         }
     }
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    gpu::memory_barrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     return base::Ok{};
 }
 
@@ -88,36 +127,23 @@ base::Status LightBufferBuilder::build_per_slice(LightBuffer& target, const Slic
                                                  WorkChunks& chunks) {
     const int resolution = target.resolution();
     if (!scratch_ || scratch_resolution_ != resolution) {
-        scratch_ = gpu::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(scratch_.name(), 1, GL_R16F, resolution, resolution);
-        scratch_framebuffer_ = gpu::create_framebuffer();
-        glNamedFramebufferTexture(scratch_framebuffer_.name(), GL_COLOR_ATTACHMENT0,
-                                  scratch_.name(), 0);
+        scratch_ = gpu::create_texture_2d(GL_R16F, resolution, resolution);
+        scratch_framebuffer_ = gpu::create_framebuffer(scratch_);
         scratch_resolution_ = resolution;
     }
-    if (glCheckNamedFramebufferStatus(scratch_framebuffer_.name(), GL_FRAMEBUFFER) !=
-        GL_FRAMEBUFFER_COMPLETE) {
+    if (!gpu::is_complete(scratch_framebuffer_)) {
         return base::make_error("gl_error", "the light-buffer framebuffer is incomplete",
                                 "light_buffer");
     }
     const int slices_per_chunk = static_cast<int>(
             std::clamp(chunks.work_per_chunk() / work_per_slice, 1.0, double(target.slices())));
-    glBindFramebuffer(GL_FRAMEBUFFER, scratch_framebuffer_.name());
-    glViewport(0, 0, resolution, resolution);
-    const float one[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-    glClearNamedFramebufferfv(scratch_framebuffer_.name(), GL_COLOR, 0, one);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ZERO, GL_SRC_COLOR);
-    glUseProgram(program.name());
-    mesh.bind();
+    gpu::clear(scratch_framebuffer_, {1.0f, 1.0f, 1.0f, 1.0f});
+    gpu::draw_into(scratch_framebuffer_, resolution, resolution, gpu::Blend::multiply);
     base::Status status = base::Ok{};
     for (int k = 0; k < target.slices(); ++k) {
-        glCopyImageSubData(scratch_.name(), GL_TEXTURE_2D, 0, 0, 0, 0, target.texture(),
-                           GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, resolution, resolution, 1);
+        gpu::copy_into_layer(scratch_, target.texture(), k, resolution, resolution);
         if (k + 1 < target.slices()) {
-            mesh.draw(k);
+            mesh.draw(program, k);
         }
         if ((k + 1) % slices_per_chunk == 0 && k + 1 < target.slices() &&
             !chunks.continue_after_chunk()) {
@@ -125,8 +151,7 @@ base::Status LightBufferBuilder::build_per_slice(LightBuffer& target, const Slic
             break;
         }
     }
-    glDisable(GL_BLEND);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gpu::end_drawing();
     return status;
 }
 

@@ -11,10 +11,32 @@
 #include <penumbra/gpu/timer.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
+#include <glm/vec4.hpp>
+
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace penumbra::render {
+
+// Everything a light buffer's content depends on, its key in the renderer's cache: the volume, the
+// opacity the builders classify with (the baked TF's alpha channel, so a colour change reuses the
+// buffer), and the request with what the builders are known not to read reset to its default.
+// Every other member of the request stays in, so a setting added later rebuilds the buffer until
+// it is shown not to matter, rather than serving stale shadows.
+struct LightBufferInputs {
+    std::uint64_t volume_generation = 0;
+    std::vector<float> opacities;
+    scene::FrameRequest request;
+
+    bool operator==(const LightBufferInputs&) const = default;
+};
+
+// The inputs of the buffer `request` reads, for the volume of `volume_generation` under the baked
+// TF `table`, with the slab samples resolved.
+LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
+                                      std::uint64_t volume_generation,
+                                      const std::vector<glm::vec4>& table, int slab_samples);
 
 // A light attenuation buffer: a GL_TEXTURE_2D_ARRAY of n layers of R x R transmittances (R16F)
 // seen from the light; layer k holds what reaches slice k.
@@ -22,7 +44,7 @@ class LightBuffer {
 public:
     LightBuffer(int slices, int resolution);
 
-    [[nodiscard]] GLuint texture() const { return layers_.name(); }
+    [[nodiscard]] const gpu::Texture& texture() const { return layers_; }
 
     [[nodiscard]] int slices() const { return slices_; }
 

@@ -1,5 +1,8 @@
 #include "raycast_pass.hpp"
 
+#include <penumbra/gpu/commands.hpp>
+#include <penumbra/scene/frame_work.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,6 +19,11 @@ gpu::Defines RaycastVariant::defines() const {
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
             {"GRADIENT_TEXTURE", gradient_texture ? "1" : "0"},
             {"CHUNKED", chunked ? "1" : "0"}};
+}
+
+gpu::Defines RaycastVariant::light_buffer_defines() const {
+    return {{"EXTINCTION", extinction ? "1" : "0"},
+            {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"}};
 }
 
 std::string RaycastVariant::key() const {
@@ -38,16 +46,22 @@ base::Result<const gpu::Program*> RaycastPass::program_for(const RaycastVariant&
 
 namespace {
 
-int round_up_to_groups(int pixels) {
-    return (pixels + group_side - 1) / group_side * group_side;
-}
-
 // The cap less a safety margin for the few iterations outside the march loop; 0: no cap.
 long long usable_loop_cap(const MarchBudget& budget) {
     return budget.loop_cap > 0 ? budget.loop_cap - 1000 : 0;
 }
 
 }  // namespace
+
+MarchBudget march_budget(const scene::RenderSettings& settings, const scene::Box& box,
+                         int slab_samples, int loop_cap) {
+    MarchBudget budget;
+    budget.max_samples_per_ray = scene::samples_per_ray(settings, box);
+    budget.iterations_per_sample =
+            scene::iterations_per_sample(settings, budget.max_samples_per_ray, slab_samples);
+    budget.loop_cap = loop_cap;
+    return budget;
+}
 
 MarchChunks plan_march_chunks(const MarchBudget& budget, int width, int height,
                               double work_per_chunk, bool split_steps) {
@@ -105,22 +119,16 @@ base::Result<int> RaycastPass::run(RaycastVariant variant, int width, int height
     if (!program) {
         return program.error();
     }
-    glUseProgram((*program)->name());
     timer.begin();
     if (compute) {
-        glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                           FrameTarget::image_format);
-        glDispatchCompute(static_cast<GLuint>(layout.tile_width / group_side),
-                          static_cast<GLuint>(layout.tile_height / group_side), 1);
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+        gpu::bind_image(0, target.texture(), GL_WRITE_ONLY, FrameTarget::image_format);
+        gpu::dispatch(**program,
+                      gpu::groups_covering(group_side, layout.tile_width, layout.tile_height),
+                      GL_TEXTURE_UPDATE_BARRIER_BIT);
     } else {
-        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
-        glViewport(0, 0, width, height);
-        glDisable(GL_BLEND);
-        glDisable(GL_DEPTH_TEST);
-        glBindVertexArray(empty_vertex_array_.name());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        gpu::draw_into(target.framebuffer(), width, height, gpu::Blend::none);
+        gpu::draw_triangles(**program, empty_vertex_array_, 0, 3);
+        gpu::end_drawing();
     }
     timer.end();
     if (!chunks.continue_after_chunk()) {
@@ -142,37 +150,32 @@ base::Status RaycastPass::run_compute_chunks(const RaycastVariant& variant, int 
         return !program ? program.error() : resolve.error();
     }
     if (!accumulation_ || accumulation_width_ != width || accumulation_height_ != height) {
-        accumulation_ = gpu::create_texture(GL_TEXTURE_2D);
-        glTextureStorage2D(accumulation_.name(), 1, GL_RGBA32F, width, height);
+        accumulation_ = gpu::create_texture_2d(GL_RGBA32F, width, height);
         accumulation_width_ = width;
         accumulation_height_ = height;
     }
-    glUseProgram((*program)->name());
-    glBindImageTexture(1, accumulation_.name(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glUniform1i(1, layout.steps);
-    const auto groups_x = static_cast<GLuint>(layout.tile_width / group_side);
-    const auto groups_y = static_cast<GLuint>(layout.tile_height / group_side);
+    const gpu::Program& march = **program;
+    gpu::bind_image(1, accumulation_, GL_READ_WRITE, GL_RGBA32F);
+    gpu::set_uniform(march, 1, layout.steps);
+    const gpu::Groups tile =
+            gpu::groups_covering(group_side, layout.tile_width, layout.tile_height);
     for (int first = 0; first < budget.max_samples_per_ray; first += layout.steps) {
-        glUniform1i(0, first);
+        gpu::set_uniform(march, 0, first);
         for (int y = 0; y < height; y += layout.tile_height) {
             for (int x = 0; x < width; x += layout.tile_width) {
-                glUniform2i(2, x, y);
-                glDispatchCompute(groups_x, groups_y, 1);
-                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                gpu::set_uniform(march, 2, x, y);
+                gpu::dispatch(march, tile, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
                 if (!chunks.continue_after_chunk()) {
                     return cancelled_error();
                 }
             }
         }
     }
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glUseProgram((*resolve)->name());
-    glBindTextureUnit(0, accumulation_.name());
-    glBindImageTexture(0, target.texture(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                       FrameTarget::image_format);
-    glDispatchCompute(static_cast<GLuint>(round_up_to_groups(width) / group_side),
-                      static_cast<GLuint>(round_up_to_groups(height) / group_side), 1);
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    gpu::memory_barrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    gpu::bind_texture(0, accumulation_);
+    gpu::bind_image(0, target.texture(), GL_WRITE_ONLY, FrameTarget::image_format);
+    gpu::dispatch(**resolve, gpu::groups_covering(group_side, width, height),
+                  GL_TEXTURE_UPDATE_BARRIER_BIT);
     return base::Ok{};
 }
 
@@ -184,26 +187,19 @@ base::Status RaycastPass::run_fragment_tiles(const RaycastVariant& variant, int 
     if (!program) {
         return program.error();
     }
-    glUseProgram((*program)->name());
-    glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
-    glViewport(0, 0, width, height);
-    glDisable(GL_BLEND);
-    glDisable(GL_DEPTH_TEST);
-    glBindVertexArray(empty_vertex_array_.name());
-    glEnable(GL_SCISSOR_TEST);
+    gpu::draw_into(target.framebuffer(), width, height, gpu::Blend::none);
     base::Status status = base::Ok{};
     for (int y = 0; y < height && status; y += layout.tile_height) {
         for (int x = 0; x < width; x += layout.tile_width) {
-            glScissor(x, y, layout.tile_width, layout.tile_height);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
+            gpu::set_scissor(x, y, layout.tile_width, layout.tile_height);
+            gpu::draw_triangles(**program, empty_vertex_array_, 0, 3);
             if (!chunks.continue_after_chunk()) {
                 status = cancelled_error();
                 break;
             }
         }
     }
-    glDisable(GL_SCISSOR_TEST);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gpu::end_drawing();
     return status;
 }
 

@@ -8,6 +8,7 @@
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
+#include <penumbra/scene/box.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <string>
@@ -33,6 +34,8 @@ struct RaycastVariant {
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it
 
     [[nodiscard]] gpu::Defines defines() const;
+    // The defines the light-buffer builders share with it: how they composite and skip.
+    [[nodiscard]] gpu::Defines light_buffer_defines() const;
     [[nodiscard]] std::string key() const;  // "SHADOWS=1 SCATTERING=0 PHONG=1 ... compute"
 };
 
@@ -42,6 +45,11 @@ struct MarchBudget {
     int iterations_per_sample = 1;  // 1 + the inner loops' iterations (shadow rays, shells)
     int loop_cap = 0;               // 0: no cap
 };
+
+// The budget of rays through `box` under `settings`, with the light's slab samples resolved and
+// the device's `loop_cap`.
+MarchBudget march_budget(const scene::RenderSettings& settings, const scene::Box& box,
+                         int slab_samples, int loop_cap);
 
 // How a frame's rays are cut into chunks: tiles of the image, each marched `steps` samples at a
 // time. One tile covering the image and every step at once is the unchunked frame.

@@ -1,8 +1,10 @@
 #include "slice_geometry.hpp"
 
+#include <penumbra/gpu/commands.hpp>
 #include <penumbra/optics/light_slicing.hpp>
 
 #include <algorithm>
+#include <span>
 
 namespace penumbra::render {
 
@@ -38,30 +40,19 @@ void SliceMesh::upload(SliceGeometry geometry) {
     geometry_ = std::move(geometry);
     const std::size_t bytes = std::max<std::size_t>(geometry_.positions.size() * sizeof(float), 16);
     if (!buffer_ || bytes > capacity_) {
-        buffer_ = gpu::create_buffer();
-        glNamedBufferStorage(buffer_.name(), static_cast<GLsizeiptr>(bytes), nullptr,
-                             GL_DYNAMIC_STORAGE_BIT);
+        buffer_ = gpu::create_storage_buffer(bytes);
         capacity_ = bytes;
-        glVertexArrayVertexBuffer(vertex_array_.name(), 0, buffer_.name(), 0, 3 * sizeof(float));
-        glVertexArrayAttribFormat(vertex_array_.name(), 0, 3, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(vertex_array_.name(), 0, 0);
-        glEnableVertexArrayAttrib(vertex_array_.name(), 0);
+        gpu::attach_positions(vertex_array_, buffer_, 3);
     }
     if (!geometry_.positions.empty()) {
-        glNamedBufferSubData(buffer_.name(), 0,
-                             static_cast<GLsizeiptr>(geometry_.positions.size() * sizeof(float)),
-                             geometry_.positions.data());
+        gpu::upload(buffer_, std::as_bytes(std::span(geometry_.positions)));
     }
 }
 
-void SliceMesh::bind() const {
-    glBindVertexArray(vertex_array_.name());
-}
-
-void SliceMesh::draw(int slice) const {
+void SliceMesh::draw(const gpu::Program& program, int slice) const {
     const auto k = static_cast<std::size_t>(slice);
     if (geometry_.count[k] > 0) {
-        glDrawArrays(GL_TRIANGLES, geometry_.first[k], geometry_.count[k]);
+        gpu::draw_triangles(program, vertex_array_, geometry_.first[k], geometry_.count[k]);
     }
 }
 

@@ -29,9 +29,8 @@ public:
 
     void upload(SliceGeometry geometry);
 
-    // Binds the vertex array; then draw(k) draws slice k.
-    void bind() const;
-    void draw(int slice) const;
+    // Draws slice k with `program`.
+    void draw(const gpu::Program& program, int slice) const;
 
     [[nodiscard]] int slices() const { return static_cast<int>(geometry_.first.size()); }
 

@@ -1,6 +1,13 @@
 #pragma once
 
+#include "frame_geometry.hpp"
+
+#include <penumbra/gpu/objects.hpp>
+#include <penumbra/scene/frame_request.hpp>
+
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstddef>
@@ -50,5 +57,24 @@ static_assert(offsetof(FrameUniforms, camera_view_projection) == 384);
 static_assert(offsetof(FrameUniforms, box_to_world) == 480);
 static_assert(offsetof(FrameUniforms, jitter) == 608);
 static_assert(sizeof(FrameUniforms) == 624);
+
+// The uniforms of `request` with its geometry, on a volume of `dims` voxels whose texels
+// `value_map` turns into normalised values (VolumeTexture::value_map).
+FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeometry& g,
+                             glm::uvec3 dims, glm::vec2 value_map);
+
+// The frame's two uniform blocks on the GPU: FrameUniforms (binding 0) and the request's settings
+// (the generated Settings block, settings_block.hpp).
+class FrameBlocks {
+public:
+    FrameBlocks();
+
+    // Uploads both and binds them for every pass that follows.
+    void bind(const FrameUniforms& uniforms, const scene::FrameRequest& request) const;
+
+private:
+    gpu::Buffer uniforms_;
+    gpu::Buffer settings_;
+};
 
 }  // namespace penumbra::render

@@ -1,5 +1,9 @@
 #include "volume_texture.hpp"
 
+#include <penumbra/gpu/commands.hpp>
+
+#include <glm/vec3.hpp>
+
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -70,20 +74,11 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
         }
     }
     VolumeTexture out;
-    out.texture = gpu::create_texture(GL_TEXTURE_3D);
-    const GLuint name = out.texture.name();
-    glTextureStorage3D(name, 1, internal_format, static_cast<GLsizei>(dims.x),
-                       static_cast<GLsizei>(dims.y), static_cast<GLsizei>(dims.z));
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage3D(name, 0, 0, 0, 0, static_cast<GLsizei>(dims.x),
-                        static_cast<GLsizei>(dims.y), static_cast<GLsizei>(dims.z), GL_RED, type,
-                        pixels);
-    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    if (glGetError() == GL_OUT_OF_MEMORY) {
+    const glm::ivec3 size(dims);
+    out.texture = gpu::create_texture_3d(internal_format, size.x, size.y, size.z);
+    gpu::upload_3d(out.texture, size.x, size.y, size.z, GL_RED, type, pixels);
+    gpu::set_sampling(out.texture, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    if (gpu::take_error() == GL_OUT_OF_MEMORY) {
         return base::make_error("gpu_out_of_memory", "not enough GPU memory for the volume",
                                 volume.name);
     }

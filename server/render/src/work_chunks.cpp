@@ -1,6 +1,6 @@
 #include "work_chunks.hpp"
 
-#include <penumbra/gpu/objects.hpp>
+#include <penumbra/gpu/commands.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@ bool WorkChunks::continue_after_chunk() {
     if (!cancelled_) {
         return true;
     }
-    glFinish();
+    gpu::finish();
     return !cancelled_();
 }
 

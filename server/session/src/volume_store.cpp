@@ -57,9 +57,13 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
                          volume::LoadOptions load_options,
                          std::chrono::milliseconds rescan_interval, int loader_threads)
     : data_dir_(std::move(data_dir))
-    , memory_budget_(memory_budget)
     , load_options_(std::move(load_options))
     , rescan_interval_(rescan_interval)
+    , loaded_(memory_budget,
+              {.on_evict =
+                       [](const auto& entry) {
+                           base::log_info("volumes", "dropped " + entry.key + " (memory budget)");
+                       }})
     , loaders_(loader_threads) {
     rescanner_ = std::thread([this] { rescan_loop(); });
 }
@@ -219,13 +223,11 @@ base::Status VolumeStore::scan() {
     std::sort(found.begin(), found.end(),
               [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
     const std::lock_guard lock(mutex_);
-    for (auto& entry : found) {
-        const auto old = std::find_if(entries_.begin(), entries_.end(),
-                                      [&](const VolumeEntry& e) { return e.id == entry.id; });
-        if (old != entries_.end()) {
-            entry.loaded = old->loaded;
-        }
-    }
+    // Volumes whose entries are gone leave the memory with them.
+    loaded_.remove_if([&](const auto& held) {
+        return std::none_of(found.begin(), found.end(),
+                            [&](const VolumeEntry& e) { return e.id == held.key; });
+    });
     // Each skipped file is logged once, not at every rescan.
     for (const std::string& line : skipped) {
         if (std::find(skipped_.begin(), skipped_.end(), line) == skipped_.end()) {
@@ -276,7 +278,13 @@ std::vector<VolumeEntry> VolumeStore::list() const {
         }
         rescan_wake_.notify_all();
     }
-    return entries_;
+    std::vector<VolumeEntry> entries = entries_;
+    for (VolumeEntry& entry : entries) {
+        if (const auto* held = loaded_.peek(entry.id)) {
+            entry.loaded = *held;
+        }
+    }
+    return entries;
 }
 
 std::size_t VolumeStore::histograms_computed() const {
@@ -345,10 +353,8 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
             return base::make_error("unknown_volume", "no volume '" + id + "' on this server",
                                     "/volume");
         }
-        if (entry->loaded) {
-            recent_.remove(id);
-            recent_.push_front(id);
-            return entry->loaded;
+        if (const auto* held = loaded_.find(id)) {
+            return *held;
         }
         path = entry->path;
         // The series listed, from the folder's own files: its sub-folders are entries of their
@@ -368,31 +374,13 @@ base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const s
     histogram(shared);
     const std::lock_guard lock(mutex_);
     ++loads_;
-    auto entry = std::find_if(entries_.begin(), entries_.end(),
-                              [&](const VolumeEntry& e) { return e.id == id; });
-    if (entry == entries_.end()) {
+    if (std::none_of(entries_.begin(), entries_.end(),
+                     [&](const VolumeEntry& e) { return e.id == id; })) {
         return shared;  // rescanned away meanwhile; still usable by this caller
     }
-    entry->loaded = shared;
     base::log_info("volumes", "loaded " + id);
-    recent_.remove(id);
-    recent_.push_front(id);
-    std::size_t held = 0;
-    for (const auto& e : entries_) {
-        held += e.loaded ? e.loaded->data.size() : 0;
-    }
-    while (held > memory_budget_ && recent_.size() > 1) {
-        const std::string victim = recent_.back();
-        recent_.pop_back();
-        for (auto& e : entries_) {
-            if (e.id == victim && e.loaded) {
-                held -= e.loaded->data.size();
-                e.loaded.reset();
-                base::log_info("volumes", "dropped " + victim + " (memory budget)");
-            }
-        }
-    }
-    return entry->loaded;
+    loaded_.insert(id, shared, shared->data.size());
+    return shared;
 }
 
 }  // namespace penumbra::session

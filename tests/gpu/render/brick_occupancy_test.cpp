@@ -66,7 +66,7 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
         std::vector<std::uint8_t> occupancy(bricks);
-        glGetTextureImage(map.occupancy(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+        glGetTextureImage(map.occupancy().name(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
                           static_cast<GLsizei>(occupancy.size()), occupancy.data());
         std::size_t marked = 0;
         glm::ivec3 first = grid;

@@ -280,6 +280,41 @@ TEST_F(VolumeStoreTest, ListingAnswersFromTheLastScanAndAChangedFolderIsRescanne
     EXPECT_EQ(listed, (std::vector<std::string>{"a_2x2x2_uint8.raw", "b_2x2x2_uint8.raw"}));
 }
 
+TEST_F(VolumeStoreTest, LoadedVolumesBeyondTheBudgetAreDroppedLeastRecentlyUsedFirst) {
+    for (const char* name : {"a", "b", "c"}) {
+        write_text(data_ / (std::string(name) + "_2x2x2_uint8.raw"), "12345678");
+    }
+    VolumeStore store(data_, 16);  // two of the 8-byte volumes
+    ASSERT_TRUE(store.scan().ok());
+    const auto loaded = [&] {
+        std::vector<std::string> held;
+        for (const auto& entry : store.list()) {
+            if (entry.loaded) {
+                held.push_back(entry.id.substr(0, 1));
+            }
+        }
+        return held;
+    };
+    const auto acquire = [&](const std::string& name) {
+        ASSERT_TRUE(store.acquire(name + "_2x2x2_uint8.raw").ok()) << name;
+    };
+    acquire("a");
+    acquire("b");
+    acquire("a");  // held: b is now the least recently used
+    EXPECT_EQ(store.loads(), 2U);
+    acquire("c");
+    EXPECT_EQ(loaded(), (std::vector<std::string>{"a", "c"}));
+    acquire("b");
+    EXPECT_EQ(store.loads(), 4U);
+    EXPECT_EQ(loaded(), (std::vector<std::string>{"b", "c"}));
+    // A volume whose file is gone at the next scan leaves the budget with it: a fits beside b.
+    fs::remove(data_ / "c_2x2x2_uint8.raw");
+    ASSERT_TRUE(store.scan().ok());
+    acquire("a");
+    EXPECT_EQ(loaded(), (std::vector<std::string>{"a", "b"}));
+    EXPECT_EQ(store.loads(), 5U);
+}
+
 TEST_F(VolumeStoreTest, LoadErrorsNameFilesRelativeToTheDataFolder) {
     write_text(data_ / "heads" / "short_4x4x4_uint8.raw", "too short");
     VolumeStore store(data_, std::size_t{1} << 20);

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cstddef>
 #include <utility>
 
 namespace penumbra::gpu {
@@ -93,5 +94,18 @@ Buffer create_buffer();
 Framebuffer create_framebuffer();
 VertexArray create_vertex_array();
 Query create_query(GLenum target);
+
+// Textures of one level of immutable storage in `format` (GL_RGBA32F, GL_R16F, ...), sampled as
+// GL's defaults say until set_sampling (commands.hpp) says otherwise.
+Texture create_texture_1d(GLenum format, int width);
+Texture create_texture_2d(GLenum format, int width, int height);
+Texture create_texture_3d(GLenum format, int width, int height, int depth);
+Texture create_texture_array(GLenum format, int width, int height, int layers);
+
+// A buffer of `bytes` of immutable storage whose content upload() (commands.hpp) replaces.
+Buffer create_storage_buffer(std::size_t bytes);
+
+// A framebuffer that draws into `colour` (level 0, colour attachment 0).
+Framebuffer create_framebuffer(const Texture& colour);
 
 }  // namespace penumbra::gpu

@@ -33,7 +33,7 @@ struct RendererOptions {
     // Volume textures stay on the GPU, least recently used evicted first, while they fit this.
     std::size_t volume_memory_budget = std::size_t{2} << 30;
     // Light buffers stay cached by what their content depends on (the volume, the TF's opacity
-    // and the request less what the builders do not read: light_buffer_inputs in renderer.cpp),
+    // and the request less what the builders do not read: light_buffer_inputs in light_buffer.hpp),
     // least recently used evicted first so that together they never exceed this; a single buffer
     // larger than it is refused.
     std::size_t light_buffer_memory_budget = std::size_t{1} << 30;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <penumbra/base/lru_cache.hpp>
 #include <penumbra/base/result.hpp>
 #include <penumbra/session/worker_pool.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -10,7 +11,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <list>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -100,14 +100,14 @@ private:
     void rescan_loop();
 
     std::filesystem::path data_dir_;
-    std::size_t memory_budget_;
     volume::LoadOptions load_options_;
     std::chrono::milliseconds rescan_interval_;
     mutable std::mutex mutex_;
     std::mutex load_mutex_;
     std::vector<VolumeEntry> entries_;
     std::vector<std::string> skipped_;
-    std::list<std::string> recent_;  // loaded ids, most recent first
+    // The loaded volumes by id, within the memory budget; VolumeEntry::loaded as list() fills it.
+    base::LruCache<std::string, std::shared_ptr<const volume::Volume>> loaded_;
     std::size_t loads_ = 0;
 
     struct CachedHistogram {
