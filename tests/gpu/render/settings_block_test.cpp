@@ -103,7 +103,8 @@ TEST(SettingsBlockGlsl, NamesEachChoiceByADefine) {
     const std::string glsl = settings_block_glsl();
     EXPECT_NE(glsl.find("#define SETTINGS_COMPOSITING_ALPHA 0\n"), std::string::npos);
     EXPECT_NE(glsl.find("#define SETTINGS_COMPOSITING_EXTINCTION 1\n"), std::string::npos);
-    EXPECT_NE(glsl.find("#define SETTINGS_LIGHT_BUFFER_BUILDER_MULTI_SLICE 1\n"), std::string::npos);
+    EXPECT_NE(glsl.find("#define SETTINGS_LIGHT_BUFFER_BUILDER_MULTI_SLICE 1\n"),
+              std::string::npos);
     EXPECT_NE(glsl.find("#define SETTINGS_MODE_REFERENCE 6\n"), std::string::npos);
     EXPECT_NE(glsl.find("    int compositing;"), std::string::npos);
     EXPECT_NE(glsl.find("    vec3 background;"), std::string::npos);
