@@ -1,5 +1,10 @@
 import { describe, expect, it } from 'vitest';
-import { methodControls, settingPatch, settingUsed, settingValue } from '../src/panels/method_panel';
+import {
+  methodControls,
+  settingPatch,
+  settingUsed,
+  settingValue,
+} from '../src/panels/method_panel';
 import {
   checkClientMessage,
   DEFAULT_OUTPUT,
@@ -20,28 +25,56 @@ describe("the method panel's numeric settings", () => {
     expect(controls.map((c) => c.path)).toEqual(paths);
     const byPath = new Map(controls.map((c) => [c.path, c]));
     expect(byPath.get('settings/light_buffer/compensation')).toMatchObject({
-      part: 'light_buffer', label: 'compensation', kind: 'slider', min: 0, max: 1000, integer: false,
+      part: 'light_buffer',
+      label: 'compensation',
+      kind: 'slider',
+      min: 0,
+      max: 1000,
+      integer: false,
     });
-    expect(byPath.get('settings/light_buffer/slab_samples')).toMatchObject({ kind: 'slider', integer: true, max: 16 });
-    expect(byPath.get('settings/scattering/shell_rings')).toMatchObject({ part: 'scattering', integer: true });
+    expect(byPath.get('settings/light_buffer/slab_samples')).toMatchObject({
+      kind: 'slider',
+      integer: true,
+      max: 16,
+    });
+    expect(byPath.get('settings/scattering/shell_rings')).toMatchObject({
+      part: 'scattering',
+      integer: true,
+    });
     expect(byPath.get('settings/early_termination')).toMatchObject({ part: '', kind: 'slider' });
     // Distances over many decades: a number field with the decimals their low end needs.
-    expect(byPath.get('settings/sample_distance')).toMatchObject({ part: '', kind: 'number', decimals: 7 });
-    expect(byPath.get('settings/opacity_unit_distance')).toMatchObject({ kind: 'number', decimals: 6 });
-    expect(controls.filter((c) => c.kind === 'number').map((c) => c.path).sort()).toEqual([
-      'settings/opacity_unit_distance',
-      'settings/sample_distance',
-    ]);
+    expect(byPath.get('settings/sample_distance')).toMatchObject({
+      part: '',
+      kind: 'number',
+      decimals: 7,
+    });
+    expect(byPath.get('settings/opacity_unit_distance')).toMatchObject({
+      kind: 'number',
+      decimals: 6,
+    });
+    expect(
+      controls
+        .filter((c) => c.kind === 'number')
+        .map((c) => c.path)
+        .sort(),
+    ).toEqual(['settings/opacity_unit_distance', 'settings/sample_distance']);
   });
 
   it('offers a setting new to the client with the patch the server takes, and shows it from the state', () => {
     const glow = { min: 0, max: 4, integer: false, summary: 'light-buffer glow' };
     const ranges = { ...recordedRanges, 'settings/light_buffer/glow': glow };
     const control = methodControls(ranges).find((c) => c.path === 'settings/light_buffer/glow')!;
-    expect(control).toMatchObject({ part: 'light_buffer', label: 'glow', kind: 'slider', hint: 'light-buffer glow; within [0, 4]' });
+    expect(control).toMatchObject({
+      part: 'light_buffer',
+      label: 'glow',
+      kind: 'slider',
+      hint: 'light-buffer glow; within [0, 4]',
+    });
     const patch = settingPatch(control.members, 2.5);
     expect(patch).toEqual({ settings: { light_buffer: { glow: 2.5 } } });
-    expect(checkClientMessage({ v: 1, type: 'set', ...patch }, { ...recordedTerms, ranges })).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', ...patch }, { ...recordedTerms, ranges }),
+    ).toBeNull();
     const withGlow = structuredClone(state);
     (withGlow.settings.light_buffer as unknown as Record<string, number>)['glow'] = 1.5;
     expect(settingValue(withGlow.settings, control.members)).toBe(1.5);
@@ -51,7 +84,12 @@ describe("the method panel's numeric settings", () => {
   it('sends patches for the recorded settings that the server accepts', () => {
     for (const control of methodControls(recordedRanges)) {
       const value = control.integer ? control.max : (control.min + control.max) / 2;
-      expect(checkClientMessage({ v: 1, type: 'set', ...settingPatch(control.members, value) }, recordedTerms)).toBeNull();
+      expect(
+        checkClientMessage(
+          { v: 1, type: 'set', ...settingPatch(control.members, value) },
+          recordedTerms,
+        ),
+      ).toBeNull();
       const held = settingValue(state.settings, control.members);
       // The recorded state holds every setting but the refinement steps (the server was older than them).
       if (control.path !== 'settings/refinement_steps') expect(held).toBeTypeOf('number');
@@ -82,6 +120,11 @@ describe('the settings shown before the state arrives', () => {
     // them (it was recorded before some of today's settings were).
     expect(DEFAULT_SETTINGS).toMatchObject(state.settings);
     expect(state.output).toEqual(DEFAULT_OUTPUT);
-    expect(checkClientMessage({ v: 1, type: 'set', settings: DEFAULT_SETTINGS, output: DEFAULT_OUTPUT }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage(
+        { v: 1, type: 'set', settings: DEFAULT_SETTINGS, output: DEFAULT_OUTPUT },
+        recordedTerms,
+      ),
+    ).toBeNull();
   });
 });

@@ -1,7 +1,13 @@
 import { describe, expect, it } from 'vitest';
 import { cameraBasis, OrbitCamera, orbitLimits, viewAngles } from '../src/interaction/orbit_camera';
 import { VIEW_POSES } from '../src/protocol/generated/server_tables';
-import { checkClientMessage, orbitEye, VIEWS, type Camera, type SettingRanges } from '../src/protocol/messages';
+import {
+  checkClientMessage,
+  orbitEye,
+  VIEWS,
+  type Camera,
+  type SettingRanges,
+} from '../src/protocol/messages';
 import { recordedRanges, recordedTerms } from './recorded';
 
 const start: Camera = { eye: [0, 2.6, 0], target: [0, 0, 0], up: [0, 0, 1], fov: 30 };
@@ -27,7 +33,12 @@ describe('OrbitCamera', () => {
 
   it('round-trips a protocol camera', () => {
     const c = new OrbitCamera();
-    c.setFrom({ eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189], target: [0, 0, 0], up: [0, 0, 1], fov: 30 });
+    c.setFrom({
+      eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189],
+      target: [0, 0, 0],
+      up: [0, 0, 1],
+      fov: 30,
+    });
     expect(c.azimuth).toBeCloseTo(25, 9);
     expect(c.elevation).toBeCloseTo(10, 9);
     close(c.toCamera().eye, [1.082114125889637, 2.320601231751478, 0.4514852619340189]);
@@ -68,7 +79,9 @@ describe('OrbitCamera', () => {
     expect(c.distance).toBe(0.01);
     c.zoom(1e9);
     expect(c.distance).toBe(100);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
     c.reset();
     close(c.toCamera().eye, start.eye);
   });
@@ -104,14 +117,16 @@ describe('OrbitCamera', () => {
     expect(c.target).toEqual([0, 0, 0]);
   });
 
-  it('pans the target no farther than the eye stays within the server\'s coordinates', () => {
+  it("pans the target no farther than the eye stays within the server's coordinates", () => {
     const c = new OrbitCamera();
     c.setRanges(recordedRanges);
     c.setFrom(start);
     for (let i = 0; i < 200; ++i) c.zoom(10);
     for (let i = 0; i < 200; ++i) c.pan(-1e6, 1e6, 100);
     expect(Math.max(...c.target.map(Math.abs))).toBeLessThanOrEqual(900);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
   });
 
   it('produces cameras the server accepts', () => {
@@ -120,6 +135,8 @@ describe('OrbitCamera', () => {
     c.rotate(123, -45, 300);
     c.pan(10, 20, 300);
     c.zoom(3);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
   });
 });

@@ -1,6 +1,12 @@
 import { describe, expect, it } from 'vitest';
 import { OrbitCamera } from '../src/interaction/orbit_camera';
-import { applyPatch, VIEWS, type Camera, type State, type ViewName } from '../src/protocol/messages';
+import {
+  applyPatch,
+  VIEWS,
+  type Camera,
+  type State,
+  type ViewName,
+} from '../src/protocol/messages';
 import { markerEnds } from '../src/view/orientation_marker';
 
 // Which label lies furthest right and which furthest up on screen.
@@ -42,7 +48,9 @@ describe('named views and the orientation marker', () => {
   });
 
   it('points each button view the way the server poses the named view', () => {
-    const state = { camera: { eye: [0, 0, 3], target: [0, 0, 0], up: [0, 0, 1], fov: 30 } } as unknown as State;
+    const state = {
+      camera: { eye: [0, 0, 3], target: [0, 0, 0], up: [0, 0, 1], fov: 30 },
+    } as unknown as State;
     for (const view of VIEWS) {
       const server = applyPatch(state, { camera: { view } }).camera;
       const camera = new OrbitCamera();
@@ -51,7 +59,10 @@ describe('named views and the orientation marker', () => {
       const client = camera.toCamera();
       // The same side and, on screen, the same up (the orbit stops 1 degree short of the poles).
       const cosine =
-        (client.eye[0] * server.eye[0] + client.eye[1] * server.eye[1] + client.eye[2] * server.eye[2]) / 9;
+        (client.eye[0] * server.eye[0] +
+          client.eye[1] * server.eye[1] +
+          client.eye[2] * server.eye[2]) /
+        9;
       expect(cosine).toBeGreaterThan(Math.cos((1.01 * Math.PI) / 180));
       expect(screenAxes(view)).toEqual(screenAxesOf(server));
     }

@@ -2,11 +2,19 @@
 // which the client's checks of its own messages take.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { parseServerMessage, termsOf, type HelloMessage, type ServerTerms } from '../src/protocol/messages';
+import {
+  parseServerMessage,
+  termsOf,
+  type HelloMessage,
+  type ServerTerms,
+} from '../src/protocol/messages';
 import { tfTerms, type TfTerms } from '../src/panels/tf_model';
 
 /** hello, volumes, opened, ack, stats, error, state: each one line of JSON text. */
-export const recordedMessages = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
+export const recordedMessages = readFileSync(
+  path.join(__dirname, 'fixtures/server_messages.jsonl'),
+  'utf8',
+)
   .split('\n')
   .filter((line) => line.trim() !== '');
 

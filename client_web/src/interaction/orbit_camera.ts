@@ -5,7 +5,11 @@
 //   touch:     one finger orbit; two fingers pinch zoom and pan together
 //   keys:      arrows orbit, shift+arrows pan, + / - zoom, R reset (the element must have focus)
 
-import { DEFAULT_CAMERA_DISTANCE, DEFAULT_FOV, VIEW_POSES } from '../protocol/generated/server_tables';
+import {
+  DEFAULT_CAMERA_DISTANCE,
+  DEFAULT_FOV,
+  VIEW_POSES,
+} from '../protocol/generated/server_tables';
 import {
   orbitEye,
   orbitOf,
@@ -181,7 +185,9 @@ export class OrbitCamera {
     const unitsPerPixel =
       (2 * this.distance * Math.tan(((this.fov / 2) * Math.PI) / 180)) / Math.max(1, height);
     for (let i = 0; i < 3; ++i) {
-      this.target[i] = this.clampTarget(this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel);
+      this.target[i] = this.clampTarget(
+        this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel,
+      );
     }
   }
 
@@ -229,7 +235,10 @@ export function attachOrbitControls(
   const twoFinger = (): { mid: { x: number; y: number }; spread: number } | null => {
     const [a, b] = [...pointers.values()];
     if (!a || !b) return null;
-    return { mid: { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 }, spread: Math.hypot(a.x - b.x, a.y - b.y) };
+    return {
+      mid: { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 },
+      spread: Math.hypot(a.x - b.x, a.y - b.y),
+    };
   };
   let lastTwo: ReturnType<typeof twoFinger> = null;
 
@@ -289,7 +298,8 @@ export function attachOrbitControls(
     if (!callbacks.enabled()) return;
     e.preventDefault();
     begin();
-    const pixels = e.deltaMode === 1 ? e.deltaY * 16 : e.deltaMode === 2 ? e.deltaY * 400 : e.deltaY;
+    const pixels =
+      e.deltaMode === 1 ? e.deltaY * 16 : e.deltaMode === 2 ? e.deltaY * 400 : e.deltaY;
     // ctrl+wheel is how browsers report a trackpad pinch: finer steps.
     camera.zoom(Math.exp(pixels * (e.ctrlKey ? 0.01 : 0.0015)));
     callbacks.change();

@@ -66,7 +66,11 @@ export type ViewName = (typeof VIEWS)[number];
 export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
   const { side, up } = VIEW_POSES[view];
   return {
-    eye: [target[0] + distance * side[0], target[1] + distance * side[1], target[2] + distance * side[2]],
+    eye: [
+      target[0] + distance * side[0],
+      target[1] + distance * side[1],
+      target[2] + distance * side[2],
+    ],
     up: [...up],
   };
 }
@@ -468,7 +472,12 @@ function firstBeyondDepth(value: unknown, limit: number, at = '', depth = 1): st
     return at === '' ? '/' : at;
   }
   for (const [key, child] of Object.entries(value)) {
-    const found = firstBeyondDepth(child, limit, `${at}/${key.replace(/~/g, '~0').replace(/\//g, '~1')}`, depth + 1);
+    const found = firstBeyondDepth(
+      child,
+      limit,
+      `${at}/${key.replace(/~/g, '~0').replace(/\//g, '~1')}`,
+      depth + 1,
+    );
     if (found !== null) {
       return found;
     }
@@ -576,7 +585,12 @@ function checkPoints(tf: Record<string, unknown>, tfAt: string): void {
     numbers(point, 'rgb', `${tfAt}/colors/${i}`, 3);
   });
   (tf['opacities'] as unknown[]).forEach((p, i) => {
-    const point = need(isObject(p), p as Record<string, unknown>, 'a point', `${tfAt}/opacities/${i}`);
+    const point = need(
+      isObject(p),
+      p as Record<string, unknown>,
+      'a point',
+      `${tfAt}/opacities/${i}`,
+    );
     num(point, 'x', `${tfAt}/opacities/${i}`);
     num(point, 'alpha', `${tfAt}/opacities/${i}`);
   });
@@ -689,7 +703,12 @@ export function parseServerMessage(text: string, ranges?: SettingRanges): Server
       checkState(o['state'], '/state', rangesForState(ranges));
       // A server older than resume sends no token; its owner then cannot resume.
       if (o['owner_token'] !== undefined) str(o, 'owner_token', '');
-      need(o['recreated'] === undefined || o['recreated'] === true, o['recreated'], 'true', '/recreated');
+      need(
+        o['recreated'] === undefined || o['recreated'] === true,
+        o['recreated'],
+        'true',
+        '/recreated',
+      );
       return o as unknown as OpenedMessage;
     }
     case 'state':
@@ -906,7 +925,12 @@ function points(item: Spec, required: string[], valueKey: string, maxPoints: num
 }
 
 function cameraSpec(ranges: SettingRanges): Spec {
-  const shape = { eye: coords(ranges), target: coords(ranges), up: coords(ranges), view: oneOf(VIEWS) };
+  const shape = {
+    eye: coords(ranges),
+    target: coords(ranges),
+    up: coords(ranges),
+    view: oneOf(VIEWS),
+  };
   return specAt('camera', shape, ranges);
 }
 
@@ -1073,7 +1097,11 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
                 reject('invalid_value', `${at}/view`, `give either view or ${other}, not both`);
               }
             }
-            if (camera.eye && camera.target && subtract(camera.eye, camera.target).every((c) => c === 0)) {
+            if (
+              camera.eye &&
+              camera.target &&
+              subtract(camera.eye, camera.target).every((c) => c === 0)
+            ) {
               reject('invalid_value', at, 'eye equals target');
             }
           },
@@ -1115,7 +1143,10 @@ function deg(radians: number): number {
 /** The eye an `orbit` puts around `target` (§5): azimuth from +y toward +x about +z. */
 export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
   const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
-  const el = (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) * Math.PI) / 180;
+  const el =
+    (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) *
+      Math.PI) /
+    180;
   const d = orbit.distance ?? DEFAULT_CAMERA_DISTANCE;
   return [
     target[0] + d * Math.cos(el) * Math.sin(az),
@@ -1156,7 +1187,10 @@ export function applyPatch(
       next.camera.up = [0, 0, 1];
     }
     if (view) {
-      Object.assign(next.camera, viewPose(view, next.camera.target, distance > 0 ? distance : DEFAULT_CAMERA_DISTANCE));
+      Object.assign(
+        next.camera,
+        viewPose(view, next.camera.target, distance > 0 ? distance : DEFAULT_CAMERA_DISTANCE),
+      );
     }
   }
   if (patch.light) {
