@@ -29,6 +29,8 @@ ALLOWED_DEPENDENCIES = {
     "protocol": {"encode", "scene", "base"},
     "metrics": {"base"},
     "quality": {"render", "encode", "volume", "scene", "base"},
+    # The benchmarks and their reports, over quality's table and sweep; only app links them.
+    "bench": {"quality", "render", "encode", "volume", "scene", "base"},
     "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},
     # net translates session's volumes and scenes into protocol messages: it reads both.
     "net": {"session", "quality", "protocol", "metrics", "volume", "scene", "encode", "base"},
