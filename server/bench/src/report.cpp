@@ -1,6 +1,7 @@
 #include "penumbra/bench/report.hpp"
 
 #include <penumbra/base/data_dir.hpp>
+#include <penumbra/bench/plot_style.hpp>
 #include <penumbra/scene/mode.hpp>
 
 #include <algorithm>
@@ -418,15 +419,15 @@ std::string plot_script(const quality::Table& table, const std::string& png, con
     for (const scene::Mode mode : modes) {
         mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
     }
-    // Each mode's colour and point type, from the mode table.
+    // Each mode's colour and point type.
     std::string style_modes;
     std::string style_colours;
     std::string style_points;
-    for (const scene::ModeInfo& row : scene::modes()) {
+    for (const PlotStyle& style : kPlotStyles) {
         const char* gap = style_modes.empty() ? "" : " ";
-        style_modes += gap + std::string(row.name);
-        style_colours += gap + std::string(row.plot_colour);
-        style_points += gap + std::to_string(row.plot_point_type);
+        style_modes += gap + std::string(scene::to_string(style.mode));
+        style_colours += gap + std::string(style.colour);
+        style_points += gap + std::to_string(style.point_type);
     }
     const std::string x_label =
             table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
