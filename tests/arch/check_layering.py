@@ -32,8 +32,9 @@ ALLOWED_DEPENDENCIES = {
     # The benchmarks and their reports, over quality's table and sweep; only app links them.
     "bench": {"quality", "render", "encode", "volume", "scene", "base"},
     "session": {"quality", "render", "encode", "volume", "scene", "metrics", "base"},
-    # net translates session's volumes and scenes into protocol messages: it reads both.
-    "net": {"session", "quality", "protocol", "metrics", "volume", "scene", "encode", "base"},
+    # net translates session's state, volumes and frames (in session's terms) into protocol
+    # messages; scene's types are the vocabulary of both.
+    "net": {"session", "protocol", "metrics", "scene", "base"},
     # The command line's vocabulary: frame options read into scene's requests, transfer-function
     # files in the protocol's shape.
     "cli": {"protocol", "volume", "scene", "base"},

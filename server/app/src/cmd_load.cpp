@@ -34,7 +34,7 @@ po::options_description load_options(LoadOptions& o) {
             "encoding",
             po::value(&c.encoding)
                     ->value_name(encode::frame_format_names("|", "|"))
-                    ->default_value(c.encoding),
+                    ->default_value(std::string(encode::kFrameFormats.front().name)),
             "frame encoding")("interactive", "request interactive-quality frames")(
             "refine", po::value(&c.refine)->value_name("N")->default_value(c.refine),
             "jittered frames, each still refined N times at the lowest priority (progressive "

@@ -5,8 +5,6 @@
 // request in flight); the latency from request sent to frame received, with the server's split
 // from each frame's header.
 
-#include <penumbra/encode/encode.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -22,8 +20,9 @@ struct LoadConfig {
     double seconds = 10.0;
     std::string volume = "ch2.nii.gz";  // an id from list_volumes
     std::string mode = "sbrc";
-    int size = 512;                                            // frames of size x size pixels
-    std::string encoding{encode::kFrameFormats.front().name};  // one of kFrameFormats' names
+    int size = 512;  // frames of size x size pixels
+    // The name of one of encode's frame formats; empty: the one a new session starts with.
+    std::string encoding;
     bool interactive = false;
     // > 0: jittered frames, each still refined this many times (progressive stills).
     int refine = 0;
