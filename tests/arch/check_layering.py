@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Checks the module rules of STYLE.md §8 on server/: every `#include <penumbra/M/...>` is an edge
-to a module the including module declares itself (its DEPENDS and PRIVATE_DEPENDS; what those pass
-on does not count: a module names each module it uses), declared dependencies are those STYLE.md's
-table allows, app's included, and each confined third-party library is included only by the
-modules that own it. Prints every violation as file:line and exits 1 if there is any.
+"""Checks the module rules of STYLE.md §8 on server/: every `#include <penumbra/M/...>` and every
+name qualified by a module, `M::` or `penumbra::M` (a `using` declaration, a namespace alias or a
+`namespace penumbra::M` block included; comments and string literals are not code), is an edge to
+a module the module declares itself (its DEPENDS and PRIVATE_DEPENDS; what those pass on does not
+count: a module names each module it uses), declared dependencies are those STYLE.md's table
+allows, app's included, and each confined third-party library is included only by the modules that
+own it. Prints every violation as file:line and exits 1 if there is any.
 
   check_layering.py --root server            check the tree
   check_layering.py --self-test              check that a planted violation of each kind is found
@@ -58,6 +60,18 @@ CONFINED = {
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*<([^>]+)>')
+# A module named in code: `M::name`, `penumbra::M` (a namespace block, a using directive or an
+# alias), `namespace M {` nested in penumbra, `using namespace M;` and `namespace x = M;`.
+# What stands after `::` (a member, a nested name) is not a module, hence the look-behind.
+QUALIFIED_NAMES = [
+    re.compile(r'(?<![\w:])(?:::)?(?:penumbra::)?([A-Za-z_]\w*)::(~?\w*)'),
+    re.compile(r'(?<![\w:])(?:::)?penumbra::([A-Za-z_]\w*)\b(?!::)'),
+    re.compile(r'\bnamespace\s+([A-Za-z_]\w*)\s*\{'),
+    re.compile(r'\busing\s+namespace\s+(?:::)?([A-Za-z_]\w*)\s*;'),
+    re.compile(r'\bnamespace\s+\w+\s*=\s*(?:::)?([A-Za-z_]\w*)\s*;'),
+]
+# R"delimiter( ... )delimiter", with an encoding prefix or none.
+RAW_STRING = re.compile(r'(?:u8|u|U|L)?R"([^()\\\s]{0,16})\(')
 MODULE_CALL = re.compile(r'penumbra_add_module\s*\(([^)]*)\)', re.S)
 KEYWORDS = {"SOURCES", "DEPENDS", "PRIVATE_DEPENDS", "LIBS", "PRIVATE_LIBS"}
 # app is a plain library and executable: its modules are the penumbra::M it links.
@@ -93,6 +107,59 @@ def includable(module, modules):
     return {module} | public | private
 
 
+def code_of(text):
+    """`text` with its comments and string and character literals (raw strings included) blanked
+    out, newlines kept, so that what is left is code and its line numbers are the file's."""
+    out = []
+    i, n = 0, len(text)
+
+    def blank(part):
+        out.append(re.sub(r'[^\n]', ' ', part))
+
+    while i < n:
+        c = text[i]
+        if text.startswith('//', i):
+            end = text.find('\n', i)
+            end = n if end < 0 else end
+            blank(text[i:end])
+            i = end
+        elif text.startswith('/*', i):
+            end = text.find('*/', i + 2)
+            end = n if end < 0 else end + 2
+            blank(text[i:end])
+            i = end
+        elif c in 'uULR' and (raw := RAW_STRING.match(text, i)) and \
+                (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == '_')):
+            close = ')' + raw.group(1) + '"'
+            end = text.find(close, raw.end())
+            end = n if end < 0 else end + len(close)
+            blank(text[i:end])
+            i = end
+        elif c == '"' or (c == "'" and not (i > 0 and text[i - 1].isalnum())):
+            # A quote after a digit or letter is a digit separator (10'000), not a literal.
+            j = i + 1
+            while j < n and text[j] != c and text[j] != '\n':
+                j += 2 if text[j] == '\\' else 1
+            end = min(j + 1, n)
+            blank(text[i:end])
+            i = end
+        else:
+            out.append(c)
+            i += 1
+    return ''.join(out)
+
+
+def named_modules(line):
+    """The modules a line of code names, each with the text that names it."""
+    found = {}
+    for pattern in QUALIFIED_NAMES:
+        for match in pattern.finditer(line):
+            target = match.group(1)
+            if target in MODULES and target not in found:
+                found[target] = " ".join(match.group(0).split()).rstrip(" {;")
+    return found
+
+
 def check(root):
     problems = []
     modules = declared_dependencies(root)
@@ -106,7 +173,13 @@ def check(root):
         for path in sorted(folder.rglob("*")):
             if path.suffix not in {".hpp", ".cpp", ".h"}:
                 continue
-            for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            text = path.read_text(errors="replace")
+            for number, line in enumerate(code_of(text).splitlines(), 1):
+                for target, named in named_modules(line).items():
+                    if target not in allowed:
+                        problems.append(f"{path}:{number}: {module} names {named}, but does not "
+                                        f"declare {target}")
+            for number, line in enumerate(text.splitlines(), 1):
                 match = INCLUDE.match(line)
                 if not match:
                     continue
@@ -143,7 +216,8 @@ def self_test():
             for file_name, text in files.items():
                 (root / name / "src" / file_name).write_text(text)
 
-        module("base", "penumbra_add_module(base SOURCES src/a.cpp)", {"a.cpp": ""})
+        module("base", "penumbra_add_module(base SOURCES src/a.cpp)",
+               {"a.cpp": "const ::penumbra::render::Frame* frame = nullptr;\n"})
         module("gpu", "penumbra_add_module(gpu SOURCES src/a.cpp DEPENDS base)",
                {"a.cpp": "#include <epoxy/gl.h>\n"})
         module("render", "penumbra_add_module(render SOURCES src/a.cpp DEPENDS base "
@@ -151,14 +225,27 @@ def self_test():
         module("session", "penumbra_add_module(session SOURCES src/a.cpp DEPENDS render)",
                {"a.cpp": "#include <penumbra/render/renderer.hpp>\n"
                          "#include <penumbra/gpu/context.hpp>\n"
-                         "#include <OpenImageIO/imageio.h>\n"})
+                         "#include <OpenImageIO/imageio.h>\n"
+                         "namespace penumbra::session {\n"
+                         "// gpu::Context, in a comment\n"
+                         "/* gpu::Context, in a block\n   comment */\n"
+                         "const char* text = \"gpu::Context, in a string\";\n"
+                         "const char* raw = R\"x(gpu::Context, \"in\" a raw string)x\";\n"
+                         "const int many = 10'000;  // a digit separator, not a literal\n"
+                         "const char quote = '\"';\n"
+                         "session::Session* own = nullptr;\n"
+                         "std::unique_ptr<render::Renderer> declared;\n"
+                         "gpu::Context* context = nullptr;\n"
+                         "}  // namespace penumbra::session\n"})
         module("volume", "penumbra_add_module(volume SOURCES src/a.cpp DEPENDS base session)",
                {"a.cpp": "#include <zlib.h>\n"})
         module("net", "penumbra_add_module(net SOURCES src/a.cpp DEPENDS session)",
                {"a.cpp": "#include <penumbra/session/session.hpp>\n"
-                         "#include <penumbra/render/renderer.hpp>\n"})
+                         "#include <penumbra/render/renderer.hpp>\n"
+                         "using namespace penumbra::volume;\n"})
         module("cli", "penumbra_add_module(cli SOURCES src/a.cpp DEPENDS base)",
-               {"a.cpp": "#include <boost/program_options.hpp>\n"})
+               {"a.cpp": "#include <boost/program_options.hpp>\n"
+                         "namespace penumbra::encode {}\n"})
         module("app", "target_link_libraries(penumbra_app_lib PUBLIC penumbra::net penumbra::gpu)",
                {"a.cpp": "#include <penumbra/net/server.hpp>\n"
                          "#include <penumbra/session/session.hpp>\n"
@@ -174,6 +261,12 @@ def self_test():
             "app must not depend on gpu",  # gpu stays inside render
             "app includes boost/beast/core.hpp",  # Boost.Beast is net's
             "app includes boost/program_options.hpp",  # cli's
+            # Names in code: a qualified name, a using directive, a namespace block (each module
+            # declares what it names, and the comments and strings above name nothing).
+            "base names ::penumbra::render::Frame",
+            "session names gpu::Context",
+            "net names penumbra::volume",
+            "cli names penumbra::encode",
         ]
         missing = [text for text in expected if text not in found]
         unexpected = [line for line in found.splitlines()
