@@ -83,7 +83,10 @@ function change(patch: StatePatch, interactive: boolean): void {
 }
 
 function renderSize(): [number, number] {
-  return view.renderSize(scale, connection.hello?.limits.max_image_side ?? DEFAULT_LIMITS.max_image_side);
+  return view.renderSize(
+    scale,
+    connection.hello?.limits.max_image_side ?? DEFAULT_LIMITS.max_image_side,
+  );
 }
 
 // ---- panels ------------------------------------------------------------------------------------
@@ -113,7 +116,10 @@ const viewParams = {
   },
 };
 stats.visible = viewParams.stats;
-viewFolder.add(viewParams, 'stats').name('stats overlay (S)').onChange((v: boolean) => (stats.visible = v));
+viewFolder
+  .add(viewParams, 'stats')
+  .name('stats overlay (S)')
+  .onChange((v: boolean) => (stats.visible = v));
 viewFolder.add(viewParams, 'reset camera').name('reset camera (R)');
 const help = document.createElement('div');
 help.className = 'hint help';
@@ -240,7 +246,8 @@ connection.on('session', (info, restored) => {
   }
   if (restored) {
     const how = {
-      resumed: 'Your session is yours again; its viewers kept watching (the share link still works).',
+      resumed:
+        'Your session is yours again; its viewers kept watching (the share link still works).',
       recreated:
         'Its server went away: your session was re-opened on another with your settings (the share link still works; viewers follow).',
       reopened:
@@ -281,7 +288,11 @@ connection.on('problem', (message) => notices.show('warning', 'Problem', message
 connection.on('sessionLost', (session, outcome) => {
   const name = `${session.slice(0, 8)}…`;
   if (outcome === 'waiting') {
-    notices.show('info', 'The shared session is gone from its server', `Waiting for its owner to re-open ${name}.`);
+    notices.show(
+      'info',
+      'The shared session is gone from its server',
+      `Waiting for its owner to re-open ${name}.`,
+    );
   } else {
     notices.show(
       'error',
@@ -332,7 +343,12 @@ async function start(): Promise<void> {
   }
   const id = picker.defaultVolume(query.get('volume'));
   if (id) await openVolume(id);
-  else notices.show('warning', 'No volumes', 'The server offers no volumes (see penumbra serve --data).');
+  else
+    notices.show(
+      'warning',
+      'No volumes',
+      'The server offers no volumes (see penumbra serve --data).',
+    );
 }
 
 setEnabled(false);

@@ -34,7 +34,12 @@ function firstBeyondDepth(value: unknown, limit: number, at = '', depth = 1): st
     return at === '' ? '/' : at;
   }
   for (const [key, child] of Object.entries(value)) {
-    const found = firstBeyondDepth(child, limit, `${at}/${key.replace(/~/g, '~0').replace(/\//g, '~1')}`, depth + 1);
+    const found = firstBeyondDepth(
+      child,
+      limit,
+      `${at}/${key.replace(/~/g, '~0').replace(/\//g, '~1')}`,
+      depth + 1,
+    );
     if (found !== null) {
       return found;
     }
@@ -226,7 +231,12 @@ function points(item: Spec, required: string[], valueKey: string, maxPoints: num
 }
 
 function cameraSpec(ranges: SettingRanges): Spec {
-  const shape = { eye: coords(ranges), target: coords(ranges), up: coords(ranges), view: oneOf(VIEWS) };
+  const shape = {
+    eye: coords(ranges),
+    target: coords(ranges),
+    up: coords(ranges),
+    view: oneOf(VIEWS),
+  };
   return specAt('camera', shape, ranges);
 }
 
@@ -393,7 +403,11 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
                 reject('invalid_value', `${at}/view`, `give either view or ${other}, not both`);
               }
             }
-            if (camera.eye && camera.target && subtract(camera.eye, camera.target).every((c) => c === 0)) {
+            if (
+              camera.eye &&
+              camera.target &&
+              subtract(camera.eye, camera.target).every((c) => c === 0)
+            ) {
               reject('invalid_value', at, 'eye equals target');
             }
           },
@@ -425,4 +439,3 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
     throw e;
   }
 }
-

@@ -81,7 +81,12 @@ class FakeSocket implements SocketLike {
     let state = mergePatches(this.state as StatePatch, patch) as State;
     const tf = patch.transfer_function;
     if (tf && 'preset' in tf) {
-      state = { ...state, transfer_function: structuredClone(recordedHello.presets.find((p) => p.name === tf.preset)!) };
+      state = {
+        ...state,
+        transfer_function: structuredClone(
+          recordedHello.presets.find((p) => p.name === tf.preset)!,
+        ),
+      };
     }
     this.reply('ack', { of: 'set', state });
   }
@@ -119,9 +124,18 @@ function setup(extra: ConnectionOptions = {}) {
 const flush = (): Promise<void> => new Promise((r) => setTimeout(r, 0));
 
 const frameHeader: FrameHeader = {
-  frame: 1, request: 5, session: 's', width: 1, height: 1, encoding: 'jpeg', mode: 'dvr',
-  interactive: false, light_buffer: 'none', passes: [],
-  timings: { queued_ms: 0, render_ms: 0, readback_ms: 0, encode_ms: 0 }, quality: '',
+  frame: 1,
+  request: 5,
+  session: 's',
+  width: 1,
+  height: 1,
+  encoding: 'jpeg',
+  mode: 'dvr',
+  interactive: false,
+  light_buffer: 'none',
+  passes: [],
+  timings: { queued_ms: 0, render_ms: 0, readback_ms: 0, encode_ms: 0 },
+  quality: '',
 };
 
 describe('Connection', () => {
@@ -159,10 +173,16 @@ describe('Connection', () => {
     socket().reply('opened', OPENED);
     await opened;
     const set = connection.set({ camera: { eye: [0, 0, 0] } }); // the target: only the server knows
-    socket().reply('error', { code: 'invalid_value', field: '/camera', message: 'eye equals target' });
+    socket().reply('error', {
+      code: 'invalid_value',
+      field: '/camera',
+      message: 'eye equals target',
+    });
     const error = await set.catch((e: unknown) => e);
     expect(error).toBeInstanceOf(ServerError);
-    expect((error as ServerError).describe()).toBe('invalid_value at /camera (set): eye equals target');
+    expect((error as ServerError).describe()).toBe(
+      'invalid_value at /camera (set): eye equals target',
+    );
     expect(connection.session?.state.camera.eye[1]).toBeGreaterThan(2); // the mirror keeps what the server has
   });
 
@@ -196,7 +216,9 @@ describe('Connection', () => {
     expect(states).toEqual(['viewer dvr']);
     expect(connection.session?.state).toEqual(state);
     // One of a session left behind, still on its way, changes nothing.
-    socket().receive(JSON.stringify({ v: 1, type: 'state', session: 'old', state: OPENED['state'] }));
+    socket().receive(
+      JSON.stringify({ v: 1, type: 'state', session: 'old', state: OPENED['state'] }),
+    );
     expect(states).toHaveLength(1);
     expect(connection.session?.state.settings.mode).toBe('dvr');
     expect(problems).toEqual([]);
@@ -226,9 +248,20 @@ describe('Connection', () => {
     connection.on('serverError', (e) => errors.push(`${e.code} ${e.requestType ?? '-'}`));
     const id = connection.render(true);
     expect(socket().sent[0]).toEqual({ v: 1, id, type: 'render', interactive: true });
-    socket().receive(JSON.stringify({ v: 1, type: 'error', id, code: 'no_session', message: 'open first', field: '/type' }));
+    socket().receive(
+      JSON.stringify({
+        v: 1,
+        type: 'error',
+        id,
+        code: 'no_session',
+        message: 'open first',
+        field: '/type',
+      }),
+    );
     socket().receive(packFrame(frameHeader, new Uint8Array([0xff, 0xd8])).buffer as ArrayBuffer);
-    socket().receive(JSON.stringify({ v: 1, type: 'error', code: 'render_failed', message: 'GL', field: '' }));
+    socket().receive(
+      JSON.stringify({ v: 1, type: 'error', code: 'render_failed', message: 'GL', field: '' }),
+    );
     expect(frames).toEqual([5]);
     expect(errors).toEqual(['no_session render', 'render_failed -']);
   });
@@ -247,15 +280,26 @@ describe('Connection', () => {
     });
     pacer.listenTo(connection);
     const failed: string[] = [];
-    connection.on('renderFailed', (id, e) => failed.push(`${id} ${e.code} ${e.requestType ?? '-'}`));
-    const renders = () => socket().sent.filter((m) => m['type'] === 'render').map((m) => m['id'] as number);
+    connection.on('renderFailed', (id, e) =>
+      failed.push(`${id} ${e.code} ${e.requestType ?? '-'}`),
+    );
+    const renders = () =>
+      socket()
+        .sent.filter((m) => m['type'] === 'render')
+        .map((m) => m['id'] as number);
     pacer.request(false);
     pacer.request(false);
     pacer.request(false); // waits: two are in flight
     const [first, second] = renders();
     expect(renders()).toHaveLength(2);
     expect(pacer.hasWanted).toBe(true);
-    const refused = { v: 1, type: 'error', code: 'too_much_work', message: 'estimate 2e11 > 1e11', field: '' };
+    const refused = {
+      v: 1,
+      type: 'error',
+      code: 'too_much_work',
+      message: 'estimate 2e11 > 1e11',
+      field: '',
+    };
     socket().receive(JSON.stringify({ ...refused, id: second }));
     // The refused render and the older one it superseded are answered: the wish goes out.
     expect(failed).toEqual([`${second} too_much_work render`]);
@@ -263,7 +307,16 @@ describe('Connection', () => {
     expect(renders()).toHaveLength(3);
     expect(pacer.hasWanted).toBe(false);
     const third = renders()[2]!;
-    socket().receive(JSON.stringify({ v: 1, type: 'error', id: third, code: 'render_failed', message: 'GL [x]', field: '' }));
+    socket().receive(
+      JSON.stringify({
+        v: 1,
+        type: 'error',
+        id: third,
+        code: 'render_failed',
+        message: 'GL [x]',
+        field: '',
+      }),
+    );
     expect(failed).toEqual([`${second} too_much_work render`, `${third} render_failed render`]);
     expect(pacer.inFlight).toBe(0);
     // An error for no render of its own (another request's id, or none) answers none.
@@ -288,13 +341,17 @@ describe('Connection', () => {
     pacer.listenTo(connection);
     const failed: string[] = [];
     connection.on('renderFailed', (id, e) => failed.push(`${id} ${e.code}`));
-    const renders = () => socket().sent.filter((m) => m['type'] === 'render').map((m) => m['id'] as number);
+    const renders = () =>
+      socket()
+        .sent.filter((m) => m['type'] === 'render')
+        .map((m) => m['id'] as number);
     pacer.request(false);
     pacer.request(false);
     pacer.request(false);
     const [first, second, third] = renders();
     expect(renders()).toHaveLength(3);
-    const error = (id: number, code: string) => JSON.stringify({ v: 1, type: 'error', id, code, message: 'm', field: '/' });
+    const error = (id: number, code: string) =>
+      JSON.stringify({ v: 1, type: 'error', id, code, message: 'm', field: '/' });
     socket().receive(error(third!, 'rate_limited'));
     expect(failed).toEqual([`${third} rate_limited`]);
     expect(pacer.inFlight).toBe(2);
@@ -302,7 +359,10 @@ describe('Connection', () => {
     socket().receive(error(first!, 'render_failed'));
     expect(failed).toEqual([`${third} rate_limited`, `${first} render_failed`]);
     expect(pacer.inFlight).toBe(1);
-    socket().receive(packFrame({ ...frameHeader, request: second! }, new Uint8Array([0xff, 0xd8])).buffer as ArrayBuffer);
+    socket().receive(
+      packFrame({ ...frameHeader, request: second! }, new Uint8Array([0xff, 0xd8]))
+        .buffer as ArrayBuffer,
+    );
     expect(pacer.inFlight).toBe(0);
   });
 
@@ -361,9 +421,16 @@ describe('Connection', () => {
     const restore = socket().sent[1]!;
     expect(restore['type']).toBe('set');
     expect((restore['settings'] as Record<string, unknown>)['mode']).toBe('sbrc_cone');
-    expect(Object.keys(restore).sort()).toEqual(
-      ['camera', 'id', 'light', 'output', 'settings', 'transfer_function', 'type', 'v'],
-    );
+    expect(Object.keys(restore).sort()).toEqual([
+      'camera',
+      'id',
+      'light',
+      'output',
+      'settings',
+      'transfer_function',
+      'type',
+      'v',
+    ]);
     socket().ackSet();
     await flush();
     expect(restored).toEqual(['reopened']);
@@ -412,7 +479,11 @@ describe('Connection', () => {
     expect(restored).toEqual(['resumed mine']);
     expect(socket().sent).toHaveLength(1); // no open, no state sent back
     expect(connection.restoring).toBe(false);
-    expect(connection.session).toMatchObject({ role: 'owner', session: 'mine', ownerToken: OWNER_TOKEN });
+    expect(connection.session).toMatchObject({
+      role: 'owner',
+      session: 'mine',
+      ownerToken: OWNER_TOKEN,
+    });
     expect(connection.session?.state.settings.mode).toBe('dvr');
     // It is the owner: it may set again.
     const set = connection.set({ camera: { fov: 40 } });
@@ -427,31 +498,37 @@ describe('Connection', () => {
     ['another connection owns it', 'session_owned', '/session'],
     ['the token is wrong', 'invalid_value', '/owner_token'],
     ['the server has no resume', 'unknown_type', '/type'],
-  ])('an owner whose resume is refused (%s) opens a new session with its state', async (_, code, field) => {
-    const { clock, socket, connection, restored } = await ownerReconnected('mine');
-    const problems: string[] = [];
-    connection.on('problem', (p) => problems.push(p));
-    socket().reply('error', { code, field, message: 'refused' });
-    await flush();
-    expect(socket().sent[1]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
-    socket().reply('opened', { ...OPENED, session: 'new-session', owner_token: 'ab'.repeat(16) });
-    await flush();
-    expect(socket().sent[2]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
-    socket().ackSet();
-    await flush();
-    expect(restored).toEqual(['reopened new-session']);
-    expect(problems).toEqual([]);
-    expect(connection.session).toMatchObject({ session: 'new-session', ownerToken: 'ab'.repeat(16) });
-    // The next reconnect resumes the new session, with its token.
-    socket().fail();
-    clock.advance(100);
-    socket().open();
-    expect(socket().sent[0]).toMatchObject({
-      type: 'resume',
-      session: 'new-session',
-      owner_token: 'ab'.repeat(16),
-    });
-  });
+  ])(
+    'an owner whose resume is refused (%s) opens a new session with its state',
+    async (_, code, field) => {
+      const { clock, socket, connection, restored } = await ownerReconnected('mine');
+      const problems: string[] = [];
+      connection.on('problem', (p) => problems.push(p));
+      socket().reply('error', { code, field, message: 'refused' });
+      await flush();
+      expect(socket().sent[1]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
+      socket().reply('opened', { ...OPENED, session: 'new-session', owner_token: 'ab'.repeat(16) });
+      await flush();
+      expect(socket().sent[2]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
+      socket().ackSet();
+      await flush();
+      expect(restored).toEqual(['reopened new-session']);
+      expect(problems).toEqual([]);
+      expect(connection.session).toMatchObject({
+        session: 'new-session',
+        ownerToken: 'ab'.repeat(16),
+      });
+      // The next reconnect resumes the new session, with its token.
+      socket().fail();
+      clock.advance(100);
+      socket().open();
+      expect(socket().sent[0]).toMatchObject({
+        type: 'resume',
+        session: 'new-session',
+        owner_token: 'ab'.repeat(16),
+      });
+    },
+  );
 
   it('a connection lost again during resume opens nothing and resumes on the next', async () => {
     const { clock, socket, connection, restored } = await ownerReconnected('mine');
@@ -463,7 +540,11 @@ describe('Connection', () => {
     expect(problems[0]).toMatch(/could not restore.*resume/);
     clock.advance(200);
     socket().open();
-    expect(socket().sent[0]).toMatchObject({ type: 'resume', session: 'mine', owner_token: OWNER_TOKEN });
+    expect(socket().sent[0]).toMatchObject({
+      type: 'resume',
+      session: 'mine',
+      owner_token: OWNER_TOKEN,
+    });
     socket().reply('opened', { ...OPENED, session: 'mine' });
     await flush();
     expect(restored).toEqual(['resumed mine']);
@@ -544,7 +625,10 @@ describe('Connection', () => {
       'wss://h:8443/ws?volume=a+b.nii.gz&session=s1&token=t%2Bk',
     );
     expect(routedUrl('ws://h/ws?token=old&x=1', {})).toBe('ws://h/ws?x=1');
-    const { socket } = setup({ accessToken: 'secret', route: { volume: 'ch2.nii.gz', session: 'abc' } });
+    const { socket } = setup({
+      accessToken: 'secret',
+      route: { volume: 'ch2.nii.gz', session: 'abc' },
+    });
     expect(socket().url).toBe('ws://test/ws?volume=ch2.nii.gz&session=abc&token=secret');
   });
 
@@ -573,7 +657,11 @@ describe('Connection', () => {
 
   it('an owner whose server died re-creates its session on another one and sends its state back', async () => {
     const { socket, connection, restored } = await ownerReconnected('mine');
-    expect(socket().sent[0]).toMatchObject({ type: 'resume', session: 'mine', volume: 'ch2.nii.gz' });
+    expect(socket().sent[0]).toMatchObject({
+      type: 'resume',
+      session: 'mine',
+      volume: 'ch2.nii.gz',
+    });
     socket().reply('opened', { ...OPENED, session: 'mine', recreated: true });
     await flush();
     expect(socket().sent[1]).toMatchObject({ type: 'set', settings: { mode: 'sbrc_cone' } });
@@ -626,7 +714,11 @@ describe('Connection', () => {
     for (let attempt = 1; attempt <= 4; attempt++) {
       clock.advance(250);
       await flush();
-      socket().reply('error', { code: 'unknown_session', field: '/session', message: 'no session' });
+      socket().reply('error', {
+        code: 'unknown_session',
+        field: '/session',
+        message: 'no session',
+      });
       await flush();
     }
     expect(socket().sent).toHaveLength(5);

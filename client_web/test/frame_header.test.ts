@@ -26,9 +26,16 @@ function handMade(json: string, image: number[], version = 1, lengthDelta = 0): 
   const body = Array.from(new TextEncoder().encode(json));
   const h = body.length + lengthDelta;
   return new Uint8Array([
-    0x50, 0x4e, 0x42, 0x46, // "PNBF"
-    version & 0xff, version >> 8, // u16 LE
-    h & 0xff, (h >> 8) & 0xff, (h >> 16) & 0xff, (h >>> 24) & 0xff, // u32 LE
+    0x50,
+    0x4e,
+    0x42,
+    0x46, // "PNBF"
+    version & 0xff,
+    version >> 8, // u16 LE
+    h & 0xff,
+    (h >> 8) & 0xff,
+    (h >> 16) & 0xff,
+    (h >>> 24) & 0xff, // u32 LE
     ...body,
     ...image,
   ]);
@@ -85,15 +92,42 @@ describe('parseFrame', () => {
 
   it.each([
     ['too short', new Uint8Array([0x50, 0x4e, 0x42]), /too short/],
-    ['bad magic', (() => { const b = handMade('{}', []); b[0] = 0x51; return b; })(), /magic/],
+    [
+      'bad magic',
+      (() => {
+        const b = handMade('{}', []);
+        b[0] = 0x51;
+        return b;
+      })(),
+      /magic/,
+    ],
     ['another version', handMade(JSON.stringify(header), [], 2), /version 2/],
     ['a length beyond the message', handMade(JSON.stringify(header), [], 1, 1), /beyond/],
     ['a header that is not JSON', handMade('{"frame":', []), /not UTF-8 JSON/],
     ['a header that is not an object', handMade('[1]', []), /not a JSON object/],
-    ['a header without request', handMade(JSON.stringify({ ...header, request: undefined }), []), /request/],
-    ['an unknown encoding', handMade(JSON.stringify({ ...header, encoding: 'webp' }), []), /encoding/],
-    ['a pass without gpu_ms', handMade(JSON.stringify({ ...header, passes: [{ name: 'x', wall_ms: 1 }] }), []), /pass/],
-    ['timings without encode_ms', handMade(JSON.stringify({ ...header, timings: { queued_ms: 0, render_ms: 0, readback_ms: 0 } }), []), /encode_ms/],
+    [
+      'a header without request',
+      handMade(JSON.stringify({ ...header, request: undefined }), []),
+      /request/,
+    ],
+    [
+      'an unknown encoding',
+      handMade(JSON.stringify({ ...header, encoding: 'webp' }), []),
+      /encoding/,
+    ],
+    [
+      'a pass without gpu_ms',
+      handMade(JSON.stringify({ ...header, passes: [{ name: 'x', wall_ms: 1 }] }), []),
+      /pass/,
+    ],
+    [
+      'timings without encode_ms',
+      handMade(
+        JSON.stringify({ ...header, timings: { queued_ms: 0, render_ms: 0, readback_ms: 0 } }),
+        [],
+      ),
+      /encode_ms/,
+    ],
   ])('rejects %s', (_, bytes, message) => {
     expect(() => parseFrame(bytes)).toThrow(FrameError);
     expect(() => parseFrame(bytes)).toThrow(message);

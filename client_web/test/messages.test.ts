@@ -52,10 +52,16 @@ interface MessageSchema {
  * schema's, or those of `$defs/request` where one schema serves both directions (stats).
  */
 const schemaExamples = clientTypes.map((type) => {
-  const schema = readJson(path.resolve(__dirname, `../../proto/v1/${type}.schema.json`)) as MessageSchema;
+  const schema = readJson(
+    path.resolve(__dirname, `../../proto/v1/${type}.schema.json`),
+  ) as MessageSchema;
   const request = schema.$defs?.request ?? schema;
   const pointer = request === schema ? '' : '/$defs/request';
-  return { type, name: `${type}.schema.json#${pointer}/examples`, examples: request.examples ?? [] };
+  return {
+    type,
+    name: `${type}.schema.json#${pointer}/examples`,
+    examples: request.examples ?? [],
+  };
 });
 const invalid = readdirSync(path.join(examples, 'invalid')).filter((f) => f.endsWith('.json'));
 const serverMessages = recordedMessages;
@@ -101,7 +107,10 @@ const SERVER_ONLY = new Set([
 
 describe('proto/examples/v1/invalid', () => {
   const cases = invalid
-    .map((file) => ({ file, example: readJson(path.join(examples, 'invalid', file)) as Record<string, unknown> }))
+    .map((file) => ({
+      file,
+      example: readJson(path.join(examples, 'invalid', file)) as Record<string, unknown>,
+    }))
     .filter(({ file, example }) => 'message' in example && !SERVER_ONLY.has(file));
 
   it('has examples to check', () => expect(cases.length).toBeGreaterThan(40));
@@ -121,7 +130,10 @@ describe('checkClientMessage beyond the examples', () => {
     const check = (ms: number) =>
       checkClientMessage({ v: 1, type: 'set', settings: { frame_budget_ms: ms } }, recordedTerms);
     expect(check(50)).toBeNull();
-    expect(check(70000)).toMatchObject({ code: 'out_of_range', field: '/settings/frame_budget_ms' });
+    expect(check(70000)).toMatchObject({
+      code: 'out_of_range',
+      field: '/settings/frame_budget_ms',
+    });
   });
 
   it("checks ranges as the server's hello gives them", () => {
@@ -130,12 +142,18 @@ describe('checkClientMessage beyond the examples', () => {
       code: 'out_of_range',
       field: '/settings/light_buffer/slab_samples',
     });
-    const wider = { ...recordedTerms.ranges, 'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true } };
+    const wider = {
+      ...recordedTerms.ranges,
+      'settings/light_buffer/slab_samples': { min: 0, max: 32, integer: true },
+    };
     expect(checkClientMessage(set, { ...recordedTerms, ranges: wider })).toBeNull();
     const fraction = { v: 1, type: 'set', settings: { light_buffer: { slab_samples: 1.5 } } };
     expect(checkClientMessage(fraction, recordedTerms)).toMatchObject({ code: 'invalid_value' });
     const text = { v: 1, type: 'set', camera: { fov: '30' } };
-    expect(checkClientMessage(text, recordedTerms)).toMatchObject({ code: 'invalid_value', field: '/camera/fov' });
+    expect(checkClientMessage(text, recordedTerms)).toMatchObject({
+      code: 'invalid_value',
+      field: '/camera/fov',
+    });
   });
 
   it("checks the JPEG quality by hello's range", () => {
@@ -146,13 +164,18 @@ describe('checkClientMessage beyond the examples', () => {
       field: '/output/jpeg_quality',
     });
     expect(checkClientMessage(set(1.5), recordedTerms)).toMatchObject({ code: 'invalid_value' });
-    const wider = { ...recordedTerms.ranges, 'output/jpeg_quality': { min: 1, max: 120, integer: true } };
+    const wider = {
+      ...recordedTerms.ranges,
+      'output/jpeg_quality': { min: 1, max: 120, integer: true },
+    };
     expect(checkClientMessage(set(101), { ...recordedTerms, ranges: wider })).toBeNull();
   });
 
   it("checks the transfer function's colours by hello's colour range", () => {
     const colours = (c: number) => ({
-      v: 1, type: 'set', transfer_function: { colors: [{ x: 0, rgb: [c, 0, 0] }], opacities: [] },
+      v: 1,
+      type: 'set',
+      transfer_function: { colors: [{ x: 0, rgb: [c, 0, 0] }], opacities: [] },
     });
     expect(checkClientMessage(colours(1), recordedTerms)).toBeNull();
     expect(checkClientMessage(colours(1.5), recordedTerms)).toMatchObject({
@@ -164,31 +187,54 @@ describe('checkClientMessage beyond the examples', () => {
   });
 
   it('knows the numbers of a set from the ranges alone: a new one needs no client change', () => {
-    const set = (lb: Record<string, unknown>) => ({ v: 1, type: 'set', settings: { light_buffer: lb } });
+    const set = (lb: Record<string, unknown>) => ({
+      v: 1,
+      type: 'set',
+      settings: { light_buffer: lb },
+    });
     // A setting the server does not announce is not one.
     expect(checkClientMessage(set({ glow: 2 }), recordedTerms)).toMatchObject({
       code: 'unknown_field',
       field: '/settings/light_buffer/glow',
     });
-    const ranges = { ...recordedTerms.ranges, 'settings/light_buffer/glow': { min: 0, max: 4, integer: false } };
-    expect(checkClientMessage(set({ glow: 2, compensation: 3 }), { ...recordedTerms, ranges })).toBeNull();
+    const ranges = {
+      ...recordedTerms.ranges,
+      'settings/light_buffer/glow': { min: 0, max: 4, integer: false },
+    };
+    expect(
+      checkClientMessage(set({ glow: 2, compensation: 3 }), { ...recordedTerms, ranges }),
+    ).toBeNull();
     expect(checkClientMessage(set({ glow: 5 }), { ...recordedTerms, ranges })).toMatchObject({
       code: 'out_of_range',
       field: '/settings/light_buffer/glow',
     });
     // ... and so is a setting in a part of its own.
-    const tone = { ...recordedTerms.ranges, 'settings/tone/exposure': { min: -4, max: 4, integer: false } };
-    const exposure = (value: unknown) => ({ v: 1, type: 'set', settings: { tone: { exposure: value } } });
+    const tone = {
+      ...recordedTerms.ranges,
+      'settings/tone/exposure': { min: -4, max: 4, integer: false },
+    };
+    const exposure = (value: unknown) => ({
+      v: 1,
+      type: 'set',
+      settings: { tone: { exposure: value } },
+    });
     expect(checkClientMessage(exposure(1), { ...recordedTerms, ranges: tone })).toBeNull();
     expect(checkClientMessage(exposure('1'), { ...recordedTerms, ranges: tone })).toMatchObject({
       code: 'invalid_value',
       field: '/settings/tone/exposure',
     });
-    expect(checkClientMessage(exposure(1), recordedTerms)).toMatchObject({ code: 'unknown_field', field: '/settings/tone' });
+    expect(checkClientMessage(exposure(1), recordedTerms)).toMatchObject({
+      code: 'unknown_field',
+      field: '/settings/tone',
+    });
   });
 
   it('knows settings.empty_space_skipping', () => {
-    const set = (value: unknown) => ({ v: 1, type: 'set', settings: { empty_space_skipping: value } });
+    const set = (value: unknown) => ({
+      v: 1,
+      type: 'set',
+      settings: { empty_space_skipping: value },
+    });
     expect(checkClientMessage(set(false), recordedTerms)).toBeNull();
     expect(checkClientMessage(set(1), recordedTerms)).toMatchObject({
       code: 'invalid_value',
@@ -211,7 +257,11 @@ describe('checkClientMessage beyond the examples', () => {
     const tf = (n: number, x: number, space = 'hounsfield') => ({
       v: 1,
       type: 'set',
-      transfer_function: { space, colors: [], opacities: Array.from({ length: n }, () => ({ x, alpha: 0.5 })) },
+      transfer_function: {
+        space,
+        colors: [],
+        opacities: Array.from({ length: n }, () => ({ x, alpha: 0.5 })),
+      },
     });
     const most = announced.max_transfer_function_points;
     const reach = announced.max_hounsfield_position;
@@ -226,33 +276,61 @@ describe('checkClientMessage beyond the examples', () => {
     });
     // Another server's limits, not a copy of this one's.
     const fewer = { ...announced, max_transfer_function_points: 2, max_hounsfield_position: 10 };
-    expect(checkClientMessage(tf(3, 0), { ...recordedTerms, limits: fewer })).toMatchObject({ code: 'out_of_range' });
-    expect(checkClientMessage(tf(1, 20), { ...recordedTerms, limits: fewer })).toMatchObject({ code: 'out_of_range' });
+    expect(checkClientMessage(tf(3, 0), { ...recordedTerms, limits: fewer })).toMatchObject({
+      code: 'out_of_range',
+    });
+    expect(checkClientMessage(tf(1, 20), { ...recordedTerms, limits: fewer })).toMatchObject({
+      code: 'out_of_range',
+    });
 
     const bytes = announced.max_string_bytes;
     const open = (volume: string) => ({ v: 1, type: 'open', volume });
     expect(checkClientMessage(open('a'.repeat(bytes['open/volume']!)), recordedTerms)).toBeNull();
-    expect(checkClientMessage(open('a'.repeat(bytes['open/volume']! + 1)), recordedTerms)).toMatchObject({
+    expect(
+      checkClientMessage(open('a'.repeat(bytes['open/volume']! + 1)), recordedTerms),
+    ).toMatchObject({
       code: 'out_of_range',
       field: '/volume',
     });
-    const resume = { v: 1, type: 'resume', session: 's', owner_token: 'a'.repeat(bytes['resume/owner_token']! + 1) };
-    expect(checkClientMessage(resume, recordedTerms)).toMatchObject({ code: 'out_of_range', field: '/owner_token' });
+    const resume = {
+      v: 1,
+      type: 'resume',
+      session: 's',
+      owner_token: 'a'.repeat(bytes['resume/owner_token']! + 1),
+    };
+    expect(checkClientMessage(resume, recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/owner_token',
+    });
     const shorter = { ...announced, max_string_bytes: { ...bytes, 'join/session': 4 } };
-    expect(checkClientMessage({ v: 1, type: 'join', session: 'abcde' }, { ...recordedTerms, limits: shorter }))
-      .toMatchObject({ code: 'out_of_range', field: '/session' });
-    const named = { v: 1, type: 'set', transfer_function: { name: 'n'.repeat(bytes['set/transfer_function/name']! + 1) } };
-    expect(checkClientMessage(named, recordedTerms)).toMatchObject({ code: 'out_of_range', field: '/transfer_function/name' });
+    expect(
+      checkClientMessage(
+        { v: 1, type: 'join', session: 'abcde' },
+        { ...recordedTerms, limits: shorter },
+      ),
+    ).toMatchObject({ code: 'out_of_range', field: '/session' });
+    const named = {
+      v: 1,
+      type: 'set',
+      transfer_function: { name: 'n'.repeat(bytes['set/transfer_function/name']! + 1) },
+    };
+    expect(checkClientMessage(named, recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/transfer_function/name',
+    });
   });
 
   it("accepts the presets the server's hello names, and no other", () => {
     const preset = (name: string) => ({ v: 1, type: 'set', transfer_function: { preset: name } });
-    for (const p of recordedHello.presets) expect(checkClientMessage(preset(p.name), recordedTerms)).toBeNull();
+    for (const p of recordedHello.presets)
+      expect(checkClientMessage(preset(p.name), recordedTerms)).toBeNull();
     expect(checkClientMessage(preset('ct_heart'), recordedTerms)).toMatchObject({
       code: 'invalid_value',
       field: '/transfer_function/preset',
     });
-    expect(checkClientMessage(preset('ct_heart'), { ...recordedTerms, presets: ['ct_heart'] })).toBeNull();
+    expect(
+      checkClientMessage(preset('ct_heart'), { ...recordedTerms, presets: ['ct_heart'] }),
+    ).toBeNull();
   });
 });
 
@@ -275,7 +353,10 @@ describe('parseServerMessage', () => {
     expect(hello.limits.max_sessions_per_client).toBeGreaterThan(0);
     expect(hello.limits.max_frame_work).toBeGreaterThan(0);
     expect(hello.ranges['settings/sample_distance']).toMatchObject({ integer: false });
-    expect(hello.ranges['settings/scattering/shell_rings']).toMatchObject({ min: 1, integer: true });
+    expect(hello.ranges['settings/scattering/shell_rings']).toMatchObject({
+      min: 1,
+      integer: true,
+    });
   });
 
   it('rejects a hello without ranges or with a range that is not one', () => {
@@ -299,14 +380,22 @@ describe('parseServerMessage', () => {
       expect(() => parseServerMessage(JSON.stringify(without))).toThrow(`/${member}`);
     }
     const limits = hello['limits'] as Record<string, unknown>;
-    for (const member of ['max_transfer_function_points', 'max_hounsfield_position', 'max_string_bytes']) {
+    for (const member of [
+      'max_transfer_function_points',
+      'max_hounsfield_position',
+      'max_string_bytes',
+    ]) {
       const fewer = { ...limits };
       delete fewer[member];
-      expect(() => parseServerMessage(JSON.stringify({ ...hello, limits: fewer }))).toThrow(ProtocolError);
+      expect(() => parseServerMessage(JSON.stringify({ ...hello, limits: fewer }))).toThrow(
+        ProtocolError,
+      );
     }
     const presets = structuredClone(read.presets) as unknown as Record<string, unknown>[];
     delete presets[1]!['opacities'];
-    expect(() => parseServerMessage(JSON.stringify({ ...hello, presets }))).toThrow('/presets/1/opacities');
+    expect(() => parseServerMessage(JSON.stringify({ ...hello, presets }))).toThrow(
+      '/presets/1/opacities',
+    );
   });
 
   it('reads opened with a full state that checks as a set', () => {
@@ -315,13 +404,23 @@ describe('parseServerMessage', () => {
     expect(opened.histogram.length).toBeGreaterThan(0);
     expect(opened.volume.dims).toEqual([181, 217, 181]);
     // "sending it back restores it"
-    expect(checkClientMessage({ v: 1, type: 'set', id: 1, ...restorePatch(opened.state) }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage(
+        { v: 1, type: 'set', id: 1, ...restorePatch(opened.state) },
+        recordedTerms,
+      ),
+    ).toBeNull();
   });
 
   it("reads opened's owner token, which resume takes back", () => {
     const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(opened.owner_token).toMatch(/^[0-9a-f]{32}$/);
-    const resume = { v: 1, type: 'resume', session: opened.session, owner_token: opened.owner_token };
+    const resume = {
+      v: 1,
+      type: 'resume',
+      session: opened.session,
+      owner_token: opened.owner_token,
+    };
     expect(checkClientMessage(resume, recordedTerms)).toBeNull();
     const withNumber = { ...(JSON.parse(serverMessages[2]!) as object), owner_token: 5 };
     expect(() => parse(JSON.stringify(withNumber))).toThrow(/owner_token/);
@@ -335,14 +434,21 @@ describe('parseServerMessage', () => {
     const opened = parse(serverMessages[2]!) as OpenedMessage;
     expect(Object.keys(message.state).sort()).toEqual(Object.keys(opened.state).sort());
     expect(message.state.settings.mode).not.toBe(opened.state.settings.mode);
-    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', ...restorePatch(message.state) }, recordedTerms),
+    ).toBeNull();
   });
 
   it("checks a state by the server's table: every setting there, of its kind", () => {
-    const opened = JSON.parse(serverMessages[2]!) as { state: { settings: Record<string, unknown> } };
+    const opened = JSON.parse(serverMessages[2]!) as {
+      state: { settings: Record<string, unknown> };
+    };
     const withLightBuffer = (lb: Record<string, unknown>) => {
       const copy = structuredClone(opened);
-      copy.state.settings['light_buffer'] = { ...(copy.state.settings['light_buffer'] as object), ...lb };
+      copy.state.settings['light_buffer'] = {
+        ...(copy.state.settings['light_buffer'] as object),
+        ...lb,
+      };
       return JSON.stringify(copy);
     };
     expect(() => parse(withLightBuffer({ compensation: 'high' }))).toThrow(
@@ -351,7 +457,9 @@ describe('parseServerMessage', () => {
     expect(() => parse(withLightBuffer({ slab_samples: 1.5 }))).toThrow(
       /expected an integer \(at \/state\/settings\/light_buffer\/slab_samples\)/,
     );
-    expect(() => parse(withLightBuffer({ builder: 3 }))).toThrow(/\/state\/settings\/light_buffer\/builder/);
+    expect(() => parse(withLightBuffer({ builder: 3 }))).toThrow(
+      /\/state\/settings\/light_buffer\/builder/,
+    );
     const missing = structuredClone(opened);
     delete (missing.state.settings['shading'] as Record<string, unknown>)['specular'];
     expect(() => parse(JSON.stringify(missing))).toThrow(/\/state\/settings\/shading\/specular/);
@@ -359,19 +467,28 @@ describe('parseServerMessage', () => {
     flat.state.settings['background'] = [0, 0];
     expect(() => parse(JSON.stringify(flat))).toThrow(/\/state\/settings\/background/);
     // Every setting the table lists is one a recorded state holds.
-    const state = (parse(serverMessages[2]!) as OpenedMessage).state as unknown as Record<string, unknown>;
+    const state = (parse(serverMessages[2]!) as OpenedMessage).state as unknown as Record<
+      string,
+      unknown
+    >;
     for (const path of Object.keys(SETTINGS)) {
-      const value = path.split('/').reduce<unknown>((at, part) => (at as Record<string, unknown>)[part], state);
+      const value = path
+        .split('/')
+        .reduce<unknown>((at, part) => (at as Record<string, unknown>)[part], state);
       expect(value, path).toBeDefined();
     }
   });
 
   it("reads a set's ack with the state the server made of the patch", () => {
     const opened = JSON.parse(serverMessages[2]!) as { state: State };
-    const ack = parse(JSON.stringify({ v: 1, type: 'ack', id: 4, of: 'set', state: opened.state })) as AckMessage;
+    const ack = parse(
+      JSON.stringify({ v: 1, type: 'ack', id: 4, of: 'set', state: opened.state }),
+    ) as AckMessage;
     expect(ack.state).toEqual(opened.state);
     const broken = { ...opened.state, camera: { ...opened.state.camera, eye: [0, 0] } };
-    expect(() => parse(JSON.stringify({ v: 1, type: 'ack', of: 'set', state: broken }))).toThrow(/\/state\/camera\/eye/);
+    expect(() => parse(JSON.stringify({ v: 1, type: 'ack', of: 'set', state: broken }))).toThrow(
+      /\/state\/camera\/eye/,
+    );
   });
 
   it('reads a range with its summary, and refuses a summary that is not text', () => {
@@ -379,7 +496,10 @@ describe('parseServerMessage', () => {
     const range = { min: 0, max: 1000, integer: false, summary: 'compensation n' };
     const withSummary = { ...hello, ranges: { 'settings/light_buffer/compensation': range } };
     expect((parse(JSON.stringify(withSummary)) as HelloMessage).ranges).toEqual(withSummary.ranges);
-    const broken = { ...hello, ranges: { 'camera/fov': { min: 1, max: 170, integer: false, summary: 3 } } };
+    const broken = {
+      ...hello,
+      ranges: { 'camera/fov': { min: 1, max: 170, integer: false, summary: 3 } },
+    };
     expect(() => parse(JSON.stringify(broken))).toThrow(/\/ranges\/camera\/fov\/summary/);
   });
 
@@ -394,7 +514,11 @@ describe('parseServerMessage', () => {
     ['no type', '{"v":1}', '/type'],
     ['an unknown type', '{"v":1,"type":"surprise"}', '/type'],
     ['an error without code', '{"v":1,"type":"error","message":"m","field":""}', '/code'],
-    ['opened without state', '{"v":1,"type":"opened","session":"s","volume":{},"histogram":[]}', '/volume/id'],
+    [
+      'opened without state',
+      '{"v":1,"type":"opened","session":"s","volume":{},"histogram":[]}',
+      '/volume/id',
+    ],
     ['state without state', '{"v":1,"type":"state","session":"s"}', '/state'],
     ['state without session', '{"v":1,"type":"state","state":{}}', '/session'],
   ])('rejects %s', (_, text, field) => {
@@ -445,6 +569,8 @@ describe('patches', () => {
 
   it('restores a state whole, as a set the server takes', () => {
     expect(restorePatch(state)).toEqual(state);
-    expect(checkClientMessage({ v: 1, type: 'set', ...restorePatch(state) }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', ...restorePatch(state) }, recordedTerms),
+    ).toBeNull();
   });
 });

@@ -1,5 +1,11 @@
 import { describe, expect, it } from 'vitest';
-import { methodControls, settingPatch, settingUsed, settingValue, toggleControls } from '../src/panels/method_panel';
+import {
+  methodControls,
+  settingPatch,
+  settingUsed,
+  settingValue,
+  toggleControls,
+} from '../src/panels/method_panel';
 import {
   SETTINGS,
   DEFAULT_OUTPUT,
@@ -21,28 +27,56 @@ describe("the method panel's numeric settings", () => {
     expect(controls.map((c) => c.path)).toEqual(paths);
     const byPath = new Map(controls.map((c) => [c.path, c]));
     expect(byPath.get('settings/light_buffer/compensation')).toMatchObject({
-      part: 'light_buffer', label: 'compensation', kind: 'slider', min: 0, max: 1000, integer: false,
+      part: 'light_buffer',
+      label: 'compensation',
+      kind: 'slider',
+      min: 0,
+      max: 1000,
+      integer: false,
     });
-    expect(byPath.get('settings/light_buffer/slab_samples')).toMatchObject({ kind: 'slider', integer: true, max: 16 });
-    expect(byPath.get('settings/scattering/shell_rings')).toMatchObject({ part: 'scattering', integer: true });
+    expect(byPath.get('settings/light_buffer/slab_samples')).toMatchObject({
+      kind: 'slider',
+      integer: true,
+      max: 16,
+    });
+    expect(byPath.get('settings/scattering/shell_rings')).toMatchObject({
+      part: 'scattering',
+      integer: true,
+    });
     expect(byPath.get('settings/early_termination')).toMatchObject({ part: '', kind: 'slider' });
     // Distances over many decades: a number field with the decimals their low end needs.
-    expect(byPath.get('settings/sample_distance')).toMatchObject({ part: '', kind: 'number', decimals: 7 });
-    expect(byPath.get('settings/opacity_unit_distance')).toMatchObject({ kind: 'number', decimals: 6 });
-    expect(controls.filter((c) => c.kind === 'number').map((c) => c.path).sort()).toEqual([
-      'settings/opacity_unit_distance',
-      'settings/sample_distance',
-    ]);
+    expect(byPath.get('settings/sample_distance')).toMatchObject({
+      part: '',
+      kind: 'number',
+      decimals: 7,
+    });
+    expect(byPath.get('settings/opacity_unit_distance')).toMatchObject({
+      kind: 'number',
+      decimals: 6,
+    });
+    expect(
+      controls
+        .filter((c) => c.kind === 'number')
+        .map((c) => c.path)
+        .sort(),
+    ).toEqual(['settings/opacity_unit_distance', 'settings/sample_distance']);
   });
 
   it('offers a setting new to the client with the patch the server takes, and shows it from the state', () => {
     const glow = { min: 0, max: 4, integer: false, summary: 'light-buffer glow' };
     const ranges = { ...recordedRanges, 'settings/light_buffer/glow': glow };
     const control = methodControls(ranges).find((c) => c.path === 'settings/light_buffer/glow')!;
-    expect(control).toMatchObject({ part: 'light_buffer', label: 'glow', kind: 'slider', hint: 'light-buffer glow; within [0, 4]' });
+    expect(control).toMatchObject({
+      part: 'light_buffer',
+      label: 'glow',
+      kind: 'slider',
+      hint: 'light-buffer glow; within [0, 4]',
+    });
     const patch = settingPatch(control.members, 2.5);
     expect(patch).toEqual({ settings: { light_buffer: { glow: 2.5 } } });
-    expect(checkClientMessage({ v: 1, type: 'set', ...patch }, { ...recordedTerms, ranges })).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', ...patch }, { ...recordedTerms, ranges }),
+    ).toBeNull();
     const withGlow = structuredClone(state);
     (withGlow.settings.light_buffer as unknown as Record<string, number>)['glow'] = 1.5;
     expect(settingValue(withGlow.settings, control.members)).toBe(1.5);
@@ -56,22 +90,44 @@ describe("the method panel's numeric settings", () => {
       ...SETTINGS,
       'settings/light_buffer/soft_edges': { kind: 'boolean', summary: 'blur the buffer' },
       'settings/tone': { kind: 'choice', choices: ['linear', 'filmic'], summary: 'tone curve' },
-      'light/glow': { kind: 'boolean', summary: 'not the panel\'s' },
+      'light/glow': { kind: 'boolean', summary: "not the panel's" },
     };
     expect(toggleControls(table)).toEqual([
-      { path: 'settings/light_buffer/soft_edges', members: ['light_buffer', 'soft_edges'], part: 'light_buffer', label: 'soft edges', hint: 'blur the buffer' },
-      { path: 'settings/tone', members: ['tone'], part: '', label: 'tone', hint: 'tone curve', choices: ['linear', 'filmic'] },
+      {
+        path: 'settings/light_buffer/soft_edges',
+        members: ['light_buffer', 'soft_edges'],
+        part: 'light_buffer',
+        label: 'soft edges',
+        hint: 'blur the buffer',
+      },
+      {
+        path: 'settings/tone',
+        members: ['tone'],
+        part: '',
+        label: 'tone',
+        hint: 'tone curve',
+        choices: ['linear', 'filmic'],
+      },
     ]);
-    expect(settingPatch(['light_buffer', 'soft_edges'], true)).toEqual({ settings: { light_buffer: { soft_edges: true } } });
+    expect(settingPatch(['light_buffer', 'soft_edges'], true)).toEqual({
+      settings: { light_buffer: { soft_edges: true } },
+    });
     // Without its own controls the panel would offer every boolean and choice of the table.
     const all = toggleControls(SETTINGS, new Set()).map((c) => c.path);
-    expect(all).toEqual(expect.arrayContaining(['settings/mode', 'settings/phong', 'settings/light_buffer/lookup']));
+    expect(all).toEqual(
+      expect.arrayContaining(['settings/mode', 'settings/phong', 'settings/light_buffer/lookup']),
+    );
   });
 
   it('sends patches for the recorded settings that the server accepts', () => {
     for (const control of methodControls(recordedRanges)) {
       const value = control.integer ? control.max : (control.min + control.max) / 2;
-      expect(checkClientMessage({ v: 1, type: 'set', ...settingPatch(control.members, value) }, recordedTerms)).toBeNull();
+      expect(
+        checkClientMessage(
+          { v: 1, type: 'set', ...settingPatch(control.members, value) },
+          recordedTerms,
+        ),
+      ).toBeNull();
       const held = settingValue(state.settings, control.members);
       expect(held).toBeTypeOf('number');
     }
@@ -101,6 +157,11 @@ describe('the settings shown before the state arrives', () => {
     // them (it was recorded before some of today's settings were).
     expect(DEFAULT_SETTINGS).toMatchObject(state.settings);
     expect(state.output).toEqual(DEFAULT_OUTPUT);
-    expect(checkClientMessage({ v: 1, type: 'set', settings: DEFAULT_SETTINGS, output: DEFAULT_OUTPUT }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage(
+        { v: 1, type: 'set', settings: DEFAULT_SETTINGS, output: DEFAULT_OUTPUT },
+        recordedTerms,
+      ),
+    ).toBeNull();
   });
 });

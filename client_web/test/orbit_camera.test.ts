@@ -29,7 +29,12 @@ describe('OrbitCamera', () => {
 
   it('round-trips a protocol camera', () => {
     const c = new OrbitCamera();
-    c.setFrom({ eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189], target: [0, 0, 0], up: [0, 0, 1], fov: 30 });
+    c.setFrom({
+      eye: [1.082114125889637, 2.320601231751478, 0.4514852619340189],
+      target: [0, 0, 0],
+      up: [0, 0, 1],
+      fov: 30,
+    });
     expect(c.azimuth).toBeCloseTo(25, 9);
     expect(c.elevation).toBeCloseTo(10, 9);
     close(c.toCamera().eye, [1.082114125889637, 2.320601231751478, 0.4514852619340189]);
@@ -70,7 +75,9 @@ describe('OrbitCamera', () => {
     expect(c.distance).toBe(0.01);
     c.zoom(1e9);
     expect(c.distance).toBe(100);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
     c.reset();
     close(c.toCamera().eye, start.eye);
   });
@@ -106,14 +113,16 @@ describe('OrbitCamera', () => {
     expect(c.target).toEqual([0, 0, 0]);
   });
 
-  it('pans the target no farther than the eye stays within the server\'s coordinates', () => {
+  it("pans the target no farther than the eye stays within the server's coordinates", () => {
     const c = new OrbitCamera();
     c.setRanges(recordedRanges);
     c.setFrom(start);
     for (let i = 0; i < 200; ++i) c.zoom(10);
     for (let i = 0; i < 200; ++i) c.pan(-1e6, 1e6, 100);
     expect(Math.max(...c.target.map(Math.abs))).toBeLessThanOrEqual(900);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
   });
 
   it('produces cameras the server accepts', () => {
@@ -122,6 +131,8 @@ describe('OrbitCamera', () => {
     c.rotate(123, -45, 300);
     c.pan(10, 20, 300);
     c.zoom(3);
-    expect(checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
+    ).toBeNull();
   });
 });

@@ -51,7 +51,10 @@ describe('named views and the orientation marker', () => {
       const client = camera.toCamera();
       // The same side and, on screen, the same up (the orbit stops 1 degree short of the poles).
       const cosine =
-        (client.eye[0] * server.eye[0] + client.eye[1] * server.eye[1] + client.eye[2] * server.eye[2]) / 9;
+        (client.eye[0] * server.eye[0] +
+          client.eye[1] * server.eye[1] +
+          client.eye[2] * server.eye[2]) /
+        9;
       expect(cosine).toBeGreaterThan(Math.cos((1.01 * Math.PI) / 180));
       expect(screenAxes(view)).toEqual(screenAxesOf(server));
     }

@@ -130,7 +130,7 @@ describe('RenderPacer', () => {
     expect(sent).toHaveLength(2);
   });
 
-  it('answers only the refused render when the error is not the scheduler\'s: older ones still wait', () => {
+  it("answers only the refused render when the error is not the scheduler's: older ones still wait", () => {
     const { sent, pacer } = setup({ maxInFlight: 3 });
     pacer.request(false);
     pacer.request(false);

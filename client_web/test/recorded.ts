@@ -7,7 +7,10 @@ import { termsOf, type ServerTerms } from './client_checks';
 import { tfTerms, type TfTerms } from '../src/panels/tf_model';
 
 /** hello, volumes, opened, ack, stats, error, state: each one line of JSON text. */
-export const recordedMessages = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
+export const recordedMessages = readFileSync(
+  path.join(__dirname, 'fixtures/server_messages.jsonl'),
+  'utf8',
+)
   .split('\n')
   .filter((line) => line.trim() !== '');
 

@@ -3,7 +3,11 @@ import { joinLink } from '../src/panels/session_panel';
 
 describe('joinLink', () => {
   it("names the session and its volume, which a cluster's proxy routes by, and keeps the token", () => {
-    const page = { origin: 'https://viewer.example:8443', pathname: '/', search: '?volume=old.nii&token=a%2Bb' };
+    const page = {
+      origin: 'https://viewer.example:8443',
+      pathname: '/',
+      search: '?volume=old.nii&token=a%2Bb',
+    };
     const link = new URL(joinLink(page, 'abc123', 'heads/ch2.nii.gz'));
     expect(link.origin).toBe('https://viewer.example:8443');
     expect(link.searchParams.get('join')).toBe('abc123');

@@ -6,7 +6,9 @@ import { COLOR_MAPS, histogramCurve, TfModel } from '../src/panels/tf_model';
 import { recordedHello, recordedMessages, recordedTerms, recordedTfTerms } from './recorded';
 
 const presetNames = recordedHello.presets.map((p) => p.name);
-const inHounsfield = recordedHello.presets.filter((p) => p.space === 'hounsfield').map((p) => p.name);
+const inHounsfield = recordedHello.presets
+  .filter((p) => p.space === 'hounsfield')
+  .map((p) => p.name);
 
 function sorted(xs: number[]): boolean {
   return xs.every((x, i) => i === 0 || xs[i - 1]! <= x);
@@ -37,13 +39,34 @@ describe('TfModel', () => {
 
   it('loads points sorted and clamped', () => {
     const m = new TfModel();
-    m.load({ colors: [{ x: 2, rgb: [2, -1, 0.5] }, { x: 0.2, rgb: [0, 0, 0] }], opacities: [{ x: 0.9, alpha: 3 }, { x: -1, alpha: 0 }] });
-    expect(m.colors).toEqual([{ x: 0.2, rgb: [0, 0, 0] }, { x: 1, rgb: [1, 0, 0.5] }]);
-    expect(m.opacities).toEqual([{ x: 0, alpha: 0 }, { x: 0.9, alpha: 1 }]);
+    m.load({
+      colors: [
+        { x: 2, rgb: [2, -1, 0.5] },
+        { x: 0.2, rgb: [0, 0, 0] },
+      ],
+      opacities: [
+        { x: 0.9, alpha: 3 },
+        { x: -1, alpha: 0 },
+      ],
+    });
+    expect(m.colors).toEqual([
+      { x: 0.2, rgb: [0, 0, 0] },
+      { x: 1, rgb: [1, 0, 0.5] },
+    ]);
+    expect(m.opacities).toEqual([
+      { x: 0, alpha: 0 },
+      { x: 0.9, alpha: 1 },
+    ]);
   });
 
   it('inserts opacity points in order and keeps moved points between their neighbours', () => {
-    const m = new TfModel(recordedTfTerms, { colors: [], opacities: [{ x: 0, alpha: 0 }, { x: 1, alpha: 1 }] });
+    const m = new TfModel(recordedTfTerms, {
+      colors: [],
+      opacities: [
+        { x: 0, alpha: 0 },
+        { x: 1, alpha: 1 },
+      ],
+    });
     const i = m.addOpacity(0.5, 0.25);
     expect(i).toBe(1);
     expect(m.opacities.map((p) => p.x)).toEqual([0, 0.5, 1]);
@@ -71,7 +94,16 @@ describe('TfModel', () => {
   });
 
   it('interpolates like the server: linear inside, constant beyond the ends', () => {
-    const m = new TfModel(recordedTfTerms, { colors: [{ x: 0.2, rgb: [0, 0, 0] }, { x: 0.6, rgb: [1, 0.5, 0] }], opacities: [{ x: 0.5, alpha: 0.2 }, { x: 1, alpha: 1 }] });
+    const m = new TfModel(recordedTfTerms, {
+      colors: [
+        { x: 0.2, rgb: [0, 0, 0] },
+        { x: 0.6, rgb: [1, 0.5, 0] },
+      ],
+      opacities: [
+        { x: 0.5, alpha: 0.2 },
+        { x: 1, alpha: 1 },
+      ],
+    });
     expect(m.opacityAt(0)).toBe(0.2);
     expect(m.opacityAt(0.75)).toBeCloseTo(0.6, 12);
     m.colorAt(0.4).forEach((c, k) => expect(c).toBeCloseTo([0.5, 0.25, 0][k]!, 12));
@@ -80,7 +112,13 @@ describe('TfModel', () => {
   });
 
   it('picks the nearest point within the radius', () => {
-    const m = new TfModel(recordedTfTerms, { colors: [{ x: 0.5, rgb: [0, 0, 0] }], opacities: [{ x: 0.1, alpha: 0.1 }, { x: 0.15, alpha: 0.9 }] });
+    const m = new TfModel(recordedTfTerms, {
+      colors: [{ x: 0.5, rgb: [0, 0, 0] }],
+      opacities: [
+        { x: 0.1, alpha: 0.1 },
+        { x: 0.15, alpha: 0.9 },
+      ],
+    });
     expect(m.pickOpacity(0.12, 0.85, 0.08)).toBe(1);
     expect(m.pickOpacity(0.5, 0.5, 0.05)).toBe(-1);
     expect(m.pickColor(0.52, 0.05)).toBe(0);
@@ -93,7 +131,10 @@ describe('TfModel', () => {
     for (let k = 0; k < most; ++k) expect(m.addOpacity(k / most, 0.5)).toBeGreaterThanOrEqual(0);
     expect(m.addOpacity(0.5, 0.5)).toBe(-1);
     expect(m.addColor(0.5)).toBeGreaterThanOrEqual(0);
-    const few = new TfModel({ ...recordedTfTerms, maxPoints: 2 }, { colors: [], opacities: [{ x: 0, alpha: 1 }] });
+    const few = new TfModel(
+      { ...recordedTfTerms, maxPoints: 2 },
+      { colors: [], opacities: [{ x: 0, alpha: 1 }] },
+    );
     expect(few.addOpacity(0.5, 1)).toBe(1);
     expect(few.addOpacity(0.7, 1)).toBe(-1);
   });
@@ -132,7 +173,9 @@ describe('TfModel', () => {
 
   it("offers the client's colour maps and the colours of the server's normalised presets", () => {
     const m = new TfModel(recordedTfTerms);
-    expect(Object.keys(m.colorMaps)).toEqual(expect.arrayContaining([...Object.keys(COLOR_MAPS), 'mri_skin']));
+    expect(Object.keys(m.colorMaps)).toEqual(
+      expect.arrayContaining([...Object.keys(COLOR_MAPS), 'mri_skin']),
+    );
     expect(m.colorMaps['mri_skin']).toEqual(m.preset('mri_skin')!.colors);
     expect(m.colorMaps['ct_bone']).toBeUndefined(); // in HU: no fractions of the range
   });
@@ -150,7 +193,12 @@ describe('TfModel', () => {
     m.loadPreset(preset);
     m.addOpacity(0.33, 0.5);
     m.applyColorMap('viridis');
-    expect(checkClientMessage({ v: 1, type: 'set', id: 1, transfer_function: m.toProtocol() }, recordedTerms)).toBeNull();
+    expect(
+      checkClientMessage(
+        { v: 1, type: 'set', id: 1, transfer_function: m.toProtocol() },
+        recordedTerms,
+      ),
+    ).toBeNull();
   });
 });
 

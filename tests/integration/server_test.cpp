@@ -186,12 +186,6 @@ protected:
                 {}, *metrics_);
         ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
         scheduler_ = std::move(scheduler.value());
-        sessions_ = std::make_unique<session::SessionRegistry>(limits.max_sessions, owner_tokens_,
-                                                               limits.max_sessions_per_client,
-                                                               limits.max_sessions_per_connection);
-        net::ServerConfig config;
-        config.port = 0;
-        config.limits = limits;
         // A small measured table: sbrc at n=32 fits 50 ms at 64x64, the reference does not.
         auto table = std::make_shared<quality::Table>();
         table->width = 64;
@@ -211,7 +205,12 @@ protected:
         table->points = {point(scene::Mode::phong, 0, 0, 20.0, 18.0),
                          point(scene::Mode::sbrc, 32, 64, 40.0, 24.0),
                          point(scene::Mode::reference, 0, 0, 400.0, quality::infinity)};
-        config.quality_table = std::move(table);
+        sessions_ = std::make_unique<session::SessionRegistry>(
+                limits.max_sessions, owner_tokens_, limits.max_sessions_per_client,
+                limits.max_sessions_per_connection, std::move(table));
+        net::ServerConfig config;
+        config.port = 0;
+        config.limits = limits;
         if (configure) {
             configure(config);
         }

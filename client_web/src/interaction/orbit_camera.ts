@@ -75,7 +75,10 @@ function deg(radians: number): number {
 /** The eye an `orbit` puts around `target`, as the server does (§5): azimuth from +y toward +x about +z. */
 export function orbitEye(target: Vec3, orbit: Orbit): Vec3 {
   const az = ((orbit.azimuth ?? 0) * Math.PI) / 180;
-  const el = (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) * Math.PI) / 180;
+  const el =
+    (Math.max(-MAX_ORBIT_ELEVATION, Math.min(MAX_ORBIT_ELEVATION, orbit.elevation ?? 0)) *
+      Math.PI) /
+    180;
   const d = orbit.distance ?? DEFAULT_CAMERA_DISTANCE;
   return [
     target[0] + d * Math.cos(el) * Math.sin(az),
@@ -206,7 +209,9 @@ export class OrbitCamera {
     const unitsPerPixel =
       (2 * this.distance * Math.tan(((this.fov / 2) * Math.PI) / 180)) / Math.max(1, height);
     for (let i = 0; i < 3; ++i) {
-      this.target[i] = this.clampTarget(this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel);
+      this.target[i] = this.clampTarget(
+        this.target[i]! + (-dx * right[i]! + dy * up[i]!) * unitsPerPixel,
+      );
     }
   }
 
@@ -254,7 +259,10 @@ export function attachOrbitControls(
   const twoFinger = (): { mid: { x: number; y: number }; spread: number } | null => {
     const [a, b] = [...pointers.values()];
     if (!a || !b) return null;
-    return { mid: { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 }, spread: Math.hypot(a.x - b.x, a.y - b.y) };
+    return {
+      mid: { x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 },
+      spread: Math.hypot(a.x - b.x, a.y - b.y),
+    };
   };
   let lastTwo: ReturnType<typeof twoFinger> = null;
 
@@ -314,7 +322,8 @@ export function attachOrbitControls(
     if (!callbacks.enabled()) return;
     e.preventDefault();
     begin();
-    const pixels = e.deltaMode === 1 ? e.deltaY * 16 : e.deltaMode === 2 ? e.deltaY * 400 : e.deltaY;
+    const pixels =
+      e.deltaMode === 1 ? e.deltaY * 16 : e.deltaMode === 2 ? e.deltaY * 400 : e.deltaY;
     // ctrl+wheel is how browsers report a trackpad pinch: finer steps.
     camera.zoom(Math.exp(pixels * (e.ctrlKey ? 0.01 : 0.0015)));
     callbacks.change();

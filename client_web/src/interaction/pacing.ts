@@ -70,7 +70,8 @@ export class RenderPacer {
     this.staleMs = options.staleMs ?? 10000;
     this.now = options.now ?? (() => performance.now());
     this.setTimer = options.setTimer ?? ((cb, ms) => setTimeout(cb, ms));
-    this.clearTimer = options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>));
+    this.clearTimer =
+      options.clearTimer ?? ((h) => clearTimeout(h as ReturnType<typeof setTimeout>));
   }
 
   /** The server's request rate (its hello's max_requests_per_second), which the sends keep below. */

@@ -17,7 +17,13 @@ import {
   type VolumeSummary,
 } from '../protocol/messages';
 import { cameraBasis } from '../interaction/orbit_camera';
-import { nestedAt, rangeText, settingControls, valueAt, type SettingControl } from './ranged_controls';
+import {
+  nestedAt,
+  rangeText,
+  settingControls,
+  valueAt,
+  type SettingControl,
+} from './ranged_controls';
 
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
@@ -183,7 +189,11 @@ export class LightControl {
         known.controller.domElement.title = setting.hint;
         continue;
       }
-      this.ranged.set(setting.path, { setting, controller: this.addRanged(setting), announced: true });
+      this.ranged.set(setting.path, {
+        setting,
+        controller: this.addRanged(setting),
+        announced: true,
+      });
     }
     this.coords = ranges['vec3'];
     const within = this.coords ? ` (the server takes ${rangeText(this.coords)})` : '';
@@ -201,7 +211,13 @@ export class LightControl {
     const patch = (): StatePatch => ({
       light: nestedAt(setting.members, this.values[setting.path]!) as StatePatch['light'],
     });
-    const c = this.folder.add(this.values, setting.path, setting.min, setting.max, setting.integer ? 1 : undefined);
+    const c = this.folder.add(
+      this.values,
+      setting.path,
+      setting.min,
+      setting.max,
+      setting.integer ? 1 : undefined,
+    );
     c.name(setting.label);
     c.domElement.title = setting.hint;
     c.domElement.dataset['setting'] = setting.path;
@@ -322,9 +338,9 @@ export class LightControl {
   private setViewDirection(view: Vec3, interactive: boolean): void {
     const camera = this.camera();
     const { right, up, back } = cameraBasis(camera);
-    const world = normalize([0, 1, 2].map(
-      (i) => view[0] * right[i]! + view[1] * up[i]! + view[2] * back[i]!,
-    ) as Vec3);
+    const world = normalize(
+      [0, 1, 2].map((i) => view[0] * right[i]! + view[1] * up[i]! + view[2] * back[i]!) as Vec3,
+    );
     const light = this.light;
     if (!light) return;
     if (light.type === 'point') {
@@ -337,7 +353,9 @@ export class LightControl {
           light.position[2] - camera.target[2],
         ) || sceneReach(this.scene);
       const { min = -Infinity, max = Infinity } = this.coords ?? {};
-      const position = world.map((c, i) => clamp(camera.target[i]! + c * distance, min, max)) as Vec3;
+      const position = world.map((c, i) =>
+        clamp(camera.target[i]! + c * distance, min, max),
+      ) as Vec3;
       light.position = position;
       [this.params.x, this.params.y, this.params.z] = position;
       this.spanPosition();

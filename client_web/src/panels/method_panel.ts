@@ -32,7 +32,13 @@ import {
   type State,
   type StatePatch,
 } from '../protocol/messages';
-import { labelOf, nestedAt, settingControls, valueAt, type SettingControl } from './ranged_controls';
+import {
+  labelOf,
+  nestedAt,
+  settingControls,
+  valueAt,
+  type SettingControl,
+} from './ranged_controls';
 
 export type PatchSink = (patch: StatePatch, interactive: boolean) => void;
 
@@ -105,7 +111,12 @@ export function toggleControls(
   placed: ReadonlySet<string> = PLACED,
 ): ToggleControl[] {
   return Object.entries(table)
-    .filter(([path, s]) => path.startsWith('settings/') && !placed.has(path) && (s.kind === 'boolean' || s.kind === 'choice'))
+    .filter(
+      ([path, s]) =>
+        path.startsWith('settings/') &&
+        !placed.has(path) &&
+        (s.kind === 'boolean' || s.kind === 'choice'),
+    )
     .map(([path, s]) => {
       const members = path.split('/').slice(1);
       return {
@@ -125,10 +136,16 @@ export function settingValue(settings: State['settings'], members: string[]): nu
 }
 
 /** A boolean or a name at `members` in a state's settings, or undefined where it has none. */
-function valueIn(settings: State['settings'] | undefined, members: string[]): boolean | string | undefined {
+function valueIn(
+  settings: State['settings'] | undefined,
+  members: string[],
+): boolean | string | undefined {
   let value: unknown = settings;
   for (const member of members) {
-    value = typeof value === 'object' && value !== null ? (value as Record<string, unknown>)[member] : undefined;
+    value =
+      typeof value === 'object' && value !== null
+        ? (value as Record<string, unknown>)[member]
+        : undefined;
   }
   return typeof value === 'boolean' || typeof value === 'string' ? value : undefined;
 }
@@ -187,40 +204,78 @@ export class MethodPanel {
     const settings = (s: StatePatch['settings']): StatePatch => ({ settings: s });
 
     // The server's modes arrive with its hello (setModes).
-    this.mode = add(folder.add(p, 'mode', [p.mode]), 'mode', () => settings({ mode: p.mode as Mode }), false);
+    this.mode = add(
+      folder.add(p, 'mode', [p.mode]),
+      'mode',
+      () => settings({ mode: p.mode as Mode }),
+      false,
+    );
     this.mode.onChange(() => this.greyOut());
-    add(folder.add(p, 'compositing', [...COMPOSITINGS]), 'compositing', () =>
-      settings({ compositing: p.compositing }), false);
-    add(folder.add(p, 'stage', [...STAGES]).name('ray caster stage'), 'stage', () =>
-      settings({ stage: p.stage }), false);
+    add(
+      folder.add(p, 'compositing', [...COMPOSITINGS]),
+      'compositing',
+      () => settings({ compositing: p.compositing }),
+      false,
+    );
+    add(
+      folder.add(p, 'stage', [...STAGES]).name('ray caster stage'),
+      'stage',
+      () => settings({ stage: p.stage }),
+      false,
+    );
 
     const lb = folder.addFolder('Light buffer & slices');
     this.slices = add(lb.add(p, 'slices', 1, DEFAULT_LIMITS.max_slices, 1), 'slices', () =>
-      settings({ light_buffer: { slices: p.slices } }));
-    this.resolution = add(lb.add(p, 'resolution', 1, DEFAULT_LIMITS.max_light_resolution, 1).name('resolution R'),
-      'resolution', () => settings({ light_buffer: { resolution: p.resolution } }));
-    add(lb.add(p, 'builder', [...BUILDERS]), 'builder', () =>
-      settings({ light_buffer: { builder: p.builder } }), false);
-    add(lb.add(p, 'lookup', [...LIGHT_LOOKUPS]).name('light lookup'), 'lookup', () =>
-      settings({ light_buffer: { lookup: p.lookup } }), false);
+      settings({ light_buffer: { slices: p.slices } }),
+    );
+    this.resolution = add(
+      lb.add(p, 'resolution', 1, DEFAULT_LIMITS.max_light_resolution, 1).name('resolution R'),
+      'resolution',
+      () => settings({ light_buffer: { resolution: p.resolution } }),
+    );
+    add(
+      lb.add(p, 'builder', [...BUILDERS]),
+      'builder',
+      () => settings({ light_buffer: { builder: p.builder } }),
+      false,
+    );
+    add(
+      lb.add(p, 'lookup', [...LIGHT_LOOKUPS]).name('light lookup'),
+      'lookup',
+      () => settings({ light_buffer: { lookup: p.lookup } }),
+      false,
+    );
 
     const sampling = folder.addFolder('Sampling');
-    add(sampling.add(p, 'jitter').name('jittered samples'), 'jitter', () =>
-      settings({ jitter: p.jitter }), false);
+    add(
+      sampling.add(p, 'jitter').name('jittered samples'),
+      'jitter',
+      () => settings({ jitter: p.jitter }),
+      false,
+    );
     // Skips the volume's empty bricks while marching: faster, the same image.
-    add(sampling.add(p, 'empty_space_skipping').name('empty-space skipping'), 'empty_space_skipping', () =>
-      settings({ empty_space_skipping: p.empty_space_skipping }), false);
+    add(
+      sampling.add(p, 'empty_space_skipping').name('empty-space skipping'),
+      'empty_space_skipping',
+      () => settings({ empty_space_skipping: p.empty_space_skipping }),
+      false,
+    );
 
     const scattering = folder.addFolder('Shell & cone scattering');
     scattering.close();
 
     const shading = folder.addFolder('Shading');
     shading.close();
-    const phong = add(shading.add(p, 'phong').name('Blinn-Phong'), 'phong', () =>
-      settings({ phong: p.phong }), false);
+    const phong = add(
+      shading.add(p, 'phong').name('Blinn-Phong'),
+      'phong',
+      () => settings({ phong: p.phong }),
+      false,
+    );
     phong.onChange(() => this.greyOut());
     add(shading.addColor(p, 'background', 1), 'background', () =>
-      settings({ background: [p.background[0] ?? 0, p.background[1] ?? 0, p.background[2] ?? 0] }));
+      settings({ background: [p.background[0] ?? 0, p.background[1] ?? 0, p.background[2] ?? 0] }),
+    );
 
     // The numeric settings arrive with hello's ranges (setRanges), each in its part's folder.
     this.parts.set('', sampling);
@@ -231,11 +286,19 @@ export class MethodPanel {
     for (const toggle of this.toggled) this.addToggle(toggle);
 
     const output = folder.addFolder('Image');
-    add(output.add(p, 'encoding', [...ENCODINGS]), 'encoding', () =>
-      ({ output: { encoding: p.encoding } }), false).onChange(() => this.greyOut());
+    add(
+      output.add(p, 'encoding', [...ENCODINGS]),
+      'encoding',
+      () => ({ output: { encoding: p.encoding } }),
+      false,
+    ).onChange(() => this.greyOut());
     // A slider once hello's ranges give its ends (setRanges).
-    add(output.add(p, 'jpeg_quality').step(1).name('JPEG quality'), 'jpeg_quality', () =>
-      ({ output: { jpeg_quality: p.jpeg_quality } }), false);
+    add(
+      output.add(p, 'jpeg_quality').step(1).name('JPEG quality'),
+      'jpeg_quality',
+      () => ({ output: { jpeg_quality: p.jpeg_quality } }),
+      false,
+    );
     const scale = output.add(p, 'scale', 0.25, 2, 0.05).name('pixels per device px');
     scale.domElement.dataset['control'] = 'scale';
     scale.onFinishChange(() => this.scaleChanged(p.scale));

@@ -68,7 +68,8 @@ export function settingControls(ranges: SettingRanges, root: string): SettingCon
 export function valueAt(part: object, members: string[]): number | undefined {
   let value: unknown = part;
   for (const member of members) {
-    const parent = typeof value === 'object' && value !== null ? (value as Record<string, unknown>) : {};
+    const parent =
+      typeof value === 'object' && value !== null ? (value as Record<string, unknown>) : {};
     value = parent[member];
   }
   return typeof value === 'number' ? value : undefined;

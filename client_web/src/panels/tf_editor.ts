@@ -8,13 +8,21 @@
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
 import { histogramCurve, TfModel } from './tf_model';
-import { HOUNSFIELD, type Preset, type Rgb, type TransferFunctionPoints } from '../protocol/messages';
+import {
+  HOUNSFIELD,
+  type Preset,
+  type Rgb,
+  type TransferFunctionPoints,
+} from '../protocol/messages';
 
 /**
  * The names the preset list offers, in the server's order; for a volume in Hounsfield units those
  * in Hounsfield units (the CT presets) first.
  */
-export function presetsFor(presets: readonly TransferFunctionPoints[], hounsfield: boolean): Preset[] {
+export function presetsFor(
+  presets: readonly TransferFunctionPoints[],
+  hounsfield: boolean,
+): Preset[] {
   const names = presets.map((p) => p.name);
   if (!hounsfield) return names;
   const inHu = presets.filter((p) => p.space === HOUNSFIELD).map((p) => p.name);
@@ -26,7 +34,13 @@ const BAR_HEIGHT = 20;
 const PICK_PX = 9;
 
 function hex(rgb: Rgb): string {
-  return `#${rgb.map((c) => Math.round(c * 255).toString(16).padStart(2, '0')).join('')}`;
+  return `#${rgb
+    .map((c) =>
+      Math.round(c * 255)
+        .toString(16)
+        .padStart(2, '0'),
+    )
+    .join('')}`;
 }
 
 function fromHex(text: string): Rgb {
@@ -66,7 +80,8 @@ export class TfEditor {
     this.bar = document.createElement('canvas');
     this.bar.className = 'tf-bar';
     this.bar.dataset['control'] = 'tf-bar';
-    this.bar.title = 'colour: drag stops; click to add; double-click to pick a colour; right-click to remove';
+    this.bar.title =
+      'colour: drag stops; click to add; double-click to pick a colour; right-click to remove';
     this.picker = document.createElement('input');
     this.picker.type = 'color';
     this.picker.className = 'tf-picker';
@@ -99,13 +114,18 @@ export class TfEditor {
     for (const c of this.controllers) c.destroy();
     this.controllers.length = 0;
     this.hounsfield = hounsfield;
-    const preset = folder.add(this.params, 'preset', presetsFor(this.model.terms.presets, hounsfield)).name('preset');
+    const preset = folder
+      .add(this.params, 'preset', presetsFor(this.model.terms.presets, hounsfield))
+      .name('preset');
     preset.domElement.dataset['control'] = 'tf-preset';
     preset.onChange((name: string) => {
       this.model.loadPreset(name as Preset);
       this.send(false);
     });
-    const colormap = folder.add(this.params, 'colormap', ['(keep)', ...Object.keys(this.model.colorMaps)]);
+    const colormap = folder.add(this.params, 'colormap', [
+      '(keep)',
+      ...Object.keys(this.model.colorMaps),
+    ]);
     colormap.name('colour map');
     colormap.domElement.dataset['control'] = 'tf-colormap';
     colormap.onChange((name: string) => {
@@ -154,7 +174,10 @@ export class TfEditor {
     this.bar.classList.toggle('disabled', !enabled);
   }
 
-  private position(canvas: HTMLCanvasElement, e: PointerEvent | MouseEvent): { x: number; y: number } {
+  private position(
+    canvas: HTMLCanvasElement,
+    e: PointerEvent | MouseEvent,
+  ): { x: number; y: number } {
     const rect = canvas.getBoundingClientRect();
     return {
       x: Math.min(1, Math.max(0, (e.clientX - rect.left) / Math.max(1, rect.width))),
@@ -168,7 +191,12 @@ export class TfEditor {
     const pick = (e: MouseEvent): number => {
       const { x, y } = this.position(c, e);
       const rect = c.getBoundingClientRect();
-      return this.model.pickOpacity(x, y, PICK_PX / Math.max(1, rect.width), rect.height / Math.max(1, rect.width));
+      return this.model.pickOpacity(
+        x,
+        y,
+        PICK_PX / Math.max(1, rect.width),
+        rect.height / Math.max(1, rect.width),
+      );
     };
     c.addEventListener('contextmenu', (e) => e.preventDefault());
     c.addEventListener('pointerdown', (e) => {

@@ -75,7 +75,9 @@ export const COLOR_MAPS: Record<string, ColorPoint[]> = {
  * The colour maps the editor offers: the client's own and the colours of each of the server's
  * presets whose positions are normalised (`mri_skin`'s skin tones), under the preset's name.
  */
-export function colorMaps(presets: readonly TransferFunctionPoints[]): Record<string, ColorPoint[]> {
+export function colorMaps(
+  presets: readonly TransferFunctionPoints[],
+): Record<string, ColorPoint[]> {
   const maps: Record<string, ColorPoint[]> = { ...COLOR_MAPS };
   for (const preset of presets) {
     if (preset.space === NORMALIZED && !(preset.name in maps)) maps[preset.name] = preset.colors;
@@ -154,7 +156,10 @@ export class TfModel {
   terms: TfTerms = NO_TERMS;
   private listeners: Listener[] = [];
 
-  constructor(terms?: TfTerms, points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] }) {
+  constructor(
+    terms?: TfTerms,
+    points?: { name?: string; colors: ColorPoint[]; opacities: OpacityPoint[] },
+  ) {
     if (terms) this.terms = terms;
     if (points) this.load(points, false);
   }
@@ -183,7 +188,12 @@ export class TfModel {
    * and clamped. Points in Hounsfield units are placed on the open volume's range (`domain`).
    */
   load(
-    points: { name?: string; space?: PositionSpace; colors: ColorPoint[]; opacities: OpacityPoint[] },
+    points: {
+      name?: string;
+      space?: PositionSpace;
+      colors: ColorPoint[];
+      opacities: OpacityPoint[];
+    },
     notify = true,
   ): void {
     const at = (x: number) =>

@@ -200,9 +200,7 @@ export class Connection {
   private everConnected = false;
   private reconnectTimer: unknown = null;
   private stopped = false;
-  private readonly options: Required<
-    Omit<ConnectionOptions, 'accessToken' | 'route'>
-  > &
+  private readonly options: Required<Omit<ConnectionOptions, 'accessToken' | 'route'>> &
     Pick<ConnectionOptions, 'accessToken'>;
   /** What the current (or next) WebSocket URL names. */
   private route: Route;
@@ -610,7 +608,9 @@ export class Connection {
       }
       const timer = this.options.setTimer(() => {
         if (this.pending.delete(id)) {
-          reject(new RequestFailed(`${message.type}: no answer in ${this.options.requestTimeoutMs} ms`));
+          reject(
+            new RequestFailed(`${message.type}: no answer in ${this.options.requestTimeoutMs} ms`),
+          );
         }
       }, this.options.requestTimeoutMs);
       this.pending.set(id, {
@@ -630,7 +630,8 @@ export class Connection {
       histogram: message.histogram,
       state: message.state,
     };
-    if (role === 'owner' && message.owner_token !== undefined) info.ownerToken = message.owner_token;
+    if (role === 'owner' && message.owner_token !== undefined)
+      info.ownerToken = message.owner_token;
     return info;
   }
 

@@ -83,8 +83,12 @@ function checkHeader(value: unknown): FrameHeader {
   const passes = value['passes'];
   if (!Array.isArray(passes)) throw new FrameError('frame header: "passes" is not an array');
   for (const p of passes) {
-    if (!isRecord(p) || typeof p['name'] !== 'string' || typeof p['gpu_ms'] !== 'number' ||
-        typeof p['wall_ms'] !== 'number') {
+    if (
+      !isRecord(p) ||
+      typeof p['name'] !== 'string' ||
+      typeof p['gpu_ms'] !== 'number' ||
+      typeof p['wall_ms'] !== 'number'
+    ) {
       throw new FrameError('frame header: a pass lacks name, gpu_ms or wall_ms');
     }
   }

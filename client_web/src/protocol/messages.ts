@@ -66,7 +66,11 @@ export type ViewName = (typeof VIEWS)[number];
 export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
   const { side, up } = VIEW_POSES[view];
   return {
-    eye: [target[0] + distance * side[0], target[1] + distance * side[1], target[2] + distance * side[2]],
+    eye: [
+      target[0] + distance * side[0],
+      target[1] + distance * side[1],
+      target[2] + distance * side[2],
+    ],
     up: [...up],
   };
 }
@@ -439,7 +443,12 @@ function checkPoints(tf: Record<string, unknown>, tfAt: string): void {
     numbers(point, 'rgb', `${tfAt}/colors/${i}`, 3);
   });
   (tf['opacities'] as unknown[]).forEach((p, i) => {
-    const point = need(isObject(p), p as Record<string, unknown>, 'a point', `${tfAt}/opacities/${i}`);
+    const point = need(
+      isObject(p),
+      p as Record<string, unknown>,
+      'a point',
+      `${tfAt}/opacities/${i}`,
+    );
     num(point, 'x', `${tfAt}/opacities/${i}`);
     num(point, 'alpha', `${tfAt}/opacities/${i}`);
   });
@@ -557,7 +566,12 @@ export function parseServerMessage(text: string): ServerMessage {
       checkState(o['state'], '/state');
       // A server older than resume sends no token; its owner then cannot resume.
       if (o['owner_token'] !== undefined) str(o, 'owner_token', '');
-      need(o['recreated'] === undefined || o['recreated'] === true, o['recreated'], 'true', '/recreated');
+      need(
+        o['recreated'] === undefined || o['recreated'] === true,
+        o['recreated'],
+        'true',
+        '/recreated',
+      );
       return o as unknown as OpenedMessage;
     }
     case 'state':

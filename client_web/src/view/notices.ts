@@ -46,7 +46,9 @@ export class Notices {
       case 'connecting':
         this.banner.hidden = false;
         this.bannerText.textContent =
-          status.attempt > 1 ? `Reconnecting to ${url} (attempt ${status.attempt})…` : `Connecting to ${url}…`;
+          status.attempt > 1
+            ? `Reconnecting to ${url} (attempt ${status.attempt})…`
+            : `Connecting to ${url}…`;
         return;
       case 'lost':
       case 'unreachable': {

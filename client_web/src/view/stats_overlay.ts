@@ -110,7 +110,9 @@ export class StatsOverlay {
         ),
       );
       rows.push(row('frame', `#${h.frame} (request ${h.request})`, 'frame'));
-      rows.push(row('image', `${h.width}×${h.height} ${h.encoding} · ${kb(sample.bytes)}`, 'image'));
+      rows.push(
+        row('image', `${h.width}×${h.height} ${h.encoding} · ${kb(sample.bytes)}`, 'image'),
+      );
       rows.push(row('mode', `${h.mode}${h.interactive ? ' (interactive)' : ' (still)'}`, 'mode'));
       rows.push(row('light buffer', h.light_buffer, 'light_buffer'));
       for (const p of h.passes) {

@@ -2,9 +2,9 @@
 #include "sweep_lists.hpp"
 
 #include <penumbra/base/text.hpp>
+#include <penumbra/bench/modes_bench.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
-#include <penumbra/quality/modes_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -32,7 +32,7 @@ const SweptOptions swept = {{"mode", "--modes LIST"},
                             {"slices", "--slices-list LIST"},
                             {"light-res", "--light-res-list LIST"}};
 
-po::options_description modes_options(quality::ModesBenchConfig& config) {
+po::options_description modes_options(bench::ModesBenchConfig& config) {
     po::options_description options = option_group("options");
     options.add_options()("help", "this text")(
             "volume", po::value(&config.volume)->value_name("FILE")->default_value(config.volume),
@@ -66,7 +66,7 @@ po::options_description modes_options(quality::ModesBenchConfig& config) {
 
 // The optimisation table's options, into `config`.
 base::Status read_optimisation_options(const po::variables_map& a,
-                                       quality::ModesBenchConfig& config) {
+                                       bench::ModesBenchConfig& config) {
     config.volumes = base::split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>()
                                                               : config.volume);
     if (config.volumes.empty()) {
@@ -94,7 +94,7 @@ base::Status read_optimisation_options(const po::variables_map& a,
 
 // Opened before anything is measured, so that a path it cannot write fails at once.
 base::Status open_csv(const po::variables_map& a, std::ofstream& csv,
-                      quality::ModesBenchConfig& config) {
+                      bench::ModesBenchConfig& config) {
     if (a.count("csv") != 0) {
         config.csv_path = a["csv"].as<std::string>();
         csv.open(config.csv_path);
@@ -107,7 +107,7 @@ base::Status open_csv(const po::variables_map& a, std::ofstream& csv,
 }
 
 int run_bench_modes(const std::vector<std::string>& args) {
-    quality::ModesBenchConfig config;
+    bench::ModesBenchConfig config;
     config.volume = default_volume_path;
     const po::options_description options = modes_options(config);
     auto parsed = parse_options(args, options);
@@ -138,7 +138,7 @@ int run_bench_modes(const std::vector<std::string>& args) {
     if (auto status = open_csv(a, csv, config); !status) {
         return fail(status.error());
     }
-    if (auto status = quality::bench_modes(config, stdout); !status) {
+    if (auto status = bench::bench_modes(config, stdout); !status) {
         return fail(status.error());
     }
     return 0;

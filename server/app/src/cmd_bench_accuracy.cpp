@@ -9,12 +9,12 @@
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/text.hpp>
+#include <penumbra/bench/accuracy_bench.hpp>
+#include <penumbra/bench/sweep_spec.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/cli/transfer_function_file.hpp>
-#include <penumbra/quality/accuracy_bench.hpp>
 #include <penumbra/quality/sweep.hpp>
-#include <penumbra/quality/sweep_spec.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -31,6 +31,7 @@ using namespace cli;
 namespace {
 
 using namespace quality;
+using namespace bench;
 
 std::string cases_help() {
     std::string help;

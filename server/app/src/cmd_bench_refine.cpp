@@ -1,10 +1,10 @@
-// `penumbra bench refine`: the options of quality::bench_refinement.
+// `penumbra bench refine`: the options of bench::bench_refinement.
 
 #include "commands.hpp"
 
+#include <penumbra/bench/refine_bench.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
-#include <penumbra/quality/refine_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -23,7 +23,7 @@ int fail(const base::Error& error) {
     return report_failure("bench refine", error);
 }
 
-po::options_description refine_options(std::string& volume, quality::RefineOptions& o) {
+po::options_description refine_options(std::string& volume, bench::RefineOptions& o) {
     po::options_description options = option_group("options");
     options.add_options()("help", "this text")(
             "volume", po::value(&volume)->value_name("PATH")->default_value(volume), "the volume")(
@@ -37,7 +37,7 @@ po::options_description refine_options(std::string& volume, quality::RefineOptio
 
 // Loads the volume, builds the frame and measures on a renderer of its own.
 base::Status bench_refine(const po::variables_map& a, const std::string& path,
-                          const quality::RefineOptions& options) {
+                          const bench::RefineOptions& options) {
     auto loaded = volume::load_volume(path);
     if (!loaded) {
         return loaded.error();
@@ -54,7 +54,7 @@ base::Status bench_refine(const po::variables_map& a, const std::string& path,
     if (auto status = (*renderer)->set_volume(volume); !status) {
         return status;
     }
-    auto result = quality::bench_refinement(**renderer, *frame, options, stdout);
+    auto result = bench::bench_refinement(**renderer, *frame, options, stdout);
     if (!result) {
         return result.error();
     }
@@ -65,7 +65,7 @@ base::Status bench_refine(const po::variables_map& a, const std::string& path,
 
 int run_bench_refine(const std::vector<std::string>& args) {
     std::string volume = default_volume_path;
-    quality::RefineOptions refine;
+    bench::RefineOptions refine;
     const po::options_description options = refine_options(volume, refine);
     auto parsed = parse_options(args, options);
     if (!parsed) {
@@ -73,7 +73,7 @@ int run_bench_refine(const std::vector<std::string>& args) {
     }
     if (parsed->count("help") != 0) {
         print_help("bench refine [options]",
-                   "PSNR against a reference at 1/" + shown(quality::refine_reference_divisor) +
+                   "PSNR against a reference at 1/" + shown(bench::refine_reference_divisor) +
                            " of the sample distance: the unjittered frame, then the jittered "
                            "still\nand each refinement step (the GPU's running mean).",
                    options);

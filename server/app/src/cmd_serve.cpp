@@ -316,13 +316,12 @@ int run_serve(const std::vector<std::string>& args) {
     if (!table) {
         return fail(table.error());
     }
-    config.quality_table = *table;
 
     const std::string& secret = o.cluster_secret;
     session::SessionRegistry sessions(
             limits.max_sessions,
             secret.empty() ? session::OwnerTokens() : session::OwnerTokens(secret),
-            limits.max_sessions_per_client, limits.max_sessions_per_connection);
+            limits.max_sessions_per_client, limits.max_sessions_per_connection, *table);
     print_access(config, !secret.empty());
     auto server = net::Server::start(config, {volumes, sessions, **scheduler, registry});
     if (!server) {

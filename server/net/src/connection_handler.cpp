@@ -4,7 +4,6 @@
 #include <penumbra/base/log.hpp>
 #include <penumbra/protocol/frame_header.hpp>
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
 
@@ -20,30 +19,30 @@ constexpr std::uint64_t max_unanswered_errors = 64;
 // Requests that may wait while a volume loads for this connection; more are refused.
 constexpr std::size_t max_waiting_requests = 64;
 
-protocol::VolumeSummary summary_of(const std::string& id, const volume::Volume* v) {
+protocol::VolumeSummary summary_of(const session::VolumeSummary& v) {
     protocol::VolumeSummary out;
-    out.id = id;
-    out.name = v != nullptr ? v->name : id;
-    out.loaded = v != nullptr;
-    if (v != nullptr) {
-        out.dims[0] = v->dims.x;
-        out.dims[1] = v->dims.y;
-        out.dims[2] = v->dims.z;
-        out.spacing[0] = v->spacing.x;
-        out.spacing[1] = v->spacing.y;
-        out.spacing[2] = v->spacing.z;
-        out.voxel_type = volume::to_string(v->type);
-        out.range[0] = v->range.min;
-        out.range[1] = v->range.max;
-        out.hounsfield = v->hounsfield;
+    out.id = v.id;
+    out.name = v.name;
+    out.loaded = v.loaded;
+    if (v.loaded) {
+        out.dims[0] = v.dims.x;
+        out.dims[1] = v.dims.y;
+        out.dims[2] = v.dims.z;
+        out.spacing[0] = v.spacing.x;
+        out.spacing[1] = v.spacing.y;
+        out.spacing[2] = v.spacing.z;
+        out.voxel_type = v.voxel_type;
+        out.range[0] = v.min;
+        out.range[1] = v.max;
+        out.hounsfield = v.hounsfield;
     }
     return out;
 }
 
 // What a new session of this server on `volume` starts from: a CT's own preset for a CT.
-scene::State initial_state(const ServerConfig& config, const volume::Volume& volume) {
-    return session::default_state(volume.hounsfield ? config.default_ct_transfer_function
-                                                    : config.default_transfer_function,
+scene::State initial_state(const ServerConfig& config, const session::LoadedVolume& volume) {
+    return session::default_state((*volume)->hounsfield ? config.default_ct_transfer_function
+                                                        : config.default_transfer_function,
                                   protocol::scene_limits(config.limits));
 }
 
@@ -58,7 +57,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.encoding = scene::to_string(f.format);
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
-    h.light_buffer = render::to_string(f.report.light_buffer);
+    h.light_buffer = session::light_buffer_name(f);
     for (const auto& pass : f.report.passes) {
         h.passes.push_back({pass.name, pass.gpu_ms, pass.wall_ms});
     }
@@ -115,9 +114,9 @@ bool ConnectionHandler::take_token() {
 }
 
 void ConnectionHandler::on_open() {
-    const render::RendererInfo& info = context_.services.scheduler.renderer_info();
-    send(protocol::hello_message(context_.config.limits,
-                                 {info.renderer, info.version, info.platform, info.software}));
+    const session::Device device = context_.services.scheduler.device();
+    send(protocol::hello_message(context_.config.limits, {device.renderer, device.version,
+                                                          device.platform, device.software}));
 }
 
 bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
@@ -268,13 +267,13 @@ void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::s
         return;
     }
     auto created = context_.services.sessions.create(volume_id, *volume,
-                                                     initial_state(context_.config, **volume),
+                                                     initial_state(context_.config, volume),
                                                      viewer_, client_, session_.get());
     if (!created) {
         reply_error(id, created.error());
         return;
     }
-    become_owner(id, std::move(created.value()), **volume, false);
+    become_owner(id, std::move(created.value()), false);
 }
 
 void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
@@ -286,7 +285,7 @@ void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
     }
     auto recreated = context_.services.sessions.recreate(
             message.session, message.owner_token, *message.volume, *volume,
-            initial_state(context_.config, **volume), viewer_, client_, session_.get());
+            initial_state(context_.config, volume), viewer_, client_, session_.get());
     if (!recreated) {
         reply_error(id, recreated.error());
         return;
@@ -295,12 +294,11 @@ void ConnectionHandler::finish_recreate(std::optional<std::int64_t> id,
         resume_held(id, message);  // another connection re-created it while the volume loaded
         return;
     }
-    become_owner(id, std::move(recreated->session), **volume, true);
+    become_owner(id, std::move(recreated->session), true);
 }
 
 void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
-                                     std::shared_ptr<session::Session> session,
-                                     const volume::Volume& volume, bool recreated) {
+                                     std::shared_ptr<session::Session> session, bool recreated) {
     leave_session();
     session_ = std::move(session);
     const auto histogram = context_.services.volumes.histogram(session_->volume());
@@ -309,9 +307,9 @@ void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
     const auto added = session_->add_viewer(
             viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
             [&](const scene::State& state) {
-                send(protocol::opened_message(
-                        id, session_->id(), summary_of(session_->volume_id(), &volume), *histogram,
-                        state, session_->owner_token(), recreated));
+                send(protocol::opened_message(id, session_->id(),
+                                              summary_of(session_->volume_summary()), *histogram,
+                                              state, session_->owner_token(), recreated));
             });
     PENUMBRA_ASSERT(added.ok(), "a new session refused its owner");
     context_.sessions.set(static_cast<double>(context_.services.sessions.count()));
@@ -332,8 +330,7 @@ bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std:
     // cannot both win.
     auto entered = context_.services.sessions.enter(session_id, [&](session::Session& target) {
         const auto welcome = [&](const scene::State& state) {
-            const protocol::VolumeSummary volume =
-                    summary_of(target.volume_id(), target.volume().get());
+            const protocol::VolumeSummary volume = summary_of(target.volume_summary());
             send(owner_token
                          ? protocol::opened_message(id, target.id(), volume, *histogram, state,
                                                     target.owner_token())
@@ -386,10 +383,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::L
     // The last scan: the store rescans on a thread of its own.
     std::vector<protocol::VolumeSummary> list;
     for (const auto& entry : context_.services.volumes.list()) {
-        list.push_back(summary_of(entry.id, entry.loaded.get()));
-        if (!entry.loaded) {
-            list.back().name = entry.name;  // a DICOM series' description before it is read
-        }
+        list.push_back(summary_of(entry.summary()));
     }
     send(protocol::volumes_message(id, list));
 }
@@ -449,7 +443,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::R
         return;
     }
     session_->render(context_.services.scheduler, id.value_or(-1), message.interactive, client_,
-                     context_.config.quality_table.get());
+                     context_.services.sessions.quality_table());
 }
 
 template <>
@@ -471,7 +465,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
     report.light_buffer_builds = counts.light_buffer_builds;
     report.light_buffer_reuses = counts.light_buffer_reuses;
     report.gpu_bytes_held = counts.gpu_bytes_held;
-    report.renderer = context_.services.scheduler.renderer_info().renderer;
+    report.renderer = context_.services.scheduler.device().renderer;
     send(protocol::stats_message(id, report));
 }
 

@@ -38,7 +38,7 @@ private:
     template <class Message>
     void handle(std::optional<std::int64_t> id, const Message& message) = delete;
 
-    using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
+    using LoadedVolume = session::LoadedVolume;
     // Loads `volume_id` on the volume store's loader threads, the connection busy meanwhile, and
     // then, on the strand, hands the volume (or the error) to `then` and handles the requests that
     // waited.
@@ -59,9 +59,9 @@ private:
     void finish_recreate(std::optional<std::int64_t> id, const protocol::Resume& message,
                          const LoadedVolume& volume);
     // Makes this connection the owner and first viewer of `session`, which it opened (or
-    // re-created) on `volume`, and answers `opened`.
+    // re-created), and answers `opened`.
     void become_owner(std::optional<std::int64_t> id, std::shared_ptr<session::Session> session,
-                      const volume::Volume& volume, bool recreated);
+                      bool recreated);
     // Replies with no_session and returns false if the connection is in no session.
     bool need_session(std::optional<std::int64_t> id);
     void handle_waiting();

@@ -91,9 +91,11 @@ std::string settings_message(const LoadConfig& config, std::int64_t id) {
     const std::string refine = config.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" +
                                                            std::to_string(config.refine)
                                                  : std::string();
+    const std::string output = config.encoding.empty()
+                                       ? std::string()
+                                       : R"(,"output":{"encoding":")" + config.encoding + "\"}";
     return R"({"v":1,"type":"set","id":)" + std::to_string(id) + R"(,"settings":{"mode":")" +
-           config.mode + R"(","size":[)" + size + "," + size + "]" + refine +
-           R"(},"output":{"encoding":")" + config.encoding + "\"}}";
+           config.mode + R"(","size":[)" + size + "," + size + "]" + refine + "}" + output + "}";
 }
 
 // One simulated user: opens the volume, then orbits the camera and asks for a frame, waiting for
@@ -328,8 +330,9 @@ void print_load_report(const LoadConfig& config, const LoadReport& report, std::
     const auto frames = static_cast<double>(parts.latency.size());
     const double kib = static_cast<double>(parts.bytes) / 1024.0;
     std::fprintf(out, "load:     %d client(s), %s %dx%d %s, %.1f s against %s:%u\n", config.clients,
-                 config.mode.c_str(), config.size, config.size, config.encoding.c_str(), elapsed,
-                 config.host.c_str(), config.port);
+                 config.mode.c_str(), config.size, config.size,
+                 config.encoding.empty() ? "(the session's encoding)" : config.encoding.c_str(),
+                 elapsed, config.host.c_str(), config.port);
     std::fprintf(out, "frames:   %zu (%.2f frames/s), %.1f KiB/frame, %.1f KiB/s, errors %llu\n",
                  parts.latency.size(), frames / elapsed, frames > 0.0 ? kib / frames : 0.0,
                  kib / elapsed, static_cast<unsigned long long>(report.errors));

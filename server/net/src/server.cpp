@@ -106,11 +106,11 @@ namespace {
 // What `hello` announces, and requests are held to, never exceeds what the renderer can allocate:
 // an image side or light-buffer resolution over its largest texture, more light slices than its
 // array layers.
-ServerConfig within_device(ServerConfig config, const render::RendererInfo& info) {
+ServerConfig within_device(ServerConfig config, const session::Device& device) {
     protocol::Limits& limits = config.limits;
-    limits.max_slices = std::min(limits.max_slices, info.max_array_texture_layers);
-    limits.max_light_resolution = std::min(limits.max_light_resolution, info.max_texture_size);
-    limits.max_image_side = std::min(limits.max_image_side, info.max_texture_size);
+    limits.max_slices = std::min(limits.max_slices, device.max_array_texture_layers);
+    limits.max_light_resolution = std::min(limits.max_light_resolution, device.max_texture_size);
+    limits.max_image_side = std::min(limits.max_image_side, device.max_texture_size);
     return config;
 }
 
@@ -118,7 +118,7 @@ ServerConfig within_device(ServerConfig config, const render::RendererInfo& info
 
 base::Result<std::unique_ptr<Server>> Server::start(const ServerConfig& requested,
                                                     Services services) {
-    const ServerConfig config = within_device(requested, services.scheduler.renderer_info());
+    const ServerConfig config = within_device(requested, services.scheduler.device());
     const int io_threads = std::max(1, config.io_threads);
     auto impl = std::make_unique<Impl>(config, services, io_threads);
     beast::error_code ec;

@@ -263,26 +263,6 @@ scene::FrameRequest SweepSetting::applied(scene::FrameRequest request) const {
     return request;
 }
 
-const std::vector<AccuracyCase>& accuracy_cases() {
-    static const std::vector<AccuracyCase> cases = {
-            {"mri_skin", "mri_skin", nullptr, false, "the MRI heads' opaque skin, where rays stop"},
-            {"mri_brain", "mri_brain", "/usr/share/mricron/templates/ch2bet.nii.gz", false,
-             "ch2bet, translucent grey and white matter"},
-            {"ct_soft_tissue", "ct_soft_tissue", nullptr, true,
-             "the head CT, translucent soft tissue"},
-    };
-    return cases;
-}
-
-const AccuracyCase* find_accuracy_case(std::string_view name) {
-    for (const AccuracyCase& c : accuracy_cases()) {
-        if (name == c.name) {
-            return &c;
-        }
-    }
-    return nullptr;
-}
-
 int last_refinement_step(const Sweep& sweep) {
     return sweep.refinement_steps.empty() ? 0
                                           : *std::max_element(sweep.refinement_steps.begin(),
@@ -449,62 +429,6 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
         }
     }
     return true;
-}
-
-Progress::Progress(std::uint64_t total)
-    : total_(total)
-    , start_(Clock::now()) {}
-
-std::string Progress::operator()(std::uint64_t done) const {
-    const double minutes = std::chrono::duration<double>(Clock::now() - start_).count() / 60.0;
-    const double fraction =
-            total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
-    char text[64];
-    std::snprintf(text, sizeof text, "[%3.0f%%, %.1f of ~%.1f min]", 100.0 * fraction, minutes,
-                  fraction > 0.0 ? minutes / fraction : 0.0);
-    return text;
-}
-
-base::Status measure_sweep(render::FrameRenderer& renderer, const Sweep& sweep,
-                           const FrameFor& frame_for, const SweepObserver& observer, Table& table) {
-    AccuracyBench bench(renderer, sweep.repeat);
-    for (std::size_t v = 0; v < sweep.volumes.size(); ++v) {
-        auto loaded = volume::load_volume(sweep.volumes[v]);
-        if (!loaded) {
-            return loaded.error();
-        }
-        auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-        auto base = frame_for(*volume);
-        if (!base) {
-            return base.error();
-        }
-        if (v == 0) {
-            describe_frame(table, *base);
-            if (observer.frame) {
-                observer.frame(table);
-            }
-        }
-        if (auto status = renderer.set_volume(volume); !status) {
-            return status;
-        }
-        const PointObserver each_point = [&](const Point& p) {
-            if (observer.point) {
-                observer.point(p, bench.frames());
-            }
-            return true;
-        };
-        for (const LightAngles& light : sweep.lights) {
-            if (observer.view) {
-                observer.view(volume->name, light);
-            }
-            if (auto measured = measure_view(bench, sweep, *base, volume->name, light, each_point,
-                                             table.points);
-                !measured) {
-                return measured.error();
-            }
-        }
-    }
-    return base::Ok{};
 }
 
 }  // namespace penumbra::quality

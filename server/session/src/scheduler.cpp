@@ -31,6 +31,10 @@ double milliseconds_between(Clock::time_point a, Clock::time_point b) {
 
 }  // namespace
 
+std::string_view light_buffer_name(const EncodedFrame& frame) {
+    return render::to_string(frame.report.light_buffer);
+}
+
 Scheduler::Scheduler(SchedulerOptions options, metrics::Registry& metrics)
     : options_(options)
     , frames_(metrics.counter("penumbra_frames_total", "Frames rendered and encoded"))
@@ -219,6 +223,16 @@ bool Scheduler::take_refinement(Pending& next) {
 std::size_t Scheduler::queue_depth() const {
     const std::lock_guard lock(mutex_);
     return pending_.size();
+}
+
+Device Scheduler::device() const {
+    const render::RendererInfo& info = renderer_info_;
+    return {.renderer = info.renderer,
+            .version = info.version,
+            .platform = info.platform,
+            .software = info.software,
+            .max_texture_size = info.max_texture_size,
+            .max_array_texture_layers = info.max_array_texture_layers};
 }
 
 SchedulerCounts Scheduler::counts() const {

@@ -278,11 +278,13 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
 }
 
 SessionRegistry::SessionRegistry(int max_sessions, OwnerTokens owner_tokens, int max_per_client,
-                                 int max_per_connection)
+                                 int max_per_connection,
+                                 std::shared_ptr<const quality::Table> quality_table)
     : max_sessions_(max_sessions)
     , owner_tokens_(std::move(owner_tokens))
     , max_per_client_(max_per_client)
-    , max_per_connection_(max_per_connection) {}
+    , max_per_connection_(max_per_connection)
+    , quality_table_(std::move(quality_table)) {}
 
 base::Status SessionRegistry::check_limits(ViewerId owner, const std::string& client,
                                            const Session* replacing,

@@ -53,6 +53,23 @@ std::string not_a_volume_reason() {
 
 }  // namespace
 
+VolumeSummary summarize(const std::string& id, const std::string& name,
+                        const volume::Volume* volume) {
+    VolumeSummary out;
+    out.id = id;
+    out.name = volume != nullptr ? volume->name : name;
+    out.loaded = volume != nullptr;
+    if (volume != nullptr) {
+        out.dims = volume->dims;
+        out.spacing = volume->spacing;
+        out.voxel_type = volume::to_string(volume->type);
+        out.min = volume->range.min;
+        out.max = volume->range.max;
+        out.hounsfield = volume->hounsfield;
+    }
+    return out;
+}
+
 VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
                          volume::LoadOptions load_options,
                          std::chrono::milliseconds rescan_interval, int loader_threads)
@@ -338,7 +355,7 @@ std::size_t VolumeStore::loads() const {
     return loads_;
 }
 
-base::Result<std::shared_ptr<const volume::Volume>> VolumeStore::acquire(const std::string& id) {
+LoadedVolume VolumeStore::acquire(const std::string& id) {
     // Loads are serialised, so two sessions opening the same new volume read it once; the second
     // finds it loaded when it gets the lock.
     const std::lock_guard loading(load_mutex_);

@@ -78,16 +78,6 @@ TEST(SweepSettings, ApplySetsTheSkippingAndJitter) {
     EXPECT_TRUE(applied.settings.jitter);
 }
 
-TEST(AccuracyCases, NameATranslucentPresetAndTheVolumesItSuits) {
-    for (const char* name : {"mri_skin", "mri_brain", "ct_soft_tissue"}) {
-        const AccuracyCase* found = find_accuracy_case(name);
-        ASSERT_NE(found, nullptr) << name;
-        EXPECT_TRUE(scene::preset(found->transfer_function).ok()) << name;
-    }
-    EXPECT_TRUE(find_accuracy_case("ct_soft_tissue")->head_ct);
-    EXPECT_EQ(find_accuracy_case("nothing"), nullptr);
-}
-
 TEST(SweepSettings, ApplySetsTheSlicesOnlyWhereTheSettingHasThem) {
     scene::FrameRequest request;
     request.settings.light_buffer.slices = 99;

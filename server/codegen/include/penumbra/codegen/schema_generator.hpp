@@ -1,12 +1,11 @@
 #pragma once
 
 // What proto/v1/common.schema.json restates of the C++ tables, for clients that cannot read C++:
-// the frame formats (encode::kFrameFormats), scene's mode table, the names of the settings' enums
-// (scene's name tables), the transfer function's preset names, position spaces, limits and
-// defaults, each setting's range (kSettingRanges: type, minimum, maximum and, where the row has
-// one, its summary as the description; a setting that a state holds is required there), the
-// orbit's defaults (the default camera's), the configurable maxima at their defaults and the client
-// message types (the request variant). The rest of the file is written by hand. proto/README.md's
+// every setting of scene's table (kSettings: its kind as a JSON type, its range or names, its
+// summary as the description; a setting that a state holds is required there, one the device
+// bounds has the default limit as its maximum), the mode and frame-format names, the transfer
+// function's preset names, position spaces, limits and defaults, the orbit's defaults (the default
+// camera's) and the client message types (the request variant). The rest of the file is written by hand. proto/README.md's
 // table of the client messages is written from their schemas the same way, hello.schema.json's
 // mode capabilities from the kinds' name tables and its limits' defaults from the hello a server
 // configured with nothing else sends, and the hello the web client's tests recorded from the
@@ -52,12 +51,14 @@ base::Result<std::string> generated_hello_schema(std::string_view committed);
 base::Result<std::string> generated_recorded_hello(std::string_view committed);
 
 // The TypeScript module that gives the web client the server's names and views
-// (client_web/src/protocol/generated/server_tables.ts): the formats frames are written in
-// (encode::kFrameFormats), the names of the settings' enums, the light types, the transfer
-// function's position spaces, the mode table's kinds and the views (scene's name tables), each
-// view's eye direction and up (scene::view_camera), the default camera's distance and field of
-// view, hello.limits' defaults and a new session's settings and output (scene::starting_frame
-// through state_to_json). It is written whole: the client keeps no copy of its own.
+// (client_web/src/protocol/generated/server_tables.ts): the formats frames are written in, the
+// names of the settings' enums, the light types, the transfer function's position spaces, the
+// mode table's kinds and the views (scene's name tables), each view's eye direction and up
+// (scene::view_camera), the default camera's distance and field of view, every setting a state
+// holds with its kind, range and summary (SETTINGS) and the state's TypeScript type
+// (StateSettings), hello.limits' defaults and a new session's settings and output
+// (scene::starting_frame through state_to_json). It is written whole: the client keeps no copy of
+// its own.
 inline constexpr std::string_view kClientTablesPath = "src/protocol/generated/server_tables.ts";
 std::string generated_client_tables();
 

@@ -3,7 +3,6 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/protocol/limits.hpp>
-#include <penumbra/quality/table.hpp>
 #include <penumbra/scene/default_preset.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/session.hpp>
@@ -26,8 +25,6 @@ struct ServerConfig {
     std::string default_transfer_function{scene::kDefaultPreset};
     // New sessions on a volume whose values are Hounsfield units (a CT) start from this one.
     std::string default_ct_transfer_function{scene::kDefaultHounsfieldPreset};
-    // Measured settings for sessions that ask for a frame-time budget (bench accuracy's table).
-    std::shared_ptr<const quality::Table> quality_table;
     // A WebSocket connection that has sent nothing for `ping_interval` is pinged; one that then
     // sends nothing, not even the pong, for `ping_timeout` is dropped. A frozen or vanished client
     // thus leaves its session (and an owner's resume works) within interval + timeout.

@@ -94,14 +94,12 @@ struct OfferedVolumes {
     std::function<base::Result<std::shared_ptr<const volume::Volume>>(const std::string&)> acquire;
 };
 
-// The frame a table is measured from on a volume: the camera, transfer function and lighting of
-// `penumbra render`'s defaults, which the committed tables were measured with.
-using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
-
 // Called on the render thread with the renderer that will serve, before it takes work (its GL
 // context is current on that thread only, and a second context would cost another one): measures
 // the start-up table on startup_volume(volumes.ids) where `measure` and the tables on disk say
-// so, saying so on `out` first. Nothing measured: no table and no error.
+// so, saying so on `out` first; `frame_for` gives the camera, transfer function and lighting of
+// `penumbra render`'s defaults, which the committed tables were measured with. Nothing measured:
+// no table and no error.
 StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure measure,
                                       const OfferedVolumes& volumes, const FrameFor& frame_for,
                                       std::FILE* out);

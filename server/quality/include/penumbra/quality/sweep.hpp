@@ -1,8 +1,8 @@
 #pragma once
 
 // The measuring half of the accuracy table: renders every point of a sweep against the
-// `reference` mode and times it. `penumbra bench accuracy` runs a sweep from its options,
-// `penumbra serve` a short one at start-up (startup.hpp).
+// `reference` mode and times it. `penumbra serve` measures a short sweep at start-up
+// (startup.hpp), `penumbra bench accuracy` one from its options over several volumes.
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
@@ -11,11 +11,9 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 namespace penumbra::quality {
@@ -122,27 +120,11 @@ struct SweepSetting {
 // skipping and, where the mode ray-casts, every jitter of the sweep.
 std::vector<SweepSetting> sweep_settings(const Sweep& sweep);
 
-// A named case of `bench accuracy --case`: a transfer function and the volumes it suits. How
-// much the light buffer saves depends on it: where camera and shadow rays stop at an opaque
-// surface the reference costs little more than a light-buffer mode; where they cross translucent
-// tissue, a shadow ray per sample costs a march per sample.
-struct AccuracyCase {
-    const char* name;
-    const char* transfer_function;  // a preset
-    const char* volumes;            // files, comma-separated; nullptr: the device's defaults
-    bool head_ct;                   // the volume is the head CT (scripts/demo-data.sh)
-    const char* what;
-};
-
-// mri_skin (the opaque skin on the default MRI heads), mri_brain (ch2bet, the brain alone,
-// translucent grey and white matter) and ct_soft_tissue (the head CT's translucent soft tissue).
-const std::vector<AccuracyCase>& accuracy_cases();
-
-// The case of that name, if there is one.
-const AccuracyCase* find_accuracy_case(std::string_view name);
-
 // Frames one volume and light cost, so a run can say up front how long it will take.
 std::uint64_t frames_per_view(const Sweep& sweep);
+
+// The frame every point of one volume shares (camera, TF, size...).
+using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
 
 // Called with every point as it is measured; false stops the sweep after that point.
 using PointObserver = std::function<bool(const Point&)>;
@@ -153,33 +135,5 @@ using PointObserver = std::function<bool(const Point&)>;
 base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
                                 const std::string& volume, const LightAngles& light,
                                 const PointObserver& observer, std::vector<Point>& points);
-
-// How far a run of `total` frames has come: "[ 12%, 1.2 of ~9.8 min]".
-class Progress {
-public:
-    explicit Progress(std::uint64_t total);
-
-    [[nodiscard]] std::string operator()(std::uint64_t done) const;
-
-private:
-    using Clock = std::chrono::steady_clock;
-    std::uint64_t total_;
-    Clock::time_point start_;
-};
-
-// What a whole sweep reports as it goes; every member may be empty.
-struct SweepObserver {
-    std::function<void(const Table&)> frame;  // once the first volume's frame is described
-    std::function<void(const std::string& volume, const LightAngles&)> view;  // before a view
-    std::function<void(const Point&, std::uint64_t frames_done)> point;
-};
-
-// The frame every point of one volume shares (camera, TF, size...).
-using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::Volume&)>;
-
-// Every volume of the sweep, loaded in turn, under every light, into `table.points`; the table's
-// frame is described from the first volume's. Frames: frames_per_view x lights x volumes.
-base::Status measure_sweep(render::FrameRenderer& renderer, const Sweep& sweep,
-                           const FrameFor& frame_for, const SweepObserver& observer, Table& table);
 
 }  // namespace penumbra::quality

@@ -11,8 +11,8 @@
 
 namespace penumbra::scene {
 
-// The rendering methods of DESIGN.md §1. Each has one row in `kModes` below, in this order;
-// everything else (planner, work estimate, hello, help texts, benches, tests) reads that row.
+// The rendering methods of DESIGN.md §1. Each has one row in `kModes` below, in this order, which
+// the planner, the work estimate, hello, help texts, benches and tests read.
 enum class Mode { dvr, phong, half_angle, sbrc, sbrc_shell, sbrc_cone, reference };
 
 // How a mode draws: a ray caster from the camera, or half-angle slicing (Kniss et al.: an eye
@@ -84,7 +84,7 @@ struct SampleCost {
     int per_shell_ring = 0;
 };
 
-// Everything the code knows about one mode.
+// What one mode is: its names, how it draws and what a sample costs.
 struct ModeInfo {
     Mode mode;
     std::string_view name;     // the protocol's and the command line's spelling
@@ -94,42 +94,40 @@ struct ModeInfo {
     ScatteringKind scattering;
     Gradients gradients;
     SampleCost cost;
-    bool is_reference;             // the ground truth the accuracy benchmark measures against
-    std::string_view plot_colour;  // the benchmark plots' colour and gnuplot point type
-    int plot_point_type;
+    bool is_reference;  // the ground truth the accuracy benchmark measures against
 };
 
 // clang-format off
 inline constexpr std::array<ModeInfo, 7> kModes{{
     // mode, name, summary,
     //     technique, shadows, scattering, gradients, cost {fixed, per shell ring},
-    //     is_reference, plot colour, plot point type
+    //     is_reference
     {Mode::dvr, "dvr", "ray casting, emission-absorption, no shading",
         Technique::ray_casting, ShadowKind::none, ScatteringKind::none, Gradients::never, {1, 0},
-        false, "#7f7f7f", 5},
+        false},
     {Mode::phong, "phong", "ray casting with gradients and Blinn-Phong shading",
         Technique::ray_casting, ShadowKind::none, ScatteringKind::none, Gradients::always, {1, 0},
-        false, "#000000", 7},
+        false},
     {Mode::half_angle, "half_angle", "half-angle slicing (Kniss et al. 2002)",
         Technique::half_angle_slicing, ShadowKind::none, ScatteringKind::none,
         Gradients::with_phong, {1, 0},
-        false, "#e07b00", 9},
+        false},
     {Mode::sbrc, "sbrc", "slice-based ray casting: shadows from the light buffer",
         Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::none,
         Gradients::with_phong, {1, 0},
-        false, "#1f5fbf", 11},
+        false},
     {Mode::sbrc_shell, "sbrc_shell", "sbrc + light averaged over shells of neighbours",
         Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::shell,
         Gradients::with_phong, {4, 2},
-        false, "#2a9d3a", 13},
+        false},
     {Mode::sbrc_cone, "sbrc_cone", "sbrc + light gathered on a cone toward the light",
         Technique::ray_casting, ShadowKind::light_buffer, ScatteringKind::cone,
         Gradients::with_phong, {10, 0},
-        false, "#9b30c0", 15},
+        false},
     {Mode::reference, "reference", "a shadow ray from every sample: the ground truth",
         Technique::ray_casting, ShadowKind::rays, ScatteringKind::none, Gradients::with_phong,
         {2, 0},
-        true, "#d62728", 17},
+        true},
 }};
 // clang-format on
 

@@ -17,6 +17,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <variant>
 #include <vector>
@@ -58,6 +59,10 @@ struct EncodedFrame {
     double encode_ms = 0.0;
 };
 
+// The name a frame header gives what became of the frame's light buffer ("none", "built",
+// "reused").
+[[nodiscard]] std::string_view light_buffer_name(const EncodedFrame& frame);
+
 // Why a job ended without a frame although nothing failed; nobody needs to hear of it.
 enum class Withdrawn {
     superseded,     // a newer job of its session replaced it, or its session was closed
@@ -85,6 +90,18 @@ struct SchedulerCounts {
     std::uint64_t light_buffer_builds = 0;
     std::uint64_t light_buffer_reuses = 0;
     double gpu_bytes_held = 0;
+};
+
+// The device the scheduler renders on, as a server describes it to its clients and bounds what it
+// accepts by: the GL's names, and the largest texture side and number of array layers it can
+// allocate.
+struct Device {
+    std::string renderer;   // GL_RENDERER
+    std::string version;    // GL_VERSION
+    std::string platform;   // EGL's platform
+    bool software = false;  // a software rasteriser (llvmpipe): no GPU
+    int max_texture_size = 0;
+    int max_array_texture_layers = 0;
 };
 
 struct SchedulerOptions {
@@ -124,6 +141,8 @@ public:
     void cancel(const std::string& session);
 
     [[nodiscard]] const render::RendererInfo& renderer_info() const { return renderer_info_; }
+
+    [[nodiscard]] Device device() const;
 
     [[nodiscard]] std::size_t queue_depth() const;
 

@@ -4,6 +4,7 @@
 #include <penumbra/quality/table.hpp>
 #include <penumbra/scene/state.hpp>
 #include <penumbra/session/scheduler.hpp>
+#include <penumbra/session/volume_store.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <atomic>
@@ -90,6 +91,11 @@ public:
 
     [[nodiscard]] const std::shared_ptr<const volume::Volume>& volume() const { return volume_; }
 
+    // What its viewers are told of its volume.
+    [[nodiscard]] VolumeSummary volume_summary() const {
+        return summarize(volume_id_, volume_id_, volume_.get());
+    }
+
     // The connection that opened the session, and its client.
     [[nodiscard]] ViewerId opened_by() const { return opened_by_; }
 
@@ -142,9 +148,9 @@ public:
     // of a withdrawn job (a newer frame answers, or nobody is left to see it).
     void deliver(const FrameOutcome& outcome);
 
-    // Asks `scheduler` for a frame of the current state (make_job); the outcome is delivered to
-    // the viewers of the session while it lives. The render time is `client`'s, whoever's
-    // session it is.
+    // Asks `scheduler` for a frame of the current state (make_job, with the table of the registry
+    // that holds the session); the outcome is delivered to the viewers of the session while it
+    // lives. The render time is `client`'s, whoever's session it is.
     void render(Scheduler& scheduler, std::int64_t request_id, bool interactive,
                 const std::string& client, const quality::Table* quality_table = nullptr);
 
@@ -207,9 +213,12 @@ private:
 // joins before the session ends or finds no session, never an ended one.
 class SessionRegistry {
 public:
-    // Owner tokens are random unless `owner_tokens` derives them (a cluster).
+    // Owner tokens are random unless `owner_tokens` derives them (a cluster). `quality_table`:
+    // the measured settings its sessions choose from for a frame-time budget (bench accuracy's
+    // table); null: budgets are ignored.
     explicit SessionRegistry(int max_sessions, OwnerTokens owner_tokens = {},
-                             int max_per_client = 1 << 30, int max_per_connection = 1 << 30);
+                             int max_per_client = 1 << 30, int max_per_connection = 1 << 30,
+                             std::shared_ptr<const quality::Table> quality_table = nullptr);
 
     // A session opened by connection `owner` of `client`. Fails with too_many_sessions when the
     // server, the client or the connection holds its maximum; `replacing`, the session the
@@ -268,6 +277,9 @@ public:
 
     [[nodiscard]] std::size_t count() const;
 
+    // The table a session's frames are chosen from for its budget (Session::render), or null.
+    [[nodiscard]] const quality::Table* quality_table() const { return quality_table_.get(); }
+
 private:
     // Under the lock: too_many_sessions (at `where`) when the server, `client` or connection
     // `owner` holds its maximum, not counting `replacing`.
@@ -278,6 +290,7 @@ private:
     OwnerTokens owner_tokens_;
     int max_per_client_;
     int max_per_connection_;
+    const std::shared_ptr<const quality::Table> quality_table_;
     mutable std::mutex mutex_;
     std::map<std::string, std::shared_ptr<Session>> sessions_;
 };

@@ -5,6 +5,8 @@
 #include <penumbra/session/worker_pool.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <chrono>
 #include <condition_variable>
@@ -20,6 +22,27 @@
 
 namespace penumbra::session {
 
+// What those who open a volume are told of it: its id and name and, once it is loaded, its grid,
+// voxel type and values.
+struct VolumeSummary {
+    std::string id;
+    std::string name;
+    bool loaded = false;
+    glm::uvec3 dims{0};
+    glm::dvec3 spacing{1.0};
+    std::string voxel_type;  // as the loaders name it ("uint8", "int16"...)
+    double min = 0.0;        // the values' range, in real units
+    double max = 0.0;
+    bool hounsfield = false;  // the values are Hounsfield units (a CT)
+};
+
+// `volume` null: not loaded yet, called `name`; else the volume's own name and facts.
+VolumeSummary summarize(const std::string& id, const std::string& name,
+                        const volume::Volume* volume);
+
+// A volume the store loaded, shared by every session on it; or why it could not be loaded.
+using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
+
 struct VolumeEntry {
     // The file's path relative to the data directory; for a DICOM series, its folder's ("." for
     // DICOM files right in the data directory), followed by "#" and the series' number (or its
@@ -32,6 +55,8 @@ struct VolumeEntry {
     std::string dicom_series;                      // the SeriesInstanceUID a DICOM entry opens
     std::uintmax_t file_bytes = 0;                 // a DICOM folder: the bytes of its files
     std::shared_ptr<const volume::Volume> loaded;  // null until first opened
+
+    [[nodiscard]] VolumeSummary summary() const { return summarize(id, name, loaded.get()); }
 };
 
 // The volumes a server offers: every supported file under one data directory, and every series of
@@ -78,9 +103,9 @@ public:
     // Loads (or returns the loaded) volume `id`. Unknown ids, ids reaching outside the data
     // directory and unreadable files are Errors ("unknown_volume", or the loader's code), whose
     // paths are relative to the data directory.
-    base::Result<std::shared_ptr<const volume::Volume>> acquire(const std::string& id);
+    LoadedVolume acquire(const std::string& id);
 
-    using AcquireDone = std::function<void(base::Result<std::shared_ptr<const volume::Volume>>)>;
+    using AcquireDone = std::function<void(LoadedVolume)>;
 
     // acquire() on a loader thread; `done` is called there.
     void acquire_async(std::string id, AcquireDone done);

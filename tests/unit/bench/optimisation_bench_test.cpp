@@ -1,7 +1,7 @@
 // The optimisation table's measuring, against a renderer whose pass times follow from the request:
 // which series each row times, which of its passes, and which images it compares.
 
-#include <penumbra/quality/optimisation_bench.hpp>
+#include <penumbra/bench/optimisation_bench.hpp>
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 // Ray casting costs 2 ms with empty-space skipping and 5 without, three times that with
@@ -121,4 +121,4 @@ TEST(OptimisationTable, EachRayCastModeWithSkippingOnAndOffThenTheBuildAndTheRat
 }
 
 }  // namespace
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -1,12 +1,12 @@
-#include "penumbra/quality/optimisation_bench.hpp"
+#include "penumbra/bench/optimisation_bench.hpp"
 
+#include <penumbra/bench/report.hpp>
 #include <penumbra/encode/compare.hpp>
-#include <penumbra/quality/report.hpp>
 
 #include <algorithm>
 #include <utility>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 // The light buffer does not depend on the image size, so its build is timed on small frames
@@ -224,4 +224,4 @@ base::Result<GradientComparison> compare_gradients(
     return comparison;
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

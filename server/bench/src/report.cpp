@@ -1,6 +1,7 @@
-#include "penumbra/quality/report.hpp"
+#include "penumbra/bench/report.hpp"
 
 #include <penumbra/base/data_dir.hpp>
+#include <penumbra/bench/plot_style.hpp>
 #include <penumbra/scene/mode.hpp>
 
 #include <algorithm>
@@ -11,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 std::string format(const char* pattern, double value) {
@@ -49,7 +50,7 @@ std::string gnuplot_array(const std::string& name, const std::vector<std::string
 }
 
 // Short labels keep the crowded front readable: n/R for the sliced modes.
-std::string setting_label(const Setting& s) {
+std::string setting_label(const quality::Setting& s) {
     return s.key.slices > 0 ? std::to_string(s.key.slices) + "/" + std::to_string(s.key.resolution)
                             : std::string(scene::to_string(s.key.mode));
 }
@@ -65,7 +66,7 @@ struct PlotText {
 
 // How a setting differs from the request's defaults, as the plot marks it (the template's
 // variant_point and variant_title): 0 plain, else the most telling difference.
-int variant_kind(const SettingKey& key) {
+int variant_kind(const quality::SettingKey& key) {
     if (key.refinement_steps > 0) {
         return 3;
     }
@@ -77,7 +78,7 @@ int variant_kind(const SettingKey& key) {
 
 // "" (the defaults), "no-skip" (no empty-space skipping), "jit" (jittered), "jit+8" (refined by
 // 8 steps), "no-skip,jit".
-std::string variant_text(const SettingKey& key) {
+std::string variant_text(const quality::SettingKey& key) {
     std::string text = key.empty_space_skipping ? "" : "no-skip";
     if (key.jitter) {
         text += (text.empty() ? "" : ",") + std::string("jit");
@@ -89,20 +90,20 @@ std::string variant_text(const SettingKey& key) {
 }
 
 // The time until the setting's image is on screen: a refined image after its still and steps.
-double time_to_image(const Setting& s) {
+double time_to_image(const quality::Setting& s) {
     return s.frame_ms * (1.0 + s.key.refinement_steps);
 }
 
 // The figure's title: device, size, lights, sample distances, TF.
-std::string title_of(const Table& table) {
-    std::set<LightAngles> lights;
+std::string title_of(const quality::Table& table) {
+    std::set<quality::LightAngles> lights;
     std::set<double> distances;
-    for (const Point& p : table.points) {
+    for (const quality::Point& p : table.points) {
         lights.insert(p.light);
         distances.insert(p.sample_distance);
     }
     std::string light_text;
-    for (const LightAngles& l : lights) {
+    for (const quality::LightAngles& l : lights) {
         light_text += (light_text.empty() ? "" : "; ") + format("%g", l.azimuth) + "," +
                       format("%g", l.elevation);
     }
@@ -117,13 +118,13 @@ std::string title_of(const Table& table) {
 }
 
 // One panel's data rows, its title, y range and references.
-void add_panel(const Table& table, const std::string& volume, int panel, std::size_t lights,
-               const std::vector<scene::Mode>& modes, PlotText& text,
+void add_panel(const quality::Table& table, const std::string& volume, int panel,
+               std::size_t lights, const std::vector<scene::Mode>& modes, PlotText& text,
                std::vector<std::string> (&references)[4], std::vector<std::string>& titles,
                std::vector<std::string>& ranges) {
-    std::vector<Setting> measured;
+    std::vector<quality::Setting> measured;
     int row = 0;
-    for (const Setting& s : aggregate(table.points, volume)) {
+    for (const quality::Setting& s : quality::aggregate(table.points, volume)) {
         if (s.key.mode != scene::Mode::reference) {
             measured.push_back(s);
             continue;
@@ -136,8 +137,8 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
         references[3].push_back(std::to_string(row++));
     }
     const std::string p = std::to_string(panel) + " ";
-    std::vector<Setting> plain;
-    for (const Setting& s : measured) {
+    std::vector<quality::Setting> plain;
+    for (const quality::Setting& s : measured) {
         if (s.key.plain()) {
             plain.push_back(s);
             continue;
@@ -149,21 +150,21 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
                          format("%.4f ", s.psnr_finest) + std::to_string(kind) + "\n";
     }
     measured = plain;
-    for (const Setting& s : pareto_front(measured, false)) {
+    for (const quality::Setting& s : pareto_front(measured, false)) {
         text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_finest) +
                       gnuplot_string(setting_label(s)) + "\n";
     }
-    double y_min = infinity;
-    double y_max = -infinity;
-    for (const Setting& s : aggregate(table.points, volume)) {
+    double y_min = quality::infinity;
+    double y_max = -quality::infinity;
+    for (const quality::Setting& s : quality::aggregate(table.points, volume)) {
         if (s.key.mode != scene::Mode::reference && !s.key.plain()) {
             y_min = std::min(y_min, s.psnr_finest);
             y_max = std::max(y_max, s.psnr_finest);
         }
     }
     for (std::size_t m = 0; m < modes.size(); ++m) {
-        std::vector<Setting> own;
-        for (const Setting& s : measured) {
+        std::vector<quality::Setting> own;
+        for (const quality::Setting& s : measured) {
             if (s.key.mode == modes[m]) {
                 own.push_back(s);
                 y_min = std::min(y_min, s.psnr_finest);
@@ -171,10 +172,10 @@ void add_panel(const Table& table, const std::string& volume, int panel, std::si
             }
         }
         const std::string pm = p + std::to_string(m + 1) + " ";
-        for (const Setting& s : own) {
+        for (const quality::Setting& s : own) {
             text.all += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
         }
-        for (const Setting& s : pareto_front(own, false)) {
+        for (const quality::Setting& s : pareto_front(own, false)) {
             text.own += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
         }
     }
@@ -199,16 +200,18 @@ std::string distance_label(double distance) {
     return format("%g", distance);
 }
 
-std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time) {
-    const auto time = [worst_time](const Setting& s) {
+std::vector<quality::Setting> pareto_front(std::vector<quality::Setting> settings,
+                                           bool worst_time) {
+    const auto time = [worst_time](const quality::Setting& s) {
         return worst_time ? s.worst_frame_ms : s.frame_ms;
     };
-    std::sort(settings.begin(), settings.end(), [&](const Setting& a, const Setting& b) {
-        return time(a) != time(b) ? time(a) < time(b) : more_accurate(a, b);
-    });
-    std::vector<Setting> front;
-    for (const Setting& s : settings) {
-        if (front.empty() || more_accurate(s, front.back())) {
+    std::sort(settings.begin(), settings.end(),
+              [&](const quality::Setting& a, const quality::Setting& b) {
+                  return time(a) != time(b) ? time(a) < time(b) : quality::more_accurate(a, b);
+              });
+    std::vector<quality::Setting> front;
+    for (const quality::Setting& s : settings) {
+        if (front.empty() || quality::more_accurate(s, front.back())) {
             if (!front.empty() && s.psnr_finest == front.back().psnr_finest) {
                 continue;  // as accurate and slower
             }
@@ -218,7 +221,7 @@ std::vector<Setting> pareto_front(std::vector<Setting> settings, bool worst_time
     return front;
 }
 
-base::Status write_csv(const Table& table, const std::filesystem::path& path,
+base::Status write_csv(const quality::Table& table, const std::filesystem::path& path,
                        const std::string& where) {
     std::ofstream out(path);
     if (!out) {
@@ -228,15 +231,15 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
            "empty_space_skipping,jitter,refinement_steps,width,height,timing,frame_ms,"
            "light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,ssim_finest\n";
     char line[512];
-    for (const Point& p : table.points) {
+    for (const quality::Point& p : table.points) {
         std::snprintf(line, sizeof line,
                       "%s,%g,%g,%s,%d,%d,%.9g,%d,%d,%d,%d,%d,%s,%.4f,%.4f,%.6g,%s,%.6f,%.6g,%s,"
                       "%.6f\n",
                       p.volume.c_str(), p.light.azimuth, p.light.elevation,
                       scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
                       p.empty_space_skipping ? 1 : 0, p.jitter ? 1 : 0, p.refinement_steps,
-                      table.width, table.height, timing_name(table), p.frame_ms, p.light_buffer_ms,
-                      p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
+                      table.width, table.height, quality::timing_name(table), p.frame_ms,
+                      p.light_buffer_ms, p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
                       psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
         out << line;
     }
@@ -246,10 +249,10 @@ base::Status write_csv(const Table& table, const std::filesystem::path& path,
     return base::Ok{};
 }
 
-std::string presets_text(const Table& table, const std::vector<Preset>& presets) {
+std::string presets_text(const quality::Table& table, const std::vector<quality::Preset>& presets) {
     std::set<std::string> volumes;
-    std::set<LightAngles> lights;
-    for (const Point& p : table.points) {
+    std::set<quality::LightAngles> lights;
+    for (const quality::Point& p : table.points) {
         volumes.insert(p.volume);
         lights.insert(p.light);
     }
@@ -258,19 +261,19 @@ std::string presets_text(const Table& table, const std::vector<Preset>& presets)
                   "\nquality presets: per budget, the most accurate setting (mean PSNR vs "
                   "reference over %zu volume(s) x %zu light(s))\nwhose slowest median frame time "
                   "fits; %s time, light buffer cached (a light or TF edit adds the build)\n",
-                  volumes.size(), lights.size(), timing_name(table));
+                  volumes.size(), lights.size(), quality::timing_name(table));
     std::string text = line;
     std::snprintf(line, sizeof line, "  %9s  %-11s %5s %5s %7s %-13s %8s %6s %9s %9s\n",
                   "budget ms", "mode", "n", "R", "dt", "variant", "PSNR dB", "SSIM", "frame ms",
                   "build ms");
     text += line;
-    for (const Preset& preset : presets) {
+    for (const quality::Preset& preset : presets) {
         if (!preset.setting) {
             std::snprintf(line, sizeof line, "  %9g  nothing measured fits\n", preset.budget_ms);
             text += line;
             continue;
         }
-        const Setting& s = *preset.setting;
+        const quality::Setting& s = *preset.setting;
         const std::string n = s.key.slices > 0 ? std::to_string(s.key.slices) : "-";
         const std::string r = s.key.resolution > 0 ? std::to_string(s.key.resolution) : "-";
         const std::string build =
@@ -285,7 +288,7 @@ std::string presets_text(const Table& table, const std::vector<Preset>& presets)
     return text;
 }
 
-std::string frame_text(const Table& table) {
+std::string frame_text(const quality::Table& table) {
     char line[512];
     std::snprintf(line, sizeof line,
                   "frame:    %dx%d, tf %s, %s compositing, %s stage, builder %s, light lookup "
@@ -296,7 +299,7 @@ std::string frame_text(const Table& table) {
     return line;
 }
 
-std::string view_header(const std::string& volume, const LightAngles& light) {
+std::string view_header(const std::string& volume, const quality::LightAngles& light) {
     char line[512];
     std::snprintf(line, sizeof line,
                   "\n%s, light %g,%g\n  %-11s %5s %5s %7s %-13s %9s %9s %8s %7s\n", volume.c_str(),
@@ -305,12 +308,12 @@ std::string view_header(const std::string& volume, const LightAngles& light) {
     return line;
 }
 
-std::string point_row(const Point& p) {
+std::string point_row(const quality::Point& p) {
     const std::string n = p.slices > 0 ? std::to_string(p.slices) : "-";
     const std::string r = p.resolution > 0 ? std::to_string(p.resolution) : "-";
     const std::string build =
             p.light_buffer_ms > 0.0 ? format("%9.2f", p.light_buffer_ms) : "        -";
-    const SettingKey key{
+    const quality::SettingKey key{
             p.mode,   p.slices,          p.resolution, p.sample_distance, p.empty_space_skipping,
             p.jitter, p.refinement_steps};
     char line[512];
@@ -334,7 +337,7 @@ std::string shell_quoted(const std::string& text) {
 
 }  // namespace
 
-base::Result<PlotFiles> write_plot(const Table& table, const std::filesystem::path& png,
+base::Result<PlotFiles> write_plot(const quality::Table& table, const std::filesystem::path& png,
                                    const std::string& where) {
     std::filesystem::path folder = png.parent_path();
     if (folder.empty()) {
@@ -384,12 +387,12 @@ base::Result<std::string> read_plot_template() {
     return text.str();
 }
 
-std::string plot_script(const Table& table, const std::string& png, const std::string& svg,
+std::string plot_script(const quality::Table& table, const std::string& png, const std::string& svg,
                         std::string_view plot_template) {
     std::vector<std::string> volumes;
-    std::set<LightAngles> lights;
+    std::set<quality::LightAngles> lights;
     std::vector<scene::Mode> modes;
-    for (const Point& p : table.points) {
+    for (const quality::Point& p : table.points) {
         if (std::find(volumes.begin(), volumes.end(), p.volume) == volumes.end()) {
             volumes.push_back(p.volume);
         }
@@ -416,15 +419,15 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
     for (const scene::Mode mode : modes) {
         mode_words += (mode_words.empty() ? "" : " ") + std::string(scene::to_string(mode));
     }
-    // Each mode's colour and point type, from the mode table.
+    // Each mode's colour and point type.
     std::string style_modes;
     std::string style_colours;
     std::string style_points;
-    for (const scene::ModeInfo& row : scene::modes()) {
+    for (const PlotStyle& style : kPlotStyles) {
         const char* gap = style_modes.empty() ? "" : " ";
-        style_modes += gap + std::string(row.name);
-        style_colours += gap + std::string(row.plot_colour);
-        style_points += gap + std::to_string(row.plot_point_type);
+        style_modes += gap + std::string(scene::to_string(style.mode));
+        style_colours += gap + std::string(style.colour);
+        style_points += gap + std::to_string(style.point_type);
     }
     const std::string x_label =
             table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
@@ -457,4 +460,4 @@ std::string plot_script(const Table& table, const std::string& png, const std::s
     return script + std::string(plot_template);
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -5,7 +5,7 @@
 // light-buffer build; gradients from central differences against the gradient texture).
 
 #include <penumbra/base/result.hpp>
-#include <penumbra/quality/mode_bench.hpp>
+#include <penumbra/bench/mode_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 
 // One mode with empty-space skipping on and off.
 struct SkippingRow {
@@ -54,4 +54,4 @@ base::Result<GradientComparison> compare_gradients(
         const std::shared_ptr<const volume::Volume>& volume, const scene::FrameRequest& request,
         int repeat, std::FILE* out);
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -1,14 +1,15 @@
 // An accuracy sweep from what was asked for: its lists read from text, the device's defaults for
-// what was not given, and the checks that name the option at fault.
+// what was not given, the checks that name the option at fault, and the named cases.
 
-#include <penumbra/quality/sweep_spec.hpp>
+#include <penumbra/bench/sweep_spec.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 TEST(SweepSpec, CountsAreWholeNumbersInRangeEachOnce) {
@@ -31,7 +32,7 @@ TEST(SweepSpec, DistancesAreFractionsOfTheUnitSortedEachOnce) {
 
 TEST(SweepSpec, LightsArePairsOfAngles) {
     EXPECT_EQ(parse_lights("10,45; 100,20").value(),
-              (std::vector<LightAngles>{{10.0, 45.0}, {100.0, 20.0}}));
+              (std::vector<quality::LightAngles>{{10.0, 45.0}, {100.0, 20.0}}));
     for (const char* bad : {"10", "10,45,3", "10,45;x,1"}) {
         EXPECT_FALSE(parse_lights(bad).ok()) << bad;
     }
@@ -60,20 +61,20 @@ TEST(SweepSpec, DefaultsAreValidListsAndASoftwareRasteriserGetsALighterSweep) {
         EXPECT_TRUE(parse_counts(d.resolutions).ok());
         EXPECT_TRUE(parse_distances(d.sample_distances).ok());
     }
-    EXPECT_LT(frames_per_view(make_sweep({}, sweep_defaults(false)).value()),
-              frames_per_view(make_sweep({}, sweep_defaults(true)).value()));
+    EXPECT_LT(quality::frames_per_view(make_sweep({}, sweep_defaults(false)).value()),
+              quality::frames_per_view(make_sweep({}, sweep_defaults(true)).value()));
 }
 
 TEST(SweepSpec, WhatIsNotGivenTakesTheDefaultsAndTheReferenceIsNeverASetting) {
     SweepSpec spec;
     spec.slices = std::vector<int>{16};
     spec.modes = std::vector<scene::Mode>{scene::Mode::reference, scene::Mode::sbrc};
-    const Sweep sweep = make_sweep(spec, sweep_defaults(false)).value();
+    const quality::Sweep sweep = make_sweep(spec, sweep_defaults(false)).value();
     EXPECT_EQ(sweep.slices, (std::vector<int>{16}));
     EXPECT_EQ(sweep.modes, (std::vector<scene::Mode>{scene::Mode::sbrc}));
     EXPECT_EQ(sweep.resolutions, parse_counts(sweep_defaults(false).resolutions).value());
     EXPECT_EQ(sweep.repeat, sweep_defaults(false).repeat);
-    const Sweep every_mode = make_sweep({}, sweep_defaults(false)).value();
+    const quality::Sweep every_mode = make_sweep({}, sweep_defaults(false)).value();
     EXPECT_EQ(every_mode.modes.size(), scene::modes().size() - 1);
 }
 
@@ -116,5 +117,15 @@ TEST(SweepSpec, AnUnknownCaseListsTheCases) {
               "no case 'bones' (cases: mri_skin, mri_brain, ct_soft_tissue)");
 }
 
+TEST(AccuracyCases, NameATranslucentPresetAndTheVolumesItSuits) {
+    for (const char* name : {"mri_skin", "mri_brain", "ct_soft_tissue"}) {
+        const AccuracyCase* found = find_accuracy_case(name);
+        ASSERT_NE(found, nullptr) << name;
+        EXPECT_TRUE(scene::preset(found->transfer_function).ok()) << name;
+    }
+    EXPECT_TRUE(find_accuracy_case("ct_soft_tissue")->head_ct);
+    EXPECT_EQ(find_accuracy_case("nothing"), nullptr);
+}
+
 }  // namespace
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

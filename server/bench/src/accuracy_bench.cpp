@@ -1,12 +1,13 @@
-#include "penumbra/quality/accuracy_bench.hpp"
+#include "penumbra/bench/accuracy_bench.hpp"
 
-#include <penumbra/quality/report.hpp>
+#include <penumbra/bench/report.hpp>
+#include <penumbra/bench/sweep.hpp>
 #include <penumbra/quality/table_json.hpp>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
-void print_timing(std::FILE* out, const render::RendererInfo& info, const Sweep& sweep) {
+void print_timing(std::FILE* out, const render::RendererInfo& info, const quality::Sweep& sweep) {
     std::fprintf(out, "penumbra bench accuracy\ngl:       %s | %s | %s\n", info.renderer.c_str(),
                  info.version.c_str(), info.platform.c_str());
     if (info.gpu_timer_queries) {
@@ -23,11 +24,12 @@ void print_timing(std::FILE* out, const render::RendererInfo& info, const Sweep&
 
 }  // namespace
 
-base::Status bench_accuracy(render::Renderer& renderer, const Sweep& sweep,
-                            const FrameFor& frame_for, Table& table, std::FILE* out) {
+base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sweep,
+                            const quality::FrameFor& frame_for, quality::Table& table,
+                            std::FILE* out) {
     print_timing(out, renderer.info(), sweep);
     const std::uint64_t frames =
-            frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
+            quality::frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
     const Progress progress(frames);
     std::fprintf(out,
                  "sweep:    %zu volume(s) x %zu light(s): %llu frames (progress shows the time "
@@ -35,22 +37,24 @@ base::Status bench_accuracy(render::Renderer& renderer, const Sweep& sweep,
                  sweep.volumes.size(), sweep.lights.size(),
                  static_cast<unsigned long long>(frames));
     const SweepObserver print{
-            .frame = [out](const Table& t) { std::fputs(frame_text(t).c_str(), out); },
+            .frame = [out](const quality::Table& t) { std::fputs(frame_text(t).c_str(), out); },
             .view =
-                    [out](const std::string& volume, const LightAngles& light) {
+                    [out](const std::string& volume, const quality::LightAngles& light) {
                         std::fputs(view_header(volume, light).c_str(), out);
                     },
             .point =
-                    [out, &progress](const Point& p, std::uint64_t done) {
+                    [out, &progress](const quality::Point& p, std::uint64_t done) {
                         std::fprintf(out, "%s  %s\n", point_row(p).c_str(), progress(done).c_str());
                         std::fflush(out);
                     }};
     return measure_sweep(renderer, sweep, frame_for, print, table);
 }
 
-base::Status report_accuracy(const Table& table, const AccuracyReport& report, std::FILE* out) {
-    const std::vector<Preset> presets = choose_presets(
-            table, report.budgets_ms.empty() ? default_budgets(table.points) : report.budgets_ms);
+base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,
+                             std::FILE* out) {
+    const std::vector<quality::Preset> presets = quality::choose_presets(
+            table,
+            report.budgets_ms.empty() ? quality::default_budgets(table.points) : report.budgets_ms);
     std::fputs(presets_text(table, presets).c_str(), out);
     if (report.csv) {
         if (auto status = write_csv(table, *report.csv, "--csv"); !status) {
@@ -59,7 +63,8 @@ base::Status report_accuracy(const Table& table, const AccuracyReport& report, s
         std::fprintf(out, "csv:      %s\n", report.csv->c_str());
     }
     if (report.json) {
-        if (auto status = write_table_file(*report.json, table, presets, "--json"); !status) {
+        if (auto status = quality::write_table_file(*report.json, table, presets, "--json");
+            !status) {
             return status;
         }
         std::fprintf(out, "json:     %s\n", report.json->c_str());
@@ -77,7 +82,7 @@ base::Status report_accuracy(const Table& table, const AccuracyReport& report, s
 
 base::Status report_accuracy_file(const std::string& path, const AccuracyReport& report,
                                   std::FILE* out) {
-    auto table = read_table_file(path);
+    auto table = quality::read_table_file(path);
     if (!table) {
         return table.error();
     }
@@ -87,4 +92,4 @@ base::Status report_accuracy_file(const std::string& path, const AccuracyReport&
     return report_accuracy(*table, report, out);
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

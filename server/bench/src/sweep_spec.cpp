@@ -1,6 +1,6 @@
 // An accuracy sweep from what was asked for (see the header).
 
-#include "penumbra/quality/sweep_spec.hpp"
+#include "penumbra/bench/sweep_spec.hpp"
 
 #include <penumbra/base/text.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <utility>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 base::Error invalid(std::string message) {
@@ -74,6 +74,26 @@ base::Result<std::vector<std::string>> volumes_of(const SweepSpec& spec,
 
 }  // namespace
 
+const std::vector<AccuracyCase>& accuracy_cases() {
+    static const std::vector<AccuracyCase> cases = {
+            {"mri_skin", "mri_skin", nullptr, false, "the MRI heads' opaque skin, where rays stop"},
+            {"mri_brain", "mri_brain", "/usr/share/mricron/templates/ch2bet.nii.gz", false,
+             "ch2bet, translucent grey and white matter"},
+            {"ct_soft_tissue", "ct_soft_tissue", nullptr, true,
+             "the head CT, translucent soft tissue"},
+    };
+    return cases;
+}
+
+const AccuracyCase* find_accuracy_case(std::string_view name) {
+    for (const AccuracyCase& c : accuracy_cases()) {
+        if (name == c.name) {
+            return &c;
+        }
+    }
+    return nullptr;
+}
+
 base::Result<std::vector<int>> parse_counts(std::string_view text) {
     const auto numbers = base::parse_numbers(text);
     std::vector<int> counts;
@@ -104,8 +124,8 @@ base::Result<std::vector<double>> parse_distances(std::string_view text) {
     return distances;
 }
 
-base::Result<std::vector<LightAngles>> parse_lights(std::string_view text) {
-    std::vector<LightAngles> lights;
+base::Result<std::vector<quality::LightAngles>> parse_lights(std::string_view text) {
+    std::vector<quality::LightAngles> lights;
     for (const std::string& item : base::split_list(text, ';')) {
         const auto numbers = base::parse_numbers(item);
         if (!numbers || numbers->size() != 2) {
@@ -153,8 +173,8 @@ const SweepDefaults& sweep_defaults(bool gpu_timers) {
     return gpu_timers ? gpu_defaults : software_defaults;
 }
 
-base::Result<Sweep> make_sweep(const SweepSpec& spec, const SweepDefaults& defaults) {
-    Sweep sweep;
+base::Result<quality::Sweep> make_sweep(const SweepSpec& spec, const SweepDefaults& defaults) {
+    quality::Sweep sweep;
     sweep.lights = spec.lights ? *spec.lights : parsed(parse_lights(defaults.lights));
     if (spec.modes) {
         sweep.modes = *spec.modes;
@@ -203,4 +223,4 @@ base::Result<const AccuracyCase*> accuracy_case_named(std::string_view name) {
                             "no case '" + std::string(name) + "' (cases: " + names + ")", "--case");
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 
 struct ModesBenchConfig {
     std::string volume;                // the volume the sweeps run on
@@ -39,4 +39,4 @@ struct ModesBenchConfig {
 
 base::Status bench_modes(const ModesBenchConfig& config, std::FILE* out);
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

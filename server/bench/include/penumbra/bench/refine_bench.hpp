@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 
 // The reference's sample distance is the frame's divided by this.
 inline constexpr double refine_reference_divisor = 8.0;
@@ -43,4 +43,4 @@ base::Result<RefineResult> bench_refinement(render::FrameRenderer& renderer,
                                             const scene::FrameRequest& frame,
                                             const RefineOptions& options, std::FILE* out);
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -2,7 +2,7 @@
 
 // `penumbra bench accuracy` as a whole: the sweep measured and printed as it goes (sweep.hpp),
 // then the quality presets for frame-time budgets and the table's files (report.hpp,
-// table_json.hpp).
+// quality/table_json.hpp).
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/quality/sweep.hpp>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 
 // How a table is reported: the presets for these budgets (empty: default_budgets), and the files
 // asked for; errors name the options --csv, --json and --plot.
@@ -27,15 +27,17 @@ struct AccuracyReport {
 
 // The renderer and how it times, then every volume of `sweep` under every light measured into
 // `table` (made by make_table for this renderer), each point printed as it is measured.
-base::Status bench_accuracy(render::Renderer& renderer, const Sweep& sweep,
-                            const FrameFor& frame_for, Table& table, std::FILE* out);
+base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sweep,
+                            const quality::FrameFor& frame_for, quality::Table& table,
+                            std::FILE* out);
 
 // The presets for the budgets, printed, and the files written.
-base::Status report_accuracy(const Table& table, const AccuracyReport& report, std::FILE* out);
+base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,
+                             std::FILE* out);
 
 // The same from a table measured before (written by --json), measuring nothing: the file, the
 // renderer it was measured on and its size printed first.
 base::Status report_accuracy_file(const std::string& path, const AccuracyReport& report,
                                   std::FILE* out);
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -1,4 +1,4 @@
-#include "penumbra/quality/mode_bench.hpp"
+#include "penumbra/bench/mode_bench.hpp"
 
 #include <penumbra/quality/sweep.hpp>
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 constexpr double point_light_nudge = 1e-4;  // world units; the volume's longest side is 1
@@ -98,9 +98,9 @@ PassTotal pass_total(const render::FrameReport& report, const std::string& pass)
 }
 
 Measurement median_of(std::vector<double> wall, std::vector<double> gpu, bool gpu_timers) {
-    Measurement measurement{median(std::move(wall)), std::nullopt};
+    Measurement measurement{quality::median(std::move(wall)), std::nullopt};
     if (gpu_timers) {
-        measurement.gpu_ms = median(std::move(gpu));
+        measurement.gpu_ms = quality::median(std::move(gpu));
     }
     return measurement;
 }
@@ -165,4 +165,4 @@ base::Result<Series> ModeBench::measure_series(const TimedPoint& point, scene::F
     return series;
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

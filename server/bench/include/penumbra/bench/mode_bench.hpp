@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 
 // Every frame of a series sees a new view, as a user dragging the camera would, while the work
 // per frame stays comparable from one frame to the next.
@@ -169,4 +169,4 @@ private:
     std::vector<TimedPoint> points_;
 };
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

@@ -1,17 +1,17 @@
 // The accuracy table for people: labels, Pareto fronts and the plot script around the template.
 
-#include <penumbra/quality/report.hpp>
+#include <penumbra/bench/report.hpp>
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
-Setting setting(scene::Mode mode, int slices, double ms, double psnr) {
-    Setting s;
+quality::Setting setting(scene::Mode mode, int slices, double ms, double psnr) {
+    quality::Setting s;
     s.key = {mode, slices, slices > 0 ? 64 : 0, 1.0 / 256};
     s.count = 1;
     s.frame_ms = s.worst_frame_ms = ms;
@@ -22,7 +22,7 @@ Setting setting(scene::Mode mode, int slices, double ms, double psnr) {
 TEST(Report, LabelsReadAsPeopleWriteThem) {
     EXPECT_EQ(distance_label(1.0 / 256), "1/256");
     EXPECT_EQ(distance_label(0.003), "0.003");
-    EXPECT_EQ(psnr_text(infinity), "inf");
+    EXPECT_EQ(psnr_text(quality::infinity), "inf");
     EXPECT_EQ(psnr_text(23.456), "23.46");
 }
 
@@ -39,15 +39,15 @@ TEST(Report, TheParetoFrontDropsEverySettingBeatenInTimeAndAccuracy) {
 }
 
 TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
-    Table table;
+    quality::Table table;
     table.device = "test \"device\"";
     table.width = table.height = 64;
-    Point p;
+    quality::Point p;
     p.volume = "ch2";
     p.sample_distance = 1.0 / 256;
     for (const auto& [mode, ms, psnr] :
          {std::tuple{scene::Mode::sbrc, 30.0, 25.0}, std::tuple{scene::Mode::phong, 20.0, 18.0},
-          std::tuple{scene::Mode::reference, 90.0, infinity}}) {
+          std::tuple{scene::Mode::reference, 90.0, quality::infinity}}) {
         p.mode = mode;
         p.frame_ms = ms;
         p.psnr_finest = psnr;
@@ -67,27 +67,27 @@ TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
 // Settings that differ from the request's defaults are marked apart, by kind, and stay out of
 // the modes' curves; a refined image sits at the time its still and steps take in all.
 TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
-    Table table;
+    quality::Table table;
     table.width = table.height = 64;
-    Point p;
+    quality::Point p;
     p.volume = "ch2";
     p.sample_distance = 1.0 / 256;
     p.mode = scene::Mode::sbrc;
     p.frame_ms = 30.0;
     p.psnr_finest = 25.0;
     table.points.push_back(p);
-    Point off = p;
+    quality::Point off = p;
     off.empty_space_skipping = false;
     off.frame_ms = 60.0;
     table.points.push_back(off);
-    Point refined = p;
+    quality::Point refined = p;
     refined.jitter = true;
     refined.refinement_steps = 3;
     refined.psnr_finest = 27.0;
     table.points.push_back(refined);
-    Point reference = off;
+    quality::Point reference = off;
     reference.mode = scene::Mode::reference;
-    reference.psnr_finest = infinity;
+    reference.psnr_finest = quality::infinity;
     table.points.push_back(reference);
     const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
     EXPECT_NE(script.find("$own << EOD\n1 1 30 25.0000\nEOD"), std::string::npos) << script;
@@ -104,9 +104,9 @@ TEST(Report, GnuplotDrawsTablesWithAndWithoutVariants) {
     const std::filesystem::path folder =
             std::filesystem::path(::testing::TempDir()) / "penumbra_report_test";
     std::filesystem::create_directories(folder);
-    Table table;
+    quality::Table table;
     table.width = table.height = 64;
-    Point p;
+    quality::Point p;
     p.volume = "ch2";
     p.sample_distance = 1.0 / 256;
     p.mode = scene::Mode::sbrc;
@@ -115,7 +115,7 @@ TEST(Report, GnuplotDrawsTablesWithAndWithoutVariants) {
     table.points.push_back(p);
     p.mode = scene::Mode::reference;
     p.frame_ms = 90.0;
-    p.psnr_finest = infinity;
+    p.psnr_finest = quality::infinity;
     table.points.push_back(p);
     for (const bool variants : {false, true}) {
         if (variants) {
@@ -141,4 +141,4 @@ TEST(Report, ThePlotTemplateIsInstalledData) {
 }
 
 }  // namespace
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

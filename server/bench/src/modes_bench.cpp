@@ -1,7 +1,7 @@
-#include "penumbra/quality/modes_bench.hpp"
+#include "penumbra/bench/modes_bench.hpp"
 
-#include <penumbra/quality/mode_bench.hpp>
-#include <penumbra/quality/optimisation_bench.hpp>
+#include <penumbra/bench/mode_bench.hpp>
+#include <penumbra/bench/optimisation_bench.hpp>
 
 #include <algorithm>
 #include <memory>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 constexpr scene::LightBufferBuilder builders[] = {scene::LightBufferBuilder::per_slice,
@@ -421,4 +421,4 @@ base::Status bench_modes(const ModesBenchConfig& config, std::FILE* out) {
     return base::Ok{};
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench

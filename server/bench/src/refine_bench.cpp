@@ -1,4 +1,4 @@
-#include "penumbra/quality/refine_bench.hpp"
+#include "penumbra/bench/refine_bench.hpp"
 
 #include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <utility>
 
-namespace penumbra::quality {
+namespace penumbra::bench {
 namespace {
 
 double psnr(const base::ImageRgba8& image, const base::ImageRgbaF& reference) {
@@ -113,4 +113,4 @@ base::Result<RefineResult> bench_refinement(render::FrameRenderer& renderer,
     return result;
 }
 
-}  // namespace penumbra::quality
+}  // namespace penumbra::bench
