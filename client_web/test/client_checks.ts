@@ -13,14 +13,19 @@ import {
   POSITION_SPACES,
   STAGES,
   VIEWS,
-  type CameraPatch,
+  type Camera,
   type ErrorCode,
   type HelloMessage,
   type Light,
   type Limits,
   type SettingRanges,
   type Vec3,
+  type ViewName,
 } from '../src/protocol/messages';
+import type { Orbit } from '../src/interaction/orbit_camera';
+
+/** A `set`'s camera: any of the camera's members, or an orbit or a named view instead of the eye. */
+type CameraPatch = Partial<Camera> & { orbit?: Orbit; view?: ViewName };
 
 type Json = null | boolean | number | string | Json[] | { [key: string]: Json };
 

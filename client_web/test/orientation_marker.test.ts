@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
-import { OrbitCamera } from '../src/interaction/orbit_camera';
-import { viewPose, VIEWS, type Camera, type ViewName } from '../src/protocol/messages';
+import { OrbitCamera, viewPose } from '../src/interaction/orbit_camera';
+import { VIEWS, type Camera, type ViewName } from '../src/protocol/messages';
 import { markerEnds } from '../src/view/orientation_marker';
 
 // Which label lies furthest right and which furthest up on screen.

@@ -263,11 +263,12 @@ TEST(Conformance,
             if (!volume.ok()) {
                 ++count.refused;
                 if (*refusal->second.code != '\0') {
-                    EXPECT_EQ(volume.error().code, refusal->second.code)
+                    EXPECT_EQ(base::name_of(volume.error().code), refusal->second.code)
                             << name << ": " << volume.error().to_string();
                 }
-                refused_by_reason[volume.error().code + ": " + refusal->second.reason].push_back(
-                        package + "/" + name);
+                refused_by_reason[std::string(base::name_of(volume.error().code)) + ": " +
+                                  refusal->second.reason]
+                        .push_back(package + "/" + name);
             }
             continue;
         }

@@ -202,7 +202,7 @@ private:
 
     void refuse(const Shared& connection, std::optional<std::int64_t> id) {
         write(connection, protocol::error_message(
-                                  id, base::make_error(protocol::code::rate_limited,
+                                  id, base::make_error(base::ErrorCode::rate_limited,
                                                        "more than 2 requests per second", "/")));
     }
 

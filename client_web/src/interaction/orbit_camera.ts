@@ -11,7 +11,27 @@ import {
   MAX_ORBIT_ELEVATION,
   VIEW_POSES,
 } from '../protocol/generated/server_tables';
-import type { Camera, Orbit, SettingRanges, Vec3, ViewName } from '../protocol/messages';
+import type { Camera, SettingRanges, Vec3, ViewName } from '../protocol/messages';
+
+/** An orbit: the eye around the target, as a `set`'s camera may give it (§5). */
+export interface Orbit {
+  azimuth?: number;
+  elevation?: number;
+  distance?: number;
+}
+
+/** The eye and up of `view` looking at `target` from `distance`, as the server poses them. */
+export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
+  const { side, up } = VIEW_POSES[view];
+  return {
+    eye: [
+      target[0] + distance * side[0],
+      target[1] + distance * side[1],
+      target[2] + distance * side[2],
+    ],
+    up: [...up],
+  };
+}
 
 /**
  * How far from the horizon the orbit goes: it keeps +z up, which turns about its axis at the pole,

@@ -5,13 +5,13 @@
 
 import {
   DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
+  ERROR_CODES,
   GRADIENTS,
   POSITION_SPACES,
   SCATTERING_KINDS,
   SETTINGS,
   SHADOW_KINDS,
   TECHNIQUES,
-  VIEW_POSES,
   VIEWS,
   type StateSettings,
   type Vec3,
@@ -24,6 +24,7 @@ export {
   DEFAULT_OUTPUT,
   DEFAULT_SETTINGS,
   ENCODINGS,
+  ERROR_CODES,
   LIGHT_LOOKUPS,
   LIGHT_TYPES,
   POSITION_SPACES,
@@ -62,29 +63,6 @@ export const NORMALIZED: PositionSpace = 'normalized';
 export type Preset = string;
 export type ViewName = (typeof VIEWS)[number];
 
-/** The eye and up of `view` looking at `target` from `distance`, as the server poses them. */
-export function viewPose(view: ViewName, target: Vec3, distance: number): { eye: Vec3; up: Vec3 } {
-  const { side, up } = VIEW_POSES[view];
-  return {
-    eye: [
-      target[0] + distance * side[0],
-      target[1] + distance * side[1],
-      target[2] + distance * side[2],
-    ],
-    up: [...up],
-  };
-}
-
-/** An orbit of a `set`'s camera: the eye around the target (the server puts it, §5). */
-export interface Orbit {
-  azimuth?: number;
-  elevation?: number;
-  distance?: number;
-}
-
-/** A `set`'s camera: any of the camera's members, or an orbit or a named view instead of the eye. */
-export type CameraPatch = Partial<Camera> & { orbit?: Orbit; view?: ViewName };
-
 export interface ColorPoint {
   x: number;
   rgb: Rgb;
@@ -122,7 +100,7 @@ type DeepPartial<T> = {
 
 /** The members of a `set`: every part and member optional; the transfer function replaces. */
 export interface StatePatch {
-  camera?: CameraPatch;
+  camera?: Partial<Camera>;
   light?: Partial<Light>;
   transfer_function?: TransferFunctionPatch;
   settings?: DeepPartial<Settings>;
@@ -159,26 +137,6 @@ export interface Limits extends ConfiguredLimits {
 /** A server's configured limits at their defaults: what the controls span until its hello. */
 export const DEFAULT_LIMITS: ConfiguredLimits = SERVER_DEFAULT_LIMITS;
 
-export const ERROR_CODES = [
-  'malformed_json',
-  'invalid_message',
-  'unknown_type',
-  'unknown_field',
-  'unsupported_version',
-  'invalid_value',
-  'out_of_range',
-  'message_too_large',
-  'rate_limited',
-  'unknown_volume',
-  'volume_unreadable',
-  'unknown_session',
-  'no_session',
-  'too_many_sessions',
-  'session_owned',
-  'render_failed',
-  'too_much_work',
-  'internal_error',
-] as const;
 export type ErrorCode = (typeof ERROR_CODES)[number];
 
 /**

@@ -70,22 +70,22 @@ base::Status read_optimisation_options(const po::variables_map& a,
     config.volumes = base::split_list(a.count("volumes") != 0 ? a["volumes"].as<std::string>()
                                                               : config.volume);
     if (config.volumes.empty()) {
-        return base::make_error("invalid_argument", "expects FILE,...", "--volumes");
+        return base::make_error(base::ErrorCode::invalid_argument, "expects FILE,...", "--volumes");
     }
     const auto gradients = render::parse_gradient_source(a["gradients"].as<std::string>());
     if (!gradients) {
-        return base::make_error("invalid_argument", "expects automatic, central or texture",
-                                "--gradients");
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "expects automatic, central or texture", "--gradients");
     }
     config.gradients = *gradients;
     if (config.brick_voxels < 0 || config.brick_voxels > 256) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "expects 1..256, or 0 for the renderer's default",
                                 "--brick-voxels");
     }
     config.only_table = a.count("optimisations-only") != 0;
     if (config.only_table && a.count("csv") != 0) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "the optimisation table writes no CSV; its rows are printed",
                                 "--csv");
     }
@@ -99,7 +99,8 @@ base::Status open_csv(const po::variables_map& a, std::ofstream& csv,
         config.csv_path = a["csv"].as<std::string>();
         csv.open(config.csv_path);
         if (!csv) {
-            return base::make_error("io_error", "cannot write '" + config.csv_path + "'", "--csv");
+            return base::make_error(base::ErrorCode::io_error,
+                                    "cannot write '" + config.csv_path + "'", "--csv");
         }
         config.csv = &csv;
     }

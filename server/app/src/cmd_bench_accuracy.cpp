@@ -154,7 +154,7 @@ base::Result<const AccuracyCase*> case_from(const po::variables_map& a) {
     }
     auto named = accuracy_case_named(a["case"].as<std::string>());
     if (named && a.count("tf") != 0) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "--case sets the transfer function; give one or the other", "--tf");
     }
     return named;
@@ -205,7 +205,7 @@ base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
         request->settings.height = defaults.side;
     }
     if (request->settings.width < min_image_side || request->settings.height < min_image_side) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "SSIM needs images of at least " + std::to_string(min_image_side) +
                                         "x" + std::to_string(min_image_side),
                                 "--size");

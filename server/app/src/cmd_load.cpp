@@ -48,7 +48,7 @@ base::Status finish_load_options(const po::variables_map& a, LoadOptions& o) {
     config.interactive = a.count("interactive") != 0;
     if (config.refine < 0 || config.refine > scene::kMaxRefinementSteps) {
         return base::make_error(
-                "invalid_argument",
+                base::ErrorCode::invalid_argument,
                 "--refine takes 0.." + std::to_string(scene::kMaxRefinementSteps) + " steps");
     }
     if (a.count("token-file") != 0) {
@@ -57,19 +57,20 @@ base::Status finish_load_options(const po::variables_map& a, LoadOptions& o) {
         const std::filesystem::path file = a["token-file"].as<std::string>();
         auto token = base::read_secret(file, "PENUMBRA_ACCESS_TOKEN", "--token-file");
         if (!token) {
-            return base::make_error("invalid_argument", "--token-file: cannot read a token from '" +
-                                                                file.string() + "'");
+            return base::make_error(
+                    base::ErrorCode::invalid_argument,
+                    "--token-file: cannot read a token from '" + file.string() + "'");
         }
         config.token = *token;
     }
     if (!scene::parse_name<scene::FrameFormat>(config.encoding)) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "--encoding takes " + scene::choices<scene::FrameFormat>());
     }
     const double seconds = o.seconds.value;
     if (o.port < 1 || o.port > 65535 || config.clients < 1 || config.clients > 256 ||
         config.size < 16 || config.size > 8192 || seconds <= 0.0 || seconds > 3600.0) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "--port is required; --clients 1..256, --size 16..8192, "
                                 "--seconds (0, 3600]");
     }

@@ -64,7 +64,8 @@ base::Result<std::shared_ptr<const volume::Volume>> load_for_render(const Render
     if (a.count("spacing") != 0) {
         const glm::dvec3 spacing = a["spacing"].as<Triple>().value;
         if (spacing.x <= 0.0 || spacing.y <= 0.0 || spacing.z <= 0.0) {
-            return base::make_error("invalid_argument", "spacing must be positive", "--spacing");
+            return base::make_error(base::ErrorCode::invalid_argument, "spacing must be positive",
+                                    "--spacing");
         }
         loaded->spacing = spacing;
     }
@@ -138,9 +139,9 @@ int run_render(const std::vector<std::string>& args) {
         return 0;
     }
     if (!encode::format_for_path(o.out)) {
-        return report_usage_error(
-                "render",
-                base::make_error("invalid_argument", "output must end in .png or .jpg", "--out"));
+        return report_usage_error("render",
+                                  base::make_error(base::ErrorCode::invalid_argument,
+                                                   "output must end in .png or .jpg", "--out"));
     }
     auto volume = load_for_render(o, a);
     if (!volume) {

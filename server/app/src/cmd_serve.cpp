@@ -183,7 +183,7 @@ po::options_description quality_options() {
 base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     if (a.count("quality-measure") != 0 &&
         (a.count("no-quality-measure") != 0 || a.count("quality-table") != 0)) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "cannot be combined with --no-quality-measure or --quality-table",
                                 "--quality-measure");
     }

@@ -12,9 +12,7 @@ std::string Error::to_string() const {
         text += where + ": ";
     }
     text += message;
-    if (!code.empty()) {
-        text += " [" + code + "]";
-    }
+    text += " [" + std::string(name_of(code)) + "]";
     return text;
 }
 

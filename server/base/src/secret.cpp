@@ -25,7 +25,8 @@ Result<std::string> read_secret(const std::optional<std::filesystem::path>& file
     if (file) {
         std::ifstream in(*file);
         if (!in) {
-            return make_error("not_found", "cannot read '" + file->string() + "'", file_where);
+            return make_error(base::ErrorCode::not_found, "cannot read '" + file->string() + "'",
+                              file_where);
         }
         std::stringstream text;
         text << in.rdbuf();
@@ -39,7 +40,7 @@ Result<std::string> read_secret(const std::optional<std::filesystem::path>& file
         secret.pop_back();
     }
     if (secret.empty()) {
-        return make_error("invalid_argument", "the secret is empty",
+        return make_error(base::ErrorCode::invalid_argument, "the secret is empty",
                           file ? file_where : std::string(variable));
     }
     return secret;

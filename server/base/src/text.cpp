@@ -59,7 +59,8 @@ Result<std::vector<double>> parse_numbers(std::string_view text, std::string whe
         const std::string_view item = text.substr(start, comma - start);
         const auto value = parse_number(item);
         if (!value) {
-            return make_error("invalid_argument", not_a_number(item), std::move(where));
+            return make_error(base::ErrorCode::invalid_argument, not_a_number(item),
+                              std::move(where));
         }
         numbers.push_back(*value);
         if (comma == std::string_view::npos) {

@@ -62,14 +62,14 @@ base::Status check_light_buffer(const TimedPoint& point, LightBufferUse use,
                                 render::LightBufferState state) {
     const std::string light_buffer(render::to_string(state));
     if (use == LightBufferUse::cached && state != render::LightBufferState::reused) {
-        return base::make_error("bench_invalid",
+        return base::make_error(base::ErrorCode::bench_invalid,
                                 point_label(point) + ": the light buffer was '" + light_buffer +
                                         "' in a frame where only the camera moved, so 'cached' "
                                         "would not measure reuse",
                                 "light_buffer");
     }
     if (use == LightBufferUse::rebuild && state != render::LightBufferState::built) {
-        return base::make_error("bench_invalid",
+        return base::make_error(base::ErrorCode::bench_invalid,
                                 point_label(point) + ": the light buffer was '" + light_buffer +
                                         "' in a frame whose light moved, so 'rebuild' would not "
                                         "measure a rebuild",
@@ -147,7 +147,7 @@ base::Result<Series> ModeBench::measure_series(const TimedPoint& point, scene::F
         const PassTotal whole = pass_total(frame->report, {});
         const PassTotal named = pass_total(frame->report, pass);
         if (!pass.empty() && !named.found) {
-            return base::make_error("bench_invalid",
+            return base::make_error(base::ErrorCode::bench_invalid,
                                     point_label(point) + ": no pass '" + pass +
                                             "' in a frame that rebuilt the light buffer",
                                     "light_buffer");

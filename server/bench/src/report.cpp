@@ -225,7 +225,8 @@ base::Status write_csv(const quality::Table& table, const std::filesystem::path&
                        const std::string& where) {
     std::ofstream out(path);
     if (!out) {
-        return base::make_error("io_error", "cannot write '" + path.string() + "'", where);
+        return base::make_error(base::ErrorCode::io_error, "cannot write '" + path.string() + "'",
+                                where);
     }
     out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,"
            "empty_space_skipping,jitter,refinement_steps,width,height,timing,frame_ms,"
@@ -244,7 +245,8 @@ base::Status write_csv(const quality::Table& table, const std::filesystem::path&
         out << line;
     }
     if (!out) {
-        return base::make_error("io_error", "writing '" + path.string() + "' failed", where);
+        return base::make_error(base::ErrorCode::io_error, "writing '" + path.string() + "' failed",
+                                where);
     }
     return base::Ok{};
 }
@@ -352,20 +354,20 @@ base::Result<PlotFiles> write_plot(const quality::Table& table, const std::files
     {
         std::ofstream out(files.script);
         if (!out) {
-            return base::make_error("io_error", "cannot write '" + files.script.string() + "'",
-                                    where);
+            return base::make_error(base::ErrorCode::io_error,
+                                    "cannot write '" + files.script.string() + "'", where);
         }
         out << plot_script(table, png.filename().string(), files.svg.filename().string(),
                            *plot_template);
         if (!out) {
-            return base::make_error("io_error", "writing '" + files.script.string() + "' failed",
-                                    where);
+            return base::make_error(base::ErrorCode::io_error,
+                                    "writing '" + files.script.string() + "' failed", where);
         }
     }
     const std::string command = "cd " + shell_quoted(folder.string()) + " && gnuplot " +
                                 shell_quoted(files.script.filename().string());
     if (std::system(command.c_str()) != 0) {
-        return base::make_error("plot_failed",
+        return base::make_error(base::ErrorCode::plot_failed,
                                 "gnuplot failed or is missing (apt-get install gnuplot-nox); the "
                                 "script is " +
                                         files.script.string(),
@@ -379,7 +381,7 @@ base::Result<std::string> read_plot_template() {
             base::data_dir("plots").value_or("share/penumbra/plots") / "accuracy.gp";
     std::ifstream in(path);
     if (!in) {
-        return base::make_error("not_found",
+        return base::make_error(base::ErrorCode::not_found,
                                 "cannot read the plot template '" + path.string() + "'", "--plot");
     }
     std::stringstream text;

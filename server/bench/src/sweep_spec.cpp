@@ -13,7 +13,7 @@ namespace penumbra::bench {
 namespace {
 
 base::Error invalid(std::string message) {
-    return base::make_error("invalid_argument", std::move(message));
+    return base::make_error(base::ErrorCode::invalid_argument, std::move(message));
 }
 
 template <class T>
@@ -54,7 +54,7 @@ base::Result<std::vector<std::string>> volumes_of(const SweepSpec& spec,
     const AccuracyCase* c = spec.accuracy_case;
     if (c != nullptr && c->head_ct) {
         if (!spec.head_ct) {
-            return base::make_error("not_found",
+            return base::make_error(base::ErrorCode::not_found,
                                     std::string("case ") + c->name +
                                             " renders the head CT that scripts/demo-data.sh "
                                             "converts; run it, or name the CT with --volumes",
@@ -194,11 +194,11 @@ base::Result<quality::Sweep> make_sweep(const SweepSpec& spec, const SweepDefaul
     sweep.jitter = spec.jitter;
     sweep.refinement_steps = spec.refinement_steps;
     if (sweep.repeat < 1 || sweep.repeat > 1000) {
-        return base::make_error("invalid_argument", "expects 1..1000", "--repeat");
+        return base::make_error(base::ErrorCode::invalid_argument, "expects 1..1000", "--repeat");
     }
     if (!sweep.refinement_steps.empty() &&
         std::find(sweep.jitter.begin(), sweep.jitter.end(), true) == sweep.jitter.end()) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "refinement steps average jittered frames: add --jitter on or "
                                 "--jitter off,on",
                                 "--refinement");
@@ -219,7 +219,7 @@ base::Result<const AccuracyCase*> accuracy_case_named(std::string_view name) {
     for (const AccuracyCase& c : accuracy_cases()) {
         names += (names.empty() ? "" : ", ") + std::string(c.name);
     }
-    return base::make_error("invalid_argument",
+    return base::make_error(base::ErrorCode::invalid_argument,
                             "no case '" + std::string(name) + "' (cases: " + names + ")", "--case");
 }
 

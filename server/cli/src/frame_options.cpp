@@ -113,7 +113,7 @@ base::Result<std::optional<scene::SettingValue>> given_value(const po::variables
             const auto& names = setting.choices;
             const auto found = std::find(names.begin(), names.end(), text);
             if (found == names.end()) {
-                return base::make_error("invalid_argument",
+                return base::make_error(base::ErrorCode::invalid_argument,
                                         "expects " + scene::choice_list(setting, ", ", " or "),
                                         "--" + option);
             }
@@ -153,7 +153,7 @@ base::Status read_camera(const po::variables_map& options, scene::Camera& camera
     const bool explicit_camera =
             options.count("eye") + options.count("target") + options.count("up") > 0;
     if (int(explicit_camera) + options.count("camera") + options.count("view") > 1) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "give one of --view, --camera and --eye/--target/--up", "--view");
     }
     if (explicit_camera) {
@@ -166,7 +166,7 @@ base::Status read_camera(const po::variables_map& options, scene::Camera& camera
         const auto view = scene::parse_name<scene::View>(*name);
         if (!view) {
             return base::make_error(
-                    "invalid_argument",
+                    base::ErrorCode::invalid_argument,
                     "unknown view '" + *name + "' (" + scene::name_list<scene::View>(", ") + ")",
                     "--view");
         }
@@ -185,8 +185,8 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
             return numbers.error();
         }
         if (numbers->size() != 2) {
-            return base::make_error("invalid_argument", "expects AZIMUTH,ELEVATION in degrees",
-                                    "--light");
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "expects AZIMUTH,ELEVATION in degrees", "--light");
         }
         light.direction = scene::direction_from_angles((*numbers)[0], (*numbers)[1]);
     }
@@ -213,7 +213,7 @@ base::Status read_settings(const po::variables_map& options, scene::FrameRequest
         if (setting->limit == nullptr) {
             if (auto within = scene::validate_value(*setting, **value, scene::Limits{}); !within) {
                 return base::make_error(
-                        "invalid_argument",
+                        base::ErrorCode::invalid_argument,
                         "must be " + setting->describe() +
                                 (setting->kind == scene::SettingKind::vector ? " in each component"
                                                                              : ""),

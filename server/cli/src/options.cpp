@@ -138,9 +138,9 @@ base::Result<po::variables_map> parse_options(const std::vector<std::string>& ar
         if (!unrecognised.empty()) {
             const std::string& first = unrecognised.front();
             return first.starts_with("-")
-                           ? base::make_error("invalid_argument", "unknown option",
+                           ? base::make_error(base::ErrorCode::invalid_argument, "unknown option",
                                               first.substr(0, first.find('=')))
-                           : base::make_error("invalid_argument",
+                           : base::make_error(base::ErrorCode::invalid_argument,
                                               "unexpected argument '" + first + "'", first);
         }
         po::store(parsed, values);
@@ -149,19 +149,22 @@ base::Result<po::variables_map> parse_options(const std::vector<std::string>& ar
             try {
                 options.find(name, false).semantic()->notify(value.value());
             } catch (const BadValue& error) {
-                return base::make_error("invalid_argument", error.message(), "--" + name);
+                return base::make_error(base::ErrorCode::invalid_argument, error.message(),
+                                        "--" + name);
             }
         }
     } catch (const BadValue& error) {
-        return base::make_error("invalid_argument", error.message(), error.get_option_name());
+        return base::make_error(base::ErrorCode::invalid_argument, error.message(),
+                                error.get_option_name());
     } catch (const po::invalid_command_line_syntax& error) {
         const bool missing = error.kind() == po::invalid_syntax::missing_parameter;
-        return base::make_error("invalid_argument", missing ? "needs a value" : error.what(),
-                                error.get_option_name());
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                missing ? "needs a value" : error.what(), error.get_option_name());
     } catch (const po::error_with_option_name& error) {
-        return base::make_error("invalid_argument", error.what(), error.get_option_name());
+        return base::make_error(base::ErrorCode::invalid_argument, error.what(),
+                                error.get_option_name());
     } catch (const po::error& error) {
-        return base::make_error("invalid_argument", error.what());
+        return base::make_error(base::ErrorCode::invalid_argument, error.what());
     }
     return values;
 }

@@ -15,8 +15,8 @@ base::Result<scene::TransferFunction> load_transfer_function(const std::string& 
     }
     std::ifstream in(preset_or_path);
     if (!in) {
-        return base::make_error("not_found", "cannot read the transfer-function file",
-                                preset_or_path);
+        return base::make_error(base::ErrorCode::not_found,
+                                "cannot read the transfer-function file", preset_or_path);
     }
     std::stringstream text;
     text << in.rdbuf();

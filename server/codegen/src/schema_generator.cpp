@@ -29,6 +29,7 @@ namespace penumbra::codegen {
 using protocol::apply_patch;
 using protocol::hello_message;
 using protocol::kClientMessageTypes;
+using protocol::kWireCodes;
 using protocol::Limits;
 using protocol::max_transfer_function_name_bytes;
 using protocol::max_transfer_function_points;
@@ -227,15 +228,15 @@ base::Result<std::string> message_table(const std::filesystem::path& schema_dir)
         std::ifstream in(path, std::ios::binary);
         const json schema = json::parse(in, nullptr, false);
         if (schema.is_discarded() || !schema.is_object()) {
-            return base::make_error("invalid_value", "no JSON schema for " + std::string(type),
-                                    path.string());
+            return base::make_error(base::ErrorCode::invalid_value,
+                                    "no JSON schema for " + std::string(type), path.string());
         }
         // A schema for both directions (stats) keeps the request in $defs/request.
         const json& request = schema.contains("$defs") && schema.at("$defs").contains("request")
                                       ? schema.at("$defs").at("request")
                                       : schema;
         if (!request.contains("properties") || !request.contains("description")) {
-            return base::make_error("invalid_value",
+            return base::make_error(base::ErrorCode::invalid_value,
                                     "the request has no properties or no description",
                                     path.string());
         }
@@ -373,9 +374,9 @@ base::Result<std::string> generated_readme(std::string_view committed,
     const std::size_t begin = committed.find(kTableBegin);
     const std::size_t end = committed.find(kTableEnd);
     if (begin == std::string_view::npos || end == std::string_view::npos || end < begin) {
-        return base::make_error("invalid_value", "no table between \"" + std::string(kTableBegin) +
-                                                         "\" and \"" + std::string(kTableEnd) +
-                                                         "\"");
+        return base::make_error(base::ErrorCode::invalid_value,
+                                "no table between \"" + std::string(kTableBegin) + "\" and \"" +
+                                        std::string(kTableEnd) + "\"");
     }
     auto table = message_table(schema_dir);
     if (!table) {
@@ -447,7 +448,8 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
     json schema = json::parse(committed, nullptr, false);
     if (schema.is_discarded() || !schema.is_object() || !schema.contains("$defs") ||
         !schema.at("$defs").is_object()) {
-        return base::make_error("invalid_value", "not a JSON object with $defs", "/$defs");
+        return base::make_error(base::ErrorCode::invalid_value, "not a JSON object with $defs",
+                                "/$defs");
     }
     json& defs = schema["$defs"];
 
@@ -461,6 +463,10 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
                 std::move(names);
     }
     write_names<scene::View>(defs, "camera/view");
+    defs["error_code"]["enum"] = json::array();
+    for (const base::ErrorCode code : kWireCodes) {
+        defs["error_code"]["enum"].push_back(base::name_of(code));
+    }
     write_transfer_function(defs);
     write_orbit_defaults(defs);
 
@@ -482,7 +488,7 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
 base::Result<std::string> generated_hello_schema(std::string_view committed) {
     json schema = json::parse(committed, nullptr, false);
     if (schema.is_discarded() || !schema.is_object()) {
-        return base::make_error("invalid_value", "not a JSON object", "/");
+        return base::make_error(base::ErrorCode::invalid_value, "not a JSON object", "/");
     }
     json& capabilities = schema["properties"]["modes"]["items"]["properties"];
     capabilities["technique"]["enum"] = names_of_enum<scene::Technique>();
@@ -506,8 +512,8 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
     // The server writes its messages with nlohmann's default (sorted) objects; so is the recording.
     const auto recorded = nlohmann::json::parse(committed.substr(0, line_end), nullptr, false);
     if (!recorded.is_object() || recorded.value("type", "") != "hello") {
-        return base::make_error("invalid_argument", "the first recorded message is not a hello",
-                                "1");
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "the first recorded message is not a hello", "1");
     }
     // Everything but the renderer, which says what the recording's machine drew with.
     auto hello = nlohmann::json::parse(hello_message(Limits{}, {"", "", "", true}));
@@ -528,13 +534,13 @@ base::Result<std::string> generated_recorded_hello(std::string_view committed) {
         }
         auto message = nlohmann::json::parse(line, nullptr, false);
         if (!message.is_object()) {
-            return base::make_error("invalid_argument", "not a JSON object",
+            return base::make_error(base::ErrorCode::invalid_argument, "not a JSON object",
                                     std::to_string(number));
         }
         if (message.contains("state")) {
             scene::State state;
             if (auto applied = apply_patch(message.at("state").dump(), state, Limits{}); !applied) {
-                return base::make_error("invalid_argument",
+                return base::make_error(base::ErrorCode::invalid_argument,
                                         "a recorded state the server no longer takes: " +
                                                 applied.error().to_string(),
                                         std::to_string(number));
@@ -729,6 +735,11 @@ std::string generated_client_tables() {
             "// fails while this file differs from what they make. Not edited by hand.\n\n";
     out += ts_names("ENCODINGS", "The formats frames are written in, the first the default.",
                     encodings);
+    std::vector<std::string_view> wire_codes;
+    for (const base::ErrorCode code : kWireCodes) {
+        wire_codes.push_back(base::name_of(code));
+    }
+    out += ts_names("ERROR_CODES", "The codes an `error` message carries.", wire_codes);
     out += ts_enum<scene::Compositing>("COMPOSITINGS", "settings.compositing");
     out += ts_enum<scene::RaycastStage>("STAGES", "settings.stage: the ray caster's stage.");
     out += ts_enum<scene::LightBufferBuilder>("BUILDERS", "settings.light_buffer.builder");

@@ -89,7 +89,7 @@ std::vector<double> filter_valid(const std::vector<double>& values, int width, i
 
 base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
     if (a.width != b.width || a.height != b.height) {
-        return base::make_error("size_mismatch", "images differ in size", "compare");
+        return base::make_error(base::ErrorCode::size_mismatch, "images differ in size", "compare");
     }
     const OIIO::ImageBuf rgb_a = wrap_rgb(a);
     const OIIO::ImageBuf rgb_b = wrap_rgb(b);
@@ -105,11 +105,11 @@ base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const ba
 
 base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
     if (a.width != b.width || a.height != b.height) {
-        return base::make_error("size_mismatch", "images differ in size", "ssim");
+        return base::make_error(base::ErrorCode::size_mismatch, "images differ in size", "ssim");
     }
     constexpr int side = SsimParameters::window;
     if (a.width < side || a.height < side) {
-        return base::make_error("image_too_small",
+        return base::make_error(base::ErrorCode::image_too_small,
                                 std::to_string(a.width) + "x" + std::to_string(a.height) +
                                         " is smaller than the " + std::to_string(side) + "x" +
                                         std::to_string(side) + " SSIM window",

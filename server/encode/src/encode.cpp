@@ -38,17 +38,18 @@ std::vector<std::uint8_t> rgb_of(const base::ImageRgba8& image) {
 
 base::Result<base::ImageRgba8> read_from(oiio::ImageInput* input, const std::string& what) {
     if (input == nullptr) {
-        return base::make_error("decode_failed", "not a readable image: " + oiio::geterror(), what);
+        return base::make_error(base::ErrorCode::decode_failed,
+                                "not a readable image: " + oiio::geterror(), what);
     }
     const oiio::ImageSpec& spec = input->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-        return base::make_error("decode_failed", "image has no pixels", what);
+        return base::make_error(base::ErrorCode::decode_failed, "image has no pixels", what);
     }
     base::ImageRgba8 image(spec.width, spec.height);
     std::vector<std::uint8_t> channels(static_cast<std::size_t>(spec.width) * spec.height *
                                        spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, oiio::TypeDesc::UINT8, channels.data())) {
-        return base::make_error("decode_failed", input->geterror(), what);
+        return base::make_error(base::ErrorCode::decode_failed, input->geterror(), what);
     }
     for (std::size_t i = 0, n = static_cast<std::size_t>(spec.width) * spec.height; i < n; ++i) {
         const std::uint8_t* src = &channels[i * spec.nchannels];
@@ -76,10 +77,11 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality) {
     if (image.width <= 0 || image.height <= 0) {
-        return base::make_error("encode_failed", "cannot encode an empty image", "image");
+        return base::make_error(base::ErrorCode::encode_failed, "cannot encode an empty image",
+                                "image");
     }
     if (jpeg_quality < kMinJpegQuality || jpeg_quality > kMaxJpegQuality) {
-        return base::make_error("invalid_value",
+        return base::make_error(base::ErrorCode::invalid_value,
                                 "JPEG quality must be within " + std::to_string(kMinJpegQuality) +
                                         ".." + std::to_string(kMaxJpegQuality),
                                 "quality");
@@ -88,7 +90,7 @@ base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& ima
     oiio::Filesystem::IOVecOutput memory(bytes);
     auto output = oiio::ImageOutput::create(nominal_file_name(format), &memory);
     if (!output) {
-        return base::make_error("encode_failed", "no writer: " + oiio::geterror(),
+        return base::make_error(base::ErrorCode::encode_failed, "no writer: " + oiio::geterror(),
                                 nominal_file_name(format));
     }
     oiio::ImageSpec spec(image.width, image.height, 3, oiio::TypeDesc::UINT8);
@@ -98,20 +100,23 @@ base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& ima
     const std::vector<std::uint8_t> rgb = rgb_of(image);
     if (!output->open(nominal_file_name(format), spec) ||
         !output->write_image(oiio::TypeDesc::UINT8, rgb.data()) || !output->close()) {
-        return base::make_error("encode_failed", output->geterror(), nominal_file_name(format));
+        return base::make_error(base::ErrorCode::encode_failed, output->geterror(),
+                                nominal_file_name(format));
     }
     return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
 }
 
 base::Result<base::ImageRgba8> decode_image(std::span<const std::uint8_t> bytes) {
     if (bytes.size() < 8) {
-        return base::make_error("decode_failed", "too few bytes for an image", "image");
+        return base::make_error(base::ErrorCode::decode_failed, "too few bytes for an image",
+                                "image");
     }
     // The signature decides the reader; the name only selects it.
     const bool png = bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' && bytes[3] == 'G';
     const bool jpeg = bytes[0] == 0xFF && bytes[1] == 0xD8;
     if (!png && !jpeg) {
-        return base::make_error("decode_failed", "neither PNG nor JPEG data", "image");
+        return base::make_error(base::ErrorCode::decode_failed, "neither PNG nor JPEG data",
+                                "image");
     }
     oiio::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
     auto input = oiio::ImageInput::open(png ? "frame.png" : "frame.jpg", nullptr, &memory);
@@ -122,8 +127,8 @@ base::Status write_image(const std::filesystem::path& path, const base::ImageRgb
                          int jpeg_quality) {
     const auto format = format_for_path(path);
     if (!format) {
-        return base::make_error("unsupported_format", "output must end in .png, .jpg or .jpeg",
-                                path.string());
+        return base::make_error(base::ErrorCode::unsupported_format,
+                                "output must end in .png, .jpg or .jpeg", path.string());
     }
     auto bytes = encode_image(image, *format, jpeg_quality);
     if (!bytes) {
@@ -131,7 +136,8 @@ base::Status write_image(const std::filesystem::path& path, const base::ImageRgb
     }
     oiio::Filesystem::IOFile file(path.string(), oiio::Filesystem::IOProxy::Write);
     if (!file.opened() || file.write(bytes->data(), bytes->size()) != bytes->size()) {
-        return base::make_error("write_failed", "cannot write the file", path.string());
+        return base::make_error(base::ErrorCode::write_failed, "cannot write the file",
+                                path.string());
     }
     return base::Ok{};
 }

@@ -162,7 +162,8 @@ const ContextInfo& Context::info() const {
 base::Status Context::make_current() const {
     if (eglMakeCurrent(state_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, state_->context) !=
         EGL_TRUE) {
-        return base::make_error("gl_unavailable", egl_failure("eglMakeCurrent"), "egl");
+        return base::make_error(base::ErrorCode::gl_unavailable, egl_failure("eglMakeCurrent"),
+                                "egl");
     }
     return base::Ok{};
 }
@@ -171,7 +172,7 @@ base::Result<Context> Context::create(const ContextOptions& options) {
     std::string notes;
     // libepoxy loads libEGL lazily; without it every entry point below would abort the process.
     if (!epoxy_has_egl()) {
-        return base::make_error("gl_unavailable",
+        return base::make_error(base::ErrorCode::gl_unavailable,
                                 "libEGL could not be loaded (install libegl1 and libegl-mesa0, or "
                                 "the NVIDIA driver's EGL)",
                                 "egl");
@@ -250,7 +251,7 @@ base::Result<Context> Context::create(const ContextOptions& options) {
         }
         return Context(std::move(state));
     }
-    return base::make_error("gl_unavailable",
+    return base::make_error(base::ErrorCode::gl_unavailable,
                             "no usable headless OpenGL 4.5 core context: " +
                                     (notes.empty() ? std::string("no EGL display found") : notes),
                             "egl");

@@ -12,7 +12,7 @@ namespace penumbra::gpu {
 namespace {
 
 base::Error shader_error(const std::string& message, const std::string& where) {
-    return base::make_error("shader_error", message, where);
+    return base::make_error(base::ErrorCode::shader_error, message, where);
 }
 
 struct Expander {

@@ -8,8 +8,9 @@ namespace penumbra::net {
 namespace {
 
 base::Error network_error(const std::string& what, const beast::error_code& ec) {
-    return base::make_error(ec == beast::error::timeout ? "timeout" : "network_error",
-                            what + ": " + ec.message(), "client");
+    return base::make_error(
+            ec == beast::error::timeout ? base::ErrorCode::timeout : base::ErrorCode::network_error,
+            what + ": " + ec.message(), "client");
 }
 
 // Runs the io_context until the started operation completes (it always completes: on success,

@@ -125,7 +125,7 @@ bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
         return true;
     }
     reply_error(id,
-                base::make_error(protocol::code::rate_limited,
+                base::make_error(base::ErrorCode::rate_limited,
                                  "more than " +
                                          std::to_string(static_cast<int>(
                                                  context_.config.limits.max_requests_per_second)) +
@@ -138,7 +138,7 @@ void ConnectionHandler::on_binary() {
     if (!admit(std::nullopt)) {
         return;
     }
-    reply_error(std::nullopt, base::make_error(protocol::code::invalid_message,
+    reply_error(std::nullopt, base::make_error(base::ErrorCode::invalid_message,
                                                "clients send text (JSON) messages only", "/"));
 }
 
@@ -157,7 +157,7 @@ void ConnectionHandler::on_text(std::string_view text) {
     if (busy_) {
         if (waiting_.size() >= max_waiting_requests) {
             reply_error(request->id,
-                        base::make_error(protocol::code::rate_limited,
+                        base::make_error(base::ErrorCode::rate_limited,
                                          "too many requests while a volume loads", "/"));
             return;
         }
@@ -184,12 +184,12 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
             // A frame over the work ceiling is the client's to shrink: a code of its own. The
             // error answers the request that asked for the frame, as the frame would have.
             const base::Error& error = failure->error;
-            const bool too_much_work = error.code == protocol::code::too_much_work;
+            const bool too_much_work = error.code == base::ErrorCode::too_much_work;
             connection->send_text(protocol::error_message(
                     failure->request_id == -1 ? std::nullopt
                                               : std::optional<std::int64_t>(failure->request_id),
-                    base::make_error(too_much_work ? protocol::code::too_much_work
-                                                   : protocol::code::render_failed,
+                    base::make_error(too_much_work ? base::ErrorCode::too_much_work
+                                                   : base::ErrorCode::render_failed,
                                      context->services.volumes.relative_paths(
                                              too_much_work ? error.message : error.to_string()),
                                      "/")));
@@ -249,10 +249,10 @@ namespace {
 
 // A volume that could not be loaded, as the protocol reports it (at /volume).
 base::Error volume_error(const std::string& volume_id, base::Error error) {
-    if (error.code != protocol::code::unknown_volume) {
+    if (error.code != base::ErrorCode::unknown_volume) {
         // The loader's own code and location go into the message.
         error.message = "volume '" + volume_id + "' could not be loaded: " + error.to_string();
-        error.code = protocol::code::volume_unreadable;
+        error.code = base::ErrorCode::volume_unreadable;
     }
     error.where = "/volume";
     return error;
@@ -371,7 +371,7 @@ void ConnectionHandler::handle_waiting() {
 
 bool ConnectionHandler::need_session(std::optional<std::int64_t> id) {
     if (!session_) {
-        reply_error(id, base::make_error(protocol::code::no_session,
+        reply_error(id, base::make_error(base::ErrorCode::no_session,
                                          "open a volume or join a session first", "/type"));
         return false;
     }

@@ -76,7 +76,7 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
         // Refused before the upgrade, with the HTTP status a browser's WebSocket reports.
         const base::Error refused =
                 checked ? base::make_error(
-                                  "too_many_connections",
+                                  base::ErrorCode::too_many_connections,
                                   "this client (" + client + ") already holds its " +
                                           "maximum of " +
                                           std::to_string(
@@ -86,8 +86,9 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
                         : checked.error();
         context_.upgrades_refused.add();
         base::log_info("net", "WebSocket upgrade refused: " + refused.to_string());
-        const http::status status = refused.code == "unauthorized" ? http::status::unauthorized
-                                    : refused.code == "too_many_connections"
+        const http::status status = refused.code == base::ErrorCode::unauthorized
+                                            ? http::status::unauthorized
+                                    : refused.code == base::ErrorCode::too_many_connections
                                             ? http::status::too_many_requests
                                             : http::status::forbidden;
         response_ = std::make_shared<http::response<http::string_body>>(

@@ -193,7 +193,8 @@ private:
     }
 
     static bool is_rate_limited(const std::string& error_text) {
-        return error_text.find(std::string("\"code\":\"") + protocol::code::rate_limited + "\"") !=
+        return error_text.find(std::string("\"code\":\"") +
+                               std::string(base::name_of(base::ErrorCode::rate_limited)) + "\"") !=
                std::string::npos;
     }
 

@@ -124,8 +124,8 @@ base::Result<std::unique_ptr<Server>> Server::start(const ServerConfig& requeste
     beast::error_code ec;
     const auto address = asio::ip::make_address(config.address, ec);
     if (ec) {
-        return base::make_error("invalid_argument", "not an IP address: " + config.address,
-                                "--address");
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "not an IP address: " + config.address, "--address");
     }
     const tcp::endpoint endpoint{address, config.port};
     impl->acceptor.open(endpoint.protocol(), ec);
@@ -139,7 +139,7 @@ base::Result<std::unique_ptr<Server>> Server::start(const ServerConfig& requeste
         impl->acceptor.listen(asio::socket_base::max_listen_connections, ec);
     }
     if (ec) {
-        return base::make_error("listen_failed",
+        return base::make_error(base::ErrorCode::listen_failed,
                                 "cannot listen on " + config.address + ":" +
                                         std::to_string(config.port) + ": " + ec.message(),
                                 "--port");

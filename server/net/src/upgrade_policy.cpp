@@ -105,7 +105,7 @@ base::Status check_upgrade(const UpgradePolicy& policy, std::optional<std::strin
         const auto authority = authority_of(*origin);
         const bool same_origin = authority && !host.empty() && *authority == lower_case(host);
         if (!listed && !same_origin) {
-            return base::make_error("forbidden_origin",
+            return base::make_error(base::ErrorCode::forbidden_origin,
                                     "a page from " + std::string(*origin) +
                                             " may not open this server's WebSocket (see "
                                             "--allowed-origins)",
@@ -115,7 +115,7 @@ base::Status check_upgrade(const UpgradePolicy& policy, std::optional<std::strin
     if (!policy.access_token.empty()) {
         const auto token = target.query.find("token");
         if (token == target.query.end() || !base::same_secret(token->second, policy.access_token)) {
-            return base::make_error("unauthorized",
+            return base::make_error(base::ErrorCode::unauthorized,
                                     token == target.query.end()
                                             ? "the WebSocket URL carries no access token (?token=)"
                                             : "wrong access token",

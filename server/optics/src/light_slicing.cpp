@@ -129,7 +129,7 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
     } else {
         // Checked first: at the centre itself the view below would be NaN, not an error.
         if (box.contains(light.position)) {
-            return base::make_error("unsupported_light",
+            return base::make_error(base::ErrorCode::unsupported_light,
                                     "a point light inside or beside the volume cannot be "
                                     "used by the light-buffer modes; move it outside the box",
                                     "light.position");
@@ -143,7 +143,7 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
             const glm::dvec4 p = view * glm::dvec4(corner, 1.0);
             const double depth = -p.z;
             if (depth <= 1e-6) {
-                return base::make_error("unsupported_light",
+                return base::make_error(base::ErrorCode::unsupported_light,
                                         "a point light inside or beside the volume cannot be "
                                         "used by the light-buffer modes; move it outside the box",
                                         "light.position");
@@ -154,7 +154,7 @@ base::Result<LightView> make_light_view(const scene::Light& light, const scene::
         }
         const double fov = 2.0 * std::atan(tangent);
         if (fov >= glm::radians(170.0)) {
-            return base::make_error("unsupported_light",
+            return base::make_error(base::ErrorCode::unsupported_light,
                                     "the point light is too close to the volume for one "
                                     "perspective light view (needs a field of view under 170°)",
                                     "light.position");

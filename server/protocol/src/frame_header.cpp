@@ -26,7 +26,7 @@ void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
 }
 
 base::Error bad_frame(const std::string& message) {
-    return base::make_error("invalid_frame", message, "frame");
+    return base::make_error(base::ErrorCode::invalid_frame, message, "frame");
 }
 
 }  // namespace

@@ -80,10 +80,10 @@ base::Result<json> parse_limited(std::string_view text, int max_depth) {
     };
     json document = json::parse(text, keep, false);
     if (document.is_discarded()) {
-        return field_error("malformed_json", "", "not valid JSON");
+        return field_error(base::ErrorCode::malformed_json, "", "not valid JSON");
     }
     if (too_deep) {
-        return field_error("out_of_range", *too_deep,
+        return field_error(base::ErrorCode::out_of_range, *too_deep,
                            "JSON nested deeper than " + std::to_string(max_depth) + " levels");
     }
     return document;
@@ -103,7 +103,8 @@ base::Status only_fields(const json& object, const std::string& pointer,
                                        [&](const char* name) { return key == name; }) ||
                            also_allowed(key);
         if (!known) {
-            return field_error("unknown_field", pointer + "/" + key, "unknown field '" + key + "'");
+            return field_error(base::ErrorCode::unknown_field, pointer + "/" + key,
+                               "unknown field '" + key + "'");
         }
     }
     return base::Ok{};
@@ -111,21 +112,21 @@ base::Status only_fields(const json& object, const std::string& pointer,
 
 base::Status expect_object(const json& value, const std::string& pointer) {
     if (!value.is_object()) {
-        return field_error("invalid_value", pointer, "expected an object");
+        return field_error(base::ErrorCode::invalid_value, pointer, "expected an object");
     }
     return base::Ok{};
 }
 
 base::Result<double> number(const json& value, const std::string& pointer, double min, double max) {
     if (!value.is_number()) {
-        return field_error("invalid_value", pointer, "expected a number");
+        return field_error(base::ErrorCode::invalid_value, pointer, "expected a number");
     }
     const double v = value.get<double>();
     if (!std::isfinite(v)) {
-        return field_error("invalid_value", pointer, "number must be finite");
+        return field_error(base::ErrorCode::invalid_value, pointer, "number must be finite");
     }
     if (v < min || v > max) {
-        return field_error("out_of_range", pointer,
+        return field_error(base::ErrorCode::out_of_range, pointer,
                            "must be within [" + json(min).dump() + ", " + json(max).dump() + "]");
     }
     return v;
@@ -133,11 +134,11 @@ base::Result<double> number(const json& value, const std::string& pointer, doubl
 
 base::Result<int> integer(const json& value, const std::string& pointer, int min, int max) {
     if (!value.is_number_integer()) {
-        return field_error("invalid_value", pointer, "expected an integer");
+        return field_error(base::ErrorCode::invalid_value, pointer, "expected an integer");
     }
     const auto v = value.get<std::int64_t>();
     if (v < min || v > max) {
-        return field_error("out_of_range", pointer,
+        return field_error(base::ErrorCode::out_of_range, pointer,
                            "must be within " + std::to_string(min) + ".." + std::to_string(max));
     }
     return static_cast<int>(v);
@@ -145,7 +146,7 @@ base::Result<int> integer(const json& value, const std::string& pointer, int min
 
 base::Result<bool> boolean(const json& value, const std::string& pointer) {
     if (!value.is_boolean()) {
-        return field_error("invalid_value", pointer, "expected true or false");
+        return field_error(base::ErrorCode::invalid_value, pointer, "expected true or false");
     }
     return value.get<bool>();
 }
@@ -153,11 +154,11 @@ base::Result<bool> boolean(const json& value, const std::string& pointer) {
 base::Result<std::string> string(const json& value, const std::string& pointer,
                                  std::size_t max_length) {
     if (!value.is_string()) {
-        return field_error("invalid_value", pointer, "expected a string");
+        return field_error(base::ErrorCode::invalid_value, pointer, "expected a string");
     }
     auto text = value.get<std::string>();
     if (text.size() > max_length) {
-        return field_error("out_of_range", pointer,
+        return field_error(base::ErrorCode::out_of_range, pointer,
                            "string longer than " + std::to_string(max_length) + " bytes");
     }
     return text;
@@ -166,7 +167,8 @@ base::Result<std::string> string(const json& value, const std::string& pointer,
 base::Result<glm::dvec3> vec3(const json& value, const std::string& pointer, double min,
                               double max) {
     if (!value.is_array() || value.size() != 3) {
-        return field_error("invalid_value", pointer, "expected an array of three numbers");
+        return field_error(base::ErrorCode::invalid_value, pointer,
+                           "expected an array of three numbers");
     }
     glm::dvec3 out(0.0);
     for (int i = 0; i < 3; ++i) {

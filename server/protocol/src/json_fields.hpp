@@ -18,7 +18,7 @@ namespace penumbra::protocol::json_fields {
 
 using nlohmann::json;
 
-inline base::Error field_error(const char* code, const std::string& pointer,
+inline base::Error field_error(base::ErrorCode code, const std::string& pointer,
                                const std::string& message) {
     return base::make_error(code, message, pointer.empty() ? "/" : pointer);
 }

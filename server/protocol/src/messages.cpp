@@ -7,6 +7,7 @@
 #include <penumbra/scene/setting_table.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -30,7 +31,8 @@ json with_id(json message, std::optional<std::int64_t> id) {
 base::Result<std::string> required_string(const json& j, const char* key, std::size_t max) {
     const std::string pointer = std::string("/") + key;
     if (!j.contains(key)) {
-        return field_error(code::invalid_message, pointer, std::string("missing '") + key + "'");
+        return field_error(base::ErrorCode::invalid_message, pointer,
+                           std::string("missing '") + key + "'");
     }
     return string(j.at(key), pointer, max);
 }
@@ -82,7 +84,7 @@ base::Result<Message> parse_members(const json& j, const std::string& type) {
     for (const auto& item : j.items()) {
         const std::string& key = item.key();
         if (key != "v" && key != "type" && key != "id" && !is_member<Message>(key)) {
-            return field_error(code::unknown_field, "/" + key,
+            return field_error(base::ErrorCode::unknown_field, "/" + key,
                                "unknown field '" + key + "' in " + type);
         }
     }
@@ -121,8 +123,8 @@ base::Result<Set> parse_one<Set>(json& j, const std::string& /*type*/) {
 template <class... Messages>
 base::Result<ClientMessage> parse_message(json& j, const std::string& type,
                                           std::type_identity<std::variant<Messages...>>) {
-    base::Result<ClientMessage> result =
-            field_error(code::unknown_type, "/type", "unknown message type '" + type + "'");
+    base::Result<ClientMessage> result = field_error(base::ErrorCode::unknown_type, "/type",
+                                                     "unknown message type '" + type + "'");
     const auto parse_if_named = [&]<class Message>(std::type_identity<Message>) {
         if (type != Message::type) {
             return false;
@@ -165,7 +167,7 @@ std::optional<std::int64_t> request_id_of(std::string_view text) {
 
 base::Result<Request> parse_request(std::string_view text, const Limits& limits) {
     if (text.size() > limits.max_message_bytes) {
-        return field_error(code::message_too_large, "",
+        return field_error(base::ErrorCode::message_too_large, "",
                            "message of " + std::to_string(text.size()) + " bytes exceeds " +
                                    std::to_string(limits.max_message_bytes));
     }
@@ -175,20 +177,21 @@ base::Result<Request> parse_request(std::string_view text, const Limits& limits)
     }
     json& j = parsed.value();
     if (!j.is_object()) {
-        return field_error(code::invalid_message, "", "a message is a JSON object");
+        return field_error(base::ErrorCode::invalid_message, "", "a message is a JSON object");
     }
     if (!j.contains("v")) {
-        return field_error(code::invalid_message, "/v", "missing protocol version 'v'");
+        return field_error(base::ErrorCode::invalid_message, "/v", "missing protocol version 'v'");
     }
     if (!j.at("v").is_number_integer() || j.at("v").get<std::int64_t>() != protocol_version) {
         return field_error(
-                code::unsupported_version, "/v",
+                base::ErrorCode::unsupported_version, "/v",
                 "this server speaks protocol version " + std::to_string(protocol_version));
     }
     Request request;
     if (j.contains("id")) {
         if (!is_int64(j.at("id"))) {
-            return field_error(code::invalid_value, "/id", "id must be a 64-bit signed integer");
+            return field_error(base::ErrorCode::invalid_value, "/id",
+                               "id must be a 64-bit signed integer");
         }
         request.id = j.at("id").get<std::int64_t>();
     }
@@ -374,9 +377,15 @@ std::string set_ack_message(std::optional<std::int64_t> id, const scene::State& 
     return with_id({{"type", "ack"}, {"of", Set::type}, {"state", state_json(state)}}, id).dump();
 }
 
+std::string_view wire_name(base::ErrorCode code) {
+    const bool on_the_wire =
+            std::find(kWireCodes.begin(), kWireCodes.end(), code) != kWireCodes.end();
+    return base::name_of(on_the_wire ? code : base::ErrorCode::internal_error);
+}
+
 std::string error_message(std::optional<std::int64_t> id, const base::Error& error) {
     return with_id({{"type", "error"},
-                    {"code", error.code},
+                    {"code", wire_name(error.code)},
                     {"message", error.message},
                     {"field", error.where}},
                    id)

@@ -103,7 +103,7 @@ base::Result<scene::SettingValue> read_value(const scene::Setting& setting, cons
             const auto& names = setting.choices;
             const auto found = std::find(names.begin(), names.end(), *text);
             if (found == names.end()) {
-                return field_error("invalid_value", q,
+                return field_error(base::ErrorCode::invalid_value, q,
                                    "expected " + scene::choice_list(setting, ", ", " or "));
             }
             return scene::SettingValue(static_cast<double>(found - names.begin()), 0.0, 0.0);
@@ -112,7 +112,7 @@ base::Result<scene::SettingValue> read_value(const scene::Setting& setting, cons
             return vec3(v, q, setting.min, max);
         case scene::SettingKind::size: {
             if (!v.is_array() || v.size() != 2) {
-                return field_error("invalid_value", q, "expected [width, height]");
+                return field_error(base::ErrorCode::invalid_value, q, "expected [width, height]");
             }
             const int low = static_cast<int>(setting.min);
             auto width = integer(v[0], q + "/0", low, static_cast<int>(max));
@@ -123,7 +123,7 @@ base::Result<scene::SettingValue> read_value(const scene::Setting& setting, cons
             return scene::SettingValue(*width, *height, 0.0);
         }
     }
-    return field_error("invalid_value", q, "unknown kind of setting");
+    return field_error(base::ErrorCode::invalid_value, q, "unknown kind of setting");
 }
 
 // The value of `setting` as the protocol spells it.
@@ -188,7 +188,7 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
     if (j.contains("view")) {
         for (const char* other : {"orbit", "eye", "up"}) {
             if (j.contains(other)) {
-                return field_error("invalid_value", p + "/view",
+                return field_error(base::ErrorCode::invalid_value, p + "/view",
                                    std::string("give either view or ") + other + ", not both");
             }
         }
@@ -199,7 +199,7 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
         const auto view = scene::parse_name<scene::View>(*name);
         if (!view) {
             return field_error(
-                    "invalid_value", p + "/view",
+                    base::ErrorCode::invalid_value, p + "/view",
                     "unknown view '" + *name + "' (" + scene::name_list<scene::View>(", ") + ")");
         }
         // The view keeps the camera's distance from the target it looks at (the patch's, else
@@ -213,7 +213,8 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
     }
     if (j.contains("orbit")) {
         if (j.contains("eye")) {
-            return field_error("invalid_value", p + "/orbit", "give either orbit or eye, not both");
+            return field_error(base::ErrorCode::invalid_value, p + "/orbit",
+                               "give either orbit or eye, not both");
         }
         const json& o = j.at("orbit");
         const std::string op = p + "/orbit";
@@ -235,7 +236,7 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
         // The eye is sent back in `state` and must be a value `set` accepts.
         for (int axis = 0; axis < 3; ++axis) {
             if (std::abs(orbit.eye[axis]) > max_coordinate) {
-                return field_error("out_of_range", op + "/distance",
+                return field_error(base::ErrorCode::out_of_range, op + "/distance",
                                    "the orbit puts the eye beyond the coordinate range of ±" +
                                            json(max_coordinate).dump());
             }
@@ -257,7 +258,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
         }
         auto tf = scene::preset(*name);
         if (!tf) {
-            return field_error("invalid_value", p + "/preset", tf.error().message);
+            return field_error(base::ErrorCode::invalid_value, p + "/preset", tf.error().message);
         }
         return tf;
     }
@@ -275,14 +276,15 @@ base::Result<scene::TransferFunction> transfer_function_from(
     if (!data_space) {
         const auto parsed = scene::parse_name<scene::PositionSpace>(space);
         if (!parsed) {
-            return field_error("invalid_value", p + "/space",
+            return field_error(base::ErrorCode::invalid_value, p + "/space",
                                "expected " + scene::name_list<scene::PositionSpace>(", ") + " or " +
                                        std::string(data_space_name));
         }
         tf.space = *parsed;
     }
     if (data_space && !range) {
-        return field_error("invalid_value", p + "/space", "data positions need a volume range");
+        return field_error(base::ErrorCode::invalid_value, p + "/space",
+                           "data positions need a volume range");
     }
     // Positions outside the range are accepted and clamped by validation's own message below.
     const auto to_unit = [&](double x) {
@@ -305,11 +307,11 @@ base::Result<scene::TransferFunction> transfer_function_from(
         const json& points = j.at(list);
         const std::string lp = p + "/" + list;
         if (!points.is_array()) {
-            return field_error("invalid_value", lp, "expected an array");
+            return field_error(base::ErrorCode::invalid_value, lp, "expected an array");
         }
         if (points.size() > max_transfer_function_points) {
             return field_error(
-                    "out_of_range", lp,
+                    base::ErrorCode::out_of_range, lp,
                     "at most " + std::to_string(max_transfer_function_points) + " points");
         }
         const bool colors = std::string(list) == "colors";
@@ -319,7 +321,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
             PENUMBRA_TRY(expect_object(point, pp));
             PENUMBRA_TRY(only_fields(point, pp, {"x", colors ? "rgb" : "alpha"}));
             if (!point.contains("x")) {
-                return field_error("invalid_value", pp + "/x", "missing");
+                return field_error(base::ErrorCode::invalid_value, pp + "/x", "missing");
             }
             auto x = number(point.at("x"), pp + "/x", position_low, position_limit);
             if (!x) {
@@ -327,7 +329,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
             }
             if (colors) {
                 if (!point.contains("rgb")) {
-                    return field_error("invalid_value", pp + "/rgb", "missing");
+                    return field_error(base::ErrorCode::invalid_value, pp + "/rgb", "missing");
                 }
                 auto rgb = vec3(point.at("rgb"), pp + "/rgb", 0.0, 1.0);
                 if (!rgb) {
@@ -336,7 +338,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
                 tf.colors.push_back({to_unit(*x), *rgb});
             } else {
                 if (!point.contains("alpha")) {
-                    return field_error("invalid_value", pp + "/alpha", "missing");
+                    return field_error(base::ErrorCode::invalid_value, pp + "/alpha", "missing");
                 }
                 auto alpha = number(point.at("alpha"), pp + "/alpha", 0.0, 1.0);
                 if (!alpha) {
@@ -358,7 +360,7 @@ base::Result<scene::TransferFunction> transfer_function_from(
             pointer += "/" + where.substr(dot + 1, bracket - dot - 1) + "/" +
                        where.substr(bracket + 1, where.size() - bracket - 2);
         }
-        return field_error("invalid_value", pointer, status.error().message);
+        return field_error(base::ErrorCode::invalid_value, pointer, status.error().message);
     }
     return tf;
 }
@@ -416,7 +418,7 @@ base::Status apply_patch(const Patch& parsed, scene::State& state, const Limits&
                 (is_setting_or_part(part) || part == "transfer_function" ? "/" : "/settings/") +
                 where;
         std::replace(pointer.begin(), pointer.end(), '.', '/');
-        return field_error("invalid_value", pointer, status.error().message);
+        return field_error(base::ErrorCode::invalid_value, pointer, status.error().message);
     }
     state = std::move(next);
     return base::Ok{};

@@ -87,7 +87,7 @@ base::Result<StartupTable> measure_startup_table(
         return std::chrono::duration<double>(Clock::now() - start).count();
     };
     if (options.side < min_image_side) {
-        return base::make_error("invalid_argument",
+        return base::make_error(base::ErrorCode::invalid_argument,
                                 "SSIM needs images of at least " + std::to_string(min_image_side) +
                                         "x" + std::to_string(min_image_side),
                                 "side");
@@ -162,7 +162,8 @@ StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure m
     }
     const auto id = startup_volume(volumes.ids);
     if (!id) {
-        result.error = base::make_error("no_volume", "no volume to measure on", "--data");
+        result.error =
+                base::make_error(base::ErrorCode::no_volume, "no volume to measure on", "--data");
         return result;
     }
     auto volume = volumes.acquire(*id);
@@ -212,7 +213,7 @@ base::Result<ServeTable> serve_table(const std::optional<std::filesystem::path>&
     const bool use_cache = !std::filesystem::exists(paths.committed) && paths.cache;
     const std::filesystem::path found = use_cache ? *paths.cache : paths.committed;
     auto table = read_table_file(found);
-    if (!table && table.error().code == "not_found") {
+    if (!table && table.error().code == base::ErrorCode::not_found) {
         result.notes.push_back("no measured table for this device (" + paths.committed.string() +
                                "); frame budgets are ignored until `penumbra bench accuracy` "
                                "writes one");

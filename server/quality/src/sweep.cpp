@@ -119,7 +119,7 @@ base::Result<Timed> AccuracyBench::frame(const scene::FrameRequest& request) {
         if (scene::uses_light_buffer(request.settings.mode) &&
             frame->report.light_buffer != render::LightBufferState::reused) {
             return base::make_error(
-                    "bench_invalid",
+                    base::ErrorCode::bench_invalid,
                     std::string(scene::to_string(request.settings.mode)) +
                             ": the light buffer was '" +
                             std::string(render::to_string(frame->report.light_buffer)) +
@@ -148,7 +148,7 @@ base::Result<std::vector<Timed>> AccuracyBench::refined(scene::FrameRequest requ
             return frame.error();
         }
         if (frame->report.refinement_step != step) {
-            return base::make_error("bench_invalid",
+            return base::make_error(base::ErrorCode::bench_invalid,
                                     "refinement step " + std::to_string(step) + " holds " +
                                             std::to_string(frame->report.refinement_step) +
                                             " steps",
@@ -186,7 +186,7 @@ base::Result<double> AccuracyBench::light_buffer_build(scene::FrameRequest reque
         }
         if (frame->report.light_buffer != render::LightBufferState::built) {
             return base::make_error(
-                    "bench_invalid",
+                    base::ErrorCode::bench_invalid,
                     "the light buffer was '" +
                             std::string(render::to_string(frame->report.light_buffer)) +
                             "' in a frame whose light moved",
@@ -202,7 +202,7 @@ base::Result<double> AccuracyBench::light_buffer_build(scene::FrameRequest reque
             }
         }
         if (ms < 0.0) {
-            return base::make_error("bench_invalid",
+            return base::make_error(base::ErrorCode::bench_invalid,
                                     "no pass '" + pass_name + "' in a rebuilding frame",
                                     "light_buffer");
         }

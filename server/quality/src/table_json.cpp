@@ -299,25 +299,27 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
 
 base::Result<Table> parse_table(std::string_view json_text, const std::string& where) {
     if (nesting_depth(json_text) > max_depth) {
-        return base::make_error("invalid_table",
+        return base::make_error(base::ErrorCode::invalid_table,
                                 "nested deeper than " + std::to_string(max_depth) + " levels",
                                 where);
     }
     const Json root = Json::parse(json_text.begin(), json_text.end(), nullptr, false);
     if (root.is_discarded()) {
-        return base::make_error("invalid_table", "not JSON", where);
+        return base::make_error(base::ErrorCode::invalid_table, "not JSON", where);
     }
     try {
         return table_from(Field{root, ""});
     } catch (const Malformed& malformed) {
-        return base::make_error("invalid_table", malformed.message, where + malformed.pointer);
+        return base::make_error(base::ErrorCode::invalid_table, malformed.message,
+                                where + malformed.pointer);
     }
 }
 
 base::Result<Table> read_table_file(const std::filesystem::path& path) {
     std::ifstream in(path);
     if (!in) {
-        return base::make_error("not_found", "cannot read '" + path.string() + "'", path.string());
+        return base::make_error(base::ErrorCode::not_found, "cannot read '" + path.string() + "'",
+                                path.string());
     }
     std::stringstream text;
     text << in.rdbuf();
@@ -335,13 +337,15 @@ base::Status write_table_file(const std::filesystem::path& path, const Table& ta
         std::ofstream out(temporary);
         out << table_json(table, presets) << '\n';
         if (!out) {
-            return base::make_error("io_error", "cannot write '" + temporary.string() + "'", where);
+            return base::make_error(base::ErrorCode::io_error,
+                                    "cannot write '" + temporary.string() + "'", where);
         }
     }
     std::filesystem::rename(temporary, path, error);
     if (error) {
         std::filesystem::remove(temporary, error);
-        return base::make_error("io_error", "cannot write '" + path.string() + "'", where);
+        return base::make_error(base::ErrorCode::io_error, "cannot write '" + path.string() + "'",
+                                where);
     }
     return base::Ok{};
 }

@@ -73,7 +73,7 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const scene::RenderSettings& s = request.settings;
     if (s.mode != scene::Mode::dvr && s.mode != scene::Mode::phong &&
         s.mode != scene::Mode::reference) {
-        return base::make_error("unsupported_mode",
+        return base::make_error(base::ErrorCode::unsupported_mode,
                                 std::string("the CPU renderer computes dvr, phong and reference, "
                                             "not '") +
                                         scene::to_string(s.mode) + "'",

@@ -34,7 +34,7 @@ base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,
     const scene::FrameWork work = scene::estimate_work(request, g.box, g.slab_samples, context);
     if (work.total() > ceilings.max_frame_work) {
         return base::make_error(
-                "too_much_work",
+                base::ErrorCode::too_much_work,
                 "this frame asks for about " + scientific(work.total()) +
                         " shader iterations (image pixels x the samples the longest ray can "
                         "take, where empty space is skipped those that fit in the bricks the "
@@ -51,7 +51,7 @@ base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,
         const std::size_t bytes = LightBuffer::bytes_for(lb.slices, lb.resolution);
         if (bytes > ceilings.light_buffer_memory_budget) {
             return base::make_error(
-                    "light_buffer_too_large",
+                    base::ErrorCode::light_buffer_too_large,
                     "a light buffer of " + std::to_string(lb.slices) + " slices of " +
                             std::to_string(lb.resolution) + "^2 texels needs " + mebibytes(bytes) +
                             ", more than the " + mebibytes(ceilings.light_buffer_memory_budget) +

@@ -17,8 +17,8 @@ base::Result<gpu::Texture> build_gradient_texture(ProgramCache& programs,
     const glm::ivec3 size(dims);
     gpu::Texture gradients = gpu::create_texture_3d(GL_RGBA16F, size.x, size.y, size.z);
     if (gpu::take_error() == GL_OUT_OF_MEMORY) {
-        return base::make_error("gpu_out_of_memory", "not enough GPU memory for the gradients",
-                                "gradients");
+        return base::make_error(base::ErrorCode::gpu_out_of_memory,
+                                "not enough GPU memory for the gradients", "gradients");
     }
     gpu::set_sampling(gradients, GL_LINEAR, GL_CLAMP_TO_EDGE);
     gpu::bind_texture(0, volume.texture);

@@ -30,7 +30,7 @@ base::Status KeptStills::check_step(const scene::FrameRequest& request,
     if (mean != nullptr && mean->frames == step) {
         return base::Ok{};
     }
-    return base::make_error("refinement_lost",
+    return base::make_error(base::ErrorCode::refinement_lost,
                             "refinement step " + std::to_string(step) +
                                     " continues a still frame that is no longer held "
                                     "(evicted, or never kept)",

@@ -132,8 +132,8 @@ base::Status LightBufferBuilder::build_per_slice(LightBuffer& target, const Slic
         scratch_resolution_ = resolution;
     }
     if (!gpu::is_complete(scratch_framebuffer_)) {
-        return base::make_error("gl_error", "the light-buffer framebuffer is incomplete",
-                                "light_buffer");
+        return base::make_error(base::ErrorCode::gl_error,
+                                "the light-buffer framebuffer is incomplete", "light_buffer");
     }
     const int slices_per_chunk = static_cast<int>(
             std::clamp(chunks.work_per_chunk() / work_per_slice, 1.0, double(target.slices())));

@@ -33,7 +33,7 @@ base::Status LightBufferCache::use(LightBufferInputs inputs,
         buffers_.make_room(bytes);  // before the new buffer takes its memory
         LightBuffer built(settings.slices, settings.resolution);
         if (gpu::take_error() == GL_OUT_OF_MEMORY) {
-            return base::make_error("gpu_out_of_memory",
+            return base::make_error(base::ErrorCode::gpu_out_of_memory,
                                     "not enough GPU memory for a light buffer of " +
                                             std::to_string(settings.slices) + " x " +
                                             std::to_string(settings.resolution) + "^2",

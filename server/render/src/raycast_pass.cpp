@@ -90,7 +90,7 @@ base::Result<int> RaycastPass::run(RaycastVariant variant, int width, int height
     const long long needed =
             static_cast<long long>(budget.max_samples_per_ray) * budget.iterations_per_sample;
     if (!compute && cap > 0 && needed > cap) {
-        return base::make_error("unsupported_settings",
+        return base::make_error(base::ErrorCode::unsupported_settings,
                                 "this GL implementation stops a fragment shader after " +
                                         std::to_string(budget.loop_cap) +
                                         " loop iterations, fewer than these rays need; use "

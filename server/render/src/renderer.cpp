@@ -208,7 +208,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
                                      const CancelPredicate& cancelled) {
     Impl& impl = *impl_;
     if (!impl.volume) {
-        return base::make_error("no_volume", "no volume has been set", "volume");
+        return base::make_error(base::ErrorCode::no_volume, "no volume has been set", "volume");
     }
     if (auto status = scene::validate(request, impl.limits()); !status) {
         return status.error();
@@ -305,8 +305,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         frame.report.stage += " (" + std::to_string(*pass_chunks) + " chunks)";
     }
     if (const GLenum error = gpu::take_error(); error != GL_NO_ERROR) {
-        return base::make_error("gl_error", "OpenGL reported error " + std::to_string(error),
-                                "render");
+        return base::make_error(base::ErrorCode::gl_error,
+                                "OpenGL reported error " + std::to_string(error), "render");
     }
     return frame;
 }
@@ -314,8 +314,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
 base::Result<Renderer::LightBufferContents> Renderer::read_light_buffer() const {
     const LightBuffer* buffer = impl_->light_buffers.last_used();
     if (buffer == nullptr) {
-        return base::make_error("no_light_buffer", "no frame has built a light buffer yet",
-                                "light_buffer");
+        return base::make_error(base::ErrorCode::no_light_buffer,
+                                "no frame has built a light buffer yet", "light_buffer");
     }
     return LightBufferContents{buffer->slices(), buffer->resolution(), buffer->read()};
 }
@@ -340,7 +340,7 @@ base::Result<base::ImageRgba8> Renderer::light_inset() const {
             modes += (modes.empty() ? "" : ", ") + std::string(mode.name);
         }
     }
-    return base::make_error("no_light_buffer",
+    return base::make_error(base::ErrorCode::no_light_buffer,
                             "only " + modes + " frames have a light buffer to show", "light_inset");
 }
 

@@ -15,7 +15,7 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
     const glm::uvec3 dims = volume.dims;
     const auto limit = static_cast<unsigned>(max_3d_texture_size);
     if (dims.x > limit || dims.y > limit || dims.z > limit) {
-        return base::make_error("volume_too_large",
+        return base::make_error(base::ErrorCode::volume_too_large,
                                 "volume " + std::to_string(dims.x) + "x" + std::to_string(dims.y) +
                                         "x" + std::to_string(dims.z) +
                                         " exceeds this GPU's 3D texture limit of " +
@@ -79,8 +79,8 @@ base::Result<VolumeTexture> upload_volume(const volume::Volume& volume, int max_
     gpu::upload_3d(out.texture, size.x, size.y, size.z, GL_RED, type, pixels);
     gpu::set_sampling(out.texture, GL_LINEAR, GL_CLAMP_TO_EDGE);
     if (gpu::take_error() == GL_OUT_OF_MEMORY) {
-        return base::make_error("gpu_out_of_memory", "not enough GPU memory for the volume",
-                                volume.name);
+        return base::make_error(base::ErrorCode::gpu_out_of_memory,
+                                "not enough GPU memory for the volume", volume.name);
     }
     if (volume.type == volume::VoxelType::float32) {
         out.value_map = glm::vec2(1.0f, 0.0f);

@@ -17,8 +17,8 @@ bool WorkChunks::continue_after_chunk() {
 }
 
 base::Error cancelled_error() {
-    return base::make_error("cancelled", "the frame was cancelled before it was finished",
-                            "render");
+    return base::make_error(base::ErrorCode::cancelled,
+                            "the frame was cancelled before it was finished", "render");
 }
 
 Tile tile_of(double texels, int width, int height) {

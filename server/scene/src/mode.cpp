@@ -11,7 +11,7 @@ namespace penumbra::scene {
 namespace {
 
 base::Error invalid(const std::string& field, const std::string& message) {
-    return base::make_error("invalid_value", message, field);
+    return base::make_error(base::ErrorCode::invalid_value, message, field);
 }
 
 // "settings/light_buffer/compensation" -> "light_buffer.compensation", as validate names fields.

@@ -33,7 +33,7 @@ bool in_unit(double v) {
 }
 
 base::Error bad_point(const std::string& list, std::size_t index, const std::string& message) {
-    return base::make_error("invalid_transfer_function", message,
+    return base::make_error(base::ErrorCode::invalid_transfer_function, message,
                             "transfer_function." + list + "[" + std::to_string(index) + "]");
 }
 
@@ -203,7 +203,7 @@ base::Result<TransferFunction> preset(std::string_view name) {
         known += (known.empty() ? "" : ", ") + n;
     }
     return base::make_error(
-            "unknown_preset",
+            base::ErrorCode::unknown_preset,
             "unknown transfer-function preset '" + std::string(name) + "' (known: " + known + ")",
             "transfer_function");
 }

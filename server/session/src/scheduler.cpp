@@ -316,10 +316,10 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
     if (refinement.step > 0 && !rendered) {
         const std::lock_guard lock(mutex_);
-        if (rendered.error().code == "cancelled" && !in_flight_.closed) {
+        if (rendered.error().code == base::ErrorCode::cancelled && !in_flight_.closed) {
             // Preempted by another job: the step waits for its next turn, unchanged.
             queue_refinement(in_flight_.session, std::move(job), std::move(done));
-        } else if (rendered.error().code != "cancelled") {
+        } else if (rendered.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
             base::log_warning("session", "refinement of session " + in_flight_.session +
                                                  " stopped: " + rendered.error().to_string());
@@ -332,7 +332,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         const std::lock_guard lock(mutex_);
         queue_refinement(in_flight_.session, std::move(step), done);
     }
-    if (!rendered && rendered.error().code == "cancelled") {
+    if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
         bool shutting_down = false;
         {
             const std::lock_guard lock(mutex_);

@@ -134,7 +134,7 @@ void Session::set_state(scene::State state, ViewerId changed_by) {
 base::Result<scene::State> Session::change_state(ViewerId viewer, const StateChange& change) {
     const std::lock_guard lock(mutex_);
     if (owner_ != viewer) {
-        return base::make_error("invalid_message",
+        return base::make_error(base::ErrorCode::invalid_message,
                                 "only the session's owner can change it; viewers who joined watch",
                                 "/type");
     }
@@ -155,7 +155,8 @@ base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink s
                                  const StateSink& welcome) {
     const std::lock_guard lock(mutex_);
     if (ended_) {
-        return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
+        return base::make_error(base::ErrorCode::unknown_session, "no session '" + id_ + "'",
+                                "/session");
     }
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
     if (welcome) {
@@ -169,15 +170,16 @@ base::Status Session::resume(ViewerId viewer, std::string_view owner_token, View
     const std::lock_guard lock(mutex_);
     if (ended_) {
         // Its last connection left while the resuming one was finding it.
-        return base::make_error("unknown_session", "no session '" + id_ + "'", "/session");
+        return base::make_error(base::ErrorCode::unknown_session, "no session '" + id_ + "'",
+                                "/session");
     }
     // The token before the owner, so that only the owner learns whether it is still connected.
     if (!base::same_secret(owner_token, owner_token_)) {
-        return base::make_error("invalid_value", "not the owner token of this session",
-                                "/owner_token");
+        return base::make_error(base::ErrorCode::invalid_value,
+                                "not the owner token of this session", "/owner_token");
     }
     if (owner_ && *owner_ != viewer) {
-        return base::make_error("session_owned",
+        return base::make_error(base::ErrorCode::session_owned,
                                 "the session's owner is still connected; resume it after that "
                                 "connection has closed",
                                 "/session");
@@ -299,7 +301,7 @@ base::Status SessionRegistry::check_limits(ViewerId owner, const std::string& cl
     }
     const auto refuse = [&](const std::string& who, int maximum) {
         return base::make_error(
-                "too_many_sessions",
+                base::ErrorCode::too_many_sessions,
                 who + " already holds its maximum of " + std::to_string(maximum) + " sessions",
                 where);
     };
@@ -336,11 +338,12 @@ base::Result<SessionRegistry::Recreated> SessionRegistry::recreate(
         std::shared_ptr<const volume::Volume> volume, scene::State state, ViewerId owner,
         const std::string& client, const Session* replacing) {
     if (!owner_tokens_.derived()) {
-        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+        return base::make_error(base::ErrorCode::unknown_session, "no session '" + id + "'",
+                                "/session");
     }
     if (!owner_tokens_.proves(id, owner_token)) {
-        return base::make_error("invalid_value", "not the owner token of this session",
-                                "/owner_token");
+        return base::make_error(base::ErrorCode::invalid_value,
+                                "not the owner token of this session", "/owner_token");
     }
     const std::lock_guard lock(mutex_);
     if (const auto found = sessions_.find(id); found != sessions_.end()) {
@@ -367,7 +370,8 @@ base::Result<std::shared_ptr<Session>> SessionRegistry::enter(
     const std::lock_guard lock(mutex_);
     const auto found = sessions_.find(id);
     if (found == sessions_.end()) {
-        return base::make_error("unknown_session", "no session '" + id + "'", "/session");
+        return base::make_error(base::ErrorCode::unknown_session, "no session '" + id + "'",
+                                "/session");
     }
     if (auto status = enter(*found->second); !status) {
         return status.error();

@@ -114,7 +114,7 @@ void VolumeStore::rescan_loop() {
 base::Status VolumeStore::scan() {
     std::error_code ec;
     if (!std::filesystem::is_directory(data_dir_, ec)) {
-        return base::make_error("not_found", "the data directory does not exist",
+        return base::make_error(base::ErrorCode::not_found, "the data directory does not exist",
                                 data_dir_.string());
     }
     // Taken before the walk: a change during it asks for another scan.
@@ -148,7 +148,7 @@ base::Status VolumeStore::scan() {
         entry.file_bytes = files->bytes;
         dicom_folders.insert(folder);
         const auto series = dicom_series(folder, files->signature);
-        if (!series && series.error().code == "no_dicom_images") {
+        if (!series && series.error().code == base::ErrorCode::no_dicom_images) {
             skip(folder,
                  "DICOM files without images (" + relative_paths(series.error().message) + ")");
             return true;
@@ -367,8 +367,8 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
         const auto entry = std::find_if(entries_.begin(), entries_.end(),
                                         [&](const VolumeEntry& e) { return e.id == id; });
         if (entry == entries_.end()) {
-            return base::make_error("unknown_volume", "no volume '" + id + "' on this server",
-                                    "/volume");
+            return base::make_error(base::ErrorCode::unknown_volume,
+                                    "no volume '" + id + "' on this server", "/volume");
         }
         if (const auto* held = loaded_.find(id)) {
             return *held;

@@ -59,7 +59,7 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(
             continue;
         }
         if (++seen > max_folder_files) {
-            return base::make_error("too_large",
+            return base::make_error(base::ErrorCode::too_large,
                                     "the folder holds more than " +
                                             std::to_string(max_folder_files) +
                                             " files (sub-folders included); open the series' "
@@ -73,8 +73,8 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(
         }
     }
     if (ec) {
-        return base::make_error("read_failed", "cannot list the folder: " + ec.message(),
-                                detail::at_file(folder));
+        return base::make_error(base::ErrorCode::read_failed,
+                                "cannot list the folder: " + ec.message(), detail::at_file(folder));
     }
     std::sort(files.begin(), files.end());
     return files;
@@ -85,8 +85,9 @@ base::Result<std::vector<std::filesystem::path>> dicom_files_in(
 std::vector<std::string> FolderImages::notes() const {
     std::vector<std::string> lines;
     for (const Damaged& file : damaged) {
-        lines.push_back("skipped " + file.error.where + " (" + file.error.code + ": " +
-                        file.error.message + "); whatever slices it holds are not in the volume");
+        lines.push_back("skipped " + file.error.where + " (" +
+                        std::string(base::name_of(file.error.code)) + ": " + file.error.message +
+                        "); whatever slices it holds are not in the volume");
     }
     if (!not_dicom.empty()) {
         // A few names say what the files are; an export's thousand thumbnails need no list.
@@ -127,7 +128,7 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
         auto opened = open_image(path, image);
         // An image of another kind (an RGB secondary capture, a screenshot of a dose report) is
         // not a slice of any series here: skipped with a warning, so the series beside it opens.
-        if (!opened && opened.error().code == "unsupported_type") {
+        if (!opened && opened.error().code == base::ErrorCode::unsupported_type) {
             base::log_warning(log_component,
                               "skipped " + opened.error().where + ": " + opened.error().message);
             if (!found.other_kind) {
@@ -168,11 +169,11 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
         return *found.other_kind;
     }
     if (found.images.empty() && found.not_dicom.empty() && found.not_images == 0) {
-        return base::make_error("no_dicom_images", "the folder holds no files",
+        return base::make_error(base::ErrorCode::no_dicom_images, "the folder holds no files",
                                 detail::at_file(folder));
     }
     if (found.images.empty()) {
-        return base::make_error("no_dicom_images",
+        return base::make_error(base::ErrorCode::no_dicom_images,
                                 "the folder holds no DICOM image files (" +
                                         std::to_string(found.not_dicom.size()) + " other files, " +
                                         std::to_string(found.not_images) +

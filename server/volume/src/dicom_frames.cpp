@@ -152,7 +152,7 @@ base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<
         const auto& orientation = *frames.front().orientation;
         normal = slice_normal(orientation);
         if (!(glm::length(normal) > 0.5)) {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "ImageOrientationPatient has parallel row and column "
                                     "directions",
                                     frame_label(frames.front(), images));
@@ -162,7 +162,7 @@ base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<
             for (std::size_t i = 0; i < 6; ++i) {
                 if (std::abs((*frame.orientation)[i] - orientation[i]) > orientation_tolerance) {
                     return base::make_error(
-                            "inconsistent_series",
+                            base::ErrorCode::inconsistent_series,
                             "the slice's ImageOrientationPatient differs from that of " +
                                     frame_label(frames.front(), images),
                             frame_label(frame, images));
@@ -193,7 +193,7 @@ base::Result<double> order_frames(std::vector<Frame>& frames, const std::vector<
         for (std::size_t i = 1; i < frames.size(); ++i) {
             const double gap = gaps[i - 1];
             if (!(typical_gap > 0.0) || std::abs(gap - typical_gap) > gap_tolerance * typical_gap) {
-                return base::make_error("inconsistent_series",
+                return base::make_error(base::ErrorCode::inconsistent_series,
                                         "slices are not evenly spaced: " + millimetres(gap) +
                                                 " from " + frame_label(frames[i - 1], images) +
                                                 " along the slice normal, while the usual gap is " +
@@ -243,7 +243,7 @@ base::Result<glm::dvec2> pixel_spacing(const std::vector<Frame>& frames,
         const auto& spacing = frame.pixel_spacing;
         if (!spacing || std::abs((*spacing)[0] - (*first)[0]) > 1e-4 * (*first)[0] ||
             std::abs((*spacing)[1] - (*first)[1]) > 1e-4 * (*first)[1]) {
-            return base::make_error("inconsistent_series",
+            return base::make_error(base::ErrorCode::inconsistent_series,
                                     "the slice's PixelSpacing differs from that of " +
                                             frame_label(frames.front(), images),
                                     frame_label(frame, images));
@@ -266,7 +266,7 @@ base::Result<Geometry> patient_geometry(const std::vector<Frame>& frames, glm::d
         const glm::dvec3 column(cosines[3], cosines[4], cosines[5]);
         if (!(glm::length(row) > 0.5) || !(glm::length(column) > 0.5) ||
             !(glm::length(glm::cross(row, column)) > 0.5)) {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "ImageOrientationPatient holds zero or parallel directions",
                                     frame_label(first, images));
         }

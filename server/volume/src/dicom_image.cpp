@@ -39,10 +39,10 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
     format.inverted = get_string(dataset, DCM_PhotometricInterpretation) == "MONOCHROME1";
 
     const auto unsupported = [&](const std::string& what) {
-        return base::make_error("unsupported_type", what, detail::at_file(path));
+        return base::make_error(base::ErrorCode::unsupported_type, what, detail::at_file(path));
     };
     if (format.rows == 0 || format.columns == 0) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 "an image of " + std::to_string(format.columns) + "x" +
                                         std::to_string(format.rows) + " pixels",
                                 detail::at_file(path));
@@ -58,7 +58,7 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
     }
     if (format.bits_stored == 0 || format.bits_stored > format.bits_allocated ||
         format.high_bit >= format.bits_allocated || format.high_bit + 1 < format.bits_stored) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 "BitsStored " + std::to_string(format.bits_stored) +
                                         " and HighBit " + std::to_string(format.high_bit) +
                                         " do not fit in BitsAllocated " +
@@ -77,7 +77,7 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     if (status.bad()) {
         const std::string reason = std::string(" (DCMTK: ") + status.text() + ")";
         if (!is_dicom_file(path)) {
-            return base::make_error("not_dicom",
+            return base::make_error(base::ErrorCode::not_dicom,
                                     "not a DICOM file: no DICM marker after the 128-byte "
                                     "preamble, and not readable as a bare data set" +
                                             reason,
@@ -85,19 +85,19 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
         }
         // DCMTK reports a file that ends inside an element as one of these two.
         if (status == EC_StreamNotifyClient || status == EC_InvalidStream) {
-            return base::make_error("truncated",
+            return base::make_error(base::ErrorCode::truncated,
                                     "the file ends before the data its elements announce "
                                     "(truncated or damaged)" +
                                             reason,
                                     detail::at_file(path));
         }
-        return base::make_error("bad_header", "DCMTK cannot parse the file" + reason,
+        return base::make_error(base::ErrorCode::bad_header, "DCMTK cannot parse the file" + reason,
                                 detail::at_file(path));
     }
     DcmDataset& dataset = *image.file->getDataset();
     if (!dataset.tagExists(DCM_PixelData)) {
         if (dataset.tagExists(DCM_FloatPixelData) || dataset.tagExists(DCM_DoubleFloatPixelData)) {
-            return base::make_error("unsupported_type",
+            return base::make_error(base::ErrorCode::unsupported_type,
                                     "float pixel data is not supported; integer PixelData is",
                                     detail::at_file(path));
         }
@@ -110,7 +110,8 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     image.format = *format;
     const auto frames = get_int(dataset, DCM_NumberOfFrames).value_or(1);
     if (frames < 1) {
-        return base::make_error("bad_header", "NumberOfFrames is " + std::to_string(frames),
+        return base::make_error(base::ErrorCode::bad_header,
+                                "NumberOfFrames is " + std::to_string(frames),
                                 detail::at_file(path));
     }
     // Checked before the frames' positions are read: a header claiming billions of frames must
@@ -118,7 +119,7 @@ base::Result<Opened> open_image(const std::filesystem::path& path, Image& image)
     const std::uint64_t frame_voxels = std::uint64_t{image.format.rows} * image.format.columns;
     if (static_cast<std::uint64_t>(frames) > max_frames ||
         static_cast<std::uint64_t>(frames) > max_voxels / frame_voxels) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 "NumberOfFrames " + std::to_string(frames) + " of " +
                                         format->describe() + " exceeds the limit of " +
                                         std::to_string(max_frames) + " frames or " +

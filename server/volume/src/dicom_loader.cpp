@@ -85,7 +85,7 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
     auto volume = assemble(images, name, folder, options);
     if (!volume) {
         base::Error error = volume.error();
-        if (error.code == "inconsistent_series") {
+        if (error.code == base::ErrorCode::inconsistent_series) {
             error.message += found->damaged_suffix();
         }
         return error;
@@ -106,11 +106,12 @@ base::Result<Volume> load_dicom_folder(const std::filesystem::path& folder,
         const double off_grid = std::abs(depth / step - std::round(depth / step));
         if (depth > same_position && depth < last_depth - same_position &&
             off_grid > gap_tolerance) {
-            return base::make_error("inconsistent_series",
+            return base::make_error(base::ErrorCode::inconsistent_series,
                                     "the series lacks its slice " + millimetres(depth) +
                                             " from its first along the slice normal, whose "
                                             "file is damaged (" +
-                                            file.error.code + ": " + file.error.message + ")",
+                                            std::string(base::name_of(file.error.code)) + ": " +
+                                            file.error.message + ")",
                                     file.error.where);
         }
     }
@@ -143,11 +144,12 @@ base::Result<Volume> load_dicom_path(const std::filesystem::path& path,
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) {
-        return base::make_error("not_found", "file or folder not found", detail::at_file(path));
+        return base::make_error(base::ErrorCode::not_found, "file or folder not found",
+                                detail::at_file(path));
     }
     prepare_library();
     if (!dcmDataDict.isDictionaryLoaded()) {
-        return base::make_error("dicom_unavailable",
+        return base::make_error(base::ErrorCode::dicom_unavailable,
                                 "DCMTK found no DICOM data dictionary (install libdcmtk17 or set "
                                 "DCMDICTPATH)",
                                 detail::at_file(path));

@@ -160,7 +160,7 @@ base::Result<std::optional<Mosaic>> read_mosaic(DcmDataset& dataset, PixelFormat
         }
     }
     const auto refuse = [&](const std::string& why) {
-        return base::make_error("unsupported_type",
+        return base::make_error(base::ErrorCode::unsupported_type,
                                 "a Siemens mosaic (slices tiled in one " +
                                         std::to_string(format.columns) + "x" +
                                         std::to_string(format.rows) + " image) whose " + why +

@@ -46,7 +46,7 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
     if (syntax.isEncapsulated()) {
         const OFCondition status = dataset.chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
         if (status.bad() || !dataset.canWriteXfer(EXS_LittleEndianExplicit)) {
-            return base::make_error("unsupported_encoding",
+            return base::make_error(base::ErrorCode::unsupported_encoding,
                                     std::string("pixel data in transfer syntax ") +
                                             syntax.getXferName() + " (" + syntax.getXferID() +
                                             ") cannot be decoded: " + status.text() +
@@ -75,12 +75,12 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
         }
     }
     if (status.bad() || data == nullptr) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 std::string("cannot read the pixel data: ") + status.text(),
                                 detail::at_file(image.path));
     }
     if (bytes < expected) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "the pixel data holds " + std::to_string(bytes) + " bytes; " +
                                         image.format.describe() + " x " +
                                         std::to_string(image.frame_count) + " frame(s) need " +
@@ -176,7 +176,7 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     const PixelFormat& format = images.front().format;
     for (const Image& image : images) {
         if (!(image.format == format)) {
-            return base::make_error("inconsistent_series",
+            return base::make_error(base::ErrorCode::inconsistent_series,
                                     "the image is " + image.format.describe() + ", but " +
                                             images.front().path.filename().string() + " is " +
                                             format.describe(),
@@ -194,14 +194,14 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
                 std::max(largest_image, stored_pixels(image) * (format.bits_allocated / 8u));
     }
     if (frame_count > max_frames) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 std::to_string(frame_count) + " frames exceed the limit of " +
                                         std::to_string(max_frames),
                                 detail::at_file(source));
     }
     const std::uint64_t all_voxels = std::uint64_t{format.rows} * format.columns * frame_count;
     if (all_voxels > max_voxels) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 std::to_string(format.columns) + "x" + std::to_string(format.rows) +
                                         "x" + std::to_string(frame_count) +
                                         " voxels exceed the limit of " + std::to_string(max_voxels),

@@ -103,9 +103,10 @@ base::Result<DicomSeries> select_series(std::vector<Image>& images, const std::s
         } else {
             what = "several series are numbered " + wanted + "; choose one by UID";
         }
-        return base::make_error(
-                wanted.empty() || !matches.empty() ? "several_series" : "unknown_series",
-                what + ": " + series_choices(list), detail::at_file(folder));
+        return base::make_error(wanted.empty() || !matches.empty()
+                                        ? base::ErrorCode::several_series
+                                        : base::ErrorCode::unknown_series,
+                                what + ": " + series_choices(list), detail::at_file(folder));
     }
     const DicomSeries chosen = *matches.front();
     std::erase_if(images, [&](const Image& image) { return image.series_uid != chosen.uid; });

@@ -35,8 +35,8 @@ inline std::string tag_label(const DcmTagKey& key) {
 
 // "missing or unreadable tag Rows (0028,0010)", for a tag the file cannot do without.
 inline base::Error missing_tag(const DcmTagKey& key, const std::filesystem::path& path) {
-    return base::make_error("bad_header", "missing or unreadable tag " + tag_label(key),
-                            detail::at_file(path));
+    return base::make_error(base::ErrorCode::bad_header,
+                            "missing or unreadable tag " + tag_label(key), detail::at_file(path));
 }
 
 // Value `pos` of a numeric tag; a non-finite one reads as absent.

@@ -47,15 +47,15 @@ inline base::Result<std::uint64_t> regular_file_size(const std::filesystem::path
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);
     if (ec || !std::filesystem::exists(status)) {
-        return base::make_error("not_found", "file not found", at_file(path));
+        return base::make_error(base::ErrorCode::not_found, "file not found", at_file(path));
     }
     if (!std::filesystem::is_regular_file(status)) {
-        return base::make_error("read_failed", "not a regular file", at_file(path));
+        return base::make_error(base::ErrorCode::read_failed, "not a regular file", at_file(path));
     }
     const auto size = std::filesystem::file_size(path, ec);
     if (ec) {
-        return base::make_error("read_failed", "cannot read the file size: " + ec.message(),
-                                at_file(path));
+        return base::make_error(base::ErrorCode::read_failed,
+                                "cannot read the file size: " + ec.message(), at_file(path));
     }
     return static_cast<std::uint64_t>(size);
 }
@@ -66,7 +66,7 @@ inline base::Result<File> open_file(const std::filesystem::path& path) {
     }
     File file(std::fopen(path.c_str(), "rb"));
     if (!file) {
-        return base::make_error("read_failed",
+        return base::make_error(base::ErrorCode::read_failed,
                                 std::string("cannot open the file: ") + std::strerror(errno),
                                 at_file(path));
     }
@@ -77,7 +77,8 @@ inline base::Status seek_to(std::FILE* file, const std::filesystem::path& path,
                             std::uint64_t offset) {
     if (offset > static_cast<std::uint64_t>(LONG_MAX) ||
         std::fseek(file, static_cast<long>(offset), SEEK_SET) != 0) {
-        return base::make_error("read_failed", "cannot seek in the file", at_byte(path, offset));
+        return base::make_error(base::ErrorCode::read_failed, "cannot seek in the file",
+                                at_byte(path, offset));
     }
     return base::Ok{};
 }
@@ -88,7 +89,8 @@ inline base::Result<std::size_t> read_some(std::FILE* file, const std::filesyste
                                            std::uint64_t offset, std::span<std::byte> out) {
     const std::size_t got = std::fread(out.data(), 1, out.size(), file);
     if (got < out.size() && std::ferror(file)) {
-        return base::make_error("read_failed", std::string("read error: ") + std::strerror(errno),
+        return base::make_error(base::ErrorCode::read_failed,
+                                std::string("read error: ") + std::strerror(errno),
                                 at_byte(path, offset + got));
     }
     return got;
@@ -136,7 +138,7 @@ base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path
     z_stream zs{};
     constexpr int gzip_or_zlib_header = 15 + 32;
     if (inflateInit2(&zs, gzip_or_zlib_header) != Z_OK) {
-        return base::make_error("read_failed", "zlib could not start a decompressor",
+        return base::make_error(base::ErrorCode::read_failed, "zlib could not start a decompressor",
                                 at_file(path));
     }
 
@@ -164,7 +166,7 @@ base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path
         const std::size_t room = input.size() - zs.avail_in;
         const std::size_t got = std::fread(input.data() + zs.avail_in, 1, room, file);
         if (got < room && std::ferror(file)) {
-            return base::make_error("read_failed",
+            return base::make_error(base::ErrorCode::read_failed,
                                     std::string("read error: ") + std::strerror(errno),
                                     at_byte(path, start_offset + consumed + zs.avail_in));
         }
@@ -227,7 +229,8 @@ base::Result<Inflated> inflate_file(std::FILE* file, const std::filesystem::path
         }
         if (ret != Z_OK && ret != Z_BUF_ERROR) {
             const std::string reason = zs.msg != nullptr ? zs.msg : "zlib error";
-            return base::make_error("corrupt_data", "invalid compressed data (" + reason + ")",
+            return base::make_error(base::ErrorCode::corrupt_data,
+                                    "invalid compressed data (" + reason + ")",
                                     at_byte(path, start_offset + consumed));
         }
     }

@@ -38,7 +38,7 @@ namespace detail {
 base::Status check_budget(std::uint64_t bytes, const std::string& what,
                           const std::filesystem::path& path, const LoadOptions& options) {
     if (bytes > options.max_bytes) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 what + " needs " + mebibytes(bytes) +
                                         " in memory, more than the load limit of " +
                                         mebibytes(options.max_bytes),
@@ -47,7 +47,7 @@ base::Status check_budget(std::uint64_t bytes, const std::string& what,
     if (options.within_available_memory) {
         const auto available = available_memory();
         if (available && bytes > *available) {
-            return base::make_error("too_large",
+            return base::make_error(base::ErrorCode::too_large,
                                     what + " needs " + mebibytes(bytes) +
                                             " in memory, more than the machine has available (" +
                                             mebibytes(*available) + ")",

@@ -26,11 +26,11 @@ base::Result<Volume> guard_allocation(const std::filesystem::path& path, Load&& 
     try {
         return load();
     } catch (const std::bad_alloc&) {
-        return base::make_error("out_of_memory", "not enough memory to load the volume",
-                                path.string());
+        return base::make_error(base::ErrorCode::out_of_memory,
+                                "not enough memory to load the volume", path.string());
     } catch (const std::length_error&) {
-        return base::make_error("out_of_memory", "the volume is too large for this machine",
-                                path.string());
+        return base::make_error(base::ErrorCode::out_of_memory,
+                                "the volume is too large for this machine", path.string());
     }
 }
 

@@ -168,7 +168,7 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
         }
         if (inflated->produced < bytes) {
             return base::make_error(
-                    "truncated",
+                    base::ErrorCode::truncated,
                     "expected " + std::to_string(bytes) + " bytes of voxel data from byte " +
                             std::to_string(data_offset) + " of the decompressed data, got " +
                             std::to_string(inflated->produced),
@@ -181,7 +181,7 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
         return size.error();
     }
     if (*size < data_offset || *size - data_offset < bytes) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "expected " + std::to_string(bytes) +
                                         " bytes of voxel data from byte " +
                                         std::to_string(data_offset) + ", the file holds " +
@@ -196,7 +196,7 @@ base::Status read_samples(const std::filesystem::path& path, std::uint64_t data_
         return read.error();
     }
     if (*read != bytes) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "the file ended after " + std::to_string(*read) + " of " +
                                         std::to_string(bytes) + " bytes of voxel data",
                                 detail::at_byte(path, data_offset + *read));
@@ -209,7 +209,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     const std::string lower = detail::lower_file_name(path);
     if (!detail::has_suffix(lower, ".nii") && !detail::has_suffix(lower, ".nii.gz") &&
         !detail::has_suffix(lower, ".hdr")) {
-        return base::make_error("bad_file_name",
+        return base::make_error(base::ErrorCode::bad_file_name,
                                 "a NIfTI file name must end in .nii, .nii.gz or .hdr (with its "
                                 ".img beside it)",
                                 detail::at_file(path));
@@ -222,7 +222,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     // The header first, alone, so that absurd dimensions are rejected before any allocation.
     Image image(nifti_image_read(path.c_str(), 0));
     if (!image) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 "not a readable NIfTI-1 or NIfTI-2 file (the nifti library "
                                 "rejected its header)",
                                 detail::at_file(path));
@@ -233,7 +233,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     std::uint64_t voxels = 1;
     for (const std::int64_t size : sizes) {
         if (static_cast<std::uint64_t>(size) > max_voxels / voxels) {
-            return base::make_error("too_large",
+            return base::make_error(base::ErrorCode::too_large,
                                     "dimensions " + std::to_string(image->nx) + "x" +
                                             std::to_string(image->ny) + "x" +
                                             std::to_string(image->nz) + " exceed the limit of " +
@@ -244,7 +244,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     }
     const auto type = sample_type_of(image->datatype);
     if (!type) {
-        return base::make_error("unsupported_type",
+        return base::make_error(base::ErrorCode::unsupported_type,
                                 std::string("NIfTI datatype ") +
                                         nifti_datatype_string(image->datatype) + " (" +
                                         std::to_string(image->datatype) +
@@ -252,7 +252,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
                                 detail::at_file(path));
     }
     if (static_cast<std::size_t>(image->nbyper) != detail::sample_size(*type)) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 "bytes per voxel " + std::to_string(image->nbyper) +
                                         " do not match datatype " +
                                         nifti_datatype_string(image->datatype),
@@ -270,7 +270,7 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     }
 
     if (image->iname_offset < 0) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 "negative data offset " + std::to_string(image->iname_offset),
                                 detail::at_file(path));
     }

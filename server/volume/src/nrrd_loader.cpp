@@ -253,7 +253,7 @@ public:
         const std::string first_line = magic->value_or("");
         const std::string_view text = trim(first_line);
         if (text.size() != 8 || text.substr(0, 7) != "NRRD000" || text[7] < '1' || text[7] > '9') {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "not a NRRD file: it must start with the magic NRRD0001 to "
                                     "NRRD0005",
                                     detail::at_line(path_, 1));
@@ -290,7 +290,8 @@ private:
             const int c = std::fgetc(file_);
             if (c == EOF) {
                 if (std::ferror(file_)) {
-                    return base::make_error("read_failed", "read error in the header",
+                    return base::make_error(base::ErrorCode::read_failed,
+                                            "read error in the header",
                                             detail::at_byte(path_, offset_));
                 }
                 if (line.empty()) {
@@ -300,7 +301,7 @@ private:
             }
             ++offset_;
             if (offset_ > max_header_bytes) {
-                return base::make_error("bad_header",
+                return base::make_error(base::ErrorCode::bad_header,
                                         "no end of the header within the first " +
                                                 std::to_string(max_header_bytes) + " bytes",
                                         detail::at_byte(path_, offset_));
@@ -317,15 +318,16 @@ private:
         return std::optional<std::string>(std::move(line));
     }
 
-    base::Error error(const std::string& code, const std::string& message) const {
+    base::Error error(base::ErrorCode code, const std::string& message) const {
         return base::make_error(code, message, detail::at_line(path_, line_number_));
     }
 
     template <class T>
     base::Status claim(Field<T>& field, const std::string& name) {
         if (field.line != 0) {
-            return error("bad_header", "field '" + name + "' appears twice (first on line " +
-                                               std::to_string(field.line) + ")");
+            return error(base::ErrorCode::bad_header, "field '" + name +
+                                                              "' appears twice (first on line " +
+                                                              std::to_string(field.line) + ")");
         }
         field.line = line_number_;
         return base::Ok{};
@@ -334,8 +336,9 @@ private:
     base::Status parse_line(std::string_view content) {
         const std::size_t colon = content.find(':');
         if (colon == std::string_view::npos) {
-            return error("bad_header", "expected 'field: value' or 'key:=value', got '" +
-                                               std::string(content) + "'");
+            return error(
+                    base::ErrorCode::bad_header,
+                    "expected 'field: value' or 'key:=value', got '" + std::string(content) + "'");
         }
         if (colon + 1 < content.size() && content[colon + 1] == '=') {
             // Key/value pairs carry metadata; Penumbra reads one of its own: values in
@@ -366,7 +369,7 @@ private:
             }
             const std::string endian = lower(value);
             if (endian != "little" && endian != "big") {
-                return error("bad_header",
+                return error(base::ErrorCode::bad_header,
                              "endian must be 'little' or 'big', got '" + std::string(value) + "'");
             }
             header_.big_endian.value = endian == "big";
@@ -381,7 +384,7 @@ private:
             }
             header_.directions.value = parse_vectors(value);
             if (!header_.directions.value) {
-                return error("bad_header",
+                return error(base::ErrorCode::bad_header,
                              "space directions must be '(x,y,z)' vectors of finite numbers or "
                              "'none', got '" +
                                      std::string(value) + "'");
@@ -394,7 +397,7 @@ private:
             }
             header_.space_to_ras.value = space_to_ras(lower(value));
             if (!header_.space_to_ras.value) {
-                return error("bad_header",
+                return error(base::ErrorCode::bad_header,
                              "unknown space '" + std::string(value) +
                                      "' (known: right-anterior-superior, left-anterior-superior, "
                                      "left-posterior-superior, their -time forms, scanner-xyz, "
@@ -408,8 +411,9 @@ private:
             }
             auto vectors = parse_vectors(value);
             if (!vectors || vectors->size() != 1 || vectors->front().empty()) {
-                return error("bad_header", "space origin must be one '(x,y,z)' vector, got '" +
-                                                   std::string(value) + "'");
+                return error(base::ErrorCode::bad_header,
+                             "space origin must be one '(x,y,z)' vector, got '" +
+                                     std::string(value) + "'");
             }
             header_.space_origin.value = std::move(vectors->front());
             return base::Ok{};
@@ -437,7 +441,7 @@ private:
         }
         header_.type.value = parse_type(value);
         if (!header_.type.value) {
-            return error("unsupported_type",
+            return error(base::ErrorCode::unsupported_type,
                          "unknown or unsupported type '" + std::string(value) +
                                  "' (supported: the integer types up to 64 bits, float, double)");
         }
@@ -450,11 +454,11 @@ private:
         }
         const auto dimension = parse_number<int>(value);
         if (!dimension || *dimension < 1) {
-            return error("bad_header",
+            return error(base::ErrorCode::bad_header,
                          "dimension must be a positive integer, got '" + std::string(value) + "'");
         }
         if (*dimension != 3 && *dimension != 4) {
-            return error("unsupported_dimension",
+            return error(base::ErrorCode::unsupported_dimension,
                          "dimension " + std::to_string(*dimension) +
                                  " is not supported: Penumbra reads 3-D scalar volumes "
                                  "(dimension: 3) and the first volume of 4-D ones");
@@ -472,20 +476,20 @@ private:
         for (std::string_view word : split_words(value)) {
             const auto size = parse_number<std::int64_t>(word);
             if (!size || *size < 1) {
-                return error("bad_header",
+                return error(base::ErrorCode::bad_header,
                              "sizes must be positive integers, got '" + std::string(value) + "'");
             }
             // Checked before anything is allocated: an absurd header must not cost memory.
             if (static_cast<std::uint64_t>(*size) > max_voxels / voxels) {
-                return error("too_large", "sizes '" + std::string(value) +
-                                                  "' exceed the limit of " +
-                                                  std::to_string(max_voxels) + " voxels");
+                return error(base::ErrorCode::too_large,
+                             "sizes '" + std::string(value) + "' exceed the limit of " +
+                                     std::to_string(max_voxels) + " voxels");
             }
             voxels *= static_cast<std::uint64_t>(*size);
             sizes.push_back(static_cast<std::uint32_t>(*size));
         }
         if (sizes.empty()) {
-            return error("bad_header", "sizes has no values");
+            return error(base::ErrorCode::bad_header, "sizes has no values");
         }
         header_.sizes.value = std::move(sizes);
         return base::Ok{};
@@ -505,7 +509,7 @@ private:
         } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
             header_.encoding.value = Encoding::ascii;
         } else {
-            return error("unsupported_encoding",
+            return error(base::ErrorCode::unsupported_encoding,
                          "encoding '" + std::string(value) +
                                  "' is not supported (supported: raw, gzip, bzip2, ascii)");
         }
@@ -525,7 +529,7 @@ private:
             }
             const auto spacing = parse_number<double>(word);
             if (!spacing || !std::isfinite(*spacing) || *spacing == 0.0) {
-                return error("bad_header",
+                return error(base::ErrorCode::bad_header,
                              "spacings must be non-zero finite numbers or nan, got '" +
                                      std::string(value) + "'");
             }
@@ -542,9 +546,9 @@ private:
         }
         const auto skip = parse_number<std::int64_t>(value);
         if (!skip || *skip < minimum) {
-            return error("bad_header", name + " must be an integer of at least " +
-                                               std::to_string(minimum) + ", got '" +
-                                               std::string(value) + "'");
+            return error(base::ErrorCode::bad_header, name + " must be an integer of at least " +
+                                                              std::to_string(minimum) + ", got '" +
+                                                              std::string(value) + "'");
         }
         field.value = *skip;
         return base::Ok{};
@@ -571,7 +575,7 @@ struct Layout {
 
 base::Result<Layout> check_header(const Header& header, const std::filesystem::path& path) {
     const auto missing = [&](const char* field) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 std::string("the header has no '") + field + "' field",
                                 detail::at_file(path));
     };
@@ -593,7 +597,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     const std::string is_dimension = " but the dimension is " + std::to_string(dimension);
     if (sizes.size() != dimension) {
         return base::make_error(
-                "bad_header",
+                base::ErrorCode::bad_header,
                 "sizes lists " + std::to_string(sizes.size()) + " values" + is_dimension,
                 at(header.sizes.line));
     }
@@ -602,7 +606,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     // a stack of volumes.
     if (dimension == 4 && header.directions.value && header.directions.value->size() == 4 &&
         (*header.directions.value)[0].empty() && !(*header.directions.value)[3].empty()) {
-        return base::make_error("unsupported_dimension",
+        return base::make_error(base::ErrorCode::unsupported_dimension,
                                 "the first axis of this 4-D file is not spatial (values per "
                                 "voxel, as DWI gradients or vectors); Penumbra opens 4-D files "
                                 "whose 4th axis lists volumes",
@@ -619,7 +623,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     const bool endian_matters =
             detail::sample_size(layout.type) > 1 && layout.encoding != Encoding::ascii;
     if (endian_matters && !header.big_endian.value) {
-        return base::make_error("bad_header",
+        return base::make_error(base::ErrorCode::bad_header,
                                 std::string("the header has no 'endian' field, which ") +
                                         detail::sample_name(layout.type) + " data needs",
                                 detail::at_file(path));
@@ -627,7 +631,8 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     layout.big_endian = header.big_endian.value.value_or(false);
 
     if (header.byte_skip.value == -1 && layout.encoding != Encoding::raw) {
-        return base::make_error("bad_header", "byte skip -1 is only allowed with raw encoding",
+        return base::make_error(base::ErrorCode::bad_header,
+                                "byte skip -1 is only allowed with raw encoding",
                                 at(header.byte_skip.line));
     }
 
@@ -638,7 +643,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     if (header.space_origin.value) {
         const auto& components = *header.space_origin.value;
         if (components.size() != 3) {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "space origin has " + std::to_string(components.size()) +
                                             " components; a 3-D space needs 3",
                                     at(header.space_origin.line));
@@ -649,7 +654,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     if (header.directions.value) {
         const auto& directions = *header.directions.value;
         if (directions.size() != dimension) {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "space directions lists " + std::to_string(directions.size()) +
                                             " entries" + is_dimension,
                                     at(header.directions.line));
@@ -660,7 +665,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                 continue;  // "none": an axis without a direction keeps unit steps along itself
             }
             if (direction.size() != 3) {
-                return base::make_error("bad_header",
+                return base::make_error(base::ErrorCode::bad_header,
                                         "space direction " + std::to_string(axis) + " has " +
                                                 std::to_string(direction.size()) +
                                                 " components; a 3-D space needs 3",
@@ -669,7 +674,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
             const glm::dvec3 step(direction[0], direction[1], direction[2]);
             if (step == glm::dvec3(0.0)) {
                 return base::make_error(
-                        "bad_header",
+                        base::ErrorCode::bad_header,
                         "space direction " + std::to_string(axis) + " is the zero vector",
                         at(header.directions.line));
             }
@@ -679,7 +684,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
         const auto& spacings = *header.spacings.value;
         if (spacings.size() != dimension) {
             return base::make_error(
-                    "bad_header",
+                    base::ErrorCode::bad_header,
                     "spacings lists " + std::to_string(spacings.size()) + " values" + is_dimension,
                     at(header.spacings.line));
         }
@@ -722,7 +727,7 @@ base::Result<std::filesystem::path> data_path(const Header& header,
                                               const std::filesystem::path& path) {
     if (!header.data_file.value) {
         if (!header.ended_by_blank_line) {
-            return base::make_error("bad_header",
+            return base::make_error(base::ErrorCode::bad_header,
                                     "the header has neither a blank line followed by data nor a "
                                     "'data file' field",
                                     detail::at_file(path));
@@ -733,23 +738,23 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     const auto at_field = detail::at_line(path, header.data_file.line);
     const auto words = split_words(name);
     if (!words.empty() && words.front() == "LIST") {
-        return base::make_error("unsupported_data_file",
+        return base::make_error(base::ErrorCode::unsupported_data_file,
                                 "'data file: LIST' (data split over several files) is not "
                                 "supported; name a single data file",
                                 at_field);
     }
     if (words.size() >= 4 && words.front().find('%') != std::string_view::npos) {
-        return base::make_error("unsupported_data_file",
+        return base::make_error(base::ErrorCode::unsupported_data_file,
                                 "a numbered 'data file' pattern (data split over several files) "
                                 "is not supported; name a single data file",
                                 at_field);
     }
     if (name.empty()) {
-        return base::make_error("bad_header", "'data file' names no file", at_field);
+        return base::make_error(base::ErrorCode::bad_header, "'data file' names no file", at_field);
     }
     const std::filesystem::path data(name);
     const auto outside = [&] {
-        return base::make_error("data_file_outside",
+        return base::make_error(base::ErrorCode::data_file_outside,
                                 "'data file' must name a file in the header's folder or below "
                                 "it, not '" +
                                         name + "'",
@@ -760,13 +765,13 @@ base::Result<std::filesystem::path> data_path(const Header& header,
     const auto folder = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec)
                                 .parent_path();
     if (ec) {
-        return base::make_error("read_failed",
+        return base::make_error(base::ErrorCode::read_failed,
                                 "cannot resolve the header's folder: " + ec.message(),
                                 detail::at_file(path));
     }
     const auto resolved = std::filesystem::weakly_canonical(folder / data, ec);
     if (ec) {
-        return base::make_error("read_failed",
+        return base::make_error(base::ErrorCode::read_failed,
                                 "cannot resolve 'data file' '" + name + "': " + ec.message(),
                                 at_field);
     }
@@ -782,7 +787,7 @@ base::Status skip_lines(std::FILE* file, const std::filesystem::path& path, std:
     for (std::int64_t skipped = 0; skipped < lines;) {
         const int c = std::fgetc(file);
         if (c == EOF) {
-            return base::make_error("truncated",
+            return base::make_error(base::ErrorCode::truncated,
                                     "the data file ended after " + std::to_string(skipped) +
                                             " of the " + std::to_string(lines) +
                                             " lines that 'line skip' asks to skip",
@@ -809,7 +814,7 @@ base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path, c
         // file, the first of which is read).
         const std::uint64_t all_bytes = layout.bytes * layout.volumes;
         if (*size < offset || *size - offset < all_bytes) {
-            return base::make_error("truncated",
+            return base::make_error(base::ErrorCode::truncated,
                                     "expected " + std::to_string(all_bytes) +
                                             " bytes of data at the end of the file, after byte " +
                                             std::to_string(offset) + ", but the file holds " +
@@ -822,7 +827,7 @@ base::Result<std::uint64_t> raw_data_offset(const std::filesystem::path& path, c
     }
     if (*size < offset || *size - offset < layout.bytes) {
         const std::uint64_t available = *size > offset ? *size - offset : 0;
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "expected " + std::to_string(layout.bytes) +
                                         " bytes of data from byte " + std::to_string(offset) +
                                         ", the file holds only " + std::to_string(available),
@@ -841,7 +846,7 @@ base::Status read_raw(std::FILE* file, const std::filesystem::path& path, const 
         return got.error();
     }
     if (*got != layout.bytes) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "expected " + std::to_string(layout.bytes) +
                                         " bytes of data from byte " + std::to_string(offset) +
                                         ", read only " + std::to_string(*got),
@@ -858,8 +863,8 @@ base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, cons
                         std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
     bz_stream bz{};
     if (BZ2_bzDecompressInit(&bz, 0, 0) != BZ_OK) {
-        return base::make_error("read_failed", "libbz2 could not start a decompressor",
-                                detail::at_file(path));
+        return base::make_error(base::ErrorCode::read_failed,
+                                "libbz2 could not start a decompressor", detail::at_file(path));
     }
 
     struct EndDecompress {
@@ -878,7 +883,7 @@ base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, cons
         if (bz.avail_in == 0 && !input_ended) {
             const std::size_t got = std::fread(input.data(), 1, input.size(), file);
             if (got < input.size() && std::ferror(file)) {
-                return base::make_error("read_failed",
+                return base::make_error(base::ErrorCode::read_failed,
                                         std::string("read error: ") + std::strerror(errno),
                                         detail::at_byte(path, offset + consumed));
             }
@@ -908,12 +913,12 @@ base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, cons
             produced += out;
         }
         if (ret != BZ_OK && ret != BZ_STREAM_END) {
-            return base::make_error("corrupt_data",
+            return base::make_error(base::ErrorCode::corrupt_data,
                                     "invalid bzip2 data (libbz2 error " + std::to_string(ret) + ")",
                                     detail::at_byte(path, offset + consumed));
         }
         if ((ret == BZ_STREAM_END || (input_ended && out == 0)) && produced < layout.bytes) {
-            return base::make_error("truncated",
+            return base::make_error(base::ErrorCode::truncated,
                                     "expected " + std::to_string(layout.bytes) +
                                             " bytes of decompressed data, got " +
                                             std::to_string(produced),
@@ -932,14 +937,15 @@ base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const
         return inflated.error();
     }
     if (inflated->produced < layout.bytes) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "expected " + std::to_string(layout.bytes) +
                                         " bytes of decompressed data, got " +
                                         std::to_string(inflated->produced),
                                 detail::at_byte(path, offset));
     }
     if (!inflated->complete) {
-        return base::make_error("truncated", "the gzip data is cut short before its end marker",
+        return base::make_error(base::ErrorCode::truncated,
+                                "the gzip data is cut short before its end marker",
                                 detail::at_byte(path, offset));
     }
     return base::Ok{};
@@ -973,7 +979,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                                                          : 65535.0;
         if (!value || (stored != VoxelType::float32 &&
                        (*value != std::floor(*value) || *value < low || *value > high))) {
-            return base::make_error("bad_data",
+            return base::make_error(base::ErrorCode::bad_data,
                                     "'" + token.substr(0, max_token) + "' is not a " +
                                             detail::sample_name(layout.type) + " value",
                                     detail::at_byte(path, token_start));
@@ -1014,7 +1020,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
         const std::size_t got = std::fread(chunk.data(), 1, chunk.size(), file);
         if (got < chunk.size()) {
             if (std::ferror(file)) {
-                return base::make_error("read_failed", "read error",
+                return base::make_error(base::ErrorCode::read_failed, "read error",
                                         detail::at_byte(path, position + got));
             }
             ended = true;
@@ -1026,7 +1032,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
                 }
                 if (token.size() == max_token) {
                     return base::make_error(
-                            "bad_data",
+                            base::ErrorCode::bad_data,
                             "a value longer than " + std::to_string(max_token) + " characters",
                             detail::at_byte(path, token_start));
                 }
@@ -1044,7 +1050,7 @@ base::Result<std::vector<std::byte>> read_ascii(std::FILE* file, const std::file
         }
     }
     if (count < layout.voxels) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "expected " + std::to_string(layout.voxels) +
                                         " ASCII values, found " + std::to_string(count),
                                 detail::at_byte(path, position));

@@ -81,7 +81,7 @@ std::optional<glm::uvec3> parse_dims(std::string_view text) {
 
 base::Result<RawName> parse_raw_name(const std::filesystem::path& path) {
     const auto fail = [&](const std::string& what) {
-        return base::make_error("bad_file_name", what + "; " + expected_pattern,
+        return base::make_error(base::ErrorCode::bad_file_name, what + "; " + expected_pattern,
                                 detail::at_file(path));
     };
     RawName parsed;
@@ -141,14 +141,14 @@ base::Status read_plain(std::FILE* file, const std::filesystem::path& path, cons
         return size.error();
     }
     if (*size < expected) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "the file holds " + std::to_string(*size) +
                                         " bytes but its name implies " + std::to_string(expected) +
                                         " (" + describe(raw) + ")",
                                 detail::at_byte(path, *size));
     }
     if (*size > expected) {
-        return base::make_error("too_long",
+        return base::make_error(base::ErrorCode::too_long,
                                 "the file holds " + std::to_string(*size) +
                                         " bytes, more than the " + std::to_string(expected) +
                                         " its name implies (" + describe(raw) + ")",
@@ -159,7 +159,7 @@ base::Status read_plain(std::FILE* file, const std::filesystem::path& path, cons
         return got.error();
     }
     if (*got != expected) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "the file ended after " + std::to_string(*got) + " of " +
                                         std::to_string(expected) + " bytes while reading",
                                 detail::at_byte(path, *got));
@@ -174,7 +174,7 @@ base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const
         return inflated.error();
     }
     if (inflated->more) {
-        return base::make_error("too_long",
+        return base::make_error(base::ErrorCode::too_long,
                                 "the decompressed data is longer than the " +
                                         std::to_string(expected) + " bytes its name implies (" +
                                         describe(raw) + ")",
@@ -182,7 +182,7 @@ base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const
     }
     if (inflated->produced < expected) {
         return base::make_error(
-                "truncated",
+                base::ErrorCode::truncated,
                 "the decompressed data holds " + std::to_string(inflated->produced) +
                         " bytes but the name implies " + std::to_string(expected) + " (" +
                         describe(raw) + ")" +
@@ -190,7 +190,7 @@ base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const
                 detail::at_file(path));
     }
     if (!inflated->complete) {
-        return base::make_error("truncated",
+        return base::make_error(base::ErrorCode::truncated,
                                 "the compressed stream is cut short before its end marker",
                                 detail::at_file(path));
     }
@@ -204,7 +204,7 @@ base::Result<Volume> load_raw_file(const std::filesystem::path& path, const Load
     }
     const std::uint64_t voxels = std::uint64_t{raw->dims.x} * raw->dims.y * raw->dims.z;
     if (voxels > max_voxels) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 describe(*raw) + " is " + std::to_string(voxels) +
                                         " voxels, more than the limit of " +
                                         std::to_string(max_voxels),

@@ -31,7 +31,7 @@ T load_sample(const std::vector<std::byte>& data, std::size_t index) {
 }
 
 base::Error invalid(std::string message, const std::string& name) {
-    return base::make_error("invalid_volume", std::move(message), name);
+    return base::make_error(base::ErrorCode::invalid_volume, std::move(message), name);
 }
 
 // Replaces NaN and ±Inf by the smallest finite value (0 when there is none) so that the GPU and
@@ -174,7 +174,7 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
     }
     const std::uint64_t voxels = std::uint64_t{dims.x} * dims.y * dims.z;
     if (voxels > max_voxels) {
-        return base::make_error("too_large",
+        return base::make_error(base::ErrorCode::too_large,
                                 std::to_string(voxels) + " voxels exceed the limit of " +
                                         std::to_string(max_voxels),
                                 name);
@@ -252,7 +252,7 @@ base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 o
         const glm::dvec3 step = steps[column];
         const double length = glm::length(step);
         if (!std::isfinite(length) || !(length > 0.0)) {
-            return base::make_error("bad_transform",
+            return base::make_error(base::ErrorCode::bad_transform,
                                     std::string("the index-to-patient transform's ") +
                                             index_names[static_cast<std::size_t>(column)] +
                                             " column is zero or not finite",
@@ -269,7 +269,7 @@ base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 o
                 std::snprintf(angle, sizeof angle, "%.3g",
                               std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi);
                 return base::make_error(
-                        "sheared_transform",
+                        base::ErrorCode::sheared_transform,
                         std::string("the index axes ") + index_names[static_cast<std::size_t>(a)] +
                                 " and " + index_names[static_cast<std::size_t>(b)] + " are " +
                                 angle +
@@ -280,7 +280,7 @@ base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 o
         }
     }
     if (!std::isfinite(origin.x) || !std::isfinite(origin.y) || !std::isfinite(origin.z)) {
-        return base::make_error("bad_transform",
+        return base::make_error(base::ErrorCode::bad_transform,
                                 "the origin of the index-to-patient transform is "
                                 "not finite",
                                 "");
@@ -392,7 +392,7 @@ base::Result<Volume> load_volume(const std::filesystem::path& path, const LoadOp
             supported += std::string(format.suffix) + ", ";
         }
         return base::make_error(
-                "unknown_format",
+                base::ErrorCode::unknown_format,
                 "unknown volume file type; supported: " + supported +
                         "(.hdr with its .img; raw: name_XxYxZ_type.raw), DICOM files and folders",
                 detail::at_file(path));

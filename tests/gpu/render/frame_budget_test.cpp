@@ -103,7 +103,7 @@ TEST_F(FrameBudgetTest, RequestOverTheCeilingIsRefusedBeforeAnythingRuns) {
 
     auto refused = renderer_->render(large);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_much_work");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_much_work);
     EXPECT_EQ(refused.error().where, "settings");
     EXPECT_NE(refused.error().message.find("2.2e+07"), std::string::npos)
             << refused.error().message;
@@ -131,7 +131,7 @@ TEST_F(FrameBudgetTest, CeilingCountsTheLightBufferAndHalfAngleSlices) {
         request.settings.light_buffer.resolution = 512;  // 512^2 x 16 = 4.2e6
         auto refused = renderer_->render(request);
         ASSERT_FALSE(refused.ok()) << scene::to_string(mode);
-        EXPECT_EQ(refused.error().code, "too_much_work");
+        EXPECT_EQ(refused.error().code, base::ErrorCode::too_much_work);
     }
 }
 
@@ -165,7 +165,7 @@ TEST_F(FrameBudgetTest, AMostlyEmptyVolumeIsAdmittedForTheWorkItsRaysDo) {
     unskipped.settings.empty_space_skipping = false;
     auto refused = renderer_->render(unskipped);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_much_work");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_much_work);
 }
 
 // Found in review: admission counted the volume-wide fraction of visible bricks, an average. One
@@ -206,7 +206,7 @@ TEST_F(FrameBudgetTest, AVisibleColumnSeenAlongItIsCountedForTheSamplesItsRaysTa
     use(column);
     auto refused = renderer_->render(request);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_much_work");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_much_work);
     // The bound is close: the longest line through the column is hardly longer than the column.
     create(with(&RendererOptions::max_frame_work, 1.1 * samples_down_the_column));
     EXPECT_TRUE(renderer_->render(request).ok());
@@ -220,7 +220,7 @@ TEST_F(FrameBudgetTest, AVolumeWhoseBricksAreAllVisibleIsEstimatedAsEverySample)
     use(scene.volume);
     auto refused = renderer_->render(scene.request);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_much_work");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_much_work);
     char expected[32];
     std::snprintf(expected, sizeof expected, "about %.2g shader", work);
     EXPECT_NE(refused.error().message.find(expected), std::string::npos)
@@ -242,7 +242,7 @@ TEST_F(FrameBudgetTest, LightBufferLargerThanTheBudgetIsRefused) {
     request.settings.light_buffer.slices = 33;
     auto refused = renderer_->render(request);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "light_buffer_too_large");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::light_buffer_too_large);
     EXPECT_EQ(refused.error().where, "light_buffer");
     EXPECT_NE(refused.error().message.find("1 MiB"), std::string::npos) << refused.error().message;
     EXPECT_EQ(renderer_->light_buffer_builds(), 1u);
@@ -479,7 +479,7 @@ TEST_F(FrameBudgetTest, CancelledFramesStopBetweenChunks) {
         auto frame = renderer_->render(c.request, cancel.predicate());
         const double total_s = seconds_since(start);
         ASSERT_FALSE(frame.ok()) << "finished in " << total_s << " s before it was cancelled";
-        EXPECT_EQ(frame.error().code, "cancelled") << frame.error().to_string();
+        EXPECT_EQ(frame.error().code, base::ErrorCode::cancelled) << frame.error().to_string();
         ASSERT_TRUE(cancel.cancelled_at.has_value());
         const double after_cancel_s = seconds_since(*cancel.cancelled_at);
         EXPECT_LT(after_cancel_s, bound_s);
@@ -501,7 +501,7 @@ TEST_F(FrameBudgetTest, FrameCancelledBeforeItStartsRunsNothing) {
     use(test::radial_volume(16));
     auto frame = renderer_->render(soft_scene(scene::Mode::sbrc), [] { return true; });
     ASSERT_FALSE(frame.ok());
-    EXPECT_EQ(frame.error().code, "cancelled");
+    EXPECT_EQ(frame.error().code, base::ErrorCode::cancelled);
     EXPECT_EQ(renderer_->light_buffer_builds(), 0u);
 }
 

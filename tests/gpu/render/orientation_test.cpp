@@ -221,12 +221,12 @@ TEST_F(OrientationTest, ShearedAxesAreRefusedWithAClearMessage) {
     const auto shared = std::make_shared<const volume::Volume>(sheared);
     const auto status = renderer_->set_volume(shared);
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().code, "unsupported_orientation");
+    EXPECT_EQ(status.error().code, base::ErrorCode::unsupported_orientation);
     EXPECT_NE(status.error().message.find("sheared"), std::string::npos);
     const auto cpu = reference::render_cpu(
             sheared, head_request(scene::Mode::dvr, scene::orbit_camera(0.0, 0.0, 2.6), 8));
     ASSERT_FALSE(cpu.ok());
-    EXPECT_EQ(cpu.error().code, "unsupported_orientation");
+    EXPECT_EQ(cpu.error().code, base::ErrorCode::unsupported_orientation);
 }
 
 // A DICOM series of the head: the slices of the plane whose row and column directions are

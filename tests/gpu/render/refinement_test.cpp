@@ -158,7 +158,7 @@ TEST_F(RefinementTest, AStepWithoutItsEarlierStepsIsRefused) {
     request.refinement = {false, 1};
     auto lost = renderer_->render(request);
     ASSERT_FALSE(lost.ok());
-    EXPECT_EQ(lost.error().code, "refinement_lost");
+    EXPECT_EQ(lost.error().code, base::ErrorCode::refinement_lost);
 
     // Kept, then the view changes: the refinement of the old view cannot continue on the new one.
     request.refinement = {true, 0};
@@ -167,7 +167,7 @@ TEST_F(RefinementTest, AStepWithoutItsEarlierStepsIsRefused) {
     request.camera = scene::orbit_camera(40.0, 15.0, 2.2);
     lost = renderer_->render(request);
     ASSERT_FALSE(lost.ok());
-    EXPECT_EQ(lost.error().code, "refinement_lost");
+    EXPECT_EQ(lost.error().code, base::ErrorCode::refinement_lost);
 }
 
 TEST_F(RefinementTest, RefinementNeedsJitterAndARayCastMode) {

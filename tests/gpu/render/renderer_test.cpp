@@ -243,7 +243,7 @@ TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
     auto request = small_request(scene::Mode::dvr, 16);
     auto no_volume = renderer_->render(request);
     ASSERT_FALSE(no_volume.ok());
-    EXPECT_EQ(no_volume.error().code, "no_volume");
+    EXPECT_EQ(no_volume.error().code, base::ErrorCode::no_volume);
     ASSERT_TRUE(
             renderer_->set_volume(std::make_shared<const volume::Volume>(test::radial_volume(8)))
                     .ok());
@@ -255,7 +255,7 @@ TEST_F(RendererTest, RejectsBadRequestsWithoutBreaking) {
     request = small_request(scene::Mode::sbrc, 16);
     request.light.type = scene::LightType::point;
     request.light.position = {0.1, 0.0, 0.0};  // inside the volume
-    EXPECT_EQ(renderer_->render(request).error().code, "unsupported_light");
+    EXPECT_EQ(renderer_->render(request).error().code, base::ErrorCode::unsupported_light);
     request = small_request(scene::Mode::dvr, 16);
     EXPECT_TRUE(renderer_->render(request).ok());
 }

@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace penumbra::base {
 namespace {
 
 Result<int> parse_positive(int v) {
     if (v <= 0) {
-        return make_error("not_positive", "value must be positive", "field");
+        return make_error(base::ErrorCode::invalid_value, "value must be positive", "field");
     }
     return v;
 }
@@ -19,8 +21,20 @@ TEST(Result, CarriesValueOrError) {
 
     auto bad = parse_positive(-1);
     ASSERT_FALSE(bad.ok());
-    EXPECT_EQ(bad.error().code, "not_positive");
-    EXPECT_EQ(bad.error().to_string(), "field: value must be positive [not_positive]");
+    EXPECT_EQ(bad.error().code, base::ErrorCode::invalid_value);
+    EXPECT_EQ(bad.error().to_string(), "field: value must be positive [invalid_value]");
+}
+
+// Each code reads back from its name, and prints as it (test failures and logs show names).
+TEST(ErrorCode, IsNamedByItsTable) {
+    for (const EnumName<ErrorCode>& row : kErrorCodeNames) {
+        EXPECT_EQ(parse_name<ErrorCode>(row.name), row.value);
+        std::ostringstream printed;
+        printed << row.value;
+        EXPECT_EQ(printed.str(), row.name);
+    }
+    EXPECT_EQ(name_of(ErrorCode::too_much_work), "too_much_work");
+    EXPECT_EQ(parse_name<ErrorCode>("no_such_code"), std::nullopt);
 }
 
 TEST(ResultDeathTest, ValueOfAnErrorAborts) {

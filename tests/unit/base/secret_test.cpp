@@ -34,7 +34,7 @@ TEST(Secret, AFileWinsOverTheEnvironmentAndLosesItsTrailingNewline) {
 TEST(Secret, AMissingFileOrAnEmptySecretIsAnErrorNamingItsSource) {
     auto missing = read_secret("/nonexistent/penumbra-token", variable, "--token-file");
     ASSERT_FALSE(missing.ok());
-    EXPECT_EQ(missing.error().code, "not_found");
+    EXPECT_EQ(missing.error().code, base::ErrorCode::not_found);
     EXPECT_EQ(missing.error().where, "--token-file");
     const auto blank = secret_file("penumbra_secret_test_b", "\n\n");
     EXPECT_EQ(read_secret(blank, variable, "--token-file").error().where, "--token-file");

@@ -32,7 +32,7 @@ TEST(Text, NumberListsNameTheItemThatIsNotANumber) {
     ASSERT_FALSE(bad.ok());
     EXPECT_EQ(bad.error().message, "'x' is not a finite number");
     EXPECT_EQ(bad.error().where, "--budget-ms");
-    EXPECT_EQ(bad.error().code, "invalid_argument");
+    EXPECT_EQ(bad.error().code, base::ErrorCode::invalid_argument);
     EXPECT_FALSE(parse_numbers("").ok());
     EXPECT_FALSE(parse_numbers("1,,2").ok());
 }

@@ -85,7 +85,7 @@ TEST(ModeBenchSeries, APassNoFrameRanIsRefused) {
                                        bench.request(scene::Mode::dvr, 0, 0), LightBufferUse::none,
                                        "half_angle");
     ASSERT_FALSE(series);
-    EXPECT_EQ(series.error().code, "bench_invalid");
+    EXPECT_EQ(series.error().code, base::ErrorCode::bench_invalid);
 }
 
 TEST(OptimisationTable, EachRayCastModeWithSkippingOnAndOffThenTheBuildAndTheRatios) {

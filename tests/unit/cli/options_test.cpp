@@ -225,7 +225,7 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
     auto bad_mode = parse_options({"--mode", "magic"}, frame_options());
     EXPECT_EQ(frame_request_from(*bad_mode, volume).error().where, "--mode");
     auto bad_tf = parse_options({"--tf", "nope"}, frame_options());
-    EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, "unknown_preset");
+    EXPECT_EQ(frame_request_from(*bad_tf, volume).error().code, base::ErrorCode::unknown_preset);
     auto bad_distance = parse_options({"--sample-distance", "0"}, frame_options());
     // The option is checked against its setting's range (scene::setting) and named.
     const auto distance_error = frame_request_from(*bad_distance, volume).error();
@@ -269,7 +269,8 @@ base::Result<std::vector<std::string>> parse_letters(std::string_view text) {
     std::vector<std::string> letters = base::split_list(text);
     for (const std::string& letter : letters) {
         if (letter.size() != 1) {
-            return base::make_error("invalid_argument", "'" + letter + "' is not one letter");
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "'" + letter + "' is not one letter");
         }
     }
     return letters;

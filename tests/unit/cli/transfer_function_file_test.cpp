@@ -34,12 +34,13 @@ TEST(TransferFunctionFile, ErrorsNameTheFileAndTheField) {
     std::filesystem::remove(path);
     ASSERT_FALSE(tf.ok());
     EXPECT_EQ(tf.error().where, path.string() + "/opacities/0/alpha");
-    EXPECT_EQ(tf.error().code, "out_of_range");
+    EXPECT_EQ(tf.error().code, base::ErrorCode::out_of_range);
 }
 
 TEST(TransferFunctionFile, LoadsPresetsByNameAndReportsMissingFiles) {
     EXPECT_TRUE(load_transfer_function("ct_bone", range).ok());
-    EXPECT_EQ(load_transfer_function("/nonexistent/tf.json", range).error().code, "not_found");
+    EXPECT_EQ(load_transfer_function("/nonexistent/tf.json", range).error().code,
+              base::ErrorCode::not_found);
 }
 
 }  // namespace

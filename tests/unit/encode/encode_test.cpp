@@ -54,10 +54,11 @@ TEST(Encode, JpegIsCloseAndQualityChangesSize) {
 
 TEST(Encode, RejectsBadQualityEmptyImagesAndGarbage) {
     EXPECT_EQ(encode_image(gradient_image(4, 4), ImageFormat::jpeg, 0).error().code,
-              "invalid_value");
-    EXPECT_EQ(encode_image(base::ImageRgba8(), ImageFormat::png).error().code, "encode_failed");
+              base::ErrorCode::invalid_value);
+    EXPECT_EQ(encode_image(base::ImageRgba8(), ImageFormat::png).error().code,
+              base::ErrorCode::encode_failed);
     const std::vector<std::uint8_t> garbage(100, 0x42);
-    EXPECT_EQ(decode_image(garbage).error().code, "decode_failed");
+    EXPECT_EQ(decode_image(garbage).error().code, base::ErrorCode::decode_failed);
     std::vector<std::uint8_t> truncated =
             encode_image(gradient_image(16, 16), ImageFormat::png).value();
     truncated.resize(40);
@@ -69,7 +70,8 @@ TEST(Encode, WritesFilesByExtension) {
     std::filesystem::create_directories(dir);
     ASSERT_TRUE(write_image(dir / "a.png", gradient_image(8, 8)).ok());
     ASSERT_TRUE(write_image(dir / "a.JPG", gradient_image(8, 8)).ok());
-    EXPECT_EQ(write_image(dir / "a.bmp", gradient_image(8, 8)).error().code, "unsupported_format");
+    EXPECT_EQ(write_image(dir / "a.bmp", gradient_image(8, 8)).error().code,
+              base::ErrorCode::unsupported_format);
     auto back = read_image(dir / "a.png");
     ASSERT_TRUE(back.ok());
     EXPECT_EQ(back->pixels, gradient_image(8, 8).pixels);
@@ -91,7 +93,8 @@ TEST(Compare, IdenticalImagesHaveInfinitePsnrAndKnownOffsetHasKnownRmse) {
     ASSERT_TRUE(diff.ok());
     EXPECT_NEAR(diff->rms_error, 0.1, 1e-6);
     EXPECT_NEAR(diff->psnr, 20.0, 1e-4);
-    EXPECT_EQ(compare_images(a, base::ImageRgbaF(2, 2)).error().code, "size_mismatch");
+    EXPECT_EQ(compare_images(a, base::ImageRgbaF(2, 2)).error().code,
+              base::ErrorCode::size_mismatch);
 }
 
 }  // namespace

@@ -168,8 +168,10 @@ TEST(Ssim, MatchesTheDefinitionComputedDirectly) {
 }
 
 TEST(Ssim, RejectsMismatchedAndTooSmallImages) {
-    EXPECT_EQ(ssim(noise_image(16, 16, 1), noise_image(16, 17, 1)).error().code, "size_mismatch");
-    EXPECT_EQ(ssim(noise_image(10, 16, 1), noise_image(10, 16, 1)).error().code, "image_too_small");
+    EXPECT_EQ(ssim(noise_image(16, 16, 1), noise_image(16, 17, 1)).error().code,
+              base::ErrorCode::size_mismatch);
+    EXPECT_EQ(ssim(noise_image(10, 16, 1), noise_image(10, 16, 1)).error().code,
+              base::ErrorCode::image_too_small);
 }
 
 }  // namespace

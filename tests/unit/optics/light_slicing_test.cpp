@@ -796,7 +796,7 @@ TEST(MakeLightView, PointLightInsideOrTouchingTheBoxIsUnsupported) {
             SCOPED_TRACE("position " + describe(position));
             const auto view = make_light_view(point_light(position), box.box);
             ASSERT_FALSE(view.ok());
-            EXPECT_EQ(view.error().code, "unsupported_light");
+            EXPECT_EQ(view.error().code, base::ErrorCode::unsupported_light);
             EXPECT_EQ(view.error().where, "light.position");
         }
     }
@@ -806,7 +806,7 @@ TEST(MakeLightView, PointLightAlmostTouchingTheBoxIsUnsupported) {
     // Outside, but so close that no perspective under 170° covers the box.
     const auto view = make_light_view(point_light({0.5 + 1e-3, 0.0, 0.0}), unit_box);
     ASSERT_FALSE(view.ok());
-    EXPECT_EQ(view.error().code, "unsupported_light");
+    EXPECT_EQ(view.error().code, base::ErrorCode::unsupported_light);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -914,7 +914,7 @@ TEST(MakeLightView, RefusesAPointLightInsideTheTurnedBox) {
     EXPECT_TRUE(make_light_view(light, unit_box).ok());
     const auto view = make_light_view(light, scene::box_for_extent(glm::dvec3(1.0), turned));
     ASSERT_FALSE(view.ok());
-    EXPECT_EQ(view.error().code, "unsupported_light");
+    EXPECT_EQ(view.error().code, base::ErrorCode::unsupported_light);
 }
 
 }  // namespace

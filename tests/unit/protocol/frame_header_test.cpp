@@ -39,7 +39,7 @@ std::uint32_t header_length(const std::vector<std::uint8_t>& bytes) {
 void expect_invalid_frame(const std::vector<std::uint8_t>& bytes, const std::string& why) {
     const auto frame = unpack_frame(bytes);
     ASSERT_FALSE(frame.ok()) << why;
-    EXPECT_EQ(frame.error().code, "invalid_frame") << why;
+    EXPECT_EQ(frame.error().code, base::ErrorCode::invalid_frame) << why;
 }
 
 TEST(Frame, PackedFrameStartsWithMagicVersionAndHeaderLength) {

@@ -84,7 +84,7 @@ TEST(ParseRequest, RejectsMessagesLongerThanTheLimit) {
     limits.max_message_bytes = message.size() - 1;
     const auto request = parse_request(message, limits);
     ASSERT_FALSE(request.ok());
-    EXPECT_EQ(request.error().code, code::message_too_large);
+    EXPECT_EQ(request.error().code, base::ErrorCode::message_too_large);
     EXPECT_EQ(request.error().where, "/");
 }
 
@@ -114,7 +114,7 @@ TEST(ParseRequest, ASetIsCheckedWhenAppliedNotWhenParsed) {
     }
     const auto refused_unknown = parsed_then_applied(unknown, Limits{});
     ASSERT_FALSE(refused_unknown.ok());
-    EXPECT_EQ(refused_unknown.error().code, code::unknown_field);
+    EXPECT_EQ(refused_unknown.error().code, base::ErrorCode::unknown_field);
     EXPECT_EQ(refused_unknown.error().where, "/teleport");
     const auto refused_range = parsed_then_applied(out_of_range, Limits{});
     ASSERT_FALSE(refused_range.ok());
@@ -131,7 +131,7 @@ TEST(ParseRequest, ChecksSizeAgainstTheGivenLimitsNotTheDefaults) {
     EXPECT_TRUE(parsed_then_applied(slices, Limits{}).ok());
     const auto big_size = parsed_then_applied(size, small);
     ASSERT_FALSE(big_size.ok());
-    EXPECT_EQ(big_size.error().code, code::out_of_range);
+    EXPECT_EQ(big_size.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(big_size.error().where, "/settings/size/0");
     const auto many_slices = parsed_then_applied(slices, small);
     ASSERT_FALSE(many_slices.ok());
@@ -152,7 +152,7 @@ TEST(ParseRequest, RejectsTooManyTransferFunctionPoints) {
     json message = {{"v", 1}, {"type", "set"}, {"transfer_function", {{"opacities", points}}}};
     auto refused = parsed_then_applied(message.dump(), Limits{});
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, code::out_of_range);
+    EXPECT_EQ(refused.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(refused.error().where, "/transfer_function/opacities");
 
     message["transfer_function"]["opacities"].erase(0);
@@ -178,8 +178,8 @@ TEST(ServerMessages, CarryVersionTypeAndTheRequestId) {
     const json no_id = json::parse(ack_message(std::nullopt, "close"));
     EXPECT_FALSE(no_id.contains("id"));
 
-    const json error = json::parse(
-            error_message(4, base::make_error(code::unknown_volume, "no such volume", "/volume")));
+    const json error = json::parse(error_message(
+            4, base::make_error(base::ErrorCode::unknown_volume, "no such volume", "/volume")));
     EXPECT_EQ(error, json::parse(R"({"v":1,"type":"error","id":4,"code":"unknown_volume",
                                      "message":"no such volume","field":"/volume"})"));
 }
@@ -362,11 +362,11 @@ TEST(ServerMessages, HelloAnnouncesTheFixedLimitsTheParserApplies) {
             const auto applied =
                     apply_patch(std::get<Set>(too_long->message).patch, state, Limits{});
             ASSERT_FALSE(applied);
-            EXPECT_EQ(applied.error().code, code::out_of_range);
+            EXPECT_EQ(applied.error().code, base::ErrorCode::out_of_range);
             EXPECT_EQ(applied.error().where, "/transfer_function/name");
         } else {
             ASSERT_FALSE(too_long.ok());
-            EXPECT_EQ(too_long.error().code, code::out_of_range);
+            EXPECT_EQ(too_long.error().code, base::ErrorCode::out_of_range);
             EXPECT_EQ(too_long.error().where, pointer);
         }
     }
@@ -417,6 +417,23 @@ TEST(ServerMessages, StateCarriesTheSessionAndItsFullStateWithoutAnId) {
     EXPECT_EQ(message.at("state"), json::parse(state_json));
     EXPECT_EQ(message.at("state").at("settings").at("mode"), "dvr");
     EXPECT_FALSE(message.contains("id"));
+}
+
+// An error reaches a client under its code's name when the protocol lists the code, else as
+// internal_error: a loader's or a renderer's own codes stay inside the server.
+TEST(ServerMessages, ErrorsCarryTheirWireCode) {
+    for (const base::ErrorCode code : kWireCodes) {
+        EXPECT_EQ(wire_name(code), base::name_of(code));
+    }
+    EXPECT_EQ(wire_name(base::ErrorCode::bad_header), "internal_error");
+    EXPECT_EQ(wire_name(base::ErrorCode::cancelled), "internal_error");
+    const json refused = json::parse(
+            error_message(4, base::make_error(base::ErrorCode::out_of_range, "m", "/x")));
+    EXPECT_EQ(refused.at("code"), "out_of_range");
+    const json internal = json::parse(
+            error_message(4, base::make_error(base::ErrorCode::gl_error, "driver", "render")));
+    EXPECT_EQ(internal.at("code"), "internal_error");
+    EXPECT_EQ(internal.at("message"), "driver");
 }
 
 // A set is answered with the state as the server made it: an orbit's eye, a view's pose and a

@@ -58,7 +58,7 @@ TEST(JsonDepth, ASetNestedBeyondTheLimitIsOutOfRangeAtTheFirstContainerBeyondIt)
     // The message (1), camera (2), eye (3) and the arrays in it (4..7): the 7th level is beyond.
     const auto request = parse_request(deep_set(5), limits);
     ASSERT_FALSE(request.ok());
-    EXPECT_EQ(request.error().code, code::out_of_range);
+    EXPECT_EQ(request.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(request.error().where, "/camera/eye/0/0/0/0");
     EXPECT_EQ(request_id_of(deep_set(5)), 5) << "the id of a refused message is still echoed";
 
@@ -69,7 +69,7 @@ TEST(JsonDepth, ASetNestedBeyondTheLimitIsOutOfRangeAtTheFirstContainerBeyondIt)
     state.frame.transfer_function = scene::preset("grey_ramp").value();
     const auto applied = apply_patch(std::get<Set>(within->message).patch, state, limits);
     ASSERT_FALSE(applied.ok());
-    EXPECT_EQ(applied.error().code, code::invalid_value);
+    EXPECT_EQ(applied.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(applied.error().where, "/camera/eye");
 }
 
@@ -79,14 +79,14 @@ TEST(JsonDepth, PointersCountArrayElementsAndEscapeKeys) {
     const auto request =
             parse_request(R"({"v":1,"type":"set","a/b~c":[1,{"x":2},[2],[[3]]]})", limits);
     ASSERT_FALSE(request.ok());
-    EXPECT_EQ(request.error().code, code::out_of_range);
+    EXPECT_EQ(request.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(request.error().where, "/a~1b~0c/3/0");
 }
 
 TEST(JsonDepth, MalformedJsonIsReportedAsSuchEvenWhenDeep) {
     const auto request = parse_request(std::string(100, '[') + "1,", Limits{});
     ASSERT_FALSE(request.ok());
-    EXPECT_EQ(request.error().code, code::malformed_json);
+    EXPECT_EQ(request.error().code, base::ErrorCode::malformed_json);
 }
 
 // Finding: a `set` nested some thousand levels deep overflowed a network thread's stack while
@@ -99,8 +99,9 @@ TEST(JsonDepth, HundredThousandLevelsAreRefusedWithoutCrashingASmallStack) {
     const std::string within_size = deep_set(30000);
     ASSERT_LE(within_size.size(), Limits{}.max_message_bytes);
 
-    base::Result<Request> deepest_result = base::make_error("not_run", "");
-    base::Result<Request> within_size_result = base::make_error("not_run", "");
+    base::Result<Request> deepest_result = base::make_error(base::ErrorCode::internal_error, "");
+    base::Result<Request> within_size_result =
+            base::make_error(base::ErrorCode::internal_error, "");
     std::optional<std::int64_t> id;
     base::Status patch_status = base::Ok{};
     base::Status tf_status = base::Ok{};
@@ -122,14 +123,14 @@ TEST(JsonDepth, HundredThousandLevelsAreRefusedWithoutCrashingASmallStack) {
     }
     for (const auto* result : {&deepest_result, &within_size_result}) {
         ASSERT_FALSE(result->ok());
-        EXPECT_EQ(result->error().code, code::out_of_range);
+        EXPECT_EQ(result->error().code, base::ErrorCode::out_of_range);
         EXPECT_EQ(result->error().where, expected_pointer);
     }
     EXPECT_EQ(id, 5);
     ASSERT_FALSE(patch_status.ok());
-    EXPECT_EQ(patch_status.error().code, code::out_of_range);
+    EXPECT_EQ(patch_status.error().code, base::ErrorCode::out_of_range);
     ASSERT_FALSE(tf_status.ok());
-    EXPECT_EQ(tf_status.error().code, code::out_of_range);
+    EXPECT_EQ(tf_status.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(tf_status.error().where.rfind("tf.json/colors/0", 0), 0u) << tf_status.error().where;
 }
 

@@ -170,7 +170,7 @@ TEST(ApplyPatch, LeavesStateUnchangedWhenALaterPartFails) {
     const auto degenerate =
             apply_patch(R"({"light":{"intensity":3},"camera":{"eye":[0,0,0]}})", state, Limits{});
     ASSERT_FALSE(degenerate.ok());
-    EXPECT_EQ(degenerate.error().code, code::invalid_value);
+    EXPECT_EQ(degenerate.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(degenerate.error().where, "/camera");
     EXPECT_EQ(state_to_json(state), before);
 }
@@ -179,10 +179,10 @@ TEST(ApplyPatch, RejectsMalformedAndNonObjectPatches) {
     scene::State state;
     const auto malformed = apply_patch("{", state, Limits{});
     ASSERT_FALSE(malformed.ok());
-    EXPECT_EQ(malformed.error().code, code::malformed_json);
+    EXPECT_EQ(malformed.error().code, base::ErrorCode::malformed_json);
     const auto array = apply_patch("[]", state, Limits{});
     ASSERT_FALSE(array.ok());
-    EXPECT_EQ(array.error().code, code::invalid_value);
+    EXPECT_EQ(array.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(array.error().where, "/");
 }
 
@@ -194,7 +194,7 @@ TEST(ApplyPatch, NamesSettingsThatBreakTheLimitsByTheirPointer) {
     scene::State state = preset_state("grey_ramp");
     const auto status = apply_patch(R"({"camera":{"fov":40}})", state, small);
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().code, code::invalid_value);
+    EXPECT_EQ(status.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(status.error().where, "/settings/light_buffer/slices");
 }
 
@@ -266,7 +266,7 @@ TEST(ApplyPatch, NamesADecreasingTransferFunctionPoint) {
                                                {"x":0.25,"rgb":[0,0,0]}]}})",
             state, Limits{});
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().code, code::invalid_value);
+    EXPECT_EQ(status.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(status.error().where, "/transfer_function/colors/1");
 }
 
@@ -308,7 +308,7 @@ TEST(ApplyPatch, AnOrbitThatPutsTheEyeOutOfRangeIsRefused) {
             R"({"camera":{"target":[1000,1000,0],"orbit":{"azimuth":90,"elevation":45,"distance":100}}})",
             state, Limits{});
     ASSERT_FALSE(status.ok());
-    EXPECT_EQ(status.error().code, "out_of_range");
+    EXPECT_EQ(status.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(status.error().where, "/camera/orbit/distance");
     ASSERT_TRUE(apply_patch(R"({"camera":{"target":[900,0,0],"orbit":{"distance":100}}})", state,
                             Limits{})

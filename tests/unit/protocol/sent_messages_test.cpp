@@ -99,12 +99,7 @@ std::vector<std::string> text_messages() {
         out.push_back(set_ack_message(5, state));
     }
     out.push_back(set_ack_message(std::nullopt, states.front()));
-    for (const char* c :
-         {code::malformed_json, code::invalid_message, code::unknown_type, code::unknown_field,
-          code::unsupported_version, code::invalid_value, code::out_of_range,
-          code::message_too_large, code::rate_limited, code::unknown_volume, code::unknown_session,
-          code::no_session, code::too_many_sessions, code::session_owned, code::render_failed,
-          code::too_much_work, code::internal_error}) {
+    for (const base::ErrorCode c : kWireCodes) {
         out.push_back(error_message(-3, base::make_error(c, "something went wrong", "")));
     }
     // The errors the server sends for each invalid example, as net would build them.

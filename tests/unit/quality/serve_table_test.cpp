@@ -68,7 +68,8 @@ TEST_F(ServeTableTest, AGivenTableComesFirstAndMustBeReadable) {
     EXPECT_EQ(mode_of(*served), scene::Mode::sbrc);
     EXPECT_FALSE(serve_table(folder_ / "missing.json", {}, paths_).ok());
     write_text(folder_ / "bad.json", "{}");
-    EXPECT_EQ(serve_table(folder_ / "bad.json", {}, paths_).error().code, "invalid_table");
+    EXPECT_EQ(serve_table(folder_ / "bad.json", {}, paths_).error().code,
+              base::ErrorCode::invalid_table);
 }
 
 TEST_F(ServeTableTest, AMeasuredTableIsServedAndCachedWithoutATextRoundTrip) {
@@ -108,7 +109,8 @@ TEST_F(ServeTableTest, ABadCacheIsIgnoredButABadCommittedTableIsAnError) {
 
 TEST_F(ServeTableTest, NoTableAnywhereServesWithoutBudgets) {
     StartupMeasurement failed;
-    failed.error = base::make_error("no_volume", "no volume to measure on", "--data");
+    failed.error =
+            base::make_error(base::ErrorCode::no_volume, "no volume to measure on", "--data");
     auto served = serve_table(std::nullopt, failed, paths_);
     ASSERT_TRUE(served.ok());
     EXPECT_EQ(served->table, nullptr);
@@ -148,7 +150,7 @@ public:
     base::Result<render::Frame> render(const scene::FrameRequest&,
                                        const render::CancelPredicate&) override {
         ++frames;
-        return base::make_error("unavailable", "not a renderer");
+        return base::make_error(base::ErrorCode::gl_unavailable, "not a renderer");
     }
 
     [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
@@ -165,7 +167,7 @@ TEST(MeasureAtStartup, MeasuresNothingWhenToldNever) {
     const OfferedVolumes volumes{{"ch2.nii.gz"}, [&](const std::string&) {
                                      asked = true;
                                      return base::Result<std::shared_ptr<const volume::Volume>>(
-                                             base::make_error("not_found", "none"));
+                                             base::make_error(base::ErrorCode::not_found, "none"));
                                  }};
     const StartupMeasurement measured =
             measure_at_startup(renderer, Measure::never, volumes, {}, stdout);
@@ -179,12 +181,12 @@ TEST(MeasureAtStartup, ReportsWhyWithoutAVolumeOrWhenTheVolumeFailsToLoad) {
     IdleRenderer renderer;
     const auto failing = [](const std::string& id) {
         return base::Result<std::shared_ptr<const volume::Volume>>(
-                base::make_error("not_found", "cannot read " + id));
+                base::make_error(base::ErrorCode::not_found, "cannot read " + id));
     };
     const StartupMeasurement none =
             measure_at_startup(renderer, Measure::always, {{}, failing}, {}, stdout);
     ASSERT_TRUE(none.error.has_value());
-    EXPECT_EQ(none.error->code, "no_volume");
+    EXPECT_EQ(none.error->code, base::ErrorCode::no_volume);
     const StartupMeasurement unreadable = measure_at_startup(
             renderer, Measure::always, {{"a.nii", "ch2.nii.gz"}, failing}, {}, stdout);
     ASSERT_TRUE(unreadable.error.has_value());

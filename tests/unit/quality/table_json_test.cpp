@@ -116,7 +116,7 @@ TEST(TableJson, WritesThroughARenameAndReadsTheFileBack) {
     std::filesystem::remove_all(folder);
     auto missing = read_table_file(path);
     ASSERT_FALSE(missing.ok());
-    EXPECT_EQ(missing.error().code, "not_found");
+    EXPECT_EQ(missing.error().code, base::ErrorCode::not_found);
 }
 
 TEST(TableJson, ReadsTheCommittedTables) {
@@ -146,7 +146,7 @@ base::Result<Table> parse_edited(const std::string& from, const std::string& to)
 void expect_refused(const base::Result<Table>& table, const std::string& where,
                     const std::string& message_part) {
     ASSERT_FALSE(table.ok());
-    EXPECT_EQ(table.error().code, "invalid_table");
+    EXPECT_EQ(table.error().code, base::ErrorCode::invalid_table);
     EXPECT_EQ(table.error().where, where);
     EXPECT_NE(table.error().message.find(message_part), std::string::npos) << table.error().message;
 }

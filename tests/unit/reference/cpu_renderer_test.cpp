@@ -112,7 +112,7 @@ TEST(CpuRenderer, RejectsModesItDoesNotImplement) {
     request.settings.mode = scene::Mode::half_angle;
     const auto image = render_cpu(volume, request);
     ASSERT_FALSE(image.ok());
-    EXPECT_EQ(image.error().code, "unsupported_mode");
+    EXPECT_EQ(image.error().code, base::ErrorCode::unsupported_mode);
 }
 
 }  // namespace

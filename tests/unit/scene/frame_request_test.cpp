@@ -70,7 +70,7 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
         const auto status = validate(request);
         ASSERT_FALSE(status.ok()) << c.field;
         EXPECT_EQ(status.error().where, c.field);
-        EXPECT_EQ(status.error().code, "invalid_value");
+        EXPECT_EQ(status.error().code, base::ErrorCode::invalid_value);
     }
 }
 

@@ -35,7 +35,8 @@ public:
         const auto end = Clock::now() + std::chrono::milliseconds(request.settings.width);
         while (Clock::now() < end) {
             if (cancelled && cancelled()) {
-                return base::make_error("cancelled", "cancelled between chunks", "render");
+                return base::make_error(base::ErrorCode::cancelled, "cancelled between chunks",
+                                        "render");
             }
             std::this_thread::sleep_for(1ms);
         }
@@ -96,7 +97,7 @@ protected:
             return *withdrawn == Withdrawn::superseded ? "superseded" : "shutting_down";
         }
         if (const auto* failure = std::get_if<FrameFailure>(&outcome)) {
-            return failure->error.code;
+            return std::string(base::name_of(failure->error.code));
         }
         return "frame";
     }

@@ -54,7 +54,7 @@ public:
                 ++refinement_chunks_;
             }
             if (cancelled && cancelled()) {
-                return base::make_error("cancelled", "cancelled", "render");
+                return base::make_error(base::ErrorCode::cancelled, "cancelled", "render");
             }
         }
         render::Frame frame;

@@ -31,7 +31,8 @@ public:
 
     base::Result<render::Frame> render(const scene::FrameRequest&,
                                        const render::CancelPredicate&) override {
-        return base::make_error("unexpected", "these tests render nothing", "render");
+        return base::make_error(base::ErrorCode::internal_error, "these tests render nothing",
+                                "render");
     }
 
     [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
@@ -160,16 +161,19 @@ TEST(Session, WithdrawnJobsReachNobodyAndFailuresReachEveryViewer) {
                 viewer,
                 [&heard](const ViewerOutcome& outcome) {
                     const auto* failure = std::get_if<FrameFailure>(&outcome);
-                    heard.push_back(failure != nullptr ? failure->error.code + " answering " +
-                                                                 std::to_string(failure->request_id)
-                                                       : "frame");
+                    heard.push_back(failure != nullptr
+                                            ? std::string(base::name_of(failure->error.code)) +
+                                                      " answering " +
+                                                      std::to_string(failure->request_id)
+                                            : "frame");
                 },
                 {}, {}));
     }
     session.deliver(Withdrawn::superseded);
     session.deliver(Withdrawn::shutting_down);
     EXPECT_TRUE(heard.empty());
-    session.deliver(FrameFailure{base::make_error("too_much_work", "over the ceiling"), 7});
+    session.deliver(
+            FrameFailure{base::make_error(base::ErrorCode::too_much_work, "over the ceiling"), 7});
     EXPECT_EQ(heard,
               (std::vector<std::string>{"too_much_work answering 7", "too_much_work answering 7"}));
     EXPECT_EQ(session.frame_count(), 0U);
@@ -184,7 +188,7 @@ public:
 
     base::Result<render::Frame> render(const scene::FrameRequest&,
                                        const render::CancelPredicate&) override {
-        return base::make_error("too_much_work", "over the ceiling", "render");
+        return base::make_error(base::ErrorCode::too_much_work, "over the ceiling", "render");
     }
 
     [[nodiscard]] std::size_t gpu_bytes_held() const override { return 0; }
@@ -213,10 +217,12 @@ TEST(Session, AFrameTheRendererRefusesAnswersItsRequestId) {
                 [&, viewer](const ViewerOutcome& outcome) {
                     const auto* failure = std::get_if<FrameFailure>(&outcome);
                     const std::lock_guard lock(mutex);
-                    heard.emplace_back(viewer, failure != nullptr
-                                                       ? failure->error.code + " answering " +
-                                                                 std::to_string(failure->request_id)
-                                                       : "frame");
+                    heard.emplace_back(viewer,
+                                       failure != nullptr
+                                               ? std::string(base::name_of(failure->error.code)) +
+                                                         " answering " +
+                                                         std::to_string(failure->request_id)
+                                               : "frame");
                     heard_all.notify_all();
                 },
                 {}, {}));
@@ -243,10 +249,10 @@ TEST(Session, OnlyTheOwnerChangesTheStateAndAFailedChangeLeavesItAsItWas) {
     };
     const auto refused = session.change_state(first_viewer, to_dvr);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "invalid_message");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::invalid_message);
     const auto failed = session.change_state(owner, [](scene::State& state) {
         state.frame.settings.mode = scene::Mode::phong;
-        return base::Status(base::make_error("invalid_value", "no", "/settings"));
+        return base::Status(base::make_error(base::ErrorCode::invalid_value, "no", "/settings"));
     });
     EXPECT_FALSE(failed.ok());
     EXPECT_EQ(session.state().frame.settings.mode, scene::Mode::sbrc);
@@ -332,7 +338,7 @@ TEST(Session, AWrongTokenIsRefusedAndChangesNothing) {
         Heard heard;
         const auto refused = session.resume(resuming, token, {}, {}, heard.sink("welcome"));
         ASSERT_FALSE(refused.ok());
-        EXPECT_EQ(refused.error().code, "invalid_value");
+        EXPECT_EQ(refused.error().code, base::ErrorCode::invalid_value);
         EXPECT_EQ(refused.error().where, "/owner_token");
         EXPECT_EQ(refused.error().message.find(session.owner_token()), std::string::npos);
         EXPECT_TRUE(heard.events.empty());
@@ -346,12 +352,13 @@ TEST(Session, ResumingWhileTheOwnerIsConnectedIsRefused) {
     ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
     const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "session_owned");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::session_owned);
     EXPECT_EQ(refused.error().where, "/session");
     EXPECT_EQ(session.owner(), owner);
     EXPECT_EQ(session.viewer_count(), 1U);
     // A wrong token says nothing of the owner.
-    EXPECT_EQ(session.resume(resuming, "", {}, {}, {}).error().code, "invalid_value");
+    EXPECT_EQ(session.resume(resuming, "", {}, {}, {}).error().code,
+              base::ErrorCode::invalid_value);
 }
 
 TEST(Session, OnceTheLastViewerLeftNobodyResumes) {
@@ -362,7 +369,7 @@ TEST(Session, OnceTheLastViewerLeftNobodyResumes) {
     EXPECT_EQ(session.remove_viewer(first_viewer), 0U);
     const auto refused = session.resume(resuming, session.owner_token(), {}, {}, {});
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "unknown_session");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::unknown_session);
     EXPECT_EQ(session.viewer_count(), 0U);
 }
 
@@ -398,7 +405,7 @@ TEST(SessionRegistry, ASessionEndsWithItsLastConnectionAndIsFoundNoMore) {
     const auto gone = registry.enter(
             session->id(), [](Session& s) { return s.add_viewer(second_viewer, {}, {}, {}); });
     ASSERT_FALSE(gone.ok());
-    EXPECT_EQ(gone.error().code, "unknown_session");
+    EXPECT_EQ(gone.error().code, base::ErrorCode::unknown_session);
     EXPECT_EQ(gone.error().where, "/session");
 }
 
@@ -407,7 +414,7 @@ TEST(Session, AnEndedSessionTakesNoViewer) {
     EXPECT_EQ(session.remove_viewer(owner), 0U);
     const auto refused = session.add_viewer(first_viewer, {}, {}, {});
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "unknown_session");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::unknown_session);
     EXPECT_EQ(session.viewer_count(), 0U);
 }
 
@@ -425,7 +432,8 @@ TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
         ASSERT_TRUE(created.ok());
         const std::shared_ptr<Session> session = *created;
         std::atomic<int> ready{0};
-        base::Result<std::shared_ptr<Session>> joined = base::make_error("none", "", "");
+        base::Result<std::shared_ptr<Session>> joined =
+                base::make_error(base::ErrorCode::internal_error, "", "");
         std::thread joiner([&] {
             ready.fetch_add(1);
             while (ready.load() < 2) {
@@ -446,7 +454,7 @@ TEST(SessionRegistry, AJoinRacingTheLastLeaveNeverRevivesAnEndedSession) {
             EXPECT_TRUE(registry.leave(*session, first_viewer, *scheduler));
         } else {
             ++refused;
-            EXPECT_EQ(joined.error().code, "unknown_session");
+            EXPECT_EQ(joined.error().code, base::ErrorCode::unknown_session);
             EXPECT_EQ(session->viewer_count(), 0U) << "refused, so nobody is in it";
         }
         EXPECT_EQ(registry.count(), 0U);
@@ -481,7 +489,7 @@ TEST(SessionRegistry, AnotherServerOfTheClusterRecreatesASessionForItsOwnerOnly)
     EXPECT_FALSE(successor.proves_owner(id, std::string(32, '0')));
     const auto forged = successor.recreate(id, std::string(32, '0'), "v", nullptr, {}, resuming);
     ASSERT_FALSE(forged.ok());
-    EXPECT_EQ(forged.error().code, "invalid_value");
+    EXPECT_EQ(forged.error().code, base::ErrorCode::invalid_value);
     EXPECT_EQ(forged.error().where, "/owner_token");
     EXPECT_EQ(successor.count(), 0U);
 
@@ -509,7 +517,7 @@ TEST(SessionRegistry, AServerWithoutClusterSecretRecreatesNothing) {
     const auto refused =
             other.recreate((*created)->id(), (*created)->owner_token(), "v", nullptr, {}, resuming);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "unknown_session");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::unknown_session);
 }
 
 TEST(SessionRegistry, RecreatingRespectsTheSessionLimit) {
@@ -519,7 +527,7 @@ TEST(SessionRegistry, RecreatingRespectsTheSessionLimit) {
     const auto refused =
             full.recreate("elsewhere", tokens.token_for("elsewhere"), "v", nullptr, {}, resuming);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_many_sessions");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_many_sessions);
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ void expect_budget(const std::function<base::Result<Volume>(const LoadOptions&)>
     below.max_bytes = needed - 1;
     const auto refused = load(below);
     ASSERT_FALSE(refused.ok()) << "a budget one byte short must refuse the load";
-    EXPECT_EQ(refused.error().code, "too_large");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_large);
     EXPECT_TRUE(contains(refused.error().message, "load limit")) << refused.error().message;
     LoadOptions exact;
     exact.max_bytes = needed;
@@ -71,7 +71,8 @@ TEST(LoadBudget, NrrdCountsTheDeclaredSizeEvenWhenTheDataIsMissing) {
     small.max_bytes = 8 * 8 * 8 * 4 - 1;
     const auto refused = load_nrrd(dir / "missing.nhdr", small);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_large") << "the budget is checked before the data file";
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_large)
+            << "the budget is checked before the data file";
 
     const std::vector<std::byte> doubles(8 * 8 * 8 * 8, std::byte{0});
     fixtures::write_bytes(dir / "doubles.raw", doubles);
@@ -103,7 +104,7 @@ TEST(LoadBudget, DicomCountsTheDecodedVolumeAndWhatItHoldsBeside) {
     tiny.max_bytes = 8 * 6 * 3 * 4;  // the float32 voxels alone: not enough
     const auto refused = load_volume(dir.path(), tiny);
     ASSERT_FALSE(refused.ok());
-    EXPECT_EQ(refused.error().code, "too_large");
+    EXPECT_EQ(refused.error().code, base::ErrorCode::too_large);
     LoadOptions enough;
     enough.max_bytes = mib;
     const auto loaded = load_volume(dir.path(), enough);
@@ -156,7 +157,7 @@ struct ChildResult {
 };
 
 ChildResult run_limited(std::uint64_t headroom, const std::function<base::Result<Volume>()>& load,
-                        const std::string& code) {
+                        std::optional<base::ErrorCode> code) {
     const pid_t child = fork();
     if (child == 0) {
         const std::uint64_t limit = address_space_in_use() + headroom;
@@ -201,7 +202,7 @@ TEST_F(LoadUnderAddressLimit, AnAllocationThatFailsIsAnErrorNotACrash) {
                 options.within_available_memory = false;
                 return load_raw(path, options);
             },
-            "out_of_memory");
+            base::ErrorCode::out_of_memory);
     EXPECT_TRUE(result.exited) << "the child died of signal " << result.signal;
     EXPECT_EQ(result.status, 1) << "expected an out_of_memory Error";
 }
@@ -214,7 +215,7 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     const auto raw = dir / "wide_512x512x128_int16.raw";
     std::filesystem::resize_file((fixtures::write_bytes(raw, {}), raw), 64 * mib);
     const auto loaded = run_limited(
-            152 * mib, [&] { return load_raw(raw); }, "");
+            152 * mib, [&] { return load_raw(raw); }, std::nullopt);
     EXPECT_TRUE(loaded.exited) << "the child died of signal " << loaded.signal;
     EXPECT_EQ(loaded.status, 0) << "the load did not fit in one copy of the volume + 24 MiB";
 
@@ -232,7 +233,7 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
     nifti_image_free(image);
     std::filesystem::resize_file(nifti, data_offset + 64 * mib);
     const auto from_nifti = run_limited(
-            152 * mib, [&] { return load_nifti(nifti); }, "");
+            152 * mib, [&] { return load_nifti(nifti); }, std::nullopt);
     EXPECT_TRUE(from_nifti.exited) << "the child died of signal " << from_nifti.signal;
     EXPECT_EQ(from_nifti.status, 0) << "the NIfTI load did not fit in one copy + 24 MiB";
 
@@ -243,7 +244,7 @@ TEST_F(LoadUnderAddressLimit, ConvertingLoadsHoldOneCopyOfTheVolume) {
                          "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 512 512 32\n"
                          "encoding: gzip\nendian: little\ndata file: kept.raw.gz\n");
     const auto nrrd = run_limited(
-            16 * mib + 12 * mib, [&] { return load_nrrd(dir / "kept.nhdr"); }, "");
+            16 * mib + 12 * mib, [&] { return load_nrrd(dir / "kept.nhdr"); }, std::nullopt);
     EXPECT_TRUE(nrrd.exited) << "the child died of signal " << nrrd.signal;
     EXPECT_EQ(nrrd.status, 0);
 }

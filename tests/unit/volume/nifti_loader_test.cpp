@@ -252,7 +252,7 @@ TEST(NiftiLoader, UnsupportedDatatypeIsRejected) {
     write_nifti(dir / "rgb.nii", spec, std::vector<std::byte>(8 * 3));
     auto volume = load_nifti(dir / "rgb.nii");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "unsupported_type");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::unsupported_type);
     EXPECT_TRUE(contains(volume.error().message, "RGB")) << volume.error().message;
 }
 
@@ -261,7 +261,7 @@ TEST(NiftiLoader, GarbageFileIsRejected) {
     fixtures::write_text(dir / "garbage.nii", std::string(600, 'x'));
     auto volume = load_nifti(dir / "garbage.nii");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "bad_header");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::bad_header);
     EXPECT_TRUE(contains(volume.error().where, "garbage.nii"));
 
     fixtures::write_text(dir / "empty.nii.gz", "");
@@ -277,7 +277,7 @@ TEST(NiftiLoader, TruncatedFileIsRejected) {
     std::filesystem::resize_file(dir / "cut.nii", 352 + 1000);
     auto volume = load_nifti(dir / "cut.nii");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().message, "4096 bytes")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "1352 bytes")) << volume.error().message;
 
@@ -302,19 +302,19 @@ TEST(NiftiLoader, AbsurdDimensionsAreRejectedBeforeReadingData) {
     file.close();
     auto volume = load_nifti(dir / "huge.nii");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_large") << volume.error().to_string();
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_large) << volume.error().to_string();
 }
 
 TEST(NiftiLoader, MissingFileAndWrongNameAreRejected) {
     fixtures::TempDir dir;
     auto missing = load_nifti(dir / "absent.nii.gz");
     ASSERT_FALSE(missing.ok());
-    EXPECT_EQ(missing.error().code, "not_found");
+    EXPECT_EQ(missing.error().code, base::ErrorCode::not_found);
 
     fixtures::write_text(dir / "head.img", "");
     auto wrong = load_nifti(dir / "head.img");
     ASSERT_FALSE(wrong.ok());
-    EXPECT_EQ(wrong.error().code, "bad_file_name");
+    EXPECT_EQ(wrong.error().code, base::ErrorCode::bad_file_name);
 }
 
 // The real heads that Debian's mricron-data installs (DESIGN.md §3). They are part of the
@@ -422,7 +422,7 @@ TEST(NiftiLoader, ShearedSformWithoutQformIsRefused) {
     write_nifti(dir / "sheared.nii", spec, sequence_uint8(8));
     auto volume = load_nifti(dir / "sheared.nii");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::sheared_transform);
     EXPECT_TRUE(contains(volume.error().message, "sform")) << volume.error().message;
 }
 

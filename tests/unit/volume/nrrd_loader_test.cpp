@@ -265,7 +265,7 @@ TEST(NrrdLoader, ShearedDirectionsAreRefused) {
                                         "space directions: (1,0,0) (0,1,0) (0,0.2,1)\n",
                                 cube_uint8());
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "sheared_transform");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::sheared_transform);
     EXPECT_TRUE(contains(volume.error().message, "not perpendicular")) << volume.error().message;
 }
 
@@ -366,14 +366,14 @@ TEST(NrrdLoader, AsciiEncoding) {
                                       "encoding: txt\n",
                                       text_bytes("7 256\n"), "range.nrrd");
     ASSERT_FALSE(out_of_range.ok());
-    EXPECT_EQ(out_of_range.error().code, "bad_data");
+    EXPECT_EQ(out_of_range.error().code, base::ErrorCode::bad_data);
 
     auto short_text = load_attached(dir,
                                     "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 1\n"
                                     "encoding: ascii\n",
                                     text_bytes("1 2 3\n"), "short.nrrd");
     ASSERT_FALSE(short_text.ok());
-    EXPECT_EQ(short_text.error().code, "truncated");
+    EXPECT_EQ(short_text.error().code, base::ErrorCode::truncated);
 }
 
 TEST(NrrdLoader, LineSkipAndByteSkipInADetachedFile) {
@@ -488,7 +488,8 @@ TEST(NrrdLoader, MalformedHeadersAreRejected) {
     for (const Rejection& c : cases) {
         auto volume = load_attached(dir, c.header, cube_uint8());
         ASSERT_FALSE(volume.ok()) << c.what;
-        EXPECT_EQ(volume.error().code, c.code) << c.what << ": " << volume.error().to_string();
+        EXPECT_EQ(base::name_of(volume.error().code), c.code)
+                << c.what << ": " << volume.error().to_string();
         const std::string& where = volume.error().where;
         EXPECT_TRUE(contains(where, "cube.nrrd")) << c.what << ": " << where;
         EXPECT_TRUE(where.size() >= c.where.size() &&
@@ -525,7 +526,7 @@ TEST(NrrdLoader, TruncatedRawDataReportsExpectedAndActualSizes) {
             "endian: little\nencoding: raw\n";
     auto volume = load_attached(dir, header, std::vector<std::byte>(100));
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().message, "expected 128 bytes")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "only 100")) << volume.error().message;
     const std::string offset = std::to_string(header.size() + 1 + 100);
@@ -539,7 +540,7 @@ TEST(NrrdLoader, TruncatedGzipDataIsRejected) {
                                 "encoding: gzip\n",
                                 fixtures::gzip_bytes(std::vector<std::byte>(60)));
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().message, "expected 64")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "got 60")) << volume.error().message;
 }
@@ -551,7 +552,7 @@ TEST(NrrdLoader, CorruptGzipDataIsRejected) {
                                 "encoding: gzip\n",
                                 cube_uint8());
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "corrupt_data");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::corrupt_data);
 }
 
 TEST(NrrdLoader, HeaderWithoutDataOrDataFileIsRejected) {
@@ -560,7 +561,7 @@ TEST(NrrdLoader, HeaderWithoutDataOrDataFileIsRejected) {
                          "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n");
     auto volume = load_nrrd(dir / "cube.nrrd");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "bad_header");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::bad_header);
     EXPECT_TRUE(contains(volume.error().message, "data file")) << volume.error().message;
 }
 
@@ -571,7 +572,7 @@ TEST(NrrdLoader, MissingDataFileIsNotFound) {
                          "data file: nowhere.raw\n");
     auto volume = load_nrrd(dir / "cube.nhdr");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "not_found");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::not_found);
     EXPECT_TRUE(contains(volume.error().where, "nowhere.raw")) << volume.error().where;
     EXPECT_TRUE(contains(volume.error().message, "cube.nhdr")) << volume.error().message;
 }
@@ -584,7 +585,7 @@ TEST(NrrdLoader, TruncatedDetachedDataNamesTheDataFile) {
                          "data file: cube.raw\n");
     auto volume = load_nrrd(dir / "cube.nhdr");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().where, "cube.raw:byte 5")) << volume.error().where;
 }
 
@@ -596,7 +597,7 @@ TEST(NrrdLoader, LineSkipPastTheEndIsTruncated) {
                          "data file: short.txt\nline skip: 3\n");
     auto volume = load_nrrd(dir / "cube.nhdr");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
 }
 
 TEST(NrrdLoader, HeaderWithoutEndIsCapped) {
@@ -607,7 +608,7 @@ TEST(NrrdLoader, HeaderWithoutEndIsCapped) {
     fixtures::write_text(dir / "endless.nrrd", text);
     auto volume = load_nrrd(dir / "endless.nrrd");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "bad_header");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::bad_header);
 }
 
 }  // namespace
@@ -637,7 +638,7 @@ TEST(NrrdLoader, DataFileOutsideTheHeadersFolderIsRefused) {
                                        (dir / "outside.raw").string(), std::string("link.raw")}) {
         const auto volume = load_with(refused);
         ASSERT_FALSE(volume.ok()) << refused;
-        EXPECT_EQ(volume.error().code, "data_file_outside") << refused;
+        EXPECT_EQ(volume.error().code, base::ErrorCode::data_file_outside) << refused;
         EXPECT_EQ(volume.error().where, (dir / "volumes" / "h.nhdr").string() + ":line 6");
     }
     for (const std::string& allowed :
@@ -680,7 +681,7 @@ TEST(NrrdLoader, AsciiValuesStreamAcrossChunksAndBeyondFloatRangeAreCounted) {
     fixtures::write_text(dir / "big.txt", last_value_missing);
     const auto truncated = load_nrrd(dir / "big.nhdr");
     ASSERT_FALSE(truncated.ok());
-    EXPECT_EQ(truncated.error().code, "truncated");
+    EXPECT_EQ(truncated.error().code, base::ErrorCode::truncated);
 }
 
 std::vector<std::byte> bzip2(std::span<const std::byte> data) {
@@ -715,7 +716,8 @@ TEST(NrrdLoader, Bzip2EncodingIsRead) {
     compressed.resize(compressed.size() / 2);
     auto cut = load_attached(dir, header, compressed, "cut.nrrd");
     ASSERT_FALSE(cut.ok());
-    EXPECT_TRUE(cut.error().code == "truncated" || cut.error().code == "corrupt_data")
+    EXPECT_TRUE(cut.error().code == base::ErrorCode::truncated ||
+                cut.error().code == base::ErrorCode::corrupt_data)
             << cut.error().to_string();
 }
 
@@ -743,7 +745,7 @@ TEST(NrrdLoader, FourDimensionalFileOpensItsFirstVolume) {
                                      "encoding: raw\n",
                                      as_bytes(values), "dwi.nrrd");
     ASSERT_FALSE(interleaved.ok());
-    EXPECT_EQ(interleaved.error().code, "unsupported_dimension");
+    EXPECT_EQ(interleaved.error().code, base::ErrorCode::unsupported_dimension);
     EXPECT_TRUE(contains(interleaved.error().message, "first axis")) << interleaved.error().message;
 }
 

@@ -144,7 +144,7 @@ TEST(RawLoader, NamesThatDoNotFollowThePatternAreRejectedWithThePattern) {
         fixtures::write_bytes(dir / name, std::vector<std::byte>(64));
         auto volume = load_raw(dir / name);
         ASSERT_FALSE(volume.ok()) << name;
-        EXPECT_EQ(volume.error().code, "bad_file_name") << name;
+        EXPECT_EQ(volume.error().code, base::ErrorCode::bad_file_name) << name;
         EXPECT_TRUE(contains(volume.error().message, "name_XxYxZ_type.raw"))
                 << name << ": " << volume.error().message;
         EXPECT_TRUE(contains(volume.error().where, name)) << volume.error().where;
@@ -165,7 +165,7 @@ TEST(RawLoader, TruncatedFileReportsExpectedAndActualSizes) {
     fixtures::write_bytes(path, std::vector<std::byte>(100));
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().message, "128")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "100")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().where, "engine_4x4x4_uint16.raw:byte 100"))
@@ -178,7 +178,7 @@ TEST(RawLoader, LongerFileIsRejected) {
     fixtures::write_bytes(path, std::vector<std::byte>(9));
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_long");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_long);
     EXPECT_TRUE(contains(volume.error().message, "9 bytes")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "8")) << volume.error().message;
 }
@@ -188,7 +188,7 @@ TEST(RawLoader, EmptyFileIsTruncated) {
     fixtures::write_bytes(dir / "e_1x1x1_uint8.raw", {});
     auto volume = load_raw(dir / "e_1x1x1_uint8.raw");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
 }
 
 TEST(RawLoader, TruncatedGzipReportsDecompressedSize) {
@@ -197,7 +197,7 @@ TEST(RawLoader, TruncatedGzipReportsDecompressedSize) {
     fixtures::write_gzip_file(path, std::vector<std::byte>(60));
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
     EXPECT_TRUE(contains(volume.error().message, "60 bytes")) << volume.error().message;
     EXPECT_TRUE(contains(volume.error().message, "64")) << volume.error().message;
 }
@@ -214,7 +214,7 @@ TEST(RawLoader, GzipCutShortIsTruncated) {
     fixtures::write_bytes(path, compressed);
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
 }
 
 TEST(RawLoader, GzipMissingOnlyItsTrailerIsTruncated) {
@@ -225,7 +225,7 @@ TEST(RawLoader, GzipMissingOnlyItsTrailerIsTruncated) {
     fixtures::write_bytes(path, compressed);
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "truncated");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::truncated);
 }
 
 TEST(RawLoader, LongerGzipIsRejected) {
@@ -234,7 +234,7 @@ TEST(RawLoader, LongerGzipIsRejected) {
     fixtures::write_gzip_file(path, std::vector<std::byte>(9));
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_long");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_long);
 }
 
 TEST(RawLoader, GzipBombIsStoppedAtTheExpectedSize) {
@@ -245,7 +245,7 @@ TEST(RawLoader, GzipBombIsStoppedAtTheExpectedSize) {
     EXPECT_LT(std::filesystem::file_size(path), std::uintmax_t{1} << 20);
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_long");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_long);
 }
 
 TEST(RawLoader, ConcatenatedGzipMembersAreOneStream) {
@@ -266,7 +266,7 @@ TEST(RawLoader, NotGzipDataIsCorrupt) {
     fixtures::write_text(path, "this is not gzip data at all");
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "corrupt_data");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::corrupt_data);
     EXPECT_TRUE(contains(volume.error().where, ":byte ")) << volume.error().where;
 }
 
@@ -276,14 +276,14 @@ TEST(RawLoader, TooManyVoxelsAreRejectedBeforeReading) {
     fixtures::write_bytes(path, std::vector<std::byte>(16));
     auto volume = load_raw(path);
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_large");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_large);
 }
 
 TEST(RawLoader, MissingFileIsNotFound) {
     fixtures::TempDir dir;
     auto volume = load_raw(dir / "absent_2x2x2_uint8.raw");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "not_found");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::not_found);
 }
 
 }  // namespace

@@ -53,21 +53,21 @@ TEST(MakeVolume, KeepsDataAndComputesIntegerRange) {
 TEST(MakeVolume, RejectsZeroDimension) {
     auto volume = make_volume("v", {4, 0, 4}, glm::dvec3(1.0), VoxelType::uint8, {});
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "invalid_volume");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::invalid_volume);
     EXPECT_NE(volume.error().message.find("4x0x4"), std::string::npos);
 }
 
 TEST(MakeVolume, RejectsMoreThanMaxVoxelsBeforeLookingAtData) {
     auto volume = make_volume("v", {2048, 2048, 1024}, glm::dvec3(1.0), VoxelType::uint8, {});
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "too_large");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::too_large);
 }
 
 TEST(MakeVolume, RejectsDataOfTheWrongSize) {
     auto volume = make_volume("v", {2, 2, 2}, glm::dvec3(1.0), VoxelType::uint16,
                               std::vector<std::byte>(8));
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "invalid_volume");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::invalid_volume);
     EXPECT_NE(volume.error().message.find("16 bytes expected"), std::string::npos)
             << volume.error().message;
 }
@@ -78,7 +78,7 @@ TEST(MakeVolume, RejectsSpacingThatIsNotFiniteAndPositive) {
         auto volume = make_volume("v", {1, 1, 1}, glm::dvec3(1.0, spacing, 1.0), VoxelType::uint8,
                                   std::vector<std::byte>(1));
         ASSERT_FALSE(volume.ok()) << spacing;
-        EXPECT_EQ(volume.error().code, "invalid_volume");
+        EXPECT_EQ(volume.error().code, base::ErrorCode::invalid_volume);
     }
 }
 
@@ -186,7 +186,7 @@ TEST(LoadVolume, UnknownExtensionListsTheSupportedOnes) {
     fixtures::write_text(dir / "head.mha", "not a volume");
     auto volume = load_volume(dir / "head.mha");
     ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, "unknown_format");
+    EXPECT_EQ(volume.error().code, base::ErrorCode::unknown_format);
     for (const char* extension : {".nii", ".nii.gz", ".nrrd", ".nhdr", ".raw", ".raw.gz"}) {
         EXPECT_NE(volume.error().message.find(extension), std::string::npos) << extension;
     }
@@ -197,7 +197,7 @@ TEST(LoadVolume, MissingFileIsNotFound) {
     for (const char* name : {"a_2x2x2_uint8.raw", "a.nrrd", "a.nii.gz"}) {
         auto volume = load_volume(dir / name);
         ASSERT_FALSE(volume.ok()) << name;
-        EXPECT_EQ(volume.error().code, "not_found") << name;
+        EXPECT_EQ(volume.error().code, base::ErrorCode::not_found) << name;
         EXPECT_NE(volume.error().to_string().find("not found"), std::string::npos);
         EXPECT_NE(volume.error().where.find(name), std::string::npos);
     }
@@ -249,11 +249,11 @@ TEST(Orientation, ShearedAndDegenerateStepsAreRefused) {
             glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0.1, 1)),
             glm::dvec3(0));
     ASSERT_FALSE(sheared.ok());
-    EXPECT_EQ(sheared.error().code, "sheared_transform");
+    EXPECT_EQ(sheared.error().code, base::ErrorCode::sheared_transform);
     auto flat = geometry_from_steps(
             glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0), glm::dvec3(0, 0, 1)), glm::dvec3(0));
     ASSERT_FALSE(flat.ok());
-    EXPECT_EQ(flat.error().code, "bad_transform");
+    EXPECT_EQ(flat.error().code, base::ErrorCode::bad_transform);
 }
 
 TEST(Orientation, LpsToRasNegatesXAndY) {

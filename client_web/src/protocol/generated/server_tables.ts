@@ -4,6 +4,8 @@
 
 /** The formats frames are written in, the first the default. */
 export const ENCODINGS = ['jpeg', 'png'] as const;
+/** The codes an `error` message carries. */
+export const ERROR_CODES = ['malformed_json', 'invalid_message', 'unknown_type', 'unknown_field', 'unsupported_version', 'invalid_value', 'out_of_range', 'message_too_large', 'rate_limited', 'unknown_volume', 'volume_unreadable', 'unknown_session', 'no_session', 'too_many_sessions', 'session_owned', 'render_failed', 'too_much_work', 'internal_error'] as const;
 /** settings.compositing */
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
 /** settings.stage: the ray caster's stage. */

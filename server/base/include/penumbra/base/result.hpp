@@ -5,14 +5,15 @@
 #include <variant>
 
 #include "penumbra/base/assert.hpp"
+#include "penumbra/base/error_code.hpp"
 
 namespace penumbra::base {
 
-// Why something failed, for untrusted input (files, messages, parameters). `code` is a stable
-// machine-readable token, `message` a sentence for a person, `where` the file:offset, field or
-// JSON pointer that was wrong.
+// Why something failed, for untrusted input (files, messages, parameters). `code` is what kind of
+// failure it is (error_code.hpp), `message` a sentence for a person, `where` the file:offset,
+// field or JSON pointer that was wrong.
 struct Error {
-    std::string code;
+    ErrorCode code = ErrorCode::internal_error;
     std::string message;
     std::string where;
 
@@ -20,8 +21,8 @@ struct Error {
     [[nodiscard]] std::string to_string() const;
 };
 
-inline Error make_error(std::string code, std::string message, std::string where = {}) {
-    return Error{std::move(code), std::move(message), std::move(where)};
+inline Error make_error(ErrorCode code, std::string message, std::string where = {}) {
+    return Error{code, std::move(message), std::move(where)};
 }
 
 // A value or the Error that prevented it. GCC 12 ships std::expected only for C++23, so the

@@ -5,12 +5,12 @@
 // summary as the description; a setting that a state holds is required there, one the device
 // bounds has the default limit as its maximum), the mode and frame-format names, the transfer
 // function's preset names, position spaces, limits and defaults, the orbit's defaults (the default
-// camera's) and the client message types (the request variant). The rest of the file is written by hand. proto/README.md's
-// table of the client messages is written from their schemas the same way, hello.schema.json's
-// mode capabilities from the kinds' name tables and its limits' defaults from the hello a server
-// configured with nothing else sends, and the hello the web client's tests recorded from the
-// server. update_schema writes these parts into the files (scripts/update-schema.sh) and
-// SchemaAgreement.*IsGenerated fail while a committed file differs.
+// camera's) and the client message types (the request variant). The rest of the file is written by
+// hand. proto/README.md's table of the client messages is written from their schemas the same way,
+// hello.schema.json's mode capabilities from the kinds' name tables and its limits' defaults from
+// the hello a server configured with nothing else sends, and the hello the web client's tests
+// recorded from the server. update_schema writes these parts into the files
+// (scripts/update-schema.sh) and SchemaAgreement.*IsGenerated fail while a committed file differs.
 
 #include <penumbra/base/result.hpp>
 

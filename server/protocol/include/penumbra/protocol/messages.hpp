@@ -18,27 +18,23 @@
 
 namespace penumbra::protocol {
 
-// Error codes sent in `error` messages (proto/README.md lists them).
-namespace code {
-inline constexpr const char* malformed_json = "malformed_json";
-inline constexpr const char* invalid_message = "invalid_message";
-inline constexpr const char* unknown_type = "unknown_type";
-inline constexpr const char* unknown_field = "unknown_field";
-inline constexpr const char* unsupported_version = "unsupported_version";
-inline constexpr const char* invalid_value = "invalid_value";
-inline constexpr const char* out_of_range = "out_of_range";
-inline constexpr const char* message_too_large = "message_too_large";
-inline constexpr const char* rate_limited = "rate_limited";
-inline constexpr const char* unknown_volume = "unknown_volume";
-inline constexpr const char* volume_unreadable = "volume_unreadable";
-inline constexpr const char* unknown_session = "unknown_session";
-inline constexpr const char* no_session = "no_session";
-inline constexpr const char* too_many_sessions = "too_many_sessions";
-inline constexpr const char* session_owned = "session_owned";
-inline constexpr const char* render_failed = "render_failed";
-inline constexpr const char* too_much_work = "too_much_work";
-inline constexpr const char* internal_error = "internal_error";
-}  // namespace code
+// The codes an `error` message carries (proto/README.md lists them), in the order the protocol
+// lists them: the failures a client can tell apart. Any other code reaches a client as
+// internal_error (wire_name).
+inline constexpr std::array kWireCodes{
+        base::ErrorCode::malformed_json,      base::ErrorCode::invalid_message,
+        base::ErrorCode::unknown_type,        base::ErrorCode::unknown_field,
+        base::ErrorCode::unsupported_version, base::ErrorCode::invalid_value,
+        base::ErrorCode::out_of_range,        base::ErrorCode::message_too_large,
+        base::ErrorCode::rate_limited,        base::ErrorCode::unknown_volume,
+        base::ErrorCode::volume_unreadable,   base::ErrorCode::unknown_session,
+        base::ErrorCode::no_session,          base::ErrorCode::too_many_sessions,
+        base::ErrorCode::session_owned,       base::ErrorCode::render_failed,
+        base::ErrorCode::too_much_work,       base::ErrorCode::internal_error,
+};
+
+// The name `code` has on the wire: its own for a wire code, else internal_error's.
+std::string_view wire_name(base::ErrorCode code);
 
 // A member of a client message as the wire carries it, listed next to the message's struct by a
 // static `members()`: parse_request reads each by its name, in the listed order, and refuses

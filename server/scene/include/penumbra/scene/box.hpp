@@ -59,7 +59,7 @@ struct Box {
         for (int j = 0; j < 3; ++j) {
             const double expected = i == j ? 1.0 : 0.0;
             if (!(std::abs(glm::dot(axes[i], axes[j]) - expected) <= tolerance)) {
-                return base::make_error("unsupported_orientation",
+                return base::make_error(base::ErrorCode::unsupported_orientation,
                                         "the volume's axes are not orthonormal (a sheared or "
                                         "scaled transform, such as a gantry tilt); it must be "
                                         "resampled onto an orthogonal grid to be drawn",
