@@ -5,7 +5,6 @@
 #include <penumbra/cli/options.hpp>
 #include <penumbra/net/load.hpp>
 #include <penumbra/scene/frame_request.hpp>
-#include <penumbra/scene/state.hpp>
 
 #include <cstdio>
 #include <filesystem>

@@ -4,7 +4,7 @@
 #include <penumbra/cli/transfer_function_file.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/default_preset.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 // Strict reading of JSON fields: every failure names the JSON pointer of the field.
 
 #include <penumbra/base/result.hpp>
-#include <penumbra/scene/state.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>

@@ -4,7 +4,7 @@
 #include "patch_document.hpp"
 
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <algorithm>

@@ -4,7 +4,7 @@
 #include "patch_document.hpp"
 
 #include <penumbra/scene/camera.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <glm/geometric.hpp>
 

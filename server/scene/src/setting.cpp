@@ -1,6 +1,6 @@
 #include "penumbra/scene/setting.hpp"
 
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <algorithm>
 #include <cstdio>

@@ -1,6 +1,6 @@
-#include "penumbra/scene/state.hpp"
+#include <penumbra/scene/frame_request.hpp>
 
-#include <penumbra/scene/setting_table.hpp>
+#include "penumbra/scene/frame_request.hpp"
 
 namespace penumbra::scene {
 

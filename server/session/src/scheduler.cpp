@@ -2,7 +2,7 @@
 
 #include <penumbra/base/log.hpp>
 #include <penumbra/encode/encode.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <algorithm>
 #include <future>

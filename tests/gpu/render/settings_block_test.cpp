@@ -8,7 +8,7 @@
 #include <penumbra/gpu/context.hpp>
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #include <penumbra/base/text.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <gtest/gtest.h>
 

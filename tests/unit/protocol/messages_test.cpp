@@ -1,6 +1,6 @@
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
-#include <penumbra/scene/setting_table.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

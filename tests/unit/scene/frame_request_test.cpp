@@ -1,5 +1,4 @@
 #include <penumbra/scene/frame_request.hpp>
-#include <penumbra/scene/setting_table.hpp>
 
 #include <gtest/gtest.h>
 

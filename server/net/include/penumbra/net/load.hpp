@@ -5,7 +5,7 @@
 // request in flight); the latency from request sent to frame received, with the server's split
 // from each frame's header.
 
-#include <penumbra/scene/state.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <chrono>
 #include <cstdint>

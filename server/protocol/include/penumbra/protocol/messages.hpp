@@ -3,8 +3,8 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/scene_json.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/setting.hpp>
-#include <penumbra/scene/state.hpp>
 
 #include <array>
 #include <cstdint>

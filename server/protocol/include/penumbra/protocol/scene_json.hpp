@@ -2,7 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
-#include <penumbra/scene/state.hpp>
+#include <penumbra/scene/frame_request.hpp>
 
 #include <algorithm>
 #include <array>
@@ -34,7 +34,7 @@ private:
 // sets is checked when it is applied.
 base::Result<Patch> parse_patch(std::string_view patch_json, const Limits& limits);
 
-// Applies a patch onto `state`: each setting of scene's table (setting_table.hpp) at its path, the
+// Applies a patch onto `state`: each setting of scene's table (kSettings) at its path, the
 // camera's view or orbit, the transfer function. Unknown fields, wrong types, non-finite numbers
 // and values outside the limits are errors naming the JSON pointer of the field; on error `state`
 // is unchanged.

@@ -102,9 +102,9 @@ struct SettingSpec {
 
 // One setting: where the protocol puts it (its path in the state and in proto/v1's schemas,
 // "settings/light_buffer/compensation"), what it holds and how to read and write it in a state.
-// Each setting is declared once, as a row of setting_table.hpp; the protocol's parser and printer,
-// validate, the command line, hello, the JSON Schema, the shaders' Settings block and the web
-// client's types and defaults all walk the rows.
+// Each setting is declared once, as a row of frame_request.hpp, next to its member; the protocol's
+// parser and printer, validate, the command line, hello, the JSON Schema, the shaders' Settings
+// block and the web client's types and defaults all walk the rows.
 struct Setting {
     std::string_view path;
     SettingKind kind = SettingKind::number;

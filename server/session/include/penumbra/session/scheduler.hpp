@@ -3,7 +3,7 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/render/renderer.hpp>
-#include <penumbra/scene/state.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <chrono>

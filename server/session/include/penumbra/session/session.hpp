@@ -2,7 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/quality/table.hpp>
-#include <penumbra/scene/state.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/volume_store.hpp>
 #include <penumbra/volume/volume.hpp>
