@@ -119,13 +119,15 @@ public:
         if (!open_session()) {
             return;
         }
+        // At least one frame each: on a loaded server the open alone may outlast a short run, and
+        // a run that measured no frame would say nothing about the latency it was asked for.
         double azimuth = 17.0 * index_;
-        while (Clock::now() < end) {
+        do {
             azimuth += 3.0;
             if (!request_frame(azimuth, ++last_id_)) {
                 return;
             }
-        }
+        } while (Clock::now() < end);
         client_->close();
     }
 

@@ -57,7 +57,8 @@ struct LoadReport {
 // writes a volume alike and a proxy hashes it alike.
 std::string load_path(const std::string& volume, const std::string& token);
 
-// Runs `config.clients` simulated users for `config.seconds`, each on a thread of its own. An
+// Runs `config.clients` simulated users for `config.seconds`, each on a thread of its own and
+// each asking at least one frame once its session is open, however long the open took. An
 // error naming a request answers it; a client refused with rate_limited waits
 // rate_limited_backoff before its next request, and asks again for its session (the open and
 // the first `set`, the frame's settings) where those were refused.
