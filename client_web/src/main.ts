@@ -3,7 +3,13 @@
 import GUI from 'lil-gui';
 import './style.css';
 import { Connection, RequestFailed, ServerError, type SessionInfo } from './protocol/connection';
-import { DEFAULT_LIMITS, mergePatches, VIEWS, type StatePatch } from './protocol/messages';
+import {
+  DEFAULT_LIMITS,
+  mergePatches,
+  VIEWS,
+  type Listing,
+  type StatePatch,
+} from './protocol/messages';
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
 import { FrameView } from './view/frame_view';
@@ -302,13 +308,31 @@ connection.on('sessionLost', (session, outcome) => {
   }
 });
 
-async function refreshVolumes(): Promise<void> {
-  try {
-    const volumes = await connection.listVolumes();
-    picker.setVolumes(volumes, connection.session?.volume.id ?? '');
-  } catch (e) {
-    notices.show('error', 'Could not list the volumes', describe(e));
-  }
+let refreshing: Promise<void> | null = null;
+let listing: Listing = 'complete';
+
+/**
+ * Lists the volumes; while the server's first scan of its data folder runs, asks again each second
+ * until it ends or `enough` holds. One refresh at a time.
+ */
+function refreshVolumes(enough: () => boolean = () => false): Promise<void> {
+  refreshing ??= (async () => {
+    try {
+      for (;;) {
+        const listed = await connection.listVolumes();
+        listing = listed.listing;
+        picker.setVolumes(listed.volumes, connection.session?.volume.id ?? '');
+        picker.setListing(listing);
+        if (listing !== 'scanning' || enough()) return;
+        await new Promise((resolve) => setTimeout(resolve, 1000));
+      }
+    } catch (e) {
+      notices.show('error', 'Could not list the volumes', describe(e));
+    } finally {
+      refreshing = null;
+    }
+  })();
+  return refreshing;
 }
 
 async function openVolume(id: string): Promise<void> {
@@ -325,7 +349,7 @@ async function openVolume(id: string): Promise<void> {
 }
 
 async function start(): Promise<void> {
-  await refreshVolumes();
+  await refreshVolumes(() => picker.listsPreferred(query.get('volume')));
   if (joinId) {
     try {
       await connection.join(joinId, pageVolume);
@@ -342,6 +366,8 @@ async function start(): Promise<void> {
     }
   }
   const id = picker.defaultVolume(query.get('volume'));
+  // The list keeps growing under the open volume until the scan ends.
+  if (listing === 'scanning') void refreshVolumes();
   if (id) await openVolume(id);
   else
     notices.show(

@@ -148,7 +148,9 @@ describe('Connection', () => {
     const volumes = connection.listVolumes();
     expect(socket().sent[0]).toEqual({ v: 1, id: 1, type: 'list_volumes' });
     socket().receive(recorded[1]!);
-    expect((await volumes).map((v) => v.id)).toContain('AICHAmc.nii.gz');
+    const listed = await volumes;
+    expect(listed.volumes.map((v) => v.id)).toContain('AICHAmc.nii.gz');
+    expect(listed.listing).toBe('complete');
   });
 
   it('sends any request through request() and resolves with the answer its type takes', async () => {

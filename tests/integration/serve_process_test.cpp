@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +22,7 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -262,6 +264,202 @@ TEST_F(ServeProcessTest, SigtermStopsALongRenderAndExitsCleanlyWithinTwoSeconds)
     EXPECT_TRUE(WIFEXITED(*status)) << server.log();
     EXPECT_EQ(WEXITSTATUS(*status), 0) << server.log();
     EXPECT_LT(seconds, 2.0) << server.log();
+}
+
+// The data folder an operator may be handed: besides a volume linked in from elsewhere, a link to
+// "/", a link to the folder itself (a loop), a link to a folder outside holding a DICOM file, a
+// FIFO named like a volume and one not, and `stray_files` small files that are not volumes.
+void make_hostile_data_folder(const fs::path& data, const fs::path& outside, int stray_files) {
+    fs::remove(data / "ch2.nii.gz");
+    fs::create_symlink("/usr/share/mricron/templates/ch2.nii.gz", data / "ch2.nii.gz");
+    fs::create_directory_symlink("/", data / "rootlink");
+    fs::create_directory_symlink(data, data / "loop");
+    fs::create_directories(outside);
+    fs::copy_file("/usr/lib/python3/dist-packages/pydicom/data/test_files/CT_small.dcm",
+                  outside / "CT_small.dcm");
+    fs::create_directory_symlink(outside, data / "pacs");
+    ASSERT_EQ(::mkfifo((data / "fifo").c_str(), 0600), 0);
+    ASSERT_EQ(::mkfifo((data / "pipe.nrrd").c_str(), 0600), 0);
+    fs::create_directories(data / "stray");
+    for (int i = 0; i < stray_files; ++i) {
+        const std::string name = (data / "stray" / ("f" + std::to_string(i))).string();
+        const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ASSERT_GE(fd, 0) << name;
+        ASSERT_EQ(::write(fd, "x", 1), 1);
+        ::close(fd);
+    }
+}
+
+// The text answer of `type` to a request sent on `ws`, frames skipped.
+std::string ask(net::Client& ws, const std::string& request, const std::string& type) {
+    if (!ws.send_text(request).ok()) {
+        return "(not sent)";
+    }
+    for (int i = 0; i < 100; ++i) {
+        auto message = ws.receive(10s);
+        if (!message.ok()) {
+            return "(no answer: " + message.error().to_string() + ")";
+        }
+        if (!message->binary &&
+            (message->text.find("\"type\":\"" + type + "\"") != std::string::npos ||
+             message->text.find("\"type\":\"error\"") != std::string::npos)) {
+            return message->text;
+        }
+    }
+    return "(no answer)";
+}
+
+double metric(const std::string& text, const std::string& name) {
+    const auto at = text.find("\n" + name + " ");
+    return at == std::string::npos ? -1.0 : std::stod(text.substr(at + name.size() + 2));
+}
+
+// How soon a server answers its health check, whatever its data folder holds (the first pass over
+// this test's folder alone takes longer); the sanitizers' instrumented start-up, about twice.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr double start_budget_s = 2.0;
+#else
+constexpr double start_budget_s = 1.0;
+#endif
+
+// A data folder holding a link to "/", a loop, a link leaving it, FIFOs and 100,000 stray files:
+// the server answers its health check within a second of starting, lists and opens nothing from
+// outside, names each link that leaves once (not at every rescan), and a client rendering
+// throughout the first scan and the rescans sees no gap longer than twice its frame time.
+TEST_F(ServeProcessTest, AHostileDataFolderNeitherDelaysStartNorLeaksNorStallsFrames) {
+    const fs::path data = dir_ / "data";
+    make_hostile_data_folder(data, dir_ / "outside", 100'000);
+    const auto started = Clock::now();
+    // Small frames come faster than a person asks: the rate limit is not what is tested.
+    ServeProcess server(data, dir_ / "serve.log",
+                        {"--rescan-interval", "0.5", "--max-requests-per-second", "1e6"});
+    ASSERT_NE(server.port(), 0) << server.log();
+    auto health = net::http_get("127.0.0.1", server.port(), "/healthz", 2s);
+    const double healthy_after = std::chrono::duration<double>(Clock::now() - started).count();
+    ASSERT_TRUE(health.ok() && health->status == 200);
+    RecordProperty("healthz_seconds", std::to_string(healthy_after));
+    EXPECT_LT(healthy_after, start_budget_s) << server.log().substr(0, 2000);
+
+    // The victim: opens the linked volume at once (the open waits for the scan to list it) and
+    // renders small frames one after another through the first pass and a dozen rescans.
+    auto client = net::Client::connect("127.0.0.1", server.port());
+    ASSERT_TRUE(client.ok()) << client.error().to_string();
+    auto& ws = **client;
+    ASSERT_TRUE(ws.receive().ok());  // hello
+    const std::string opened =
+            ask(ws, R"({"v":1,"type":"open","id":1,"volume":"ch2.nii.gz"})", "opened");
+    ASSERT_NE(opened.find("\"opened\""), std::string::npos) << opened;
+    const std::string ack =
+            ask(ws, R"({"v":1,"type":"set","id":2,"settings":{"mode":"sbrc","size":[256,256]}})",
+                "ack");
+    ASSERT_NE(ack.find("\"ack\""), std::string::npos) << ack;
+    // A frame every 150 ms at most, as a client paced to its display asks, for six seconds of
+    // rescans: each frame's time from request to arrival.
+    const auto scans = [&] {
+        const auto metrics = net::http_get("127.0.0.1", server.port(), "/metrics");
+        return metrics.ok() ? metric(metrics->body, "penumbra_volume_scans_total") : -1.0;
+    };
+    const double scans_before = scans();
+    std::vector<double> frame_ms;
+    const auto rendering = Clock::now();
+    for (std::int64_t id = 3; Clock::now() - rendering < 6s; ++id) {
+        const auto sent = Clock::now();
+        ASSERT_TRUE(
+                ws.send_text(R"({"v":1,"type":"render","id":)" + std::to_string(id) + "}").ok());
+        while (true) {
+            auto message = ws.receive(10s);
+            ASSERT_TRUE(message.ok()) << message.error().to_string();
+            ASSERT_EQ(message->text.find("\"type\":\"error\""), std::string::npos) << message->text;
+            if (message->binary) {
+                break;
+            }
+        }
+        frame_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - sent).count());
+        std::this_thread::sleep_until(sent + 150ms);
+    }
+    const double scans_during = scans() - scans_before;
+    EXPECT_GE(scans_during, 3.0) << "the rescans did not run while the client rendered";
+    ASSERT_GE(frame_ms.size(), 20U);
+    frame_ms.erase(frame_ms.begin());  // the first frame pays for the volume's upload
+    std::vector<double> sorted = frame_ms;
+    std::sort(sorted.begin(), sorted.end());
+    const double median_ms = sorted[sorted.size() / 2];
+    const double longest_ms = sorted.back();
+    RecordProperty("frame_ms", std::to_string(median_ms));
+    RecordProperty("longest_frame_ms", std::to_string(longest_ms));
+    RecordProperty("scans_while_rendering", std::to_string(scans_during));
+    EXPECT_LE(longest_ms, 2.0 * median_ms)
+            << "frames: " << frame_ms.size() << ", median " << median_ms << " ms";
+
+    const auto metrics = net::http_get("127.0.0.1", server.port(), "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_EQ(metric(metrics->body, "penumbra_volume_scans_cut_short_total"), 0.0);
+    RecordProperty("scan_seconds",
+                   std::to_string(metric(metrics->body, "penumbra_volume_scan_seconds")));
+
+    const std::string listed = ask(ws, R"({"v":1,"type":"list_volumes","id":100})", "volumes");
+    EXPECT_NE(listed.find("\"listing\":\"complete\""), std::string::npos) << listed;
+    EXPECT_NE(listed.find("\"id\":\"ch2.nii.gz\""), std::string::npos) << listed;
+    for (const char* outside : {"rootlink", "pacs", "loop/", "fifo", "pipe.nrrd", "stray"}) {
+        EXPECT_EQ(listed.find(std::string("\"id\":\"") + outside), std::string::npos)
+                << outside << " listed: " << listed.substr(0, 1000);
+    }
+    for (const char* id : {"pacs", "rootlink/usr/share/mricron/templates/ch2.nii.gz",
+                           "loop/ch2.nii.gz", "../outside/CT_small.dcm"}) {
+        const std::string refused =
+                ask(ws, std::string(R"({"v":1,"type":"open","id":101,"volume":")") + id + "\"}",
+                    "opened");
+        EXPECT_NE(refused.find("\"code\":\"unknown_volume\""), std::string::npos)
+                << id << ": " << refused;
+    }
+    const std::string log = server.log();
+    EXPECT_EQ(count_lines_containing(log, "skipped rootlink: a link to a folder outside"), 1)
+            << log.substr(0, 4000);
+    EXPECT_EQ(count_lines_containing(log, "skipped pacs: a link to a folder outside"), 1);
+    EXPECT_LE(count_lines_containing(log, "skipped stray/"), 20) << "a flood of skipped files";
+}
+
+// What an operator allows, links may lead to: the folder outside opens through its link.
+TEST_F(ServeProcessTest, AnAllowedRootOpensThroughItsLink) {
+    const fs::path data = dir_ / "data";
+    make_hostile_data_folder(data, dir_ / "outside", 10);
+    ServeProcess server(data, dir_ / "serve.log",
+                        {"--allow-links-to", (dir_ / "outside").string()});
+    ASSERT_NE(server.port(), 0) << server.log();
+    auto client = net::Client::connect("127.0.0.1", server.port());
+    ASSERT_TRUE(client.ok()) << client.error().to_string();
+    auto& ws = **client;
+    ASSERT_TRUE(ws.receive().ok());  // hello
+    const std::string opened = ask(ws, R"({"v":1,"type":"open","id":1,"volume":"pacs"})", "opened");
+    EXPECT_NE(opened.find("\"opened\""), std::string::npos) << opened;
+    const std::string refused =
+            ask(ws, R"({"v":1,"type":"open","id":2,"volume":"rootlink/etc/hostname"})", "opened");
+    EXPECT_NE(refused.find("\"code\":\"unknown_volume\""), std::string::npos) << refused;
+}
+
+// A pass that reaches its budget stops, says so in the log, in /metrics and in list_volumes, and
+// lists what it found.
+TEST_F(ServeProcessTest, AScanCutShortByItsBudgetSaysSo) {
+    const fs::path data = dir_ / "data";
+    make_hostile_data_folder(data, dir_ / "outside", 3'000);
+    ServeProcess server(data, dir_ / "serve.log", {"--scan-max-entries", "1000"});
+    ASSERT_NE(server.port(), 0) << server.log();
+    std::string log;
+    for (const auto until = Clock::now() + 10s;
+         Clock::now() < until && log.find("scan cut short") == std::string::npos;) {
+        std::this_thread::sleep_for(50ms);
+        log = server.log();
+    }
+    EXPECT_NE(log.find("scan cut short after 1000 entries"), std::string::npos) << log;
+    EXPECT_NE(log.find("more than 1000 files and folders (--scan-max-entries)"), std::string::npos);
+    const auto metrics = net::http_get("127.0.0.1", server.port(), "/metrics");
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_GE(metric(metrics->body, "penumbra_volume_scans_cut_short_total"), 1.0) << metrics->body;
+    auto client = net::Client::connect("127.0.0.1", server.port());
+    ASSERT_TRUE(client.ok()) << client.error().to_string();
+    ASSERT_TRUE((*client)->receive().ok());  // hello
+    const std::string listed = ask(**client, R"({"v":1,"type":"list_volumes","id":1})", "volumes");
+    EXPECT_NE(listed.find("\"listing\":\"cut_short\""), std::string::npos) << listed;
 }
 
 }  // namespace

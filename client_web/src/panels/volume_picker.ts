@@ -2,16 +2,29 @@
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
-import type { VolumeSummary } from '../protocol/messages';
+import type { Listing, VolumeSummary } from '../protocol/messages';
 
 export function volumeLabel(v: VolumeSummary): string {
   const dims = v.dims.every((d) => d > 0) ? ` (${v.dims.join('×')} ${v.voxel_type})` : '';
   return `${v.name}${dims}`;
 }
 
+/** What the picker says of a listing that is not yet, or not, the whole data folder. */
+export function listingNote(listing: Listing, count: number): string {
+  switch (listing) {
+    case 'scanning':
+      return `scanning… ${count} found so far`;
+    case 'cut_short':
+      return 'scan cut short: some volumes may be missing';
+    case 'complete':
+      return '';
+  }
+}
+
 export class VolumePicker {
-  private readonly params = { volume: '' };
+  private readonly params = { volume: '', listing: '' };
   private readonly controller: Controller;
+  private readonly listingLine: Controller;
   private volumes: VolumeSummary[] = [];
 
   constructor(
@@ -23,6 +36,21 @@ export class VolumePicker {
     this.controller.onChange((id: string) => this.pick(id));
     this.controller.domElement.dataset['control'] = 'volume';
     folder.add({ refresh }, 'refresh').name('refresh list');
+    this.listingLine = folder.add(this.params, 'listing').name('data folder').disable().hide();
+    this.listingLine.domElement.dataset['control'] = 'listing';
+  }
+
+  /** Says whether the list is the whole data folder (hidden when it is). */
+  setListing(listing: Listing): void {
+    this.params.listing = listingNote(listing, this.volumes.length);
+    this.listingLine.updateDisplay();
+    this.listingLine.show(listing !== 'complete');
+  }
+
+  /** Whether the volume defaultVolume(wanted) would pick from the whole folder is listed yet. */
+  listsPreferred(wanted: string | null): boolean {
+    const ids = this.volumes.map((v) => v.id);
+    return wanted ? ids.includes(wanted) : ids.some((id) => /^ch2\./.test(id));
   }
 
   /** The list to offer; `current` is selected without opening it again. */

@@ -18,6 +18,7 @@ import {
   type ClientRequest,
   type ErrorMessage,
   type HelloMessage,
+  type Listing,
   type OpenedMessage,
   type ServerMessage,
   type State,
@@ -635,8 +636,10 @@ export class Connection {
     return info;
   }
 
-  async listVolumes(): Promise<VolumeSummary[]> {
-    return (await this.request({ type: 'list_volumes' })).volumes;
+  /** The volumes the server lists, and whether its scan of its data folder is still under way. */
+  async listVolumes(): Promise<{ volumes: VolumeSummary[]; listing: Listing }> {
+    const { volumes, listing } = await this.request({ type: 'list_volumes' });
+    return { volumes, listing };
   }
 
   /** Opens a volume in a new session this connection owns (on that volume's server). */

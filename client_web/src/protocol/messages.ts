@@ -7,6 +7,7 @@ import {
   DEFAULT_LIMITS as SERVER_DEFAULT_LIMITS,
   ERROR_CODES,
   GRADIENTS,
+  LISTINGS,
   POSITION_SPACES,
   SCATTERING_KINDS,
   SETTINGS,
@@ -27,6 +28,7 @@ export {
   ERROR_CODES,
   LIGHT_LOOKUPS,
   LIGHT_TYPES,
+  LISTINGS,
   POSITION_SPACES,
   SETTINGS,
   STAGES,
@@ -196,11 +198,15 @@ export interface HelloMessage {
   limits: Limits;
 }
 
+/** Where the server's listing of its data folder stands: `scanning` while its first scan runs. */
+export type Listing = (typeof LISTINGS)[number];
+
 export interface VolumesMessage {
   v: 1;
   type: 'volumes';
   id?: number;
   volumes: VolumeSummary[];
+  listing: Listing;
 }
 
 export interface OpenedMessage {
@@ -355,6 +361,17 @@ function num(o: Record<string, unknown>, key: string, at: string): number {
 function bool(o: Record<string, unknown>, key: string, at: string): boolean {
   const v = o[key];
   return need(typeof v === 'boolean', v as boolean, 'a boolean', `${at}/${key}`);
+}
+
+function oneOf<T extends string>(
+  o: Record<string, unknown>,
+  key: string,
+  names: readonly T[],
+  at: string,
+): T {
+  const v = o[key];
+  const ok = typeof v === 'string' && (names as readonly string[]).includes(v);
+  return need(ok, v as T, `one of ${names.join(', ')}`, `${at}/${key}`);
 }
 
 function obj(o: Record<string, unknown>, key: string, at: string): Record<string, unknown> {
@@ -514,6 +531,7 @@ export function parseServerMessage(text: string): ServerMessage {
     case 'volumes': {
       need(Array.isArray(o['volumes']), null, 'an array', '/volumes');
       (o['volumes'] as unknown[]).forEach((v, i) => checkVolumeSummary(v, `/volumes/${i}`));
+      oneOf(o, 'listing', LISTINGS, '');
       return o as unknown as VolumesMessage;
     }
     case 'opened':

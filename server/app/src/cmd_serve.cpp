@@ -77,7 +77,7 @@ struct ServeOptions {
     quality::Measure measure = quality::Measure::where_missing;
     std::optional<std::filesystem::path> quality_table;
     session::SchedulerOptions scheduler;
-    std::chrono::milliseconds rescan_interval = session::VolumeStore::default_rescan_interval;
+    session::ScanOptions scan;
 };
 
 po::options_description network_options(ServeOptions& o) {
@@ -126,14 +126,23 @@ po::options_description data_options(ServeOptions& o) {
     po::options_description options = option_group("data, memory and access");
     options.add_options()("help", "this text")(
             "data", po::value(&o.data)->value_name("DIR")->default_value(o.data),
-            "folder of volumes to offer; links in it are followed (default: the demo folder that "
+            "folder of volumes to offer; links in it are followed to files, and to folders inside "
+            "it or --allow-links-to (default: the demo folder that "
             "scripts/demo-data.sh makes, else the MRI heads of Debian's mricron-data)")(
             "web-root", po::value(&o.web_root)->value_name("DIR"),
             "the built web client (default share/penumbra/web above the binary: client_web/dist, "
-            "installed)")("rescan-interval", seconds(&o.rescan_interval, 0.1, 86400.0),
+            "installed)")("rescan-interval", seconds(&o.scan.rescan_interval, 0.1, 86400.0),
                           "seconds between scans of the data folder (a file added at its top is "
-                          "seen sooner)")("volume-memory-mb", megabytes(&o.volume_memory, 1 << 20),
-                                          "loaded volumes kept in memory")(
+                          "seen sooner)")(
+            "allow-links-to", po::value<std::string>()->value_name("LIST"),
+            "comma-separated folders outside the data folder that links in it may lead to "
+            "(links to files are followed anywhere; links to other folders are skipped)")(
+            "scan-max-entries", whole_number(&o.scan.max_entries, 1, 100'000'000),
+            "files and folders one scan of the data folder may see before it stops")(
+            "scan-max-seconds", seconds(&o.scan.max_time, 0.1, 86400.0),
+            "CPU seconds one scan of the data folder may use before it stops")(
+            "volume-memory-mb", megabytes(&o.volume_memory, 1 << 20),
+            "loaded volumes kept in memory")(
             "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
             "memory one volume load may take (never more than the machine has available)")(
             "gpu-memory-mb", megabytes(&o.renderer.volume_memory_budget, 1 << 20),
@@ -199,6 +208,11 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     o.config.web_root = o.web_root;
     o.config.port = static_cast<unsigned short>(o.port);
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
+    if (a.count("allow-links-to") != 0) {
+        for (const std::string& root : base::split_list(a["allow-links-to"].as<std::string>())) {
+            o.scan.link_roots.emplace_back(root);
+        }
+    }
     if (a.count("allowed-origins") != 0) {
         o.config.allowed_origins = base::split_list(a["allowed-origins"].as<std::string>());
     }
@@ -292,17 +306,15 @@ int run_serve(const std::vector<std::string>& args) {
     }
     net::ServerConfig& config = o.config;
     protocol::Limits& limits = config.limits;
-    session::VolumeStore volumes(o.data, o.volume_memory, o.load, o.rescan_interval);
-    if (auto status = volumes.scan(); !status) {
+    // The folder is walked in the background: whatever it holds, the server listens at once.
+    if (auto status = session::check_data_folder(o.data); !status) {
         return fail(status.error());
     }
-    std::printf("data:     %s (%zu volumes", o.data.c_str(), volumes.list().size());
-    if (const std::size_t skipped = volumes.skipped().size(); skipped > 0) {
-        std::printf(", %zu files skipped, each logged with why", skipped);
-    }
-    std::printf(")\n");
-
     metrics::Registry registry;
+    o.scan.metrics = &registry;
+    session::VolumeStore volumes(o.data, o.volume_memory, o.load, o.scan);
+    std::printf("data:     %s (scanned in the background; skipped files are logged with why)\n",
+                o.data.c_str());
     quality::StartupMeasurement measured;
     auto scheduler = start_scheduler(o, volumes, registry, measured);
     if (!scheduler) {

@@ -462,6 +462,7 @@ base::Result<std::string> generated_common_schema(std::string_view committed) {
                 std::move(names);
     }
     write_names<scene::View>(defs, "camera/view");
+    write_names<protocol::Listing>(defs, "listing");
     defs["error_code"]["enum"] = json::array();
     for (const base::ErrorCode code : kWireCodes) {
         defs["error_code"]["enum"].push_back(base::name_of(code));
@@ -739,6 +740,8 @@ std::string generated_client_tables() {
         wire_codes.push_back(base::name_of(code));
     }
     out += ts_names("ERROR_CODES", "The codes an `error` message carries.", wire_codes);
+    out += ts_enum<protocol::Listing>(
+            "LISTINGS", "Where the server's listing of its data folder stands (volumes.listing).");
     out += ts_enum<scene::Compositing>("COMPOSITINGS", "settings.compositing");
     out += ts_enum<scene::RaycastStage>("STAGES", "settings.stage: the ray caster's stage.");
     out += ts_enum<scene::LightBufferBuilder>("BUILDERS", "settings.light_buffer.builder");

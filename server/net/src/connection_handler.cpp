@@ -380,12 +380,17 @@ bool ConnectionHandler::need_session(std::optional<std::int64_t> id) {
 
 template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::ListVolumes&) {
-    // The last scan: the store rescans on a thread of its own.
+    // The last scan, or what the first has found so far: the store scans on a thread of its own.
+    const session::VolumeStore& volumes = context_.services.volumes;
+    const session::ScanProgress progress = volumes.progress();
     std::vector<protocol::VolumeSummary> list;
-    for (const auto& entry : context_.services.volumes.list()) {
+    for (const auto& entry : volumes.list()) {
         list.push_back(summary_of(entry.summary()));
     }
-    send(protocol::volumes_message(id, list));
+    const protocol::Listing listing = !progress.first_pass_done ? protocol::Listing::scanning
+                                      : progress.cut_short      ? protocol::Listing::cut_short
+                                                                : protocol::Listing::complete;
+    send(protocol::volumes_message(id, list, listing));
 }
 
 template <>

@@ -330,12 +330,14 @@ json volume_json(const VolumeSummary& v) {
 }  // namespace
 
 std::string volumes_message(std::optional<std::int64_t> id,
-                            const std::vector<VolumeSummary>& volumes) {
+                            const std::vector<VolumeSummary>& volumes, Listing listing) {
     json list = json::array();
     for (const auto& v : volumes) {
         list.push_back(volume_json(v));
     }
-    return with_id({{"type", "volumes"}, {"volumes", list}}, id).dump();
+    return with_id({{"type", "volumes"}, {"volumes", list}, {"listing", base::name_of(listing)}},
+                   id)
+            .dump();
 }
 
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,

@@ -3,52 +3,134 @@
 #include <penumbra/base/log.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
+#include <ctime>
+#include <memory>
 #include <optional>
 #include <set>
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 namespace penumbra::session {
 namespace {
 
-// The DICOM files of one folder make its series' volumes, so such a folder's series are listed,
-// not its files.
-struct DicomFiles {
-    std::uintmax_t bytes = 0;  // of the folder's files
-    // The names, sizes and modification times of the folder's files: while it stays the same,
-    // so do the series the headers name.
+using Clock = std::chrono::steady_clock;
+
+// How many skipped files one pass logs by name; the rest are counted in one line, so a folder of
+// a hundred thousand stray files does not flood the log (or hold its lock) at every start.
+constexpr std::size_t logged_skips_per_pass = 20;
+
+// The walk reads the disk and stats every file: it yields to rendering and the network threads,
+// for the CPU and for the disk (the best-effort class's lowest level, so it is never starved
+// outright). On Linux a thread's nice value and I/O priority are its own.
+void lower_this_threads_priority() {
+    const auto thread = static_cast<id_t>(::gettid());
+    if (::setpriority(PRIO_PROCESS, thread, 19) != 0) {
+        base::log_warning("volumes", "could not lower the scan thread's CPU priority");
+    }
+    constexpr int ioprio_who_process = 1;  // <linux/ioprio.h>
+    constexpr int ioprio_class_best_effort = 2;
+    constexpr int ioprio_class_shift = 13;
+    constexpr int lowest_level = 7;
+    if (::syscall(SYS_ioprio_set, ioprio_who_process, thread,
+                  (ioprio_class_best_effort << ioprio_class_shift) | lowest_level) != 0) {
+        base::log_warning("volumes", "could not lower the scan thread's I/O priority");
+    }
+}
+
+// The CPU time the calling thread has used: a pass's time budget counts the work it does, not the
+// time it waits for rendering, which its low priority lets go first (a pass starved by a busy
+// server is slow, not over budget). A pass blocked on a slow disk is bounded by its entries.
+std::chrono::nanoseconds thread_cpu_time() {
+    timespec now{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+}
+
+// Whether `path` is `root` or inside it; both resolved.
+bool is_within(const std::filesystem::path& path, const std::filesystem::path& root) {
+    const auto [root_end, path_at] =
+            std::mismatch(root.begin(), root.end(), path.begin(), path.end());
+    return root_end == root.end() || (std::next(root_end) == root.end() && root_end->empty());
+}
+
+// A folder's files that may be DICOM (DICOM file names are arbitrary, so only the content
+// decides), with what says whether they changed.
+struct FolderFiles {
+    std::uintmax_t bytes = 0;  // of the candidates
+    // The candidates' names, sizes and modification times: while it stays the same, so do
+    // whether one is DICOM and the series their headers name.
     std::string signature;
+    std::vector<std::filesystem::path> candidates;
 };
 
-// The folder's files when at least one is DICOM. DICOM file names are arbitrary, so the content
-// decides; the search stops opening files at the first DICOM one.
-std::optional<DicomFiles> dicom_files(const std::filesystem::path& folder) {
-    std::error_code ec;
-    bool found = false;
-    DicomFiles files;
-    for (auto it = std::filesystem::directory_iterator(
-                 folder, std::filesystem::directory_options::skip_permission_denied, ec);
-         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
-        const std::string name = it->path().filename().string();
-        if (!it->is_regular_file(ec) || it->is_symlink(ec) || name.starts_with('.') ||
-            volume::is_volume_file_name(it->path())) {
+// One stat per file, relative to the open folder: a rescan of a folder of a hundred thousand
+// files pays for no path lookups from the root.
+FolderFiles folder_files(const std::filesystem::path& folder) {
+    FolderFiles files;
+    const std::unique_ptr<DIR, int (*)(DIR*)> dir(::opendir(folder.c_str()), ::closedir);
+    if (!dir) {
+        return files;
+    }
+    while (const dirent* entry = ::readdir(dir.get())) {
+        const std::string_view name = entry->d_name;
+        // Links and folders are no series' files; hidden files, "." and ".." neither.
+        if (name.starts_with('.') || (entry->d_type != DT_REG && entry->d_type != DT_UNKNOWN)) {
             continue;
         }
-        const std::uintmax_t size = it->file_size(ec);
+
+        struct stat info {};
+
+        if (::fstatat(::dirfd(dir.get()), entry->d_name, &info, AT_SYMLINK_NOFOLLOW) != 0 ||
+            !S_ISREG(info.st_mode)) {
+            continue;
+        }
+        std::filesystem::path path = folder / name;
+        if (volume::is_volume_file_name(path)) {
+            continue;
+        }
+        const auto size = static_cast<std::uintmax_t>(info.st_size);
         files.bytes += size;
-        files.signature += name + '/' + std::to_string(size) + '/' +
-                           std::to_string(it->last_write_time(ec).time_since_epoch().count()) +
-                           '\n';
-        found = found || volume::is_dicom_file(it->path());
+        files.signature += std::string(name) + '/' + std::to_string(size) + '/' +
+                           std::to_string(info.st_mtim.tv_sec) + '.' +
+                           std::to_string(info.st_mtim.tv_nsec) + '\n';
+        files.candidates.push_back(std::move(path));
     }
-    return found ? std::optional(std::move(files)) : std::nullopt;
+    return files;
+}
+
+// The type of what the walk's entry names, a link's target's: from the folder's listing where it
+// says, so that a walk over plain files stats none of them.
+std::filesystem::file_type target_type(const std::filesystem::directory_entry& entry,
+                                       std::error_code& ec) {
+    if (entry.is_symlink(ec)) {
+        return std::filesystem::status(entry.path(), ec).type();
+    }
+    if (entry.is_directory(ec)) {
+        return std::filesystem::file_type::directory;
+    }
+    if (entry.is_regular_file(ec)) {
+        return std::filesystem::file_type::regular;
+    }
+    return entry.symlink_status(ec).type();
 }
 
 // Why a file was not listed: what a volume's name ends with.
-std::string not_a_volume_reason() {
-    std::string reason = "not a volume (names ending";
-    for (const std::string_view suffix : volume::volume_suffixes()) {
-        reason += " " + std::string(suffix);
-    }
-    return reason + ", or DICOM files in a folder)";
+const std::string& not_a_volume_reason() {
+    static const std::string reason = [] {
+        std::string text = "not a volume (names ending";
+        for (const std::string_view suffix : volume::volume_suffixes()) {
+            text += " " + std::string(suffix);
+        }
+        return text + ", or DICOM files in a folder)";
+    }();
+    return reason;
 }
 
 }  // namespace
@@ -70,18 +152,44 @@ VolumeSummary summarize(const std::string& id, const std::string& name,
     return out;
 }
 
+base::Status check_data_folder(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(path, ec)) {
+        return base::make_error(base::ErrorCode::not_found, "the data directory does not exist",
+                                path.string());
+    }
+    return base::Ok{};
+}
+
 VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
-                         volume::LoadOptions load_options,
-                         std::chrono::milliseconds rescan_interval, int loader_threads)
+                         volume::LoadOptions load_options, ScanOptions scan_options,
+                         int loader_threads)
     : data_dir_(std::move(data_dir))
     , load_options_(std::move(load_options))
-    , rescan_interval_(rescan_interval)
+    , scan_options_(std::move(scan_options))
     , loaded_(memory_budget,
               {.on_evict =
                        [](const auto& entry) {
                            base::log_info("volumes", "dropped " + entry.key + " (memory budget)");
                        }})
     , loaders_(loader_threads) {
+    if (metrics::Registry* registry = scan_options_.metrics) {
+        scan_metrics_.emplace(ScanMetrics{
+                .passes = registry->counter("penumbra_volume_scans_total",
+                                            "passes over the data folder"),
+                .cut_short = registry->counter(
+                        "penumbra_volume_scans_cut_short_total",
+                        "passes over the data folder stopped at their budget (files or time)"),
+                .seconds = registry->gauge("penumbra_volume_scan_seconds",
+                                           "how long the last pass over the data folder took"),
+                .entries = registry->gauge("penumbra_volume_scan_entries",
+                                           "files and folders the last pass saw")});
+    }
+    std::error_code ec;
+    data_dir_real_ = std::filesystem::weakly_canonical(data_dir_, ec);
+    for (const std::filesystem::path& root : scan_options_.link_roots) {
+        link_roots_real_.push_back(std::filesystem::weakly_canonical(root, ec));
+    }
     rescanner_ = std::thread([this] { rescan_loop(); });
 }
 
@@ -95,10 +203,14 @@ VolumeStore::~VolumeStore() {
 }
 
 void VolumeStore::rescan_loop() {
+    lower_this_threads_priority();
     std::unique_lock lock(rescan_mutex_);
-    while (true) {
-        rescan_wake_.wait_for(lock, rescan_interval_,
-                              [&] { return stopping_ || rescan_requested_; });
+    // The first pass at once, then one each interval or when asked.
+    for (bool first = true;; first = false) {
+        if (!first) {
+            rescan_wake_.wait_for(lock, scan_options_.rescan_interval,
+                                  [&] { return stopping_ || rescan_requested_; });
+        }
         if (stopping_) {
             return;
         }
@@ -111,48 +223,123 @@ void VolumeStore::rescan_loop() {
     }
 }
 
-base::Status VolumeStore::scan() {
-    std::error_code ec;
-    if (!std::filesystem::is_directory(data_dir_, ec)) {
-        return base::make_error(base::ErrorCode::not_found, "the data directory does not exist",
-                                data_dir_.string());
+bool VolumeStore::may_walk(const std::filesystem::path& real) const {
+    return is_within(real, data_dir_real_) ||
+           std::any_of(link_roots_real_.begin(), link_roots_real_.end(),
+                       [&](const std::filesystem::path& root) { return is_within(real, root); });
+}
+
+void VolumeStore::wait_for_first_pass() const {
+    std::unique_lock lock(mutex_);
+    first_pass_done_.wait(lock, [this] { return progress_.first_pass_done; });
+}
+
+ScanProgress VolumeStore::progress() const {
+    const std::lock_guard lock(mutex_);
+    return progress_;
+}
+
+void VolumeStore::publish_partial(std::vector<VolumeEntry> found) {
+    std::sort(found.begin(), found.end(),
+              [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
+    const std::lock_guard lock(mutex_);
+    if (!progress_.first_pass_done) {
+        entries_ = std::move(found);
     }
+}
+
+void VolumeStore::count_pass(double seconds, std::uint64_t entries, bool cut_short) {
+    if (scan_metrics_) {
+        scan_metrics_->passes.add();
+        scan_metrics_->cut_short.add(cut_short ? 1 : 0);
+        scan_metrics_->seconds.set(seconds);
+        scan_metrics_->entries.set(static_cast<double>(entries));
+    }
+}
+
+base::Status VolumeStore::scan() {
+    const std::lock_guard one_pass(scan_mutex_);
+    if (auto status = check_data_folder(data_dir_); !status) {
+        const std::lock_guard lock(mutex_);
+        progress_.first_pass_done = true;
+        first_pass_done_.notify_all();
+        return status;
+    }
+    {
+        const std::lock_guard lock(mutex_);
+        progress_.scanning = true;
+    }
+    const Clock::time_point started = Clock::now();
+    const std::chrono::nanoseconds cpu_started = thread_cpu_time();
+    const bool publishing = !progress().first_pass_done;
+    std::error_code ec;
     // Taken before the walk: a change during it asks for another scan.
     const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     std::vector<VolumeEntry> found;
     std::vector<std::string> skipped;
-    std::set<std::filesystem::path> dicom_folders;
+    std::set<std::filesystem::path> checked_folders;  // as walked
+    std::set<std::filesystem::path> listed_folders;   // those whose DICOM files are listed
     // Ids are the paths as walked, below `top`: lexically, never through the links they pass.
     std::filesystem::path top = data_dir_;
     if (!top.has_filename() && top.has_parent_path()) {
         top = top.parent_path();  // "data/" walks as "data"
     }
+    // The walk's paths all begin with `top`: cutting it off is what lexically_relative would do,
+    // without taking each path apart.
+    const std::string top_text = top.generic_string();
     const auto relative = [&](const std::filesystem::path& path) {
+        std::string text = path.generic_string();
+        if (text.size() > top_text.size() + 1 && text.starts_with(top_text) &&
+            text[top_text.size()] == '/') {
+            return text.substr(top_text.size() + 1);
+        }
         return path.lexically_relative(top).generic_string();
     };
     const auto skip = [&](const std::filesystem::path& path, const std::string& why) {
         skipped.push_back(relative(path) + ": " + why);
     };
+    // The pass's budget: each entry seen counts, and the clock is read every few hundred.
+    std::uint64_t seen = 0;
+    std::optional<std::string> cut_short;
+    const auto over_budget = [&] {
+        ++seen;
+        if (seen > static_cast<std::uint64_t>(scan_options_.max_entries)) {
+            cut_short = "the data folder holds more than " +
+                        std::to_string(scan_options_.max_entries) +
+                        " files and folders (--scan-max-entries)";
+        } else if (seen % 256 == 0 && thread_cpu_time() - cpu_started > scan_options_.max_time) {
+            std::array<char, 32> budget{};
+            std::snprintf(budget.data(), budget.size(), "%g",
+                          std::chrono::duration<double>(scan_options_.max_time).count());
+            cut_short = "the pass used more than " + std::string(budget.data()) +
+                        " s of CPU time (--scan-max-seconds)";
+        }
+        return cut_short.has_value();
+    };
+    // Until the first pass ends, what it has found is listed every quarter of a second.
+    constexpr auto publish_every = std::chrono::milliseconds(250);
+    Clock::time_point next_publish = started + publish_every;
     // A folder's DICOM files are one entry per series: under the folder's id where it holds one
     // series, else "folder#number" (or "#UID" where numbers repeat). A folder whose headers
     // cannot be read is listed whole, so that opening it tells why.
     const auto add_series_if_dicom = [&](const std::filesystem::path& folder) {
-        const auto files = dicom_files(folder);
-        if (!files) {
+        checked_folders.insert(folder);
+        FolderFiles files = folder_files(folder);
+        if (!holds_dicom(folder, files.signature, files.candidates)) {
             return false;
         }
         VolumeEntry entry;
         entry.path = folder;
         entry.id = relative(folder);
         entry.name = entry.id;
-        entry.file_bytes = files->bytes;
-        dicom_folders.insert(folder);
-        const auto series = dicom_series(folder, files->signature);
+        entry.file_bytes = files.bytes;
+        const auto series = dicom_series(folder, files.signature);
         if (!series && series.error().code == base::ErrorCode::no_dicom_images) {
             skip(folder,
                  "DICOM files without images (" + relative_paths(series.error().message) + ")");
             return true;
         }
+        listed_folders.insert(folder);
         if (!series || series->size() == 1) {
             entry.dicom_series = series ? series->front().uid : std::string();
             found.push_back(std::move(entry));
@@ -178,9 +365,11 @@ base::Status VolumeStore::scan() {
         }
         return true;
     };
-    // Links the administrator put in the data folder are followed, to files and to folders; a
-    // volume keeps the name of the link (clients name volumes by the listed id only, never by
-    // path). A folder reached twice (a link loop, or two links to one folder) is walked once.
+    // Links the administrator put in the data folder are followed to files wherever they lead
+    // (a volume keeps the link's name: clients name volumes by the listed id only, never by
+    // path), and to folders inside the data folder or an allowed root: a link to "/" must not
+    // make the server walk, list and open the machine's files. A folder reached twice (a link
+    // loop, or two links to one folder) is walked once.
     std::set<std::filesystem::path> walked{std::filesystem::canonical(top, ec)};
     const bool top_is_series = add_series_if_dicom(top);
     for (auto it = std::filesystem::recursive_directory_iterator(
@@ -189,6 +378,13 @@ base::Status VolumeStore::scan() {
                          std::filesystem::directory_options::follow_directory_symlink,
                  ec);
          !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+        if (over_budget()) {
+            break;
+        }
+        if (publishing && Clock::now() >= next_publish) {
+            publish_partial(found);
+            next_publish = Clock::now() + publish_every;
+        }
         const std::filesystem::path& path = it->path();
         const std::string name = path.filename().string();
         if (name.starts_with('.')) {
@@ -196,14 +392,21 @@ base::Status VolumeStore::scan() {
             continue;
         }
         std::error_code status_error;
-        const auto status = std::filesystem::status(path, status_error);
-        if (status_error || !std::filesystem::exists(status)) {
+        const std::filesystem::file_type type = target_type(*it, status_error);
+        if (status_error || type == std::filesystem::file_type::not_found) {
             skip(path, it->is_symlink(ec) ? "a link to nothing (" + status_error.message() + ")"
                                           : "cannot be read (" + status_error.message() + ")");
             continue;
         }
-        if (std::filesystem::is_directory(status)) {
-            if (!walked.insert(std::filesystem::canonical(path, ec)).second) {
+        if (type == std::filesystem::file_type::directory) {
+            const std::filesystem::path real = std::filesystem::canonical(path, ec);
+            if (!may_walk(real)) {
+                skip(path, "a link to a folder outside the data folder (" + real.string() +
+                                   "); --allow-links-to lets links lead there");
+                it.disable_recursion_pending();
+                continue;
+            }
+            if (!walked.insert(real).second) {
                 skip(path, "a folder already listed through another path (a link loop?)");
                 it.disable_recursion_pending();
                 continue;
@@ -211,15 +414,13 @@ base::Status VolumeStore::scan() {
             add_series_if_dicom(path);
             continue;
         }
-        if (!std::filesystem::is_regular_file(status)) {
+        if (type != std::filesystem::file_type::regular) {
             skip(path, "not a regular file");
             continue;
         }
         if (!volume::is_volume_file_name(path)) {
-            const bool in_series =
-                    (path.parent_path() == top && top_is_series) ||
-                    std::any_of(found.begin(), found.end(),
-                                [&](const VolumeEntry& e) { return e.path == path.parent_path(); });
+            const bool in_series = (path.parent_path() == top && top_is_series) ||
+                                   listed_folders.contains(path.parent_path());
             // The data of a .hdr/.img pair, listed as its header.
             const bool pair_data =
                     path.extension() == ".img" &&
@@ -239,43 +440,97 @@ base::Status VolumeStore::scan() {
     }
     std::sort(found.begin(), found.end(),
               [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
+    const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
+    if (cut_short) {
+        base::log_warning("volumes", "scan cut short after " + std::to_string(seen - 1) +
+                                             " entries, listing " + std::to_string(found.size()) +
+                                             " volume(s): " + *cut_short);
+    }
+    count_pass(seconds, seen, cut_short.has_value());
+    // Each skipped file is logged once, not at every rescan (skipped_logged_ is this pass's own:
+    // passes run one at a time).
+    std::size_t unlogged = 0;
+    for (const std::string& line : skipped) {
+        if (skipped_logged_.contains(line)) {
+            continue;
+        }
+        if (skipped_logged_.size() < logged_skips_per_pass) {
+            base::log_warning("volumes", "skipped " + line);
+        } else {
+            ++unlogged;
+        }
+        skipped_logged_.insert(line);
+    }
+    if (unlogged > 0) {
+        base::log_warning("volumes", "skipped " + std::to_string(unlogged) +
+                                             " more file(s) that are not volumes");
+    }
+    {
+        // Folders gone since the last scan leave the cache with them.
+        const std::lock_guard folders_lock(folders_mutex_);
+        std::erase_if(folders_,
+                      [&](const auto& cached) { return !checked_folders.contains(cached.first); });
+    }
+    // What follows holds the lock that listing and opening take: nothing in it walks or frees a
+    // list of files, since this thread's low priority would make them wait. The last pass's lists
+    // are swapped out, and freed after the lock is let go.
+    std::vector<VolumeEntry> last_entries;
+    std::vector<std::string> last_skipped;
     const std::lock_guard lock(mutex_);
     // Volumes whose entries are gone leave the memory with them.
     loaded_.remove_if([&](const auto& held) {
         return std::none_of(found.begin(), found.end(),
                             [&](const VolumeEntry& e) { return e.id == held.key; });
     });
-    // Each skipped file is logged once, not at every rescan.
-    for (const std::string& line : skipped) {
-        if (std::find(skipped_.begin(), skipped_.end(), line) == skipped_.end()) {
-            base::log_warning("volumes", "skipped " + line);
-        }
-    }
+    last_entries.swap(entries_);
     entries_ = std::move(found);
-    {
-        // Folders gone since the last scan leave the cache with them.
-        const std::lock_guard dicom_lock(dicom_mutex_);
-        std::erase_if(dicom_folders_,
-                      [&](const auto& cached) { return !dicom_folders.contains(cached.first); });
-    }
+    last_skipped.swap(skipped_);
     skipped_ = std::move(skipped);
     scanned_mtime_ = mtime;
+    progress_.scanning = false;
+    progress_.cut_short = cut_short;
+    if (!progress_.first_pass_done) {
+        progress_.first_pass_done = true;
+        first_pass_done_.notify_all();
+    }
     return base::Ok{};
+}
+
+bool VolumeStore::holds_dicom(const std::filesystem::path& folder, const std::string& signature,
+                              const std::vector<std::filesystem::path>& candidates) {
+    {
+        const std::lock_guard lock(folders_mutex_);
+        const auto cached = folders_.find(folder);
+        if (cached != folders_.end() && cached->second.signature == signature) {
+            return cached->second.has_dicom;
+        }
+    }
+    // The search stops opening files at the first DICOM one.
+    const bool has_dicom = std::any_of(candidates.begin(), candidates.end(), [](const auto& path) {
+        return volume::is_dicom_file(path);
+    });
+    const std::lock_guard lock(folders_mutex_);
+    folders_[folder] = {signature, has_dicom, std::nullopt};
+    return has_dicom;
 }
 
 base::Result<std::vector<volume::DicomSeries>> VolumeStore::dicom_series(
         const std::filesystem::path& folder, const std::string& signature) {
     {
-        const std::lock_guard lock(dicom_mutex_);
-        const auto cached = dicom_folders_.find(folder);
-        if (cached != dicom_folders_.end() && cached->second.signature == signature) {
-            return cached->second.series;
+        const std::lock_guard lock(folders_mutex_);
+        const auto cached = folders_.find(folder);
+        if (cached != folders_.end() && cached->second.signature == signature &&
+            cached->second.series) {
+            return *cached->second.series;
         }
     }
     // Outside the lock: a folder of a thousand slices takes a moment to read.
     auto series = volume::list_dicom_series(folder, false);
-    const std::lock_guard lock(dicom_mutex_);
-    dicom_folders_[folder] = {signature, series};
+    const std::lock_guard lock(folders_mutex_);
+    FolderContents& contents = folders_[folder];
+    if (contents.signature == signature) {
+        contents.series = series;
+    }
     return series;
 }
 
@@ -288,7 +543,7 @@ std::vector<VolumeEntry> VolumeStore::list() const {
     std::error_code ec;
     const auto mtime = std::filesystem::last_write_time(data_dir_, ec);
     const std::lock_guard lock(mutex_);
-    if (!ec && mtime != scanned_mtime_) {
+    if (!ec && progress_.first_pass_done && mtime != scanned_mtime_) {
         {
             const std::lock_guard rescan(rescan_mutex_);
             rescan_requested_ = true;
@@ -362,10 +617,17 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
     std::filesystem::path path;
     volume::LoadOptions options = load_options_;
     {
-        const std::lock_guard lock(mutex_);
+        std::unique_lock lock(mutex_);
+        const auto listed = [&] {
+            return std::find_if(entries_.begin(), entries_.end(),
+                                [&](const VolumeEntry& e) { return e.id == id; });
+        };
+        // A volume named in a link may be opened before the first pass has reached it.
+        if (listed() == entries_.end()) {
+            first_pass_done_.wait(lock, [this] { return progress_.first_pass_done; });
+        }
         // Only ids from the scan are accepted, so "../x" or "/etc/passwd" cannot name a file.
-        const auto entry = std::find_if(entries_.begin(), entries_.end(),
-                                        [&](const VolumeEntry& e) { return e.id == id; });
+        const auto entry = listed();
         if (entry == entries_.end()) {
             return base::make_error(base::ErrorCode::unknown_volume,
                                     "no volume '" + id + "' on this server", "/volume");
@@ -374,6 +636,14 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
             return *held;
         }
         path = entry->path;
+        // A folder is read through the path the scan walked: the link it passed must still lead
+        // where the scan allowed, not to wherever it was pointed since.
+        std::error_code ec;
+        if (std::filesystem::is_directory(path, ec) &&
+            !may_walk(std::filesystem::canonical(path, ec))) {
+            return base::make_error(base::ErrorCode::unknown_volume,
+                                    "no volume '" + id + "' on this server", "/volume");
+        }
         // The series listed, from the folder's own files: its sub-folders are entries of their
         // own.
         options.dicom_series = entry->dicom_series;

@@ -57,8 +57,9 @@ std::vector<std::string> text_messages() {
     VolumeSummary unloaded;  // as net lists a volume it has not loaded yet
     unloaded.id = "visible_human.nrrd";
     unloaded.name = unloaded.id;
-    out.push_back(volumes_message(1, {colin, ct, floats, unloaded}));
-    out.push_back(volumes_message(std::nullopt, {}));
+    out.push_back(volumes_message(1, {colin, ct, floats, unloaded}, Listing::complete));
+    out.push_back(volumes_message(std::nullopt, {}, Listing::scanning));
+    out.push_back(volumes_message(2, {colin}, Listing::cut_short));
 
     std::vector<scene::State> states;
     for (const auto& name : scene::preset_names()) {

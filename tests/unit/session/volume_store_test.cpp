@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -192,8 +193,9 @@ TEST_F(VolumeStoreTest, DicomFilesRightInTheDataFolderAreTheVolumeDot) {
     EXPECT_EQ((*loaded)->dims, glm::uvec3(4, 4, 2));
 }
 
-// The administrator links volumes and folders kept elsewhere into the data folder: they are
-// listed under the link's name and open through it.
+// The administrator links volumes kept elsewhere into the data folder: links to files are
+// listed under the link's name and open through it, wherever they lead; a link to a folder
+// outside is followed only into a root the administrator allowed.
 TEST_F(VolumeStoreTest, LinksInTheDataFolderAreFollowedAndNamedByTheLink) {
     const fs::path outside = data_.parent_path() / (data_.filename().string() + "-outside");
     write_series(outside / "series", {4, 4, 2});
@@ -202,20 +204,88 @@ TEST_F(VolumeStoreTest, LinksInTheDataFolderAreFollowedAndNamedByTheLink) {
     fs::create_symlink(outside / "heads" / "a_2x2x2_uint8.raw", data_ / "b_2x2x2_uint8.raw");
     fs::create_directory_symlink(data_, data_ / "loop");  // walked once, not forever
     fs::create_symlink(data_ / "nothing.nrrd", data_ / "broken.nrrd");
-    VolumeStore store(data_, std::size_t{1} << 20);
+    {
+        VolumeStore store(data_, std::size_t{1} << 20);
+        ASSERT_TRUE(store.scan().ok());
+        EXPECT_EQ(ids(store), (std::vector<std::string>{"b_2x2x2_uint8.raw"}));
+        auto raw = store.acquire("b_2x2x2_uint8.raw");
+        ASSERT_TRUE(raw.ok()) << raw.error().to_string();
+        EXPECT_EQ((*raw)->value(1, 1, 1), static_cast<double>('8'));
+        EXPECT_EQ(store.acquire("ct").error().code, base::ErrorCode::unknown_volume);
+        const std::vector<std::string> skipped = store.skipped();
+        EXPECT_TRUE(std::any_of(skipped.begin(), skipped.end(), [](const std::string& line) {
+            return line.starts_with("ct: a link to a folder outside the data folder");
+        })) << "the link that leaves is named once, with why";
+    }
+    ScanOptions allowed;
+    allowed.link_roots = {outside};
+    VolumeStore store(data_, std::size_t{1} << 20, {}, allowed);
     ASSERT_TRUE(store.scan().ok());
     EXPECT_EQ(ids(store), (std::vector<std::string>{"b_2x2x2_uint8.raw", "ct"}));
     auto series = store.acquire("ct");
     ASSERT_TRUE(series.ok()) << series.error().to_string();
     EXPECT_EQ((*series)->dims, glm::uvec3(4, 4, 2));
-    auto raw = store.acquire("b_2x2x2_uint8.raw");
-    ASSERT_TRUE(raw.ok()) << raw.error().to_string();
-    EXPECT_EQ((*raw)->value(1, 1, 1), static_cast<double>('8'));
     // Only listed ids open: the link's target by its own path does not.
     EXPECT_FALSE(store.acquire((outside / "heads" / "a_2x2x2_uint8.raw").string()).ok());
     EXPECT_FALSE(
             store.acquire("../" + outside.filename().string() + "/heads/a_2x2x2_uint8.raw").ok());
     fs::remove_all(outside);
+}
+
+// A link that was allowed when the folder was scanned and is then pointed elsewhere opens
+// nothing: the load checks where it leads now.
+TEST_F(VolumeStoreTest, AFolderLinkRepointedAfterTheScanDoesNotOpen) {
+    const fs::path pacs = data_.parent_path() / (data_.filename().string() + "-pacs");
+    const fs::path elsewhere = data_.parent_path() / (data_.filename().string() + "-elsewhere");
+    write_series(pacs / "series", {4, 4, 2});
+    write_series(elsewhere / "series", {4, 4, 3});
+    fs::create_directory_symlink(pacs / "series", data_ / "ct");
+    ScanOptions allowed;
+    allowed.link_roots = {pacs};
+    VolumeStore store(data_, std::size_t{1} << 20, {}, allowed);
+    ASSERT_TRUE(store.scan().ok());
+    ASSERT_EQ(ids(store), std::vector<std::string>{"ct"});
+    fs::remove(data_ / "ct");
+    fs::create_directory_symlink(elsewhere / "series", data_ / "ct");
+    auto opened = store.acquire("ct");
+    ASSERT_FALSE(opened.ok());
+    EXPECT_EQ(opened.error().code, base::ErrorCode::unknown_volume);
+    fs::remove_all(pacs);
+    fs::remove_all(elsewhere);
+}
+
+// The first pass runs on the store's own thread from construction: a caller that opens a volume
+// before it has been listed waits for that pass instead of hearing "unknown".
+TEST_F(VolumeStoreTest, TheFirstPassRunsByItselfAndAnOpenWaitsForIt) {
+    write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    auto raw = store.acquire("a_2x2x2_uint8.raw");
+    ASSERT_TRUE(raw.ok()) << raw.error().to_string();
+    const ScanProgress progress = store.progress();
+    EXPECT_TRUE(progress.first_pass_done);
+    EXPECT_FALSE(progress.cut_short);
+    EXPECT_EQ(store.acquire("b_2x2x2_uint8.raw").error().code, base::ErrorCode::unknown_volume);
+}
+
+// A pass stops at its budget of entries, lists what it found, and says why.
+TEST_F(VolumeStoreTest, APassStopsAtItsBudgetAndSaysSo) {
+    for (int i = 0; i < 50; ++i) {
+        write_text(data_ / "stray" / ("note" + std::to_string(i) + ".txt"), "not a volume");
+    }
+    write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
+    ScanOptions small;
+    small.max_entries = 10;
+    metrics::Registry registry;
+    small.metrics = &registry;
+    VolumeStore store(data_, std::size_t{1} << 20, {}, small);
+    store.wait_for_first_pass();
+    const ScanProgress progress = store.progress();
+    ASSERT_TRUE(progress.cut_short);
+    EXPECT_NE(progress.cut_short->find("more than 10 files and folders"), std::string::npos)
+            << *progress.cut_short;
+    const std::string text = registry.prometheus_text();
+    EXPECT_NE(text.find("penumbra_volume_scans_cut_short_total 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("penumbra_volume_scan_entries 11"), std::string::npos) << text;
 }
 
 // `--data DIR` showing no volume says why: every file passed over is reported with its reason.
@@ -265,7 +335,9 @@ TEST_F(VolumeStoreTest, LoadsRunOnALoaderThreadAndEachVolumeGetsOneHistogram) {
 
 TEST_F(VolumeStoreTest, ListingAnswersFromTheLastScanAndAChangedFolderIsRescannedSoon) {
     write_text(data_ / "a_2x2x2_uint8.raw", "12345678");
-    VolumeStore store(data_, std::size_t{1} << 20, {}, std::chrono::hours(1));
+    ScanOptions hourly;
+    hourly.rescan_interval = std::chrono::hours(1);
+    VolumeStore store(data_, std::size_t{1} << 20, {}, hourly);
     ASSERT_TRUE(store.scan().ok());
     EXPECT_EQ(ids(store), std::vector<std::string>{"a_2x2x2_uint8.raw"});
     // A file added at the top changes the folder's modification time; the listing that notices

@@ -6,6 +6,8 @@
 export const ENCODINGS = ['jpeg', 'png'] as const;
 /** The codes an `error` message carries. */
 export const ERROR_CODES = ['malformed_json', 'invalid_message', 'unknown_type', 'unknown_field', 'unsupported_version', 'invalid_value', 'out_of_range', 'message_too_large', 'rate_limited', 'unknown_volume', 'volume_unreadable', 'unknown_session', 'no_session', 'too_many_sessions', 'session_owned', 'render_failed', 'too_much_work', 'internal_error'] as const;
+/** Where the server's listing of its data folder stands (volumes.listing). */
+export const LISTINGS = ['scanning', 'complete', 'cut_short'] as const;
 /** settings.compositing */
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
 /** settings.stage: the ray caster's stage. */

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <penumbra/base/enum_names.hpp>
 #include <penumbra/base/result.hpp>
 #include <penumbra/protocol/limits.hpp>
 #include <penumbra/protocol/scene_json.hpp>
@@ -9,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -168,6 +170,24 @@ struct VolumeSummary {
     bool loaded = false;
 };
 
+// Where the server's listing of its data folder stands, as `volumes` says it.
+enum class Listing {
+    scanning,   // the first scan is under way: more volumes may follow
+    complete,   // the last scan listed every volume
+    cut_short,  // the last scan stopped at its budget: some volumes may be missing
+};
+
+inline constexpr std::array<base::EnumName<Listing>, 3> kListingNames{{
+        {Listing::scanning, "scanning"},
+        {Listing::complete, "complete"},
+        {Listing::cut_short, "cut_short"},
+}};
+static_assert(base::names_each_value(kListingNames));
+
+constexpr std::span<const base::EnumName<Listing>> names_of(Listing) {
+    return kListingNames;
+}
+
 struct RendererSummary {
     std::string renderer;
     std::string version;
@@ -182,7 +202,7 @@ bool announces_range(const scene::Setting& setting);
 // Lists every mode of scene's mode table with what it computes, so clients need not know them.
 std::string hello_message(const Limits& limits, const RendererSummary& renderer);
 std::string volumes_message(std::optional<std::int64_t> id,
-                            const std::vector<VolumeSummary>& volumes);
+                            const std::vector<VolumeSummary>& volumes, Listing listing);
 // `state` is the session's full state (what `set` can change), as the client should show it.
 // `opened` answers open and resume and carries the owner token, which a viewer never learns.
 // `recreated`: a resume re-created the session here with the default state (the replica that held

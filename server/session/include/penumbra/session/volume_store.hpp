@@ -2,6 +2,7 @@
 
 #include <penumbra/base/lru_cache.hpp>
 #include <penumbra/base/result.hpp>
+#include <penumbra/metrics/registry.hpp>
 #include <penumbra/session/worker_pool.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -16,8 +17,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
+#include <unordered_set>
 #include <vector>
 
 namespace penumbra::session {
@@ -59,50 +62,85 @@ struct VolumeEntry {
     [[nodiscard]] VolumeSummary summary() const { return summarize(id, name, loaded.get()); }
 };
 
+// How the data folder is walked, and what one walk may cost.
+struct ScanOptions {
+    // How old the listed scan may get; a change of the data folder's modification time (a file
+    // added or removed at its top) asks for a rescan sooner.
+    std::chrono::milliseconds rescan_interval{10'000};
+    // Folders outside the data folder that links in it may lead to (`--allow-links-to`). A link
+    // to a folder anywhere else is skipped; links to files are followed wherever they lead.
+    std::vector<std::filesystem::path> link_roots;
+    // What one pass may cost: entries seen (files and folders) and the CPU time of its thread
+    // (which yields to everything else, so a busy server makes a pass slower, not shorter). A
+    // pass that reaches either stops there, lists what it found, and says so (log, /metrics,
+    // list_volumes).
+    int max_entries = 200'000;
+    std::chrono::milliseconds max_time{30'000};
+    // Where each pass is counted and timed (penumbra_volume_scan_*), when given.
+    metrics::Registry* metrics = nullptr;
+};
+
+// Where the listing stands.
+struct ScanProgress {
+    // False until the first pass ends: list() holds what it has found so far.
+    bool first_pass_done = false;
+    bool scanning = false;  // a pass is under way
+    // Why the last finished pass stopped at its budget, when it did: its list may miss volumes.
+    std::optional<std::string> cut_short;
+};
+
+// `path` when it is a folder that exists, else the error that says which folder is missing.
+base::Status check_data_folder(const std::filesystem::path& path);
+
 // The volumes a server offers: every supported file under one data directory, and every series of
 // DICOM images in a folder (one series, one volume; its files are not listed apart; a folder of
-// several series lists each). Links in the data
-// directory are followed (the administrator put them there); a volume is named by its path in the
-// data directory, the link's, whatever the link points to. A volume is loaded
-// once, on first use, and shared by every session that opens it; loaded volumes beyond the memory
-// budget are dropped least recently used first (sessions holding one keep it alive). Ids are
-// relative paths within the data directory; only listed ids are opened.
+// several series lists each). A volume is named by its path in the data directory, a link's
+// name where it passes one, whatever the link points to. Links to files are followed; links to
+// folders only where the folder is inside the data directory or a root ScanOptions allows, so a
+// link to "/" lists nothing and a folder reached twice (a link loop) is walked once. A volume is
+// loaded once, on first use, and shared by every session that opens it; loaded volumes beyond
+// the memory budget are dropped least recently used first (sessions holding one keep it alive).
+// Ids are relative paths within the data directory; only listed ids are opened.
 //
-// Nothing here that reads files needs to run on the caller's thread: loads run on the store's
-// loader threads (acquire_async), the folder is rescanned by a thread of its own, and list()
-// answers from the last scan. A volume's histogram is computed once, when it is loaded.
+// Nothing here that reads files runs on the caller's thread: the folder is walked by a thread of
+// its own, at the lowest CPU and I/O priority, from construction on (the first pass too: a server
+// listens before its data folder is walked), and again every rescan interval; list() answers from
+// the last pass, or during the first one with what it found so far. A rescan reopens no file whose
+// folder kept its names, sizes and times. Loads run on the store's loader threads
+// (acquire_async). A volume's histogram is computed once, when it is loaded.
 class VolumeStore {
 public:
     // How many bins a volume's histogram has (the transfer-function editor's backdrop).
     static constexpr int histogram_bins = 256;
-    // How old the listed scan may get unless told otherwise.
-    static constexpr std::chrono::milliseconds default_rescan_interval{10'000};
 
-    // `load_options` bound what one load may take (volume::LoadOptions). `rescan_interval`: how
-    // old the listed scan may get; a change of the data directory's modification time (a file
-    // added or removed at its top) asks for a rescan sooner.
+    // `load_options` bound what one load may take (volume::LoadOptions).
     VolumeStore(std::filesystem::path data_dir, std::size_t memory_budget,
-                volume::LoadOptions load_options = {},
-                std::chrono::milliseconds rescan_interval = default_rescan_interval,
+                volume::LoadOptions load_options = {}, ScanOptions scan_options = {},
                 int loader_threads = 2);
 
     VolumeStore(const VolumeStore&) = delete;
     VolumeStore& operator=(const VolumeStore&) = delete;
     ~VolumeStore();
 
-    // Scans the data directory now, on the caller's thread (at start-up).
+    // Walks the data directory now, on the caller's thread, after any pass under way.
     base::Status scan();
+
+    // Waits until the first pass has ended (at most its time budget).
+    void wait_for_first_pass() const;
+
+    [[nodiscard]] ScanProgress progress() const;
 
     // The volumes of the last scan.
     [[nodiscard]] std::vector<VolumeEntry> list() const;
 
     // What the last scan passed over, each as "relative/path: why" (not a volume file, a broken
-    // link, a folder reached twice); each is also logged once, when first seen.
+    // link, a link to a folder outside, a folder reached twice); each is also logged once, when
+    // first seen (a pass logs the first few and counts the rest).
     [[nodiscard]] std::vector<std::string> skipped() const;
 
-    // Loads (or returns the loaded) volume `id`. Unknown ids, ids reaching outside the data
-    // directory and unreadable files are Errors ("unknown_volume", or the loader's code), whose
-    // paths are relative to the data directory.
+    // Loads (or returns the loaded) volume `id`; an id not listed yet waits for the first pass.
+    // Unknown ids, ids reaching outside the data directory and unreadable files are Errors
+    // ("unknown_volume", or the loader's code), whose paths are relative to the data directory.
     LoadedVolume acquire(const std::string& id);
 
     using AcquireDone = std::function<void(LoadedVolume)>;
@@ -123,14 +161,34 @@ public:
 
 private:
     void rescan_loop();
+    // Whether a walk may enter the folder whose resolved path is `real`.
+    [[nodiscard]] bool may_walk(const std::filesystem::path& real) const;
+    // Publishes `found`, what the first pass has listed so far.
+    void publish_partial(std::vector<VolumeEntry> found);
+    void count_pass(double seconds, std::uint64_t entries, bool cut_short);
 
     std::filesystem::path data_dir_;
+    std::filesystem::path data_dir_real_;  // resolved at construction
     volume::LoadOptions load_options_;
-    std::chrono::milliseconds rescan_interval_;
+    ScanOptions scan_options_;
+    std::vector<std::filesystem::path> link_roots_real_;
+
+    struct ScanMetrics {
+        metrics::Counter& passes;
+        metrics::Counter& cut_short;
+        metrics::Gauge& seconds;
+        metrics::Gauge& entries;
+    };
+
+    std::optional<ScanMetrics> scan_metrics_;  // when ScanOptions names a registry
     mutable std::mutex mutex_;
     std::mutex load_mutex_;
+    std::mutex scan_mutex_;  // one pass at a time
     std::vector<VolumeEntry> entries_;
     std::vector<std::string> skipped_;
+    std::unordered_set<std::string> skipped_logged_;  // each skipped file logged once
+    ScanProgress progress_;
+    mutable std::condition_variable first_pass_done_;
     // The loaded volumes by id, within the memory budget; VolumeEntry::loaded as list() fills it.
     base::LruCache<std::string, std::shared_ptr<const volume::Volume>> loaded_;
     std::size_t loads_ = 0;
@@ -143,17 +201,22 @@ private:
     std::map<const volume::Volume*, CachedHistogram> histograms_;
     std::size_t histograms_computed_ = 0;
 
-    // The series of each DICOM folder, read from its files' headers: kept while the folder's
-    // files keep their names, sizes and times, so a rescan does not reread them.
-    struct DicomFolder {
+    // What the walk learnt of a folder from its files' contents, kept while the folder's files
+    // keep their names, sizes and times (its signature), so a rescan opens none of them: whether
+    // one is DICOM, and the series their headers name.
+    struct FolderContents {
         std::string signature;
-        base::Result<std::vector<volume::DicomSeries>> series = std::vector<volume::DicomSeries>{};
+        bool has_dicom = false;
+        std::optional<base::Result<std::vector<volume::DicomSeries>>> series;
     };
 
+    // Whether `folder` holds DICOM files, from the cache while `signature` matches.
+    bool holds_dicom(const std::filesystem::path& folder, const std::string& signature,
+                     const std::vector<std::filesystem::path>& candidates);
     base::Result<std::vector<volume::DicomSeries>> dicom_series(const std::filesystem::path& folder,
                                                                 const std::string& signature);
-    std::mutex dicom_mutex_;
-    std::map<std::filesystem::path, DicomFolder> dicom_folders_;
+    std::mutex folders_mutex_;
+    std::map<std::filesystem::path, FolderContents> folders_;
 
     std::filesystem::file_time_type scanned_mtime_{};
     mutable std::mutex rescan_mutex_;
