@@ -13,9 +13,9 @@ export function volumeLabel(v: VolumeSummary): string {
 export function listingNote(listing: Listing, count: number): string {
   switch (listing) {
     case 'scanning':
-      return `scanning… ${count} found so far`;
+      return `scanning… ${count} found`;
     case 'cut_short':
-      return 'scan cut short: some volumes may be missing';
+      return 'partial (scan cut short)';
     case 'complete':
       return '';
   }
@@ -44,6 +44,10 @@ export class VolumePicker {
   setListing(listing: Listing): void {
     this.params.listing = listingNote(listing, this.volumes.length);
     this.listingLine.updateDisplay();
+    this.listingLine.domElement.title =
+      listing === 'cut_short'
+        ? "The server's scan of its data folder stopped at its budget: some volumes may be missing."
+        : '';
     this.listingLine.show(listing !== 'complete');
   }
 
