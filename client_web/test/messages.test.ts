@@ -340,6 +340,15 @@ describe('parseServerMessage', () => {
     expect(types).toEqual(['hello', 'volumes', 'opened', 'ack', 'stats', 'error', 'state']);
   });
 
+  it("reads whether the server's listing is complete, and nothing else for it", () => {
+    const volumes = JSON.parse(serverMessages[1]!) as Record<string, unknown>;
+    const read = parseServerMessage(JSON.stringify({ ...volumes, listing: 'scanning' }));
+    expect(read.type === 'volumes' && read.listing).toBe('scanning');
+    expect(() => parseServerMessage(JSON.stringify({ ...volumes, listing: 'done' }))).toThrow(
+      '/listing',
+    );
+  });
+
   it('reads hello with the modes and limits', () => {
     const hello = parseServerMessage(serverMessages[0]!);
     if (hello.type !== 'hello') throw new Error('not hello');

@@ -363,15 +363,9 @@ function bool(o: Record<string, unknown>, key: string, at: string): boolean {
   return need(typeof v === 'boolean', v as boolean, 'a boolean', `${at}/${key}`);
 }
 
-function oneOf<T extends string>(
-  o: Record<string, unknown>,
-  key: string,
-  names: readonly T[],
-  at: string,
-): T {
-  const v = o[key];
+function oneOf<T extends string>(v: unknown, names: readonly T[], field: string): T {
   const ok = typeof v === 'string' && (names as readonly string[]).includes(v);
-  return need(ok, v as T, `one of ${names.join(', ')}`, `${at}/${key}`);
+  return need(ok, v as T, `one of ${names.join(', ')}`, field);
 }
 
 function obj(o: Record<string, unknown>, key: string, at: string): Record<string, unknown> {
@@ -531,7 +525,7 @@ export function parseServerMessage(text: string): ServerMessage {
     case 'volumes': {
       need(Array.isArray(o['volumes']), null, 'an array', '/volumes');
       (o['volumes'] as unknown[]).forEach((v, i) => checkVolumeSummary(v, `/volumes/${i}`));
-      oneOf(o, 'listing', LISTINGS, '');
+      oneOf(o['listing'], LISTINGS, '/listing');
       return o as unknown as VolumesMessage;
     }
     case 'opened':
