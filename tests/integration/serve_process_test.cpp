@@ -417,6 +417,15 @@ TEST_F(ServeProcessTest, AHostileDataFolderNeitherDelaysStartNorLeaksNorStallsFr
             << log.substr(0, 4000);
     EXPECT_EQ(count_lines_containing(log, "skipped pacs: a link to a folder outside"), 1);
     EXPECT_LE(count_lines_containing(log, "skipped stray/"), 20) << "a flood of skipped files";
+
+    // Shutting down does not wait for a pass to finish its walk.
+    const auto signalled = Clock::now();
+    ASSERT_EQ(::kill(server.pid(), SIGTERM), 0);
+    const auto status = server.wait_for_exit(10s);
+    const double exit_seconds = std::chrono::duration<double>(Clock::now() - signalled).count();
+    ASSERT_TRUE(status.has_value()) << "still running 10 s after SIGTERM";
+    EXPECT_TRUE(WIFEXITED(*status) && WEXITSTATUS(*status) == 0) << server.log().substr(0, 2000);
+    EXPECT_LT(exit_seconds, 2.0);
 }
 
 // What an operator allows, links may lead to: the folder outside opens through its link.

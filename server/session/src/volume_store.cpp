@@ -194,6 +194,8 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
 }
 
 VolumeStore::~VolumeStore() {
+    // A pass under way stops at its next entry: shutting down does not wait for a long walk.
+    stopping_scan_.store(true);
     {
         const std::lock_guard lock(rescan_mutex_);
         stopping_ = true;
@@ -303,7 +305,9 @@ base::Status VolumeStore::scan() {
     std::optional<std::string> cut_short;
     const auto over_budget = [&] {
         ++seen;
-        if (seen > static_cast<std::uint64_t>(scan_options_.max_entries)) {
+        if (stopping_scan_.load(std::memory_order_relaxed)) {
+            cut_short = "the server is stopping";
+        } else if (seen > static_cast<std::uint64_t>(scan_options_.max_entries)) {
             cut_short = "the data folder holds more than " +
                         std::to_string(scan_options_.max_entries) +
                         " files and folders (--scan-max-entries)";

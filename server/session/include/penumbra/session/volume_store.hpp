@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -223,6 +224,7 @@ private:
     mutable std::condition_variable rescan_wake_;
     mutable bool rescan_requested_ = false;
     bool stopping_ = false;
+    std::atomic<bool> stopping_scan_{false};
     std::thread rescanner_;
     WorkerPool loaders_;  // last: destroyed (joined) first
 };
