@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The committed accuracy tables and plots (docs/accuracy/llvmpipe*.*), from `penumbra bench
-# accuracy`: llvmpipe.* is the opaque skin (mri_skin) on two MRI heads; llvmpipe_mri_brain.* and
+# accuracy`: llvmpipe.* is ch2's opaque skin (mri_skin) and the head CT's bone (ct_bone) at two
+# sample distances, against the converged truth; llvmpipe_mri_brain.* and
 # llvmpipe_ct_soft_tissue.* are the translucent cases, each with empty-space skipping on and off,
 # jitter off and on, and jittered stills refined by 4 and 8 steps.
 #   scripts/plot-accuracy.sh            redraw presets, CSV and plots from the committed JSON
 #   scripts/plot-accuracy.sh --measure  measure again: the reduced sweeps that fit llvmpipe
-#                                       (~6 minutes for the skin, ~4 for each translucent case,
-#                                       on 2 cores), then write everything
+#                                       (~3 minutes for the first, ~2 for each translucent case,
+#                                       on 2 shared cores, and 30-50 s for each truth not kept yet
+#                                       in ~/.cache/penumbra/truth), then write everything
 # Needs a release build (scripts/build.sh; the CT case needs its `cranium_ct` target) and gnuplot
 # (scripts/install-deps.sh installs it).
 set -euo pipefail
@@ -25,11 +27,13 @@ translucent=(--size 128x128 --modes phong,half_angle,sbrc,sbrc_cone --slices-lis
     --light-res-list 128 --sample-distances 1/256,1/512 --skipping on,off --jitter off,on
     --refinement 4,8 --repeat 2 --budget-ms "$translucent_budgets")
 if [ "${1:-}" = "--measure" ]; then
-    # Two heads (7 and 35 million voxels), a light near the view and one from the side.
+    # An MRI head's skin and a CT's bone (each volume's default transfer function), the light
+    # near the view, at the default sample distance and half of it: what the step costs beside
+    # what the light buffer costs.
     "$penumbra" bench accuracy \
-        --volumes "$templates/ch2.nii.gz,$templates/ch2better.nii.gz" --lights "10,45;100,20" \
+        --volumes "$templates/ch2.nii.gz,$ct" --lights 10,45 \
         --size 256x256 --slices-list 32,64,128,256 --light-res-list 64,128,256 \
-        --sample-distances 1/256 --repeat 3 --budget-ms "$budgets" \
+        --sample-distances 1/256,1/512 --repeat 3 --budget-ms "$budgets" \
         --csv "$out/llvmpipe.csv" --json "$out/llvmpipe.json" --plot "$out/llvmpipe.png"
     "$penumbra" bench accuracy --case mri_brain "${translucent[@]}" \
         --csv "$out/llvmpipe_mri_brain.csv" --json "$out/llvmpipe_mri_brain.json" \

@@ -199,7 +199,7 @@ protected:
             p.resolution = resolution;
             p.sample_distance = 1.0 / 256;
             p.frame_ms = frame_ms;
-            p.psnr = p.psnr_finest = psnr;
+            p.psnr = p.psnr_truth = psnr;
             return p;
         };
         table->points = {point(scene::Mode::phong, 0, 0, 20.0, 18.0),

@@ -155,14 +155,19 @@ int run_bench(const std::vector<std::string>& args) {
               "light-buffer reuse vs rebuild, and the two light-buffer builders",
               run_bench_modes},
              {"accuracy",
-              "error vs the reference (RMSE, PSNR, SSIM) against frame time over\n\tmodes x "
-              "slices x light-buffer resolution x sample distance; quality\n\tpresets per "
-              "frame-time budget; CSV, JSON and a plot",
+              "error vs the converged truth and vs the reference of the same sample\n\tdistance "
+              "(RMSE, PSNR, SSIM) against frame time over modes x slices x\n\tlight-buffer "
+              "resolution x sample distance; quality presets per frame-time\n\tbudget; CSV, "
+              "JSON and a plot",
               run_bench_accuracy},
              {"refine",
               "progressive stills: PSNR of each refinement step against a reference at\n\t1/8 "
               "of the sample distance, next to the unjittered frame",
-              run_bench_refine}},
+              run_bench_refine},
+             {"truth",
+              "the converged truth of `bench accuracy` at each sample distance against\n\tthe "
+              "next finer one: whether halving the distance still changes the image",
+              run_bench_truth}},
             args);
 }
 

@@ -1,16 +1,19 @@
 // `penumbra bench accuracy`: what each method's accuracy costs in time (DESIGN.md §1 "Accuracy and
-// its cost in time"). Every method is rendered from the same camera as a `reference` frame (shadow
-// rays marched to the light at every sample) of the same sample distance; the error is measured
-// against it and set beside the frame time. The measured table doubles as the source of quality
-// presets: for a frame-time budget, the most accurate setting that fits.
+// its cost in time"). Every method is rendered from the same camera as the converged truth (the
+// `reference` mode, shadow rays marched to the light at every sample, at a fine jittered step
+// averaged over frames: bench/truth.hpp) and as a `reference` frame of the same sample distance;
+// the errors against both are set beside the frame time. The measured table doubles as the source
+// of quality presets: for a frame-time budget, the most accurate setting that fits.
 
 #include "commands.hpp"
 #include "sweep_lists.hpp"
+#include "truth_option.hpp"
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/base/text.hpp>
 #include <penumbra/bench/accuracy_bench.hpp>
 #include <penumbra/bench/sweep_spec.hpp>
+#include <penumbra/bench/truth.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/cli/transfer_function_file.hpp>
@@ -117,14 +120,18 @@ po::options_description output_options() {
             "to the reference)")("from", po::value<std::string>()->value_name("FILE.json"),
                                  "measure nothing: presets, CSV, JSON and plot from a table "
                                  "written by --json")("debug-gl", "GL debug output to the log");
+    add_truth_cache_option(options);
     return options;
 }
 
 constexpr const char* about =
-        "Accuracy against the `reference` mode (shadow rays) versus frame time. For every volume "
-        "and light\nthe reference is rendered once per sample distance from the same camera; "
-        "every other mode x slices\nx light-buffer resolution x sample distance is compared "
-        "with it (RMSE and PSNR via OpenImageIO,\nSSIM on Rec. 601 luma) and timed: the median "
+        "Accuracy against the converged truth versus frame time. For every volume and light the "
+        "truth\n(the `reference` mode, shadow rays, at a fine jittered step averaged over "
+        "frames; kept on disk,\n--truth-cache) and the reference at every sample distance are "
+        "rendered from the same camera;\nevery mode x slices x light-buffer resolution x "
+        "sample distance, and each reference, is compared\nwith the truth and with the "
+        "reference of its own sample distance (RMSE and PSNR via OpenImageIO,\nSSIM on Rec. "
+        "601 luma) and timed: the median "
         "frame time over --repeat frames with the light\nbuffer cached (what a user orbiting "
         "the volume pays), and the median light-buffer build forced\nby nudging the light "
         "(what a light or TF edit pays). Times are GPU timer queries where they\nwork, else "
@@ -242,7 +249,9 @@ int measure(const po::variables_map& a, const AccuracyReport& report) {
     const FrameFor frame_for = [&](const volume::Volume& volume) {
         return base_request(a, volume, defaults, *accuracy_case, table.phong);
     };
-    if (auto status = bench_accuracy(**renderer, *sweep, frame_for, table, stdout); !status) {
+    TruthCache truths(truth_folder(a));
+    if (auto status = bench_accuracy(**renderer, *sweep, frame_for, truths, table, stdout);
+        !status) {
         return status.error().where == "--size" ? usage_error(status.error())
                                                 : fail(status.error());
     }

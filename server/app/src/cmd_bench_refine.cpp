@@ -1,6 +1,7 @@
 // `penumbra bench refine`: the options of bench::bench_refinement.
 
 #include "commands.hpp"
+#include "framed_volume.hpp"
 
 #include <penumbra/bench/refine_bench.hpp>
 #include <penumbra/cli/frame_options.hpp>
@@ -38,23 +39,11 @@ po::options_description refine_options(std::string& volume, bench::RefineOptions
 // Loads the volume, builds the frame and measures on a renderer of its own.
 base::Status bench_refine(const po::variables_map& a, const std::string& path,
                           const bench::RefineOptions& options) {
-    auto loaded = volume::load_volume(path);
-    if (!loaded) {
-        return loaded.error();
+    auto framed = framed_volume(a, path);
+    if (!framed) {
+        return framed.error();
     }
-    auto volume = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-    auto frame = frame_request_from(a, *volume);
-    if (!frame) {
-        return frame.error();
-    }
-    auto renderer = render::Renderer::create();
-    if (!renderer) {
-        return renderer.error();
-    }
-    if (auto status = (*renderer)->set_volume(volume); !status) {
-        return status;
-    }
-    auto result = bench::bench_refinement(**renderer, *frame, options, stdout);
+    auto result = bench::bench_refinement(*framed->renderer, framed->frame, options, stdout);
     if (!result) {
         return result.error();
     }

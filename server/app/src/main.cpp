@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
              {"info", "print a volume's dimensions, spacing, type, range and histogram", run_info},
              {"bench",
               "benchmarks: `bench modes` times every mode side by side; `bench accuracy`\n\t"
-              "measures error against the reference vs frame time",
+              "measures error against the converged truth vs frame time",
               run_bench}},
             {argv + 1, argv + argc});
 }

@@ -2,12 +2,14 @@
 # The benchmark writes its data and these variables above this text, into one script:
 #   png, svg            the images to write (no folder: run in their folder)
 #   width               pixels; 620 per panel, at least 960
-#   title_text          the figure's title; x_label the x axis's
+#   title_text          the figure's title; x_label and y_label the axes'
 #   panels              one per volume; panel_title[v], y_range[v] ("[low:high]" or "[*:*]")
-#   modes               the measured modes, reference aside, as words; a mode's index is its word
+#   modes               the modes measured against a truth other than themselves, as words; a
+#                       mode's index is its word
 #   style_modes, style_colours, style_points   every mode's plot colour and point type (the
 #                       mode table's), as words in the same order
-#   ref_count           references; ref_panel[r], ref_ms[r], ref_text[r], ref_row[r]
+#   ref_count           references that are the truth itself (a table measured without a
+#                       converged truth); ref_panel[r], ref_ms[r], ref_text[r], ref_row[r]
 #   $front              panel, frame ms, PSNR, label: the Pareto front over all modes
 #   $all                panel, mode, frame ms, PSNR: every setting (means over the lights)
 #   $own                panel, mode, frame ms, PSNR: each mode's own Pareto front
@@ -16,8 +18,9 @@
 #                       (ms: the still and its steps in all)
 #   variant_kinds       the kinds $variants holds, as words
 # One panel per volume: every setting of a mode as a small mark, the mode's own front as its
-# curve, the front over all modes as a wide grey band, the reference's time as a vertical line
-# (its PSNR is infinite), and the variants as open marks in their mode's colour.
+# curve, the front over all modes as a wide grey band, a reference that is the truth itself as a
+# vertical line at its time (its PSNR is infinite), and the variants as open marks in their mode's
+# colour.
 
 style_index(name) = sum [i=1:words(style_modes)] (word(style_modes, i) eq name ? i : 0)
 colour(name) = style_index(name) > 0 ? word(style_colours, style_index(name)) : "#404040"
@@ -38,7 +41,7 @@ variant_plot = 'for [m=1:words(modes)] for [k=1:words(variant_kinds)] $variants 
 set logscale x
 set grid xtics ytics mxtics lc rgb "#e8e8e8"
 set xlabel x_label
-set ylabel "PSNR vs reference, dB (higher is better); grey labels: slices n / light-buffer R"
+set ylabel y_label
 set key bottom right box opaque font ",9" spacing 1.1
 set mxtics 10
 

@@ -25,9 +25,12 @@ void print_timing(std::FILE* out, const render::RendererInfo& info, const qualit
 }  // namespace
 
 base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sweep,
-                            const quality::FrameFor& frame_for, quality::Table& table,
-                            std::FILE* out) {
+                            const quality::FrameFor& frame_for, TruthCache& truths,
+                            quality::Table& table, std::FILE* out) {
     print_timing(out, renderer.info(), sweep);
+    const std::string kept =
+            truths.folder() ? "in " + truths.folder()->string() : std::string("for this run only");
+    std::fprintf(out, "truth:    %s, kept %s\n", describe(kTruth).c_str(), kept.c_str());
     const std::uint64_t frames =
             quality::frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
     const Progress progress(frames);
@@ -46,8 +49,13 @@ base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sw
                     [out, &progress](const quality::Point& p, std::uint64_t done) {
                         std::fprintf(out, "%s  %s\n", point_row(p).c_str(), progress(done).c_str());
                         std::fflush(out);
+                    },
+            .truth =
+                    [out](const TruthCache::Found& found) {
+                        std::fprintf(out, "  truth %s\n", describe(found).c_str());
+                        std::fflush(out);
                     }};
-    return measure_sweep(renderer, sweep, frame_for, print, table);
+    return measure_sweep(renderer, sweep, frame_for, print, table, &truths);
 }
 
 base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,

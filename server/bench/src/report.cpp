@@ -2,6 +2,7 @@
 
 #include <penumbra/base/data_dir.hpp>
 #include <penumbra/bench/plot_style.hpp>
+#include <penumbra/bench/truth.hpp>
 #include <penumbra/scene/mode.hpp>
 
 #include <algorithm>
@@ -94,7 +95,12 @@ double time_to_image(const quality::Setting& s) {
     return s.frame_ms * (1.0 + s.key.refinement_steps);
 }
 
-// The figure's title: device, size, lights, sample distances, TF.
+// What the table's *_truth columns compare with.
+std::string truth_text(const quality::Table& table) {
+    return table.truth ? describe(*table.truth) : "the reference at the finest sample distance";
+}
+
+// The figure's title: device; size, lights, sample distances, TF; the truth.
 std::string title_of(const quality::Table& table) {
     std::set<quality::LightAngles> lights;
     std::set<double> distances;
@@ -114,7 +120,8 @@ std::string title_of(const quality::Table& table) {
     return "Penumbra: accuracy vs frame time on " + table.device + "\n" +
            std::to_string(table.width) + "x" + std::to_string(table.height) + ", lights (az,el) " +
            light_text + ", sample distance " + distance_text + ", tf " + table.transfer_function +
-           (table.phong ? ", Blinn-Phong on" : "");
+           (table.phong ? ", Blinn-Phong on" : "") +
+           "\nPSNR against the truth: " + truth_text(table);
 }
 
 // One panel's data rows, its title, y range and references.
@@ -125,15 +132,16 @@ void add_panel(const quality::Table& table, const std::string& volume, int panel
     std::vector<quality::Setting> measured;
     int row = 0;
     for (const quality::Setting& s : quality::aggregate(table.points, volume)) {
-        if (s.key.mode != scene::Mode::reference) {
+        if (!std::isinf(s.psnr_truth)) {
             measured.push_back(s);
             continue;
         }
+        // The truth itself (a table without a converged truth): a line at its time.
         references[0].push_back(std::to_string(panel));
         references[1].push_back(format("%.6g", s.frame_ms));
-        references[2].push_back(
-                gnuplot_string("reference " + distance_label(s.key.sample_distance) +
-                               (s.key.empty_space_skipping ? "" : " no skipping") + " (PSNR inf)"));
+        references[2].push_back(gnuplot_string(
+                "reference " + distance_label(s.key.sample_distance) +
+                (s.key.empty_space_skipping ? "" : " no skipping") + " (the truth)"));
         references[3].push_back(std::to_string(row++));
     }
     const std::string p = std::to_string(panel) + " ";
@@ -147,19 +155,19 @@ void add_panel(const quality::Table& table, const std::string& volume, int panel
         const int kind = variant_kind(s.key);
         text.variant_kinds.insert(kind);
         text.variants += p + std::to_string(mode) + " " + format("%.6g ", time_to_image(s)) +
-                         format("%.4f ", s.psnr_finest) + std::to_string(kind) + "\n";
+                         format("%.4f ", s.psnr_truth) + std::to_string(kind) + "\n";
     }
     measured = plain;
     for (const quality::Setting& s : pareto_front(measured, false)) {
-        text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_finest) +
+        text.front += p + format("%.6g ", s.frame_ms) + format("%.4f ", s.psnr_truth) +
                       gnuplot_string(setting_label(s)) + "\n";
     }
     double y_min = quality::infinity;
     double y_max = -quality::infinity;
     for (const quality::Setting& s : quality::aggregate(table.points, volume)) {
-        if (s.key.mode != scene::Mode::reference && !s.key.plain()) {
-            y_min = std::min(y_min, s.psnr_finest);
-            y_max = std::max(y_max, s.psnr_finest);
+        if (!std::isinf(s.psnr_truth) && !s.key.plain()) {
+            y_min = std::min(y_min, s.psnr_truth);
+            y_max = std::max(y_max, s.psnr_truth);
         }
     }
     for (std::size_t m = 0; m < modes.size(); ++m) {
@@ -167,16 +175,16 @@ void add_panel(const quality::Table& table, const std::string& volume, int panel
         for (const quality::Setting& s : measured) {
             if (s.key.mode == modes[m]) {
                 own.push_back(s);
-                y_min = std::min(y_min, s.psnr_finest);
-                y_max = std::max(y_max, s.psnr_finest);
+                y_min = std::min(y_min, s.psnr_truth);
+                y_max = std::max(y_max, s.psnr_truth);
             }
         }
         const std::string pm = p + std::to_string(m + 1) + " ";
         for (const quality::Setting& s : own) {
-            text.all += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
+            text.all += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_truth);
         }
         for (const quality::Setting& s : pareto_front(own, false)) {
-            text.own += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_finest);
+            text.own += pm + format("%.6g ", s.frame_ms) + format("%.4f\n", s.psnr_truth);
         }
     }
     titles.push_back(gnuplot_string(
@@ -212,7 +220,7 @@ std::vector<quality::Setting> pareto_front(std::vector<quality::Setting> setting
     std::vector<quality::Setting> front;
     for (const quality::Setting& s : settings) {
         if (front.empty() || quality::more_accurate(s, front.back())) {
-            if (!front.empty() && s.psnr_finest == front.back().psnr_finest) {
+            if (!front.empty() && s.psnr_truth == front.back().psnr_truth) {
                 continue;  // as accurate and slower
             }
             front.push_back(s);
@@ -230,7 +238,7 @@ base::Status write_csv(const quality::Table& table, const std::filesystem::path&
     }
     out << "volume,light_azimuth,light_elevation,mode,slices,resolution,sample_distance,"
            "empty_space_skipping,jitter,refinement_steps,width,height,timing,frame_ms,"
-           "light_buffer_ms,rmse,psnr,ssim,rmse_finest,psnr_finest,ssim_finest\n";
+           "light_buffer_ms,rmse_truth,psnr_truth,ssim_truth,rmse,psnr,ssim\n";
     char line[512];
     for (const quality::Point& p : table.points) {
         std::snprintf(line, sizeof line,
@@ -240,8 +248,8 @@ base::Status write_csv(const quality::Table& table, const std::filesystem::path&
                       scene::to_string(p.mode), p.slices, p.resolution, p.sample_distance,
                       p.empty_space_skipping ? 1 : 0, p.jitter ? 1 : 0, p.refinement_steps,
                       table.width, table.height, quality::timing_name(table), p.frame_ms,
-                      p.light_buffer_ms, p.rmse, psnr_text(p.psnr).c_str(), p.ssim, p.rmse_finest,
-                      psnr_text(p.psnr_finest).c_str(), p.ssim_finest);
+                      p.light_buffer_ms, p.rmse_truth, psnr_text(p.psnr_truth).c_str(),
+                      p.ssim_truth, p.rmse, psnr_text(p.psnr).c_str(), p.ssim);
         out << line;
     }
     if (!out) {
@@ -260,10 +268,12 @@ std::string presets_text(const quality::Table& table, const std::vector<quality:
     }
     char line[512];
     std::snprintf(line, sizeof line,
-                  "\nquality presets: per budget, the most accurate setting (mean PSNR vs "
-                  "reference over %zu volume(s) x %zu light(s))\nwhose slowest median frame time "
-                  "fits; %s time, light buffer cached (a light or TF edit adds the build)\n",
-                  volumes.size(), lights.size(), quality::timing_name(table));
+                  "\nquality presets: per budget, the most accurate setting (mean PSNR vs the "
+                  "truth over %zu volume(s) x %zu light(s))\nwhose slowest median frame time "
+                  "fits; %s time, light buffer cached (a light or TF edit adds the build); the "
+                  "truth: %s\n",
+                  volumes.size(), lights.size(), quality::timing_name(table),
+                  truth_text(table).c_str());
     std::string text = line;
     std::snprintf(line, sizeof line, "  %9s  %-11s %5s %5s %7s %-13s %8s %6s %9s %9s\n",
                   "budget ms", "mode", "n", "R", "dt", "variant", "PSNR dB", "SSIM", "frame ms",
@@ -283,7 +293,7 @@ std::string presets_text(const quality::Table& table, const std::vector<quality:
         std::snprintf(line, sizeof line, "  %9g  %-11s %5s %5s %7s %-13s %8s %6.4f %9.2f %s\n",
                       preset.budget_ms, scene::to_string(s.key.mode), n.c_str(), r.c_str(),
                       distance_label(s.key.sample_distance).c_str(), variant_text(s.key).c_str(),
-                      psnr_text(s.psnr_finest).c_str(), s.ssim_finest, s.worst_frame_ms,
+                      psnr_text(s.psnr_truth).c_str(), s.ssim_truth, s.worst_frame_ms,
                       build.c_str());
         text += line;
     }
@@ -304,9 +314,11 @@ std::string frame_text(const quality::Table& table) {
 std::string view_header(const std::string& volume, const quality::LightAngles& light) {
     char line[512];
     std::snprintf(line, sizeof line,
-                  "\n%s, light %g,%g\n  %-11s %5s %5s %7s %-13s %9s %9s %8s %7s\n", volume.c_str(),
-                  light.azimuth, light.elevation, "mode", "n", "R", "dt", "variant", "frame ms",
-                  "build ms", "PSNR dB", "SSIM");
+                  "\n%s, light %g,%g\n  %-11s %5s %5s %7s %-13s %9s %9s %17s %17s\n  %-11s %5s "
+                  "%5s %7s %-13s %9s %9s %8s %8s %8s %8s\n",
+                  volume.c_str(), light.azimuth, light.elevation, "", "", "", "", "", "", "",
+                  "vs the truth", "vs same-dt ref.", "mode", "n", "R", "dt", "variant", "frame ms",
+                  "build ms", "PSNR dB", "SSIM", "PSNR dB", "SSIM");
     return line;
 }
 
@@ -319,10 +331,11 @@ std::string point_row(const quality::Point& p) {
             p.mode,   p.slices,          p.resolution, p.sample_distance, p.empty_space_skipping,
             p.jitter, p.refinement_steps};
     char line[512];
-    std::snprintf(line, sizeof line, "  %-11s %5s %5s %7s %-13s %9.2f %s %8s %7.4f",
+    std::snprintf(line, sizeof line, "  %-11s %5s %5s %7s %-13s %9.2f %s %8s %8.4f %8s %8.4f",
                   scene::to_string(p.mode), n.c_str(), r.c_str(),
                   distance_label(p.sample_distance).c_str(), variant_text(key).c_str(), p.frame_ms,
-                  build.c_str(), psnr_text(p.psnr).c_str(), p.ssim);
+                  build.c_str(), psnr_text(p.psnr_truth).c_str(), p.ssim_truth,
+                  psnr_text(p.psnr).c_str(), p.ssim);
     return line;
 }
 
@@ -399,7 +412,9 @@ std::string plot_script(const quality::Table& table, const std::string& png, con
             volumes.push_back(p.volume);
         }
         lights.insert(p.light);
-        if (p.mode != scene::Mode::reference &&
+        // Every mode measured against a truth other than itself (the reference too, where the
+        // truth is the converged one).
+        if (!std::isinf(p.psnr_truth) &&
             std::find(modes.begin(), modes.end(), p.mode) == modes.end()) {
             modes.push_back(p.mode);
         }
@@ -435,18 +450,21 @@ std::string plot_script(const quality::Table& table, const std::string& png, con
             table.gpu_timers ? "frame time, ms (GPU timer queries, median; log scale)"
                              : "frame time, ms (wall clock, median; no GPU timer queries on this "
                                "device; log scale)";
+    const std::string y_label =
+            "PSNR vs " + std::string(table.truth ? "the converged truth" : "the finest reference") +
+            ", dB (higher is better); grey labels: n / R";
     std::string script =
             "# Written by `penumbra bench accuracy`; `gnuplot " +
             std::filesystem::path(png).replace_extension(".gp").string() +
             "` in this folder redraws the PNG and SVG.\n"
-            "# x: median frame time with the light buffer cached, y: PSNR vs the reference; "
+            "# x: median frame time with the light buffer cached, y: PSNR vs the truth; "
             "marks: every setting; curves: each method's Pareto front; open marks: no "
             "skipping, jittered, refined (at the time its steps take in all).\n";
     script += "png = " + gnuplot_string(png) + "\nsvg = " + gnuplot_string(svg) + "\n";
     // One panel still gets room for the two lines of the figure's title.
     script += "width = " + std::to_string(std::max<std::size_t>(960, 620 * volumes.size() + 80)) +
               "\ntitle_text = " + gnuplot_string(title_of(table)) +
-              "\nx_label = " + gnuplot_string(x_label) +
+              "\nx_label = " + gnuplot_string(x_label) + "\ny_label = " + gnuplot_string(y_label) +
               "\npanels = " + std::to_string(volumes.size()) +
               "\nmodes = " + gnuplot_string(mode_words) +
               "\nstyle_modes = " + gnuplot_string(style_modes) +

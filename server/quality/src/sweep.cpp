@@ -290,9 +290,11 @@ std::uint64_t frames_per_view(const Sweep& sweep) {
 namespace {
 
 // The references at every sample distance, appended as points; false: the observer stopped.
+// Without an explicit truth the first reference (the finest distance) is the truth.
 base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
                                       const scene::FrameRequest& base, const std::string& volume,
                                       const LightAngles& light, const PointObserver& observer,
+                                      const std::optional<base::ImageRgbaF>& truth,
                                       std::vector<Point>& points,
                                       std::vector<base::ImageRgbaF>& references) {
     for (const double distance : sweep.distances) {
@@ -317,9 +319,9 @@ base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
                     .empty_space_skipping = skipping,
                     .frame_ms = timed->frame_ms,
                     .psnr = infinity,
-                    .psnr_finest = infinity};
-            // The reference of the other skipping (the same image, or nearly) and of coarser
-            // distances are measured against the first at their distance and the finest.
+                    .psnr_truth = infinity};
+            // The reference of the other skipping (the same image, or nearly) is measured against
+            // the first at its distance.
             if (!first_of_distance) {
                 auto same = errors_against(references.back(), timed->image);
                 if (!same) {
@@ -329,14 +331,16 @@ base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
                 p.psnr = same->psnr;
                 p.ssim = same->ssim;
             }
-            if (references.size() > 1 || !first_of_distance) {
-                auto finest = errors_against(references.front(), timed->image);
-                if (!finest) {
-                    return finest.error();
+            const bool is_the_truth = !truth && first_of_distance && references.size() == 1;
+            if (!is_the_truth) {
+                auto against_truth =
+                        errors_against(truth ? *truth : references.front(), timed->image);
+                if (!against_truth) {
+                    return against_truth.error();
                 }
-                p.rmse_finest = finest->rmse;
-                p.psnr_finest = finest->psnr;
-                p.ssim_finest = finest->ssim;
+                p.rmse_truth = against_truth->rmse;
+                p.psnr_truth = against_truth->psnr;
+                p.ssim_truth = against_truth->ssim;
             }
             points.push_back(p);
             if (!observer(p)) {
@@ -351,15 +355,25 @@ base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
 
 base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
                                 const std::string& volume, const LightAngles& light,
-                                const PointObserver& observer, std::vector<Point>& points) {
+                                const PointObserver& observer, std::vector<Point>& points,
+                                const TruthFor& truth) {
     base.light.type = scene::LightType::directional;
     base.light.direction = scene::direction_from_angles(light.azimuth, light.elevation);
+    std::optional<base::ImageRgbaF> explicit_truth;
+    if (truth) {
+        auto image = truth(base);
+        if (!image) {
+            return image.error();
+        }
+        explicit_truth = base::to_rgba_f(*image);
+    }
     std::vector<base::ImageRgbaF> references;
-    auto complete =
-            measure_references(bench, sweep, base, volume, light, observer, points, references);
+    auto complete = measure_references(bench, sweep, base, volume, light, observer, explicit_truth,
+                                       points, references);
     if (!complete || !*complete) {
         return complete;
     }
+    const base::ImageRgbaF& truth_image = explicit_truth ? *explicit_truth : references.front();
     // The light-buffer modes build the same buffer (its key has no mode), so one build time per
     // grid point serves them all.
     std::map<BuildKey, double> builds;
@@ -400,9 +414,9 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
             }
             for (const auto& [steps, image] : images) {
                 auto same = errors_against(references[d], image.image);
-                auto finest = errors_against(references.front(), image.image);
-                if (!same || !finest) {
-                    return !same ? same.error() : finest.error();
+                auto against_truth = errors_against(truth_image, image.image);
+                if (!same || !against_truth) {
+                    return !same ? same.error() : against_truth.error();
                 }
                 const Point p{.volume = volume,
                               .light = light,
@@ -418,9 +432,9 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
                               .rmse = same->rmse,
                               .psnr = same->psnr,
                               .ssim = same->ssim,
-                              .rmse_finest = finest->rmse,
-                              .psnr_finest = finest->psnr,
-                              .ssim_finest = finest->ssim};
+                              .rmse_truth = against_truth->rmse,
+                              .psnr_truth = against_truth->psnr,
+                              .ssim_truth = against_truth->ssim};
                 points.push_back(p);
                 if (!observer(p)) {
                     return false;

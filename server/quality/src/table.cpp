@@ -36,8 +36,8 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
         ++s.count;
         s.psnr += p.psnr;
         s.ssim += p.ssim;
-        s.psnr_finest += p.psnr_finest;
-        s.ssim_finest += p.ssim_finest;
+        s.psnr_truth += p.psnr_truth;
+        s.ssim_truth += p.ssim_truth;
         s.frame_ms += p.frame_ms;
         s.worst_frame_ms = std::max(s.worst_frame_ms, p.frame_ms);
         s.light_buffer_ms += p.light_buffer_ms;
@@ -47,8 +47,8 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
         const double n = static_cast<double>(s.count);
         s.psnr /= n;
         s.ssim /= n;
-        s.psnr_finest /= n;
-        s.ssim_finest /= n;
+        s.psnr_truth /= n;
+        s.ssim_truth /= n;
         s.frame_ms /= n;
         s.light_buffer_ms /= n;
         result.push_back(s);
@@ -57,11 +57,11 @@ std::vector<Setting> aggregate(const std::vector<Point>& points,
 }
 
 bool more_accurate(const Setting& a, const Setting& b) {
-    if (a.psnr_finest != b.psnr_finest) {
-        return a.psnr_finest > b.psnr_finest;
+    if (a.psnr_truth != b.psnr_truth) {
+        return a.psnr_truth > b.psnr_truth;
     }
-    if (a.ssim_finest != b.ssim_finest) {
-        return a.ssim_finest > b.ssim_finest;
+    if (a.ssim_truth != b.ssim_truth) {
+        return a.ssim_truth > b.ssim_truth;
     }
     return a.worst_frame_ms < b.worst_frame_ms;
 }
@@ -88,7 +88,7 @@ std::string Choice::describe(double budget_ms) const {
     std::snprintf(text, sizeof text,
                   "budget %.0f ms: %s n=%d R=%d dt=1/%.0f%s, about %.0f ms, %.1f dB%s", budget_ms,
                   scene::to_string(key.mode), key.slices, key.resolution, 1.0 / key.sample_distance,
-                  key.empty_space_skipping ? "" : " no skipping", estimated_ms, setting.psnr_finest,
+                  key.empty_space_skipping ? "" : " no skipping", estimated_ms, setting.psnr_truth,
                   fits ? "" : " (nothing measured fits; the fastest)");
     return text;
 }

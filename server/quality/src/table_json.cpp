@@ -43,12 +43,21 @@ Json point_json(const Point& p) {
             {"refinement_steps", p.refinement_steps},
             {"frame_ms", p.frame_ms},
             {"light_buffer_ms", p.light_buffer_ms},
+            {"rmse_truth", p.rmse_truth},
+            {"psnr_truth", psnr_json(p.psnr_truth)},
+            {"ssim_truth", p.ssim_truth},
             {"rmse", p.rmse},
             {"psnr", psnr_json(p.psnr)},
-            {"ssim", p.ssim},
-            {"rmse_finest", p.rmse_finest},
-            {"psnr_finest", psnr_json(p.psnr_finest)},
-            {"ssim_finest", p.ssim_finest}};
+            {"ssim", p.ssim}};
+}
+
+// The reference mode, jittered, at this distance over this many frames; null: the reference at
+// the finest sample distance swept.
+Json truth_json(const std::optional<TruthMethod>& truth) {
+    if (!truth) {
+        return nullptr;
+    }
+    return {{"sample_distance", truth->sample_distance}, {"frames", truth->frames}};
 }
 
 Json preset_json(const Preset& preset) {
@@ -62,8 +71,8 @@ Json preset_json(const Preset& preset) {
             {"resolution", s.key.resolution},
             {"sample_distance", s.key.sample_distance},
             {"empty_space_skipping", s.key.empty_space_skipping},
-            {"psnr", psnr_json(s.psnr_finest)},
-            {"ssim", s.ssim_finest},
+            {"psnr", psnr_json(s.psnr_truth)},
+            {"ssim", s.ssim_truth},
             {"frame_ms", s.worst_frame_ms},
             {"light_buffer_ms", s.light_buffer_ms}};
 }
@@ -182,9 +191,12 @@ std::optional<Point> point_from(const Field& field) {
     p.rmse = field["rmse"].number();
     p.psnr = field["psnr"].psnr();
     p.ssim = field["ssim"].number();
-    p.rmse_finest = field["rmse_finest"].number();
-    p.psnr_finest = field["psnr_finest"].psnr();
-    p.ssim_finest = field["ssim_finest"].number();
+    // Tables written before the converged truth compared with the finest reference under these
+    // names; that reference was their truth.
+    const bool old_names = !field.has("psnr_truth");
+    p.rmse_truth = field[old_names ? "rmse_finest" : "rmse_truth"].number();
+    p.psnr_truth = field[old_names ? "psnr_finest" : "psnr_truth"].psnr();
+    p.ssim_truth = field[old_names ? "ssim_finest" : "ssim_truth"].number();
     return p;
 }
 
@@ -214,6 +226,13 @@ Table table_from(const Field& root) {
     table.phong = settings["phong"].boolean();
     table.repeat = settings["repeat"].whole();
     table.camera = camera_from(settings["camera"]);
+    if (settings.has("truth") && !settings["truth"].value.is_null()) {
+        const Field truth = settings["truth"];
+        table.truth = TruthMethod{truth["sample_distance"].number(), truth["frames"].whole(1)};
+        if (!(table.truth->sample_distance > 0.0)) {
+            throw Malformed{truth.pointer + "/sample_distance", "expected a positive number"};
+        }
+    }
     const Field points = root["points"];
     if (!points.value.is_array()) {
         throw Malformed{points.pointer, "expected an array"};
@@ -257,9 +276,11 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
     root["format"] = table_format;
     root["description"] =
             "Accuracy vs frame time of Penumbra's rendering modes (penumbra bench accuracy). "
-            "points: one per volume x light x mode x setting; rmse/psnr/ssim against the "
-            "reference mode (shadow rays) at the same sample distance and camera, *_finest "
-            "against the reference at the finest sample distance; psnr null = identical "
+            "points: one per volume x light x mode x setting; *_truth (rmse, psnr, ssim) "
+            "against the truth (settings.truth: the reference mode, shadow rays, at that sample "
+            "distance, jittered, the mean of that many frames; null: the reference at the "
+            "finest sample distance swept), rmse/psnr/ssim against the reference mode at the "
+            "same sample distance, from the same camera; psnr null = identical "
             "(infinite). frame_ms: median frame time with the light buffer cached; "
             "light_buffer_ms: median light-buffer build, 0 where the mode builds none. slices "
             "and resolution 0 where the mode has none. empty_space_skipping and jitter: how "
@@ -267,7 +288,7 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
             "refinement steps, frame_ms the median of one step's frame; jittered and refined "
             "points are "
             "never presets. "
-            "presets: per budget_ms, the setting with the highest mean psnr_finest over all "
+            "presets: per budget_ms, the setting with the highest mean psnr_truth over all "
             "volumes and lights whose slowest frame_ms fits (mode null: none fits).";
     root["device"] = table.device;
     root["renderer"] = {{"vendor", table.vendor},
@@ -283,7 +304,8 @@ std::string table_json(const Table& table, const std::vector<Preset>& presets) {
                         {"slab_samples", table.slab_samples},
                         {"phong", table.phong},
                         {"repeat", table.repeat},
-                        {"camera", camera_json(table.camera)}};
+                        {"camera", camera_json(table.camera)},
+                        {"truth", truth_json(table.truth)}};
     Json points = Json::array();
     for (const Point& p : table.points) {
         points.push_back(point_json(p));

@@ -97,7 +97,7 @@ TEST_F(StartupTableTest, MeasuresEveryModeAndRoundTripsThroughTheServersParser) 
         EXPECT_GT(p.frame_ms, 0.0) << scene::to_string(p.mode);
         if (p.mode == scene::Mode::reference) {
             EXPECT_TRUE(std::isinf(p.psnr));
-            EXPECT_TRUE(std::isinf(p.psnr_finest));
+            EXPECT_TRUE(std::isinf(p.psnr_truth));
         } else {
             EXPECT_TRUE(std::isfinite(p.psnr)) << scene::to_string(p.mode);
         }
@@ -129,7 +129,7 @@ TEST_F(StartupTableTest, MeasuresEveryModeAndRoundTripsThroughTheServersParser) 
         EXPECT_EQ(r.slices, p.slices);
         EXPECT_EQ(r.resolution, p.resolution);
         EXPECT_DOUBLE_EQ(r.frame_ms, p.frame_ms);
-        EXPECT_EQ(std::isinf(r.psnr_finest), std::isinf(p.psnr_finest));
+        EXPECT_EQ(std::isinf(r.psnr_truth), std::isinf(p.psnr_truth));
     }
     EXPECT_EQ(read->width, 32);
     EXPECT_EQ(read->camera.eye, table.camera.eye);

@@ -15,7 +15,7 @@ quality::Setting setting(scene::Mode mode, int slices, double ms, double psnr) {
     s.key = {mode, slices, slices > 0 ? 64 : 0, 1.0 / 256};
     s.count = 1;
     s.frame_ms = s.worst_frame_ms = ms;
-    s.psnr_finest = psnr;
+    s.psnr_truth = psnr;
     return s;
 }
 
@@ -50,7 +50,7 @@ TEST(Report, ThePlotScriptIsTheDataAndVariablesAboveTheTemplate) {
           std::tuple{scene::Mode::reference, 90.0, quality::infinity}}) {
         p.mode = mode;
         p.frame_ms = ms;
-        p.psnr_finest = psnr;
+        p.psnr_truth = psnr;
         table.points.push_back(p);
     }
     const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
@@ -74,7 +74,7 @@ TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
     p.sample_distance = 1.0 / 256;
     p.mode = scene::Mode::sbrc;
     p.frame_ms = 30.0;
-    p.psnr_finest = 25.0;
+    p.psnr_truth = 25.0;
     table.points.push_back(p);
     quality::Point off = p;
     off.empty_space_skipping = false;
@@ -83,11 +83,11 @@ TEST(Report, VariantsAreMarkedApartFromTheModesCurves) {
     quality::Point refined = p;
     refined.jitter = true;
     refined.refinement_steps = 3;
-    refined.psnr_finest = 27.0;
+    refined.psnr_truth = 27.0;
     table.points.push_back(refined);
     quality::Point reference = off;
     reference.mode = scene::Mode::reference;
-    reference.psnr_finest = quality::infinity;
+    reference.psnr_truth = quality::infinity;
     table.points.push_back(reference);
     const std::string script = plot_script(table, "a.png", "a.svg", "TEMPLATE\n");
     EXPECT_NE(script.find("$own << EOD\n1 1 30 25.0000\nEOD"), std::string::npos) << script;
@@ -111,18 +111,18 @@ TEST(Report, GnuplotDrawsTablesWithAndWithoutVariants) {
     p.sample_distance = 1.0 / 256;
     p.mode = scene::Mode::sbrc;
     p.frame_ms = 30.0;
-    p.psnr_finest = 25.0;
+    p.psnr_truth = 25.0;
     table.points.push_back(p);
     p.mode = scene::Mode::reference;
     p.frame_ms = 90.0;
-    p.psnr_finest = quality::infinity;
+    p.psnr_truth = quality::infinity;
     table.points.push_back(p);
     for (const bool variants : {false, true}) {
         if (variants) {
             p.mode = scene::Mode::sbrc;
             p.jitter = true;
             p.refinement_steps = 4;
-            p.psnr_finest = 27.0;
+            p.psnr_truth = 27.0;
             table.points.push_back(p);
         }
         const std::filesystem::path png = folder / (variants ? "with.png" : "without.png");

@@ -23,7 +23,7 @@ Table table_of(scene::Mode mode) {
     p.mode = mode;
     p.sample_distance = 1.0 / 256;
     p.frame_ms = 10.0;
-    p.psnr_finest = 30.0;
+    p.psnr_truth = 30.0;
     t.points = {p};
     return t;
 }

@@ -28,6 +28,7 @@ Table sample_table() {
     t.light_lookup = "local";
     t.slab_samples = 0;
     t.camera = scene::orbit_camera(30.0, 20.0, 2.4);
+    t.truth = TruthMethod{1.0 / 1024, 16};
     Point reference;
     reference.volume = "ch2";
     reference.light = {10.0, 45.0};
@@ -35,7 +36,7 @@ Table sample_table() {
     reference.sample_distance = 1.0 / 256;
     reference.frame_ms = 400.5;
     reference.psnr = infinity;
-    reference.psnr_finest = infinity;
+    reference.psnr_truth = infinity;
     reference.empty_space_skipping = false;
     Point sbrc = reference;
     sbrc.empty_space_skipping = true;
@@ -49,9 +50,9 @@ Table sample_table() {
     sbrc.rmse = 0.01;
     sbrc.psnr = 30.5;
     sbrc.ssim = 0.97;
-    sbrc.rmse_finest = 0.02;
-    sbrc.psnr_finest = 28.0;
-    sbrc.ssim_finest = 0.95;
+    sbrc.rmse_truth = 0.02;
+    sbrc.psnr_truth = 28.0;
+    sbrc.ssim_truth = 0.95;
     t.points = {reference, sbrc};
     return t;
 }
@@ -77,6 +78,7 @@ TEST(TableJson, RoundTripsEveryField) {
     EXPECT_EQ(read->camera.eye, t.camera.eye);
     EXPECT_EQ(read->camera.up, t.camera.up);
     EXPECT_DOUBLE_EQ(read->camera.fov_y_degrees, t.camera.fov_y_degrees);
+    EXPECT_EQ(read->truth, t.truth);
     ASSERT_EQ(read->points.size(), 2u);
     for (std::size_t i = 0; i < 2; ++i) {
         const Point& a = read->points[i];
@@ -95,9 +97,9 @@ TEST(TableJson, RoundTripsEveryField) {
         EXPECT_DOUBLE_EQ(a.rmse, b.rmse);
         EXPECT_EQ(a.psnr, b.psnr);  // infinite stays infinite
         EXPECT_DOUBLE_EQ(a.ssim, b.ssim);
-        EXPECT_DOUBLE_EQ(a.rmse_finest, b.rmse_finest);
-        EXPECT_EQ(a.psnr_finest, b.psnr_finest);
-        EXPECT_DOUBLE_EQ(a.ssim_finest, b.ssim_finest);
+        EXPECT_DOUBLE_EQ(a.rmse_truth, b.rmse_truth);
+        EXPECT_EQ(a.psnr_truth, b.psnr_truth);
+        EXPECT_DOUBLE_EQ(a.ssim_truth, b.ssim_truth);
     }
     // Written again, the same text.
     EXPECT_EQ(table_json(*read, {}), table_json(t, {}));
@@ -188,6 +190,38 @@ TEST(TableJson, PointsWithoutSkippingJitterOrRefinementWereMeasuredWithoutThem) 
         EXPECT_FALSE(p.jitter);
         EXPECT_EQ(p.refinement_steps, 0);
     }
+}
+
+// A table written before the converged truth compared with the finest reference swept, under
+// the names *_finest: that reference was its truth.
+TEST(TableJson, ATableWithoutATruthComparedWithTheFinestReference) {
+    Table t = sample_table();
+    t.truth.reset();
+    std::string text = table_json(t, {});
+    const std::string no_truth = ",\n  \"truth\": null";
+    const auto at = text.find(no_truth);
+    ASSERT_NE(at, std::string::npos);
+    text.erase(at, no_truth.size());
+    for (const std::string name : {"rmse", "psnr", "ssim"}) {
+        for (auto found = text.find(name + "_truth"); found != std::string::npos;
+             found = text.find(name + "_truth")) {
+            text.replace(found, name.size() + 6, name + "_finest");
+        }
+    }
+    auto read = parse_table(text, "t.json");
+    ASSERT_TRUE(read.ok()) << read.error().to_string();
+    EXPECT_FALSE(read->truth.has_value());
+    ASSERT_EQ(read->points.size(), 2u);
+    EXPECT_EQ(read->points[1].psnr_truth, 28.0);
+    EXPECT_EQ(read->points[1].ssim_truth, 0.95);
+    EXPECT_TRUE(std::isinf(read->points[0].psnr_truth));
+}
+
+TEST(TableJson, ATruthOfNoDistanceOrOneFrameIsRefused) {
+    expect_refused(parse_edited("\"sample_distance\": 0.0009765625", "\"sample_distance\": 0"),
+                   "t.json/settings/truth/sample_distance", "expected a positive number");
+    expect_refused(parse_edited("\"frames\": 16", "\"frames\": 0"), "t.json/settings/truth/frames",
+                   "expected an integer of at least 1");
 }
 
 TEST(TableJson, RefinementStepsWithoutJitterAreRefused) {

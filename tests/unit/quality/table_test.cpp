@@ -10,7 +10,7 @@ namespace penumbra::quality {
 namespace {
 
 Point point(const std::string& volume, scene::Mode mode, int slices, double frame_ms,
-            double psnr_finest, double ssim_finest = 0.9) {
+            double psnr_truth, double ssim_truth = 0.9) {
     Point p;
     p.volume = volume;
     p.light = {10.0, 45.0};
@@ -19,10 +19,10 @@ Point point(const std::string& volume, scene::Mode mode, int slices, double fram
     p.resolution = slices > 0 ? 128 : 0;
     p.sample_distance = 1.0 / 256;
     p.frame_ms = frame_ms;
-    p.psnr = psnr_finest;
-    p.psnr_finest = psnr_finest;
-    p.ssim = ssim_finest;
-    p.ssim_finest = ssim_finest;
+    p.psnr = psnr_truth;
+    p.psnr_truth = psnr_truth;
+    p.ssim = ssim_truth;
+    p.ssim_truth = ssim_truth;
     return p;
 }
 
@@ -49,8 +49,8 @@ TEST(Choose, PicksTheMostAccurateSettingWhoseSlowestFrameFits) {
     ASSERT_TRUE(choice.has_value());
     EXPECT_EQ(choice->setting.key.mode, scene::Mode::sbrc);
     EXPECT_EQ(choice->setting.key.slices, 64);
-    EXPECT_DOUBLE_EQ(choice->setting.psnr_finest, 23.0);  // mean over the two volumes
-    EXPECT_DOUBLE_EQ(choice->estimated_ms, 90.0);         // the slower volume
+    EXPECT_DOUBLE_EQ(choice->setting.psnr_truth, 23.0);  // mean over the two volumes
+    EXPECT_DOUBLE_EQ(choice->estimated_ms, 90.0);        // the slower volume
     EXPECT_TRUE(choice->fits);
     // 120 ms on b, but 150 on a: the slowest must fit.
     EXPECT_EQ(choose(table(), 140.0, 256, 256)->setting.key.slices, 64);
@@ -182,10 +182,10 @@ TEST(Choose, AJitteredOrRefinedImageIsNeverChosen) {
     for (Point p : table().points) {
         if (p.mode == scene::Mode::sbrc && p.slices == 64) {
             p.jitter = true;
-            p.psnr_finest = 30.0;
+            p.psnr_truth = 30.0;
             t.points.push_back(p);
             p.refinement_steps = 8;
-            p.psnr_finest = 35.0;
+            p.psnr_truth = 35.0;
             t.points.push_back(p);
         }
     }
@@ -197,7 +197,7 @@ TEST(Choose, AJitteredOrRefinedImageIsNeverChosen) {
     const auto choice = choose(t, 100.0, 256, 256);
     ASSERT_TRUE(choice.has_value());
     EXPECT_EQ(choice->setting.key.refinement_steps, 0);
-    EXPECT_DOUBLE_EQ(choice->setting.psnr_finest, 23.0);
+    EXPECT_DOUBLE_EQ(choice->setting.psnr_truth, 23.0);
     EXPECT_EQ(default_budgets(t.points), default_budgets(table().points));
 }
 

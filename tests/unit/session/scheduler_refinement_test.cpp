@@ -1,6 +1,7 @@
 // Progressive stills in the scheduler: the refinement steps of a still frame follow it at the
 // lowest priority, and any other job waits for at most one chunk of refinement. A fake renderer
-// renders in chunks and counts them, so the test measures queueing in chunks, not in wall time.
+// renders in chunks and counts them, so the test measures queueing in chunks, not in wall time;
+// where the test needs a chunk to be in progress when it submits, it holds one at its start.
 
 #include <penumbra/session/scheduler.hpp>
 
@@ -8,6 +9,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -19,6 +21,46 @@ namespace penumbra::session {
 namespace {
 
 using namespace std::chrono_literals;
+
+// Lets the test stop the renderer at the start of a refinement chunk, so that it can submit a job
+// while that chunk is in progress and no chunk can finish meanwhile, however busy the machine.
+class ChunkGate {
+public:
+    // Holds the next refinement chunk at its start; true once one is held there, false when none
+    // started within `timeout`.
+    bool hold(std::chrono::milliseconds timeout) {
+        std::unique_lock lock(mutex_);
+        hold_ = true;
+        return changed_.wait_for(lock, timeout, [this] { return held_; });
+    }
+
+    // Lets the held chunk, and every chunk after it, go on.
+    void release() {
+        {
+            const std::lock_guard lock(mutex_);
+            hold_ = false;
+        }
+        changed_.notify_all();
+    }
+
+    // Called by the renderer at the start of every refinement chunk.
+    void enter_refinement_chunk() {
+        std::unique_lock lock(mutex_);
+        if (!hold_) {
+            return;
+        }
+        held_ = true;
+        changed_.notify_all();
+        changed_.wait(lock, [this] { return !hold_; });
+        held_ = false;
+    }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    bool hold_ = false;
+    bool held_ = false;
+};
 
 // Renders request.settings.width chunks of 2 ms, asking between chunks whether to stop, and
 // counts the refinement chunks it finished. Each render records the refinement chunks finished
@@ -32,10 +74,11 @@ public:
     };
 
     ChunkedRenderer(std::mutex& mutex, std::vector<Started>& started,
-                    std::atomic<long long>& refinement_chunks)
+                    std::atomic<long long>& refinement_chunks, ChunkGate& gate)
         : mutex_(mutex)
         , started_(started)
-        , refinement_chunks_(refinement_chunks) {}
+        , refinement_chunks_(refinement_chunks)
+        , gate_(gate) {}
 
     [[nodiscard]] const render::RendererInfo& info() const override { return info_; }
 
@@ -49,6 +92,9 @@ public:
                     {request.settings.height, request.refinement, refinement_chunks_.load()});
         }
         for (int chunk = 0; chunk < request.settings.width; ++chunk) {
+            if (request.refinement.step > 0) {
+                gate_.enter_refinement_chunk();
+            }
             std::this_thread::sleep_for(2ms);
             if (request.refinement.step > 0) {
                 ++refinement_chunks_;
@@ -70,6 +116,7 @@ private:
     std::mutex& mutex_;
     std::vector<Started>& started_;
     std::atomic<long long>& refinement_chunks_;
+    ChunkGate& gate_;
 };
 
 class SchedulerRefinementTest : public ::testing::Test {
@@ -78,7 +125,7 @@ protected:
         auto created = Scheduler::create(
                 [this]() -> base::Result<std::unique_ptr<render::FrameRenderer>> {
                     return std::unique_ptr<render::FrameRenderer>(std::make_unique<ChunkedRenderer>(
-                            mutex_, started_, refinement_chunks_));
+                            mutex_, started_, refinement_chunks_, gate_));
                 },
                 {}, metrics_);
         ASSERT_TRUE(created.ok()) << created.error().to_string();
@@ -106,6 +153,7 @@ protected:
     std::mutex mutex_;
     std::vector<ChunkedRenderer::Started> started_;
     std::atomic<long long> refinement_chunks_{0};
+    ChunkGate gate_;
     std::unique_ptr<Scheduler> scheduler_;
 };
 
@@ -142,7 +190,10 @@ TEST_F(SchedulerRefinementTest, InteractiveFramesAreNotRefined) {
 
 TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) {
     // Session "a" refines for a long time (200 steps of 25 chunks); session "b", of another client,
-    // drags meanwhile. Every job of b starts after at most one more refinement chunk.
+    // drags meanwhile. Each job of b is submitted while a refinement chunk is held at its start, so
+    // the chunks finished before b starts are counted from a known point: b may wait for the chunk
+    // in progress, and no more. (Reading the count and then submitting, with the renderer running,
+    // would blame the scheduler for a chunk that finished before the job was submitted.)
     std::atomic<int> refined{0};
     scheduler_->submit("a", job(1, 25, "10.0.0.1", false, 200), [&](FrameOutcome outcome) {
         const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
@@ -150,16 +201,13 @@ TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) 
             ++refined;
         }
     });
-    for (int i = 0; i < 200 && refined.load() < 1; ++i) {
-        std::this_thread::sleep_for(10ms);
-    }
-    ASSERT_GE(refined.load(), 1) << "refinement never started";
     for (int i = 0; i < 8; ++i) {
-        std::this_thread::sleep_for(15ms);  // lands somewhere inside a refinement step
+        ASSERT_TRUE(gate_.hold(10s)) << "no refinement chunk started before job " << i;
         const long long chunks_at_submit = refinement_chunks_.load();
         std::promise<void> done;
         scheduler_->submit("b", job(100 + i, 1, "10.0.0.2", i % 2 == 0),
                            [&](auto) { done.set_value(); });
+        gate_.release();
         ASSERT_EQ(done.get_future().wait_for(10s), std::future_status::ready);
         for (const auto& render : started()) {
             if (render.name == 100 + i) {
@@ -170,7 +218,7 @@ TEST_F(SchedulerRefinementTest, OtherSessionsWaitForAtMostOneChunkOfRefinement) 
     }
     // The preempted step was resumed, not lost: refinement goes on after b is served.
     const int before = refined.load();
-    for (int i = 0; i < 200 && refined.load() == before; ++i) {
+    for (int i = 0; i < 1000 && refined.load() == before; ++i) {
         std::this_thread::sleep_for(10ms);
     }
     EXPECT_GT(refined.load(), before);

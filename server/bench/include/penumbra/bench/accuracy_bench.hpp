@@ -5,6 +5,7 @@
 // quality/table_json.hpp).
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/bench/truth.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/quality/table.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -26,10 +27,11 @@ struct AccuracyReport {
 };
 
 // The renderer and how it times, then every volume of `sweep` under every light measured into
-// `table` (made by make_table for this renderer), each point printed as it is measured.
+// `table` (made by make_table for this renderer) against the converged truth kept in `truths`,
+// each point printed as it is measured.
 base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sweep,
-                            const quality::FrameFor& frame_for, quality::Table& table,
-                            std::FILE* out);
+                            const quality::FrameFor& frame_for, TruthCache& truths,
+                            quality::Table& table, std::FILE* out);
 
 // The presets for the budgets, printed, and the files written.
 base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,

@@ -1,8 +1,9 @@
 #pragma once
 
 // The measuring half of the accuracy table: renders every point of a sweep against the
-// `reference` mode and times it. `penumbra serve` measures a short sweep at start-up
-// (startup.hpp), `penumbra bench accuracy` one from its options over several volumes.
+// `reference` mode of the same sample distance and against the truth, and times it. `penumbra
+// serve` measures a short sweep at start-up (startup.hpp), `penumbra bench accuracy` one from its
+// options over several volumes.
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
@@ -129,11 +130,17 @@ using FrameFor = std::function<base::Result<scene::FrameRequest>(const volume::V
 // Called with every point as it is measured; false stops the sweep after that point.
 using PointObserver = std::function<bool(const Point&)>;
 
+// The image a view's points are measured against in their *_truth columns, given the view's frame
+// (its light set; the caller renders it as Table::truth says).
+using TruthFor = std::function<base::Result<base::ImageRgba8>(const scene::FrameRequest& view)>;
+
 // One volume (already set on the bench's renderer) under one light: the references first, then
-// every mode and setting against them, appended to `points`. True when every point was measured,
-// false when `observer` stopped the sweep.
+// every mode and setting against them and against the truth (`truth`, or where it is empty the
+// reference at the finest sample distance), appended to `points`. True when every point was
+// measured, false when `observer` stopped the sweep.
 base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene::FrameRequest base,
                                 const std::string& volume, const LightAngles& light,
-                                const PointObserver& observer, std::vector<Point>& points);
+                                const PointObserver& observer, std::vector<Point>& points,
+                                const TruthFor& truth = {});
 
 }  // namespace penumbra::quality

@@ -5,12 +5,13 @@
 // measures it and `penumbra serve` uses it to honour a frame budget. One model, one rule:
 //
 // A setting competes only where it was measured on every volume and light of the table, so that
-// its mean is never over an easier subset. It ranks by its mean PSNR against the reference at the
-// finest sample distance measured (the error a viewer sees, coarse sampling included), then by
-// its mean SSIM against that reference, then by the faster. It fits a budget when its slowest
-// frame, scaled by pixel count to the requested image size, does. PSNR is infinite only for an
-// image identical to the reference; it is kept infinite (never capped at an arbitrary number of
-// decibels), so the exact setting ranks above every approximate one and SSIM, not a made-up
+// its mean is never over an easier subset. It ranks by its mean PSNR against the table's truth
+// (the error a viewer sees, coarse sampling included: the converged reference of `bench
+// accuracy`, or, in a table measured without one, the reference at the finest sample distance
+// measured), then by its mean SSIM against that truth, then by the faster. It fits a budget when
+// its slowest frame, scaled by pixel count to the requested image size, does. PSNR is infinite only
+// for an image identical to the reference; it is kept infinite (never capped at an arbitrary number
+// of decibels), so the exact setting ranks above every approximate one and SSIM, not a made-up
 // figure, decides between two exact ones. The slowest frame, not the mean, must fit because a
 // budget promises every frame, whichever volume and light the viewer has.
 //
@@ -60,11 +61,21 @@ struct Point {
     double rmse = 0.0;
     double psnr = 0.0;  // infinite for an identical image
     double ssim = 1.0;
-    // Against the reference of the finest sample distance swept: the error a viewer sees, which
-    // also counts coarse sampling. Settings rank by this (the same as above with one distance).
-    double rmse_finest = 0.0;
-    double psnr_finest = 0.0;
-    double ssim_finest = 1.0;
+    // Against the table's truth (Table::truth): the error a viewer sees, which also counts the
+    // sample distance's own error. Settings rank by this.
+    double rmse_truth = 0.0;
+    double psnr_truth = 0.0;
+    double ssim_truth = 1.0;
+};
+
+// How a table's truth was rendered: the `reference` mode (shadow rays) at this sample distance,
+// jittered, the mean of this many frames (a still and its refinement steps): an estimate of the
+// continuous volume rendering integral (bench/truth.hpp says how the numbers were chosen).
+struct TruthMethod {
+    double sample_distance = 0.0;
+    int frames = 1;
+
+    bool operator==(const TruthMethod&) const = default;
 };
 
 struct Table {
@@ -83,6 +94,9 @@ struct Table {
     int slab_samples = 0;      // as requested: 0 = one per voxel
     bool phong = true;
     scene::Camera camera;
+    // What the *_truth columns compare with; none: the reference at the finest sample distance
+    // swept (the start-up table, and tables measured before the converged truth existed).
+    std::optional<TruthMethod> truth;
     std::vector<Point> points;
 };
 
@@ -112,8 +126,8 @@ struct Setting {
     int count = 0;
     double psnr = 0.0;  // mean over the volumes and lights (dB), infinite only for the reference
     double ssim = 0.0;  // mean
-    double psnr_finest = 0.0;
-    double ssim_finest = 0.0;
+    double psnr_truth = 0.0;
+    double ssim_truth = 0.0;
     double frame_ms = 0.0;         // mean
     double worst_frame_ms = 0.0;   // the slowest volume and light: what a budget must cover
     double light_buffer_ms = 0.0;  // mean
@@ -123,8 +137,8 @@ struct Setting {
 std::vector<Setting> aggregate(const std::vector<Point>& points,
                                const std::optional<std::string>& volume = std::nullopt);
 
-// The rule's order: the higher mean PSNR against the finest reference, then the higher mean SSIM
-// against it, then the faster slowest frame.
+// The rule's order: the higher mean PSNR against the truth, then the higher mean SSIM against it,
+// then the faster slowest frame.
 bool more_accurate(const Setting& a, const Setting& b);
 
 // The settings a budget can choose (unjittered, so unrefined) measured on every volume and light
