@@ -349,10 +349,11 @@ async function openVolume(id: string): Promise<void> {
 }
 
 async function start(): Promise<void> {
-  await refreshVolumes(() => picker.listsPreferred(query.get('volume')));
+  // A shared session needs no list first: the list follows.
   if (joinId) {
     try {
       await connection.join(joinId, pageVolume);
+      void refreshVolumes();
       return;
     } catch (e) {
       notices.show(
@@ -365,9 +366,12 @@ async function start(): Promise<void> {
       history.replaceState(null, '', url);
     }
   }
-  const id = picker.defaultVolume(query.get('volume'));
+  await refreshVolumes(() => picker.listsPreferred(query.get('volume')));
   // The list keeps growing under the open volume until the scan ends.
   if (listing === 'scanning') void refreshVolumes();
+  // A volume the user picked while the list was growing stands.
+  if (connection.session) return;
+  const id = picker.defaultVolume(query.get('volume'));
   if (id) await openVolume(id);
   else
     notices.show(

@@ -210,6 +210,12 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
     if (a.count("allow-links-to") != 0) {
         for (const std::string& root : base::split_list(a["allow-links-to"].as<std::string>())) {
+            // A root that cannot be resolved would allow nothing; the operator hears so now.
+            if (auto status = session::check_data_folder(root); !status) {
+                return base::make_error(base::ErrorCode::not_found,
+                                        "'" + root + "' is not a folder this server can read",
+                                        "--allow-links-to");
+            }
             o.scan.link_roots.emplace_back(root);
         }
     }
@@ -239,9 +245,15 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
     render::RendererOptions renderer_options = o.renderer;
     renderer_options.max_frame_work = o.config.limits.max_frame_work;
     quality::OfferedVolumes offered;
-    for (const session::VolumeEntry& entry : volumes.list()) {
-        offered.ids.push_back(entry.id);
-    }
+    // Only a measurement waits for the folder's first scan; a server with its table starts at once.
+    offered.ids = [&volumes] {
+        volumes.wait_for_first_pass();
+        std::vector<std::string> ids;
+        for (const session::VolumeEntry& entry : volumes.list()) {
+            ids.push_back(entry.id);
+        }
+        return ids;
+    };
     offered.acquire = [&volumes](const std::string& id) { return volumes.acquire(id); };
     return session::Scheduler::create(
             [renderer_options, measure = o.measure, offered = std::move(offered),

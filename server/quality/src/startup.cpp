@@ -160,7 +160,7 @@ StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure m
     if (!should_measure(measure, table_paths(renderer.info()))) {
         return result;
     }
-    const auto id = startup_volume(volumes.ids);
+    const auto id = startup_volume(volumes.ids());
     if (!id) {
         result.error =
                 base::make_error(base::ErrorCode::no_volume, "no volume to measure on", "--data");

@@ -22,9 +22,19 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// How deep a walk goes: an export keeps its images four or five folders down, and each level
+// holds a descriptor open while the walk is in it.
+constexpr int max_folder_depth = 16;
+
 // How many skipped files one pass logs by name; the rest are counted in one line, so a folder of
 // a hundred thousand stray files does not flood the log (or hold its lock) at every start.
 constexpr std::size_t logged_skips_per_pass = 20;
+
+// How long an open of a volume not listed yet waits for the first pass to list it.
+constexpr std::chrono::seconds first_pass_wait{60};
+
+// Why a link to a folder was not followed: always logged by name.
+constexpr std::string_view leaving_link = "a link to a folder outside the data folder";
 
 // The walk reads the disk and stats every file: it yields to rendering and the network threads,
 // for the CPU and for the disk (the best-effort class's lowest level, so it is never starved
@@ -55,6 +65,9 @@ std::chrono::nanoseconds thread_cpu_time() {
 
 // Whether `path` is `root` or inside it; both resolved.
 bool is_within(const std::filesystem::path& path, const std::filesystem::path& root) {
+    if (root.empty() || path.empty()) {
+        return false;  // a root or a target that could not be resolved allows nothing
+    }
     const auto [root_end, path_at] =
             std::mismatch(root.begin(), root.end(), path.begin(), path.end());
     return root_end == root.end() || (std::next(root_end) == root.end() && root_end->empty());
@@ -188,7 +201,13 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
     std::error_code ec;
     data_dir_real_ = std::filesystem::weakly_canonical(data_dir_, ec);
     for (const std::filesystem::path& root : scan_options_.link_roots) {
-        link_roots_real_.push_back(std::filesystem::weakly_canonical(root, ec));
+        std::filesystem::path real = std::filesystem::canonical(root, ec);
+        if (ec) {
+            base::log_error("volumes", "links may not lead to " + root.string() +
+                                               ": it cannot be resolved (" + ec.message() + ")");
+            continue;
+        }
+        link_roots_real_.push_back(std::move(real));
     }
     rescanner_ = std::thread([this] { rescan_loop(); });
 }
@@ -214,6 +233,10 @@ void VolumeStore::rescan_loop() {
                                   [&] { return stopping_ || rescan_requested_; });
         }
         if (stopping_) {
+            // Stopped before a first pass: whoever waits for it has nothing more to wait for.
+            const std::lock_guard done(mutex_);
+            progress_.first_pass_done = true;
+            first_pass_done_.notify_all();
             return;
         }
         rescan_requested_ = false;
@@ -246,7 +269,7 @@ void VolumeStore::publish_partial(std::vector<VolumeEntry> found) {
               [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
     const std::lock_guard lock(mutex_);
     if (!progress_.first_pass_done) {
-        entries_ = std::move(found);
+        entries_.swap(found);  // the last publication is freed after the lock is let go
     }
 }
 
@@ -376,12 +399,14 @@ base::Status VolumeStore::scan() {
     // loop, or two links to one folder) is walked once.
     std::set<std::filesystem::path> walked{std::filesystem::canonical(top, ec)};
     const bool top_is_series = add_series_if_dicom(top);
+    std::error_code walk_error;
     for (auto it = std::filesystem::recursive_directory_iterator(
                  top,
                  std::filesystem::directory_options::skip_permission_denied |
                          std::filesystem::directory_options::follow_directory_symlink,
-                 ec);
-         !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
+                 walk_error);
+         !walk_error && it != std::filesystem::recursive_directory_iterator();
+         it.increment(walk_error)) {
         if (over_budget()) {
             break;
         }
@@ -403,9 +428,15 @@ base::Status VolumeStore::scan() {
             continue;
         }
         if (type == std::filesystem::file_type::directory) {
+            if (it.depth() + 1 >= max_folder_depth) {
+                skip(path, "deeper than " + std::to_string(max_folder_depth) +
+                                   " folders below the data folder");
+                it.disable_recursion_pending();
+                continue;
+            }
             const std::filesystem::path real = std::filesystem::canonical(path, ec);
             if (!may_walk(real)) {
-                skip(path, "a link to a folder outside the data folder (" + real.string() +
+                skip(path, std::string(leaving_link) + " (" + real.string() +
                                    "); --allow-links-to lets links lead there");
                 it.disable_recursion_pending();
                 continue;
@@ -442,6 +473,11 @@ base::Status VolumeStore::scan() {
         entry.file_bytes = std::filesystem::file_size(path, ec);
         found.push_back(std::move(entry));
     }
+    // A walk that fails (a folder removed under it, out of descriptors) lists what it found
+    // and says that it is not all.
+    if (walk_error && !cut_short) {
+        cut_short = "the walk failed: " + walk_error.message();
+    }
     std::sort(found.begin(), found.end(),
               [](const VolumeEntry& a, const VolumeEntry& b) { return a.id < b.id; });
     const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
@@ -451,23 +487,30 @@ base::Status VolumeStore::scan() {
                                              " volume(s): " + *cut_short);
     }
     count_pass(seconds, seen, cut_short.has_value());
-    // Each skipped file is logged once, not at every rescan (skipped_logged_ is this pass's own:
-    // passes run one at a time).
-    std::size_t unlogged = 0;
+    // Each skipped file is logged once, not at every rescan; a link leaving the folder always by
+    // name, other files up to a few a pass (then counted). What is no longer skipped is
+    // forgotten, so the set holds this pass's lines only.
+    std::size_t named = 0;
+    std::size_t unnamed = 0;
+    std::unordered_set<std::string> this_pass;
+    this_pass.reserve(skipped.size());
     for (const std::string& line : skipped) {
-        if (skipped_logged_.contains(line)) {
+        const bool seen_before = skipped_logged_.contains(line);
+        this_pass.insert(line);
+        if (seen_before) {
             continue;
         }
-        if (skipped_logged_.size() < logged_skips_per_pass) {
+        if (line.find(leaving_link) != std::string::npos || named < logged_skips_per_pass) {
             base::log_warning("volumes", "skipped " + line);
+            ++named;
         } else {
-            ++unlogged;
+            ++unnamed;
         }
-        skipped_logged_.insert(line);
     }
-    if (unlogged > 0) {
-        base::log_warning("volumes", "skipped " + std::to_string(unlogged) +
-                                             " more file(s) that are not volumes");
+    skipped_logged_.swap(this_pass);
+    if (unnamed > 0) {
+        base::log_warning("volumes",
+                          "skipped " + std::to_string(unnamed) + " more file(s), not named");
     }
     {
         // Folders gone since the last scan leave the cache with them.
@@ -615,21 +658,27 @@ std::size_t VolumeStore::loads() const {
 }
 
 LoadedVolume VolumeStore::acquire(const std::string& id) {
+    const auto listed = [&] {
+        return std::find_if(entries_.begin(), entries_.end(),
+                            [&](const VolumeEntry& e) { return e.id == id; });
+    };
+    {
+        // A volume named in a link may be opened before the first pass has reached it: the open
+        // waits for that pass (for a while), before it takes the loads' turn, so that loads of
+        // listed volumes go on meanwhile.
+        std::unique_lock lock(mutex_);
+        if (listed() == entries_.end()) {
+            first_pass_done_.wait_for(lock, first_pass_wait,
+                                      [this] { return progress_.first_pass_done; });
+        }
+    }
     // Loads are serialised, so two sessions opening the same new volume read it once; the second
     // finds it loaded when it gets the lock.
     const std::lock_guard loading(load_mutex_);
     std::filesystem::path path;
     volume::LoadOptions options = load_options_;
     {
-        std::unique_lock lock(mutex_);
-        const auto listed = [&] {
-            return std::find_if(entries_.begin(), entries_.end(),
-                                [&](const VolumeEntry& e) { return e.id == id; });
-        };
-        // A volume named in a link may be opened before the first pass has reached it.
-        if (listed() == entries_.end()) {
-            first_pass_done_.wait(lock, [this] { return progress_.first_pass_done; });
-        }
+        const std::lock_guard lock(mutex_);
         // Only ids from the scan are accepted, so "../x" or "/etc/passwd" cannot name a file.
         const auto entry = listed();
         if (entry == entries_.end()) {

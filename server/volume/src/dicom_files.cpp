@@ -20,11 +20,15 @@
 #include <penumbra/volume/volume.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
-#include <fstream>
 #include <string_view>
 #include <system_error>
 #include <utility>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace penumbra::volume {
 namespace detail::dicom {
@@ -186,12 +190,20 @@ base::Result<FolderImages> read_folder(const std::filesystem::path& folder, bool
 }  // namespace detail::dicom
 
 bool is_dicom_file(const std::filesystem::path& path) {
-    std::ifstream file(path, std::ios::binary);
-    std::array<char, 132> head{};
-    if (!file.read(head.data(), head.size())) {
+    // Opened without blocking and checked through the descriptor: a FIFO put in a file's place
+    // after the folder was listed would otherwise hold the caller at open() forever.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         return false;
     }
-    return std::string_view(head.data() + 128, 4) == "DICM";
+
+    struct stat info {};
+
+    std::array<char, 132> head{};
+    const bool read = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) &&
+                      ::pread(fd, head.data(), head.size(), 0) == static_cast<ssize_t>(head.size());
+    ::close(fd);
+    return read && std::string_view(head.data() + 128, 4) == "DICM";
 }
 
 }  // namespace penumbra::volume

@@ -164,7 +164,8 @@ private:
 TEST(MeasureAtStartup, MeasuresNothingWhenToldNever) {
     IdleRenderer renderer;
     bool asked = false;
-    const OfferedVolumes volumes{{"ch2.nii.gz"}, [&](const std::string&) {
+    const OfferedVolumes volumes{[] { return std::vector<std::string>{"ch2.nii.gz"}; },
+                                 [&](const std::string&) {
                                      asked = true;
                                      return base::Result<std::shared_ptr<const volume::Volume>>(
                                              base::make_error(base::ErrorCode::not_found, "none"));
@@ -184,11 +185,17 @@ TEST(MeasureAtStartup, ReportsWhyWithoutAVolumeOrWhenTheVolumeFailsToLoad) {
                 base::make_error(base::ErrorCode::not_found, "cannot read " + id));
     };
     const StartupMeasurement none =
-            measure_at_startup(renderer, Measure::always, {{}, failing}, {}, stdout);
+            measure_at_startup(renderer, Measure::always,
+                               {[] { return std::vector<std::string>{}; }, failing}, {}, stdout);
     ASSERT_TRUE(none.error.has_value());
     EXPECT_EQ(none.error->code, base::ErrorCode::no_volume);
-    const StartupMeasurement unreadable = measure_at_startup(
-            renderer, Measure::always, {{"a.nii", "ch2.nii.gz"}, failing}, {}, stdout);
+    const StartupMeasurement unreadable =
+            measure_at_startup(renderer, Measure::always,
+                               {[] {
+                                    return std::vector<std::string>{"a.nii", "ch2.nii.gz"};
+                                },
+                                failing},
+                               {}, stdout);
     ASSERT_TRUE(unreadable.error.has_value());
     EXPECT_EQ(unreadable.error->message, "cannot read ch2.nii.gz");
     EXPECT_FALSE(unreadable.table.has_value());

@@ -90,7 +90,9 @@ struct StartupMeasurement {
 
 // The volumes a server offers, as the start-up measurement sees them.
 struct OfferedVolumes {
-    std::vector<std::string> ids;
+    // The ids offered; asked only when a measurement is due (a server may still be scanning its
+    // data folder when the renderer starts: the function waits for what it needs).
+    std::function<std::vector<std::string>()> ids;
     std::function<base::Result<std::shared_ptr<const volume::Volume>>(const std::string&)> acquire;
 };
 

@@ -126,7 +126,7 @@ public:
     // Walks the data directory now, on the caller's thread, after any pass under way.
     base::Status scan();
 
-    // Waits until the first pass has ended (at most its time budget).
+    // Waits until the first pass has ended (or the store stops before one).
     void wait_for_first_pass() const;
 
     [[nodiscard]] ScanProgress progress() const;
@@ -139,7 +139,8 @@ public:
     // first seen (a pass logs the first few and counts the rest).
     [[nodiscard]] std::vector<std::string> skipped() const;
 
-    // Loads (or returns the loaded) volume `id`; an id not listed yet waits for the first pass.
+    // Loads (or returns the loaded) volume `id`; an id not listed yet waits for the first pass
+    // (a minute at most).
     // Unknown ids, ids reaching outside the data directory and unreadable files are Errors
     // ("unknown_volume", or the loader's code), whose paths are relative to the data directory.
     LoadedVolume acquire(const std::string& id);
