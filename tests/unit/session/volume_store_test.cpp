@@ -267,6 +267,27 @@ TEST_F(VolumeStoreTest, TheFirstPassRunsByItselfAndAnOpenWaitsForIt) {
     EXPECT_EQ(store.acquire("b_2x2x2_uint8.raw").error().code, base::ErrorCode::unknown_volume);
 }
 
+// A tree deeper than any export is not walked to its bottom (each level holds a descriptor).
+TEST_F(VolumeStoreTest, AWalkStopsSixteenFoldersDown) {
+    fs::path deep = data_;
+    for (int level = 0; level < 20; ++level) {
+        deep /= "d";
+        if (level == 10) {
+            write_text(deep / "a_2x2x2_uint8.raw", "12345678");
+        }
+    }
+    write_text(deep / "b_2x2x2_uint8.raw", "12345678");
+    VolumeStore store(data_, std::size_t{1} << 20);
+    store.wait_for_first_pass();
+    const std::vector<std::string> listed = ids(store);
+    ASSERT_EQ(listed.size(), 1U);
+    EXPECT_TRUE(listed[0].ends_with("/a_2x2x2_uint8.raw"));
+    const std::vector<std::string> skipped = store.skipped();
+    EXPECT_TRUE(std::any_of(skipped.begin(), skipped.end(), [](const std::string& line) {
+        return line.find("deeper than 16 folders") != std::string::npos;
+    }));
+}
+
 // A pass stops at its budget of entries, lists what it found, and says why.
 TEST_F(VolumeStoreTest, APassStopsAtItsBudgetAndSaysSo) {
     for (int i = 0; i < 50; ++i) {
