@@ -234,6 +234,8 @@ void VolumeStore::rescan_loop() {
         }
         if (stopping_) {
             // Stopped before a first pass: whoever waits for it has nothing more to wait for.
+            // (list() takes mutex_ then rescan_mutex_: never the other way round.)
+            lock.unlock();
             const std::lock_guard done(mutex_);
             progress_.first_pass_done = true;
             first_pass_done_.notify_all();
