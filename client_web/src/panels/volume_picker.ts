@@ -15,7 +15,7 @@ export function listingNote(listing: Listing, count: number): string {
     case 'scanning':
       return `scanning… ${count} found`;
     case 'cut_short':
-      return 'partial (scan cut short)';
+      return 'partial list';
     case 'complete':
       return '';
   }
