@@ -2,6 +2,7 @@
 // the state it produces must read back through apply_patch (state_to_json is what clients get).
 
 #include <penumbra/base/assert.hpp>
+#include <penumbra/base/error_code.hpp>
 #include <penumbra/protocol/messages.hpp>
 #include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/scene/transfer_function.hpp>
@@ -18,8 +19,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)protocol::request_id_of(text);
     const auto request = protocol::parse_request(text, limits);
     if (!request.ok()) {
-        PENUMBRA_ASSERT(!request.error().code.empty() && !request.error().where.empty(),
-                        "a refused request names its code and field");
+        const base::ErrorCode code = request.error().code;
+        PENUMBRA_ASSERT(static_cast<std::size_t>(code) < base::kErrorCodeNames.size() &&
+                                code != base::ErrorCode::internal_error &&
+                                !request.error().where.empty(),
+                        "a refused request names a client's error and its field");
         return 0;
     }
     if (const auto* set = std::get_if<protocol::Set>(&request->message)) {
