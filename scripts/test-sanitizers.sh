@@ -39,5 +39,5 @@ TSAN_OPTIONS="halt_on_error=1:suppressions=$PWD/tests/sanitizers/tsan.supp" \
     build/tsan/tests/integration/load_client_test
 
 cmake --preset fuzz -DPENUMBRA_FUZZ_SECONDS="${PENUMBRA_FUZZ_SECONDS:-20}"
-cmake --build --preset fuzz
+cmake --build --preset fuzz --target fuzz_targets
 ctest --preset fuzz --parallel "$jobs"
