@@ -13,6 +13,7 @@ import {
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
 import { FrameView } from './view/frame_view';
+import { RefinementBadge } from './view/refinement_badge';
 import { StatsOverlay } from './view/stats_overlay';
 import { Notices } from './view/notices';
 import { OrientationMarker } from './view/orientation_marker';
@@ -35,6 +36,8 @@ const viewElement = document.getElementById('view') as HTMLElement;
 const panelElement = document.getElementById('panel') as HTMLElement;
 const view = new FrameView(viewElement);
 const stats = new StatsOverlay(viewElement);
+const refinementBadge = new RefinementBadge(viewElement);
+view.onShown((shown) => refinementBadge.show(shown.header));
 const tfModel = new TfModel();
 const connection = new Connection(wsUrl, {
   accessToken: query.get('token') ?? undefined,

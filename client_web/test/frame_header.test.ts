@@ -128,6 +128,11 @@ describe('parseFrame', () => {
       ),
       /encode_ms/,
     ],
+    [
+      'a refining flag that is not a boolean',
+      handMade(JSON.stringify({ ...header, refinement: 2, refining: 'yes' }), []),
+      /"refining" is not a boolean/,
+    ],
   ])('rejects %s', (_, bytes, message) => {
     expect(() => parseFrame(bytes)).toThrow(FrameError);
     expect(() => parseFrame(bytes)).toThrow(message);

@@ -547,12 +547,13 @@ describe('patches', () => {
   const state: State = opened.state;
 
   it('puts an orbit eye where the server does', () => {
-    // The default camera of the server: azimuth 25, elevation 10, distance 2.6 (see opened).
-    const eye = orbitEye([0, 0, 0], { azimuth: 25, elevation: 10, distance: 2.6 });
+    // The default camera of the server: the anterior view (azimuth 0: +y), elevation 0, distance
+    // 2.6 (see opened).
+    const eye = orbitEye([0, 0, 0], { azimuth: 0, elevation: 0, distance: 2.6 });
     state.camera.eye.forEach((c, i) => expect(eye[i]).toBeCloseTo(c, 9));
     const orbit = orbitOf(state.camera.eye, state.camera.target);
-    expect(orbit.azimuth).toBeCloseTo(25, 9);
-    expect(orbit.elevation).toBeCloseTo(10, 9);
+    expect(orbit.azimuth).toBeCloseTo(0, 9);
+    expect(orbit.elevation).toBeCloseTo(0, 9);
     expect(orbit.distance).toBeCloseTo(2.6, 9);
   });
 

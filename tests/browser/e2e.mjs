@@ -129,8 +129,23 @@ async function canvasSignature(page) {
         counts[cell] += 1;
       }
     }
-    return { grid: grid.map((g, i) => g / Math.max(1, counts[i])), lit: lit / (width * height), width, height };
+    // The frame number read with the pixels: refinement steps replace the still on screen.
+    const frame = Number(canvas.dataset.frame ?? -1);
+    return { grid: grid.map((g, i) => g / Math.max(1, counts[i])), lit: lit / (width * height), width, height, frame };
   });
+}
+
+// The two pages' signatures of one frame: each is read with its frame number, until both show the
+// same frame (a still's refinement steps reach the two pages at slightly different times).
+async function sameFrameSignatures(first, second, tries = 80) {
+  let a;
+  let b;
+  for (let i = 0; i < tries; ++i) {
+    [a, b] = [await canvasSignature(first), await canvasSignature(second)];
+    if (a.frame === b.frame) break;
+    await first.waitForTimeout(250);
+  }
+  return [a, b];
 }
 
 function difference(a, b) {
@@ -153,11 +168,14 @@ async function frameInfo(page) {
 }
 
 /** Waits for a still frame newer than `after`. */
+// Waits for a still frame after frame `after`: the still itself, not a refinement step of an
+// earlier still (steps follow every still of a new session, each a frame of its own).
 async function waitForStill(page, after = -1, timeout = 30000) {
   await page.waitForFunction(
     (after) => {
       const d = document.querySelector('canvas.frame-canvas')?.dataset;
-      return d && d.frame !== undefined && Number(d.frame) > after && d.interactive === 'false';
+      return d && d.frame !== undefined && Number(d.frame) > after && d.interactive === 'false' &&
+        d.refinement === '0';
     },
     after,
     { timeout },
@@ -214,6 +232,14 @@ try {
   owner.on('console', (m) => m.type() === 'error' && consoleErrors.push(m.text()));
 
   // 1. The page loads and a frame appears.
+  await owner.addInitScript(() => {
+    window.__badgeTexts = [];
+    new MutationObserver(() => {
+      const badge = document.querySelector('.refinement-badge');
+      const text = badge && !badge.hidden ? badge.textContent : '';
+      if (text && window.__badgeTexts.at(-1) !== text) window.__badgeTexts.push(text);
+    }).observe(document, { subtree: true, childList: true, attributes: true, characterData: true });
+  });
   await owner.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}`);
   let info = await waitForStill(owner, -1, 60000);
   let first = await canvasSignature(owner);
@@ -221,6 +247,15 @@ try {
   check('a frame appears and the canvas is not blank', first.lit > 0.02,
     `frame ${info.frame} ${info.size} mode ${info.mode}, ${(first.lit * 100).toFixed(1)}% lit`);
   check('the stats overlay shows the frame', /#\d+/.test(await statText(owner, 'frame')));
+  // A new session's stills refine: the corner says so while they do, then that the still is done
+  // (every text the badge showed is recorded from the page's start: see badgeTexts).
+  await owner.waitForFunction(() => window.__badgeTexts.some((t) => t.startsWith('still done')),
+    null, { timeout: 120000 }).catch(() => {});
+  const badgeTexts = await owner.evaluate(() => window.__badgeTexts);
+  const doneAt = badgeTexts.findIndex((t) => /^still done · \d+ steps?$/.test(t));
+  check('the still refines and then says it is done',
+    doneAt > 0 && badgeTexts.slice(0, doneAt).some((t) => t.startsWith('refining…')),
+    badgeTexts.join(' → '));
   // The default camera looks at the face: the patient's left on the right, superior up.
   check('the orientation marker shows the anterior view', (await markerAxes(owner)) === 'LS',
     await markerAxes(owner));
@@ -498,13 +533,12 @@ try {
   await viewer.waitForFunction((f) => Number(document.querySelector('canvas.frame-canvas')?.dataset.frame) >= f,
     a.frame, { timeout: 30000 });
   await owner.waitForTimeout(300);
-  const [ownerInfo, viewerInfo] = [await frameInfo(owner), await frameInfo(viewer)];
-  const [ownerImage, viewerImage] = [await canvasSignature(owner), await canvasSignature(viewer)];
+  const [ownerImage, viewerImage] = await sameFrameSignatures(owner, viewer);
   await viewer.screenshot({ path: path.join(outDir, '05_viewer.png') });
   await owner.screenshot({ path: path.join(outDir, '05_owner.png') });
-  check('the viewer sees the same frame', ownerInfo.frame === viewerInfo.frame &&
+  check('the viewer sees the same frame', ownerImage.frame === viewerImage.frame &&
     difference(ownerImage, viewerImage) < 1,
-    `owner #${ownerInfo.frame}, viewer #${viewerInfo.frame}, difference ${difference(ownerImage, viewerImage).toFixed(2)}`);
+    `owner #${ownerImage.frame}, viewer #${viewerImage.frame}, difference ${difference(ownerImage, viewerImage).toFixed(2)}`);
   await viewer.close();
   check('no page errors so far', consoleErrors.length === 0, consoleErrors.join(' | '));
 

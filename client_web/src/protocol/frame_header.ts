@@ -36,6 +36,8 @@ export interface FrameHeader {
   quality: string;
   /** Progressive stills: the still frame refined this many times (absent or 0: not refined). */
   refinement?: number;
+  /** Progressive stills: another refinement step of this still follows (absent: false). */
+  refining?: boolean;
 }
 
 export interface Frame {
@@ -90,6 +92,14 @@ function checkHeader(value: unknown): FrameHeader {
       typeof p['wall_ms'] !== 'number'
     ) {
       throw new FrameError('frame header: a pass lacks name, gpu_ms or wall_ms');
+    }
+  }
+  for (const [key, type] of [
+    ['refinement', 'number'],
+    ['refining', 'boolean'],
+  ] as const) {
+    if (key in value && typeof value[key] !== type) {
+      throw new FrameError(`frame header: "${key}" is not a ${type}`);
     }
   }
   const t = value['timings'];

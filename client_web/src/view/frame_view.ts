@@ -114,6 +114,8 @@ export class FrameView {
       c.dataset['mode'] = h.mode;
       c.dataset['interactive'] = String(h.interactive);
       c.dataset['size'] = `${h.width}x${h.height}`;
+      c.dataset['refinement'] = String(h.refinement ?? 0);
+      c.dataset['refining'] = String(h.refining ?? false);
       for (const l of this.shownListeners) l({ header: h, bytes: frame.bytes, receivedAt });
     } catch (e) {
       console.warn('penumbra: could not decode a frame', e);

@@ -37,8 +37,9 @@ po::options_description load_options(LoadOptions& o) {
             "frame encoding")("interactive", "request interactive-quality frames")(
             "refine", po::value(&c.refine)->value_name("N")->default_value(c.refine),
             "jittered frames, each still refined N times at the lowest priority (progressive "
-            "stills; counted apart)")("token-file", po::value<std::string>()->value_name("F"),
-                                      "the access token a server or proxy asks for");
+            "stills; counted apart); 0: stills not refined")(
+            "token-file", po::value<std::string>()->value_name("F"),
+            "the access token a server or proxy asks for");
     return options;
 }
 

@@ -2,6 +2,7 @@
 
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
+#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
@@ -30,6 +31,9 @@ struct RenderOptions {
     std::string out = "frame.png";
     int quality = 90;
     int repeat = 1;
+    // Progressive refinement of the still (jittered ray-cast modes), as a session's.
+    int refinement_steps = scene::kDefaultRefinementSteps;
+    double refinement_threshold = scene::kDefaultRefinementThreshold;
 };
 
 po::options_description render_options(RenderOptions& o) {
@@ -50,7 +54,16 @@ po::options_description render_options(RenderOptions& o) {
             "also write the last light-buffer layer (sbrc modes) or half-angle's light buffer "
             "(.png)")("debug-gl", "GL debug output to the log")(
             "list-modes", "print the modes' names, one a line, and exit");
-    options.add(frame_options());
+    const scene::Setting& steps = scene::setting::refinement_steps;
+    const scene::Setting& threshold = scene::setting::refinement_threshold;
+    options.add_options()("refinement-steps",
+                          whole_number(&o.refinement_steps, static_cast<int>(steps.min),
+                                       static_cast<int>(steps.max)),
+                          std::string(steps.summary).c_str())(
+            "refinement-threshold",
+            number_within(&o.refinement_threshold, threshold.min, threshold.max),
+            std::string(threshold.summary).c_str());
+    options.add(frame_options({}, FramePurpose::still));
     return options;
 }
 
@@ -106,6 +119,35 @@ base::Result<render::Frame> render_repeated(render::Renderer& renderer,
     return frame;
 }
 
+// The still refined as a session refines it (scene::refines_after): jittered frames averaged
+// until a step changes the image by no more than the threshold, or the step limit.
+base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::FrameRequest request,
+                                         render::Frame still, const RenderOptions& o) {
+    std::optional<double> change;
+    int step = 0;
+    while (scene::refines_after(step, change, o.refinement_steps, o.refinement_threshold)) {
+        ++step;
+        request.refinement = {false, step};
+        auto refined = renderer.render(request);
+        if (!refined) {
+            return refined.error();
+        }
+        auto measured = encode::change_in_levels(still.image, refined->image);
+        if (!measured) {
+            return measured.error();
+        }
+        change = *measured;
+        still = std::move(refined.value());
+    }
+    if (step > 0) {
+        std::printf(
+                "refined:  %d step(s), the last changing the image by %.3f levels (RMS; "
+                "threshold %g, limit %d)\n",
+                step, change.value_or(0.0), o.refinement_threshold, o.refinement_steps);
+    }
+    return still;
+}
+
 base::Status write_light_inset(render::Renderer& renderer, const std::string& path) {
     auto inset = renderer.light_inset();
     if (!inset) {
@@ -147,7 +189,7 @@ int run_render(const std::vector<std::string>& args) {
     if (!volume) {
         return fail(volume.error());
     }
-    auto request = frame_request_from(a, **volume);
+    auto request = frame_request_from(a, **volume, FramePurpose::still);
     if (!request) {
         return fail(request.error());
     }
@@ -165,7 +207,14 @@ int run_render(const std::vector<std::string>& args) {
     if (auto status = (*renderer)->set_volume(*volume); !status) {
         return fail(status.error());
     }
+    const scene::RenderSettings& settings = request->settings;
+    const bool refines =
+            settings.jitter && scene::is_ray_cast(settings.mode) && o.refinement_steps > 0;
+    request->refinement.keep = refines;
     auto frame = render_repeated(**renderer, *request, o.repeat);
+    if (frame && refines) {
+        frame = refine_still(**renderer, *request, std::move(frame.value()), o);
+    }
     if (!frame) {
         return fail(frame.error());
     }

@@ -32,10 +32,18 @@ std::string option_of(const scene::Setting& setting, const scene::FrameRequest& 
     return (is_negated(setting, defaults) ? "no-" : "") + scene::option_name(setting);
 }
 
-// The frame the command line starts from: a new request's, shaded with Blinn-Phong.
-scene::FrameRequest command_line_defaults() {
+// The frame the command line starts from: a new request's, shaded with Blinn-Phong; a still's
+// samples jittered.
+scene::FrameRequest command_line_defaults(FramePurpose purpose) {
     scene::FrameRequest request;
     request.settings.mode = scene::Mode::phong;
+    switch (purpose) {
+        case FramePurpose::measurement:
+            break;
+        case FramePurpose::still:
+            request.settings.jitter = true;
+            break;
+    }
     return request;
 }
 
@@ -195,8 +203,9 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
 
 // Each setting of the table from its option, within its range; errors name the option. The
 // device's bounds (image size, slices, light-buffer resolution) are validate's to check.
-base::Status read_settings(const po::variables_map& options, scene::FrameRequest& request) {
-    const scene::FrameRequest defaults = command_line_defaults();
+base::Status read_settings(const po::variables_map& options, FramePurpose purpose,
+                           scene::FrameRequest& request) {
+    const scene::FrameRequest defaults = command_line_defaults(purpose);
     scene::State state;
     state.frame = std::move(request);
     for (const scene::Setting* setting : scene::kSettings) {
@@ -228,8 +237,8 @@ base::Status read_settings(const po::variables_map& options, scene::FrameRequest
 
 }  // namespace
 
-po::options_description frame_options(const std::vector<std::string>& swept) {
-    const scene::FrameRequest defaults = command_line_defaults();
+po::options_description frame_options(const std::vector<std::string>& swept, FramePurpose purpose) {
+    const scene::FrameRequest defaults = command_line_defaults(purpose);
     po::options_description options = option_group("frame options");
     const auto add = [&](const std::string& name, const po::value_semantic* value,
                          const std::string& help) {
@@ -268,11 +277,12 @@ po::options_description frame_options(const std::vector<std::string>& swept) {
 }
 
 base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
-                                                     const volume::Volume& volume) {
-    scene::FrameRequest request = command_line_defaults();
+                                                     const volume::Volume& volume,
+                                                     FramePurpose purpose) {
+    scene::FrameRequest request = command_line_defaults(purpose);
     for (const base::Status& status :
          {read_camera(options, request.camera), read_light(options, request.light),
-          read_settings(options, request)}) {
+          read_settings(options, purpose, request)}) {
         if (!status) {
             return status.error();
         }

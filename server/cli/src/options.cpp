@@ -112,6 +112,16 @@ po::typed_value<Number>* at_least(double* target, double min) {
             });
 }
 
+po::typed_value<Number>* number_within(double* target, double min, double max) {
+    return po::value<Number>()->value_name("X")->default_value({*target})->notifier(
+            [target, min, max](Number number) {
+                if (!(number.value >= min && number.value <= max)) {
+                    throw BadValue("must be within " + shown(min) + ".." + shown(max));
+                }
+                *target = number.value;
+            });
+}
+
 po::typed_value<Number>* seconds(std::chrono::milliseconds* target, double min, double max) {
     const Number fallback{std::chrono::duration<double>(*target).count()};
     return po::value<Number>()->value_name("S")->default_value(fallback)->notifier(

@@ -103,6 +103,15 @@ base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const ba
     return difference;
 }
 
+base::Result<double> change_in_levels(const base::ImageRgba8& before,
+                                      const base::ImageRgba8& after) {
+    auto difference = compare_images(base::to_rgba_f(before), base::to_rgba_f(after));
+    if (!difference) {
+        return difference.error();
+    }
+    return difference->rms_error * 255.0;
+}
+
 base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
     if (a.width != b.width || a.height != b.height) {
         return base::make_error(base::ErrorCode::size_mismatch, "images differ in size", "ssim");

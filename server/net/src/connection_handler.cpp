@@ -67,6 +67,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.encode_ms = f.encode_ms;
     h.quality = f.quality;
     h.refinement = f.refinement_step;
+    h.refining = f.refining;
     return protocol::pack_frame(h, f.image);
 }
 

@@ -88,9 +88,11 @@ private:
 
 std::string settings_message(const LoadConfig& config, std::int64_t id) {
     const std::string size = std::to_string(config.size);
-    const std::string refine = config.refine > 0 ? R"(,"jitter":true,"refinement_steps":)" +
-                                                           std::to_string(config.refine)
-                                                 : std::string();
+    // Exactly `refine` steps, however little the last ones change the image: the load asked for
+    // is the one measured.
+    const std::string refine =
+            (config.refine > 0 ? R"(,"jitter":true,"refinement_threshold":0)" : "") +
+            std::string(R"(,"refinement_steps":)") + std::to_string(config.refine);
     const std::string output = config.encoding.empty()
                                        ? std::string()
                                        : R"(,"output":{"encoding":")" + config.encoding + "\"}";

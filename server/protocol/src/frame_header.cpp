@@ -53,8 +53,8 @@ std::vector<std::uint8_t> pack_frame(const FrameHeader& h, std::span<const std::
               {"readback_ms", h.readback_ms},
               {"encode_ms", h.encode_ms}}},
             {"quality", h.quality},
-            {"refinement",
-             h.refinement}}.dump();
+            {"refinement", h.refinement},
+            {"refining", h.refining}}.dump();
     std::vector<std::uint8_t> out;
     out.reserve(prefix_bytes + header.size() + image.size());
     for (const std::uint8_t byte : magic) {
@@ -110,6 +110,7 @@ base::Result<UnpackedFrame> unpack_frame(std::span<const std::uint8_t> bytes) {
         h.encode_ms = t.at("encode_ms").get<double>();
         h.quality = j.at("quality").get<std::string>();
         h.refinement = j.value("refinement", 0);
+        h.refining = j.value("refining", false);
     } catch (const json::exception& e) {
         return bad_frame(std::string("header field missing or of the wrong type: ") + e.what());
     }

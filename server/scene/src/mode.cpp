@@ -62,6 +62,13 @@ bool is_ray_cast(Mode mode) {
     return mode != Mode::half_angle;
 }
 
+bool refines_after(int step, std::optional<double> change, int max_steps, double threshold) {
+    if (step >= max_steps) {
+        return false;
+    }
+    return !change || threshold <= 0.0 || *change > threshold;
+}
+
 FrameRequest starting_frame(const Limits& limits) {
     FrameRequest frame;
     frame.camera = Camera{};
@@ -69,6 +76,7 @@ FrameRequest starting_frame(const Limits& limits) {
     RenderSettings& s = frame.settings;
     s.mode = Mode::sbrc;
     s.phong = true;
+    s.jitter = true;
     s.width = std::min(512, limits.max_image_side);
     s.height = s.width;
     s.light_buffer.slices = std::min(128, limits.max_slices);

@@ -1,11 +1,13 @@
 #include "penumbra/session/scheduler.hpp"
 
 #include <penumbra/base/log.hpp>
+#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <algorithm>
 #include <future>
+#include <optional>
 
 namespace penumbra::session {
 namespace {
@@ -309,8 +311,8 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         return;
     }
     const scene::Refinement refinement = job.request.refinement;
-    const bool refines = !job.interactive && refinement.step < job.refinement_steps;
-    if (refines && refinement.step == 0) {
+    const bool may_refine = !job.interactive && refinement.step < job.refinement_steps;
+    if (may_refine && refinement.step == 0) {
         job.request.refinement.keep = true;  // the mean that the steps to come average into
     }
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
@@ -325,12 +327,6 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
                                                  " stopped: " + rendered.error().to_string());
         }
         return;
-    }
-    if (refines && rendered) {
-        RenderJob step = job;
-        step.request.refinement = {false, refinement.step + 1};
-        const std::lock_guard lock(mutex_);
-        queue_refinement(in_flight_.session, std::move(step), done);
     }
     if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
         bool shutting_down = false;
@@ -373,11 +369,27 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
     }
-    auto image = std::make_shared<base::ImageRgba8>(std::move(rendered->image));
+    auto image = std::make_shared<const base::ImageRgba8>(std::move(rendered->image));
+    if (may_refine) {
+        std::optional<double> change;
+        if (job.refined_image) {
+            if (auto measured = encode::change_in_levels(*job.refined_image, *image)) {
+                change = *measured;
+            }
+        }
+        frame->refining = scene::refines_after(refinement.step, change, job.refinement_steps,
+                                               job.refinement_threshold);
+    }
     std::string session;
     {
         const std::lock_guard lock(mutex_);
         session = in_flight_.session;
+        if (frame->refining) {
+            RenderJob step = job;
+            step.request.refinement = {false, refinement.step + 1};
+            step.refined_image = image;
+            queue_refinement(session, std::move(step), done);
+        }
     }
     {
         const std::lock_guard lock(encode_mutex_);

@@ -273,6 +273,7 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
         const scene::RenderSettings& s = job.request.settings;
         if (s.jitter && scene::is_ray_cast(s.mode)) {
             job.refinement_steps = current.refinement_steps;
+            job.refinement_threshold = current.refinement_threshold;
         }
     }
     job.submitted = Clock::now();

@@ -38,6 +38,29 @@ TEST(FrameRequest, StartingFrameFitsTheLimits) {
     EXPECT_TRUE(validate(frame, small).ok());
 }
 
+// A new session's frames are jittered, so that its stills refine by default.
+TEST(FrameRequest, StartingFrameIsJitteredSoItsStillsRefine) {
+    const FrameRequest frame = starting_frame({});
+    EXPECT_TRUE(frame.settings.jitter);
+    EXPECT_TRUE(is_ray_cast(frame.settings.mode));
+    EXPECT_GT(State{}.refinement_steps, 0);
+    EXPECT_GT(State{}.refinement_threshold, 0.0);
+}
+
+TEST(Refinement, GoesOnUntilAStepChangesTheImageByTheThresholdOrTheLimit) {
+    // The still frame has no image before it: it refines whenever steps are allowed.
+    EXPECT_TRUE(refines_after(0, std::nullopt, 8, 0.25));
+    EXPECT_FALSE(refines_after(0, std::nullopt, 0, 0.25));
+    EXPECT_TRUE(refines_after(3, 0.26, 8, 0.25));
+    EXPECT_FALSE(refines_after(3, 0.25, 8, 0.25));
+    EXPECT_FALSE(refines_after(3, 0.0, 8, 0.25));
+    // The limit stops it however much the image still changes.
+    EXPECT_FALSE(refines_after(8, 10.0, 8, 0.25));
+    // A threshold of 0: only the limit.
+    EXPECT_TRUE(refines_after(7, 0.0, 8, 0.0));
+    EXPECT_FALSE(refines_after(8, 0.0, 8, 0.0));
+}
+
 TEST(FrameRequest, RejectsEachBadFieldByName) {
     struct Case {
         const char* field;

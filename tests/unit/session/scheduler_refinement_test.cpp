@@ -10,6 +10,8 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstddef>
+#include <cstdint>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -103,8 +105,14 @@ public:
                 return base::make_error(base::ErrorCode::cancelled, "cancelled", "render");
             }
         }
+        // Each step moves the image less than the one before: 192, 128, 106, 96, 89, 85, ...
+        // (changes of 64, 22, 10, 7, 4, ... levels), as a converging mean does.
         render::Frame frame;
         frame.image = base::ImageRgba8(8, 8);
+        const auto level = static_cast<std::uint8_t>(64 + 128 / (request.refinement.step + 1));
+        for (std::size_t i = 0; i < frame.image.pixels.size(); ++i) {
+            frame.image.pixels[i] = i % 4 == 3 ? 255 : level;
+        }
         frame.report.refinement_step = request.refinement.step;
         return frame;
     }
@@ -133,8 +141,9 @@ protected:
     }
 
     static RenderJob job(int name, int chunks, const std::string& client, bool interactive,
-                         int refinement_steps = 0) {
+                         int refinement_steps = 0, double refinement_threshold = 0.0) {
         RenderJob job;
+        job.refinement_threshold = refinement_threshold;
         job.request.settings.width = chunks;
         job.request.settings.height = name;
         job.output.format = scene::FrameFormat::png;
@@ -160,12 +169,14 @@ protected:
 TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount) {
     std::mutex frames_mutex;
     std::vector<int> steps;
+    std::vector<bool> refining;
     std::promise<void> all;
     scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 3), [&](FrameOutcome outcome) {
         const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
         ASSERT_NE(frame, nullptr);
         const std::lock_guard lock(frames_mutex);
         steps.push_back((*frame)->refinement_step);
+        refining.push_back((*frame)->refining);
         if (steps.size() == 4) {
             all.set_value();
         }
@@ -174,10 +185,37 @@ TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount
     std::this_thread::sleep_for(50ms);  // nothing more comes
     const std::lock_guard lock(frames_mutex);
     EXPECT_EQ(steps, (std::vector<int>{0, 1, 2, 3}));
+    // Every frame but the last says that another step follows.
+    EXPECT_EQ(refining, (std::vector<bool>{true, true, true, false}));
     const auto renders = started();
     ASSERT_EQ(renders.size(), 4u);
     EXPECT_TRUE(renders[0].refinement.keep);  // the still is kept for its steps to average into
     EXPECT_EQ(renders[3].refinement.step, 3);
+}
+
+TEST_F(SchedulerRefinementTest, RefinementStopsOnceAStepChangesTheImageByTheThresholdOrLess) {
+    // The fake's steps change the image by 64, 22, 10, 7, 4, ... levels: with a threshold of 5
+    // the fifth step is the last, long before the limit of 20.
+    std::mutex frames_mutex;
+    std::vector<int> steps;
+    std::vector<bool> refining;
+    std::promise<void> last;
+    scheduler_->submit("a", job(1, 1, "10.0.0.1", false, 20, 5.0), [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        ASSERT_NE(frame, nullptr);
+        const std::lock_guard lock(frames_mutex);
+        steps.push_back((*frame)->refinement_step);
+        refining.push_back((*frame)->refining);
+        if (!(*frame)->refining) {
+            last.set_value();
+        }
+    });
+    ASSERT_EQ(last.get_future().wait_for(10s), std::future_status::ready);
+    std::this_thread::sleep_for(50ms);  // nothing more comes
+    const std::lock_guard lock(frames_mutex);
+    EXPECT_EQ(steps, (std::vector<int>{0, 1, 2, 3, 4, 5}));
+    EXPECT_EQ(refining, (std::vector<bool>{true, true, true, true, true, false}));
+    EXPECT_EQ(started().size(), 6u);
 }
 
 TEST_F(SchedulerRefinementTest, InteractiveFramesAreNotRefined) {

@@ -87,7 +87,8 @@ export const SETTINGS = {
   'settings/empty_space_skipping': { kind: 'boolean', summary: "leap over the bricks the transfer function leaves transparent (the same image, faster)" },
   'settings/jitter': { kind: 'boolean', summary: "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)" },
   'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
-  'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "refinement steps that follow a still frame (jittered ray casts); 0 = none" },
+  'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "at most this many refinement steps follow a still frame (jittered ray casts); 0 = none" },
+  'settings/refinement_threshold': { kind: 'number', min: 0, max: 255, summary: "refinement stops once a step changes the still by no more than this (RMS, 8-bit levels); 0 = only the step limit" },
   'settings/shading/diffuse': { kind: 'number', min: 0, max: 4, summary: "Blinn-Phong diffuse weight" },
   'settings/shading/specular': { kind: 'number', min: 0, max: 4, summary: "Blinn-Phong specular weight" },
   'settings/shading/shininess': { kind: 'number', min: 1, max: 1024, summary: "Blinn-Phong exponent" },
@@ -157,8 +158,10 @@ export interface StateSettings {
     jitter: boolean;
     /** milliseconds a frame may take: the server picks the method and quality; 0 = as set */
     frame_budget_ms: number;
-    /** refinement steps that follow a still frame (jittered ray casts); 0 = none */
+    /** at most this many refinement steps follow a still frame (jittered ray casts); 0 = none */
     refinement_steps: number;
+    /** refinement stops once a step changes the still by no more than this (RMS, 8-bit levels); 0 = only the step limit */
+    refinement_threshold: number;
     shading: {
       /** Blinn-Phong diffuse weight */
       diffuse: number;
@@ -226,7 +229,7 @@ export const DEFAULT_SETTINGS = {
   early_termination: 0.99,
   empty_space_skipping: true,
   frame_budget_ms: 0,
-  jitter: false,
+  jitter: true,
   light_buffer: {
     builder: 'multi_slice',
     compensation: 0,
@@ -238,7 +241,8 @@ export const DEFAULT_SETTINGS = {
   mode: 'sbrc',
   opacity_unit_distance: 0.00390625,
   phong: true,
-  refinement_steps: 8,
+  refinement_steps: 32,
+  refinement_threshold: 0.25,
   sample_distance: 0.00390625,
   scattering: {
     cone_angle: 30,

@@ -11,13 +11,21 @@
 
 namespace penumbra::cli {
 
+// What a command's frame is for, which picks the frame its options start from: a measurement's
+// (the benchmarks: each frame on its own, samples at the middle of each step) or a still's
+// (`penumbra render`: jittered samples, which the command's refinement averages; `--no-jitter`
+// turns them off).
+enum class FramePurpose { measurement, still };
+
 // The options that describe a frame, shared by every command that renders, less those a
 // benchmark sweeps itself (`swept`).
-po::options_description frame_options(const std::vector<std::string>& swept = {});
+po::options_description frame_options(const std::vector<std::string>& swept = {},
+                                      FramePurpose purpose = FramePurpose::measurement);
 
 // Builds a frame request from those options; defaults give a useful view of a head.
-base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& options,
-                                                     const volume::Volume& volume);
+base::Result<scene::FrameRequest> frame_request_from(
+        const po::variables_map& options, const volume::Volume& volume,
+        FramePurpose purpose = FramePurpose::measurement);
 
 // The frame those options give when none is given: the defaults of `penumbra render` and
 // `bench accuracy`, from which the committed accuracy tables were measured.

@@ -100,6 +100,9 @@ po::typed_value<int>* whole_number(int* target, int min, int max);
 // A number stored in `target`, whose value is the default, refused below `min`.
 po::typed_value<Number>* at_least(double* target, double min);
 
+// A number stored in `target`, whose value is the default, refused outside min..max.
+po::typed_value<Number>* number_within(double* target, double min, double max);
+
 // A time in seconds stored in `target`, whose value is the default, refused outside min..max.
 po::typed_value<Number>* seconds(std::chrono::milliseconds* target, double min, double max);
 

@@ -16,6 +16,11 @@ struct ImageDifference {
 
 base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
 
+// How much an 8-bit frame changed from `before` to `after`: the RMS difference over the RGB
+// channels, in 8-bit levels (what ends a still's refinement).
+base::Result<double> change_in_levels(const base::ImageRgba8& before,
+                                      const base::ImageRgba8& after);
+
 // The SSIM parameters of Wang, Bovik, Sheikh & Simoncelli, "Image quality assessment: from error
 // visibility to structural similarity" (IEEE TIP 2004), the ones their reference code and most
 // published SSIM values use.

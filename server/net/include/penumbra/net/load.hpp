@@ -26,7 +26,8 @@ struct LoadConfig {
     // One of scene::kFrameFormatNames; the first, as a new session's.
     std::string encoding{scene::name_of(scene::FrameFormat{})};
     bool interactive = false;
-    // > 0: jittered frames, each still refined this many times (progressive stills).
+    // > 0: jittered frames, each still refined this many times (progressive stills); 0: stills
+    // not refined.
     int refine = 0;
     std::string token;  // the access token a server or proxy asks for; empty: none
 };

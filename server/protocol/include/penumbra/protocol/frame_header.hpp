@@ -41,6 +41,9 @@ struct FrameHeader {
     // Progressive stills: 0 for a frame on its own; k > 0: the still frame refined k times (the
     // mean of k + 1 jittered frames of the same view).
     int refinement = 0;
+    // Progressive stills: another refinement step of this still follows; false on the last one
+    // (the image stopped changing, or the step limit), and on every frame that is not refined.
+    bool refining = false;
 };
 
 std::vector<std::uint8_t> pack_frame(const FrameHeader& header,

@@ -154,8 +154,19 @@ struct Refinement {
 };
 
 inline constexpr int kMaxRefinementSteps = 256;
-// How many refinement steps follow a still frame in a new session.
-inline constexpr int kDefaultRefinementSteps = 8;
+// How many refinement steps may follow a still frame in a new session: the limit, which a still
+// whose image stops changing (kDefaultRefinementThreshold) does not reach.
+inline constexpr int kDefaultRefinementSteps = 32;
+// A still's refinement stops once a step changes its image by no more than this: the RMS of the
+// difference over the RGB channels, in 8-bit levels. A step k changes the mean by about the
+// frame's noise over k + 1; a quarter of a level is below what an 8-bit image can show twice.
+inline constexpr double kDefaultRefinementThreshold = 0.25;
+
+// Whether a still goes on refining after its step `step` (0: the still frame itself), which
+// changed the image by `change` (RMS, 8-bit levels; absent for the still frame, which has no
+// image before it): not past `max_steps`, and not once a step changed it by `threshold` or less
+// (0: only the limit stops it).
+bool refines_after(int step, std::optional<double> change, int max_steps, double threshold);
 
 // Whether a mode marches camera rays, the only ones jitter and refinement change.
 bool is_ray_cast(Mode mode);
@@ -184,9 +195,10 @@ struct Limits {
 base::Status validate(const FrameRequest& request, const Limits& limits = {});
 
 // What a new session's frame starts from: the default camera (the anterior view), a light from
-// 10° azimuth and 45° elevation, sbrc with Blinn-Phong, and a 512-pixel image, 128 light-buffer
-// slices and a 256-texel light buffer as far as `limits` allow; the transfer function is left as
-// TransferFunction's default (the session picks its preset).
+// 10° azimuth and 45° elevation, sbrc with Blinn-Phong, jittered samples (fine noise rather than
+// the rings of a fixed step in interactive frames; stills refine it away), and a 512-pixel image,
+// 128 light-buffer slices and a 256-texel light buffer as far as `limits` allow; the transfer
+// function is left as TransferFunction's default (the session picks its preset).
 FrameRequest starting_frame(const Limits& limits);
 
 // The formats a session's frames are written in, by the name the protocol, hello and the frame
@@ -223,9 +235,10 @@ struct State {
     // > 0: the server picks mode, slices, light-buffer resolution and sample distance so that a
     // frame fits this many milliseconds (from the measured accuracy table); 0: as set.
     double frame_budget_ms = 0.0;
-    // Progressive stills: how many refinement steps follow a still frame of a jittered ray-cast
-    // mode; 0 turns refinement off.
+    // Progressive stills: at most how many refinement steps follow a still frame of a jittered
+    // ray-cast mode (0 turns refinement off), and the change below which they stop sooner.
     int refinement_steps = kDefaultRefinementSteps;
+    double refinement_threshold = kDefaultRefinementThreshold;
 
     bool operator==(const State&) const = default;
 };
@@ -417,13 +430,22 @@ inline constexpr Setting frame_budget_ms = state_setting(
          .summary = "milliseconds a frame may take: the server picks the method and quality; 0 "
                     "= as set"},
         [](auto& s) -> auto& { return s.frame_budget_ms; });
-// Progressive stills: refinement steps after a still frame (0: none).
+// Progressive stills: at most this many refinement steps after a still frame (0: none).
 inline constexpr Setting refinement_steps = state_setting(
         "settings/refinement_steps",
         {.min = 0.0,
          .max = kMaxRefinementSteps,
-         .summary = "refinement steps that follow a still frame (jittered ray casts); 0 = none"},
+         .summary =
+                 "at most this many refinement steps follow a still frame (jittered ray casts); 0 "
+                 "= none"},
         [](auto& s) -> auto& { return s.refinement_steps; });
+inline constexpr Setting refinement_threshold = state_setting(
+        "settings/refinement_threshold",
+        {.min = 0.0,
+         .max = 255.0,
+         .summary = "refinement stops once a step changes the still by no more than this (RMS, "
+                    "8-bit levels); 0 = only the step limit"},
+        [](auto& s) -> auto& { return s.refinement_threshold; });
 
 inline constexpr Setting diffuse = frame_setting(
         "settings/shading/diffuse",
@@ -547,6 +569,7 @@ inline constexpr auto kSettings = std::to_array<const Setting*>({
         &setting::jitter,
         &setting::frame_budget_ms,
         &setting::refinement_steps,
+        &setting::refinement_threshold,
         &setting::diffuse,
         &setting::specular,
         &setting::shininess,

@@ -38,8 +38,14 @@ struct RenderJob {
     // sessions of each client, so opening many sessions buys a client no larger share.
     std::string client;
     // Progressive stills: after this still frame the scheduler renders up to this many refinement
-    // steps of it at the lowest priority, delivering each through the same callback.
+    // steps of it at the lowest priority, delivering each through the same callback, and stops
+    // sooner once a step changes the image by no more than `refinement_threshold`
+    // (scene::refines_after).
     int refinement_steps = 0;
+    double refinement_threshold = 0.0;
+    // A refinement step's: the image the step before it delivered, which its change is measured
+    // against.
+    std::shared_ptr<const base::ImageRgba8> refined_image;
 };
 
 struct EncodedFrame {
@@ -53,8 +59,10 @@ struct EncodedFrame {
     bool interactive = false;
     std::string quality;
     int refinement_step = 0;  // 0: a frame on its own; k: the still frame refined k times
-    double queued_ms = 0.0;   // submitted -> the render thread took it
-    double render_ms = 0.0;   // GPU passes, wall time
+    // Another refinement step of this still follows (unless a newer frame replaces the view).
+    bool refining = false;
+    double queued_ms = 0.0;  // submitted -> the render thread took it
+    double render_ms = 0.0;  // GPU passes, wall time
     double readback_ms = 0.0;
     double encode_ms = 0.0;
 };

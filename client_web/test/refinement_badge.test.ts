@@ -1,0 +1,40 @@
+import { describe, expect, it } from 'vitest';
+import type { FrameHeader } from '../src/protocol/frame_header';
+import { refinementStatus, refinementText } from '../src/view/refinement_badge';
+
+const still: FrameHeader = {
+  frame: 3,
+  request: 9,
+  session: 's',
+  width: 64,
+  height: 64,
+  encoding: 'jpeg',
+  mode: 'sbrc',
+  interactive: false,
+  light_buffer: 'reused',
+  passes: [],
+  timings: { queued_ms: 0, render_ms: 1, readback_ms: 0, encode_ms: 0 },
+  quality: 'still: full quality',
+};
+
+describe('refinement badge', () => {
+  it('says a still is refining from its first frame until the last step', () => {
+    expect(refinementStatus({ ...still, refining: true })).toEqual({ kind: 'refining', step: 0 });
+    expect(refinementText(refinementStatus({ ...still, refinement: 4, refining: true }))).toBe(
+      'refining… step 4',
+    );
+  });
+
+  it('says the still is done, and after how many steps, on the last one', () => {
+    const last = refinementStatus({ ...still, refinement: 7, refining: false });
+    expect(last).toEqual({ kind: 'done', steps: 7 });
+    expect(refinementText(last)).toBe('still done · 7 steps');
+    expect(refinementText({ kind: 'done', steps: 1 })).toBe('still done · 1 step');
+  });
+
+  it('says nothing of interactive frames and of stills that are not refined', () => {
+    expect(refinementStatus({ ...still, interactive: true, refining: true }).kind).toBe('none');
+    expect(refinementStatus(still).kind).toBe('none');
+    expect(refinementStatus({ ...still, refinement: 0, refining: false }).kind).toBe('none');
+  });
+});
