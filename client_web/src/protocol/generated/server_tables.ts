@@ -10,6 +10,8 @@ export const ERROR_CODES = ['malformed_json', 'invalid_message', 'unknown_type',
 export const LISTINGS = ['scanning', 'complete', 'cut_short'] as const;
 /** settings.compositing */
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
+/** settings.reconstruction */
+export const RECONSTRUCTIONS = ['trilinear', 'tricubic'] as const;
 /** settings.stage: the ray caster's stage. */
 export const STAGES = ['compute', 'fragment'] as const;
 /** settings.light_buffer.builder */
