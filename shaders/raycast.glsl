@@ -5,6 +5,7 @@
 //   SCATTERING   SCATTERING_NONE | SCATTERING_SHELL | SCATTERING_CONE (with the light buffer)
 //   PHONG        0|1  Blinn–Phong shading from central-difference gradients
 //   EXTINCTION   0|1  extinction compositing (paper eq. 6) instead of corrected alpha
+//   RECONSTRUCTION SETTINGS_RECONSTRUCTION_TRILINEAR | _TRICUBIC  how volume samples are filtered
 //   POINT_LIGHT  0|1  the light is a point at light_vector rather than a direction
 //   EMPTY_SPACE_SKIPPING 0|1  leap over bricks the transfer function leaves transparent
 //   GRADIENT_TEXTURE 0|1  gradients from the precomputed texture instead of central differences

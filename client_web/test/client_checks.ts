@@ -11,6 +11,7 @@ import {
   LIGHT_LOOKUPS,
   LIGHT_TYPES,
   POSITION_SPACES,
+  RECONSTRUCTIONS,
   STAGES,
   VIEWS,
   type Camera,
@@ -284,6 +285,7 @@ function settingsSpec(
     {
       mode: modes === null ? string(32) : oneOf(modes),
       compositing: oneOf(COMPOSITINGS),
+      reconstruction: oneOf(RECONSTRUCTIONS),
       stage: oneOf(STAGES),
       size: vector(2, integer(1, limits.max_image_side)),
       background: rgb(ranges),

@@ -1,7 +1,9 @@
 // The gradient a shaded sample uses, in normalised value per world unit.
 // GRADIENT_TEXTURE (0|1): 1 reads one filtered texel of per-voxel central differences built once
 // per volume (gradient_build.comp); 0 takes central differences of six volume samples around the
-// sample (volume.glsl). Both agree at voxel centres; the renderer picks the faster per device.
+// sample (volume.glsl), or with tricubic reconstruction the B-spline's derivative (the renderer
+// never sets GRADIENT_TEXTURE with it). Central differences and the texture agree at voxel
+// centres; the renderer picks the faster per device.
 #ifndef GRADIENT_TEXTURE
 #define GRADIENT_TEXTURE 0
 #endif

@@ -56,6 +56,7 @@ scene::FrameRequest base_request(scene::Mode mode, int size) {
     // Every hard case runs jittered (the CPU reference samples at the same offsets); the golden
     // tests keep the midpoint sampling covered.
     s.jitter = true;
+    s.reconstruction = reconstruction();
     return request;
 }
 
@@ -77,6 +78,16 @@ volume::Volume float_volume(glm::uvec3 dims, glm::dvec3 spacing,
 
 float radial(glm::dvec3 p) {
     return static_cast<float>(std::max(0.0, 1.0 - glm::length(p - 0.5) / 0.5));
+}
+
+scene::Reconstruction reconstruction() {
+    const char* text = std::getenv("PENUMBRA_STABILITY_RECONSTRUCTION");
+    if (text == nullptr || *text == '\0') {
+        return scene::Reconstruction::trilinear;
+    }
+    const auto parsed = scene::parse_name<scene::Reconstruction>(text);
+    EXPECT_TRUE(parsed.has_value()) << "PENUMBRA_STABILITY_RECONSTRUCTION=" << text;
+    return parsed.value_or(scene::Reconstruction::trilinear);
 }
 
 std::uint64_t property_seed(std::uint64_t fallback) {

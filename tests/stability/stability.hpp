@@ -75,6 +75,10 @@ volume::Volume float_volume(glm::uvec3 dims, glm::dvec3 spacing,
 // max(0, 1 - |p - centre| / 0.5) over any dims: smooth, 1 at the centre, 0 at the faces' centres.
 float radial(glm::dvec3 p);
 
+// How every request reconstructs the volume: PENUMBRA_STABILITY_RECONSTRUCTION when set (the suite
+// runs once more with tricubic, tests/stability/CMakeLists.txt), otherwise trilinear.
+scene::Reconstruction reconstruction();
+
 // The seed of a property test: PENUMBRA_STABILITY_SEED when set (to replay a failure with another
 // seed or explore more), otherwise `fallback`, so CI runs are reproducible.
 std::uint64_t property_seed(std::uint64_t fallback);

@@ -1,8 +1,8 @@
 // Method and quality: the rendering mode (those the server's hello offers, with what each reads),
-// compositing, ray-caster stage, light-buffer slices, resolution, builder and lookup, the toggles
-// (Blinn-Phong, jitter, empty-space skipping), background and the output encoding, and a control
-// for every numeric setting the server's hello announces a range for (hello.ranges), placed by its
-// path: settings/light_buffer/* under the light buffer, settings/scattering/* under shell & cone,
+// compositing, volume filter, ray-caster stage, light-buffer slices, resolution, builder and
+// lookup, the toggles (Blinn-Phong, jitter, empty-space skipping), background and the output
+// encoding, and a control for every numeric setting the server's hello announces a range for
+// (hello.ranges), placed by its path: settings/light_buffer/* under the light buffer, settings/scattering/* under shell & cone,
 // settings/shading/* under shading, settings/* under sampling, another part in a folder of its own;
 // and a checkbox or a list for every boolean or choice of the server's table (SETTINGS) that it
 // places nowhere else, in the same folders. A new numeric, boolean or choice setting of the server
@@ -18,6 +18,7 @@ import {
   DEFAULT_OUTPUT,
   DEFAULT_SETTINGS,
   ENCODINGS,
+  RECONSTRUCTIONS,
   STAGES,
   type Builder,
   type Compositing,
@@ -26,6 +27,7 @@ import {
   type Limits,
   type Mode,
   type ModeCapabilities,
+  type Reconstruction,
   type SettingRanges,
   SETTINGS,
   type Stage,
@@ -79,6 +81,7 @@ export function settingPatch(members: string[], value: number | boolean | string
 const PLACED = new Set([
   'settings/mode',
   'settings/compositing',
+  'settings/reconstruction',
   'settings/stage',
   'settings/phong',
   'settings/jitter',
@@ -163,6 +166,7 @@ export class MethodPanel {
     mode: '' as string,
     // Until the session's state arrives, what a new session of the server starts from.
     compositing: DEFAULT_SETTINGS.compositing as Compositing,
+    reconstruction: DEFAULT_SETTINGS.reconstruction as Reconstruction,
     stage: DEFAULT_SETTINGS.stage as Stage,
     slices: DEFAULT_SETTINGS.light_buffer.slices as number,
     resolution: DEFAULT_SETTINGS.light_buffer.resolution as number,
@@ -215,6 +219,12 @@ export class MethodPanel {
       folder.add(p, 'compositing', [...COMPOSITINGS]),
       'compositing',
       () => settings({ compositing: p.compositing }),
+      false,
+    );
+    add(
+      folder.add(p, 'reconstruction', [...RECONSTRUCTIONS]).name('volume filter'),
+      'reconstruction',
+      () => settings({ reconstruction: p.reconstruction }),
       false,
     );
     add(
@@ -404,6 +414,7 @@ export class MethodPanel {
     this.state = state;
     p.mode = s.mode;
     p.compositing = s.compositing;
+    p.reconstruction = s.reconstruction ?? DEFAULT_SETTINGS.reconstruction;
     p.stage = s.stage;
     p.slices = s.light_buffer.slices;
     p.resolution = s.light_buffer.resolution;

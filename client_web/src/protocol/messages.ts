@@ -30,6 +30,7 @@ export {
   LIGHT_TYPES,
   LISTINGS,
   POSITION_SPACES,
+  RECONSTRUCTIONS,
   SETTINGS,
   STAGES,
   VIEWS,
@@ -51,6 +52,7 @@ export type Output = StateSettings['output'];
 export type Mode = Settings['mode'];
 export type Encoding = Output['encoding'];
 export type Compositing = Settings['compositing'];
+export type Reconstruction = Settings['reconstruction'];
 export type Stage = Settings['stage'];
 export type Builder = Settings['light_buffer']['builder'];
 export type LightLookup = Settings['light_buffer']['lookup'];

@@ -743,6 +743,7 @@ std::string generated_client_tables() {
     out += ts_enum<protocol::Listing>(
             "LISTINGS", "Where the server's listing of its data folder stands (volumes.listing).");
     out += ts_enum<scene::Compositing>("COMPOSITINGS", "settings.compositing");
+    out += ts_enum<scene::Reconstruction>("RECONSTRUCTIONS", "settings.reconstruction");
     out += ts_enum<scene::RaycastStage>("STAGES", "settings.stage: the ray caster's stage.");
     out += ts_enum<scene::LightBufferBuilder>("BUILDERS", "settings.light_buffer.builder");
     out += ts_enum<scene::LightLookup>("LIGHT_LOOKUPS", "settings.light_buffer.lookup");

@@ -81,7 +81,7 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     }
     const bool phong = scene::uses_gradients(s);
     const bool shadows = s.mode == scene::Mode::reference;
-    const VolumeSampler sampler(volume);
+    const VolumeSampler sampler(volume, s.reconstruction);
     const TransferFunctionTable tf(request.transfer_function,
                                    {volume.range.min, volume.range.max, volume.hounsfield});
     const scene::CameraFrame camera =

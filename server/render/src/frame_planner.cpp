@@ -13,6 +13,7 @@ FramePlan plan_frame(const scene::FrameRequest& request) {
     RaycastVariant& v = plan.variant;
     v.stage = s.stage;
     v.extinction = s.compositing == scene::Compositing::extinction;
+    v.reconstruction = s.reconstruction;
     v.phong = scene::uses_gradients(s);
     v.empty_space_skipping = s.empty_space_skipping;
     v.shadows = mode.shadows;

@@ -14,6 +14,7 @@ gpu::Defines RaycastVariant::defines() const {
             {"SCATTERING", std::to_string(static_cast<int>(scattering))},
             {"PHONG", phong ? "1" : "0"},
             {"EXTINCTION", extinction ? "1" : "0"},
+            {"RECONSTRUCTION", std::to_string(static_cast<int>(reconstruction))},
             {"POINT_LIGHT", point_light ? "1" : "0"},
             {"LOCAL_LIGHT_LOOKUP", local_light_lookup ? "1" : "0"},
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
@@ -23,6 +24,7 @@ gpu::Defines RaycastVariant::defines() const {
 
 gpu::Defines RaycastVariant::light_buffer_defines() const {
     return {{"EXTINCTION", extinction ? "1" : "0"},
+            {"RECONSTRUCTION", std::to_string(static_cast<int>(reconstruction))},
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"}};
 }
 

@@ -25,10 +25,13 @@ struct RaycastVariant {
     Scattering scattering = Scattering::none;
     bool phong = false;
     bool extinction = false;
+    scene::Reconstruction reconstruction = scene::Reconstruction::trilinear;
     bool point_light = false;
     bool local_light_lookup = false;    // light-buffer shadows only: scene::LightLookup::local
     bool empty_space_skipping = false;  // the brick occupancy is bound on unit 3
-    bool gradient_texture = false;      // with phong: the gradient texture is bound on unit 5
+    // With phong and trilinear reconstruction (tricubic gradients come from the B-spline's
+    // derivative): the gradient texture is bound on unit 5.
+    bool gradient_texture = false;
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it

@@ -214,7 +214,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         return status.error();
     }
     FramePlan plan = plan_frame(request);
-    plan.variant.gradient_texture = impl.gradient_texture && plan.variant.phong;
+    plan.variant.gradient_texture = impl.gradient_texture && plan.variant.phong &&
+                                    plan.variant.reconstruction == scene::Reconstruction::trilinear;
     VolumeEntry& volume = impl.current_volume();
     const volume::Volume& voxels = volume.volume();
     auto geometry = frame_geometry(request, plan, voxels);

@@ -10,6 +10,8 @@ export const ERROR_CODES = ['malformed_json', 'invalid_message', 'unknown_type',
 export const LISTINGS = ['scanning', 'complete', 'cut_short'] as const;
 /** settings.compositing */
 export const COMPOSITINGS = ['alpha', 'extinction'] as const;
+/** settings.reconstruction */
+export const RECONSTRUCTIONS = ['trilinear', 'tricubic'] as const;
 /** settings.stage: the ray caster's stage. */
 export const STAGES = ['compute', 'fragment'] as const;
 /** settings.light_buffer.builder */
@@ -77,6 +79,7 @@ export const SETTINGS = {
   'light/ambient': { kind: 'number', min: 0, max: 1, summary: "ambient light, a fraction of the light colour" },
   'settings/mode': { kind: 'choice', choices: ['dvr', 'phong', 'half_angle', 'sbrc', 'sbrc_shell', 'sbrc_cone', 'reference'], summary: "rendering mode" },
   'settings/compositing': { kind: 'choice', choices: ['alpha', 'extinction'], summary: "compositing" },
+  'settings/reconstruction': { kind: 'choice', choices: ['trilinear', 'tricubic'], summary: "volume filter between voxels: trilinear, or the smoother tricubic B-spline (about 8 times the fetches)" },
   'settings/stage': { kind: 'choice', choices: ['compute', 'fragment'], summary: "where the ray caster runs" },
   'settings/size': { kind: 'size', min: 1, max: 2048, limited: true, summary: "image size" },
   'settings/sample_distance': { kind: 'number', min: 6.103515625e-05, max: 2, summary: "ray step, unit = the volume's longest side" },
@@ -138,6 +141,8 @@ export interface StateSettings {
     mode: 'dvr' | 'phong' | 'half_angle' | 'sbrc' | 'sbrc_shell' | 'sbrc_cone' | 'reference';
     /** compositing */
     compositing: 'alpha' | 'extinction';
+    /** volume filter between voxels: trilinear, or the smoother tricubic B-spline (about 8 times the fetches) */
+    reconstruction: 'trilinear' | 'tricubic';
     /** where the ray caster runs */
     stage: 'compute' | 'fragment';
     /** image size */
@@ -241,6 +246,7 @@ export const DEFAULT_SETTINGS = {
   mode: 'sbrc',
   opacity_unit_distance: 0.00390625,
   phong: true,
+  reconstruction: 'trilinear',
   refinement_steps: 32,
   refinement_threshold: 0.25,
   sample_distance: 0.00390625,

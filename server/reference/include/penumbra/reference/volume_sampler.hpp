@@ -1,6 +1,7 @@
 #pragma once
 
 #include <penumbra/scene/box.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -11,11 +12,14 @@
 
 namespace penumbra::reference {
 
-// Samples a volume in world space exactly as the GPU does (GL_LINEAR, GL_CLAMP_TO_EDGE, texel
-// centres at (i + 0.5) / N), in double precision, with values mapped so the range is [0, 1].
+// Samples a volume in world space as the GPU does (GL_LINEAR, GL_CLAMP_TO_EDGE, texel centres at
+// (i + 0.5) / N), in double precision, with values mapped so the range is [0, 1]. The tricubic
+// B-spline is summed over its 64 voxels directly (indices clamped to the edge), what the GPU's 8
+// linear fetches add up to.
 class VolumeSampler {
 public:
-    explicit VolumeSampler(const volume::Volume& volume);
+    explicit VolumeSampler(const volume::Volume& volume,
+                           scene::Reconstruction reconstruction = scene::Reconstruction::trilinear);
 
     [[nodiscard]] const scene::Box& box() const { return box_; }
 
@@ -24,12 +28,18 @@ public:
 
     [[nodiscard]] double value(glm::dvec3 world) const;
 
-    // Central differences one voxel apart along the volume's axes, in normalised value per world
-    // unit, turned into world space.
+    // In normalised value per world unit, in world space: trilinear, central differences one
+    // voxel apart along the volume's axes; tricubic, the B-spline's derivative.
     [[nodiscard]] glm::dvec3 gradient(glm::dvec3 world) const;
 
 private:
     [[nodiscard]] double normalized_voxel(int x, int y, int z) const;
+    [[nodiscard]] double trilinear(glm::dvec3 world) const;
+    // The B-spline along the box axes, `derivative_axis` (0..2) taking the derivative's weights
+    // (per voxel step), -1 none.
+    [[nodiscard]] double bspline(glm::dvec3 world, int derivative_axis) const;
+
+    scene::Reconstruction reconstruction_;
 
     glm::ivec3 dims_;
     scene::Box box_;
