@@ -29,6 +29,7 @@ struct RaycastVariant {
     bool local_light_lookup = false;    // light-buffer shadows only: scene::LightLookup::local
     bool empty_space_skipping = false;  // the brick occupancy is bound on unit 3
     bool gradient_texture = false;      // with phong: the gradient texture is bound on unit 5
+    bool preintegration = false;        // the pre-integration table is bound on unit 6
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it

@@ -86,6 +86,7 @@ export const SETTINGS = {
   'settings/phong': { kind: 'boolean', summary: "Blinn-Phong on top of shadows (shadow modes)" },
   'settings/empty_space_skipping': { kind: 'boolean', summary: "leap over the bricks the transfer function leaves transparent (the same image, faster)" },
   'settings/jitter': { kind: 'boolean', summary: "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)" },
+  'settings/preintegration': { kind: 'boolean', summary: "classify the segment between two samples by both values (pre-integrated TF): no rings of the step on steep TFs" },
   'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
   'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "refinement steps that follow a still frame (jittered ray casts); 0 = none" },
   'settings/shading/diffuse': { kind: 'number', min: 0, max: 4, summary: "Blinn-Phong diffuse weight" },
@@ -155,6 +156,8 @@ export interface StateSettings {
     empty_space_skipping: boolean;
     /** ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings) */
     jitter: boolean;
+    /** classify the segment between two samples by both values (pre-integrated TF): no rings of the step on steep TFs */
+    preintegration: boolean;
     /** milliseconds a frame may take: the server picks the method and quality; 0 = as set */
     frame_budget_ms: number;
     /** refinement steps that follow a still frame (jittered ray casts); 0 = none */
@@ -238,6 +241,7 @@ export const DEFAULT_SETTINGS = {
   mode: 'sbrc',
   opacity_unit_distance: 0.00390625,
   phong: true,
+  preintegration: false,
   refinement_steps: 8,
   sample_distance: 0.00390625,
   scattering: {
