@@ -19,10 +19,12 @@ float shadow_ray_transmittance(vec3 world) {
     float occupied_until = -1.0;
 #endif
 #if PREINTEGRATION
-    // Segments from the sample itself on, as the camera ray's (classify_sample, raycast.glsl):
-    // the first sample of an empty brick still closes a segment, and a leap fetches the front of
-    // the first segment after it.
-    float front = sample_value(world);
+    // Segments as the camera ray's (classify_sample, raycast.glsl): the first sample of an empty
+    // brick still closes a segment, and a leap fetches the front of the first segment after it.
+    // The first sample has no front: it is classified alone (front == back), as without
+    // pre-integration. A segment from the lit sample itself would let the material at that point
+    // shadow itself, which its own camera-ray segment already absorbs: lit surfaces would darken.
+    float front = sample_value(world + 0.5 * step_length * to_light);
 #endif
     for (int i = 0; i < count && transmittance >= negligible_transmittance; ++i) {
         float t = (float(i) + 0.5) * step_length;

@@ -64,8 +64,7 @@ private:
 };
 
 // The ground truth for shadows: the transmittance along a ray from `position` to the light,
-// marched with the camera's sample distance and the same opacity correction. With
-// pre-integration the first segment starts at `position` (shadow_ray.glsl).
+// marched with the camera's sample distance and the same opacity correction.
 double shadow_ray_transmittance(const VolumeSampler& sampler, const Classifier& tf,
                                 const scene::FrameRequest& request, glm::dvec3 position) {
     const glm::dvec3 to_light = direction_to_light(request.light, position);
@@ -79,7 +78,8 @@ double shadow_ray_transmittance(const VolumeSampler& sampler, const Classifier& 
     const optics::Marching marching =
             optics::plan_marching(0.0, t_end, request.settings.sample_distance);
     double transmittance = 1.0;
-    double front = sampler.value(position);
+    // The first sample classified alone (shadow_ray.glsl says why).
+    double front = sampler.value(position + 0.5 * marching.step * to_light);
     for (int i = 0; i < marching.count && transmittance >= shadow_ray_cutoff; ++i) {
         const glm::dvec3 p = position + (i + 0.5) * marching.step * to_light;
         transmittance *= 1.0 - sample_opacity(tf.classify(front, sampler.value(p)).a, marching.step,
@@ -133,6 +133,9 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                 const glm::dvec3 position =
                         camera.eye + (hit.t_near + (i + offset) * marching.step) * direction;
                 const glm::dvec4 classified = tf.classify(front, sampler.value(position));
+                // Pre-integrated, the segment is lit and shaded at its middle (raycast.glsl).
+                const glm::dvec3 lit =
+                        s.preintegration ? position - 0.5 * marching.step * direction : position;
                 if (classified.a <= 0.0) {
                     continue;
                 }
@@ -141,16 +144,14 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                     optics::LightTerms terms;
                     if (phong) {
                         const glm::dvec3 normal =
-                                normal_from_gradient(sampler.gradient(position), sampler);
-                        terms = optics::blinn_phong(normal,
-                                                    direction_to_light(request.light, position),
+                                normal_from_gradient(sampler.gradient(lit), sampler);
+                        terms = optics::blinn_phong(normal, direction_to_light(request.light, lit),
                                                     -direction, s.shading.shininess);
                     } else {
                         terms = {1.0, 0.0};
                     }
                     const double light =
-                            shadows ? shadow_ray_transmittance(sampler, tf, request, position)
-                                    : 1.0;
+                            shadows ? shadow_ray_transmittance(sampler, tf, request, lit) : 1.0;
                     color = optics::shade(color, terms, request.light, s.shading, light);
                 }
                 optics::composite_front_to_back(accumulated, color,

@@ -215,11 +215,12 @@ TEST_F(PreintegrationTest, SteepTransferFunctionFollowsAFineStepReferenceBetter)
 }
 
 // Where every segment has the same value at both ends, pre-integration is per-sample
-// classification to the bit, in every ray-cast mode and for the shadow rays.
+// classification to the bit. Shaded by a directional light without shadows (phong: on a constant
+// volume no gradient, the same light everywhere) the image is the same to the bit too; shadowed,
+// it is not, since a segment is lit at its middle, half a step before its sample.
 TEST_F(PreintegrationTest, FrontEqualToBackGivesThePerSampleImageExactly) {
     use(test::constant_volume(glm::uvec3(24), 0.5f));
-    for (const scene::Mode mode :
-         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::sbrc, scene::Mode::reference}) {
+    for (const scene::Mode mode : {scene::Mode::dvr, scene::Mode::phong}) {
         for (const auto compositing : {scene::Compositing::alpha, scene::Compositing::extinction}) {
             SCOPED_TRACE(std::string(scene::to_string(mode)) + ", " +
                          scene::to_string(compositing));
@@ -292,6 +293,11 @@ TEST_F(PreintegrationSkippingTest, SegmentsIntoAndOutOfEmptyBricksKeepTheirContr
         auto request = steep_scene(mode);
         request.settings.width = 64;
         request.settings.height = 64;
+        // Steps of ten voxels: a segment from a sheet's sample often ends in an empty brick, past
+        // the rest of the sheet's brick and the one-voxel border of the next one. (At steps
+        // shorter than that distance the case cannot arise: a segment that ends in an empty
+        // brick then starts where every value the segment crosses is transparent too.)
+        request.settings.sample_distance = 1.0 / 5.0;
         request.settings.preintegration = true;
         request.transfer_function = {
                 "band",
@@ -308,7 +314,7 @@ TEST_F(PreintegrationSkippingTest, SegmentsIntoAndOutOfEmptyBricksKeepTheirContr
                 drawn += marched.pixel(x, y)[0] > 0.2f ? 1 : 0;
             }
         }
-        EXPECT_GT(drawn, 500) << "the sheets' segments show";
+        EXPECT_GT(drawn, 200) << "the sheets' segments show";
     }
 }
 

@@ -9,8 +9,11 @@
 
 namespace penumbra::optics {
 
-// Entries per side of the GPU's table over (front, back) value, i / (side - 1). Measured against
-// 256 and 1024 (README.md, accuracy): 512 is as close to 1024 as 1024 to the exact integral.
+// Entries per side of the GPU's table over (front, back) value, i / (side - 1): 4 MiB of RGBA32F.
+// Against the CPU's exact integral, on a spike of opacity 1 whose ramps span 5 of the TF's 1024
+// entries, rays that graze it differ by up to 0.16 at 512 and 0.06 at 1024 (a few pixels of
+// 48 x 48; everywhere else within 8-bit rounding); a TF whose ramps span tens of entries (bone,
+// skin) agrees within 3 levels at 512 (preintegration_test).
 inline constexpr int preintegration_table_side = 512;
 
 // An opacity of 1 keeps a finite optical depth (16.6 per opacity unit distance), so averages stay
