@@ -9,6 +9,8 @@
 //   POINT_LIGHT  0|1  the light is a point at light_vector rather than a direction
 //   EMPTY_SPACE_SKIPPING 0|1  leap over bricks the transfer function leaves transparent
 //   GRADIENT_TEXTURE 0|1  gradients from the precomputed texture instead of central differences
+//   PREINTEGRATION 0|1  each sample stands for the segment from the sample before it, classified
+//                       by both values through the pre-integration table
 
 #define SHADOWS_NONE 0
 #define SHADOWS_LIGHT_BUFFER 1
@@ -21,6 +23,7 @@
 #include "include/ray.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
+#include "include/preintegration.glsl"
 #include "include/empty_space.glsl"
 #include "include/gradient.glsl"
 #include "include/compositing.glsl"
@@ -61,10 +64,36 @@ struct RayMarch {
     // can only keep a sample, never drop one.
     float occupied_until;
 #endif
+#if PREINTEGRATION
+    float front;  // the value at the sample before the next one, the front of its segment
+#endif
 };
+
+vec3 march_position(RayMarch march, int i) {
+    return march.origin + (march.start + (float(i) + march.offset) * march.step_length) *
+                                  march.direction;
+}
+
+#if PREINTEGRATION
+// The front of sample i's segment: the sample before it, or for the first sample the point where
+// the ray enters the box. Not the first sample itself (its segment would then count as a plain
+// sample): a surface right at the box face would lose what lies between the face and the first
+// sample, and the entry point is one fetch per ray. The same for every chunk of a ray.
+float front_value(RayMarch march, int i) {
+    if (i <= 0) return sample_value(march.origin + march.start * march.direction);
+    return sample_value(march_position(march, i - 1));
+}
+#endif
 
 // Sample i classified, or false where it lies in an empty brick: `i` then moves to the last
 // sample in that brick, so that the march's next step leaves it.
+//
+// With PREINTEGRATION the sample's segment from the sample before it is classified. A segment
+// with both ends in one empty brick is exactly transparent to the table's integral, its values
+// lying between two of the brick's (up to the table's filter, one cell of the table wide); a
+// segment that leaves an occupied brick for an empty one, or leaves an empty one, may not be: so
+// the first sample of an empty brick is still classified as a segment, and the leap fetches the
+// value of the last sample it passes, the front of the first segment after it.
 bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out vec4 classified) {
     float t = march.start + (float(i) + march.offset) * march.step_length;
     position = march.origin + t * march.direction;
@@ -74,13 +103,33 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
         ivec3 brick = brick_of(position);
         float run = distance_out_of_brick(position, march.direction, brick);
         if (!brick_occupied(brick)) {
-            i = max(i + 1, i + int(ceil(run / march.step_length))) - 1;
+            int last_in_brick = max(i + 1, i + int(ceil(run / march.step_length))) - 1;
+#if PREINTEGRATION
+            float back = sample_value(position);
+            classified = classify_segment(march.front, back);
+            march.front = last_in_brick > i ? sample_value(march_position(march, last_in_brick))
+                                            : back;
+            position -= 0.5 * march.step_length * march.direction;  // as below
+            i = last_in_brick;
+            return true;
+#else
+            i = last_in_brick;
             return false;
+#endif
         }
         march.occupied_until = t + run;
     }
 #endif
+#if PREINTEGRATION
+    float back = sample_value(position);
+    classified = classify_segment(march.front, back);
+    march.front = back;
+    // The segment is lit and shaded at its middle, where its material is on average: lit at its
+    // back, a surface would be lit half a step inside itself and darken under shadows.
+    position -= 0.5 * march.step_length * march.direction;
+#else
     classified = classify(sample_value(position));
+#endif
     return true;
 }
 
@@ -105,6 +154,9 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     march.offset = ray_start_offset(pixel);
 #if EMPTY_SPACE_SKIPPING
     march.occupied_until = -1.0;
+#endif
+#if PREINTEGRATION
+    march.front = front_value(march, first);
 #endif
     int last = min(count, first + budget);
     vec3 position;

@@ -292,6 +292,7 @@ function settingsSpec(
       phong: boolean,
       empty_space_skipping: boolean,
       jitter: boolean,
+      preintegration: boolean,
       shading: {},
       light_buffer: {
         slices: integer(1, limits.max_slices),

@@ -18,6 +18,14 @@ float shadow_ray_transmittance(vec3 world) {
     // every sample of an empty brick is exactly transparent: the result is the same to the bit.
     float occupied_until = -1.0;
 #endif
+#if PREINTEGRATION
+    // Segments as the camera ray's (classify_sample, raycast.glsl): the first sample of an empty
+    // brick still closes a segment, and a leap fetches the front of the first segment after it.
+    // The first sample has no front: it is classified alone (front == back), as without
+    // pre-integration. A segment from the lit sample itself would let the material at that point
+    // shadow itself, which its own camera-ray segment already absorbs: lit surfaces would darken.
+    float front = sample_value(world + 0.5 * step_length * to_light);
+#endif
     for (int i = 0; i < count && transmittance >= negligible_transmittance; ++i) {
         float t = (float(i) + 0.5) * step_length;
         vec3 p = world + t * to_light;
@@ -26,13 +34,28 @@ float shadow_ray_transmittance(vec3 world) {
             ivec3 brick = brick_of(p);
             float run = distance_out_of_brick(p, to_light, brick);
             if (!brick_occupied(brick)) {
-                i = max(i + 1, i + int(ceil(run / step_length))) - 1;
+                int last_in_brick = max(i + 1, i + int(ceil(run / step_length))) - 1;
+#if PREINTEGRATION
+                float back = sample_value(p);
+                transmittance *=
+                        1.0 - sample_opacity(classify_segment(front, back).a, step_length);
+                front = last_in_brick > i ? sample_value(world + (float(last_in_brick) + 0.5) *
+                                                                         step_length * to_light)
+                                          : back;
+#endif
+                i = last_in_brick;
                 continue;
             }
             occupied_until = t + run;
         }
 #endif
+#if PREINTEGRATION
+        float back = sample_value(p);
+        transmittance *= 1.0 - sample_opacity(classify_segment(front, back).a, step_length);
+        front = back;
+#else
         transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step_length);
+#endif
     }
     return transmittance;
 }

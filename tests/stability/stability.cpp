@@ -57,6 +57,9 @@ scene::FrameRequest base_request(scene::Mode mode, int size) {
     // tests keep the midpoint sampling covered.
     s.jitter = true;
     s.reconstruction = reconstruction();
+    // The suite runs a second time with every case pre-integrated (tests/stability/CMakeLists.txt).
+    const char* preintegration = std::getenv("PENUMBRA_STABILITY_PREINTEGRATION");
+    s.preintegration = preintegration != nullptr && std::string(preintegration) == "1";
     return request;
 }
 
@@ -116,10 +119,11 @@ std::string describe(const scene::FrameRequest& request) {
     const scene::RenderSettings& s = request.settings;
     std::ostringstream out;
     out << "mode " << scene::to_string(s.mode)
-        << (s.phong && s.mode != scene::Mode::phong ? "+phong" : "") << ", "
-        << scene::to_string(s.compositing) << ", " << scene::to_string(s.stage) << ", " << s.width
-        << "x" << s.height << ", eye " << describe(request.camera.eye) << ", target "
-        << describe(request.camera.target) << ", light "
+        << (s.phong && s.mode != scene::Mode::phong ? "+phong" : "")
+        << (s.preintegration ? ", pre-integrated" : "") << ", " << scene::to_string(s.compositing)
+        << ", " << scene::to_string(s.stage) << ", " << s.width << "x" << s.height << ", eye "
+        << describe(request.camera.eye) << ", target " << describe(request.camera.target)
+        << ", light "
         << (request.light.type == scene::LightType::point
                     ? "point at " + describe(request.light.position)
                     : "toward " + describe(request.light.direction))

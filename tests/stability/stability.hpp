@@ -59,7 +59,8 @@ inline constexpr Tolerance cpu_tolerance{3.0 / 255.0, 0.6 / 255.0};
 inline constexpr glm::dvec3 background{0.2, 0.4, 0.6};
 
 // A small request: `size` x `size` pixels, a generic orbit camera and light, a soft coloured TF
-// that hides value 0 (so the box's empty corners show the background), few slices.
+// that hides value 0 (so the box's empty corners show the background), few slices; pre-integrated
+// where PENUMBRA_STABILITY_PREINTEGRATION is 1.
 scene::FrameRequest base_request(scene::Mode mode, int size = 16);
 
 // Transfer functions.

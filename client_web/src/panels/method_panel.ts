@@ -1,6 +1,7 @@
 // Method and quality: the rendering mode (those the server's hello offers, with what each reads),
 // compositing, volume filter, ray-caster stage, light-buffer slices, resolution, builder and
-// lookup, the toggles (Blinn-Phong, jitter, empty-space skipping), background and the output
+// lookup, the toggles (Blinn-Phong, jitter, pre-integration, empty-space skipping), background and
+// the output
 // encoding, and a control for every numeric setting the server's hello announces a range for
 // (hello.ranges), placed by its path: settings/light_buffer/* under the light buffer, settings/scattering/* under shell & cone,
 // settings/shading/* under shading, settings/* under sampling, another part in a folder of its own;
@@ -85,6 +86,7 @@ const PLACED = new Set([
   'settings/stage',
   'settings/phong',
   'settings/jitter',
+  'settings/preintegration',
   'settings/empty_space_skipping',
   'settings/light_buffer/builder',
   'settings/light_buffer/lookup',
@@ -177,6 +179,7 @@ export class MethodPanel {
     encoding: DEFAULT_OUTPUT.encoding as Encoding,
     jpeg_quality: DEFAULT_OUTPUT.jpeg_quality as number,
     jitter: DEFAULT_SETTINGS.jitter as boolean,
+    preintegration: DEFAULT_SETTINGS.preintegration as boolean,
     empty_space_skipping: DEFAULT_SETTINGS.empty_space_skipping as boolean,
     /** Client side: rendered pixels per device pixel. */
     scale: 1,
@@ -261,6 +264,13 @@ export class MethodPanel {
       sampling.add(p, 'jitter').name('jittered samples'),
       'jitter',
       () => settings({ jitter: p.jitter }),
+      false,
+    );
+    // Classifies each segment between two samples by both values: no rings on steep TFs.
+    add(
+      sampling.add(p, 'preintegration').name('pre-integration'),
+      'preintegration',
+      () => settings({ preintegration: p.preintegration }),
       false,
     );
     // Skips the volume's empty bricks while marching: faster, the same image.
@@ -422,6 +432,7 @@ export class MethodPanel {
     p.lookup = s.light_buffer.lookup;
     // A server older than these settings renders as a new session of this one starts.
     p.jitter = s.jitter ?? DEFAULT_SETTINGS.jitter;
+    p.preintegration = s.preintegration ?? DEFAULT_SETTINGS.preintegration;
     p.empty_space_skipping = s.empty_space_skipping ?? DEFAULT_SETTINGS.empty_space_skipping;
     p.phong = s.phong;
     p.background = [...s.background];

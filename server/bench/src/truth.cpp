@@ -107,6 +107,9 @@ scene::FrameRequest truth_request(scene::FrameRequest view, const quality::Truth
     s.sample_distance = method.sample_distance;
     s.jitter = true;
     s.empty_space_skipping = true;
+    // Converged by its fine jittered step, per-sample classification: the same truth for views
+    // measured with pre-integration and without.
+    s.preintegration = false;
     // The reference reads neither: raycast.glsl includes the light buffer's and the scattering's
     // code only where it shadows from the light buffer. Reset, the truth of one view serves every
     // light-buffer setting measured against it.

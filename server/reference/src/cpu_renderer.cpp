@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 namespace penumbra::reference {
@@ -37,9 +38,34 @@ double sample_opacity(double alpha, double step, const scene::RenderSettings& s)
                    : optics::corrected_opacity(alpha, step, s.opacity_unit_distance);
 }
 
+// What the marches classify: each sample, or with pre-integration the segment from the value
+// before it (shaders/include/preintegration.glsl).
+class Classifier {
+public:
+    Classifier(const TransferFunctionTable& tf, const scene::RenderSettings& s)
+        : tf_(tf) {
+        if (s.preintegration) {
+            segments_.emplace(tf, s.compositing == scene::Compositing::extinction);
+        }
+    }
+
+    // Sample `value`, the back of the segment from the value classified before it; `front`
+    // becomes `value`.
+    glm::dvec4 classify(double& front, double value) const {
+        const glm::dvec4 classified =
+                segments_ ? segments_->classify(front, value) : tf_.classify(value);
+        front = value;
+        return classified;
+    }
+
+private:
+    const TransferFunctionTable& tf_;
+    std::optional<SegmentClassifier> segments_;
+};
+
 // The ground truth for shadows: the transmittance along a ray from `position` to the light,
 // marched with the camera's sample distance and the same opacity correction.
-double shadow_ray_transmittance(const VolumeSampler& sampler, const TransferFunctionTable& tf,
+double shadow_ray_transmittance(const VolumeSampler& sampler, const Classifier& tf,
                                 const scene::FrameRequest& request, glm::dvec3 position) {
     const glm::dvec3 to_light = direction_to_light(request.light, position);
     double t_end = optics::intersect_box(position, to_light, sampler.box()).t_far;
@@ -52,9 +78,11 @@ double shadow_ray_transmittance(const VolumeSampler& sampler, const TransferFunc
     const optics::Marching marching =
             optics::plan_marching(0.0, t_end, request.settings.sample_distance);
     double transmittance = 1.0;
+    // The first sample classified alone (shadow_ray.glsl says why).
+    double front = sampler.value(position + 0.5 * marching.step * to_light);
     for (int i = 0; i < marching.count && transmittance >= shadow_ray_cutoff; ++i) {
         const glm::dvec3 p = position + (i + 0.5) * marching.step * to_light;
-        transmittance *= 1.0 - sample_opacity(tf.classify(sampler.value(p)).a, marching.step,
+        transmittance *= 1.0 - sample_opacity(tf.classify(front, sampler.value(p)).a, marching.step,
                                               request.settings);
     }
     return transmittance;
@@ -82,8 +110,9 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const bool phong = scene::uses_gradients(s);
     const bool shadows = s.mode == scene::Mode::reference;
     const VolumeSampler sampler(volume, s.reconstruction);
-    const TransferFunctionTable tf(request.transfer_function,
-                                   {volume.range.min, volume.range.max, volume.hounsfield});
+    const TransferFunctionTable table(request.transfer_function,
+                                      {volume.range.min, volume.range.max, volume.hounsfield});
+    const Classifier tf(table, s);
     const scene::CameraFrame camera =
             scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
 
@@ -98,10 +127,15 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                     hit.hit ? optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance)
                             : optics::Marching{};
             const double offset = optics::ray_start_offset(s.jitter, x, y, request.refinement.step);
+            // The first segment starts where the ray enters the box (raycast.glsl).
+            double front = hit.hit ? sampler.value(camera.eye + hit.t_near * direction) : 0.0;
             for (int i = 0; i < marching.count; ++i) {
                 const glm::dvec3 position =
                         camera.eye + (hit.t_near + (i + offset) * marching.step) * direction;
-                const glm::dvec4 classified = tf.classify(sampler.value(position));
+                const glm::dvec4 classified = tf.classify(front, sampler.value(position));
+                // Pre-integrated, the segment is lit and shaded at its middle (raycast.glsl).
+                const glm::dvec3 lit =
+                        s.preintegration ? position - 0.5 * marching.step * direction : position;
                 if (classified.a <= 0.0) {
                     continue;
                 }
@@ -110,16 +144,14 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                     optics::LightTerms terms;
                     if (phong) {
                         const glm::dvec3 normal =
-                                normal_from_gradient(sampler.gradient(position), sampler);
-                        terms = optics::blinn_phong(normal,
-                                                    direction_to_light(request.light, position),
+                                normal_from_gradient(sampler.gradient(lit), sampler);
+                        terms = optics::blinn_phong(normal, direction_to_light(request.light, lit),
                                                     -direction, s.shading.shininess);
                     } else {
                         terms = {1.0, 0.0};
                     }
                     const double light =
-                            shadows ? shadow_ray_transmittance(sampler, tf, request, position)
-                                    : 1.0;
+                            shadows ? shadow_ray_transmittance(sampler, tf, request, lit) : 1.0;
                     color = optics::shade(color, terms, request.light, s.shading, light);
                 }
                 optics::composite_front_to_back(accumulated, color,

@@ -1,5 +1,7 @@
 #include "penumbra/reference/volume_sampler.hpp"
 
+#include <penumbra/optics/preintegration.hpp>
+
 #include <glm/common.hpp>
 
 #include <algorithm>
@@ -132,6 +134,70 @@ glm::dvec4 TransferFunctionTable::classify(double normalized_value) const {
     const AxisSample s =
             axis_sample(std::clamp(normalized_value, 0.0, 1.0), static_cast<int>(table_.size()));
     return glm::mix(glm::dvec4(table_[s.i0]), glm::dvec4(table_[s.i1]), s.f);
+}
+
+SegmentClassifier::SegmentClassifier(const TransferFunctionTable& tf, bool extinction)
+    : tf_(tf)
+    , extinction_(extinction) {
+    const auto& entries = tf.entries();
+    const int n = static_cast<int>(entries.size());
+    glm::dvec4 sum = integrand(glm::dvec4(entries[0])) * (0.5 / n);
+    for (int k = 0; k < n; ++k) {
+        cumulative_.push_back(sum);
+        if (k + 1 < n) {
+            sum += integral_from_entry(k, 1.0);
+        }
+    }
+}
+
+glm::dvec4 SegmentClassifier::integrand(glm::dvec4 entry) const {
+    const double depth = optics::optical_depth_of_opacity(entry.a, extinction_);
+    return {depth * glm::dvec3(entry), depth};
+}
+
+glm::dvec4 SegmentClassifier::integral_from_entry(int k, double to) const {
+    constexpr int parts = 32;
+    const auto& entries = tf_.entries();
+    const glm::dvec4 a(entries[k]);
+    const glm::dvec4 b(entries[k + 1]);
+    const double h = to / parts;
+    glm::dvec4 sum = integrand(a) + integrand(glm::mix(a, b, to));
+    for (int p = 1; p < parts; ++p) {
+        sum += double(2 + 2 * (p & 1)) * integrand(glm::mix(a, b, p * h));
+    }
+    return sum * (h / 3.0) / double(entries.size());
+}
+
+glm::dvec4 SegmentClassifier::cumulative_at(double value) const {
+    const auto& entries = tf_.entries();
+    const int n = static_cast<int>(entries.size());
+    const double x = value * n - 0.5;
+    if (x <= 0.0) {
+        return integrand(glm::dvec4(entries[0])) * value;
+    }
+    if (x >= n - 1) {
+        return cumulative_[n - 1] + integrand(glm::dvec4(entries[n - 1])) * ((x - (n - 1)) / n);
+    }
+    const int k = static_cast<int>(std::floor(x));
+    return cumulative_[k] + integral_from_entry(k, x - k);
+}
+
+glm::dvec4 SegmentClassifier::classify(double front, double back) const {
+    front = std::clamp(front, 0.0, 1.0);
+    back = std::clamp(back, 0.0, 1.0);
+    const glm::dvec4 middle = tf_.classify(0.5 * (front + back));
+    const double weight = optics::table_weight(front, back);
+    if (weight == 0.0) {
+        return middle;
+    }
+    const glm::dvec4 integral = cumulative_at(back) - cumulative_at(front);
+    const double depth = std::max(integral.a / (back - front), 0.0);
+    const glm::dvec3 colour = depth > 1e-6 ? glm::clamp(glm::dvec3(integral) / integral.a, 0.0, 1.0)
+                                           : glm::dvec3(middle);
+    const glm::dvec4 mixed = glm::mix(
+            glm::dvec4(glm::dvec3(middle), optics::optical_depth_of_opacity(middle.a, extinction_)),
+            glm::dvec4(colour, depth), weight);
+    return {glm::dvec3(mixed), optics::opacity_of_optical_depth(mixed.a, extinction_)};
 }
 
 }  // namespace penumbra::reference

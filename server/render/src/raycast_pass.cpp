@@ -19,6 +19,7 @@ gpu::Defines RaycastVariant::defines() const {
             {"LOCAL_LIGHT_LOOKUP", local_light_lookup ? "1" : "0"},
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
             {"GRADIENT_TEXTURE", gradient_texture ? "1" : "0"},
+            {"PREINTEGRATION", preintegration ? "1" : "0"},
             {"CHUNKED", chunked ? "1" : "0"}};
 }
 

@@ -32,6 +32,7 @@ struct RaycastVariant {
     // With phong and trilinear reconstruction (tricubic gradients come from the B-spline's
     // derivative): the gradient texture is bound on unit 5.
     bool gradient_texture = false;
+    bool preintegration = false;  // the pre-integration table is bound on unit 6
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it

@@ -9,6 +9,7 @@
 #include "light_buffer.hpp"
 #include "light_buffer_cache.hpp"
 #include "pass_clock.hpp"
+#include "preintegration_table.hpp"
 #include "program_cache.hpp"
 #include "raycast_pass.hpp"
 #include "settings_block.hpp"
@@ -69,6 +70,7 @@ struct Renderer::Impl {
     int brick_voxels = default_brick_voxels;
     bool gradient_texture = false;  // GradientSource resolved for the device
     TransferFunctionTexture transfer_function;
+    PreintegrationTable preintegration;
     LightBufferCache light_buffers;
     KeptStills stills;
     enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
@@ -256,6 +258,17 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     }
     gpu::bind_texture(0, volume.texture().texture);
     gpu::bind_texture(1, impl.transfer_function.texture());
+    if (plan.variant.preintegration) {
+        auto built = impl.preintegration.update(impl.programs, impl.transfer_function.version(),
+                                                plan.variant.extinction);
+        if (!built) {
+            return built.error();
+        }
+        if (*built) {
+            passes.push_back({"preintegration", 0.0, **built});
+        }
+        gpu::bind_texture(6, impl.preintegration.texture());
+    }
     if (plan.variant.empty_space_skipping) {
         if (auto status = volume.bind_occupancy(impl.programs, impl.transfer_function.version(),
                                                 frame.report);

@@ -85,6 +85,7 @@ TEST(TruthKey, IgnoresWhatTheTruthRequestReplaces) {
     other.settings.sample_distance = 1.0 / 64.0;
     other.settings.jitter = !view.settings.jitter;
     other.settings.empty_space_skipping = !view.settings.empty_space_skipping;
+    other.settings.preintegration = !view.settings.preintegration;
     other.refinement = {true, 0};
     other.settings.light_buffer.slices = 32;
     other.settings.light_buffer.lookup = scene::LightLookup::interpolate;
@@ -95,6 +96,7 @@ TEST(TruthKey, IgnoresWhatTheTruthRequestReplaces) {
     EXPECT_EQ(request.settings.mode, scene::Mode::reference);
     EXPECT_EQ(request.settings.sample_distance, method.sample_distance);
     EXPECT_TRUE(request.settings.jitter);
+    EXPECT_FALSE(request.settings.preintegration);
 }
 
 }  // namespace

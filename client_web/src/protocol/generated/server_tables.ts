@@ -89,6 +89,7 @@ export const SETTINGS = {
   'settings/phong': { kind: 'boolean', summary: "Blinn-Phong on top of shadows (shadow modes)" },
   'settings/empty_space_skipping': { kind: 'boolean', summary: "leap over the bricks the transfer function leaves transparent (the same image, faster)" },
   'settings/jitter': { kind: 'boolean', summary: "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)" },
+  'settings/preintegration': { kind: 'boolean', summary: "classify the segment between two samples by both values (pre-integrated TF): no rings of the step on steep TFs" },
   'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
   'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "at most this many refinement steps follow a still frame (jittered ray casts); 0 = none" },
   'settings/refinement_threshold': { kind: 'number', min: 0, max: 255, summary: "refinement stops once a step changes the still by no more than this (RMS, 8-bit levels); 0 = only the step limit" },
@@ -161,6 +162,8 @@ export interface StateSettings {
     empty_space_skipping: boolean;
     /** ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings) */
     jitter: boolean;
+    /** classify the segment between two samples by both values (pre-integrated TF): no rings of the step on steep TFs */
+    preintegration: boolean;
     /** milliseconds a frame may take: the server picks the method and quality; 0 = as set */
     frame_budget_ms: number;
     /** at most this many refinement steps follow a still frame (jittered ray casts); 0 = none */
@@ -246,6 +249,7 @@ export const DEFAULT_SETTINGS = {
   mode: 'sbrc',
   opacity_unit_distance: 0.00390625,
   phong: true,
+  preintegration: false,
   reconstruction: 'trilinear',
   refinement_steps: 32,
   refinement_threshold: 0.25,

@@ -54,8 +54,31 @@ public:
 
     [[nodiscard]] glm::dvec4 classify(double normalized_value) const;
 
+    [[nodiscard]] const std::vector<glm::vec4>& entries() const { return table_; }
+
 private:
     std::vector<glm::vec4> table_;
+};
+
+// Pre-integrated classification (optics/preintegration.hpp) in double: the segment from `front`
+// to `back` as one sample of its average colour and equivalent TF opacity, from the integral of
+// the table's (depth * colour, depth) at the entries' centres, by Simpson's rule over 32 parts
+// between two entries as shaders/preintegration_table.comp does, but exact at any value rather
+// than filtered from a table of them.
+class SegmentClassifier {
+public:
+    SegmentClassifier(const TransferFunctionTable& tf, bool extinction);
+
+    [[nodiscard]] glm::dvec4 classify(double front, double back) const;
+
+private:
+    [[nodiscard]] glm::dvec4 integrand(glm::dvec4 entry) const;
+    [[nodiscard]] glm::dvec4 integral_from_entry(int k, double to) const;
+    [[nodiscard]] glm::dvec4 cumulative_at(double value) const;
+
+    const TransferFunctionTable& tf_;
+    bool extinction_;
+    std::vector<glm::dvec4> cumulative_;  // from 0 to entry k's centre
 };
 
 }  // namespace penumbra::reference

@@ -151,6 +151,10 @@ struct RenderSettings {
     // (a hash pattern) instead of the step's midpoint, so the rings of a fixed step become fine
     // noise that progressive refinement averages away.
     bool jitter = false;
+    // Classify each segment between consecutive samples by its front and back values (a table
+    // integrated over the TF) instead of each sample: a thin opaque value range between two
+    // samples still shows, so steep TFs lose the rings of the sample step.
+    bool preintegration = false;
     LightBufferSettings light_buffer;
     ScatteringSettings scattering;
 
@@ -445,6 +449,11 @@ inline constexpr Setting jitter = frame_setting(
         {.summary = "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of "
                     "rings)"},
         [](auto& f) -> auto& { return f.settings.jitter; });
+inline constexpr Setting preintegration = frame_setting(
+        "settings/preintegration",
+        {.summary = "classify the segment between two samples by both values (pre-integrated "
+                    "TF): no rings of the step on steep TFs"},
+        [](auto& f) -> auto& { return f.settings.preintegration; });
 inline constexpr Setting frame_budget_ms = state_setting(
         "settings/frame_budget_ms",
         {.min = 0.0,
@@ -590,6 +599,7 @@ inline constexpr auto kSettings = std::to_array<const Setting*>({
         &setting::phong,
         &setting::empty_space_skipping,
         &setting::jitter,
+        &setting::preintegration,
         &setting::frame_budget_ms,
         &setting::refinement_steps,
         &setting::refinement_threshold,
