@@ -382,8 +382,9 @@ TEST_F(ServeProcessTest, AHostileDataFolderNeitherDelaysStartNorLeaksNorStallsFr
             ask(ws, R"({"v":1,"type":"open","id":1,"volume":"ch2.nii.gz"})", "opened");
     ASSERT_NE(opened.find("\"opened\""), std::string::npos) << opened;
     const std::string ack =
-            ask(ws, R"({"v":1,"type":"set","id":2,"settings":{"mode":"sbrc","size":[256,256],)"
-                    R"("refinement_steps":0}})",
+            ask(ws,
+                R"({"v":1,"type":"set","id":2,"settings":{"mode":"sbrc","size":[256,256],)"
+                R"("refinement_steps":0}})",
                 "ack");
     ASSERT_NE(ack.find("\"ack\""), std::string::npos) << ack;
     // A frame every 150 ms at most, as a client paced to its display asks, through several
