@@ -1262,6 +1262,11 @@ TEST_F(ServerTest, ANewerRequestOrClosingTheSessionCancelsALongFrame) {
 TEST_F(ServerTest, HttpServesHealthMetricsAndRefusesPathsOutsideTheRoot) {
     TestClient client(port_);
     client.open("heads/ch2.nii.gz", 32);
+    // One frame and no refinement steps after it, so that the counter is exact.
+    ASSERT_EQ(field(client.request(
+                            R"({"v":1,"type":"set","id":2,"settings":{"refinement_steps":0}})"),
+                    "type"),
+              "ack");
     client.send(R"({"v":1,"type":"render"})");
     client.next_frame();
     auto metrics = net::http_get("127.0.0.1", port_, "/metrics");
