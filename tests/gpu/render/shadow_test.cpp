@@ -186,7 +186,7 @@ INSTANTIATE_TEST_SUITE_P(Modes, SlabShadowTest,
 TEST_F(ShadowTest, GpuReferenceMatchesCpuReference) {
     const volume::Volume volume = test::radial_volume(32);
     use(volume);
-    for (const auto [point_light, reconstruction] :
+    for (const auto& [point_light, reconstruction] :
          {std::pair{false, scene::Reconstruction::trilinear},
           std::pair{true, scene::Reconstruction::trilinear},
           std::pair{false, scene::Reconstruction::tricubic},
