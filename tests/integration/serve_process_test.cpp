@@ -319,15 +319,19 @@ double metric(const std::string& text, const std::string& name) {
     return at == std::string::npos ? -1.0 : std::stod(text.substr(at + name.size() + 2));
 }
 
-// How much longer than its median the slowest frame beside the scans may take, and how soon a
-// server stops mid-pass. Under the sanitizers the walk's many small allocations go through
-// ASan's allocator and checks, which the render thread shares: the sanitizer run proves memory
-// safety here, the release run the timings.
+// How much longer than its median the slowest frame beside the scans may take, how many frames in
+// a hundred may take more than twice it, and how soon a server stops mid-pass. Under the
+// sanitizers the walk's many small allocations go through ASan's allocator and checks on one of
+// this machine's two cores while llvmpipe wants both for the frame: a pass slows the frames it
+// overlaps by a constant share, and a few of them cross twice the median without any lock held.
+// The sanitizer run proves memory safety here, the release run the timings.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr double stall_ratio = 4.0;
+constexpr double slow_frames_per_hundred = 3.0;
 constexpr double exit_budget_s = 5.0;
 #else
 constexpr double stall_ratio = 3.0;
+constexpr double slow_frames_per_hundred = 0.0;
 constexpr double exit_budget_s = 2.0;
 #endif
 
@@ -427,12 +431,17 @@ TEST_F(ServeProcessTest, AHostileDataFolderNeitherDelaysStartNorLeaksNorStallsFr
     RecordProperty("frame_ms", std::to_string(median_ms));
     RecordProperty("longest_frame_ms", std::to_string(longest_ms));
     RecordProperty("scans_while_rendering", std::to_string(scans_during));
-    // Every frame but one within twice the median, and that one within stall_ratio: a stall the
-    // scans caused would hold several frames (the was 9.5 s), while this 2-core
-    // machine's scheduler delays a single frame now and then with no scan at all.
-    const double second_longest_ms = sorted[sorted.size() - 2];
-    EXPECT_LE(second_longest_ms, 2.0 * median_ms)
-            << "frames: " << frame_ms.size() << ", median " << median_ms << " ms";
+    // Every frame but one (and slow_frames_per_hundred) within twice the median, and the slowest
+    // within stall_ratio: a stall the scans caused would hold several frames (the was
+    // 9.5 s), while this 2-core machine's scheduler delays a single frame now and then with no
+    // scan at all.
+    const auto slow_frames_allowed =
+            1 + static_cast<std::size_t>(slow_frames_per_hundred *
+                                         static_cast<double>(sorted.size()) / 100.0);
+    const double slowest_within_twice_ms = sorted[sorted.size() - 1 - slow_frames_allowed];
+    EXPECT_LE(slowest_within_twice_ms, 2.0 * median_ms)
+            << "frames: " << frame_ms.size() << ", median " << median_ms << " ms, "
+            << slow_frames_allowed << " may take longer than twice it";
     EXPECT_LE(longest_ms, stall_ratio * median_ms)
             << "frames: " << frame_ms.size() << ", median " << median_ms << " ms";
 
