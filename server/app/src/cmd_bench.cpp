@@ -164,6 +164,11 @@ int run_bench(const std::vector<std::string>& args) {
               "progressive stills: PSNR of each refinement step against a reference at\n\t1/8 "
               "of the sample distance, next to the unjittered frame",
               run_bench_refine},
+             {"stills",
+              "every mode's interactive frame, first still and converged still against\n\tthe "
+              "converged truth on the four accuracy cases (PSNR, SSIM, time), and\n\tthe "
+              "default mode's targets",
+              run_bench_stills},
              {"truth",
               "the converged truth of `bench accuracy` at each sample distance against\n\tthe "
               "next finer one: whether halving the distance still changes the image",

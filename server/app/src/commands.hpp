@@ -14,6 +14,7 @@ int run_load(const std::vector<std::string>& args);
 int run_bench(const std::vector<std::string>& args);
 int run_bench_accuracy(const std::vector<std::string>& args);
 int run_bench_refine(const std::vector<std::string>& args);
+int run_bench_stills(const std::vector<std::string>& args);
 int run_bench_truth(const std::vector<std::string>& args);
 
 // The volume every command uses when none is given: the Colin27 MRI head that Debian's

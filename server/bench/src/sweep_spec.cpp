@@ -45,9 +45,10 @@ constexpr SweepDefaults software_defaults{"/usr/share/mricron/templates/ch2.nii.
                                           256,
                                           3};
 
-// --volumes, else the case's, else the defaults with the head CT where it was made.
-base::Result<std::vector<std::string>> volumes_of(const SweepSpec& spec,
-                                                  const SweepDefaults& defaults) {
+}  // namespace
+
+base::Result<std::vector<std::string>> sweep_volumes(const SweepSpec& spec,
+                                                     const SweepDefaults& defaults) {
     if (spec.volumes) {
         return *spec.volumes;
     }
@@ -72,13 +73,13 @@ base::Result<std::vector<std::string>> volumes_of(const SweepSpec& spec,
     return volumes;
 }
 
-}  // namespace
-
 const std::vector<AccuracyCase>& accuracy_cases() {
     static const std::vector<AccuracyCase> cases = {
             {"mri_skin", "mri_skin", nullptr, false, "the MRI heads' opaque skin, where rays stop"},
             {"mri_brain", "mri_brain", "/usr/share/mricron/templates/ch2bet.nii.gz", false,
              "ch2bet, translucent grey and white matter"},
+            {"ct_bone", "ct_bone", nullptr, true,
+             "the head CT's skull, opaque bone over 1.5 mm slices"},
             {"ct_soft_tissue", "ct_soft_tissue", nullptr, true,
              "the head CT, translucent soft tissue"},
     };
@@ -203,7 +204,7 @@ base::Result<quality::Sweep> make_sweep(const SweepSpec& spec, const SweepDefaul
                                 "--jitter off,on",
                                 "--refinement");
     }
-    auto volumes = volumes_of(spec, defaults);
+    auto volumes = sweep_volumes(spec, defaults);
     if (!volumes) {
         return volumes.error();
     }

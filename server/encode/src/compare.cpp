@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -110,6 +111,25 @@ base::Result<double> change_in_levels(const base::ImageRgba8& before,
         return difference.error();
     }
     return difference->rms_error * 255.0;
+}
+
+base::Result<base::ImageRgba8> stretched(const base::ImageRgba8& image, int width, int height) {
+    if (width < 1 || height < 1 || image.width < 1 || image.height < 1) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "cannot stretch " + std::to_string(image.width) + "x" +
+                                        std::to_string(image.height) + " to " +
+                                        std::to_string(width) + "x" + std::to_string(height),
+                                "stretched");
+    }
+    const OIIO::ImageSpec from(image.width, image.height, 4, OIIO::TypeDesc::UINT8);
+    const OIIO::ImageBuf source(from, const_cast<std::uint8_t*>(image.pixels.data()));
+    base::ImageRgba8 result(width, height);
+    OIIO::ImageBuf target(OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::UINT8),
+                          result.pixels.data());
+    if (!OIIO::ImageBufAlgo::resample(target, source, /*interpolate=*/true)) {
+        return base::make_error(base::ErrorCode::internal_error, target.geterror(), "stretched");
+    }
+    return result;
 }
 
 base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {

@@ -162,6 +162,36 @@ base::Result<std::vector<Timed>> AccuracyBench::refined(scene::FrameRequest requ
     return images;
 }
 
+base::Result<AccuracyBench::Converged> AccuracyBench::converged(scene::FrameRequest request,
+                                                                int max_steps, double threshold) {
+    const bool refines = scene::is_ray_cast(request.settings.mode) && request.settings.jitter;
+    request.refinement = {refines, 0};
+    auto still = frame(request);
+    if (!still) {
+        return still.error();
+    }
+    Converged result{.still = *still, .last = std::move(*still)};
+    std::optional<double> change;
+    const int limit = refines ? max_steps : 0;
+    while (scene::refines_after(result.steps, change, limit, threshold)) {
+        request.refinement = {false, result.steps + 1};
+        auto step = render(request);
+        if (!step) {
+            return step.error();
+        }
+        auto changed = encode::change_in_levels(result.last.image, step->image);
+        if (!changed) {
+            return changed.error();
+        }
+        change = *changed;
+        ++result.steps;
+        result.last_change = *change;
+        result.last.frame_ms += frame_time(*step);
+        result.last.image = std::move(step->image);
+    }
+    return result;
+}
+
 base::Result<double> AccuracyBench::light_buffer_build(scene::FrameRequest request) {
     request.settings.width = build_probe_side;
     request.settings.height = build_probe_side;

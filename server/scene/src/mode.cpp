@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace penumbra::scene {
 namespace {
@@ -141,6 +142,18 @@ base::Status validate_value(const Setting& setting, SettingValue value, const Li
                                                          " must be " + setting.describe(limits));
     }
     return base::Ok{};
+}
+
+std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full) {
+    FrameRequest reduced = full;
+    RenderSettings& s = reduced.settings;
+    const auto halve = [](int side) { return std::max(std::min(side, 64), side / 2); };
+    s.width = halve(full.settings.width);
+    s.height = halve(full.settings.height);
+    s.sample_distance = std::min(0.5, full.settings.sample_distance * 2.0);
+    const std::string description = "interactive: " + std::to_string(s.width) + "x" +
+                                    std::to_string(s.height) + ", sample distance x2";
+    return {std::move(reduced), description};
 }
 
 }  // namespace penumbra::scene

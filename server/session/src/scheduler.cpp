@@ -454,16 +454,4 @@ void Scheduler::encode_loop() {
     }
 }
 
-std::pair<scene::FrameRequest, std::string> interactive_request(const scene::FrameRequest& full) {
-    scene::FrameRequest reduced = full;
-    scene::RenderSettings& s = reduced.settings;
-    const auto halve = [](int side) { return std::max(std::min(side, 64), side / 2); };
-    s.width = halve(full.settings.width);
-    s.height = halve(full.settings.height);
-    s.sample_distance = std::min(0.5, full.settings.sample_distance * 2.0);
-    const std::string description = "interactive: " + std::to_string(s.width) + "x" +
-                                    std::to_string(s.height) + ", sample distance x2";
-    return {std::move(reduced), description};
-}
-
 }  // namespace penumbra::session

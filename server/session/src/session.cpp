@@ -264,7 +264,7 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
     job.request_id = request_id;
     job.interactive = interactive;
     if (interactive) {
-        auto [reduced, description] = interactive_request(current.frame);
+        auto [reduced, description] = scene::interactive_request(current.frame);
         job.request = std::move(reduced);
         job.quality = std::move(description) + budget_note;
     } else {

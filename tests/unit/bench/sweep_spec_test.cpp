@@ -114,16 +114,17 @@ TEST(SweepSpec, AnUnknownCaseListsTheCases) {
     ASSERT_FALSE(unknown.ok());
     EXPECT_EQ(unknown.error().where, "--case");
     EXPECT_EQ(unknown.error().message,
-              "no case 'bones' (cases: mri_skin, mri_brain, ct_soft_tissue)");
+              "no case 'bones' (cases: mri_skin, mri_brain, ct_bone, ct_soft_tissue)");
 }
 
-TEST(AccuracyCases, NameATranslucentPresetAndTheVolumesItSuits) {
-    for (const char* name : {"mri_skin", "mri_brain", "ct_soft_tissue"}) {
+TEST(AccuracyCases, NameAPresetAndTheVolumesItSuits) {
+    for (const char* name : {"mri_skin", "mri_brain", "ct_bone", "ct_soft_tissue"}) {
         const AccuracyCase* found = find_accuracy_case(name);
         ASSERT_NE(found, nullptr) << name;
         EXPECT_TRUE(scene::preset(found->transfer_function).ok()) << name;
     }
     EXPECT_TRUE(find_accuracy_case("ct_soft_tissue")->head_ct);
+    EXPECT_TRUE(find_accuracy_case("ct_bone")->head_ct);
     EXPECT_EQ(find_accuracy_case("nothing"), nullptr);
 }
 

@@ -282,5 +282,23 @@ TEST(FrameRequest, ModeTableSaysWhatEachModeComputes) {
     }
 }
 
+TEST(FrameRequest, AnInteractiveFrameHasHalfTheSidesAndTwiceTheStepAndKeepsTheLightBuffer) {
+    FrameRequest full = starting_frame({});
+    full.settings.width = 640;
+    full.settings.height = 100;
+    const auto [reduced, description] = interactive_request(full);
+    EXPECT_EQ(reduced.settings.width, 320);
+    EXPECT_EQ(reduced.settings.height, 64);  // never below 64 pixels unless the frame is
+    EXPECT_DOUBLE_EQ(reduced.settings.sample_distance, 2.0 * full.settings.sample_distance);
+    EXPECT_EQ(reduced.settings.light_buffer, full.settings.light_buffer);
+    EXPECT_EQ(reduced.camera, full.camera);
+    EXPECT_EQ(description, "interactive: 320x64, sample distance x2");
+    full.settings.width = 40;
+    full.settings.sample_distance = 0.4;
+    const FrameRequest small = interactive_request(full).first;
+    EXPECT_EQ(small.settings.width, 40);
+    EXPECT_DOUBLE_EQ(small.settings.sample_distance, 0.5);
+}
+
 }  // namespace
 }  // namespace penumbra::scene

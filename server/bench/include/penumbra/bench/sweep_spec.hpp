@@ -30,7 +30,8 @@ struct AccuracyCase {
 };
 
 // mri_skin (the opaque skin on the default MRI heads), mri_brain (ch2bet, the brain alone,
-// translucent grey and white matter) and ct_soft_tissue (the head CT's translucent soft tissue).
+// translucent grey and white matter), ct_bone (the head CT's skull) and ct_soft_tissue (the head
+// CT's translucent soft tissue).
 const std::vector<AccuracyCase>& accuracy_cases();
 
 // The case of that name, if there is one.
@@ -82,6 +83,11 @@ struct SweepSpec {
     // the defaults without a case.
     std::optional<std::filesystem::path> head_ct;
 };
+
+// The volumes a sweep measures: --volumes, else the case's, else the defaults with the head CT
+// where it was made. Errors: a head-CT case without the head CT (at --case).
+base::Result<std::vector<std::string>> sweep_volumes(const SweepSpec& spec,
+                                                     const SweepDefaults& defaults);
 
 // The sweep to measure; errors name the option at fault (--repeat, --refinement, --case).
 base::Result<quality::Sweep> make_sweep(const SweepSpec& spec, const SweepDefaults& defaults);

@@ -21,6 +21,11 @@ base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const ba
 base::Result<double> change_in_levels(const base::ImageRgba8& before,
                                       const base::ImageRgba8& after);
 
+// The image stretched (or shrunk) to width x height by bilinear interpolation at pixel centres, as
+// a browser draws a smaller frame on a larger canvas: how an interactive frame, rendered at half
+// the size, is seen. Errors: invalid_argument for a side below 1.
+base::Result<base::ImageRgba8> stretched(const base::ImageRgba8& image, int width, int height);
+
 // The SSIM parameters of Wang, Bovik, Sheikh & Simoncelli, "Image quality assessment: from error
 // visibility to structural similarity" (IEEE TIP 2004), the ones their reference code and most
 // published SSIM values use.

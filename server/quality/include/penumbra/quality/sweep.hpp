@@ -63,6 +63,18 @@ public:
     base::Result<std::vector<Timed>> refined(scene::FrameRequest request,
                                              const std::vector<int>& steps);
 
+    // A still as a session refines it: `request` (jittered; its refinement is replaced) timed as
+    // frame() times it, then refinement steps, each timed once, until scene::refines_after stops
+    // them at `max_steps` or at a step that changed the image by `threshold` or less.
+    struct Converged {
+        Timed still;             // the first still, its median time
+        Timed last;              // the last step's image, the still's time plus every step's
+        int steps = 0;           // refinement steps after the still
+        double last_change = 0;  // the last step's change, RMS in 8-bit levels (0 with no step)
+    };
+
+    base::Result<Converged> converged(scene::FrameRequest request, int max_steps, double threshold);
+
     // The light-buffer pass alone, rebuilt every frame by nudging the light to and fro, on tiny
     // frames (the buffer does not depend on the image size).
     base::Result<double> light_buffer_build(scene::FrameRequest request);

@@ -222,6 +222,11 @@ base::Status validate(const FrameRequest& request, const Limits& limits = {});
 // function is left as TransferFunction's default (the session picks its preset).
 FrameRequest starting_frame(const Limits& limits);
 
+// The request rendered while a user is interacting: half the image size (at least 64 pixels a
+// side) and twice the sample distance; light-buffer settings are kept so the cached buffer stays
+// valid. Returns the reduced request and a description of it.
+std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full);
+
 // The formats a session's frames are written in, by the name the protocol, hello and the frame
 // header give them; the first is a new session's.
 enum class FrameFormat { jpeg, png };

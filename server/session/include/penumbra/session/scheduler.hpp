@@ -245,9 +245,4 @@ private:
     metrics::Histogram& queued_ms_;
 };
 
-// The request a session renders while its user is interacting: half the image size (at least
-// 64 pixels a side) and twice the sample distance; light-buffer settings are kept so the cached
-// buffer stays valid. Returns the reduced request and a description of it.
-std::pair<scene::FrameRequest, std::string> interactive_request(const scene::FrameRequest& full);
-
 }  // namespace penumbra::session

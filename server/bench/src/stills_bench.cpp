@@ -1,0 +1,195 @@
+#include "penumbra/bench/stills_bench.hpp"
+
+#include <penumbra/bench/report.hpp>
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/encode/encode.hpp>
+
+#include <fstream>
+#include <memory>
+#include <utility>
+
+namespace penumbra::bench {
+namespace {
+
+struct Measured {
+    base::ImageRgba8 image;
+    double ms = 0.0;
+    int steps = 0;
+};
+
+// The four frames of one mode on the view `view`, in kStillFrames' order.
+base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::AccuracyBench& bench,
+                                                                     scene::FrameRequest view,
+                                                                     const StillsConfig& config) {
+    std::array<Measured, kStillFrames.size()> frames;
+    view.settings.jitter = false;
+    auto unjittered = bench.frame(view);
+    if (!unjittered) {
+        return unjittered.error();
+    }
+    frames[0] = {std::move(unjittered->image), unjittered->frame_ms, 0};
+    view.settings.jitter = true;
+    auto interactive = bench.frame(scene::interactive_request(view).first);
+    if (!interactive) {
+        return interactive.error();
+    }
+    auto shown = encode::stretched(interactive->image, view.settings.width, view.settings.height);
+    if (!shown) {
+        return shown.error();
+    }
+    frames[1] = {std::move(*shown), interactive->frame_ms, 0};
+    auto still = bench.converged(view, config.max_steps, config.threshold);
+    if (!still) {
+        return still.error();
+    }
+    frames[2] = {std::move(still->still.image), still->still.frame_ms, 0};
+    frames[3] = {std::move(still->last.image), still->last.frame_ms, still->steps};
+    return frames;
+}
+
+base::Status write_png(const std::filesystem::path& path, const base::ImageRgba8& image) {
+    std::error_code ignored;
+    std::filesystem::create_directories(path.parent_path(), ignored);
+    return encode::write_image(path, image);
+}
+
+std::string row_text(const StillsRow& row) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-11s %-12s %8s %8.4f %9.1f", scene::to_string(row.mode),
+                  std::string(to_string(row.frame)).c_str(), psnr_text(row.errors.psnr).c_str(),
+                  row.errors.ssim, row.ms);
+    std::string text = line;
+    if (row.frame == StillFrame::converged) {
+        text += "  after " + std::to_string(row.steps) + " steps";
+    }
+    return text + "\n";
+}
+
+// One case: its truth, then every mode's frames, appended to `rows`.
+base::Status measure_case(render::FrameRenderer& renderer, const StillsConfig& config,
+                          const StillsCase& c, TruthCache& cache, std::vector<StillsRow>& rows,
+                          std::FILE* out) {
+    auto loaded = volume::load_volume(c.volume);
+    if (!loaded) {
+        return loaded.error();
+    }
+    const auto volume = std::make_shared<const volume::Volume>(std::move(*loaded));
+    if (auto status = renderer.set_volume(volume); !status) {
+        return status;
+    }
+    auto view = config.frame_for(*volume, c);
+    if (!view) {
+        return view.error();
+    }
+    quality::AccuracyBench bench(renderer, config.repeat);
+    auto truth = cache.truth(bench, *volume, *view, kTruth);
+    if (!truth) {
+        return truth.error();
+    }
+    std::fprintf(out, "\ncase %s: %s, tf %s; truth %s\n", c.name.c_str(), volume->name.c_str(),
+                 view->transfer_function.name.c_str(), describe(*truth).c_str());
+    std::fprintf(out, "  %-11s %-12s %8s %8s %9s\n", "mode", "frame", "PSNR dB", "SSIM", "ms");
+    std::fflush(out);
+    const base::ImageRgbaF exact = base::to_rgba_f(truth->image);
+    if (config.images) {
+        if (auto status = write_png(*config.images / (c.name + "_truth.png"), truth->image);
+            !status) {
+            return status;
+        }
+    }
+    for (const scene::Mode mode : config.modes) {
+        scene::FrameRequest request = *view;
+        request.settings.mode = mode;
+        auto frames = measure_mode(bench, request, config);
+        if (!frames) {
+            return frames.error();
+        }
+        for (std::size_t i = 0; i < kStillFrames.size(); ++i) {
+            Measured& m = (*frames)[i];
+            auto errors = quality::errors_against(exact, m.image);
+            if (!errors) {
+                return errors.error();
+            }
+            rows.push_back({c.name, mode, kStillFrames[i], *errors, m.ms, m.steps});
+            std::fputs(row_text(rows.back()).c_str(), out);
+            if (config.images) {
+                const std::string name = c.name + "_" + scene::to_string(mode) + "_" +
+                                         std::string(to_string(kStillFrames[i])) + ".png";
+                if (auto status = write_png(*config.images / name, m.image); !status) {
+                    return status;
+                }
+            }
+        }
+        std::fflush(out);
+    }
+    return base::Ok{};
+}
+
+// Each target of the default mode, met or missed, by case.
+void print_targets(const std::vector<StillsRow>& rows, std::FILE* out) {
+    const scene::Mode mode = scene::starting_frame({}).settings.mode;
+    std::fprintf(out, "\ntargets of the default mode (%s):\n", scene::to_string(mode));
+    for (const StillsTarget& target : kStillsTargets) {
+        for (const StillsRow& row : rows) {
+            if (row.mode != mode || row.frame != target.frame ||
+                (!target.case_name.empty() && row.case_name != target.case_name)) {
+                continue;
+            }
+            std::fprintf(out, "  %-15s %-12s >= %4.1f dB: %s (%s dB, %+.1f)\n",
+                         row.case_name.c_str(), std::string(to_string(row.frame)).c_str(),
+                         target.psnr, row.errors.psnr >= target.psnr ? "met" : "missed",
+                         psnr_text(row.errors.psnr).c_str(), row.errors.psnr - target.psnr);
+        }
+    }
+}
+
+}  // namespace
+
+std::string_view to_string(StillFrame frame) {
+    switch (frame) {
+        case StillFrame::unjittered:
+            return "unjittered";
+        case StillFrame::interactive:
+            return "interactive";
+        case StillFrame::first:
+            return "first";
+        case StillFrame::converged:
+            return "converged";
+    }
+    return "?";
+}
+
+base::Result<std::vector<StillsRow>> bench_stills(render::FrameRenderer& renderer,
+                                                  const StillsConfig& config, TruthCache& cache,
+                                                  std::FILE* out) {
+    std::fprintf(out,
+                 "penumbra bench stills: every mode's frames against the converged truth (%s); "
+                 "refinement stops at a change of %g levels or %d steps\n",
+                 describe(kTruth).c_str(), config.threshold, config.max_steps);
+    std::vector<StillsRow> rows;
+    for (const StillsCase& c : config.cases) {
+        if (auto status = measure_case(renderer, config, c, cache, rows, out); !status) {
+            return status.error();
+        }
+    }
+    print_targets(rows, out);
+    return rows;
+}
+
+base::Status write_stills_csv(const std::vector<StillsRow>& rows,
+                              const std::filesystem::path& path) {
+    std::ofstream csv(path);
+    csv << "case,mode,frame,psnr,ssim,rmse,ms,steps\n";
+    for (const StillsRow& row : rows) {
+        csv << row.case_name << ',' << scene::to_string(row.mode) << ',' << to_string(row.frame)
+            << ',' << psnr_text(row.errors.psnr) << ',' << row.errors.ssim << ',' << row.errors.rmse
+            << ',' << row.ms << ',' << row.steps << '\n';
+    }
+    if (!csv) {
+        return base::make_error(base::ErrorCode::io_error, "cannot write '" + path.string() + "'",
+                                "--csv");
+    }
+    return base::Ok{};
+}
+
+}  // namespace penumbra::bench
