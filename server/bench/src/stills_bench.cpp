@@ -56,13 +56,40 @@ base::Status write_png(const std::filesystem::path& path, const base::ImageRgba8
 std::string row_text(const StillsRow& row) {
     char line[160];
     std::snprintf(line, sizeof line, "  %-11s %-12s %8s %8.4f %9.1f", scene::to_string(row.mode),
-                  std::string(to_string(row.frame)).c_str(), psnr_text(row.errors.psnr).c_str(),
-                  row.errors.ssim, row.ms);
+                  base::to_string(row.frame), psnr_text(row.errors.psnr).c_str(), row.errors.ssim,
+                  row.ms);
     std::string text = line;
     if (row.frame == StillFrame::converged) {
         text += "  after " + std::to_string(row.steps) + " steps";
     }
     return text + "\n";
+}
+
+// What no interactive frame can beat, whatever its mode and step: the truth rendered at the
+// interactive frame's size, stretched back as the browser shows it.
+base::Status print_interactive_ceiling(quality::AccuracyBench& bench, TruthCache& cache,
+                                       const volume::Volume& volume,
+                                       const scene::FrameRequest& view,
+                                       const base::ImageRgbaF& exact, std::FILE* out) {
+    const scene::FrameRequest small = scene::interactive_request(view).first;
+    auto truth = cache.truth(bench, volume, small, kTruth);
+    if (!truth) {
+        return truth.error();
+    }
+    auto shown = encode::stretched(truth->image, view.settings.width, view.settings.height);
+    if (!shown) {
+        return shown.error();
+    }
+    auto errors = quality::errors_against(exact, *shown);
+    if (!errors) {
+        return errors.error();
+    }
+    std::fprintf(out,
+                 "  the truth at the interactive size (%dx%d), stretched: %s dB, SSIM %.4f (no "
+                 "interactive frame of that size does better; truth %s)\n",
+                 small.settings.width, small.settings.height, psnr_text(errors->psnr).c_str(),
+                 errors->ssim, describe(*truth).c_str());
+    return base::Ok{};
 }
 
 // One case: its truth, then every mode's frames, appended to `rows`.
@@ -88,9 +115,13 @@ base::Status measure_case(render::FrameRenderer& renderer, const StillsConfig& c
     }
     std::fprintf(out, "\ncase %s: %s, tf %s; truth %s\n", c.name.c_str(), volume->name.c_str(),
                  view->transfer_function.name.c_str(), describe(*truth).c_str());
+    const base::ImageRgbaF exact = base::to_rgba_f(truth->image);
+    if (auto status = print_interactive_ceiling(bench, cache, *volume, *view, exact, out);
+        !status) {
+        return status;
+    }
     std::fprintf(out, "  %-11s %-12s %8s %8s %9s\n", "mode", "frame", "PSNR dB", "SSIM", "ms");
     std::fflush(out);
-    const base::ImageRgbaF exact = base::to_rgba_f(truth->image);
     if (config.images) {
         if (auto status = write_png(*config.images / (c.name + "_truth.png"), truth->image);
             !status) {
@@ -110,11 +141,11 @@ base::Status measure_case(render::FrameRenderer& renderer, const StillsConfig& c
             if (!errors) {
                 return errors.error();
             }
-            rows.push_back({c.name, mode, kStillFrames[i], *errors, m.ms, m.steps});
+            rows.push_back({c.name, mode, kStillFrames[i].value, *errors, m.ms, m.steps});
             std::fputs(row_text(rows.back()).c_str(), out);
             if (config.images) {
                 const std::string name = c.name + "_" + scene::to_string(mode) + "_" +
-                                         std::string(to_string(kStillFrames[i])) + ".png";
+                                         base::to_string(kStillFrames[i].value) + ".png";
                 if (auto status = write_png(*config.images / name, m.image); !status) {
                     return status;
                 }
@@ -136,28 +167,14 @@ void print_targets(const std::vector<StillsRow>& rows, std::FILE* out) {
                 continue;
             }
             std::fprintf(out, "  %-15s %-12s >= %4.1f dB: %s (%s dB, %+.1f)\n",
-                         row.case_name.c_str(), std::string(to_string(row.frame)).c_str(),
-                         target.psnr, row.errors.psnr >= target.psnr ? "met" : "missed",
+                         row.case_name.c_str(), base::to_string(row.frame), target.psnr,
+                         row.errors.psnr >= target.psnr ? "met" : "missed",
                          psnr_text(row.errors.psnr).c_str(), row.errors.psnr - target.psnr);
         }
     }
 }
 
 }  // namespace
-
-std::string_view to_string(StillFrame frame) {
-    switch (frame) {
-        case StillFrame::unjittered:
-            return "unjittered";
-        case StillFrame::interactive:
-            return "interactive";
-        case StillFrame::first:
-            return "first";
-        case StillFrame::converged:
-            return "converged";
-    }
-    return "?";
-}
 
 base::Result<std::vector<StillsRow>> bench_stills(render::FrameRenderer& renderer,
                                                   const StillsConfig& config, TruthCache& cache,
@@ -181,9 +198,10 @@ base::Status write_stills_csv(const std::vector<StillsRow>& rows,
     std::ofstream csv(path);
     csv << "case,mode,frame,psnr,ssim,rmse,ms,steps\n";
     for (const StillsRow& row : rows) {
-        csv << row.case_name << ',' << scene::to_string(row.mode) << ',' << to_string(row.frame)
-            << ',' << psnr_text(row.errors.psnr) << ',' << row.errors.ssim << ',' << row.errors.rmse
-            << ',' << row.ms << ',' << row.steps << '\n';
+        csv << row.case_name << ',' << scene::to_string(row.mode) << ','
+            << base::to_string(row.frame) << ',' << psnr_text(row.errors.psnr) << ','
+            << row.errors.ssim << ',' << row.errors.rmse << ',' << row.ms << ',' << row.steps
+            << '\n';
     }
     if (!csv) {
         return base::make_error(base::ErrorCode::io_error, "cannot write '" + path.string() + "'",

@@ -81,7 +81,8 @@ FrameRequest starting_frame(const Limits& limits) {
     s.width = std::min(512, limits.max_image_side);
     s.height = s.width;
     s.light_buffer.slices = std::min(128, limits.max_slices);
-    s.light_buffer.resolution = std::min(256, limits.max_light_resolution);
+    s.light_buffer.resolution =
+            std::min(LightBufferSettings{}.resolution, limits.max_light_resolution);
     return frame;
 }
 
@@ -151,8 +152,10 @@ std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& ful
     s.width = halve(full.settings.width);
     s.height = halve(full.settings.height);
     s.sample_distance = std::min(0.5, full.settings.sample_distance * 2.0);
-    const std::string description = "interactive: " + std::to_string(s.width) + "x" +
-                                    std::to_string(s.height) + ", sample distance x2";
+    s.light_buffer.resolution = halve(full.settings.light_buffer.resolution);
+    const std::string description =
+            "interactive: " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+            ", sample distance x2, light buffer " + std::to_string(s.light_buffer.resolution);
     return {std::move(reduced), description};
 }
 

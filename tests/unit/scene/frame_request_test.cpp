@@ -282,7 +282,7 @@ TEST(FrameRequest, ModeTableSaysWhatEachModeComputes) {
     }
 }
 
-TEST(FrameRequest, AnInteractiveFrameHasHalfTheSidesAndTwiceTheStepAndKeepsTheLightBuffer) {
+TEST(FrameRequest, AnInteractiveFrameHasHalfTheSidesTwiceTheStepAndHalfTheLightBuffer) {
     FrameRequest full = starting_frame({});
     full.settings.width = 640;
     full.settings.height = 100;
@@ -290,13 +290,16 @@ TEST(FrameRequest, AnInteractiveFrameHasHalfTheSidesAndTwiceTheStepAndKeepsTheLi
     EXPECT_EQ(reduced.settings.width, 320);
     EXPECT_EQ(reduced.settings.height, 64);  // never below 64 pixels unless the frame is
     EXPECT_DOUBLE_EQ(reduced.settings.sample_distance, 2.0 * full.settings.sample_distance);
-    EXPECT_EQ(reduced.settings.light_buffer, full.settings.light_buffer);
+    EXPECT_EQ(reduced.settings.light_buffer.resolution, full.settings.light_buffer.resolution / 2);
+    EXPECT_EQ(reduced.settings.light_buffer.slices, full.settings.light_buffer.slices);
     EXPECT_EQ(reduced.camera, full.camera);
-    EXPECT_EQ(description, "interactive: 320x64, sample distance x2");
+    EXPECT_EQ(description, "interactive: 320x64, sample distance x2, light buffer 256");
     full.settings.width = 40;
     full.settings.sample_distance = 0.4;
+    full.settings.light_buffer.resolution = 100;
     const FrameRequest small = interactive_request(full).first;
     EXPECT_EQ(small.settings.width, 40);
+    EXPECT_EQ(small.settings.light_buffer.resolution, 64);
     EXPECT_DOUBLE_EQ(small.settings.sample_distance, 0.5);
 }
 

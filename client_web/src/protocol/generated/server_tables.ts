@@ -242,7 +242,7 @@ export const DEFAULT_SETTINGS = {
     builder: 'multi_slice',
     compensation: 0,
     lookup: 'local',
-    resolution: 256,
+    resolution: 512,
     slab_samples: 0,
     slices: 128,
   },

@@ -9,6 +9,7 @@
 // step limit). Each with PSNR and SSIM against the truth and its time; the converged still's is
 // the still's plus every step's, what a user waits for it.
 
+#include <penumbra/base/enum_names.hpp>
 #include <penumbra/base/result.hpp>
 #include <penumbra/bench/truth.hpp>
 #include <penumbra/quality/sweep.hpp>
@@ -22,6 +23,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,10 +33,17 @@ namespace penumbra::bench {
 // The frames measured of every mode, in the order they are rendered and printed.
 enum class StillFrame { unjittered, interactive, first, converged };
 
-inline constexpr std::array<StillFrame, 4> kStillFrames{
-        StillFrame::unjittered, StillFrame::interactive, StillFrame::first, StillFrame::converged};
+inline constexpr std::array<base::EnumName<StillFrame>, 4> kStillFrames{{
+        {StillFrame::unjittered, "unjittered"},
+        {StillFrame::interactive, "interactive"},
+        {StillFrame::first, "first"},
+        {StillFrame::converged, "converged"},
+}};
+static_assert(base::names_each_value(kStillFrames));
 
-std::string_view to_string(StillFrame frame);
+constexpr std::span<const base::EnumName<StillFrame>> names_of(StillFrame) {
+    return kStillFrames;
+}
 
 // One volume under one transfer function.
 struct StillsCase {

@@ -104,8 +104,12 @@ constexpr std::span<const EnumName<LightLookup>> names_of(LightLookup) {
 inline constexpr int kMaxSlabSamples = 16;
 
 struct LightBufferSettings {
-    int slices = 128;      // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
-    int resolution = 256;  // R: each layer is R x R texels
+    int slices = 128;  // n, 1 .. GL_MAX_ARRAY_TEXTURE_LAYERS
+    // R: each layer is R x R texels. A light buffer coarser than the image shows in a converged
+    // still: at 512x512 its texels' shadow edges leave rings that no refinement step removes
+    // (ch2 mri_skin 42.4 dB at R = 256, 48.5 at 512; `penumbra bench stills`); interactive frames
+    // halve it (interactive_request).
+    int resolution = 512;
     LightBufferBuilder builder = LightBufferBuilder::multi_slice;
     double compensation = 0.0;  // the paper's (1 + alpha)^n darkening compensation; 0 = off
     // Points sampled across each slice's slab along the light: 1 is the paper's single point on
@@ -218,13 +222,14 @@ base::Status validate(const FrameRequest& request, const Limits& limits = {});
 // What a new session's frame starts from: the default camera (the anterior view), a light from
 // 10° azimuth and 45° elevation, sbrc with Blinn-Phong, jittered samples (fine noise rather than
 // the rings of a fixed step in interactive frames; stills refine it away), and a 512-pixel image,
-// 128 light-buffer slices and a 256-texel light buffer as far as `limits` allow; the transfer
+// 128 light-buffer slices and a 512-texel light buffer as far as `limits` allow; the transfer
 // function is left as TransferFunction's default (the session picks its preset).
 FrameRequest starting_frame(const Limits& limits);
 
 // The request rendered while a user is interacting: half the image size (at least 64 pixels a
-// side) and twice the sample distance; light-buffer settings are kept so the cached buffer stays
-// valid. Returns the reduced request and a description of it.
+// side), twice the sample distance and half the light buffer's resolution (at least 64 texels),
+// a buffer of its own that orbiting reuses and that a light or transfer-function drag rebuilds
+// at a quarter of the still's cost. Returns the reduced request and a description of it.
 std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full);
 
 // The formats a session's frames are written in, by the name the protocol, hello and the frame
