@@ -141,11 +141,12 @@ int run_bench_stills(const std::vector<std::string>& args) {
                            bench::describe(bench::kTruth) +
                            "), from the view\n`penumbra render` gives by default: the still "
                            "unjittered (as it was before stills converged),\nthe interactive "
-                           "frame (half the size, twice the step, stretched back as the browser "
-                           "shows it),\nthe first jittered still and the still refined until it "
-                           "stops changing. PSNR, SSIM and time\n(the converged still's: the "
-                           "still's and all its steps'), then the default mode's targets met or\n"
-                           "missed.",
+                           "frame (half the size and light buffer, twice the step, stretched back "
+                           "as the\nbrowser shows it), the first jittered still and the still "
+                           "refined until it stops changing.\nPSNR, SSIM and time (the converged "
+                           "still's: the still's and all its steps'), the truth at the\n"
+                           "interactive size stretched back (what no interactive frame can beat), "
+                           "then the default mode's\ntargets met or missed.",
                    options);
         return 0;
     }

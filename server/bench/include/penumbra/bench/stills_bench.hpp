@@ -3,11 +3,12 @@
 // `penumbra bench stills`: what a user sees of each mode, against the converged truth. For every
 // case (a volume and a transfer function) and mode, from the view `penumbra render` gives by
 // default, four frames: the still as it was before stills were jittered (`unjittered`), the frame
-// shown while the user drags (`interactive`: scene::interactive_request, stretched back to the
-// view's size as the browser shows it), the first jittered still, and the still refined as a
-// session refines it (`converged`: until a step changes the image by the threshold or less, or the
-// step limit). Each with PSNR and SSIM against the truth and its time; the converged still's is
-// the still's plus every step's, what a user waits for it.
+// shown while the user drags (`interactive`: scene::interactive_request, half the size and light
+// buffer and twice the step, stretched back to the view's size as the browser shows it), the
+// first jittered still, and the still refined as a session refines it (`converged`: until a step
+// changes the image by the threshold or less, or the step limit). Each with PSNR and SSIM against
+// the truth and its time; the converged still's is the still's plus every step's, what a user
+// waits for it.
 
 #include <penumbra/base/enum_names.hpp>
 #include <penumbra/base/result.hpp>
