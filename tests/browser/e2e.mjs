@@ -167,17 +167,18 @@ async function frameInfo(page) {
   });
 }
 
-/** Waits for a still frame newer than `after`. */
-// Waits for a still frame after frame `after`: the still itself, not a refinement step of an
-// earlier still (steps follow every still of a new session, each a frame of its own).
-async function waitForStill(page, after = -1, timeout = 30000) {
+// Waits for a still frame asked for after the frame `after` (a frameInfo, or null for any still).
+// Refinement steps carry the request of the still they refine, so a step of the new still counts
+// and a step of an earlier still does not; the still itself may never be shown, since the view
+// skips a frame that a newer one replaces while it decodes.
+async function waitForStill(page, after = null, timeout = 30000) {
   await page.waitForFunction(
-    (after) => {
+    (afterRequest) => {
       const d = document.querySelector('canvas.frame-canvas')?.dataset;
-      return d && d.frame !== undefined && Number(d.frame) > after && d.interactive === 'false' &&
-        d.refinement === '0';
+      return d && d.request !== undefined && Number(d.request) > afterRequest &&
+        d.interactive === 'false';
     },
-    after,
+    after ? after.request : -1,
     { timeout },
   );
   // Let a later frame that is already on its way land, so "the" frame is stable.
@@ -241,7 +242,7 @@ try {
     }).observe(document, { subtree: true, childList: true, attributes: true, characterData: true });
   });
   await owner.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}`);
-  let info = await waitForStill(owner, -1, 60000);
+  let info = await waitForStill(owner, null, 60000);
   let first = await canvasSignature(owner);
   await owner.screenshot({ path: path.join(outDir, '01_loaded.png') });
   check('a frame appears and the canvas is not blank', first.lit > 0.02,
@@ -278,7 +279,7 @@ try {
     await owner.waitForTimeout(60);
   }
   await owner.mouse.up();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   const dragged = await canvasSignature(owner);
   await owner.screenshot({ path: path.join(outDir, '02_dragged.png') });
   check('dragging changes the frame', difference(first, dragged) > 2,
@@ -295,7 +296,7 @@ try {
   await owner.mouse.down();
   await owner.mouse.move(sphere.x + sphere.width * 0.15, sphere.y + sphere.height * 0.5, { steps: 5 });
   await owner.mouse.up();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   let after = await canvasSignature(owner);
   check('dragging the light changes the frame', difference(before, after) > 1,
     `mean grey difference ${difference(before, after).toFixed(1)}`);
@@ -308,7 +309,7 @@ try {
   await owner.mouse.down();
   await owner.mouse.move(curve.x + curve.width * 0.2, curve.y + curve.height * 0.97, { steps: 5 });
   await owner.mouse.up();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   after = await canvasSignature(owner);
   check('dragging an opacity point changes the frame', difference(before, after) > 1,
     `mean grey difference ${difference(before, after).toFixed(1)}, lit ${(after.lit * 100).toFixed(1)}%`);
@@ -333,7 +334,7 @@ try {
     offered.length > 0 && [...offered].sort().join() === [...presetNames].sort().join(), offered.join(', '));
   before = after;
   await owner.locator('[data-control="tf-preset"] select').selectOption('grey_ramp');
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   after = await canvasSignature(owner);
   check('picking a preset changes the frame', difference(before, after) > 1,
     `mean grey difference ${difference(before, after).toFixed(1)}`);
@@ -360,7 +361,7 @@ try {
   const viewImages = {};
   for (const [name, axes] of Object.entries(expectedAxes)) {
     await owner.locator(`.view-buttons button[data-view="${name}"]`).click();
-    info = await waitForStill(owner, info.frame);
+    info = await waitForStill(owner, info);
     viewImages[name] = await canvasSignature(owner);
     check(`the ${name} view button sets the ${name} view`, (await markerAxes(owner)) === axes,
       `marker ${await markerAxes(owner)}, ${(viewImages[name].lit * 100).toFixed(1)}% lit`);
@@ -373,7 +374,7 @@ try {
     `anterior/posterior ${difference(viewImages.anterior, viewImages.posterior).toFixed(1)}, ` +
       `left/right ${difference(viewImages.left, viewImages.right).toFixed(1)}`);
   await owner.locator('.view-buttons button[data-view="anterior"]').click();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
 
   // 3c. On a portrait tablet the view fills the screen and the panel folds into a drawer.
   await owner.setViewportSize({ width: 768, height: 1024 });
@@ -399,7 +400,7 @@ try {
   await owner.waitForTimeout(400);
   check('wider than tall, the panel is beside the view again',
     (await owner.locator('#panel').isVisible()) && !(await owner.locator('.drawer-toggle').isVisible()));
-  info = await waitForStill(owner, -1);
+  info = await waitForStill(owner, null);
 
   // 4. A bad parameter shows the server's error.
   const sampleDistance = owner.locator('[data-control="sample_distance"] input');
@@ -423,17 +424,17 @@ try {
       (await slabSamples.inputValue()) === '16', await slabSamples.inputValue());
   await slabSamples.fill('0');
   await slabSamples.press('Enter');
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   const skipping = owner.locator('[data-control="empty_space_skipping"] input');
   const skippingBefore = await skipping.isChecked();
   await skipping.click();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   check('empty-space skipping toggles and the server keeps it',
     skippingBefore && !(await skipping.isChecked()) &&
       (await owner.locator('.notice.error', { hasText: 'empty_space_skipping' }).count()) === 0,
     `checked ${skippingBefore} -> ${await skipping.isChecked()}`);
   await skipping.click();
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
 
   // 4c. Every numeric setting the server's hello announces has a control, labelled by its name, in
   // the folder of its part of the settings (the client lists none of them).
@@ -476,21 +477,21 @@ try {
   await intensity.fill(String(ranges['light/intensity'].max * 10));
   await intensity.press('Enter');
   const intensityShown = Number(await intensity.inputValue());
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   await intensity.fill('1');
   await intensity.press('Enter');
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   check("the light's intensity slider reaches the end of hello's range",
     intensityShown === ranges['light/intensity'].max &&
       (await owner.locator('.notice.error', { hasText: '/light/' }).count()) === 0,
     `typed ${ranges['light/intensity'].max * 10}, shows ${intensityShown}`);
   await owner.locator('[data-control="light.type"] select').selectOption('point');
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   const positionX = owner.locator('[data-control="light.position.x"] input');
   await positionX.fill(String(ranges.vec3.max * 10));
   await positionX.press('Enter');
   const positionShown = Number(await positionX.inputValue());
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
   check("the point light's position slider stays within the server's coordinates",
     (await owner.locator('[data-control="light.position.x"] .lil-slider').count()) === 1 &&
       positionShown > 1 && positionShown <= ranges.vec3.max &&
@@ -499,7 +500,7 @@ try {
   await positionX.fill('0');
   await positionX.press('Enter');
   await owner.locator('[data-control="light.type"] select').selectOption('directional');
-  info = await waitForStill(owner, info.frame);
+  info = await waitForStill(owner, info);
 
   // 5. A second page joins through the share link and sees the same frame.
   const link = await owner.locator('#share-link').inputValue();
@@ -525,11 +526,11 @@ try {
   check("the viewer's method panel follows the owner's mode", modeAtJoin === 'dvr',
     `${modeAtJoin} at join, then phong and dvr as the owner chose them`);
   // The owner moves the camera; both pages must end on the same still frame.
-  const ownerFrame = (await frameInfo(owner)).frame;
+  const ownerBefore = await frameInfo(owner);
   await owner.locator('canvas.frame-canvas').focus();
   await owner.keyboard.press('ArrowLeft');
   await owner.keyboard.press('ArrowLeft');
-  const a = await waitForStill(owner, ownerFrame);
+  const a = await waitForStill(owner, ownerBefore);
   await viewer.waitForFunction((f) => Number(document.querySelector('canvas.frame-canvas')?.dataset.frame) >= f,
     a.frame, { timeout: 30000 });
   await owner.waitForTimeout(300);
@@ -551,7 +552,7 @@ try {
   server = await startServer(port);
   log(`server restarted at ${server.url}`);
   await owner.locator('.notice.info', { hasText: 'Reconnected' }).waitFor({ timeout: 30000 });
-  const restored = await waitForStill(owner, -1, 30000);
+  const restored = await waitForStill(owner, null, 30000);
   await owner.screenshot({ path: path.join(outDir, '07_restored.png') });
   check('after reconnecting the session is restored (mode dvr kept)', restored.mode === 'dvr',
     `frame #${restored.frame} mode ${restored.mode}`);
