@@ -35,8 +35,8 @@ void main() {
     float path_length = u.light_slicing.w / along_axis;
     int count = int(u.light_slicing.z);
     int samples = int(u.light_buffer_info.y);
-    // One slice of margin either side: sampled_slab_opacity decides at the box's faces.
-    vec2 crossing = intersect_line_box(origin, ray);
+    // One slice of margin either side: sampled_slab_opacity decides at the region's faces.
+    vec2 crossing = intersect_line_region(origin, ray, REGION_LIGHT);
     float origin_plane = dot(travel, origin);
     float first_plane = origin_plane + crossing.x * along_axis;
     float last_plane = origin_plane + crossing.y * along_axis;

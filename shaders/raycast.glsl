@@ -21,6 +21,7 @@
 
 #include "include/uniforms.glsl"
 #include "include/ray.glsl"
+#include "include/region.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
 #include "include/preintegration.glsl"
@@ -55,7 +56,7 @@ float light_reaching(vec3 position, vec3 to_eye) {
 struct RayMarch {
     vec3 origin;
     vec3 direction;
-    float start;  // where the ray enters the box
+    float start;  // where the ray enters the region drawn
     float step_length;
     float offset;
 #if EMPTY_SPACE_SKIPPING
@@ -145,7 +146,7 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     RayMarch march;
     march.origin = u.eye.xyz;
     march.direction = pixel_ray_direction(pixel);
-    vec2 hit = intersect_box(march.origin, march.direction);
+    vec2 hit = intersect_region(march.origin, march.direction, REGION_CAMERA);
     float length_inside = hit.y - hit.x;
     if (length_inside <= 0.0) return;
     int count = int(max(1.0, ceil(length_inside / settings.sample_distance)));
@@ -170,7 +171,11 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         if (i >= last) break;
         vec2 terms = vec2(1.0, 0.0);
 #if PHONG
-        vec3 normal = normal_from_gradient(sample_gradient(position));
+        vec3 gradient = sample_gradient(position);
+        if (u.region_counts.x > 0) {
+            gradient = gradient_at_cut(position, gradient, sample_value(position));
+        }
+        vec3 normal = normal_from_gradient(gradient);
         terms = blinn_phong(normal, direction_to_light(position), -march.direction);
 #endif
         vec3 color = shade(classified.rgb, terms, light_reaching(position, -march.direction));

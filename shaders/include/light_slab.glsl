@@ -3,10 +3,17 @@
 // length through it, and the paper's darkening compensation (1 + a)^c, never brightening past 1.
 
 #include "include/empty_space.glsl"
+#include "include/region.glsl"
 
 bool inside_box(vec3 world) {
     vec3 p = box_coordinate(world);
     return all(greaterThanEqual(p, u.box_min.xyz)) && all(lessThanEqual(p, u.box_max.xyz));
+}
+
+// Whether the light meets what lies at `world`: in the box, and not cut away unless the cut
+// still casts shadows.
+bool inside_light_region(vec3 world) {
+    return inside_box(world) && inside_half_spaces(world, REGION_LIGHT);
 }
 
 // The slab's opacity from `samples` points spread evenly along the light's ray across it, each
@@ -17,7 +24,7 @@ float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples
     float transmittance = 1.0;
     for (int j = 0; j < samples; ++j) {
         vec3 p = centre + ((float(j) + 0.5) * step - 0.5 * path_length) * ray;
-        if (inside_box(p)) {
+        if (inside_light_region(p)) {
             transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step);
         }
     }

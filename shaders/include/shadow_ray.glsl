@@ -3,7 +3,7 @@
 
 float shadow_ray_transmittance(vec3 world) {
     vec3 to_light = direction_to_light(world);
-    float t_end = intersect_box(world, to_light).y;
+    float t_end = intersect_region(world, to_light, REGION_LIGHT).y;
 #if POINT_LIGHT
     t_end = min(t_end, distance(u.light_vector.xyz, world));
 #endif

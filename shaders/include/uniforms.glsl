@@ -35,4 +35,7 @@ layout(std140, binding = 0) uniform FrameUniforms {
     mat4 world_to_box;
     // Jittered ray starts (ray.glsl): x: 1 = on, y: the pattern's index (the refinement step).
     vec4 jitter;
+    // The region drawn (region.glsl): the box cut down by half-spaces dot(xyz, p) + w >= 0.
+    ivec4 region_counts;            // x: those camera rays clip by, y: those the light does
+    vec4 region_half_spaces[12];    // optics::kMaxHalfSpaces
 } u;

@@ -2,6 +2,7 @@
 
 #include <penumbra/optics/compositing.hpp>
 #include <penumbra/optics/ray.hpp>
+#include <penumbra/optics/region.hpp>
 #include <penumbra/optics/shading.hpp>
 #include <penumbra/reference/volume_sampler.hpp>
 
@@ -65,10 +66,12 @@ private:
 
 // The ground truth for shadows: the transmittance along a ray from `position` to the light,
 // marched with the camera's sample distance and the same opacity correction.
-double shadow_ray_transmittance(const VolumeSampler& sampler, const Classifier& tf,
-                                const scene::FrameRequest& request, glm::dvec3 position) {
+double shadow_ray_transmittance(const VolumeSampler& sampler, const optics::Region& region,
+                                const Classifier& tf, const scene::FrameRequest& request,
+                                glm::dvec3 position) {
     const glm::dvec3 to_light = direction_to_light(request.light, position);
-    double t_end = optics::intersect_box(position, to_light, sampler.box()).t_far;
+    double t_end =
+            optics::intersect_region(region, position, to_light, optics::RegionUser::light).t_far;
     if (request.light.type == scene::LightType::point) {
         t_end = std::min(t_end, glm::length(request.light.position - position));
     }
@@ -113,6 +116,13 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const TransferFunctionTable table(request.transfer_function,
                                       {volume.range.min, volume.range.max, volume.hounsfield});
     const Classifier tf(table, s);
+    const optics::Region region =
+            optics::region_of(sampler.box(), request.cut,
+                              scene::patient_placement(volume.origin, volume.axes, volume.spacing,
+                                                       glm::dvec3(volume.dims)));
+    // A cut face's gradient is shaded within a voxel of it (optics::gradient_at_cut).
+    const glm::dvec3 voxel = sampler.voxel_size();
+    const double reach = std::max({voxel.x, voxel.y, voxel.z});
     const scene::CameraFrame camera =
             scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
 
@@ -121,13 +131,14 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
         for (int x = 0; x < s.width; ++x) {
             const glm::dvec3 direction =
                     optics::pixel_ray_direction(camera, x, y, s.width, s.height);
-            const optics::BoxHit hit = optics::intersect_box(camera.eye, direction, sampler.box());
+            const optics::BoxHit hit = optics::intersect_region(region, camera.eye, direction,
+                                                                optics::RegionUser::camera);
             glm::dvec4 accumulated(0.0);
             const optics::Marching marching =
                     hit.hit ? optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance)
                             : optics::Marching{};
             const double offset = optics::ray_start_offset(s.jitter, x, y, request.refinement.step);
-            // The first segment starts where the ray enters the box (raycast.glsl).
+            // The first segment starts where the ray enters the region (raycast.glsl).
             double front = hit.hit ? sampler.value(camera.eye + hit.t_near * direction) : 0.0;
             for (int i = 0; i < marching.count; ++i) {
                 const glm::dvec3 position =
@@ -143,15 +154,18 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                 if (phong || shadows) {
                     optics::LightTerms terms;
                     if (phong) {
-                        const glm::dvec3 normal =
-                                normal_from_gradient(sampler.gradient(lit), sampler);
+                        const glm::dvec3 normal = normal_from_gradient(
+                                optics::gradient_at_cut(region, lit, sampler.gradient(lit),
+                                                        sampler.value(lit), reach),
+                                sampler);
                         terms = optics::blinn_phong(normal, direction_to_light(request.light, lit),
                                                     -direction, s.shading.shininess);
                     } else {
                         terms = {1.0, 0.0};
                     }
                     const double light =
-                            shadows ? shadow_ray_transmittance(sampler, tf, request, lit) : 1.0;
+                            shadows ? shadow_ray_transmittance(sampler, region, tf, request, lit)
+                                    : 1.0;
                     color = optics::shade(color, terms, request.light, s.shading, light);
                 }
                 optics::composite_front_to_back(accumulated, color,

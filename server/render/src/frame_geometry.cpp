@@ -13,6 +13,9 @@ base::Result<FrameGeometry> frame_geometry(const scene::FrameRequest& request,
     const scene::RenderSettings& s = request.settings;
     FrameGeometry g;
     g.box = scene::box_for_extent(volume.extent(), volume.axes);
+    g.region = optics::region_of(g.box, request.cut,
+                                 scene::patient_placement(volume.origin, volume.axes,
+                                                          volume.spacing, glm::dvec3(volume.dims)));
     g.travel = optics::light_travel_direction(request.light, g.box);
     if (plan.needs_light_view) {
         auto view = optics::make_light_view(request.light, g.box);

@@ -4,6 +4,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/optics/light_slicing.hpp>
+#include <penumbra/optics/region.hpp>
 #include <penumbra/scene/box.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/frame_request.hpp>
@@ -19,6 +20,7 @@ namespace penumbra::render {
 // Where the frame's light and slices lie: CPU work that depends only on the request and the box.
 struct FrameGeometry {
     scene::Box box;
+    optics::Region region;   // the box as the request's cut leaves it
     glm::dvec3 travel{0.0};  // the light's direction of travel
     std::optional<optics::LightView> light_view;
     optics::LightSlicing light_slicing;  // with light_view

@@ -37,6 +37,10 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.phong = d.phong;
     s.jitter = d.jitter;
     r.refinement = defaults.refinement;
+    // A cut whose tissue still casts shadows leaves the light as on the whole volume.
+    if (r.cut.casts_shadows) {
+        r.cut = defaults.cut;
+    }
     s.scattering = d.scattering;
     s.light_buffer.lookup = d.light_buffer.lookup;
     // "One per voxel" and the count it resolves to fill the same buffer.

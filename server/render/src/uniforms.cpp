@@ -66,6 +66,12 @@ FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeom
     }
     u.jitter = glm::vec4(s.jitter ? 1.0f : 0.0f, static_cast<float>(request.refinement.step), 0.0f,
                          0.0f);
+    const optics::Region& region = g.region;
+    u.region_counts = glm::ivec4(region.count, region.light_count, 0, 0);
+    for (int i = 0; i < region.count; ++i) {
+        const optics::HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+        u.region_half_spaces[static_cast<std::size_t>(i)] = v4(h.normal, h.offset);
+    }
     return u;
 }
 

@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <array>
 #include <cstddef>
 
 namespace penumbra::render {
@@ -43,6 +44,8 @@ struct FrameUniforms {
     glm::mat4 box_to_world;
     glm::mat4 world_to_box;
     glm::vec4 jitter;
+    glm::ivec4 region_counts;  // x: the half-spaces camera rays clip by, y: those the light does
+    std::array<glm::vec4, optics::kMaxHalfSpaces> region_half_spaces;  // xyz: normal, w: offset
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -56,7 +59,9 @@ static_assert(offsetof(FrameUniforms, light_buffer_info) == 352);
 static_assert(offsetof(FrameUniforms, camera_view_projection) == 384);
 static_assert(offsetof(FrameUniforms, box_to_world) == 480);
 static_assert(offsetof(FrameUniforms, jitter) == 608);
-static_assert(sizeof(FrameUniforms) == 624);
+static_assert(offsetof(FrameUniforms, region_counts) == 624);
+static_assert(offsetof(FrameUniforms, region_half_spaces) == 640);
+static_assert(sizeof(FrameUniforms) == 640 + 16 * optics::kMaxHalfSpaces);
 
 // The uniforms of `request` with its geometry, on a volume of `dims` voxels whose texels
 // `value_map` turns into normalised values (VolumeTexture::value_map).

@@ -104,6 +104,14 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
             }
         }
     }
+    const CropBox& crop = request.cut.crop;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!(crop.min[axis] < crop.max[axis])) {
+            return invalid("cut.crop",
+                           "the crop box's min must lie below its max on every axis (an inverted "
+                           "or empty box); to draw nothing, move the box off the volume");
+        }
+    }
     const Camera& c = request.camera;
     if (glm::length(c.target - c.eye) < 1e-9) {
         return invalid("camera", "camera eye and target must differ");

@@ -229,9 +229,15 @@ TEST(State, ValidateHoldsEverySettingToItsRow) {
         const bool degenerate_at_zero = row == &setting::camera_eye ||
                                         row == &setting::camera_target ||
                                         row == &setting::light_direction;
+        // A crop corner at the far end of its range meets the other corner there: an empty box.
+        const bool empty_at_far_end = row == &setting::crop_min || row == &setting::crop_max;
         for (const double inside : {row->min, max}) {
             const State state = with(inside);
             if (degenerate_at_zero && inside == 0.0) {
+                continue;
+            }
+            if (empty_at_far_end && inside == (row == &setting::crop_min ? max : row->min)) {
+                EXPECT_FALSE(validate(state, limits).ok()) << inside;
                 continue;
             }
             EXPECT_TRUE(validate(state, limits).ok()) << inside;

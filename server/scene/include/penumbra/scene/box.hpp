@@ -50,6 +50,34 @@ struct Box {
     return Box{-half, half, axes, glm::inverse(axes)};
 }
 
+// Where patient space (RAS millimetres) lies in world space: world = (patient - centre) /
+// millimetres_per_unit. World space is patient space moved so that the volume's box is centred on
+// the origin and scaled so that its longest side is 1; no rotation, both being RAS.
+struct PatientPlacement {
+    glm::dvec3 centre{0.0};
+    double millimetres_per_unit = 1.0;
+
+    [[nodiscard]] glm::dvec3 to_world(glm::dvec3 patient) const {
+        return (patient - centre) / millimetres_per_unit;
+    }
+
+    [[nodiscard]] glm::dvec3 to_patient(glm::dvec3 world) const {
+        return centre + world * millimetres_per_unit;
+    }
+};
+
+// The placement of a volume of `dims` voxels `spacing` apart whose voxel (0, 0, 0) is centred at
+// patient point `origin` and whose index axes point along the columns of `axes`, drawn in the box
+// box_for_extent(dims * spacing, axes) gives it: the box spans the voxels' outer faces, so its
+// centre is the centre of the middle voxel.
+[[nodiscard]] inline PatientPlacement patient_placement(glm::dvec3 origin, const glm::dmat3& axes,
+                                                        glm::dvec3 spacing, glm::dvec3 dims) {
+    const glm::dvec3 extent = dims * spacing;
+    const double longest = glm::max(extent.x, glm::max(extent.y, extent.z));
+    return PatientPlacement{origin + axes * (0.5 * (extent - spacing)),
+                            longest > 0.0 ? longest : 1.0};
+}
+
 // The oriented box needs a rotation, possibly with a reflection (orthonormal columns): rays, slice
 // polygons and gradients turn between box and world space by it. A sheared transform (a CT
 // gantry tilt) must be resampled onto an orthogonal grid before it can be drawn.

@@ -196,12 +196,39 @@ bool refines_after(int step, std::optional<double> change, int max_steps, double
 // Whether a mode marches camera rays, the only ones jitter and refinement change.
 bool is_ray_cast(Mode mode);
 
+// How far from the patient origin a crop face may lie, in millimetres: ten metres, beyond any
+// scanner's field of view; a box this large crops nothing.
+inline constexpr double kCropReach = 10000.0;
+
+// The box a user cuts the volume down to, in patient coordinates (RAS millimetres, the convention
+// of every file Penumbra reads, so that the same numbers cut the same anatomy however a file
+// stores its voxels): only what lies inside it is drawn.
+struct CropBox {
+    bool enabled = false;
+    glm::dvec3 min{-kCropReach};
+    glm::dvec3 max{kCropReach};
+
+    bool operator==(const CropBox&) const = default;
+};
+
+// What a user cut away, and whether it still casts shadows: off, a virtual dissection (what is cut
+// away neither shows nor shadows what remains); on, the cut only opens a window and the light
+// falls as on the whole volume (context shadows). The region drawn is the volume's box cut down by
+// it (optics/region.hpp).
+struct Cut {
+    CropBox crop;
+    bool casts_shadows = false;
+
+    bool operator==(const Cut&) const = default;
+};
+
 // Everything one frame depends on besides the volume itself.
 struct FrameRequest {
     Camera camera;
     Light light;
     TransferFunction transfer_function;
     RenderSettings settings;
+    Cut cut;
     Refinement refinement;
 
     bool operator==(const FrameRequest&) const = default;
@@ -464,6 +491,34 @@ inline constexpr Setting preintegration = frame_setting(
         {.summary = "classify the segment between two samples by both values (pre-integrated "
                     "TF): no rings of the step on steep TFs"},
         [](auto& f) -> auto& { return f.settings.preintegration; });
+// The crop box's corners in RAS millimetres; each component of min below max's (validate).
+inline constexpr Setting crop_enabled = frame_setting(
+        "cut/crop/enabled",
+        {.summary = "draw only what lies inside the crop box",
+         .command_line = CommandLine::by_hand},
+        [](auto& f) -> auto& { return f.cut.crop.enabled; });
+inline constexpr Setting crop_min = frame_setting(
+        "cut/crop/min",
+        {.min = -kCropReach,
+         .max = kCropReach,
+         .summary = "the crop box's corner toward the patient's left, posterior and inferior "
+                    "(RAS, mm)",
+         .command_line = CommandLine::by_hand},
+        [](auto& f) -> auto& { return f.cut.crop.min; });
+inline constexpr Setting crop_max = frame_setting(
+        "cut/crop/max",
+        {.min = -kCropReach,
+         .max = kCropReach,
+         .summary = "the crop box's corner toward the patient's right, anterior and superior "
+                    "(RAS, mm)",
+         .command_line = CommandLine::by_hand},
+        [](auto& f) -> auto& { return f.cut.crop.max; });
+inline constexpr Setting cut_casts_shadows = frame_setting(
+        "cut/casts_shadows",
+        {.summary = "what the cut removes still casts shadows (context); off: it neither shows "
+                    "nor shadows (virtual dissection)",
+         .option = "cut-shadows"},
+        [](auto& f) -> auto& { return f.cut.casts_shadows; });
 inline constexpr Setting frame_budget_ms = state_setting(
         "settings/frame_budget_ms",
         {.min = 0.0,
@@ -610,6 +665,10 @@ inline constexpr auto kSettings = std::to_array<const Setting*>({
         &setting::empty_space_skipping,
         &setting::jitter,
         &setting::preintegration,
+        &setting::crop_enabled,
+        &setting::crop_min,
+        &setting::crop_max,
+        &setting::cut_casts_shadows,
         &setting::frame_budget_ms,
         &setting::refinement_steps,
         &setting::refinement_threshold,

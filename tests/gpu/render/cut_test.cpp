@@ -1,0 +1,292 @@
+// Cutting into the volume: a crop box that every pass asks (optics::Region), with the tissue it
+// removes casting no shadow (a virtual dissection) or still casting it (context shadows), checked
+// against analytic transmittance, against the CPU reference and for the light buffer's reuse.
+
+#include "synthetic_volumes.hpp"
+
+#include <penumbra/encode/compare.hpp>
+#include <penumbra/reference/cpu_renderer.hpp>
+#include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/box.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace penumbra::render {
+namespace {
+
+class CutTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto created = Renderer::create();
+        ASSERT_TRUE(created.ok()) << created.error().to_string();
+        renderer_ = std::move(created.value());
+    }
+
+    void use(const volume::Volume& volume) {
+        volume_ = std::make_shared<const volume::Volume>(volume);
+        ASSERT_TRUE(renderer_->set_volume(volume_).ok());
+    }
+
+    Frame render(const scene::FrameRequest& request) {
+        auto frame = renderer_->render(request);
+        EXPECT_TRUE(frame.ok()) << frame.error().to_string();
+        return frame.ok() ? std::move(frame.value()) : Frame{};
+    }
+
+    // A crop box in patient millimetres from its corners in world space (the volume's longest
+    // side is 1): the tests think in world space, the protocol in patient space.
+    [[nodiscard]] scene::Cut crop_world(glm::dvec3 low, glm::dvec3 high, bool casts_shadows) const {
+        const scene::PatientPlacement placement = scene::patient_placement(
+                volume_->origin, volume_->axes, volume_->spacing, glm::dvec3(volume_->dims));
+        scene::Cut cut;
+        cut.crop = {true, placement.to_patient(low), placement.to_patient(high)};
+        cut.casts_shadows = casts_shadows;
+        return cut;
+    }
+
+    std::unique_ptr<Renderer> renderer_;
+    std::shared_ptr<const volume::Volume> volume_;
+};
+
+// The shadow scene of shadow_test (a receiver column lit along -x, half of it behind a slab) seen
+// from +z; the crop keeps x < 0.2 of the world, which removes the slab and nothing of the receiver.
+scene::FrameRequest receiver_scene(scene::Mode mode) {
+    scene::FrameRequest request;
+    request.camera.eye = {0.0, 0.0, 3.0};
+    request.camera.target = {0.0, 0.0, 0.0};
+    request.camera.up = {0.0, 1.0, 0.0};
+    request.light.direction = {1.0, 0.0, 0.0};  // toward the light: light travels along -x
+    request.light.ambient = 0.0;
+    request.settings.shading.diffuse = 1.0;
+    request.settings.mode = mode;
+    request.settings.width = 64;
+    request.settings.height = 64;
+    request.settings.compositing = scene::Compositing::extinction;
+    request.settings.sample_distance = 1.0 / 128.0;
+    request.settings.light_buffer.slices = 256;
+    request.settings.light_buffer.resolution = 64;
+    request.transfer_function = {
+            "slab", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.5, 0.03}, {1.0, 0.004}}};
+    return request;
+}
+
+// The mean red of the receiver's middle columns (world x = -0.25 projects to column 22) over
+// image rows row0..row1: world y = -0.3, behind the slab, is row 44, y = +0.3 row 20.
+double receiver_red(const Frame& frame, int row0, int row1) {
+    double sum = 0.0;
+    int count = 0;
+    for (int y = row0; y <= row1; ++y) {
+        for (int x = 20; x <= 24; ++x) {
+            sum += frame.image.pixel(x, y)[0];
+            ++count;
+        }
+    }
+    return sum / count;
+}
+
+// The brightest red where the slab shows (world x 0.25..0.375, y < 0: columns 43..46, rows 36..60).
+double brightest_on_slab(const Frame& frame) {
+    double brightest = 0.0;
+    for (int y = 36; y <= 60; ++y) {
+        for (int x = 43; x <= 46; ++x) {
+            brightest = std::max(brightest, static_cast<double>(frame.image.pixel(x, y)[0]));
+        }
+    }
+    return brightest;
+}
+
+struct CutCase {
+    scene::Mode mode;
+    scene::LightBufferBuilder builder;
+};
+
+class CutShadowTest : public CutTest, public ::testing::WithParamInterface<CutCase> {};
+
+TEST_P(CutShadowTest, CutTissueCastsNoShadowUnlessAsked) {
+    constexpr unsigned n = 32;
+    use(test::shadow_scene(n));
+    scene::FrameRequest request = receiver_scene(GetParam().mode);
+    request.settings.light_buffer.builder = GetParam().builder;
+    const Frame whole = render(request);
+    const double expected = std::exp(-0.03 / request.settings.opacity_unit_distance * 4.0 / n);
+    const double whole_ratio = receiver_red(whole, 40, 47) / receiver_red(whole, 17, 24);
+    EXPECT_NEAR(whole_ratio, expected, 0.01);
+    ASSERT_GT(brightest_on_slab(whole), 10.0);  // the slab shows where it is not cut
+
+    // Virtual dissection: the slab is gone for the light as for the camera.
+    request.cut = crop_world(glm::dvec3(-1.0), glm::dvec3(0.2, 1.0, 1.0), false);
+    const Frame dissected = render(request);
+    const double lit = receiver_red(dissected, 17, 24);
+    ASSERT_GT(lit, 40.0);
+    EXPECT_NEAR(receiver_red(dissected, 40, 47) / lit, 1.0, 0.01);
+    EXPECT_EQ(brightest_on_slab(dissected), 0.0);
+    EXPECT_NEAR(lit, receiver_red(whole, 17, 24), 1.0);
+
+    // Context shadows: the slab is not drawn, its shadow stays.
+    request.cut.casts_shadows = true;
+    const Frame context = render(request);
+    EXPECT_NEAR(receiver_red(context, 40, 47) / receiver_red(context, 17, 24), expected, 0.01);
+    EXPECT_EQ(brightest_on_slab(context), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+        Modes, CutShadowTest,
+        ::testing::Values(CutCase{scene::Mode::reference, scene::LightBufferBuilder::multi_slice},
+                          CutCase{scene::Mode::sbrc, scene::LightBufferBuilder::multi_slice},
+                          CutCase{scene::Mode::sbrc, scene::LightBufferBuilder::per_slice},
+                          CutCase{scene::Mode::half_angle, scene::LightBufferBuilder::multi_slice}),
+        [](const auto& info) {
+            return std::string(scene::to_string(info.param.mode)) + "_" +
+                   std::string(scene::to_string(info.param.builder));
+        });
+
+// The GPU's region against the CPU reference's, from outside the volume and from inside it (the
+// eye in the kept part and in the part cut away), with a point light in the cut-away part.
+TEST_F(CutTest, GpuMatchesTheCpuReferenceWithACrop) {
+    const volume::Volume volume = test::radial_volume(32);
+    use(volume);
+
+    struct Eye {
+        const char* what;
+        scene::Camera camera;
+    };
+
+    const Eye eyes[] = {
+            {"outside", scene::orbit_camera(35.0, 20.0, 2.4)},
+            {"inside the kept part", {{-0.1, -0.15, 0.1}, {0.2, 0.3, -0.1}, {0.0, 0.0, 1.0}, 60.0}},
+            {"inside the cut-away part",
+             {{0.3, 0.3, 0.2}, {-0.2, -0.1, 0.0}, {0.0, 0.0, 1.0}, 60.0}},
+    };
+    for (const Eye& eye : eyes) {
+        for (const bool casts_shadows : {false, true}) {
+            SCOPED_TRACE(std::string(eye.what) + (casts_shadows ? ", context shadows" : ""));
+            scene::FrameRequest request;
+            request.camera = eye.camera;
+            request.light.type = scene::LightType::point;
+            request.light.position = {0.4, 0.3, 0.35};
+            request.light.ambient = 0.1;
+            request.settings.mode = scene::Mode::reference;
+            request.settings.phong = true;
+            request.settings.width = 48;
+            request.settings.height = 48;
+            request.settings.sample_distance = 1.0 / 96.0;
+            request.transfer_function = {"soft",
+                                         {{0.0, {1.0, 0.9, 0.8}}, {1.0, {1.0, 1.0, 1.0}}},
+                                         {{0.0, 0.0}, {0.3, 0.0}, {1.0, 0.15}}};
+            request.cut = crop_world({-0.6, -0.6, -0.12}, {0.1, 0.15, 0.6}, casts_shadows);
+            const Frame frame = render(request);
+            auto expected = reference::render_cpu(volume, request);
+            ASSERT_TRUE(expected.ok()) << expected.error().to_string();
+            auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+            ASSERT_TRUE(difference.ok());
+            EXPECT_LE(difference->max_error, 3.0 / 255.0);
+            EXPECT_LE(difference->mean_error, 0.6 / 255.0);
+        }
+    }
+}
+
+// A ball cut in half and seen face on, lit from the eye: within the cut face the material's own
+// gradient lies along the face (it is radial), which would shade it dark away from the centre;
+// with what the cut removed taken as empty the face is shaded as facing out of the cut, evenly.
+TEST_F(CutTest, ACutFaceIsShadedAsASurfaceFacingOutOfTheCut) {
+    use(test::radial_volume(32));
+    for (const scene::Mode mode : {scene::Mode::phong, scene::Mode::half_angle}) {
+        SCOPED_TRACE(scene::to_string(mode));
+        scene::FrameRequest request;
+        request.camera.eye = {-2.5, 0.0, 0.0};
+        request.camera.target = {0.0, 0.0, 0.0};
+        request.camera.up = {0.0, 0.0, 1.0};
+        request.light.direction = {-1.0, 0.0, 0.0};
+        request.light.ambient = 0.0;
+        request.settings.mode = mode;
+        request.settings.phong = true;
+        request.settings.shading.specular = 0.0;
+        request.settings.width = request.settings.height = 64;
+        request.settings.sample_distance = 1.0 / 128.0;
+        request.settings.light_buffer.slices = 128;
+        request.transfer_function = {"ball",
+                                     {{0.0, {1.0, 1.0, 1.0}}},
+                                     {{0.0, 0.0}, {0.3, 0.0}, {0.35, 1.0}, {1.0, 1.0}}};
+        request.cut = crop_world({0.0, -1.0, -1.0}, glm::dvec3(1.0), false);
+        const Frame frame = render(request);
+        // The face is a disc of radius 0.35 (about 16 pixels) around the centre; its ring at 6 to
+        // 11 pixels against its middle.
+        double ring = 0.0;
+        int ring_count = 0;
+        double middle = 0.0;
+        int middle_count = 0;
+        for (int y = 0; y < 64; ++y) {
+            for (int x = 0; x < 64; ++x) {
+                const double r = std::hypot(x + 0.5 - 32.0, y + 0.5 - 32.0);
+                const double red = frame.image.pixel(x, y)[0];
+                if (r >= 6.0 && r <= 11.0) {
+                    ring += red;
+                    ++ring_count;
+                } else if (r <= 3.0) {
+                    middle += red;
+                    ++middle_count;
+                }
+            }
+        }
+        ring /= ring_count;
+        middle /= middle_count;
+        ASSERT_GT(middle, 150.0);
+        EXPECT_GT(ring, 0.95 * middle) << "ring " << ring << ", middle " << middle;
+    }
+}
+
+// A crop beside the volume leaves nothing: every mode draws the background.
+TEST_F(CutTest, ACropThatRemovesEverythingDrawsTheBackground) {
+    use(test::radial_volume(24));
+    for (const scene::Mode mode :
+         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::sbrc, scene::Mode::sbrc_shell,
+          scene::Mode::sbrc_cone, scene::Mode::half_angle, scene::Mode::reference}) {
+        SCOPED_TRACE(scene::to_string(mode));
+        scene::FrameRequest request = receiver_scene(mode);
+        request.settings.width = request.settings.height = 24;
+        request.settings.light_buffer.slices = 32;
+        request.settings.background = {0.2, 0.4, 0.6};
+        request.transfer_function = {"opaque", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.5}, {1.0, 1.0}}};
+        request.cut = crop_world(glm::dvec3(0.7), glm::dvec3(0.9), false);
+        const Frame frame = render(request);
+        for (int y = 0; y < 24; ++y) {
+            for (int x = 0; x < 24; ++x) {
+                const auto pixel = frame.image.pixel(x, y);
+                ASSERT_NEAR(pixel[0], 51, 1) << x << "," << y;
+                ASSERT_NEAR(pixel[1], 102, 1) << x << "," << y;
+                ASSERT_NEAR(pixel[2], 153, 1) << x << "," << y;
+            }
+        }
+    }
+}
+
+// The light buffer holds the cut when the cut tissue casts no shadow: changing the cut rebuilds it
+// once, moving the camera never does, and with context shadows the uncut buffer serves.
+TEST_F(CutTest, TheLightBufferIsRebuiltExactlyWhenTheCutChangesWhatTheLightMeets) {
+    use(test::radial_volume(24));
+    scene::FrameRequest request = receiver_scene(scene::Mode::sbrc);
+    request.settings.width = request.settings.height = 16;
+    request.settings.light_buffer.slices = 24;
+    request.settings.light_buffer.resolution = 24;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
+    request.cut = crop_world(glm::dvec3(-1.0), glm::dvec3(0.1, 1.0, 1.0), false);
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
+    request.camera = scene::orbit_camera(40.0, 20.0, 2.5);
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    request.cut.crop.max.x += 1.0;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
+    // Context shadows: the light meets the whole volume, whose buffer is still held.
+    const std::uint64_t builds = renderer_->light_buffer_builds();
+    request.cut.casts_shadows = true;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    request.cut.crop.min.y += 2.0;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    EXPECT_EQ(renderer_->light_buffer_builds(), builds);
+}
+
+}  // namespace
+}  // namespace penumbra::render
