@@ -201,6 +201,37 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
     return base::Ok{};
 }
 
+// The crop box, as X0,X1,Y0,Y1,Z0,Z1 in RAS millimetres: each axis's range, as Slicer's ROI and
+// VolView's crop read. The order within an axis does not matter; an empty range is validate's.
+base::Status read_cut(const po::variables_map& options, scene::Cut& cut) {
+    const auto text = value_of<std::string>(options, "crop");
+    if (!text) {
+        return base::Ok{};
+    }
+    auto numbers = base::parse_numbers(*text, "--crop");
+    if (!numbers) {
+        return numbers.error();
+    }
+    if (numbers->size() != 6) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "expects X0,X1,Y0,Y1,Z0,Z1 in RAS millimetres", "--crop");
+    }
+    cut.crop.enabled = true;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double a = (*numbers)[static_cast<std::size_t>(2 * axis)];
+        const double b = (*numbers)[static_cast<std::size_t>(2 * axis + 1)];
+        if (!(std::abs(a) <= scene::kCropReach && std::abs(b) <= scene::kCropReach)) {
+            return base::make_error(
+                    base::ErrorCode::invalid_argument,
+                    "must be " + scene::setting::crop_min.describe() + " in each component",
+                    "--crop");
+        }
+        cut.crop.min[axis] = std::min(a, b);
+        cut.crop.max[axis] = std::max(a, b);
+    }
+    return base::Ok{};
+}
+
 // Each setting of the table from its option, within its range; errors name the option. The
 // device's bounds (image size, slices, light-buffer resolution) are validate's to check.
 base::Status read_settings(const po::variables_map& options, FramePurpose purpose,
@@ -267,6 +298,9 @@ po::options_description frame_options(const std::vector<std::string>& swept, Fra
     add("light", text("AZ,EL", "10,45"), "directional light from these angles in degrees");
     add("light-position", triple("X,Y,Z"), "point light at this position instead");
     add("tf", text("PRESET|FILE.json"), tf_help());
+    add("crop", text("X0,X1,Y0,Y1,Z0,Z1"),
+        "draw only what lies within this box, in patient millimetres (RAS: x toward the "
+        "patient's right, y anterior, z superior; penumbra info prints the volume's)");
     for (const scene::Setting* setting : scene::kSettings) {
         if (has_option(*setting)) {
             add(option_of(*setting, defaults), value_of(*setting, defaults),
@@ -282,7 +316,7 @@ base::Result<scene::FrameRequest> frame_request_from(const po::variables_map& op
     scene::FrameRequest request = command_line_defaults(purpose);
     for (const base::Status& status :
          {read_camera(options, request.camera), read_light(options, request.light),
-          read_settings(options, purpose, request)}) {
+          read_cut(options, request.cut), read_settings(options, purpose, request)}) {
         if (!status) {
             return status.error();
         }

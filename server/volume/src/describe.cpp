@@ -44,6 +44,11 @@ std::string describe(const Volume& v, const std::string& source) {
                v.axes[0][row] * v.spacing.x, v.axes[1][row] * v.spacing.y,
                v.axes[2][row] * v.spacing.z, v.origin[row]);
     }
+    const PatientBounds bounds = patient_bounds(v);
+    append(text,
+           "bounds:      x %g..%g, y %g..%g, z %g..%g (RAS mm, the voxels' outer faces: "
+           "render --crop takes these)\n",
+           bounds.min.x, bounds.max.x, bounds.min.y, bounds.max.y, bounds.min.z, bounds.max.z);
     append(text, "voxel type:  %s\n", to_string(v.type));
     if (!v.rescale.identity()) {
         append(text, "rescale:     value = stored x %g %+g\n", v.rescale.slope,

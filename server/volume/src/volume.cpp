@@ -3,6 +3,7 @@
 
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -222,6 +223,22 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
         }
     }
     return volume;
+}
+
+PatientBounds patient_bounds(const Volume& volume) {
+    PatientBounds bounds{glm::dvec3(std::numeric_limits<double>::infinity()),
+                         glm::dvec3(-std::numeric_limits<double>::infinity())};
+    const glm::dvec3 last = glm::dvec3(volume.dims) - 1.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        // Voxel centres are at whole indices: the outer faces lie half a voxel beyond them.
+        const glm::dvec3 index((corner & 1) != 0 ? last.x + 0.5 : -0.5,
+                               (corner & 2) != 0 ? last.y + 0.5 : -0.5,
+                               (corner & 4) != 0 ? last.z + 0.5 : -0.5);
+        const glm::dvec3 patient = volume.origin + volume.axes * (volume.spacing * index);
+        bounds.min = glm::min(bounds.min, patient);
+        bounds.max = glm::max(bounds.max, patient);
+    }
+    return bounds;
 }
 
 glm::dvec3 lps_to_ras(glm::dvec3 lps) {

@@ -39,6 +39,9 @@ TEST(Describe, TheColin27HeadLineByLine) {
                       "  x =     1.0000 i    +0.0000 j    +0.0000 k   -90.0000",
                       "  y =     0.0000 i    +1.0000 j    +0.0000 k  -125.0000",
                       "  z =     0.0000 i    +0.0000 j    +1.0000 k   -71.0000",
+                      // Half a voxel beyond the first and last voxel centres.
+                      "bounds:      x -90.5..90.5, y -125.5..91.5, z -71.5..109.5 (RAS mm, the "
+                      "voxels' outer faces: render --crop takes these)",
                       "voxel type:  uint8",
                       "range:       0 .. 254",
               }));
@@ -51,11 +54,12 @@ TEST(Describe, TheHeadCtInHounsfieldUnitsAndItsHistogram) {
     ASSERT_TRUE(ct.ok()) << ct.error().to_string()
                          << " (the build converts it from Debian's invesalius-examples)";
     const std::vector<std::string> lines = lines_of(describe(*ct, PENUMBRA_CRANIUM_CT));
-    ASSERT_EQ(lines.size(), 11U);
+    ASSERT_EQ(lines.size(), 12U);
     EXPECT_EQ(lines[1], "dimensions:  256 x 256 x 108 (7077888 voxels)");
     EXPECT_EQ(lines[2], "spacing:     0.957031 x 0.957031 x 1.5");
-    EXPECT_EQ(lines[9], "voxel type:  int16");
-    EXPECT_EQ(lines[10], "range:       -1024 .. 2986 (Hounsfield units)");
+    EXPECT_EQ(lines[9].substr(0, 15), "bounds:      x ");
+    EXPECT_EQ(lines[10], "voxel type:  int16");
+    EXPECT_EQ(lines[11], "range:       -1024 .. 2986 (Hounsfield units)");
 
     const std::vector<std::string> histogram = lines_of(describe_histogram(*ct, 16));
     ASSERT_EQ(histogram.size(), 17U);
@@ -75,10 +79,13 @@ TEST(Describe, RescaleNotesAndReplacedVoxelsAreShown) {
     volume->rescale = {2.0, -1.5};
     volume->notes = {"opened the first of 2 volumes"};
     const std::vector<std::string> lines = lines_of(describe(*volume, "drops.raw"));
-    ASSERT_EQ(lines.size(), 14U);
-    EXPECT_EQ(lines[10], "rescale:     value = stored x 2 -1.5");
-    EXPECT_EQ(lines[12], "note:        opened the first of 2 volumes");
-    EXPECT_EQ(lines[13], "non-finite:  1 voxels replaced by the minimum");
+    ASSERT_EQ(lines.size(), 15U);
+    EXPECT_EQ(lines[9],
+              "bounds:      x -0.5..1.5, y -0.5..0.5, z -0.5..0.5 (RAS mm, the voxels' "
+              "outer faces: render --crop takes these)");
+    EXPECT_EQ(lines[11], "rescale:     value = stored x 2 -1.5");
+    EXPECT_EQ(lines[13], "note:        opened the first of 2 volumes");
+    EXPECT_EQ(lines[14], "non-finite:  1 voxels replaced by the minimum");
 }
 
 // The slices column counts what a load opens, not the frames (a mosaic's tiles, a second volume).

@@ -96,6 +96,15 @@ base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 s
 base::Result<Volume> make_volume(std::string name, glm::uvec3 dims, glm::dvec3 spacing,
                                  const std::vector<float>& values);
 
+// The smallest box in patient space (RAS millimetres, faces perpendicular to its axes) that holds
+// the volume's voxels whole, outer faces included: what a crop box that cuts nothing spans.
+struct PatientBounds {
+    glm::dvec3 min{0.0};
+    glm::dvec3 max{0.0};
+};
+
+[[nodiscard]] PatientBounds patient_bounds(const Volume& volume);
+
 // Penumbra's patient convention is RAS; DICOM and ITK write LPS. The conversion negates x and y
 // (its own inverse).
 [[nodiscard]] glm::dvec3 lps_to_ras(glm::dvec3 lps);
