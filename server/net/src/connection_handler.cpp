@@ -35,6 +35,10 @@ protocol::VolumeSummary summary_of(const session::VolumeSummary& v) {
         out.range[0] = v.min;
         out.range[1] = v.max;
         out.hounsfield = v.hounsfield;
+        for (int axis = 0; axis < 3; ++axis) {
+            out.bounds[0][axis] = v.bounds.min[axis];
+            out.bounds[1][axis] = v.bounds.max[axis];
+        }
     }
     return out;
 }

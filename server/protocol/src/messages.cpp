@@ -317,14 +317,19 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
 namespace {
 
 json volume_json(const VolumeSummary& v) {
-    return {{"id", v.id},
-            {"name", v.name},
-            {"dims", {v.dims[0], v.dims[1], v.dims[2]}},
-            {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
-            {"voxel_type", v.voxel_type},
-            {"range", {v.range[0], v.range[1]}},
-            {"hounsfield", v.hounsfield},
-            {"loaded", v.loaded}};
+    json out = {{"id", v.id},
+                {"name", v.name},
+                {"dims", {v.dims[0], v.dims[1], v.dims[2]}},
+                {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
+                {"voxel_type", v.voxel_type},
+                {"range", {v.range[0], v.range[1]}},
+                {"hounsfield", v.hounsfield},
+                {"loaded", v.loaded}};
+    if (v.loaded) {
+        out["bounds"] = {{v.bounds[0][0], v.bounds[0][1], v.bounds[0][2]},
+                         {v.bounds[1][0], v.bounds[1][1], v.bounds[1][2]}};
+    }
+    return out;
 }
 
 }  // namespace

@@ -161,6 +161,7 @@ VolumeSummary summarize(const std::string& id, const std::string& name,
         out.min = volume->range.min;
         out.max = volume->range.max;
         out.hounsfield = volume->hounsfield;
+        out.bounds = volume::patient_bounds(*volume);
     }
     return out;
 }

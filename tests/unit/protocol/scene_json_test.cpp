@@ -175,6 +175,26 @@ TEST(ApplyPatch, LeavesStateUnchangedWhenALaterPartFails) {
     EXPECT_EQ(state_to_json(state), before);
 }
 
+// The crop box travels in patient millimetres as it was set, and a box that is inverted or empty
+// on any axis is refused whole, naming the box.
+TEST(ApplyPatch, TakesACropBoxAndRefusesAnInvertedOne) {
+    scene::State state = preset_state("mri_skin");
+    ASSERT_TRUE(apply_patch(R"({"cut":{"crop":{"enabled":true,"min":[-20.5,-100,-60],
+                                               "max":[0,80,90]},"casts_shadows":true}})",
+                            state, Limits{})
+                        .ok());
+    EXPECT_TRUE(state.frame.cut.crop.enabled);
+    EXPECT_EQ(state.frame.cut.crop.min, glm::dvec3(-20.5, -100.0, -60.0));
+    EXPECT_EQ(state.frame.cut.crop.max, glm::dvec3(0.0, 80.0, 90.0));
+    EXPECT_TRUE(state.frame.cut.casts_shadows);
+    const std::string before = state_to_json(state);
+    const auto inverted = apply_patch(R"({"cut":{"crop":{"max":[-30,80,90]}}})", state, Limits{});
+    ASSERT_FALSE(inverted.ok());
+    EXPECT_EQ(inverted.error().code, base::ErrorCode::invalid_value);
+    EXPECT_EQ(inverted.error().where, "/cut/crop");
+    EXPECT_EQ(state_to_json(state), before);
+}
+
 TEST(ApplyPatch, RejectsMalformedAndNonObjectPatches) {
     scene::State state;
     const auto malformed = apply_patch("{", state, Limits{});

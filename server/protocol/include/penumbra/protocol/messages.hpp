@@ -168,6 +168,8 @@ struct VolumeSummary {
     double range[2] = {0, 0};
     bool hounsfield = false;  // the values are Hounsfield units: the CT presets suit it
     bool loaded = false;
+    // Once loaded: the box in patient space (RAS mm) that holds the voxels, min then max corner.
+    double bounds[2][3] = {{0, 0, 0}, {0, 0, 0}};
 };
 
 // Where the server's listing of its data folder stands, as `volumes` says it.

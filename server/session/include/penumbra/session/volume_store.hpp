@@ -37,7 +37,8 @@ struct VolumeSummary {
     std::string voxel_type;  // as the loaders name it ("uint8", "int16"...)
     double min = 0.0;        // the values' range, in real units
     double max = 0.0;
-    bool hounsfield = false;  // the values are Hounsfield units (a CT)
+    bool hounsfield = false;       // the values are Hounsfield units (a CT)
+    volume::PatientBounds bounds;  // where it lies in patient space: what a crop box cuts
 };
 
 // `volume` null: not loaded yet, called `name`; else the volume's own name and facts.
