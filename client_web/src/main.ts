@@ -21,6 +21,7 @@ import { VolumePicker } from './panels/volume_picker';
 import { SessionPanel } from './panels/session_panel';
 import { LightControl } from './panels/light_control';
 import { MethodPanel } from './panels/method_panel';
+import { CutPanel } from './panels/cut_panel';
 import { TfEditor } from './panels/tf_editor';
 import { TfModel, tfTerms } from './panels/tf_model';
 
@@ -63,6 +64,7 @@ function showSessionState(): void {
   const state = connection.session?.state;
   if (!state) return;
   light.update(state.light);
+  cutPanel.update(state);
   method.update(state);
 }
 
@@ -112,6 +114,7 @@ const tfEditor = new TfEditor(tfFolder, tfModel, (interactive) =>
 );
 const lightFolder = gui.addFolder('Light');
 const light = new LightControl(lightFolder, () => camera.toCamera(), change);
+const cutPanel = new CutPanel(gui.addFolder('Cut'), change);
 const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
   scale = s;
   change({ settings: { size: renderSize() } }, false);
@@ -141,6 +144,7 @@ function setEnabled(owner: boolean): void {
   picker.setEnabled(true);
   tfEditor.setEnabled(owner);
   light.setEnabled(owner);
+  cutPanel.setEnabled(owner);
   method.setEnabled(owner);
   document.body.classList.toggle('viewer', !owner);
   viewButtons.querySelectorAll('button').forEach((b) => (b.disabled = !owner));
@@ -239,6 +243,7 @@ connection.on('session', (info, restored) => {
   tfEditor.setHistogram(info.histogram);
   tfEditor.refresh();
   light.setScene({ volume: info.volume, camera: info.state.camera });
+  cutPanel.setVolume(info.volume);
   showSessionState();
   picker.updateVolume(info.volume);
   picker.select(info.volume.id);

@@ -24,6 +24,7 @@ import {
   type ViewName,
 } from '../src/protocol/messages';
 import type { Orbit } from '../src/interaction/orbit_camera';
+import { SETTINGS } from '../src/protocol/generated/server_tables';
 
 /** A `set`'s camera: any of the camera's members, or an orbit or a named view instead of the eye. */
 type CameraPatch = Partial<Camera> & { orbit?: Orbit; view?: ViewName };
@@ -306,6 +307,16 @@ function settingsSpec(
   );
 }
 
+/** The cut: the crop box's corners in RAS millimetres within the server's reach, and switches. */
+function cutSpec(ranges: SettingRanges): Spec {
+  const corner = vector(3, number(SETTINGS['cut/crop/min'].min, SETTINGS['cut/crop/min'].max));
+  return specAt(
+    'cut',
+    { crop: { enabled: boolean, min: corner, max: corner }, casts_shadows: boolean },
+    ranges,
+  );
+}
+
 function subtract(a: Vec3, b: Vec3): Vec3 {
   return [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 }
@@ -428,6 +439,7 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
           },
           transfer_function: checkTransferFunction(ranges, limits, presets),
           settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
+          cut: (v, at) => members(v, at, cutSpec(ranges)),
           output: (v, at) =>
             members(v, at, {
               encoding: oneOf(ENCODINGS),

@@ -425,6 +425,7 @@ describe('Connection', () => {
     expect((restore['settings'] as Record<string, unknown>)['mode']).toBe('sbrc_cone');
     expect(Object.keys(restore).sort()).toEqual([
       'camera',
+      'cut',
       'id',
       'light',
       'output',

@@ -47,6 +47,7 @@ export type Camera = StateSettings['camera'];
 export type Light = StateSettings['light'];
 export type Settings = StateSettings['settings'];
 export type Output = StateSettings['output'];
+export type Cut = StateSettings['cut'];
 
 /** A mode's name; the server's `hello` lists the modes it offers (ModeCapabilities). */
 export type Mode = Settings['mode'];
@@ -108,6 +109,7 @@ export interface StatePatch {
   light?: Partial<Light>;
   transfer_function?: TransferFunctionPatch;
   settings?: DeepPartial<Settings>;
+  cut?: DeepPartial<Cut>;
   output?: Partial<Output>;
 }
 
@@ -121,6 +123,8 @@ export interface VolumeSummary {
   /** The values are Hounsfield units: the CT presets (in HU) suit it. */
   hounsfield: boolean;
   loaded: boolean;
+  /** Once loaded: the box in patient space (RAS mm) holding the voxels, [min, max] corner. */
+  bounds?: [Vec3, Vec3];
 }
 
 /** The limits a server is configured with (`penumbra serve` options), named as hello.limits does. */
@@ -401,6 +405,17 @@ function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
   numbers(o, 'range', at, 2);
   bool(o, 'hounsfield', at);
   bool(o, 'loaded', at);
+  if (o['bounds'] !== undefined) {
+    const bounds = need(
+      Array.isArray(o['bounds']),
+      o['bounds'] as unknown[],
+      'two corners',
+      `${at}/bounds`,
+    );
+    need(bounds.length === 2, null, 'two corners', `${at}/bounds`);
+    numbers(bounds as unknown as Record<string, unknown>, '0', `${at}/bounds`, 3);
+    numbers(bounds as unknown as Record<string, unknown>, '1', `${at}/bounds`, 3);
+  }
   return o as unknown as VolumeSummary;
 }
 

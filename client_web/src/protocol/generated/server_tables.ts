@@ -90,6 +90,10 @@ export const SETTINGS = {
   'settings/empty_space_skipping': { kind: 'boolean', summary: "leap over the bricks the transfer function leaves transparent (the same image, faster)" },
   'settings/jitter': { kind: 'boolean', summary: "ray-cast modes: per-pixel jittered sample offsets (fine noise instead of rings)" },
   'settings/preintegration': { kind: 'boolean', summary: "classify the segment between two samples by both values (pre-integrated TF): no rings of the step on steep TFs" },
+  'cut/crop/enabled': { kind: 'boolean', summary: "draw only what lies inside the crop box" },
+  'cut/crop/min': { kind: 'vector', min: -10000, max: 10000, summary: "the crop box's corner toward the patient's left, posterior and inferior (RAS, mm)" },
+  'cut/crop/max': { kind: 'vector', min: -10000, max: 10000, summary: "the crop box's corner toward the patient's right, anterior and superior (RAS, mm)" },
+  'cut/casts_shadows': { kind: 'boolean', summary: "what the cut removes still casts shadows (context); off: it neither shows nor shadows (virtual dissection)" },
   'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
   'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "at most this many refinement steps follow a still frame (jittered ray casts); 0 = none" },
   'settings/refinement_threshold': { kind: 'number', min: 0, max: 255, summary: "refinement stops once a step changes the still by no more than this (RMS, 8-bit levels); 0 = only the step limit" },
@@ -204,6 +208,18 @@ export interface StateSettings {
       /** sbrc_cone: the disc centre's weight */
       cone_center_weight: number;
     };
+  };
+  cut: {
+    crop: {
+      /** draw only what lies inside the crop box */
+      enabled: boolean;
+      /** the crop box's corner toward the patient's left, posterior and inferior (RAS, mm) */
+      min: Vec3;
+      /** the crop box's corner toward the patient's right, anterior and superior (RAS, mm) */
+      max: Vec3;
+    };
+    /** what the cut removes still casts shadows (context); off: it neither shows nor shadows (virtual dissection) */
+    casts_shadows: boolean;
   };
   output: {
     /** the format frames are written in */
