@@ -32,3 +32,12 @@ done
 "$penumbra" render --mode reference --phong --size 256x256 --out out/modes/ch2_lookup_reference.png \
     >/dev/null
 oiiotool "${lookups[@]}" out/modes/ch2_lookup_reference.png --mosaic 3x1 -o "$out/ch2_light_lookup.png"
+# The head CT cut open at the midline, seen from the left with the light from the left: the cut
+# tissue casting no shadow (the default), casting it (--cut-shadows), and the soft tissue.
+ct=build/release/data/cranium_ct.nrrd
+cut=(--volume "$ct" --mode sbrc --phong --view left --size 256x256 --crop 122,250,-10,250,-10,170
+     --light -60,30)
+"$penumbra" render "${cut[@]}" --out "$out/cranium_ct_cut_dissection.png" >/dev/null
+"$penumbra" render "${cut[@]}" --cut-shadows --out "$out/cranium_ct_cut_context.png" >/dev/null
+"$penumbra" render "${cut[@]}" --tf ct_soft_tissue --out "$out/cranium_ct_cut_soft_tissue.png" \
+    >/dev/null
