@@ -139,9 +139,9 @@ INSTANTIATE_TEST_SUITE_P(
                           CutCase{scene::Mode::sbrc, scene::LightBufferBuilder::multi_slice},
                           CutCase{scene::Mode::sbrc, scene::LightBufferBuilder::per_slice},
                           CutCase{scene::Mode::half_angle, scene::LightBufferBuilder::multi_slice}),
-        [](const auto& info) {
-            return std::string(scene::to_string(info.param.mode)) + "_" +
-                   std::string(scene::to_string(info.param.builder));
+        [](const auto& param_info) {
+            return std::string(scene::to_string(param_info.param.mode)) + "_" +
+                   std::string(scene::to_string(param_info.param.builder));
         });
 
 // The GPU's region against the CPU reference's, from outside the volume and from inside it (the
