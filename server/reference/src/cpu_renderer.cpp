@@ -154,10 +154,12 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                 if (phong || shadows) {
                     optics::LightTerms terms;
                     if (phong) {
-                        const glm::dvec3 normal = normal_from_gradient(
-                                optics::gradient_at_cut(region, lit, sampler.gradient(lit),
-                                                        sampler.value(lit), reach),
-                                sampler);
+                        glm::dvec3 gradient = sampler.gradient(lit);
+                        if (region.count > 0) {  // as raycast.glsl: no extra fetch without a cut
+                            gradient = optics::gradient_at_cut(region, lit, gradient,
+                                                               sampler.value(lit), reach);
+                        }
+                        const glm::dvec3 normal = normal_from_gradient(gradient, sampler);
                         terms = optics::blinn_phong(normal, direction_to_light(request.light, lit),
                                                     -direction, s.shading.shininess);
                     } else {
