@@ -310,9 +310,22 @@ function settingsSpec(
 /** The cut: the crop box's corners in RAS millimetres within the server's reach, and switches. */
 function cutSpec(ranges: SettingRanges): Spec {
   const corner = vector(3, number(SETTINGS['cut/crop/min'].min, SETTINGS['cut/crop/min'].max));
+  const plane = {
+    enabled: boolean,
+    point: vector(3, number(SETTINGS['cut/plane_1/point'].min, SETTINGS['cut/plane_1/point'].max)),
+    normal: vector(
+      3,
+      number(SETTINGS['cut/plane_1/normal'].min, SETTINGS['cut/plane_1/normal'].max),
+    ),
+  };
+  const planes = Object.fromEntries(
+    Object.keys(SETTINGS)
+      .filter((path) => /^cut\/plane_\d+\/enabled$/.test(path))
+      .map((path) => [path.split('/')[1]!, plane]),
+  );
   return specAt(
     'cut',
-    { crop: { enabled: boolean, min: corner, max: corner }, casts_shadows: boolean },
+    { crop: { enabled: boolean, min: corner, max: corner }, ...planes, casts_shadows: boolean },
     ranges,
   );
 }

@@ -1,7 +1,7 @@
-// The region drawn: the volume's box cut down by half-spaces (the crop box's faces). Mirrors
-// server/optics/include/penumbra/optics/region.hpp line for line. Camera rays clip by the first
-// u.region_counts.x half-spaces; what carries light by the first u.region_counts.y, which is 0
-// when the cut tissue still casts shadows.
+// The region drawn: the volume's box cut down by half-spaces (the crop box's faces, the clip
+// planes). Mirrors server/optics/include/penumbra/optics/region.hpp line for line. Camera rays
+// clip by the first u.region_counts.x half-spaces; what carries light by the first
+// u.region_counts.y, which is 0 when the cut tissue still casts shadows.
 #include "include/ray.glsl"
 
 const int REGION_CAMERA = 0;

@@ -7,7 +7,11 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -201,9 +205,19 @@ base::Status read_light(const po::variables_map& options, scene::Light& light) {
     return base::Ok{};
 }
 
+// Whether each component of `value` is one `row` may take; the error names the option.
+base::Status check_components(const scene::Setting& row, glm::dvec3 value,
+                              const std::string& option) {
+    if (!scene::validate_value(row, value, scene::Limits{})) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "must be " + row.describe() + " in each component", option);
+    }
+    return base::Ok{};
+}
+
 // The crop box, as X0,X1,Y0,Y1,Z0,Z1 in RAS millimetres: each axis's range, as Slicer's ROI and
 // VolView's crop read. The order within an axis does not matter; an empty range is validate's.
-base::Status read_cut(const po::variables_map& options, scene::Cut& cut) {
+base::Status read_crop(const po::variables_map& options, scene::Cut& cut) {
     const auto text = value_of<std::string>(options, "crop");
     if (!text) {
         return base::Ok{};
@@ -216,20 +230,64 @@ base::Status read_cut(const po::variables_map& options, scene::Cut& cut) {
         return base::make_error(base::ErrorCode::invalid_argument,
                                 "expects X0,X1,Y0,Y1,Z0,Z1 in RAS millimetres", "--crop");
     }
-    cut.crop.enabled = true;
-    for (int axis = 0; axis < 3; ++axis) {
-        const double a = (*numbers)[static_cast<std::size_t>(2 * axis)];
-        const double b = (*numbers)[static_cast<std::size_t>(2 * axis + 1)];
-        if (!(std::abs(a) <= scene::kCropReach && std::abs(b) <= scene::kCropReach)) {
-            return base::make_error(
-                    base::ErrorCode::invalid_argument,
-                    "must be " + scene::setting::crop_min.describe() + " in each component",
-                    "--crop");
+    const auto& n = *numbers;
+    const glm::dvec3 a(n[0], n[2], n[4]);
+    const glm::dvec3 b(n[1], n[3], n[5]);
+    for (const glm::dvec3& corner : {a, b}) {
+        if (auto status = check_components(scene::setting::crop_min, corner, "--crop"); !status) {
+            return status;
         }
-        cut.crop.min[axis] = std::min(a, b);
-        cut.crop.max[axis] = std::max(a, b);
+    }
+    cut.crop = {true, glm::min(a, b), glm::max(a, b)};
+    return base::Ok{};
+}
+
+// Each --clip-plane PX,PY,PZ,NX,NY,NZ (RAS millimetres; the normal toward the side kept, any
+// length but zero) fills the next of the cut's planes.
+base::Status read_clip_planes(const po::variables_map& options, scene::Cut& cut) {
+    const auto texts = value_of<std::vector<std::string>>(options, "clip-plane");
+    if (!texts) {
+        return base::Ok{};
+    }
+    if (texts->size() > cut.planes.size()) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "at most " + std::to_string(cut.planes.size()) + " clip planes",
+                                "--clip-plane");
+    }
+    for (std::size_t i = 0; i < texts->size(); ++i) {
+        auto numbers = base::parse_numbers((*texts)[i], "--clip-plane");
+        if (!numbers) {
+            return numbers.error();
+        }
+        if (numbers->size() != 6) {
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "expects PX,PY,PZ,NX,NY,NZ: a point in RAS millimetres and "
+                                    "the normal toward the side kept",
+                                    "--clip-plane");
+        }
+        const auto& n = *numbers;
+        const glm::dvec3 point(n[0], n[1], n[2]);
+        const glm::dvec3 normal(n[3], n[4], n[5]);
+        const double length = glm::length(normal);
+        if (!(length > 1e-9) || !std::isfinite(length)) {
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "the normal must be finite and not zero", "--clip-plane");
+        }
+        // A plane's point ranges as the crop box's corners.
+        if (auto status = check_components(scene::setting::crop_min, point, "--clip-plane");
+            !status) {
+            return status;
+        }
+        cut.planes[i] = {true, point, normal / length};
     }
     return base::Ok{};
+}
+
+base::Status read_cut(const po::variables_map& options, scene::Cut& cut) {
+    if (auto status = read_crop(options, cut); !status) {
+        return status;
+    }
+    return read_clip_planes(options, cut);
 }
 
 // Each setting of the table from its option, within its range; errors name the option. The
@@ -301,6 +359,11 @@ po::options_description frame_options(const std::vector<std::string>& swept, Fra
     add("crop", text("X0,X1,Y0,Y1,Z0,Z1"),
         "draw only what lies within this box, in patient millimetres (RAS: x toward the "
         "patient's right, y anterior, z superior; penumbra info prints the volume's)");
+    options.add_options()(
+            "clip-plane",
+            po::value<std::vector<std::string>>()->composing()->value_name("PX,PY,PZ,NX,NY,NZ"),
+            "cut by the plane through this point (patient millimetres, RAS) with "
+            "this normal, keeping the side it points to; up to 6, one option each");
     for (const scene::Setting* setting : scene::kSettings) {
         if (has_option(*setting)) {
             add(option_of(*setting, defaults), value_of(*setting, defaults),

@@ -61,7 +61,7 @@ std::vector<std::string> parts_of(std::string_view field) {
 
 // The node of a range's field, made where it is missing: "settings/scattering/shell_rings" is
 // $defs/settings/properties/scattering/properties/shell_rings; "vec3" and "rgb" are the items of
-// those $defs.
+// those $defs. An object made on the way ("cut/plane_1") takes only the members its rows declare.
 json& node_of(json& defs, std::string_view field) {
     if (field == "vec3" || field == "rgb") {
         return defs[std::string(field)]["items"];
@@ -70,6 +70,9 @@ json& node_of(json& defs, std::string_view field) {
     json* node = &defs[parts.front()];
     for (std::size_t i = 1; i < parts.size(); ++i) {
         node = &(*node)["properties"][parts[i]];
+        if (i + 1 < parts.size() && node->is_null()) {
+            *node = {{"type", "object"}, {"additionalProperties", false}};
+        }
     }
     return *node;
 }

@@ -18,6 +18,14 @@ Region region_of(const scene::Box& box, const scene::Cut& cut,
             region.half_spaces[static_cast<std::size_t>(region.count++)] = {-normal, high[axis]};
         }
     }
+    for (const scene::ClipPlane& plane : cut.planes) {
+        if (plane.enabled) {
+            // No rotation between the two spaces: a plane's normal is the same in both.
+            const glm::dvec3 normal = glm::normalize(plane.normal);
+            region.half_spaces[static_cast<std::size_t>(region.count++)] = {
+                    normal, -glm::dot(normal, placement.to_world(plane.point))};
+        }
+    }
     region.light_count = cut.casts_shadows ? 0 : region.count;
     return region;
 }

@@ -112,6 +112,12 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
                            "or empty box); to draw nothing, move the box off the volume");
         }
     }
+    for (std::size_t i = 0; i < request.cut.planes.size(); ++i) {
+        if (glm::length(request.cut.planes[i].normal) < 1e-9) {
+            return invalid("cut.plane_" + std::to_string(i + 1) + ".normal",
+                           "a clip plane needs a non-zero normal");
+        }
+    }
     const Camera& c = request.camera;
     if (glm::length(c.target - c.eye) < 1e-9) {
         return invalid("camera", "camera eye and target must differ");

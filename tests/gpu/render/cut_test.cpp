@@ -1,6 +1,7 @@
-// Cutting into the volume: a crop box that every pass asks (optics::Region), with the tissue it
-// removes casting no shadow (a virtual dissection) or still casting it (context shadows), checked
-// against analytic transmittance, against the CPU reference and for the light buffer's reuse.
+// Cutting into the volume: a crop box and clip planes that every pass asks (optics::Region), with
+// the tissue they remove casting no shadow (a virtual dissection) or still casting it (context
+// shadows), checked against analytic transmittance, against the CPU reference and for the light
+// buffer's reuse.
 
 #include "synthetic_volumes.hpp"
 
@@ -46,6 +47,14 @@ protected:
         cut.crop = {true, placement.to_patient(low), placement.to_patient(high)};
         cut.casts_shadows = casts_shadows;
         return cut;
+    }
+
+    // A clip plane in patient millimetres through a point of world space; the normal is the same
+    // in both spaces, which differ by a move and a scale.
+    [[nodiscard]] scene::ClipPlane plane_world(glm::dvec3 point, glm::dvec3 normal) const {
+        const scene::PatientPlacement placement = scene::patient_placement(
+                volume_->origin, volume_->axes, volume_->spacing, glm::dvec3(volume_->dims));
+        return {true, placement.to_patient(point), normal};
     }
 
     std::unique_ptr<Renderer> renderer_;
@@ -131,6 +140,29 @@ TEST_P(CutShadowTest, CutTissueCastsNoShadowUnlessAsked) {
     const Frame context = render(request);
     EXPECT_NEAR(receiver_red(context, 40, 47) / receiver_red(context, 17, 24), expected, 0.01);
     EXPECT_EQ(brightest_on_slab(context), 0.0);
+
+    // The same with a tilted plane (x <= 0.1 + 0.2 z kept: the slab goes, the receiver stays).
+    request.cut = {};
+    request.cut.planes[3] = plane_world({0.1, 0.0, 0.0}, {-1.0, 0.0, 0.2});
+    const Frame planed = render(request);
+    EXPECT_NEAR(receiver_red(planed, 40, 47) / receiver_red(planed, 17, 24), 1.0, 0.01);
+    EXPECT_NEAR(receiver_red(planed, 17, 24), lit, 1.0);
+    EXPECT_EQ(brightest_on_slab(planed), 0.0);
+    request.cut.casts_shadows = true;
+    const Frame planed_context = render(request);
+    EXPECT_NEAR(receiver_red(planed_context, 40, 47) / receiver_red(planed_context, 17, 24),
+                expected, 0.01);
+
+    // A plane that holds the light's direction (z >= 0 kept, the light along -x): what it keeps
+    // is shadowed by what it keeps alone, the slab's upper half, as before the cut.
+    for (const bool casts_shadows : {false, true}) {
+        request.cut = {};
+        request.cut.planes[0] = plane_world({0.0, 0.0, 0.0}, {0.0, 0.0, 1.0});
+        request.cut.casts_shadows = casts_shadows;
+        const Frame halved = render(request);
+        EXPECT_NEAR(receiver_red(halved, 40, 47) / receiver_red(halved, 17, 24), expected, 0.01)
+                << (casts_shadows ? "context shadows" : "dissection");
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -160,6 +192,8 @@ TEST_F(CutTest, GpuMatchesTheCpuReferenceWithACrop) {
             {"inside the kept part", {{-0.1, -0.15, 0.1}, {0.2, 0.3, -0.1}, {0.0, 0.0, 1.0}, 60.0}},
             {"inside the cut-away part",
              {{0.3, 0.3, 0.2}, {-0.2, -0.1, 0.0}, {0.0, 0.0, 1.0}, 60.0}},
+            {"inside the crop, cut away by the plane",
+             {{0.0, 0.1, 0.42}, {-0.1, -0.2, 0.0}, {0.0, 0.0, 1.0}, 60.0}},
     };
     for (const Eye& eye : eyes) {
         for (const bool casts_shadows : {false, true}) {
@@ -178,13 +212,20 @@ TEST_F(CutTest, GpuMatchesTheCpuReferenceWithACrop) {
                                          {{0.0, {1.0, 0.9, 0.8}}, {1.0, {1.0, 1.0, 1.0}}},
                                          {{0.0, 0.0}, {0.3, 0.0}, {1.0, 0.15}}};
             request.cut = crop_world({-0.6, -0.6, -0.12}, {0.1, 0.15, 0.6}, casts_shadows);
-            const Frame frame = render(request);
-            auto expected = reference::render_cpu(volume, request);
-            ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-            auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
-            ASSERT_TRUE(difference.ok());
-            EXPECT_LE(difference->max_error, 3.0 / 255.0);
-            EXPECT_LE(difference->mean_error, 0.6 / 255.0);
+            // With a tilted plane as well, which also removes the last eye, inside the crop.
+            for (const bool planed : {false, true}) {
+                SCOPED_TRACE(planed ? "crop and plane" : "crop");
+                if (planed) {
+                    request.cut.planes[5] = plane_world({0.0, 0.0, 0.3}, {0.2, -0.5, -0.4});
+                }
+                const Frame frame = render(request);
+                auto expected = reference::render_cpu(volume, request);
+                ASSERT_TRUE(expected.ok()) << expected.error().to_string();
+                auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+                ASSERT_TRUE(difference.ok());
+                EXPECT_LE(difference->max_error, 3.0 / 255.0);
+                EXPECT_LE(difference->mean_error, 0.6 / 255.0);
+            }
         }
     }
 }
@@ -239,27 +280,75 @@ TEST_F(CutTest, ACutFaceIsShadedAsASurfaceFacingOutOfTheCut) {
     }
 }
 
-// A crop beside the volume leaves nothing: every mode draws the background.
-TEST_F(CutTest, ACropThatRemovesEverythingDrawsTheBackground) {
+// A crop beside the volume, or a plane that keeps only what lies beyond it, leaves nothing: every
+// mode draws the background.
+TEST_F(CutTest, ACutThatRemovesEverythingDrawsTheBackground) {
     use(test::radial_volume(24));
-    for (const scene::Mode mode :
-         {scene::Mode::dvr, scene::Mode::phong, scene::Mode::sbrc, scene::Mode::sbrc_shell,
-          scene::Mode::sbrc_cone, scene::Mode::half_angle, scene::Mode::reference}) {
-        SCOPED_TRACE(scene::to_string(mode));
-        scene::FrameRequest request = receiver_scene(mode);
-        request.settings.width = request.settings.height = 24;
-        request.settings.light_buffer.slices = 32;
-        request.settings.background = {0.2, 0.4, 0.6};
-        request.transfer_function = {"opaque", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.5}, {1.0, 1.0}}};
-        request.cut = crop_world(glm::dvec3(0.7), glm::dvec3(0.9), false);
-        const Frame frame = render(request);
-        for (int y = 0; y < 24; ++y) {
-            for (int x = 0; x < 24; ++x) {
-                const auto pixel = frame.image.pixel(x, y);
-                ASSERT_NEAR(pixel[0], 51, 1) << x << "," << y;
-                ASSERT_NEAR(pixel[1], 102, 1) << x << "," << y;
-                ASSERT_NEAR(pixel[2], 153, 1) << x << "," << y;
+    scene::Cut beyond_plane;
+    beyond_plane.planes[2] = plane_world({0.55, 0.0, 0.0}, {1.0, 0.1, 0.0});
+    for (const scene::Cut& cut :
+         {crop_world(glm::dvec3(0.7), glm::dvec3(0.9), false), beyond_plane}) {
+        for (const scene::Mode mode :
+             {scene::Mode::dvr, scene::Mode::phong, scene::Mode::sbrc, scene::Mode::sbrc_shell,
+              scene::Mode::sbrc_cone, scene::Mode::half_angle, scene::Mode::reference}) {
+            SCOPED_TRACE(scene::to_string(mode));
+            scene::FrameRequest request = receiver_scene(mode);
+            request.settings.width = request.settings.height = 24;
+            request.settings.light_buffer.slices = 32;
+            request.settings.background = {0.2, 0.4, 0.6};
+            request.transfer_function = {
+                    "opaque", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.5}, {1.0, 1.0}}};
+            request.cut = cut;
+            const Frame frame = render(request);
+            for (int y = 0; y < 24; ++y) {
+                for (int x = 0; x < 24; ++x) {
+                    const auto pixel = frame.image.pixel(x, y);
+                    ASSERT_NEAR(pixel[0], 51, 1) << x << "," << y;
+                    ASSERT_NEAR(pixel[1], 102, 1) << x << "," << y;
+                    ASSERT_NEAR(pixel[2], 153, 1) << x << "," << y;
+                }
             }
+        }
+    }
+}
+
+// A plane exactly on a face between bricks of the empty-space map (8 voxels: world x = 0 in a
+// 32-voxel volume), and a crop thinner than a voxel against that face: skipping the bricks the
+// region leaves out must not lose the layer beside the face, so frames with and without skipping
+// agree.
+TEST_F(CutTest, ACutOnABrickFaceKeepsTheLayerBesideIt) {
+    use(test::radial_volume(32));
+    scene::Cut on_face;
+    on_face.planes[0] = plane_world({0.0, 0.0, 0.0}, {1.0, 0.0, 0.0});
+    const scene::Cut thin = crop_world({0.0, -1.0, -1.0}, {1.0 / 64.0, 1.0, 1.0}, false);
+    for (const scene::Cut& cut : {on_face, thin}) {
+        for (const scene::Mode mode : {scene::Mode::phong, scene::Mode::sbrc}) {
+            SCOPED_TRACE(scene::to_string(mode));
+            scene::FrameRequest request;
+            request.camera = scene::orbit_camera(-70.0, 15.0, 2.4);
+            request.settings.mode = mode;
+            request.settings.width = request.settings.height = 48;
+            request.settings.light_buffer.slices = 64;
+            request.settings.light_buffer.resolution = 48;
+            request.transfer_function = {"shell",
+                                         {{0.0, {1.0, 1.0, 1.0}}},
+                                         {{0.0, 0.0}, {0.2, 0.0}, {0.3, 0.4}, {1.0, 0.4}}};
+            request.cut = cut;
+            request.settings.empty_space_skipping = true;
+            const Frame skipping = render(request);
+            request.settings.empty_space_skipping = false;
+            const Frame marching = render(request);
+            auto difference = encode::compare_images(base::to_rgba_f(skipping.image),
+                                                     base::to_rgba_f(marching.image));
+            ASSERT_TRUE(difference.ok());
+            EXPECT_LE(difference->max_error, 2.0 / 255.0);
+            double drawn = 0.0;
+            for (int y = 0; y < 48; ++y) {
+                for (int x = 0; x < 48; ++x) {
+                    drawn = std::max(drawn, static_cast<double>(skipping.image.pixel(x, y)[0]));
+                }
+            }
+            EXPECT_GT(drawn, 20.0) << "the layer beside the face is drawn";
         }
     }
 }

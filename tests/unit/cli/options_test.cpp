@@ -235,6 +235,48 @@ TEST(RenderOptions, BuildsAValidRequestAndReportsBadOptions) {
             << distance_error.message;
 }
 
+// --crop takes each axis's range in either order; each --clip-plane fills the next plane, its
+// normal made unit length; bad counts, zero normals, values beyond the range and more planes than
+// the cut holds are refused naming the option.
+TEST(RenderOptions, CropAndClipPlanesAreReadInPatientMillimetres) {
+    const volume::Volume volume = test::constant_volume({4, 4, 4}, 1.0f);
+    auto args = parse_options({"--crop", "10,-20,0,5,-3,30", "--clip-plane", "1,2,3,0,0,-2",
+                               "--clip-plane", "-4,0,0,3,4,0", "--cut-shadows"},
+                              frame_options());
+    ASSERT_TRUE(args.ok()) << args.error().to_string();
+    auto request = frame_request_from(*args, volume);
+    ASSERT_TRUE(request.ok()) << request.error().to_string();
+    const scene::Cut& cut = request->cut;
+    EXPECT_TRUE(cut.crop.enabled);
+    EXPECT_EQ(cut.crop.min, glm::dvec3(-20.0, 0.0, -3.0));
+    EXPECT_EQ(cut.crop.max, glm::dvec3(10.0, 5.0, 30.0));
+    EXPECT_TRUE(cut.casts_shadows);
+    EXPECT_EQ(cut.planes[0], (scene::ClipPlane{true, {1.0, 2.0, 3.0}, {0.0, 0.0, -1.0}}));
+    EXPECT_EQ(cut.planes[1].point, glm::dvec3(-4.0, 0.0, 0.0));
+    EXPECT_NEAR(glm::distance(cut.planes[1].normal, glm::dvec3(0.6, 0.8, 0.0)), 0.0, 1e-12);
+    EXPECT_FALSE(cut.planes[2].enabled);
+
+    const auto error_of = [&](std::vector<std::string> options) {
+        auto parsed = parse_options(options, frame_options());
+        EXPECT_TRUE(parsed.ok());
+        auto made = frame_request_from(*parsed, volume);
+        return made.ok() ? base::Error{} : made.error();
+    };
+    EXPECT_EQ(error_of({"--crop", "1,2,3"}).where, "--crop");
+    EXPECT_EQ(error_of({"--crop", "0,1,0,1,0,20000"}).where, "--crop");
+    EXPECT_EQ(error_of({"--crop", "0,1,0,0,0,1"}).where, "cut.crop");
+    EXPECT_EQ(error_of({"--clip-plane", "1,2,3,0,0"}).where, "--clip-plane");
+    EXPECT_EQ(error_of({"--clip-plane", "1,2,3,0,0,0"}).where, "--clip-plane");
+    EXPECT_EQ(error_of({"--clip-plane", "1,2,30000,0,0,1"}).where, "--clip-plane");
+    std::vector<std::string> seven;
+    for (int i = 0; i <= scene::kMaxClipPlanes; ++i) {
+        seven.insert(seven.end(), {"--clip-plane", "0,0,0,1,0,0"});
+    }
+    const base::Error too_many = error_of(seven);
+    EXPECT_EQ(too_many.where, "--clip-plane");
+    EXPECT_NE(too_many.message.find("at most 6"), std::string::npos) << too_many.message;
+}
+
 // Without --tf a CT (values in HU) shows its bone, as a new serve session on it does; any other
 // volume the MRI skin.
 TEST(RenderOptions, TheDefaultTransferFunctionFollowsTheVolumesUnits) {

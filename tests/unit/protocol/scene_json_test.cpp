@@ -195,6 +195,37 @@ TEST(ApplyPatch, TakesACropBoxAndRefusesAnInvertedOne) {
     EXPECT_EQ(state_to_json(state), before);
 }
 
+// A clip plane travels as set (its normal any length but zero); a zero normal is refused naming
+// the plane's normal, and the state is left as it was.
+TEST(ApplyPatch, TakesAClipPlaneAndRefusesAZeroNormal) {
+    scene::State state = preset_state("mri_skin");
+    ASSERT_TRUE(apply_patch(R"({"cut":{"plane_3":{"enabled":true,"point":[1,-2,30.5],
+                                                  "normal":[0,0.6,-0.8]}}})",
+                            state, Limits{})
+                        .ok());
+    const scene::ClipPlane& plane = state.frame.cut.planes[2];
+    EXPECT_TRUE(plane.enabled);
+    EXPECT_EQ(plane.point, glm::dvec3(1.0, -2.0, 30.5));
+    EXPECT_EQ(plane.normal, glm::dvec3(0.0, 0.6, -0.8));
+    EXPECT_FALSE(state.frame.cut.planes[0].enabled);
+    const std::string before = state_to_json(state);
+    EXPECT_NE(
+            before.find(
+                    R"("plane_3":{"enabled":true,"normal":[0.0,0.6,-0.8],"point":[1.0,-2.0,30.5]})"),
+            std::string::npos)
+            << before;
+    const auto zero = apply_patch(R"({"cut":{"plane_6":{"normal":[0,0,0]}}})", state, Limits{});
+    ASSERT_FALSE(zero.ok());
+    EXPECT_EQ(zero.error().code, base::ErrorCode::invalid_value);
+    EXPECT_EQ(zero.error().where, "/cut/plane_6/normal");
+    const auto long_normal =
+            apply_patch(R"({"cut":{"plane_1":{"normal":[0,0,2]}}})", state, Limits{});
+    ASSERT_FALSE(long_normal.ok());
+    EXPECT_EQ(long_normal.error().code, base::ErrorCode::out_of_range);
+    EXPECT_EQ(long_normal.error().where, "/cut/plane_1/normal/2");
+    EXPECT_EQ(state_to_json(state), before);
+}
+
 TEST(ApplyPatch, RejectsMalformedAndNonObjectPatches) {
     scene::State state;
     const auto malformed = apply_patch("{", state, Limits{});

@@ -93,6 +93,24 @@ export const SETTINGS = {
   'cut/crop/enabled': { kind: 'boolean', summary: "draw only what lies inside the crop box" },
   'cut/crop/min': { kind: 'vector', min: -10000, max: 10000, summary: "the crop box's corner toward the patient's left, posterior and inferior (RAS, mm)" },
   'cut/crop/max': { kind: 'vector', min: -10000, max: 10000, summary: "the crop box's corner toward the patient's right, anterior and superior (RAS, mm)" },
+  'cut/plane_1/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_1/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_1/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
+  'cut/plane_2/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_2/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_2/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
+  'cut/plane_3/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_3/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_3/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
+  'cut/plane_4/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_4/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_4/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
+  'cut/plane_5/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_5/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_5/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
+  'cut/plane_6/enabled': { kind: 'boolean', summary: "cut by this plane, keeping the side its normal points to" },
+  'cut/plane_6/point': { kind: 'vector', min: -10000, max: 10000, summary: "a point of the plane (RAS, mm)" },
+  'cut/plane_6/normal': { kind: 'vector', min: -1, max: 1, summary: "the plane's normal, toward the side kept (RAS); not zero" },
   'cut/casts_shadows': { kind: 'boolean', summary: "what the cut removes still casts shadows (context); off: it neither shows nor shadows (virtual dissection)" },
   'settings/frame_budget_ms': { kind: 'number', min: 0, max: 60000, summary: "milliseconds a frame may take: the server picks the method and quality; 0 = as set" },
   'settings/refinement_steps': { kind: 'integer', min: 0, max: 256, summary: "at most this many refinement steps follow a still frame (jittered ray casts); 0 = none" },
@@ -217,6 +235,54 @@ export interface StateSettings {
       min: Vec3;
       /** the crop box's corner toward the patient's right, anterior and superior (RAS, mm) */
       max: Vec3;
+    };
+    plane_1: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
+    };
+    plane_2: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
+    };
+    plane_3: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
+    };
+    plane_4: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
+    };
+    plane_5: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
+    };
+    plane_6: {
+      /** cut by this plane, keeping the side its normal points to */
+      enabled: boolean;
+      /** a point of the plane (RAS, mm) */
+      point: Vec3;
+      /** the plane's normal, toward the side kept (RAS); not zero */
+      normal: Vec3;
     };
     /** what the cut removes still casts shadows (context); off: it neither shows nor shadows (virtual dissection) */
     casts_shadows: boolean;

@@ -23,8 +23,8 @@ struct HalfSpace {
     bool operator==(const HalfSpace&) const = default;
 };
 
-// The crop box's six faces, and six more for clip planes.
-inline constexpr int kMaxHalfSpaces = 12;
+// The crop box's six faces and the clip planes.
+inline constexpr int kMaxHalfSpaces = 6 + scene::kMaxClipPlanes;
 
 // Who asks. Camera rays always see the cut. What carries light (the light-buffer builders, the
 // local lookup's march through a slab, the reference's shadow rays, half-angle's light pass) sees

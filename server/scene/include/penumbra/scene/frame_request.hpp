@@ -211,12 +211,27 @@ struct CropBox {
     bool operator==(const CropBox&) const = default;
 };
 
+// How many planes a cut may hold, as vtk.js's volume mapper: six, one per face of a box turned any
+// way.
+inline constexpr int kMaxClipPlanes = 6;
+
+// A plane that cuts the volume, keeping the side its normal points to, in patient coordinates
+// (RAS millimetres) as the crop box. The normal need not be unit length, only not zero (validate).
+struct ClipPlane {
+    bool enabled = false;
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0.0, 0.0, 1.0};
+
+    bool operator==(const ClipPlane&) const = default;
+};
+
 // What a user cut away, and whether it still casts shadows: off, a virtual dissection (what is cut
 // away neither shows nor shadows what remains); on, the cut only opens a window and the light
 // falls as on the whole volume (context shadows). The region drawn is the volume's box cut down by
 // it (optics/region.hpp).
 struct Cut {
     CropBox crop;
+    std::array<ClipPlane, kMaxClipPlanes> planes{};
     bool casts_shadows = false;
 
     bool operator==(const Cut&) const = default;
@@ -513,6 +528,60 @@ inline constexpr Setting crop_max = frame_setting(
                     "(RAS, mm)",
          .command_line = CommandLine::by_hand},
         [](auto& f) -> auto& { return f.cut.crop.max; });
+
+// The clip planes, each a row for its switch, its point and its normal: "cut/plane_1/enabled" ...
+// "cut/plane_6/normal".
+namespace detail {
+
+inline constexpr std::array<std::array<std::string_view, 3>, kMaxClipPlanes> kClipPlanePaths{{
+        {"cut/plane_1/enabled", "cut/plane_1/point", "cut/plane_1/normal"},
+        {"cut/plane_2/enabled", "cut/plane_2/point", "cut/plane_2/normal"},
+        {"cut/plane_3/enabled", "cut/plane_3/point", "cut/plane_3/normal"},
+        {"cut/plane_4/enabled", "cut/plane_4/point", "cut/plane_4/normal"},
+        {"cut/plane_5/enabled", "cut/plane_5/point", "cut/plane_5/normal"},
+        {"cut/plane_6/enabled", "cut/plane_6/point", "cut/plane_6/normal"},
+}};
+
+template <std::size_t Plane>
+constexpr std::array<Setting, 3> clip_plane_rows() {
+    const auto& paths = kClipPlanePaths[Plane];
+    return {frame_setting(
+                    paths[0],
+                    {.summary = "cut by this plane, keeping the side its normal points to",
+                     .command_line = CommandLine::by_hand},
+                    [](auto& f) -> auto& { return f.cut.planes[Plane].enabled; }),
+            frame_setting(
+                    paths[1],
+                    {.min = -kCropReach,
+                     .max = kCropReach,
+                     .summary = "a point of the plane (RAS, mm)",
+                     .command_line = CommandLine::by_hand},
+                    [](auto& f) -> auto& { return f.cut.planes[Plane].point; }),
+            frame_setting(
+                    paths[2],
+                    {.min = -1.0,
+                     .max = 1.0,
+                     .summary = "the plane's normal, toward the side kept (RAS); not zero",
+                     .command_line = CommandLine::by_hand},
+                    [](auto& f) -> auto& { return f.cut.planes[Plane].normal; })};
+}
+
+template <std::size_t... Plane>
+constexpr auto all_clip_plane_rows(std::index_sequence<Plane...>) {
+    std::array<Setting, 3 * sizeof...(Plane)> rows{};
+    std::size_t next = 0;
+    for (const auto& plane : {clip_plane_rows<Plane>()...}) {
+        for (const Setting& row : plane) {
+            rows[next++] = row;
+        }
+    }
+    return rows;
+}
+
+}  // namespace detail
+
+inline constexpr auto clip_planes =
+        detail::all_clip_plane_rows(std::make_index_sequence<kMaxClipPlanes>{});
 inline constexpr Setting cut_casts_shadows = frame_setting(
         "cut/casts_shadows",
         {.summary = "what the cut removes still casts shadows (context); off: it neither shows "
@@ -634,61 +703,84 @@ inline constexpr Setting jpeg_quality = state_setting(
 
 }  // namespace setting
 
+namespace detail {
+
+// `rows` with the clip planes' rows inserted after `after`.
+template <std::size_t Count>
+constexpr auto with_clip_planes(const std::array<const Setting*, Count>& rows,
+                                const Setting* after) {
+    std::array<const Setting*, Count + setting::clip_planes.size()> all{};
+    std::size_t next = 0;
+    for (const Setting* row : rows) {
+        all[next++] = row;
+        if (row == after) {
+            for (const Setting& plane_row : setting::clip_planes) {
+                all[next++] = &plane_row;
+            }
+        }
+    }
+    return all;
+}
+
+}  // namespace detail
+
 // Every row above, in the order the protocol, the command line's help, hello, the schema and the
-// shaders' Settings block list them.
-inline constexpr auto kSettings = std::to_array<const Setting*>({
-        &setting::coordinate,
-        &setting::colour,
-        &setting::camera_eye,
-        &setting::camera_target,
-        &setting::camera_up,
-        &setting::fov_degrees,
-        &setting::orbit_azimuth,
-        &setting::orbit_elevation,
-        &setting::orbit_distance,
-        &setting::light_type,
-        &setting::light_direction,
-        &setting::light_position,
-        &setting::light_color,
-        &setting::light_intensity,
-        &setting::light_ambient,
-        &setting::mode,
-        &setting::compositing,
-        &setting::reconstruction,
-        &setting::stage,
-        &setting::size,
-        &setting::sample_distance,
-        &setting::opacity_unit_distance,
-        &setting::early_termination,
-        &setting::background,
-        &setting::phong,
-        &setting::empty_space_skipping,
-        &setting::jitter,
-        &setting::preintegration,
-        &setting::crop_enabled,
-        &setting::crop_min,
-        &setting::crop_max,
-        &setting::cut_casts_shadows,
-        &setting::frame_budget_ms,
-        &setting::refinement_steps,
-        &setting::refinement_threshold,
-        &setting::diffuse,
-        &setting::specular,
-        &setting::shininess,
-        &setting::slices,
-        &setting::resolution,
-        &setting::builder,
-        &setting::compensation,
-        &setting::slab_samples,
-        &setting::lookup,
-        &setting::shell_radius,
-        &setting::shell_rings,
-        &setting::shell_center_weight,
-        &setting::cone_angle_degrees,
-        &setting::cone_center_weight,
-        &setting::encoding,
-        &setting::jpeg_quality,
-});
+// shaders' Settings block list them; the clip planes follow the crop box.
+inline constexpr auto kSettings = detail::with_clip_planes(std::to_array<const Setting*>({
+                                                                   &setting::coordinate,
+                                                                   &setting::colour,
+                                                                   &setting::camera_eye,
+                                                                   &setting::camera_target,
+                                                                   &setting::camera_up,
+                                                                   &setting::fov_degrees,
+                                                                   &setting::orbit_azimuth,
+                                                                   &setting::orbit_elevation,
+                                                                   &setting::orbit_distance,
+                                                                   &setting::light_type,
+                                                                   &setting::light_direction,
+                                                                   &setting::light_position,
+                                                                   &setting::light_color,
+                                                                   &setting::light_intensity,
+                                                                   &setting::light_ambient,
+                                                                   &setting::mode,
+                                                                   &setting::compositing,
+                                                                   &setting::reconstruction,
+                                                                   &setting::stage,
+                                                                   &setting::size,
+                                                                   &setting::sample_distance,
+                                                                   &setting::opacity_unit_distance,
+                                                                   &setting::early_termination,
+                                                                   &setting::background,
+                                                                   &setting::phong,
+                                                                   &setting::empty_space_skipping,
+                                                                   &setting::jitter,
+                                                                   &setting::preintegration,
+                                                                   &setting::crop_enabled,
+                                                                   &setting::crop_min,
+                                                                   &setting::crop_max,
+                                                                   &setting::cut_casts_shadows,
+                                                                   &setting::frame_budget_ms,
+                                                                   &setting::refinement_steps,
+                                                                   &setting::refinement_threshold,
+                                                                   &setting::diffuse,
+                                                                   &setting::specular,
+                                                                   &setting::shininess,
+                                                                   &setting::slices,
+                                                                   &setting::resolution,
+                                                                   &setting::builder,
+                                                                   &setting::compensation,
+                                                                   &setting::slab_samples,
+                                                                   &setting::lookup,
+                                                                   &setting::shell_radius,
+                                                                   &setting::shell_rings,
+                                                                   &setting::shell_center_weight,
+                                                                   &setting::cone_angle_degrees,
+                                                                   &setting::cone_center_weight,
+                                                                   &setting::encoding,
+                                                                   &setting::jpeg_quality,
+                                                           }),
+                                                           &setting::crop_max);
+static_assert(kSettings.back() != nullptr, "the clip planes follow a row of the list");
 
 // The row whose path is `path`; null for none.
 [[nodiscard]] const Setting* setting_at(std::string_view path);
