@@ -1,7 +1,8 @@
 #!/usr/bin/env node
 // The README's screenshot of the web client: a real `penumbra serve`, Debian's chromium driven by
 // playwright-core, the ch2 head in sbrc_cone; with `cut`, the head CT of the demo folder cut open
-// at the midline from the Cut panel.
+// at the midline from the Cut panel; with `plane`, cut across the view from the left by the Cut
+// panel's view plane and turned to show the cut.
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_sbrc_cone.png
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_cut.png cut
 import { spawn } from 'node:child_process';
@@ -12,8 +13,8 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const [penumbra, out, scene = 'modes'] = process.argv.slice(2);
-if (!penumbra || !out || !['modes', 'cut'].includes(scene)) {
-  console.error('usage: client-screenshot.mjs PENUMBRA OUT.png [modes|cut]');
+if (!penumbra || !out || !['modes', 'cut', 'plane'].includes(scene)) {
+  console.error('usage: client-screenshot.mjs PENUMBRA OUT.png [modes|cut|plane]');
   process.exit(2);
 }
 const clientDir = fileURLToPath(new URL('../client_web', import.meta.url));
@@ -43,7 +44,7 @@ const browser = await chromium.launchPersistentContext(
 try {
   const page = browser.pages()[0] ?? (await browser.newPage());
   page.on('pageerror', (e) => console.error('page error:', String(e)));
-  await page.goto(`${url}?volume=${scene === 'cut' ? 'cranium_ct.nrrd' : 'ch2.nii.gz'}`);
+  await page.goto(`${url}?volume=${scene === 'modes' ? 'ch2.nii.gz' : 'cranium_ct.nrrd'}`);
   await page.waitForFunction(() => document.querySelector('canvas.frame-canvas')?.dataset.frame !== undefined,
     null, { timeout: 120000 });
   if (scene === 'cut') {
@@ -56,6 +57,26 @@ try {
     const left = page.locator('[data-control="crop-left"] input');
     await left.fill('122');
     await left.press('Enter');
+    await page.waitForTimeout(500);
+    await page.waitForFunction(
+      () => /still/.test(document.querySelector('[data-stat="mode"]')?.textContent ?? ''), null,
+      { timeout: 120000 });
+  } else if (scene === 'plane') {
+    // From the left, the view plane 20 mm to the right of the centre; then turned 60 degrees.
+    await page.locator('.view-buttons button', { hasText: 'L' }).first().click();
+    for (const title of ['Volume', 'Shared viewing', 'Transfer function', 'Light']) {
+      await page.locator('.lil-gui .lil-title', { hasText: title }).first().click();
+    }
+    await page.locator('[data-control="clip-view"] button').click();
+    const depth = page.locator('[data-control="plane-1-depth"] input');
+    await depth.fill('20');
+    await depth.press('Enter');
+    const box = await page.locator('canvas.frame-canvas').boundingBox();
+    const y = box.y + box.height / 2;
+    await page.mouse.move(box.x + box.width / 2, y);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; ++i) await page.mouse.move(box.x + box.width / 2 - 12 * i, y);
+    await page.mouse.up();
     await page.waitForTimeout(500);
     await page.waitForFunction(
       () => /still/.test(document.querySelector('[data-stat="mode"]')?.textContent ?? ''), null,

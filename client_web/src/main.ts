@@ -114,7 +114,7 @@ const tfEditor = new TfEditor(tfFolder, tfModel, (interactive) =>
 );
 const lightFolder = gui.addFolder('Light');
 const light = new LightControl(lightFolder, () => camera.toCamera(), change);
-const cutPanel = new CutPanel(gui.addFolder('Cut'), change);
+const cutPanel = new CutPanel(gui.addFolder('Cut'), change, () => camera.toCamera());
 const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
   scale = s;
   change({ settings: { size: renderSize() } }, false);

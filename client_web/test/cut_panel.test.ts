@@ -1,5 +1,15 @@
 import { describe, expect, it } from 'vitest';
-import { cropWithin, cutPatch, dragFace } from '../src/panels/cut_panel';
+import {
+  boundsCentre,
+  cropWithin,
+  cutPatch,
+  dragFace,
+  freePlane,
+  PLANE_KEYS,
+  planeDepth,
+  planePatch,
+  viewPlane,
+} from '../src/panels/cut_panel';
 import type { Vec3 } from '../src/protocol/messages';
 import { checkClientMessage } from './client_checks';
 import { recordedTerms } from './recorded';
@@ -46,6 +56,68 @@ describe('the crop box', () => {
     expect(checkClientMessage(far, recordedTerms)).toMatchObject({
       code: 'out_of_range',
       field: '/cut/crop/min/0',
+    });
+  });
+});
+
+describe('clip planes', () => {
+  const centre = boundsCentre(bounds);
+
+  it('are as many as the server holds, each off until used', () => {
+    expect(PLANE_KEYS).toEqual(['plane_1', 'plane_2', 'plane_3', 'plane_4', 'plane_5', 'plane_6']);
+    expect(freePlane(undefined)).toBe('plane_1');
+  });
+
+  it('cut across the view, keeping what lies beyond the plane', () => {
+    // Looking from the patient's left (-x) toward the centre: the plane faces +x, so the left
+    // part, between the eye and the plane, goes.
+    const camera = {
+      eye: [-2.6, 0, 0] as Vec3,
+      target: [0, 0, 0] as Vec3,
+      up: [0, 0, 1] as Vec3,
+      fov: 30,
+    };
+    const plane = viewPlane(camera, centre, 20);
+    expect(plane.enabled).toBe(true);
+    expect(plane.normal).toEqual([1, 0, 0]);
+    expect(plane.point).toEqual([20, centre[1], centre[2]]);
+    expect(planeDepth(plane, centre)).toBeCloseTo(20, 12);
+    // A tilted view: the depth is measured along the view, whatever the plane's point.
+    const tilted = viewPlane({ ...camera, eye: [1, 2, -2] }, centre, -35);
+    expect(Math.hypot(...tilted.normal)).toBeCloseTo(1, 12);
+    expect(planeDepth(tilted, centre)).toBeCloseTo(-35, 9);
+  });
+
+  it('take the first plane that is off, else the last', () => {
+    const on = { enabled: true, point: [0, 0, 0] as Vec3, normal: [1, 0, 0] as Vec3 };
+    const off = { ...on, enabled: false };
+    const cut = {
+      crop: { enabled: false, min: bounds[0], max: bounds[1] },
+      casts_shadows: false,
+      plane_1: on,
+      plane_2: on,
+      plane_3: off,
+      plane_4: on,
+      plane_5: off,
+      plane_6: off,
+    };
+    expect(freePlane(cut)).toBe('plane_3');
+    expect(freePlane({ ...cut, plane_3: on, plane_5: on, plane_6: on })).toBe('plane_6');
+  });
+
+  it('send a plane that the server takes, and a zero-length normal is refused', () => {
+    const camera = {
+      eye: [1, -2, 0.5] as Vec3,
+      target: [0, 0, 0] as Vec3,
+      up: [0, 0, 1] as Vec3,
+      fov: 30,
+    };
+    const set = { v: 1, type: 'set', ...planePatch('plane_4', viewPlane(camera, centre, 10)) };
+    expect(checkClientMessage(set, recordedTerms)).toBeNull();
+    const bent = { v: 1, type: 'set', cut: { plane_2: { normal: [0, 0, 2] } } };
+    expect(checkClientMessage(bent, recordedTerms)).toMatchObject({
+      code: 'out_of_range',
+      field: '/cut/plane_2/normal/2',
     });
   });
 });

@@ -2,7 +2,8 @@
 // End-to-end test of the web client: Debian's chromium (driven by playwright-core) against a real
 // `penumbra serve` on 127.0.0.1 with a free port. The page loads, a frame appears, dragging changes
 // it and turns the orientation marker, the preset list is hello's and a preset changes the frame,
-// the six view buttons set the named views, a portrait tablet gets the panel as a drawer,
+// the six view buttons set the named views, a portrait tablet gets the panel as a drawer, the Cut
+// panel crops, clips at the view plane and resets on a desktop and in the tablet's drawer,
 // changing the mode changes the stats, a bad parameter shows the
 // server's error, the sliders span hello's ranges, every numeric setting hello announces has a
 // labelled control in its part's folder and empty-space skipping toggles, the light's sliders reach
@@ -393,6 +394,26 @@ try {
     (await owner.locator('#panel').isVisible()) && panelOpen.x + panelOpen.width <= 769 &&
       panelOpen.x >= 768 - 330 && (await owner.locator('[data-control="mode"] select').isVisible()),
     `panel at x ${panelOpen.x}, ${panelOpen.width} wide`);
+  // The Cut panel works in the drawer: its view plane, tapped there, cuts the head across the
+  // view; its reset brings it back.
+  // The baseline is a still of the portrait view: a reset of the (uncut) cut asks for one.
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
+  const beforeTabletCut = await canvasSignature(owner);
+  await owner.locator('[data-control="clip-view"] button').click();
+  info = await waitForStill(owner, info);
+  const tabletCut = await canvasSignature(owner);
+  await owner.screenshot({ path: path.join(outDir, '03e_portrait_clip_plane.png') });
+  check('in the drawer, clip at the view plane cuts the head',
+    (await owner.locator('[data-control="plane-1"]').isVisible()) &&
+      difference(beforeTabletCut, tabletCut) > 2,
+    `difference ${difference(beforeTabletCut, tabletCut).toFixed(1)}`);
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
+  check('and the reset in the drawer brings the whole head back',
+    difference(beforeTabletCut, await canvasSignature(owner)) < 1.5 &&
+      !(await owner.locator('[data-control="plane-1"]').isVisible()),
+    `difference ${difference(beforeTabletCut, await canvasSignature(owner)).toFixed(1)}`);
   await owner.locator('.drawer-toggle').click();
   await owner.waitForTimeout(400);
   check('and closes again', !(await owner.locator('#panel').isVisible()));
@@ -401,6 +422,44 @@ try {
   check('wider than tall, the panel is beside the view again',
     (await owner.locator('#panel').isVisible()) && !(await owner.locator('.drawer-toggle').isVisible()));
   info = await waitForStill(owner, null);
+
+  // 3d. The Cut panel on a desktop: a crop face moved in cuts the head, the view plane cuts away
+  // what lies before it, its depth moves it, and each change is a still the server keeps.
+  const uncut = await canvasSignature(owner);
+  const cropLeft = owner.locator('[data-control="crop-left"] input');
+  await cropLeft.fill('0');
+  await cropLeft.press('Enter');
+  info = await waitForStill(owner, info);
+  const cropped = await canvasSignature(owner);
+  await owner.screenshot({ path: path.join(outDir, '03f_crop.png') });
+  check('a crop face moved in cuts the head and turns the crop on',
+    difference(uncut, cropped) > 2 &&
+      (await owner.locator('[data-control="crop"] input').isChecked()),
+    `difference ${difference(uncut, cropped).toFixed(1)}`);
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
+  await owner.locator('[data-control="clip-view"] button').click();
+  info = await waitForStill(owner, info);
+  const planed = await canvasSignature(owner);
+  check('clip at the view plane adds plane 1 and cuts the head across the view',
+    (await owner.locator('[data-control="plane-1"] input').isChecked()) &&
+      difference(uncut, planed) > 2 && difference(cropped, planed) > 2,
+    `difference ${difference(uncut, planed).toFixed(1)}`);
+  const depth = owner.locator('[data-control="plane-1-depth"] input');
+  await depth.fill('40');
+  await depth.press('Enter');
+  info = await waitForStill(owner, info);
+  const deeper = await canvasSignature(owner);
+  await owner.screenshot({ path: path.join(outDir, '03g_clip_plane.png') });
+  check('its depth moves the cut', difference(planed, deeper) > 1,
+    `difference ${difference(planed, deeper).toFixed(1)}`);
+  await owner.locator('[data-control="plane-1"] input').click();
+  info = await waitForStill(owner, info);
+  check('turned off, the plane cuts nothing',
+    difference(uncut, await canvasSignature(owner)) < 1.5,
+    `difference ${difference(uncut, await canvasSignature(owner)).toFixed(1)}`);
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
 
   // 4. A bad parameter shows the server's error.
   const sampleDistance = owner.locator('[data-control="sample_distance"] input');

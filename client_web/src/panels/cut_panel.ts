@@ -1,11 +1,71 @@
 // Cut: the crop box as six faces in patient millimetres (RAS: x toward the patient's right, y
-// anterior, z superior), each a slider over the volume's bounds (the `opened` volume's `bounds`),
-// whether what is cut away still casts shadows, and a reset. Dragging a face sends interactive
-// frames; letting go, a still.
+// anterior, z superior), each a slider over the volume's bounds (the `opened` volume's `bounds`);
+// clip planes made from the view (each cutting away what lies between the eye and it, at a depth
+// along the view that a slider moves); whether what is cut away still casts shadows; and a reset.
+// Dragging a face or a depth sends interactive frames; letting go, a still.
 
 import type GUI from 'lil-gui';
 import type { Controller } from 'lil-gui';
-import type { Cut, State, StatePatch, Vec3, VolumeSummary } from '../protocol/messages';
+import {
+  SETTINGS,
+  type Camera,
+  type Cut,
+  type State,
+  type StatePatch,
+  type Vec3,
+  type VolumeSummary,
+} from '../protocol/messages';
+
+/** The cut's plane members, as many as the server's table has: plane_1, plane_2, ... */
+export type PlaneKey = Extract<keyof Cut, `plane_${number}`>;
+export type ClipPlane = Cut[PlaneKey];
+
+export const PLANE_KEYS = Object.keys(SETTINGS)
+  .filter((path) => /^cut\/plane_\d+\/enabled$/.test(path))
+  .map((path) => path.split('/')[1] as PlaneKey);
+
+/** A new session's plane: off, through the origin, facing superior. */
+export const UNUSED_PLANE: ClipPlane = { enabled: false, point: [0, 0, 0], normal: [0, 0, 1] };
+
+function dot(a: Vec3, b: Vec3): number {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+function unit(v: Vec3): Vec3 {
+  const length = Math.hypot(v[0], v[1], v[2]);
+  return length > 0 ? [v[0] / length, v[1] / length, v[2] / length] : [0, 0, 1];
+}
+
+/** The centre of the volume's bounds, which planes' depths are measured from. */
+export function boundsCentre(bounds: [Vec3, Vec3]): Vec3 {
+  return [0, 1, 2].map((i) => 0.5 * (bounds[0][i]! + bounds[1][i]!)) as Vec3;
+}
+
+/**
+ * The plane across the view at `depth` mm beyond the volume's centre, keeping what lies beyond
+ * it: world and patient space differ by a move and a scale, so the view's direction is the same
+ * in both.
+ */
+export function viewPlane(camera: Camera, centre: Vec3, depth: number): ClipPlane {
+  const normal = unit([0, 1, 2].map((i) => camera.target[i]! - camera.eye[i]!) as Vec3);
+  return { enabled: true, point: planePoint(normal, centre, depth), normal };
+}
+
+/** How far beyond the volume's centre a plane lies along its normal, in mm. */
+export function planeDepth(plane: ClipPlane, centre: Vec3): number {
+  const n = unit(plane.normal);
+  return dot([0, 1, 2].map((i) => plane.point[i]! - centre[i]!) as Vec3, n);
+}
+
+function planePoint(normal: Vec3, centre: Vec3, depth: number): Vec3 {
+  const n = unit(normal);
+  return [0, 1, 2].map((i) => centre[i]! + depth * n[i]!) as Vec3;
+}
+
+/** The plane a new view plane takes: the first one off, else the last. */
+export function freePlane(cut: Cut | undefined): PlaneKey {
+  return PLANE_KEYS.find((key) => !cut?.[key]?.enabled) ?? PLANE_KEYS[PLANE_KEYS.length - 1]!;
+}
 
 /** The six faces: which corner and axis each moves, and the side of the patient it faces. */
 export const CROP_FACES = [
@@ -63,6 +123,17 @@ export function cutPatch(crop: boolean, min: Vec3, max: Vec3, castsShadows: bool
   return { cut: { crop: { enabled: crop, min, max }, casts_shadows: castsShadows } };
 }
 
+/** The `set` patch of one plane. */
+export function planePatch(key: PlaneKey, plane: ClipPlane): StatePatch {
+  return { cut: { [key]: plane } };
+}
+
+/** A plane's row of the panel: its switch and its depth. */
+interface PlaneRow {
+  on: Controller;
+  depth: Controller;
+}
+
 export class CutPanel {
   private readonly params: Record<FaceKey, number> & { crop: boolean; casts_shadows: boolean } = {
     left: 0,
@@ -74,6 +145,9 @@ export class CutPanel {
     crop: false,
     casts_shadows: false,
   };
+  private readonly planeParams: Record<string, number | boolean> = {};
+  private readonly planes = new Map<PlaneKey, PlaneRow>();
+  private planeState: Partial<Record<PlaneKey, ClipPlane>> = {};
   private readonly faces = new Map<FaceKey, Controller>();
   private readonly controllers: Controller[] = [];
   private bounds: [Vec3, Vec3] | null = null;
@@ -82,6 +156,7 @@ export class CutPanel {
   constructor(
     folder: GUI,
     private readonly change: (patch: StatePatch, interactive: boolean) => void,
+    private readonly currentCamera: () => Camera,
   ) {
     const p = this.params;
     const crop = folder.add(p, 'crop').name('crop to the box');
@@ -94,6 +169,24 @@ export class CutPanel {
       this.wire(c, `crop-${face.key}`);
       this.faces.set(face.key, c);
     }
+    const viewCut = folder
+      .add({ cut: () => this.cutAlongTheView() }, 'cut')
+      .name('clip at the view plane');
+    this.wire(viewCut, 'clip-view');
+    PLANE_KEYS.forEach((key, i) => {
+      this.planeParams[`${key}_on`] = false;
+      this.planeParams[`${key}_depth`] = 0;
+      const on = folder.add(this.planeParams, `${key}_on`).name(`plane ${i + 1}`);
+      on.onChange(() => this.planeMoved(key, false));
+      const depth = folder.add(this.planeParams, `${key}_depth`, -1, 1, 0.5).name(`depth ${i + 1}`);
+      depth.onChange(() => this.planeMoved(key, true));
+      depth.onFinishChange(() => this.planeMoved(key, false));
+      this.wire(on, `plane-${i + 1}`);
+      this.wire(depth, `plane-${i + 1}-depth`);
+      on.show(false);
+      depth.show(false);
+      this.planes.set(key, { on, depth });
+    });
     const shadows = folder.add(p, 'casts_shadows').name('cut tissue casts shadows');
     shadows.onChange(() => this.send(false));
     this.wire(shadows, 'cut-shadows');
@@ -119,6 +212,13 @@ export class CutPanel {
     for (const face of CROP_FACES) {
       this.faces.get(face.key)!.min(this.bounds[0][face.axis]).max(this.bounds[1][face.axis]);
     }
+    // A plane through any point of the volume lies within half its diagonal of the centre.
+    // Whole millimetres, so that the slider's half-millimetre steps fall on round depths.
+    const reach = Math.ceil(
+      0.5 *
+        Math.hypot(...([0, 1, 2].map((i) => this.bounds![1][i]! - this.bounds![0][i]!) as Vec3)),
+    );
+    for (const row of this.planes.values()) row.depth.min(-reach).max(reach);
   }
 
   /** Shows the session's cut, its faces within the volume's bounds. */
@@ -134,7 +234,52 @@ export class CutPanel {
           : { min: this.bounds[0], max: this.bounds[1] };
       for (const face of CROP_FACES) p[face.key] = shown[face.corner][face.axis]!;
     }
+    this.planeState = {};
+    for (const key of PLANE_KEYS) {
+      const plane = cut?.[key] ?? UNUSED_PLANE;
+      this.planeState[key] = plane;
+      this.showPlane(key, plane);
+    }
     for (const c of this.controllers) c.updateDisplay();
+  }
+
+  /** A plane's row shows once the plane was used: on, or moved from a new session's. */
+  private showPlane(key: PlaneKey, plane: ClipPlane): void {
+    const row = this.planes.get(key)!;
+    const used =
+      plane.enabled ||
+      plane.point.some((v, i) => v !== UNUSED_PLANE.point[i]) ||
+      plane.normal.some((v, i) => v !== UNUSED_PLANE.normal[i]);
+    this.planeParams[`${key}_on`] = plane.enabled;
+    if (this.bounds)
+      this.planeParams[`${key}_depth`] = planeDepth(plane, boundsCentre(this.bounds));
+    row.on.show(used);
+    row.depth.show(used);
+  }
+
+  /** A new plane across the view through the volume's centre, cutting away its near half. */
+  private cutAlongTheView(): void {
+    if (!this.bounds) return;
+    const key = freePlane(this.planeState as Cut);
+    const plane = viewPlane(this.currentCamera(), boundsCentre(this.bounds), 0);
+    this.planeState[key] = plane;
+    this.showPlane(key, plane);
+    for (const c of this.controllers) c.updateDisplay();
+    this.change(planePatch(key, plane), false);
+  }
+
+  /** A plane's switch or depth moved. */
+  private planeMoved(key: PlaneKey, interactive: boolean): void {
+    if (!this.bounds) return;
+    const old = this.planeState[key] ?? UNUSED_PLANE;
+    const depth = this.planeParams[`${key}_depth`] as number;
+    const plane: ClipPlane = {
+      enabled: this.planeParams[`${key}_on`] as boolean,
+      point: planePoint(old.normal, boundsCentre(this.bounds), depth),
+      normal: old.normal,
+    };
+    this.planeState[key] = plane;
+    this.change(planePatch(key, plane), interactive);
   }
 
   setEnabled(enabled: boolean): void {
@@ -168,7 +313,7 @@ export class CutPanel {
     this.change(cutPatch(p.crop, min, max, p.casts_shadows), interactive);
   }
 
-  /** Back to the whole volume, cut tissue casting no shadow. */
+  /** Back to the whole volume, no plane, cut tissue casting no shadow. */
   private reset(): void {
     const p = this.params;
     p.crop = false;
@@ -177,7 +322,14 @@ export class CutPanel {
       for (const face of CROP_FACES)
         p[face.key] = this.bounds[face.corner === 'min' ? 0 : 1][face.axis]!;
     }
+    for (const key of PLANE_KEYS) {
+      this.planeState[key] = UNUSED_PLANE;
+      this.showPlane(key, UNUSED_PLANE);
+    }
     for (const c of this.controllers) c.updateDisplay();
-    this.send(false);
+    const { min, max } = this.corners();
+    const patch = cutPatch(p.crop, min, max, p.casts_shadows);
+    for (const key of PLANE_KEYS) Object.assign(patch.cut!, planePatch(key, UNUSED_PLANE).cut);
+    this.change(patch, false);
   }
 }

@@ -4,6 +4,7 @@
 #include <penumbra/encode/compare.hpp>
 
 #include <algorithm>
+#include <tuple>
 #include <utility>
 
 namespace penumbra::bench {
@@ -118,6 +119,105 @@ void print_ratios(std::FILE* out, const OptimisationTable& table) {
     std::fflush(out);
 }
 
+// The crop boxes of the cut table: one a millimetre beyond the volume's bounds on every side,
+// which keeps all of it, and one that ends at the middle of its x range.
+std::pair<scene::Cut, scene::Cut> cut_table_crops(const volume::Volume& volume) {
+    const volume::PatientBounds bounds = volume::patient_bounds(volume);
+    scene::Cut whole;
+    whole.crop = {true, bounds.min - 1.0, bounds.max + 1.0};
+    scene::Cut half = whole;
+    half.crop.min.x = 0.5 * (bounds.min.x + bounds.max.x);
+    return {whole, half};
+}
+
+base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volume::Volume& volume) {
+    scene::FrameRequest request = bench.request(mode, 0, 0);
+    request.settings.phong = mode != scene::Mode::dvr;
+    const LightBufferUse use =
+            scene::uses_light_buffer(mode) ? LightBufferUse::cached : LightBufferUse::none;
+    const auto [whole, half] = cut_table_crops(volume);
+    CutRow row{scene::to_string(mode), {}, {}, {}, 0.0};
+    for (auto [cut, series, name] :
+         {std::tuple{scene::Cut{}, &row.uncut, "uncut"},
+          std::tuple{whole, &row.whole, "crop_whole"}, std::tuple{half, &row.half, "crop_half"}}) {
+        request.cut = cut;
+        auto measured = bench.measure_series({mode, name, "", 0, 0, {}}, request, use);
+        if (!measured) {
+            return measured.error();
+        }
+        *series = std::move(measured.value());
+    }
+    auto psnr = psnr_between(row.uncut.last_image, row.whole.last_image);
+    if (!psnr) {
+        return psnr.error();
+    }
+    row.psnr = *psnr;
+    return row;
+}
+
+// The light-buffer pass alone, rebuilt every frame, uncut and with the half crop.
+base::Result<std::pair<Measurement, Measurement>> measure_cut_build(ModeBench& bench,
+                                                                    const volume::Volume& volume) {
+    scene::FrameRequest request = bench.request(scene::Mode::sbrc, 0, 0);
+    request.settings.width = build_frame_side;
+    request.settings.height = build_frame_side;
+    const auto& light_buffer = request.settings.light_buffer;
+    const std::string builder = scene::to_string(light_buffer.builder);
+    Measurement built[2];
+    for (const bool cut : {false, true}) {
+        request.cut = cut ? cut_table_crops(volume).second : scene::Cut{};
+        const TimedPoint point{scene::Mode::sbrc,
+                               cut ? "build_crop_half" : "build_uncut",
+                               builder,
+                               light_buffer.slices,
+                               light_buffer.resolution,
+                               {}};
+        auto measured =
+                bench.measure(point, request, LightBufferUse::rebuild, "light_buffer_" + builder);
+        if (!measured) {
+            return measured.error();
+        }
+        built[cut ? 1 : 0] = *measured;
+    }
+    return std::pair{built[0], built[1]};
+}
+
+base::Status measure_cuts(ModeBench& bench, const std::vector<scene::Mode>& modes,
+                          const volume::Volume& volume, OptimisationTable& table, std::FILE* out) {
+    std::fprintf(out,
+                 "\ncut on %s (ms, wall; a crop box holding the whole volume, and one keeping "
+                 "its right half;\nPSNR between the uncut and the whole crop's images)\n"
+                 "  %-30s %10s %10s %10s %11s %10s %9s\n",
+                 volume.name.c_str(), "mode", "uncut", "crop all", "crop half", "all/uncut",
+                 "half/uncut", "PSNR dB");
+    for (const scene::Mode mode : modes) {
+        auto row = measure_cut(bench, mode, volume);
+        if (!row) {
+            return row.error();
+        }
+        std::fprintf(out, "  %-30s %10.1f %10.1f %10.1f %11.3f %10.3f %9s\n", row->label.c_str(),
+                     row->uncut.frame.wall_ms, row->whole.frame.wall_ms, row->half.frame.wall_ms,
+                     row->whole.frame.wall_ms / row->uncut.frame.wall_ms,
+                     row->half.frame.wall_ms / row->uncut.frame.wall_ms,
+                     psnr_text(row->psnr).c_str());
+        std::fflush(out);
+        table.cut_rows.push_back(std::move(row.value()));
+    }
+    if (std::find(modes.begin(), modes.end(), scene::Mode::sbrc) != modes.end()) {
+        auto built = measure_cut_build(bench, volume);
+        if (!built) {
+            return built.error();
+        }
+        table.build_uncut = built->first;
+        table.build_half = built->second;
+        std::fprintf(out, "  %-30s %10.1f %10s %10.1f %11s %10.3f\n", "light-buffer build",
+                     built->first.wall_ms, "-", built->second.wall_ms, "-",
+                     built->second.wall_ms / built->first.wall_ms);
+        std::fflush(out);
+    }
+    return base::Ok{};
+}
+
 struct GradientSeries {
     Series series;
     double build_ms = 0.0;  // the texture's build in the first frame; 0 for central differences
@@ -190,6 +290,9 @@ base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
                      table.build_on->wall_ms / table.build_off->wall_ms, "-");
     }
     print_ratios(out, table);
+    if (auto status = measure_cuts(bench, modes, volume, table, out); !status) {
+        return status.error();
+    }
     return table;
 }
 

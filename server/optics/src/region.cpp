@@ -1,5 +1,7 @@
 #include <penumbra/optics/region.hpp>
 
+#include <glm/matrix.hpp>
+
 namespace penumbra::optics {
 
 Region region_of(const scene::Box& box, const scene::Cut& cut,
@@ -28,6 +30,23 @@ Region region_of(const scene::Box& box, const scene::Cut& cut,
     }
     region.light_count = cut.casts_shadows ? 0 : region.count;
     return region;
+}
+
+bool outside_region(const Region& region, glm::dvec3 low, glm::dvec3 high, RegionUser user) {
+    const int count = region.count_for(user);
+    for (int i = 0; i < count; ++i) {
+        const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+        // dot(n, axes p) = dot(axes^T n, p): the normal in box space, and the part's corner
+        // farthest along it, the last to leave the half-space.
+        const glm::dvec3 normal = glm::transpose(region.box.axes) * h.normal;
+        const glm::dvec3 farthest(normal.x >= 0.0 ? high.x : low.x,
+                                  normal.y >= 0.0 ? high.y : low.y,
+                                  normal.z >= 0.0 ? high.z : low.z);
+        if (glm::dot(normal, farthest) + h.offset < 0.0) {
+            return true;
+        }
+    }
+    return false;
 }
 
 }  // namespace penumbra::optics

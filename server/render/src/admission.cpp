@@ -21,11 +21,11 @@ std::string scientific(double value) {
 }  // namespace
 
 scene::WorkContext work_context(const scene::FrameRequest& request, const EmptySpaceMap& bricks,
-                                const std::vector<glm::vec4>& table) {
+                                const std::vector<glm::vec4>& table, const optics::Region& region) {
     if (!request.settings.empty_space_skipping) {
         return {};
     }
-    return {bricks.grid(), bricks.occupied_bricks(table)};
+    return {bricks.grid(), bricks.occupied_bricks(table, region)};
 }
 
 base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,

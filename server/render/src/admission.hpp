@@ -21,12 +21,14 @@ struct FrameCeilings {
     std::size_t light_buffer_memory_budget = 0;
 };
 
-// What the work estimate knows of the volume's empty space under the frame's TF table: its rays
-// leap the bricks the table leaves transparent, and no ray of any camera spends more samples in
-// the visible ones than fit along its longest stretch through them.
+// What the work estimate knows of the volume's empty space under the frame's TF table and cut:
+// its rays leap the bricks the table leaves transparent, march none that the region leaves out,
+// and no ray of any camera spends more samples in the visible ones than fit along its longest
+// stretch through them.
 [[nodiscard]] scene::WorkContext work_context(const scene::FrameRequest& request,
                                               const EmptySpaceMap& bricks,
-                                              const std::vector<glm::vec4>& table);
+                                              const std::vector<glm::vec4>& table,
+                                              const optics::Region& region);
 
 // Refuses, before anything runs, a frame over the work ceiling (`too_much_work`) or a light
 // buffer that the budget could never hold (`light_buffer_too_large`).

@@ -85,31 +85,42 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
 }
 
 scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
-                                      const std::vector<glm::vec4>& table) {
+                                      const std::vector<glm::vec4>& table,
+                                      const optics::Region& region) {
     scene::OccupiedBricks occupied;
     occupied.first = ranges.grid;
-    if (table.empty()) {
-        return {static_cast<std::int64_t>(ranges.min_max.size()), glm::ivec3(0), ranges.grid - 1};
-    }
     const int entries = static_cast<int>(table.size());
     std::vector<std::uint32_t> visible_before(table.size() + 1, 0);
     for (std::size_t i = 0; i < table.size(); ++i) {
         visible_before[i + 1] = visible_before[i] + (table[i].a > 0.0f ? 1u : 0u);
     }
-    std::size_t index = 0;
-    for (const glm::vec2& stored : ranges.min_max) {
-        const glm::ivec3 brick(static_cast<int>(index % ranges.grid.x),
-                               static_cast<int>(index / ranges.grid.x % ranges.grid.y),
-                               static_cast<int>(index / ranges.grid.x / ranges.grid.y));
-        ++index;
+    const auto visible_in_table = [&](glm::vec2 stored) {
+        if (table.empty()) {
+            return true;
+        }
         // The shader's arithmetic, in float as there, so both count the same bricks.
         const glm::vec2 range = glm::clamp(stored, 0.0f, 1.0f);
         const int lowest = std::clamp(
                 static_cast<int>(std::floor(range.x * float(entries) - 0.5f)) - 1, 0, entries - 1);
         const int highest = std::clamp(
                 static_cast<int>(std::floor(range.y * float(entries) - 0.5f)) + 2, 0, entries - 1);
-        if (visible_before[static_cast<std::size_t>(highest) + 1] >
-            visible_before[static_cast<std::size_t>(lowest)]) {
+        return visible_before[static_cast<std::size_t>(highest) + 1] >
+               visible_before[static_cast<std::size_t>(lowest)];
+    };
+    // Brick (i, j, k) covers [i, i + 1) / grid of the box along each axis.
+    const glm::dvec3 brick_size = region.box.size() / glm::dvec3(ranges.grid);
+    const auto inside_region = [&](glm::ivec3 brick) {
+        const glm::dvec3 low = region.box.min + glm::dvec3(brick) * brick_size;
+        return !optics::outside_region(region, low, glm::min(low + brick_size, region.box.max),
+                                       optics::RegionUser::light);
+    };
+    std::size_t index = 0;
+    for (const glm::vec2& stored : ranges.min_max) {
+        const glm::ivec3 brick(static_cast<int>(index % ranges.grid.x),
+                               static_cast<int>(index / ranges.grid.x % ranges.grid.y),
+                               static_cast<int>(index / ranges.grid.x / ranges.grid.y));
+        ++index;
+        if (visible_in_table(stored) && inside_region(brick)) {
             ++occupied.count;
             occupied.first = glm::min(occupied.first, brick);
             occupied.last = glm::max(occupied.last, brick);

@@ -4,6 +4,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/gpu/objects.hpp>
+#include <penumbra/optics/region.hpp>
 #include <penumbra/scene/frame_work.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -34,8 +35,11 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
 // the frame's work estimate needs them before anything is uploaded, so that a request on a mostly
 // transparent volume is not refused for samples its rays leap. An empty table (nothing known)
 // leaves every brick visible.
+// With `region`, a brick that lies wholly outside the region as the light sees it (what neither
+// camera rays nor, unless the cut casts shadows, the light ever march through) is empty too.
 [[nodiscard]] scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
-                                                    const std::vector<glm::vec4>& table);
+                                                    const std::vector<glm::vec4>& table,
+                                                    const optics::Region& region = {});
 
 // A volume's bricks on the GPU: the ranges, uploaded once, and the occupancy that
 // shaders/brick_classify.comp derives from them and the current TF table (bound on unit 1).
@@ -53,8 +57,9 @@ public:
     [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
 
     // occupied_bricks of this volume's bricks under `table`.
-    [[nodiscard]] scene::OccupiedBricks occupied_bricks(const std::vector<glm::vec4>& table) const {
-        return render::occupied_bricks(ranges_on_cpu_, table);
+    [[nodiscard]] scene::OccupiedBricks occupied_bricks(const std::vector<glm::vec4>& table,
+                                                        const optics::Region& region = {}) const {
+        return render::occupied_bricks(ranges_on_cpu_, table, region);
     }
 
 private:

@@ -228,8 +228,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     const std::vector<glm::vec4> table =
             scene::bake(request.transfer_function, scene::default_table_size,
                         {voxels.range.min, voxels.range.max, voxels.hounsfield});
-    if (auto status = admit(request, plan, g, work_context(request, volume.empty_space(), table),
-                            impl.ceilings);
+    if (auto status =
+                admit(request, plan, g,
+                      work_context(request, volume.empty_space(), table, g.region), impl.ceilings);
         !status) {
         return status.error();
     }

@@ -9,6 +9,8 @@
 #include <penumbra/gpu/context.hpp>
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
+#include <penumbra/optics/region.hpp>
+#include <penumbra/scene/box.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -96,6 +98,36 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
         partly += marked > 0 && marked < bricks ? 1 : 0;
     }
     EXPECT_GE(partly, 4u);  // the thresholds cut through the head's values
+}
+
+// The work estimate's bricks under a cut: those wholly beyond the crop's face are empty when the
+// cut tissue casts no shadow, and none when it does (the light still marches them).
+TEST(BrickOccupancy, BricksTheCutRemovesAreEmptyUnlessTheyCastShadows) {
+    auto loaded = volume::load_volume("/usr/share/mricron/templates/ch2.nii.gz");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
+    const BrickRanges ranges = compute_brick_ranges(*loaded, default_brick_voxels);
+    const std::vector<glm::vec4> table =
+            scene::bake(visible_from(0.2), scene::default_table_size,
+                        {loaded->range.min, loaded->range.max, loaded->hounsfield});
+    const scene::OccupiedBricks whole = occupied_bricks(ranges, table);
+    ASSERT_GT(whole.count, 100);
+
+    const scene::Box box =
+            scene::box_for_extent(glm::dvec3(loaded->dims) * loaded->spacing, loaded->axes);
+    const scene::PatientPlacement placement = scene::patient_placement(
+            loaded->origin, loaded->axes, loaded->spacing, glm::dvec3(loaded->dims));
+    scene::Cut left_half;  // world x <= 0 kept
+    left_half.crop = {true, placement.to_patient(glm::dvec3(-1.0)),
+                      placement.to_patient(glm::dvec3(0.0, 1.0, 1.0))};
+    const scene::OccupiedBricks cut =
+            occupied_bricks(ranges, table, optics::region_of(box, left_half, placement));
+    EXPECT_LT(cut.count, whole.count * 6 / 10);
+    EXPECT_GT(cut.count, whole.count * 4 / 10);
+
+    left_half.casts_shadows = true;
+    const scene::OccupiedBricks context =
+            occupied_bricks(ranges, table, optics::region_of(box, left_half, placement));
+    EXPECT_EQ(context.count, whole.count);
 }
 
 }  // namespace

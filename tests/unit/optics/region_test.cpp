@@ -205,6 +205,53 @@ TEST(Region, IntervalAgreesWithThePointTestOnRandomCutsAndRays) {
     EXPECT_GT(misses, 50);
 }
 
+// A brick called outside holds no point of the region (random cuts, random bricks of the tilted
+// volume's box, each sampled on a grid); a brick beyond one crop face is called outside.
+TEST(Region, ABrickCalledOutsideHoldsNothingOfTheRegion) {
+    const TiltedVolume v;
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> fraction(0.0, 1.0);
+    int outside = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const scene::Cut cut = random_cut(v, random, trial);
+        const Region region = region_of(v.box, cut, v.placement);
+        const glm::dvec3 size = v.box.size();
+        const glm::dvec3 low =
+                v.box.min + size * glm::dvec3(fraction(random), fraction(random), fraction(random));
+        const glm::dvec3 high = glm::min(low + 0.1 * size, v.box.max);
+        for (const RegionUser user : {RegionUser::camera, RegionUser::light}) {
+            if (!outside_region(region, low, high, user)) {
+                continue;
+            }
+            ++outside;
+            for (int i = 0; i <= 6; ++i) {
+                for (int j = 0; j <= 6; ++j) {
+                    for (int k = 0; k <= 6; ++k) {
+                        const glm::dvec3 at = low + (high - low) * glm::dvec3(i, j, k) / 6.0;
+                        ASSERT_FALSE(contains(region, v.box.to_world(at), user))
+                                << "trial " << trial;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(outside, 50);
+
+    scene::Cut right_half;
+    right_half.crop = {true, v.placement.to_patient(glm::dvec3(0.0, -1.0, -1.0)),
+                       v.placement.to_patient(glm::dvec3(1.0))};
+    const Region region = region_of(v.box, right_half, v.placement);
+    // World x < 0 is box x > 0 for the first index axis, which is reversed and turned 30 degrees:
+    // take a thin brick at the box's far end along that axis, wholly at world x < 0.
+    const glm::dvec3 low(v.box.max.x - 0.05, -0.05, -0.05);
+    const glm::dvec3 high(v.box.max.x, 0.05, 0.05);
+    ASSERT_LT(v.box.to_world(low).x, 0.0);
+    EXPECT_TRUE(outside_region(region, low, high, RegionUser::camera));
+    right_half.casts_shadows = true;
+    EXPECT_FALSE(outside_region(region_of(v.box, right_half, v.placement), low, high,
+                                RegionUser::light));
+}
+
 TEST(Region, CutTissueThatCastsShadowsIsStillThereForTheLight) {
     const TiltedVolume v;
     scene::Cut cut;

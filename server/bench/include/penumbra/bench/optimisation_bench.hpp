@@ -26,16 +26,33 @@ struct SkippingRow {
     double psnr = 0.0;  // between the last images of the two series
 };
 
+// One mode without a cut, with a crop box that holds the whole volume (the same image: what asking
+// the region costs per frame) and with a crop that keeps half of it (what a cut saves).
+struct CutRow {
+    std::string label;
+    Series uncut;
+    Series whole;
+    Series half;
+    double psnr = 0.0;  // between the uncut and the whole crop's images
+};
+
 struct OptimisationTable {
     std::vector<SkippingRow> rows;
     // The light-buffer pass alone, rebuilt every frame; absent unless sbrc is among the modes.
     std::optional<Measurement> build_on;
     std::optional<Measurement> build_off;
+    std::vector<CutRow> cut_rows;
+    // The light-buffer pass alone without a cut and with the half crop (cut tissue casting no
+    // shadow, so the light meets half the volume); absent unless sbrc is among the modes.
+    std::optional<Measurement> build_uncut;
+    std::optional<Measurement> build_half;
 };
 
 // Each of `modes` but half_angle (which casts no rays) with skipping on and off, the shadow modes
 // with Blinn-Phong as the targets measure them and sbrc once more without; the light
-// buffer cached between timed frames. Prints each row to `out` as it is measured.
+// buffer cached between timed frames. Then every mode of `modes` uncut, with a crop that keeps the
+// whole volume and with one that keeps its half toward the patient's right. Prints each row to
+// `out` as it is measured.
 base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
                                                       const std::vector<scene::Mode>& modes,
                                                       const volume::Volume& volume, std::FILE* out);

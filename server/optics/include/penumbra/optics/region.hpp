@@ -48,6 +48,13 @@ struct Region {
 [[nodiscard]] Region region_of(const scene::Box& box, const scene::Cut& cut,
                                const scene::PatientPlacement& placement);
 
+// Whether the part of the volume's box between box-space corners `low` and `high` (a brick) lies
+// wholly beyond one of the half-spaces `user` clips by, so that nothing of it is drawn (or lit).
+// A part that only several half-spaces together leave out counts as not outside: what this calls
+// outside may be skipped, never more.
+[[nodiscard]] bool outside_region(const Region& region, glm::dvec3 low, glm::dvec3 high,
+                                  RegionUser user);
+
 // The interval [t_near, t_far] of the line origin + t * direction, narrowed to where it lies in the
 // first `count` half-spaces of `region`. t_near >= t_far when it lies in none of it.
 struct LineInterval {

@@ -705,15 +705,16 @@ inline constexpr Setting jpeg_quality = state_setting(
 
 namespace detail {
 
-// `rows` with the clip planes' rows inserted after `after`.
+// `rows` with the clip planes' rows inserted after the row at `after` (by path: the addresses of
+// distinct rows are not comparable in every constant expression).
 template <std::size_t Count>
 constexpr auto with_clip_planes(const std::array<const Setting*, Count>& rows,
-                                const Setting* after) {
+                                std::string_view after) {
     std::array<const Setting*, Count + setting::clip_planes.size()> all{};
     std::size_t next = 0;
     for (const Setting* row : rows) {
         all[next++] = row;
-        if (row == after) {
+        if (row->path == after) {
             for (const Setting& plane_row : setting::clip_planes) {
                 all[next++] = &plane_row;
             }
@@ -779,8 +780,8 @@ inline constexpr auto kSettings = detail::with_clip_planes(std::to_array<const S
                                                                    &setting::encoding,
                                                                    &setting::jpeg_quality,
                                                            }),
-                                                           &setting::crop_max);
-static_assert(kSettings.back() != nullptr, "the clip planes follow a row of the list");
+                                                           setting::crop_max.path);
+static_assert(!kSettings.back()->path.empty(), "the clip planes follow a row of the list");
 
 // The row whose path is `path`; null for none.
 [[nodiscard]] const Setting* setting_at(std::string_view path);
