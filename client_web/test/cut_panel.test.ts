@@ -105,7 +105,7 @@ describe('clip planes', () => {
     expect(freePlane({ ...cut, plane_3: on, plane_5: on, plane_6: on })).toBe('plane_6');
   });
 
-  it('send a plane that the server takes, and a zero-length normal is refused', () => {
+  it('send a plane that the server takes, and a normal beyond its range is refused', () => {
     const camera = {
       eye: [1, -2, 0.5] as Vec3,
       target: [0, 0, 0] as Vec3,

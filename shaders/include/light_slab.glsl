@@ -34,10 +34,16 @@ float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples
 // As sampled_slab_opacity, for a slab sampled on its own (not as one of a march's run of slabs,
 // which can walk the bricks once: BrickWalk).
 float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
+    vec3 start = centre - 0.5 * path_length * ray;
+    // A slab that the cut removes whole (as the light sees the cut) lets all light through: one
+    // look, as at an empty brick, so that the light pass takes no samples where the cut left
+    // nothing (the work estimate counts the bricks it leaves out as empty).
+    vec2 kept = clip_to_half_spaces(region_count_for(REGION_LIGHT), start, ray,
+                                    vec2(0.0, path_length));
+    if (kept.x >= kept.y) return 0.0;
 #if EMPTY_SPACE_SKIPPING
     // A slab is a voxel or two thick: one look at the brick where it starts decides for the
     // whole slab, where a look per point would cost about as much as the points themselves.
-    vec3 start = centre - 0.5 * path_length * ray;
     if (inside_box(start) && empty_run(start, ray) >= path_length) return 0.0;
 #endif
     return sampled_slab_opacity(centre, ray, path_length, samples);

@@ -4,6 +4,7 @@
 #include <penumbra/encode/compare.hpp>
 
 #include <algorithm>
+#include <array>
 #include <tuple>
 #include <utility>
 
@@ -67,26 +68,37 @@ base::Result<SkippingRow> measure_skipping(ModeBench& bench, const SkippingCase&
     return row;
 }
 
-// The light-buffer pass alone with skipping on, then off.
-base::Result<std::pair<Measurement, Measurement>> measure_build(ModeBench& bench) {
+// The light-buffer pass alone, rebuilt every frame, for two variants of sbrc's request: `vary`
+// makes the first (its flag true) and the second (false); `series` names each.
+template <class Vary>
+base::Result<std::pair<Measurement, Measurement>> measure_builds(
+        ModeBench& bench, const std::array<const char*, 2>& series, Vary vary) {
     scene::FrameRequest request = bench.request(scene::Mode::sbrc, 0, 0);
     request.settings.width = build_frame_side;
     request.settings.height = build_frame_side;
     const auto& light_buffer = request.settings.light_buffer;
     const std::string builder = scene::to_string(light_buffer.builder);
-    Measurement built[2];
-    for (const bool skipping : {true, false}) {
-        request.settings.empty_space_skipping = skipping;
-        const TimedPoint point{scene::Mode::sbrc,   "light_buffer_pass",     builder,
-                               light_buffer.slices, light_buffer.resolution, {}};
+    std::array<Measurement, 2> built;
+    for (std::size_t i = 0; i < built.size(); ++i) {
+        vary(request, i == 0);
+        const TimedPoint point{scene::Mode::sbrc,       series[i], builder, light_buffer.slices,
+                               light_buffer.resolution, {}};
         auto measured =
                 bench.measure(point, request, LightBufferUse::rebuild, "light_buffer_" + builder);
         if (!measured) {
             return measured.error();
         }
-        built[skipping ? 0 : 1] = *measured;
+        built[i] = *measured;
     }
     return std::pair{built[0], built[1]};
+}
+
+// The light-buffer pass alone with skipping on, then off.
+base::Result<std::pair<Measurement, Measurement>> measure_build(ModeBench& bench) {
+    return measure_builds(bench, {"light_buffer_pass", "light_buffer_pass"},
+                          [](scene::FrameRequest& request, bool first) {
+                              request.settings.empty_space_skipping = first;
+                          });
 }
 
 void print_row(std::FILE* out, const SkippingRow& row) {
@@ -158,28 +170,11 @@ base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volum
 // The light-buffer pass alone, rebuilt every frame, uncut and with the half crop.
 base::Result<std::pair<Measurement, Measurement>> measure_cut_build(ModeBench& bench,
                                                                     const volume::Volume& volume) {
-    scene::FrameRequest request = bench.request(scene::Mode::sbrc, 0, 0);
-    request.settings.width = build_frame_side;
-    request.settings.height = build_frame_side;
-    const auto& light_buffer = request.settings.light_buffer;
-    const std::string builder = scene::to_string(light_buffer.builder);
-    Measurement built[2];
-    for (const bool cut : {false, true}) {
-        request.cut = cut ? cut_table_crops(volume).second : scene::Cut{};
-        const TimedPoint point{scene::Mode::sbrc,
-                               cut ? "build_crop_half" : "build_uncut",
-                               builder,
-                               light_buffer.slices,
-                               light_buffer.resolution,
-                               {}};
-        auto measured =
-                bench.measure(point, request, LightBufferUse::rebuild, "light_buffer_" + builder);
-        if (!measured) {
-            return measured.error();
-        }
-        built[cut ? 1 : 0] = *measured;
-    }
-    return std::pair{built[0], built[1]};
+    const scene::Cut half = cut_table_crops(volume).second;
+    return measure_builds(bench, {"build_uncut", "build_crop_half"},
+                          [&](scene::FrameRequest& request, bool first) {
+                              request.cut = first ? scene::Cut{} : half;
+                          });
 }
 
 base::Status measure_cuts(ModeBench& bench, const std::vector<scene::Mode>& modes,

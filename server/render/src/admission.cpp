@@ -25,7 +25,7 @@ scene::WorkContext work_context(const scene::FrameRequest& request, const EmptyS
     if (!request.settings.empty_space_skipping) {
         return {};
     }
-    return {bricks.grid(), bricks.occupied_bricks(table, region)};
+    return {bricks.grid(), bricks.occupied_bricks(table, region), bricks.occupied_bricks(table)};
 }
 
 base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,

@@ -22,9 +22,10 @@ struct FrameCeilings {
 };
 
 // What the work estimate knows of the volume's empty space under the frame's TF table and cut:
-// its rays leap the bricks the table leaves transparent, march none that the region leaves out,
-// and no ray of any camera spends more samples in the visible ones than fit along its longest
-// stretch through them.
+// its rays leap the bricks the table leaves transparent, march none that the region (as the
+// light sees it, which holds the camera's) leaves out, and no ray of any camera spends more
+// samples in the visible ones than fit along its longest stretch through them. The light-buffer
+// builders skip by the table alone.
 [[nodiscard]] scene::WorkContext work_context(const scene::FrameRequest& request,
                                               const EmptySpaceMap& bricks,
                                               const std::vector<glm::vec4>& table,

@@ -37,9 +37,19 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.phong = d.phong;
     s.jitter = d.jitter;
     r.refinement = defaults.refinement;
-    // A cut whose tissue still casts shadows leaves the light as on the whole volume.
+    // A cut whose tissue still casts shadows leaves the light as on the whole volume; of another,
+    // only the parts that are on shape what the light meets (a plane moved while off rebuilds
+    // nothing).
     if (r.cut.casts_shadows) {
         r.cut = defaults.cut;
+    }
+    if (!r.cut.crop.enabled) {
+        r.cut.crop = defaults.cut.crop;
+    }
+    for (std::size_t i = 0; i < r.cut.planes.size(); ++i) {
+        if (!r.cut.planes[i].enabled) {
+            r.cut.planes[i] = defaults.cut.planes[i];
+        }
     }
     s.scattering = d.scattering;
     s.light_buffer.lookup = d.light_buffer.lookup;

@@ -32,9 +32,10 @@ struct VisibleStretch {
     double bricks = 0.0;
 };
 
-VisibleStretch longest_visible_stretch(const Box& box, const WorkContext& context) {
+VisibleStretch longest_visible_stretch(const Box& box, const WorkContext& context,
+                                       const std::optional<OccupiedBricks>& known) {
     const glm::ivec3 grid = context.brick_grid;
-    const OccupiedBricks occupied = context.occupied.value_or(OccupiedBricks{
+    const OccupiedBricks occupied = known.value_or(OccupiedBricks{
             static_cast<std::int64_t>(grid.x) * grid.y * grid.z, glm::ivec3(0), grid - 1});
     if (occupied.count <= 0) {
         return {};
@@ -55,7 +56,7 @@ double marched_samples(const RenderSettings& settings, int samples, const Box& b
     if (!skips(settings, context)) {
         return samples;
     }
-    const VisibleStretch visible = longest_visible_stretch(box, context);
+    const VisibleStretch visible = longest_visible_stretch(box, context, context.occupied);
     const double in_visible =
             std::ceil(visible.length / settings.sample_distance) + 1.0 + visible.bricks;
     const double leaps = bricks_per_ray(context.brick_grid);
@@ -69,7 +70,8 @@ double marched_slab_samples(const RenderSettings& settings, int slab_samples, co
     if (!skips(settings, context)) {
         return every_slab;
     }
-    const VisibleStretch visible = longest_visible_stretch(box, context);
+    const VisibleStretch visible =
+            longest_visible_stretch(box, context, context.occupied_for_light);
     const glm::dvec3 size = box.size();
     const double shortest_slab = std::min({size.x, size.y, size.z}) / slices;
     const double sampled_slabs = std::min<double>(

@@ -100,8 +100,8 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
     EXPECT_GE(partly, 4u);  // the thresholds cut through the head's values
 }
 
-// The work estimate's bricks under a cut: those wholly beyond the crop's face are empty when the
-// cut tissue casts no shadow, and none when it does (the light still marches them).
+// The work estimate's bricks for rays under a cut: those wholly beyond the crop's face are empty
+// when the cut tissue casts no shadow, and none when it does (shadow rays still march them).
 TEST(BrickOccupancy, BricksTheCutRemovesAreEmptyUnlessTheyCastShadows) {
     auto loaded = volume::load_volume("/usr/share/mricron/templates/ch2.nii.gz");
     ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();

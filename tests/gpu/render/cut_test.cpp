@@ -368,6 +368,12 @@ TEST_F(CutTest, TheLightBufferIsRebuiltExactlyWhenTheCutChangesWhatTheLightMeets
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
     request.cut.crop.max.x += 1.0;
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
+    // A plane that is off cuts nothing, wherever it lies.
+    request.cut.planes[1].point = {5.0, -3.0, 2.0};
+    request.cut.planes[1].normal = {0.0, 1.0, 0.0};
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    request.cut.planes[1].enabled = true;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
     // Context shadows: the light meets the whole volume, whose buffer is still held.
     const std::uint64_t builds = renderer_->light_buffer_builds();
     request.cut.casts_shadows = true;

@@ -199,8 +199,10 @@ TEST(FrameWork, SkippingWithNothingKnownKeepsTheUpperBound) {
 // texel's march take at most the samples that fit along the block's diagonal (the longest line
 // through it), a few for the steps and brick faces, and one look per brick the march enters.
 TEST(FrameWork, SkippingCountsTheLongestStretchThroughVisibleBricksAndOneLookPerBrick) {
+    const OccupiedBricks visible_block{8, glm::ivec3(4), glm::ivec3(5)};
     const WorkContext block{.brick_grid = {16, 16, 16},
-                            .occupied = OccupiedBricks{8, glm::ivec3(4), glm::ivec3(5)}};
+                            .occupied = visible_block,
+                            .occupied_for_light = visible_block};
     FrameRequest request = request_in(Mode::sbrc);
     request.settings.sample_distance = 1.0 / 128.0;
     request.settings.light_buffer.lookup = LightLookup::interpolate;
@@ -229,10 +231,36 @@ TEST(FrameWork, SkippingCountsTheLongestStretchThroughVisibleBricksAndOneLookPer
     request.settings.empty_space_skipping = true;
     EXPECT_DOUBLE_EQ(marched_samples(request.settings, 10, box, block), 10.0);
     // Nothing visible: one look per brick entered, and per slab.
-    const WorkContext nothing{.brick_grid = {16, 16, 16}, .occupied = OccupiedBricks{}};
+    const WorkContext nothing{.brick_grid = {16, 16, 16},
+                              .occupied = OccupiedBricks{},
+                              .occupied_for_light = OccupiedBricks{}};
     EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, box, nothing),
                      1.0 + bricks_per_ray({16, 16, 16}));
     EXPECT_DOUBLE_EQ(marched_slab_samples(request.settings, slab_samples, box, nothing), 32.0);
+}
+
+// A cut that leaves rays nothing visible (every visible brick cut away) makes camera rays cheap,
+// but the light-buffer builders still march the visible bricks the cut removed: their slices span
+// the whole box and look at the transfer function alone, so the light buffer counts in full.
+TEST(FrameWork, BricksACutRemovesAreEmptyForRaysButNotForTheLightBufferBuilders) {
+    const OccupiedBricks visible_block{8, glm::ivec3(4), glm::ivec3(5)};
+    const WorkContext uncut{.brick_grid = {16, 16, 16},
+                            .occupied = visible_block,
+                            .occupied_for_light = visible_block};
+    const WorkContext cut_away{.brick_grid = {16, 16, 16},
+                               .occupied = OccupiedBricks{},
+                               .occupied_for_light = visible_block};
+    FrameRequest request = request_in(Mode::sbrc);
+    request.settings.sample_distance = 1.0 / 128.0;
+    const Box box;
+    const FrameWork whole = estimate_work(request, box, slab_samples, uncut);
+    const FrameWork cut = estimate_work(request, box, slab_samples, cut_away);
+    // Rays: one look per brick they enter, no samples.
+    EXPECT_DOUBLE_EQ(marched_samples(request.settings, 223, box, cut_away),
+                     1.0 + bricks_per_ray({16, 16, 16}));
+    EXPECT_LT(cut.ray_casting, whole.ray_casting * 0.6);
+    EXPECT_DOUBLE_EQ(cut.light_buffer, whole.light_buffer);
+    EXPECT_LT(whole.light_buffer, 64.0 * 64.0 * 32.0 * slab_samples);  // skipping counted
 }
 
 // The loop turns of one march with empty-space skipping, as raycast.glsl's classify_sample

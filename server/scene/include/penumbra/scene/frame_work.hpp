@@ -31,9 +31,14 @@ struct WorkContext {
     // Bricks per axis of the volume's brick grid; 0: the volume has none, so nothing is skipped.
     // Brick (i, j, k) covers [i, i + 1) / grid of the box along each axis, as the shaders cut it.
     glm::ivec3 brick_grid{0};
-    // The bricks the transfer function leaves visible, where known; unknown counts every brick
-    // as visible, which keeps the estimate an upper bound.
+    // The bricks a ray may sample, where known: those the transfer function leaves visible and
+    // the cut does not wholly remove (camera rays and shadow rays march only inside the region).
+    // Unknown counts every brick as visible, which keeps the estimate an upper bound.
     std::optional<OccupiedBricks> occupied;
+    // The bricks the light-buffer builders may sample, where known: those the transfer function
+    // leaves visible, cut or not (their slices span the whole box, and a brick's look asks only
+    // the transfer function).
+    std::optional<OccupiedBricks> occupied_for_light;
 };
 
 // Loop iterations one march of at most `samples` samples through `box` costs, at most: every
