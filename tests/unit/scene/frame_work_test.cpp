@@ -183,7 +183,9 @@ TEST(FrameWork, BricksPerRayCrossTheGridsDiagonal) {
 // Without knowing which bricks are visible, skipping promises nothing: the estimate stays the
 // upper bound that decides whether a frame is accepted, with or without skipping.
 TEST(FrameWork, SkippingWithNothingKnownKeepsTheUpperBound) {
-    const WorkContext unknown{.brick_grid = {23, 28, 23}, .occupied = std::nullopt};
+    const WorkContext unknown{.brick_grid = {23, 28, 23},
+                              .occupied = std::nullopt,
+                              .occupied_for_light = std::nullopt};
     for (const Mode mode : all_modes) {
         FrameRequest skipping = request_in(mode);
         skipping.settings.empty_space_skipping = true;
@@ -317,8 +319,9 @@ int march_turns(const Box& box, glm::ivec3 grid, const std::function<bool(glm::i
 TEST(FrameWork, AVisibleColumnSeenAlongItIsCountedForEverySampleItsRaysTake) {
     const glm::ivec3 grid{32, 32, 32};
     const glm::ivec3 column{16, 16, 0};
-    const WorkContext context{.brick_grid = grid,
-                              .occupied = OccupiedBricks{32, column, glm::ivec3(16, 16, 31)}};
+    const OccupiedBricks visible_column{32, column, glm::ivec3(16, 16, 31)};
+    const WorkContext context{
+            .brick_grid = grid, .occupied = visible_column, .occupied_for_light = visible_column};
     const auto in_column = [&](glm::ivec3 brick) {
         return brick.x == column.x && brick.y == column.y;
     };
