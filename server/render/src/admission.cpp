@@ -25,7 +25,12 @@ scene::WorkContext work_context(const scene::FrameRequest& request, const EmptyS
     if (!request.settings.empty_space_skipping) {
         return {};
     }
-    return {bricks.grid(), bricks.occupied_bricks(table, region), bricks.occupied_bricks(table)};
+    // Each frame walks the bricks here: once when nothing is cut away for the light.
+    const scene::OccupiedBricks visible = bricks.occupied_bricks(table);
+    if (region.count_for(optics::RegionUser::light) == 0) {
+        return {bricks.grid(), visible, visible};
+    }
+    return {bricks.grid(), bricks.occupied_bricks(table, region), visible};
 }
 
 base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,

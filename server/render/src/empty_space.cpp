@@ -109,6 +109,7 @@ scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
     };
     // Brick (i, j, k) covers [i, i + 1) / grid of the box along each axis.
     const glm::dvec3 brick_size = region.box.size() / glm::dvec3(ranges.grid);
+    const bool cut = region.count_for(optics::RegionUser::light) > 0;
     const auto inside_region = [&](glm::ivec3 brick) {
         const glm::dvec3 low = region.box.min + glm::dvec3(brick) * brick_size;
         return !optics::outside_region(region, low, glm::min(low + brick_size, region.box.max),
@@ -120,7 +121,7 @@ scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
                                static_cast<int>(index / ranges.grid.x % ranges.grid.y),
                                static_cast<int>(index / ranges.grid.x / ranges.grid.y));
         ++index;
-        if (visible_in_table(stored) && inside_region(brick)) {
+        if (visible_in_table(stored) && (!cut || inside_region(brick))) {
             ++occupied.count;
             occupied.first = glm::min(occupied.first, brick);
             occupied.last = glm::max(occupied.last, brick);
