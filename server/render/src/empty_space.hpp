@@ -12,6 +12,8 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <array>
+#include <optional>
 #include <vector>
 
 namespace penumbra::render {
@@ -57,13 +59,33 @@ public:
     [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
 
     // occupied_bricks of this volume's bricks under `table`.
+    // The last answer is kept: the frames of an unchanged TF and cut (a camera drag) ask it again,
+    // and the walk over every brick is a frame's largest CPU cost in a sanitizer's build. The
+    // region's box is this volume's, so its half-spaces and counts say which region it is.
     [[nodiscard]] scene::OccupiedBricks occupied_bricks(const std::vector<glm::vec4>& table,
                                                         const optics::Region& region = {}) const {
-        return render::occupied_bricks(ranges_on_cpu_, table, region);
+        const bool same = last_.has_value() && last_->table == table &&
+                          last_->half_spaces == region.half_spaces &&
+                          last_->counts == glm::ivec2(region.count, region.light_count);
+        if (!same) {
+            last_ = LastAnswer{table, region.half_spaces,
+                               glm::ivec2(region.count, region.light_count),
+                               render::occupied_bricks(ranges_on_cpu_, table, region)};
+        }
+        return last_->occupied;
     }
 
 private:
+    struct LastAnswer {
+        std::vector<glm::vec4> table;
+        std::array<optics::HalfSpace, optics::kMaxHalfSpaces> half_spaces;
+        glm::ivec2 counts;
+        scene::OccupiedBricks occupied;
+    };
+
     BrickRanges ranges_on_cpu_;  // kept for the work estimate, which runs before the GPU does
+    // Used by the render thread only, as the map itself is.
+    mutable std::optional<LastAnswer> last_;
     gpu::Texture ranges_;
     gpu::Texture occupancy_;
     gpu::Buffer visible_entries_;
