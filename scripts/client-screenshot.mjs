@@ -1,7 +1,7 @@
 #!/usr/bin/env node
 // The README's screenshot of the web client: a real `penumbra serve`, Debian's chromium driven by
 // playwright-core, the ch2 head in sbrc_cone; with `cut`, the head CT of the demo folder cut open
-// at the midline from the Cut panel; with `plane`, cut across the view from the left by the Cut
+// at the midline by dragging the crop box's left face on the image; with `plane`, cut across the view from the left by the Cut
 // panel's view plane and turned to show the cut.
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_sbrc_cone.png
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_cut.png cut
@@ -31,6 +31,14 @@ const url = await new Promise((resolve, reject) => {
   });
   server.on('exit', () => reject(new Error(`penumbra serve exited:\n${text}`)));
 });
+/** Waits for the still that follows an interaction (its interactive frames come first). */
+async function stillShown(page) {
+  await page.waitForTimeout(500);
+  await page.waitForFunction(
+    () => /still/.test(document.querySelector('[data-stat="mode"]')?.textContent ?? ''), null,
+    { timeout: 120000 });
+}
+
 const browser = await chromium.launchPersistentContext(
   mkdtempSync(path.join(tmpdir(), 'penumbra-shot-')), {
     executablePath: '/usr/bin/chromium',
@@ -48,19 +56,37 @@ try {
   await page.waitForFunction(() => document.querySelector('canvas.frame-canvas')?.dataset.frame !== undefined,
     null, { timeout: 120000 });
   if (scene === 'cut') {
-    // The view from the left, the left half cropped away by the Cut panel's left face.
+    // From the left and a little in front and above, the crop box turned on and its left face
+    // dragged by its handle on the image to the midline: the left half is cut away.
     await page.locator('.view-buttons button', { hasText: 'L' }).first().click();
+    const canvas = await page.locator('canvas.frame-canvas').boundingBox();
+    const cx = canvas.x + canvas.width / 2;
+    const cy = canvas.y + canvas.height / 2;
+    await page.mouse.move(cx, cy);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; ++i) await page.mouse.move(cx + 8 * i, cy + 4 * i);
+    await page.mouse.up();
+    await stillShown(page);
     // Folders start open: close those above the Cut panel so that it shows.
     for (const title of ['Volume', 'Shared viewing', 'Transfer function', 'Light']) {
       await page.locator('.lil-gui .lil-title', { hasText: title }).first().click();
     }
-    const left = page.locator('[data-control="crop-left"] input');
-    await left.fill('122');
-    await left.press('Enter');
-    await page.waitForTimeout(500);
-    await page.waitForFunction(
-      () => /still/.test(document.querySelector('[data-stat="mode"]')?.textContent ?? ''), null,
-      { timeout: 120000 });
+    await page.locator('[data-control="crop"] input').check();
+    const handle = async (face) => {
+      const circle = page.locator(`circle.crop-box-handle[data-face="${face}"]`);
+      await circle.waitFor();
+      const b = await circle.boundingBox();
+      return [b.x + b.width / 2, b.y + b.height / 2];
+    };
+    const [lx, ly] = await handle('left');
+    const [rx, ry] = await handle('right');
+    await page.mouse.move(lx, ly);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; ++i) {
+      await page.mouse.move(lx + (0.5 * (rx - lx) * i) / 10, ly + (0.5 * (ry - ly) * i) / 10);
+    }
+    await page.mouse.up();
+    await stillShown(page);
   } else if (scene === 'plane') {
     // From the left, the view plane 20 mm to the right of the centre; then turned 60 degrees.
     await page.locator('.view-buttons button', { hasText: 'L' }).first().click();
@@ -77,10 +103,7 @@ try {
     await page.mouse.down();
     for (let i = 1; i <= 10; ++i) await page.mouse.move(box.x + box.width / 2 - 12 * i, y);
     await page.mouse.up();
-    await page.waitForTimeout(500);
-    await page.waitForFunction(
-      () => /still/.test(document.querySelector('[data-stat="mode"]')?.textContent ?? ''), null,
-      { timeout: 120000 });
+    await stillShown(page);
   } else {
     await page.locator('[data-control="mode"] select').selectOption('sbrc_cone');
     await page.waitForFunction(

@@ -7,6 +7,7 @@ import {
   DEFAULT_LIMITS,
   mergePatches,
   VIEWS,
+  type Camera,
   type Listing,
   type StatePatch,
 } from './protocol/messages';
@@ -22,6 +23,8 @@ import { SessionPanel } from './panels/session_panel';
 import { LightControl } from './panels/light_control';
 import { MethodPanel } from './panels/method_panel';
 import { CutPanel } from './panels/cut_panel';
+import { placementOf } from './panels/crop_box';
+import { CropBoxOverlay } from './view/crop_box_overlay';
 import { TfEditor } from './panels/tf_editor';
 import { TfModel, tfTerms } from './panels/tf_model';
 
@@ -54,7 +57,8 @@ let scale = 1;
 
 // ---- outgoing changes: merged, and sent with the next paced render ------------------------------
 let pendingPatch: StatePatch | null = null;
-const sentAt = new Map<number, number>();
+/** Each render request: when it was sent and the camera its frame is drawn with. */
+const sent = new Map<number, { at: number; camera: Camera }>();
 
 function describe(e: unknown): string {
   return e instanceof ServerError ? e.describe() : e instanceof Error ? e.message : String(e);
@@ -80,8 +84,8 @@ const pacer = new RenderPacer((interactive) => {
     });
   }
   const id = connection.render(interactive);
-  sentAt.set(id, performance.now());
-  if (sentAt.size > 64) sentAt.delete(sentAt.keys().next().value as number);
+  sent.set(id, { at: performance.now(), camera: camera.toCamera() });
+  if (sent.size > 64) sent.delete(sent.keys().next().value as number);
   return id;
 });
 
@@ -115,6 +119,17 @@ const tfEditor = new TfEditor(tfFolder, tfModel, (interactive) =>
 const lightFolder = gui.addFolder('Light');
 const light = new LightControl(lightFolder, () => camera.toCamera(), change);
 const cutPanel = new CutPanel(gui.addFolder('Cut'), change, () => camera.toCamera());
+const cropBox = new CropBoxOverlay(viewElement, cutPanel);
+cutPanel.onBoxChange(() => cropBox.draw());
+// The box is drawn with the camera of the frame on screen: the owner's camera when it asked for
+// that frame; a viewer's follows the session's state.
+view.onShown(({ header }) =>
+  cropBox.setFrame({
+    camera: (role === 'owner' ? sent.get(header.request)?.camera : undefined) ?? camera.toCamera(),
+    width: header.width,
+    height: header.height,
+  }),
+);
 const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
   scale = s;
   change({ settings: { size: renderSize() } }, false);
@@ -244,6 +259,7 @@ connection.on('session', (info, restored) => {
   tfEditor.refresh();
   light.setScene({ volume: info.volume, camera: info.state.camera });
   cutPanel.setVolume(info.volume);
+  cropBox.setPlacement(placementOf(info.volume));
   showSessionState();
   picker.updateVolume(info.volume);
   picker.select(info.volume.id);
@@ -284,7 +300,8 @@ connection.on('state', (info) => {
 connection.on('frame', (frame) => {
   // A refinement step answers no new request: it only improves the still frame on screen.
   const refined = (frame.header.refinement ?? 0) > 0;
-  const requestSent = role === 'owner' && !refined ? sentAt.get(frame.header.request) : undefined;
+  const request = sent.get(frame.header.request);
+  const requestSent = role === 'owner' && !refined ? request?.at : undefined;
   const arrived = performance.now();
   view.show(frame);
   stats.add({

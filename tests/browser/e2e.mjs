@@ -187,6 +187,58 @@ async function waitForStill(page, after = null, timeout = 30000) {
   return frameInfo(page);
 }
 
+/** The topmost row of the frame (CSS pixels from the view's top) that shows the head. */
+async function topmostLitRow(page) {
+  return page.evaluate(() => {
+    const canvas = document.querySelector('canvas.frame-canvas');
+    const { width, height } = canvas;
+    const data = canvas.getContext('2d').getImageData(0, 0, width, height).data;
+    for (let y = 0; y < height; ++y) {
+      for (let x = 0; x < width; ++x) {
+        const k = (y * width + x) * 4;
+        if ((data[k] + data[k + 1] + data[k + 2]) / 3 > 24) {
+          return (y * canvas.getBoundingClientRect().height) / height;
+        }
+      }
+    }
+    return null;
+  });
+}
+
+/** The crop box as drawn over the image: its corners' y (CSS pixels) and each shown handle. */
+async function cropBoxOnScreen(page) {
+  return page.evaluate(() => {
+    const svg = document.querySelector('svg.crop-box-overlay');
+    const d = svg?.querySelector('path')?.getAttribute('d') ?? '';
+    // Each corner is written once per edge through it, always alike.
+    const corners = new Set([...d.matchAll(/[ML]([-\d.]+,[-\d.]+)/g)].map((m) => m[1]));
+    const ys = [...corners].map((corner) => Number(corner.split(',')[1]));
+    const handles = {};
+    for (const c of svg?.querySelectorAll('circle') ?? []) {
+      if (c.style.display !== 'none') handles[c.dataset.face] = [Number(c.getAttribute('cx')), Number(c.getAttribute('cy'))];
+    }
+    return { shown: !!svg && svg.style.display !== 'none', corners: ys.sort((a, b) => a - b), handles };
+  });
+}
+
+/** Drags from (x, y) down by `dy` CSS pixels in steps, with the mouse or (touch) a finger. */
+async function dragDown(page, x, y, dy, touch = null) {
+  const steps = 8;
+  if (touch) {
+    await touch.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x, y }] });
+    for (let i = 1; i <= steps; ++i) {
+      await touch.send('Input.dispatchTouchEvent',
+        { type: 'touchMove', touchPoints: [{ x, y: y + (dy * i) / steps }] });
+    }
+    await touch.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    return;
+  }
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let i = 1; i <= steps; ++i) await page.mouse.move(x, y + (dy * i) / steps);
+  await page.mouse.up();
+}
+
 /** Which patient label the orientation marker shows furthest right and furthest up. */
 async function markerAxes(page) {
   return page.evaluate(() => {
@@ -414,6 +466,32 @@ try {
     difference(beforeTabletCut, await canvasSignature(owner)) < 1.5 &&
       !(await owner.locator('[data-control="plane-1"]').isVisible()),
     `difference ${difference(beforeTabletCut, await canvasSignature(owner)).toFixed(1)}`);
+  // The crop box's handles take a finger: the crop turned on in the drawer, the drawer closed,
+  // the superior handle dragged down by touch cuts the head.
+  await owner.locator('[data-control="crop"] input').check();
+  info = await waitForStill(owner, info);
+  await owner.locator('.drawer-toggle').click();
+  await owner.waitForTimeout(400);
+  const touch = await context.newCDPSession(owner);
+  await touch.send('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 2 });
+  const tabletBox = await cropBoxOnScreen(owner);
+  const beforeTouch = await canvasSignature(owner);
+  const tabletTop = (await owner.locator('#view').boundingBox()).y;
+  await dragDown(owner, tabletBox.handles.superior[0], tabletTop + tabletBox.handles.superior[1], 160,
+    touch);
+  info = await waitForStill(owner, info);
+  const touched = await cropBoxOnScreen(owner);
+  await owner.screenshot({ path: path.join(outDir, '03e_portrait_crop_box.png') });
+  check('on the tablet a finger drags the superior face down and the head is cut',
+    Math.abs(touched.handles.superior[1] - (tabletBox.handles.superior[1] + 160)) < 2 &&
+      difference(beforeTouch, await canvasSignature(owner)) > 1,
+    `handle ${tabletBox.handles.superior[1]} -> ${touched.handles.superior[1]}`);
+  await touch.send('Emulation.setTouchEmulationEnabled', { enabled: false });
+  await touch.detach();
+  await owner.locator('.drawer-toggle').click();
+  await owner.waitForTimeout(400);
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
   await owner.locator('.drawer-toggle').click();
   await owner.waitForTimeout(400);
   check('and closes again', !(await owner.locator('#panel').isVisible()));
@@ -460,6 +538,41 @@ try {
     `difference ${difference(uncut, await canvasSignature(owner)).toFixed(1)}`);
   await owner.locator('[data-control="cut-reset"] button').click();
   info = await waitForStill(owner, info);
+
+  // 3e. The crop box on the image: with the crop on it is drawn around the head, a handle on each
+  // face that lies across the view (seen from the front, not the anterior and posterior ones); the
+  // superior face's handle dragged down stays under the pointer, moves the box's top face down
+  // and cuts the head off where that face now lies on the image; a still follows.
+  await owner.locator('[data-control="crop"] input').check();
+  info = await waitForStill(owner, info);
+  const boxShown = await cropBoxOnScreen(owner);
+  check('with the crop on, the box is drawn with a handle on each face across the view',
+    boxShown.shown && boxShown.corners.length === 8 &&
+      Object.keys(boxShown.handles).sort().join(' ') === 'inferior left right superior',
+    `handles ${Object.keys(boxShown.handles).join(' ')}`);
+  const superiorInput = owner.locator('[data-control="crop-superior"] input');
+  const superiorBefore = Number(await superiorInput.inputValue());
+  const uncutTop = await topmostLitRow(owner);
+  const viewTop = (await owner.locator('#view').boundingBox()).y;
+  const [hx, hy] = boxShown.handles.superior;
+  await dragDown(owner, hx, viewTop + hy, 64);
+  info = await waitForStill(owner, info);
+  const superiorAfter = Number(await superiorInput.inputValue());
+  const boxAfter = await cropBoxOnScreen(owner);
+  const topRow = await topmostLitRow(owner);
+  // Seen from the front with the eye below it, the top face's four corners are the box's highest
+  // on the image: the head's cut top lies between its near and far edges.
+  const [nearTop, , , farTop] = boxAfter.corners;
+  await owner.screenshot({ path: path.join(outDir, '03h_crop_box_dragged.png') });
+  check('the superior handle dragged down moves the top face down and stays under the pointer',
+    superiorAfter < superiorBefore - 10 && Math.abs(boxAfter.handles.superior[1] - (hy + 64)) < 2,
+    `superior ${superiorBefore} -> ${superiorAfter} mm, handle at ${boxAfter.handles.superior[1]}`);
+  check('and the head is cut off where the top face of the box lies on the image',
+    topRow !== null && topRow > uncutTop + 5 && topRow >= nearTop - 3 && topRow <= farTop + 3,
+    `head's top from ${uncutTop?.toFixed(1)} to ${topRow?.toFixed(1)}, top face from ${nearTop} to ${farTop}`);
+  await owner.locator('[data-control="cut-reset"] button').click();
+  info = await waitForStill(owner, info);
+  check('the reset hides the box', !(await cropBoxOnScreen(owner)).shown);
 
   // 4. A bad parameter shows the server's error.
   const sampleDistance = owner.locator('[data-control="sample_distance"] input');

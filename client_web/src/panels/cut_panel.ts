@@ -77,7 +77,7 @@ export const CROP_FACES = [
   { key: 'superior', corner: 'max', axis: 2, label: 'superior (z max)' },
 ] as const;
 
-type FaceKey = (typeof CROP_FACES)[number]['key'];
+export type FaceKey = (typeof CROP_FACES)[number]['key'];
 
 /** The crop box within `bounds`, each face kept at least `gap` mm inside the opposite one. */
 export function cropWithin(
@@ -135,7 +135,11 @@ interface PlaneRow {
 }
 
 export class CutPanel {
-  private readonly params: Record<FaceKey, number> & { crop: boolean; casts_shadows: boolean } = {
+  private readonly params: Record<FaceKey, number> & {
+    crop: boolean;
+    show_box: boolean;
+    casts_shadows: boolean;
+  } = {
     left: 0,
     right: 0,
     posterior: 0,
@@ -143,6 +147,7 @@ export class CutPanel {
     inferior: 0,
     superior: 0,
     crop: false,
+    show_box: true,
     casts_shadows: false,
   };
   private readonly planeParams: Record<string, number | boolean> = {};
@@ -152,6 +157,7 @@ export class CutPanel {
   private readonly controllers: Controller[] = [];
   private bounds: [Vec3, Vec3] | null = null;
   private enabled = true;
+  private readonly boxListeners: (() => void)[] = [];
 
   constructor(
     folder: GUI,
@@ -160,8 +166,15 @@ export class CutPanel {
   ) {
     const p = this.params;
     const crop = folder.add(p, 'crop').name('crop to the box');
-    crop.onChange(() => this.send(false));
+    crop.onChange(() => {
+      this.boxChanged();
+      this.send(false);
+    });
     this.wire(crop, 'crop');
+    // The viewer's own choice, not the session's: nothing is sent.
+    const showBox = folder.add(p, 'show_box').name('box on the image');
+    showBox.onChange(() => this.boxChanged());
+    showBox.domElement.dataset['control'] = 'crop-box-shown';
     for (const face of CROP_FACES) {
       const c = folder.add(p, face.key, -1, 1, 0.5).name(face.label);
       c.onChange(() => this.faceMoved(face.key, true));
@@ -219,6 +232,34 @@ export class CutPanel {
         Math.hypot(...([0, 1, 2].map((i) => this.bounds![1][i]! - this.bounds![0][i]!) as Vec3)),
     );
     for (const row of this.planes.values()) row.depth.min(-reach).max(reach);
+    this.boxChanged();
+  }
+
+  /** Called whenever the box the panel shows changes: the session's, or a face moved here. */
+  onBoxChange(listener: () => void): void {
+    this.boxListeners.push(listener);
+  }
+
+  private boxChanged(): void {
+    for (const l of this.boxListeners) l();
+  }
+
+  /** The crop box to draw over the image: null while the crop is off or the box is hidden. */
+  box(): { min: Vec3; max: Vec3 } | null {
+    const p = this.params;
+    return this.bounds && p.crop && p.show_box ? this.corners() : null;
+  }
+
+  /** Whether the user may change the cut (the session's owner). */
+  get editable(): boolean {
+    return this.enabled;
+  }
+
+  /** Moves one face to `millimetres` on its axis, as its slider would. */
+  moveFace(key: FaceKey, millimetres: number, interactive: boolean): void {
+    if (!this.enabled || !Number.isFinite(millimetres)) return;
+    this.params[key] = millimetres;
+    this.faceMoved(key, interactive);
   }
 
   /** Shows the session's cut, its faces within the volume's bounds. */
@@ -241,6 +282,7 @@ export class CutPanel {
       this.showPlane(key, plane);
     }
     for (const c of this.controllers) c.updateDisplay();
+    this.boxChanged();
   }
 
   /** A plane's row shows once the plane was used: on, or moved from a new session's. */
@@ -304,6 +346,7 @@ export class CutPanel {
     for (const f of CROP_FACES) p[f.key] = kept[f.corner][f.axis]!;
     p.crop = true;
     for (const c of this.controllers) c.updateDisplay();
+    this.boxChanged();
     this.send(interactive);
   }
 
@@ -330,6 +373,7 @@ export class CutPanel {
     const { min, max } = this.corners();
     const patch = cutPatch(p.crop, min, max, p.casts_shadows);
     for (const key of PLANE_KEYS) Object.assign(patch.cut!, planePatch(key, UNUSED_PLANE).cut);
+    this.boxChanged();
     this.change(patch, false);
   }
 }
