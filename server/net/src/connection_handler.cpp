@@ -12,9 +12,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Beyond this many queued replies a flooding client gets no more error messages, only the
-// count of what was dropped once it calms down.
-constexpr std::uint64_t max_unanswered_errors = 64;
+// A flooding client's refused requests are answered from an allowance of their own: this many at
+// once, refilled at the request rate. So a flood gets a bounded number of error replies per
+// second however fast or slowly the server reads it; the rest are refused without a reply.
+constexpr double max_refusal_replies = 64.0;
 
 // Requests that may wait while a volume loads for this connection; more are refused.
 constexpr std::size_t max_waiting_requests = 64;
@@ -83,6 +84,7 @@ ConnectionHandler::ConnectionHandler(Context& context, std::weak_ptr<Connection>
     , connection_(std::move(connection))
     , viewer_(context.next_viewer.fetch_add(1))
     , tokens_(context.config.limits.max_requests_per_second)
+    , refusal_tokens_(max_refusal_replies)
     , last_refill_(Clock::now())
     , client_(std::move(client)) {}
 
@@ -93,9 +95,6 @@ void ConnectionHandler::send(std::string text) {
 }
 
 void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::Error& error) {
-    if (dropped_replies_ >= max_unanswered_errors) {
-        return;
-    }
     // A client learns where a file is inside the data folder, never where the folder is.
     const session::VolumeStore& volumes = context_.services.volumes;
     send(protocol::error_message(id, base::Error{error.code, volumes.relative_paths(error.message),
@@ -106,15 +105,14 @@ void ConnectionHandler::reply_error(std::optional<std::int64_t> id, const base::
 bool ConnectionHandler::take_token() {
     const double rate = context_.config.limits.max_requests_per_second;
     const Clock::time_point now = Clock::now();
-    tokens_ = std::min(rate,
-                       tokens_ + rate * std::chrono::duration<double>(now - last_refill_).count());
+    const double refill = rate * std::chrono::duration<double>(now - last_refill_).count();
+    tokens_ = std::min(rate, tokens_ + refill);
+    refusal_tokens_ = std::min(max_refusal_replies, refusal_tokens_ + refill);
     last_refill_ = now;
     if (tokens_ >= 1.0) {
         tokens_ -= 1.0;
-        dropped_replies_ = 0;
         return true;
     }
-    ++dropped_replies_;
     return false;
 }
 
@@ -129,6 +127,10 @@ bool ConnectionHandler::admit(std::optional<std::int64_t> id) {
     if (take_token()) {
         return true;
     }
+    if (refusal_tokens_ < 1.0) {
+        return false;
+    }
+    refusal_tokens_ -= 1.0;
     reply_error(id,
                 base::make_error(base::ErrorCode::rate_limited,
                                  "more than " +

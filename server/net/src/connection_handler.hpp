@@ -86,8 +86,8 @@ private:
     session::ViewerId viewer_;
     std::shared_ptr<session::Session> session_;
     double tokens_;
+    double refusal_tokens_;  // error replies a flood may still get (connection_handler.cpp)
     std::chrono::steady_clock::time_point last_refill_;
-    std::uint64_t dropped_replies_ = 0;
     std::string client_;
     bool busy_ = false;  // a request is being carried out off the strand
     std::deque<protocol::Request> waiting_;
