@@ -176,7 +176,7 @@ export class CutPanel {
     showBox.onChange(() => this.boxChanged());
     showBox.domElement.dataset['control'] = 'crop-box-shown';
     for (const face of CROP_FACES) {
-      const c = folder.add(p, face.key, -1, 1, 0.5).name(face.label);
+      const c = folder.add(p, face.key, -1, 1, 0.5).name(face.label).decimals(1);
       c.onChange(() => this.faceMoved(face.key, true));
       c.onFinishChange(() => this.faceMoved(face.key, false));
       this.wire(c, `crop-${face.key}`);
@@ -191,7 +191,10 @@ export class CutPanel {
       this.planeParams[`${key}_depth`] = 0;
       const on = folder.add(this.planeParams, `${key}_on`).name(`plane ${i + 1}`);
       on.onChange(() => this.planeMoved(key, false));
-      const depth = folder.add(this.planeParams, `${key}_depth`, -1, 1, 0.5).name(`depth ${i + 1}`);
+      const depth = folder
+        .add(this.planeParams, `${key}_depth`, -1, 1, 0.5)
+        .name(`depth ${i + 1}`)
+        .decimals(1);
       depth.onChange(() => this.planeMoved(key, true));
       depth.onFinishChange(() => this.planeMoved(key, false));
       this.wire(on, `plane-${i + 1}`);
