@@ -49,4 +49,34 @@ bool outside_region(const Region& region, glm::dvec3 low, glm::dvec3 high, Regio
     return false;
 }
 
+std::vector<glm::dvec3> clip_polygon(const Region& region, RegionUser user,
+                                     std::vector<glm::dvec3> polygon) {
+    const int count = region.count_for(user);
+    std::vector<glm::dvec3> kept;
+    for (int i = 0; i < count && polygon.size() >= 3; ++i) {
+        // Sutherland-Hodgman: walk the edges, keep the vertices inside and add a vertex where an
+        // edge crosses the half-space's plane.
+        const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+        const auto inside = [&](const glm::dvec3& p) { return glm::dot(h.normal, p) + h.offset; };
+        kept.clear();
+        for (std::size_t k = 0; k < polygon.size(); ++k) {
+            const glm::dvec3& a = polygon[k];
+            const glm::dvec3& b = polygon[(k + 1) % polygon.size()];
+            const double da = inside(a);
+            const double db = inside(b);
+            if (da >= 0.0) {
+                kept.push_back(a);
+            }
+            if ((da < 0.0) != (db < 0.0)) {
+                kept.push_back(a + (b - a) * (da / (da - db)));
+            }
+        }
+        polygon.swap(kept);
+    }
+    if (polygon.size() < 3) {
+        polygon.clear();
+    }
+    return polygon;
+}
+
 }  // namespace penumbra::optics

@@ -25,9 +25,10 @@ base::Status LightBufferCache::use(LightBufferInputs inputs,
     } else {
         const auto start = Clock::now();
         if (settings.builder == scene::LightBufferBuilder::per_slice) {
-            slices.upload(
-                    make_slice_geometry(g.box, g.travel, static_cast<float>(g.light_slicing.min),
-                                        static_cast<float>(g.light_slicing.max), settings.slices));
+            slices.upload(make_slice_geometry(g.region, optics::RegionUser::light, g.travel,
+                                              static_cast<float>(g.light_slicing.min),
+                                              static_cast<float>(g.light_slicing.max),
+                                              settings.slices));
         }
         const std::size_t bytes = LightBuffer::bytes_for(settings.slices, settings.resolution);
         buffers_.make_room(bytes);  // before the new buffer takes its memory

@@ -3,13 +3,16 @@
 #include <penumbra/gpu/commands.hpp>
 #include <penumbra/optics/light_slicing.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <span>
 
 namespace penumbra::render {
 
-SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min, double max,
-                                  int count) {
+SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUser user,
+                                  glm::dvec3 normal, double min, double max, int count) {
     SliceGeometry geometry;
     geometry.first.reserve(static_cast<std::size_t>(count));
     geometry.count.reserve(static_cast<std::size_t>(count));
@@ -19,8 +22,16 @@ SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, doub
         geometry.positions.push_back(static_cast<float>(p.y));
         geometry.positions.push_back(static_cast<float>(p.z));
     };
+    // A slice's fragments march or blend the slab up to its neighbour: the polygon keeps every
+    // point whose slab may reach into the region, so clipping drops only fragments that would
+    // have added nothing.
+    optics::Region reach = region;
+    for (optics::HalfSpace& h : reach.half_spaces) {
+        h.offset += spacing * std::abs(glm::dot(h.normal, normal));
+    }
     for (int k = 0; k < count; ++k) {
-        const auto polygon = optics::slice_polygon(box, normal, min + (k + 0.5) * spacing);
+        const auto polygon = optics::clip_polygon(
+                reach, user, optics::slice_polygon(region.box, normal, min + (k + 0.5) * spacing));
         geometry.first.push_back(static_cast<GLint>(geometry.positions.size() / 3));
         for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
             push(polygon[0]);

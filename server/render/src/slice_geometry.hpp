@@ -1,7 +1,7 @@
 #pragma once
 
 #include <penumbra/gpu/objects.hpp>
-#include <penumbra/scene/box.hpp>
+#include <penumbra/optics/region.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -17,10 +17,10 @@ struct SliceGeometry {
     std::vector<GLsizei> count;    // vertex count of slice k (0 when the plane misses the box)
 };
 
-// The n slice polygons perpendicular to `normal` at min + (k + 0.5)·(max - min)/n, each a triangle
-// fan turned into a triangle list.
-SliceGeometry make_slice_geometry(const scene::Box& box, glm::dvec3 normal, double min, double max,
-                                  int count);
+// The n slice polygons perpendicular to `normal` at min + (k + 0.5)·(max - min)/n, each cut to
+// what `region` keeps for `user` and drawn as a triangle fan turned into a triangle list.
+SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUser user,
+                                  glm::dvec3 normal, double min, double max, int count);
 
 // The geometry on the GPU: a vertex buffer and the vertex array reading it as attribute 0.
 class SliceMesh {

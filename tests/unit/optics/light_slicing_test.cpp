@@ -1,4 +1,5 @@
 #include <penumbra/optics/light_slicing.hpp>
+#include <penumbra/optics/region.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <glm/ext/matrix_transform.hpp>
@@ -15,6 +16,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace penumbra::optics {
@@ -351,6 +353,63 @@ TEST(SlicePolygon, SliceAreasIntegrateToTheBoxVolume) {
             EXPECT_NEAR(sum, volume, 1e-3 * volume);
         }
     }
+}
+
+// Slices cut to a region: the unit cube within a crop box (x >= -0.1, y <= 0.2: 0.6 x 0.7 x 1)
+// and within a plane through its centre (half of it, the cube being symmetric about its centre),
+// each kept by both users when the cut casts no shadow and by the camera only when it does.
+TEST(SlicePolygon, SlicesClippedToARegionIntegrateToItsVolume) {
+    Region crop;
+    crop.box = unit_box;
+    crop.half_spaces[0] = {{1.0, 0.0, 0.0}, 0.1};
+    crop.half_spaces[1] = {{0.0, -1.0, 0.0}, 0.2};
+    crop.count = crop.light_count = 2;
+    Region plane;
+    plane.box = unit_box;
+    plane.half_spaces[0] = {glm::normalize(glm::dvec3(0.3, -0.8, 0.5)), 0.0};
+    plane.count = 1;  // light_count 0: the cut casts shadows, the light sees the whole box
+    constexpr int n = 256;
+    for (const auto& [name, region, user, volume] :
+         {std::tuple{"crop box", crop, RegionUser::light, 0.6 * 0.7},
+          std::tuple{"plane for the camera", plane, RegionUser::camera, 0.5},
+          std::tuple{"plane for the light, which casts shadows", plane, RegionUser::light, 1.0}}) {
+        SCOPED_TRACE(name);
+        for (const NamedDirection& direction : test_directions()) {
+            SCOPED_TRACE(direction.name);
+            const LightSlicing slicing = make_light_slicing(unit_box, direction.direction, n);
+            double sum = 0.0;
+            for (int k = 0; k < n; ++k) {
+                const auto polygon = clip_polygon(
+                        region, user,
+                        slice_polygon(unit_box, direction.direction, slicing.plane_distance(k)));
+                ASSERT_TRUE(polygon.empty() || polygon.size() >= 3);
+                for (const glm::dvec3& p : polygon) {
+                    for (int i = 0; i < region.count_for(user); ++i) {
+                        const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+                        ASSERT_GE(glm::dot(h.normal, p) + h.offset, -kEps) << describe(p);
+                    }
+                }
+                sum += std::abs(signed_area(polygon, direction.direction)) * slicing.spacing();
+            }
+            // A face of the cut across the slices falls within one slice: the midpoint rule may
+            // miss at most one slice's area (no cross-section of the unit cube exceeds sqrt 2).
+            EXPECT_NEAR(sum, volume, std::sqrt(2.0) * slicing.spacing());
+        }
+    }
+}
+
+TEST(SlicePolygon, ARegionThatKeepsNothingOfASliceLeavesNoPolygon) {
+    Region region;
+    region.box = unit_box;
+    region.half_spaces[0] = {{0.0, 0.0, 1.0}, -0.2};  // z >= 0.2
+    region.count = region.light_count = 1;
+    EXPECT_TRUE(clip_polygon(region, RegionUser::camera,
+                             slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.1))
+                        .empty());
+    EXPECT_EQ(clip_polygon(region, RegionUser::camera,
+                           slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.3))
+                      .size(),
+              4u);
 }
 
 TEST(SlicePolygon, SeesEveryVertexCountFromThreeToSix) {

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <vector>
 
 namespace penumbra::optics {
 
@@ -54,6 +55,13 @@ struct Region {
 // outside may be skipped, never more.
 [[nodiscard]] bool outside_region(const Region& region, glm::dvec3 low, glm::dvec3 high,
                                   RegionUser user);
+
+// The part of the convex polygon `polygon` (vertices in order around it, in one plane; a slice
+// polygon) that lies in the half-spaces `user` clips by: still convex and in order, so a triangle
+// fan draws it; empty when less than a triangle is left. So the slicing passes rasterise only
+// what the region keeps.
+[[nodiscard]] std::vector<glm::dvec3> clip_polygon(const Region& region, RegionUser user,
+                                                   std::vector<glm::dvec3> polygon);
 
 // The interval [t_near, t_far] of the line origin + t * direction, narrowed to where it lies in the
 // first `count` half-spaces of `region`. t_near >= t_far when it lies in none of it.
