@@ -254,10 +254,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         const auto geometry_start = Clock::now();
         // Clipped as the light sees the region: the light pass draws the same polygons; the eye
         // pass still clips by the camera's region per fragment where the cut casts shadows.
-        impl.slices.upload(make_slice_geometry(g.region, optics::RegionUser::light,
-                                               g.half_angle_axis, g.half_angle_slicing.min,
-                                               g.half_angle_slicing.max,
-                                               g.half_angle_slicing.count));
+        impl.slices.upload(make_slice_geometry(
+                g.region, optics::RegionUser::light, g.half_angle_axis, g.half_angle_slicing.min,
+                g.half_angle_slicing.max, g.half_angle_slicing.count));
         slice_geometry_ms = milliseconds_since(geometry_start);
     }
     gpu::bind_texture(0, volume.texture().texture);

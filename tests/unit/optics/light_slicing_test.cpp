@@ -403,13 +403,13 @@ TEST(SlicePolygon, ARegionThatKeepsNothingOfASliceLeavesNoPolygon) {
     region.box = unit_box;
     region.half_spaces[0] = {{0.0, 0.0, 1.0}, -0.2};  // z >= 0.2
     region.count = region.light_count = 1;
-    EXPECT_TRUE(clip_polygon(region, RegionUser::camera,
-                             slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.1))
-                        .empty());
-    EXPECT_EQ(clip_polygon(region, RegionUser::camera,
-                           slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.3))
-                      .size(),
-              4u);
+    EXPECT_TRUE(
+            clip_polygon(region, RegionUser::camera, slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.1))
+                    .empty());
+    EXPECT_EQ(
+            clip_polygon(region, RegionUser::camera, slice_polygon(unit_box, {0.0, 0.0, 1.0}, 0.3))
+                    .size(),
+            4u);
 }
 
 TEST(SlicePolygon, SeesEveryVertexCountFromThreeToSix) {
