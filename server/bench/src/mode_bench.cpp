@@ -118,49 +118,67 @@ base::Result<Measurement> ModeBench::measure(const TimedPoint& point, scene::Fra
 
 base::Result<Series> ModeBench::measure_series(const TimedPoint& point, scene::FrameRequest request,
                                                LightBufferUse use, const std::string& pass) {
-    std::vector<double> frame_wall;
-    std::vector<double> frame_gpu;
-    std::vector<double> pass_wall;
-    std::vector<double> pass_gpu;
-    Series series;
-    for (int i = 0; i <= repeat_; ++i) {
-        request.camera = scene::orbit_camera(orbit_.azimuth + orbit_step_degrees * i,
-                                             orbit_.elevation, orbit_.distance, orbit_.target);
-        request.camera.fov_y_degrees = orbit_.fov_y_degrees;
-        if (use == LightBufferUse::rebuild) {
-            // A light never used before: the renderer caches light buffers by their inputs,
-            // so returning to an earlier light would reuse its buffer.
-            ++nudges_;
-            request.light = nudged(base_.light, (nudges_ % 2 == 0 ? 1.0 : -1.0) *
-                                                        static_cast<double>(nudges_ % 4096));
-        }
-        auto frame = renderer_.render(request);
-        if (!frame) {
-            return frame.error();
-        }
-        if (i == 0) {
-            continue;
-        }
-        if (auto status = check_light_buffer(point, use, frame->report.light_buffer); !status) {
-            return status.error();
-        }
-        const PassTotal whole = pass_total(frame->report, {});
-        const PassTotal named = pass_total(frame->report, pass);
-        if (!pass.empty() && !named.found) {
-            return base::make_error(base::ErrorCode::bench_invalid,
-                                    point_label(point) + ": no pass '" + pass +
-                                            "' in a frame that rebuilt the light buffer",
-                                    "light_buffer");
-        }
-        frame_wall.push_back(whole.wall_ms);
-        frame_gpu.push_back(whole.gpu_ms);
-        pass_wall.push_back(named.wall_ms);
-        pass_gpu.push_back(named.gpu_ms);
-        series.last_image = std::move(frame->image);
+    auto series = measure_interleaved({{point, std::move(request)}}, use, pass);
+    if (!series) {
+        return series.error();
     }
-    series.frame = median_of(frame_wall, frame_gpu, gpu_timers_);
-    if (!pass.empty()) {
-        series.pass = median_of(pass_wall, pass_gpu, gpu_timers_);
+    return std::move(series->front());
+}
+
+base::Result<std::vector<Series>> ModeBench::measure_interleaved(
+        std::vector<std::pair<TimedPoint, scene::FrameRequest>> variants, LightBufferUse use,
+        const std::string& pass) {
+    struct Samples {
+        std::vector<double> frame_wall, frame_gpu, pass_wall, pass_gpu;
+    };
+
+    std::vector<Samples> samples(variants.size());
+    std::vector<Series> series(variants.size());
+    for (int i = 0; i <= repeat_; ++i) {
+        for (std::size_t v = 0; v < variants.size(); ++v) {
+            auto& [point, request] = variants[v];
+            request.camera = scene::orbit_camera(orbit_.azimuth + orbit_step_degrees * i,
+                                                 orbit_.elevation, orbit_.distance, orbit_.target);
+            request.camera.fov_y_degrees = orbit_.fov_y_degrees;
+            if (use == LightBufferUse::rebuild) {
+                // A light never used before: the renderer caches light buffers by their inputs,
+                // so returning to an earlier light would reuse its buffer.
+                ++nudges_;
+                request.light = nudged(base_.light, (nudges_ % 2 == 0 ? 1.0 : -1.0) *
+                                                            static_cast<double>(nudges_ % 4096));
+            }
+            auto frame = renderer_.render(request);
+            if (!frame) {
+                return frame.error();
+            }
+            if (i == 0) {
+                continue;
+            }
+            if (auto status = check_light_buffer(point, use, frame->report.light_buffer); !status) {
+                return status.error();
+            }
+            const PassTotal whole = pass_total(frame->report, {});
+            const PassTotal named = pass_total(frame->report, pass);
+            if (!pass.empty() && !named.found) {
+                return base::make_error(base::ErrorCode::bench_invalid,
+                                        point_label(point) + ": no pass '" + pass +
+                                                "' in a frame that rebuilt the light buffer",
+                                        "light_buffer");
+            }
+            Samples& s = samples[v];
+            s.frame_wall.push_back(whole.wall_ms);
+            s.frame_gpu.push_back(whole.gpu_ms);
+            s.pass_wall.push_back(named.wall_ms);
+            s.pass_gpu.push_back(named.gpu_ms);
+            series[v].last_image = std::move(frame->image);
+        }
+    }
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+        Samples& s = samples[v];
+        series[v].frame = median_of(std::move(s.frame_wall), std::move(s.frame_gpu), gpu_timers_);
+        if (!pass.empty()) {
+            series[v].pass = median_of(std::move(s.pass_wall), std::move(s.pass_gpu), gpu_timers_);
+        }
     }
     return series;
 }

@@ -1,6 +1,9 @@
+#include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/optics/region.hpp>
 
 #include <glm/matrix.hpp>
+
+#include <algorithm>
 
 namespace penumbra::optics {
 
@@ -8,6 +11,18 @@ Region region_of(const scene::Box& box, const scene::Cut& cut,
                  const scene::PatientPlacement& placement) {
     Region region;
     region.box = box;
+    // A half-space that holds the whole box cuts nothing (a crop face at or beyond the volume's
+    // bounds, a plane beside it): left out, it costs no test per sample, and a cut that removes
+    // nothing is the uncut region, whose light buffer it shares.
+    const auto corners = box_corners(box);
+    const auto add = [&](glm::dvec3 normal, double offset) {
+        const bool cuts = std::any_of(corners.begin(), corners.end(), [&](glm::dvec3 corner) {
+            return glm::dot(normal, corner) + offset < 0.0;
+        });
+        if (cuts) {
+            region.half_spaces[static_cast<std::size_t>(region.count++)] = {normal, offset};
+        }
+    };
     if (cut.crop.enabled) {
         // World space is patient space moved and scaled, never turned: the crop box's faces stay
         // perpendicular to the world axes.
@@ -16,16 +31,15 @@ Region region_of(const scene::Box& box, const scene::Cut& cut,
         for (int axis = 0; axis < 3; ++axis) {
             glm::dvec3 normal(0.0);
             normal[axis] = 1.0;
-            region.half_spaces[static_cast<std::size_t>(region.count++)] = {normal, -low[axis]};
-            region.half_spaces[static_cast<std::size_t>(region.count++)] = {-normal, high[axis]};
+            add(normal, -low[axis]);
+            add(-normal, high[axis]);
         }
     }
     for (const scene::ClipPlane& plane : cut.planes) {
         if (plane.enabled) {
             // No rotation between the two spaces: a plane's normal is the same in both.
             const glm::dvec3 normal = glm::normalize(plane.normal);
-            region.half_spaces[static_cast<std::size_t>(region.count++)] = {
-                    normal, -glm::dot(normal, placement.to_world(plane.point))};
+            add(normal, -glm::dot(normal, placement.to_world(plane.point)));
         }
     }
     region.light_count = cut.casts_shadows ? 0 : region.count;

@@ -1,3 +1,4 @@
+#include <penumbra/optics/light_slicing.hpp>
 #include <penumbra/optics/region.hpp>
 
 #include <glm/ext/matrix_transform.hpp>
@@ -6,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace penumbra::optics {
@@ -65,6 +67,34 @@ TEST(Region, WithoutACutIsTheBoxForEveryUser) {
         EXPECT_EQ(hit.t_near, box.t_near);
         EXPECT_EQ(hit.t_far, box.t_far);
     }
+}
+
+// Half-spaces that hold the whole box cut nothing and are left out: a crop box around the
+// volume, or at its bounds exactly (the client's box when the crop is turned on), is no cut.
+TEST(Region, LeavesOutWhatCutsNothing) {
+    const TiltedVolume v;
+    glm::dvec3 low(std::numeric_limits<double>::infinity());
+    glm::dvec3 high(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& corner : box_corners(v.box)) {
+        low = glm::min(low, v.placement.to_patient(corner));
+        high = glm::max(high, v.placement.to_patient(corner));
+    }
+    scene::Cut cut;
+    cut.crop = {true, low - 1.0, high + 1.0};
+    EXPECT_EQ(region_of(v.box, cut, v.placement).count, 0);
+    cut.crop = {true, low, high};
+    EXPECT_EQ(region_of(v.box, cut, v.placement).count, 0) << "a box at the bounds";
+    cut.crop.min.x = 0.5 * (low.x + high.x);
+    const Region half = region_of(v.box, cut, v.placement);
+    ASSERT_EQ(half.count, 1);
+    EXPECT_EQ(half.light_count, 1);
+    EXPECT_EQ(half.half_spaces[0].normal, glm::dvec3(1.0, 0.0, 0.0));
+    // A plane beside the volume keeping all of it is left out; one keeping none of it stays.
+    scene::Cut beside;
+    beside.planes[0] = {true, high + 5.0, {0.0, 0.0, -1.0}};
+    EXPECT_EQ(region_of(v.box, beside, v.placement).count, 0);
+    beside.planes[0].normal = {0.0, 0.0, 1.0};
+    EXPECT_EQ(region_of(v.box, beside, v.placement).count, 1);
 }
 
 // A random cut of the tilted volume: a crop box (on in most trials) and up to six planes through

@@ -13,6 +13,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penumbra::bench {
@@ -97,6 +98,13 @@ public:
     // As measure, timing the whole frame and `pass` (if named) from the same frames.
     base::Result<Series> measure_series(const TimedPoint& point, scene::FrameRequest request,
                                         LightBufferUse use, const std::string& pass = {});
+
+    // As measure_series for each variant, their frames taken in turn (each camera of the orbit
+    // drawn by every variant before the next), so that a drift of the machine's speed during the
+    // run weighs on all of them alike and their ratios hold.
+    base::Result<std::vector<Series>> measure_interleaved(
+            std::vector<std::pair<TimedPoint, scene::FrameRequest>> variants, LightBufferUse use,
+            const std::string& pass = {});
 
 private:
     render::FrameRenderer& renderer_;
