@@ -65,6 +65,8 @@ describe('the box on the image', () => {
       expect(point.depth).toBeGreaterThan(0);
       expect(point.x).toBeGreaterThan(0);
       expect(point.x).toBeLessThan(200);
+      expect(point.y).toBeGreaterThan(0);
+      expect(point.y).toBeLessThan(100);
     }
   });
 
@@ -127,6 +129,24 @@ describe('a face dragged by its handle', () => {
         faceUnderPointer(oblique, placement, whole, face, target.at.x, target.at.y),
       ).toBeCloseTo(to, 6);
     }
+  });
+
+  it('does not move where the pointer lies beyond where its axis vanishes', () => {
+    // From below and in front, looking up: +z recedes and vanishes on the image. A pointer past
+    // that point finds the nearest point of its ray to the axis behind the eye.
+    const below: FrameProjection = {
+      camera: { eye: [0, 2.5, -1.5], target: [0, 0, 0.5], up: [0, 0, 1], fov: 60 },
+      width: 160,
+      height: 120,
+    };
+    const vanishing = project(below, [0, 0.2, 1e9]);
+    expect(vanishing.depth).toBeGreaterThan(0);
+    expect(
+      faceUnderPointer(below, placement, whole, 'superior', vanishing.x, vanishing.y - 30),
+    ).toBeNull();
+    expect(
+      faceUnderPointer(below, placement, whole, 'superior', vanishing.x, vanishing.y + 30),
+    ).not.toBeNull();
   });
 
   it('does not move when seen edge-on', () => {

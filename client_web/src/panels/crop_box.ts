@@ -143,7 +143,7 @@ export function faceHandles(
  * Where face `key` goes (mm on its axis) so that its handle lies under image point (x, y): the
  * point of the line the handle moves on nearest to the eye's ray through (x, y). So the handle
  * follows the pointer however far the perspective bends the way. Null where the two lines are
- * parallel (the face seen edge-on).
+ * parallel (the face seen edge-on) or the pointer lies beyond where the axis vanishes.
  */
 export function faceUnderPointer(
   frame: FrameProjection,
@@ -170,6 +170,9 @@ export function faceUnderPointer(
   const c = dot(ray, ray);
   const denominator = c - b * b; // |axis|² = 1
   if (denominator < 1e-9 * c) return null;
+  // Past the axis's vanishing point the nearest point of the ray lies behind the eye.
+  const along = (dot(ray, w) - b * dot(axis, w)) / denominator;
+  if (along <= NEAR) return null;
   const t = (b * dot(ray, w) - c * dot(axis, w)) / denominator;
   return box[face.corner][face.axis]! + t * placement.millimetresPerUnit;
 }

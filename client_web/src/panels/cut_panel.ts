@@ -330,6 +330,7 @@ export class CutPanel {
   setEnabled(enabled: boolean): void {
     this.enabled = enabled;
     for (const c of this.controllers) c.enable(enabled);
+    this.boxChanged(); // the box's handles come and go with it
   }
 
   private corners(): { min: Vec3; max: Vec3 } {

@@ -65,6 +65,7 @@ export class CropBoxOverlay {
       circle.addEventListener('pointermove', (e) => this.moved(e, true));
       circle.addEventListener('pointerup', (e) => this.end(e));
       circle.addEventListener('pointercancel', (e) => this.end(e));
+      circle.addEventListener('lostpointercapture', (e) => this.end(e));
       this.element.appendChild(circle);
       this.handles.set(face.key, circle);
     }
@@ -129,6 +130,7 @@ export class CropBoxOverlay {
   private start(e: PointerEvent, face: FaceKey): void {
     const handle = this.current.get(face);
     if (this.drag || !handle || !this.frame || !this.source.editable) return;
+    if (e.pointerType === 'mouse' && e.button !== 0) return;
     e.preventDefault();
     e.stopPropagation();
     (e.currentTarget as Element).setPointerCapture(e.pointerId);
@@ -160,12 +162,18 @@ export class CropBoxOverlay {
     this.source.moveFace(drag.face, millimetres, interactive);
   }
 
-  /** Let go: a still where the pointer left it; cancelled (no place given), where it last was. */
+  /**
+   * Let go: a still where the pointer left the face, else (cancelled, capture lost, or let go
+   * where the face cannot follow) where it last was.
+   */
   private end(e: PointerEvent): void {
     const drag = this.drag;
     if (!drag || e.pointerId !== drag.pointer) return;
+    const before = drag.last;
     if (e.type === 'pointerup') this.moved(e, false);
-    else if (drag.last !== null) this.source.moveFace(drag.face, drag.last, false);
+    if (drag.last !== null && (e.type !== 'pointerup' || drag.last === before)) {
+      this.source.moveFace(drag.face, drag.last, false);
+    }
     this.drag = null;
     this.draw();
   }

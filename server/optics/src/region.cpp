@@ -13,11 +13,13 @@ Region region_of(const scene::Box& box, const scene::Cut& cut,
     region.box = box;
     // A half-space that holds the whole box cuts nothing (a crop face at or beyond the volume's
     // bounds, a plane beside it): left out, it costs no test per sample, and a cut that removes
-    // nothing is the uncut region, whose light buffer it shares.
+    // nothing is the uncut region, whose light buffer it shares. A face at the bounds that came
+    // back through JSON may lie a rounding error inside them: a billionth of the box counts as on.
+    constexpr double on_the_box = 1e-9;
     const auto corners = box_corners(box);
     const auto add = [&](glm::dvec3 normal, double offset) {
         const bool cuts = std::any_of(corners.begin(), corners.end(), [&](glm::dvec3 corner) {
-            return glm::dot(normal, corner) + offset < 0.0;
+            return glm::dot(normal, corner) + offset < -on_the_box;
         });
         if (cuts) {
             region.half_spaces[static_cast<std::size_t>(region.count++)] = {normal, offset};

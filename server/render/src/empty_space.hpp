@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <vector>
@@ -59,33 +60,42 @@ public:
     [[nodiscard]] glm::ivec3 grid() const { return ranges_on_cpu_.grid; }
 
     // occupied_bricks of this volume's bricks under `table`.
-    // The last answer is kept: the frames of an unchanged TF and cut (a camera drag) ask it again,
-    // and the walk over every brick is a frame's largest CPU cost in a sanitizer's build. The
-    // region's box is this volume's, so its half-spaces and counts say which region it is.
+    // The last few answers are kept: the frames of an unchanged TF and cut (a camera drag) ask
+    // again, a frame with a cut the light meets asks twice (with its region and without), and the
+    // walk over every brick is a frame's largest CPU cost in a sanitizer's build. The region's box
+    // is this volume's, so its half-spaces and counts say which region it is.
     [[nodiscard]] scene::OccupiedBricks occupied_bricks(const std::vector<glm::vec4>& table,
                                                         const optics::Region& region = {}) const {
-        const bool same = last_.has_value() && last_->table == table &&
-                          last_->half_spaces == region.half_spaces &&
-                          last_->counts == glm::ivec2(region.count, region.light_count);
-        if (!same) {
-            last_ = LastAnswer{table, region.half_spaces,
-                               glm::ivec2(region.count, region.light_count),
-                               render::occupied_bricks(ranges_on_cpu_, table, region)};
+        const glm::ivec2 counts(region.count, region.light_count);
+        const auto kept = std::find_if(answers_.begin(), answers_.end(), [&](const Answer& a) {
+            return a.counts == counts && a.half_spaces == region.half_spaces && a.table == table;
+        });
+        if (kept != answers_.end()) {
+            std::rotate(answers_.begin(), kept, kept + 1);  // most recent first
+        } else {
+            if (answers_.size() == kept_answers) {
+                answers_.pop_back();
+            }
+            answers_.insert(answers_.begin(),
+                            Answer{table, region.half_spaces, counts,
+                                   render::occupied_bricks(ranges_on_cpu_, table, region)});
         }
-        return last_->occupied;
+        return answers_.front().occupied;
     }
 
 private:
-    struct LastAnswer {
+    struct Answer {
         std::vector<glm::vec4> table;
         std::array<optics::HalfSpace, optics::kMaxHalfSpaces> half_spaces;
         glm::ivec2 counts;
         scene::OccupiedBricks occupied;
     };
 
+    static constexpr std::size_t kept_answers = 4;
+
     BrickRanges ranges_on_cpu_;  // kept for the work estimate, which runs before the GPU does
     // Used by the render thread only, as the map itself is.
-    mutable std::optional<LastAnswer> last_;
+    mutable std::vector<Answer> answers_;
     gpu::Texture ranges_;
     gpu::Texture occupancy_;
     gpu::Buffer visible_entries_;

@@ -12,9 +12,9 @@
 namespace penumbra::render {
 
 LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
-                                      std::uint64_t volume_generation,
+                                      const optics::Region& region, std::uint64_t volume_generation,
                                       const std::vector<glm::vec4>& table, int slab_samples) {
-    LightBufferInputs inputs{volume_generation, {}, request};
+    LightBufferInputs inputs{volume_generation, {}, request, {}};
     inputs.opacities.reserve(table.size());
     for (const glm::vec4& entry : table) {
         inputs.opacities.push_back(entry.a);
@@ -37,20 +37,14 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.phong = d.phong;
     s.jitter = d.jitter;
     r.refinement = defaults.refinement;
-    // A cut whose tissue still casts shadows leaves the light as on the whole volume; of another,
-    // only the parts that are on shape what the light meets (a plane moved while off rebuilds
-    // nothing).
-    if (r.cut.casts_shadows) {
-        r.cut = defaults.cut;
-    }
-    if (!r.cut.crop.enabled) {
-        r.cut.crop = defaults.cut.crop;
-    }
-    for (std::size_t i = 0; i < r.cut.planes.size(); ++i) {
-        if (!r.cut.planes[i].enabled) {
-            r.cut.planes[i] = defaults.cut.planes[i];
-        }
-    }
+    // What the light meets of the cut is the region's half-spaces it clips by: none where the cut
+    // tissue still casts shadows, none for a face or plane that is off or cuts nothing (a plane
+    // moved while off, a crop at the volume's bounds rebuild nothing).
+    r.cut = defaults.cut;
+    const auto light_cut =
+            std::span(region.half_spaces)
+                    .first(static_cast<std::size_t>(region.count_for(optics::RegionUser::light)));
+    inputs.light_cut.assign(light_cut.begin(), light_cut.end());
     s.scattering = d.scattering;
     s.light_buffer.lookup = d.light_buffer.lookup;
     // "One per voxel" and the count it resolves to fill the same buffer.

@@ -9,6 +9,7 @@
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
+#include <penumbra/optics/region.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
 #include <glm/vec4.hpp>
@@ -27,15 +28,16 @@ namespace penumbra::render {
 struct LightBufferInputs {
     std::uint64_t volume_generation = 0;
     std::vector<float> opacities;
-    scene::FrameRequest request;
+    scene::FrameRequest request;  // its cut left out: `light_cut` says what the light meets
+    std::vector<optics::HalfSpace> light_cut;
 
     bool operator==(const LightBufferInputs&) const = default;
 };
 
 // The inputs of the buffer `request` reads, for the volume of `volume_generation` under the baked
-// TF `table`, with the slab samples resolved.
+// TF `table`, with the slab samples resolved, in `region` (the request's cut of that volume).
 LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
-                                      std::uint64_t volume_generation,
+                                      const optics::Region& region, std::uint64_t volume_generation,
                                       const std::vector<glm::vec4>& table, int slab_samples);
 
 // A light attenuation buffer: a GL_TEXTURE_2D_ARRAY of n layers of R x R transmittances (R16F)

@@ -25,10 +25,14 @@ base::Status LightBufferCache::use(LightBufferInputs inputs,
     } else {
         const auto start = Clock::now();
         if (settings.builder == scene::LightBufferBuilder::per_slice) {
+            const double reach =
+                    g.light_view && g.light_view->perspective
+                            ? point_light_reach(g.box, g.light_view->position, g.travel)
+                            : 1.0;
             slices.upload(make_slice_geometry(g.region, optics::RegionUser::light, g.travel,
                                               static_cast<float>(g.light_slicing.min),
                                               static_cast<float>(g.light_slicing.max),
-                                              settings.slices));
+                                              settings.slices, reach));
         }
         const std::size_t bytes = LightBuffer::bytes_for(settings.slices, settings.resolution);
         buffers_.make_room(bytes);  // before the new buffer takes its memory

@@ -287,7 +287,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     }
     if (plan.needs_light_buffer) {
         if (auto status = impl.light_buffers.use(
-                    light_buffer_inputs(request, volume.generation(), table, g.slab_samples),
+                    light_buffer_inputs(request, g.region, volume.generation(), table,
+                                        g.slab_samples),
                     request.settings.light_buffer, g, plan.variant.light_buffer_defines(),
                     impl.slices, chunks, frame.report);
             !status) {

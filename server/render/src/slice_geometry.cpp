@@ -7,12 +7,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 
 namespace penumbra::render {
 
 SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUser user,
-                                  glm::dvec3 normal, double min, double max, int count) {
+                                  glm::dvec3 normal, double min, double max, int count,
+                                  double oblique_reach) {
     SliceGeometry geometry;
     geometry.first.reserve(static_cast<std::size_t>(count));
     geometry.count.reserve(static_cast<std::size_t>(count));
@@ -27,7 +29,8 @@ SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUs
     // have added nothing.
     optics::Region reach = region;
     for (optics::HalfSpace& h : reach.half_spaces) {
-        h.offset += spacing * std::abs(glm::dot(h.normal, normal));
+        h.offset += spacing *
+                    (oblique_reach > 1.0 ? oblique_reach : std::abs(glm::dot(h.normal, normal)));
     }
     for (int k = 0; k < count; ++k) {
         const auto polygon = optics::clip_polygon(
@@ -42,6 +45,14 @@ SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUs
                                  geometry.first.back());
     }
     return geometry;
+}
+
+double point_light_reach(const scene::Box& box, glm::dvec3 position, glm::dvec3 travel) {
+    double widest = 1.0;  // the least cosine
+    for (const glm::dvec3& corner : optics::box_corners(box)) {
+        widest = std::min(widest, glm::dot(glm::normalize(corner - position), travel));
+    }
+    return widest > 0.05 ? 1.0 / widest : std::numeric_limits<double>::infinity();
 }
 
 SliceMesh::SliceMesh()

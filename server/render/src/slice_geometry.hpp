@@ -18,9 +18,19 @@ struct SliceGeometry {
 };
 
 // The n slice polygons perpendicular to `normal` at min + (k + 0.5)·(max - min)/n, each cut to
-// what `region` keeps for `user` and drawn as a triangle fan turned into a triangle list.
+// what `region` keeps for `user` and drawn as a triangle fan turned into a triangle list. A
+// slice's fragments may read the slab up to its neighbours: along `normal` (`oblique_reach` 1),
+// or, for a point light's rays, up to `oblique_reach` slice spacings in any direction (infinite:
+// the slices are not cut).
 SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUser user,
-                                  glm::dvec3 normal, double min, double max, int count);
+                                  glm::dvec3 normal, double min, double max, int count,
+                                  double oblique_reach = 1.0);
+
+// How many slice spacings a point light's slab may reach from its slice plane: the slab runs
+// along the light's ray, 1 / cos of the widest angle between a ray into `box` and the slicing
+// axis `travel` (the rays to a box lie in the cone of those to its corners); infinite where that
+// angle nears 90 degrees.
+double point_light_reach(const scene::Box& box, glm::dvec3 position, glm::dvec3 travel);
 
 // The geometry on the GPU: a vertex buffer and the vertex array reading it as attribute 0.
 class SliceMesh {

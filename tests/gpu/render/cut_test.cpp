@@ -366,11 +366,19 @@ TEST_F(CutTest, TheLightBufferIsRebuiltExactlyWhenTheCutChangesWhatTheLightMeets
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
     request.camera = scene::orbit_camera(40.0, 20.0, 2.5);
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
-    request.cut.crop.max.x += 1.0;
+    request.cut.crop.max.x += 1.0;  // a millimetre
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
-    // A plane that is off cuts nothing, wherever it lies.
-    request.cut.planes[1].point = {5.0, -3.0, 2.0};
-    request.cut.planes[1].normal = {0.0, 1.0, 0.0};
+    // Grown past the volume, the crop cuts nothing: the uncut volume's buffer serves it.
+    const scene::Cut around = request.cut;
+    request.cut.crop.max = crop_world(glm::dvec3(-1.0), glm::dvec3(1.0), false).crop.max;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    request.cut = around;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    // A plane that is off cuts nothing, wherever it lies; nor does one beside the volume.
+    request.cut.planes[1] = plane_world({0.0, 0.1, 0.0}, {0.0, 1.0, 0.0});
+    request.cut.planes[1].enabled = false;
+    EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
+    request.cut.planes[2] = plane_world({0.0, -0.7, 0.0}, {0.0, 1.0, 0.0});
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::reused);
     request.cut.planes[1].enabled = true;
     EXPECT_EQ(render(request).report.light_buffer, LightBufferState::built);
