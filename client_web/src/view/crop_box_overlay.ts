@@ -14,6 +14,7 @@ import {
   type Placement,
 } from '../panels/crop_box';
 import { CROP_FACES, type FaceKey } from '../panels/cut_panel';
+import { fitImage } from './frame_view';
 
 const SVG = 'http://www.w3.org/2000/svg';
 
@@ -85,16 +86,10 @@ export class CropBoxOverlay {
     this.draw();
   }
 
-  /** Where the frame's image lies in the container, CSS pixels: fitted and centred. */
+  /** Where the frame's image lies in the container, CSS pixels, as the frame view draws it. */
   private imageRect(frame: FrameProjection): { left: number; top: number; scale: number } {
-    const width = this.container.clientWidth;
-    const height = this.container.clientHeight;
-    const scale = Math.min(width / frame.width, height / frame.height);
-    return {
-      left: (width - frame.width * scale) / 2,
-      top: (height - frame.height * scale) / 2,
-      scale,
-    };
+    const { clientWidth, clientHeight } = this.container;
+    return fitImage(clientWidth, clientHeight, frame.width, frame.height);
   }
 
   draw(): void {

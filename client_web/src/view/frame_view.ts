@@ -11,6 +11,21 @@ export interface ShownFrame {
   receivedAt: number;
 }
 
+/** Where an image drawn to fit a view lies in it: scaled to fit whole, centred (letterboxed). */
+export function fitImage(
+  viewWidth: number,
+  viewHeight: number,
+  imageWidth: number,
+  imageHeight: number,
+): { left: number; top: number; scale: number } {
+  const scale = Math.min(viewWidth / imageWidth, viewHeight / imageHeight);
+  return {
+    left: (viewWidth - imageWidth * scale) / 2,
+    top: (viewHeight - imageHeight * scale) / 2,
+    scale,
+  };
+}
+
 export class FrameView {
   readonly canvas: HTMLCanvasElement;
   private readonly context: CanvasRenderingContext2D;
@@ -134,11 +149,9 @@ export class FrameView {
     context.fillRect(0, 0, canvas.width, canvas.height);
     const bitmap = this.bitmap;
     if (!bitmap) return;
-    const scale = Math.min(canvas.width / bitmap.width, canvas.height / bitmap.height);
-    const w = bitmap.width * scale;
-    const h = bitmap.height * scale;
+    const { left, top, scale } = fitImage(canvas.width, canvas.height, bitmap.width, bitmap.height);
     context.imageSmoothingEnabled = true;
     context.imageSmoothingQuality = 'high';
-    context.drawImage(bitmap, (canvas.width - w) / 2, (canvas.height - h) / 2, w, h);
+    context.drawImage(bitmap, left, top, bitmap.width * scale, bitmap.height * scale);
   }
 }
