@@ -176,6 +176,59 @@ INSTANTIATE_TEST_SUITE_P(
                    std::string(scene::to_string(param_info.param.builder));
         });
 
+// The modes with no shadow (dvr, phong) or a shadow of their own kind (shell and cone samples),
+// whose shadow does not equal the slab's analytic transmittance: with the slab cut away it is not
+// drawn; with dissection the receiver behind it is lit like its free part (or, with no shadow,
+// like the uncut frame); with context shadows the receiver is exactly as in the uncut frame.
+class CutEveryModeTest : public CutTest, public ::testing::WithParamInterface<scene::Mode> {};
+
+TEST_P(CutEveryModeTest, TheCutSlabIsNotDrawnAndShadowsOnlyWhenAsked) {
+    use(test::shadow_scene(32));
+    scene::FrameRequest request = receiver_scene(GetParam());
+    request.settings.light_buffer.resolution = 128;
+    const bool shadows = GetParam() != scene::Mode::dvr && GetParam() != scene::Mode::phong;
+    const Frame whole = render(request);
+    const double whole_free = receiver_red(whole, 17, 24);
+    const double whole_behind = receiver_red(whole, 40, 47);
+    ASSERT_GT(whole_free, 40.0);
+    ASSERT_GT(brightest_on_slab(whole), 10.0);
+    if (shadows) {
+        EXPECT_LT(whole_behind / whole_free, 0.8) << "the slab shadows the receiver";
+    } else {
+        EXPECT_NEAR(whole_behind / whole_free, 1.0, 0.01);
+    }
+
+    for (const bool casts_shadows : {false, true}) {
+        for (const bool planed : {false, true}) {
+            SCOPED_TRACE(std::string(casts_shadows ? "context shadows" : "dissection") +
+                         (planed ? ", plane" : ", crop"));
+            if (planed) {
+                request.cut = {};
+                request.cut.planes[4] = plane_world({0.1, 0.0, 0.0}, {-1.0, 0.0, 0.2});
+                request.cut.casts_shadows = casts_shadows;
+            } else {
+                request.cut =
+                        crop_world(glm::dvec3(-1.0), glm::dvec3(0.2, 1.0, 1.0), casts_shadows);
+            }
+            const Frame cut = render(request);
+            EXPECT_EQ(brightest_on_slab(cut), 0.0);
+            EXPECT_NEAR(receiver_red(cut, 17, 24), whole_free, 1.0);
+            if (casts_shadows || !shadows) {
+                EXPECT_NEAR(receiver_red(cut, 40, 47), whole_behind, 1.0);
+            } else {
+                EXPECT_NEAR(receiver_red(cut, 40, 47) / receiver_red(cut, 17, 24), 1.0, 0.02);
+            }
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, CutEveryModeTest,
+                         ::testing::Values(scene::Mode::dvr, scene::Mode::phong,
+                                           scene::Mode::sbrc_shell, scene::Mode::sbrc_cone),
+                         [](const auto& param_info) {
+                             return std::string(scene::to_string(param_info.param));
+                         });
+
 // The GPU's region against the CPU reference's, from outside the volume and from inside it (the
 // eye in the kept part and in the part cut away), with a point light in the cut-away part.
 TEST_F(CutTest, GpuMatchesTheCpuReferenceWithACrop) {
