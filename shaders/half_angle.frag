@@ -26,19 +26,17 @@ void main() {
     // One point per slice, as Kniss et al. slice: the eye pass samples the same point.
     result = vec4(slab_transmittance(world, travel, path_length, 1));
 #else
-    // What the cut removed is not drawn; the light pass above decides what it shadows.
-    if (!inside_half_spaces(world, REGION_CAMERA)) {
-        result = vec4(0.0);
-        return;
-    }
+    // The eye pass's slices are cut exactly to what camera rays keep (HalfAngleSlicer::cut_slices):
+    // what the cut removed is not drawn; the light pass above decides what it shadows.
     vec3 ray = normalize(world - u.eye.xyz);
     float path_length = spacing / max(abs(dot(axis, ray)), 1e-3);
-    vec4 classified = classify(sample_value(world));
+    float value = sample_value(world);
+    vec4 classified = classify(value);
     float alpha = sample_opacity(classified.a, path_length);
     vec2 terms = vec2(1.0, 0.0);
 #if PHONG
     vec3 gradient = value_gradient(world);
-    if (u.region_counts.x > 0) gradient = gradient_at_cut(world, gradient, sample_value(world));
+    if (u.region_counts.x > 0) gradient = gradient_at_cut(world, gradient, value);
     vec3 normal = normal_from_gradient(gradient);
     terms = blinn_phong(normal, direction_to_light(world), -ray);
 #endif

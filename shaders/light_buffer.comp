@@ -76,8 +76,12 @@ void main() {
         for (; layer <= k; ++layer) {
             if (transmittance < 1.0) store_light(texel, layer, transmittance);
         }
+        // A slab within the crossing lies in every half-space the light meets: no test per point.
+        int half_spaces = start >= crossing.x && start + path_length <= crossing.y
+                                  ? 0
+                                  : region_count_for(REGION_LIGHT);
         float alpha = sampled_slab_opacity(origin + (start + 0.5 * path_length) * ray, ray,
-                                           path_length, samples);
+                                           path_length, samples, half_spaces);
         transmittance *= slab_transmittance_of(alpha);
         ++k;
     }

@@ -36,14 +36,16 @@
 #include "include/shadow_ray.glsl"
 #endif
 
-// The fraction of the light that reaches `position` (1 without shadows).
-float light_reaching(vec3 position, vec3 to_eye) {
+// The fraction of the light that reaches `position` (1 without shadows); the stretch a local
+// lookup marches toward the light is tested against the first `light_half_spaces` of the light's
+// half-spaces.
+float light_reaching(vec3 position, vec3 to_eye, int light_half_spaces) {
 #if SHADOWS == SHADOWS_LIGHT_BUFFER && SCATTERING == SCATTERING_SHELL
-    return shell_transmittance(position);
+    return shell_transmittance(position, light_half_spaces);
 #elif SHADOWS == SHADOWS_LIGHT_BUFFER && SCATTERING == SCATTERING_CONE
-    return cone_transmittance(position, to_eye);
+    return cone_transmittance(position, to_eye, light_half_spaces);
 #elif SHADOWS == SHADOWS_LIGHT_BUFFER
-    return light_at_sample(position);
+    return light_at_sample(position, light_half_spaces);
 #elif SHADOWS == SHADOWS_RAYS
     return shadow_ray_transmittance(position);
 #else
@@ -163,6 +165,12 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec3 position;
     vec4 classified;
 #if PHONG || SHADOWS != SHADOWS_NONE
+    // Where along the ray a sample lies deeper in the light's half-spaces than a local lookup's
+    // stretch toward the light is long (u.light_buffer_info.z): its stretch lies in them too, and
+    // its points need no test of them. Under a cut that is almost every sample.
+    vec2 light_deep = clip_to_half_spaces(region_count_for(REGION_LIGHT), march.origin,
+                                          march.direction, vec2(-3.0e38, 3.0e38),
+                                          u.light_buffer_info.z);
     int i = first;
     while (i < last) {
         for (; i < last; ++i) {
@@ -178,7 +186,11 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         vec3 normal = normal_from_gradient(gradient);
         terms = blinn_phong(normal, direction_to_light(position), -march.direction);
 #endif
-        vec3 color = shade(classified.rgb, terms, light_reaching(position, -march.direction));
+        float t = dot(position - march.origin, march.direction);
+        int light_half_spaces =
+                t >= light_deep.x && t <= light_deep.y ? 0 : region_count_for(REGION_LIGHT);
+        vec3 color = shade(classified.rgb, terms,
+                           light_reaching(position, -march.direction, light_half_spaces));
         composite_front_to_back(accumulated, color,
                                 sample_opacity(classified.a, march.step_length));
         if (accumulated.a >= settings.early_termination) break;

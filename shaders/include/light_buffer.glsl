@@ -25,10 +25,11 @@ float light_transmittance(vec3 world) {
 }
 
 // Transmittance from the light to `world`: the layer at the slab face nearer the light, times
-// the material between that face and `world`, sampled the way the builders sample a slab.
+// the material between that face and `world`, sampled the way the builders sample a slab, its
+// points tested against the first `half_spaces` of the light's (sampled_slab_opacity).
 // Interpolating between layers spreads a surface's own shadow over the whole slab, which shows
 // as rings of the slice spacing on lit surfaces; this keeps the shadow where the surface is.
-float light_transmittance_local(vec3 world) {
+float light_transmittance_local(vec3 world, int half_spaces) {
     float index = clamp(light_slice_index(world), 0.0, u.light_slicing.z);
     float last = u.light_slicing.z - 1.0;
     float layer = min(floor(index), last);
@@ -45,14 +46,16 @@ float light_transmittance_local(vec3 world) {
     int samples = max(1, int(ceil(u.light_buffer_info.y * inside)));
     // No look at the bricks: the stretch ends at `world`, a visible sample, so its brick is
     // occupied and the stretch never lies in empty bricks only.
-    float alpha = sampled_slab_opacity(world - 0.5 * depth * travel, travel, depth, samples);
+    float alpha = sampled_slab_opacity(world - 0.5 * depth * travel, travel, depth, samples,
+                                       half_spaces);
     return before * slab_transmittance_of(alpha);
 }
 
-// The light a camera sample receives, read the way LOCAL_LIGHT_LOOKUP (0|1) asks.
-float light_at_sample(vec3 world) {
+// The light a camera sample receives, read the way LOCAL_LIGHT_LOOKUP (0|1) asks; `half_spaces`
+// as for light_transmittance_local.
+float light_at_sample(vec3 world, int half_spaces) {
 #if LOCAL_LIGHT_LOOKUP
-    return light_transmittance_local(world);
+    return light_transmittance_local(world, half_spaces);
 #else
     return light_transmittance(world);
 #endif

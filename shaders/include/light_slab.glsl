@@ -10,21 +10,19 @@ bool inside_box(vec3 world) {
     return all(greaterThanEqual(p, u.box_min.xyz)) && all(lessThanEqual(p, u.box_max.xyz));
 }
 
-// Whether the light meets what lies at `world`: in the box, and not cut away unless the cut
-// still casts shadows.
-bool inside_light_region(vec3 world) {
-    return inside_box(world) && inside_half_spaces(world, REGION_LIGHT);
-}
-
 // The slab's opacity from `samples` points spread evenly along the light's ray across it, each
 // corrected for its share of the path. One point (the paper's slice) puts a surface anywhere in
 // the slab at the slice plane, which shows as rings of the slice spacing on lit surfaces.
-float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
+// Each point counts where the light meets it: in the box, and in the first `half_spaces` of the
+// light's half-spaces (region_count_for(REGION_LIGHT), or 0 where the caller knows the slab lies
+// in them all: the test per point costs as much as a tenth of a frame under a cut).
+float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples,
+                           int half_spaces) {
     float step = path_length / float(samples);
     float transmittance = 1.0;
     for (int j = 0; j < samples; ++j) {
         vec3 p = centre + ((float(j) + 0.5) * step - 0.5 * path_length) * ray;
-        if (inside_light_region(p)) {
+        if (inside_box(p) && inside_half_spaces(p, half_spaces)) {
             transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step);
         }
     }
@@ -39,14 +37,16 @@ float slab_opacity(vec3 centre, vec3 ray, float path_length, int samples) {
     // look, as at an empty brick, so that the light pass takes no samples where the cut left
     // nothing (the work estimate counts the bricks it leaves out as empty).
     vec2 kept = clip_to_half_spaces(region_count_for(REGION_LIGHT), start, ray,
-                                    vec2(0.0, path_length));
+                                    vec2(0.0, path_length), 0.0);
     if (kept.x >= kept.y) return 0.0;
+    // A slab the cut leaves whole lies in every half-space (both its ends do, and they are convex).
+    int half_spaces = kept.x <= 0.0 && kept.y >= path_length ? 0 : region_count_for(REGION_LIGHT);
 #if EMPTY_SPACE_SKIPPING
     // A slab is a voxel or two thick: one look at the brick where it starts decides for the
     // whole slab, where a look per point would cost about as much as the points themselves.
     if (inside_box(start) && empty_run(start, ray) >= path_length) return 0.0;
 #endif
-    return sampled_slab_opacity(centre, ray, path_length, samples);
+    return sampled_slab_opacity(centre, ray, path_length, samples, half_spaces);
 }
 
 // The light a slab of opacity `alpha` lets through.

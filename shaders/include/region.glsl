@@ -11,13 +11,14 @@ int region_count_for(int user) {
     return user == REGION_CAMERA ? u.region_counts.x : u.region_counts.y;
 }
 
-// The interval `line` of origin + t * direction narrowed to the first `count` half-spaces;
-// x >= y when it lies in none of it.
-vec2 clip_to_half_spaces(int count, vec3 origin, vec3 direction, vec2 line) {
+// The interval `line` of origin + t * direction narrowed to where it lies deeper than `depth`
+// inside each of the first `count` half-spaces (depth 0: in them; depth d: every point within d
+// of it is in them too); x >= y when it lies in none of it.
+vec2 clip_to_half_spaces(int count, vec3 origin, vec3 direction, vec2 line, float depth) {
     for (int i = 0; i < count; ++i) {
         vec4 h = u.region_half_spaces[i];
         float along = dot(h.xyz, direction);
-        float at = dot(h.xyz, origin) + h.w;
+        float at = dot(h.xyz, origin) + h.w - depth;
         if (along == 0.0) {
             // Parallel to the face: wholly inside or wholly outside.
             if (at < 0.0) line.y = line.x;
@@ -35,7 +36,7 @@ vec2 clip_to_half_spaces(int count, vec3 origin, vec3 direction, vec2 line) {
 vec2 intersect_line_region(vec3 origin, vec3 direction, int user) {
     vec2 line = intersect_line_box(origin, direction);
     if (line.x > line.y) return line;
-    return clip_to_half_spaces(region_count_for(user), origin, direction, line);
+    return clip_to_half_spaces(region_count_for(user), origin, direction, line, 0.0);
 }
 
 // Entry and exit of a ray from `origin` (as intersect_box: x >= 0).
@@ -60,10 +61,10 @@ vec3 gradient_at_cut(vec3 world, vec3 gradient, float value) {
     return gradient;
 }
 
-// Whether `world` lies in the half-spaces of the region as `user` sees it (the box is the
-// caller's: the passes that ask already know they are in it, or test it as inside_box does).
-bool inside_half_spaces(vec3 world, int user) {
-    int count = region_count_for(user);
+// Whether `world` lies in the first `count` half-spaces of the region (region_count_for(user):
+// as `user` sees it; the box is the caller's: the passes that ask already know they are in it, or
+// test it as inside_box does).
+bool inside_half_spaces(vec3 world, int count) {
     for (int i = 0; i < count; ++i) {
         vec4 h = u.region_half_spaces[i];
         if (dot(h.xyz, world) + h.w < 0.0) return false;

@@ -23,7 +23,8 @@ layout(std140, binding = 0) uniform FrameUniforms {
     mat4 light_inverse_view_projection;
     vec4 light_travel;      // xyz: L, the direction light travels (unit); w: 1 for a point light
     vec4 light_slicing;     // x: min, y: max of L.V over the box corners (eq. 7), z: n, w: spacing
-    vec4 light_buffer_info; // x: resolution R, y: points per slab (slab_samples resolved)
+    vec4 light_buffer_info; // x: resolution R, y: points per slab (slab_samples resolved),
+                            // z: the longest stretch a local lookup marches toward the light
     vec4 cone;              // x: tan(cone angle)
     // Half-angle slicing (half_angle.*).
     mat4 camera_view_projection;  // world -> camera clip space, image row 0 at the top

@@ -131,17 +131,28 @@ void print_ratios(std::FILE* out, const OptimisationTable& table) {
     std::fflush(out);
 }
 
-// The crop boxes of the cut table: one a millimetre inside the volume's bounds on every side,
-// which keeps what shows (a head's edge is air) but is a real cut of six faces that every sample
-// asks, and one that ends at the middle of its x range. (A crop at or beyond the bounds cuts
-// nothing and is left out of the region: it would measure the uncut frame.)
-std::pair<scene::Cut, scene::Cut> cut_table_crops(const volume::Volume& volume) {
+// The cuts of the cut table. One cuts the six corners of the volume's box that lie on the
+// left, right, anterior or posterior side of the top and bottom: a plane across each, a tenth of
+// the way to the centre, keeping the centre's side. A head's box holds air there, so what shows
+// is unchanged, while every sample still asks six half-spaces (a crop box even a millimetre inside
+// the bounds cuts the neck and the crown of a head, which changes the picture; one at or beyond
+// them cuts nothing and is left out of the region). The other keeps the right half (x past the
+// middle).
+std::pair<scene::Cut, scene::Cut> cut_table_cuts(const volume::Volume& volume) {
     const volume::PatientBounds bounds = volume::patient_bounds(volume);
-    scene::Cut whole;
-    whole.crop = {true, bounds.min + 1.0, bounds.max - 1.0};
-    scene::Cut half = whole;
-    half.crop.min.x = 0.5 * (bounds.min.x + bounds.max.x);
-    return {whole, half};
+    const glm::dvec3 centre = 0.5 * (bounds.min + bounds.max);
+    scene::Cut corners;
+    for (int i = 0; i < scene::kMaxClipPlanes; ++i) {
+        const glm::dvec3 corner{(i & 1) != 0 ? bounds.max.x : bounds.min.x,
+                                (i & 2) != 0 ? bounds.max.y : bounds.min.y,
+                                i < 4 ? bounds.min.z : bounds.max.z};
+        corners.planes[static_cast<std::size_t>(i)] = {true, corner + 0.1 * (centre - corner),
+                                                       glm::normalize(centre - corner)};
+    }
+    scene::Cut half;
+    half.crop = {true, bounds.min - 1.0, bounds.max + 1.0};
+    half.crop.min.x = centre.x;
+    return {corners, half};
 }
 
 base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volume::Volume& volume) {
@@ -149,10 +160,11 @@ base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volum
     request.settings.phong = mode != scene::Mode::dvr;
     const LightBufferUse use =
             scene::uses_light_buffer(mode) ? LightBufferUse::cached : LightBufferUse::none;
-    const auto [whole, half] = cut_table_crops(volume);
+    const auto [corners, half] = cut_table_cuts(volume);
     std::vector<std::pair<TimedPoint, scene::FrameRequest>> variants;
-    for (const auto& [cut, name] : {std::pair{scene::Cut{}, "uncut"}, std::pair{whole, "crop_1mm"},
-                                    std::pair{half, "crop_half"}}) {
+    for (const auto& [cut, name] :
+         {std::pair{scene::Cut{}, "uncut"}, std::pair{corners, "corners_cut"},
+          std::pair{half, "crop_half"}}) {
         request.cut = cut;
         variants.emplace_back(TimedPoint{mode, name, "", 0, 0, {}}, request);
     }
@@ -164,7 +176,7 @@ base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volum
     }
     CutRow row{scene::to_string(mode), std::move((*measured)[0]), std::move((*measured)[1]),
                std::move((*measured)[2]), 0.0};
-    auto psnr = psnr_between(row.uncut.last_image, row.whole.last_image);
+    auto psnr = psnr_between(row.uncut.last_image, row.corners.last_image);
     if (!psnr) {
         return psnr.error();
     }
@@ -175,7 +187,7 @@ base::Result<CutRow> measure_cut(ModeBench& bench, scene::Mode mode, const volum
 // The light-buffer pass alone, rebuilt every frame, uncut and with the half crop.
 base::Result<std::pair<Measurement, Measurement>> measure_cut_build(ModeBench& bench,
                                                                     const volume::Volume& volume) {
-    const scene::Cut half = cut_table_crops(volume).second;
+    const scene::Cut half = cut_table_cuts(volume).second;
     return measure_builds(bench, {"build_uncut", "build_crop_half"},
                           [&](scene::FrameRequest& request, bool first) {
                               request.cut = first ? scene::Cut{} : half;
@@ -185,10 +197,11 @@ base::Result<std::pair<Measurement, Measurement>> measure_cut_build(ModeBench& b
 base::Status measure_cuts(ModeBench& bench, const std::vector<scene::Mode>& modes,
                           const volume::Volume& volume, OptimisationTable& table, std::FILE* out) {
     std::fprintf(out,
-                 "\ncut on %s (ms, wall; a crop box 1 mm inside the volume's bounds, and one "
-                 "keeping its right half;\nPSNR between the uncut and the 1 mm crop's images)\n"
+                 "\ncut on %s (ms, wall; six planes cutting off corners of the box, which hold "
+                 "air, and a crop box keeping\nthe right half; PSNR between the uncut and the "
+                 "corners' images)\n"
                  "  %-30s %10s %10s %10s %11s %10s %9s\n",
-                 volume.name.c_str(), "mode", "uncut", "crop 1mm", "crop half", "1mm/uncut",
+                 volume.name.c_str(), "mode", "uncut", "corners", "crop half", "corners/uncut",
                  "half/uncut", "PSNR dB");
     for (const scene::Mode mode : modes) {
         auto row = measure_cut(bench, mode, volume);
@@ -196,8 +209,8 @@ base::Status measure_cuts(ModeBench& bench, const std::vector<scene::Mode>& mode
             return row.error();
         }
         std::fprintf(out, "  %-30s %10.1f %10.1f %10.1f %11.3f %10.3f %9s\n", row->label.c_str(),
-                     row->uncut.frame.wall_ms, row->whole.frame.wall_ms, row->half.frame.wall_ms,
-                     row->whole.frame.wall_ms / row->uncut.frame.wall_ms,
+                     row->uncut.frame.wall_ms, row->corners.frame.wall_ms, row->half.frame.wall_ms,
+                     row->corners.frame.wall_ms / row->uncut.frame.wall_ms,
                      row->half.frame.wall_ms / row->uncut.frame.wall_ms,
                      psnr_text(row->psnr).c_str());
         std::fflush(out);

@@ -10,6 +10,14 @@ namespace penumbra::render {
 HalfAngleSlicer::HalfAngleSlicer(ProgramCache& programs)
     : programs_(programs) {}
 
+void HalfAngleSlicer::cut_slices(const optics::Region& region,
+                                 const optics::LightSlicing& slicing) {
+    eye_slices_.upload(make_slice_geometry(region, optics::RegionUser::camera, slicing.travel,
+                                           slicing.min, slicing.max, slicing.count, 0.0));
+    light_slices_.upload(make_slice_geometry(region, optics::RegionUser::light, slicing.travel,
+                                             slicing.min, slicing.max, slicing.count));
+}
+
 void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution) {
     if (!eye_ || width != width_ || height != height_) {
         // Float so that hundreds of blended slices do not band.
@@ -26,9 +34,9 @@ void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution
     }
 }
 
-base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int width, int height,
-                                  int light_resolution, const gpu::Defines& defines,
-                                  FrameTarget& target, gpu::GpuTimer& timer, WorkChunks& chunks) {
+base::Status HalfAngleSlicer::run(bool front_to_back, int width, int height, int light_resolution,
+                                  const gpu::Defines& defines, FrameTarget& target,
+                                  gpu::GpuTimer& timer, WorkChunks& chunks) {
     const auto pass_program = [&](bool light_pass) {
         gpu::Defines all = defines;
         all.emplace_back("HALF_ANGLE_LIGHT_PASS", light_pass ? "1" : "0");
@@ -51,17 +59,17 @@ base::Status HalfAngleSlicer::run(const SliceMesh& mesh, bool front_to_back, int
     gpu::bind_texture(3, light_);
     const double work_per_slice =
             double(width) * height + double(light_resolution) * light_resolution;
-    const int slices_per_chunk = static_cast<int>(
-            std::clamp(chunks.work_per_chunk() / work_per_slice, 1.0, double(mesh.slices())));
+    const int slices_per_chunk = static_cast<int>(std::clamp(
+            chunks.work_per_chunk() / work_per_slice, 1.0, double(eye_slices_.slices())));
     base::Status status = base::Ok{};
-    for (int k = 0; k < mesh.slices(); ++k) {
+    for (int k = 0; k < eye_slices_.slices(); ++k) {
         gpu::draw_into(eye_framebuffer_, width, height,
                        front_to_back ? gpu::Blend::under : gpu::Blend::over);
-        mesh.draw(**eye_program, k);
+        eye_slices_.draw(**eye_program, k);
         gpu::draw_into(light_framebuffer_, light_resolution, light_resolution,
                        gpu::Blend::multiply);
-        mesh.draw(**light_program, k);
-        if ((k + 1) % slices_per_chunk == 0 && k + 1 < mesh.slices() &&
+        light_slices_.draw(**light_program, k);
+        if ((k + 1) % slices_per_chunk == 0 && k + 1 < eye_slices_.slices() &&
             !chunks.continue_after_chunk()) {
             status = cancelled_error();
             break;

@@ -10,6 +10,8 @@
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
+#include <penumbra/optics/light_slicing.hpp>
+#include <penumbra/optics/region.hpp>
 
 #include <string>
 
@@ -24,12 +26,18 @@ class HalfAngleSlicer {
 public:
     explicit HalfAngleSlicer(ProgramCache& programs);
 
+    // The slices of the next run, perpendicular to slicing.travel (the half-angle axis), each cut
+    // to what `region` keeps: for the eye pass, which samples the slice plane alone, exactly to
+    // what camera rays keep (so no fragment asks the region); for the light pass, whose fragments
+    // read the slab up to the next slice, to what the light meets, widened by a slab.
+    void cut_slices(const optics::Region& region, const optics::LightSlicing& slicing);
+
     // `front_to_back`: the eye and the light are on the same side, composite with "under";
     // otherwise back to front with "over". Issued in groups of slices; fails with
     // cancelled_error() when `chunks` says the frame was cancelled.
-    base::Status run(const SliceMesh& mesh, bool front_to_back, int width, int height,
-                     int light_resolution, const gpu::Defines& defines, FrameTarget& target,
-                     gpu::GpuTimer& timer, WorkChunks& chunks);
+    base::Status run(bool front_to_back, int width, int height, int light_resolution,
+                     const gpu::Defines& defines, FrameTarget& target, gpu::GpuTimer& timer,
+                     WorkChunks& chunks);
 
     // The light buffer after the last slice, as a grey image.
     [[nodiscard]] base::ImageRgba8 light_image() const;
@@ -38,6 +46,8 @@ private:
     void ensure_buffers(int width, int height, int light_resolution);
 
     ProgramCache& programs_;
+    SliceMesh eye_slices_;
+    SliceMesh light_slices_;
     gpu::Texture eye_;
     gpu::Framebuffer eye_framebuffer_;
     gpu::Texture light_;

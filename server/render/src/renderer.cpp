@@ -119,7 +119,7 @@ struct Renderer::Impl {
         const scene::RenderSettings& s = request.settings;
         if (plan.half_angle) {
             const int before = chunks.count();
-            if (auto status = half_angle.run(slices, g.front_to_back, s.width, s.height,
+            if (auto status = half_angle.run(g.front_to_back, s.width, s.height,
                                              s.light_buffer.resolution, plan.variant.defines(),
                                              target, render_timer, chunks);
                 !status) {
@@ -252,11 +252,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     double slice_geometry_ms = 0.0;  // CPU work of the slicing passes, counted in their time
     if (plan.half_angle) {
         const auto geometry_start = Clock::now();
-        // Clipped as the light sees the region: the light pass draws the same polygons; the eye
-        // pass still clips by the camera's region per fragment where the cut casts shadows.
-        impl.slices.upload(make_slice_geometry(
-                g.region, optics::RegionUser::light, g.half_angle_axis, g.half_angle_slicing.min,
-                g.half_angle_slicing.max, g.half_angle_slicing.count));
+        impl.half_angle.cut_slices(g.region, g.half_angle_slicing);
         slice_geometry_ms = milliseconds_since(geometry_start);
     }
     gpu::bind_texture(0, volume.texture().texture);

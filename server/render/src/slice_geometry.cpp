@@ -29,8 +29,9 @@ SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUs
     // have added nothing.
     optics::Region reach = region;
     for (optics::HalfSpace& h : reach.half_spaces) {
-        h.offset += spacing *
-                    (oblique_reach > 1.0 ? oblique_reach : std::abs(glm::dot(h.normal, normal)));
+        h.offset += oblique_reach == 0.0  ? 0.0
+                    : oblique_reach > 1.0 ? spacing * oblique_reach
+                                          : spacing * std::abs(glm::dot(h.normal, normal));
     }
     for (int k = 0; k < count; ++k) {
         const auto polygon = optics::clip_polygon(

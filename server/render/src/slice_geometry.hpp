@@ -21,7 +21,8 @@ struct SliceGeometry {
 // what `region` keeps for `user` and drawn as a triangle fan turned into a triangle list. A
 // slice's fragments may read the slab up to its neighbours: along `normal` (`oblique_reach` 1),
 // or, for a point light's rays, up to `oblique_reach` slice spacings in any direction (infinite:
-// the slices are not cut).
+// the slices are not cut); with `oblique_reach` 0 they read the slice plane alone, and the
+// polygon is cut exactly.
 SliceGeometry make_slice_geometry(const optics::Region& region, optics::RegionUser user,
                                   glm::dvec3 normal, double min, double max, int count,
                                   double oblique_reach = 1.0);

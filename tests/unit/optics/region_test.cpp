@@ -235,6 +235,61 @@ TEST(Region, IntervalAgreesWithThePointTestOnRandomCutsAndRays) {
     EXPECT_GT(misses, 50);
 }
 
+// Where clip_to_half_spaces says a line lies deeper than d in the half-spaces, every point within
+// d of it is in them (so a local lookup's stretch toward the light, no longer than d, needs no test
+// of them); just outside that interval some point within d is not.
+TEST(Region, ThePartDeeperThanADistanceHasItsNeighbourhoodInside) {
+    const TiltedVolume v;
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    int deep_points = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const scene::Cut cut = random_cut(v, random, trial);
+        const Region region = region_of(v.box, cut, v.placement);
+        const glm::dvec3 origin = glm::dvec3(unit(random), unit(random), unit(random)) * 0.5;
+        const glm::dvec3 direction =
+                glm::normalize(glm::dvec3(unit(random), unit(random), unit(random)));
+        const double depth = 0.02 + 0.05 * std::abs(unit(random));
+        const LineInterval deep =
+                clip_to_half_spaces(region, region.count, origin, direction, {-10.0, 10.0}, depth);
+        const auto in_half_spaces = [&](glm::dvec3 p) {
+            for (int i = 0; i < region.count; ++i) {
+                const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+                if (glm::dot(h.normal, p) + h.offset < 0.0) {
+                    return false;
+                }
+            }
+            return true;
+        };
+        for (int i = 0; i <= 100; ++i) {
+            const double t = -2.0 + 4.0 * i / 100.0;
+            if (t < deep.t_near + 1e-9 || t > deep.t_far - 1e-9) {
+                continue;
+            }
+            ++deep_points;
+            const glm::dvec3 p = origin + t * direction;
+            for (int k = 0; k < 20; ++k) {
+                const glm::dvec3 offset =
+                        glm::normalize(glm::dvec3(unit(random), unit(random), unit(random))) *
+                        depth * std::abs(unit(random));
+                ASSERT_TRUE(in_half_spaces(p + offset)) << "trial " << trial << " t " << t;
+            }
+        }
+        // Just before the interval, a point at distance `depth` against the face that bounds it
+        // leaves the half-spaces.
+        if (region.count > 0 && deep.t_near < deep.t_far && deep.t_near > -10.0) {
+            const glm::dvec3 p = origin + (deep.t_near - 1e-6) * direction;
+            bool leaves = false;
+            for (int i = 0; i < region.count; ++i) {
+                const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
+                leaves = leaves || !in_half_spaces(p - depth * h.normal);
+            }
+            EXPECT_TRUE(leaves) << "trial " << trial;
+        }
+    }
+    EXPECT_GT(deep_points, 500);
+}
+
 // A brick called outside holds no point of the region (random cuts, random bricks of the tilted
 // volume's box, each sampled on a grid); a brick beyond one crop face is called outside.
 TEST(Region, ABrickCalledOutsideHoldsNothingOfTheRegion) {

@@ -26,14 +26,14 @@ struct SkippingRow {
     double psnr = 0.0;  // between the last images of the two series
 };
 
-// One mode without a cut, with a crop box that holds the whole volume (the same image: what asking
-// the region costs per frame) and with a crop that keeps half of it (what a cut saves).
+// One mode without a cut, with planes that cut off only air at the box's corners (the same image:
+// what asking the region costs per frame) and with a crop that keeps half of it (what a cut saves).
 struct CutRow {
     std::string label;
     Series uncut;
-    Series whole;
+    Series corners;
     Series half;
-    double psnr = 0.0;  // between the uncut and the whole crop's images
+    double psnr = 0.0;  // between the uncut and the corners' images
 };
 
 struct OptimisationTable {

@@ -63,8 +63,9 @@ struct Region {
 [[nodiscard]] std::vector<glm::dvec3> clip_polygon(const Region& region, RegionUser user,
                                                    std::vector<glm::dvec3> polygon);
 
-// The interval [t_near, t_far] of the line origin + t * direction, narrowed to where it lies in the
-// first `count` half-spaces of `region`. t_near >= t_far when it lies in none of it.
+// The interval [t_near, t_far] of the line origin + t * direction, narrowed to where it lies deeper
+// than `depth` inside each of the first `count` half-spaces of `region` (depth 0: in them; depth d:
+// every point within d of it is in them too). t_near >= t_far when it lies in none of it.
 struct LineInterval {
     double t_near = 0.0;
     double t_far = 0.0;
@@ -72,11 +73,11 @@ struct LineInterval {
 
 [[nodiscard]] inline LineInterval clip_to_half_spaces(const Region& region, int count,
                                                       glm::dvec3 origin, glm::dvec3 direction,
-                                                      LineInterval line) {
+                                                      LineInterval line, double depth) {
     for (int i = 0; i < count; ++i) {
         const HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
         const double along = glm::dot(h.normal, direction);
-        const double at = glm::dot(h.normal, origin) + h.offset;
+        const double at = glm::dot(h.normal, origin) + h.offset - depth;
         if (along == 0.0) {
             // Parallel to the face: wholly inside or wholly outside.
             if (at < 0.0) {
@@ -100,7 +101,7 @@ struct LineInterval {
         return box;
     }
     const LineInterval line = clip_to_half_spaces(region, region.count_for(user), origin, direction,
-                                                  {box.t_near, box.t_far});
+                                                  {box.t_near, box.t_far}, 0.0);
     return BoxHit{line.t_near, line.t_far, line.t_near < line.t_far};
 }
 
