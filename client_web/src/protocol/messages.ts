@@ -17,6 +17,21 @@ import {
   type StateSettings,
   type Vec3,
 } from './generated/server_tables';
+import {
+  ProtocolError,
+  UnknownMessageType,
+  bool,
+  isObject,
+  need,
+  num,
+  numbers,
+  obj,
+  oneOf,
+  optionalId,
+  str,
+} from './checks';
+
+export { ProtocolError, UnknownMessageType } from './checks';
 
 // The server's names and views, written from its tables into generated/ (scripts/update-schema.sh).
 export {
@@ -318,82 +333,6 @@ export type ClientRequest = ClientMessage extends infer M
     ? Omit<M, 'v' | 'id'>
     : never
   : never;
-
-/** Thrown when a server message does not have the shape protocol v1 promises. */
-export class ProtocolError extends Error {
-  constructor(
-    message: string,
-    readonly field: string,
-  ) {
-    super(`${message} (at ${field || '/'})`);
-    this.name = 'ProtocolError';
-  }
-}
-
-/**
- * Thrown for a message type this client does not know. Within v1 the server may add message types
- * that answer no request (§3), so a client ignores them rather than report a problem.
- */
-export class UnknownMessageType extends ProtocolError {
-  constructor(readonly type: string) {
-    super(`unknown message type "${type}"`, '/type');
-    this.name = 'UnknownMessageType';
-  }
-}
-
-// ---- small checkers -----------------------------------------------------------------------------
-
-function isObject(value: unknown): value is Record<string, unknown> {
-  return typeof value === 'object' && value !== null && !Array.isArray(value);
-}
-
-function need<T>(ok: boolean, value: T, what: string, field: string): T {
-  if (!ok) {
-    throw new ProtocolError(`expected ${what}`, field);
-  }
-  return value;
-}
-
-function str(o: Record<string, unknown>, key: string, at: string): string {
-  const v = o[key];
-  return need(typeof v === 'string', v as string, 'a string', `${at}/${key}`);
-}
-
-function num(o: Record<string, unknown>, key: string, at: string): number {
-  const v = o[key];
-  return need(typeof v === 'number' && Number.isFinite(v), v as number, 'a number', `${at}/${key}`);
-}
-
-function bool(o: Record<string, unknown>, key: string, at: string): boolean {
-  const v = o[key];
-  return need(typeof v === 'boolean', v as boolean, 'a boolean', `${at}/${key}`);
-}
-
-function oneOf<T extends string>(v: unknown, names: readonly T[], field: string): T {
-  const ok = typeof v === 'string' && (names as readonly string[]).includes(v);
-  return need(ok, v as T, `one of ${names.join(', ')}`, field);
-}
-
-function obj(o: Record<string, unknown>, key: string, at: string): Record<string, unknown> {
-  const v = o[key];
-  return need(isObject(v), v as Record<string, unknown>, 'an object', `${at}/${key}`);
-}
-
-function numbers(o: Record<string, unknown>, key: string, at: string, length?: number): number[] {
-  const v = o[key];
-  const ok =
-    Array.isArray(v) &&
-    (length === undefined || v.length === length) &&
-    v.every((x) => typeof x === 'number' && Number.isFinite(x));
-  return need(ok, v as number[], length ? `${length} numbers` : 'numbers', `${at}/${key}`);
-}
-
-function optionalId(o: Record<string, unknown>): number | undefined {
-  if (o['id'] === undefined) {
-    return undefined;
-  }
-  return need(Number.isInteger(o['id']), o['id'] as number, 'an integer', '/id');
-}
 
 function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
   const o = need(isObject(v), v as Record<string, unknown>, 'a volume summary', at);

@@ -34,9 +34,9 @@ void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution
     }
 }
 
-base::Status HalfAngleSlicer::run(bool front_to_back, int width, int height, int light_resolution,
-                                  const gpu::Defines& defines, FrameTarget& target,
-                                  gpu::GpuTimer& timer, WorkChunks& chunks) {
+base::Status HalfAngleSlicer::run(const FrameGeometry& g, int width, int height,
+                                  int light_resolution, const gpu::Defines& defines,
+                                  FrameTarget& target, gpu::GpuTimer& timer, WorkChunks& chunks) {
     const auto pass_program = [&](bool light_pass) {
         gpu::Defines all = defines;
         all.emplace_back("HALF_ANGLE_LIGHT_PASS", light_pass ? "1" : "0");
@@ -52,6 +52,7 @@ base::Status HalfAngleSlicer::run(bool front_to_back, int width, int height, int
     }
     ensure_buffers(width, height, light_resolution);
     target.ensure(width, height);
+    cut_slices(g.region, g.half_angle_slicing);
 
     timer.begin();
     gpu::clear(eye_framebuffer_, {0.0f, 0.0f, 0.0f, 0.0f});
@@ -64,7 +65,7 @@ base::Status HalfAngleSlicer::run(bool front_to_back, int width, int height, int
     base::Status status = base::Ok{};
     for (int k = 0; k < eye_slices_.slices(); ++k) {
         gpu::draw_into(eye_framebuffer_, width, height,
-                       front_to_back ? gpu::Blend::under : gpu::Blend::over);
+                       g.front_to_back ? gpu::Blend::under : gpu::Blend::over);
         eye_slices_.draw(**eye_program, k);
         gpu::draw_into(light_framebuffer_, light_resolution, light_resolution,
                        gpu::Blend::multiply);

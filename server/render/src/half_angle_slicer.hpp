@@ -1,5 +1,6 @@
 #pragma once
 
+#include "frame_geometry.hpp"
 #include "frame_target.hpp"
 #include "program_cache.hpp"
 #include "slice_geometry.hpp"
@@ -10,8 +11,6 @@
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
-#include <penumbra/optics/light_slicing.hpp>
-#include <penumbra/optics/region.hpp>
 
 #include <string>
 
@@ -26,16 +25,13 @@ class HalfAngleSlicer {
 public:
     explicit HalfAngleSlicer(ProgramCache& programs);
 
-    // The slices of the next run, perpendicular to slicing.travel (the half-angle axis), each cut
-    // to what `region` keeps: for the eye pass, which samples the slice plane alone, exactly to
-    // what camera rays keep (so no fragment asks the region); for the light pass, whose fragments
-    // read the slab up to the next slice, to what the light meets, widened by a slab.
-    void cut_slices(const optics::Region& region, const optics::LightSlicing& slicing);
-
-    // `front_to_back`: the eye and the light are on the same side, composite with "under";
-    // otherwise back to front with "over". Issued in groups of slices; fails with
-    // cancelled_error() when `chunks` says the frame was cancelled.
-    base::Status run(bool front_to_back, int width, int height, int light_resolution,
+    // Slices perpendicular to the frame's half-angle axis, each cut to what its region keeps: for
+    // the eye pass, which samples the slice plane alone, exactly to what camera rays keep (so no
+    // fragment asks the region); for the light pass, whose fragments read the slab up to the next
+    // slice, to what the light meets, widened by a slab. With the eye and the light on the same
+    // side, composited with "under"; otherwise back to front with "over". Issued in groups of
+    // slices; fails with cancelled_error() when `chunks` says the frame was cancelled.
+    base::Status run(const FrameGeometry& g, int width, int height, int light_resolution,
                      const gpu::Defines& defines, FrameTarget& target, gpu::GpuTimer& timer,
                      WorkChunks& chunks);
 
@@ -44,6 +40,7 @@ public:
 
 private:
     void ensure_buffers(int width, int height, int light_resolution);
+    void cut_slices(const optics::Region& region, const optics::LightSlicing& slicing);
 
     ProgramCache& programs_;
     SliceMesh eye_slices_;

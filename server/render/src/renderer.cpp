@@ -1,6 +1,7 @@
 #include "penumbra/render/renderer.hpp"
 
 #include "admission.hpp"
+#include "device_profile.hpp"
 #include "frame_geometry.hpp"
 #include "frame_planner.hpp"
 #include "frame_target.hpp"
@@ -31,15 +32,6 @@
 #include <utility>
 
 namespace penumbra::render {
-namespace {
-
-// Work per chunk when RendererOptions leaves it to the device: a software rasteriser runs this in
-// a few tens of milliseconds at its slowest (light-buffer builds), a GPU runs a thousand times
-// more in a few milliseconds and would idle on smaller dispatches.
-constexpr double software_chunk_work = 4e6;
-constexpr double hardware_chunk_work = 4e9;
-
-}  // namespace
 
 std::optional<GradientSource> parse_gradient_source(std::string_view text) {
     if (text == "automatic") {
@@ -92,9 +84,7 @@ struct Renderer::Impl {
         , raycast(programs)
         , half_angle(programs)
         , ceilings{options.max_frame_work, options.light_buffer_memory_budget}
-        , chunk_work(options.chunk_work > 0.0 ? options.chunk_work
-                     : info.software          ? software_chunk_work
-                                              : hardware_chunk_work)
+        , chunk_work(options.chunk_work > 0.0 ? options.chunk_work : default_chunk_work(info))
         , brick_voxels(options.brick_voxels > 0 ? options.brick_voxels : default_brick_voxels)
         , gradient_texture(options.gradients == GradientSource::texture)
         , light_buffers(programs, options.light_buffer_memory_budget, info.gpu_timer_queries)
@@ -119,9 +109,8 @@ struct Renderer::Impl {
         const scene::RenderSettings& s = request.settings;
         if (plan.half_angle) {
             const int before = chunks.count();
-            if (auto status = half_angle.run(g.front_to_back, s.width, s.height,
-                                             s.light_buffer.resolution, plan.variant.defines(),
-                                             target, render_timer, chunks);
+            if (auto status = half_angle.run(g, s.width, s.height, s.light_buffer.resolution,
+                                             plan.variant.defines(), target, render_timer, chunks);
                 !status) {
                 return status.error();
             }
@@ -144,18 +133,7 @@ base::Result<std::unique_ptr<Renderer>> Renderer::create(const RendererOptions& 
     if (!context) {
         return context.error();
     }
-    const gpu::ContextInfo& ci = context->info();
-    RendererInfo info{ci.platform,
-                      ci.vendor,
-                      ci.renderer,
-                      ci.version,
-                      ci.max_3d_texture_size,
-                      ci.max_texture_size,
-                      ci.max_array_texture_layers};
-    info.software = info.renderer.find("llvmpipe") != std::string::npos ||
-                    info.renderer.find("softpipe") != std::string::npos;
-    info.gpu_timer_queries = !info.software;
-    info.max_shader_loop_iterations = info.software ? 65535 : 0;
+    RendererInfo info = describe_device(context->info());
     auto impl = std::make_unique<Impl>(
             std::move(context.value()), std::move(info),
             options.shader_dir.empty() ? gpu::default_shader_dir() : options.shader_dir, options);
@@ -249,12 +227,6 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         passes.push_back({"transfer_function", 0.0, *tf_ms});
     }
     impl.blocks.bind(frame_uniforms(request, g, voxels.dims, volume.texture().value_map), request);
-    double slice_geometry_ms = 0.0;  // CPU work of the slicing passes, counted in their time
-    if (plan.half_angle) {
-        const auto geometry_start = Clock::now();
-        impl.half_angle.cut_slices(g.region, g.half_angle_slicing);
-        slice_geometry_ms = milliseconds_since(geometry_start);
-    }
     gpu::bind_texture(0, volume.texture().texture);
     gpu::bind_texture(1, impl.transfer_function.texture());
     if (plan.variant.preintegration) {
@@ -299,7 +271,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         return pass_chunks.error();
     }
     // The frame is read back next anyway; finishing here splits render from readback.
-    const double render_wall_ms = finished_ms_since(render_start) + slice_geometry_ms;
+    const double render_wall_ms = finished_ms_since(render_start);
     if (request.refinement.keep || request.refinement.step > 0) {
         if (auto status = impl.stills.accumulate(impl.programs, request, volume.generation(),
                                                  impl.target, frame.report);
