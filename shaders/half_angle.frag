@@ -23,7 +23,8 @@ void main() {
 #if HALF_ANGLE_LIGHT_PASS
     vec3 travel = light_travel_at(world);
     float path_length = spacing / max(dot(axis, travel), 1e-3);
-    // One point per slice, as Kniss et al. slice: the eye pass samples the same point.
+    // One point per slice, as Kniss et al. slice: the eye pass samples the same point (where a cut
+    // face crosses the slab, the light's point is the middle of the part kept).
     result = vec4(slab_transmittance(world, travel, path_length, 1));
 #else
     // The eye pass's slices are cut exactly to what camera rays keep (HalfAngleSlicer::cut_slices):

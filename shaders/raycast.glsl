@@ -88,6 +88,18 @@ float front_value(RayMarch march, int i) {
 }
 #endif
 
+#if PREINTEGRATION
+// How far before sample i its segment is lit and shaded: at the segment's middle, half a step
+// before. The first segment starts where the ray enters the region (front_value) and stands, as
+// every segment does, for a whole step: the one the first sample stands for without
+// pre-integration, which it is lit at as well. Lit half a step before, on the region's face, a
+// whole step of material would be lit as if it lay before a cut face, where the light is
+// brightest.
+float lit_before(RayMarch march, int i) {
+    return i == 0 ? 0.0 : 0.5 * march.step_length;
+}
+#endif
+
 // Sample i classified, or false where it lies in an empty brick: `i` then moves to the last
 // sample in that brick, so that the march's next step leaves it.
 //
@@ -112,7 +124,7 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
             classified = classify_segment(march.front, back);
             march.front = last_in_brick > i ? sample_value(march_position(march, last_in_brick))
                                             : back;
-            position -= 0.5 * march.step_length * march.direction;  // as below
+            position -= lit_before(march, i) * march.direction;  // as below
             i = last_in_brick;
             return true;
 #else
@@ -129,7 +141,7 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
     march.front = back;
     // The segment is lit and shaded at its middle, where its material is on average: lit at its
     // back, a surface would be lit half a step inside itself and darken under shadows.
-    position -= 0.5 * march.step_length * march.direction;
+    position -= lit_before(march, i) * march.direction;
 #else
     classified = classify(sample_value(position));
 #endif
@@ -171,6 +183,12 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     vec2 light_deep = clip_to_half_spaces(region_count_for(REGION_LIGHT), march.origin,
                                           march.direction, vec2(-3.0e38, 3.0e38),
                                           u.light_buffer_info.z);
+#if PHONG
+    // Likewise where a sample lies deeper than cut_face_reach() in every face camera rays clip by:
+    // its gradient is the material's own, and it pays nothing for the cut.
+    vec2 face_deep = clip_to_half_spaces(u.region_counts.x, march.origin, march.direction,
+                                         vec2(-3.0e38, 3.0e38), cut_face_reach());
+#endif
     int i = first;
     while (i < last) {
         for (; i < last; ++i) {
@@ -178,15 +196,15 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
         }
         if (i >= last) break;
         vec2 terms = vec2(1.0, 0.0);
+        float t = dot(position - march.origin, march.direction);
 #if PHONG
         vec3 gradient = sample_gradient(position);
-        if (u.region_counts.x > 0) {
+        if (t < face_deep.x || t > face_deep.y) {
             gradient = gradient_at_cut(position, gradient, sample_value(position));
         }
         vec3 normal = normal_from_gradient(gradient);
         terms = blinn_phong(normal, direction_to_light(position), -march.direction);
 #endif
-        float t = dot(position - march.origin, march.direction);
         int light_half_spaces =
                 t >= light_deep.x && t <= light_deep.y ? 0 : region_count_for(REGION_LIGHT);
         vec3 color = shade(classified.rgb, terms,

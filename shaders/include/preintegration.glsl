@@ -17,7 +17,8 @@
 // two the difference is the self-attenuation of one step, which is what per-sample compositing
 // neglects too.
 //
-// A segment is lit and shaded at its middle (raycast.glsl), where its material is on average.
+// A segment is lit and shaded at its middle (raycast.glsl), where its material is on average; the
+// first, which starts on the region's face, at its sample (lit_before).
 //
 // Opacity correction: the equivalent opacity is corrected for the actual step length, like a
 // sample's. The light slabs' darkening compensation (1 + a)^c applies to the slab's opacity

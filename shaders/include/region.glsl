@@ -45,12 +45,17 @@ vec2 intersect_region(vec3 origin, vec3 direction, int user) {
     return vec2(max(0.0, line.x), line.y);
 }
 
+// How near a face camera rays clip by a sample's gradient feels the cut: a voxel.
+float cut_face_reach() {
+    return max(u.voxel_size.x, max(u.voxel_size.y, u.voxel_size.z));
+}
+
 // The gradient at `world` (of value `value` there) with what the cut removed taken as empty: within
-// a voxel of a face camera rays clip by, its component along the face's normal becomes the central
-// difference whose outer neighbour is empty, so a cut face is shaded as a surface facing out of the
-// cut.
+// cut_face_reach() of a face camera rays clip by, its component along the face's normal becomes the
+// central difference whose outer neighbour is empty, so a cut face is shaded as a surface facing
+// out of the cut.
 vec3 gradient_at_cut(vec3 world, vec3 gradient, float value) {
-    float reach = max(u.voxel_size.x, max(u.voxel_size.y, u.voxel_size.z));
+    float reach = cut_face_reach();
     for (int i = 0; i < u.region_counts.x; ++i) {
         vec4 h = u.region_half_spaces[i];
         if (dot(h.xyz, world) + h.w < reach) {
@@ -59,15 +64,4 @@ vec3 gradient_at_cut(vec3 world, vec3 gradient, float value) {
         }
     }
     return gradient;
-}
-
-// Whether `world` lies in the first `count` half-spaces of the region (region_count_for(user):
-// as `user` sees it; the box is the caller's: the passes that ask already know they are in it, or
-// test it as inside_box does).
-bool inside_half_spaces(vec3 world, int count) {
-    for (int i = 0; i < count; ++i) {
-        vec4 h = u.region_half_spaces[i];
-        if (dot(h.xyz, world) + h.w < 0.0) return false;
-    }
-    return true;
 }

@@ -134,10 +134,10 @@ void print_ratios(std::FILE* out, const OptimisationTable& table) {
 // The cuts of the cut table. One cuts the six corners of the volume's box that lie on the
 // left, right, anterior or posterior side of the top and bottom: a plane across each, a tenth of
 // the way to the centre, keeping the centre's side. A head's box holds air there, so what shows
-// is unchanged, while every sample still asks six half-spaces (a crop box even a millimetre inside
-// the bounds cuts the neck and the crown of a head, which changes the picture; one at or beyond
-// them cuts nothing and is left out of the region). The other keeps the right half (x past the
-// middle).
+// is unchanged, while every ray clips by six half-spaces and every sample near one of them asks it
+// (a crop box even a millimetre inside the bounds cuts the neck and the crown of a head, which
+// changes the picture; one at or beyond them cuts nothing and is left out of the region). The other
+// keeps the right half (x past the middle).
 std::pair<scene::Cut, scene::Cut> cut_table_cuts(const volume::Volume& volume) {
     const volume::PatientBounds bounds = volume::patient_bounds(volume);
     const glm::dvec3 centre = 0.5 * (bounds.min + bounds.max);

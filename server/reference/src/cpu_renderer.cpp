@@ -144,9 +144,11 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
                 const glm::dvec3 position =
                         camera.eye + (hit.t_near + (i + offset) * marching.step) * direction;
                 const glm::dvec4 classified = tf.classify(front, sampler.value(position));
-                // Pre-integrated, the segment is lit and shaded at its middle (raycast.glsl).
-                const glm::dvec3 lit =
-                        s.preintegration ? position - 0.5 * marching.step * direction : position;
+                // Pre-integrated, the segment is lit and shaded at its middle, the first at its
+                // sample (lit_before in raycast.glsl).
+                const glm::dvec3 lit = s.preintegration && i > 0
+                                               ? position - 0.5 * marching.step * direction
+                                               : position;
                 if (classified.a <= 0.0) {
                     continue;
                 }

@@ -2,6 +2,8 @@
 
 #include <penumbra/gpu/commands.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <vector>
 
@@ -10,12 +12,17 @@ namespace penumbra::render {
 HalfAngleSlicer::HalfAngleSlicer(ProgramCache& programs)
     : programs_(programs) {}
 
-void HalfAngleSlicer::cut_slices(const optics::Region& region,
-                                 const optics::LightSlicing& slicing) {
-    eye_slices_.upload(make_slice_geometry(region, optics::RegionUser::camera, slicing.travel,
+void HalfAngleSlicer::cut_slices(const FrameGeometry& g) {
+    const optics::LightSlicing& slicing = g.half_angle_slicing;
+    eye_slices_.upload(make_slice_geometry(g.region, optics::RegionUser::camera, slicing.travel,
                                            slicing.min, slicing.max, slicing.count, 0.0));
-    light_slices_.upload(make_slice_geometry(region, optics::RegionUser::light, slicing.travel,
-                                             slicing.min, slicing.max, slicing.count));
+    // A light-pass fragment reads the slab along the light's ray, spacing / cos(ray, axis) long
+    // (half_angle.frag): its slices are widened by that, or by a point light's widest ray.
+    const double reach = g.light_view && g.light_view->perspective
+                                 ? point_light_reach(g.box, g.light_view->position, slicing.travel)
+                                 : 1.0 / std::max(glm::dot(slicing.travel, g.travel), 1e-3);
+    light_slices_.upload(make_slice_geometry(g.region, optics::RegionUser::light, slicing.travel,
+                                             slicing.min, slicing.max, slicing.count, reach));
 }
 
 void HalfAngleSlicer::ensure_buffers(int width, int height, int light_resolution) {
@@ -52,7 +59,7 @@ base::Status HalfAngleSlicer::run(const FrameGeometry& g, int width, int height,
     }
     ensure_buffers(width, height, light_resolution);
     target.ensure(width, height);
-    cut_slices(g.region, g.half_angle_slicing);
+    cut_slices(g);
 
     timer.begin();
     gpu::clear(eye_framebuffer_, {0.0f, 0.0f, 0.0f, 0.0f});

@@ -27,8 +27,8 @@ public:
 
     // Slices perpendicular to the frame's half-angle axis, each cut to what its region keeps: for
     // the eye pass, which samples the slice plane alone, exactly to what camera rays keep (so no
-    // fragment asks the region); for the light pass, whose fragments read the slab up to the next
-    // slice, to what the light meets, widened by a slab. With the eye and the light on the same
+    // fragment asks the region); for the light pass, whose fragments read a slab along the light's
+    // rays, to what the light meets, widened by that slab. With the eye and the light on the same
     // side, composited with "under"; otherwise back to front with "over". Issued in groups of
     // slices; fails with cancelled_error() when `chunks` says the frame was cancelled.
     base::Status run(const FrameGeometry& g, int width, int height, int light_resolution,
@@ -40,7 +40,7 @@ public:
 
 private:
     void ensure_buffers(int width, int height, int light_resolution);
-    void cut_slices(const optics::Region& region, const optics::LightSlicing& slicing);
+    void cut_slices(const FrameGeometry& g);
 
     ProgramCache& programs_;
     SliceMesh eye_slices_;

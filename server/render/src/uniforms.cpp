@@ -60,11 +60,12 @@ FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeom
                 glm::vec4(static_cast<float>(slicing.min), static_cast<float>(slicing.max),
                           static_cast<float>(slicing.count), static_cast<float>(slicing.spacing()));
         // A local lookup marches at most one slab toward the light, along the light's ray: the
-        // slice spacing, stretched by a point light's widest ray.
+        // slice spacing, stretched by a point light's widest ray (and a thousandth, so that
+        // rounding to float never makes it shorter).
         const double reach = g.light_view->perspective
                                      ? point_light_reach(g.box, g.light_view->position, g.travel)
                                      : 1.0;
-        u.light_buffer_info.z = static_cast<float>(slicing.spacing() * reach);
+        u.light_buffer_info.z = static_cast<float>(slicing.spacing() * reach * 1.001);
     }
     if (g.half_angle_axis != glm::dvec3(0.0)) {
         u.half_angle_axis = v4(g.half_angle_axis, g.half_angle_slicing.spacing());
