@@ -2,6 +2,7 @@
 
 #include <penumbra/cli/options.hpp>
 #include <penumbra/volume/describe.hpp>
+#include <penumbra/volume/label_names.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
@@ -46,7 +47,10 @@ int run_info(const std::vector<std::string>& args) {
         return report_usage_error("info", parsed.error());
     }
     if (parsed->count("help") != 0) {
-        print_help("info [options]", "A volume's dimensions, spacing, type, range and histogram.",
+        print_help("info [options]",
+                   "A volume's dimensions, spacing, type, range and histogram; an atlas's "
+                   "labels (id, colour, voxels, name) when MRIcron's names (X.nii.txt, and "
+                   "colours X.nii.lut) lie beside it.",
                    described);
         return 0;
     }
@@ -58,6 +62,18 @@ int run_info(const std::vector<std::string>& args) {
         return report_failure("info", volume.error());
     }
     std::fputs(volume::describe(*volume, path).c_str(), stdout);
+    if (const auto label_files = volume::find_mricron_labels(path)) {
+        // An atlas with MRIcron's names beside it: its labels, with what each holds.
+        auto names = volume::read_mricron_labels(*label_files);
+        if (!names) {
+            return report_failure("info", names.error());
+        }
+        auto counts = volume::count_labels(*volume);
+        if (!counts) {
+            return report_failure("info", counts.error());
+        }
+        std::fputs(volume::describe_labels(*names, *counts).c_str(), stdout);
+    }
     std::fputs(volume::describe_histogram(*volume).c_str(), stdout);
     return 0;
 }
