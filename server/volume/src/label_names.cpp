@@ -1,3 +1,5 @@
+#include "label_ids.hpp"
+
 #include <penumbra/volume/label_names.hpp>
 
 #include <algorithm>
@@ -110,6 +112,27 @@ base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files) {
     return result;
 }
 
+std::int64_t label_id_of_voxel(const Volume& volume, std::size_t index) {
+    const std::size_t size = bytes_per_voxel(volume.type);
+    const std::byte* voxel = volume.data.data() + index * size;
+    std::int64_t stored = 0;
+    switch (volume.type) {
+        case VoxelType::uint8:
+            stored = std::to_integer<std::uint8_t>(voxel[0]);
+            break;
+        case VoxelType::uint16:
+        case VoxelType::int16: {
+            const auto bits = static_cast<std::uint16_t>(std::to_integer<unsigned>(voxel[0]) |
+                                                         std::to_integer<unsigned>(voxel[1]) << 8U);
+            stored = volume.type == VoxelType::int16 ? static_cast<std::int16_t>(bits) : bits;
+            break;
+        }
+        case VoxelType::float32:
+            PENUMBRA_ASSERT(false, "a label map's voxels are integers");
+    }
+    return std::llround(volume.rescale.apply(static_cast<double>(stored)));
+}
+
 base::Result<std::map<std::int64_t, std::uint64_t>> count_labels(const Volume& volume) {
     if (volume.type == VoxelType::float32) {
         return base::make_error(base::ErrorCode::invalid_volume,
@@ -118,27 +141,8 @@ base::Result<std::map<std::int64_t, std::uint64_t>> count_labels(const Volume& v
                                 volume.name);
     }
     std::map<std::int64_t, std::uint64_t> counts;
-    const std::size_t size = bytes_per_voxel(volume.type);
     for (std::size_t i = 0; i < volume.voxel_count(); ++i) {
-        const std::byte* voxel = volume.data.data() + i * size;
-        std::int64_t stored = 0;
-        switch (volume.type) {
-            case VoxelType::uint8:
-                stored = std::to_integer<std::uint8_t>(voxel[0]);
-                break;
-            case VoxelType::uint16:
-            case VoxelType::int16: {
-                const auto bits =
-                        static_cast<std::uint16_t>(std::to_integer<unsigned>(voxel[0]) |
-                                                   std::to_integer<unsigned>(voxel[1]) << 8U);
-                stored = volume.type == VoxelType::int16 ? static_cast<std::int16_t>(bits) : bits;
-                break;
-            }
-            case VoxelType::float32:
-                break;
-        }
-        const double id = volume.rescale.apply(static_cast<double>(stored));
-        auto [entry, added] = counts.try_emplace(std::llround(id), 0);
+        auto [entry, added] = counts.try_emplace(label_id_of_voxel(volume, i), 0);
         ++entry->second;
         if (added && counts.size() > max_labels) {
             return base::make_error(base::ErrorCode::too_large,

@@ -324,6 +324,8 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     const std::string_view intent(image->intent_name);
     volume->hounsfield =
             intent.size() == 2 && std::toupper(intent[0]) == 'H' && std::toupper(intent[1]) == 'U';
+    volume->label_intent = image->intent_code == NIFTI_INTENT_LABEL;
+    volume->volumes_in_file = static_cast<std::uint64_t>(volumes);
     return volume;
 }
 

@@ -1150,6 +1150,7 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
     volume->axes = layout->geometry.axes;
     volume->origin = layout->geometry.origin;
     volume->hounsfield = header->hounsfield;
+    volume->volumes_in_file = layout->volumes;
     return volume;
 }
 

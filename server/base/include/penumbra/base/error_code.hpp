@@ -46,6 +46,7 @@ enum class ErrorCode {
     network_error,
     no_dicom_images,
     no_light_buffer,
+    no_overlap,
     no_session,
     no_volume,
     not_dicom,
@@ -92,7 +93,7 @@ enum class ErrorCode {
     write_failed,
 };
 
-inline constexpr std::array<EnumName<ErrorCode>, 77> kErrorCodeNames{{
+inline constexpr std::array<EnumName<ErrorCode>, 78> kErrorCodeNames{{
         {ErrorCode::bad_data, "bad_data"},
         {ErrorCode::bad_file_name, "bad_file_name"},
         {ErrorCode::bad_header, "bad_header"},
@@ -126,6 +127,7 @@ inline constexpr std::array<EnumName<ErrorCode>, 77> kErrorCodeNames{{
         {ErrorCode::network_error, "network_error"},
         {ErrorCode::no_dicom_images, "no_dicom_images"},
         {ErrorCode::no_light_buffer, "no_light_buffer"},
+        {ErrorCode::no_overlap, "no_overlap"},
         {ErrorCode::no_session, "no_session"},
         {ErrorCode::no_volume, "no_volume"},
         {ErrorCode::not_dicom, "not_dicom"},

@@ -70,6 +70,14 @@ struct Volume {
     // so), which lets CT presets be given in HU rather than as fractions of the range.
     bool hounsfield = false;
 
+    // The file marks its values as label ids (NIfTI's intent code NIFTI_INTENT_LABEL, as atlases
+    // and segmentations are written): a label map rather than intensities (label_map.hpp).
+    bool label_intent = false;
+
+    // How many volumes the file held (a 4-D file's time points or components); the first was
+    // loaded. A label map must hold one: the volumes of a probabilistic atlas are no labels.
+    std::uint64_t volumes_in_file = 1;
+
     // What the loader chose for the user and they should know, one line each (a DICOM series
     // holding several volumes opened at its first); `info` prints them.
     std::vector<std::string> notes;

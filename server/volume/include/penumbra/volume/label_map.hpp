@@ -1,0 +1,43 @@
+#pragma once
+
+// A label map: a segmentation or an atlas, drawn inside a scan (render::Renderer::set_labels).
+// Its voxels become indices into its label table, so that the GPU holds at most 16 bits a voxel
+// whatever ids the file uses, and a label's style is one entry of a small table.
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/volume/label_names.hpp>
+#include <penumbra/volume/volume.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace penumbra::volume {
+
+struct LabelMap {
+    // The file's grid, spacing, axes and origin; each voxel an index: 0 for no label (id 0, the
+    // background of every segmentation format), i for labels[i - 1]. uint8 up to 255 labels, else
+    // uint16.
+    Volume indices;
+    // The labels the volume holds, by id; named and coloured from the files beside it where they
+    // say, else "label N" with a colour of its own (label_color).
+    std::vector<Label> labels;
+    std::vector<std::uint64_t> voxels;  // per label, in the order of `labels`
+    std::vector<std::string> warnings;  // names-file lines skipped; named labels the volume lacks
+};
+
+// The label map of `stored` (its voxels' values are the ids) named by `names`. A floating-point
+// volume, more than max_labels labels, or a file of several volumes is an Error.
+base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& names);
+
+// Loads a label map: any volume load_volume reads, named by MRIcron's files beside it
+// (find_mricron_labels) when there are some.
+base::Result<LabelMap> load_label_map(const std::filesystem::path& path,
+                                      const LoadOptions& options = {});
+
+// A label map is drawn over a scan in patient space, each on its own grid: it must share some of
+// the scan's space. The error ("no_overlap") gives both boxes in RAS millimetres.
+base::Status check_overlap(const Volume& scan, const Volume& labels);
+
+}  // namespace penumbra::volume
