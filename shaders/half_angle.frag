@@ -2,10 +2,11 @@
 // stands after the slices nearer the light, blended into the eye buffer (front to back with
 // "under", or back to front with "over"). Light pass: the slice's transmittance multiplied into
 // the light buffer. Opacity is corrected for each ray's path through the slab.
-//   HALF_ANGLE_LIGHT_PASS 0|1, PHONG 0|1, EXTINCTION 0|1, POINT_LIGHT 0|1
+//   HALF_ANGLE_LIGHT_PASS 0|1, PHONG 0|1, EXTINCTION 0|1, POINT_LIGHT 0|1, LABELS 0|1
 #include "include/uniforms.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
+#include "include/labels.glsl"
 #include "include/compositing.glsl"
 #include "include/shading.glsl"
 #include "include/light_slab.glsl"
@@ -32,7 +33,7 @@ void main() {
     vec3 ray = normalize(world - u.eye.xyz);
     float path_length = spacing / max(abs(dot(axis, ray)), 1e-3);
     float value = sample_value(world);
-    vec4 classified = classify(value);
+    vec4 classified = in_label(classify(value), world);
     float alpha = sample_opacity(classified.a, path_length);
     vec2 terms = vec2(1.0, 0.0);
 #if PHONG

@@ -9,6 +9,7 @@
 //   POINT_LIGHT  0|1  the light is a point at light_vector rather than a direction
 //   EMPTY_SPACE_SKIPPING 0|1  leap over bricks the transfer function leaves transparent
 //   GRADIENT_TEXTURE 0|1  gradients from the precomputed texture instead of central differences
+//   LABELS 0|1  a label map scales and tints what the transfer function classifies (labels.glsl)
 //   PREINTEGRATION 0|1  each sample stands for the segment from the sample before it, classified
 //                       by both values through the pre-integration table
 
@@ -24,6 +25,7 @@
 #include "include/region.glsl"
 #include "include/volume.glsl"
 #include "include/transfer_function.glsl"
+#include "include/labels.glsl"
 #include "include/preintegration.glsl"
 #include "include/empty_space.glsl"
 #include "include/gradient.glsl"
@@ -121,7 +123,7 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
             int last_in_brick = max(i + 1, i + int(ceil(run / march.step_length))) - 1;
 #if PREINTEGRATION
             float back = sample_value(position);
-            classified = classify_segment(march.front, back);
+            classified = in_label(classify_segment(march.front, back), position);
             march.front = last_in_brick > i ? sample_value(march_position(march, last_in_brick))
                                             : back;
             position -= lit_before(march, i) * march.direction;  // as below
@@ -137,13 +139,13 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
 #endif
 #if PREINTEGRATION
     float back = sample_value(position);
-    classified = classify_segment(march.front, back);
+    classified = in_label(classify_segment(march.front, back), position);
     march.front = back;
     // The segment is lit and shaded at its middle, where its material is on average: lit at its
     // back, a surface would be lit half a step inside itself and darken under shadows.
     position -= lit_before(march, i) * march.direction;
 #else
-    classified = classify(sample_value(position));
+    classified = in_label(classify(sample_value(position)), position);
 #endif
     return true;
 }

@@ -4,6 +4,7 @@
 
 #include "include/empty_space.glsl"
 #include "include/region.glsl"
+#include "include/labels.glsl"
 
 bool inside_box(vec3 world) {
     vec3 p = box_coordinate(world);
@@ -29,7 +30,7 @@ float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples
     for (int j = 0; j < samples; ++j) {
         vec3 p = start + (kept.x + (float(j) + 0.5) * step) * ray;
         if (inside_box(p)) {
-            transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step);
+            transmittance *= 1.0 - sample_opacity(in_label(classify(sample_value(p)), p).a, step);
         }
     }
     return 1.0 - transmittance;

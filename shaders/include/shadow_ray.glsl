@@ -1,6 +1,8 @@
 // Ground truth for shadows: a ray marched from the sample to the light through the volume with
 // the camera's sample distance and the same opacity correction. Mirrors the CPU reference.
 
+#include "include/labels.glsl"
+
 float shadow_ray_transmittance(vec3 world) {
     vec3 to_light = direction_to_light(world);
     float t_end = intersect_region(world, to_light, REGION_LIGHT).y;
@@ -38,7 +40,8 @@ float shadow_ray_transmittance(vec3 world) {
 #if PREINTEGRATION
                 float back = sample_value(p);
                 transmittance *=
-                        1.0 - sample_opacity(classify_segment(front, back).a, step_length);
+                        1.0 - sample_opacity(in_label(classify_segment(front, back), p).a,
+                                             step_length);
                 front = last_in_brick > i ? sample_value(world + (float(last_in_brick) + 0.5) *
                                                                          step_length * to_light)
                                           : back;
@@ -51,10 +54,11 @@ float shadow_ray_transmittance(vec3 world) {
 #endif
 #if PREINTEGRATION
         float back = sample_value(p);
-        transmittance *= 1.0 - sample_opacity(classify_segment(front, back).a, step_length);
+        transmittance *=
+                1.0 - sample_opacity(in_label(classify_segment(front, back), p).a, step_length);
         front = back;
 #else
-        transmittance *= 1.0 - sample_opacity(classify(sample_value(p)).a, step_length);
+        transmittance *= 1.0 - sample_opacity(in_label(classify(sample_value(p)), p).a, step_length);
 #endif
     }
     return transmittance;

@@ -39,4 +39,6 @@ layout(std140, binding = 0) uniform FrameUniforms {
     // The region drawn (region.glsl): the box cut down by half-spaces dot(xyz, p) + w >= 0.
     ivec4 region_counts;            // x: those camera rays clip by, y: those the light does
     vec4 region_half_spaces[12];    // optics::kMaxHalfSpaces
+    // The label map (labels.glsl): world space to the map's voxel index space (voxel i's centre at i).
+    mat4 world_to_label;
 } u;

@@ -6,9 +6,11 @@
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
@@ -34,6 +36,10 @@ struct RenderOptions {
     // Progressive refinement of the still (jittered ray-cast modes), as a session's.
     int refinement_steps = scene::kDefaultRefinementSteps;
     double refinement_threshold = scene::kDefaultRefinementThreshold;
+    // A label map drawn inside the volume, the ids of labels hidden, how much of their colour.
+    std::string labels;
+    std::string hidden_labels;
+    double label_blend = scene::Labels{}.blend;
 };
 
 po::options_description render_options(RenderOptions& o) {
@@ -63,6 +69,13 @@ po::options_description render_options(RenderOptions& o) {
             "refinement-threshold",
             number_within(&o.refinement_threshold, threshold.min, threshold.max),
             std::string(threshold.summary).c_str());
+    options.add_options()("labels", po::value(&o.labels)->value_name("FILE"),
+                          "a label map (segmentation, atlas) drawn inside the volume, on its own "
+                          "grid; names and colours from MRIcron's FILE.txt and FILE.lut beside it")(
+            "hide-labels", po::value(&o.hidden_labels)->value_name("ID,ID,..."),
+            "labels made transparent to the camera and the light")(
+            "label-blend", number_within(&o.label_blend, 0.0, 1.0),
+            "how much a label's colour replaces the transfer function's (0..1)");
     options.add(frame_options({}, FramePurpose::still));
     return options;
 }
@@ -148,6 +161,51 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
     return still;
 }
 
+// The label map --labels names, set on the renderer, and the frame's styles of it: each label in
+// its file's colour, those --hide-labels lists hidden.
+base::Status draw_labels(render::Renderer& renderer, const RenderOptions& o,
+                         scene::FrameRequest& request) {
+    auto loaded = volume::load_label_map(o.labels, o.load);
+    if (!loaded) {
+        return loaded.error();
+    }
+    for (const std::string& warning : loaded->warnings) {
+        std::printf("warning:  %s\n", warning.c_str());
+    }
+    request.labels = render::label_styles(*loaded);
+    request.labels.blend = o.label_blend;
+    std::size_t hidden = 0;
+    std::string rest = o.hidden_labels;
+    while (!rest.empty()) {
+        const std::size_t comma = rest.find(',');
+        const std::string field = rest.substr(0, comma);
+        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        char* end = nullptr;
+        const long long id = std::strtoll(field.c_str(), &end, 10);
+        if (field.empty() || end == nullptr || *end != '\0') {
+            return base::make_error(
+                    base::ErrorCode::invalid_argument,
+                    "label ids are whole numbers separated by commas, not '" + field + "'",
+                    "--hide-labels");
+        }
+        bool found = false;
+        for (scene::LabelStyle& style : request.labels.styles) {
+            if (style.id == id) {
+                style.visible = false;
+                found = true;
+            }
+        }
+        if (!found) {
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "the label map holds no label " + field, "--hide-labels");
+        }
+        ++hidden;
+    }
+    std::printf("labels:   %s, %zu labels (%zu hidden), %s\n", loaded->indices.name.c_str(),
+                loaded->labels.size(), hidden, volume::to_string(loaded->indices.type));
+    return renderer.set_labels(std::make_shared<const volume::LabelMap>(std::move(*loaded)));
+}
+
 base::Status write_light_inset(render::Renderer& renderer, const std::string& path) {
     auto inset = renderer.light_inset();
     if (!inset) {
@@ -206,6 +264,15 @@ int run_render(const std::vector<std::string>& args) {
                 v.dims.z, volume::to_string(v.type), v.range.min, v.range.max);
     if (auto status = (*renderer)->set_volume(*volume); !status) {
         return fail(status.error());
+    }
+    if (!o.labels.empty()) {
+        if (auto status = draw_labels(**renderer, o, *request); !status) {
+            return fail(status.error());
+        }
+    } else if (!o.hidden_labels.empty()) {
+        return report_usage_error(
+                "render", base::make_error(base::ErrorCode::invalid_argument,
+                                           "--hide-labels needs --labels", "--hide-labels"));
     }
     const scene::RenderSettings& settings = request->settings;
     const bool refines =

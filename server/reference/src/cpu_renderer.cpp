@@ -1,6 +1,7 @@
 #include "penumbra/reference/cpu_renderer.hpp"
 
 #include <penumbra/optics/compositing.hpp>
+#include <penumbra/optics/labels.hpp>
 #include <penumbra/optics/ray.hpp>
 #include <penumbra/optics/region.hpp>
 #include <penumbra/optics/shading.hpp>
@@ -39,28 +40,71 @@ double sample_opacity(double alpha, double step, const scene::RenderSettings& s)
                    : optics::corrected_opacity(alpha, step, s.opacity_unit_distance);
 }
 
+// The label of a world point: the index of the label map's voxel nearest to it in the map's own
+// grid, 0 outside it (shaders/include/labels.glsl).
+class LabelLookup {
+public:
+    LabelLookup(const volume::LabelMap& labels, const volume::Volume& scan,
+                const scene::Labels& styles)
+        : indices_(labels.indices)
+        , world_to_index_(optics::world_to_label_index(
+                  scene::patient_placement(scan.origin, scan.axes, scan.spacing,
+                                           glm::dvec3(scan.dims)),
+                  labels.indices.origin, labels.indices.axes, labels.indices.spacing))
+        , styles_(optics::bake_label_styles(styles)) {}
+
+    [[nodiscard]] glm::dvec4 classify(glm::dvec4 classified, glm::dvec3 world) const {
+        if (classified.a <= 0.0) {
+            return classified;
+        }
+        return optics::classify_in_label(classified, styles_, index_at(world));
+    }
+
+private:
+    [[nodiscard]] int index_at(glm::dvec3 world) const {
+        const glm::dvec3 index =
+                glm::floor(glm::dvec3(world_to_index_ * glm::dvec4(world, 1.0)) + 0.5);
+        const glm::dvec3 dims(indices_.dims);
+        if (index.x < 0.0 || index.y < 0.0 || index.z < 0.0 || index.x >= dims.x ||
+            index.y >= dims.y || index.z >= dims.z) {
+            return 0;
+        }
+        return static_cast<int>(indices_.value(static_cast<std::uint32_t>(index.x),
+                                               static_cast<std::uint32_t>(index.y),
+                                               static_cast<std::uint32_t>(index.z)));
+    }
+
+    const volume::Volume& indices_;
+    glm::dmat4 world_to_index_;
+    optics::LabelStyleTable styles_;
+};
+
 // What the marches classify: each sample, or with pre-integration the segment from the value
-// before it (shaders/include/preintegration.glsl).
+// before it (shaders/include/preintegration.glsl), in the label at the sample where labels are
+// drawn.
 class Classifier {
 public:
-    Classifier(const TransferFunctionTable& tf, const scene::RenderSettings& s)
-        : tf_(tf) {
+    Classifier(const TransferFunctionTable& tf, const scene::RenderSettings& s,
+               const std::optional<LabelLookup>& labels)
+        : tf_(tf)
+        , labels_(labels) {
         if (s.preintegration) {
             segments_.emplace(tf, s.compositing == scene::Compositing::extinction);
         }
     }
 
-    // Sample `value`, the back of the segment from the value classified before it; `front`
-    // becomes `value`.
-    glm::dvec4 classify(double& front, double value) const {
+    // Sample `value` at `world`, the back of the segment from the value classified before it;
+    // `front` becomes `value`.
+    glm::dvec4 classify(double& front, double value, glm::dvec3 world) const {
         const glm::dvec4 classified =
                 segments_ ? segments_->classify(front, value) : tf_.classify(value);
         front = value;
-        return classified;
+        return labels_ ? labels_->classify(classified, world) : classified;
     }
 
 private:
     const TransferFunctionTable& tf_;
+    const std::optional<LabelLookup>& labels_;
     std::optional<SegmentClassifier> segments_;
 };
 
@@ -85,8 +129,8 @@ double shadow_ray_transmittance(const VolumeSampler& sampler, const optics::Regi
     double front = sampler.value(position + 0.5 * marching.step * to_light);
     for (int i = 0; i < marching.count && transmittance >= shadow_ray_cutoff; ++i) {
         const glm::dvec3 p = position + (i + 0.5) * marching.step * to_light;
-        transmittance *= 1.0 - sample_opacity(tf.classify(front, sampler.value(p)).a, marching.step,
-                                              request.settings);
+        transmittance *= 1.0 - sample_opacity(tf.classify(front, sampler.value(p), p).a,
+                                              marching.step, request.settings);
     }
     return transmittance;
 }
@@ -94,7 +138,8 @@ double shadow_ray_transmittance(const VolumeSampler& sampler, const optics::Regi
 }  // namespace
 
 base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
-                                          const scene::FrameRequest& request) {
+                                          const scene::FrameRequest& request,
+                                          const volume::LabelMap* labels) {
     if (auto status = scene::validate(request); !status) {
         return status.error();
     }
@@ -115,7 +160,16 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const VolumeSampler sampler(volume, s.reconstruction);
     const TransferFunctionTable table(request.transfer_function,
                                       {volume.range.min, volume.range.max, volume.hounsfield});
-    const Classifier tf(table, s);
+    std::optional<LabelLookup> label_lookup;
+    if (request.labels.shown()) {
+        if (labels == nullptr || labels->labels.size() != request.labels.styles.size()) {
+            return base::make_error(base::ErrorCode::invalid_frame,
+                                    "the frame styles labels the label map given does not hold",
+                                    "labels");
+        }
+        label_lookup.emplace(*labels, volume, request.labels);
+    }
+    const Classifier tf(table, s, label_lookup);
     const optics::Region region =
             optics::region_of(sampler.box(), request.cut,
                               scene::patient_placement(volume.origin, volume.axes, volume.spacing,
@@ -143,7 +197,7 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
             for (int i = 0; i < marching.count; ++i) {
                 const glm::dvec3 position =
                         camera.eye + (hit.t_near + (i + offset) * marching.step) * direction;
-                const glm::dvec4 classified = tf.classify(front, sampler.value(position));
+                const glm::dvec4 classified = tf.classify(front, sampler.value(position), position);
                 // Pre-integrated, the segment is lit and shaded at its middle, the first at its
                 // sample (lit_before in raycast.glsl).
                 const glm::dvec3 lit = s.preintegration && i > 0

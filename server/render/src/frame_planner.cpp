@@ -17,6 +17,7 @@ FramePlan plan_frame(const scene::FrameRequest& request) {
     v.phong = scene::uses_gradients(s);
     v.empty_space_skipping = s.empty_space_skipping;
     v.preintegration = s.preintegration && !plan.half_angle;  // the ray caster's marches only
+    v.labels = request.labels.shown();
     v.shadows = mode.shadows;
     v.scattering = mode.scattering;
     v.local_light_lookup = v.shadows == Shadows::light_buffer &&

@@ -3,6 +3,7 @@
 #include "frame_target.hpp"
 
 #include <penumbra/gpu/commands.hpp>
+#include <penumbra/optics/labels.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -13,8 +14,13 @@ namespace penumbra::render {
 
 LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
                                       const optics::Region& region, std::uint64_t volume_generation,
-                                      const std::vector<glm::vec4>& table, int slab_samples) {
-    LightBufferInputs inputs{volume_generation, {}, request, {}};
+                                      const std::vector<glm::vec4>& table, int slab_samples,
+                                      std::uint64_t labels_generation) {
+    LightBufferInputs inputs{volume_generation, {}, 0, {}, request, {}};
+    if (request.labels.shown()) {
+        inputs.labels_generation = labels_generation;
+        inputs.label_opacities = optics::bake_label_styles(request.labels).opacity_scales();
+    }
     inputs.opacities.reserve(table.size());
     for (const glm::vec4& entry : table) {
         inputs.opacities.push_back(entry.a);
@@ -37,6 +43,7 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.phong = d.phong;
     s.jitter = d.jitter;
     r.refinement = defaults.refinement;
+    r.labels = defaults.labels;  // in `label_opacities`, as the builders see them
     // What the light meets of the cut is the region's half-spaces it clips by: none where the cut
     // tissue still casts shadows, none for a face or plane that is off or cuts nothing (a plane
     // moved while off, a crop at the volume's bounds rebuild nothing).

@@ -28,6 +28,10 @@ namespace penumbra::render {
 struct LightBufferInputs {
     std::uint64_t volume_generation = 0;
     std::vector<float> opacities;
+    // The label map (0: none) and what its labels do to the light: their opacity scales (a
+    // colour or blend change reuses the buffer).
+    std::uint64_t labels_generation = 0;
+    std::vector<float> label_opacities;
     scene::FrameRequest request;  // its cut left out: `light_cut` says what the light meets
     std::vector<optics::HalfSpace> light_cut;
 
@@ -36,9 +40,11 @@ struct LightBufferInputs {
 
 // The inputs of the buffer `request` reads, for the volume of `volume_generation` under the baked
 // TF `table`, with the slab samples resolved, in `region` (the request's cut of that volume).
+// `labels_generation` is the label map's the frame draws (0 without one).
 LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
                                       const optics::Region& region, std::uint64_t volume_generation,
-                                      const std::vector<glm::vec4>& table, int slab_samples);
+                                      const std::vector<glm::vec4>& table, int slab_samples,
+                                      std::uint64_t labels_generation);
 
 // A light attenuation buffer: a GL_TEXTURE_2D_ARRAY of n layers of R x R transmittances (R16F)
 // seen from the light; layer k holds what reaches slice k.

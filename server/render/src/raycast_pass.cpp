@@ -20,13 +20,15 @@ gpu::Defines RaycastVariant::defines() const {
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
             {"GRADIENT_TEXTURE", gradient_texture ? "1" : "0"},
             {"PREINTEGRATION", preintegration ? "1" : "0"},
+            {"LABELS", labels ? "1" : "0"},
             {"CHUNKED", chunked ? "1" : "0"}};
 }
 
 gpu::Defines RaycastVariant::light_buffer_defines() const {
     return {{"EXTINCTION", extinction ? "1" : "0"},
             {"RECONSTRUCTION", std::to_string(static_cast<int>(reconstruction))},
-            {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"}};
+            {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
+            {"LABELS", labels ? "1" : "0"}};
 }
 
 std::string RaycastVariant::key() const {

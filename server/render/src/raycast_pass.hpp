@@ -33,12 +33,13 @@ struct RaycastVariant {
     // derivative): the gradient texture is bound on unit 5.
     bool gradient_texture = false;
     bool preintegration = false;  // the pre-integration table is bound on unit 6
+    bool labels = false;          // a label map and its styles are bound on units 7 and 8
     scene::RaycastStage stage = scene::RaycastStage::compute;
 
     bool chunked = false;  // compute stage only; set by RaycastPass when a ray needs it
 
     [[nodiscard]] gpu::Defines defines() const;
-    // The defines the light-buffer builders share with it: how they composite and skip.
+    // The defines the light-buffer builders share with it: how they composite, skip and classify.
     [[nodiscard]] gpu::Defines light_buffer_defines() const;
     [[nodiscard]] std::string key() const;  // "SHADOWS=1 SCATTERING=0 PHONG=1 ... compute"
 };

@@ -7,6 +7,7 @@
 #include "frame_target.hpp"
 #include "half_angle_slicer.hpp"
 #include "kept_stills.hpp"
+#include "label_texture.hpp"
 #include "light_buffer.hpp"
 #include "light_buffer_cache.hpp"
 #include "pass_clock.hpp"
@@ -73,6 +74,8 @@ struct Renderer::Impl {
     base::LruCache<std::shared_ptr<const volume::Volume>, VolumeEntry> volumes;
     std::uint64_t next_generation = 0;
     std::vector<PassTiming> volume_passes;  // the last upload's, for the next frame's report
+    std::optional<LabelTexture> labels;     // the label map frames may draw
+    std::uint64_t next_labels_generation = 0;
 
     Impl(gpu::Context&& c, RendererInfo i, std::filesystem::path shader_dir,
          const RendererOptions& options)
@@ -101,6 +104,37 @@ struct Renderer::Impl {
     }
 
     VolumeEntry& current_volume() { return *volumes.find(volume); }
+
+    // Binds the label map with the frame's styles of its labels, and its transform from `scan`'s
+    // world space.
+    base::Status bind_labels(const scene::Labels& styles, const volume::Volume& scan,
+                             FrameUniforms& uniforms) {
+        if (!labels) {
+            return base::make_error(base::ErrorCode::invalid_frame,
+                                    "the frame styles labels, but no label map is set", "labels");
+        }
+        const std::size_t count = labels->labels().labels.size();
+        if (styles.styles.size() != count) {
+            return base::make_error(base::ErrorCode::invalid_frame,
+                                    "the frame styles " + std::to_string(styles.styles.size()) +
+                                            " labels; the label map holds " + std::to_string(count),
+                                    "labels");
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            if (styles.styles[i].id != labels->labels().labels[i].id) {
+                return base::make_error(base::ErrorCode::invalid_frame,
+                                        "the frame's label styles are not the label map's labels "
+                                        "in its order (style " +
+                                                std::to_string(i + 1) + " is label " +
+                                                std::to_string(styles.styles[i].id) + ", not " +
+                                                std::to_string(labels->labels().labels[i].id) + ")",
+                                        "labels");
+            }
+        }
+        labels->bind(optics::bake_label_styles(styles));
+        uniforms.world_to_label = labels->world_to_index(scan);
+        return base::Ok{};
+    }
 
     // Runs the frame's main pass (the ray caster or half-angle slicing) into the target and
     // returns how many chunks it took.
@@ -179,9 +213,44 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
     return base::Ok{};
 }
 
+base::Status Renderer::set_labels(std::shared_ptr<const volume::LabelMap> labels) {
+    Impl& impl = *impl_;
+    if (!labels) {
+        impl.labels.reset();
+        return base::Ok{};
+    }
+    if (impl.labels && &impl.labels->labels() == labels.get()) {
+        return base::Ok{};
+    }
+    if (impl.volume) {
+        if (auto status = volume::check_overlap(*impl.volume, labels->indices); !status) {
+            return status;
+        }
+    }
+    auto texture = LabelTexture::upload(std::move(labels), ++impl.next_labels_generation,
+                                        impl.info.max_3d_texture_size);
+    if (!texture) {
+        return texture.error();
+    }
+    impl.labels.emplace(std::move(texture.value()));
+    return base::Ok{};
+}
+
+scene::Labels label_styles(const volume::LabelMap& labels) {
+    scene::Labels styles;
+    for (const volume::Label& label : labels.labels) {
+        styles.styles.push_back({.id = label.id,
+                                 .color = glm::dvec3(label.color) / 255.0,
+                                 .opacity = 1.0,
+                                 .visible = true});
+    }
+    return styles;
+}
+
 std::size_t Renderer::gpu_bytes_held() const {
     const Impl& impl = *impl_;
-    return impl.volumes.bytes() + impl.light_buffers.bytes() + impl.stills.bytes();
+    return impl.volumes.bytes() + impl.light_buffers.bytes() + impl.stills.bytes() +
+           (impl.labels ? impl.labels->bytes() : 0);
 }
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
@@ -226,7 +295,13 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (auto tf_ms = impl.transfer_function.update(table)) {
         passes.push_back({"transfer_function", 0.0, *tf_ms});
     }
-    impl.blocks.bind(frame_uniforms(request, g, voxels.dims, volume.texture().value_map), request);
+    FrameUniforms uniforms = frame_uniforms(request, g, voxels.dims, volume.texture().value_map);
+    if (plan.variant.labels) {
+        if (auto status = impl.bind_labels(request.labels, voxels, uniforms); !status) {
+            return status.error();
+        }
+    }
+    impl.blocks.bind(uniforms, request);
     gpu::bind_texture(0, volume.texture().texture);
     gpu::bind_texture(1, impl.transfer_function.texture());
     if (plan.variant.preintegration) {
@@ -256,7 +331,8 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (plan.needs_light_buffer) {
         if (auto status = impl.light_buffers.use(
                     light_buffer_inputs(request, g.region, volume.generation(), table,
-                                        g.slab_samples),
+                                        g.slab_samples,
+                                        impl.labels ? impl.labels->generation() : 0),
                     request.settings.light_buffer, g, plan.variant.light_buffer_defines(),
                     impl.slices, chunks, frame.report);
             !status) {

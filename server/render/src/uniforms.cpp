@@ -80,6 +80,7 @@ FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeom
         const optics::HalfSpace& h = region.half_spaces[static_cast<std::size_t>(i)];
         u.region_half_spaces[static_cast<std::size_t>(i)] = v4(h.normal, h.offset);
     }
+    u.world_to_label = glm::mat4(1.0f);
     return u;
 }
 

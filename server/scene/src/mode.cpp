@@ -126,6 +126,9 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
     if (l.type == LightType::directional && glm::length(l.direction) < 1e-9) {
         return invalid("light.direction", "a directional light needs a non-zero direction");
     }
+    if (auto status = validate(request.labels); !status) {
+        return status;
+    }
     return validate(request.transfer_function);
 }
 

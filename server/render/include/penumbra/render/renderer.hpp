@@ -3,6 +3,7 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/render/frame.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdint>
@@ -107,6 +108,10 @@ public:
     [[nodiscard]] virtual std::size_t gpu_bytes_held() const = 0;
 };
 
+// The styles of a label map's labels as its files give them: each label visible, opaque as the
+// scan, in its own colour.
+[[nodiscard]] scene::Labels label_styles(const volume::LabelMap& labels);
+
 // The GPU renderer. It owns the headless GL context, so it is created, used and destroyed on one
 // thread. GPU objects are cached by what they depend on: volume textures (several, LRU under a
 // memory budget), the TF table until the TF changes, light buffers by what they hold (several,
@@ -124,6 +129,12 @@ public:
     // Makes the volume current, uploading it unless its texture is still cached, without losing
     // 16-bit/float precision.
     base::Status set_volume(std::shared_ptr<const volume::Volume> volume) override;
+
+    // Sets the label map frames draw inside the volume when their request styles its labels
+    // (scene::Labels, one style per label of the map: label_styles gives its defaults); null
+    // removes it. The map keeps its own grid and transform; it must overlap the current volume
+    // (no_overlap) and be only rotated or reflected (unsupported_orientation).
+    base::Status set_labels(std::shared_ptr<const volume::LabelMap> labels);
 
     // Renders one frame of the current volume in any mode of DESIGN.md §1.
     using FrameRenderer::render;

@@ -6,6 +6,7 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/scene/camera.hpp>
 #include <penumbra/scene/enum_names.hpp>
+#include <penumbra/scene/labels.hpp>
 #include <penumbra/scene/light.hpp>
 #include <penumbra/scene/mode.hpp>
 #include <penumbra/scene/setting.hpp>
@@ -244,6 +245,7 @@ struct FrameRequest {
     TransferFunction transfer_function;
     RenderSettings settings;
     Cut cut;
+    Labels labels;
     Refinement refinement;
 
     bool operator==(const FrameRequest&) const = default;

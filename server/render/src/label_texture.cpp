@@ -1,0 +1,67 @@
+#include "label_texture.hpp"
+
+#include <penumbra/gpu/commands.hpp>
+#include <penumbra/scene/box.hpp>
+
+#include <string>
+
+namespace penumbra::render {
+
+LabelTexture::LabelTexture(std::shared_ptr<const volume::LabelMap> labels, std::uint64_t generation,
+                           gpu::Texture indices)
+    : labels_(std::move(labels))
+    , generation_(generation)
+    , indices_(std::move(indices)) {}
+
+base::Result<LabelTexture> LabelTexture::upload(std::shared_ptr<const volume::LabelMap> labels,
+                                                std::uint64_t generation, int max_3d_texture_size) {
+    const volume::Volume& indices = labels->indices;
+    const glm::uvec3 dims = indices.dims;
+    const auto limit = static_cast<unsigned>(max_3d_texture_size);
+    if (dims.x > limit || dims.y > limit || dims.z > limit) {
+        return base::make_error(base::ErrorCode::volume_too_large,
+                                "the label map exceeds this GPU's 3D texture limit of " +
+                                        std::to_string(max_3d_texture_size) + " per side",
+                                indices.name);
+    }
+    if (auto axes = scene::check_axes(indices.axes); !axes) {
+        return axes.error();
+    }
+    const bool narrow = indices.type == volume::VoxelType::uint8;
+    PENUMBRA_ASSERT(narrow || indices.type == volume::VoxelType::uint16,
+                    "label indices are 8 or 16 bits");
+    const glm::ivec3 size(dims);
+    gpu::Texture texture =
+            gpu::create_texture_3d(narrow ? GL_R8UI : GL_R16UI, size.x, size.y, size.z);
+    gpu::upload_3d(texture, size.x, size.y, size.z, GL_RED_INTEGER,
+                   narrow ? GL_UNSIGNED_BYTE : GL_UNSIGNED_SHORT, indices.data.data());
+    gpu::set_sampling(texture, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    if (gpu::take_error() == GL_OUT_OF_MEMORY) {
+        return base::make_error(base::ErrorCode::gpu_out_of_memory,
+                                "not enough GPU memory for the label map", indices.name);
+    }
+    return LabelTexture(std::move(labels), generation, std::move(texture));
+}
+
+glm::mat4 LabelTexture::world_to_index(const volume::Volume& scan) const {
+    const volume::Volume& indices = labels_->indices;
+    return glm::mat4(optics::world_to_label_index(
+            scene::patient_placement(scan.origin, scan.axes, scan.spacing, glm::dvec3(scan.dims)),
+            indices.origin, indices.axes, indices.spacing));
+}
+
+void LabelTexture::bind(const optics::LabelStyleTable& styles) {
+    if (!styles_ || styles.width != uploaded_.width) {
+        styles_ = gpu::create_texture_2d(GL_RGBA32F, styles.width, 2);
+        gpu::set_sampling(styles_, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        uploaded_ = {};
+    }
+    if (styles.texels != uploaded_.texels) {
+        gpu::upload_2d(styles_, styles.width, 2, GL_RGBA, GL_FLOAT, styles.texels.data());
+        uploaded_ = styles;
+    }
+    gpu::bind_texture(7, indices_);
+    gpu::bind_texture(8, styles_);
+}
+
+}  // namespace penumbra::render

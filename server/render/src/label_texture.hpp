@@ -1,0 +1,49 @@
+#pragma once
+
+#include <penumbra/base/result.hpp>
+#include <penumbra/gpu/objects.hpp>
+#include <penumbra/optics/labels.hpp>
+#include <penumbra/volume/label_map.hpp>
+
+#include <glm/mat4x4.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace penumbra::render {
+
+// A label map on the GPU (shaders/include/labels.glsl): its indices as unsigned integer texels
+// (R8UI or R16UI), fetched and never filtered, on texture unit 7, and the style table of the
+// frame's scene::Labels on unit 8, uploaded when it changes.
+class LabelTexture {
+public:
+    // Uploads `labels`; `generation` tells it apart from every other label map the renderer held
+    // (keys of light buffers).
+    static base::Result<LabelTexture> upload(std::shared_ptr<const volume::LabelMap> labels,
+                                             std::uint64_t generation, int max_3d_texture_size);
+
+    [[nodiscard]] const volume::LabelMap& labels() const { return *labels_; }
+
+    [[nodiscard]] std::uint64_t generation() const { return generation_; }
+
+    [[nodiscard]] std::size_t bytes() const { return labels_->indices.data.size(); }
+
+    // World space of `scan` (as the renderer places it) to the map's voxel index space.
+    [[nodiscard]] glm::mat4 world_to_index(const volume::Volume& scan) const;
+
+    // Binds the indices and `styles`, uploading the table unless it is the one uploaded last.
+    void bind(const optics::LabelStyleTable& styles);
+
+private:
+    LabelTexture(std::shared_ptr<const volume::LabelMap> labels, std::uint64_t generation,
+                 gpu::Texture indices);
+
+    std::shared_ptr<const volume::LabelMap> labels_;
+    std::uint64_t generation_ = 0;
+    gpu::Texture indices_;
+    gpu::Texture styles_;
+    optics::LabelStyleTable uploaded_;
+};
+
+}  // namespace penumbra::render

@@ -1,0 +1,45 @@
+#pragma once
+
+// How a frame draws the label map set beside its volume (a segmentation, an atlas): per label a
+// colour, an opacity and a visibility. The label map itself (its voxels, ids and names) is the
+// renderer's to hold (render::Renderer::set_labels); this is what a user changes frame to frame.
+
+#include <penumbra/base/result.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace penumbra::scene {
+
+struct LabelStyle {
+    std::int64_t id = 0;    // the value the label map's voxels store
+    glm::dvec3 color{1.0};  // RGB in [0, 1]
+    double opacity = 1.0;   // scales what the scan's transfer function gives, 0..1
+    bool visible = true;    // hidden: transparent to camera rays and to the light alike
+
+    bool operator==(const LabelStyle&) const = default;
+};
+
+// At most this many labels are styled (volume::max_labels, the most a label map may hold).
+inline constexpr std::size_t kMaxStyledLabels = 4096;
+
+struct Labels {
+    // One per label of the label map, in its order (the map's index i is styles[i - 1]; index 0,
+    // the background, is drawn as the scan alone). Empty: no label map is drawn.
+    std::vector<LabelStyle> styles;
+    // How much a label's colour replaces the transfer function's: 0 the scan's colours, 1 the
+    // label's alone (its opacity stays the scan's).
+    double blend = 0.6;
+
+    [[nodiscard]] bool shown() const { return !styles.empty(); }
+
+    bool operator==(const Labels&) const = default;
+};
+
+// Colours and opacities within [0, 1], at most kMaxStyledLabels styles, each id once.
+base::Status validate(const Labels& labels);
+
+}  // namespace penumbra::scene

@@ -1,0 +1,44 @@
+#include <penumbra/scene/labels.hpp>
+
+#include <algorithm>
+#include <string>
+#include <unordered_set>
+
+namespace penumbra::scene {
+namespace {
+
+base::Error invalid(const std::string& where, std::string message) {
+    return base::make_error(base::ErrorCode::invalid_value, std::move(message), where);
+}
+
+bool fraction(double value) {
+    return value >= 0.0 && value <= 1.0;
+}
+
+}  // namespace
+
+base::Status validate(const Labels& labels) {
+    if (!fraction(labels.blend)) {
+        return invalid("labels.blend", "the label colours' blend must lie within 0..1");
+    }
+    if (labels.styles.size() > kMaxStyledLabels) {
+        return invalid("labels",
+                       "at most " + std::to_string(kMaxStyledLabels) + " labels can be styled");
+    }
+    std::unordered_set<std::int64_t> ids;
+    for (const LabelStyle& style : labels.styles) {
+        const std::string where = "labels." + std::to_string(style.id);
+        if (!ids.insert(style.id).second) {
+            return invalid(where, "label " + std::to_string(style.id) + " is styled twice");
+        }
+        if (!fraction(style.opacity)) {
+            return invalid(where + ".opacity", "a label's opacity must lie within 0..1");
+        }
+        if (!fraction(style.color.r) || !fraction(style.color.g) || !fraction(style.color.b)) {
+            return invalid(where + ".color", "a label's colour components must lie within 0..1");
+        }
+    }
+    return base::Ok{};
+}
+
+}  // namespace penumbra::scene
