@@ -58,6 +58,9 @@ po::options_description modes_options(bench::ModesBenchConfig& config) {
             "only the optimisation table: each mode's frame time with and without empty-space "
             "skipping, the PSNR between the two images, the light-buffer build with and without, "
             "and phong with central differences against the gradient texture")(
+            "labels", po::value(&config.labels)->value_name("FILE"),
+            "also a table of each mode with this label map drawn inside the --volume (the AAL "
+            "atlas over ch2: /usr/share/mricron/templates/aal.nii.gz)")(
             "csv", po::value<std::string>()->value_name("FILE"),
             "also write one row per point of the sweeps")("debug-gl", "GL debug output to the log");
     options.add(frame_options(names_of(swept)));

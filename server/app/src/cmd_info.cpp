@@ -2,7 +2,7 @@
 
 #include <penumbra/cli/options.hpp>
 #include <penumbra/volume/describe.hpp>
-#include <penumbra/volume/label_names.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
@@ -36,21 +36,26 @@ bool listed_series(const std::string& path) {
 int run_info(const std::vector<std::string>& args) {
     std::string path = default_volume_path;
     volume::LoadOptions options;
+    std::string label_names;
     po::options_description described = option_group("options");
     described.add_options()("help", "this text")(
             "volume", po::value(&path)->value_name("FILE|DICOM-FOLDER")->default_value(path),
             "the volume; a DICOM folder holding several series (sub-folders included) lists "
             "them")("series", po::value(&options.dicom_series)->value_name("NUMBER|UID"),
-                    "one series of a DICOM folder");
+                    "one series of a DICOM folder")(
+            "label-names", po::value(&label_names)->value_name("FILE"),
+            "the volume is a label map these names describe (ITK-SNAP label description, "
+            "FreeSurfer colour table)");
     auto parsed = parse_options(args, described);
     if (!parsed) {
         return report_usage_error("info", parsed.error());
     }
     if (parsed->count("help") != 0) {
         print_help("info [options]",
-                   "A volume's dimensions, spacing, type, range and histogram; an atlas's "
-                   "labels (id, colour, voxels, name) when MRIcron's names (X.nii.txt, and "
-                   "colours X.nii.lut) lie beside it.",
+                   "A volume's dimensions, spacing, type, range and histogram; a label map's "
+                   "labels (id, colour, voxels, name) when the file marks it as one (NIfTI's "
+                   "label intent), names lie beside it (MRIcron's X.nii.txt and X.nii.lut), it "
+                   "names its segments (3D Slicer's .seg.nrrd) or --label-names gives them.",
                    described);
         return 0;
     }
@@ -62,17 +67,17 @@ int run_info(const std::vector<std::string>& args) {
         return report_failure("info", volume.error());
     }
     std::fputs(volume::describe(*volume, path).c_str(), stdout);
-    if (const auto label_files = volume::find_mricron_labels(path)) {
-        // An atlas with MRIcron's names beside it: its labels, with what each holds.
-        auto names = volume::read_mricron_labels(*label_files);
-        if (!names) {
-            return report_failure("info", names.error());
+    auto names = volume::label_names_for(path, label_names);
+    if (!names) {
+        return report_failure("info", names.error());
+    }
+    if (volume->label_intent || !names->labels.empty()) {
+        // A label map: marked so, or named by the files beside it or given.
+        auto labels = volume::make_label_map(*volume, *names);
+        if (!labels) {
+            return report_failure("info", labels.error());
         }
-        auto counts = volume::count_labels(*volume);
-        if (!counts) {
-            return report_failure("info", counts.error());
-        }
-        std::fputs(volume::describe_labels(*names, *counts).c_str(), stdout);
+        std::fputs(volume::describe_labels(*labels).c_str(), stdout);
     }
     std::fputs(volume::describe_histogram(*volume).c_str(), stdout);
     return 0;

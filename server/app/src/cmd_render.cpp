@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/encode/compare.hpp>
@@ -38,6 +39,7 @@ struct RenderOptions {
     double refinement_threshold = scene::kDefaultRefinementThreshold;
     // A label map drawn inside the volume, the ids of labels hidden, how much of their colour.
     std::string labels;
+    std::string label_names;
     std::string hidden_labels;
     double label_blend = scene::Labels{}.blend;
 };
@@ -72,6 +74,9 @@ po::options_description render_options(RenderOptions& o) {
     options.add_options()("labels", po::value(&o.labels)->value_name("FILE"),
                           "a label map (segmentation, atlas) drawn inside the volume, on its own "
                           "grid; names and colours from MRIcron's FILE.txt and FILE.lut beside it")(
+            "label-names", po::value(&o.label_names)->value_name("FILE"),
+            "the --labels' names and colours: an ITK-SNAP label description or a FreeSurfer "
+            "colour table (a .seg.nrrd names its segments itself)")(
             "hide-labels", po::value(&o.hidden_labels)->value_name("ID,ID,..."),
             "labels made transparent to the camera and the light")(
             "label-blend", number_within(&o.label_blend, 0.0, 1.0),
@@ -165,7 +170,7 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
 // its file's colour, those --hide-labels lists hidden.
 base::Status draw_labels(render::Renderer& renderer, const RenderOptions& o,
                          scene::FrameRequest& request) {
-    auto loaded = volume::load_label_map(o.labels, o.load);
+    auto loaded = volume::load_label_map(o.labels, o.load, o.label_names);
     if (!loaded) {
         return loaded.error();
     }
@@ -175,11 +180,7 @@ base::Status draw_labels(render::Renderer& renderer, const RenderOptions& o,
     request.labels = render::label_styles(*loaded);
     request.labels.blend = o.label_blend;
     std::size_t hidden = 0;
-    std::string rest = o.hidden_labels;
-    while (!rest.empty()) {
-        const std::size_t comma = rest.find(',');
-        const std::string field = rest.substr(0, comma);
-        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    for (const std::string& field : base::split_list(o.hidden_labels)) {
         char* end = nullptr;
         const long long id = std::strtoll(field.c_str(), &end, 10);
         if (field.empty() || end == nullptr || *end != '\0') {
@@ -269,10 +270,11 @@ int run_render(const std::vector<std::string>& args) {
         if (auto status = draw_labels(**renderer, o, *request); !status) {
             return fail(status.error());
         }
-    } else if (!o.hidden_labels.empty()) {
+    } else if (!o.hidden_labels.empty() || !o.label_names.empty()) {
         return report_usage_error(
-                "render", base::make_error(base::ErrorCode::invalid_argument,
-                                           "--hide-labels needs --labels", "--hide-labels"));
+                "render",
+                base::make_error(base::ErrorCode::invalid_argument,
+                                 "--hide-labels and --label-names need --labels", "--labels"));
     }
     const scene::RenderSettings& settings = request->settings;
     const bool refines =

@@ -341,6 +341,22 @@ base::Result<std::vector<TableVolume>> measure_optimisation_tables(
         if (auto table = measure_optimisations(bench, config.modes, *table_volume, out); !table) {
             return table.error();
         }
+        if (path == config.volume && !config.labels.empty()) {
+            auto labels = volume::load_label_map(config.labels);
+            if (!labels) {
+                return labels.error();
+            }
+            auto shared = std::make_shared<const volume::LabelMap>(std::move(labels.value()));
+            if (auto status = renderer.set_labels(shared); !status) {
+                return status.error();
+            }
+            if (auto table = measure_labels(bench, renderer, config.modes, *shared, out); !table) {
+                return table.error();
+            }
+            if (auto status = renderer.set_labels(nullptr); !status) {
+                return status.error();
+            }
+        }
         if (contains(config.modes, scene::Mode::phong)) {
             phong_cases.push_back({table_volume, std::move(request.value())});
         }

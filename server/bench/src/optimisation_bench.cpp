@@ -3,6 +3,8 @@
 #include <penumbra/bench/report.hpp>
 #include <penumbra/encode/compare.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <array>
 #include <tuple>
@@ -231,6 +233,52 @@ base::Status measure_cuts(ModeBench& bench, const std::vector<scene::Mode>& mode
     return base::Ok{};
 }
 
+// Every fifth label hidden: regions of an atlas a user turned off.
+scene::Labels hidden_labels(scene::Labels labels) {
+    for (std::size_t i = 0; i < labels.styles.size(); i += 5) {
+        labels.styles[i].visible = false;
+    }
+    return labels;
+}
+
+base::Result<LabelRow> measure_label_row(ModeBench& bench, scene::Mode mode,
+                                         const scene::Labels& shown) {
+    scene::FrameRequest request = bench.request(mode, 0, 0);
+    request.settings.phong = mode != scene::Mode::dvr;
+    const LightBufferUse use =
+            scene::uses_light_buffer(mode) ? LightBufferUse::cached : LightBufferUse::none;
+    std::vector<std::pair<TimedPoint, scene::FrameRequest>> variants;
+    for (const auto& [labels, name] :
+         {std::pair{scene::Labels{}, "alone"}, std::pair{shown, "labelled"},
+          std::pair{hidden_labels(shown), "labels_hidden"}}) {
+        request.labels = labels;
+        variants.emplace_back(TimedPoint{mode, name, "", 0, 0, {}}, request);
+    }
+    auto measured = bench.measure_interleaved(std::move(variants), use);
+    if (!measured) {
+        return measured.error();
+    }
+    return LabelRow{scene::to_string(mode), std::move((*measured)[0]), std::move((*measured)[1]),
+                    std::move((*measured)[2])};
+}
+
+// How many light-buffer builds `changes` frames cause, each changing the request by `change`.
+template <class Change>
+base::Result<std::uint64_t> builds_over(render::Renderer& renderer, scene::FrameRequest request,
+                                        int changes, Change change) {
+    if (auto first = renderer.render(request); !first) {
+        return first.error();
+    }
+    const std::uint64_t before = renderer.light_buffer_builds();
+    for (int i = 0; i < changes; ++i) {
+        change(request, i);
+        if (auto frame = renderer.render(request); !frame) {
+            return frame.error();
+        }
+    }
+    return renderer.light_buffer_builds() - before;
+}
+
 struct GradientSeries {
     Series series;
     double build_ms = 0.0;  // the texture's build in the first frame; 0 for central differences
@@ -268,6 +316,71 @@ base::Result<GradientSeries> measure_gradient_source(
 }
 
 }  // namespace
+
+base::Result<LabelTable> measure_labels(ModeBench& bench, render::Renderer& renderer,
+                                        const std::vector<scene::Mode>& modes,
+                                        const volume::LabelMap& labels, std::FILE* out) {
+    const scene::Labels shown = render::label_styles(labels);
+    std::fprintf(out,
+                 "\nlabels: %s (%zu labels) inside the volume (ms, wall; every label shown in "
+                 "its colour, then every fifth hidden)\n  %-30s %10s %10s %10s %11s %10s\n",
+                 labels.indices.name.c_str(), labels.labels.size(), "mode", "alone", "labelled",
+                 "hidden", "labelled/alone", "hidden/alone");
+    LabelTable table;
+    for (const scene::Mode mode : modes) {
+        auto row = measure_label_row(bench, mode, shown);
+        if (!row) {
+            return row.error();
+        }
+        std::fprintf(out, "  %-30s %10.1f %10.1f %10.1f %11.3f %10.3f\n", row->label.c_str(),
+                     row->alone.frame.wall_ms, row->labelled.frame.wall_ms,
+                     row->hidden.frame.wall_ms,
+                     row->labelled.frame.wall_ms / row->alone.frame.wall_ms,
+                     row->hidden.frame.wall_ms / row->alone.frame.wall_ms);
+        std::fflush(out);
+        table.rows.push_back(std::move(row.value()));
+    }
+    if (std::find(modes.begin(), modes.end(), scene::Mode::sbrc) == modes.end()) {
+        return table;
+    }
+    auto built = measure_builds(bench, {"build_alone", "build_labelled"},
+                                [&](scene::FrameRequest& request, bool first) {
+                                    request.labels = first ? scene::Labels{} : shown;
+                                });
+    if (!built) {
+        return built.error();
+    }
+    table.build_alone = built->first;
+    table.build_labelled = built->second;
+    std::fprintf(out, "  %-30s %10.1f %10.1f %10s %11.3f\n", "light-buffer build",
+                 built->first.wall_ms, built->second.wall_ms, "-",
+                 built->second.wall_ms / built->first.wall_ms);
+    scene::FrameRequest request = bench.request(scene::Mode::sbrc, 0, 0);
+    request.labels = shown;
+    table.changes = 4;
+    auto visibility =
+            builds_over(renderer, request, table.changes, [&](scene::FrameRequest& r, int i) {
+                auto& style = r.labels.styles[static_cast<std::size_t>(i)];
+                style.visible = !style.visible;
+            });
+    auto moves = builds_over(renderer, request, table.changes, [](scene::FrameRequest& r, int i) {
+        r.camera.eye = glm::dvec3(
+                glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.1 * (i + 1), glm::dvec3(0.0, 0.0, 1.0))) *
+                r.camera.eye);
+    });
+    if (!visibility || !moves) {
+        return !visibility ? visibility.error() : moves.error();
+    }
+    table.builds_per_visibility_change = *visibility;
+    table.builds_per_camera_move = *moves;
+    std::fprintf(out,
+                 "  light-buffer builds: %llu over %d visibility changes, %llu over %d camera "
+                 "moves\n",
+                 static_cast<unsigned long long>(*visibility), table.changes,
+                 static_cast<unsigned long long>(*moves), table.changes);
+    std::fflush(out);
+    return table;
+}
 
 base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
                                                       const std::vector<scene::Mode>& modes,

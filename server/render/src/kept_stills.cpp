@@ -14,19 +14,21 @@ KeptStills::KeptStills(std::size_t memory_budget)
     : means_(memory_budget) {}
 
 KeptStills::Key KeptStills::key_of(const scene::FrameRequest& request,
-                                   std::uint64_t volume_generation) {
-    Key key{volume_generation, request};
+                                   std::uint64_t volume_generation,
+                                   std::uint64_t labels_generation) {
+    Key key{volume_generation, request.labels.shown() ? labels_generation : 0, request};
     key.request.refinement = {};
     return key;
 }
 
 base::Status KeptStills::check_step(const scene::FrameRequest& request,
-                                    std::uint64_t volume_generation) const {
+                                    std::uint64_t volume_generation,
+                                    std::uint64_t labels_generation) const {
     const int step = request.refinement.step;
     if (step == 0) {
         return base::Ok{};
     }
-    const Mean* mean = means_.peek(key_of(request, volume_generation));
+    const Mean* mean = means_.peek(key_of(request, volume_generation, labels_generation));
     if (mean != nullptr && mean->frames == step) {
         return base::Ok{};
     }
@@ -38,7 +40,8 @@ base::Status KeptStills::check_step(const scene::FrameRequest& request,
 }
 
 base::Status KeptStills::accumulate(ProgramCache& programs, const scene::FrameRequest& request,
-                                    std::uint64_t volume_generation, const FrameTarget& target,
+                                    std::uint64_t volume_generation,
+                                    std::uint64_t labels_generation, const FrameTarget& target,
                                     FrameReport& report) {
     const auto start = Clock::now();
     auto program = programs.compute("accumulate.comp");
@@ -46,7 +49,7 @@ base::Status KeptStills::accumulate(ProgramCache& programs, const scene::FrameRe
         return program.error();
     }
     const scene::RenderSettings& s = request.settings;
-    Key key = key_of(request, volume_generation);
+    Key key = key_of(request, volume_generation, labels_generation);
     Mean* mean = nullptr;
     if (request.refinement.step == 0) {
         // A new still of the same frame replaces the old one; room is made before the new mean

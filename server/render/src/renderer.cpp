@@ -74,7 +74,9 @@ struct Renderer::Impl {
     base::LruCache<std::shared_ptr<const volume::Volume>, VolumeEntry> volumes;
     std::uint64_t next_generation = 0;
     std::vector<PassTiming> volume_passes;  // the last upload's, for the next frame's report
-    std::optional<LabelTexture> labels;     // the label map frames may draw
+    // Label maps on the GPU, by the map, as the volumes: the current one (null: none) stays.
+    std::shared_ptr<const volume::LabelMap> labels;
+    base::LruCache<std::shared_ptr<const volume::LabelMap>, LabelTexture> label_maps;
     std::uint64_t next_labels_generation = 0;
 
     Impl(gpu::Context&& c, RendererInfo i, std::filesystem::path shader_dir,
@@ -97,7 +99,10 @@ struct Renderer::Impl {
                    .on_evict =
                            [this](const auto& entry) {
                                light_buffers.forget_volume(entry.value.generation());
-                           }}) {}
+                           }})
+        , label_maps(options.volume_memory_budget,
+                     {.must_stay = [this](const auto& entry) { return entry.key == labels; },
+                      .on_evict = {}}) {}
 
     [[nodiscard]] scene::Limits limits() const {
         return {info.max_texture_size, info.max_array_texture_layers, info.max_texture_size};
@@ -105,34 +110,45 @@ struct Renderer::Impl {
 
     VolumeEntry& current_volume() { return *volumes.find(volume); }
 
+    // The current label map's texture; null without one.
+    LabelTexture* current_labels() { return labels ? label_maps.find(labels) : nullptr; }
+
+    std::uint64_t labels_generation() {
+        const LabelTexture* texture = current_labels();
+        return texture != nullptr ? texture->generation() : 0;
+    }
+
     // Binds the label map with the frame's styles of its labels, and its transform from `scan`'s
     // world space.
     base::Status bind_labels(const scene::Labels& styles, const volume::Volume& scan,
                              FrameUniforms& uniforms) {
-        if (!labels) {
+        LabelTexture* texture = current_labels();
+        if (texture == nullptr) {
             return base::make_error(base::ErrorCode::invalid_frame,
                                     "the frame styles labels, but no label map is set", "labels");
         }
-        const std::size_t count = labels->labels().labels.size();
-        if (styles.styles.size() != count) {
+        const std::vector<volume::Label>& map_labels = texture->labels().labels;
+        if (styles.styles.size() != map_labels.size()) {
             return base::make_error(base::ErrorCode::invalid_frame,
                                     "the frame styles " + std::to_string(styles.styles.size()) +
-                                            " labels; the label map holds " + std::to_string(count),
+                                            " labels; the label map holds " +
+                                            std::to_string(map_labels.size()),
                                     "labels");
         }
-        for (std::size_t i = 0; i < count; ++i) {
-            if (styles.styles[i].id != labels->labels().labels[i].id) {
-                return base::make_error(base::ErrorCode::invalid_frame,
-                                        "the frame's label styles are not the label map's labels "
-                                        "in its order (style " +
-                                                std::to_string(i + 1) + " is label " +
-                                                std::to_string(styles.styles[i].id) + ", not " +
-                                                std::to_string(labels->labels().labels[i].id) + ")",
-                                        "labels");
+        for (std::size_t i = 0; i < map_labels.size(); ++i) {
+            if (styles.styles[i].id != map_labels[i].id) {
+                return base::make_error(
+                        base::ErrorCode::invalid_frame,
+                        "the frame's label styles are not the label map's labels in its order "
+                        "(style " +
+                                std::to_string(i + 1) + " is label " +
+                                std::to_string(styles.styles[i].id) + ", not " +
+                                std::to_string(map_labels[i].id) + ")",
+                        "labels");
             }
         }
-        labels->bind(optics::bake_label_styles(styles));
-        uniforms.world_to_label = labels->world_to_index(scan);
+        texture->bind(optics::bake_label_styles(styles));
+        uniforms.world_to_label = texture->world_to_index(scan);
         return base::Ok{};
     }
 
@@ -215,11 +231,8 @@ base::Status Renderer::set_volume(std::shared_ptr<const volume::Volume> volume) 
 
 base::Status Renderer::set_labels(std::shared_ptr<const volume::LabelMap> labels) {
     Impl& impl = *impl_;
-    if (!labels) {
-        impl.labels.reset();
-        return base::Ok{};
-    }
-    if (impl.labels && &impl.labels->labels() == labels.get()) {
+    if (!labels || labels == impl.labels) {
+        impl.labels = std::move(labels);
         return base::Ok{};
     }
     if (impl.volume) {
@@ -227,12 +240,18 @@ base::Status Renderer::set_labels(std::shared_ptr<const volume::LabelMap> labels
             return status;
         }
     }
-    auto texture = LabelTexture::upload(std::move(labels), ++impl.next_labels_generation,
+    if (impl.label_maps.find(labels) != nullptr) {
+        impl.labels = std::move(labels);
+        return base::Ok{};
+    }
+    auto texture = LabelTexture::upload(labels, ++impl.next_labels_generation,
                                         impl.info.max_3d_texture_size);
     if (!texture) {
         return texture.error();
     }
-    impl.labels.emplace(std::move(texture.value()));
+    impl.labels = labels;  // the map that must stay from now on; the previous one may go
+    const std::size_t bytes = texture->bytes();
+    impl.label_maps.insert(std::move(labels), std::move(texture.value()), bytes);
     return base::Ok{};
 }
 
@@ -241,8 +260,8 @@ scene::Labels label_styles(const volume::LabelMap& labels) {
     for (const volume::Label& label : labels.labels) {
         styles.styles.push_back({.id = label.id,
                                  .color = glm::dvec3(label.color) / 255.0,
-                                 .opacity = 1.0,
-                                 .visible = true});
+                                 .opacity = label.opacity,
+                                 .visible = label.visible});
     }
     return styles;
 }
@@ -250,7 +269,7 @@ scene::Labels label_styles(const volume::LabelMap& labels) {
 std::size_t Renderer::gpu_bytes_held() const {
     const Impl& impl = *impl_;
     return impl.volumes.bytes() + impl.light_buffers.bytes() + impl.stills.bytes() +
-           (impl.labels ? impl.labels->bytes() : 0);
+           impl.label_maps.bytes();
 }
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
@@ -281,7 +300,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         !status) {
         return status.error();
     }
-    if (auto status = impl.stills.check_step(request, volume.generation()); !status) {
+    if (auto status =
+                impl.stills.check_step(request, volume.generation(), impl.labels_generation());
+        !status) {
         return status.error();
     }
     WorkChunks chunks(impl.chunk_work, cancelled);
@@ -331,8 +352,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (plan.needs_light_buffer) {
         if (auto status = impl.light_buffers.use(
                     light_buffer_inputs(request, g.region, volume.generation(), table,
-                                        g.slab_samples,
-                                        impl.labels ? impl.labels->generation() : 0),
+                                        g.slab_samples, impl.labels_generation()),
                     request.settings.light_buffer, g, plan.variant.light_buffer_defines(),
                     impl.slices, chunks, frame.report);
             !status) {
@@ -349,8 +369,9 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     // The frame is read back next anyway; finishing here splits render from readback.
     const double render_wall_ms = finished_ms_since(render_start);
     if (request.refinement.keep || request.refinement.step > 0) {
-        if (auto status = impl.stills.accumulate(impl.programs, request, volume.generation(),
-                                                 impl.target, frame.report);
+        if (auto status =
+                    impl.stills.accumulate(impl.programs, request, volume.generation(),
+                                           impl.labels_generation(), impl.target, frame.report);
             !status) {
             return status.error();
         }

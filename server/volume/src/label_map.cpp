@@ -1,3 +1,4 @@
+#include "file_name.hpp"
 #include "label_ids.hpp"
 
 #include <penumbra/volume/label_map.hpp>
@@ -42,6 +43,7 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
     std::map<std::int64_t, std::uint16_t> index_of{{0, 0}};
     for (const auto& [id, voxels] : *counts) {
         if (id == 0) {
+            map.background_voxels = voxels;
             continue;
         }
         const auto found = named.find(id);
@@ -87,21 +89,70 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
     return map;
 }
 
-base::Result<LabelMap> load_label_map(const std::filesystem::path& path,
-                                      const LoadOptions& options) {
+namespace {
+
+bool is_nrrd_name(const std::filesystem::path& path) {
+    const std::string name = detail::lower_file_name(path);
+    return detail::has_suffix(name, ".nrrd") || detail::has_suffix(name, ".nhdr");
+}
+
+}  // namespace
+
+base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
+                                         const std::filesystem::path& names) {
+    if (!names.empty()) {
+        return read_label_description(names);
+    }
+    if (const auto files = find_mricron_labels(path)) {
+        return read_mricron_labels(*files);
+    }
+    if (is_nrrd_name(path)) {
+        auto keys = read_nrrd_key_values(path);
+        if (!keys) {
+            return keys.error();
+        }
+        return read_slicer_segments(*keys);
+    }
+    return LabelNames{};
+}
+
+std::string describe_labels(const LabelMap& labels) {
+    std::string out = "labels:      " + std::to_string(labels.labels.size()) + "\n";
+    for (std::size_t i = 0; i < labels.labels.size(); ++i) {
+        const Label& label = labels.labels[i];
+        char row[64];
+        std::snprintf(row, sizeof row, "  %6lld  #%02x%02x%02x  %10llu  ",
+                      static_cast<long long>(label.id), label.color.r, label.color.g, label.color.b,
+                      static_cast<unsigned long long>(labels.voxels[i]));
+        out += row + label.name + "\n";
+    }
+    out += "background:  " + std::to_string(labels.background_voxels) + " voxels\n";
+    for (const std::string& warning : labels.warnings) {
+        out += "warning:     " + warning + "\n";
+    }
+    return out;
+}
+
+base::Result<LabelMap> load_label_map(const std::filesystem::path& path, const LoadOptions& options,
+                                      const std::filesystem::path& names) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error) || is_dicom_file(path)) {
+        return base::make_error(base::ErrorCode::unsupported_format,
+                                "label maps from DICOM (DICOM SEG objects) are not supported; "
+                                "save the segmentation as NIfTI or as 3D Slicer's .seg.nrrd",
+                                path.filename().string());
+    }
+    // The names first: a .seg.nrrd whose segments overlap is refused for that, not for its
+    // 4-D layout.
+    auto named = label_names_for(path, names);
+    if (!named) {
+        return named.error();
+    }
     auto stored = load_volume(path, options);
     if (!stored) {
         return stored.error();
     }
-    LabelNames names;
-    if (const auto files = find_mricron_labels(path)) {
-        auto read = read_mricron_labels(*files);
-        if (!read) {
-            return read.error();
-        }
-        names = std::move(read.value());
-    }
-    return make_label_map(*stored, names);
+    return make_label_map(*stored, *named);
 }
 
 base::Status check_overlap(const Volume& scan, const Volume& labels) {

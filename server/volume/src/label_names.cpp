@@ -16,6 +16,12 @@ namespace {
 constexpr std::size_t lut_entries = 256;
 constexpr std::uintmax_t lut_bytes = 3 * lut_entries;
 
+std::string line_warning(const std::filesystem::path& path, int number, const std::string& line,
+                         const char* expected) {
+    return path.filename().string() + " line " + std::to_string(number) + ": not " + expected +
+           ", skipped: " + line.substr(0, 80);
+}
+
 }  // namespace
 
 std::optional<MricronLabelFiles> find_mricron_labels(const std::filesystem::path& volume_path) {
@@ -94,9 +100,7 @@ base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files) {
         std::istringstream fields(line);
         Label label;
         if (!(fields >> label.id >> label.name)) {
-            result.warnings.push_back(files.names.filename().string() + " line " +
-                                      std::to_string(number) +
-                                      ": not `id name`, skipped: " + line.substr(0, 80));
+            result.warnings.push_back(line_warning(files.names, number, line, "`id name`"));
             continue;
         }
         if (!lut.empty() && label.id >= 0 && static_cast<std::size_t>(label.id) < lut_entries) {
@@ -106,6 +110,149 @@ base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files) {
                            std::to_integer<std::uint8_t>(lut[2 * lut_entries + entry])};
         } else {
             label.color = label_color(label.id);
+        }
+        result.labels.push_back(std::move(label));
+    }
+    return result;
+}
+
+namespace {
+
+std::uint8_t colour_component(double value) {
+    return static_cast<std::uint8_t>(std::clamp(value, 0.0, 255.0));
+}
+
+// ITK-SNAP: IDX R G B A VIS MSH "LABEL".
+std::optional<Label> itk_snap_label(const std::string& line) {
+    const std::size_t open = line.find('"');
+    const std::size_t close = line.rfind('"');
+    if (open == std::string::npos || close <= open) {
+        return std::nullopt;
+    }
+    std::istringstream fields(line.substr(0, open));
+    Label label;
+    double r = 0.0;
+    double g = 0.0;
+    double b = 0.0;
+    double alpha = 1.0;
+    int visible = 1;
+    int mesh = 1;
+    if (!(fields >> label.id >> r >> g >> b >> alpha >> visible >> mesh)) {
+        return std::nullopt;
+    }
+    label.name = line.substr(open + 1, close - open - 1);
+    label.color = {colour_component(r), colour_component(g), colour_component(b)};
+    label.opacity = std::clamp(alpha, 0.0, 1.0);
+    label.visible = visible != 0;
+    return label;
+}
+
+// FreeSurfer: id name R G B A, A the transparency (0 opaque).
+std::optional<Label> freesurfer_label(const std::string& line) {
+    std::istringstream fields(line);
+    Label label;
+    int r = 0;
+    int g = 0;
+    int b = 0;
+    int transparency = 0;
+    if (!(fields >> label.id >> label.name >> r >> g >> b >> transparency)) {
+        return std::nullopt;
+    }
+    label.color = {colour_component(r), colour_component(g), colour_component(b)};
+    label.opacity = 1.0 - std::clamp(transparency, 0, 255) / 255.0;
+    return label;
+}
+
+}  // namespace
+
+base::Result<LabelNames> read_label_description(const std::filesystem::path& path) {
+    std::ifstream file(path);
+    if (!file) {
+        return base::make_error(base::ErrorCode::io_error, "cannot read the label description",
+                                path.string());
+    }
+    LabelNames result;
+    std::string line;
+    int number = 0;
+    while (std::getline(file, line)) {
+        ++number;
+        if (!line.empty() && line.back() == '\r') {
+            line.pop_back();
+        }
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line[first] == '#') {
+            continue;
+        }
+        auto label =
+                line.find('"') != std::string::npos ? itk_snap_label(line) : freesurfer_label(line);
+        if (!label) {
+            result.warnings.push_back(line_warning(path, number, line,
+                                                   "ITK-SNAP's `IDX R G B A VIS MSH \"LABEL\"` or "
+                                                   "FreeSurfer's `id name R G B A`"));
+            continue;
+        }
+        result.labels.push_back(std::move(*label));
+    }
+    return result;
+}
+
+base::Result<LabelNames> read_slicer_segments(const NrrdKeyValues& keys) {
+    // SegmentN_Field, by N.
+    std::map<int, std::map<std::string, std::string>> segments;
+    for (const auto& [key, value] : keys) {
+        if (!key.starts_with("Segment")) {
+            continue;
+        }
+        const std::size_t underscore = key.find('_');
+        const std::string number =
+                key.substr(7, underscore == std::string::npos ? std::string::npos : underscore - 7);
+        if (underscore == std::string::npos || number.empty() || number.size() > 6 ||
+            number.find_first_not_of("0123456789") != std::string::npos) {
+            continue;  // "Segmentation_..." keys describe the whole file
+        }
+        segments[std::stoi(number)][key.substr(underscore + 1)] = value;
+    }
+    LabelNames result;
+    for (const auto& segment : segments) {
+        const int number = segment.first;
+        const std::map<std::string, std::string>& fields = segment.second;
+        const auto field = [&](const char* name) -> std::optional<std::string> {
+            const auto found = fields.find(name);
+            return found == fields.end() ? std::nullopt : std::optional(found->second);
+        };
+        if (const auto layer = field("Layer"); layer && *layer != "0") {
+            return base::make_error(base::ErrorCode::unsupported_dimension,
+                                    "segment " + std::to_string(number) + " lies on layer " +
+                                            *layer +
+                                            ": its segments overlap, which a label map cannot "
+                                            "hold; in 3D Slicer, export them to a labelmap first",
+                                    "Segment" + std::to_string(number) + "_Layer");
+        }
+        Label label;
+        label.id = number + 1;
+        if (const auto value = field("LabelValue")) {
+            std::istringstream in(*value);
+            if (!(in >> label.id)) {
+                result.warnings.push_back("Segment" + std::to_string(number) +
+                                          "_LabelValue is not a whole number: " + *value);
+                continue;
+            }
+        }
+        label.name = field("Name").value_or("Segment_" + std::to_string(number + 1));
+        label.color = label_color(label.id);
+        if (const auto color = field("Color")) {
+            std::istringstream in(*color);
+            double r = 0.0;
+            double g = 0.0;
+            double b = 0.0;
+            if (in >> r >> g >> b) {
+                label.color = {colour_component(std::round(r * 255.0)),
+                               colour_component(std::round(g * 255.0)),
+                               colour_component(std::round(b * 255.0))};
+            } else {
+                result.warnings.push_back("Segment" + std::to_string(number) +
+                                          "_Color is not three numbers: " + *color);
+            }
         }
         result.labels.push_back(std::move(label));
     }
@@ -152,32 +299,6 @@ base::Result<std::map<std::int64_t, std::uint64_t>> count_labels(const Volume& v
         }
     }
     return counts;
-}
-
-std::string describe_labels(const LabelNames& names,
-                            const std::map<std::int64_t, std::uint64_t>& counts) {
-    std::map<std::int64_t, Label> table;
-    for (const Label& label : names.labels) {
-        table.try_emplace(label.id, label);
-    }
-    for (const auto& [id, voxels] : counts) {
-        if (id != 0 && !table.contains(id)) {
-            table.emplace(id, Label{id, "label " + std::to_string(id), label_color(id)});
-        }
-    }
-    std::string out = "labels:      " + std::to_string(table.size()) + "\n";
-    for (const auto& [id, label] : table) {
-        const auto found = counts.find(id);
-        char row[64];
-        std::snprintf(row, sizeof row, "  %6lld  #%02x%02x%02x  %10llu  ",
-                      static_cast<long long>(id), label.color.r, label.color.g, label.color.b,
-                      static_cast<unsigned long long>(found == counts.end() ? 0 : found->second));
-        out += row + label.name + "\n";
-    }
-    for (const std::string& warning : names.warnings) {
-        out += "warning:     " + warning + "\n";
-    }
-    return out;
 }
 
 }  // namespace penumbra::volume

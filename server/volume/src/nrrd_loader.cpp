@@ -51,7 +51,8 @@ struct Header {
     Field<std::string> data_file;
     Field<std::int64_t> byte_skip;
     Field<std::int64_t> line_skip;
-    bool hounsfield = false;  // the key/value penumbra_units:=HU
+    bool hounsfield = false;   // the key/value penumbra_units:=HU
+    NrrdKeyValues key_values;  // every key:=value line, in order (bounded by max_header_bytes)
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
 };
@@ -343,9 +344,12 @@ private:
         if (colon + 1 < content.size() && content[colon + 1] == '=') {
             // Key/value pairs carry metadata; Penumbra reads one of its own: values in
             // Hounsfield units ("penumbra_units:=HU"), which NRRD has no field for.
-            if (trim(content.substr(0, colon)) == "penumbra_units") {
-                header_.hounsfield = lower(trim(content.substr(colon + 2))) == "hu";
+            const std::string key(trim(content.substr(0, colon)));
+            const std::string value(trim(content.substr(colon + 2)));
+            if (key == "penumbra_units") {
+                header_.hounsfield = lower(value) == "hu";
             }
+            header_.key_values.emplace_back(key, value);
             return base::Ok{};
         }
         const std::string name = lower(trim(content.substr(0, colon)));
@@ -1155,6 +1159,18 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
 }
 
 }  // namespace
+
+base::Result<NrrdKeyValues> read_nrrd_key_values(const std::filesystem::path& path) {
+    auto file = detail::open_file(path);
+    if (!file) {
+        return file.error();
+    }
+    auto header = HeaderParser(file->get(), path).parse();
+    if (!header) {
+        return header.error();
+    }
+    return std::move(header->key_values);
+}
 
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options) {
     return detail::guard_allocation(path, [&] { return load_nrrd_file(path, options); });

@@ -424,5 +424,38 @@ TEST_F(LabelsTest, StylesThatAreNotTheMapsOrAMapOutsideTheScanAreRefused) {
     EXPECT_TRUE(renderer_->render(request).ok());
 }
 
+// Two sessions drawing two label maps on one renderer: both stay on the GPU, and switching back
+// draws the first as before; null draws none.
+TEST_F(LabelsTest, LabelMapsStayOnTheGpuBetweenSwitches) {
+    use(test::shadow_scene(scene_side));
+    const std::size_t scan_only = renderer_->gpu_bytes_held();
+    auto first = label_map(glm::uvec3(scene_side), glm::dvec3(1.0), glm::dvec3(0.0),
+                           glm::dmat3(1.0), scene_label);
+    auto second = label_map(glm::uvec3(scene_side), glm::dvec3(1.0), glm::dvec3(0.0),
+                            glm::dmat3(1.0), [](unsigned x, unsigned, unsigned) -> std::uint8_t {
+                                return x < scene_side / 2 ? 5 : 6;
+                            });
+    scene::FrameRequest request = receiver_scene(scene::Mode::sbrc);
+    use_labels(first);
+    request.labels = label_styles(*first);
+    hide(request.labels, slab_id);
+    const Frame before = render(request);
+    use_labels(second);
+    scene::FrameRequest other = request;
+    other.labels = label_styles(*second);
+    render(other);
+    EXPECT_EQ(renderer_->gpu_bytes_held() - scan_only >= 2 * first->indices.data.size(), true);
+    use_labels(first);
+    const Frame again = render(request);
+    auto difference =
+            encode::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(again.image));
+    ASSERT_TRUE(difference.ok());
+    EXPECT_EQ(difference->max_error, 0.0);
+    ASSERT_TRUE(renderer_->set_labels(nullptr).ok());
+    auto refused = renderer_->render(request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, base::ErrorCode::invalid_frame);
+}
+
 }  // namespace
 }  // namespace penumbra::render

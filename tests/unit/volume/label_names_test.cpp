@@ -2,6 +2,7 @@
 // head (part of the install step, so never skipped), against their files as Python's nibabel and
 // a plain reading of the .nii.txt and .nii.lut give them.
 
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/label_names.hpp>
 
 #include <gtest/gtest.h>
@@ -48,9 +49,12 @@ TEST(LabelNames, AalNamesColoursAndVoxelCountsAreTheFilesOwn) {
     EXPECT_EQ(counts->at(1), 28174U);
     EXPECT_EQ(counts->at(2), 27058U);
 
-    const std::string table = describe_labels(aal, *counts);
+    auto map = make_label_map(*volume, aal);
+    ASSERT_TRUE(map.ok());
+    const std::string table = describe_labels(*map);
     EXPECT_NE(table.find("labels:      116"), std::string::npos) << table;
     EXPECT_NE(table.find("     1  #cccccc       28174  Precentral_L"), std::string::npos) << table;
+    EXPECT_NE(table.find("background:  5629168 voxels"), std::string::npos) << table;
 }
 
 TEST(LabelNames, JhuNamesAreTabSeparatedWithABackgroundLabel) {

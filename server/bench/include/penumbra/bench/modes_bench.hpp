@@ -29,6 +29,9 @@ struct ModesBenchConfig {
     int brick_voxels = 0;     // 0: the renderer's default
     bool debug_gl = false;    // GL debug output to the log
     bool only_table = false;  // the optimisation table without the sweeps
+    // A label map drawn inside the sweeps' volume in a table of its own (measure_labels); empty:
+    // no label table.
+    std::string labels;
     // The sweeps' rows, and the file's name for the report; null: none written.
     std::ostream* csv = nullptr;
     std::string csv_path;

@@ -8,6 +8,7 @@
 #include <penumbra/bench/mode_bench.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
@@ -36,6 +37,26 @@ struct CutRow {
     double psnr = 0.0;  // between the uncut and the corners' images
 };
 
+// One mode drawing the scan alone, with a label map inside it (every label shown in its colour)
+// and with a fifth of its labels hidden: what the overlay costs per frame.
+struct LabelRow {
+    std::string label;
+    Series alone;
+    Series labelled;
+    Series hidden;
+};
+
+// The label table: each mode's rows; the light-buffer pass alone without and with the labels; and
+// the builds that a visibility change and a camera move cause, counted over `repeat` frames each.
+struct LabelTable {
+    std::vector<LabelRow> rows;
+    std::optional<Measurement> build_alone;
+    std::optional<Measurement> build_labelled;
+    std::uint64_t builds_per_visibility_change = 0;
+    std::uint64_t builds_per_camera_move = 0;
+    int changes = 0;
+};
+
 struct OptimisationTable {
     std::vector<SkippingRow> rows;
     // The light-buffer pass alone, rebuilt every frame; absent unless sbrc is among the modes.
@@ -56,6 +77,12 @@ struct OptimisationTable {
 base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
                                                       const std::vector<scene::Mode>& modes,
                                                       const volume::Volume& volume, std::FILE* out);
+
+// The label table for `labels`, which the bench's renderer holds beside its volume
+// (Renderer::set_labels). Prints each row to `out` as it is measured.
+base::Result<LabelTable> measure_labels(ModeBench& bench, render::Renderer& renderer,
+                                        const std::vector<scene::Mode>& modes,
+                                        const volume::LabelMap& labels, std::FILE* out);
 
 struct GradientComparison {
     Series central;  // phong, gradients from central differences

@@ -94,6 +94,17 @@ public:
 
     virtual base::Status set_volume(std::shared_ptr<const volume::Volume> volume) = 0;
 
+    // The label map frames that style labels draw inside the volume (Renderer::set_labels); a
+    // renderer that draws none refuses one. By value: an override keeps the map.
+    // NOLINTNEXTLINE(performance-unnecessary-value-param)
+    virtual base::Status set_labels(std::shared_ptr<const volume::LabelMap> labels) {
+        if (!labels) {
+            return base::Ok{};
+        }
+        return base::make_error(base::ErrorCode::unsupported_settings,
+                                "this renderer draws no label maps", "labels");
+    }
+
     // Renders one frame, or fails with `too_much_work` (over the work ceiling) or
     // `light_buffer_too_large` (over the light-buffer budget), both before anything runs,
     // `refinement_lost` (a refinement step whose earlier steps are no longer held),
@@ -108,8 +119,8 @@ public:
     [[nodiscard]] virtual std::size_t gpu_bytes_held() const = 0;
 };
 
-// The styles of a label map's labels as its files give them: each label visible, opaque as the
-// scan, in its own colour.
+// The styles of a label map's labels as its files give them: each label's colour, opacity and
+// visibility (shown and opaque as the scan where the files say nothing).
 [[nodiscard]] scene::Labels label_styles(const volume::LabelMap& labels);
 
 // The GPU renderer. It owns the headless GL context, so it is created, used and destroyed on one
@@ -132,9 +143,11 @@ public:
 
     // Sets the label map frames draw inside the volume when their request styles its labels
     // (scene::Labels, one style per label of the map: label_styles gives its defaults); null
-    // removes it. The map keeps its own grid and transform; it must overlap the current volume
-    // (no_overlap) and be only rotated or reflected (unsupported_orientation).
-    base::Status set_labels(std::shared_ptr<const volume::LabelMap> labels);
+    // draws none. Label maps stay on the GPU, least recently used evicted first, under the volume
+    // budget, so that sessions drawing different maps switch between them at no cost. The map keeps
+    // its own grid and transform; it must overlap the current volume (no_overlap) and be only
+    // rotated or reflected (unsupported_orientation).
+    base::Status set_labels(std::shared_ptr<const volume::LabelMap> labels) override;
 
     // Renders one frame of the current volume in any mode of DESIGN.md §1.
     using FrameRenderer::render;

@@ -24,6 +24,7 @@ struct LabelMap {
     // say, else "label N" with a colour of its own (label_color).
     std::vector<Label> labels;
     std::vector<std::uint64_t> voxels;  // per label, in the order of `labels`
+    std::uint64_t background_voxels = 0;
     std::vector<std::string> warnings;  // names-file lines skipped; named labels the volume lacks
 };
 
@@ -31,10 +32,22 @@ struct LabelMap {
 // volume, more than max_labels labels, or a file of several volumes is an Error.
 base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& names);
 
-// Loads a label map: any volume load_volume reads, named by MRIcron's files beside it
-// (find_mricron_labels) when there are some.
+// The names of the label map in `path`: from `names` where given (read_label_description), else
+// MRIcron's files beside it, else a .seg.nrrd's segments; none where there are none.
+base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
+                                         const std::filesystem::path& names = {});
+
+// The label table as `penumbra info` prints it: id, colour, voxels, name; then the background's
+// voxels and the warnings.
+[[nodiscard]] std::string describe_labels(const LabelMap& labels);
+
+// Loads a label map: any volume load_volume reads but DICOM (a DICOM SEG object is refused: it
+// says so). Its labels are named by `names` where given (read_label_description: ITK-SNAP,
+// FreeSurfer), else by MRIcron's files beside it (find_mricron_labels), else by a .seg.nrrd's
+// segments (read_slicer_segments); labels none of them names are "label N".
 base::Result<LabelMap> load_label_map(const std::filesystem::path& path,
-                                      const LoadOptions& options = {});
+                                      const LoadOptions& options = {},
+                                      const std::filesystem::path& names = {});
 
 // A label map is drawn over a scan in patient space, each on its own grid: it must share some of
 // the scan's space. The error ("no_overlap") gives both boxes in RAS millimetres.

@@ -21,6 +21,10 @@ struct Label {
     std::int64_t id = 0;  // the value its voxels store
     std::string name;
     glm::u8vec3 color{0};
+    // As the file shows the label at first (ITK-SNAP's label opacity and visibility): a user's
+    // starting point, which they change.
+    double opacity = 1.0;
+    bool visible = true;
 };
 
 struct LabelNames {
@@ -45,6 +49,18 @@ struct MricronLabelFiles {
 // their own (label_color).
 [[nodiscard]] base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files);
 
+// A label description file given beside a label map: ITK-SNAP's (`IDX R G B A VIS MSH "LABEL"`,
+// colours 0..255, A the opacity 0..1, VIS 0 or 1; `#` comments) or FreeSurfer's colour table
+// (`id name R G B A`, A 0 for opaque), told apart line by line. Lines that are neither are skipped
+// with a warning naming the line.
+[[nodiscard]] base::Result<LabelNames> read_label_description(const std::filesystem::path& path);
+
+// 3D Slicer's segmentation file (.seg.nrrd, labelmap form) names its segments in the NRRD header:
+// SegmentN_Name, SegmentN_Color ("r g b", 0..1), SegmentN_LabelValue (N + 1 where absent, as
+// Slicer's older files) and SegmentN_Layer. Segments on several layers overlap, which one label a
+// voxel cannot hold: an Error. No Segment keys: no labels, no error.
+[[nodiscard]] base::Result<LabelNames> read_slicer_segments(const NrrdKeyValues& keys);
+
 // A colour for a label that has none: hues spread by the golden ratio, so neighbouring ids differ.
 [[nodiscard]] glm::u8vec3 label_color(std::int64_t id);
 
@@ -53,10 +69,5 @@ struct MricronLabelFiles {
 inline constexpr std::size_t max_labels = 4096;
 [[nodiscard]] base::Result<std::map<std::int64_t, std::uint64_t>> count_labels(
         const Volume& volume);
-
-// The label table as `penumbra info` prints it: id, name, colour, voxels; labels present in the
-// volume but not named are listed as "label N" with a colour of their own.
-[[nodiscard]] std::string describe_labels(const LabelNames& names,
-                                          const std::map<std::int64_t, std::uint64_t>& counts);
 
 }  // namespace penumbra::volume

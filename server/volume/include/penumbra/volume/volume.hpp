@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace penumbra::volume {
@@ -186,6 +187,11 @@ base::Result<Volume> load_raw(const std::filesystem::path& path, const LoadOptio
 base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// A NRRD header's key:=value lines, in order: metadata no field holds (3D Slicer writes a
+// segmentation's segments so, `Segment0_Name:=...`). Reads the header alone.
+using NrrdKeyValues = std::vector<std::pair<std::string, std::string>>;
+base::Result<NrrdKeyValues> read_nrrd_key_values(const std::filesystem::path& path);
 
 // One series of a DICOM folder, as a user chooses among them.
 struct DicomSeries {
