@@ -9,9 +9,9 @@
 
 #if LABELS
 layout(binding = 7) uniform usampler3D label_indices;
-// Row 0: rgb the label's colour, a how much it replaces the TF's; row 1: r the opacity scale.
-// Index 0 is the background (and everything outside the map): the scan as it is.
-layout(binding = 8) uniform sampler2D label_styles;
+// Per index: rgb the label's colour, a its opacity scale. Index 0 is the background (and
+// everything outside the map): the scan as it is.
+layout(binding = 8) uniform sampler1D label_styles;
 
 int label_index(vec3 world) {
     ivec3 voxel = ivec3(floor((u.world_to_label * vec4(world, 1.0)).xyz + 0.5));
@@ -27,9 +27,9 @@ int label_index(vec3 world) {
 vec4 in_label(vec4 classified, vec3 world) {
     if (classified.a <= 0.0) return classified;
     int index = label_index(world);
-    vec4 tint = texelFetch(label_styles, ivec2(index, 0), 0);
-    float opacity_scale = texelFetch(label_styles, ivec2(index, 1), 0).r;
-    return vec4(mix(classified.rgb, tint.rgb, tint.a), classified.a * opacity_scale);
+    vec4 style = texelFetch(label_styles, index, 0);
+    float weight = index == 0 ? 0.0 : u.labels.x;
+    return vec4(mix(classified.rgb, style.rgb, weight), classified.a * style.a);
 }
 #else
 vec4 in_label(vec4 classified, vec3 world) {

@@ -41,4 +41,5 @@ layout(std140, binding = 0) uniform FrameUniforms {
     vec4 region_half_spaces[12];    // optics::kMaxHalfSpaces
     // The label map (labels.glsl): world space to the map's voxel index space (voxel i's centre at i).
     mat4 world_to_label;
+    vec4 labels;  // x: how much a label's colour replaces the transfer function's
 } u;

@@ -18,12 +18,6 @@ void upload_1d(const Texture& texture, int width, GLenum format, GLenum type, co
     glTextureSubImage1D(texture.name(), 0, 0, width, format, type, pixels);
 }
 
-void upload_2d(const Texture& texture, int width, int height, GLenum format, GLenum type,
-               const void* pixels) {
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(texture.name(), 0, 0, 0, width, height, format, type, pixels);
-}
-
 void upload_3d(const Texture& texture, int width, int height, int depth, GLenum format, GLenum type,
                const void* pixels) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);

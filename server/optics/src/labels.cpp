@@ -6,8 +6,8 @@ namespace penumbra::optics {
 
 std::vector<float> LabelStyleTable::opacity_scales() const {
     std::vector<float> scales;
-    for (int index = 0; index < width; ++index) {
-        scales.push_back(opacity_scale(index));
+    for (const glm::vec4& texel : texels) {
+        scales.push_back(texel.a);
     }
     return scales;
 }
@@ -30,15 +30,12 @@ glm::dmat4 world_to_label_index(const scene::PatientPlacement& scan, glm::dvec3 
 
 LabelStyleTable bake_label_styles(const scene::Labels& labels) {
     LabelStyleTable table;
-    table.width = static_cast<int>(labels.styles.size()) + 1;
-    const auto width = static_cast<std::size_t>(table.width);
-    table.texels.assign(2 * width, glm::vec4(0.0f));
-    table.texels[width] = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);  // the background: the scan as it is
-    for (std::size_t i = 0; i < labels.styles.size(); ++i) {
-        const scene::LabelStyle& style = labels.styles[i];
-        table.texels[i + 1] = glm::vec4(glm::vec3(style.color), static_cast<float>(labels.blend));
-        table.texels[width + i + 1] = glm::vec4(
-                style.visible ? static_cast<float>(style.opacity) : 0.0f, 0.0f, 0.0f, 0.0f);
+    table.blend = static_cast<float>(labels.blend);
+    table.texels.reserve(labels.styles.size() + 1);
+    table.texels.emplace_back(1.0f);  // the background: the scan as it is
+    for (const scene::LabelStyle& style : labels.styles) {
+        table.texels.emplace_back(glm::vec3(style.color),
+                                  style.visible ? static_cast<float>(style.opacity) : 0.0f);
     }
     return table;
 }

@@ -51,14 +51,15 @@ glm::mat4 LabelTexture::world_to_index(const volume::Volume& scan) const {
 }
 
 void LabelTexture::bind(const optics::LabelStyleTable& styles) {
-    if (!styles_ || styles.width != uploaded_.width) {
-        styles_ = gpu::create_texture_2d(GL_RGBA32F, styles.width, 2);
+    const auto width = static_cast<int>(styles.texels.size());
+    if (!styles_ || styles.texels.size() != uploaded_.size()) {
+        styles_ = gpu::create_texture_1d(GL_RGBA32F, width);
         gpu::set_sampling(styles_, GL_NEAREST, GL_CLAMP_TO_EDGE);
-        uploaded_ = {};
+        uploaded_.clear();
     }
-    if (styles.texels != uploaded_.texels) {
-        gpu::upload_2d(styles_, styles.width, 2, GL_RGBA, GL_FLOAT, styles.texels.data());
-        uploaded_ = styles;
+    if (styles.texels != uploaded_) {
+        gpu::upload_1d(styles_, width, GL_RGBA, GL_FLOAT, styles.texels.data());
+        uploaded_ = styles.texels;
     }
     gpu::bind_texture(7, indices_);
     gpu::bind_texture(8, styles_);

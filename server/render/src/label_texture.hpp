@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace penumbra::render {
 
@@ -43,7 +44,7 @@ private:
     std::uint64_t generation_ = 0;
     gpu::Texture indices_;
     gpu::Texture styles_;
-    optics::LabelStyleTable uploaded_;
+    std::vector<glm::vec4> uploaded_;  // the style table's texels last uploaded
 };
 
 }  // namespace penumbra::render

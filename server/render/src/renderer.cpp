@@ -147,8 +147,10 @@ struct Renderer::Impl {
                         "labels");
             }
         }
-        texture->bind(optics::bake_label_styles(styles));
+        const optics::LabelStyleTable table = optics::bake_label_styles(styles);
+        texture->bind(table);
         uniforms.world_to_label = texture->world_to_index(scan);
+        uniforms.labels = glm::vec4(table.blend, 0.0f, 0.0f, 0.0f);
         return base::Ok{};
     }
 

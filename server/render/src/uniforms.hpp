@@ -47,6 +47,7 @@ struct FrameUniforms {
     glm::ivec4 region_counts;  // x: the half-spaces camera rays clip by, y: those the light does
     std::array<glm::vec4, optics::kMaxHalfSpaces> region_half_spaces;  // xyz: normal, w: offset
     glm::mat4 world_to_label;  // the label map's voxel index space (identity without one)
+    glm::vec4 labels;          // x: how much a label's colour replaces the TF's
 };
 
 static_assert(offsetof(FrameUniforms, eye) == 0);
@@ -63,7 +64,7 @@ static_assert(offsetof(FrameUniforms, jitter) == 608);
 static_assert(offsetof(FrameUniforms, region_counts) == 624);
 static_assert(offsetof(FrameUniforms, region_half_spaces) == 640);
 static_assert(offsetof(FrameUniforms, world_to_label) == 640 + 16 * optics::kMaxHalfSpaces);
-static_assert(sizeof(FrameUniforms) == 640 + 16 * optics::kMaxHalfSpaces + 64);
+static_assert(sizeof(FrameUniforms) == 640 + 16 * optics::kMaxHalfSpaces + 64 + 16);
 
 // The uniforms of `request` with its geometry, on a volume of `dims` voxels whose texels
 // `value_map` turns into normalised values (VolumeTexture::value_map).

@@ -17,10 +17,8 @@ namespace penumbra::gpu {
 // How `texture` is sampled: `filter` when minifying and magnifying, `wrap` on every axis.
 void set_sampling(const Texture& texture, GLenum filter, GLenum wrap);
 
-// Replaces level 0 of a 1D, 2D or 3D texture of these dimensions.
+// Replaces level 0 of a 1D or 3D texture of these dimensions.
 void upload_1d(const Texture& texture, int width, GLenum format, GLenum type, const void* pixels);
-void upload_2d(const Texture& texture, int width, int height, GLenum format, GLenum type,
-               const void* pixels);
 void upload_3d(const Texture& texture, int width, int height, int depth, GLenum format, GLenum type,
                const void* pixels);
 

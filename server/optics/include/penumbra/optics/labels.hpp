@@ -16,23 +16,16 @@
 
 namespace penumbra::optics {
 
-// Two rows of styles + 1 texels (index 0 the background, i the label styles[i - 1]). Row 0: rgb the
-// label's colour, a how much of it replaces the transfer function's (the blend; 0 for the
-// background). Row 1: r the opacity scale (the label's opacity, 0 when hidden; 1 for the
-// background).
+// One texel per label and one for the background before them (index 0; i is the label
+// styles[i - 1]): rgb the label's colour, a its opacity scale (its opacity, 0 when hidden; 1 for
+// the background). A label's colour replaces `blend` of the transfer function's; the background's
+// none.
 struct LabelStyleTable {
-    int width = 0;
-    std::vector<glm::vec4> texels;  // row 0, then row 1
+    std::vector<glm::vec4> texels;
+    float blend = 0.0f;
 
-    [[nodiscard]] glm::vec4 tint(int index) const {
-        return texels[static_cast<std::size_t>(index)];
-    }
-
-    [[nodiscard]] float opacity_scale(int index) const {
-        return texels[static_cast<std::size_t>(width + index)].r;
-    }
-
-    // Row 1 alone: all that the light sees of the labels (what a light buffer depends on).
+    // The opacity scales alone: all that the light sees of the labels (what a light buffer
+    // depends on).
     [[nodiscard]] std::vector<float> opacity_scales() const;
 };
 
@@ -49,9 +42,10 @@ struct LabelStyleTable {
 // The sample the transfer function classified as `classified`, in the label of index `index`.
 [[nodiscard]] inline glm::dvec4 classify_in_label(glm::dvec4 classified,
                                                   const LabelStyleTable& table, int index) {
-    const glm::dvec4 tint(table.tint(index));
-    const glm::dvec3 color = glm::dvec3(classified) * (1.0 - tint.a) + glm::dvec3(tint) * tint.a;
-    return {color, classified.a * static_cast<double>(table.opacity_scale(index))};
+    const glm::dvec4 style(table.texels[static_cast<std::size_t>(index)]);
+    const double weight = index == 0 ? 0.0 : static_cast<double>(table.blend);
+    const glm::dvec3 color = glm::dvec3(classified) * (1.0 - weight) + glm::dvec3(style) * weight;
+    return {color, classified.a * style.a};
 }
 
 }  // namespace penumbra::optics
