@@ -6,10 +6,12 @@
 #include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/quality/sweep.hpp>
+#include <penumbra/reference/pick.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -79,6 +81,9 @@ po::options_description render_options(RenderOptions& o) {
             "colour table (a .seg.nrrd names its segments itself)")(
             "hide-labels", po::value(&o.hidden_labels)->value_name("ID,ID,..."),
             "labels made transparent to the camera and the light")(
+            "pick", po::value<std::string>()->value_name("X,Y"),
+            "also print what the pixel X,Y of the image (0,0 at the top left) shows: the point "
+            "in patient millimetres, the scan's value there, the label")(
             "label-blend", number_within(&o.label_blend, 0.0, 1.0),
             "how much a label's colour replaces the transfer function's (0..1)");
     options.add(frame_options({}, FramePurpose::still));
@@ -168,8 +173,9 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
 
 // The label map --labels names, set on the renderer, and the frame's styles of it: each label in
 // its file's colour, those --hide-labels lists hidden.
-base::Status draw_labels(render::Renderer& renderer, const RenderOptions& o,
-                         scene::FrameRequest& request) {
+base::Result<std::shared_ptr<const volume::LabelMap>> draw_labels(render::Renderer& renderer,
+                                                                  const RenderOptions& o,
+                                                                  scene::FrameRequest& request) {
     auto loaded = volume::load_label_map(o.labels, o.load, o.label_names);
     if (!loaded) {
         return loaded.error();
@@ -204,7 +210,49 @@ base::Status draw_labels(render::Renderer& renderer, const RenderOptions& o,
     }
     std::printf("labels:   %s, %zu labels (%zu hidden), %s\n", loaded->indices.name.c_str(),
                 loaded->labels.size(), hidden, volume::to_string(loaded->indices.type));
-    return renderer.set_labels(std::make_shared<const volume::LabelMap>(std::move(*loaded)));
+    auto labels = std::make_shared<const volume::LabelMap>(std::move(*loaded));
+    if (auto status = renderer.set_labels(labels); !status) {
+        return status.error();
+    }
+    return labels;
+}
+
+// What --pick X,Y points at in the still's view: printed, as a session's pick answers it.
+base::Status print_pick(const volume::Volume& volume, const scene::FrameRequest& request,
+                        const volume::LabelMap* labels, const std::string& pixel) {
+    const std::vector<std::string> fields = base::split_list(pixel);
+    int xy[2] = {0, 0};
+    for (std::size_t i = 0; i < 2; ++i) {
+        char* end = nullptr;
+        const long value = i < fields.size() ? std::strtol(fields[i].c_str(), &end, 10) : -1;
+        if (fields.size() != 2 || end == nullptr || *end != '\0' || value < 0 || value > 1 << 20) {
+            return base::make_error(base::ErrorCode::invalid_argument,
+                                    "expects X,Y, a pixel of the image (0,0 at the top left)",
+                                    "--pick");
+        }
+        xy[i] = static_cast<int>(value);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    auto picked = reference::pick(volume, request, labels, xy[0], xy[1]);
+    if (!picked) {
+        return picked.error();
+    }
+    const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count();
+    if (!picked->hit) {
+        std::printf("pick:     %d,%d: nothing the view shows\n", xy[0], xy[1]);
+        return base::Ok{};
+    }
+    std::printf("pick:     %d,%d: (%.1f, %.1f, %.1f) mm RAS, value %g%s", xy[0], xy[1],
+                picked->patient.x, picked->patient.y, picked->patient.z, picked->value,
+                picked->hounsfield ? " HU" : "");
+    if (picked->label_id != 0) {
+        std::printf(", label %lld %s", static_cast<long long>(picked->label_id),
+                    picked->label_name.c_str());
+    }
+    std::printf(" (%.1f ms)\n", ms);
+    return base::Ok{};
 }
 
 base::Status write_light_inset(render::Renderer& renderer, const std::string& path) {
@@ -266,10 +314,13 @@ int run_render(const std::vector<std::string>& args) {
     if (auto status = (*renderer)->set_volume(*volume); !status) {
         return fail(status.error());
     }
+    std::shared_ptr<const volume::LabelMap> labels;
     if (!o.labels.empty()) {
-        if (auto status = draw_labels(**renderer, o, *request); !status) {
-            return fail(status.error());
+        auto drawn = draw_labels(**renderer, o, *request);
+        if (!drawn) {
+            return fail(drawn.error());
         }
+        labels = std::move(drawn.value());
     } else if (!o.hidden_labels.empty() || !o.label_names.empty()) {
         return report_usage_error(
                 "render",
@@ -294,6 +345,12 @@ int run_render(const std::vector<std::string>& args) {
                 std::string(render::to_string(frame->report.light_buffer)).c_str(),
                 static_cast<unsigned long long>((*renderer)->light_buffer_builds()), o.repeat);
     std::printf("output:   %s (%dx%d)\n", o.out.c_str(), frame->image.width, frame->image.height);
+    if (a.count("pick") != 0) {
+        if (auto status = print_pick(v, *request, labels.get(), a["pick"].as<std::string>());
+            !status) {
+            return fail(status.error());
+        }
+    }
     if (a.count("light-inset") != 0) {
         const auto& inset_path = a["light-inset"].as<std::string>();
         if (auto status = write_light_inset(**renderer, inset_path); !status) {

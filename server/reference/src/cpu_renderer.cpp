@@ -40,45 +40,6 @@ double sample_opacity(double alpha, double step, const scene::RenderSettings& s)
                    : optics::corrected_opacity(alpha, step, s.opacity_unit_distance);
 }
 
-// The label of a world point: the index of the label map's voxel nearest to it in the map's own
-// grid, 0 outside it (shaders/include/labels.glsl).
-class LabelLookup {
-public:
-    LabelLookup(const volume::LabelMap& labels, const volume::Volume& scan,
-                const scene::Labels& styles)
-        : indices_(labels.indices)
-        , world_to_index_(optics::world_to_label_index(
-                  scene::patient_placement(scan.origin, scan.axes, scan.spacing,
-                                           glm::dvec3(scan.dims)),
-                  labels.indices.origin, labels.indices.axes, labels.indices.spacing))
-        , styles_(optics::bake_label_styles(styles)) {}
-
-    [[nodiscard]] glm::dvec4 classify(glm::dvec4 classified, glm::dvec3 world) const {
-        if (classified.a <= 0.0) {
-            return classified;
-        }
-        return optics::classify_in_label(classified, styles_, index_at(world));
-    }
-
-private:
-    [[nodiscard]] int index_at(glm::dvec3 world) const {
-        const glm::dvec3 index =
-                glm::floor(glm::dvec3(world_to_index_ * glm::dvec4(world, 1.0)) + 0.5);
-        const glm::dvec3 dims(indices_.dims);
-        if (index.x < 0.0 || index.y < 0.0 || index.z < 0.0 || index.x >= dims.x ||
-            index.y >= dims.y || index.z >= dims.z) {
-            return 0;
-        }
-        return static_cast<int>(indices_.value(static_cast<std::uint32_t>(index.x),
-                                               static_cast<std::uint32_t>(index.y),
-                                               static_cast<std::uint32_t>(index.z)));
-    }
-
-    const volume::Volume& indices_;
-    glm::dmat4 world_to_index_;
-    optics::LabelStyleTable styles_;
-};
-
 // What the marches classify: each sample, or with pre-integration the segment from the value
 // before it (shaders/include/preintegration.glsl), in the label at the sample where labels are
 // drawn.

@@ -126,6 +126,37 @@ glm::dvec3 VolumeSampler::gradient(glm::dvec3 world) const {
     return box_.to_world(along_axes / (2.0 * h));
 }
 
+LabelLookup::LabelLookup(const volume::LabelMap& labels, const volume::Volume& scan,
+                         const scene::Labels& styles)
+    : labels_(labels)
+    , world_to_index_(optics::world_to_label_index(
+              scene::patient_placement(scan.origin, scan.axes, scan.spacing, glm::dvec3(scan.dims)),
+              labels.indices.origin, labels.indices.axes, labels.indices.spacing))
+    , styles_(optics::bake_label_styles(styles)) {}
+
+int LabelLookup::index_at(glm::dvec3 world) const {
+    const glm::dvec3 index = glm::floor(glm::dvec3(world_to_index_ * glm::dvec4(world, 1.0)) + 0.5);
+    const glm::dvec3 dims(labels_.indices.dims);
+    if (index.x < 0.0 || index.y < 0.0 || index.z < 0.0 || index.x >= dims.x || index.y >= dims.y ||
+        index.z >= dims.z) {
+        return 0;
+    }
+    return static_cast<int>(labels_.indices.value(static_cast<std::uint32_t>(index.x),
+                                                  static_cast<std::uint32_t>(index.y),
+                                                  static_cast<std::uint32_t>(index.z)));
+}
+
+const volume::Label* LabelLookup::label(int index) const {
+    return index > 0 ? &labels_.labels[static_cast<std::size_t>(index - 1)] : nullptr;
+}
+
+glm::dvec4 LabelLookup::classify(glm::dvec4 classified, glm::dvec3 world) const {
+    if (classified.a <= 0.0) {
+        return classified;
+    }
+    return optics::classify_in_label(classified, styles_, index_at(world));
+}
+
 TransferFunctionTable::TransferFunctionTable(const scene::TransferFunction& tf,
                                              const scene::ValueDomain& values)
     : table_(scene::bake(tf, scene::default_table_size, values)) {}

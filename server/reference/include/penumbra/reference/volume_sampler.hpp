@@ -1,10 +1,13 @@
 #pragma once
 
+#include <penumbra/optics/labels.hpp>
 #include <penumbra/scene/box.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/transfer_function.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -45,6 +48,27 @@ private:
     scene::Box box_;
     glm::dvec3 voxel_size_;
     std::vector<double> normalized_;  // every voxel mapped to [0, 1] once
+};
+
+// The label of a world point of `scan` (as the renderer places it): the index of the label map's
+// voxel nearest to it in the map's own grid, 0 outside it (shaders/include/labels.glsl); and a
+// classified sample in that label under `styles`.
+class LabelLookup {
+public:
+    LabelLookup(const volume::LabelMap& labels, const volume::Volume& scan,
+                const scene::Labels& styles);
+
+    [[nodiscard]] int index_at(glm::dvec3 world) const;
+
+    // The label map's label of index `index` (1..); null for 0, the background.
+    [[nodiscard]] const volume::Label* label(int index) const;
+
+    [[nodiscard]] glm::dvec4 classify(glm::dvec4 classified, glm::dvec3 world) const;
+
+private:
+    const volume::LabelMap& labels_;
+    glm::dmat4 world_to_index_;
+    optics::LabelStyleTable styles_;
 };
 
 // A baked TF table read like the GPU's linearly filtered, edge-clamped 1D texture.

@@ -1,0 +1,85 @@
+#include "penumbra/reference/pick.hpp"
+
+#include <penumbra/optics/compositing.hpp>
+#include <penumbra/optics/ray.hpp>
+#include <penumbra/optics/region.hpp>
+#include <penumbra/reference/volume_sampler.hpp>
+
+#include <optional>
+
+namespace penumbra::reference {
+
+base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
+                        const volume::LabelMap* labels, int x, int y) {
+    if (auto status = scene::validate(request); !status) {
+        return status.error();
+    }
+    const scene::RenderSettings& s = request.settings;
+    if (x < 0 || y < 0 || x >= s.width || y >= s.height) {
+        return base::make_error(base::ErrorCode::out_of_range,
+                                "the pixel lies outside the " + std::to_string(s.width) + "x" +
+                                        std::to_string(s.height) + " view",
+                                "pick");
+    }
+    if (request.labels.shown() &&
+        (labels == nullptr || labels->labels.size() != request.labels.styles.size())) {
+        return base::make_error(base::ErrorCode::invalid_frame,
+                                "the view styles labels the label map given does not hold",
+                                "labels");
+    }
+    const VolumeSampler sampler(volume, s.reconstruction);
+    const TransferFunctionTable table(request.transfer_function,
+                                      {volume.range.min, volume.range.max, volume.hounsfield});
+    std::optional<LabelLookup> label_lookup;
+    if (request.labels.shown()) {
+        label_lookup.emplace(*labels, volume, request.labels);
+    }
+    const scene::PatientPlacement placement = scene::patient_placement(
+            volume.origin, volume.axes, volume.spacing, glm::dvec3(volume.dims));
+    const optics::Region region = optics::region_of(sampler.box(), request.cut, placement);
+    const scene::CameraFrame camera =
+            scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
+    const glm::dvec3 direction = optics::pixel_ray_direction(camera, x, y, s.width, s.height);
+    const optics::BoxHit hit =
+            optics::intersect_region(region, camera.eye, direction, optics::RegionUser::camera);
+    Pick picked;
+    picked.hounsfield = volume.hounsfield;
+    if (!hit.hit) {
+        return picked;
+    }
+    const optics::Marching marching =
+            optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance);
+    double transmittance = 1.0;
+    for (int i = 0; i < marching.count; ++i) {
+        const glm::dvec3 position =
+                camera.eye + (hit.t_near + (i + 0.5) * marching.step) * direction;
+        const double normalized = sampler.value(position);
+        glm::dvec4 classified = table.classify(normalized);
+        if (label_lookup) {
+            classified = label_lookup->classify(classified, position);
+        }
+        const double alpha = s.compositing == scene::Compositing::extinction
+                                     ? optics::extinction_opacity(classified.a, marching.step,
+                                                                  s.opacity_unit_distance)
+                                     : optics::corrected_opacity(classified.a, marching.step,
+                                                                 s.opacity_unit_distance);
+        transmittance *= 1.0 - alpha;
+        if (transmittance > 0.5) {
+            continue;
+        }
+        picked.hit = true;
+        picked.patient = placement.to_patient(position);
+        picked.value = volume.range.min + normalized * (volume.range.max - volume.range.min);
+        if (label_lookup) {
+            if (const volume::Label* label =
+                        label_lookup->label(label_lookup->index_at(position))) {
+                picked.label_id = label->id;
+                picked.label_name = label->name;
+            }
+        }
+        break;
+    }
+    return picked;
+}
+
+}  // namespace penumbra::reference
