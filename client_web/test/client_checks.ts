@@ -363,6 +363,33 @@ export function termsOf(hello: HelloMessage): ServerTerms {
  * server's answer; this is for tests and for catching the client's own mistakes during
  * development.
  */
+function labelsSpec(): Spec {
+  const fraction = number(0, 1);
+  const style: Spec = { color: vector(3, fraction), opacity: fraction, visible: boolean };
+  return {
+    all: (v, at) => members(v, at, { opacity: fraction, visible: boolean }),
+    only: (v, at) => {
+      if (!Array.isArray(v)) {
+        reject('invalid_value', at, 'expected an array of label ids');
+      }
+      v.forEach((id, i) => {
+        if (typeof id !== 'number' || !Number.isSafeInteger(id)) {
+          reject('invalid_value', `${at}/${i}`, 'expected a label id');
+        }
+      });
+    },
+    styles: (v, at) => {
+      if (!isObject(v)) {
+        reject('invalid_value', at, 'expected an object');
+      }
+      for (const [id, entry] of Object.entries(v as Record<string, Json>)) {
+        members(entry, `${at}/${id}`, style);
+      }
+    },
+    blend: fraction,
+  };
+}
+
 export function checkClientMessage(value: unknown, server: ServerTerms): Problem | null {
   const { ranges, limits, modes = null, presets = null } = server;
   try {
@@ -401,6 +428,12 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
         break;
       case 'open':
         members(o, '', { ...envelope, volume: textOf(limits, 'open/volume') }, ['volume']);
+        break;
+      case 'add_labels':
+        members(o, '', { ...envelope, volume: textOf(limits, 'add_labels/volume') }, ['volume']);
+        break;
+      case 'remove_labels':
+        members(o, '', envelope);
         break;
       case 'join':
         members(o, '', { ...envelope, session: textOf(limits, 'join/session') }, ['session']);
@@ -453,6 +486,8 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
           transfer_function: checkTransferFunction(ranges, limits, presets),
           settings: (v, at) => members(v, at, settingsSpec(limits, modes, ranges)),
           cut: (v, at) => members(v, at, cutSpec(ranges)),
+          // Whether the session draws a label map, and holds each id, is the server's to say.
+          labels: (v, at) => members(v, at, labelsSpec()),
           output: (v, at) =>
             members(v, at, {
               encoding: oneOf(ENCODINGS),

@@ -472,6 +472,76 @@ TEST_F(ServerTest, JoinedViewerReceivesTheSameFramesAndTheSessionSurvivesViewers
     EXPECT_NE(stats.find("\"viewers\":1"), std::string::npos) << stats;
 }
 
+// A label map in a session: the AAL atlas (its names and colours beside it) drawn inside ch2,
+// styled with `set`, seen by a viewer who joins, refused to a viewer, taken away again.
+TEST_F(ServerTest, TheOwnerDrawsAnAtlasInsideItsVolumeAndViewersSeeItsLabels) {
+    for (const char* file : {"aal.nii.gz", "aal.nii.txt", "aal.nii.lut"}) {
+        fs::copy_file(fs::path("/usr/share/mricron/templates") / file, data_ / "heads" / file);
+    }
+    ASSERT_TRUE(volumes_->scan().ok());
+    TestClient owner(port_);
+    owner.open("heads/ch2.nii.gz", 32);
+    const auto added = nlohmann::json::parse(
+            owner.request(R"({"v":1,"type":"add_labels","id":3,"volume":"heads/aal.nii.gz"})"));
+    ASSERT_EQ(added.at("type"), "labels") << added;
+    EXPECT_EQ(added.at("id"), 3);
+    EXPECT_EQ(added.at("volume"), "heads/aal.nii.gz");
+    ASSERT_EQ(added.at("labels").size(), 116U);
+    EXPECT_EQ(added.at("labels")[0].at("name"), "Precentral_L");
+    EXPECT_EQ(added.at("labels")[0].at("voxels"), 28174);
+    EXPECT_EQ(added.at("labels")[0].at("color"), nlohmann::json::parse("[204,204,204]"));
+    const auto& styles = added.at("state").at("labels").at("styles");
+    ASSERT_EQ(styles.size(), 116U);
+    EXPECT_EQ(styles.at("45").at("visible"), true);
+
+    TestClient viewer(port_);
+    const std::string joined =
+            viewer.request(R"({"v":1,"type":"join","id":4,"session":")" + owner.session + "\"}");
+    ASSERT_EQ(field(joined, "type"), "joined") << joined;
+    const auto told = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(told.at("type"), "labels") << told;
+    EXPECT_FALSE(told.contains("id"));
+    EXPECT_EQ(told.at("labels").size(), 116U);
+    const std::string refused =
+            viewer.request(R"({"v":1,"type":"add_labels","id":5,"volume":"heads/aal.nii.gz"})");
+    EXPECT_EQ(field(refused, "code"), "invalid_message") << refused;
+
+    const auto only = nlohmann::json::parse(owner.request(
+            R"({"v":1,"type":"set","id":6,"labels":{"only":[45,46],"styles":{"46":{"opacity":0.5}}}})"));
+    ASSERT_EQ(only.at("type"), "ack") << only;
+    const auto& shown = only.at("state").at("labels").at("styles");
+    EXPECT_EQ(shown.at("45").at("visible"), true);
+    EXPECT_EQ(shown.at("46").at("opacity"), 0.5);
+    EXPECT_EQ(shown.at("1").at("visible"), false);
+    const auto pushed = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(pushed.at("type"), "state");
+    EXPECT_EQ(pushed.at("state").at("labels"), only.at("state").at("labels"));
+    owner.send(R"({"v":1,"type":"render","id":7})");
+    EXPECT_EQ(owner.next_frame().header.request, 7);
+    viewer.next_frame();
+
+    const std::string unknown = owner.request(
+            R"({"v":1,"type":"set","id":8,"labels":{"styles":{"9999":{"visible":false}}}})");
+    EXPECT_EQ(field(unknown, "code"), "invalid_value") << unknown;
+    EXPECT_EQ(field(unknown, "field"), "/labels/styles/9999") << unknown;
+    const std::string broken = owner.request(
+            R"({"v":1,"type":"add_labels","id":9,"volume":"broken_4x4x4_uint8.raw"})");
+    EXPECT_EQ(field(broken, "code"), "volume_unreadable") << broken;
+
+    const auto removed =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"remove_labels","id":10})"));
+    ASSERT_EQ(removed.at("type"), "labels") << removed;
+    EXPECT_EQ(removed.at("volume"), "");
+    EXPECT_TRUE(removed.at("labels").empty());
+    EXPECT_FALSE(removed.at("state").contains("labels"));
+    const std::string none =
+            owner.request(R"({"v":1,"type":"set","id":11,"labels":{"blend":0.5}})");
+    EXPECT_EQ(field(none, "code"), "invalid_value") << none;
+    EXPECT_EQ(field(none, "field"), "/labels") << none;
+    owner.send(R"({"v":1,"type":"render","id":12})");
+    EXPECT_EQ(owner.next_frame().header.request, 12);
+}
+
 TEST_F(ServerTest, ViewersAreToldEachStateTheOwnerSetsAndTheOwnerOnlyGetsItsAck) {
     TestClient owner(port_);
     owner.open("heads/ch2.nii.gz", 32);

@@ -230,26 +230,35 @@ void ConnectionHandler::on_close() {
     leave_session();
 }
 
+template <class Loaded>
+void ConnectionHandler::after_load(const std::function<void(std::function<void(Loaded)>)>& start,
+                                   std::function<void(const Loaded&)> then) {
+    // Loading reads and converts a file, seconds for a large one: not on the strand.
+    busy_ = true;
+    start([this, then = std::move(then), weak = connection_,
+           lifeline = context_.lifeline](Loaded loaded) mutable {
+        const std::lock_guard lock(lifeline->mutex);
+        auto connection = weak.lock();
+        if (!lifeline->open || !connection) {
+            return;
+        }
+        // The connection owns this handler and outlives the task.
+        connection->defer([this, then = std::move(then), loaded = std::move(loaded)] {
+            busy_ = false;
+            then(loaded);
+            handle_waiting();
+        });
+    });
+}
+
 void ConnectionHandler::load_then(
         std::optional<std::int64_t> id, const std::string& volume_id,
         std::function<void(std::optional<std::int64_t>, const LoadedVolume&)> then) {
-    // Loading reads and converts a file, seconds for a large one: not on the strand.
-    busy_ = true;
-    context_.services.volumes.acquire_async(
-            volume_id, [this, id, then = std::move(then), weak = connection_,
-                        lifeline = context_.lifeline](LoadedVolume volume) mutable {
-                const std::lock_guard lock(lifeline->mutex);
-                auto connection = weak.lock();
-                if (!lifeline->open || !connection) {
-                    return;
-                }
-                // The connection owns this handler and outlives the task.
-                connection->defer([this, id, then = std::move(then), volume = std::move(volume)] {
-                    busy_ = false;
-                    then(id, volume);
-                    handle_waiting();
-                });
-            });
+    after_load<LoadedVolume>(
+            [this, volume_id](std::function<void(LoadedVolume)> done) {
+                context_.services.volumes.acquire_async(volume_id, std::move(done));
+            },
+            [id, then = std::move(then)](const LoadedVolume& volume) { then(id, volume); });
 }
 
 namespace {
@@ -263,6 +272,22 @@ base::Error volume_error(const std::string& volume_id, base::Error error) {
     }
     error.where = "/volume";
     return error;
+}
+
+// The labels of a label map as `labels` lists them; none for null.
+std::vector<protocol::LabelSummary> label_summaries(const volume::LabelMap* labels) {
+    std::vector<protocol::LabelSummary> out;
+    if (labels == nullptr) {
+        return out;
+    }
+    for (std::size_t i = 0; i < labels->labels.size(); ++i) {
+        const volume::Label& label = labels->labels[i];
+        out.push_back({label.id,
+                       label.name,
+                       {label.color.r, label.color.g, label.color.b},
+                       labels->voxels[i]});
+    }
+    return out;
 }
 
 }  // namespace
@@ -357,6 +382,12 @@ bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std:
     if (*entered != session_) {
         leave_session();
         session_ = *entered;
+    }
+    // A session that draws a label map: its labels' names and colours, which the state's styles
+    // do not carry.
+    if (const session::Session::Labels drawn = session_->labels(); drawn.map) {
+        send(protocol::labels_message(std::nullopt, session_->id(), drawn.id,
+                                      label_summaries(drawn.map.get()), session_->state()));
     }
     return true;
 }
@@ -485,6 +516,63 @@ template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Close&) {
     leave_session();
     send(protocol::ack_message(id, "close"));
+}
+
+// Loads the label map on the loader threads, then draws it in the session (Session::set_labels):
+// answered by `labels`, the other viewers getting the state.
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::AddLabels& message) {
+    if (!need_session(id)) {
+        return;
+    }
+    if (!session_->is_owner(viewer_)) {
+        reply_error(id, base::make_error(base::ErrorCode::invalid_message,
+                                         "only the session's owner can change it; viewers who "
+                                         "joined watch",
+                                         "/type"));
+        return;
+    }
+    const std::string volume_id = message.volume;
+    after_load<session::LoadedLabels>(
+            [this, volume_id](std::function<void(session::LoadedLabels)> done) {
+                context_.services.volumes.acquire_labels_async(volume_id, std::move(done));
+            },
+            [this, id, volume_id](const session::LoadedLabels& labels) {
+                if (!labels) {
+                    reply_error(id, volume_error(volume_id, labels.error()));
+                    return;
+                }
+                if (!session_) {
+                    reply_error(id, base::make_error(base::ErrorCode::no_session,
+                                                     "the session ended while its label map "
+                                                     "loaded",
+                                                     "/type"));
+                    return;
+                }
+                draw_labels(id, volume_id, *labels);
+            });
+}
+
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::RemoveLabels&) {
+    if (need_session(id)) {
+        draw_labels(id, {}, nullptr);
+    }
+}
+
+void ConnectionHandler::draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,
+                                    const std::shared_ptr<const volume::LabelMap>& labels) {
+    auto changed = session_->set_labels(viewer_, volume_id, labels);
+    if (!changed) {
+        base::Error error = changed.error();
+        if (error.code == base::ErrorCode::no_overlap) {
+            error.code = base::ErrorCode::invalid_value;  // the wire's code for a bad value
+        }
+        reply_error(id, error);
+        return;
+    }
+    send(protocol::labels_message(id, session_->id(), labels ? volume_id : std::string{},
+                                  label_summaries(labels.get()), *changed));
 }
 
 // After every handler: each alternative goes to its own specialisation of handle, and one without

@@ -39,6 +39,11 @@ private:
     void handle(std::optional<std::int64_t> id, const Message& message) = delete;
 
     using LoadedVolume = session::LoadedVolume;
+    // Starts a load that calls its callback on a loader thread, the connection busy meanwhile, and
+    // then, on the strand, hands the result to `then` and handles the requests that waited.
+    template <class Loaded>
+    void after_load(const std::function<void(std::function<void(Loaded)>)>& start,
+                    std::function<void(const Loaded&)> then);
     // Loads `volume_id` on the volume store's loader threads, the connection busy meanwhile, and
     // then, on the strand, hands the volume (or the error) to `then` and handles the requests that
     // waited.
@@ -62,6 +67,10 @@ private:
     // re-created), and answers `opened`.
     void become_owner(std::optional<std::int64_t> id, std::shared_ptr<session::Session> session,
                       bool recreated);
+    // Draws `labels` (listed as `volume_id`; null: none) in the connection's session and answers
+    // `labels`, or the error.
+    void draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,
+                     const std::shared_ptr<const volume::LabelMap>& labels);
     // Replies with no_session and returns false if the connection is in no session.
     bool need_session(std::optional<std::int64_t> id);
     void handle_waiting();

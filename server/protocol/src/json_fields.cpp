@@ -8,9 +8,7 @@
 #include <vector>
 
 namespace penumbra::protocol::json_fields {
-namespace {
 
-// A JSON pointer token: "~" and "/" escaped (RFC 6901).
 std::string pointer_token(std::string_view name) {
     std::string token;
     for (const char c : name) {
@@ -24,8 +22,6 @@ std::string pointer_token(std::string_view name) {
     }
     return token;
 }
-
-}  // namespace
 
 base::Result<json> parse_limited(std::string_view text, int max_depth) {
     // One entry per open container: where the parser is inside it, for the error's pointer.

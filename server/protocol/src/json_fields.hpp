@@ -68,6 +68,9 @@ base::Status optional_member(const json& object, const std::string& pointer, con
     return base::Ok{};
 }
 
+// A member name as a JSON pointer token: "~" and "/" escaped (RFC 6901).
+std::string pointer_token(std::string_view name);
+
 // A transfer function in the shape `set` takes and a state reports: {"name", "space", "colors":
 // [{"x", "rgb"}], "opacities": [{"x", "alpha"}]} (hello's presets too).
 json transfer_function_json(const scene::TransferFunction& tf);
@@ -75,5 +78,9 @@ json transfer_function_json(const scene::TransferFunction& tf);
 // A session's state as `state` messages carry it and `set` takes it: every setting of scene's
 // table at its path, and the transfer function.
 json state_json(const scene::State& state);
+
+// A session's label styles as the state carries them: {"blend", "styles": {"<id>": {"color",
+// "opacity", "visible"}}}, keyed by id so that a patch of the same shape changes them.
+json labels_json(const scene::Labels& labels);
 
 }  // namespace penumbra::protocol::json_fields

@@ -376,6 +376,25 @@ std::string state_message(const std::string& session, const scene::State& state)
             .dump();
 }
 
+std::string labels_message(std::optional<std::int64_t> id, const std::string& session,
+                           const std::string& volume, const std::vector<LabelSummary>& labels,
+                           const scene::State& state) {
+    json list = json::array();
+    for (const LabelSummary& label : labels) {
+        list.push_back({{"id", label.id},
+                        {"name", label.name},
+                        {"color", json::array({label.color[0], label.color[1], label.color[2]})},
+                        {"voxels", label.voxels}});
+    }
+    return with_id({{"type", "labels"},
+                    {"session", session},
+                    {"volume", volume},
+                    {"labels", std::move(list)},
+                    {"state", state_json(state)}},
+                   id)
+            .dump();
+}
+
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {
     return with_id({{"type", "ack"}, {"of", what}}, id).dump();
 }

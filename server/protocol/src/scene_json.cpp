@@ -247,6 +247,107 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
     return apply_object(j, p, state, limits, {"view", "orbit"});
 }
 
+// The style of label `key` (its id, as the state writes it), or an error at `pointer`.
+base::Result<scene::LabelStyle*> style_of(scene::Labels& labels, const std::string& key,
+                                          const std::string& pointer) {
+    for (scene::LabelStyle& style : labels.styles) {
+        if (std::to_string(style.id) == key) {
+            return &style;
+        }
+    }
+    return field_error(base::ErrorCode::invalid_value, pointer,
+                       "the label map holds no label '" + key + "'");
+}
+
+// A style's members as a patch sets them: any of color, opacity, visible.
+base::Status apply_label_style(const json& j, const std::string& p, scene::LabelStyle& style) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"color", "opacity", "visible"}));
+    if (j.contains("color")) {
+        auto color = vec3(j["color"], p + "/color", 0.0, 1.0);
+        if (!color) {
+            return color.error();
+        }
+        style.color = *color;
+    }
+    if (j.contains("opacity")) {
+        auto opacity = number(j["opacity"], p + "/opacity", 0.0, 1.0);
+        if (!opacity) {
+            return opacity.error();
+        }
+        style.opacity = *opacity;
+    }
+    if (j.contains("visible")) {
+        auto visible = boolean(j["visible"], p + "/visible");
+        if (!visible) {
+            return visible.error();
+        }
+        style.visible = *visible;
+    }
+    return base::Ok{};
+}
+
+// The labels of the session's label map, in the order a user means them: `all` (opacity or
+// visibility of every label), then `only` (these ids visible, the rest hidden), then `styles` by
+// id, then `blend`.
+base::Status apply_labels(const json& j, const std::string& p, scene::Labels& labels) {
+    PENUMBRA_TRY(expect_object(j, p));
+    PENUMBRA_TRY(only_fields(j, p, {"all", "only", "styles", "blend"}));
+    if (!labels.shown()) {
+        return field_error(base::ErrorCode::invalid_value, p,
+                           "the session draws no label map: add_labels first");
+    }
+    if (j.contains("all")) {
+        const json& all = j["all"];
+        PENUMBRA_TRY(expect_object(all, p + "/all"));
+        PENUMBRA_TRY(only_fields(all, p + "/all", {"opacity", "visible"}));
+        for (scene::LabelStyle& style : labels.styles) {
+            PENUMBRA_TRY(apply_label_style(all, p + "/all", style));
+        }
+    }
+    if (j.contains("only")) {
+        const json& only = j["only"];
+        if (!only.is_array()) {
+            return field_error(base::ErrorCode::invalid_value, p + "/only",
+                               "expected an array of label ids");
+        }
+        for (scene::LabelStyle& style : labels.styles) {
+            style.visible = false;
+        }
+        for (std::size_t i = 0; i < only.size(); ++i) {
+            const std::string pointer = p + "/only/" + std::to_string(i);
+            if (!only[i].is_number_integer()) {
+                return field_error(base::ErrorCode::invalid_value, pointer, "expected a label id");
+            }
+            auto style = style_of(labels, std::to_string(only[i].get<std::int64_t>()), pointer);
+            if (!style) {
+                return style.error();
+            }
+            (*style)->visible = true;
+        }
+    }
+    if (j.contains("styles")) {
+        const json& styles = j["styles"];
+        PENUMBRA_TRY(expect_object(styles, p + "/styles"));
+        for (const auto& [key, value] : styles.items()) {
+            const std::string pointer = p + "/styles/" + pointer_token(key);
+            auto style = style_of(labels, key, pointer);
+            if (!style) {
+                return style.error();
+            }
+            PENUMBRA_TRY(apply_label_style(value, pointer, **style));
+        }
+    }
+    if (j.contains("blend")) {
+        auto blend = number(j["blend"], p + "/blend", 0.0, 1.0);
+        if (!blend) {
+            return blend.error();
+        }
+        labels.blend = *blend;
+    }
+    return base::Ok{};
+}
+
 base::Result<scene::TransferFunction> transfer_function_from(
         const json& j, const std::string& p, std::optional<std::pair<double, double>> range) {
     PENUMBRA_TRY(expect_object(j, p));
@@ -393,7 +494,7 @@ base::Status apply_patch(std::string_view patch_json, scene::State& state, const
 
 base::Status apply_patch(const Patch& parsed, scene::State& state, const Limits& limits) {
     const json& patch = parsed.document().object;
-    PENUMBRA_TRY(only_fields(patch, "", {"transfer_function"},
+    PENUMBRA_TRY(only_fields(patch, "", {"transfer_function", "labels"},
                              [](const std::string& key) { return is_setting_or_part(key); }));
     scene::State next = state;
     for (const auto& [key, value] : patch.items()) {
@@ -405,6 +506,8 @@ base::Status apply_patch(const Patch& parsed, scene::State& state, const Limits&
                 return tf.error();
             }
             next.frame.transfer_function = std::move(tf.value());
+        } else if (key == "labels") {
+            PENUMBRA_TRY(apply_labels(value, "/labels", next.frame.labels));
         } else {
             PENUMBRA_TRY(apply_object(value, "/" + key, next, limits));
         }
@@ -415,7 +518,9 @@ base::Status apply_patch(const Patch& parsed, scene::State& state, const Limits&
         const std::string& where = status.error().where;
         const std::string part = where.substr(0, where.find('.'));
         std::string pointer =
-                (is_setting_or_part(part) || part == "transfer_function" ? "/" : "/settings/") +
+                (is_setting_or_part(part) || part == "transfer_function" || part == "labels"
+                         ? "/"
+                         : "/settings/") +
                 where;
         std::replace(pointer.begin(), pointer.end(), '.', '/');
         return field_error(base::ErrorCode::invalid_value, pointer, status.error().message);
@@ -450,7 +555,21 @@ json state_json(const scene::State& state) {
         }
     }
     out["transfer_function"] = transfer_function_json(state.frame.transfer_function);
+    if (state.frame.labels.shown()) {
+        out["labels"] = labels_json(state.frame.labels);
+    }
     return out;
+}
+
+json labels_json(const scene::Labels& labels) {
+    json styles = json::object();
+    for (const scene::LabelStyle& style : labels.styles) {
+        styles[std::to_string(style.id)] = {
+                {"color", json::array({style.color.r, style.color.g, style.color.b})},
+                {"opacity", style.opacity},
+                {"visible", style.visible}};
+    }
+    return {{"blend", labels.blend}, {"styles", std::move(styles)}};
 }
 
 }  // namespace json_fields

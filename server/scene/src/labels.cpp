@@ -27,7 +27,7 @@ base::Status validate(const Labels& labels) {
     }
     std::unordered_set<std::int64_t> ids;
     for (const LabelStyle& style : labels.styles) {
-        const std::string where = "labels." + std::to_string(style.id);
+        const std::string where = "labels.styles." + std::to_string(style.id);
         if (!ids.insert(style.id).second) {
             return invalid(where, "label " + std::to_string(style.id) + " is styled twice");
         }

@@ -310,6 +310,11 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(FrameFailure{status.error(), job.request_id});
         return;
     }
+    if (auto status = renderer.set_labels(job.labels); !status) {
+        failures_.add();
+        done(FrameFailure{status.error(), job.request_id});
+        return;
+    }
     const scene::Refinement refinement = job.request.refinement;
     const bool may_refine = !job.interactive && refinement.step < job.refinement_steps;
     if (may_refine && refinement.step == 0) {

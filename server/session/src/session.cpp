@@ -1,6 +1,7 @@
 #include "penumbra/session/session.hpp"
 
 #include <penumbra/base/secret.hpp>
+#include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/camera.hpp>
 
 #include <algorithm>
@@ -133,6 +134,11 @@ void Session::set_state(scene::State state, ViewerId changed_by) {
 
 base::Result<scene::State> Session::change_state(ViewerId viewer, const StateChange& change) {
     const std::lock_guard lock(mutex_);
+    return change_state_locked(viewer, change);
+}
+
+base::Result<scene::State> Session::change_state_locked(ViewerId viewer,
+                                                        const StateChange& change) {
     if (owner_ != viewer) {
         return base::make_error(base::ErrorCode::invalid_message,
                                 "only the session's owner can change it; viewers who joined watch",
@@ -149,6 +155,32 @@ base::Result<scene::State> Session::change_state(ViewerId viewer, const StateCha
         }
     }
     return state_;
+}
+
+Session::Labels Session::labels() const {
+    const std::lock_guard lock(mutex_);
+    return labels_;
+}
+
+base::Result<scene::State> Session::set_labels(ViewerId viewer, std::string labels_id,
+                                               std::shared_ptr<const volume::LabelMap> labels) {
+    if (labels) {
+        if (auto status = volume::check_overlap(*volume_, labels->indices); !status) {
+            base::Error error = status.error();
+            error.where = "/volume";
+            return error;
+        }
+    }
+    const auto styles = labels ? render::label_styles(*labels) : scene::Labels{};
+    const std::lock_guard lock(mutex_);
+    auto changed = change_state_locked(viewer, [&](scene::State& state) {
+        state.frame.labels = styles;
+        return base::Status{base::Ok{}};
+    });
+    if (changed) {
+        labels_ = {labels ? std::move(labels_id) : std::string{}, std::move(labels)};
+    }
+    return changed;
 }
 
 base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
@@ -247,7 +279,16 @@ void Session::render(Scheduler& scheduler, std::int64_t request_id, bool interac
 
 RenderJob Session::make_job(std::int64_t request_id, bool interactive,
                             const quality::Table* quality_table) const {
-    scene::State current = state();
+    scene::State current;
+    RenderJob job;
+    {
+        // The state and the label map its labels style, read together.
+        const std::lock_guard lock(mutex_);
+        current = state_;
+        if (current.frame.labels.shown()) {
+            job.labels = labels_.map;
+        }
+    }
     std::string budget_note;
     if (current.frame_budget_ms > 0.0 && quality_table != nullptr) {
         const auto choice =
@@ -258,7 +299,6 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
             budget_note = "; " + choice->describe(current.frame_budget_ms);
         }
     }
-    RenderJob job;
     job.volume = volume_;
     job.output = current.output;
     job.request_id = request_id;

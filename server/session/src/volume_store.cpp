@@ -186,6 +186,7 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
                        [](const auto& entry) {
                            base::log_info("volumes", "dropped " + entry.key + " (memory budget)");
                        }})
+    , labels_(memory_budget, {})
     , loaders_(loader_threads) {
     if (metrics::Registry* registry = scan_options_.metrics) {
         scan_metrics_.emplace(ScanMetrics{
@@ -660,7 +661,22 @@ std::size_t VolumeStore::loads() const {
     return loads_;
 }
 
-LoadedVolume VolumeStore::acquire(const std::string& id) {
+namespace {
+
+std::size_t bytes_held(const volume::Volume& volume) {
+    return volume.data.size();
+}
+
+std::size_t bytes_held(const volume::LabelMap& labels) {
+    return labels.indices.data.size();
+}
+
+}  // namespace
+
+template <class Loaded, class Load>
+base::Result<std::shared_ptr<const Loaded>> VolumeStore::load_listed(
+        const std::string& id, base::LruCache<std::string, std::shared_ptr<const Loaded>>& cache,
+        const Load& load) {
     const auto listed = [&] {
         return std::find_if(entries_.begin(), entries_.end(),
                             [&](const VolumeEntry& e) { return e.id == id; });
@@ -688,7 +704,7 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
             return base::make_error(base::ErrorCode::unknown_volume,
                                     "no volume '" + id + "' on this server", "/volume");
         }
-        if (const auto* held = loaded_.find(id)) {
+        if (const auto* held = cache.find(id)) {
             return *held;
         }
         path = entry->path;
@@ -706,15 +722,14 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
         options.dicom_subfolders = false;
     }
     // Loading takes seconds for large files; listing and opening loaded volumes go on meanwhile.
-    auto loaded = volume::load_volume(path, options);
+    auto loaded = load(path, options);
     if (!loaded) {
         base::Error error = loaded.error();
         error.message = relative_paths(std::move(error.message));
         error.where = relative_paths(std::move(error.where));
         return error;
     }
-    auto shared = std::make_shared<const volume::Volume>(std::move(loaded.value()));
-    histogram(shared);
+    auto shared = std::make_shared<const Loaded>(std::move(loaded.value()));
     const std::lock_guard lock(mutex_);
     ++loads_;
     if (std::none_of(entries_.begin(), entries_.end(),
@@ -722,8 +737,29 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
         return shared;  // rescanned away meanwhile; still usable by this caller
     }
     base::log_info("volumes", "loaded " + id);
-    loaded_.insert(id, shared, shared->data.size());
+    cache.insert(id, shared, bytes_held(*shared));
     return shared;
+}
+
+LoadedVolume VolumeStore::acquire(const std::string& id) {
+    auto loaded =
+            load_listed<volume::Volume>(id, loaded_, [](const auto& path, const auto& options) {
+                return volume::load_volume(path, options);
+            });
+    if (loaded) {
+        histogram(*loaded);  // computed once per volume
+    }
+    return loaded;
+}
+
+LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
+    return load_listed<volume::LabelMap>(id, labels_, [](const auto& path, const auto& options) {
+        return volume::load_label_map(path, options);
+    });
+}
+
+void VolumeStore::acquire_labels_async(std::string id, AcquireLabelsDone done) {
+    loaders_.post([this, id = std::move(id), done = std::move(done)] { done(acquire_labels(id)); });
 }
 
 }  // namespace penumbra::session

@@ -55,6 +55,43 @@ TEST(StateJson, RoundTripsThroughApplyPatch) {
     }
 }
 
+// A session drawing a label map: its labels' styles round-trip through `state` and `set` as the
+// rest do, and a patch applies all, then only, then styles by id, then blend.
+TEST(StateJson, LabelStylesRoundTripAndApplyInTheirOrder) {
+    scene::State state = preset_state("mri_brain");
+    state.frame.labels.styles = {{.id = 1, .color = {0.8, 0.8, 0.8}},
+                                 {.id = 45, .color = {0.2, 0.2, 0.8}},
+                                 {.id = 46, .color = {0.5, 0.1, 0.1}}};
+    ASSERT_TRUE(apply_patch(R"({"labels":{"all":{"opacity":0.5},"only":[45,46],
+                                "styles":{"46":{"visible":false,"color":[1,0,0]}},"blend":0.9}})",
+                            state, Limits{})
+                        .ok());
+    const scene::Labels& labels = state.frame.labels;
+    EXPECT_EQ(labels.styles[0].visible, false);
+    EXPECT_EQ(labels.styles[1].visible, true);
+    EXPECT_EQ(labels.styles[2].visible, false);
+    EXPECT_EQ(labels.styles[2].color, glm::dvec3(1.0, 0.0, 0.0));
+    EXPECT_EQ(labels.styles[0].opacity, 0.5);
+    EXPECT_EQ(labels.blend, 0.9);
+
+    const std::string json = state_to_json(state);
+    scene::State copy = preset_state("grey_ramp");
+    copy.frame.labels.styles = {{.id = 1}, {.id = 45}, {.id = 46}};
+    ASSERT_TRUE(apply_patch(json, copy, Limits{}).ok());
+    EXPECT_EQ(state_to_json(copy), json);
+    EXPECT_EQ(copy.frame.labels, labels);
+
+    // An id the map does not hold, a colour out of range: refused at their pointers, nothing
+    // changed.
+    auto refused = apply_patch(R"({"labels":{"only":[45, 7]}})", copy, Limits{});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().where, "/labels/only/1");
+    refused = apply_patch(R"({"labels":{"styles":{"45":{"color":[2,0,0]}}}})", copy, Limits{});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().where, "/labels/styles/45/color/0");
+    EXPECT_EQ(copy.frame.labels, labels);
+}
+
 // Each setting of the table, of every kind, set alone to a value no default has: `state` answers
 // it at its path with nothing else changed, and a value beyond its range (a name not among its
 // choices, a boolean's wrong type) is refused at that path. A row that the parser or `state` leaves

@@ -119,6 +119,17 @@ std::vector<std::string> text_messages() {
             out.push_back(error_message(request->id, applied.error()));
         }
     }
+    scene::State labelled;
+    labelled.frame.labels.styles = {
+            {.id = 1, .color = {0.8, 0.8, 0.8}},
+            {.id = 45, .color = {0.2, 0.2, 0.8}, .opacity = 0.5, .visible = false}};
+    const std::vector<LabelSummary> aal{{1, "Precentral_L", {204, 204, 204}, 28174},
+                                        {45, "Cuneus_L", {54, 54, 203}, 14015}};
+    out.push_back(labels_message(7, "s0", "aal.nii.gz", aal, labelled));
+    out.push_back(labels_message(std::nullopt, "s1", "aal.nii.gz", aal, labelled));
+    out.push_back(labels_message(8, "s0", "", {}, states.front()));
+    out.push_back(state_message("s0", labelled));
+    out.push_back(set_ack_message(9, labelled));
     out.push_back(stats_message(6, "{}"));
     out.push_back(stats_message(std::nullopt, R"({"sessions":2,"frames":{"sent":10}})"));
     return out;

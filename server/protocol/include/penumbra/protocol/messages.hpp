@@ -127,12 +127,29 @@ struct Resume {
     }
 };
 
+// Draws a label map (a segmentation, an atlas: a volume the server lists) inside the session's
+// volume, each label as its files show it; answered by `labels`. Owner only.
+struct AddLabels {
+    static constexpr std::string_view type = "add_labels";
+    std::string volume;
+
+    static constexpr auto members() {
+        return std::tuple{member("volume", &AddLabels::volume, 256)};
+    }
+};
+
+// Draws no label map; answered by `labels` with none.
+struct RemoveLabels {
+    static constexpr std::string_view type = "remove_labels";
+};
+
 // A new client message is its struct above (its `type` and, for members, `members()`) and its
 // alternative here; its handler, a specialisation of ConnectionHandler::handle in net (without one
 // net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
 // examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
 // and its row into proto/README.md; protocol_test fails until the schema and those agree.
-using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume>;
+using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume,
+                                   AddLabels, RemoveLabels>;
 
 template <typename Variant>
 struct MessageTypes;
@@ -219,6 +236,20 @@ std::string joined_message(std::optional<std::int64_t> id, const std::string& se
 // The session's full state after its owner changed it, for the other connections in the session.
 // It answers no request of theirs, so it has no id.
 std::string state_message(const std::string& session, const scene::State& state);
+
+// One label of a label map as `labels` lists it.
+struct LabelSummary {
+    std::int64_t id = 0;
+    std::string name;
+    std::uint8_t color[3] = {0, 0, 0};
+    std::uint64_t voxels = 0;
+};
+
+// The label map the session draws (`volume`, its id in volumes; empty for none) and its labels,
+// with the state its labels' styles are now in: answers add_labels and remove_labels.
+std::string labels_message(std::optional<std::int64_t> id, const std::string& session,
+                           const std::string& volume, const std::vector<LabelSummary>& labels,
+                           const scene::State& state);
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
 // Answers a `set` with the state as it now is, the patch applied: the client shows what the
 // server made of it (an orbit's eye, a view's pose, a preset's points) without rules of its own.

@@ -28,6 +28,8 @@ using Clock = std::chrono::steady_clock;
 
 struct RenderJob {
     std::shared_ptr<const volume::Volume> volume;
+    // The label map the request's labels style (null when it styles none).
+    std::shared_ptr<const volume::LabelMap> labels;
     scene::FrameRequest request;
     scene::Output output;
     std::int64_t request_id = -1;  // the id of the request that asked for the frame; -1: none

@@ -5,6 +5,7 @@
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/volume_store.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <atomic>
@@ -124,6 +125,23 @@ public:
     // the owner, or with the error of `change`.
     base::Result<scene::State> change_state(ViewerId viewer, const StateChange& change);
 
+    // The label map drawn inside the session's volume, by the id the volume store lists it under;
+    // none (null, empty) at first.
+    struct Labels {
+        std::string id;
+        std::shared_ptr<const volume::LabelMap> map;
+    };
+
+    [[nodiscard]] Labels labels() const;
+
+    // Lets the owner `viewer` draw `labels` (listed as `labels_id`) inside the volume, each label
+    // as its files show it (render::label_styles), or none (null): the state's labels change with
+    // the map in one step, so no frame pairs a map with another's styles; every other viewer gets
+    // the state. Returns the state as changed; fails as change_state for a viewer that is not the
+    // owner, and with no_overlap when the map lies outside the volume.
+    base::Result<scene::State> set_labels(ViewerId viewer, std::string labels_id,
+                                          std::shared_ptr<const volume::LabelMap> labels);
+
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
     // state the viewer starts from, under the same lock, so no change reaches the viewer before it.
@@ -163,6 +181,9 @@ public:
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
 private:
+    // change_state with mutex_ held.
+    base::Result<scene::State> change_state_locked(ViewerId viewer, const StateChange& change);
+
     const std::string id_;
     const std::string volume_id_;
     const std::shared_ptr<const volume::Volume> volume_;
@@ -179,6 +200,7 @@ private:
     std::optional<ViewerId> owner_;
     bool ended_ = false;  // its last viewer left: nobody may come back
     scene::State state_;
+    Labels labels_;
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 };

@@ -4,6 +4,7 @@
 #include <penumbra/base/result.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/session/worker_pool.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <glm/vec3.hpp>
@@ -47,6 +48,8 @@ VolumeSummary summarize(const std::string& id, const std::string& name,
 
 // A volume the store loaded, shared by every session on it; or why it could not be loaded.
 using LoadedVolume = base::Result<std::shared_ptr<const volume::Volume>>;
+// A listed file loaded as a label map (volume::load_label_map), shared likewise.
+using LoadedLabels = base::Result<std::shared_ptr<const volume::LabelMap>>;
 
 struct VolumeEntry {
     // The file's path relative to the data directory; for a DICOM series, its folder's ("." for
@@ -151,6 +154,15 @@ public:
     // acquire() on a loader thread; `done` is called there.
     void acquire_async(std::string id, AcquireDone done);
 
+    // A listed file loaded as a label map (its names from the files beside it), as acquire loads
+    // it as a volume, kept apart from the volumes under the same budget.
+    LoadedLabels acquire_labels(const std::string& id);
+
+    using AcquireLabelsDone = std::function<void(LoadedLabels)>;
+
+    // acquire_labels() on a loader thread; `done` is called there.
+    void acquire_labels_async(std::string id, AcquireLabelsDone done);
+
     // The histogram of a volume this store loaded, computed once per volume.
     std::shared_ptr<const std::vector<std::uint64_t>> histogram(
             const std::shared_ptr<const volume::Volume>& volume);
@@ -163,6 +175,13 @@ public:
     [[nodiscard]] std::size_t histograms_computed() const;
 
 private:
+    // Loads the listed file `id` with `load` (path, LoadOptions) into `cache`, or returns what the
+    // cache holds: what acquire and acquire_labels share.
+    template <class Loaded, class Load>
+    base::Result<std::shared_ptr<const Loaded>> load_listed(
+            const std::string& id,
+            base::LruCache<std::string, std::shared_ptr<const Loaded>>& cache, const Load& load);
+
     void rescan_loop();
     // Whether a walk may enter the folder whose resolved path is `real`.
     [[nodiscard]] bool may_walk(const std::filesystem::path& real) const;
@@ -194,6 +213,7 @@ private:
     mutable std::condition_variable first_pass_done_;
     // The loaded volumes by id, within the memory budget; VolumeEntry::loaded as list() fills it.
     base::LruCache<std::string, std::shared_ptr<const volume::Volume>> loaded_;
+    base::LruCache<std::string, std::shared_ptr<const volume::LabelMap>> labels_;
     std::size_t loads_ = 0;
 
     struct CachedHistogram {
