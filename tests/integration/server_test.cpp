@@ -527,6 +527,14 @@ TEST_F(ServerTest, TheOwnerDrawsAnAtlasInsideItsVolumeAndViewersSeeItsLabels) {
     const std::string broken = owner.request(
             R"({"v":1,"type":"add_labels","id":9,"volume":"broken_4x4x4_uint8.raw"})");
     EXPECT_EQ(field(broken, "code"), "volume_unreadable") << broken;
+    // A scan is no label map, though its integers would make one; asked again, it is not read
+    // again.
+    for (int i = 0; i < 2; ++i) {
+        const std::string scan =
+                owner.request(R"({"v":1,"type":"add_labels","id":9,"volume":"heads/ch2.nii.gz"})");
+        EXPECT_EQ(field(scan, "code"), "volume_unreadable") << scan;
+        EXPECT_NE(field(scan, "message").find("not a label map"), std::string::npos) << scan;
+    }
 
     const auto removed =
             nlohmann::json::parse(owner.request(R"({"v":1,"type":"remove_labels","id":10})"));

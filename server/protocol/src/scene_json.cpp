@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 namespace penumbra::protocol {
@@ -247,16 +248,27 @@ base::Status apply_camera(const json& j, const std::string& p, scene::State& sta
     return apply_object(j, p, state, limits, {"view", "orbit"});
 }
 
-// The style of label `key` (its id, as the state writes it), or an error at `pointer`.
-base::Result<scene::LabelStyle*> style_of(scene::Labels& labels, const std::string& key,
-                                          const std::string& pointer) {
+// The styles of a session's labels by id as the state writes it ("45"), looked up once per
+// member of a patch.
+using StylesById = std::unordered_map<std::string, scene::LabelStyle*>;
+
+StylesById styles_by_id(scene::Labels& labels) {
+    StylesById by_id;
     for (scene::LabelStyle& style : labels.styles) {
-        if (std::to_string(style.id) == key) {
-            return &style;
-        }
+        by_id.emplace(std::to_string(style.id), &style);
     }
-    return field_error(base::ErrorCode::invalid_value, pointer,
-                       "the label map holds no label '" + key + "'");
+    return by_id;
+}
+
+// The style of label `key`, or an error at `pointer`.
+base::Result<scene::LabelStyle*> style_of(const StylesById& by_id, const std::string& key,
+                                          const std::string& pointer) {
+    const auto found = by_id.find(key);
+    if (found == by_id.end()) {
+        return field_error(base::ErrorCode::invalid_value, pointer,
+                           "the label map holds no label '" + key + "'");
+    }
+    return found->second;
 }
 
 // A style's members as a patch sets them: any of color, opacity, visible.
@@ -297,6 +309,7 @@ base::Status apply_labels(const json& j, const std::string& p, scene::Labels& la
         return field_error(base::ErrorCode::invalid_value, p,
                            "the session draws no label map: add_labels first");
     }
+    const StylesById by_id = styles_by_id(labels);
     if (j.contains("all")) {
         const json& all = j["all"];
         PENUMBRA_TRY(expect_object(all, p + "/all"));
@@ -311,6 +324,10 @@ base::Status apply_labels(const json& j, const std::string& p, scene::Labels& la
             return field_error(base::ErrorCode::invalid_value, p + "/only",
                                "expected an array of label ids");
         }
+        if (only.size() > labels.styles.size()) {
+            return field_error(base::ErrorCode::out_of_range, p + "/only",
+                               "more ids than the label map holds labels");
+        }
         for (scene::LabelStyle& style : labels.styles) {
             style.visible = false;
         }
@@ -319,7 +336,7 @@ base::Status apply_labels(const json& j, const std::string& p, scene::Labels& la
             if (!only[i].is_number_integer()) {
                 return field_error(base::ErrorCode::invalid_value, pointer, "expected a label id");
             }
-            auto style = style_of(labels, std::to_string(only[i].get<std::int64_t>()), pointer);
+            auto style = style_of(by_id, std::to_string(only[i].get<std::int64_t>()), pointer);
             if (!style) {
                 return style.error();
             }
@@ -331,7 +348,7 @@ base::Status apply_labels(const json& j, const std::string& p, scene::Labels& la
         PENUMBRA_TRY(expect_object(styles, p + "/styles"));
         for (const auto& [key, value] : styles.items()) {
             const std::string pointer = p + "/styles/" + pointer_token(key);
-            auto style = style_of(labels, key, pointer);
+            auto style = style_of(by_id, key, pointer);
             if (!style) {
                 return style.error();
             }

@@ -753,9 +753,48 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
 }
 
 LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
-    return load_listed<volume::LabelMap>(id, labels_, [](const auto& path, const auto& options) {
-        return volume::load_label_map(path, options);
-    });
+    // A file refused as a label map is not read again while it stays as it was: a client asking
+    // for it again and again costs a look at its time, not a load.
+    std::optional<std::filesystem::file_time_type> modified;
+    {
+        const std::lock_guard lock(mutex_);
+        const auto entry = std::find_if(entries_.begin(), entries_.end(),
+                                        [&](const VolumeEntry& e) { return e.id == id; });
+        std::error_code ec;
+        if (entry != entries_.end()) {
+            const auto time = std::filesystem::last_write_time(entry->path, ec);
+            if (!ec) {
+                modified = time;
+            }
+        }
+        const auto refused = refused_labels_.find(id);
+        if (refused != refused_labels_.end() && modified && refused->second.first == *modified) {
+            return refused->second.second;
+        }
+    }
+    auto loaded = load_listed<volume::LabelMap>(
+            id, labels_,
+            [](const auto& path, const auto& options) -> base::Result<volume::LabelMap> {
+                auto map = volume::load_label_map(path, options);
+                if (!map) {
+                    return map.error();
+                }
+                // A scan is no label map, though its integers would make one: a server draws
+                // only files that say what they are (a label intent, names beside them).
+                if (!map->indices.label_intent && !map->named) {
+                    return base::make_error(
+                            base::ErrorCode::invalid_volume,
+                            "not a label map: neither marked as one (NIfTI's label intent) nor "
+                            "named (MRIcron's .nii.txt beside it, a .seg.nrrd's segments)",
+                            path.filename().string());
+                }
+                return map;
+            });
+    if (!loaded && modified && loaded.error().code != base::ErrorCode::unknown_volume) {
+        const std::lock_guard lock(mutex_);
+        refused_labels_.insert_or_assign(id, std::pair{*modified, loaded.error()});
+    }
+    return loaded;
 }
 
 void VolumeStore::acquire_labels_async(std::string id, AcquireLabelsDone done) {

@@ -1,6 +1,7 @@
 #include "file_name.hpp"
 #include "label_ids.hpp"
 
+#include <penumbra/base/text.hpp>
 #include <penumbra/volume/label_map.hpp>
 
 #include <glm/common.hpp>
@@ -40,6 +41,7 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
     }
     LabelMap map;
     map.warnings = names.warnings;
+    map.named = !names.labels.empty();
     std::map<std::int64_t, std::uint16_t> index_of{{0, 0}};
     for (const auto& [id, voxels] : *counts) {
         if (id == 0) {
@@ -47,11 +49,20 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
             continue;
         }
         const auto found = named.find(id);
-        map.labels.push_back(found != named.end()
-                                     ? *found->second
-                                     : Label{id, "label " + std::to_string(id), label_color(id)});
+        Label label = found != named.end()
+                              ? *found->second
+                              : Label{id, "label " + std::to_string(id), label_color(id)};
+        // Names reach JSON messages: a Latin-1 atlas or a hostile file must not break one.
+        label.name = base::valid_utf8(label.name, max_label_name_bytes);
+        map.labels.push_back(std::move(label));
         map.voxels.push_back(voxels);
         index_of.emplace(id, static_cast<std::uint16_t>(map.labels.size()));
+    }
+    if (map.labels.empty()) {
+        return base::make_error(base::ErrorCode::invalid_volume,
+                                "a label map needs a label: every voxel of this one holds 0, the "
+                                "background",
+                                stored.name);
     }
     std::size_t absent = 0;
     for (const auto& [id, label] : named) {
@@ -84,7 +95,7 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
     }
     indices->axes = stored.axes;
     indices->origin = stored.origin;
-    indices->label_intent = true;
+    indices->label_intent = stored.label_intent;
     map.indices = std::move(indices.value());
     return map;
 }

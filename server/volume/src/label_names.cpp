@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -46,7 +47,11 @@ std::optional<MricronLabelFiles> find_mricron_labels(const std::filesystem::path
 }
 
 glm::u8vec3 label_color(std::int64_t id) {
-    const double hue = std::fmod(static_cast<double>(id) * 0.6180339887498949, 1.0) * 6.0;
+    double turn = std::fmod(static_cast<double>(id) * 0.6180339887498949, 1.0);
+    if (turn < 0.0) {
+        turn += 1.0;  // negative ids (int16 maps, Slicer's label values) turn the other way round
+    }
+    const double hue = std::min(turn * 6.0, 5.999999);
     const double saturation = 0.65;
     const double value = 0.9;
     const double fraction = hue - std::floor(hue);
@@ -207,6 +212,7 @@ base::Result<LabelNames> read_slicer_segments(const NrrdKeyValues& keys) {
         const std::string number =
                 key.substr(7, underscore == std::string::npos ? std::string::npos : underscore - 7);
         if (underscore == std::string::npos || number.empty() || number.size() > 6 ||
+            (number.size() > 1 && number.front() == '0') ||
             number.find_first_not_of("0123456789") != std::string::npos) {
             continue;  // "Segmentation_..." keys describe the whole file
         }
@@ -220,10 +226,24 @@ base::Result<LabelNames> read_slicer_segments(const NrrdKeyValues& keys) {
             const auto found = fields.find(name);
             return found == fields.end() ? std::nullopt : std::optional(found->second);
         };
-        if (const auto layer = field("Layer"); layer && *layer != "0") {
+        const auto whole_number = [](const std::string& text) -> std::optional<std::int64_t> {
+            std::int64_t value = 0;
+            const auto [end, error] =
+                    std::from_chars(text.data(), text.data() + text.size(), value);
+            if (error != std::errc{} || end != text.data() + text.size()) {
+                return std::nullopt;
+            }
+            return value;
+        };
+        const auto layer_text = field("Layer");
+        const auto layer = layer_text ? whole_number(*layer_text) : std::optional<std::int64_t>(0);
+        if (!layer) {
+            result.warnings.push_back("Segment" + std::to_string(number) +
+                                      "_Layer is not a whole number, read as 0: " + *layer_text);
+        } else if (*layer != 0) {
             return base::make_error(base::ErrorCode::unsupported_dimension,
                                     "segment " + std::to_string(number) + " lies on layer " +
-                                            *layer +
+                                            *layer_text +
                                             ": its segments overlap, which a label map cannot "
                                             "hold; in 3D Slicer, export them to a labelmap first",
                                     "Segment" + std::to_string(number) + "_Layer");
@@ -231,8 +251,10 @@ base::Result<LabelNames> read_slicer_segments(const NrrdKeyValues& keys) {
         Label label;
         label.id = number + 1;
         if (const auto value = field("LabelValue")) {
-            std::istringstream in(*value);
-            if (!(in >> label.id)) {
+            const auto parsed = whole_number(*value);
+            if (parsed) {
+                label.id = *parsed;
+            } else {
                 result.warnings.push_back("Segment" + std::to_string(number) +
                                           "_LabelValue is not a whole number: " + *value);
                 continue;

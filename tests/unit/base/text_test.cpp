@@ -37,5 +37,17 @@ TEST(Text, NumberListsNameTheItemThatIsNotANumber) {
     EXPECT_FALSE(parse_numbers("1,,2").ok());
 }
 
+TEST(Text, ValidUtf8KeepsWholeCharactersAndMarksStrayBytes) {
+    EXPECT_EQ(valid_utf8("Precentral_L", 256), "Precentral_L");
+    EXPECT_EQ(valid_utf8("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\xa7\xa0", 256),
+              "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\xa7\xa0");
+    EXPECT_EQ(valid_utf8("caf\xe9", 256), "caf?");           // Latin-1
+    EXPECT_EQ(valid_utf8("\xc0\xaf", 256), "??");            // an overlong '/'
+    EXPECT_EQ(valid_utf8("\xed\xa0\x80", 256), "???");       // a surrogate
+    EXPECT_EQ(valid_utf8("\xf4\x90\x80\x80", 256), "????");  // beyond U+10FFFF
+    EXPECT_EQ(valid_utf8("ab\xc3\xa9", 3), "ab");            // not half a character
+    EXPECT_EQ(valid_utf8("\xe2\x82", 256), "??");            // cut short
+}
+
 }  // namespace
 }  // namespace penumbra::base

@@ -89,6 +89,9 @@ TEST(StateJson, LabelStylesRoundTripAndApplyInTheirOrder) {
     refused = apply_patch(R"({"labels":{"styles":{"45":{"color":[2,0,0]}}}})", copy, Limits{});
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().where, "/labels/styles/45/color/0");
+    refused = apply_patch(R"({"labels":{"only":[1,1,1,1]}})", copy, Limits{});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, base::ErrorCode::out_of_range);
     EXPECT_EQ(copy.frame.labels, labels);
 }
 

@@ -234,5 +234,33 @@ TEST(LabelMap, DicomIsRefusedSayingWhy) {
     EXPECT_NE(refused.error().message.find("DICOM SEG"), std::string::npos);
 }
 
+// Names come from files and reach JSON: bytes that are not UTF-8 become '?', a long name is cut
+// at a whole character; a map of background alone is no label map; negative ids get a colour.
+TEST(LabelMap, NamesAreValidUtf8AndAMapNeedsALabel) {
+    auto ids = make_volume("ids", {3, 1, 1}, glm::dvec3(1.0), VoxelType::int16,
+                           std::vector<std::byte>{std::byte{0}, std::byte{0}, std::byte{0xFE},
+                                                  std::byte{0xFF}, std::byte{7}, std::byte{0}});
+    ASSERT_TRUE(ids.ok());
+    LabelNames names;
+    names.labels = {{-2, "Caf\xe9 noir", {1, 2, 3}},
+                    {7, std::string(300, 'a') + "\xc3\xa9", {4, 5, 6}}};
+    auto map = make_label_map(*ids, names);
+    ASSERT_TRUE(map.ok()) << map.error().to_string();
+    ASSERT_EQ(map->labels.size(), 2U);
+    EXPECT_EQ(map->labels[0].id, -2);
+    EXPECT_EQ(map->labels[0].name, "Caf? noir");
+    EXPECT_EQ(map->labels[1].name, std::string(256, 'a'));
+    EXPECT_TRUE(map->named);
+    EXPECT_NE(label_color(-2), glm::u8vec3(0));
+    EXPECT_NE(label_color(-32768), label_color(-32767));
+
+    auto background = make_volume("empty", {2, 1, 1}, glm::dvec3(1.0), VoxelType::uint8,
+                                  std::vector<std::byte>(2, std::byte{0}));
+    ASSERT_TRUE(background.ok());
+    auto refused = make_label_map(*background, {});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("needs a label"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace penumbra::volume

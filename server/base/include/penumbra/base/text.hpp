@@ -24,4 +24,9 @@ std::string not_a_number(std::string_view text);
 // has `where` as its place.
 Result<std::vector<double>> parse_numbers(std::string_view text, std::string where = {});
 
+// `text` as valid UTF-8 of at most `max_bytes` bytes, for text read from files that reaches a
+// JSON message (a label's name): each byte that does not belong to a valid sequence becomes '?',
+// and the text is cut at the last whole character that fits.
+std::string valid_utf8(std::string_view text, std::size_t max_bytes);
+
 }  // namespace penumbra::base

@@ -26,8 +26,9 @@ struct Pick {
 // the pixel's ray has gathered half of its opacity, the surface the eye sees there (a faint haze
 // in front of it is not what a user means), classified as the frame classifies: the transfer
 // function, the labels' opacities and visibility (`labels`, when the request styles them), the
-// cut. No hit where the ray never gathers that much. One ray on the CPU, in double, with the
-// frame's step and trilinear samples.
+// cut; each sample by itself (a pre-integrated frame's segments may put the surface a fraction
+// of a step away). No hit where the ray never gathers that much. One ray on the CPU, in double,
+// with the frame's step and its reconstruction.
 base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, int x, int y);
 

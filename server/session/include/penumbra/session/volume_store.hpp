@@ -214,6 +214,8 @@ private:
     // The loaded volumes by id, within the memory budget; VolumeEntry::loaded as list() fills it.
     base::LruCache<std::string, std::shared_ptr<const volume::Volume>> loaded_;
     base::LruCache<std::string, std::shared_ptr<const volume::LabelMap>> labels_;
+    // Files refused as label maps, by id, with their modification time when refused.
+    std::map<std::string, std::pair<std::filesystem::file_time_type, base::Error>> refused_labels_;
     std::size_t loads_ = 0;
 
     struct CachedHistogram {

@@ -25,11 +25,19 @@ struct LabelMap {
     std::vector<Label> labels;
     std::vector<std::uint64_t> voxels;  // per label, in the order of `labels`
     std::uint64_t background_voxels = 0;
+    // Named by a names file or the file's own keys (not every label need be): with a label intent
+    // (indices.label_intent, kept from the file), what says a file is a label map and not a scan.
+    bool named = false;
     std::vector<std::string> warnings;  // names-file lines skipped; named labels the volume lacks
 };
 
+// A label's name is kept as valid UTF-8 of at most this many bytes (bytes that are not UTF-8
+// become '?'): names come from files and reach JSON messages.
+inline constexpr std::size_t max_label_name_bytes = 256;
+
 // The label map of `stored` (its voxels' values are the ids) named by `names`. A floating-point
-// volume, more than max_labels labels, or a file of several volumes is an Error.
+// volume, one with no label besides the background, more than max_labels labels, or a file of
+// several volumes is an Error.
 base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& names);
 
 // The names of the label map in `path`: from `names` where given (read_label_description), else
