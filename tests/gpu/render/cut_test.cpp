@@ -3,6 +3,7 @@
 // shadows), checked against analytic transmittance, against the CPU reference and for the light
 // buffer's reuse.
 
+#include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
 #include <penumbra/encode/compare.hpp>
@@ -18,6 +19,13 @@
 
 namespace penumbra::render {
 namespace {
+
+using test::brightest_on_slab;
+using test::receiver_red;
+using test::receiver_scene;
+
+// In the receiver scene (receiver_scene.hpp) a crop keeping x < 0.2 of the world removes the slab
+// and nothing of the receiver.
 
 class CutTest : public ::testing::Test {
 protected:
@@ -60,53 +68,6 @@ protected:
     std::unique_ptr<Renderer> renderer_;
     std::shared_ptr<const volume::Volume> volume_;
 };
-
-// The shadow scene of shadow_test (a receiver column lit along -x, half of it behind a slab) seen
-// from +z; the crop keeps x < 0.2 of the world, which removes the slab and nothing of the receiver.
-scene::FrameRequest receiver_scene(scene::Mode mode) {
-    scene::FrameRequest request;
-    request.camera.eye = {0.0, 0.0, 3.0};
-    request.camera.target = {0.0, 0.0, 0.0};
-    request.camera.up = {0.0, 1.0, 0.0};
-    request.light.direction = {1.0, 0.0, 0.0};  // toward the light: light travels along -x
-    request.light.ambient = 0.0;
-    request.settings.shading.diffuse = 1.0;
-    request.settings.mode = mode;
-    request.settings.width = 64;
-    request.settings.height = 64;
-    request.settings.compositing = scene::Compositing::extinction;
-    request.settings.sample_distance = 1.0 / 128.0;
-    request.settings.light_buffer.slices = 256;
-    request.settings.light_buffer.resolution = 64;
-    request.transfer_function = {
-            "slab", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.5, 0.03}, {1.0, 0.004}}};
-    return request;
-}
-
-// The mean red of the receiver's middle columns (world x = -0.25 projects to column 22) over
-// image rows row0..row1: world y = -0.3, behind the slab, is row 44, y = +0.3 row 20.
-double receiver_red(const Frame& frame, int row0, int row1) {
-    double sum = 0.0;
-    int count = 0;
-    for (int y = row0; y <= row1; ++y) {
-        for (int x = 20; x <= 24; ++x) {
-            sum += frame.image.pixel(x, y)[0];
-            ++count;
-        }
-    }
-    return sum / count;
-}
-
-// The brightest red where the slab shows (world x 0.25..0.375, y < 0: columns 43..46, rows 36..60).
-double brightest_on_slab(const Frame& frame) {
-    double brightest = 0.0;
-    for (int y = 36; y <= 60; ++y) {
-        for (int x = 43; x <= 46; ++x) {
-            brightest = std::max(brightest, static_cast<double>(frame.image.pixel(x, y)[0]));
-        }
-    }
-    return brightest;
-}
 
 struct CutCase {
     scene::Mode mode;

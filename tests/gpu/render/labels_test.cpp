@@ -2,6 +2,7 @@
 // never mix, and a map on another grid or stored mirror-handed lands on the same anatomy), a hidden
 // label transparent to the light as to the camera, and every mode against the CPU reference.
 
+#include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
 #include <penumbra/encode/compare.hpp>
@@ -19,6 +20,10 @@
 
 namespace penumbra::render {
 namespace {
+
+using test::brightest_on_slab;
+using test::receiver_red;
+using test::receiver_scene;
 
 // A label map of `dims` voxels whose ids `id_at` gives, on the grid the other arguments place.
 std::shared_ptr<const volume::LabelMap> label_map(
@@ -89,51 +94,6 @@ std::uint8_t scene_label(unsigned x, unsigned y, unsigned) {
         return slab_id;
     }
     return 0;
-}
-
-scene::FrameRequest receiver_scene(scene::Mode mode) {
-    scene::FrameRequest request;
-    request.camera.eye = {0.0, 0.0, 3.0};
-    request.camera.target = {0.0, 0.0, 0.0};
-    request.camera.up = {0.0, 1.0, 0.0};
-    request.light.direction = {1.0, 0.0, 0.0};
-    request.light.ambient = 0.0;
-    request.settings.shading.diffuse = 1.0;
-    request.settings.mode = mode;
-    request.settings.width = 64;
-    request.settings.height = 64;
-    request.settings.compositing = scene::Compositing::extinction;
-    request.settings.sample_distance = 1.0 / 128.0;
-    request.settings.light_buffer.slices = 256;
-    request.settings.light_buffer.resolution = 64;
-    request.transfer_function = {
-            "slab", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.5, 0.03}, {1.0, 0.004}}};
-    return request;
-}
-
-// The mean red of the receiver's middle columns over image rows row0..row1 (cut_test): rows 17..24
-// lie in the light, 40..47 behind the slab.
-double receiver_red(const Frame& frame, int row0, int row1) {
-    double sum = 0.0;
-    int count = 0;
-    for (int y = row0; y <= row1; ++y) {
-        for (int x = 20; x <= 24; ++x) {
-            sum += frame.image.pixel(x, y)[0];
-            ++count;
-        }
-    }
-    return sum / count;
-}
-
-// The brightest red where the slab shows.
-double brightest_on_slab(const Frame& frame) {
-    double brightest = 0.0;
-    for (int y = 36; y <= 60; ++y) {
-        for (int x = 43; x <= 46; ++x) {
-            brightest = std::max(brightest, static_cast<double>(frame.image.pixel(x, y)[0]));
-        }
-    }
-    return brightest;
 }
 
 void hide(scene::Labels& labels, std::int64_t id) {
