@@ -2,6 +2,7 @@
 // scattering variants, half-angle slicing and the shadow-ray reference, checked against analytic
 // transmittance, against the CPU reference, and against each other.
 
+#include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
 #include <penumbra/encode/compare.hpp>
@@ -133,37 +134,10 @@ class SlabShadowTest : public ShadowTest, public ::testing::WithParamInterface<s
 TEST_P(SlabShadowTest, SlabCastsAShadowOfThePredictedStrength) {
     constexpr unsigned n = 32;
     use(test::shadow_scene(n));
-    const double slab_alpha = 0.03;
-    scene::FrameRequest request;
-    request.camera.eye = {0.0, 0.0, 3.0};
-    request.camera.target = {0.0, 0.0, 0.0};
-    request.camera.up = {0.0, 1.0, 0.0};
-    request.light.direction = {1.0, 0.0, 0.0};  // toward the light: light travels along -x
-    request.light.ambient = 0.0;
-    request.settings.shading.diffuse = 1.0;
-    request.settings.mode = GetParam();
-    request.settings.width = 64;
-    request.settings.height = 64;
-    request.settings.compositing = scene::Compositing::extinction;
-    request.settings.sample_distance = 1.0 / 128.0;
-    request.settings.light_buffer.slices = 256;
-    request.settings.light_buffer.resolution = 64;
-    request.transfer_function = {
-            "slab", {{0.0, {1.0, 1.0, 1.0}}}, {{0.0, 0.0}, {0.5, slab_alpha}, {1.0, 0.004}}};
+    const double slab_alpha = 0.03;  // the receiver scene's TF gives the slab's value this
+    const scene::FrameRequest request = test::receiver_scene(GetParam());
     const Frame frame = render(request);
-    // The receiver's middle (world x = -0.25) projects to column 22; world y = ∓0.3 to rows 44 and
-    // 20 (the camera looks down -z with +y up).
-    const auto mean_red = [&](int row0, int row1) {
-        double sum = 0.0;
-        int count = 0;
-        for (int y = row0; y <= row1; ++y) {
-            for (int x = 20; x <= 24; ++x) {
-                sum += frame.image.pixel(x, y)[0];
-                ++count;
-            }
-        }
-        return sum / count;
-    };
+    const auto mean_red = [&](int row0, int row1) { return test::receiver_red(frame, row0, row1); };
     const double shadowed = mean_red(40, 47);
     const double lit = mean_red(17, 24);
     ASSERT_GT(lit, 40.0);
