@@ -550,6 +550,32 @@ TEST_F(ServerTest, TheOwnerDrawsAnAtlasInsideItsVolumeAndViewersSeeItsLabels) {
     EXPECT_EQ(owner.next_frame().header.request, 12);
 }
 
+// A hostile owner asks again and again to draw a scan as labels and sends label patches its
+// session cannot take, while another client's session is served: each request gets its error,
+// the other client gets its frames, and the hostile one's session still renders.
+TEST_F(ServerTest, AskingForLabelMapsAgainAndAgainLeavesAnotherSessionServed) {
+    TestClient watcher(port_);
+    watcher.open("heads/ch2.nii.gz", 32);
+    TestClient hostile(port_);
+    hostile.open("heads/ch2.nii.gz", 32);
+    for (int i = 0; i < 10; ++i) {
+        hostile.send(R"({"v":1,"type":"add_labels","id":)" + std::to_string(100 + i) +
+                     R"(,"volume":"heads/ch2.nii.gz"})");
+        hostile.send(R"({"v":1,"type":"set","id":)" + std::to_string(200 + i) +
+                     R"(,"labels":{"only":[1,2,3],"styles":{"x":{"visible":"no"}}}})");
+        watcher.send(R"({"v":1,"type":"render","id":)" + std::to_string(300 + i) + "}");
+        EXPECT_EQ(watcher.next_frame().header.request, 300 + i);
+    }
+    for (int i = 0; i < 20; ++i) {
+        const std::string reply = hostile.next_text(std::chrono::seconds(30));
+        EXPECT_EQ(field(reply, "type"), "error") << reply;
+        const std::string code = field(reply, "code");
+        EXPECT_TRUE(code == "volume_unreadable" || code == "invalid_value") << reply;
+    }
+    hostile.send(R"({"v":1,"type":"render","id":400})");
+    EXPECT_EQ(hostile.next_frame().header.request, 400);
+}
+
 TEST_F(ServerTest, ViewersAreToldEachStateTheOwnerSetsAndTheOwnerOnlyGetsItsAck) {
     TestClient owner(port_);
     owner.open("heads/ch2.nii.gz", 32);

@@ -34,11 +34,7 @@ glm::dvec3 normal_from_gradient(glm::dvec3 gradient, const VolumeSampler& sample
 // Below this transmittance a shadow ray stops: the rest cannot matter (shadow_ray.glsl).
 constexpr double shadow_ray_cutoff = 1e-4;
 
-double sample_opacity(double alpha, double step, const scene::RenderSettings& s) {
-    return s.compositing == scene::Compositing::extinction
-                   ? optics::extinction_opacity(alpha, step, s.opacity_unit_distance)
-                   : optics::corrected_opacity(alpha, step, s.opacity_unit_distance);
-}
+using optics::sample_opacity;
 
 // What the marches classify: each sample, or with pre-integration the segment from the value
 // before it (shaders/include/preintegration.glsl), in the label at the sample where labels are

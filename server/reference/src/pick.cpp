@@ -58,12 +58,7 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
         if (label_lookup) {
             classified = label_lookup->classify(classified, position);
         }
-        const double alpha = s.compositing == scene::Compositing::extinction
-                                     ? optics::extinction_opacity(classified.a, marching.step,
-                                                                  s.opacity_unit_distance)
-                                     : optics::corrected_opacity(classified.a, marching.step,
-                                                                 s.opacity_unit_distance);
-        transmittance *= 1.0 - alpha;
+        transmittance *= 1.0 - optics::sample_opacity(classified.a, marching.step, s);
         if (transmittance > 0.5) {
             continue;
         }

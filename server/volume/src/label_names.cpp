@@ -17,6 +17,23 @@ namespace {
 constexpr std::size_t lut_entries = 256;
 constexpr std::uintmax_t lut_bytes = 3 * lut_entries;
 
+// Calls `on_line(number, line)` for each line of `in` that holds more than blanks, without its
+// CR (names files come from Windows too), numbered from 1.
+template <class OnLine>
+void for_each_line(std::istream& in, const OnLine& on_line) {
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+        ++number;
+        if (!line.empty() && line.back() == '\r') {
+            line.pop_back();
+        }
+        if (line.find_first_not_of(" \t") != std::string::npos) {
+            on_line(number, line);
+        }
+    }
+}
+
 std::string line_warning(const std::filesystem::path& path, int number, const std::string& line,
                          const char* expected) {
     return path.filename().string() + " line " + std::to_string(number) + ": not " + expected +
@@ -92,21 +109,12 @@ base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files) {
         }
     }
     LabelNames result;
-    std::string line;
-    int number = 0;
-    while (std::getline(names, line)) {
-        ++number;
-        if (!line.empty() && line.back() == '\r') {
-            line.pop_back();
-        }
-        if (line.find_first_not_of(" \t") == std::string::npos) {
-            continue;
-        }
+    for_each_line(names, [&](int number, const std::string& line) {
         std::istringstream fields(line);
         Label label;
         if (!(fields >> label.id >> label.name)) {
             result.warnings.push_back(line_warning(files.names, number, line, "`id name`"));
-            continue;
+            return;
         }
         if (!lut.empty() && label.id >= 0 && static_cast<std::size_t>(label.id) < lut_entries) {
             const auto entry = static_cast<std::size_t>(label.id);
@@ -117,7 +125,7 @@ base::Result<LabelNames> read_mricron_labels(const MricronLabelFiles& files) {
             label.color = label_color(label.id);
         }
         result.labels.push_back(std::move(label));
-    }
+    });
     return result;
 }
 
@@ -177,16 +185,9 @@ base::Result<LabelNames> read_label_description(const std::filesystem::path& pat
                                 path.string());
     }
     LabelNames result;
-    std::string line;
-    int number = 0;
-    while (std::getline(file, line)) {
-        ++number;
-        if (!line.empty() && line.back() == '\r') {
-            line.pop_back();
-        }
-        const std::size_t first = line.find_first_not_of(" \t");
-        if (first == std::string::npos || line[first] == '#') {
-            continue;
+    for_each_line(file, [&](int number, const std::string& line) {
+        if (line[line.find_first_not_of(" \t")] == '#') {
+            return;
         }
         auto label =
                 line.find('"') != std::string::npos ? itk_snap_label(line) : freesurfer_label(line);
@@ -194,10 +195,10 @@ base::Result<LabelNames> read_label_description(const std::filesystem::path& pat
             result.warnings.push_back(line_warning(path, number, line,
                                                    "ITK-SNAP's `IDX R G B A VIS MSH \"LABEL\"` or "
                                                    "FreeSurfer's `id name R G B A`"));
-            continue;
+            return;
         }
         result.labels.push_back(std::move(*label));
-    }
+    });
     return result;
 }
 

@@ -3,6 +3,8 @@
 // The emission–absorption formulas, written once for the CPU reference and the tests and mirrored
 // line for line by shaders/include/compositing.glsl.
 
+#include <penumbra/scene/frame_request.hpp>
+
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -23,6 +25,14 @@ T corrected_opacity(T alpha, T step, T unit_distance) {
 template <class T>
 T extinction_opacity(T alpha, T step, T unit_distance) {
     return T(1) - std::exp(-glm::clamp(alpha, T(0), T(1)) / unit_distance * step);
+}
+
+// A sample's opacity over a step of length `step` as the frame composites it (the compositing
+// and opacity unit distance of `settings`): sample_opacity in shaders/include/compositing.glsl.
+inline double sample_opacity(double alpha, double step, const scene::RenderSettings& settings) {
+    return settings.compositing == scene::Compositing::extinction
+                   ? extinction_opacity(alpha, step, settings.opacity_unit_distance)
+                   : corrected_opacity(alpha, step, settings.opacity_unit_distance);
 }
 
 // Front-to-back "over": accumulated premultiplied colour/opacity `dst` receives a sample of
