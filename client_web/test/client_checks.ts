@@ -435,6 +435,9 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
       case 'remove_labels':
         members(o, '', envelope);
         break;
+      case 'pick':
+        members(o, '', { ...envelope, x: number(0, 1), y: number(0, 1) }, ['x', 'y']);
+        break;
       case 'join':
         members(o, '', { ...envelope, session: textOf(limits, 'join/session') }, ['session']);
         break;

@@ -550,6 +550,69 @@ TEST_F(ServerTest, TheOwnerDrawsAnAtlasInsideItsVolumeAndViewersSeeItsLabels) {
     EXPECT_EQ(owner.next_frame().header.request, 12);
 }
 
+// A pick over the wire: the brain seen from the left with the AAL atlas drawn names a left
+// hemisphere's region under the view's middle, for the owner and a viewer alike; hidden, the same
+// point names another region deeper in; a corner is no hit; a point outside the view is refused.
+TEST_F(ServerTest, APickNamesTheLabelUnderAPointOfTheView) {
+    for (const char* file : {"ch2bet.nii.gz", "aal.nii.gz", "aal.nii.txt", "aal.nii.lut"}) {
+        fs::copy_file(fs::path("/usr/share/mricron/templates") / file, data_ / "heads" / file);
+    }
+    ASSERT_TRUE(volumes_->scan().ok());
+    TestClient owner(port_);
+    owner.open("heads/ch2bet.nii.gz", 32);
+    const std::string added =
+            owner.request(R"({"v":1,"type":"add_labels","id":3,"volume":"heads/aal.nii.gz"})");
+    ASSERT_EQ(field(added, "type"), "labels") << added;
+    const std::string set = owner.request(
+            R"({"v":1,"type":"set","id":4,"camera":{"view":"left"},"transfer_function":{"preset":"mri_skin"}})");
+    ASSERT_EQ(field(set, "type"), "ack") << set;
+    const auto seen =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"pick","id":5,"x":0.5,"y":0.5})"));
+    ASSERT_EQ(seen.at("type"), "picked") << seen;
+    EXPECT_EQ(seen.at("id"), 5);
+    EXPECT_EQ(seen.at("session"), owner.session);
+    ASSERT_EQ(seen.at("hit"), true) << seen;
+    EXPECT_LT(seen.at("position")[0].get<double>(), -40.0) << "left of the midline";
+    EXPECT_EQ(seen.at("hounsfield"), false);
+    ASSERT_TRUE(seen.contains("label")) << seen;
+    const auto label_id = seen.at("label").at("id").get<std::int64_t>();
+    EXPECT_TRUE(seen.at("label").at("name").get<std::string>().ends_with("_L")) << seen;
+
+    TestClient viewer(port_);
+    const std::string joined =
+            viewer.request(R"({"v":1,"type":"join","id":6,"session":")" + owner.session + "\"}");
+    ASSERT_EQ(field(joined, "type"), "joined") << joined;
+    EXPECT_EQ(field(viewer.next_text(std::chrono::seconds(10)), "type"), "labels");
+    const auto theirs = nlohmann::json::parse(
+            viewer.request(R"({"v":1,"type":"pick","id":7,"x":0.5,"y":0.5})"));
+    EXPECT_EQ(theirs.at("label"), seen.at("label")) << theirs;
+    EXPECT_EQ(theirs.at("position"), seen.at("position"));
+
+    const std::string hidden =
+            owner.request(R"({"v":1,"type":"set","id":8,"labels":{"styles":{")" +
+                          std::to_string(label_id) + R"(":{"visible":false}}}})");
+    ASSERT_EQ(field(hidden, "type"), "ack") << hidden;
+    const auto behind =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"pick","id":9,"x":0.5,"y":0.5})"));
+    ASSERT_EQ(behind.at("hit"), true) << behind;
+    ASSERT_TRUE(behind.contains("label")) << behind;
+    EXPECT_NE(behind.at("label").at("id"), label_id);
+    EXPECT_GT(behind.at("position")[0].get<double>(), seen.at("position")[0].get<double>())
+            << "deeper along the ray: " << seen << behind;
+
+    const auto corner =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"pick","id":10,"x":0,"y":1})"));
+    EXPECT_EQ(corner.at("hit"), false) << corner;
+    EXPECT_FALSE(corner.contains("position"));
+    const std::string outside = owner.request(R"({"v":1,"type":"pick","id":11,"x":1.5,"y":0})");
+    EXPECT_EQ(field(outside, "code"), "out_of_range") << outside;
+    EXPECT_EQ(field(outside, "field"), "/x") << outside;
+    TestClient stranger(port_);
+    const std::string sessionless =
+            stranger.request(R"({"v":1,"type":"pick","id":12,"x":0.5,"y":0.5})");
+    EXPECT_EQ(field(sessionless, "code"), "no_session") << sessionless;
+}
+
 // A hostile owner asks again and again to draw a scan as labels and sends label patches its
 // session cannot take, while another client's session is served: each request gets its error,
 // the other client gets its frames, and the hostile one's session still renders.

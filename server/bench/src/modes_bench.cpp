@@ -350,7 +350,9 @@ base::Result<std::vector<TableVolume>> measure_optimisation_tables(
             if (auto status = renderer.set_labels(shared); !status) {
                 return status.error();
             }
-            if (auto table = measure_labels(bench, renderer, config.modes, *shared, out); !table) {
+            if (auto table =
+                        measure_labels(bench, renderer, config.modes, *table_volume, *shared, out);
+                !table) {
                 return table.error();
             }
             if (auto status = renderer.set_labels(nullptr); !status) {

@@ -2,11 +2,13 @@
 
 #include <penumbra/bench/report.hpp>
 #include <penumbra/encode/compare.hpp>
+#include <penumbra/reference/pick.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <tuple>
 #include <utility>
 
@@ -315,10 +317,32 @@ base::Result<GradientSeries> measure_gradient_source(
     return measured;
 }
 
+// The median time of `count` picks through the view's middle, in milliseconds.
+base::Result<double> median_pick_ms(const volume::Volume& volume,
+                                    const scene::FrameRequest& request,
+                                    const volume::LabelMap& labels, int count) {
+    std::vector<double> times;
+    for (int i = 0; i < count; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        auto picked = reference::pick(volume, request, &labels, request.settings.width / 2,
+                                      request.settings.height / 2);
+        const std::chrono::duration<double, std::milli> took =
+                std::chrono::steady_clock::now() - start;
+        if (!picked) {
+            return picked.error();
+        }
+        times.push_back(took.count());
+    }
+    const auto middle = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+    std::nth_element(times.begin(), middle, times.end());
+    return *middle;
+}
+
 }  // namespace
 
 base::Result<LabelTable> measure_labels(ModeBench& bench, render::Renderer& renderer,
                                         const std::vector<scene::Mode>& modes,
+                                        const volume::Volume& volume,
                                         const volume::LabelMap& labels, std::FILE* out) {
     const scene::Labels shown = render::label_styles(labels);
     std::fprintf(out,
@@ -339,6 +363,23 @@ base::Result<LabelTable> measure_labels(ModeBench& bench, render::Renderer& rend
                      row->hidden.frame.wall_ms / row->alone.frame.wall_ms);
         std::fflush(out);
         table.rows.push_back(std::move(row.value()));
+    }
+    if (!table.rows.empty()) {
+        const auto cheapest = std::min_element(
+                table.rows.begin(), table.rows.end(), [](const LabelRow& a, const LabelRow& b) {
+                    return a.labelled.frame.wall_ms < b.labelled.frame.wall_ms;
+                });
+        scene::FrameRequest request = bench.request(modes.front(), 0, 0);
+        request.labels = shown;
+        auto pick_ms = median_pick_ms(volume, request, labels, std::max(bench.repeat(), 1));
+        if (!pick_ms) {
+            return pick_ms.error();
+        }
+        table.pick_ms = *pick_ms;
+        table.cheapest_labelled_frame_ms = cheapest->labelled.frame.wall_ms;
+        std::fprintf(out, "  %-30s %10.3f %10.1f %10s %11.4f   (%s's labelled frame)\n",
+                     "pick (one ray, CPU)", table.pick_ms, table.cheapest_labelled_frame_ms, "-",
+                     table.pick_ms / table.cheapest_labelled_frame_ms, cheapest->label.c_str());
     }
     if (std::find(modes.begin(), modes.end(), scene::Mode::sbrc) == modes.end()) {
         return table;

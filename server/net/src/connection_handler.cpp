@@ -560,6 +560,30 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::R
     }
 }
 
+// One ray on the CPU, answered here: it reads a few thousand voxels, less than a frame's work.
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Pick& message) {
+    if (!need_session(id)) {
+        return;
+    }
+    const auto picked = session_->pick(message.x, message.y);
+    if (!picked) {
+        reply_error(id, picked.error());
+        return;
+    }
+    protocol::PickSummary summary{.x = message.x,
+                                  .y = message.y,
+                                  .hit = picked->hit,
+                                  .value = picked->value,
+                                  .hounsfield = picked->hounsfield,
+                                  .label_id = picked->label_id,
+                                  .label_name = picked->label_name};
+    for (int axis = 0; axis < 3; ++axis) {
+        summary.position[axis] = picked->patient[axis];
+    }
+    send(protocol::picked_message(id, session_->id(), summary));
+}
+
 void ConnectionHandler::draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,
                                     const std::shared_ptr<const volume::LabelMap>& labels) {
     auto changed = session_->set_labels(viewer_, volume_id, labels);

@@ -42,6 +42,9 @@ template <class Message, class Value>
 base::Status read_member(const json& j, const Member<Message, Value>& member, Message& message) {
     const std::string key(member.name);
     const std::string pointer = "/" + key;
+    if (std::is_same_v<Value, double> && !j.contains(key)) {
+        return field_error(base::ErrorCode::invalid_message, pointer, "missing '" + key + "'");
+    }
     if constexpr (std::is_same_v<Value, std::string>) {
         auto value = required_string(j, key.c_str(), member.max_bytes);
         if (!value) {
@@ -49,7 +52,13 @@ base::Status read_member(const json& j, const Member<Message, Value>& member, Me
         }
         message.*member.pointer = std::move(value.value());
     } else if (j.contains(key)) {
-        if constexpr (std::is_same_v<Value, bool>) {
+        if constexpr (std::is_same_v<Value, double>) {
+            auto value = number(j.at(key), pointer, member.range.min, member.range.max);
+            if (!value) {
+                return value.error();
+            }
+            message.*member.pointer = *value;
+        } else if constexpr (std::is_same_v<Value, bool>) {
             auto value = boolean(j.at(key), pointer);
             if (!value) {
                 return value.error();
@@ -393,6 +402,25 @@ std::string labels_message(std::optional<std::int64_t> id, const std::string& se
                     {"state", state_json(state)}},
                    id)
             .dump();
+}
+
+std::string picked_message(std::optional<std::int64_t> id, const std::string& session,
+                           const PickSummary& picked) {
+    json message = {{"type", "picked"},
+                    {"session", session},
+                    {"x", picked.x},
+                    {"y", picked.y},
+                    {"hit", picked.hit}};
+    if (picked.hit) {
+        message["position"] =
+                json::array({picked.position[0], picked.position[1], picked.position[2]});
+        message["value"] = picked.value;
+        message["hounsfield"] = picked.hounsfield;
+        if (picked.label_id != 0) {
+            message["label"] = {{"id", picked.label_id}, {"name", picked.label_name}};
+        }
+    }
+    return with_id(std::move(message), id).dump();
 }
 
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {

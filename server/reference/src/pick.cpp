@@ -27,7 +27,7 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
                                 "the view styles labels the label map given does not hold",
                                 "labels");
     }
-    const VolumeSampler sampler(volume, s.reconstruction);
+    const VolumeSampler sampler(volume, s.reconstruction, VolumeSampler::Reading::in_place);
     const TransferFunctionTable table(request.transfer_function,
                                       {volume.range.min, volume.range.max, volume.hounsfield});
     std::optional<LabelLookup> label_lookup;

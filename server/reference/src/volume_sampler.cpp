@@ -40,25 +40,40 @@ std::array<double, 4> bspline_derivative_weights(double f) {
 
 }  // namespace
 
-VolumeSampler::VolumeSampler(const volume::Volume& volume, scene::Reconstruction reconstruction)
+VolumeSampler::VolumeSampler(const volume::Volume& volume, scene::Reconstruction reconstruction,
+                             Reading reading)
     : reconstruction_(reconstruction)
+    , min_(volume.range.min)
+    , width_(volume.range.max - volume.range.min)
     , dims_(glm::ivec3(volume.dims))
     , box_(scene::box_for_extent(volume.extent(), volume.axes))
-    , voxel_size_(box_.size() / glm::dvec3(volume.dims))
-    , normalized_(volume.voxel_count()) {
-    const double width = volume.range.max - volume.range.min;
+    , voxel_size_(box_.size() / glm::dvec3(volume.dims)) {
+    switch (reading) {
+        case Reading::in_place:
+            in_place_ = &volume;
+            return;
+        case Reading::copied:
+            break;
+    }
+    normalized_.resize(volume.voxel_count());
     std::size_t i = 0;
     for (std::uint32_t z = 0; z < volume.dims.z; ++z) {
         for (std::uint32_t y = 0; y < volume.dims.y; ++y) {
             for (std::uint32_t x = 0; x < volume.dims.x; ++x) {
-                normalized_[i++] =
-                        width > 0.0 ? (volume.value(x, y, z) - volume.range.min) / width : 0.0;
+                normalized_[i++] = width_ > 0.0 ? (volume.value(x, y, z) - min_) / width_ : 0.0;
             }
         }
     }
 }
 
 double VolumeSampler::normalized_voxel(int x, int y, int z) const {
+    if (in_place_ != nullptr) {
+        return width_ > 0.0 ? (in_place_->value(static_cast<std::uint32_t>(x),
+                                                static_cast<std::uint32_t>(y),
+                                                static_cast<std::uint32_t>(z)) -
+                               min_) / width_
+                            : 0.0;
+    }
     return normalized_[(static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x];
 }
 

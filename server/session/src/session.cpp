@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <variant>
@@ -160,6 +161,22 @@ base::Result<scene::State> Session::change_state_locked(ViewerId viewer,
 Session::Labels Session::labels() const {
     const std::lock_guard lock(mutex_);
     return labels_;
+}
+
+base::Result<reference::Pick> Session::pick(double x, double y) const {
+    scene::FrameRequest frame;
+    Labels labels;
+    {
+        const std::lock_guard lock(mutex_);
+        frame = state_.frame;
+        labels = labels_;
+    }
+    // The pixel whose square holds the point; the right and bottom edges belong to the last.
+    const auto pixel = [](double fraction, int size) {
+        return std::clamp(static_cast<int>(std::floor(fraction * size)), 0, size - 1);
+    };
+    return reference::pick(*volume_, frame, labels.map.get(), pixel(x, frame.settings.width),
+                           pixel(y, frame.settings.height));
 }
 
 base::Result<scene::State> Session::set_labels(ViewerId viewer, std::string labels_id,

@@ -275,7 +275,12 @@ TEST(ServerMessages, HelloCarriesEveryPresetAsAStateHoldsIt) {
 
 template <class Message, class Value>
 constexpr bool holds_string(const Member<Message, Value>&) {
-    return !std::is_same_v<Value, bool>;
+    return !std::is_same_v<Value, bool> && !std::is_same_v<Value, double>;
+}
+
+template <class Message, class Value>
+constexpr bool holds_number(const Member<Message, Value>&) {
+    return std::is_same_v<Value, double>;
 }
 
 // The string members of the client messages as hello's max_string_bytes keys them
@@ -300,7 +305,7 @@ std::set<std::string> string_member_keys(std::type_identity<std::variant<Message
 }
 
 // A message of `type` that parse_request accepts: each string member its `members()` lists, one
-// byte long.
+// byte long, and each number its range's least.
 template <class... Messages>
 json smallest_message(const std::string& type, std::type_identity<std::variant<Messages...>>) {
     json message = {{"v", 1}, {"type", type}};
@@ -311,6 +316,10 @@ json smallest_message(const std::string& type, std::type_identity<std::variant<M
                         [&](const auto&... listed) {
                             ((holds_string(listed) ? void(message[std::string(listed.name)] = "a")
                                                    : void()),
+                             ...);
+                            ((holds_number(listed)
+                                      ? void(message[std::string(listed.name)] = listed.range.min)
+                                      : void()),
                              ...);
                         },
                         Message::members());

@@ -246,8 +246,8 @@ TEST(SchemaAgreement, GeneratorRefusesWhatIsNotASchema) {
 }
 
 // One member as parse_request reads it and as the schema's `request` part states it: required
-// exactly when it is a plain string, its JSON type, a string's length and a flag's default (what
-// the parser leaves it at when the message leaves it out).
+// exactly when it is a plain string or a number, its JSON type, a string's length, a number's
+// range and a flag's default (what the parser leaves it at when the message leaves it out).
 template <class Message, class Value>
 void expect_member_in_schema(const json& request, const Member<Message, Value>& member) {
     const std::string name(member.name);
@@ -255,8 +255,13 @@ void expect_member_in_schema(const json& request, const Member<Message, Value>& 
     ASSERT_TRUE(request.at("properties").contains(name)) << "the schema does not list it";
     const json& property = request.at("properties").at(name);
     const auto required = request.at("required").get<std::set<std::string>>();
-    EXPECT_EQ(required.contains(name), (std::is_same_v<Value, std::string>));
-    if constexpr (std::is_same_v<Value, bool>) {
+    EXPECT_EQ(required.contains(name),
+              (std::is_same_v<Value, std::string> || std::is_same_v<Value, double>));
+    if constexpr (std::is_same_v<Value, double>) {
+        EXPECT_EQ(property.at("type"), "number");
+        EXPECT_EQ(property.at("minimum").get<double>(), member.range.min);
+        EXPECT_EQ(property.at("maximum").get<double>(), member.range.max);
+    } else if constexpr (std::is_same_v<Value, bool>) {
         EXPECT_EQ(property.at("type"), "boolean");
         EXPECT_EQ(property.value("default", json()), json(Message{}.*member.pointer));
     } else {

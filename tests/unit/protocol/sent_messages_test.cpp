@@ -128,6 +128,22 @@ std::vector<std::string> text_messages() {
     out.push_back(labels_message(7, "s0", "aal.nii.gz", aal, labelled));
     out.push_back(labels_message(std::nullopt, "s1", "aal.nii.gz", aal, labelled));
     out.push_back(labels_message(8, "s0", "", {}, states.front()));
+    out.push_back(picked_message(10, "s0", PickSummary{.x = 0.5, .y = 1.0}));
+    out.push_back(picked_message(11, "s0",
+                                 PickSummary{.x = 0.25,
+                                             .y = 0.5,
+                                             .hit = true,
+                                             .position = {-12.5, 30.0, 41.25},
+                                             .value = 1250.0,
+                                             .hounsfield = true}));
+    out.push_back(picked_message(12, "s0",
+                                 PickSummary{.x = 0.0,
+                                             .y = 0.0,
+                                             .hit = true,
+                                             .position = {40.0, -20.0, 55.5},
+                                             .value = 87.0,
+                                             .label_id = 1,
+                                             .label_name = "Precentral_L"}));
     out.push_back(state_message("s0", labelled));
     out.push_back(set_ack_message(9, labelled));
     out.push_back(stats_message(6, "{}"));

@@ -170,5 +170,25 @@ TEST(VolumeSamplerTricubic, IsTwiceContinuouslyDifferentiableAcrossVoxelFaces) {
     EXPECT_GT(trilinear_jump, 1e-2);
 }
 
+// A sampler that reads the volume in place (a pick's) gives what one that copies it gives, in
+// both reconstructions, inside and at the clamped border.
+TEST(VolumeSamplerReading, InPlaceMatchesCopied) {
+    const volume::Volume volume =
+            volume_of([](glm::dvec3 i) { return std::sin(i.x) * 40.0 + i.y * i.z - 7.0; });
+    for (const auto reconstruction :
+         {scene::Reconstruction::trilinear, scene::Reconstruction::tricubic}) {
+        const VolumeSampler copied(volume, reconstruction, VolumeSampler::Reading::copied);
+        const VolumeSampler in_place(volume, reconstruction, VolumeSampler::Reading::in_place);
+        std::vector<glm::dvec3> points = interior_points();
+        points.push_back({-0.5, -0.5, -0.5});
+        points.push_back(glm::dvec3(kDims) - 0.5);
+        for (const glm::dvec3 p : points) {
+            const glm::dvec3 world = world_at(copied, p);
+            EXPECT_EQ(in_place.value(world), copied.value(world));
+            EXPECT_EQ(in_place.gradient(world), copied.gradient(world));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace penumbra::reference

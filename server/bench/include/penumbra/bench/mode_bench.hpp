@@ -106,6 +106,9 @@ public:
             std::vector<std::pair<TimedPoint, scene::FrameRequest>> variants, LightBufferUse use,
             const std::string& pass = {});
 
+    // How many timed frames each series takes.
+    [[nodiscard]] int repeat() const { return repeat_; }
+
 private:
     render::FrameRenderer& renderer_;
     scene::FrameRequest base_;

@@ -55,6 +55,10 @@ struct LabelTable {
     std::uint64_t builds_per_visibility_change = 0;
     std::uint64_t builds_per_camera_move = 0;
     int changes = 0;
+    // A pick through the view's middle (reference::pick, one ray on the CPU) against the cheapest
+    // labelled frame: the median of as many picks as frames.
+    double pick_ms = 0.0;
+    double cheapest_labelled_frame_ms = 0.0;
 };
 
 struct OptimisationTable {
@@ -78,10 +82,11 @@ base::Result<OptimisationTable> measure_optimisations(ModeBench& bench,
                                                       const std::vector<scene::Mode>& modes,
                                                       const volume::Volume& volume, std::FILE* out);
 
-// The label table for `labels`, which the bench's renderer holds beside its volume
+// The label table for `labels`, which the bench's renderer holds beside `volume`
 // (Renderer::set_labels). Prints each row to `out` as it is measured.
 base::Result<LabelTable> measure_labels(ModeBench& bench, render::Renderer& renderer,
                                         const std::vector<scene::Mode>& modes,
+                                        const volume::Volume& volume,
                                         const volume::LabelMap& labels, std::FILE* out);
 
 struct GradientComparison {

@@ -43,13 +43,19 @@ std::string_view wire_name(base::ErrorCode code);
 // members a message does not list (unknown_field), so a message made of such members needs no
 // parsing code of its own. A std::string is required (invalid_message at its pointer when
 // missing); a std::optional<std::string> or a bool may be absent and then keeps the struct's
-// default; a string holds at most `max_bytes` UTF-8 bytes (out_of_range beyond). Wrong JSON types
-// are invalid_value.
+// default; a string holds at most `max_bytes` UTF-8 bytes (out_of_range beyond). A double is
+// required and lies within `range` (out_of_range beyond). Wrong JSON types are invalid_value.
+struct NumberRange {
+    double min = 0.0;
+    double max = 0.0;
+};
+
 template <class Message, class Value>
 struct Member {
     std::string_view name;
     Value Message::*pointer;
     std::size_t max_bytes = 0;
+    NumberRange range{};
 };
 
 template <class Message, class Value>
@@ -60,6 +66,12 @@ constexpr Member<Message, Value> member(std::string_view name, Value Message::*p
                           std::is_same_v<Value, bool>,
                   "parse_request reads a string, an optional string or a bool");
     return {name, pointer, max_bytes};
+}
+
+template <class Message>
+constexpr Member<Message, double> member(std::string_view name, double Message::*pointer,
+                                         NumberRange range) {
+    return {name, pointer, 0, range};
 }
 
 // Client -> server. Every message carries "v": 1, a "type" and an optional client-chosen "id"
@@ -143,13 +155,27 @@ struct RemoveLabels {
     static constexpr std::string_view type = "remove_labels";
 };
 
+// What lies under a point of the session's view (the frame as the client shows it): where the eye
+// sees a surface there, in patient millimetres, the scan's value and the label drawn there;
+// answered by `picked`. Any viewer of the session may ask.
+struct Pick {
+    static constexpr std::string_view type = "pick";
+    static constexpr NumberRange fraction{0.0, 1.0};
+    double x = 0.0;  // of the view's width, from its left edge
+    double y = 0.0;  // of the view's height, from its top edge
+
+    static constexpr auto members() {
+        return std::tuple{member("x", &Pick::x, fraction), member("y", &Pick::y, fraction)};
+    }
+};
+
 // A new client message is its struct above (its `type` and, for members, `members()`) and its
 // alternative here; its handler, a specialisation of ConnectionHandler::handle in net (without one
 // net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
 // examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
 // and its row into proto/README.md; protocol_test fails until the schema and those agree.
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume,
-                                   AddLabels, RemoveLabels>;
+                                   AddLabels, RemoveLabels, Pick>;
 
 template <typename Variant>
 struct MessageTypes;
@@ -250,6 +276,23 @@ struct LabelSummary {
 std::string labels_message(std::optional<std::int64_t> id, const std::string& session,
                            const std::string& volume, const std::vector<LabelSummary>& labels,
                            const scene::State& state);
+
+// What a pick found under its point (x, y, as asked): `hit` false where the view shows nothing
+// there; else the point in patient space (RAS mm), the scan's value (`hounsfield`: in HU) and the
+// label drawn there (`label_id` 0: none).
+struct PickSummary {
+    double x = 0.0;
+    double y = 0.0;
+    bool hit = false;
+    double position[3] = {0, 0, 0};
+    double value = 0.0;
+    bool hounsfield = false;
+    std::int64_t label_id = 0;
+    std::string label_name;
+};
+
+std::string picked_message(std::optional<std::int64_t> id, const std::string& session,
+                           const PickSummary& picked);
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
 // Answers a `set` with the state as it now is, the patch applied: the client shows what the
 // server made of it (an orbit's eye, a view's pose, a preset's points) without rules of its own.

@@ -28,7 +28,8 @@ struct Pick {
 // function, the labels' opacities and visibility (`labels`, when the request styles them), the
 // cut; each sample by itself (a pre-integrated frame's segments may put the surface a fraction
 // of a step away). No hit where the ray never gathers that much. One ray on the CPU, in double,
-// with the frame's step and its reconstruction.
+// with the frame's step and its reconstruction, reading `volume` in place (no copy of it: a
+// server answers picks between frames).
 base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, int x, int y);
 

@@ -21,8 +21,15 @@ namespace penumbra::reference {
 // linear fetches add up to.
 class VolumeSampler {
 public:
+    // How the sampler reads the voxels: `copied` maps every voxel to [0, 1] once (a whole image's
+    // rays read each many times); `in_place` maps each voxel as it is read from `volume`, which
+    // then outlives the sampler (one ray, as a pick follows, reads a few thousand of a volume that
+    // can hold hundreds of millions).
+    enum class Reading { copied, in_place };
+
     explicit VolumeSampler(const volume::Volume& volume,
-                           scene::Reconstruction reconstruction = scene::Reconstruction::trilinear);
+                           scene::Reconstruction reconstruction = scene::Reconstruction::trilinear,
+                           Reading reading = Reading::copied);
 
     [[nodiscard]] const scene::Box& box() const { return box_; }
 
@@ -44,10 +51,13 @@ private:
 
     scene::Reconstruction reconstruction_;
 
+    const volume::Volume* in_place_ = nullptr;  // read in place: the volume, else null
+    double min_ = 0.0;                          // the range's minimum and width, for in_place_
+    double width_ = 0.0;
     glm::ivec3 dims_;
     scene::Box box_;
     glm::dvec3 voxel_size_;
-    std::vector<double> normalized_;  // every voxel mapped to [0, 1] once
+    std::vector<double> normalized_;  // copied: every voxel mapped to [0, 1] once
 };
 
 // The label of a world point of `scan` (as the renderer places it): the index of the label map's

@@ -2,6 +2,7 @@
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/quality/table.hpp>
+#include <penumbra/reference/pick.hpp>
 #include <penumbra/scene/frame_request.hpp>
 #include <penumbra/session/scheduler.hpp>
 #include <penumbra/session/volume_store.hpp>
@@ -141,6 +142,12 @@ public:
     // owner, and with no_overlap when the map lies outside the volume.
     base::Result<scene::State> set_labels(ViewerId viewer, std::string labels_id,
                                           std::shared_ptr<const volume::LabelMap> labels);
+
+    // What lies under the point (x, y) of the view as the session's state now draws it, given as
+    // fractions of the view's width and height from its top left corner (each within [0, 1]):
+    // reference::pick's one ray through the pixel there, on the CPU, reading the volume in place,
+    // with the label map drawn. Any viewer may ask; the state is not changed.
+    [[nodiscard]] base::Result<reference::Pick> pick(double x, double y) const;
 
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the
