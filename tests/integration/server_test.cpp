@@ -559,6 +559,16 @@ TEST_F(ServerTest, APickNamesTheLabelUnderAPointOfTheView) {
     }
     ASSERT_TRUE(volumes_->scan().ok());
     TestClient owner(port_);
+    // The listing tells the label maps from the scans.
+    const auto listed =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"list_volumes","id":2})"));
+    std::map<std::string, bool> label_maps;
+    for (const auto& volume : listed.at("volumes")) {
+        label_maps[volume.at("id")] = volume.at("label_map");
+    }
+    EXPECT_TRUE(label_maps.at("heads/aal.nii.gz"));
+    EXPECT_FALSE(label_maps.at("heads/ch2bet.nii.gz"));
+    EXPECT_FALSE(label_maps.at("heads/ch2.nii.gz"));
     owner.open("heads/ch2bet.nii.gz", 32);
     const std::string added =
             owner.request(R"({"v":1,"type":"add_labels","id":3,"volume":"heads/aal.nii.gz"})");

@@ -250,7 +250,9 @@ base::Result<std::unique_ptr<session::Scheduler>> start_scheduler(
         volumes.wait_for_first_pass();
         std::vector<std::string> ids;
         for (const session::VolumeEntry& entry : volumes.list()) {
-            ids.push_back(entry.id);
+            if (!entry.label_map) {  // an atlas's ids drawn as values are no scan to measure on
+                ids.push_back(entry.id);
+            }
         }
         return ids;
     };

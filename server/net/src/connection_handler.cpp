@@ -25,6 +25,7 @@ protocol::VolumeSummary summary_of(const session::VolumeSummary& v) {
     out.id = v.id;
     out.name = v.name;
     out.loaded = v.loaded;
+    out.label_map = v.label_map;
     if (v.loaded) {
         out.dims[0] = v.dims.x;
         out.dims[1] = v.dims.y;

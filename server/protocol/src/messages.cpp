@@ -338,6 +338,9 @@ json volume_json(const VolumeSummary& v) {
         out["bounds"] = {{v.bounds[0][0], v.bounds[0][1], v.bounds[0][2]},
                          {v.bounds[1][0], v.bounds[1][1], v.bounds[1][2]}};
     }
+    if (v.label_map) {
+        out["label_map"] = *v.label_map;
+    }
     return out;
 }
 

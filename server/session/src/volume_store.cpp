@@ -146,6 +146,17 @@ const std::string& not_a_volume_reason() {
     return reason;
 }
 
+// What a file's being a label map depends on: its size and time, and its folder's time (a names
+// file put beside it changes that).
+std::string label_stamp(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto time_of = [&](const std::filesystem::path& p) {
+        return std::to_string(std::filesystem::last_write_time(p, ec).time_since_epoch().count());
+    };
+    return std::to_string(std::filesystem::file_size(path, ec)) + '/' + time_of(path) + '/' +
+           time_of(path.parent_path());
+}
+
 }  // namespace
 
 VolumeSummary summarize(const std::string& id, const std::string& name,
@@ -475,6 +486,7 @@ base::Status VolumeStore::scan() {
         entry.id = relative(path);
         entry.name = entry.id;
         entry.file_bytes = std::filesystem::file_size(path, ec);
+        entry.label_map = declares_labels(path);
         found.push_back(std::move(entry));
     }
     // A walk that fails (a folder removed under it, out of descriptors) lists what it found
@@ -521,6 +533,13 @@ base::Status VolumeStore::scan() {
         const std::lock_guard folders_lock(folders_mutex_);
         std::erase_if(folders_,
                       [&](const auto& cached) { return !checked_folders.contains(cached.first); });
+        std::unordered_set<std::string> listed_paths;
+        for (const VolumeEntry& entry : found) {
+            listed_paths.insert(entry.path.string());
+        }
+        std::erase_if(declared_labels_, [&](const auto& cached) {
+            return !listed_paths.contains(cached.first.string());
+        });
     }
     // What follows holds the lock that listing and opening take: nothing in it walks or frees a
     // list of files, since this thread's low priority would make them wait. The last pass's lists
@@ -563,6 +582,22 @@ bool VolumeStore::holds_dicom(const std::filesystem::path& folder, const std::st
     const std::lock_guard lock(folders_mutex_);
     folders_[folder] = {signature, has_dicom, std::nullopt};
     return has_dicom;
+}
+
+bool VolumeStore::declares_labels(const std::filesystem::path& path) {
+    const std::string stamp = label_stamp(path);
+    {
+        const std::lock_guard lock(folders_mutex_);
+        const auto cached = declared_labels_.find(path);
+        if (cached != declared_labels_.end() && cached->second.stamp == stamp) {
+            return cached->second.declares;
+        }
+    }
+    const auto declared = volume::declares_labels(path);
+    const bool declares = declared && *declared;
+    const std::lock_guard lock(folders_mutex_);
+    declared_labels_[path] = {stamp, declares};
+    return declares;
 }
 
 base::Result<std::vector<volume::DicomSeries>> VolumeStore::dicom_series(
@@ -755,44 +790,40 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
 LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
     // A file refused as a label map is not read again while it stays as it was: a client asking
     // for it again and again costs a look at its time, not a load.
-    std::optional<std::filesystem::file_time_type> modified;
+    std::optional<std::string> stamp;
     {
         const std::lock_guard lock(mutex_);
         const auto entry = std::find_if(entries_.begin(), entries_.end(),
                                         [&](const VolumeEntry& e) { return e.id == id; });
-        std::error_code ec;
         if (entry != entries_.end()) {
-            const auto time = std::filesystem::last_write_time(entry->path, ec);
-            if (!ec) {
-                modified = time;
-            }
+            stamp = label_stamp(entry->path);
         }
         const auto refused = refused_labels_.find(id);
-        if (refused != refused_labels_.end() && modified && refused->second.first == *modified) {
+        if (refused != refused_labels_.end() && stamp && refused->second.first == *stamp) {
             return refused->second.second;
         }
     }
     auto loaded = load_listed<volume::LabelMap>(
             id, labels_,
             [](const auto& path, const auto& options) -> base::Result<volume::LabelMap> {
-                auto map = volume::load_label_map(path, options);
-                if (!map) {
-                    return map.error();
-                }
                 // A scan is no label map, though its integers would make one: a server draws
-                // only files that say what they are (a label intent, names beside them).
-                if (!map->indices.label_intent && !map->named) {
+                // only files that say what they are, and reads no voxels of another.
+                auto declared = volume::declares_labels(path);
+                if (!declared) {
+                    return declared.error();
+                }
+                if (!*declared) {
                     return base::make_error(
                             base::ErrorCode::invalid_volume,
                             "not a label map: neither marked as one (NIfTI's label intent) nor "
                             "named (MRIcron's .nii.txt beside it, a .seg.nrrd's segments)",
                             path.filename().string());
                 }
-                return map;
+                return volume::load_label_map(path, options);
             });
-    if (!loaded && modified && loaded.error().code != base::ErrorCode::unknown_volume) {
+    if (!loaded && stamp && loaded.error().code != base::ErrorCode::unknown_volume) {
         const std::lock_guard lock(mutex_);
-        refused_labels_.insert_or_assign(id, std::pair{*modified, loaded.error()});
+        refused_labels_.insert_or_assign(id, std::pair{*stamp, loaded.error()});
     }
     return loaded;
 }

@@ -107,6 +107,12 @@ bool is_nrrd_name(const std::filesystem::path& path) {
     return detail::has_suffix(name, ".nrrd") || detail::has_suffix(name, ".nhdr");
 }
 
+bool is_nifti_name(const std::filesystem::path& path) {
+    const std::string name = detail::lower_file_name(path);
+    return detail::has_suffix(name, ".nii") || detail::has_suffix(name, ".nii.gz") ||
+           detail::has_suffix(name, ".hdr");
+}
+
 }  // namespace
 
 base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
@@ -125,6 +131,27 @@ base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
         return read_slicer_segments(*keys);
     }
     return LabelNames{};
+}
+
+base::Result<bool> declares_labels(const std::filesystem::path& path) {
+    if (find_mricron_labels(path)) {
+        return true;
+    }
+    if (is_nrrd_name(path)) {
+        auto keys = read_nrrd_key_values(path);
+        if (!keys) {
+            return keys.error();
+        }
+        auto segments = read_slicer_segments(*keys);
+        if (!segments) {
+            return segments.error();
+        }
+        return !segments->labels.empty();
+    }
+    if (is_nifti_name(path)) {
+        return read_nifti_label_intent(path);
+    }
+    return false;
 }
 
 std::string describe_labels(const LabelMap& labels) {

@@ -56,6 +56,19 @@ void quiet_library() {
     std::call_once(once, [] { nifti_set_debug_level(0); });
 }
 
+// The header alone (and its extensions), no voxels.
+base::Result<Image> read_header(const std::filesystem::path& path) {
+    quiet_library();
+    Image image(nifti_image_read(path.c_str(), 0));
+    if (!image) {
+        return base::make_error(base::ErrorCode::bad_header,
+                                "not a readable NIfTI-1 or NIfTI-2 file (the nifti library "
+                                "rejected its header)",
+                                detail::at_file(path));
+    }
+    return image;
+}
+
 std::optional<detail::SampleType> sample_type_of(int datatype) {
     using detail::SampleType;
     switch (datatype) {
@@ -217,16 +230,12 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
     if (auto size = detail::regular_file_size(path); !size) {
         return size.error();
     }
-    quiet_library();
-
     // The header first, alone, so that absurd dimensions are rejected before any allocation.
-    Image image(nifti_image_read(path.c_str(), 0));
-    if (!image) {
-        return base::make_error(base::ErrorCode::bad_header,
-                                "not a readable NIfTI-1 or NIfTI-2 file (the nifti library "
-                                "rejected its header)",
-                                detail::at_file(path));
+    auto header = read_header(path);
+    if (!header) {
+        return header.error();
     }
+    Image image = std::move(header.value());
     const auto extent = [](std::int64_t n) { return n < 1 ? std::int64_t{1} : n; };
     const std::array<std::int64_t, 3> sizes{extent(image->nx), extent(image->ny),
                                             extent(image->nz)};
@@ -333,6 +342,17 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
 
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options) {
     return detail::guard_allocation(path, [&] { return load_nifti_file(path, options); });
+}
+
+base::Result<bool> read_nifti_label_intent(const std::filesystem::path& path) {
+    if (auto size = detail::regular_file_size(path); !size) {
+        return size.error();
+    }
+    auto header = read_header(path);
+    if (!header) {
+        return header.error();
+    }
+    return header.value()->intent_code == NIFTI_INTENT_LABEL;
 }
 
 }  // namespace penumbra::volume

@@ -57,7 +57,11 @@ std::vector<std::string> text_messages() {
     VolumeSummary unloaded;  // as net lists a volume it has not loaded yet
     unloaded.id = "visible_human.nrrd";
     unloaded.name = unloaded.id;
-    out.push_back(volumes_message(1, {colin, ct, floats, unloaded}, Listing::complete));
+    unloaded.label_map = false;
+    VolumeSummary atlas = unloaded;
+    atlas.id = "aal.nii.gz";
+    atlas.label_map = true;
+    out.push_back(volumes_message(1, {colin, ct, floats, unloaded, atlas}, Listing::complete));
     out.push_back(volumes_message(std::nullopt, {}, Listing::scanning));
     out.push_back(volumes_message(2, {colin}, Listing::cut_short));
 

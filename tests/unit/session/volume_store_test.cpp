@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <future>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -147,6 +148,40 @@ TEST_F(VolumeStoreTest, ASeriesAddedToAFolderIsListedAtTheNextScan) {
     auto added = store.acquire("study#2");
     ASSERT_TRUE(added.ok()) << added.error().to_string();
     EXPECT_EQ((*added)->dims, glm::uvec3(4, 4, 1));
+}
+
+// The listing tells label maps from scans by what the files say (an atlas's label intent), and a
+// names file put beside a scan makes it one at the next scan; the file refused as a label map
+// until then is drawn after.
+TEST_F(VolumeStoreTest, LabelMapsAreListedAsSuchAndANamesFileBesideOneIsSeenAtTheNextScan) {
+    const fs::path templates = "/usr/share/mricron/templates";
+    fs::copy_file(templates / "aal.nii.gz", data_ / "aal.nii.gz");
+    fs::copy_file(templates / "brodmann.nii.gz", data_ / "brodmann.nii.gz");
+    VolumeStore store(data_, std::size_t{1} << 28);
+    ASSERT_TRUE(store.scan().ok());
+    const auto label_maps = [&] {
+        std::map<std::string, bool> out;
+        for (const VolumeEntry& entry : store.list()) {
+            out[entry.id] = entry.label_map;
+            EXPECT_EQ(entry.summary().label_map, entry.label_map);
+        }
+        return out;
+    };
+    EXPECT_EQ(label_maps(),
+              (std::map<std::string, bool>{{"aal.nii.gz", true}, {"brodmann.nii.gz", true}}));
+
+    fs::copy_file(templates / "ch2.nii.gz", data_ / "ch2.nii.gz");
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_FALSE(label_maps().at("ch2.nii.gz"));
+    const auto refused = store.acquire_labels("ch2.nii.gz");
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("not a label map"), std::string::npos);
+    std::ofstream(data_ / "ch2.nii.txt") << "7 Dark\n8 Darker\n";  // ch2's lowest values
+    ASSERT_TRUE(store.scan().ok());
+    EXPECT_TRUE(label_maps().at("ch2.nii.gz"));
+    const auto drawn = store.acquire_labels("ch2.nii.gz");
+    ASSERT_TRUE(drawn.ok()) << drawn.error().to_string();
+    EXPECT_EQ((*drawn)->labels.front().name, "Dark");
 }
 
 // A CD export: the DICOMDIR at the root is no volume; the series four folders down is.

@@ -184,6 +184,39 @@ TEST(LabelMap, SlicerSegmentationsAreNamedByTheirSegmentKeys) {
     EXPECT_NE(refused.error().message.find("export them to a labelmap"), std::string::npos);
 }
 
+// What a listing offers as label maps: the files that say they are, read from their headers and
+// the files beside them. The templates' intents are nibabel's reading (intent_code 1002 for every
+// atlas, 0 for the scans).
+TEST(LabelMap, FilesThatSayTheyAreLabelMapsAreTold) {
+    for (const char* atlas :
+         {"aal.nii.gz", "brodmann.nii.gz", "AICHAmc.nii.gz", "JHU-WhiteMatter-labels-1mm.nii.gz",
+          "HarvardOxford-cort-maxprob-thr0-1mm.nii.gz", "inia19-NeuroMaps.nii.gz", "jhu189.nii.gz",
+          "natbrainlab.nii.gz"}) {
+        const auto declared = declares_labels(templates / atlas);
+        ASSERT_TRUE(declared.ok()) << atlas;
+        EXPECT_TRUE(*declared) << atlas;
+    }
+    for (const char* scan :
+         {"ch2.nii.gz", "ch2bet.nii.gz", "ch2better.nii.gz", "inia19-t1-brain.nii.gz"}) {
+        const auto declared = declares_labels(templates / scan);
+        ASSERT_TRUE(declared.ok()) << scan;
+        EXPECT_FALSE(*declared) << scan;
+    }
+    // A scan with MRIcron's names beside it is one; a NRRD says so by its segments.
+    auto aal = load_volume(templates / "aal.nii.gz");
+    ASSERT_TRUE(aal.ok());
+    const fixtures::TempDir dir;
+    std::filesystem::copy_file(templates / "ch2.nii.gz", dir / "ch2.nii.gz");
+    EXPECT_FALSE(*declares_labels(dir / "ch2.nii.gz"));
+    fixtures::write_text(dir / "ch2.nii.txt", "1 Grey\n");
+    EXPECT_TRUE(*declares_labels(dir / "ch2.nii.gz"));
+    EXPECT_TRUE(*declares_labels(write_seg_nrrd(dir, *aal, "Segment0_LabelValue:=1\n")));
+    EXPECT_FALSE(*declares_labels(write_seg_nrrd(dir, *aal, "")));
+    // A header that cannot be read is an error, not a scan.
+    fixtures::write_text(dir / "broken.nii.gz", "not gzip");
+    EXPECT_FALSE(declares_labels(dir / "broken.nii.gz").ok());
+}
+
 TEST(LabelMap, ItkSnapAndFreeSurferDescriptionsNameTheLabels) {
     const fixtures::TempDir dir;
     const auto names = dir / "aal_labels.txt";

@@ -213,6 +213,8 @@ struct VolumeSummary {
     bool loaded = false;
     // Once loaded: the box in patient space (RAS mm) that holds the voxels, min then max corner.
     double bounds[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    // In `volumes` only: the file says it is a label map, what add_labels draws.
+    std::optional<bool> label_map;
 };
 
 // Where the server's listing of its data folder stands, as `volumes` says it.

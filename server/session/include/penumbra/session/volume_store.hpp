@@ -40,6 +40,9 @@ struct VolumeSummary {
     double max = 0.0;
     bool hounsfield = false;       // the values are Hounsfield units (a CT)
     volume::PatientBounds bounds;  // where it lies in patient space: what a crop box cuts
+    // As the listing found it: the file says it is a label map (volume::declares_labels), what
+    // add_labels draws; unknown outside a listing (a session's own volume).
+    std::optional<bool> label_map;
 };
 
 // `volume` null: not loaded yet, called `name`; else the volume's own name and facts.
@@ -63,8 +66,13 @@ struct VolumeEntry {
     std::string dicom_series;                      // the SeriesInstanceUID a DICOM entry opens
     std::uintmax_t file_bytes = 0;                 // a DICOM folder: the bytes of its files
     std::shared_ptr<const volume::Volume> loaded;  // null until first opened
+    bool label_map = false;                        // the file says it is a label map
 
-    [[nodiscard]] VolumeSummary summary() const { return summarize(id, name, loaded.get()); }
+    [[nodiscard]] VolumeSummary summary() const {
+        VolumeSummary out = summarize(id, name, loaded.get());
+        out.label_map = label_map;
+        return out;
+    }
 };
 
 // How the data folder is walked, and what one walk may cost.
@@ -214,8 +222,9 @@ private:
     // The loaded volumes by id, within the memory budget; VolumeEntry::loaded as list() fills it.
     base::LruCache<std::string, std::shared_ptr<const volume::Volume>> loaded_;
     base::LruCache<std::string, std::shared_ptr<const volume::LabelMap>> labels_;
-    // Files refused as label maps, by id, with their modification time when refused.
-    std::map<std::string, std::pair<std::filesystem::file_time_type, base::Error>> refused_labels_;
+    // Files refused as label maps, by id, with what that depended on (the file's size and time,
+    // its folder's time) when refused.
+    std::map<std::string, std::pair<std::string, base::Error>> refused_labels_;
     std::size_t loads_ = 0;
 
     struct CachedHistogram {
@@ -242,6 +251,18 @@ private:
                                                                 const std::string& signature);
     std::mutex folders_mutex_;
     std::map<std::filesystem::path, FolderContents> folders_;
+
+    // Whether the file in `path` says it is a label map (volume::declares_labels; false where its
+    // header cannot be read: opening it tells why), from the cache while the file keeps its size
+    // and time and its folder its time (a names file put beside it changes that).
+    bool declares_labels(const std::filesystem::path& path);
+
+    struct DeclaredLabels {
+        std::string stamp;
+        bool declares = false;
+    };
+
+    std::map<std::filesystem::path, DeclaredLabels> declared_labels_;  // by folders_mutex_
 
     std::filesystem::file_time_type scanned_mtime_{};
     mutable std::mutex rescan_mutex_;

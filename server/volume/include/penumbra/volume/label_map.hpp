@@ -45,6 +45,12 @@ base::Result<LabelMap> make_label_map(const Volume& stored, const LabelNames& na
 base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
                                          const std::filesystem::path& names = {});
 
+// Whether the file in `path` says it holds labels, not a scan: NIfTI's label intent, MRIcron's
+// names beside it, a NRRD's segments (a 3D Slicer .seg.nrrd). A scan's integers would make a label
+// map too; only a file that says it is one is offered and drawn as one. Reads headers and the
+// files beside it, never the voxels: what a listing asks of every file it lists.
+base::Result<bool> declares_labels(const std::filesystem::path& path);
+
 // The label table as `penumbra info` prints it: id, colour, voxels, name; then the background's
 // voxels and the warnings.
 [[nodiscard]] std::string describe_labels(const LabelMap& labels);

@@ -188,6 +188,10 @@ base::Result<Volume> load_nrrd(const std::filesystem::path& path, const LoadOpti
 base::Result<Volume> load_nifti(const std::filesystem::path& path, const LoadOptions& options = {});
 base::Result<Volume> load_dicom(const std::filesystem::path& path, const LoadOptions& options = {});
 
+// Whether a NIfTI file's header gives it the label intent (Volume::label_intent) without reading
+// its voxels.
+base::Result<bool> read_nifti_label_intent(const std::filesystem::path& path);
+
 // A NRRD header's key:=value lines, in order: metadata no field holds (3D Slicer writes a
 // segmentation's segments so, `Segment0_Name:=...`). Reads the header alone.
 using NrrdKeyValues = std::vector<std::pair<std::string, std::string>>;
