@@ -542,6 +542,23 @@ TEST_F(ServerTest, TheOwnerDrawsAnAtlasInsideItsVolumeAndViewersSeeItsLabels) {
     EXPECT_EQ(removed.at("volume"), "");
     EXPECT_TRUE(removed.at("labels").empty());
     EXPECT_FALSE(removed.at("state").contains("labels"));
+    // The viewer, there all along, is told that the map is gone and, when one is drawn again,
+    // its labels' names, not only their styles.
+    const auto gone = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(gone.at("type"), "labels") << gone;
+    EXPECT_FALSE(gone.contains("id"));
+    EXPECT_EQ(gone.at("volume"), "");
+    EXPECT_TRUE(gone.at("labels").empty());
+    ASSERT_EQ(field(owner.request(
+                            R"({"v":1,"type":"add_labels","id":13,"volume":"heads/aal.nii.gz"})"),
+                    "type"),
+              "labels");
+    const auto again = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(again.at("type"), "labels") << again;
+    ASSERT_EQ(again.at("labels").size(), 116U);
+    EXPECT_EQ(again.at("labels")[44].at("name"), "Cuneus_L");
+    EXPECT_EQ(again.at("state").at("labels").at("styles").size(), 116U);
+    ASSERT_EQ(field(owner.request(R"({"v":1,"type":"remove_labels","id":14})"), "type"), "labels");
     const std::string none =
             owner.request(R"({"v":1,"type":"set","id":11,"labels":{"blend":0.5}})");
     EXPECT_EQ(field(none, "code"), "invalid_value") << none;

@@ -175,11 +175,40 @@ void ConnectionHandler::on_text(std::string_view text) {
     handle(*request);
 }
 
+namespace {
+
+// `labels` message of the label map a session draws (none: an empty map).
+std::string drawn_labels_message(std::optional<std::int64_t> id, const std::string& session,
+                                 const session::DrawnLabels& labels, const scene::State& state) {
+    std::vector<protocol::LabelSummary> summaries;
+    if (labels.map) {
+        for (std::size_t i = 0; i < labels.map->labels.size(); ++i) {
+            const volume::Label& label = labels.map->labels[i];
+            summaries.push_back({label.id,
+                                 label.name,
+                                 {label.color.r, label.color.g, label.color.b},
+                                 labels.map->voxels[i]});
+        }
+    }
+    return protocol::labels_message(id, session, labels.map ? labels.id : std::string{}, summaries,
+                                    state);
+}
+
+}  // namespace
+
 ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session_id) {
     std::weak_ptr<Connection> weak = connection_;
     Context* context = &context_;
-    auto state_changed = [weak, session_id](const scene::State& state) {
-        if (auto connection = weak.lock()) {
+    auto state_changed = [weak, session_id](const scene::State& state,
+                                            const session::DrawnLabels* labels) {
+        auto connection = weak.lock();
+        if (!connection) {
+            return;
+        }
+        if (labels != nullptr) {
+            // Not a state a newer one supersedes while it waits: the labels' names go with it.
+            connection->send_text(drawn_labels_message(std::nullopt, session_id, *labels, state));
+        } else {
             connection->send_state(protocol::state_message(session_id, state));
         }
     };
@@ -276,20 +305,6 @@ base::Error volume_error(const std::string& volume_id, base::Error error) {
 }
 
 // The labels of a label map as `labels` lists them; none for null.
-std::vector<protocol::LabelSummary> label_summaries(const volume::LabelMap* labels) {
-    std::vector<protocol::LabelSummary> out;
-    if (labels == nullptr) {
-        return out;
-    }
-    for (std::size_t i = 0; i < labels->labels.size(); ++i) {
-        const volume::Label& label = labels->labels[i];
-        out.push_back({label.id,
-                       label.name,
-                       {label.color.r, label.color.g, label.color.b},
-                       labels->voxels[i]});
-    }
-    return out;
-}
 
 }  // namespace
 
@@ -339,7 +354,7 @@ void ConnectionHandler::become_owner(std::optional<std::int64_t> id,
     // Cannot fail: the session ends only when its owner, this connection, leaves.
     const auto added = session_->add_viewer(
             viewer_, std::move(sinks.frames), std::move(sinks.state_changed),
-            [&](const scene::State& state) {
+            [&](const scene::State& state, const session::DrawnLabels* /*labels: none yet*/) {
                 send(protocol::opened_message(id, session_->id(),
                                               summary_of(session_->volume_summary()), *histogram,
                                               state, session_->owner_token(), recreated));
@@ -362,12 +377,16 @@ bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std:
     // changing the owner are one step of the session's, so two connections resuming at once
     // cannot both win.
     auto entered = context_.services.sessions.enter(session_id, [&](session::Session& target) {
-        const auto welcome = [&](const scene::State& state) {
+        // The labels' names and colours follow, in the same step, where a map is drawn.
+        const auto welcome = [&](const scene::State& state, const session::DrawnLabels* labels) {
             const protocol::VolumeSummary volume = summary_of(target.volume_summary());
             send(owner_token
                          ? protocol::opened_message(id, target.id(), volume, *histogram, state,
                                                     target.owner_token())
                          : protocol::joined_message(id, target.id(), volume, *histogram, state));
+            if (labels != nullptr) {
+                send(drawn_labels_message(std::nullopt, target.id(), *labels, state));
+            }
         };
         // Also when already in it: re-entering replaces the sinks, and the welcome keeps its
         // reply ahead of every state that follows it.
@@ -383,12 +402,6 @@ bool ConnectionHandler::enter_session(std::optional<std::int64_t> id, const std:
     if (*entered != session_) {
         leave_session();
         session_ = *entered;
-    }
-    // A session that draws a label map: its labels' names and colours, which the state's styles
-    // do not carry.
-    if (const session::Session::Labels drawn = session_->labels(); drawn.map) {
-        send(protocol::labels_message(std::nullopt, session_->id(), drawn.id,
-                                      label_summaries(drawn.map.get()), session_->state()));
     }
     return true;
 }
@@ -596,8 +609,7 @@ void ConnectionHandler::draw_labels(std::optional<std::int64_t> id, const std::s
         reply_error(id, error);
         return;
     }
-    send(protocol::labels_message(id, session_->id(), labels ? volume_id : std::string{},
-                                  label_summaries(labels.get()), *changed));
+    send(drawn_labels_message(id, session_->id(), session_->labels(), *changed));
 }
 
 // After every handler: each alternative goes to its own specialisation of handle, and one without

@@ -128,7 +128,7 @@ void Session::set_state(scene::State state, ViewerId changed_by) {
     state_ = std::move(state);
     for (const auto& [viewer, sinks] : viewers_) {
         if (viewer != changed_by && sinks.state_changed) {
-            sinks.state_changed(state_);
+            sinks.state_changed(state_, nullptr);
         }
     }
 }
@@ -138,8 +138,8 @@ base::Result<scene::State> Session::change_state(ViewerId viewer, const StateCha
     return change_state_locked(viewer, change);
 }
 
-base::Result<scene::State> Session::change_state_locked(ViewerId viewer,
-                                                        const StateChange& change) {
+base::Result<scene::State> Session::change_state_locked(ViewerId viewer, const StateChange& change,
+                                                        std::optional<DrawnLabels> labels) {
     if (owner_ != viewer) {
         return base::make_error(base::ErrorCode::invalid_message,
                                 "only the session's owner can change it; viewers who joined watch",
@@ -150,22 +150,25 @@ base::Result<scene::State> Session::change_state_locked(ViewerId viewer,
         return status.error();
     }
     state_ = std::move(next);
+    if (labels) {
+        labels_ = std::move(*labels);
+    }
     for (const auto& [other, sinks] : viewers_) {
         if (other != viewer && sinks.state_changed) {
-            sinks.state_changed(state_);
+            sinks.state_changed(state_, labels ? &labels_ : nullptr);
         }
     }
     return state_;
 }
 
-Session::Labels Session::labels() const {
+DrawnLabels Session::labels() const {
     const std::lock_guard lock(mutex_);
     return labels_;
 }
 
 base::Result<reference::Pick> Session::pick(double x, double y) const {
     scene::FrameRequest frame;
-    Labels labels;
+    DrawnLabels labels;
     {
         const std::lock_guard lock(mutex_);
         frame = state_.frame;
@@ -189,15 +192,15 @@ base::Result<scene::State> Session::set_labels(ViewerId viewer, std::string labe
         }
     }
     const auto styles = labels ? render::label_styles(*labels) : scene::Labels{};
+    DrawnLabels drawn{labels ? std::move(labels_id) : std::string{}, std::move(labels)};
     const std::lock_guard lock(mutex_);
-    auto changed = change_state_locked(viewer, [&](scene::State& state) {
-        state.frame.labels = styles;
-        return base::Status{base::Ok{}};
-    });
-    if (changed) {
-        labels_ = {labels ? std::move(labels_id) : std::string{}, std::move(labels)};
-    }
-    return changed;
+    return change_state_locked(
+            viewer,
+            [&](scene::State& state) {
+                state.frame.labels = styles;
+                return base::Status{base::Ok{}};
+            },
+            std::move(drawn));
 }
 
 base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink state_changed,
@@ -209,7 +212,7 @@ base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink s
     }
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
     if (welcome) {
-        welcome(state_);
+        welcome(state_, labels_.map ? &labels_ : nullptr);
     }
     return base::Ok{};
 }
@@ -236,7 +239,7 @@ base::Status Session::resume(ViewerId viewer, std::string_view owner_token, View
     owner_ = viewer;
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
     if (welcome) {
-        welcome(state_);
+        welcome(state_, labels_.map ? &labels_ : nullptr);
     }
     return base::Ok{};
 }

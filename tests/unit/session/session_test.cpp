@@ -62,11 +62,48 @@ struct Heard {
     std::vector<std::string> events;
 
     StateSink sink(const std::string& what) {
-        return [this, what](const scene::State& state) {
+        return [this, what](const scene::State& state, const DrawnLabels* /*labels*/) {
             events.push_back(what + ":" + scene::to_string(state.frame.settings.mode));
         };
     }
 };
+
+// The viewers are given the label map with the state it changes (its names and colours, which
+// the styles do not carry), a viewer who joins is welcomed with it, and a plain change carries
+// none.
+TEST(Session, TheLabelMapDrawnReachesTheViewersWithItsState) {
+    const std::filesystem::path templates = "/usr/share/mricron/templates";
+    auto ch2 = volume::load_volume(templates / "ch2.nii.gz");
+    auto aal = volume::load_label_map(templates / "aal.nii.gz");
+    ASSERT_TRUE(ch2.ok() && aal.ok());
+    Session session("s", "v", std::make_shared<const volume::Volume>(std::move(ch2.value())), {},
+                    owner);
+    std::vector<std::string> heard;
+    const auto sink = [&heard](const std::string& who) {
+        return [&heard, who](const scene::State& state, const DrawnLabels* labels) {
+            heard.push_back(
+                    who + ":" + std::to_string(state.frame.labels.styles.size()) + ":" +
+                    (labels == nullptr ? "-"
+                     : labels->map == nullptr
+                             ? "none"
+                             : labels->id + "/" + std::to_string(labels->map->labels.size())));
+        };
+    };
+    ASSERT_TRUE(session.add_viewer(owner, {}, sink("owner"), {}));
+    ASSERT_TRUE(session.add_viewer(first_viewer, {}, sink("first"), sink("first welcome")));
+    const auto map = std::make_shared<const volume::LabelMap>(std::move(aal.value()));
+    ASSERT_TRUE(session.set_labels(owner, "aal.nii.gz", map).ok());
+    ASSERT_TRUE(session.change_state(owner, [](scene::State& state) {
+        state.frame.labels.styles.front().visible = false;
+        return base::Status{base::Ok{}};
+    }));
+    ASSERT_TRUE(session.add_viewer(second_viewer, {}, sink("second"), sink("second welcome")));
+    ASSERT_TRUE(session.set_labels(owner, "", nullptr).ok());
+    EXPECT_EQ(heard, (std::vector<std::string>{"first welcome:0:-", "first:116:aal.nii.gz/116",
+                                               "first:116:-", "second welcome:116:aal.nii.gz/116",
+                                               "first:0:none", "second:0:none"}));
+    EXPECT_FALSE(session.set_labels(first_viewer, "aal.nii.gz", map).ok());
+}
 
 TEST(Session, AStateChangeReachesEveryViewerButTheOneWhoMadeIt) {
     Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);

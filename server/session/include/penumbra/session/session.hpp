@@ -67,9 +67,18 @@ using ViewerSink = std::function<void(const ViewerOutcome& outcome)>;
 // `limits` allow.
 scene::State default_state(const std::string& transfer_function, const scene::Limits& limits);
 
-// Receives a session's state. Called under the session's lock, so that each viewer learns of the
+// The label map a session draws inside its volume, by the id the volume store lists it under;
+// none (null, empty) at first.
+struct DrawnLabels {
+    std::string id;
+    std::shared_ptr<const volume::LabelMap> map;
+};
+
+// Receives a session's state and, where the label map drawn changed with it (or, welcoming a
+// viewer, where one is drawn), that map: its labels' names and colours, which the state's styles
+// do not carry; else null. Called under the session's lock, so that each viewer learns of the
 // states in the order they were set: it must only queue a message.
-using StateSink = std::function<void(const scene::State& state)>;
+using StateSink = std::function<void(const scene::State& state, const DrawnLabels* labels)>;
 
 // One user's view of one volume: camera, light, TF, mode and quality, and the connections that
 // watch it (its owner and anyone who joined). The owner may leave (its network dropped) while
@@ -126,20 +135,13 @@ public:
     // the owner, or with the error of `change`.
     base::Result<scene::State> change_state(ViewerId viewer, const StateChange& change);
 
-    // The label map drawn inside the session's volume, by the id the volume store lists it under;
-    // none (null, empty) at first.
-    struct Labels {
-        std::string id;
-        std::shared_ptr<const volume::LabelMap> map;
-    };
-
-    [[nodiscard]] Labels labels() const;
+    [[nodiscard]] DrawnLabels labels() const;
 
     // Lets the owner `viewer` draw `labels` (listed as `labels_id`) inside the volume, each label
     // as its files show it (render::label_styles), or none (null): the state's labels change with
     // the map in one step, so no frame pairs a map with another's styles; every other viewer gets
-    // the state. Returns the state as changed; fails as change_state for a viewer that is not the
-    // owner, and with no_overlap when the map lies outside the volume.
+    // the state with the map. Returns the state as changed; fails as change_state for a viewer that
+    // is not the owner, and with no_overlap when the map lies outside the volume.
     base::Result<scene::State> set_labels(ViewerId viewer, std::string labels_id,
                                           std::shared_ptr<const volume::LabelMap> labels);
 
@@ -188,8 +190,10 @@ public:
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
 private:
-    // change_state with mutex_ held.
-    base::Result<scene::State> change_state_locked(ViewerId viewer, const StateChange& change);
+    // change_state with mutex_ held; `labels`, where given, is the label map drawn from the
+    // changed state on, which the other viewers are given with it.
+    base::Result<scene::State> change_state_locked(ViewerId viewer, const StateChange& change,
+                                                   std::optional<DrawnLabels> labels = {});
 
     const std::string id_;
     const std::string volume_id_;
@@ -207,7 +211,7 @@ private:
     std::optional<ViewerId> owner_;
     bool ended_ = false;  // its last viewer left: nobody may come back
     scene::State state_;
-    Labels labels_;
+    DrawnLabels labels_;
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 };
