@@ -10,6 +10,7 @@ import {
   type Camera,
   type Listing,
   type StatePatch,
+  type VolumeSummary,
 } from './protocol/messages';
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
@@ -27,6 +28,9 @@ import { placementOf } from './panels/crop_box';
 import { CropBoxOverlay } from './view/crop_box_overlay';
 import { TfEditor } from './panels/tf_editor';
 import { TfModel, tfTerms } from './panels/tf_model';
+import { LabelsPanel } from './panels/labels_panel';
+import { PickOverlay } from './view/pick_overlay';
+import { attachTap } from './interaction/tap';
 
 const query = new URLSearchParams(location.search);
 const joinId = query.get('join');
@@ -70,6 +74,21 @@ function showSessionState(): void {
   light.update(state.light);
   cutPanel.update(state);
   method.update(state);
+  labelsPanel.update(state, connection.session?.labels);
+}
+
+/** The session's labels as the server answered: not while a change of them waits to be sent. */
+function showLabels(): void {
+  if (pendingPatch?.labels) return;
+  labelsPanel.update(connection.session?.state, connection.session?.labels);
+}
+
+/** A change of the labels not yet sent is dropped: the map it was for goes. */
+function dropPendingLabels(): void {
+  if (!pendingPatch?.labels) return;
+  const rest = { ...pendingPatch };
+  delete rest.labels;
+  pendingPatch = Object.keys(rest).length > 0 ? rest : null;
 }
 
 const pacer = new RenderPacer((interactive) => {
@@ -77,7 +96,7 @@ const pacer = new RenderPacer((interactive) => {
   if (pendingPatch && role === 'owner') {
     const patch = pendingPatch;
     pendingPatch = null;
-    connection.set(patch).catch((e: unknown) => {
+    connection.set(patch).then(showLabels, (e: unknown) => {
       if (e instanceof RequestFailed) return; // connection lost: restored on reconnect
       notices.show('error', 'The server refused a change', describe(e));
       showSessionState(); // the controls show what the server has
@@ -119,6 +138,11 @@ const tfEditor = new TfEditor(tfFolder, tfModel, (interactive) =>
 const lightFolder = gui.addFolder('Light');
 const light = new LightControl(lightFolder, () => camera.toCamera(), change);
 const cutPanel = new CutPanel(gui.addFolder('Cut'), change, () => camera.toCamera());
+const labelsPanel = new LabelsPanel(gui.addFolder('Labels'), {
+  change,
+  add: (volume) => void drawLabels(volume),
+  remove: () => void drawLabels(null),
+});
 const cropBox = new CropBoxOverlay(viewElement, cutPanel);
 cutPanel.onBoxChange(() => cropBox.draw());
 // The box is drawn with the camera of the frame on screen: the owner's camera when it asked for
@@ -160,6 +184,7 @@ function setEnabled(owner: boolean): void {
   tfEditor.setEnabled(owner);
   light.setEnabled(owner);
   cutPanel.setEnabled(owner);
+  labelsPanel.setEnabled(owner);
   method.setEnabled(owner);
   document.body.classList.toggle('viewer', !owner);
   viewButtons.querySelectorAll('button').forEach((b) => (b.disabled = !owner));
@@ -167,6 +192,7 @@ function setEnabled(owner: boolean): void {
 
 // ---- camera ------------------------------------------------------------------------------------
 function cameraMoved(interactive = false): void {
+  pick.clear(); // what lay under the point lies elsewhere now
   marker.update(camera.toCamera());
   light.cameraMoved();
   change({ camera: camera.toCamera() }, interactive);
@@ -205,6 +231,31 @@ drawerToggle.addEventListener('click', () => {
   drawerToggle.setAttribute('aria-expanded', String(open));
 });
 viewElement.appendChild(drawerToggle);
+
+// ---- pick: a tap on the image asks what lies there -------------------------------------------------
+const pick = new PickOverlay(viewElement);
+view.onShown(({ header }) => pick.setFrame({ width: header.width, height: header.height }));
+view.onResize(() => pick.clear());
+
+async function pickAt(clientX: number, clientY: number): Promise<void> {
+  if (!connection.connected || !connection.session || connection.restoring) return;
+  const point = pick.pointAt(clientX, clientY);
+  if (!point) return; // beside the image
+  const ticket = pick.start(point);
+  try {
+    const answer = await connection.pick(point.x, point.y);
+    const label = answer.label ? labelsPanel.row(answer.label.id) : undefined;
+    pick.answer(ticket, answer, label?.color);
+    if (answer.label) labelsPanel.select(answer.label.id);
+  } catch (e) {
+    pick.fail(ticket, describe(e));
+  }
+}
+
+attachTap(view.canvas, (x, y) => void pickAt(x, y));
+window.addEventListener('keydown', (e) => {
+  if (e.key === 'Escape') pick.clear();
+});
 
 attachOrbitControls(view.canvas, camera, {
   start: () => pacer.startInteraction(),
@@ -249,6 +300,7 @@ connection.on('status', (status) => {
 
 connection.on('session', (info, restored) => {
   role = info.role;
+  pick.clear();
   if (!restored || info.role === 'viewer') camera.setFrom(info.state.camera, !restored);
   marker.update(camera.toCamera());
   const [min, max] = info.volume.range;
@@ -263,6 +315,7 @@ connection.on('session', (info, restored) => {
   showSessionState();
   picker.updateVolume(info.volume);
   picker.select(info.volume.id);
+  if (volumesListed) labelsPanel.setVolumes(volumesListed, info.volume.id);
   sessionPanel.update(info);
   setEnabled(info.role === 'owner');
   stats.reset();
@@ -290,7 +343,9 @@ connection.on('session', (info, restored) => {
 
 // A viewer's panels follow the owner: each of its changes arrives as the session's whole state.
 connection.on('state', (info) => {
+  const before = JSON.stringify(camera.toCamera());
   camera.setFrom(info.state.camera);
+  if (JSON.stringify(camera.toCamera()) !== before) pick.clear();
   marker.update(camera.toCamera());
   tfModel.load(info.state.transfer_function, false);
   tfEditor.refresh();
@@ -310,6 +365,12 @@ connection.on('frame', (frame) => {
     at: arrived,
     latencyMs: requestSent === undefined ? undefined : arrived - requestSent,
   });
+});
+
+// A label map drawn or removed (by this owner, or told after a join or a resume).
+connection.on('labels', () => {
+  labelsPanel.update(connection.session?.state, connection.session?.labels);
+  pacer.request(false);
 });
 
 connection.on('serverError', (error) => notices.show('error', 'Server error', error.describe()));
@@ -335,6 +396,8 @@ connection.on('sessionLost', (session, outcome) => {
 
 let refreshing: Promise<void> | null = null;
 let listing: Listing = 'complete';
+/** The volumes last listed (null before the first list): the label maps offered come from it. */
+let volumesListed: VolumeSummary[] | null = null;
 
 /**
  * Lists the volumes; while the server's first scan of its data folder runs, asks again each second
@@ -347,6 +410,8 @@ function refreshVolumes(enough: () => boolean = () => false): Promise<void> {
         const listed = await connection.listVolumes();
         listing = listed.listing;
         picker.setVolumes(listed.volumes, connection.session?.volume.id ?? '');
+        volumesListed = listed.volumes;
+        labelsPanel.setVolumes(listed.volumes, connection.session?.volume.id ?? '');
         picker.setListing(listing);
         if (listing !== 'scanning' || enough()) return;
         await new Promise((resolve) => setTimeout(resolve, 1000));
@@ -358,6 +423,27 @@ function refreshVolumes(enough: () => boolean = () => false): Promise<void> {
     }
   })();
   return refreshing;
+}
+
+/** Draws `volume` as the session's label map, or none (null). */
+async function drawLabels(volume: string | null): Promise<void> {
+  if (role !== 'owner' || !connection.session) return;
+  dropPendingLabels();
+  labelsPanel.setBusy(volume ? `Loading ${volume}…` : null);
+  try {
+    if (volume) await connection.addLabels(volume);
+    else await connection.removeLabels();
+  } catch (e) {
+    if (!(e instanceof RequestFailed && !connection.connected)) {
+      notices.show(
+        'error',
+        volume ? `Could not draw ${volume} as labels` : 'Could not remove the label map',
+        describe(e),
+      );
+    }
+  } finally {
+    labelsPanel.setBusy(null);
+  }
 }
 
 async function openVolume(id: string): Promise<void> {

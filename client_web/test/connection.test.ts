@@ -14,7 +14,7 @@ import { packFrame, type FrameHeader } from '../src/protocol/frame_header';
 import { mergePatches, type State, type StatePatch } from '../src/protocol/messages';
 import { checkClientMessage } from './client_checks';
 import { RenderPacer } from '../src/interaction/pacing';
-import { recordedHello, recordedTerms } from './recorded';
+import { recordedHello, recordedLabelMessages, recordedTerms } from './recorded';
 import { FakeClock } from './fake_timers';
 
 const recorded = readFileSync(path.join(__dirname, 'fixtures/server_messages.jsonl'), 'utf8')
@@ -27,6 +27,17 @@ const OWNER_TOKEN = OPENED['owner_token'] as string;
 const OPENED_WITHOUT_TOKEN = Object.fromEntries(
   Object.entries(OPENED).filter(([key]) => key !== 'owner_token'),
 );
+
+/** AAL drawn over ch2 (recorded.ts says what each is), each without its id and session. */
+const [LABELS_ADDED, LABELS_AFTER_JOIN, ACKED_LABELS, , PICKED_HIT, , LABELS_REMOVED] =
+  recordedLabelMessages.map((text) => {
+    const message = JSON.parse(text) as Record<string, unknown>;
+    delete message['id'];
+    delete message['session'];
+    return message;
+  });
+/** The state after the owner showed labels 45, 46 and 57 alone, 46 half opaque, blend 0.8. */
+const LABELLED_STATE = ACKED_LABELS!['state'] as State;
 
 class FakeSocket implements SocketLike {
   binaryType = 'blob';
@@ -739,5 +750,214 @@ describe('Connection', () => {
     clock.advance(10_000);
     expect(sockets).toHaveLength(1);
     expect(statuses.slice(-1)).toEqual(['closed']);
+  });
+});
+
+describe('Connection: label maps and picks', () => {
+  /** An owner of `session` (with an owner token or not) that drew AAL. */
+  async function ownerWithLabels(session = 'mine', token = true) {
+    const context = setup();
+    const { socket, connection } = context;
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', { ...(token ? OPENED : OPENED_WITHOUT_TOKEN), session });
+    await opened;
+    const told: string[] = [];
+    connection.on('labels', (info) =>
+      told.push(`${info.labels?.volume ?? 'none'} ${info.labels?.labels.length ?? 0}`),
+    );
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    const adding = connection.addLabels('aal.nii.gz');
+    expect(socket().sent.at(-1)).toMatchObject({ type: 'add_labels', volume: 'aal.nii.gz' });
+    socket().reply('labels', { ...LABELS_ADDED, session });
+    await adding;
+    const set = connection.set({ labels: { only: [45, 46, 57] } });
+    socket().reply('ack', { of: 'set', state: LABELLED_STATE });
+    await set;
+    return { ...context, told, problems };
+  }
+
+  it('an owner draws a label map and removes it; the mirror takes what the server answers', async () => {
+    const { socket, connection, told } = await ownerWithLabels();
+    expect(connection.session?.labels?.volume).toBe('aal.nii.gz');
+    expect(connection.session?.labels?.labels).toHaveLength(116);
+    expect(connection.session?.state.labels?.blend).toBe(0.8);
+    const removing = connection.removeLabels();
+    expect(socket().sent.at(-1)).toMatchObject({ type: 'remove_labels' });
+    socket().reply('labels', { ...LABELS_REMOVED, session: 'mine' });
+    await removing;
+    expect(connection.session?.labels).toBeUndefined();
+    expect(connection.session?.state.labels).toBeUndefined();
+    expect(told).toEqual(['aal.nii.gz 116', 'none 0']);
+  });
+
+  it('a label map the server refuses changes nothing', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const adding = connection.addLabels('ch2bet.nii.gz');
+    socket().reply('error', {
+      code: 'volume_unreadable',
+      field: '/volume',
+      message: 'not a label map',
+    });
+    expect(await adding.catch((e: unknown) => e)).toBeInstanceOf(ServerError);
+    expect(connection.session?.labels).toBeUndefined();
+  });
+
+  it('a viewer is told the labels after joined; the names stay while the map does', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    const told: number[] = [];
+    connection.on('labels', (info) => told.push(info.labels?.labels.length ?? 0));
+    const joined = connection.join('abc');
+    socket().reply('joined', {
+      ...OPENED_WITHOUT_TOKEN,
+      type: 'joined',
+      session: 'abc',
+      state: LABELLED_STATE,
+    });
+    await joined;
+    // A session this connection is not in: nothing of it.
+    socket().receive(JSON.stringify({ v: 1, ...LABELS_AFTER_JOIN, session: 'other' }));
+    socket().receive(JSON.stringify({ v: 1, ...LABELS_AFTER_JOIN, session: 'abc' }));
+    expect(problems).toEqual([]);
+    expect(told).toEqual([116]);
+    expect(connection.session?.labels?.volume).toBe('aal.nii.gz');
+    // The owner hides a label: the same map, still named.
+    const hidden = structuredClone(LABELLED_STATE);
+    hidden.labels!.styles['45']!.visible = false;
+    socket().receive(JSON.stringify({ v: 1, type: 'state', session: 'abc', state: hidden }));
+    expect(connection.session?.labels?.labels).toHaveLength(116);
+    expect(connection.session?.state.labels?.styles['45']?.visible).toBe(false);
+    // The owner draws another map: a viewer is sent its styles alone, which name nothing.
+    const other = structuredClone(LABELLED_STATE);
+    other.labels!.styles = { '1': other.labels!.styles['1']!, '2': other.labels!.styles['2']! };
+    socket().receive(JSON.stringify({ v: 1, type: 'state', session: 'abc', state: other }));
+    expect(connection.session?.labels).toBeUndefined();
+    expect(Object.keys(connection.session?.state.labels?.styles ?? {})).toEqual(['1', '2']);
+  });
+
+  it('a viewer whose owner removes the map forgets its labels', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const joined = connection.join('abc');
+    socket().reply('joined', { ...OPENED, type: 'joined', session: 'abc', state: LABELLED_STATE });
+    await joined;
+    socket().receive(JSON.stringify({ v: 1, ...LABELS_AFTER_JOIN, session: 'abc' }));
+    socket().receive(
+      JSON.stringify({ v: 1, type: 'state', session: 'abc', state: OPENED['state'] }),
+    );
+    expect(connection.session?.labels).toBeUndefined();
+  });
+
+  it('any viewer picks a point of the view, answered by picked', async () => {
+    const { socket, connection } = setup();
+    socket().open();
+    const joined = connection.join('abc');
+    socket().reply('joined', { ...OPENED_WITHOUT_TOKEN, type: 'joined', session: 'abc' });
+    await joined;
+    const picking = connection.pick(0.55, 0.4);
+    expect(socket().sent.at(-1)).toMatchObject({ type: 'pick', x: 0.55, y: 0.4 });
+    socket().reply('picked', { ...PICKED_HIT, session: 'abc' });
+    expect(await picking).toMatchObject({
+      hit: true,
+      label: { id: 19, name: 'Supp_Motor_Area_L' },
+    });
+  });
+
+  it('after a lost connection the owner draws its map again before it sends its styles back (no owner token)', async () => {
+    const { clock, socket, connection, told, problems } = await ownerWithLabels('mine', false);
+    const restored: (string | false)[] = [];
+    connection.on('session', (_, r) => restored.push(r));
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({ type: 'open', volume: 'ch2.nii.gz' });
+    socket().reply('opened', { ...OPENED, session: 'new-session' });
+    await flush();
+    // The server refuses labels while it draws no map: the map first.
+    expect(socket().sent[1]).toMatchObject({ type: 'add_labels', volume: 'aal.nii.gz' });
+    expect(socket().sent).toHaveLength(2);
+    socket().reply('labels', { ...LABELS_ADDED, session: 'new-session' });
+    await flush();
+    const restore = socket().sent[2]!;
+    expect(restore).toMatchObject({
+      type: 'set',
+      labels: { only: [45, 46, 57], styles: { '46': { opacity: 0.5 } }, blend: 0.8 },
+    });
+    socket().reply('ack', { of: 'set', state: LABELLED_STATE });
+    await flush();
+    expect(restored).toEqual(['reopened']);
+    expect(problems).toEqual([]);
+    expect(connection.session?.session).toBe('new-session');
+    expect(connection.session?.labels?.labels).toHaveLength(116);
+    expect(connection.session?.state.labels).toEqual(LABELLED_STATE.labels);
+    expect(told).toEqual(['aal.nii.gz 116']);
+  });
+
+  it('a map that cannot be drawn again is said, and the rest of the state goes back', async () => {
+    const { clock, socket, connection, problems } = await ownerWithLabels('mine', false);
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    socket().reply('opened', { ...OPENED, session: 'new-session' });
+    await flush();
+    socket().reply('error', {
+      code: 'unknown_volume',
+      field: '/volume',
+      message: 'no such volume',
+    });
+    await flush();
+    const restore = socket().sent[2]!;
+    expect(restore['type']).toBe('set');
+    expect(restore['labels']).toBeUndefined();
+    expect(problems).toEqual([
+      expect.stringMatching(/aal\.nii\.gz could not be drawn again: unknown_volume/) as string,
+    ]);
+    const unlabelled = structuredClone(LABELLED_STATE);
+    delete unlabelled.labels;
+    socket().reply('ack', { of: 'set', state: unlabelled });
+    await flush();
+    expect(connection.session?.labels).toBeUndefined();
+    expect(connection.session?.state.labels).toBeUndefined();
+  });
+
+  it("a resumed owner's session still draws its map: nothing is sent again, the names follow", async () => {
+    const { clock, socket, connection, told } = await ownerWithLabels('mine');
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    expect(socket().sent[0]).toMatchObject({ type: 'resume', session: 'mine' });
+    socket().reply('opened', { ...OPENED, session: 'mine', state: LABELLED_STATE });
+    await flush();
+    // Known from before, until the server says them again.
+    expect(connection.session?.labels?.labels).toHaveLength(116);
+    socket().receive(JSON.stringify({ v: 1, ...LABELS_AFTER_JOIN, session: 'mine' }));
+    expect(socket().sent).toHaveLength(1);
+    expect(told).toEqual(['aal.nii.gz 116', 'aal.nii.gz 116']);
+    expect(connection.session?.state.labels).toEqual((LABELS_AFTER_JOIN!['state'] as State).labels);
+  });
+
+  it('an owner whose server died re-creates its session, its label map drawn again first', async () => {
+    const { clock, socket, connection } = await ownerWithLabels('mine');
+    socket().fail();
+    clock.advance(100);
+    socket().open();
+    socket().reply('opened', { ...OPENED, session: 'mine', recreated: true });
+    await flush();
+    expect(socket().sent[1]).toMatchObject({ type: 'add_labels', volume: 'aal.nii.gz' });
+    socket().reply('labels', { ...LABELS_ADDED, session: 'mine' });
+    await flush();
+    expect(socket().sent[2]).toMatchObject({ type: 'set', labels: { only: [45, 46, 57] } });
+    socket().reply('ack', { of: 'set', state: LABELLED_STATE });
+    await flush();
+    expect(connection.session?.labels?.volume).toBe('aal.nii.gz');
+    expect(connection.session?.state.labels?.blend).toBe(0.8);
   });
 });

@@ -4,6 +4,8 @@ import { describe, expect, it } from 'vitest';
 import { orbitEye, orbitOf } from '../src/interaction/orbit_camera';
 import {
   encodeClientMessage,
+  labelsPatchBetween,
+  mergeLabelsPatches,
   mergePatches,
   parseServerMessage,
   ProtocolError,
@@ -13,12 +15,18 @@ import {
   type AckMessage,
   type ClientMessage,
   type HelloMessage,
+  type LabelsMessage,
+  type LabelsPatch,
+  type LabelsState,
   type OpenedMessage,
+  type PickedMessage,
   type State,
   type StateMessage,
+  type VolumesMessage,
 } from '../src/protocol/messages';
 import { checkClientMessage, type ServerTerms } from './client_checks';
-import { recordedHello, recordedMessages, recordedTerms } from './recorded';
+import { applyLabelsPatch } from './labels_server';
+import { recordedHello, recordedLabelMessages, recordedMessages, recordedTerms } from './recorded';
 
 const examples = path.resolve(__dirname, '../../proto/examples/v1');
 
@@ -582,5 +590,193 @@ describe('patches', () => {
     expect(
       checkClientMessage({ v: 1, type: 'set', ...restorePatch(state) }, recordedTerms),
     ).toBeNull();
+  });
+});
+
+describe('label maps and picks', () => {
+  const messages = recordedLabelMessages.map((text) => parse(text));
+  const added = messages[0] as LabelsMessage;
+  const defaults = added.state.labels!;
+  const acked = (messages[2] as AckMessage).state!;
+
+  it('reads every label-map message a real server sent', () => {
+    expect(messages.map((m) => [m.type, 'id' in m])).toEqual([
+      ['labels', true],
+      ['labels', false], // after joined: no request answered
+      ['ack', true],
+      ['state', false],
+      ['picked', true],
+      ['picked', true],
+      ['labels', true],
+    ]);
+  });
+
+  it("reads labels: the map, each label's name, colour and voxels, and the state styling them", () => {
+    expect(added.volume).toBe('aal.nii.gz');
+    expect(added.labels).toHaveLength(116);
+    expect(added.labels[44]).toEqual({
+      id: 45,
+      name: 'Cuneus_L',
+      color: expect.any(Array) as number[],
+      voxels: expect.any(Number) as number,
+    });
+    expect(Object.keys(defaults.styles)).toHaveLength(116);
+    expect(defaults.blend).toBe(0.6);
+    expect(defaults.styles['1']).toEqual({ color: [0.8, 0.8, 0.8], opacity: 1, visible: true });
+    const removed = messages[6] as LabelsMessage;
+    expect(removed).toMatchObject({ volume: '', labels: [] });
+    expect(removed.state.labels).toBeUndefined();
+  });
+
+  it("reads a state's labels in an ack and in a viewer's state", () => {
+    expect(acked.labels!.blend).toBe(0.8);
+    expect(acked.labels!.styles['46']).toMatchObject({ opacity: 0.5, visible: true });
+    expect((messages[3] as StateMessage).state.labels).toEqual(acked.labels);
+  });
+
+  it('reads picked: with a hit where, what value and which label; without, only the point', () => {
+    const hit = messages[4] as PickedMessage;
+    expect(hit).toMatchObject({ hit: true, hounsfield: false, label: { id: 19 } });
+    expect(hit.position).toHaveLength(3);
+    expect(typeof hit.value).toBe('number');
+    const miss = messages[5] as PickedMessage;
+    expect(miss).toMatchObject({ hit: false, x: 0.02, y: 0.02 });
+    expect(miss.position).toBeUndefined();
+  });
+
+  it.each([
+    ['a label without a name', 'labels', '/labels/3/name'],
+    ['a label whose id is a fraction', 'labels', '/labels/3/id'],
+    ['a style without visibility', 'labels', '/state/labels/styles/4/visible'],
+    ['a style keyed by a name', 'labels', '/state/labels/styles'],
+    ['a hit without a position', 'picked', '/position'],
+    ['a label without an id', 'picked', '/label/id'],
+  ])('rejects %s', (what, type, field) => {
+    const message = JSON.parse(recordedLabelMessages[type === 'labels' ? 0 : 4]!) as Record<
+      string,
+      unknown
+    > & {
+      labels: Record<string, unknown>[];
+      state: { labels: { styles: Record<string, Record<string, unknown>> } };
+      label: Record<string, unknown>;
+    };
+    if (what === 'a label without a name') delete message.labels[3]!['name'];
+    if (what === 'a label whose id is a fraction') message.labels[3]!['id'] = 4.5;
+    if (what === 'a style without visibility') delete message.state.labels.styles['4']!['visible'];
+    if (what === 'a style keyed by a name') message.state.labels.styles['Cuneus_L'] = {};
+    if (what === 'a hit without a position') delete message['position'];
+    if (what === 'a label without an id') delete message.label['id'];
+    expect(() => parse(JSON.stringify(message))).toThrow(field);
+  });
+
+  it('reads whether a listed volume is a label map, where the server says', () => {
+    const volumes = JSON.parse(serverMessages[1]!) as VolumesMessage;
+    volumes.volumes[0]!.label_map = true;
+    const read = parse(JSON.stringify(volumes)) as VolumesMessage;
+    expect(read.volumes[0]!.label_map).toBe(true);
+    expect(read.volumes[1]!.label_map).toBeUndefined();
+    (volumes.volumes[1] as unknown as Record<string, unknown>)['label_map'] = 'yes';
+    expect(() => parse(JSON.stringify(volumes))).toThrow('/volumes/1/label_map');
+  });
+
+  it('add_labels, remove_labels and pick are messages the server accepts', () => {
+    for (const message of [
+      { v: 1, type: 'add_labels', id: 1, volume: 'aal.nii.gz' },
+      { v: 1, type: 'remove_labels', id: 2 },
+      { v: 1, type: 'pick', id: 3, x: 0.5, y: 0.42 },
+    ] as ClientMessage[]) {
+      expect(checkClientMessage(JSON.parse(encodeClientMessage(message)), terms)).toBeNull();
+    }
+  });
+});
+
+describe('labels patches', () => {
+  const added = parse(recordedLabelMessages[0]!) as LabelsMessage;
+  const defaults = added.state.labels!;
+  const acked = (parse(recordedLabelMessages[2]!) as AckMessage).state!;
+
+  /** A few patches of each kind the panel sends, on ids of the map. */
+  const kinds: LabelsPatch[] = [
+    { all: { visible: false } },
+    { all: { visible: true } },
+    { all: { opacity: 0.3 } },
+    { only: [45] },
+    { only: [45, 46, 67] },
+    { styles: { '45': { visible: false } } },
+    { styles: { '46': { visible: true, opacity: 0.2 } } },
+    { styles: { '45': { opacity: 0.7 } } },
+    { blend: 0.25 },
+    { all: { opacity: 1, visible: true }, only: [46], styles: { '46': { opacity: 0.4 } } },
+  ];
+
+  it('merged, do what the first and then the second do, in the order the server applies a patch', () => {
+    for (const a of kinds) {
+      for (const b of kinds) {
+        const sequential = applyLabelsPatch(applyLabelsPatch(defaults, a), b);
+        const merged = mergeLabelsPatches(a, b);
+        expect(applyLabelsPatch(defaults, merged), JSON.stringify([a, b])).toEqual(sequential);
+      }
+    }
+    // As part of a set's patch, next to the other parts.
+    expect(
+      mergePatches(
+        { camera: { fov: 30 }, labels: { styles: { '45': { visible: false } } } },
+        { labels: { only: [46] } },
+      ),
+    ).toEqual({ camera: { fov: 30 }, labels: { only: [46] } });
+  });
+
+  it('between two styles of a map take the first to the second, briefly', () => {
+    const patch = labelsPatchBetween(defaults, acked.labels!)!;
+    expect(patch).toEqual({ only: [45, 46, 57], styles: { '46': { opacity: 0.5 } }, blend: 0.8 });
+    expect(applyLabelsPatch(defaults, patch)).toEqual(acked.labels);
+    expect(labelsPatchBetween(defaults, defaults)).toBeNull();
+    const back = labelsPatchBetween(acked.labels!, defaults)!;
+    expect(applyLabelsPatch(acked.labels!, back)).toEqual(defaults);
+    expect(back.all).toEqual({ visible: true });
+  });
+
+  it('between styles of an atlas of hundreds of labels fit in a message', () => {
+    const many: LabelsState = { blend: 0.6, styles: {} };
+    for (let id = 1; id <= 724; ++id) {
+      many.styles[String(id)] = {
+        color: [0.123456789, 0.5, 0.987654321],
+        opacity: 1,
+        visible: true,
+      };
+    }
+    const some = structuredClone(many);
+    for (const [id, style] of Object.entries(some.styles)) {
+      style.visible = Number(id) % 7 === 0;
+      style.opacity = Number(id) % 3 === 0 ? 0.5 : 1;
+    }
+    const patch = labelsPatchBetween(many, some)!;
+    expect(applyLabelsPatch(many, patch)).toEqual(some);
+    const text = encodeClientMessage({ v: 1, type: 'set', id: 1, labels: patch });
+    expect(text.length).toBeLessThan(recordedHello.limits.max_message_bytes / 4);
+    expect(checkClientMessage(JSON.parse(text), terms)).toBeNull();
+  });
+
+  it('leave out the labels the map drawn again does not hold (the server refuses an id it lacks)', () => {
+    const fewer: LabelsState = { blend: 0.6, styles: { '45': defaults.styles['45']! } };
+    const patch = labelsPatchBetween(fewer, acked.labels!)!;
+    expect(patch).toEqual({ blend: 0.8 });
+    expect(() => applyLabelsPatch(fewer, patch)).not.toThrow();
+  });
+
+  it('are no part of a restore until the map is drawn again, then only what differs', () => {
+    const withLabels: State = acked;
+    const withoutMap = restorePatch(withLabels);
+    expect(withoutMap.labels).toBeUndefined();
+    expect(Object.keys(withoutMap).sort()).toEqual(
+      ['camera', 'cut', 'light', 'output', 'settings', 'transfer_function'].sort(),
+    );
+    const drawnAgain = restorePatch(withLabels, defaults);
+    expect(drawnAgain.labels).toEqual(labelsPatchBetween(defaults, acked.labels!));
+    expect(
+      checkClientMessage({ v: 1, type: 'set', id: 1, ...drawnAgain }, recordedTerms),
+    ).toBeNull();
+    // The same styles as the map's own: nothing of them to send.
+    expect(restorePatch({ ...withLabels, labels: defaults }, defaults).labels).toBeUndefined();
   });
 });

@@ -65,6 +65,22 @@ describe('RenderPacer', () => {
     expect(sent).toHaveLength(3);
   });
 
+  it('a gesture that asked for no frame (a tap) asks for no still', () => {
+    const { sent, pacer } = setup();
+    pacer.startInteraction();
+    pacer.endInteraction();
+    expect(sent).toEqual([]);
+    // A gesture joined by another (a wheel turned while dragging) that moved asks for its still.
+    pacer.startInteraction();
+    pacer.request();
+    pacer.startInteraction();
+    pacer.endInteraction();
+    expect(sent).toEqual([
+      { id: 1, interactive: true },
+      { id: 2, interactive: false },
+    ]);
+  });
+
   it('a still wish is not downgraded by a later interactive one', () => {
     const { sent, pacer } = setup();
     pacer.request(false);

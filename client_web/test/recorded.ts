@@ -24,3 +24,16 @@ export const recordedTerms: ServerTerms = { ...termsOf(recordedHello), modes: nu
 
 /** Its presets, nominal CT range and point limit, as the transfer-function model takes them. */
 export const recordedTfTerms: TfTerms = tfTerms(recordedHello);
+
+/**
+ * What a real server sent of label maps (fixtures/label_messages.jsonl), AAL drawn over ch2: the
+ * labels answering add_labels, the labels a viewer got after joined (no id), the ack of a set with
+ * a labels patch (only 45, 46, 57; 46 half opaque; blend 0.8) and the state the viewer got of it, a
+ * pick that hit a label, one that hit nothing, and the labels answering remove_labels.
+ */
+export const recordedLabelMessages = readFileSync(
+  path.join(__dirname, 'fixtures/label_messages.jsonl'),
+  'utf8',
+)
+  .split('\n')
+  .filter((line) => line.trim() !== '');

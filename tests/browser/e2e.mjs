@@ -7,10 +7,12 @@
 // changing the mode changes the stats, a bad parameter shows the
 // server's error, the sliders span hello's ranges, every numeric setting hello announces has a
 // labelled control in its part's folder and empty-space skipping toggles, the light's sliders reach
-// hello's ends and its position stays within the server's coordinates, a second page
-// joins through the share link, its method panel follows the owner's mode and it sees the same
-// frame, and after the server goes away and comes back the client reconnects and restores the
-// session. Screenshots go to --out.
+// hello's ends and its position stays within the server's coordinates, the Labels panel draws the
+// AAL atlas (its 116 labels listed, a search, one label shown alone, in the tablet's drawer too)
+// and a tap on the frame says what lies there, a second page joins through the share link, its
+// method and labels panels follow the owner and it sees the same frame, and after the server goes
+// away and comes back the client reconnects and restores the session, its label map with it.
+// Screenshots go to --out.
 //
 //   node tests/browser/e2e.mjs --penumbra build/release/server/app/penumbra \
 //        --client client_web --out build/release/tests/browser/screenshots
@@ -244,6 +246,37 @@ async function markerAxes(page) {
   return page.evaluate(() => {
     const d = document.querySelector('svg.orientation-marker')?.dataset ?? {};
     return `${d.screenRight ?? '?'}${d.screenUp ?? '?'}`;
+  });
+}
+
+/** What the Labels panel says it shows: "3 of 116 shown". */
+async function labelsShown(page) {
+  return (await page.locator('[data-control="labels-count"]').textContent()) ?? '';
+}
+
+/** Waits until the Labels panel shows `text` (the state the server answered with). */
+async function waitForLabelsShown(page, text, timeout = 15000) {
+  await page.waitForFunction(
+    (t) => document.querySelector('[data-control="labels-count"]')?.textContent?.endsWith(t),
+    text, { timeout });
+}
+
+/** Scrolls the panel (or the drawer) to the Labels folder's title, for a screenshot. */
+async function showLabelsFolder(page) {
+  await page.locator('.labels-panel').evaluate((e) => e.closest('.lil-gui').scrollIntoView());
+}
+
+/** Taps (clicks) the frame at fractions (fx, fy) of the canvas and waits for the pick's answer. */
+async function pickAt(page, fx, fy) {
+  const box = await page.locator('canvas.frame-canvas').boundingBox();
+  await page.mouse.click(box.x + box.width * fx, box.y + box.height * fy);
+  await page.waitForFunction(() => {
+    const callout = document.querySelector('.pick-callout');
+    return callout && !callout.closest('[hidden]') && callout.dataset.state !== 'pending';
+  }, null, { timeout: 15000 });
+  return page.evaluate(() => {
+    const callout = document.querySelector('.pick-callout');
+    return { state: callout.dataset.state, label: callout.dataset.label, text: callout.textContent };
   });
 }
 
@@ -674,6 +707,102 @@ try {
   await owner.locator('[data-control="light.type"] select').selectOption('directional');
   info = await waitForStill(owner, info);
 
+  // 4e. Labels: the AAL atlas drawn inside the head through the Labels panel, a cut at the view
+  // plane showing the brain; its 116 labels listed; a search finds the cunei; "only" shows one
+  // alone (the server's state says so and the frame changes); a tap on the frame's centre says
+  // what lies there without moving the camera, and a drag takes the answer away.
+  const addLabels = owner.locator('[data-control="labels-add"]');
+  const labelMaps = await addLabels.locator('option').evaluateAll((els) =>
+    els.map((e) => e.value).filter((v) => v !== ''));
+  check('the Labels panel offers the atlas as a label map',
+    labelMaps.includes('aal.nii.gz') && !labelMaps.includes(options.volume), labelMaps.join(', '));
+  await owner.locator('[data-control="clip-view"] button').click();
+  info = await waitForStill(owner, info);
+  const unlabelled = await canvasSignature(owner);
+  await addLabels.selectOption('aal.nii.gz');
+  await waitForLabelsShown(owner, '116 of 116 shown', 60000);
+  info = await waitForStill(owner, info);
+  const labelled = await canvasSignature(owner);
+  await showLabelsFolder(owner);
+  await owner.screenshot({ path: path.join(outDir, '08_labels_added.png') });
+  check('adding the atlas lists its 116 labels and colours the brain',
+    (await owner.locator('.label-row').count()) === 116 && difference(unlabelled, labelled) > 1,
+    `${await owner.locator('.label-row').count()} rows, difference ${difference(unlabelled, labelled).toFixed(1)}`);
+  await owner.locator('[data-control="labels-search"]').fill('Cuneus');
+  const found = await owner.locator('.label-row:visible .label-name').allTextContents();
+  check('a search for "Cuneus" lists the cunei and precunei alone',
+    found.join() === 'Cuneus_L,Cuneus_R,Precuneus_L,Precuneus_R', found.join(', '));
+  await owner.locator('.label-row[data-label="45"] .label-only').click();
+  await waitForLabelsShown(owner, '1 of 116 shown');
+  info = await waitForStill(owner, info);
+  const alone = await canvasSignature(owner);
+  const checkedRows = await owner.locator('.label-row input.label-visible:checked').evaluateAll((els) =>
+    els.map((e) => e.closest('.label-row').dataset.label));
+  check('"only" shows Cuneus_L alone: the server says so and the frame changes',
+    checkedRows.join() === '45' && difference(labelled, alone) > 1,
+    `shown ${checkedRows.join()}, difference ${difference(labelled, alone).toFixed(1)}`);
+  await owner.screenshot({ path: path.join(outDir, '08b_labels_only_cuneus.png') });
+  const axesBeforeTap = await markerAxes(owner);
+  const requestBeforeTap = (await frameInfo(owner)).request;
+  const centre = await pickAt(owner, 0.5, 0.5);
+  check('a tap on the frame centre says what lies there',
+    (centre.state === 'hit' && /R -?\d+\.\d · A -?\d+\.\d · S -?\d+\.\d mm/.test(centre.text)) ||
+      (centre.state === 'miss' && centre.text.includes('nothing here')),
+    `${centre.state}: ${centre.text}`);
+  check('and moves neither the camera nor asks for a frame',
+    (await markerAxes(owner)) === axesBeforeTap && (await frameInfo(owner)).request === requestBeforeTap,
+    `request ${requestBeforeTap} -> ${(await frameInfo(owner)).request}`);
+  // Every label again; taps along the cut find one, which the answer names and the list selects.
+  await owner.locator('[data-control="labels-show-all"]').click();
+  await waitForLabelsShown(owner, '116 of 116 shown');
+  info = await waitForStill(owner, info);
+  await owner.locator('[data-control="labels-search"]').fill('');
+  let labelPick = null;
+  for (const [fx, fy] of [[0.55, 0.4], [0.45, 0.4], [0.5, 0.35], [0.6, 0.45], [0.4, 0.45], [0.5, 0.3]]) {
+    const answer = await pickAt(owner, fx, fy);
+    if (answer.label) {
+      labelPick = answer;
+      break;
+    }
+  }
+  const selectedRow = await owner.locator('.label-row.selected').getAttribute('data-label').catch(() => null);
+  await owner.screenshot({ path: path.join(outDir, '09_labels_pick.png') });
+  check('a tap on a labelled region names the label, and the list selects it',
+    labelPick !== null && selectedRow === labelPick.label &&
+      (await owner.locator('.pick-marker').isVisible()),
+    `${labelPick?.text}; selected row ${selectedRow}`);
+  const frameBox = await owner.locator('canvas.frame-canvas').boundingBox();
+  await dragDown(owner, frameBox.x + frameBox.width * 0.8, frameBox.y + frameBox.height * 0.5, 20);
+  info = await waitForStill(owner, info);
+  check('a drag takes the answer away', !(await owner.locator('.pick-callout').isVisible()));
+  // On a portrait tablet the labels list in the drawer scrolls, its rows big enough for a finger;
+  // a label hidden there is hidden in the session.
+  await owner.setViewportSize({ width: 768, height: 1024 });
+  await owner.waitForTimeout(400);
+  await owner.locator('.drawer-toggle').click();
+  await owner.waitForTimeout(400);
+  await owner.locator('.labels-list').scrollIntoViewIfNeeded();
+  const list = await owner.locator('.labels-list').evaluate((e) => ({
+    scrolls: e.scrollHeight > e.clientHeight + 100,
+    rowHeight: e.querySelector('.label-row').getBoundingClientRect().height,
+    height: e.clientHeight,
+  }));
+  await owner.locator('.labels-list').evaluate((e) => e.scrollBy(0, 400));
+  await owner.locator('.label-row[data-label="57"]').scrollIntoViewIfNeeded();
+  await owner.locator('.label-row[data-label="57"] input.label-visible').click();
+  await waitForLabelsShown(owner, '115 of 116 shown');
+  info = await waitForStill(owner, info);
+  await showLabelsFolder(owner);
+  await owner.screenshot({ path: path.join(outDir, '10_portrait_labels.png') });
+  check('in the drawer the labels list scrolls, its rows finger-sized, and a label hides there',
+    list.scrolls && list.rowHeight >= 36 && list.height >= 200 &&
+      !(await owner.locator('.label-row[data-label="57"] input.label-visible').isChecked()),
+    `row ${list.rowHeight}px, list ${list.height}px`);
+  await owner.locator('.drawer-toggle').click();
+  await owner.setViewportSize({ width: 900, height: 560 });
+  await owner.waitForTimeout(400);
+  info = await waitForStill(owner, null);
+
   // 5. A second page joins through the share link and sees the same frame.
   const link = await owner.locator('#share-link').inputValue();
   check('the share link carries the session id', /[?&]join=[0-9a-f]+/.test(link), link);
@@ -697,6 +826,13 @@ try {
   await viewerModeIs('dvr');
   check("the viewer's method panel follows the owner's mode", modeAtJoin === 'dvr',
     `${modeAtJoin} at join, then phong and dvr as the owner chose them`);
+  // The labels arrive after joined: the viewer's panel lists them, read-only.
+  await waitForLabelsShown(viewer, '115 of 116 shown');
+  check("the viewer's Labels panel lists the owner's labels, read-only",
+    (await viewer.locator('.label-row').count()) === 116 &&
+      (await viewer.locator('.label-row[data-label="57"] input.label-visible').isDisabled()) &&
+      (await viewer.locator('[data-control="labels-show-all"]').isDisabled()),
+    await labelsShown(viewer));
   // The owner moves the camera; both pages must end on the same still frame.
   const ownerBefore = await frameInfo(owner);
   await owner.locator('canvas.frame-canvas').focus();
@@ -707,7 +843,9 @@ try {
     a.frame, { timeout: 30000 });
   await owner.waitForTimeout(300);
   const [ownerImage, viewerImage] = await sameFrameSignatures(owner, viewer);
+  const viewerPick = await pickAt(viewer, 0.5, 0.5);
   await viewer.screenshot({ path: path.join(outDir, '05_viewer.png') });
+  check('a viewer may pick too', ['hit', 'miss'].includes(viewerPick.state), viewerPick.text);
   await owner.screenshot({ path: path.join(outDir, '05_owner.png') });
   check('the viewer sees the same frame', ownerImage.frame === viewerImage.frame &&
     difference(ownerImage, viewerImage) < 1,
@@ -728,6 +866,10 @@ try {
   await owner.screenshot({ path: path.join(outDir, '07_restored.png') });
   check('after reconnecting the session is restored (mode dvr kept)', restored.mode === 'dvr',
     `frame #${restored.frame} mode ${restored.mode}`);
+  await waitForLabelsShown(owner, '115 of 116 shown', 30000).catch(() => {});
+  check('and its label map drawn again, with the label hidden before',
+    (await labelsShown(owner)).endsWith('115 of 116 shown') &&
+      (await owner.locator('.label-row').count()) === 116, await labelsShown(owner));
 
   // While the server was down the browser logs the refused WebSocket: only uncaught errors count.
   check('no uncaught page errors', pageErrors.length === 0, pageErrors.join(' | '));

@@ -57,6 +57,8 @@ export class RenderPacer {
   private lastSend = -Infinity;
   private timer: unknown = null;
   private interacting = false;
+  /** Whether the gesture under way asked for a frame: one that did not (a tap) needs no still. */
+  private askedWhileInteracting = false;
   /** Render requests sent so far. */
   sent = 0;
 
@@ -94,19 +96,21 @@ export class RenderPacer {
 
   /** Asks for a frame of the current state: interactive while dragging, else a still one. */
   request(interactive = this.interacting): void {
+    if (this.interacting) this.askedWhileInteracting = true;
     this.wanted = { interactive: interactive && (this.wanted?.interactive ?? true) };
     this.pump();
   }
 
   startInteraction(): void {
+    if (!this.interacting) this.askedWhileInteracting = false;
     this.interacting = true;
   }
 
-  /** The user let go: ask for the still frame. */
+  /** The user let go: ask for the still frame, unless the gesture changed nothing (a tap). */
   endInteraction(): void {
     if (!this.interacting) return;
     this.interacting = false;
-    this.request(false);
+    if (this.askedWhileInteracting) this.request(false);
   }
 
   /** A frame answering `requestId` arrived: every outstanding request up to it is answered. */

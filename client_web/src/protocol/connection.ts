@@ -2,8 +2,9 @@
 // server errors, and reconnect with session restore (resume the owned session with its owner
 // token, else re-open the volume and send the state back; or re-join a shared session). The
 // WebSocket URL names the volume (and the session joined), which a cluster's proxy routes by
-// (proto/README.md §1): opening another volume moves to a new WebSocket. No DOM: the socket comes
-// from a factory so tests can pass a fake.
+// (proto/README.md §1): opening another volume moves to a new WebSocket. A label map the session
+// draws is restored before its styles: the server refuses them while it draws none. No DOM: the
+// socket comes from a factory so tests can pass a fake.
 
 import { parseFrame, type Frame } from './frame_header';
 import {
@@ -18,8 +19,12 @@ import {
   type ClientRequest,
   type ErrorMessage,
   type HelloMessage,
+  type LabelsMessage,
+  type LabelsState,
+  type LabelSummary,
   type Listing,
   type OpenedMessage,
+  type PickedMessage,
   type ServerMessage,
   type State,
   type StateMessage,
@@ -105,6 +110,12 @@ export class RequestFailed extends Error {
 
 export type Role = 'none' | 'owner' | 'viewer';
 
+/** The label map a session draws: its id in `volumes` and its labels as `labels` listed them. */
+export interface DrawnLabels {
+  volume: string;
+  labels: LabelSummary[];
+}
+
 export interface SessionInfo {
   role: Role;
   session: string;
@@ -113,6 +124,11 @@ export interface SessionInfo {
   state: State;
   /** An owner's secret for `resume` (absent for viewers, and from servers older than resume). */
   ownerToken?: string;
+  /**
+   * The label map drawn, as the last `labels` told; absent while none is drawn, and for a viewer
+   * whose owner drew one after it joined (its state's labels then style ids it has no names for).
+   */
+  labels?: DrawnLabels;
 }
 
 /**
@@ -129,6 +145,11 @@ export interface ConnectionEvents {
   session: (info: SessionInfo, restored: Restored | false) => void;
   /** A viewer's session got a new state (`info.state`): its owner changed it. */
   state: (info: SessionInfo) => void;
+  /**
+   * The session's label map changed (`info.labels`, with `info.state`): drawn, removed, or told
+   * after a join or a resume.
+   */
+  labels: (info: SessionInfo) => void;
   frame: (frame: Frame) => void;
   /** An error not answered to a pending request: a failed render, or one without id. */
   serverError: (error: ServerError) => void;
@@ -190,6 +211,7 @@ export class Connection {
     status: [],
     session: [],
     state: [],
+    labels: [],
     frame: [],
     serverError: [],
     problem: [],
@@ -429,15 +451,19 @@ export class Connection {
         if (resumed && resumed.recreated && previous) {
           // Another server of the cluster re-created the session with the default state: ours
           // goes back, and its viewers, who join the same id, follow.
-          await this.request({ type: 'set', ...restorePatch(previous.state) });
-          resumed.info.state = structuredClone(previous.state);
+          await this.sendStateBack(previous, resumed.info);
           this.session = resumed.info;
           this.restoring = false;
           this.emit('session', resumed.info, 'recreated');
           return;
         }
         if (resumed) {
-          // The session's state is the server's: it may hold a set whose ack was lost.
+          // The session's state is the server's: it may hold a set whose ack was lost. Its label
+          // map's names follow the opened (a labels without id); until then they are those known.
+          const styles = resumed.info.state.labels?.styles;
+          if (previous?.labels && styles && namesTheLabels(previous.labels.labels, styles)) {
+            resumed.info.labels = previous.labels;
+          }
           this.session = resumed.info;
           this.restoring = false;
           this.emit('session', resumed.info, 'resumed');
@@ -446,11 +472,7 @@ export class Connection {
         const opened = await this.request({ type: 'open', volume: wanted.volume });
         const info = this.sessionFrom(opened, 'owner');
         this.wanted = this.ownerWanted(wanted.volume, info);
-        if (previous) {
-          // Send the whole state back; the mirror then equals what the server has.
-          await this.request({ type: 'set', ...restorePatch(previous.state) });
-          info.state = structuredClone(previous.state);
-        }
+        if (previous) await this.sendStateBack(previous, info);
         this.session = info;
         this.restoring = false;
         this.emit('session', info, 'reopened');
@@ -466,6 +488,35 @@ export class Connection {
       this.emit('problem', `could not restore the session after reconnecting: ${text}`);
     } finally {
       this.restoring = false;
+    }
+  }
+
+  /**
+   * Sends the state of `previous` back to the session `info` (re-opened or re-created with the
+   * default state): its label map drawn again first, then the whole state, its labels' styles as
+   * what differs from the map's own. A map that cannot be drawn again is said and left out. The
+   * mirror becomes the state the server answers with.
+   */
+  private async sendStateBack(previous: SessionInfo, info: SessionInfo): Promise<void> {
+    let drawn: LabelsState | undefined;
+    const map = previous.labels?.volume;
+    if (map && previous.state.labels) {
+      try {
+        const answer = await this.request({ type: 'add_labels', volume: map });
+        info.labels = { volume: answer.volume, labels: answer.labels };
+        info.state = answer.state;
+        drawn = answer.state.labels;
+      } catch (e) {
+        if (!(e instanceof ServerError)) throw e;
+        this.emit('problem', `the label map ${map} could not be drawn again: ${e.describe()}`);
+      }
+    }
+    const ack = await this.request({ type: 'set', ...restorePatch(previous.state, drawn) });
+    if (ack.state) {
+      info.state = ack.state;
+    } else {
+      const { labels, ...rest } = structuredClone(previous.state);
+      info.state = drawn && labels ? { ...rest, labels } : rest;
     }
   }
 
@@ -530,6 +581,10 @@ export class Connection {
       this.onState(message);
       return;
     }
+    if (message.type === 'labels' && message.id === undefined) {
+      this.onLabels(message);
+      return;
+    }
     const id = 'id' in message ? message.id : undefined;
     const pending = id !== undefined ? this.pending.get(id) : undefined;
     if (pending && id !== undefined) {
@@ -571,7 +626,27 @@ export class Connection {
     // mirror follows its own acknowledged sets (the server sends owners no state).
     if (!session || session.role !== 'viewer' || session.session !== message.session) return;
     session.state = message.state;
+    // The server tells a viewer the labels' names only as it joins: a map drawn or replaced
+    // since then shows in the state alone.
+    const styles = message.state.labels?.styles;
+    if (!styles || (session.labels && !namesTheLabels(session.labels.labels, styles))) {
+      delete session.labels;
+    }
     this.emit('state', session);
+  }
+
+  /** The labels of the session this connection is in, told after a join or a resume. */
+  private onLabels(message: LabelsMessage): void {
+    const session = this.session;
+    if (!session || session.session !== message.session) return;
+    this.takeLabels(session, message);
+  }
+
+  private takeLabels(session: SessionInfo, message: LabelsMessage): void {
+    session.state = message.state;
+    if (message.volume === '') delete session.labels;
+    else session.labels = { volume: message.volume, labels: message.labels };
+    this.emit('labels', session);
   }
 
   private failPending(reason: string): void {
@@ -692,6 +767,33 @@ export class Connection {
     return id;
   }
 
+  /** Draws `volume` (an id from `volumes`) as the session's label map (owner only). */
+  async addLabels(volume: string): Promise<SessionInfo> {
+    return this.changeLabels(await this.request({ type: 'add_labels', volume }));
+  }
+
+  /** Draws no label map (owner only). */
+  async removeLabels(): Promise<SessionInfo> {
+    return this.changeLabels(await this.request({ type: 'remove_labels' }));
+  }
+
+  private changeLabels(answer: LabelsMessage): SessionInfo {
+    const session = this.session;
+    if (!session || session.session !== answer.session) {
+      throw new RequestFailed(`${answer.type}: the session changed meanwhile`);
+    }
+    this.takeLabels(session, answer);
+    return session;
+  }
+
+  /**
+   * What lies under the point (x, y) of the session's view, fractions of its width and height
+   * from its top-left; any viewer may ask.
+   */
+  pick(x: number, y: number): Promise<PickedMessage> {
+    return this.request({ type: 'pick', x, y });
+  }
+
   async stats(): Promise<Record<string, unknown>> {
     return (await this.request({ type: 'stats' })).stats;
   }
@@ -702,4 +804,12 @@ export class Connection {
     await this.request({ type: 'close' });
     this.session = null;
   }
+}
+
+/** Whether `labels` names every label `styles` styles, and no other: the same map. */
+function namesTheLabels(labels: LabelSummary[], styles: Record<string, unknown>): boolean {
+  return (
+    labels.length === Object.keys(styles).length &&
+    labels.every((l) => styles[String(l.id)] !== undefined)
+  );
 }

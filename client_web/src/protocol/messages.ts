@@ -109,9 +109,39 @@ export type TransferFunctionPatch =
       opacities?: OpacityPoint[];
     };
 
+/** How one label of a label map is drawn: its colour (channels 0..1), opacity and visibility. */
+export interface LabelStyle {
+  color: Rgb;
+  /** Scales the opacity the transfer function gives the label's samples. */
+  opacity: number;
+  /** A hidden label is transparent to the camera and to the light. */
+  visible: boolean;
+}
+
+/** A state's labels, present only while the session draws a label map (`add_labels`). */
+export interface LabelsState {
+  /** How much a label's colour replaces the transfer function's, 0..1. */
+  blend: number;
+  /** Every label's style, keyed by its id written as text. */
+  styles: Record<string, LabelStyle>;
+}
+
+/**
+ * A `set`'s labels, which the server applies in the order all, only, styles, blend; refused while
+ * the session draws no label map.
+ */
+export interface LabelsPatch {
+  all?: { opacity?: number; visible?: boolean };
+  /** These ids visible, every other label hidden. */
+  only?: number[];
+  styles?: Record<string, Partial<LabelStyle>>;
+  blend?: number;
+}
+
 /** A session's full state as `opened`/`joined`/`state` report it; sending it back restores it. */
 export interface State extends StateSettings {
   transfer_function: TransferFunctionPoints;
+  labels?: LabelsState;
 }
 
 type DeepPartial<T> = {
@@ -126,6 +156,7 @@ export interface StatePatch {
   settings?: DeepPartial<Settings>;
   cut?: DeepPartial<Cut>;
   output?: Partial<Output>;
+  labels?: LabelsPatch;
 }
 
 export interface VolumeSummary {
@@ -140,6 +171,11 @@ export interface VolumeSummary {
   loaded: boolean;
   /** Once loaded: the box in patient space (RAS mm) holding the voxels, [min, max] corner. */
   bounds?: [Vec3, Vec3];
+  /**
+   * The server would draw it as a label map (`add_labels`): a NIfTI with the label intent or
+   * MRIcron's names beside it, a Slicer .seg.nrrd. Absent from servers older than label maps.
+   */
+  label_map?: boolean;
 }
 
 /** The limits a server is configured with (`penumbra serve` options), named as hello.limits does. */
@@ -271,6 +307,48 @@ export interface StatsMessage {
   stats: Record<string, unknown>;
 }
 
+/** One label of a label map as `labels` lists it. */
+export interface LabelSummary {
+  id: number;
+  name: string;
+  /** As its files give it, 0..255 a channel. */
+  color: [number, number, number];
+  voxels: number;
+}
+
+/**
+ * The label map a session draws (`volume`, "" for none) and its labels, with the state their
+ * styles are now in: answers add_labels and remove_labels, and follows `joined` (and a resume's
+ * `opened`) without an id when the session draws one.
+ */
+export interface LabelsMessage {
+  v: 1;
+  type: 'labels';
+  id?: number;
+  session: string;
+  volume: string;
+  labels: LabelSummary[];
+  state: State;
+}
+
+/** What lies under a point of the view (`pick`); without a hit, only x, y and hit. */
+export interface PickedMessage {
+  v: 1;
+  type: 'picked';
+  id?: number;
+  session: string;
+  x: number;
+  y: number;
+  hit: boolean;
+  /** Where the eye sees a surface through the point, patient RAS millimetres. */
+  position?: Vec3;
+  /** The scan's value there, in its real units. */
+  value?: number;
+  hounsfield?: boolean;
+  /** The label drawn there; absent for none. */
+  label?: { id: number; name: string };
+}
+
 export interface ErrorMessage {
   v: 1;
   type: 'error';
@@ -287,6 +365,8 @@ export type ServerMessage =
   | StateMessage
   | AckMessage
   | StatsMessage
+  | LabelsMessage
+  | PickedMessage
   | ErrorMessage;
 
 // ---- client to server ---------------------------------------------------------------------------
@@ -299,7 +379,10 @@ export type ClientMessage =
   | { v: 1; type: 'render'; id?: number; interactive?: boolean }
   | { v: 1; type: 'stats'; id?: number }
   | { v: 1; type: 'close'; id?: number }
-  | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string; volume?: string };
+  | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string; volume?: string }
+  | { v: 1; type: 'add_labels'; id?: number; volume: string }
+  | { v: 1; type: 'remove_labels'; id?: number }
+  | { v: 1; type: 'pick'; id?: number; x: number; y: number };
 
 export type ClientMessageType = ClientMessage['type'];
 
@@ -316,6 +399,9 @@ export const ANSWERS = {
   stats: ['stats'],
   close: ['ack'],
   resume: ['opened'],
+  add_labels: ['labels'],
+  remove_labels: ['labels'],
+  pick: ['picked'],
 } as const satisfies Record<ClientMessageType, readonly ServerMessage['type'][]>;
 
 /** The message that answers a request of type `T`. */
@@ -355,6 +441,7 @@ function checkVolumeSummary(v: unknown, at: string): VolumeSummary {
     numbers(bounds as unknown as Record<string, unknown>, '0', `${at}/bounds`, 3);
     numbers(bounds as unknown as Record<string, unknown>, '1', `${at}/bounds`, 3);
   }
+  if (o['label_map'] !== undefined) bool(o, 'label_map', at);
   return o as unknown as VolumeSummary;
 }
 
@@ -417,7 +504,37 @@ function checkState(v: unknown, at: string): State {
     checkSetting(parent, name, parentAt, setting.kind);
   }
   checkPoints(obj(o, 'transfer_function', at), `${at}/transfer_function`);
+  if (o['labels'] !== undefined) checkLabelsState(o['labels'], `${at}/labels`);
   return o as unknown as State;
+}
+
+function checkLabelsState(v: unknown, at: string): void {
+  const o = need(isObject(v), v as Record<string, unknown>, 'an object', at);
+  num(o, 'blend', at);
+  const styles = obj(o, 'styles', at);
+  for (const [id, style] of Object.entries(styles)) {
+    need(/^-?[0-9]+$/.test(id), null, 'label ids as keys', `${at}/styles`);
+    const s = need(
+      isObject(style),
+      style as Record<string, unknown>,
+      'a style',
+      `${at}/styles/${id}`,
+    );
+    numbers(s, 'color', `${at}/styles/${id}`, 3);
+    num(s, 'opacity', `${at}/styles/${id}`);
+    bool(s, 'visible', `${at}/styles/${id}`);
+  }
+}
+
+function checkLabelSummaries(v: unknown): void {
+  need(Array.isArray(v), null, 'an array of labels', '/labels');
+  (v as unknown[]).forEach((l, i) => {
+    const label = need(isObject(l), l as Record<string, unknown>, 'a label', `/labels/${i}`);
+    need(Number.isInteger(num(label, 'id', `/labels/${i}`)), null, 'an integer', `/labels/${i}/id`);
+    str(label, 'name', `/labels/${i}`);
+    numbers(label, 'color', `/labels/${i}`, 3);
+    num(label, 'voxels', `/labels/${i}`);
+  });
 }
 
 /**
@@ -511,6 +628,28 @@ export function parseServerMessage(text: string): ServerMessage {
     case 'stats':
       obj(o, 'stats', '');
       return o as unknown as StatsMessage;
+    case 'labels':
+      str(o, 'session', '');
+      str(o, 'volume', '');
+      checkLabelSummaries(o['labels']);
+      checkState(o['state'], '/state');
+      return o as unknown as LabelsMessage;
+    case 'picked': {
+      str(o, 'session', '');
+      num(o, 'x', '');
+      num(o, 'y', '');
+      if (bool(o, 'hit', '')) {
+        numbers(o, 'position', '', 3);
+        num(o, 'value', '');
+        bool(o, 'hounsfield', '');
+      }
+      if (o['label'] !== undefined) {
+        const label = obj(o, 'label', '');
+        need(Number.isInteger(num(label, 'id', '/label')), null, 'an integer', '/label/id');
+        str(label, 'name', '/label');
+      }
+      return o as unknown as PickedMessage;
+    }
     case 'error':
       str(o, 'code', '');
       str(o, 'message', '');
@@ -535,20 +674,125 @@ function merged(a: unknown, b: unknown): unknown {
   return out;
 }
 
+/** Each style of `styles` without the members `drop`, and without the styles left empty. */
+function withoutStyleMembers(
+  styles: Record<string, Partial<LabelStyle>> | undefined,
+  drop: keyof LabelStyle,
+): Record<string, Partial<LabelStyle>> | undefined {
+  if (!styles) return undefined;
+  const out: Record<string, Partial<LabelStyle>> = {};
+  for (const [id, style] of Object.entries(styles)) {
+    const rest = { ...style };
+    delete rest[drop];
+    if (Object.keys(rest).length > 0) out[id] = rest;
+  }
+  return Object.keys(out).length > 0 ? out : undefined;
+}
+
+/**
+ * Two labels patches as one that does what `a` then `b` do. The server applies a patch's parts in
+ * the order all, only, styles, blend, so a later `all` or `only` must drop what an earlier patch's
+ * styles (or only) said of the same members: else they would be applied after it.
+ */
+export function mergeLabelsPatches(a: LabelsPatch, b: LabelsPatch): LabelsPatch {
+  const out = structuredClone(a);
+  const later = structuredClone(b);
+  if (later.all) {
+    if (later.all.visible !== undefined) {
+      delete out.only;
+      out.styles = withoutStyleMembers(out.styles, 'visible');
+    }
+    if (later.all.opacity !== undefined) {
+      out.styles = withoutStyleMembers(out.styles, 'opacity');
+    }
+    out.all = { ...out.all, ...later.all };
+  }
+  if (later.only) {
+    out.styles = withoutStyleMembers(out.styles, 'visible');
+    out.only = later.only;
+  }
+  if (later.styles) {
+    const styles = { ...out.styles };
+    for (const [id, style] of Object.entries(later.styles)) {
+      styles[id] = { ...styles[id], ...style };
+    }
+    out.styles = styles;
+  }
+  if (later.blend !== undefined) out.blend = later.blend;
+  if (!out.styles) delete out.styles;
+  return out;
+}
+
 /**
  * Two patches as one, the later winning member by member; a list (a vector, a size) and the
- * transfer function replace whole. What the server makes of the result is its own: the client
- * shows the state a `set` is answered with.
+ * transfer function replace whole, and labels patches merge as mergeLabelsPatches says. What the
+ * server makes of the result is its own: the client shows the state a `set` is answered with.
  */
 export function mergePatches(a: StatePatch, b: StatePatch): StatePatch {
   const out = structuredClone(a) as Record<string, unknown>;
   for (const [key, value] of Object.entries(structuredClone(b))) {
-    out[key] = key === 'transfer_function' ? value : merged(out[key], value);
+    if (key === 'labels' && out['labels']) {
+      out[key] = mergeLabelsPatches(out['labels'] as LabelsPatch, value as LabelsPatch);
+    } else {
+      out[key] = key === 'transfer_function' ? value : merged(out[key], value);
+    }
   }
   return out as StatePatch;
 }
 
-/** A `set` patch that restores `state` whole (what a reconnecting owner sends). */
-export function restorePatch(state: State): StatePatch {
-  return structuredClone(state);
+function sameColor(a: Rgb, b: Rgb): boolean {
+  return a.every((c, i) => Math.abs(c - b[i]!) < 1e-9);
+}
+
+/**
+ * The labels patch that takes a map drawn with the styles `from` to those of `to`, short enough
+ * for a message: what only differs, with `all` or `only` in place of a style for nearly every
+ * label (a map of 724 labels, each hidden, is one `only`). Labels `from` lacks (another map) are
+ * left out: the server refuses an id its map does not hold. Null when nothing differs.
+ */
+export function labelsPatchBetween(from: LabelsState, to: LabelsState): LabelsPatch | null {
+  const ids = Object.keys(to.styles).filter((id) => from.styles[id] !== undefined);
+  const patch: LabelsPatch = {};
+  const styles: Record<string, Partial<LabelStyle>> = {};
+  const style = (id: string): Partial<LabelStyle> => (styles[id] ??= {});
+
+  const opacities = new Set(ids.map((id) => to.styles[id]!.opacity));
+  const opacityChanged = ids.filter((id) => from.styles[id]!.opacity !== to.styles[id]!.opacity);
+  if (opacities.size === 1 && opacityChanged.length > 1) {
+    patch.all = { opacity: [...opacities][0]! };
+  } else {
+    for (const id of opacityChanged) style(id).opacity = to.styles[id]!.opacity;
+  }
+
+  const visible = ids.filter((id) => to.styles[id]!.visible);
+  const visibilityChanged = ids.filter((id) => from.styles[id]!.visible !== to.styles[id]!.visible);
+  if (visible.length === ids.length && visibilityChanged.length > 1) {
+    patch.all = { ...patch.all, visible: true };
+  } else if (visibilityChanged.length > visible.length + 1) {
+    patch.only = visible.map(Number);
+  } else {
+    for (const id of visibilityChanged) style(id).visible = to.styles[id]!.visible;
+  }
+
+  for (const id of ids) {
+    if (!sameColor(from.styles[id]!.color, to.styles[id]!.color)) {
+      style(id).color = [...to.styles[id]!.color];
+    }
+  }
+  if (Object.keys(styles).length > 0) patch.styles = styles;
+  if (from.blend !== to.blend) patch.blend = to.blend;
+  return Object.keys(patch).length > 0 ? patch : null;
+}
+
+/**
+ * A `set` patch that restores `state` whole (what a reconnecting owner sends). Its labels go only
+ * with `drawn`, the styles of the same map drawn again (add_labels' answer): the server refuses
+ * labels while it draws no map, and a map's default styles need only what differs sent back.
+ */
+export function restorePatch(state: State, drawn?: LabelsState): StatePatch {
+  const { labels, ...rest } = structuredClone(state);
+  const patch: StatePatch = rest;
+  const changed = labels && drawn ? labelsPatchBetween(drawn, labels) : null;
+  if (changed) patch.labels = changed;
+  return patch;
 }
