@@ -618,6 +618,8 @@ try {
   check("a bad parameter shows the server's error", /out_of_range/.test(noticeText), noticeText);
   check('the field shows the value the server kept',
     Number(await sampleDistance.inputValue()) < 1, await sampleDistance.inputValue());
+  await notice.first().locator('button.close').click();
+  check('a notice closes', (await notice.count()) === 0);
 
   // 4b. The sliders span the ranges the server's hello announces (the client has none of its
   // own): a value past the end stops at it. Empty-space skipping is a toggle the server takes.
@@ -793,11 +795,22 @@ try {
   await waitForLabelsShown(owner, '115 of 116 shown');
   info = await waitForStill(owner, info);
   await showLabelsFolder(owner);
-  await owner.screenshot({ path: path.join(outDir, '10_portrait_labels.png') });
   check('in the drawer the labels list scrolls, its rows finger-sized, and a label hides there',
     list.scrolls && list.rowHeight >= 36 && list.height >= 200 &&
       !(await owner.locator('.label-row[data-label="57"] input.label-visible').isChecked()),
     `row ${list.rowHeight}px, list ${list.height}px`);
+  // With the drawer open, a tap on the part of the frame beside it still picks.
+  let tabletPick = null;
+  for (const [fx, fy] of [[0.3, 0.45], [0.25, 0.55], [0.35, 0.35], [0.3, 0.6]]) {
+    const answer = await pickAt(owner, fx, fy);
+    if (answer.label) {
+      tabletPick = answer;
+      break;
+    }
+  }
+  await owner.screenshot({ path: path.join(outDir, '10_portrait_labels.png') });
+  check('beside the open drawer a tap names the label under it', tabletPick !== null &&
+    (await owner.locator('.pick-callout').isVisible()), tabletPick?.text);
   await owner.locator('.drawer-toggle').click();
   await owner.setViewportSize({ width: 900, height: 560 });
   await owner.waitForTimeout(400);
