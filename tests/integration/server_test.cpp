@@ -640,6 +640,39 @@ TEST_F(ServerTest, APickNamesTheLabelUnderAPointOfTheView) {
     EXPECT_EQ(field(sessionless, "code"), "no_session") << sessionless;
 }
 
+// Picks as costly as a client can make them (the finest step, the tricubic filter, nothing opaque:
+// every ray crosses the whole volume) sent as fast as it may while another client's session is
+// served: each pick is answered, off the threads that serve the other, which gets its frames.
+TEST_F(ServerTest, CostlyPicksLeaveAnotherSessionServed) {
+    TestClient watcher(port_);
+    watcher.open("heads/ch2.nii.gz", 32);
+    TestClient hostile(port_);
+    hostile.open("heads/ch2.nii.gz", 32);
+    const std::string set = hostile.request(
+            R"({"v":1,"type":"set","id":2,"settings":{"sample_distance":0.0001,"reconstruction":"tricubic"},)"
+            R"("transfer_function":{"opacities":[{"x":0,"alpha":0},{"x":1,"alpha":0}],)"
+            R"("colors":[{"x":0,"rgb":[1,1,1]},{"x":1,"rgb":[1,1,1]}]}})");
+    ASSERT_EQ(field(set, "type"), "ack") << set;
+    constexpr int picks = 40;
+    for (int i = 0; i < picks; ++i) {
+        hostile.send(R"({"v":1,"type":"pick","id":)" + std::to_string(100 + i) +
+                     R"(,"x":0.5,"y":0.5})");
+    }
+    for (int i = 0; i < 5; ++i) {
+        watcher.send(R"({"v":1,"type":"render","id":)" + std::to_string(300 + i) + "}");
+        EXPECT_EQ(watcher.next_frame().header.request, 300 + i);
+    }
+    for (int i = 0; i < picks; ++i) {
+        const auto reply = nlohmann::json::parse(hostile.next_text(std::chrono::seconds(30)));
+        if (reply.at("type") == "error") {
+            EXPECT_EQ(reply.at("code"), "rate_limited") << reply;
+            continue;
+        }
+        EXPECT_EQ(reply.at("type"), "picked") << reply;
+        EXPECT_EQ(reply.at("hit"), false) << "nothing is opaque";
+    }
+}
+
 // A hostile owner asks again and again to draw a scan as labels and sends label patches its
 // session cannot take, while another client's session is served: each request gets its error,
 // the other client gets its frames, and the hostile one's session still renders.

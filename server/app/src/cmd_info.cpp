@@ -67,12 +67,16 @@ int run_info(const std::vector<std::string>& args) {
         return report_failure("info", volume.error());
     }
     std::fputs(volume::describe(*volume, path).c_str(), stdout);
-    auto names = volume::label_names_for(path, label_names);
-    if (!names) {
-        return report_failure("info", names.error());
+    // A label map: the file says so, or the user, by giving its names.
+    auto declared = volume::declares_labels(path);
+    if (!declared) {
+        return report_failure("info", declared.error());
     }
-    if (volume->label_intent || !names->labels.empty()) {
-        // A label map: marked so, or named by the files beside it or given.
+    if (*declared || !label_names.empty()) {
+        auto names = volume::label_names_for(path, label_names);
+        if (!names) {
+            return report_failure("info", names.error());
+        }
         auto labels = volume::make_label_map(*volume, *names);
         if (!labels) {
             return report_failure("info", labels.error());

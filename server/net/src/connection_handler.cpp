@@ -304,8 +304,6 @@ base::Error volume_error(const std::string& volume_id, base::Error error) {
     return error;
 }
 
-// The labels of a label map as `labels` lists them; none for null.
-
 }  // namespace
 
 void ConnectionHandler::finish_open(std::optional<std::int64_t> id, const std::string& volume_id,
@@ -574,13 +572,28 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::R
     }
 }
 
-// One ray on the CPU, answered here: it reads a few thousand voxels, less than a frame's work.
+// One ray on the CPU, on the loader threads (up to a few milliseconds for a fine step through a
+// large volume), the connection's other requests waiting meanwhile: one pick in flight each.
 template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Pick& message) {
     if (!need_session(id)) {
         return;
     }
-    const auto picked = session_->pick(message.x, message.y);
+    using Picked = session::PickAnswer;
+    after_load<Picked>(
+            [this, session = session_, message](std::function<void(Picked)> done) {
+                context_.services.volumes.read_async([session, message, done = std::move(done)] {
+                    done(session->pick(message.x, message.y));
+                });
+            },
+            [this, id, message, session_id = session_->id()](const Picked& picked) {
+                answer_pick(id, session_id, message, picked);
+            });
+}
+
+void ConnectionHandler::answer_pick(std::optional<std::int64_t> id, const std::string& session_id,
+                                    const protocol::Pick& message,
+                                    const session::PickAnswer& picked) {
     if (!picked) {
         reply_error(id, picked.error());
         return;
@@ -595,7 +608,7 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::P
     for (int axis = 0; axis < 3; ++axis) {
         summary.position[axis] = picked->patient[axis];
     }
-    send(protocol::picked_message(id, session_->id(), summary));
+    send(protocol::picked_message(id, session_id, summary));
 }
 
 void ConnectionHandler::draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,

@@ -71,6 +71,9 @@ private:
     // `labels`, or the error.
     void draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,
                      const std::shared_ptr<const volume::LabelMap>& labels);
+    // Answers a pick in session `session_id` with what Session::pick found, or its error.
+    void answer_pick(std::optional<std::int64_t> id, const std::string& session_id,
+                     const protocol::Pick& message, const session::PickAnswer& picked);
     // Replies with no_session and returns false if the connection is in no session.
     bool need_session(std::optional<std::int64_t> id);
     void handle_waiting();

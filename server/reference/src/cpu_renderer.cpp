@@ -117,16 +117,11 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     const VolumeSampler sampler(volume, s.reconstruction);
     const TransferFunctionTable table(request.transfer_function,
                                       {volume.range.min, volume.range.max, volume.hounsfield});
-    std::optional<LabelLookup> label_lookup;
-    if (request.labels.shown()) {
-        if (labels == nullptr || labels->labels.size() != request.labels.styles.size()) {
-            return base::make_error(base::ErrorCode::invalid_frame,
-                                    "the frame styles labels the label map given does not hold",
-                                    "labels");
-        }
-        label_lookup.emplace(*labels, volume, request.labels);
+    auto label_lookup = lookup_labels(labels, volume, request.labels);
+    if (!label_lookup) {
+        return label_lookup.error();
     }
-    const Classifier tf(table, s, label_lookup);
+    const Classifier tf(table, s, *label_lookup);
     const optics::Region region =
             optics::region_of(sampler.box(), request.cut,
                               scene::patient_placement(volume.origin, volume.axes, volume.spacing,

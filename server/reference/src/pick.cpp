@@ -5,6 +5,7 @@
 #include <penumbra/optics/region.hpp>
 #include <penumbra/reference/volume_sampler.hpp>
 
+#include <algorithm>
 #include <optional>
 
 namespace penumbra::reference {
@@ -21,19 +22,14 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
                                         std::to_string(s.height) + " view",
                                 "pick");
     }
-    if (request.labels.shown() &&
-        (labels == nullptr || labels->labels.size() != request.labels.styles.size())) {
-        return base::make_error(base::ErrorCode::invalid_frame,
-                                "the view styles labels the label map given does not hold",
-                                "labels");
-    }
     const VolumeSampler sampler(volume, s.reconstruction, VolumeSampler::Reading::in_place);
     const TransferFunctionTable table(request.transfer_function,
                                       {volume.range.min, volume.range.max, volume.hounsfield});
-    std::optional<LabelLookup> label_lookup;
-    if (request.labels.shown()) {
-        label_lookup.emplace(*labels, volume, request.labels);
+    auto looked_up = lookup_labels(labels, volume, request.labels);
+    if (!looked_up) {
+        return looked_up.error();
     }
+    const std::optional<LabelLookup>& label_lookup = *looked_up;
     const scene::PatientPlacement placement = scene::patient_placement(
             volume.origin, volume.axes, volume.spacing, glm::dvec3(volume.dims));
     const optics::Region region = optics::region_of(sampler.box(), request.cut, placement);
@@ -47,8 +43,11 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
     if (!hit.hit) {
         return picked;
     }
-    const optics::Marching marching =
-            optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance);
+    // Never finer than half the finest voxel: what a person points at is no finer, and a pick's
+    // cost stays bounded by the volume's size whatever step its frames take.
+    const glm::dvec3 voxel = sampler.voxel_size();
+    const double step = std::max(s.sample_distance, 0.5 * std::min({voxel.x, voxel.y, voxel.z}));
+    const optics::Marching marching = optics::plan_marching(hit.t_near, hit.t_far, step);
     double transmittance = 1.0;
     for (int i = 0; i < marching.count; ++i) {
         const glm::dvec3 position =

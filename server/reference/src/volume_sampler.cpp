@@ -149,6 +149,22 @@ LabelLookup::LabelLookup(const volume::LabelMap& labels, const volume::Volume& s
               labels.indices.origin, labels.indices.axes, labels.indices.spacing))
     , styles_(optics::bake_label_styles(styles)) {}
 
+base::Result<std::optional<LabelLookup>> lookup_labels(const volume::LabelMap* labels,
+                                                       const volume::Volume& scan,
+                                                       const scene::Labels& styles) {
+    if (!styles.shown()) {
+        return std::optional<LabelLookup>{};
+    }
+    if (labels == nullptr) {
+        return base::make_error(base::ErrorCode::invalid_frame,
+                                "the frame styles labels, but no label map is given", "labels");
+    }
+    if (auto status = scene::check_styles_match(styles, labels->ids()); !status) {
+        return status.error();
+    }
+    return std::optional<LabelLookup>(std::in_place, *labels, scan, styles);
+}
+
 int LabelLookup::index_at(glm::dvec3 world) const {
     const glm::dvec3 index = glm::floor(glm::dvec3(world_to_index_ * glm::dvec4(world, 1.0)) + 0.5);
     const glm::dvec3 dims(labels_.indices.dims);

@@ -127,25 +127,8 @@ struct Renderer::Impl {
             return base::make_error(base::ErrorCode::invalid_frame,
                                     "the frame styles labels, but no label map is set", "labels");
         }
-        const std::vector<volume::Label>& map_labels = texture->labels().labels;
-        if (styles.styles.size() != map_labels.size()) {
-            return base::make_error(base::ErrorCode::invalid_frame,
-                                    "the frame styles " + std::to_string(styles.styles.size()) +
-                                            " labels; the label map holds " +
-                                            std::to_string(map_labels.size()),
-                                    "labels");
-        }
-        for (std::size_t i = 0; i < map_labels.size(); ++i) {
-            if (styles.styles[i].id != map_labels[i].id) {
-                return base::make_error(
-                        base::ErrorCode::invalid_frame,
-                        "the frame's label styles are not the label map's labels in its order "
-                        "(style " +
-                                std::to_string(i + 1) + " is label " +
-                                std::to_string(styles.styles[i].id) + ", not " +
-                                std::to_string(map_labels[i].id) + ")",
-                        "labels");
-            }
+        if (auto status = scene::check_styles_match(styles, texture->labels().ids()); !status) {
+            return status;
         }
         const optics::LabelStyleTable table = optics::bake_label_styles(styles);
         texture->bind(table);

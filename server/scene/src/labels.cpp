@@ -41,4 +41,26 @@ base::Status validate(const Labels& labels) {
     return base::Ok{};
 }
 
+base::Status check_styles_match(const Labels& labels, std::span<const std::int64_t> ids) {
+    if (labels.styles.size() != ids.size()) {
+        return base::make_error(base::ErrorCode::invalid_frame,
+                                "the frame styles " + std::to_string(labels.styles.size()) +
+                                        " labels; the label map holds " +
+                                        std::to_string(ids.size()),
+                                "labels");
+    }
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        if (labels.styles[i].id != ids[i]) {
+            return base::make_error(base::ErrorCode::invalid_frame,
+                                    "the frame's label styles are not the label map's labels in "
+                                    "its order (style " +
+                                            std::to_string(i + 1) + " is label " +
+                                            std::to_string(labels.styles[i].id) + ", not " +
+                                            std::to_string(ids[i]) + ")",
+                                    "labels");
+        }
+    }
+    return base::Ok{};
+}
+
 }  // namespace penumbra::scene

@@ -166,7 +166,10 @@ DrawnLabels Session::labels() const {
     return labels_;
 }
 
-base::Result<reference::Pick> Session::pick(double x, double y) const {
+PickAnswer Session::pick(double x, double y) const {
+    if (!volume_) {
+        return base::make_error(base::ErrorCode::no_volume, "the session holds no volume", "/type");
+    }
     scene::FrameRequest frame;
     DrawnLabels labels;
     {

@@ -790,16 +790,22 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
 LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
     // A file refused as a label map is not read again while it stays as it was: a client asking
     // for it again and again costs a look at its time, not a load.
-    std::optional<std::string> stamp;
+    std::optional<std::filesystem::path> path;
     {
         const std::lock_guard lock(mutex_);
         const auto entry = std::find_if(entries_.begin(), entries_.end(),
                                         [&](const VolumeEntry& e) { return e.id == id; });
         if (entry != entries_.end()) {
-            stamp = label_stamp(entry->path);
+            path = entry->path;
         }
+    }
+    // Its files are looked at outside the lock that listing and opening take.
+    const std::optional<std::string> stamp =
+            path ? std::optional<std::string>(label_stamp(*path)) : std::nullopt;
+    if (stamp) {
+        const std::lock_guard lock(mutex_);
         const auto refused = refused_labels_.find(id);
-        if (refused != refused_labels_.end() && stamp && refused->second.first == *stamp) {
+        if (refused != refused_labels_.end() && refused->second.first == *stamp) {
             return refused->second.second;
         }
     }
@@ -821,11 +827,20 @@ LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
                 }
                 return volume::load_label_map(path, options);
             });
-    if (!loaded && stamp && loaded.error().code != base::ErrorCode::unknown_volume) {
+    // What the file holds is kept; a failure of the moment (memory, a read) is tried again.
+    const auto lasting = [](base::ErrorCode code) {
+        return code != base::ErrorCode::unknown_volume && code != base::ErrorCode::out_of_memory &&
+               code != base::ErrorCode::io_error && code != base::ErrorCode::read_failed;
+    };
+    if (!loaded && stamp && lasting(loaded.error().code)) {
         const std::lock_guard lock(mutex_);
         refused_labels_.insert_or_assign(id, std::pair{*stamp, loaded.error()});
     }
     return loaded;
+}
+
+void VolumeStore::read_async(std::function<void()> work) {
+    loaders_.post(std::move(work));
 }
 
 void VolumeStore::acquire_labels_async(std::string id, AcquireLabelsDone done) {

@@ -133,6 +133,15 @@ base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
     return LabelNames{};
 }
 
+std::vector<std::int64_t> LabelMap::ids() const {
+    std::vector<std::int64_t> out;
+    out.reserve(labels.size());
+    for (const Label& label : labels) {
+        out.push_back(label.id);
+    }
+    return out;
+}
+
 base::Result<bool> declares_labels(const std::filesystem::path& path) {
     if (find_mricron_labels(path)) {
         return true;

@@ -28,8 +28,9 @@ struct Pick {
 // function, the labels' opacities and visibility (`labels`, when the request styles them), the
 // cut; each sample by itself (a pre-integrated frame's segments may put the surface a fraction
 // of a step away). No hit where the ray never gathers that much. One ray on the CPU, in double,
-// with the frame's step and its reconstruction, reading `volume` in place (no copy of it: a
-// server answers picks between frames).
+// with the frame's reconstruction and its step or half the finest voxel, whichever is longer (a
+// pick's cost bounded by the volume's size), reading `volume` in place (no copy of it: a server
+// answers picks between frames).
 base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, int x, int y);
 

@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <optional>
 #include <vector>
 
 namespace penumbra::reference {
@@ -80,6 +81,13 @@ private:
     glm::dmat4 world_to_index_;
     optics::LabelStyleTable styles_;
 };
+
+// The lookup a frame that styles labels draws with: none where it styles none; an invalid_frame
+// error where no label map is given or the styles are not its labels in its order (as the
+// renderer refuses such a frame).
+base::Result<std::optional<LabelLookup>> lookup_labels(const volume::LabelMap* labels,
+                                                       const volume::Volume& scan,
+                                                       const scene::Labels& styles);
 
 // A baked TF table read like the GPU's linearly filtered, edge-clamped 1D texture.
 class TransferFunctionTable {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace penumbra::scene {
@@ -41,5 +42,10 @@ struct Labels {
 
 // Colours and opacities within [0, 1], at most kMaxStyledLabels styles, each id once.
 base::Status validate(const Labels& labels);
+
+// Whether `labels` styles exactly the labels `ids` lists, in its order (a label map's ids): what
+// a frame drawn with that map must give, since a style is found by its label's index. An
+// invalid_frame error says where they part.
+base::Status check_styles_match(const Labels& labels, std::span<const std::int64_t> ids);
 
 }  // namespace penumbra::scene

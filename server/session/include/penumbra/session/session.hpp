@@ -67,6 +67,9 @@ using ViewerSink = std::function<void(const ViewerOutcome& outcome)>;
 // `limits` allow.
 scene::State default_state(const std::string& transfer_function, const scene::Limits& limits);
 
+// What a pick found under its point (reference::pick), or why it could not look.
+using PickAnswer = base::Result<reference::Pick>;
+
 // The label map a session draws inside its volume, by the id the volume store lists it under;
 // none (null, empty) at first.
 struct DrawnLabels {
@@ -149,7 +152,7 @@ public:
     // fractions of the view's width and height from its top left corner (each within [0, 1]):
     // reference::pick's one ray through the pixel there, on the CPU, reading the volume in place,
     // with the label map drawn. Any viewer may ask; the state is not changed.
-    [[nodiscard]] base::Result<reference::Pick> pick(double x, double y) const;
+    [[nodiscard]] PickAnswer pick(double x, double y) const;
 
     // Adds a viewer, or replaces its sinks. Frames go to every viewer's `frames` sink, on a
     // scheduler thread; states that another viewer sets go to `state_changed`. `welcome` gets the

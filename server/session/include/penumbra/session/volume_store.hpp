@@ -171,6 +171,10 @@ public:
     // acquire_labels() on a loader thread; `done` is called there.
     void acquire_labels_async(std::string id, AcquireLabelsDone done);
 
+    // Runs `work` that reads a loaded volume at length (a pick's ray) on a loader thread, off the
+    // threads that serve the network.
+    void read_async(std::function<void()> work);
+
     // The histogram of a volume this store loaded, computed once per volume.
     std::shared_ptr<const std::vector<std::uint64_t>> histogram(
             const std::shared_ptr<const volume::Volume>& volume);

@@ -25,10 +25,12 @@ struct LabelMap {
     std::vector<Label> labels;
     std::vector<std::uint64_t> voxels;  // per label, in the order of `labels`
     std::uint64_t background_voxels = 0;
-    // Named by a names file or the file's own keys (not every label need be): with a label intent
-    // (indices.label_intent, kept from the file), what says a file is a label map and not a scan.
+    // Named by a names file or the file's own keys (not every label need be).
     bool named = false;
     std::vector<std::string> warnings;  // names-file lines skipped; named labels the volume lacks
+
+    // The labels' ids, in their order: what a frame's styles must list (scene::check_styles_match).
+    [[nodiscard]] std::vector<std::int64_t> ids() const;
 };
 
 // A label's name is kept as valid UTF-8 of at most this many bytes (bytes that are not UTF-8
