@@ -56,6 +56,9 @@ constexpr Refusal untiled_mosaic{
         "unsupported_type",
         "a Siemens mosaic whose 48 slices do not tile its 256x256 image (7 tiles a side of 36.6 "
         "pixels; nibabel cannot unpack it either)"};
+constexpr Refusal not_a_volume_intent{
+        "unsupported_dimension",
+        "a NIfTI intent that holds no image of space (a CIFTI-2 connectivity matrix, 10x10)"};
 constexpr Refusal not_dicom{"not_dicom", "no DICOM preamble nor a data set DCMTK can read bare"};
 
 const std::map<std::string, Refusal>& expected_refusals() {
@@ -118,6 +121,7 @@ const std::map<std::string, Refusal>& expected_refusals() {
             {"priv_SQ.dcm", no_pixel_data},
             {"reportsi.dcm", no_pixel_data},
             {"reportsi_with_empty_number_tags.dcm", no_pixel_data},
+            {"row_major.dconn.nii", not_a_volume_intent},
             {"rtdose.dcm", bits_32},
             {"rtdose_1frame.dcm", bits_32},
             {"rtdose_expb.dcm", bits_32},

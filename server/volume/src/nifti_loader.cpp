@@ -56,6 +56,31 @@ void quiet_library() {
     std::call_once(once, [] { nifti_set_debug_level(0); });
 }
 
+// What the data of a NIfTI intent that holds no image of space are (matrices, point sets,
+// surfaces' triangles and values, CIFTI-2's arrays over brainordinates, codes 3000-3099), which
+// opened as a volume would show a meaningless 1-voxel-thick grid; nullopt for every other intent.
+std::optional<std::string> non_volume_intent(int code) {
+    switch (code) {
+        case NIFTI_INTENT_GENMATRIX:
+        case NIFTI_INTENT_SYMMATRIX:
+            return "a matrix (intent " + std::to_string(code) + ")";
+        case NIFTI_INTENT_POINTSET:
+            return "a point set (intent " + std::to_string(code) + ")";
+        case NIFTI_INTENT_TRIANGLE:
+            return "a surface's triangles (intent " + std::to_string(code) + ")";
+        case NIFTI_INTENT_NODE_INDEX:
+        case NIFTI_INTENT_SHAPE:
+            return "values on a surface's nodes (intent " + std::to_string(code) + ")";
+        default:
+            break;
+    }
+    if (code >= 3000 && code < 3100) {
+        return "CIFTI-2 data over brainordinates, such as a connectivity matrix (intent " +
+               std::to_string(code) + ")";
+    }
+    return std::nullopt;
+}
+
 // The header alone (and its extensions), no voxels.
 base::Result<Image> read_header(const std::filesystem::path& path) {
     quiet_library();
@@ -236,6 +261,10 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
         return header.error();
     }
     Image image = std::move(header.value());
+    if (const auto intent = non_volume_intent(image->intent_code)) {
+        return base::make_error(base::ErrorCode::unsupported_dimension,
+                                "not a volume: the file holds " + *intent, detail::at_file(path));
+    }
     const auto extent = [](std::int64_t n) { return n < 1 ? std::int64_t{1} : n; };
     const std::array<std::int64_t, 3> sizes{extent(image->nx), extent(image->ny),
                                             extent(image->nz)};
