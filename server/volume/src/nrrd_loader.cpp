@@ -29,7 +29,7 @@ using detail::SampleType;
 // happens to start with the magic from being read whole as "header".
 constexpr std::uint64_t max_header_bytes = std::uint64_t{16} << 20;
 
-enum class Encoding { raw, gzip, bzip2, ascii };
+enum class Encoding { raw, gzip, bzip2, ascii, hex };
 
 // A header value and the line it came from, for error messages.
 template <class T>
@@ -512,10 +512,12 @@ private:
             header_.encoding.value = Encoding::bzip2;
         } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
             header_.encoding.value = Encoding::ascii;
+        } else if (encoding == "hex") {
+            header_.encoding.value = Encoding::hex;
         } else {
             return error(base::ErrorCode::unsupported_encoding,
                          "encoding '" + std::string(value) +
-                                 "' is not supported (supported: raw, gzip, bzip2, ascii)");
+                                 "' is not supported (supported: raw, gzip, bzip2, ascii, hex)");
         }
         return base::Ok{};
     }
@@ -932,6 +934,71 @@ base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, cons
     return base::Ok{};
 }
 
+// Two hexadecimal digits a byte, in either case, whitespace anywhere between them; "byte skip"
+// counts decoded bytes, as it does for the compressed encodings.
+base::Status read_hex(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
+                      std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
+    if (auto status = detail::seek_to(file, path, offset); !status) {
+        return status.error();
+    }
+    const auto digit = [](int c) {
+        if (c >= '0' && c <= '9') {
+            return c - '0';
+        }
+        if (c >= 'a' && c <= 'f') {
+            return c - 'a' + 10;
+        }
+        if (c >= 'A' && c <= 'F') {
+            return c - 'A' + 10;
+        }
+        return -1;
+    };
+    std::vector<char> input(std::size_t{1} << 16);
+    std::uint64_t skip_left = static_cast<std::uint64_t>(byte_skip);
+    std::uint64_t consumed = 0;
+    int high = -1;  // the first digit of a byte, once read
+    while (!sink.full()) {
+        const std::size_t got = std::fread(input.data(), 1, input.size(), file);
+        if (got == 0) {
+            if (std::ferror(file)) {
+                return base::make_error(base::ErrorCode::read_failed,
+                                        std::string("read error: ") + std::strerror(errno),
+                                        detail::at_byte(path, offset + consumed));
+            }
+            return base::make_error(base::ErrorCode::truncated,
+                                    "expected " + std::to_string(layout.bytes) +
+                                            " bytes of hex data, got " +
+                                            std::to_string(sink.received()),
+                                    detail::at_byte(path, offset + consumed));
+        }
+        for (std::size_t i = 0; i < got && !sink.full(); ++i, ++consumed) {
+            const char c = input[i];
+            if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+                continue;
+            }
+            const int value = digit(static_cast<unsigned char>(c));
+            if (value < 0) {
+                return base::make_error(base::ErrorCode::bad_data,
+                                        std::string("'") + c + "' is no hexadecimal digit",
+                                        detail::at_byte(path, offset + consumed));
+            }
+            if (high < 0) {
+                high = value;
+                continue;
+            }
+            const auto byte = static_cast<std::byte>(high * 16 + value);
+            high = -1;
+            if (skip_left > 0) {
+                --skip_left;
+                continue;
+            }
+            sink.window()[0] = byte;
+            sink.commit(1);
+        }
+    }
+    return base::Ok{};
+}
+
 base::Status read_gzip(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
                        std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
     // For compressed encodings NRRD applies "byte skip" to the decompressed data.
@@ -1133,6 +1200,8 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
                            : base::Status(start.error());
         } else if (layout->encoding == Encoding::gzip) {
             status = read_gzip(data, *source, *layout, byte_skip, offset, sink);
+        } else if (layout->encoding == Encoding::hex) {
+            status = read_hex(data, *source, *layout, byte_skip, offset, sink);
         } else {
             status = read_bzip2(data, *source, *layout, byte_skip, offset, sink);
         }
