@@ -11,6 +11,7 @@ import {
   type Listing,
   type StatePatch,
   type VolumeSummary,
+  withoutRefusedLabels,
 } from './protocol/messages';
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
@@ -85,10 +86,7 @@ function showLabels(): void {
 
 /** A change of the labels not yet sent is dropped: the map it was for goes. */
 function dropPendingLabels(): void {
-  if (!pendingPatch?.labels) return;
-  const rest = { ...pendingPatch };
-  delete rest.labels;
-  pendingPatch = Object.keys(rest).length > 0 ? rest : null;
+  if (pendingPatch) pendingPatch = withoutRefusedLabels(pendingPatch);
 }
 
 const pacer = new RenderPacer((interactive) => {
@@ -96,6 +94,9 @@ const pacer = new RenderPacer((interactive) => {
   if (pendingPatch && role === 'owner') {
     const patch = pendingPatch;
     pendingPatch = null;
+    // The frame changes after the pick's answer (the server answers in order): it may no longer
+    // show what the callout names.
+    pick.clear();
     connection.set(patch).then(showLabels, (e: unknown) => {
       if (e instanceof RequestFailed) return; // connection lost: restored on reconnect
       notices.show('error', 'The server refused a change', describe(e));
@@ -245,8 +246,9 @@ async function pickAt(clientX: number, clientY: number): Promise<void> {
   try {
     const answer = await connection.pick(point.x, point.y);
     const label = answer.label ? labelsPanel.row(answer.label.id) : undefined;
-    pick.answer(ticket, answer, label?.color);
-    if (answer.label) labelsPanel.select(answer.label.id);
+    if (pick.answer(ticket, answer, label?.color) && answer.label) {
+      labelsPanel.select(answer.label.id);
+    }
   } catch (e) {
     pick.fail(ticket, describe(e));
   }
@@ -309,6 +311,11 @@ connection.on('session', (info, restored) => {
   tfModel.load(info.state.transfer_function, false);
   tfEditor.setHistogram(info.histogram);
   tfEditor.refresh();
+  // Labels changed while disconnected wait in pendingPatch, merged into whatever follows: where
+  // the session came back without their map, or with another, the server would refuse that whole
+  // set.
+  if (restored && pendingPatch)
+    pendingPatch = withoutRefusedLabels(pendingPatch, info.state.labels);
   light.setScene({ volume: info.volume, camera: info.state.camera });
   cutPanel.setVolume(info.volume);
   cropBox.setPlacement(placementOf(info.volume));
@@ -343,9 +350,8 @@ connection.on('session', (info, restored) => {
 
 // A viewer's panels follow the owner: each of its changes arrives as the session's whole state.
 connection.on('state', (info) => {
-  const before = JSON.stringify(camera.toCamera());
+  pick.clear(); // the owner's change may alter what the frame shows at the point, not only where
   camera.setFrom(info.state.camera);
-  if (JSON.stringify(camera.toCamera()) !== before) pick.clear();
   marker.update(camera.toCamera());
   tfModel.load(info.state.transfer_function, false);
   tfEditor.refresh();
@@ -367,8 +373,10 @@ connection.on('frame', (frame) => {
   });
 });
 
-// A label map drawn or removed (by this owner, or told after a join or a resume).
+// A label map drawn or removed (by this owner, or by the owner a viewer watches), or told after a
+// join or a resume. What the frame shows at a picked point changes with it.
 connection.on('labels', () => {
+  pick.clear();
   labelsPanel.update(connection.session?.state, connection.session?.labels);
   pacer.request(false);
 });
@@ -429,7 +437,7 @@ function refreshVolumes(enough: () => boolean = () => false): Promise<void> {
 async function drawLabels(volume: string | null): Promise<void> {
   if (role !== 'owner' || !connection.session) return;
   dropPendingLabels();
-  labelsPanel.setBusy(volume ? `Loading ${volume}…` : null);
+  labelsPanel.setBusy(volume ? `Loading ${volume}…` : 'Removing the label map…');
   try {
     if (volume) await connection.addLabels(volume);
     else await connection.removeLabels();

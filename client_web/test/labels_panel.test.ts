@@ -1,4 +1,5 @@
-import { describe, expect, it } from 'vitest';
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import type GUI from 'lil-gui';
 import {
   allPatch,
   blendPatch,
@@ -7,6 +8,7 @@ import {
   formatCount,
   labelMapChoices,
   labelRows,
+  LabelsPanel,
   matchesSearch,
   onlyPatch,
   opacityPatch,
@@ -20,6 +22,7 @@ import {
   type VolumeSummary,
 } from '../src/protocol/messages';
 import { checkClientMessage } from './client_checks';
+import { FakeElement, useFakeDom } from './fake_dom';
 import { applyLabelsPatch } from './labels_server';
 import { recordedLabelMessages, recordedTerms } from './recorded';
 
@@ -50,7 +53,7 @@ describe('the labels listed', () => {
     expect(labelRows(undefined, drawn)).toEqual([]);
   });
 
-  it('by id alone, in order, where the names are not known (a viewer of a map drawn after it joined)', () => {
+  it('by id alone, in order, where the names are not known (an older server told a viewer them only at its join)', () => {
     const some: LabelsState = {
       blend: 0.5,
       styles: {
@@ -161,6 +164,70 @@ describe('the label maps offered', () => {
       'aal.nii.gz',
       'brodmann.nii.gz',
     ]);
+  });
+});
+
+describe('a change of the label map', () => {
+  afterEach(() => vi.unstubAllGlobals());
+
+  function find(e: FakeElement, control: string): FakeElement | undefined {
+    if (e.dataset['control'] === control) return e;
+    for (const child of e.children) {
+      const found = find(child, control);
+      if (found) return found;
+    }
+    return undefined;
+  }
+
+  it('is one at a time: while a map loads, neither another nor Remove may be chosen', () => {
+    useFakeDom();
+    const children = new FakeElement('div');
+    const folder = { $children: children, show: () => folder } as unknown as GUI;
+    const asked: string[] = [];
+    const panel = new LabelsPanel(folder, {
+      change: () => {},
+      add: (volume) => asked.push(`add ${volume}`),
+      remove: () => asked.push('remove'),
+    });
+    panel.setEnabled(true);
+    const volume = (id: string, label_map: boolean): VolumeSummary => ({
+      id,
+      name: id,
+      dims: [0, 0, 0],
+      spacing: [1, 1, 1],
+      voxel_type: '',
+      range: [0, 0],
+      hounsfield: false,
+      loaded: false,
+      label_map,
+    });
+    const volumes = [
+      volume('ch2.nii.gz', false),
+      volume('aal.nii.gz', true),
+      volume('b.nii', true),
+    ];
+    panel.setVolumes(volumes, 'ch2.nii.gz');
+    panel.update(added.state, drawn);
+    const choice = find(children, 'labels-add')!;
+    const remove = find(children, 'labels-remove')!;
+    const choose = (id: string) => {
+      choice.value = id;
+      choice.dispatchEvent(new Event('change'));
+    };
+
+    choose('b.nii');
+    panel.setBusy('Loading b.nii…');
+    expect([choice.disabled, remove.disabled]).toEqual([true, true]);
+    panel.setEnabled(true); // the session's role told again meanwhile
+    expect([choice.disabled, remove.disabled]).toEqual([true, true]);
+    choose('aal.nii.gz');
+    remove.dispatchEvent(new Event('click'));
+    expect(asked).toEqual(['add b.nii']);
+
+    panel.setBusy(null);
+    expect([choice.disabled, remove.disabled]).toEqual([false, false]);
+    remove.dispatchEvent(new Event('click'));
+    expect(asked).toEqual(['add b.nii', 'remove']);
   });
 });
 

@@ -22,7 +22,9 @@ import {
   type PickedMessage,
   type State,
   type StateMessage,
+  type StatePatch,
   type VolumesMessage,
+  withoutRefusedLabels,
 } from '../src/protocol/messages';
 import { checkClientMessage, type ServerTerms } from './client_checks';
 import { applyLabelsPatch } from './labels_server';
@@ -778,5 +780,27 @@ describe('labels patches', () => {
     ).toBeNull();
     // The same styles as the map's own: nothing of them to send.
     expect(restorePatch({ ...withLabels, labels: defaults }, defaults).labels).toBeUndefined();
+  });
+
+  it('made while disconnected are left out once restored where the server would refuse them', () => {
+    const size: StatePatch = { settings: { size: [640, 480] } };
+    for (const labels of kinds) {
+      const patch = mergePatches({ camera: { fov: 40 }, labels }, size);
+      // The same map drawn again: they go, and the server takes them.
+      const kept = withoutRefusedLabels(patch, defaults)!;
+      expect(kept).toEqual(patch);
+      expect(() => applyLabelsPatch(defaults, kept.labels!)).not.toThrow();
+      // No map drawn (not drawn again, or removed meanwhile): the rest goes without them.
+      expect(withoutRefusedLabels(patch, undefined)).toEqual({ camera: { fov: 40 }, ...size });
+    }
+    // Another map: what names an id it lacks goes; what names none of its ids stays.
+    const other: LabelsState = { blend: 0.5, styles: { '45': defaults.styles['45']! } };
+    expect(withoutRefusedLabels({ ...size, labels: { only: [45, 46] } }, other)).toEqual(size);
+    expect(
+      withoutRefusedLabels({ labels: { styles: { '46': { opacity: 0 } } } }, other),
+    ).toBeNull();
+    const bulk: StatePatch = { labels: { all: { visible: false }, only: [45], blend: 0.2 } };
+    expect(withoutRefusedLabels(bulk, other)).toEqual(bulk);
+    expect(withoutRefusedLabels(size, undefined)).toBe(size);
   });
 });

@@ -1,5 +1,12 @@
 import { describe, expect, it } from 'vitest';
-import { cameraBasis, OrbitCamera, orbitLimits, viewAngles } from '../src/interaction/orbit_camera';
+import {
+  attachOrbitControls,
+  cameraBasis,
+  OrbitCamera,
+  orbitLimits,
+  viewAngles,
+} from '../src/interaction/orbit_camera';
+import { TapTracker } from '../src/interaction/tap';
 import { VIEW_POSES } from '../src/protocol/generated/server_tables';
 import { orbitEye } from '../src/interaction/orbit_camera';
 import { VIEWS, type Camera, type SettingRanges } from '../src/protocol/messages';
@@ -134,5 +141,81 @@ describe('OrbitCamera', () => {
     expect(
       checkClientMessage({ v: 1, type: 'set', camera: c.toCamera() }, recordedTerms),
     ).toBeNull();
+  });
+});
+
+/** An element the controls listen to, 200 pixels tall; pointer events as plain events. */
+class FakeView extends EventTarget {
+  clientHeight = 200;
+  focus(): void {}
+  setPointerCapture(): void {}
+  pointer(type: string, x: number, y: number, pointerType = 'mouse', pointerId = 1): void {
+    const e = Object.assign(new Event(type, { cancelable: true }), {
+      pointerId,
+      pointerType,
+      clientX: x,
+      clientY: y,
+      button: 0,
+      shiftKey: false,
+      ctrlKey: false,
+      metaKey: false,
+      altKey: false,
+    });
+    this.dispatchEvent(e);
+  }
+}
+
+function controlled(): { view: FakeView; camera: OrbitCamera; changes: () => number } {
+  const view = new FakeView();
+  const camera = new OrbitCamera();
+  camera.setFrom(start);
+  let changes = 0;
+  attachOrbitControls(view as unknown as HTMLElement, camera, {
+    change: () => (changes += 1),
+    start: () => {},
+    end: () => {},
+    enabled: () => true,
+  });
+  return { view, camera, changes: () => changes };
+}
+
+describe('the orbit controls', () => {
+  it('turn nothing while a press wobbles within what a tap allows', () => {
+    for (const [pointerType, wobble] of [
+      ['mouse', [4, 3]],
+      ['touch', [8, 6]],
+    ] as const) {
+      const { view, camera, changes } = controlled();
+      const tap = new TapTracker();
+      const sample = (x: number, y: number) => ({
+        pointerId: 1,
+        clientX: x,
+        clientY: y,
+        timeStamp: 0,
+        pointerType,
+      });
+      view.pointer('pointerdown', 100, 100, pointerType);
+      tap.pointerDown(sample(100, 100));
+      view.pointer('pointermove', 100 + wobble[0], 100 + wobble[1], pointerType);
+      tap.pointerMove(sample(100 + wobble[0], 100 + wobble[1]));
+      view.pointer('pointerup', 100 + wobble[0], 100 + wobble[1], pointerType);
+      expect(tap.pointerUp(sample(100 + wobble[0], 100 + wobble[1]))).not.toBeNull();
+      expect(changes()).toBe(0);
+      expect(camera.azimuth).toBe(0);
+      expect(camera.elevation).toBe(0);
+    }
+  });
+
+  it('past it, turn as far as the drag went from the press, as without the slop', () => {
+    const { view, camera, changes } = controlled();
+    view.pointer('pointerdown', 100, 100);
+    view.pointer('pointermove', 104, 100);
+    expect(changes()).toBe(0);
+    view.pointer('pointermove', 106, 100); // 1 pixel past the mouse's 5
+    expect(changes()).toBe(1);
+    expect(camera.azimuth).toBeCloseTo((-6 * 180) / 200, 9);
+    view.pointer('pointermove', 126, 100); // then as the pointer moves
+    expect(camera.azimuth).toBeCloseTo((-26 * 180) / 200, 9);
+    view.pointer('pointerup', 126, 100);
   });
 });

@@ -1,6 +1,13 @@
-import { describe, expect, it } from 'vitest';
-import { formatPosition, formatValue, framePoint, pickText } from '../src/view/pick_overlay';
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import {
+  formatPosition,
+  formatValue,
+  framePoint,
+  pickText,
+  PickOverlay,
+} from '../src/view/pick_overlay';
 import { parseServerMessage, type PickedMessage } from '../src/protocol/messages';
+import { FakeElement, useFakeDom } from './fake_dom';
 import { recordedLabelMessages } from './recorded';
 
 describe('the point of the frame image under a pointer', () => {
@@ -57,5 +64,35 @@ describe('what a pick says', () => {
 
   it('that nothing is there without a hit', () => {
     expect(pickText(miss)).toEqual({ hit: false });
+  });
+});
+
+describe('the pick on screen', () => {
+  const hit = parseServerMessage(recordedLabelMessages[4]!) as PickedMessage;
+  afterEach(() => vi.unstubAllGlobals());
+
+  function overlay(): PickOverlay {
+    useFakeDom();
+    const pick = new PickOverlay(new FakeElement('div') as unknown as HTMLElement);
+    pick.setFrame({ width: 800, height: 600 });
+    return pick;
+  }
+
+  it("shows its own answer, and says so (the panel then selects the answer's label)", () => {
+    const pick = overlay();
+    const ticket = pick.start({ x: 0.5, y: 0.5 });
+    expect(pick.answer(ticket, hit)).toBe(true);
+    const callout = (pick.element as unknown as FakeElement).children[1]!;
+    expect(callout.dataset).toMatchObject({ state: 'hit', label: '19' });
+  });
+
+  it('shows no answer to an older pick, or to one cleared since, and says so', () => {
+    const pick = overlay();
+    const first = pick.start({ x: 0.2, y: 0.2 });
+    const second = pick.start({ x: 0.5, y: 0.5 });
+    expect(pick.answer(first, hit)).toBe(false);
+    pick.clear();
+    expect(pick.answer(second, hit)).toBe(false);
+    expect(pick.shown).toBe(false);
   });
 });

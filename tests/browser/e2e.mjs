@@ -712,7 +712,8 @@ try {
   // 4e. Labels: the AAL atlas drawn inside the head through the Labels panel, a cut at the view
   // plane showing the brain; its 116 labels listed; a search finds the cunei; "only" shows one
   // alone (the server's state says so and the frame changes); a tap on the frame's centre says
-  // what lies there without moving the camera, and a drag takes the answer away.
+  // what lies there without moving the camera; hiding the label it names, or a drag, takes the
+  // answer away.
   const addLabels = owner.locator('[data-control="labels-add"]');
   const labelMaps = await addLabels.locator('option').evaluateAll((els) =>
     els.map((e) => e.value).filter((v) => v !== ''));
@@ -760,10 +761,12 @@ try {
   info = await waitForStill(owner, info);
   await owner.locator('[data-control="labels-search"]').fill('');
   let labelPick = null;
+  let labelPoint = null;
   for (const [fx, fy] of [[0.55, 0.4], [0.45, 0.4], [0.5, 0.35], [0.6, 0.45], [0.4, 0.45], [0.5, 0.3]]) {
     const answer = await pickAt(owner, fx, fy);
     if (answer.label) {
       labelPick = answer;
+      labelPoint = [fx, fy];
       break;
     }
   }
@@ -773,6 +776,18 @@ try {
     labelPick !== null && selectedRow === labelPick.label &&
       (await owner.locator('.pick-marker').isVisible()),
     `${labelPick?.text}; selected row ${selectedRow}`);
+  // Hiding the label the answer names changes what lies there, not the camera: the answer goes.
+  if (labelPick !== null) {
+    await owner.locator(`.label-row[data-label="${labelPick.label}"] input.label-visible`).click();
+    await waitForLabelsShown(owner, '115 of 116 shown');
+    info = await waitForStill(owner, info);
+    check('hiding the label the answer names takes the answer away',
+      !(await owner.locator('.pick-callout').isVisible()));
+    await owner.locator('[data-control="labels-show-all"]').click();
+    await waitForLabelsShown(owner, '116 of 116 shown');
+    info = await waitForStill(owner, info);
+    await pickAt(owner, ...labelPoint);
+  }
   const frameBox = await owner.locator('canvas.frame-canvas').boundingBox();
   await dragDown(owner, frameBox.x + frameBox.width * 0.8, frameBox.y + frameBox.height * 0.5, 20);
   info = await waitForStill(owner, info);

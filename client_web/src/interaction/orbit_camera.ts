@@ -12,6 +12,7 @@ import {
   VIEW_POSES,
 } from '../protocol/generated/server_tables';
 import type { Camera, SettingRanges, Vec3, ViewName } from '../protocol/messages';
+import { slopPx } from './slop';
 
 /** An orbit: the eye around the target, as a `set`'s camera may give it (§5). */
 export interface Orbit {
@@ -285,6 +286,12 @@ export function attachOrbitControls(
     };
   };
   let lastTwo: ReturnType<typeof twoFinger> = null;
+  /**
+   * The press of a one-pointer orbit that has not yet moved past the tap's slop: a tap that wobbles
+   * must not turn the camera. Past it, the orbit turns from the press, as far as the pointer went
+   * since, so the slop neither lags the drag nor makes it turn less.
+   */
+  let press: { pointerId: number; x: number; y: number; slop: number } | null = null;
 
   const begin = (): void => {
     if (mode === null && wheelTimer === null && !keyActive) callbacks.start();
@@ -296,19 +303,32 @@ export function attachOrbitControls(
     if (pointers.size === 0) begin();
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
     element.setPointerCapture?.(e.pointerId);
+    press = null;
     if (pointers.size >= 2) {
       mode = 'touch';
       lastTwo = twoFinger();
     } else {
       const panButton = e.button === 1 || e.button === 2;
       mode = panButton || e.shiftKey || e.ctrlKey || e.metaKey ? 'pan' : 'rotate';
+      if (mode === 'rotate') {
+        press = { pointerId: e.pointerId, x: e.clientX, y: e.clientY, slop: slopPx(e.pointerType) };
+      }
     }
     e.preventDefault();
   };
 
   const onMove = (e: PointerEvent): void => {
-    const previous = pointers.get(e.pointerId);
+    let previous = pointers.get(e.pointerId);
     if (!previous || mode === null) return;
+    if (mode === 'rotate' && press?.pointerId === e.pointerId) {
+      const away = Math.hypot(e.clientX - press.x, e.clientY - press.y);
+      if (away <= press.slop) {
+        pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+        return;
+      }
+      previous = { x: press.x, y: press.y };
+      press = null;
+    }
     const dx = e.clientX - previous.x;
     const dy = e.clientY - previous.y;
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
@@ -329,6 +349,7 @@ export function attachOrbitControls(
 
   const onUp = (e: PointerEvent): void => {
     if (!pointers.delete(e.pointerId)) return;
+    if (press?.pointerId === e.pointerId) press = null;
     if (pointers.size === 1 && mode === 'touch') {
       mode = 'rotate'; // lifting one of two fingers continues as a one-finger orbit
       lastTwo = null;

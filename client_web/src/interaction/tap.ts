@@ -3,6 +3,8 @@
 // other than the main one, a modifier (shift or ctrl pans), a move further, or a long press makes
 // it no tap. The model takes plain pointer samples, so tests need no DOM.
 
+import { MOUSE_SLOP_PX, TOUCH_SLOP_PX } from './slop';
+
 export interface PointerSample {
   pointerId: number;
   clientX: number;
@@ -43,8 +45,8 @@ export class TapTracker {
   private readonly maxMs: number;
 
   constructor(options: TapOptions = {}) {
-    this.mouseSlop = options.mouseSlopPx ?? 5;
-    this.touchSlop = options.touchSlopPx ?? 10;
+    this.mouseSlop = options.mouseSlopPx ?? MOUSE_SLOP_PX;
+    this.touchSlop = options.touchSlopPx ?? TOUCH_SLOP_PX;
     this.maxMs = options.maxMs ?? 500;
   }
 

@@ -6,7 +6,7 @@
 // state the server answers with; a viewer sees them read-only.
 
 import type GUI from 'lil-gui';
-import type { DrawnLabels } from '../protocol/connection';
+import { namesTheLabels, type DrawnLabels } from '../protocol/connection';
 import type {
   LabelsState,
   LabelStyle,
@@ -20,7 +20,7 @@ import type {
 export interface LabelRow {
   id: number;
   name: string;
-  /** Whether the name is the map's own: a viewer whose owner drew the map after it joined knows ids alone. */
+  /** Whether the name is the map's own, not its id alone (the names not known: an older server). */
   named: boolean;
   color: Rgb;
   opacity: number;
@@ -35,10 +35,7 @@ export interface LabelRow {
  */
 export function labelRows(labels: LabelsState | undefined, drawn?: DrawnLabels): LabelRow[] {
   if (!labels) return [];
-  const named =
-    drawn !== undefined &&
-    drawn.labels.length === Object.keys(labels.styles).length &&
-    drawn.labels.every((l) => labels.styles[String(l.id)] !== undefined);
+  const named = drawn !== undefined && namesTheLabels(drawn.labels, labels.styles);
   const row = (id: number, style: LabelStyle): LabelRow => ({
     id,
     name: `label ${id}`,
@@ -194,7 +191,7 @@ export class LabelsPanel {
     this.choice.addEventListener('change', () => {
       const id = this.choice.value;
       this.choice.value = '';
-      if (id && this.enabled) this.actions.add(id);
+      if (id && this.enabled && this.busy === null) this.actions.add(id);
     });
     this.status = element('div', 'hint labels-status');
 
@@ -205,9 +202,12 @@ export class LabelsPanel {
     this.shownCount.dataset['control'] = 'labels-count';
     this.unnamed = element('div', 'hint');
     this.unnamed.textContent =
-      "This map's names have not arrived (a server that sends viewers its styles alone): its labels are known by id.";
+      "This map's names are not known (an older server tells a viewer them only as it joins): its labels are listed by id.";
     this.removeButton = button('Remove', 'labels-remove', 'draw no label map');
-    this.removeButton.addEventListener('click', () => this.enabled && this.actions.remove());
+    this.removeButton.addEventListener(
+      'click',
+      () => this.enabled && this.busy === null && this.actions.remove(),
+    );
     head.append(this.mapName, this.removeButton);
 
     const blendRow = element('label', 'labels-slider');
@@ -284,7 +284,11 @@ export class LabelsPanel {
     this.refreshChoices();
   }
 
-  /** A label map being loaded (its text), or null once the server answered. */
+  /**
+   * A label map being loaded or removed (its text), or null once the server answered. Meanwhile
+   * neither another map nor Remove may be chosen: one change of the map at a time, so the text
+   * stays until the server answered it.
+   */
   setBusy(busy: string | null): void {
     this.busy = busy;
     this.refreshChoices();
@@ -294,8 +298,6 @@ export class LabelsPanel {
   setEnabled(enabled: boolean): void {
     this.enabled = enabled;
     for (const control of [
-      this.choice,
-      this.removeButton,
       this.blend,
       this.showAll,
       this.hideAll,
@@ -310,6 +312,7 @@ export class LabelsPanel {
       row.only.disabled = !enabled;
     }
     this.root.classList.toggle('read-only', !enabled);
+    this.refreshChoices();
     this.show();
   }
 
@@ -489,7 +492,8 @@ export class LabelsPanel {
     this.choice.replaceChildren(...options);
     this.choice.value = '';
     this.choice.hidden = this.listed && options.length === 1;
-    this.choice.disabled = !this.enabled;
+    this.choice.disabled = !this.enabled || this.busy !== null;
+    this.removeButton.disabled = !this.enabled || this.busy !== null;
     this.status.textContent = this.busy
       ? this.busy
       : this.enabled && this.listed && this.choices.length === 0

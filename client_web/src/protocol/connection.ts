@@ -125,8 +125,9 @@ export interface SessionInfo {
   /** An owner's secret for `resume` (absent for viewers, and from servers older than resume). */
   ownerToken?: string;
   /**
-   * The label map drawn, as the last `labels` told; absent while none is drawn, and for a viewer
-   * whose owner drew one after it joined (its state's labels then style ids it has no names for).
+   * The label map drawn, as the last `labels` told; absent while none is drawn. The server tells
+   * every viewer as the owner adds or removes a map; one older than that told a viewer only as it
+   * joined, so its state could style ids it has no names for.
    */
   labels?: DrawnLabels;
 }
@@ -146,8 +147,8 @@ export interface ConnectionEvents {
   /** A viewer's session got a new state (`info.state`): its owner changed it. */
   state: (info: SessionInfo) => void;
   /**
-   * The session's label map changed (`info.labels`, with `info.state`): drawn, removed, or told
-   * after a join or a resume.
+   * The session's label map changed (`info.labels`, with `info.state`): drawn or removed (by this
+   * owner, or by the owner a viewer watches), or told after a join or a resume.
    */
   labels: (info: SessionInfo) => void;
   frame: (frame: Frame) => void;
@@ -626,8 +627,9 @@ export class Connection {
     // mirror follows its own acknowledged sets (the server sends owners no state).
     if (!session || session.role !== 'viewer' || session.session !== message.session) return;
     session.state = message.state;
-    // The server tells a viewer the labels' names only as it joins: a map drawn or replaced
-    // since then shows in the state alone.
+    // A map drawn or replaced comes as `labels` before any state styling it; a state styling
+    // other ids than the names known (an older server, which named them only as a viewer joined)
+    // leaves the labels by id.
     const styles = message.state.labels?.styles;
     if (!styles || (session.labels && !namesTheLabels(session.labels.labels, styles))) {
       delete session.labels;
@@ -635,7 +637,10 @@ export class Connection {
     this.emit('state', session);
   }
 
-  /** The labels of the session this connection is in, told after a join or a resume. */
+  /**
+   * The labels of the session this connection is in: told after a join or a resume, and to a
+   * viewer as its owner adds or removes a map.
+   */
   private onLabels(message: LabelsMessage): void {
     const session = this.session;
     if (!session || session.session !== message.session) return;
@@ -807,7 +812,7 @@ export class Connection {
 }
 
 /** Whether `labels` names every label `styles` styles, and no other: the same map. */
-function namesTheLabels(labels: LabelSummary[], styles: Record<string, unknown>): boolean {
+export function namesTheLabels(labels: LabelSummary[], styles: Record<string, unknown>): boolean {
   return (
     labels.length === Object.keys(styles).length &&
     labels.every((l) => styles[String(l.id)] !== undefined)

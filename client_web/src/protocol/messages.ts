@@ -796,3 +796,21 @@ export function restorePatch(state: State, drawn?: LabelsState): StatePatch {
   if (changed) patch.labels = changed;
   return patch;
 }
+
+/**
+ * `patch` without its labels where the server would refuse them, and the whole `set` with them:
+ * while the session draws no map, or where they name an id its map lacks (another map's). What a
+ * reconnecting owner still has to send goes through this once the session is restored.
+ */
+export function withoutRefusedLabels(patch: StatePatch, labels?: LabelsState): StatePatch | null {
+  const named = [
+    ...(patch.labels?.only ?? []).map(String),
+    ...Object.keys(patch.labels?.styles ?? {}),
+  ];
+  if (!patch.labels || (labels && named.every((id) => labels.styles[id] !== undefined))) {
+    return patch;
+  }
+  const rest = { ...patch };
+  delete rest.labels;
+  return Object.keys(rest).length > 0 ? rest : null;
+}

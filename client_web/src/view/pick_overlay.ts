@@ -1,8 +1,9 @@
 // What lies under a point tapped on the image (the server's `picked`): a marker at the point and,
 // beside it, where that is in the patient (RAS millimetres), the scan's value there and the label
 // drawn there, or that nothing is. The point is kept as fractions of the frame image, placed as
-// the frame view draws it (letterboxed); it goes when the camera moves, the view is resized, or
-// its close button is pressed.
+// the frame view draws it (letterboxed); it goes when the camera moves, the view is resized, the
+// session's state changes (what lies at the point may show otherwise), or its close button is
+// pressed.
 
 import type { PickedMessage, Rgb, Vec3 } from '../protocol/messages';
 import { fitImage } from './frame_view';
@@ -147,9 +148,12 @@ export class PickOverlay {
     return this.ticket;
   }
 
-  /** Shows the answer to pick `ticket`, the label's colour as the state draws it. */
-  answer(ticket: number, picked: PickedMessage, labelColor?: Rgb): void {
-    if (ticket !== this.ticket || this.point === null) return;
+  /**
+   * Shows the answer to pick `ticket`, the label's colour as the state draws it; false, showing
+   * nothing, where the pick is no longer the one on screen (another, or cleared since).
+   */
+  answer(ticket: number, picked: PickedMessage, labelColor?: Rgb): boolean {
+    if (ticket !== this.ticket || this.point === null) return false;
     const text = pickText(picked);
     this.callout.dataset['state'] = text.hit ? 'hit' : 'miss';
     delete this.callout.dataset['label'];
@@ -177,6 +181,7 @@ export class PickOverlay {
       this.body.replaceChildren(...lines);
     }
     this.place();
+    return true;
   }
 
   /** The pick `ticket` failed: says why, beside its marker. */
