@@ -790,18 +790,18 @@ LoadedVolume VolumeStore::acquire(const std::string& id) {
 LoadedLabels VolumeStore::acquire_labels(const std::string& id) {
     // A file refused as a label map is not read again while it stays as it was: a client asking
     // for it again and again costs a look at its time, not a load.
-    std::optional<std::filesystem::path> path;
+    std::optional<std::filesystem::path> listed_path;
     {
         const std::lock_guard lock(mutex_);
         const auto entry = std::find_if(entries_.begin(), entries_.end(),
                                         [&](const VolumeEntry& e) { return e.id == id; });
         if (entry != entries_.end()) {
-            path = entry->path;
+            listed_path = entry->path;
         }
     }
     // Its files are looked at outside the lock that listing and opening take.
     const std::optional<std::string> stamp =
-            path ? std::optional<std::string>(label_stamp(*path)) : std::nullopt;
+            listed_path ? std::optional<std::string>(label_stamp(*listed_path)) : std::nullopt;
     if (stamp) {
         const std::lock_guard lock(mutex_);
         const auto refused = refused_labels_.find(id);

@@ -132,14 +132,20 @@ std::vector<std::string> text_messages() {
     out.push_back(labels_message(7, "s0", "aal.nii.gz", aal, labelled));
     out.push_back(labels_message(std::nullopt, "s1", "aal.nii.gz", aal, labelled));
     out.push_back(labels_message(8, "s0", "", {}, states.front()));
-    out.push_back(picked_message(10, "s0", PickSummary{.x = 0.5, .y = 1.0}));
-    out.push_back(picked_message(11, "s0",
-                                 PickSummary{.x = 0.25,
-                                             .y = 0.5,
-                                             .hit = true,
-                                             .position = {-12.5, 30.0, 41.25},
-                                             .value = 1250.0,
-                                             .hounsfield = true}));
+    PickSummary miss;
+    miss.x = 0.5;
+    miss.y = 1.0;
+    out.push_back(picked_message(10, "s0", miss));
+    PickSummary bone = miss;
+    bone.x = 0.25;
+    bone.y = 0.5;
+    bone.hit = true;
+    bone.position[0] = -12.5;
+    bone.position[1] = 30.0;
+    bone.position[2] = 41.25;
+    bone.value = 1250.0;
+    bone.hounsfield = true;
+    out.push_back(picked_message(11, "s0", bone));
     out.push_back(picked_message(12, "s0",
                                  PickSummary{.x = 0.0,
                                              .y = 0.0,
