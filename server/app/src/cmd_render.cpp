@@ -44,6 +44,7 @@ struct RenderOptions {
     std::string label_names;
     std::string hidden_labels;
     double label_blend = scene::Labels{}.blend;
+    bool labels_only = false;  // the label map alone, as smooth surfaces; no scan
 };
 
 po::options_description render_options(RenderOptions& o) {
@@ -85,7 +86,10 @@ po::options_description render_options(RenderOptions& o) {
             "also print what the pixel X,Y of the image (0,0 at the top left) shows: the point "
             "in patient millimetres, the scan's value there, the label")(
             "label-blend", number_within(&o.label_blend, 0.0, 1.0),
-            "how much a label's colour replaces the transfer function's (0..1)");
+            "how much a label's colour replaces the transfer function's (0..1)")(
+            "labels-only", po::bool_switch(&o.labels_only),
+            "draw the --labels map alone, each visible label a smooth lit surface in its colour "
+            "(no scan: --volume and --tf are not used)");
     options.add(frame_options({}, FramePurpose::still));
     return options;
 }
@@ -171,11 +175,8 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
     return still;
 }
 
-// The label map --labels names, set on the renderer, and the frame's styles of it: each label in
-// its file's colour, those --hide-labels lists hidden.
-base::Result<std::shared_ptr<const volume::LabelMap>> draw_labels(render::Renderer& renderer,
-                                                                  const RenderOptions& o,
-                                                                  scene::FrameRequest& request) {
+// The label map --labels names, with the warnings its names files gave.
+base::Result<volume::LabelMap> load_labels(const RenderOptions& o) {
     auto loaded = volume::load_label_map(o.labels, o.load, o.label_names);
     if (!loaded) {
         return loaded.error();
@@ -183,8 +184,13 @@ base::Result<std::shared_ptr<const volume::LabelMap>> draw_labels(render::Render
     for (const std::string& warning : loaded->warnings) {
         std::printf("warning:  %s\n", warning.c_str());
     }
-    request.labels = render::label_styles(*loaded);
-    request.labels.blend = o.label_blend;
+    return loaded;
+}
+
+// The frame's styles of `map`: each label in its file's colour, those --hide-labels lists hidden.
+base::Result<scene::Labels> label_styles_for(const volume::LabelMap& map, const RenderOptions& o) {
+    scene::Labels labels = render::label_styles(map);
+    labels.blend = o.label_blend;
     std::size_t hidden = 0;
     for (const std::string& field : base::split_list(o.hidden_labels)) {
         char* end = nullptr;
@@ -196,7 +202,7 @@ base::Result<std::shared_ptr<const volume::LabelMap>> draw_labels(render::Render
                     "--hide-labels");
         }
         bool found = false;
-        for (scene::LabelStyle& style : request.labels.styles) {
+        for (scene::LabelStyle& style : labels.styles) {
             if (style.id == id) {
                 style.visible = false;
                 found = true;
@@ -208,13 +214,40 @@ base::Result<std::shared_ptr<const volume::LabelMap>> draw_labels(render::Render
         }
         ++hidden;
     }
-    std::printf("labels:   %s, %zu labels (%zu hidden), %s\n", loaded->indices.name.c_str(),
-                loaded->labels.size(), hidden, volume::to_string(loaded->indices.type));
-    auto labels = std::make_shared<const volume::LabelMap>(std::move(*loaded));
-    if (auto status = renderer.set_labels(labels); !status) {
-        return status.error();
-    }
+    std::printf("labels:   %s, %zu labels (%zu hidden), %s\n", map.indices.name.c_str(),
+                map.labels.size(), hidden, volume::to_string(map.indices.type));
     return labels;
+}
+
+// --labels-only: the volume drawn is the label map's surfaces (volume::label_surfaces), and the
+// labels are the map with their colours reaching those surfaces.
+struct SurfacesDrawn {
+    std::shared_ptr<const volume::Volume> indicator;
+    std::shared_ptr<const volume::LabelMap> labels;
+    scene::Labels styles;
+};
+
+base::Result<SurfacesDrawn> label_surfaces_for(const RenderOptions& o) {
+    auto map = load_labels(o);
+    if (!map) {
+        return map.error();
+    }
+    auto styles = label_styles_for(*map, o);
+    if (!styles) {
+        return styles.error();
+    }
+    std::vector<bool> visible;
+    for (const scene::LabelStyle& style : styles->styles) {
+        visible.push_back(style.visible);
+    }
+    auto surfaces = volume::label_surfaces(*map, visible);
+    if (!surfaces) {
+        return surfaces.error();
+    }
+    styles->blend = 1.0;  // the surfaces take their labels' colours whole
+    return SurfacesDrawn{std::make_shared<const volume::Volume>(std::move(surfaces->indicator)),
+                         std::make_shared<const volume::LabelMap>(std::move(surfaces->labels)),
+                         std::move(styles.value())};
 }
 
 // What --pick X,Y points at in the still's view: printed, as a session's pick answers it.
@@ -292,13 +325,33 @@ int run_render(const std::vector<std::string>& args) {
                                   base::make_error(base::ErrorCode::invalid_argument,
                                                    "output must end in .png or .jpg", "--out"));
     }
-    auto volume = load_for_render(o, a);
+    if ((o.labels_only || !o.hidden_labels.empty() || !o.label_names.empty()) && o.labels.empty()) {
+        return report_usage_error(
+                "render",
+                base::make_error(base::ErrorCode::invalid_argument,
+                                 "--labels-only, --hide-labels and --label-names need --labels",
+                                 "--labels"));
+    }
+    std::optional<SurfacesDrawn> surfaces;
+    if (o.labels_only) {
+        auto drawn = label_surfaces_for(o);
+        if (!drawn) {
+            return fail(drawn.error());
+        }
+        surfaces = std::move(drawn.value());
+    }
+    auto volume = surfaces
+                          ? base::Result<std::shared_ptr<const volume::Volume>>(surfaces->indicator)
+                          : load_for_render(o, a);
     if (!volume) {
         return fail(volume.error());
     }
     auto request = frame_request_from(a, **volume, FramePurpose::still);
     if (!request) {
         return fail(request.error());
+    }
+    if (surfaces) {
+        request->transfer_function = scene::label_surface_transfer_function();
     }
     auto renderer =
             render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
@@ -315,17 +368,25 @@ int run_render(const std::vector<std::string>& args) {
         return fail(status.error());
     }
     std::shared_ptr<const volume::LabelMap> labels;
-    if (!o.labels.empty()) {
-        auto drawn = draw_labels(**renderer, o, *request);
-        if (!drawn) {
-            return fail(drawn.error());
+    if (surfaces) {
+        labels = surfaces->labels;
+        request->labels = surfaces->styles;
+    } else if (!o.labels.empty()) {
+        auto map = load_labels(o);
+        if (!map) {
+            return fail(map.error());
         }
-        labels = std::move(drawn.value());
-    } else if (!o.hidden_labels.empty() || !o.label_names.empty()) {
-        return report_usage_error(
-                "render",
-                base::make_error(base::ErrorCode::invalid_argument,
-                                 "--hide-labels and --label-names need --labels", "--labels"));
+        auto styles = label_styles_for(*map, o);
+        if (!styles) {
+            return fail(styles.error());
+        }
+        request->labels = std::move(styles.value());
+        labels = std::make_shared<const volume::LabelMap>(std::move(map.value()));
+    }
+    if (labels) {
+        if (auto status = (*renderer)->set_labels(labels); !status) {
+            return fail(status.error());
+        }
     }
     const scene::RenderSettings& settings = request->settings;
     const bool refines =

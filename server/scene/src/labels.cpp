@@ -63,4 +63,12 @@ base::Status check_styles_match(const Labels& labels, std::span<const std::int64
     return base::Ok{};
 }
 
+TransferFunction label_surface_transfer_function() {
+    TransferFunction tf;
+    tf.name = "label_surfaces";
+    tf.colors = {{0.0, glm::dvec3(1.0)}, {1.0, glm::dvec3(1.0)}};
+    tf.opacities = {{0.0, 0.0}, {0.2, 0.0}, {0.35, 1.0}, {1.0, 1.0}};
+    return tf;
+}
+
 }  // namespace penumbra::scene

@@ -5,6 +5,7 @@
 #include <penumbra/volume/label_map.hpp>
 
 #include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -131,6 +132,137 @@ base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
         return read_slicer_segments(*keys);
     }
     return LabelNames{};
+}
+
+namespace {
+
+std::uint16_t index_of_voxel(const Volume& indices, std::size_t i) {
+    if (indices.type == VoxelType::uint8) {
+        return std::to_integer<std::uint8_t>(indices.data[i]);
+    }
+    std::uint16_t index = 0;
+    std::memcpy(&index, indices.data.data() + 2 * i, 2);
+    return index;
+}
+
+// One pass of the 1 2 1 filter along the axis whose voxels lie `stride` apart and that holds
+// `size` of them; outside the grid is background (0).
+void binomial_pass(std::vector<std::uint16_t>& field, std::size_t stride, std::uint32_t size) {
+    std::vector<std::uint16_t> out(field.size());
+    for (std::size_t i = 0; i < field.size(); ++i) {
+        const std::size_t along = i / stride % size;
+        const std::uint32_t below = along > 0 ? field[i - stride] : 0;
+        const std::uint32_t above = along + 1 < size ? field[i + stride] : 0;
+        out[i] = static_cast<std::uint16_t>(below + 2U * field[i] + above);
+    }
+    field.swap(out);
+}
+
+}  // namespace
+
+base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vector<bool>& visible) {
+    if (visible.size() != map.labels.size()) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "one visibility per label: " + std::to_string(visible.size()) +
+                                        " for " + std::to_string(map.labels.size()) + " labels",
+                                map.indices.name);
+    }
+    const Volume& indices = map.indices;
+    const glm::uvec3 dims = indices.dims;
+    const std::size_t count = indices.voxel_count();
+    const auto shown = [&](std::uint16_t index) {
+        return index > 0 && visible[static_cast<std::size_t>(index - 1)];
+    };
+    std::vector<std::uint16_t> field(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        field[i] = shown(index_of_voxel(indices, i)) ? 1 : 0;
+    }
+    const std::size_t slice = static_cast<std::size_t>(dims.x) * dims.y;
+    // Twice along each axis: 1 4 6 4 1, a Gaussian of about a voxel, which smooths the steps of
+    // a shallow slope (the 1 2 1 filter alone leaves them as terraces).
+    for (int pass = 0; pass < 2; ++pass) {
+        binomial_pass(field, 1, dims.x);
+        binomial_pass(field, dims.x, dims.y);
+        binomial_pass(field, slice, dims.z);
+    }
+    constexpr std::uint32_t full = 16 * 16 * 16;  // a voxel whose neighbourhood is all inside
+    std::vector<std::byte> values(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        values[i] = static_cast<std::byte>((field[i] * 255U + full / 2) / full);
+    }
+
+    // Background voxels that the surface may pass (within the filter's reach, two voxels) take a
+    // visible neighbour's index, ring by ring: the faces' first, then the edges', then the
+    // corners' (the fewer axes an offset moves along, the nearer).
+    std::vector<glm::ivec3> offsets;
+    for (int moved = 1; moved <= 3; ++moved) {
+        for (int z = -1; z <= 1; ++z) {
+            for (int y = -1; y <= 1; ++y) {
+                for (int x = -1; x <= 1; ++x) {
+                    if ((x != 0) + (y != 0) + (z != 0) == moved) {
+                        offsets.emplace_back(x, y, z);
+                    }
+                }
+            }
+        }
+    }
+    std::vector<std::byte> dilated = indices.data;
+    const bool wide = indices.type == VoxelType::uint16;
+    const glm::ivec3 size(dims);
+    for (int ring = 0; ring < 2; ++ring) {
+        const Volume ring_inside = [&] {
+            Volume v;
+            v.dims = dims;
+            v.type = indices.type;
+            v.data = dilated;
+            return v;
+        }();
+        for (std::size_t i = 0; i < count; ++i) {
+            if (field[i] == 0 || index_of_voxel(ring_inside, i) != 0) {
+                continue;
+            }
+            const glm::ivec3 voxel(static_cast<int>(i % dims.x),
+                                   static_cast<int>(i / dims.x % dims.y),
+                                   static_cast<int>(i / slice));
+            for (const glm::ivec3 offset : offsets) {
+                const glm::ivec3 n = voxel + offset;
+                if (glm::any(glm::lessThan(n, glm::ivec3(0))) ||
+                    glm::any(glm::greaterThanEqual(n, size))) {
+                    continue;
+                }
+                const std::size_t j = static_cast<std::size_t>(n.x) + dims.x * n.y + slice * n.z;
+                const std::uint16_t index = index_of_voxel(ring_inside, j);
+                if (shown(index)) {
+                    if (wide) {
+                        std::memcpy(dilated.data() + 2 * i, &index, 2);
+                    } else {
+                        dilated[i] = static_cast<std::byte>(index);
+                    }
+                    break;
+                }
+            }
+        }
+    }
+
+    auto indicator = make_volume(indices.name + " surfaces", dims, indices.spacing,
+                                 VoxelType::uint8, std::move(values));
+    if (!indicator) {
+        return indicator.error();
+    }
+    indicator->axes = indices.axes;
+    indicator->origin = indices.origin;
+    indicator->range = {0.0, 255.0};
+    auto coloured =
+            make_volume(indices.name, dims, indices.spacing, indices.type, std::move(dilated));
+    if (!coloured) {
+        return coloured.error();
+    }
+    coloured->axes = indices.axes;
+    coloured->origin = indices.origin;
+    coloured->label_intent = indices.label_intent;
+    LabelSurfaces surfaces{std::move(indicator.value()), map};
+    surfaces.labels.indices = std::move(coloured.value());
+    return surfaces;
 }
 
 std::vector<std::int64_t> LabelMap::ids() const {

@@ -417,5 +417,103 @@ TEST_F(LabelsTest, LabelMapsStayOnTheGpuBetweenSwitches) {
     EXPECT_EQ(refused.error().code, base::ErrorCode::invalid_frame);
 }
 
+// The label map alone as surfaces (volume::label_surfaces, drawn with its transfer function): a
+// ball of label 1 and a box of label 2, the box hidden. The GPU draws what the CPU reference draws
+// from the same indicator and labels; the hidden box is no surface; and the ball's shading is
+// smooth where its voxels make steps: the ids drawn as a scan with the same threshold show the
+// staircase, many times rougher.
+TEST_F(LabelsTest, LabelsAloneAreSmoothSurfacesAsTheReferenceDrawsThem) {
+    constexpr unsigned side = 40;
+    const auto map = label_map(glm::uvec3(side), glm::dvec3(1.0), glm::dvec3(0.0), glm::dmat3(1.0),
+                               [](unsigned x, unsigned y, unsigned z) -> std::uint8_t {
+                                   const glm::dvec3 p(x, y, z);
+                                   if (glm::length(p - glm::dvec3(20.0, 20.0, 20.0)) < 11.0) {
+                                       return 1;
+                                   }
+                                   return x >= 33 && y >= 33 && z >= 30 ? 2 : 0;
+                               });
+    auto surfaces = volume::label_surfaces(*map, {true, false});
+    ASSERT_TRUE(surfaces.ok()) << surfaces.error().to_string();
+    use(surfaces->indicator);
+    use_labels(std::make_shared<const volume::LabelMap>(surfaces->labels));
+    scene::FrameRequest request;
+    request.settings.width = 96;
+    request.settings.height = 96;
+    request.settings.mode = scene::Mode::phong;
+    request.camera.eye = {1.5, 1.1, 2.4};
+    request.transfer_function = scene::label_surface_transfer_function();
+    request.labels = label_styles(*labels_);
+    request.labels.blend = 1.0;
+    request.labels.styles[0].color = {0.9, 0.5, 0.2};
+    hide(request.labels, 2);
+    const Frame frame = render(request);
+    auto expected = reference::render_cpu(*volume_, request, labels_.get());
+    ASSERT_TRUE(expected.ok()) << expected.error().to_string();
+    auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+    ASSERT_TRUE(difference.ok());
+    EXPECT_GT(difference->psnr, 45.0);
+
+    // Only the ball's colour: no pixel of the hidden box, no white of the transfer function where
+    // a sample falls outside the ball's voxels.
+    int ball = 0;
+    int other = 0;
+    for (int y = 0; y < frame.image.height; ++y) {
+        for (int x = 0; x < frame.image.width; ++x) {
+            const std::uint8_t* p = frame.image.pixel(x, y);
+            const int r = p[0];
+            const int g = p[1];
+            const int b = p[2];
+            if (r + g + b < 30) {
+                continue;  // the background, or the ball's shadowed side
+            }
+            const bool orange = r > g && g > b;
+            (orange ? ball : other) += 1;
+        }
+    }
+    EXPECT_GT(ball, 500);
+    EXPECT_EQ(other, 0);
+
+    // Roughness: the mean absolute Laplacian of the luminance where both images show the ball.
+    const auto roughness = [](const base::ImageRgba8& image, const base::ImageRgba8& mask) {
+        const auto luminance = [&](const base::ImageRgba8& im, int x, int y) {
+            const std::uint8_t* p = im.pixel(x, y);
+            return 0.3 * p[0] + 0.59 * p[1] + 0.11 * p[2];
+        };
+        double sum = 0.0;
+        int count = 0;
+        for (int y = 2; y < image.height - 2; ++y) {
+            for (int x = 2; x < image.width - 2; ++x) {
+                bool inside = true;
+                for (int d = -2; d <= 2 && inside; ++d) {
+                    inside = luminance(mask, x + d, y) > 20.0 && luminance(mask, x, y + d) > 20.0;
+                }
+                if (!inside) {
+                    continue;
+                }
+                sum += std::abs(4.0 * luminance(image, x, y) - luminance(image, x - 1, y) -
+                                luminance(image, x + 1, y) - luminance(image, x, y - 1) -
+                                luminance(image, x, y + 1));
+                ++count;
+            }
+        }
+        return count > 0 ? sum / count : 0.0;
+    };
+    const double smooth = roughness(frame.image, frame.image);
+    // The ids as a scan, the ball alone, thresholded half way between 0 and its id: its voxels.
+    auto ids = volume::make_volume("ids", glm::uvec3(side), glm::dvec3(1.0),
+                                   volume::VoxelType::uint8, map->indices.data);
+    ASSERT_TRUE(ids.ok());
+    use(*ids);
+    scene::FrameRequest staircase = request;
+    staircase.labels = {};
+    staircase.transfer_function.colors = {{0.0, {0.9, 0.5, 0.2}}, {1.0, {0.9, 0.5, 0.2}}};
+    staircase.transfer_function.opacities = {{0.0, 0.0}, {0.24, 0.0}, {0.26, 1.0},
+                                             {0.5, 1.0}, {0.51, 0.0}, {1.0, 0.0}};
+    const Frame steps = render(staircase);
+    const double stepped = roughness(steps.image, frame.image);
+    std::printf("roughness: %.2f as surfaces, %.2f as voxels\n", smooth, stepped);
+    EXPECT_LT(smooth * 4.0, stepped);
+}
+
 }  // namespace
 }  // namespace penumbra::render

@@ -217,6 +217,60 @@ TEST(LabelMap, FilesThatSayTheyAreLabelMapsAreTold) {
     EXPECT_FALSE(declares_labels(dir / "broken.nii.gz").ok());
 }
 
+// Labels alone as surfaces: the indicator is the visible labels' mask filtered 1 4 6 4 1 along each
+// axis (a box's is a product of three sums of those weights), a hidden label adds nothing, and the
+// background within two voxels of a visible label takes its index, nearest first.
+TEST(LabelMap, LabelSurfacesFilterTheVisibleLabelsAndCarryTheirColoursOutward) {
+    constexpr unsigned n = 10;
+    std::vector<std::byte> ids(n * n * n);
+    const auto at = [&](unsigned x, unsigned y, unsigned z) -> std::byte& {
+        return ids[x + n * (y + n * z)];
+    };
+    for (unsigned z = 3; z <= 6; ++z) {
+        for (unsigned y = 3; y <= 6; ++y) {
+            for (unsigned x = 3; x <= 6; ++x) {
+                at(x, y, z) = std::byte{4};  // a box, voxels 3..6 on each axis
+            }
+        }
+    }
+    at(0, 9, 9) = std::byte{7};
+    auto stored = make_volume("two", glm::uvec3(n), glm::dvec3(1.0), VoxelType::uint8, ids);
+    ASSERT_TRUE(stored.ok());
+    auto map = make_label_map(*stored, {});
+    ASSERT_TRUE(map.ok());
+    ASSERT_EQ(map->labels.size(), 2U);  // ids 4 and 7: indices 1 and 2
+    EXPECT_FALSE(label_surfaces(*map, {true}).ok());
+    auto surfaces = label_surfaces(*map, {true, false});
+    ASSERT_TRUE(surfaces.ok()) << surfaces.error().to_string();
+    const Volume& indicator = surfaces->indicator;
+    EXPECT_EQ(indicator.range.min, 0.0);
+    EXPECT_EQ(indicator.range.max, 255.0);
+    // The weights of one axis that fall on the box's voxels 3..6 around voxel i.
+    const auto along = [](int i) {
+        const int weights[5] = {1, 4, 6, 4, 1};
+        int sum = 0;
+        for (int d = -2; d <= 2; ++d) {
+            sum += i + d >= 3 && i + d <= 6 ? weights[d + 2] : 0;
+        }
+        return sum;
+    };
+    for (const glm::ivec3 v : {glm::ivec3(4, 4, 4), glm::ivec3(3, 5, 6), glm::ivec3(2, 4, 4),
+                               glm::ivec3(1, 1, 8), glm::ivec3(0, 9, 9), glm::ivec3(8, 8, 8)}) {
+        const unsigned expected = (along(v.x) * along(v.y) * along(v.z) * 255U + 2048U) / 4096U;
+        EXPECT_EQ(indicator.value(v.x, v.y, v.z), expected) << v.x << "," << v.y << "," << v.z;
+    }
+    EXPECT_EQ(indicator.value(0, 9, 9), 0.0) << "the hidden label is no surface";
+    const Volume& coloured = surfaces->labels.indices;
+    EXPECT_EQ(index_at(coloured, {2, 4, 4}), 1);  // a face away
+    EXPECT_EQ(index_at(coloured, {1, 4, 4}), 1);  // two
+    EXPECT_EQ(index_at(coloured, {7, 7, 7}), 1);  // a corner away
+    EXPECT_EQ(index_at(coloured, {8, 8, 8}), 1);  // two corners
+    EXPECT_EQ(index_at(coloured, {0, 4, 4}), 0);  // beyond the filter's reach
+    EXPECT_EQ(index_at(coloured, {0, 9, 9}), 2);  // the hidden label keeps its own voxel
+    EXPECT_EQ(index_at(coloured, {4, 4, 4}), 1);
+    EXPECT_EQ(surfaces->labels.labels.size(), 2U);
+}
+
 TEST(LabelMap, ItkSnapAndFreeSurferDescriptionsNameTheLabels) {
     const fixtures::TempDir dir;
     const auto names = dir / "aal_labels.txt";

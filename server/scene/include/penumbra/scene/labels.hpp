@@ -5,6 +5,7 @@
 // renderer's to hold (render::Renderer::set_labels); this is what a user changes frame to frame.
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -42,6 +43,13 @@ struct Labels {
 
 // Colours and opacities within [0, 1], at most kMaxStyledLabels styles, each id once.
 base::Status validate(const Labels& labels);
+
+// The transfer function that draws a label map alone as surfaces (volume::label_surfaces'
+// indicator, whose values read as 0..1): transparent below 0.2, opaque from 0.35, so the surface
+// lies where the indicator passes about 0.3, a third of a voxel outside a flat face of a label;
+// white, for the labels' colours to replace whole (blend 1). A sheet of a label one voxel thin
+// still shows (its indicator reaches 6/16).
+TransferFunction label_surface_transfer_function();
 
 // Whether `labels` styles exactly the labels `ids` lists, in its order (a label map's ids): what
 // a frame drawn with that map must give, since a style is found by its label's index. An

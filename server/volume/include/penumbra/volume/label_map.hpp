@@ -65,6 +65,22 @@ base::Result<LabelMap> load_label_map(const std::filesystem::path& path,
                                       const LoadOptions& options = {},
                                       const std::filesystem::path& names = {});
 
+// A label map drawn alone, as smooth surfaces ("labels only"), on its own grid:
+// - `indicator`: per voxel, how much of its 5x5x5 neighbourhood lies in a visible label, each
+//   axis weighted 1 4 6 4 1, as 0..255 (its range set to that whole span, so 255 reads as 1).
+//   Where it crosses a level between 0 and 1 runs a surface around a label's voxels, smooth
+//   where they make steps; its gradient gives normals without the staircase.
+// - `labels`: the map with the background voxels within two of a visible label given its index
+//   (ring by ring; a face neighbour first, then an edge's, then a corner's), so a sample on that
+//   surface outside a label's voxels takes its colour; the labels and their counts as in `map`.
+// `visible[i]` says whether map.labels[i] is drawn; a hidden label is no surface.
+struct LabelSurfaces {
+    Volume indicator;
+    LabelMap labels;
+};
+
+base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vector<bool>& visible);
+
 // A label map is drawn over a scan in patient space, each on its own grid: it must share some of
 // the scan's space. The error ("no_overlap") gives both boxes in RAS millimetres.
 base::Status check_overlap(const Volume& scan, const Volume& labels);
