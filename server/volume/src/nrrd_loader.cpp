@@ -51,7 +51,8 @@ struct Header {
     Field<std::string> data_file;
     Field<std::int64_t> byte_skip;
     Field<std::int64_t> line_skip;
-    bool hounsfield = false;   // the key/value penumbra_units:=HU
+    Field<std::vector<std::string>> kinds;  // lower case, one per axis
+    bool hounsfield = false;                // the key/value penumbra_units:=HU
     NrrdKeyValues key_values;  // every key:=value line, in order (bounded by max_header_bytes)
     bool ended_by_blank_line = false;
     std::uint64_t data_offset = 0;  // where attached data starts
@@ -435,7 +436,18 @@ private:
         if (name == "line skip" || name == "lineskip") {
             return parse_skip(header_.line_skip, "line skip", value, 0);
         }
-        // Other fields (content, kinds, centers, units, min, max, ...) only describe the data.
+        if (name == "kinds") {
+            if (auto status = claim(header_.kinds, "kinds"); !status) {
+                return status;
+            }
+            std::vector<std::string> kinds;
+            for (std::string_view word : split_words(value)) {
+                kinds.push_back(lower(word));
+            }
+            header_.kinds.value = std::move(kinds);
+            return base::Ok{};
+        }
+        // Other fields (content, centers, units, min, max, ...) only describe the data.
         return base::Ok{};
     }
 
@@ -574,10 +586,31 @@ struct Layout {
     SampleType type = SampleType::uint8;
     Encoding encoding = Encoding::raw;
     bool big_endian = false;
-    std::uint64_t voxels = 0;
-    std::uint64_t bytes = 0;    // of the volume read (the first of a 4-D file)
+    std::uint64_t voxels = 0;   // samples read: the volume's voxels times its components
+    std::uint64_t bytes = 0;    // of the samples read (the first volume of a 4-D file)
     std::uint64_t volumes = 1;  // a 4-D file's 4th size
+    // Values per voxel along a first axis that is no axis of space (kinds list, vector, ...):
+    // the first is kept.
+    std::uint32_t components = 1;
 };
+
+// What an axis of a NRRD file is, by its kind: space (or time: a 4th axis of volumes), values
+// per voxel, or a colour's channels.
+enum class AxisRole { space, components, colour };
+
+AxisRole axis_role(const std::string& kind) {
+    static const std::array<std::string_view, 6> space{"domain", "space", "time",
+                                                       "???",    "none",  ""};
+    static const std::array<std::string_view, 6> colour{"3-color",   "rgb-color", "hsv-color",
+                                                        "xyz-color", "4-color",   "rgba-color"};
+    if (std::find(space.begin(), space.end(), kind) != space.end()) {
+        return AxisRole::space;
+    }
+    if (std::find(colour.begin(), colour.end(), kind) != colour.end()) {
+        return AxisRole::colour;
+    }
+    return AxisRole::components;  // list, point, vector, scalar, complex, 3-vector, matrices...
+}
 
 base::Result<Layout> check_header(const Header& header, const std::filesystem::path& path) {
     const auto missing = [&](const char* field) {
@@ -607,24 +640,62 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                 "sizes lists " + std::to_string(sizes.size()) + " values" + is_dimension,
                 at(header.sizes.line));
     }
-    // A 4-D file opens its first volume, as 4-D NIfTI does: its 4th axis must list the volumes
-    // (each volume contiguous); a first axis of values per voxel (DWI gradients, vectors) is not
-    // a stack of volumes.
-    if (dimension == 4 && header.directions.value && header.directions.value->size() == 4 &&
-        (*header.directions.value)[0].empty() && !(*header.directions.value)[3].empty()) {
+    // What each axis holds: its kind where "kinds" says; else a first axis of a 4-D file whose
+    // spacing is nan, or that has no direction while the 4th has one, holds values per voxel.
+    std::vector<AxisRole> roles(dimension, AxisRole::space);
+    if (header.kinds.value) {
+        if (header.kinds.value->size() != dimension) {
+            return base::make_error(base::ErrorCode::bad_header,
+                                    "kinds lists " + std::to_string(header.kinds.value->size()) +
+                                            " values" + is_dimension,
+                                    at(header.kinds.line));
+        }
+        for (std::size_t axis = 0; axis < dimension; ++axis) {
+            roles[axis] = axis_role((*header.kinds.value)[axis]);
+        }
+    } else if (dimension == 4) {
+        const bool nan_spacing = header.spacings.value && header.spacings.value->size() == 4 &&
+                                 std::isnan((*header.spacings.value)[0]);
+        const bool no_direction = header.directions.value && header.directions.value->size() == 4 &&
+                                  (*header.directions.value)[0].empty() &&
+                                  !(*header.directions.value)[3].empty();
+        if (nan_spacing || no_direction) {
+            roles[0] = AxisRole::components;
+        }
+    }
+    for (std::size_t axis = 0; axis < dimension; ++axis) {
+        if (roles[axis] == AxisRole::colour) {
+            return base::make_error(base::ErrorCode::unsupported_type,
+                                    "a colour image (kinds: " + (*header.kinds.value)[axis] +
+                                            "), not a scalar volume",
+                                    at(header.kinds.line));
+        }
+        // Values per voxel are read along the first axis only (each voxel's values together);
+        // a later axis of them is a stack of volumes, the first of which is read, as 4-D NIfTI.
+        if (roles[axis] == AxisRole::components && axis > 0 && axis + 1 < dimension) {
+            return base::make_error(base::ErrorCode::unsupported_dimension,
+                                    "axis " + std::to_string(axis) +
+                                            " holds values per voxel between axes of space",
+                                    at(header.kinds.line));
+        }
+    }
+    const bool has_components = roles[0] == AxisRole::components;
+    const std::size_t first_space = has_components ? 1 : 0;
+    if (dimension - first_space < 3) {
         return base::make_error(base::ErrorCode::unsupported_dimension,
-                                "the first axis of this 4-D file is not spatial (values per "
-                                "voxel, as DWI gradients or vectors); Penumbra opens 4-D files "
-                                "whose 4th axis lists volumes",
-                                at(header.directions.line));
+                                "a 2-D image (" + std::to_string(dimension - first_space) +
+                                        " axes of space), not a volume",
+                                at(header.sizes.line));
     }
     Layout layout;
-    layout.dims = glm::uvec3(sizes[0], sizes[1], sizes[2]);
+    layout.dims = glm::uvec3(sizes[first_space], sizes[first_space + 1], sizes[first_space + 2]);
+    layout.components = has_components ? sizes[0] : 1;
     layout.type = *header.type.value;
     layout.encoding = *header.encoding.value;
-    layout.voxels = std::uint64_t{layout.dims.x} * layout.dims.y * layout.dims.z;
+    layout.voxels =
+            std::uint64_t{layout.dims.x} * layout.dims.y * layout.dims.z * layout.components;
     layout.bytes = layout.voxels * detail::sample_size(layout.type);
-    layout.volumes = dimension == 4 ? sizes[3] : 1;
+    layout.volumes = dimension - first_space == 4 ? sizes[3] : 1;
 
     const bool endian_matters =
             detail::sample_size(layout.type) > 1 && layout.encoding != Encoding::ascii;
@@ -666,7 +737,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                                     at(header.directions.line));
         }
         for (int axis = 0; axis < 3; ++axis) {
-            const auto& direction = directions[static_cast<std::size_t>(axis)];
+            const auto& direction = directions[first_space + static_cast<std::size_t>(axis)];
             if (direction.empty()) {
                 continue;  // "none": an axis without a direction keeps unit steps along itself
             }
@@ -695,7 +766,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                     at(header.spacings.line));
         }
         for (int axis = 0; axis < 3; ++axis) {
-            const double spacing = spacings[static_cast<std::size_t>(axis)];
+            const double spacing = spacings[first_space + static_cast<std::size_t>(axis)];
             steps[axis][axis] = std::isnan(spacing) ? 1.0 : spacing;
         }
     }
@@ -1155,6 +1226,12 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
         base::log_info("volume", path.filename().string() + ": " + std::to_string(layout->volumes) +
                                          " volumes in the file; loading the first");
     }
+    if (layout->components > 1) {
+        base::log_info("volume", path.filename().string() + ": " +
+                                         std::to_string(layout->components) +
+                                         " values per voxel; loading the first");
+        what += " (" + std::to_string(layout->components) + " values per voxel)";
+    }
     if (!detail::is_kept(layout->type)) {
         what += std::string(" kept as ") + to_string(samples.stored());
     }
@@ -1211,6 +1288,16 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
         stored = sink.take();
     }
 
+    if (layout->components > 1) {
+        // Each voxel's values lie together: its first is every components-th sample.
+        const std::size_t width = bytes_per_voxel(samples.stored());
+        const std::uint64_t voxels = layout->voxels / layout->components;
+        for (std::uint64_t v = 0; v < voxels; ++v) {
+            std::memmove(stored.data() + v * width, stored.data() + v * layout->components * width,
+                         width);
+        }
+        stored.resize(static_cast<std::size_t>(voxels * width));
+    }
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
     auto volume = make_volume(name, layout->dims, layout->geometry.spacing, samples.stored(),

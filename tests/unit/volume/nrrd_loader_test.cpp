@@ -770,15 +770,84 @@ TEST(NrrdLoader, FourDimensionalFileOpensItsFirstVolume) {
     EXPECT_EQ(volume->spacing, glm::dvec3(2.0, 2.0, 3.0));
     EXPECT_EQ(volume->data, as_bytes(std::vector<std::uint8_t>{1, 2, 3, 4, 5, 6, 7, 8}));
 
-    // Values per voxel first (DWI): not a stack of volumes, refused saying so.
+    // Values per voxel first (DWI), said by a first axis without a direction: each voxel's first
+    // value, on the grid the other three axes place.
     auto interleaved = load_attached(dir,
                                      "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 2 2 2\n"
                                      "space directions: none (2,0,0) (0,2,0) (0,0,3)\n"
                                      "encoding: raw\n",
                                      as_bytes(values), "dwi.nrrd");
-    ASSERT_FALSE(interleaved.ok());
-    EXPECT_EQ(interleaved.error().code, base::ErrorCode::unsupported_dimension);
-    EXPECT_TRUE(contains(interleaved.error().message, "first axis")) << interleaved.error().message;
+    ASSERT_TRUE(interleaved.ok()) << interleaved.error().to_string();
+    EXPECT_EQ(interleaved->dims, glm::uvec3(2, 2, 2));
+    EXPECT_EQ(interleaved->spacing, glm::dvec3(2.0, 2.0, 3.0));
+    EXPECT_EQ(interleaved->data, as_bytes(std::vector<std::uint8_t>{1, 4, 7, 10, 13, 16, 19, 22}));
+}
+
+// The kinds of a NRRD's axes: values per voxel (list, vector, ...; or a nan spacing) read as the
+// first value of each voxel, in every encoding; a colour axis refused as colour; what leaves fewer
+// than three axes of space refused as 2-D; a 4th axis of volumes after the values.
+TEST(NrrdLoader, KindsSayWhichAxesAreSpace) {
+    fixtures::TempDir dir;
+    std::vector<std::int16_t> values(2 * 2 * 2 * 2);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        values[i] = static_cast<std::int16_t>(i % 2 == 0 ? 100 + i : -7);
+    }
+    std::vector<std::uint8_t> bytes(values.size() * 2);
+    std::memcpy(bytes.data(), values.data(), bytes.size());
+    const std::vector<std::byte> firsts = as_bytes(std::vector<std::uint8_t>{
+            100, 0, 102, 0, 104, 0, 106, 0, 108, 0, 110, 0, 112, 0, 114, 0});
+    auto listed = load_attached(dir,
+                                "NRRD0004\ntype: short\ndimension: 4\nsizes: 2 2 2 2\n"
+                                "kinds: list domain domain domain\nspacings: nan 1 1 2.5\n"
+                                "endian: little\nencoding: raw\n",
+                                as_bytes(bytes), "list.nrrd");
+    ASSERT_TRUE(listed.ok()) << listed.error().to_string();
+    EXPECT_EQ(listed->dims, glm::uvec3(2, 2, 2));
+    EXPECT_EQ(listed->spacing, glm::dvec3(1.0, 1.0, 2.5));
+    EXPECT_EQ(listed->data, firsts);
+    EXPECT_EQ(listed->range.min, 100.0);
+
+    // A nan spacing alone says so too; ASCII reads every value and keeps the firsts.
+    std::string text;
+    for (const std::int16_t v : values) {
+        text += std::to_string(v) + " ";
+    }
+    auto spaced = load_attached(dir,
+                                "NRRD0004\ntype: short\ndimension: 4\nsizes: 2 2 2 2\n"
+                                "spacings: nan 1 1 2.5\nencoding: ascii\n",
+                                text_bytes(text), "nan.nrrd");
+    ASSERT_TRUE(spaced.ok()) << spaced.error().to_string();
+    EXPECT_EQ(spaced->data, firsts);
+
+    auto colour = load_attached(dir,
+                                "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 3 2 2 2\n"
+                                "kinds: RGB-color domain domain domain\nencoding: raw\n",
+                                std::vector<std::byte>(24), "rgb.nrrd");
+    ASSERT_FALSE(colour.ok());
+    EXPECT_EQ(colour.error().code, base::ErrorCode::unsupported_type);
+    EXPECT_TRUE(contains(colour.error().message, "colour")) << colour.error().message;
+
+    auto flat = load_attached(dir,
+                              "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 4 4\n"
+                              "kinds: vector domain domain\nencoding: raw\n",
+                              std::vector<std::byte>(32), "flat.nrrd");
+    ASSERT_FALSE(flat.ok());
+    EXPECT_EQ(flat.error().code, base::ErrorCode::unsupported_dimension);
+    EXPECT_TRUE(contains(flat.error().message, "2-D")) << flat.error().message;
+
+    auto middle = load_attached(dir,
+                                "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 2 2 2 2\n"
+                                "kinds: domain list domain domain\nencoding: raw\n",
+                                std::vector<std::byte>(16), "middle.nrrd");
+    ASSERT_FALSE(middle.ok());
+    EXPECT_EQ(middle.error().code, base::ErrorCode::unsupported_dimension);
+
+    auto miscounted = load_attached(dir,
+                                    "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\n"
+                                    "kinds: domain domain\nencoding: raw\n",
+                                    cube_uint8(), "kinds.nrrd");
+    ASSERT_FALSE(miscounted.ok());
+    EXPECT_EQ(miscounted.error().code, base::ErrorCode::bad_header);
 }
 
 TEST(NrrdLoader, PenumbraUnitsKeyMarksHounsfieldUnits) {
