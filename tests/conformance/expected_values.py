@@ -160,6 +160,9 @@ def dicom_expected(path):
         result["reference_error"] = str(error).splitlines()[0][:200]
         return result
     values = np.asarray(apply_modality_lut(pixels, dataset), dtype=np.float64)
+    # A dose grid's values in Gy: DoseGridScaling, where no rescale is given.
+    if "DoseGridScaling" in dataset and "RescaleSlope" not in dataset:
+        values = values * float(dataset.DoseGridScaling)
     if str(getattr(dataset, "PhotometricInterpretation", "")) == "MONOCHROME1":
         result["monochrome1"] = True
     result["range"] = [float(values.min()), float(values.max())]

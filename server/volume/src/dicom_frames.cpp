@@ -100,6 +100,22 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
             get_int(dataset, DCM_TemporalPositionIdentifier).value_or(0);
     const std::int64_t echo = get_int(dataset, DCM_EchoNumbers).value_or(0);
     const std::int64_t acquisition = get_int(dataset, DCM_AcquisitionNumber).value_or(0);
+    // An RT dose grid places its frames by GridFrameOffsetVector, along the slice normal from the
+    // top-level position (offsets relative to the first frame's, whether the first is 0 or its z);
+    // its values are scaled to Gy by DoseGridScaling where no rescale says otherwise.
+    std::vector<double> grid_offsets;
+    for (unsigned long i = 0; i < frame_count; ++i) {
+        const auto offset = get_double(dataset, DCM_GridFrameOffsetVector, i);
+        if (!offset) {
+            break;
+        }
+        grid_offsets.push_back(*offset);
+    }
+    const auto top_position = get_doubles<3>(dataset, DCM_ImagePositionPatient);
+    const auto top_orientation = get_doubles<6>(dataset, DCM_ImageOrientationPatient);
+    const bool gridded = frame_count > 1 && grid_offsets.size() == frame_count && top_position &&
+                         top_orientation && glm::length(slice_normal(*top_orientation)) > 0.5;
+    const auto dose_scaling = get_double(dataset, DCM_DoseGridScaling);
     for (std::uint32_t f = 0; f < frame_count; ++f) {
         Frame& frame = frames[f];
         frame.image = image_index;
@@ -112,6 +128,11 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
         // A legacy multi-frame image has one top-level position, that of its first frame.
         if (position && (f == 0 || functional_group(dataset, f, DCM_PlanePositionSequence))) {
             frame.position = glm::dvec3((*position)[0], (*position)[1], (*position)[2]);
+        } else if (gridded) {
+            frame.position =
+                    glm::dvec3((*top_position)[0], (*top_position)[1], (*top_position)[2]) +
+                    (grid_offsets[f] - grid_offsets[0]) *
+                            glm::normalize(slice_normal(*top_orientation));
         }
         frame.orientation = frame_value(
                 dataset, f, DCM_PlaneOrientationSequence,
@@ -131,7 +152,10 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
             return frame_value(dataset, f, DCM_PixelValueTransformationSequence,
                                [&](DcmItem& item) { return get_double(item, key); });
         };
-        const auto slope = rescale(DCM_RescaleSlope);
+        auto slope = rescale(DCM_RescaleSlope);
+        if (!slope && dose_scaling) {
+            slope = dose_scaling;
+        }
         frame.slope = slope && *slope != 0.0 ? *slope : 1.0;
         frame.intercept = rescale(DCM_RescaleIntercept).value_or(0.0);
     }

@@ -1,6 +1,6 @@
 // Reading one DICOM file's header into an Image. Whether a volume can hold the image (one sample
-// per pixel, 8 or 16 bits, a frame count within the limits, a mosaic that tiles) is decided here,
-// file by file, so that a folder can pass over an image of another kind and open the series
+// per pixel, 8, 16 or 32 bits, a frame count within the limits, a mosaic that tiles) is decided
+// here, file by file, so that a folder can pass over an image of another kind and open the series
 // beside it.
 
 #include "dicom_image.hpp"
@@ -52,9 +52,9 @@ base::Result<PixelFormat> read_pixel_format(DcmDataset& dataset,
                            " samples per pixel (colour images) are not supported; a volume "
                            "needs one sample per pixel");
     }
-    if (format.bits_allocated != 8 && format.bits_allocated != 16) {
+    if (format.bits_allocated != 8 && format.bits_allocated != 16 && format.bits_allocated != 32) {
         return unsupported(std::to_string(format.bits_allocated) +
-                           " bits allocated per pixel are not supported; 8 and 16 are");
+                           " bits allocated per pixel are not supported; 8, 16 and 32 are");
     }
     if (format.bits_stored == 0 || format.bits_stored > format.bits_allocated ||
         format.high_bit >= format.bits_allocated || format.high_bit + 1 < format.bits_stored) {

@@ -36,6 +36,7 @@
 #include <dcmtk/config/osconfig.h>  // must come before the other DCMTK headers
 #include <dcmtk/dcmdata/dcdict.h>
 #include <dcmtk/dcmdata/dcrledrg.h>
+#include <dcmtk/dcmdata/dcvr.h>
 #include <dcmtk/dcmjpeg/djdecode.h>
 #include <dcmtk/dcmjpls/djdecode.h>
 #include <dcmtk/oflog/oflog.h>
@@ -46,11 +47,15 @@ namespace {
 
 // Codecs are registered once per process and never cleaned up: cleanup would race with another
 // thread's load, and the process ends anyway. DCMTK's own log goes to stderr at warning level;
-// failures reach the user as Errors instead, so it is silenced.
+// failures reach the user as Errors instead, so it is silenced. Elements written with the VR UN
+// (a converter's way with attributes it does not know, as GDCM's RLE dose grids hold their
+// spacing, position and dose scaling) are read with the VR the dictionary gives them, as pydicom
+// does.
 void prepare_library() {
     static std::once_flag once;
     std::call_once(once, [] {
         OFLog::configure(OFLogger::OFF_LOG_LEVEL);
+        dcmEnableUnknownVRConversion.set(OFTrue);
         DJDecoderRegistration::registerCodecs();
         DJLSDecoderRegistration::registerCodecs();
         DcmRLEDecoderRegistration::registerCodecs();

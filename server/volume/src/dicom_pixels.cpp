@@ -4,10 +4,11 @@
 //     signed) and the rescale becomes Volume::rescale, so a CT stays 16-bit with its values in
 //     Hounsfield units. Otherwise the rescale is applied per slice into float32.
 //   - Modality CT or RescaleType HU sets Volume::hounsfield. MONOCHROME1 is inverted.
-//   - Pixel data must be one sample per pixel, 8 or 16 bits allocated; BitsStored, HighBit and
-//     PixelRepresentation (two's complement) are honoured. Compressed transfer syntaxes are
-//     decoded by DCMTK's JPEG, JPEG-LS and RLE codecs; others (JPEG 2000) are an error naming
-//     the transfer syntax.
+//   - Pixel data must be one sample per pixel, 8, 16 or 32 bits allocated; BitsStored, HighBit and
+//     PixelRepresentation (two's complement) are honoured. 32-bit data (RT dose grids) is kept as
+//     float32 with its rescale applied (DoseGridScaling for a dose grid). Compressed transfer
+//     syntaxes are decoded by DCMTK's JPEG, JPEG-LS and RLE codecs; others (JPEG 2000) are an error
+//     naming the transfer syntax.
 
 #include "dicom_pixels.hpp"
 
@@ -79,6 +80,15 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
                                 std::string("cannot read the pixel data: ") + status.text(),
                                 detail::at_file(image.path));
     }
+    if (image.format.bits_allocated == 32 && !syntax.isEncapsulated() && syntax.isBigEndian() &&
+        bytes >= expected) {
+        // DCMTK turns OW data into host order 16 bits at a time; a big-endian 32-bit word's two
+        // halves then still lie high half first.
+        auto* words = const_cast<std::byte*>(data);  // NOLINT: DCMTK's own buffer, decoded for us
+        for (std::uint64_t i = 0; i + 4 <= expected; i += 4) {
+            std::swap_ranges(words + i, words + i + 2, words + i + 2);
+        }
+    }
     if (bytes < expected) {
         return base::make_error(base::ErrorCode::truncated,
                                 "the pixel data holds " + std::to_string(bytes) + " bytes; " +
@@ -96,25 +106,25 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
 // the stored range onto itself reversed (max - v unsigned, -1 - v signed).
 struct SampleDecoder {
     unsigned shift;
-    std::uint32_t mask;
-    std::uint32_t sign_bit;
+    std::uint64_t mask;  // 64 bits wide, so that 32 stored bits make a mask too
+    std::uint64_t sign_bit;
     bool inverted;
 
     explicit SampleDecoder(const PixelFormat& format)
         : shift(format.high_bit + 1u - format.bits_stored)
-        , mask((std::uint32_t{1} << format.bits_stored) - 1u)
-        , sign_bit(format.is_signed ? std::uint32_t{1} << (format.bits_stored - 1) : 0u)
+        , mask((std::uint64_t{1} << format.bits_stored) - 1u)
+        , sign_bit(format.is_signed ? std::uint64_t{1} << (format.bits_stored - 1) : 0u)
         , inverted(format.inverted) {}
 
-    [[nodiscard]] std::int32_t operator()(std::uint32_t word) const {
-        std::uint32_t bits = (word >> shift) & mask;
+    [[nodiscard]] std::int64_t operator()(std::uint32_t word) const {
+        std::uint64_t bits = (std::uint64_t{word} >> shift) & mask;
         if (inverted) {
             bits = ~bits & mask;
         }
         if ((bits & sign_bit) != 0) {
-            return static_cast<std::int32_t>(bits) - static_cast<std::int32_t>(mask) - 1;
+            return static_cast<std::int64_t>(bits) - static_cast<std::int64_t>(mask) - 1;
         }
-        return static_cast<std::int32_t>(bits);
+        return static_cast<std::int64_t>(bits);
     }
 };
 
@@ -146,12 +156,14 @@ void decode_frame(std::span<const std::byte> pixels, const PixelFormat& format,
         const std::size_t at = stored_at(i);
         if (width == 1) {
             word = static_cast<std::uint8_t>(in[at]);
-        } else {
+        } else if (width == 2) {
             std::uint16_t value = 0;
             std::memcpy(&value, in + 2 * at, 2);
             word = value;
+        } else {
+            std::memcpy(&word, in + 4 * at, 4);
         }
-        const double stored = decode(word);
+        const auto stored = static_cast<double>(decode(word));
         out[i] = static_cast<float>(identity ? stored : stored * frame.slope + frame.intercept);
     }
 }
@@ -241,10 +253,12 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     // One rescale of whole numbers for every frame stays the volume's Rescale over the stored
     // integers; rescales that differ per slice or are fractional are applied into float32.
     const Frame& first = frames.front();
-    const bool kept = std::all_of(frames.begin(), frames.end(), [&](const Frame& f) {
-        return f.slope == first.slope && f.intercept == first.intercept &&
-               f.slope == std::round(f.slope) && f.intercept == std::round(f.intercept);
-    });
+    const bool kept = format.bits_allocated <= 16 &&
+                      std::all_of(frames.begin(), frames.end(), [&](const Frame& f) {
+                          return f.slope == first.slope && f.intercept == first.intercept &&
+                                 f.slope == std::round(f.slope) &&
+                                 f.intercept == std::round(f.intercept);
+                      });
     // Frame z of the volume is frames[z]; each image's pixel data is read once.
     std::vector<std::vector<std::size_t>> slots(images.size());
     for (std::size_t z = 0; z < frames.size(); ++z) {
