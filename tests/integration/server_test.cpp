@@ -673,6 +673,23 @@ TEST_F(ServerTest, CostlyPicksLeaveAnotherSessionServed) {
     }
 }
 
+// A file whose error quotes bytes that are no UTF-8 (a NRRD's text data) is refused with a message
+// that is valid JSON, and the server serves on.
+TEST_F(ServerTest, AnErrorQuotingBytesThatAreNoUtf8StaysValidJson) {
+    std::ofstream(data_ / "latin1_4x4x4.nrrd", std::ios::binary)
+            << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n\n"
+            << "1 2 \xe9t\xe9 4 5 6 7 8\n";
+    ASSERT_TRUE(volumes_->scan().ok());
+    TestClient client(port_);
+    const std::string refused =
+            client.request(R"({"v":1,"type":"open","id":2,"volume":"latin1_4x4x4.nrrd"})");
+    ASSERT_TRUE(nlohmann::json::accept(refused)) << refused;
+    EXPECT_EQ(field(refused, "code"), "volume_unreadable") << refused;
+    client.open("heads/ch2.nii.gz", 32);
+    client.send(R"({"v":1,"type":"render","id":3})");
+    EXPECT_EQ(client.next_frame().header.request, 3);
+}
+
 // A hostile owner asks again and again to draw a scan as labels and sends label patches its
 // session cannot take, while another client's session is served: each request gets its error,
 // the other client gets its frames, and the hostile one's session still renders.

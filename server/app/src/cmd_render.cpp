@@ -44,7 +44,8 @@ struct RenderOptions {
     std::string label_names;
     std::string hidden_labels;
     double label_blend = scene::Labels{}.blend;
-    bool labels_only = false;  // the label map alone, as smooth surfaces; no scan
+    // The label map alone, as smooth surfaces: the segmentation's shape without the scan.
+    bool labels_only = false;
 };
 
 po::options_description render_options(RenderOptions& o) {

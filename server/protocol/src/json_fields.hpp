@@ -18,6 +18,13 @@ namespace penumbra::protocol::json_fields {
 
 using nlohmann::json;
 
+// The text of a message the server sends. Its strings may quote a stranger's bytes (a file's name,
+// a token an error quotes) that are no UTF-8, which nlohmann's dump() would throw on: those become
+// U+FFFD instead, so no file and no message can make the server fail while it answers.
+inline std::string text_of(const json& message) {
+    return message.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 inline base::Error field_error(base::ErrorCode code, const std::string& pointer,
                                const std::string& message) {
     return base::make_error(code, message, pointer.empty() ? "/" : pointer);

@@ -290,37 +290,35 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
     for (const std::string_view name : scene::setting::encoding.choices) {
         encodings.push_back(name);
     }
-    return with_id({{"type", "hello"},
-                    {"server", "penumbra"},
-                    {"modes", modes},
-                    {"ranges", ranges},
-                    {"presets", presets_json()},
-                    {"nominal_ct_range",
-                     {scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}},
-                    {"encodings", encodings},
-                    {"renderer",
-                     {{"renderer", renderer.renderer},
-                      {"version", renderer.version},
-                      {"platform", renderer.platform},
-                      {"software", renderer.software}}},
-                    {"limits",
-                     {{"max_message_bytes", limits.max_message_bytes},
-                      {"max_image_side", limits.max_image_side},
-                      {"max_slices", limits.max_slices},
-                      {"max_light_resolution", limits.max_light_resolution},
-                      {"max_sessions", limits.max_sessions},
-                      {"max_sessions_per_client", limits.max_sessions_per_client},
-                      {"max_sessions_per_connection", limits.max_sessions_per_connection},
-                      {"max_requests_per_second", limits.max_requests_per_second},
-                      {"max_send_queue", limits.max_send_queue},
-                      {"max_frame_work", limits.max_frame_work},
-                      {"max_json_depth", limits.max_json_depth},
-                      {"max_transfer_function_points", max_transfer_function_points},
-                      {"max_hounsfield_position", scene::max_hounsfield_position},
-                      {"max_string_bytes",
-                       max_string_bytes(std::type_identity<ClientMessage>{})}}}},
-                   std::nullopt)
-            .dump();
+    return text_of(with_id(
+            {{"type", "hello"},
+             {"server", "penumbra"},
+             {"modes", modes},
+             {"ranges", ranges},
+             {"presets", presets_json()},
+             {"nominal_ct_range", {scene::nominal_ct_domain.min, scene::nominal_ct_domain.max}},
+             {"encodings", encodings},
+             {"renderer",
+              {{"renderer", renderer.renderer},
+               {"version", renderer.version},
+               {"platform", renderer.platform},
+               {"software", renderer.software}}},
+             {"limits",
+              {{"max_message_bytes", limits.max_message_bytes},
+               {"max_image_side", limits.max_image_side},
+               {"max_slices", limits.max_slices},
+               {"max_light_resolution", limits.max_light_resolution},
+               {"max_sessions", limits.max_sessions},
+               {"max_sessions_per_client", limits.max_sessions_per_client},
+               {"max_sessions_per_connection", limits.max_sessions_per_connection},
+               {"max_requests_per_second", limits.max_requests_per_second},
+               {"max_send_queue", limits.max_send_queue},
+               {"max_frame_work", limits.max_frame_work},
+               {"max_json_depth", limits.max_json_depth},
+               {"max_transfer_function_points", max_transfer_function_points},
+               {"max_hounsfield_position", scene::max_hounsfield_position},
+               {"max_string_bytes", max_string_bytes(std::type_identity<ClientMessage>{})}}}},
+            std::nullopt));
 }
 
 namespace {
@@ -352,9 +350,8 @@ std::string volumes_message(std::optional<std::int64_t> id,
     for (const auto& v : volumes) {
         list.push_back(volume_json(v));
     }
-    return with_id({{"type", "volumes"}, {"volumes", list}, {"listing", base::name_of(listing)}},
-                   id)
-            .dump();
+    return text_of(with_id(
+            {{"type", "volumes"}, {"volumes", list}, {"listing", base::name_of(listing)}}, id));
 }
 
 std::string opened_message(std::optional<std::int64_t> id, const std::string& session,
@@ -367,25 +364,23 @@ std::string opened_message(std::optional<std::int64_t> id, const std::string& se
     if (recreated) {
         message["recreated"] = true;
     }
-    return with_id(std::move(message), id).dump();
+    return text_of(with_id(std::move(message), id));
 }
 
 std::string joined_message(std::optional<std::int64_t> id, const std::string& session,
                            const VolumeSummary& volume, const std::vector<std::uint64_t>& histogram,
                            const scene::State& state) {
-    return with_id({{"type", "joined"},
-                    {"session", session},
-                    {"volume", volume_json(volume)},
-                    {"histogram", histogram},
-                    {"state", state_json(state)}},
-                   id)
-            .dump();
+    return text_of(with_id({{"type", "joined"},
+                            {"session", session},
+                            {"volume", volume_json(volume)},
+                            {"histogram", histogram},
+                            {"state", state_json(state)}},
+                           id));
 }
 
 std::string state_message(const std::string& session, const scene::State& state) {
-    return with_id({{"type", "state"}, {"session", session}, {"state", state_json(state)}},
-                   std::nullopt)
-            .dump();
+    return text_of(with_id({{"type", "state"}, {"session", session}, {"state", state_json(state)}},
+                           std::nullopt));
 }
 
 std::string labels_message(std::optional<std::int64_t> id, const std::string& session,
@@ -398,13 +393,12 @@ std::string labels_message(std::optional<std::int64_t> id, const std::string& se
                         {"color", json::array({label.color[0], label.color[1], label.color[2]})},
                         {"voxels", label.voxels}});
     }
-    return with_id({{"type", "labels"},
-                    {"session", session},
-                    {"volume", volume},
-                    {"labels", std::move(list)},
-                    {"state", state_json(state)}},
-                   id)
-            .dump();
+    return text_of(with_id({{"type", "labels"},
+                            {"session", session},
+                            {"volume", volume},
+                            {"labels", std::move(list)},
+                            {"state", state_json(state)}},
+                           id));
 }
 
 std::string picked_message(std::optional<std::int64_t> id, const std::string& session,
@@ -423,15 +417,15 @@ std::string picked_message(std::optional<std::int64_t> id, const std::string& se
             message["label"] = {{"id", picked.label_id}, {"name", picked.label_name}};
         }
     }
-    return with_id(std::move(message), id).dump();
+    return text_of(with_id(std::move(message), id));
 }
 
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what) {
-    return with_id({{"type", "ack"}, {"of", what}}, id).dump();
+    return text_of(with_id({{"type", "ack"}, {"of", what}}, id));
 }
 
 std::string set_ack_message(std::optional<std::int64_t> id, const scene::State& state) {
-    return with_id({{"type", "ack"}, {"of", Set::type}, {"state", state_json(state)}}, id).dump();
+    return text_of(with_id({{"type", "ack"}, {"of", Set::type}, {"state", state_json(state)}}, id));
 }
 
 std::string_view wire_name(base::ErrorCode code) {
@@ -441,16 +435,15 @@ std::string_view wire_name(base::ErrorCode code) {
 }
 
 std::string error_message(std::optional<std::int64_t> id, const base::Error& error) {
-    return with_id({{"type", "error"},
-                    {"code", wire_name(error.code)},
-                    {"message", error.message},
-                    {"field", error.where}},
-                   id)
-            .dump();
+    return text_of(with_id({{"type", "error"},
+                            {"code", wire_name(error.code)},
+                            {"message", error.message},
+                            {"field", error.where}},
+                           id));
 }
 
 std::string stats_message(std::optional<std::int64_t> id, const std::string& stats_json) {
-    return with_id({{"type", "stats"}, {"stats", json::parse(stats_json)}}, id).dump();
+    return text_of(with_id({{"type", "stats"}, {"stats", json::parse(stats_json)}}, id));
 }
 
 std::string stats_message(std::optional<std::int64_t> id, const StatsReport& r) {
@@ -469,7 +462,7 @@ std::string stats_message(std::optional<std::int64_t> id, const StatsReport& r) 
                    {{"builds", r.light_buffer_builds}, {"reuses", r.light_buffer_reuses}}},
                   {"gpu_bytes_held", r.gpu_bytes_held},
                   {"renderer", r.renderer}};
-    return with_id({{"type", "stats"}, {"stats", stats}}, id).dump();
+    return text_of(with_id({{"type", "stats"}, {"stats", stats}}, id));
 }
 
 }  // namespace penumbra::protocol

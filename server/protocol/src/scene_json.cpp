@@ -592,7 +592,7 @@ json labels_json(const scene::Labels& labels) {
 }  // namespace json_fields
 
 std::string state_to_json(const scene::State& state) {
-    return state_json(state).dump();
+    return text_of(state_json(state));
 }
 
 base::Result<scene::TransferFunction> parse_transfer_function(

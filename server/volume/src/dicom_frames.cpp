@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <utility>
 
 namespace penumbra::volume::detail::dicom {
@@ -103,13 +104,23 @@ std::vector<Frame> read_frames(DcmDataset& dataset, std::size_t image_index,
     // An RT dose grid places its frames by GridFrameOffsetVector, along the slice normal from the
     // top-level position (offsets relative to the first frame's, whether the first is 0 or its z);
     // its values are scaled to Gy by DoseGridScaling where no rescale says otherwise.
+    // Read whole, once: DCMTK finds value i of a string by scanning it from its start.
     std::vector<double> grid_offsets;
-    for (unsigned long i = 0; i < frame_count; ++i) {
-        const auto offset = get_double(dataset, DCM_GridFrameOffsetVector, i);
-        if (!offset) {
-            break;
+    if (OFString offsets;
+        dataset.findAndGetOFStringArray(DCM_GridFrameOffsetVector, offsets).good()) {
+        std::size_t start = 0;
+        while (start <= offsets.size() && grid_offsets.size() <= frame_count) {
+            const std::size_t end = std::min(offsets.find('\\', start), offsets.size());
+            const std::string value(offsets.c_str() + start, end - start);
+            char* parsed_end = nullptr;
+            const double offset = std::strtod(value.c_str(), &parsed_end);
+            if (parsed_end == value.c_str() || !std::isfinite(offset)) {
+                grid_offsets.clear();
+                break;
+            }
+            grid_offsets.push_back(offset);
+            start = end + 1;
         }
-        grid_offsets.push_back(*offset);
     }
     const auto top_position = get_doubles<3>(dataset, DCM_ImagePositionPatient);
     const auto top_orientation = get_doubles<6>(dataset, DCM_ImageOrientationPatient);

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <span>
 
 namespace penumbra::volume {
 namespace {
@@ -136,12 +137,14 @@ base::Result<LabelNames> label_names_for(const std::filesystem::path& path,
 
 namespace {
 
-std::uint16_t index_of_voxel(const Volume& indices, std::size_t i) {
-    if (indices.type == VoxelType::uint8) {
-        return std::to_integer<std::uint8_t>(indices.data[i]);
+// The index voxel i of a label map's indices holds, in the map's index type (`data` the indices'
+// bytes, or a copy being changed).
+std::uint16_t index_of_voxel(VoxelType type, std::span<const std::byte> data, std::size_t i) {
+    if (type == VoxelType::uint8) {
+        return std::to_integer<std::uint8_t>(data[i]);
     }
     std::uint16_t index = 0;
-    std::memcpy(&index, indices.data.data() + 2 * i, 2);
+    std::memcpy(&index, data.data() + 2 * i, 2);
     return index;
 }
 
@@ -175,7 +178,7 @@ base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vecto
     };
     std::vector<std::uint16_t> field(count);
     for (std::size_t i = 0; i < count; ++i) {
-        field[i] = shown(index_of_voxel(indices, i)) ? 1 : 0;
+        field[i] = shown(index_of_voxel(indices.type, indices.data, i)) ? 1 : 0;
     }
     const std::size_t slice = static_cast<std::size_t>(dims.x) * dims.y;
     // Twice along each axis: 1 4 6 4 1, a Gaussian of about a voxel, which smooths the steps of
@@ -191,9 +194,10 @@ base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vecto
         values[i] = static_cast<std::byte>((field[i] * 255U + full / 2) / full);
     }
 
-    // Background voxels that the surface may pass (within the filter's reach, two voxels) take a
-    // visible neighbour's index, ring by ring: the faces' first, then the edges', then the
-    // corners' (the fewer axes an offset moves along, the nearer).
+    // Voxels of no visible label that the surface may pass (within the filter's reach, two voxels;
+    // the background, or a hidden label, which adds nothing to the indicator) take a visible
+    // neighbour's index, ring by ring: the faces' first, then the edges', then the corners' (the
+    // fewer axes an offset moves along, the nearer).
     std::vector<glm::ivec3> offsets;
     for (int moved = 1; moved <= 3; ++moved) {
         for (int z = -1; z <= 1; ++z) {
@@ -207,18 +211,13 @@ base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vecto
         }
     }
     std::vector<std::byte> dilated = indices.data;
+    std::vector<std::byte> before_ring;
     const bool wide = indices.type == VoxelType::uint16;
     const glm::ivec3 size(dims);
     for (int ring = 0; ring < 2; ++ring) {
-        const Volume ring_inside = [&] {
-            Volume v;
-            v.dims = dims;
-            v.type = indices.type;
-            v.data = dilated;
-            return v;
-        }();
+        before_ring = dilated;
         for (std::size_t i = 0; i < count; ++i) {
-            if (field[i] == 0 || index_of_voxel(ring_inside, i) != 0) {
+            if (field[i] == 0 || shown(index_of_voxel(indices.type, before_ring, i))) {
                 continue;
             }
             const glm::ivec3 voxel(static_cast<int>(i % dims.x),
@@ -231,7 +230,7 @@ base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vecto
                     continue;
                 }
                 const std::size_t j = static_cast<std::size_t>(n.x) + dims.x * n.y + slice * n.z;
-                const std::uint16_t index = index_of_voxel(ring_inside, j);
+                const std::uint16_t index = index_of_voxel(indices.type, before_ring, j);
                 if (shown(index)) {
                     if (wide) {
                         std::memcpy(dilated.data() + 2 * i, &index, 2);
@@ -260,9 +259,14 @@ base::Result<LabelSurfaces> label_surfaces(const LabelMap& map, const std::vecto
     coloured->axes = indices.axes;
     coloured->origin = indices.origin;
     coloured->label_intent = indices.label_intent;
-    LabelSurfaces surfaces{std::move(indicator.value()), map};
-    surfaces.labels.indices = std::move(coloured.value());
-    return surfaces;
+    LabelMap labels;
+    labels.indices = std::move(coloured.value());
+    labels.labels = map.labels;
+    labels.voxels = map.voxels;
+    labels.background_voxels = map.background_voxels;
+    labels.named = map.named;
+    labels.warnings = map.warnings;
+    return LabelSurfaces{std::move(indicator.value()), std::move(labels)};
 }
 
 std::vector<std::int64_t> LabelMap::ids() const {

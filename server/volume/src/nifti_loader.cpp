@@ -56,21 +56,19 @@ void quiet_library() {
     std::call_once(once, [] { nifti_set_debug_level(0); });
 }
 
-// What the data of a NIfTI intent that holds no image of space are (matrices, point sets,
-// surfaces' triangles and values, CIFTI-2's arrays over brainordinates, codes 3000-3099), which
+// What the data of a NIfTI intent that holds no image of space are (point sets, surfaces'
+// triangles and node indices, CIFTI-2's arrays over brainordinates, codes 3000-3099), which
 // opened as a volume would show a meaningless 1-voxel-thick grid; nullopt for every other intent.
+// Matrices and shapes are not among them: a tensor volume (ITK's, FSL's) is a grid of matrices,
+// whose first component opens as any 5-D file's does.
 std::optional<std::string> non_volume_intent(int code) {
     switch (code) {
-        case NIFTI_INTENT_GENMATRIX:
-        case NIFTI_INTENT_SYMMATRIX:
-            return "a matrix (intent " + std::to_string(code) + ")";
         case NIFTI_INTENT_POINTSET:
             return "a point set (intent " + std::to_string(code) + ")";
         case NIFTI_INTENT_TRIANGLE:
             return "a surface's triangles (intent " + std::to_string(code) + ")";
         case NIFTI_INTENT_NODE_INDEX:
-        case NIFTI_INTENT_SHAPE:
-            return "values on a surface's nodes (intent " + std::to_string(code) + ")";
+            return "a surface's node indices (intent " + std::to_string(code) + ")";
         default:
             break;
     }

@@ -670,22 +670,23 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
                                             "), not a scalar volume",
                                     at(header.kinds.line));
         }
-        // Values per voxel are read along the first axis only (each voxel's values together);
-        // a later axis of them is a stack of volumes, the first of which is read, as 4-D NIfTI.
-        if (roles[axis] == AxisRole::components && axis > 0 && axis + 1 < dimension) {
-            return base::make_error(base::ErrorCode::unsupported_dimension,
-                                    "axis " + std::to_string(axis) +
-                                            " holds values per voxel between axes of space",
-                                    at(header.kinds.line));
-        }
     }
+    // Values per voxel are read along the first axis only (each voxel's values together); the
+    // three axes after it are space; a 4th of those, whatever its kind, is a stack of volumes,
+    // the first of which is read, as 4-D NIfTI.
     const bool has_components = roles[0] == AxisRole::components;
     const std::size_t first_space = has_components ? 1 : 0;
-    if (dimension - first_space < 3) {
+    std::size_t space_axes = 0;
+    while (first_space + space_axes < dimension && space_axes < 3 &&
+           roles[first_space + space_axes] == AxisRole::space) {
+        ++space_axes;
+    }
+    if (space_axes < 3) {
         return base::make_error(base::ErrorCode::unsupported_dimension,
-                                "a 2-D image (" + std::to_string(dimension - first_space) +
-                                        " axes of space), not a volume",
-                                at(header.sizes.line));
+                                "a 2-D image (" + std::to_string(space_axes) +
+                                        " axes of space before values per voxel or the end), "
+                                        "not a volume",
+                                at(header.kinds.value ? header.kinds.line : header.sizes.line));
     }
     Layout layout;
     layout.dims = glm::uvec3(sizes[first_space], sizes[first_space + 1], sizes[first_space + 2]);
@@ -695,7 +696,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
     layout.voxels =
             std::uint64_t{layout.dims.x} * layout.dims.y * layout.dims.z * layout.components;
     layout.bytes = layout.voxels * detail::sample_size(layout.type);
-    layout.volumes = dimension - first_space == 4 ? sizes[3] : 1;
+    layout.volumes = dimension - first_space == 4 ? sizes[first_space + 3] : 1;
 
     const bool endian_matters =
             detail::sample_size(layout.type) > 1 && layout.encoding != Encoding::ascii;
@@ -1006,9 +1007,10 @@ base::Status read_bzip2(std::FILE* file, const std::filesystem::path& path, cons
 }
 
 // Two hexadecimal digits a byte, in either case, whitespace anywhere between them; "byte skip"
-// counts decoded bytes, as it does for the compressed encodings.
+// counts bytes of the file before the text, as teem reads it (and as for ASCII).
 base::Status read_hex(std::FILE* file, const std::filesystem::path& path, const Layout& layout,
                       std::int64_t byte_skip, std::uint64_t offset, detail::SampleSink& sink) {
+    offset += static_cast<std::uint64_t>(byte_skip);
     if (auto status = detail::seek_to(file, path, offset); !status) {
         return status.error();
     }
@@ -1025,7 +1027,6 @@ base::Status read_hex(std::FILE* file, const std::filesystem::path& path, const 
         return -1;
     };
     std::vector<char> input(std::size_t{1} << 16);
-    std::uint64_t skip_left = static_cast<std::uint64_t>(byte_skip);
     std::uint64_t consumed = 0;
     int high = -1;  // the first digit of a byte, once read
     while (!sink.full()) {
@@ -1049,8 +1050,10 @@ base::Status read_hex(std::FILE* file, const std::filesystem::path& path, const 
             }
             const int value = digit(static_cast<unsigned char>(c));
             if (value < 0) {
+                char code[8];
+                std::snprintf(code, sizeof code, "0x%02x", static_cast<unsigned char>(c));
                 return base::make_error(base::ErrorCode::bad_data,
-                                        std::string("'") + c + "' is no hexadecimal digit",
+                                        std::string("byte ") + code + " is no hexadecimal digit",
                                         detail::at_byte(path, offset + consumed));
             }
             if (high < 0) {
@@ -1059,10 +1062,6 @@ base::Status read_hex(std::FILE* file, const std::filesystem::path& path, const 
             }
             const auto byte = static_cast<std::byte>(high * 16 + value);
             high = -1;
-            if (skip_left > 0) {
-                --skip_left;
-                continue;
-            }
             sink.window()[0] = byte;
             sink.commit(1);
         }
@@ -1289,14 +1288,16 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
     }
 
     if (layout->components > 1) {
-        // Each voxel's values lie together: its first is every components-th sample.
+        // Each voxel's values lie together: its first is every components-th sample. Copied into
+        // a buffer of its own size, so the volume holds what it counts.
         const std::size_t width = bytes_per_voxel(samples.stored());
         const std::uint64_t voxels = layout->voxels / layout->components;
+        std::vector<std::byte> firsts(static_cast<std::size_t>(voxels * width));
         for (std::uint64_t v = 0; v < voxels; ++v) {
-            std::memmove(stored.data() + v * width, stored.data() + v * layout->components * width,
-                         width);
+            std::memcpy(firsts.data() + v * width, stored.data() + v * layout->components * width,
+                        width);
         }
-        stored.resize(static_cast<std::size_t>(voxels * width));
+        stored = std::move(firsts);
     }
     const std::string name =
             detail::strip_suffix(path, std::array<std::string_view, 2>{".nrrd", ".nhdr"});
@@ -1310,7 +1311,8 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
     volume->axes = layout->geometry.axes;
     volume->origin = layout->geometry.origin;
     volume->hounsfield = header->hounsfield;
-    volume->volumes_in_file = layout->volumes;
+    // Values per voxel count as volumes too: a label map must hold one of each.
+    volume->volumes_in_file = layout->volumes * layout->components;
     return volume;
 }
 

@@ -219,7 +219,8 @@ TEST(LabelMap, FilesThatSayTheyAreLabelMapsAreTold) {
 
 // Labels alone as surfaces: the indicator is the visible labels' mask filtered 1 4 6 4 1 along each
 // axis (a box's is a product of three sums of those weights), a hidden label adds nothing, and the
-// background within two voxels of a visible label takes its index, nearest first.
+// voxels of no visible label within two of one (the background, a hidden label's beside it) take
+// its index, nearest first.
 TEST(LabelMap, LabelSurfacesFilterTheVisibleLabelsAndCarryTheirColoursOutward) {
     constexpr unsigned n = 10;
     std::vector<std::byte> ids(n * n * n);
@@ -234,6 +235,7 @@ TEST(LabelMap, LabelSurfacesFilterTheVisibleLabelsAndCarryTheirColoursOutward) {
         }
     }
     at(0, 9, 9) = std::byte{7};
+    at(2, 4, 4) = std::byte{7};  // the hidden label touching the box
     auto stored = make_volume("two", glm::uvec3(n), glm::dvec3(1.0), VoxelType::uint8, ids);
     ASSERT_TRUE(stored.ok());
     auto map = make_label_map(*stored, {});
@@ -261,7 +263,7 @@ TEST(LabelMap, LabelSurfacesFilterTheVisibleLabelsAndCarryTheirColoursOutward) {
     }
     EXPECT_EQ(indicator.value(0, 9, 9), 0.0) << "the hidden label is no surface";
     const Volume& coloured = surfaces->labels.indices;
-    EXPECT_EQ(index_at(coloured, {2, 4, 4}), 1);  // a face away
+    EXPECT_EQ(index_at(coloured, {2, 4, 4}), 1);  // a face away, of the hidden label
     EXPECT_EQ(index_at(coloured, {1, 4, 4}), 1);  // two
     EXPECT_EQ(index_at(coloured, {7, 7, 7}), 1);  // a corner away
     EXPECT_EQ(index_at(coloured, {8, 8, 8}), 1);  // two corners

@@ -377,7 +377,8 @@ TEST(NrrdLoader, AsciiEncoding) {
 }
 
 // teem's hex encoding: two digits a byte, either case, whitespace anywhere; the bytes are the raw
-// encoding's (endianness applies), byte skip counts decoded bytes.
+// encoding's (endianness applies); byte skip counts bytes of the file before the text, as teem
+// reads it.
 TEST(NrrdLoader, HexEncoding) {
     fixtures::TempDir dir;
     auto bytes = load_attached(dir,
@@ -389,8 +390,8 @@ TEST(NrrdLoader, HexEncoding) {
 
     auto words = load_attached(dir,
                                "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 1 1\n"
-                               "encoding: hex\nendian: big\nbyte skip: 1\n",
-                               text_bytes("ff FFfe 7fFf\n"), "words.nrrd");
+                               "encoding: hex\nendian: big\nbyte skip: 3\n",
+                               text_bytes("## FFfe 7fFf\n"), "words.nrrd");
     ASSERT_TRUE(words.ok()) << words.error().to_string();
     EXPECT_EQ(words->value(0, 0, 0), -2.0);
     EXPECT_EQ(words->value(1, 0, 0), 32767.0);
@@ -834,6 +835,13 @@ TEST(NrrdLoader, KindsSayWhichAxesAreSpace) {
     ASSERT_FALSE(flat.ok());
     EXPECT_EQ(flat.error().code, base::ErrorCode::unsupported_dimension);
     EXPECT_TRUE(contains(flat.error().message, "2-D")) << flat.error().message;
+
+    auto trailing = load_attached(dir,
+                                  "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 2\n"
+                                  "kinds: domain domain vector\nencoding: raw\n",
+                                  std::vector<std::byte>(32), "trailing.nrrd");
+    ASSERT_FALSE(trailing.ok());
+    EXPECT_EQ(trailing.error().code, base::ErrorCode::unsupported_dimension);
 
     auto middle = load_attached(dir,
                                 "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 2 2 2 2\n"

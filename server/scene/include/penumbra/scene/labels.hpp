@@ -46,9 +46,9 @@ base::Status validate(const Labels& labels);
 
 // The transfer function that draws a label map alone as surfaces (volume::label_surfaces'
 // indicator, whose values read as 0..1): transparent below 0.2, opaque from 0.35, so the surface
-// lies where the indicator passes about 0.3, a third of a voxel outside a flat face of a label;
-// white, for the labels' colours to replace whole (blend 1). A sheet of a label one voxel thin
-// still shows (its indicator reaches 6/16).
+// lies where the indicator passes about 0.3, about half a voxel outside a flat face of a label
+// (the filter's 11/16, 5/16 and 1/16 across it); white, for the labels' colours to replace whole
+// (blend 1). A sheet of a label one voxel thin still shows (its indicator reaches 6/16).
 TransferFunction label_surface_transfer_function();
 
 // Whether `labels` styles exactly the labels `ids` lists, in its order (a label map's ids): what

@@ -70,9 +70,10 @@ base::Result<LabelMap> load_label_map(const std::filesystem::path& path,
 //   axis weighted 1 4 6 4 1, as 0..255 (its range set to that whole span, so 255 reads as 1).
 //   Where it crosses a level between 0 and 1 runs a surface around a label's voxels, smooth
 //   where they make steps; its gradient gives normals without the staircase.
-// - `labels`: the map with the background voxels within two of a visible label given its index
-//   (ring by ring; a face neighbour first, then an edge's, then a corner's), so a sample on that
-//   surface outside a label's voxels takes its colour; the labels and their counts as in `map`.
+// - `labels`: the map with the voxels of no visible label (the background, hidden labels) within
+//   two of a visible label given its index (ring by ring; a face neighbour first, then an edge's,
+//   then a corner's), so a sample on that surface outside a label's voxels takes its colour, a
+//   hidden neighbour's voxels included; the labels and their counts as in `map`.
 // `visible[i]` says whether map.labels[i] is drawn; a hidden label is no surface.
 struct LabelSurfaces {
     Volume indicator;
