@@ -133,6 +133,11 @@ describe('parseFrame', () => {
       handMade(JSON.stringify({ ...header, refinement: 2, refining: 'yes' }), []),
       /"refining" is not a boolean/,
     ],
+    [
+      'a preview flag that is not a boolean',
+      handMade(JSON.stringify({ ...header, preview: 1 }), []),
+      /"preview" is not a boolean/,
+    ],
   ])('rejects %s', (_, bytes, message) => {
     expect(() => parseFrame(bytes)).toThrow(FrameError);
     expect(() => parseFrame(bytes)).toThrow(message);

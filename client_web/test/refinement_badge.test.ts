@@ -32,6 +32,19 @@ describe('refinement badge', () => {
     expect(refinementText({ kind: 'done', steps: 1 })).toBe('still done · 1 step');
   });
 
+  it('says that a preview stands for the still until the still comes', () => {
+    const preview = refinementStatus({
+      ...still,
+      width: 32,
+      height: 48,
+      preview: true,
+      refining: true,
+    });
+    expect(preview).toEqual({ kind: 'preview', width: 32, height: 48 });
+    expect(refinementText(preview)).toBe('preview 32×48, rendering the still…');
+    expect(refinementStatus({ ...still, refining: true }).kind).toBe('refining');
+  });
+
   it('says nothing of interactive frames and of stills that are not refined', () => {
     expect(refinementStatus({ ...still, interactive: true, refining: true }).kind).toBe('none');
     expect(refinementStatus(still).kind).toBe('none');

@@ -173,13 +173,14 @@ async function frameInfo(page) {
 // Waits for a still frame asked for after the frame `after` (a frameInfo, or null for any still).
 // Refinement steps carry the request of the still they refine, so a step of the new still counts
 // and a step of an earlier still does not; the still itself may never be shown, since the view
-// skips a frame that a newer one replaces while it decodes.
+// skips a frame that a newer one replaces while it decodes. A preview (a costly still's smaller
+// first frame) is not the still.
 async function waitForStill(page, after = null, timeout = 30000) {
   await page.waitForFunction(
     (afterRequest) => {
       const d = document.querySelector('canvas.frame-canvas')?.dataset;
       return d && d.request !== undefined && Number(d.request) > afterRequest &&
-        d.interactive === 'false';
+        d.interactive === 'false' && d.preview !== 'true';
     },
     after ? after.request : -1,
     { timeout },

@@ -2,6 +2,7 @@
 
 #include "dicom_writer.hpp"
 
+#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/client.hpp>
@@ -93,15 +94,16 @@ public:
     }
 
     // Whether next_frame passes on the refinement steps of a still (frames with `refinement` > 0),
-    // which every still of a new session is followed by; most tests wait for the frame of a
-    // request and pass them by.
+    // which every still of a new session is followed by, and the preview of a costly still; most
+    // tests wait for the frame of a request and pass them by.
     enum class Steps { passed_by, returned };
 
     protocol::UnpackedFrame next_frame(std::chrono::milliseconds timeout = std::chrono::seconds(60),
                                        Steps steps = Steps::passed_by) {
         while (true) {
             auto frame = next_frame_or_step(timeout);
-            if (steps == Steps::returned || frame.header.refinement == 0) {
+            if (steps == Steps::returned ||
+                (frame.header.refinement == 0 && !frame.header.preview)) {
                 return frame;
             }
         }
@@ -1209,6 +1211,60 @@ TEST_F(ServerTest, ARefiningSessionDoesNotDelayAnotherSessionsInteractiveFrames)
     EXPECT_LT(median, 0.25 * refinement_frame_ms)
             << "median queued " << median << " ms, one refinement frame " << refinement_frame_ms
             << " ms";
+}
+
+// Once a session has measured what its stills cost, a still expected to take longer than its
+// frame budget comes first as a smaller preview of the same view, then at its own size, then its
+// refinement steps; the first still of a session, measured by nothing, comes at once.
+TEST_F(ServerTest, ACostlyStillIsPreviewedSmallerThenComesAtItsOwnSize) {
+    TestClient client(port_);
+    client.open("heads/ch2.nii.gz", 64);
+    // A budget of a millisecond: every still of this session is costly on any machine.
+    EXPECT_EQ(field(client.request(R"({"v":1,"type":"set","id":3,"settings":{"mode":"dvr",)"
+                                   R"("size":[160,128],"jitter":true,"refinement_steps":1,)"
+                                   R"("frame_budget_ms":1}})"),
+                    "type"),
+              "ack");
+    const auto all_frames = [&client](int request) {
+        std::vector<protocol::UnpackedFrame> frames;
+        do {
+            frames.push_back(
+                    client.next_frame(std::chrono::seconds(60), TestClient::Steps::returned));
+            EXPECT_EQ(frames.back().header.request, request);
+        } while (frames.back().header.refining);
+        return frames;
+    };
+    client.send(R"({"v":1,"type":"render","id":10})");
+    const auto first = all_frames(10);
+    ASSERT_EQ(first.size(), 2u);
+    EXPECT_FALSE(first[0].header.preview) << "nothing measured yet";
+    EXPECT_EQ(first[0].header.width, 160);
+
+    client.send(R"({"v":1,"type":"render","id":11})");
+    const auto second = all_frames(11);
+    ASSERT_EQ(second.size(), 3u);
+    const auto& preview = second[0].header;
+    EXPECT_TRUE(preview.preview);
+    EXPECT_TRUE(preview.refining);
+    EXPECT_FALSE(preview.interactive);
+    EXPECT_EQ(preview.width, 80);  // the interactive frame's size: no smaller
+    EXPECT_EQ(preview.height, 64);
+    EXPECT_EQ(preview.quality.rfind("still preview: 80x64, the still at 160x128 expected in", 0),
+              0u)
+            << preview.quality;
+    EXPECT_FALSE(second[1].header.preview);
+    EXPECT_EQ(second[1].header.width, 160);
+    EXPECT_EQ(second[1].header.refinement, 0);
+    EXPECT_EQ(second[2].header.refinement, 1);
+    // The preview shows the still's view: stretched to the still's size, it is close to it.
+    auto small = encode::decode_image(second[0].image);
+    auto still = encode::decode_image(second[1].image);
+    ASSERT_TRUE(small.ok() && still.ok());
+    auto stretched = encode::stretched(*small, still->width, still->height);
+    ASSERT_TRUE(stretched.ok()) << stretched.error().to_string();
+    const auto difference = encode::change_in_levels(*stretched, *still);
+    ASSERT_TRUE(difference.ok()) << difference.error().to_string();
+    EXPECT_LT(*difference, 16.0) << "RMS difference in 8-bit levels";
 }
 
 // A counter's value in /metrics (-1 when absent).

@@ -38,6 +38,8 @@ export interface FrameHeader {
   refinement?: number;
   /** Progressive stills: another refinement step of this still follows (absent: false). */
   refining?: boolean;
+  /** A still's smaller first frame; the still at the requested size follows (absent: false). */
+  preview?: boolean;
 }
 
 export interface Frame {
@@ -97,6 +99,7 @@ function checkHeader(value: unknown): FrameHeader {
   for (const [key, type] of [
     ['refinement', 'number'],
     ['refining', 'boolean'],
+    ['preview', 'boolean'],
   ] as const) {
     if (key in value && typeof value[key] !== type) {
       throw new FrameError(`frame header: "${key}" is not a ${type}`);

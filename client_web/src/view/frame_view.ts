@@ -131,6 +131,7 @@ export class FrameView {
       c.dataset['size'] = `${h.width}x${h.height}`;
       c.dataset['refinement'] = String(h.refinement ?? 0);
       c.dataset['refining'] = String(h.refining ?? false);
+      c.dataset['preview'] = String(h.preview ?? false);
       for (const l of this.shownListeners) l({ header: h, bytes: frame.bytes, receivedAt });
     } catch (e) {
       console.warn('penumbra: could not decode a frame', e);

@@ -1,15 +1,20 @@
-// What the still on screen is doing: "refining" while the server's progressive steps keep
-// improving it, then that it is done and after how many steps, fading after a moment. Nothing for
-// interactive frames, nor for stills that are not refined (refinement off, or a mode that casts
-// no camera rays).
+// What the still on screen is doing: "preview" while a smaller first frame stands for a still the
+// server is still rendering, "refining" while its progressive steps keep improving it, then that
+// it is done and after how many steps, fading after a moment. Nothing for interactive frames, nor
+// for stills that are not refined (refinement off, or a mode that casts no camera rays).
 
 import type { FrameHeader } from '../protocol/frame_header';
 
 export type RefinementStatus =
-  { kind: 'none' } | { kind: 'refining'; step: number } | { kind: 'done'; steps: number };
+  | { kind: 'none' }
+  | { kind: 'preview'; width: number; height: number }
+  | { kind: 'refining'; step: number }
+  | { kind: 'done'; steps: number };
 
 export function refinementStatus(header: FrameHeader): RefinementStatus {
   if (header.interactive) return { kind: 'none' };
+  if (header.preview === true)
+    return { kind: 'preview', width: header.width, height: header.height };
   const step = header.refinement ?? 0;
   if (header.refining === true) return { kind: 'refining', step };
   return step > 0 ? { kind: 'done', steps: step } : { kind: 'none' };
@@ -19,6 +24,8 @@ export function refinementText(status: RefinementStatus): string {
   switch (status.kind) {
     case 'none':
       return '';
+    case 'preview':
+      return `preview ${status.width}×${status.height}, rendering the still…`;
     case 'refining':
       return status.step === 0 ? 'refining…' : `refining… step ${status.step}`;
     case 'done':

@@ -74,6 +74,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.quality = f.quality;
     h.refinement = f.refinement_step;
     h.refining = f.refining;
+    h.preview = f.preview;
     return protocol::pack_frame(h, f.image);
 }
 

@@ -242,7 +242,7 @@ private:
             if (h.refinement > 0) {
                 // A refinement step of an earlier still: it answers no request of this loop.
                 report_.add_refinement_frame();
-            } else if (h.request == id) {
+            } else if (h.request == id && !h.preview) {  // a preview: the still follows
                 report_.add({ms_between(sent, received), h.queued_ms, h.render_ms, h.readback_ms,
                              h.encode_ms, message->bytes.size()});
                 refusals_ = 0;

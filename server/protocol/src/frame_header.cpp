@@ -54,7 +54,8 @@ std::vector<std::uint8_t> pack_frame(const FrameHeader& h, std::span<const std::
               {"encode_ms", h.encode_ms}}},
             {"quality", h.quality},
             {"refinement", h.refinement},
-            {"refining", h.refining}}.dump();
+            {"refining", h.refining},
+            {"preview", h.preview}}.dump();
     std::vector<std::uint8_t> out;
     out.reserve(prefix_bytes + header.size() + image.size());
     for (const std::uint8_t byte : magic) {
@@ -111,6 +112,7 @@ base::Result<UnpackedFrame> unpack_frame(std::span<const std::uint8_t> bytes) {
         h.quality = j.at("quality").get<std::string>();
         h.refinement = j.value("refinement", 0);
         h.refining = j.value("refining", false);
+        h.preview = j.value("preview", false);
     } catch (const json::exception& e) {
         return bad_frame(std::string("header field missing or of the wrong type: ") + e.what());
     }

@@ -162,18 +162,45 @@ base::Status validate_value(const Setting& setting, SettingValue value, const Li
     return base::Ok{};
 }
 
+namespace {
+
+// The side of an interactive frame: half the still's, at least 64 pixels (or the still's own).
+int interactive_side(int side) {
+    return std::max(std::min(side, 64), side / 2);
+}
+
+}  // namespace
+
 std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full) {
     FrameRequest reduced = full;
     RenderSettings& s = reduced.settings;
-    const auto halve = [](int side) { return std::max(std::min(side, 64), side / 2); };
-    s.width = halve(full.settings.width);
-    s.height = halve(full.settings.height);
+    s.width = interactive_side(full.settings.width);
+    s.height = interactive_side(full.settings.height);
     s.sample_distance = std::min(0.5, full.settings.sample_distance * 2.0);
-    s.light_buffer.resolution = halve(full.settings.light_buffer.resolution);
+    s.light_buffer.resolution = interactive_side(full.settings.light_buffer.resolution);
     const std::string description =
             "interactive: " + std::to_string(s.width) + "x" + std::to_string(s.height) +
             ", sample distance x2, light buffer " + std::to_string(s.light_buffer.resolution);
     return {std::move(reduced), description};
+}
+
+std::optional<FrameRequest> still_preview(const FrameRequest& still, double expected_ms,
+                                          double budget_ms) {
+    if (!(expected_ms > budget_ms) || !(budget_ms > 0.0)) {
+        return std::nullopt;
+    }
+    const double scale = std::sqrt(budget_ms / expected_ms);
+    if (scale * scale > kStillPreviewMostPixels) {
+        return std::nullopt;
+    }
+    FrameRequest preview = still;
+    RenderSettings& s = preview.settings;
+    const auto shrink = [scale](int side) {
+        return std::max(interactive_side(side), static_cast<int>(std::lround(side * scale)));
+    };
+    s.width = shrink(still.settings.width);
+    s.height = shrink(still.settings.height);
+    return preview;
 }
 
 }  // namespace penumbra::scene

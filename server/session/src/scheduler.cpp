@@ -315,19 +315,37 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(FrameFailure{status.error(), job.request_id});
         return;
     }
+    // A preview is rendered in the still's place; the still waits for it.
+    std::optional<RenderJob> still_after_preview;
+    if (job.preview) {
+        RenderJob preview = job;
+        preview.request = std::move(job.preview->request);
+        preview.quality = std::move(job.preview->quality);
+        preview.preview.reset();
+        job.preview.reset();
+        still_after_preview = std::move(job);
+        job = std::move(preview);
+    }
     const scene::Refinement refinement = job.request.refinement;
-    const bool may_refine = !job.interactive && refinement.step < job.refinement_steps;
+    const bool may_refine =
+            !job.interactive && !still_after_preview && refinement.step < job.refinement_steps;
     if (may_refine && refinement.step == 0) {
         job.request.refinement.keep = true;  // the mean that the steps to come average into
     }
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
-    if (refinement.step > 0 && !rendered) {
+    if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
         const std::lock_guard lock(mutex_);
-        if (rendered.error().code == base::ErrorCode::cancelled && !in_flight_.closed) {
-            // Preempted by another job: the step waits for its next turn, unchanged.
+        if (in_flight_.refinement && !in_flight_.closed) {
+            // Preempted by another job: the step (or the still after its preview) waits for its
+            // next turn, unchanged.
             queue_refinement(in_flight_.session, std::move(job), std::move(done));
-        } else if (rendered.error().code != base::ErrorCode::cancelled) {
+            return;
+        }
+    }
+    if (refinement.step > 0 && !rendered) {
+        if (rendered.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
+            const std::lock_guard lock(mutex_);
             base::log_warning("session", "refinement of session " + in_flight_.session +
                                                  " stopped: " + rendered.error().to_string());
         }
@@ -356,10 +374,13 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     frame->height = rendered->image.height;
     frame->format = job.output.format;
     frame->mode = job.request.settings.mode;
+    frame->sample_distance = job.request.settings.sample_distance;
     frame->request_id = job.request_id;
     frame->interactive = job.interactive;
     frame->quality = job.quality;
     frame->refinement_step = frame->report.refinement_step;
+    frame->preview = still_after_preview.has_value();
+    frame->refining = frame->preview;  // the still follows it
     frame->queued_ms = queued_ms;
     for (const auto& pass : frame->report.passes) {
         if (pass.name == "readback") {
@@ -389,7 +410,9 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     {
         const std::lock_guard lock(mutex_);
         session = in_flight_.session;
-        if (frame->refining) {
+        if (still_after_preview) {
+            queue_refinement(session, std::move(*still_after_preview), done);
+        } else if (frame->refining) {
             RenderJob step = job;
             step.request.refinement = {false, refinement.step + 1};
             step.refined_image = image;

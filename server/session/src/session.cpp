@@ -268,9 +268,20 @@ void Session::deliver(const FrameOutcome& outcome) {
     if (std::holds_alternative<Withdrawn>(outcome)) {
         return;
     }
+    const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
     std::vector<ViewerSink> sinks;
     {
         const std::lock_guard lock(mutex_);
+        if (frame != nullptr) {
+            const EncodedFrame& f = **frame;
+            if (!f.interactive && !f.preview &&
+                f.report.light_buffer != render::LightBufferState::built && f.width > 0 &&
+                f.height > 0) {
+                const double pixels = static_cast<double>(f.width) * f.height;
+                still_cost_ = StillCost{f.mode,
+                                        (f.render_ms + f.readback_ms) / pixels * f.sample_distance};
+            }
+        }
         sinks.reserve(viewers_.size());
         for (const auto& [viewer, viewer_sinks] : viewers_) {
             sinks.push_back(viewer_sinks.frames);
@@ -304,10 +315,12 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
                             const quality::Table* quality_table) const {
     scene::State current;
     RenderJob job;
+    std::optional<StillCost> still_cost;
     {
         // The state and the label map its labels style, read together.
         const std::lock_guard lock(mutex_);
         current = state_;
+        still_cost = still_cost_;
         if (current.frame.labels.shown()) {
             job.labels = labels_.map;
         }
@@ -337,6 +350,20 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
         if (s.jitter && scene::is_ray_cast(s.mode)) {
             job.refinement_steps = current.refinement_steps;
             job.refinement_threshold = current.refinement_threshold;
+        }
+        if (still_cost && still_cost->mode == s.mode) {
+            const double budget = current.frame_budget_ms > 0.0 ? current.frame_budget_ms
+                                                                : scene::kStillPreviewBudgetMs;
+            const double expected =
+                    still_cost->ms_per_pixel_at_unit_step / s.sample_distance * s.width * s.height;
+            if (auto preview = scene::still_preview(job.request, expected, budget)) {
+                const scene::RenderSettings& p = preview->settings;
+                char said[160];
+                std::snprintf(said, sizeof said,
+                              "still preview: %dx%d, the still at %dx%d expected in %.0f ms",
+                              p.width, p.height, s.width, s.height, expected);
+                job.preview = RenderJob::Preview{std::move(*preview), said + budget_note};
+            }
         }
     }
     job.submitted = Clock::now();

@@ -309,5 +309,35 @@ TEST(FrameRequest, AnInteractiveFrameHasHalfTheSidesTwiceTheStepAndHalfTheLightB
     EXPECT_DOUBLE_EQ(small.settings.sample_distance, 0.5);
 }
 
+TEST(FrameRequest, AStillThatWouldTakeLongerThanItsBudgetIsPreviewedAtASizeThatFitsIt) {
+    FrameRequest still = starting_frame({});
+    still.settings.width = 1536;
+    still.settings.height = 2048;
+    // Within the budget, or nearly so: no preview.
+    EXPECT_FALSE(still_preview(still, 200.0, 250.0));
+    EXPECT_FALSE(still_preview(still, 250.0, 250.0));
+    EXPECT_FALSE(still_preview(still, 700.0, 250.0));  // 0.36 of the pixels: too dear
+    EXPECT_FALSE(still_preview(still, 1000.0, 0.0));
+    // A quarter of the time: half of each side, the view and everything else unchanged.
+    const auto quarter = still_preview(still, 1000.0, 250.0);
+    ASSERT_TRUE(quarter);
+    EXPECT_EQ(quarter->settings.width, 768);
+    EXPECT_EQ(quarter->settings.height, 1024);
+    FrameRequest same = *quarter;
+    same.settings.width = still.settings.width;
+    same.settings.height = still.settings.height;
+    EXPECT_EQ(same, still);
+    // 3/10 of the time: the sides scaled by its square root (0.548).
+    const auto three_tenths = still_preview(still, 2500.0, 750.0);
+    ASSERT_TRUE(three_tenths);
+    EXPECT_EQ(three_tenths->settings.width, 841);
+    EXPECT_EQ(three_tenths->settings.height, 1122);
+    // Far over the budget: never below the interactive frame, which is on screen already.
+    const auto far = still_preview(still, 100000.0, 250.0);
+    ASSERT_TRUE(far);
+    EXPECT_EQ(far->settings.width, interactive_request(still).first.settings.width);
+    EXPECT_EQ(far->settings.height, interactive_request(still).first.settings.height);
+}
+
 }  // namespace
 }  // namespace penumbra::scene

@@ -218,6 +218,78 @@ TEST_F(SchedulerRefinementTest, RefinementStopsOnceAStepChangesTheImageByTheThre
     EXPECT_EQ(started().size(), 6u);
 }
 
+// A still expected to take too long is previewed (Session::make_job): the preview first, saying
+// that more follows, then the still at the lowest priority, kept for its own steps.
+TEST_F(SchedulerRefinementTest, APreviewComesFirstThenTheStillAndItsRefinementSteps) {
+    RenderJob still = job(1, 1, "10.0.0.1", false, 2);
+    still.quality = "the still";
+    still.preview = RenderJob::Preview{still.request, "its preview"};
+    still.preview->request.settings.height = 2;  // its name
+    std::mutex frames_mutex;
+    std::vector<bool> previews;
+    std::vector<int> steps;
+    std::vector<bool> refining;
+    std::vector<std::string> qualities;
+    std::promise<void> last;
+    scheduler_->submit("a", still, [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        ASSERT_NE(frame, nullptr);
+        const std::lock_guard lock(frames_mutex);
+        previews.push_back((*frame)->preview);
+        steps.push_back((*frame)->refinement_step);
+        refining.push_back((*frame)->refining);
+        qualities.push_back((*frame)->quality);
+        if (!(*frame)->refining) {
+            last.set_value();
+        }
+    });
+    ASSERT_EQ(last.get_future().wait_for(10s), std::future_status::ready);
+    std::this_thread::sleep_for(50ms);  // nothing more comes
+    const std::lock_guard lock(frames_mutex);
+    EXPECT_EQ(previews, (std::vector<bool>{true, false, false, false}));
+    EXPECT_EQ(steps, (std::vector<int>{0, 0, 1, 2}));
+    EXPECT_EQ(refining, (std::vector<bool>{true, true, true, false}));
+    EXPECT_EQ(qualities,
+              (std::vector<std::string>{"its preview", "the still", "the still", "the still"}));
+    const auto renders = started();
+    ASSERT_EQ(renders.size(), 4u);
+    EXPECT_EQ(renders[0].name, 2);
+    EXPECT_FALSE(renders[0].refinement.keep) << "the preview is no still to refine";
+    EXPECT_EQ(renders[1].name, 1);
+    EXPECT_TRUE(renders[1].refinement.keep);
+}
+
+// The still after its preview waits like a refinement step: another client's job preempts it,
+// and it is rendered again afterwards, not lost.
+TEST_F(SchedulerRefinementTest, TheStillAfterItsPreviewYieldsToOtherSessions) {
+    RenderJob still = job(1, 500, "10.0.0.1", false, 0);  // about a second
+    still.preview = RenderJob::Preview{still.request, "preview"};
+    still.preview->request.settings.width = 1;
+    still.preview->request.settings.height = 2;
+    std::mutex order_mutex;
+    std::vector<std::string> order;
+    std::promise<void> previewed;
+    std::promise<void> still_done;
+    scheduler_->submit("a", still, [&](FrameOutcome outcome) {
+        const auto* frame = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome);
+        ASSERT_NE(frame, nullptr);
+        const std::lock_guard lock(order_mutex);
+        order.emplace_back((*frame)->preview ? "a preview" : "a still");
+        ((*frame)->preview ? previewed : still_done).set_value();
+    });
+    ASSERT_EQ(previewed.get_future().wait_for(10s), std::future_status::ready);
+    std::promise<void> other_done;
+    scheduler_->submit("b", job(100, 1, "10.0.0.2", true), [&](FrameOutcome) {
+        const std::lock_guard lock(order_mutex);
+        order.emplace_back("b");
+        other_done.set_value();
+    });
+    ASSERT_EQ(other_done.get_future().wait_for(10s), std::future_status::ready);
+    ASSERT_EQ(still_done.get_future().wait_for(20s), std::future_status::ready);
+    const std::lock_guard lock(order_mutex);
+    EXPECT_EQ(order, (std::vector<std::string>{"a preview", "b", "a still"}));
+}
+
 TEST_F(SchedulerRefinementTest, InteractiveFramesAreNotRefined) {
     std::promise<void> done;
     scheduler_->submit("a", job(1, 1, "10.0.0.1", true, 3), [&](auto) { done.set_value(); });

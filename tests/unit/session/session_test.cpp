@@ -160,6 +160,53 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     EXPECT_EQ(session.frame_count(), 1U);
 }
 
+// A session expects a still's time from its last still (per pixel and sample, in its mode, not
+// from a frame that built a light buffer): a still expected to take longer than the frame budget
+// is rendered first at a smaller size (scene::still_preview), then at its own.
+TEST(Session, AStillExpectedToTakeLongerThanTheBudgetIsPreviewedFirst) {
+    scene::State state = state_with_mode(scene::Mode::sbrc);
+    state.frame.settings.width = 400;
+    state.frame.settings.height = 400;
+    state.frame.settings.sample_distance = 1.0 / 256.0;
+    Session session("s", "v", nullptr, state, owner);
+    EXPECT_FALSE(session.make_job(1, false).preview) << "no still measured yet";
+    const auto delivered = [&session](double ms, scene::Mode mode, bool interactive,
+                                      render::LightBufferState light_buffer) {
+        EncodedFrame frame;
+        frame.width = 200;
+        frame.height = 200;
+        frame.render_ms = ms - 10.0;
+        frame.readback_ms = 10.0;
+        frame.mode = mode;
+        frame.sample_distance = 1.0 / 128.0;
+        frame.interactive = interactive;
+        frame.report.light_buffer = light_buffer;
+        session.deliver(std::make_shared<const EncodedFrame>(frame));
+    };
+    // 500 ms for a quarter of the pixels at twice the step: 4 s at full size, but neither an
+    // interactive frame nor a still that built its light buffer says what a still costs.
+    delivered(500.0, scene::Mode::sbrc, true, render::LightBufferState::reused);
+    delivered(500.0, scene::Mode::sbrc, false, render::LightBufferState::built);
+    EXPECT_FALSE(session.make_job(2, false).preview);
+    delivered(125.0, scene::Mode::sbrc, false, render::LightBufferState::reused);  // 1 s expected
+    const RenderJob job = session.make_job(3, false);
+    ASSERT_TRUE(job.preview);
+    EXPECT_EQ(job.preview->request.settings.width, 200);
+    EXPECT_EQ(job.preview->request.settings.height, 200);
+    EXPECT_EQ(job.preview->quality,
+              "still preview: 200x200, the still at 400x400 expected in 1000 ms");
+    EXPECT_EQ(job.request.settings.width, 400);
+    EXPECT_EQ(job.quality, "still: full quality");
+    EXPECT_FALSE(session.make_job(4, true).preview) << "interactive frames have none";
+    // A budget of its own that the still fits, or a mode not measured: none.
+    scene::State generous = state;
+    generous.frame_budget_ms = 1000.0;
+    session.set_state(generous, owner);
+    EXPECT_FALSE(session.make_job(5, false).preview);
+    session.set_state(state_with_mode(scene::Mode::dvr), owner);
+    EXPECT_FALSE(session.make_job(6, false).preview);
+}
+
 // Every viewer of a frame gets the one SharedFrame, and the bytes it is packed into are made once,
 // by whichever viewer asks first, and are the same bytes for all.
 TEST(Session, AFrameIsPackedOnceAndEveryViewerSendsTheSameBytes) {

@@ -44,6 +44,9 @@ struct FrameHeader {
     // Progressive stills: another refinement step of this still follows; false on the last one
     // (the image stopped changing, or the step limit), and on every frame that is not refined.
     bool refining = false;
+    // A still's smaller first frame, sent when the still at full size would take longer than the
+    // frame budget; the still follows (refining).
+    bool preview = false;
 };
 
 std::vector<std::uint8_t> pack_frame(const FrameHeader& header,

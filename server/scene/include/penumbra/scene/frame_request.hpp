@@ -276,6 +276,25 @@ FrameRequest starting_frame(const Limits& limits);
 // at a quarter of the still's cost. Returns the reduced request and a description of it.
 std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full);
 
+// How soon the first frame of a still should be on screen when the session sets no frame budget,
+// wall milliseconds. A default 512x512 still takes 90-200 ms on llvmpipe (`penumbra bench
+// stills`), so it is never previewed there; a portrait tablet's 1536x2048 takes about 2 s.
+inline constexpr double kStillPreviewBudgetMs = 250.0;
+
+// A preview holds at most this share of its still's pixels: it delays the still by what it costs,
+// so it must cost much less. (A 980x800 still of ch2 on llvmpipe takes 640 ms: with a preview at
+// 0.39 of its pixels the first frame came after 420 ms instead of about 800, the still after
+// 1060 ms.)
+inline constexpr double kStillPreviewMostPixels = 1.0 / 3.0;
+
+// The first frame of a still expected to take `expected_ms`, when that is more than `budget_ms`:
+// the same request at a size whose frame takes about the budget (each side scaled by the square
+// root of budget over expected time), never below the interactive frame's size, which the viewer
+// sees already; the still follows it at full size. Nothing when the still fits its budget, or
+// when the preview would hold more than kStillPreviewMostPixels of the still's pixels.
+std::optional<FrameRequest> still_preview(const FrameRequest& still, double expected_ms,
+                                          double budget_ms);
+
 // The formats a session's frames are written in, by the name the protocol, hello and the frame
 // header give them; the first is a new session's.
 enum class FrameFormat { jpeg, png };

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -48,6 +49,16 @@ struct RenderJob {
     // A refinement step's: the image the step before it delivered, which its change is measured
     // against.
     std::shared_ptr<const base::ImageRgba8> refined_image;
+
+    // A still expected to take longer than its budget (scene::still_preview) is first rendered
+    // as this smaller frame; the still itself (`request`, `quality`) follows at the lowest
+    // priority, as a refinement step does, then its own refinement steps.
+    struct Preview {
+        scene::FrameRequest request;
+        std::string quality;
+    };
+
+    std::optional<Preview> preview;
 };
 
 struct EncodedFrame {
@@ -56,6 +67,7 @@ struct EncodedFrame {
     int height = 0;
     scene::FrameFormat format = scene::FrameFormat::jpeg;
     scene::Mode mode = scene::Mode::dvr;
+    double sample_distance = 0.0;  // the request's: a ray's samples, so its cost, go as 1 / it
     render::FrameReport report;
     std::int64_t request_id = -1;
     bool interactive = false;
@@ -63,6 +75,8 @@ struct EncodedFrame {
     int refinement_step = 0;  // 0: a frame on its own; k: the still frame refined k times
     // Another refinement step of this still follows (unless a newer frame replaces the view).
     bool refining = false;
+    // A still's smaller first frame (RenderJob::preview): the still at full size follows.
+    bool preview = false;
     double queued_ms = 0.0;  // submitted -> the render thread took it
     double render_ms = 0.0;  // GPU passes, wall time
     double readback_ms = 0.0;

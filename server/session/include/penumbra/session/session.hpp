@@ -186,7 +186,9 @@ public:
 
     // A job for the current state, at full or interactive quality. With a frame budget and a
     // measured quality table, the most accurate setting that fits replaces the state's mode,
-    // slices, light-buffer resolution and sample distance.
+    // slices, light-buffer resolution and sample distance. A still that the session's earlier
+    // stills say would take longer than the frame budget (scene::kStillPreviewBudgetMs without
+    // one) gets a smaller preview first (scene::still_preview).
     [[nodiscard]] RenderJob make_job(std::int64_t request_id, bool interactive,
                                      const quality::Table* quality_table = nullptr) const;
 
@@ -217,6 +219,16 @@ private:
     DrawnLabels labels_;
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
+
+    // What the session's last still frame (or refinement step) cost, in its mode, when it built
+    // no light buffer: wall milliseconds of its passes and readback per pixel, times its sample
+    // distance (a ray's samples go as its inverse). The next still's time is expected from it.
+    struct StillCost {
+        scene::Mode mode = scene::Mode::dvr;
+        double ms_per_pixel_at_unit_step = 0.0;
+    };
+
+    std::optional<StillCost> still_cost_;
 };
 
 // Where owner tokens come from. Alone, a server draws each at random. The servers of a cluster
