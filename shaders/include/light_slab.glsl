@@ -5,6 +5,7 @@
 #include "include/empty_space.glsl"
 #include "include/region.glsl"
 #include "include/labels.glsl"
+#include "include/preintegration.glsl"
 
 bool inside_box(vec3 world) {
     vec3 p = box_coordinate(world);
@@ -20,6 +21,10 @@ bool inside_box(vec3 world) {
 // face crosses, the points spread over the part kept (one interval: the region is convex), so
 // that the part dims the light by its length; a point tested in or out would count the whole
 // slab or none of it, and light a cut face as if a slab of tissue were gone or still there.
+// With PREINTEGRATION the slab is `samples` segments end to end, each classified by the values at
+// its two ends (one fetch more than the points): a thin opaque value range that lies between two
+// points still dims the light, as it does on the camera's rays, and a slab's back end is the next
+// slab's front, so that no value range falls between two slabs either.
 float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples,
                            int half_spaces) {
     vec3 start = centre - 0.5 * path_length * ray;
@@ -27,12 +32,25 @@ float sampled_slab_opacity(vec3 centre, vec3 ray, float path_length, int samples
     if (kept.x >= kept.y) return 0.0;
     float step = (kept.y - kept.x) / float(samples);
     float transmittance = 1.0;
+#if PREINTEGRATION
+    float front = sample_value(start + kept.x * ray);
+    for (int j = 0; j < samples; ++j) {
+        float back = sample_value(start + (kept.x + float(j + 1) * step) * ray);
+        vec3 p = start + (kept.x + (float(j) + 0.5) * step) * ray;
+        if (inside_box(p)) {
+            transmittance *=
+                    1.0 - sample_opacity(in_label(classify_segment(front, back), p).a, step);
+        }
+        front = back;
+    }
+#else
     for (int j = 0; j < samples; ++j) {
         vec3 p = start + (kept.x + (float(j) + 0.5) * step) * ray;
         if (inside_box(p)) {
             transmittance *= 1.0 - sample_opacity(in_label(classify(sample_value(p)), p).a, step);
         }
     }
+#endif
     return 1.0 - transmittance;
 }
 

@@ -21,8 +21,9 @@
 // first, which starts on the region's face, at its sample (lit_before).
 //
 // Opacity correction: the equivalent opacity is corrected for the actual step length, like a
-// sample's. The light slabs' darkening compensation (1 + a)^c applies to the slab's opacity
-// whatever classified it: pre-integration changes what a slab absorbs, not the compensation.
+// sample's. The light slabs are segments end to end too (sampled_slab_opacity, light_slab.glsl);
+// their darkening compensation (1 + a)^c applies to the slab's opacity whatever classified it:
+// pre-integration changes what a slab absorbs, not the compensation.
 
 #ifndef PREINTEGRATION
 #define PREINTEGRATION 0

@@ -16,7 +16,8 @@ FramePlan plan_frame(const scene::FrameRequest& request) {
     v.reconstruction = s.reconstruction;
     v.phong = scene::uses_gradients(s);
     v.empty_space_skipping = s.empty_space_skipping;
-    v.preintegration = s.preintegration && !plan.half_angle;  // the ray caster's marches only
+    // The ray caster's marches and the light buffer's slabs; half-angle classifies a slice alone.
+    v.preintegration = s.preintegration && !plan.half_angle;
     v.labels = request.labels.shown();
     v.shadows = mode.shadows;
     v.scattering = mode.scattering;

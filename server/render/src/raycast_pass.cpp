@@ -28,6 +28,7 @@ gpu::Defines RaycastVariant::light_buffer_defines() const {
     return {{"EXTINCTION", extinction ? "1" : "0"},
             {"RECONSTRUCTION", std::to_string(static_cast<int>(reconstruction))},
             {"EMPTY_SPACE_SKIPPING", empty_space_skipping ? "1" : "0"},
+            {"PREINTEGRATION", preintegration ? "1" : "0"},
             {"LABELS", labels ? "1" : "0"}};
 }
 

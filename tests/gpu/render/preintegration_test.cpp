@@ -218,7 +218,8 @@ TEST_F(PreintegrationTest, SteepTransferFunctionFollowsAFineStepReferenceBetter)
 // slab, about 0.06 of value apart along the light, the shell of values 0.495..0.505 lies between
 // two points in most slabs: per-point classification lets the light through there, in rings of
 // the slab spacing. The segments between the points count it: against a buffer of 16 points per
-// slab (0.004 of value apart), the pre-integrated buffer of one point per slab is much closer.
+// slab (0.004 of value apart), the pre-integrated buffer of one point per slab is much closer
+// (RMS transmittance 0.008 against 0.185 here, in both builders).
 TEST_F(PreintegrationTest, LightSlabsCountAThinShellBetweenTheirPoints) {
     use(test::radial_volume(48));
     for (const auto builder :
@@ -247,9 +248,43 @@ TEST_F(PreintegrationTest, LightSlabsCountAThinShellBetweenTheirPoints) {
         };
         const double per_point = rms_from_fine(buffer(1, false));
         const double preintegrated = rms_from_fine(buffer(1, true));
-        EXPECT_LT(preintegrated, 0.5 * per_point)
+        EXPECT_LT(preintegrated, 0.2 * per_point)
                 << "RMS transmittance from 16 points per slab: per point " << per_point
                 << ", pre-integrated " << preintegrated;
+    }
+}
+
+// The darkening compensation (1 + a)^c works on a slab's opacity whatever classified it: on a
+// constant volume, where each segment's ends agree, the pre-integrated light buffer is the
+// per-point one to the bit, with compensation and without, in both compositing modes.
+TEST_F(PreintegrationTest, LightSlabsWithEqualEndsAreThePerPointSlabsUnderCompensation) {
+    use(test::constant_volume(glm::uvec3(24), 0.5f));
+    for (const double compensation : {0.0, 0.5}) {
+        for (const auto compositing : {scene::Compositing::alpha, scene::Compositing::extinction}) {
+            SCOPED_TRACE("compensation " + std::to_string(compensation) + ", " +
+                         scene::to_string(compositing));
+            const auto buffer = [&](bool preintegration) {
+                auto request = steep_scene(scene::Mode::sbrc);
+                request.settings.compositing = compositing;
+                request.settings.light_buffer.slices = 32;
+                request.settings.light_buffer.resolution = 32;
+                request.settings.light_buffer.slab_samples = 2;
+                request.settings.light_buffer.compensation = compensation;
+                request.settings.preintegration = preintegration;
+                request.transfer_function = {
+                        "visible", {{0.0, {0.9, 0.6, 0.3}}}, {{0.0, 0.05}, {1.0, 0.5}}};
+                render(request);
+                auto contents = renderer_->read_light_buffer();
+                EXPECT_TRUE(contents.ok()) << contents.error().to_string();
+                return contents.ok() ? contents->values : std::vector<float>{};
+            };
+            const std::vector<float> per_point = buffer(false);
+            const std::vector<float> preintegrated = buffer(true);
+            ASSERT_FALSE(per_point.empty());
+            EXPECT_EQ(preintegrated, per_point);
+            EXPECT_LT(*std::min_element(per_point.begin(), per_point.end()), 0.9f)
+                    << "the volume dims the light";
+        }
     }
 }
 
