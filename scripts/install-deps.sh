@@ -9,7 +9,7 @@ set -euo pipefail
 build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
-    libopenimageio-dev libnifti2-dev libdcmtk-dev zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
+    libopenimageio-dev libturbojpeg0-dev libpng-dev libnifti2-dev libdcmtk-dev zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
     libboost-program-options-dev
     libssl-dev nodejs
 )

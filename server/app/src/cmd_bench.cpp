@@ -163,6 +163,10 @@ int run_bench(const std::vector<std::string>& args) {
               "resolution x sample distance; quality presets per frame-time\n\tbudget; CSV, "
               "JSON and a plot",
               run_bench_accuracy},
+             {"encode",
+              "milliseconds and bytes per frame, JPEG and PNG: TurboJPEG and libpng\n\tagainst "
+              "OpenImageIO's writers, on rendered frames",
+              run_bench_encode},
              {"refine",
               "progressive stills: PSNR of each refinement step against a reference at\n\t1/8 "
               "of the sample distance, next to the unjittered frame",

@@ -10,9 +10,11 @@ int run_render(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
 int run_serve(const std::vector<std::string>& args);
 int run_load(const std::vector<std::string>& args);
-// `bench modes`, `bench accuracy`, `bench refine` and `bench truth`.
+// `bench modes`, `bench accuracy`, `bench encode`, `bench refine`, `bench stills` and
+// `bench truth`.
 int run_bench(const std::vector<std::string>& args);
 int run_bench_accuracy(const std::vector<std::string>& args);
+int run_bench_encode(const std::vector<std::string>& args);
 int run_bench_refine(const std::vector<std::string>& args);
 int run_bench_stills(const std::vector<std::string>& args);
 int run_bench_truth(const std::vector<std::string>& args);

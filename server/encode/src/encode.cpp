@@ -1,5 +1,7 @@
 #include "penumbra/encode/encode.hpp"
 
+#include "frame_codecs.hpp"
+
 #include <penumbra/base/assert.hpp>
 
 #include <OpenImageIO/filesystem.h>
@@ -61,6 +63,20 @@ base::Result<base::ImageRgba8> read_from(oiio::ImageInput* input, const std::str
     return image;
 }
 
+base::Status check_encodable(const base::ImageRgba8& image, int jpeg_quality) {
+    if (image.width <= 0 || image.height <= 0) {
+        return base::make_error(base::ErrorCode::encode_failed, "cannot encode an empty image",
+                                "image");
+    }
+    if (jpeg_quality < kMinJpegQuality || jpeg_quality > kMaxJpegQuality) {
+        return base::make_error(base::ErrorCode::invalid_value,
+                                "JPEG quality must be within " + std::to_string(kMinJpegQuality) +
+                                        ".." + std::to_string(kMaxJpegQuality),
+                                "quality");
+    }
+    return base::Ok{};
+}
+
 }  // namespace
 
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
@@ -76,15 +92,17 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
 
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality) {
-    if (image.width <= 0 || image.height <= 0) {
-        return base::make_error(base::ErrorCode::encode_failed, "cannot encode an empty image",
-                                "image");
+    if (auto checked = check_encodable(image, jpeg_quality); !checked) {
+        return checked.error();
     }
-    if (jpeg_quality < kMinJpegQuality || jpeg_quality > kMaxJpegQuality) {
-        return base::make_error(base::ErrorCode::invalid_value,
-                                "JPEG quality must be within " + std::to_string(kMinJpegQuality) +
-                                        ".." + std::to_string(kMaxJpegQuality),
-                                "quality");
+    return format == ImageFormat::jpeg ? encode_jpeg(image, jpeg_quality) : encode_png(image);
+}
+
+base::Result<std::vector<std::uint8_t>> encode_image_openimageio(const base::ImageRgba8& image,
+                                                                 ImageFormat format,
+                                                                 int jpeg_quality) {
+    if (auto checked = check_encodable(image, jpeg_quality); !checked) {
+        return checked.error();
     }
     std::vector<unsigned char> bytes;
     oiio::Filesystem::IOVecOutput memory(bytes);

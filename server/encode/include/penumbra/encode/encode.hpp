@@ -25,9 +25,17 @@ inline constexpr int kMaxJpegQuality = 100;
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is within
-// kMinJpegQuality..kMaxJpegQuality.
+// kMinJpegQuality..kMaxJpegQuality. JPEG through TurboJPEG straight from the RGBA pixels (4:2:0,
+// the accurate DCT), PNG through libpng.
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality = 90);
+
+// The same through OpenImageIO's writers (an RGB copy, then libjpeg or libpng behind OIIO's
+// ImageOutput), as frames were encoded before: kept as the baseline `penumbra bench encode`
+// measures the codec libraries against.
+base::Result<std::vector<std::uint8_t>> encode_image_openimageio(const base::ImageRgba8& image,
+                                                                 ImageFormat format,
+                                                                 int jpeg_quality = 90);
 
 // Decodes PNG or JPEG bytes (tests, and clients written in C++) into RGBA with alpha 255.
 base::Result<base::ImageRgba8> decode_image(std::span<const std::uint8_t> bytes);

@@ -1,0 +1,18 @@
+#pragma once
+
+// Frames encoded by the codec libraries themselves: JPEG through libjpeg-turbo's TurboJPEG API,
+// PNG through libpng. Arguments are checked by encode_image.
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace penumbra::encode {
+
+base::Result<std::vector<std::uint8_t>> encode_jpeg(const base::ImageRgba8& image, int quality);
+
+base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image);
+
+}  // namespace penumbra::encode
