@@ -106,11 +106,21 @@ base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const ba
 
 base::Result<double> change_in_levels(const base::ImageRgba8& before,
                                       const base::ImageRgba8& after) {
-    auto difference = compare_images(base::to_rgba_f(before), base::to_rgba_f(after));
-    if (!difference) {
-        return difference.error();
+    // On the frame path (every refinement step): the bytes as they are, no float copies.
+    if (before.width != after.width || before.height != after.height) {
+        return base::make_error(base::ErrorCode::size_mismatch, "images differ in size",
+                                "change_in_levels");
     }
-    return difference->rms_error * 255.0;
+    std::uint64_t squares = 0;
+    for (std::size_t i = 0; i < before.pixels.size(); i += 4) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const int d = int{before.pixels[i + c]} - int{after.pixels[i + c]};
+            squares += static_cast<std::uint64_t>(d * d);
+        }
+    }
+    const std::size_t values = before.pixels.size() / 4 * 3;
+    return values == 0 ? 0.0
+                       : std::sqrt(static_cast<double>(squares) / static_cast<double>(values));
 }
 
 base::Result<base::ImageRgba8> stretched(const base::ImageRgba8& image, int width, int height) {

@@ -149,6 +149,24 @@ TEST(Compare, IdenticalImagesHaveInfinitePsnrAndKnownOffsetHasKnownRmse) {
 // A browser draws a half-size frame on the full canvas by bilinear interpolation at pixel
 // centres: a constant stays constant, a ramp across two pixels becomes the ramp between their
 // centres (clamped at the edges), and a nonsense size is refused.
+// The refinement's measure of change is compare_images' RMS error in 8-bit levels.
+TEST(ChangeInLevels, IsTheRmsDifferenceOverRgbInLevels) {
+    const base::ImageRgba8 before = shaded_image(40, 30);
+    base::ImageRgba8 after = before;
+    for (std::size_t i = 0; i < after.pixels.size(); i += 7) {
+        after.pixels[i] = static_cast<std::uint8_t>(after.pixels[i] ^ 0x2A);
+    }
+    const auto change = change_in_levels(before, after);
+    ASSERT_TRUE(change.ok()) << change.error().to_string();
+    const auto difference = compare_images(base::to_rgba_f(before), base::to_rgba_f(after));
+    ASSERT_TRUE(difference.ok());
+    EXPECT_NEAR(*change, difference->rms_error * 255.0, 1e-3);
+    EXPECT_GT(*change, 1.0);
+    EXPECT_EQ(*change_in_levels(before, before), 0.0);
+    EXPECT_EQ(change_in_levels(before, base::ImageRgba8(40, 31)).error().code,
+              base::ErrorCode::size_mismatch);
+}
+
 TEST(Stretched, InterpolatesBetweenPixelCentresAsABrowserScales) {
     base::ImageRgba8 two(2, 1);
     for (int c = 0; c < 4; ++c) {

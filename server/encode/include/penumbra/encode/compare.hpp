@@ -17,7 +17,8 @@ struct ImageDifference {
 base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
 
 // How much an 8-bit frame changed from `before` to `after`: the RMS difference over the RGB
-// channels, in 8-bit levels (what ends a still's refinement).
+// channels, in 8-bit levels (what ends a still's refinement), computed on the bytes themselves
+// (no OpenImageIO on the frame path). Errors: size_mismatch.
 base::Result<double> change_in_levels(const base::ImageRgba8& before,
                                       const base::ImageRgba8& after);
 
