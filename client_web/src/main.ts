@@ -359,8 +359,9 @@ connection.on('state', (info) => {
 });
 
 connection.on('frame', (frame) => {
-  // A refinement step answers no new request: it only improves the still frame on screen.
-  const refined = (frame.header.refinement ?? 0) > 0;
+  // A refinement step answers no new request: it only improves the still frame on screen. A
+  // preview answers it first, so the still that follows it is no answer either.
+  const refined = (frame.header.refinement ?? 0) > 0 || frame.header.preview === true;
   const request = sent.get(frame.header.request);
   const requestSent = role === 'owner' && !refined ? request?.at : undefined;
   const arrived = performance.now();

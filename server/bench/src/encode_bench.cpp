@@ -3,6 +3,7 @@
 #include <penumbra/encode/encode.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 
 namespace penumbra::bench {

@@ -1,7 +1,9 @@
 #include "frame_codecs.hpp"
 
 #include <memory>
+#include <new>
 #include <string>
+#include <utility>
 
 #include <png.h>
 #include <turbojpeg.h>
@@ -36,20 +38,30 @@ base::Result<std::vector<std::uint8_t>> encode_jpeg(const base::ImageRgba8& imag
 
 namespace {
 
+struct PngOutput {
+    std::vector<std::uint8_t> bytes;
+    bool out_of_memory = false;
+};
+
+// No exception may cross libpng's C frames: a failed allocation is only noted.
 void append_to(png_structp png, png_bytep data, png_size_t length) {
-    auto* bytes = static_cast<std::vector<std::uint8_t>*>(png_get_io_ptr(png));
-    bytes->insert(bytes->end(), data, data + length);
+    auto* output = static_cast<PngOutput*>(png_get_io_ptr(png));
+    try {
+        output->bytes.insert(output->bytes.end(), data, data + length);
+    } catch (const std::bad_alloc&) {
+        output->out_of_memory = true;
+    }
 }
 
 void flush_nothing(png_structp) {}
 
 // libpng reports errors by longjmp: nothing with a destructor may live in this frame.
 const char* write_png(png_structp png, png_infop info, const base::ImageRgba8& image,
-                      std::vector<std::uint8_t>* bytes, png_bytepp rows) {
+                      PngOutput* output, png_bytepp rows) {
     if (setjmp(png_jmpbuf(png)) != 0) {
         return "libpng failed";
     }
-    png_set_write_fn(png, bytes, append_to, flush_nothing);
+    png_set_write_fn(png, output, append_to, flush_nothing);
     png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
                  static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -75,13 +87,13 @@ base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image
         rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(
                 image.pixels.data() + static_cast<std::size_t>(y) * image.width * 4);
     }
-    std::vector<std::uint8_t> bytes;
-    const char* failed = write_png(png, info, image, &bytes, rows.data());
+    PngOutput output;
+    const char* failed = write_png(png, info, image, &output, rows.data());
     png_destroy_write_struct(&png, &info);
-    if (failed != nullptr) {
-        return codec_error(failed, "png");
+    if (failed != nullptr || output.out_of_memory) {
+        return codec_error(failed != nullptr ? failed : "out of memory", "png");
     }
-    return bytes;
+    return std::move(output.bytes);
 }
 
 }  // namespace penumbra::encode

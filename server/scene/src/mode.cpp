@@ -190,9 +190,6 @@ std::optional<FrameRequest> still_preview(const FrameRequest& still, double expe
         return std::nullopt;
     }
     const double scale = std::sqrt(budget_ms / expected_ms);
-    if (scale * scale > kStillPreviewMostPixels) {
-        return std::nullopt;
-    }
     FrameRequest preview = still;
     RenderSettings& s = preview.settings;
     const auto shrink = [scale](int side) {
@@ -200,6 +197,11 @@ std::optional<FrameRequest> still_preview(const FrameRequest& still, double expe
     };
     s.width = shrink(still.settings.width);
     s.height = shrink(still.settings.height);
+    // After the floor: a small still's preview would be nearly the still.
+    const double pixels = static_cast<double>(s.width) * s.height;
+    if (pixels > kStillPreviewMostPixels * still.settings.width * still.settings.height) {
+        return std::nullopt;
+    }
     return preview;
 }
 

@@ -141,15 +141,8 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
                 unqueue(session, found->second.job.client);
                 pending_.erase(found);
             }
-            const std::string client = job.client;
-            pending_.emplace(session, Pending{std::move(job), std::move(done)});
-            auto& sessions = sessions_of_[client];
-            if (sessions.empty()) {
-                clients_.push_back(client);
-            }
-            sessions.push_back(session);
+            enqueue(session, Pending{std::move(job), std::move(done)});
         }
-        queue_depth_.set(static_cast<double>(pending_.size()));
     }
     if (replaced) {
         superseded_.add();
@@ -177,6 +170,26 @@ void Scheduler::cancel(const std::string& session) {
     }
     superseded_.add();
     dropped(Withdrawn::superseded);
+}
+
+void Scheduler::enqueue(const std::string& session, Pending pending) {
+    const std::string client = pending.job.client;
+    pending_.emplace(session, std::move(pending));
+    auto& sessions = sessions_of_[client];
+    if (sessions.empty()) {
+        clients_.push_back(client);
+    }
+    sessions.push_back(session);
+    queue_depth_.set(static_cast<double>(pending_.size()));
+}
+
+void Scheduler::queue_still_after_preview(RenderJob job, FrameCallback done) {
+    if (stopping_ || in_flight_.closed || in_flight_.superseded ||
+        pending_.contains(in_flight_.session)) {
+        return;  // a newer job replaces the view, or nobody is left to see it
+    }
+    job.submitted = Clock::now();
+    enqueue(in_flight_.session, Pending{std::move(job), std::move(done)});
 }
 
 void Scheduler::unqueue(const std::string& session, const std::string& client) {
@@ -315,7 +328,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         done(FrameFailure{status.error(), job.request_id});
         return;
     }
-    // A preview is rendered in the still's place; the still waits for it.
+    // A preview is rendered in the still's place; the still follows it.
     std::optional<RenderJob> still_after_preview;
     if (job.preview) {
         RenderJob preview = job;
@@ -411,7 +424,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         const std::lock_guard lock(mutex_);
         session = in_flight_.session;
         if (still_after_preview) {
-            queue_refinement(session, std::move(*still_after_preview), done);
+            queue_still_after_preview(std::move(*still_after_preview), done);
         } else if (frame->refining) {
             RenderJob step = job;
             step.request.refinement = {false, refinement.step + 1};

@@ -264,6 +264,20 @@ std::size_t Session::viewer_count() const {
     return viewers_.size();
 }
 
+Session::StillCost Session::still_cost_of(const EncodedFrame& frame) {
+    // Only the passes that go with the pixels: not an upload, a table or a light buffer built
+    // once for many frames.
+    double ms = 0.0;
+    for (const auto& pass : frame.report.passes) {
+        if (pass.name == "raycast" || pass.name == "half_angle" || pass.name == "accumulate" ||
+            pass.name == "readback") {
+            ms += pass.wall_ms;
+        }
+    }
+    const double pixels = std::max(1.0, static_cast<double>(frame.width) * frame.height);
+    return {frame.mode, frame.sample_distance, ms / pixels};
+}
+
 void Session::deliver(const FrameOutcome& outcome) {
     if (std::holds_alternative<Withdrawn>(outcome)) {
         return;
@@ -272,15 +286,8 @@ void Session::deliver(const FrameOutcome& outcome) {
     std::vector<ViewerSink> sinks;
     {
         const std::lock_guard lock(mutex_);
-        if (frame != nullptr) {
-            const EncodedFrame& f = **frame;
-            if (!f.interactive && !f.preview &&
-                f.report.light_buffer != render::LightBufferState::built && f.width > 0 &&
-                f.height > 0) {
-                const double pixels = static_cast<double>(f.width) * f.height;
-                still_cost_ = StillCost{f.mode,
-                                        (f.render_ms + f.readback_ms) / pixels * f.sample_distance};
-            }
+        if (frame != nullptr && !(*frame)->interactive && !(*frame)->preview) {
+            still_cost_ = still_cost_of(**frame);
         }
         sinks.reserve(viewers_.size());
         for (const auto& [viewer, viewer_sinks] : viewers_) {
@@ -351,11 +358,11 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
             job.refinement_steps = current.refinement_steps;
             job.refinement_threshold = current.refinement_threshold;
         }
-        if (still_cost && still_cost->mode == s.mode) {
+        if (still_cost && still_cost->mode == s.mode &&
+            still_cost->sample_distance == s.sample_distance) {
             const double budget = current.frame_budget_ms > 0.0 ? current.frame_budget_ms
                                                                 : scene::kStillPreviewBudgetMs;
-            const double expected =
-                    still_cost->ms_per_pixel_at_unit_step / s.sample_distance * s.width * s.height;
+            const double expected = still_cost->ms_per_pixel * s.width * s.height;
             if (auto preview = scene::still_preview(job.request, expected, budget)) {
                 const scene::RenderSettings& p = preview->settings;
                 char said[160];

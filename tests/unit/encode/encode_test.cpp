@@ -146,9 +146,6 @@ TEST(Compare, IdenticalImagesHaveInfinitePsnrAndKnownOffsetHasKnownRmse) {
               base::ErrorCode::size_mismatch);
 }
 
-// A browser draws a half-size frame on the full canvas by bilinear interpolation at pixel
-// centres: a constant stays constant, a ramp across two pixels becomes the ramp between their
-// centres (clamped at the edges), and a nonsense size is refused.
 // The refinement's measure of change is compare_images' RMS error in 8-bit levels.
 TEST(ChangeInLevels, IsTheRmsDifferenceOverRgbInLevels) {
     const base::ImageRgba8 before = shaded_image(40, 30);
@@ -167,6 +164,9 @@ TEST(ChangeInLevels, IsTheRmsDifferenceOverRgbInLevels) {
               base::ErrorCode::size_mismatch);
 }
 
+// A browser draws a half-size frame on the full canvas by bilinear interpolation at pixel
+// centres: a constant stays constant, a ramp across two pixels becomes the ramp between their
+// centres (clamped at the edges), and a nonsense size is refused.
 TEST(Stretched, InterpolatesBetweenPixelCentresAsABrowserScales) {
     base::ImageRgba8 two(2, 1);
     for (int c = 0; c < 4; ++c) {

@@ -332,6 +332,19 @@ TEST(FrameRequest, AStillThatWouldTakeLongerThanItsBudgetIsPreviewedAtASizeThatF
     ASSERT_TRUE(three_tenths);
     EXPECT_EQ(three_tenths->settings.width, 841);
     EXPECT_EQ(three_tenths->settings.height, 1122);
+    // Small stills: the interactive frame's floor (64 pixels a side) would hold more than a third
+    // of the pixels, or all of them.
+    FrameRequest small = still;
+    small.settings.width = 100;
+    small.settings.height = 100;
+    EXPECT_FALSE(still_preview(small, 100000.0, 250.0));
+    small.settings.width = 64;
+    small.settings.height = 48;
+    EXPECT_FALSE(still_preview(small, 100000.0, 250.0));
+    small.settings.width = 128;
+    small.settings.height = 128;
+    ASSERT_TRUE(still_preview(small, 100000.0, 250.0));
+    EXPECT_EQ(still_preview(small, 100000.0, 250.0)->settings.width, 64);
     // Far over the budget: never below the interactive frame, which is on screen already.
     const auto far = still_preview(still, 100000.0, 250.0);
     ASSERT_TRUE(far);

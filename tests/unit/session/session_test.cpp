@@ -160,9 +160,10 @@ TEST(Session, FramesGoToEveryViewerWithOneNumber) {
     EXPECT_EQ(session.frame_count(), 1U);
 }
 
-// A session expects a still's time from its last still (per pixel and sample, in its mode, not
-// from a frame that built a light buffer): a still expected to take longer than the frame budget
-// is rendered first at a smaller size (scene::still_preview), then at its own.
+// A session expects a still's time from its last still (per pixel, in its mode at its sample
+// distance, from the passes that go with the pixels: not a light buffer built once): a still
+// expected to take longer than the frame budget is rendered first at a smaller size
+// (scene::still_preview), then at its own.
 TEST(Session, AStillExpectedToTakeLongerThanTheBudgetIsPreviewedFirst) {
     scene::State state = state_with_mode(scene::Mode::sbrc);
     state.frame.settings.width = 400;
@@ -170,25 +171,24 @@ TEST(Session, AStillExpectedToTakeLongerThanTheBudgetIsPreviewedFirst) {
     state.frame.settings.sample_distance = 1.0 / 256.0;
     Session session("s", "v", nullptr, state, owner);
     EXPECT_FALSE(session.make_job(1, false).preview) << "no still measured yet";
-    const auto delivered = [&session](double ms, scene::Mode mode, bool interactive,
-                                      render::LightBufferState light_buffer) {
+    const auto delivered = [&session](double raycast_ms, double sample_distance, bool interactive) {
         EncodedFrame frame;
         frame.width = 200;
         frame.height = 200;
-        frame.render_ms = ms - 10.0;
-        frame.readback_ms = 10.0;
-        frame.mode = mode;
-        frame.sample_distance = 1.0 / 128.0;
+        frame.mode = scene::Mode::sbrc;
+        frame.sample_distance = sample_distance;
         frame.interactive = interactive;
-        frame.report.light_buffer = light_buffer;
+        frame.report.passes = {{"light_buffer_multi_slice", -1.0, 5000.0},
+                               {"raycast", -1.0, raycast_ms},
+                               {"readback", 0.0, 10.0}};
         session.deliver(std::make_shared<const EncodedFrame>(frame));
     };
-    // 500 ms for a quarter of the pixels at twice the step: 4 s at full size, but neither an
-    // interactive frame nor a still that built its light buffer says what a still costs.
-    delivered(500.0, scene::Mode::sbrc, true, render::LightBufferState::reused);
-    delivered(500.0, scene::Mode::sbrc, false, render::LightBufferState::built);
+    // 4 s at full size, but said by an interactive frame, or by a still at another step.
+    delivered(990.0, 1.0 / 256.0, true);
+    delivered(990.0, 1.0 / 128.0, false);
     EXPECT_FALSE(session.make_job(2, false).preview);
-    delivered(125.0, scene::Mode::sbrc, false, render::LightBufferState::reused);  // 1 s expected
+    // 250 ms for a quarter of the pixels: 1 s expected, the light buffer's 5 s not counted.
+    delivered(240.0, 1.0 / 256.0, false);
     const RenderJob job = session.make_job(3, false);
     ASSERT_TRUE(job.preview);
     EXPECT_EQ(job.preview->request.settings.width, 200);

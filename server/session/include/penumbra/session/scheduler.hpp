@@ -51,8 +51,8 @@ struct RenderJob {
     std::shared_ptr<const base::ImageRgba8> refined_image;
 
     // A still expected to take longer than its budget (scene::still_preview) is first rendered
-    // as this smaller frame; the still itself (`request`, `quality`) follows at the lowest
-    // priority, as a refinement step does, then its own refinement steps.
+    // as this smaller frame; the still itself (`request`, `quality`) follows in its client's turn,
+    // as any job does, then its own refinement steps.
     struct Preview {
         scene::FrameRequest request;
         std::string quality;
@@ -192,6 +192,13 @@ private:
 
     // Takes `session` out of its client's turn (under mutex_).
     void unqueue(const std::string& session, const std::string& client);
+
+    // Puts the session's job in its client's turn; the session has none pending (under mutex_).
+    void enqueue(const std::string& session, Pending pending);
+
+    // Queues the still that follows its preview in its client's turn, as any job of the session,
+    // unless the session was closed or superseded meanwhile (under mutex_).
+    void queue_still_after_preview(RenderJob job, FrameCallback done);
 
     // Queues the refinement step that follows `job` at the lowest priority (under mutex_).
     void queue_refinement(const std::string& session, RenderJob job, FrameCallback done);

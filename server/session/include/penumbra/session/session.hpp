@@ -220,14 +220,15 @@ private:
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 
-    // What the session's last still frame (or refinement step) cost, in its mode, when it built
-    // no light buffer: wall milliseconds of its passes and readback per pixel, times its sample
-    // distance (a ray's samples go as its inverse). The next still's time is expected from it.
+    // What the session's last still frame (or refinement step) cost per pixel, in its mode at
+    // its sample distance: the next still's time is expected from it where both are the same.
     struct StillCost {
         scene::Mode mode = scene::Mode::dvr;
-        double ms_per_pixel_at_unit_step = 0.0;
+        double sample_distance = 0.0;
+        double ms_per_pixel = 0.0;  // wall ms of the passes that go with the pixels
     };
 
+    static StillCost still_cost_of(const EncodedFrame& frame);
     std::optional<StillCost> still_cost_;
 };
 
