@@ -165,7 +165,7 @@ base::Result<std::vector<Timed>> AccuracyBench::refined(scene::FrameRequest requ
 base::Result<AccuracyBench::Converged> AccuracyBench::converged(scene::FrameRequest request,
                                                                 int max_steps, double threshold) {
     const bool refines = scene::is_ray_cast(request.settings.mode) && request.settings.jitter;
-    request.refinement = {refines, 0};
+    request.refinement = {};
     auto still = frame(request);
     if (!still) {
         return still.error();
@@ -174,8 +174,8 @@ base::Result<AccuracyBench::Converged> AccuracyBench::converged(scene::FrameRequ
     std::optional<double> change;
     const int limit = refines ? max_steps : 0;
     while (scene::refines_after(result.steps, change, limit, threshold)) {
-        request.refinement = {false, result.steps + 1};
-        auto step = render(request);
+        // As a session refines (Scheduler): the steps at a finer step, averaged from the first.
+        auto step = render(scene::refinement_step_request(request, result.steps + 1));
         if (!step) {
             return step.error();
         }

@@ -70,6 +70,14 @@ bool refines_after(int step, std::optional<double> change, int max_steps, double
     return !change || threshold <= 0.0 || *change > threshold;
 }
 
+FrameRequest refinement_step_request(const FrameRequest& still, int step) {
+    FrameRequest request = still;
+    request.settings.sample_distance = std::max(
+            setting::sample_distance.min, still.settings.sample_distance * kRefinementStepShare);
+    request.refinement = {step == 1, step - 1};
+    return request;
+}
+
 FrameRequest starting_frame(const Limits& limits) {
     FrameRequest frame;
     frame.camera = Camera{};

@@ -339,12 +339,8 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         still_after_preview = std::move(job);
         job = std::move(preview);
     }
-    const scene::Refinement refinement = job.request.refinement;
-    const bool may_refine =
-            !job.interactive && !still_after_preview && refinement.step < job.refinement_steps;
-    if (may_refine && refinement.step == 0) {
-        job.request.refinement.keep = true;  // the mean that the steps to come average into
-    }
+    const int step = job.refinement_step;
+    const bool may_refine = !job.interactive && !still_after_preview && step < job.refinement_steps;
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
     if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
         const std::lock_guard lock(mutex_);
@@ -355,7 +351,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
             return;
         }
     }
-    if (refinement.step > 0 && !rendered) {
+    if (step > 0 && !rendered) {
         if (rendered.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
             const std::lock_guard lock(mutex_);
@@ -391,7 +387,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     frame->request_id = job.request_id;
     frame->interactive = job.interactive;
     frame->quality = job.quality;
-    frame->refinement_step = frame->report.refinement_step;
+    frame->refinement_step = step;
     frame->preview = still_after_preview.has_value();
     frame->refining = frame->preview;  // the still follows it
     frame->queued_ms = queued_ms;
@@ -416,8 +412,8 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
                 change = *measured;
             }
         }
-        frame->refining = scene::refines_after(refinement.step, change, job.refinement_steps,
-                                               job.refinement_threshold);
+        frame->refining =
+                scene::refines_after(step, change, job.refinement_steps, job.refinement_threshold);
     }
     std::string session;
     {
@@ -426,10 +422,15 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         if (still_after_preview) {
             queue_still_after_preview(std::move(*still_after_preview), done);
         } else if (frame->refining) {
-            RenderJob step = job;
-            step.request.refinement = {false, refinement.step + 1};
-            step.refined_image = image;
-            queue_refinement(session, std::move(step), done);
+            RenderJob next = job;
+            next.refinement_step = step + 1;
+            if (step == 0) {
+                next.request = scene::refinement_step_request(job.request, 1);
+            } else {
+                next.request.refinement = {false, step};
+            }
+            next.refined_image = image;
+            queue_refinement(session, std::move(next), done);
         }
     }
     {

@@ -286,7 +286,9 @@ void Session::deliver(const FrameOutcome& outcome) {
     std::vector<ViewerSink> sinks;
     {
         const std::lock_guard lock(mutex_);
-        if (frame != nullptr && !(*frame)->interactive && !(*frame)->preview) {
+        // The still itself: its refinement steps march at another sample distance.
+        if (frame != nullptr && !(*frame)->interactive && !(*frame)->preview &&
+            (*frame)->refinement_step == 0) {
             still_cost_ = still_cost_of(**frame);
         }
         sinks.reserve(viewers_.size());

@@ -93,12 +93,14 @@ public:
             started_.push_back(
                     {request.settings.height, request.refinement, refinement_chunks_.load()});
         }
+        // Every refinement step: the first keeps its frame as the mean's start, the rest average.
+        const bool refining = request.refinement.keep || request.refinement.step > 0;
         for (int chunk = 0; chunk < request.settings.width; ++chunk) {
-            if (request.refinement.step > 0) {
+            if (refining) {
                 gate_.enter_refinement_chunk();
             }
             std::this_thread::sleep_for(2ms);
-            if (request.refinement.step > 0) {
+            if (refining) {
                 ++refinement_chunks_;
             }
             if (cancelled && cancelled()) {
@@ -106,14 +108,17 @@ public:
             }
         }
         // Each step moves the image less than the one before: 192, 128, 106, 96, 89, 85, ...
-        // (changes of 64, 22, 10, 7, 4, ... levels), as a converging mean does.
+        // (changes of 64, 22, 10, 7, 4, ... levels), as a converging mean does. The still is
+        // {0, 0}, step 1 {keep, 0}, step k {0, k - 1} (scene::refinement_step_request).
         render::Frame frame;
         frame.image = base::ImageRgba8(8, 8);
-        const auto level = static_cast<std::uint8_t>(64 + 128 / (request.refinement.step + 1));
+        const scene::Refinement& r = request.refinement;
+        const int frame_of_still = r.step + (r.keep || r.step > 0 ? 1 : 0);
+        const auto level = static_cast<std::uint8_t>(64 + 128 / (frame_of_still + 1));
         for (std::size_t i = 0; i < frame.image.pixels.size(); ++i) {
             frame.image.pixels[i] = i % 4 == 3 ? 255 : level;
         }
-        frame.report.refinement_step = request.refinement.step;
+        frame.report.refinement_step = r.step;
         return frame;
     }
 
@@ -189,8 +194,11 @@ TEST_F(SchedulerRefinementTest, RefinementStepsFollowAStillFrameUpToTheStepCount
     EXPECT_EQ(refining, (std::vector<bool>{true, true, true, false}));
     const auto renders = started();
     ASSERT_EQ(renders.size(), 4u);
-    EXPECT_TRUE(renders[0].refinement.keep);  // the still is kept for its steps to average into
-    EXPECT_EQ(renders[3].refinement.step, 3);
+    // The first step starts the mean the later ones average into (at a finer step: the still's
+    // own frame is not averaged in).
+    EXPECT_EQ(renders[0].refinement, (scene::Refinement{false, 0}));
+    EXPECT_EQ(renders[1].refinement, (scene::Refinement{true, 0}));
+    EXPECT_EQ(renders[3].refinement, (scene::Refinement{false, 2}));
 }
 
 TEST_F(SchedulerRefinementTest, RefinementStopsOnceAStepChangesTheImageByTheThresholdOrLess) {
@@ -256,7 +264,7 @@ TEST_F(SchedulerRefinementTest, APreviewComesFirstThenTheStillAndItsRefinementSt
     EXPECT_EQ(renders[0].name, 2);
     EXPECT_FALSE(renders[0].refinement.keep) << "the preview is no still to refine";
     EXPECT_EQ(renders[1].name, 1);
-    EXPECT_TRUE(renders[1].refinement.keep);
+    EXPECT_TRUE(renders[2].refinement.keep) << "the still's first step starts the mean";
 }
 
 // The still after its preview takes its client's turn as any job does: another client who keeps

@@ -187,8 +187,17 @@ TEST(Session, AStillExpectedToTakeLongerThanTheBudgetIsPreviewedFirst) {
     delivered(990.0, 1.0 / 256.0, true);
     delivered(990.0, 1.0 / 128.0, false);
     EXPECT_FALSE(session.make_job(2, false).preview);
-    // 250 ms for a quarter of the pixels: 1 s expected, the light buffer's 5 s not counted.
+    // 250 ms for a quarter of the pixels: 1 s expected, the light buffer's 5 s not counted; a
+    // refinement step after it (at half the step) does not replace it.
     delivered(240.0, 1.0 / 256.0, false);
+    EncodedFrame step;
+    step.width = 200;
+    step.height = 200;
+    step.mode = scene::Mode::sbrc;
+    step.sample_distance = 1.0 / 512.0;
+    step.refinement_step = 1;
+    step.report.passes = {{"raycast", -1.0, 10.0}};
+    session.deliver(std::make_shared<const EncodedFrame>(step));
     const RenderJob job = session.make_job(3, false);
     ASSERT_TRUE(job.preview);
     EXPECT_EQ(job.preview->request.settings.width, 200);

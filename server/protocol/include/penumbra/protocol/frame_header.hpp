@@ -39,7 +39,7 @@ struct FrameHeader {
     double encode_ms = 0.0;
     std::string quality;  // a description of the settings actually used
     // Progressive stills: 0 for a frame on its own; k > 0: the still frame refined k times (the
-    // mean of k + 1 jittered frames of the same view).
+    // mean of k jittered frames of the same view at half its sample distance).
     int refinement = 0;
     // Progressive stills: another refinement step of this still follows; false on the last one
     // (the image stopped changing, or the step limit), and on every frame that is not refined.

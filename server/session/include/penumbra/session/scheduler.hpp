@@ -46,6 +46,9 @@ struct RenderJob {
     // (scene::refines_after).
     int refinement_steps = 0;
     double refinement_threshold = 0.0;
+    // Which frame of the still this is: 0 the still itself, k its k-th refinement step, whose
+    // request scene::refinement_step_request made (a finer step, averaged from step 1 on).
+    int refinement_step = 0;
     // A refinement step's: the image the step before it delivered, which its change is measured
     // against.
     std::shared_ptr<const base::ImageRgba8> refined_image;

@@ -220,8 +220,8 @@ private:
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 
-    // What the session's last still frame (or refinement step) cost per pixel, in its mode at
-    // its sample distance: the next still's time is expected from it where both are the same.
+    // What the session's last still frame cost per pixel, in its mode at its sample distance:
+    // the next still's time is expected from it where both are the same.
     struct StillCost {
         scene::Mode mode = scene::Mode::dvr;
         double sample_distance = 0.0;
