@@ -21,12 +21,13 @@ float shadow_ray_transmittance(vec3 world) {
     float occupied_until = -1.0;
 #endif
 #if PREINTEGRATION
-    // Segments as the camera ray's (classify_sample, raycast.glsl): the first sample of an empty
-    // brick still closes a segment, and a leap fetches the front of the first segment after it.
-    // The first sample has no front: it is classified alone (front == back), as without
-    // pre-integration. A segment from the lit sample itself would let the material at that point
-    // shadow itself, which its own camera-ray segment already absorbs: lit surfaces would darken.
-    float front = sample_value(world + 0.5 * step_length * to_light);
+    // Segments end to end from the lit point, [i, i + 1] steps, as the light slabs' are: the ray
+    // counts [0, t_end] once, as the per-sample ray does with each sample standing for the step
+    // around it. (A first sample classified alone for the step [0, 1] and segments between the
+    // samples after it counted [1/2, 1] twice and left the last half step out: a darkening of
+    // half a step's depth on every lit point inside tissue, which no finer step removed.) A
+    // segment's label and brick are those of its middle, the per-sample ray's sample.
+    float front = sample_value(world);
 #endif
     for (int i = 0; i < count && transmittance >= negligible_transmittance; ++i) {
         float t = (float(i) + 0.5) * step_length;
@@ -38,22 +39,27 @@ float shadow_ray_transmittance(vec3 world) {
             if (!brick_occupied(brick)) {
                 int last_in_brick = max(i + 1, i + int(ceil(run / step_length))) - 1;
 #if PREINTEGRATION
-                float back = sample_value(p);
+                // The segment may come from an occupied brick, and the last one in this brick may
+                // leave it: both are classified; those between lie in the empty brick (it is
+                // convex) and are transparent.
+                float back = sample_value(world + float(i + 1) * step_length * to_light);
                 transmittance *=
                         1.0 - sample_opacity(in_label(classify_segment(front, back), p).a,
                                              step_length);
-                front = last_in_brick > i ? sample_value(world + (float(last_in_brick) + 0.5) *
-                                                                         step_length * to_light)
-                                          : back;
-#endif
+                front = last_in_brick > i
+                                ? sample_value(world + float(last_in_brick) * step_length * to_light)
+                                : back;
+                i = max(i, last_in_brick - 1);
+#else
                 i = last_in_brick;
+#endif
                 continue;
             }
             occupied_until = t + run;
         }
 #endif
 #if PREINTEGRATION
-        float back = sample_value(p);
+        float back = sample_value(world + float(i + 1) * step_length * to_light);
         transmittance *=
                 1.0 - sample_opacity(in_label(classify_segment(front, back), p).a, step_length);
         front = back;

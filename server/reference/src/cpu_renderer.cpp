@@ -50,6 +50,9 @@ public:
         }
     }
 
+    // Whether it classifies segments (pre-integration) rather than samples.
+    [[nodiscard]] bool segments() const { return segments_.has_value(); }
+
     // Sample `value` at `world`, the back of the segment from the value classified before it;
     // `front` becomes `value`.
     glm::dvec4 classify(double& front, double value, glm::dvec3 world) const {
@@ -82,12 +85,17 @@ double shadow_ray_transmittance(const VolumeSampler& sampler, const optics::Regi
     const optics::Marching marching =
             optics::plan_marching(0.0, t_end, request.settings.sample_distance);
     double transmittance = 1.0;
-    // The first sample classified alone (shadow_ray.glsl says why).
-    double front = sampler.value(position + 0.5 * marching.step * to_light);
+    // Pre-integrated segments end to end from the lit point, samples at the middle of each step
+    // (shadow_ray.glsl says why); either way the ray counts [0, t_end] once.
+    const bool segments = tf.segments();
+    double front = sampler.value(position);
     for (int i = 0; i < marching.count && transmittance >= shadow_ray_cutoff; ++i) {
         const glm::dvec3 p = position + (i + 0.5) * marching.step * to_light;
-        transmittance *= 1.0 - sample_opacity(tf.classify(front, sampler.value(p), p).a,
-                                              marching.step, request.settings);
+        const double value =
+                segments ? sampler.value(position + (i + 1.0) * marching.step * to_light)
+                         : sampler.value(p);
+        transmittance *= 1.0 - sample_opacity(tf.classify(front, value, p).a, marching.step,
+                                              request.settings);
     }
     return transmittance;
 }
