@@ -342,19 +342,13 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     const int step = job.refinement_step;
     const bool may_refine = !job.interactive && !still_after_preview && step < job.refinement_steps;
     auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
-    if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
-        const std::lock_guard lock(mutex_);
-        if (in_flight_.refinement && !in_flight_.closed) {
-            // Preempted by another job: the step (or the still after its preview) waits for its
-            // next turn, unchanged.
-            queue_refinement(in_flight_.session, std::move(job), std::move(done));
-            return;
-        }
-    }
     if (step > 0 && !rendered) {
-        if (rendered.error().code != base::ErrorCode::cancelled) {
+        const std::lock_guard lock(mutex_);
+        if (rendered.error().code == base::ErrorCode::cancelled && !in_flight_.closed) {
+            // Preempted by another job: the step waits for its next turn, unchanged.
+            queue_refinement(in_flight_.session, std::move(job), std::move(done));
+        } else if (rendered.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
-            const std::lock_guard lock(mutex_);
             base::log_warning("session", "refinement of session " + in_flight_.session +
                                                  " stopped: " + rendered.error().to_string());
         }
