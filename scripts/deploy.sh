@@ -11,13 +11,12 @@
 # Environment: PENUMBRA_HTTPS_PORT (8443, or ADDRESS:PORT), PENUMBRA_PORT (plain HTTP, redirected
 # to https://; 8080, or ADDRESS:PORT), PENUMBRA_DATA (the volumes folder, default
 # /usr/share/mricron/templates), PENUMBRA_ALLOWED_ORIGINS (other sites whose pages may open the
-# WebSocket), PENUMBRA_PREBUILT_FROM (a release build tree of this Debian 12 host: its install is
+# WebSocket), PENUMBRA_PREBUILT_FROM (a build tree of this Debian 12 host, e.g. the bundle preset's: its install is
 # copied into the image instead of compiling there), PENUMBRA_PROJECT (the compose project's name).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 state="${PENUMBRA_DEPLOY_STATE:-$root/build/deploy}"
-cache="${PENUMBRA_DEPLOY_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/deploy}"
 project="${PENUMBRA_PROJECT:-penumbra}"
 started=$(date +%s)
 step() { echo "deploy [$(($(date +%s) - started)) s]: $*"; }
@@ -42,7 +41,7 @@ case "$action" in
     up | down | logs) ;;
     *) echo "usage: deploy.sh up [--gpu] [--metrics] | down | logs [SERVICE...]" >&2; exit 2 ;;
 esac
-mkdir -p "$state" "$cache"
+mkdir -p "$state"
 secrets="${PENUMBRA_SECRETS:-$root/docker/secrets}"
 export PENUMBRA_SECRETS="$secrets"
 https_port="${PENUMBRA_HTTPS_PORT:-8443}"
@@ -113,22 +112,8 @@ if ! $engine image inspect debian:12 >/dev/null 2>&1; then
     if $engine pull docker.io/library/debian:12 >/dev/null 2>&1; then
         $engine tag docker.io/library/debian:12 debian:12
     else
-        tarball="$cache/debian-12-minbase.tar"
-        if [ ! -s "$tarball" ]; then
-            step "no registry: debootstrap Debian 12 (minbase)"
-            command -v debootstrap >/dev/null || { echo "deploy: debootstrap is missing: run scripts/install-deps.sh" >&2; exit 1; }
-            mirror=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources)
-            rootfs="$state/rootfs"
-            rm -rf "$rootfs"
-            debootstrap --variant=minbase bookworm "$rootfs" "$mirror" > "$state/debootstrap.log"
-            # The suites this host uses (updates, security): the same library versions as here.
-            cp /etc/apt/sources.list.d/debian.sources "$rootfs/etc/apt/sources.list.d/"
-            rm -f "$rootfs/etc/apt/sources.list" "$rootfs"/var/cache/apt/archives/*.deb
-            rm -rf "$rootfs"/var/lib/apt/lists/*
-            tar -C "$rootfs" -cf "$tarball.tmp" .
-            mv "$tarball.tmp" "$tarball"
-            rm -rf "$rootfs"
-        fi
+        step "no registry: the Debian 12 minbase made with debootstrap"
+        tarball=$(bash scripts/debian-base.sh "$state")
         step "import debian:12"
         $engine import "$tarball" debian:12 > /dev/null
     fi

@@ -2,7 +2,8 @@
 # Installs what Penumbra needs from Debian 12's packages, in groups:
 #   build    compile the server and the web client (the container image's builder stage)
 #   test     what the test suite needs on top of build
-#   deploy   containers for the container test and scripts/deploy.sh (podman, debootstrap, compose)
+#   deploy   containers for the container test and scripts/deploy.sh (podman, debootstrap,
+#            compose), the portable bundle (scripts/bundle.sh)
 # No argument installs every group (a CI machine); `--only GROUP[,GROUP]` installs those.
 set -euo pipefail
 
@@ -27,9 +28,11 @@ test=(
     nginx openssl python3-websocket
 )
 # runc: podman's default crun refuses hybrid cgroups; the dnsname plugin lets compose services
-# find each other by name on podman's CNI network.
+# find each other by name on podman's CNI network. patchelf and xz: the portable bundle
+# (scripts/bundle.sh).
 deploy=(
     podman runc golang-github-containernetworking-plugin-dnsname docker-compose debootstrap
+    patchelf xz-utils
 )
 
 groups="build,test,deploy"

@@ -370,7 +370,7 @@ def self_test():
         found = "\n".join(check(root, rules))
         expected = [
             "session includes penumbra/gpu/context.hpp",  # render links gpu PRIVATE
-            "session includes OpenImageIO/imageio.h",      # confined to encode
+            "session includes OpenImageIO/imageio.h",      # confined to imageio
             "volume must not depend on session",  # upward
             "net includes penumbra/render/renderer.hpp",  # session passes render on, undeclared
             "app includes penumbra/session/session.hpp",  # app declares only net

@@ -8,7 +8,8 @@
 #
 # The debootstrap tarball stays in $PENUMBRA_DEPLOY_CACHE (~/.cache/penumbra/deploy) and the
 # engine's layer cache persists, so a second run on one machine skips what is unchanged. The
-# image's builder copies an install of BUILD_DIR (the Dockerfile's PREBUILT), so CI compiles once;
+# image's builder copies an install of BUILD_DIR (the Dockerfile's PREBUILT; CTest gives the bundle
+# preset's tree, the server without OpenImageIO), so CI compiles the server no third time;
 # PENUMBRA_IMAGE_FROM_SOURCE=1 compiles in the builder stage instead (the Dockerfile's default).
 set -euo pipefail
 source_dir="$1"

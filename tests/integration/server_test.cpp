@@ -2,8 +2,9 @@
 
 #include "dicom_writer.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/compare.hpp>
+#include <penumbra/imageio/imageio.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/client.hpp>
 #include <penumbra/net/load.hpp>
@@ -347,7 +348,7 @@ TEST_F(ServerTest, OpensCh2AndRendersADecodableNonBlankFrame) {
     EXPECT_EQ(frame.header.mode, "sbrc");
     EXPECT_EQ(frame.header.light_buffer, "built");
     EXPECT_GT(frame.header.render_ms, 0.0);
-    auto image = encode::decode_image(frame.image);
+    auto image = imageio::decode_image(frame.image);
     ASSERT_TRUE(image.ok()) << image.error().to_string();
     EXPECT_EQ(image->width, 64);
     EXPECT_EQ(image->height, 64);
@@ -1257,12 +1258,12 @@ TEST_F(ServerTest, ACostlyStillIsPreviewedSmallerThenComesAtItsOwnSize) {
     EXPECT_EQ(second[1].header.refinement, 0);
     EXPECT_EQ(second[2].header.refinement, 1);
     // The preview shows the still's view: stretched to the still's size, it is close to it.
-    auto small = encode::decode_image(second[0].image);
-    auto still = encode::decode_image(second[1].image);
+    auto small = imageio::decode_image(second[0].image);
+    auto still = imageio::decode_image(second[1].image);
     ASSERT_TRUE(small.ok() && still.ok());
-    auto stretched = encode::stretched(*small, still->width, still->height);
+    auto stretched = imageio::stretched(*small, still->width, still->height);
     ASSERT_TRUE(stretched.ok()) << stretched.error().to_string();
-    const auto difference = encode::change_in_levels(*stretched, *still);
+    const auto difference = base::change_in_levels(*stretched, *still);
     ASSERT_TRUE(difference.ok()) << difference.error().to_string();
     EXPECT_LT(*difference, 16.0) << "RMS difference in 8-bit levels";
 }

@@ -1,6 +1,6 @@
 #include "stability.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -241,7 +241,7 @@ void StabilityTest::expect_matches_cpu(const render::Frame& frame,
                 << ", " << (i / 4) / cpu.width << ") channel " << i % 4;
     }
     const base::ImageRgbaF gpu = base::to_rgba_f(frame.image);
-    auto difference = encode::compare_images(gpu, cpu);
+    auto difference = imageio::compare_images(gpu, cpu);
     ASSERT_TRUE(difference.ok()) << difference.error().to_string();
     // Where the worst pixel is, for the failure message.
     double worst = -1.0;

@@ -17,13 +17,16 @@
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/cli/transfer_function_file.hpp>
+#include <penumbra/imageio/imageio.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -111,6 +114,8 @@ po::options_description output_options() {
     options.add_options()("help", "this text")("no-phong",
                                                "shadow modes and reference without Blinn-Phong")(
             "csv", po::value<std::string>()->value_name("FILE"), "the measured table as CSV")(
+            "images", po::value<std::string>()->value_name("DIR"),
+            "every point's image as a PNG in DIR (made if missing), named after the point")(
             "json", po::value<std::string>()->value_name("FILE"), "... as JSON")(
             "plot", po::value<std::string>()->value_name("FILE.png"),
             "PSNR over frame time, one curve per method, Pareto front marked; also FILE.svg and "
@@ -244,6 +249,23 @@ int measure(const po::variables_map& a, const AccuracyReport& report) {
     auto sweep = make_sweep(spec_from(a, *accuracy_case), defaults);
     if (!sweep) {
         return usage_error(sweep.error());
+    }
+    if (!imageio::available() && (report.json || report.plot)) {
+        // Refused before measuring: report_accuracy would refuse them after the whole sweep.
+        return usage_error(base::make_error(base::ErrorCode::image_io_unavailable,
+                                            "this penumbra was built without OpenImageIO: it "
+                                            "times frames and writes them (--csv, --images) but "
+                                            "cannot measure the errors --json and --plot rank by",
+                                            report.json ? "--json" : "--plot"));
+    }
+    if (a.count("images") != 0) {
+        sweep->images = a["images"].as<std::string>();
+        std::error_code failed;
+        std::filesystem::create_directories(*sweep->images, failed);
+        if (failed) {
+            return fail(base::make_error(base::ErrorCode::write_failed, failed.message(),
+                                         sweep->images->string()));
+        }
     }
     Table table = make_table(info, sweep->repeat, a.count("no-phong") == 0);
     const FrameFor frame_for = [&](const volume::Volume& volume) {

@@ -3,7 +3,6 @@
 #include <penumbra/base/text.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/reference/pick.hpp>
@@ -160,7 +159,7 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
         if (!refined) {
             return refined.error();
         }
-        auto measured = encode::change_in_levels(still.image, refined->image);
+        auto measured = base::change_in_levels(still.image, refined->image);
         if (!measured) {
             return measured.error();
         }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
 namespace penumbra::base {
 
@@ -29,6 +31,23 @@ ImageRgbaF to_rgba_f(const ImageRgba8& image) {
     std::transform(image.pixels.begin(), image.pixels.end(), out.pixels.begin(),
                    [](std::uint8_t v) { return static_cast<float>(v) / 255.0f; });
     return out;
+}
+
+Result<double> change_in_levels(const ImageRgba8& before, const ImageRgba8& after) {
+    // On the frame path (every refinement step): the bytes as they are, no float copies.
+    if (before.width != after.width || before.height != after.height) {
+        return make_error(ErrorCode::size_mismatch, "images differ in size", "change_in_levels");
+    }
+    std::uint64_t squares = 0;
+    for (std::size_t i = 0; i < before.pixels.size(); i += 4) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const int d = int{before.pixels[i + c]} - int{after.pixels[i + c]};
+            squares += static_cast<std::uint64_t>(d * d);
+        }
+    }
+    const std::size_t values = before.pixels.size() / 4 * 3;
+    return values == 0 ? 0.0
+                       : std::sqrt(static_cast<double>(squares) / static_cast<double>(values));
 }
 
 }  // namespace penumbra::base

@@ -2,7 +2,11 @@
 
 #include <penumbra/bench/report.hpp>
 #include <penumbra/bench/sweep.hpp>
+#include <penumbra/imageio/imageio.hpp>
 #include <penumbra/quality/table_json.hpp>
+
+#include <algorithm>
+#include <cmath>
 
 namespace penumbra::bench {
 namespace {
@@ -28,9 +32,21 @@ base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sw
                             const quality::FrameFor& frame_for, TruthCache& truths,
                             quality::Table& table, std::FILE* out) {
     print_timing(out, renderer.info(), sweep);
-    const std::string kept =
-            truths.folder() ? "in " + truths.folder()->string() : std::string("for this run only");
-    std::fprintf(out, "truth:    %s, kept %s\n", describe(kTruth).c_str(), kept.c_str());
+    // Without comparison the frames are only timed (and written with --images), so no truth.
+    TruthCache* const truth_source = imageio::available() ? &truths : nullptr;
+    if (truth_source != nullptr) {
+        const std::string kept = truths.folder() ? "in " + truths.folder()->string()
+                                                 : std::string("for this run only");
+        std::fprintf(out, "truth:    %s, kept %s\n", describe(kTruth).c_str(), kept.c_str());
+    } else {
+        std::fprintf(out,
+                     "truth:    none: this penumbra was built without OpenImageIO and cannot "
+                     "compare images; frames are timed, errors not measured (nan)%s\n",
+                     sweep.images ? ", images written to compare elsewhere" : "");
+    }
+    if (sweep.images) {
+        std::fprintf(out, "images:   %s\n", sweep.images->c_str());
+    }
     const std::uint64_t frames =
             quality::frames_per_view(sweep) * sweep.lights.size() * sweep.volumes.size();
     const Progress progress(frames);
@@ -55,15 +71,27 @@ base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sw
                         std::fprintf(out, "  truth %s\n", describe(found).c_str());
                         std::fflush(out);
                     }};
-    return measure_sweep(renderer, sweep, frame_for, print, table, &truths);
+    return measure_sweep(renderer, sweep, frame_for, print, table, truth_source);
 }
 
 base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,
                              std::FILE* out) {
-    const std::vector<quality::Preset> presets = quality::choose_presets(
-            table,
-            report.budgets_ms.empty() ? quality::default_budgets(table.points) : report.budgets_ms);
-    std::fputs(presets_text(table, presets).c_str(), out);
+    // A build without image comparison measures times only (errors NaN): nothing to rank by.
+    const bool compared = std::none_of(table.points.begin(), table.points.end(),
+                                       [](const quality::Point& p) { return std::isnan(p.psnr); });
+    if (!compared && (report.json || report.plot)) {
+        return base::make_error(base::ErrorCode::image_io_unavailable,
+                                "--json and --plot rank settings by their errors, which a penumbra "
+                                "built without OpenImageIO cannot measure (--csv and --images can)",
+                                report.json ? "--json" : "--plot");
+    }
+    std::vector<quality::Preset> presets;
+    if (compared) {
+        presets = quality::choose_presets(table, report.budgets_ms.empty()
+                                                         ? quality::default_budgets(table.points)
+                                                         : report.budgets_ms);
+        std::fputs(presets_text(table, presets).c_str(), out);
+    }
     if (report.csv) {
         if (auto status = write_csv(table, *report.csv, "--csv"); !status) {
             return status;

@@ -1,6 +1,7 @@
 #include "penumbra/bench/encode_bench.hpp"
 
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/imageio.hpp>
 
 #include <algorithm>
 #include <array>
@@ -27,7 +28,7 @@ base::Status bench_encoders(const std::vector<EncodeFrame>& frames, int jpeg_qua
     for (const EncodeFrame& frame : frames) {
         for (const auto format : {encode::ImageFormat::jpeg, encode::ImageFormat::png}) {
             const std::array<Encoder, 2> encoders{&encode::encode_image,
-                                                  &encode::encode_image_openimageio};
+                                                  &imageio::encode_image_openimageio};
             std::array<std::vector<double>, 2> ms;
             std::array<std::size_t, 2> bytes{};
             // In turn, so that the machine's load falls on both alike; one warm-up each.

@@ -1,7 +1,7 @@
 #include "penumbra/bench/optimisation_bench.hpp"
 
 #include <penumbra/bench/report.hpp>
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/pick.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -42,7 +42,7 @@ std::vector<SkippingCase> skipping_cases(const std::vector<scene::Mode>& modes) 
 }
 
 base::Result<double> psnr_between(const base::ImageRgba8& a, const base::ImageRgba8& b) {
-    auto difference = encode::compare_images(base::to_rgba_f(a), base::to_rgba_f(b));
+    auto difference = imageio::compare_images(base::to_rgba_f(a), base::to_rgba_f(b));
     if (!difference) {
         return difference.error();
     }

@@ -1,7 +1,7 @@
 #include "penumbra/bench/refine_bench.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/compare.hpp>
 
 #include <chrono>
 #include <filesystem>
@@ -11,7 +11,7 @@ namespace penumbra::bench {
 namespace {
 
 double psnr(const base::ImageRgba8& image, const base::ImageRgbaF& reference) {
-    auto difference = encode::compare_images(base::to_rgba_f(image), reference);
+    auto difference = imageio::compare_images(base::to_rgba_f(image), reference);
     return difference ? difference->psnr : 0.0;
 }
 

@@ -1,8 +1,8 @@
 #include "penumbra/bench/stills_bench.hpp"
 
 #include <penumbra/bench/report.hpp>
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/compare.hpp>
 
 #include <fstream>
 #include <memory>
@@ -33,7 +33,7 @@ base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::Ac
     if (!interactive) {
         return interactive.error();
     }
-    auto shown = encode::stretched(interactive->image, view.settings.width, view.settings.height);
+    auto shown = imageio::stretched(interactive->image, view.settings.width, view.settings.height);
     if (!shown) {
         return shown.error();
     }
@@ -76,7 +76,7 @@ base::Status print_interactive_ceiling(quality::AccuracyBench& bench, TruthCache
     if (!truth) {
         return truth.error();
     }
-    auto shown = encode::stretched(truth->image, view.settings.width, view.settings.height);
+    auto shown = imageio::stretched(truth->image, view.settings.width, view.settings.height);
     if (!shown) {
         return shown.error();
     }

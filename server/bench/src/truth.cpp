@@ -4,6 +4,7 @@
 
 #include <penumbra/bench/report.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/imageio.hpp>
 #include <penumbra/quality/sweep.hpp>
 
 #include <algorithm>
@@ -171,7 +172,7 @@ base::Result<TruthCache::Found> TruthCache::truth(quality::AccuracyBench& bench,
         key_path = *folder_ / (digest.hex() + ".key");
         found.file = *folder_ / (digest.hex() + ".png");
         if (read_text(*key_path) == key) {
-            if (auto image = encode::read_image(*found.file); image) {
+            if (auto image = imageio::read_image(*found.file); image) {
                 found.image = std::move(*image);
                 found.source = Source::disk;
                 memory_.emplace(key, found.image);

@@ -1,6 +1,7 @@
 #include "penumbra/quality/startup.hpp"
 
 #include <penumbra/base/data_dir.hpp>
+#include <penumbra/imageio/imageio.hpp>
 #include <penumbra/quality/table_json.hpp>
 
 #include <algorithm>
@@ -158,6 +159,13 @@ StartupMeasurement measure_at_startup(render::FrameRenderer& renderer, Measure m
                                       std::FILE* out) {
     StartupMeasurement result;
     if (!should_measure(measure, table_paths(renderer.info()))) {
+        return result;
+    }
+    if (!imageio::available()) {
+        result.error = base::make_error(base::ErrorCode::image_io_unavailable,
+                                        "this penumbra was built without OpenImageIO, so it cannot "
+                                        "compare the frames a quality table ranks",
+                                        "quality table");
         return result;
     }
     const auto id = startup_volume(volumes.ids());

@@ -2,14 +2,18 @@
 
 #include "penumbra/quality/sweep.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/compare.hpp>
+#include <penumbra/imageio/imageio.hpp>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -79,17 +83,47 @@ void describe_frame(Table& table, const scene::FrameRequest& base) {
 
 base::Result<Errors> errors_against(const base::ImageRgbaF& reference,
                                     const base::ImageRgba8& image) {
+    if (!imageio::available()) {
+        constexpr double not_measured = std::numeric_limits<double>::quiet_NaN();
+        return Errors{not_measured, not_measured, not_measured};
+    }
     const base::ImageRgbaF rendered = base::to_rgba_f(image);
-    auto difference = encode::compare_images(reference, rendered);
+    auto difference = imageio::compare_images(reference, rendered);
     if (!difference) {
         return difference.error();
     }
-    auto similarity = encode::ssim(reference, rendered);
+    auto similarity = imageio::ssim(reference, rendered);
     if (!similarity) {
         return similarity.error();
     }
     return Errors{difference->rms_error, difference->psnr, *similarity};
 }
+
+std::string point_image_name(const Point& p) {
+    std::string volume = p.volume;
+    std::replace_if(
+            volume.begin(), volume.end(),
+            [](unsigned char c) { return std::isalnum(c) == 0 && c != '-'; }, '_');
+    char name[256];
+    std::snprintf(name, sizeof name, "%s-az%g-el%g-%s-n%d-r%d-d%.6g-%s%s-k%d.png", volume.c_str(),
+                  p.light.azimuth, p.light.elevation, std::string(scene::to_string(p.mode)).c_str(),
+                  p.slices, p.resolution, p.sample_distance,
+                  p.empty_space_skipping ? "skip" : "noskip", p.jitter ? "-jitter" : "",
+                  p.refinement_steps);
+    return name;
+}
+
+namespace {
+
+// The point's image into the sweep's folder, where it has one.
+base::Status keep_image(const Sweep& sweep, const Point& p, const base::ImageRgba8& image) {
+    if (!sweep.images) {
+        return base::Ok{};
+    }
+    return encode::write_image(*sweep.images / point_image_name(p), image);
+}
+
+}  // namespace
 
 AccuracyBench::AccuracyBench(render::FrameRenderer& renderer, int repeat)
     : renderer_(renderer)
@@ -179,7 +213,7 @@ base::Result<AccuracyBench::Converged> AccuracyBench::converged(scene::FrameRequ
         if (!step) {
             return step.error();
         }
-        auto changed = encode::change_in_levels(result.last.image, step->image);
+        auto changed = base::change_in_levels(result.last.image, step->image);
         if (!changed) {
             return changed.error();
         }
@@ -372,6 +406,9 @@ base::Result<bool> measure_references(AccuracyBench& bench, const Sweep& sweep,
                 p.psnr_truth = against_truth->psnr;
                 p.ssim_truth = against_truth->ssim;
             }
+            if (auto kept = keep_image(sweep, p, timed->image); !kept) {
+                return kept.error();
+            }
             points.push_back(p);
             if (!observer(p)) {
                 return false;
@@ -465,6 +502,9 @@ base::Result<bool> measure_view(AccuracyBench& bench, const Sweep& sweep, scene:
                               .rmse_truth = against_truth->rmse,
                               .psnr_truth = against_truth->psnr,
                               .ssim_truth = against_truth->ssim};
+                if (auto kept = keep_image(sweep, p, image.image); !kept) {
+                    return kept.error();
+                }
                 points.push_back(p);
                 if (!observer(p)) {
                     return false;

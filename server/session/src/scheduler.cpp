@@ -1,7 +1,6 @@
 #include "penumbra/session/scheduler.hpp"
 
 #include <penumbra/base/log.hpp>
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/scene/frame_request.hpp>
 
@@ -402,7 +401,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     if (may_refine) {
         std::optional<double> change;
         if (job.refined_image) {
-            if (auto measured = encode::change_in_levels(*job.refined_image, *image)) {
+            if (auto measured = base::change_in_levels(*job.refined_image, *image)) {
                 change = *measured;
             }
         }

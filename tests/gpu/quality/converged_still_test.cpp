@@ -4,7 +4,6 @@
 
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/render/renderer.hpp>
 

@@ -6,7 +6,7 @@
 #include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/box.hpp>
@@ -235,7 +235,7 @@ TEST_F(CutTest, GpuMatchesTheCpuReferenceWithACrop) {
                 const Frame frame = render(request);
                 auto expected = reference::render_cpu(volume, request);
                 ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-                auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+                auto difference = imageio::compare_images(base::to_rgba_f(frame.image), *expected);
                 ASSERT_TRUE(difference.ok());
                 EXPECT_LE(difference->max_error, 3.0 / 255.0);
                 EXPECT_LE(difference->mean_error, 0.6 / 255.0);
@@ -268,7 +268,7 @@ TEST_F(CutTest, APlaneThroughTheEyeCutsAsTheReferenceDoes) {
     const Frame along = render(request);
     auto expected = reference::render_cpu(volume, request);
     ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-    auto difference = encode::compare_images(base::to_rgba_f(along.image), *expected);
+    auto difference = imageio::compare_images(base::to_rgba_f(along.image), *expected);
     ASSERT_TRUE(difference.ok());
     EXPECT_LE(difference->max_error, 3.0 / 255.0);
     // The left half is background, the right half shows the ball.
@@ -279,7 +279,8 @@ TEST_F(CutTest, APlaneThroughTheEyeCutsAsTheReferenceDoes) {
     const Frame before = render(request);
     request.cut = {};
     const Frame uncut = render(request);
-    auto same = encode::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(uncut.image));
+    auto same =
+            imageio::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(uncut.image));
     ASSERT_TRUE(same.ok());
     EXPECT_EQ(same->max_error, 0.0);
 
@@ -506,8 +507,8 @@ TEST_F(CutTest, ACutOnABrickFaceKeepsTheLayerBesideIt) {
             const Frame skipping = render(request);
             request.settings.empty_space_skipping = false;
             const Frame marching = render(request);
-            auto difference = encode::compare_images(base::to_rgba_f(skipping.image),
-                                                     base::to_rgba_f(marching.image));
+            auto difference = imageio::compare_images(base::to_rgba_f(skipping.image),
+                                                      base::to_rgba_f(marching.image));
             ASSERT_TRUE(difference.ok());
             EXPECT_LE(difference->max_error, 2.0 / 255.0);
             double drawn = 0.0;

@@ -3,7 +3,7 @@
 // thin features lie on the faces of the bricks, with fully transparent and fully opaque transfer
 // functions, and after a TF change that makes a brick visible which was empty before.
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/volume/volume.hpp>
 
@@ -133,8 +133,8 @@ protected:
     int expect_same_image(const scene::FrameRequest& request, const std::string& label) {
         const Frame skipped = render(request, true);
         const Frame marched = render(request, false);
-        auto difference = encode::compare_images(base::to_rgba_f(skipped.image),
-                                                 base::to_rgba_f(marched.image));
+        auto difference = imageio::compare_images(base::to_rgba_f(skipped.image),
+                                                  base::to_rgba_f(marched.image));
         EXPECT_TRUE(difference.ok());
         if (difference.ok()) {
             EXPECT_LE(difference->max_error, tolerance) << label;
@@ -242,12 +242,12 @@ TEST_F(EmptySpaceTest, TransferFunctionChangeShowsBricksThatWereEmpty) {
         const Frame after = render(request, true);
         EXPECT_TRUE(ran(after, "classify_bricks"));
         const Frame marched = render(request, false);
-        auto difference = encode::compare_images(base::to_rgba_f(after.image),
-                                                 base::to_rgba_f(marched.image));
+        auto difference = imageio::compare_images(base::to_rgba_f(after.image),
+                                                  base::to_rgba_f(marched.image));
         ASSERT_TRUE(difference.ok());
         EXPECT_LE(difference->max_error, tolerance);
-        auto changed =
-                encode::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(after.image));
+        auto changed = imageio::compare_images(base::to_rgba_f(before.image),
+                                               base::to_rgba_f(after.image));
         ASSERT_TRUE(changed.ok());
         EXPECT_GT(changed->max_error, 0.1) << "the block at 0.3 should have appeared";
     }

@@ -3,7 +3,7 @@
 
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/render/renderer.hpp>
 
 #include <gtest/gtest.h>
@@ -76,8 +76,8 @@ TEST(GradientTextureTest, ShadesLikeCentralDifferencesInsideTheVolume) {
     EXPECT_EQ(builds(central.frames[0]), 0);
     EXPECT_EQ(builds(texture.frames[0]), 1);
     EXPECT_EQ(builds(texture.frames[1]), 0) << "built once per volume, not per frame";
-    auto difference = encode::compare_images(base::to_rgba_f(central.frames[0].image),
-                                             base::to_rgba_f(texture.frames[0].image));
+    auto difference = imageio::compare_images(base::to_rgba_f(central.frames[0].image),
+                                              base::to_rgba_f(texture.frames[0].image));
     ASSERT_TRUE(difference.ok());
     // Within the smooth inside the two agree to a level of 8 bits or so.
     EXPECT_GT(difference->psnr, 60.0);

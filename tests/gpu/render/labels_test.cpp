@@ -5,7 +5,7 @@
 #include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/box.hpp>
@@ -228,8 +228,8 @@ TEST_F(LabelsTest, ALabelMapOnAnotherGridOrMirroredLandsOnTheSameAnatomy) {
             glm::uvec3(2 * n), glm::dvec3(0.5), glm::dvec3(-0.25), glm::dmat3(1.0),
             [&](unsigned x, unsigned y, unsigned z) { return id_at(x / 2, y / 2, z / 2); }));
     for (const Frame* other : {&mirror, &fine}) {
-        auto difference = encode::compare_images(base::to_rgba_f(same_grid.image),
-                                                 base::to_rgba_f(other->image));
+        auto difference = imageio::compare_images(base::to_rgba_f(same_grid.image),
+                                                  base::to_rgba_f(other->image));
         ASSERT_TRUE(difference.ok());
         EXPECT_GT(difference->psnr, 60.0) << (other == &mirror ? "mirrored" : "finer grid");
     }
@@ -276,14 +276,14 @@ TEST_F(LabelsTest, TheAalAtlasStoredMirrorHandedDrawsTheSameHead) {
     const Frame atlas = draw(*aal);
     const Frame reversed = draw(std::move(mirrored));
     auto difference =
-            encode::compare_images(base::to_rgba_f(atlas.image), base::to_rgba_f(reversed.image));
+            imageio::compare_images(base::to_rgba_f(atlas.image), base::to_rgba_f(reversed.image));
     ASSERT_TRUE(difference.ok());
     EXPECT_GT(difference->psnr, 55.0);
     // And the labels do show: without them the head is another image.
     request.labels = {};
     const Frame plain = render(request);
     auto unlabelled =
-            encode::compare_images(base::to_rgba_f(atlas.image), base::to_rgba_f(plain.image));
+            imageio::compare_images(base::to_rgba_f(atlas.image), base::to_rgba_f(plain.image));
     ASSERT_TRUE(unlabelled.ok());
     EXPECT_LT(unlabelled->psnr, 30.0);
 }
@@ -310,7 +310,7 @@ TEST_P(LabelsAgainstReferenceTest, EveryModeDrawsTheLabelsAsTheReference) {
         }
         auto expected = reference::render_cpu(*volume_, truth, labels_.get());
         EXPECT_TRUE(expected.ok()) << expected.error().to_string();
-        auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+        auto difference = imageio::compare_images(base::to_rgba_f(frame.image), *expected);
         return difference.ok() ? difference->psnr : 0.0;
     };
     const double unlabelled = psnr(request);
@@ -408,7 +408,7 @@ TEST_F(LabelsTest, LabelMapsStayOnTheGpuBetweenSwitches) {
     use_labels(first);
     const Frame again = render(request);
     auto difference =
-            encode::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(again.image));
+            imageio::compare_images(base::to_rgba_f(before.image), base::to_rgba_f(again.image));
     ASSERT_TRUE(difference.ok());
     EXPECT_EQ(difference->max_error, 0.0);
     ASSERT_TRUE(renderer_->set_labels(nullptr).ok());
@@ -449,7 +449,7 @@ TEST_F(LabelsTest, LabelsAloneAreSmoothSurfacesAsTheReferenceDrawsThem) {
     const Frame frame = render(request);
     auto expected = reference::render_cpu(*volume_, request, labels_.get());
     ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-    auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+    auto difference = imageio::compare_images(base::to_rgba_f(frame.image), *expected);
     ASSERT_TRUE(difference.ok());
     EXPECT_GT(difference->psnr, 45.0);
 

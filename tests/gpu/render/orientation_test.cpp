@@ -7,7 +7,7 @@
 
 #include "dicom_writer.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 
@@ -131,7 +131,7 @@ scene::FrameRequest head_request(scene::Mode mode, const scene::Camera& camera, 
 }
 
 double rms(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
-    auto difference = encode::compare_images(a, b);
+    auto difference = imageio::compare_images(a, b);
     EXPECT_TRUE(difference.ok());
     return difference.ok() ? difference->rms_error : 1.0;
 }

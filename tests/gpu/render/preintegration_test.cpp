@@ -9,10 +9,10 @@
 #include "synthetic_volumes.hpp"
 #include "transfer_function_texture.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/gpu/commands.hpp>
 #include <penumbra/gpu/context.hpp>
 #include <penumbra/gpu/shader_library.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/optics/preintegration.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/reference/volume_sampler.hpp>
@@ -172,10 +172,10 @@ protected:
         return frame.ok() ? base::to_rgba_f(frame->image) : base::ImageRgbaF(1, 1);
     }
 
-    static encode::ImageDifference compare(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
-        auto difference = encode::compare_images(a, b);
+    static imageio::ImageDifference compare(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
+        auto difference = imageio::compare_images(a, b);
         EXPECT_TRUE(difference.ok());
-        return difference.ok() ? *difference : encode::ImageDifference{};
+        return difference.ok() ? *difference : imageio::ImageDifference{};
     }
 
     std::unique_ptr<Renderer> renderer_;
@@ -304,7 +304,7 @@ TEST_F(PreintegrationTest, FrontEqualToBackGivesThePerSampleImageExactly) {
                     "visible", {{0.0, {0.9, 0.6, 0.3}}}, {{0.0, 0.05}, {1.0, 0.5}}};
             const base::ImageRgbaF per_sample = render(request);
             request.settings.preintegration = true;
-            const encode::ImageDifference difference = compare(render(request), per_sample);
+            const imageio::ImageDifference difference = compare(render(request), per_sample);
             EXPECT_EQ(difference.max_error, 0.0);
         }
     }
@@ -330,7 +330,7 @@ TEST_F(PreintegrationTest, GpuMatchesCpuReference) {
                                          {{0.0, 0.0}, {0.45, 0.0}, {0.5, 0.9}, {1.0, 0.9}}};
             auto expected = reference::render_cpu(*volume_, request);
             ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-            const encode::ImageDifference difference = compare(render(request), *expected);
+            const imageio::ImageDifference difference = compare(render(request), *expected);
             EXPECT_LE(difference.max_error, 3.0 / 255.0);
             EXPECT_LE(difference.mean_error, 0.6 / 255.0);
         }

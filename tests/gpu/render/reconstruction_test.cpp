@@ -3,7 +3,7 @@
 // volume of thick slices seen through a steep transfer function it smooths the terraces the
 // trilinear filter leaves, one per slice, coming closer to a rendering of finely sampled data.
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/render/renderer.hpp>
 
 #include <glm/geometric.hpp>
@@ -146,8 +146,8 @@ TEST_F(ThickSlices, TricubicSmoothsTheTerracesOfThickSlices) {
     const double rough_truth = vertical_roughness(truth, all);
     const double rough_trilinear = vertical_roughness(trilinear, all);
     const double rough_tricubic = vertical_roughness(tricubic, all);
-    auto trilinear_error = encode::compare_images(trilinear, truth);
-    auto tricubic_error = encode::compare_images(tricubic, truth);
+    auto trilinear_error = imageio::compare_images(trilinear, truth);
+    auto tricubic_error = imageio::compare_images(tricubic, truth);
     ASSERT_TRUE(trilinear_error.ok() && tricubic_error.ok());
     RecordProperty("roughness_truth", std::to_string(rough_truth));
     RecordProperty("roughness_trilinear", std::to_string(rough_trilinear));

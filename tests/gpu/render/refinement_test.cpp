@@ -4,7 +4,7 @@
 
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 
@@ -62,8 +62,8 @@ protected:
     }
 
     static double rms(const Frame& frame, const Frame& reference) {
-        auto difference = encode::compare_images(base::to_rgba_f(frame.image),
-                                                 base::to_rgba_f(reference.image));
+        auto difference = imageio::compare_images(base::to_rgba_f(frame.image),
+                                                  base::to_rgba_f(reference.image));
         EXPECT_TRUE(difference.ok());
         return difference.ok() ? difference->rms_error : 1.0;
     }

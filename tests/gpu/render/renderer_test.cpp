@@ -5,8 +5,8 @@
 #include "dicom_writer.hpp"
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 
@@ -66,7 +66,7 @@ protected:
         auto expected = reference::render_cpu(volume, request);
         ASSERT_TRUE(expected.ok()) << expected.error().to_string();
         const base::ImageRgbaF actual = base::to_rgba_f(frame.image);
-        auto difference = encode::compare_images(actual, *expected);
+        auto difference = imageio::compare_images(actual, *expected);
         ASSERT_TRUE(difference.ok());
         const bool ok = difference->max_error <= tolerance.max_error &&
                         difference->mean_error <= tolerance.mean_error;
@@ -118,8 +118,8 @@ TEST_F(RendererTest, FragmentStageGivesTheComputeImage) {
     request.settings.stage = scene::RaycastStage::fragment;
     const Frame fragment = render(volume, request);
     EXPECT_EQ(fragment.report.stage, "fragment");
-    auto difference =
-            encode::compare_images(base::to_rgba_f(compute.image), base::to_rgba_f(fragment.image));
+    auto difference = imageio::compare_images(base::to_rgba_f(compute.image),
+                                              base::to_rgba_f(fragment.image));
     ASSERT_TRUE(difference.ok());
     EXPECT_LE(difference->max_error, 1.0 / 255.0 + 1e-6);
 }

@@ -5,7 +5,7 @@
 #include "receiver_scene.hpp"
 #include "synthetic_volumes.hpp"
 
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 #include <penumbra/reference/cpu_renderer.hpp>
 #include <penumbra/render/renderer.hpp>
 
@@ -39,7 +39,7 @@ protected:
     }
 
     double error_against(const Frame& frame, const base::ImageRgbaF& reference) {
-        auto difference = encode::compare_images(base::to_rgba_f(frame.image), reference);
+        auto difference = imageio::compare_images(base::to_rgba_f(frame.image), reference);
         EXPECT_TRUE(difference.ok());
         return difference.ok() ? difference->rms_error : 1.0;
     }
@@ -177,7 +177,7 @@ TEST_F(ShadowTest, GpuReferenceMatchesCpuReference) {
         const Frame frame = render(request);
         auto expected = reference::render_cpu(volume, request);
         ASSERT_TRUE(expected.ok()) << expected.error().to_string();
-        auto difference = encode::compare_images(base::to_rgba_f(frame.image), *expected);
+        auto difference = imageio::compare_images(base::to_rgba_f(frame.image), *expected);
         ASSERT_TRUE(difference.ok());
         EXPECT_LE(difference->max_error, 3.0 / 255.0);
         EXPECT_LE(difference->mean_error, 0.6 / 255.0);

@@ -28,6 +28,7 @@ enum class ErrorCode {
     gl_error,
     gl_unavailable,
     gpu_out_of_memory,
+    image_io_unavailable,
     image_too_small,
     inconsistent_series,
     internal_error,
@@ -93,7 +94,7 @@ enum class ErrorCode {
     write_failed,
 };
 
-inline constexpr std::array<EnumName<ErrorCode>, 78> kErrorCodeNames{{
+inline constexpr std::array<EnumName<ErrorCode>, 79> kErrorCodeNames{{
         {ErrorCode::bad_data, "bad_data"},
         {ErrorCode::bad_file_name, "bad_file_name"},
         {ErrorCode::bad_header, "bad_header"},
@@ -109,6 +110,7 @@ inline constexpr std::array<EnumName<ErrorCode>, 78> kErrorCodeNames{{
         {ErrorCode::gl_error, "gl_error"},
         {ErrorCode::gl_unavailable, "gl_unavailable"},
         {ErrorCode::gpu_out_of_memory, "gpu_out_of_memory"},
+        {ErrorCode::image_io_unavailable, "image_io_unavailable"},
         {ErrorCode::image_too_small, "image_too_small"},
         {ErrorCode::inconsistent_series, "inconsistent_series"},
         {ErrorCode::internal_error, "internal_error"},

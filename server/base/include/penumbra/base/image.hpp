@@ -1,5 +1,7 @@
 #pragma once
 
+#include <penumbra/base/result.hpp>
+
 #include <cstdint>
 #include <vector>
 
@@ -46,5 +48,10 @@ struct ImageRgbaF {
 ImageRgba8 to_rgba8(const ImageRgbaF& image);
 
 ImageRgbaF to_rgba_f(const ImageRgba8& image);
+
+// How much an 8-bit frame changed from `before` to `after`: the RMS difference over the RGB
+// channels, in 8-bit levels (what ends a still's refinement), computed on the bytes themselves
+// (it runs on the frame path, after every refinement step). Errors: size_mismatch.
+Result<double> change_in_levels(const ImageRgba8& before, const ImageRgba8& after);
 
 }  // namespace penumbra::base

@@ -2,7 +2,7 @@
 
 // `penumbra bench encode`: what a frame costs to encode, the codec libraries themselves
 // (TurboJPEG, libpng: encode::encode_image) against the OpenImageIO writers frames went through
-// before (encode::encode_image_openimageio), side by side in one run on rendered frames.
+// before (imageio::encode_image_openimageio), side by side in one run on rendered frames.
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>

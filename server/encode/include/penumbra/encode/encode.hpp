@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,6 +21,9 @@ enum class ImageFormat { png, jpeg };
 inline constexpr int kMinJpegQuality = 1;
 inline constexpr int kMaxJpegQuality = 100;
 
+// Errors: encode_failed for an empty image, invalid_value for a quality out of range.
+base::Status check_encodable(const base::ImageRgba8& image, int jpeg_quality);
+
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is within
@@ -30,20 +32,8 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality = 90);
 
-// The same through OpenImageIO's writers (an RGB copy, then libjpeg or libpng behind OIIO's
-// ImageOutput), as frames were encoded before: kept as the baseline `penumbra bench encode`
-// measures the codec libraries against.
-base::Result<std::vector<std::uint8_t>> encode_image_openimageio(const base::ImageRgba8& image,
-                                                                 ImageFormat format,
-                                                                 int jpeg_quality = 90);
-
-// Decodes PNG or JPEG bytes (tests, and clients written in C++) into RGBA with alpha 255.
-base::Result<base::ImageRgba8> decode_image(std::span<const std::uint8_t> bytes);
-
-// Writes the image to a .png, .jpg or .jpeg file.
+// Writes the image to a .png, .jpg or .jpeg file through the same encoders.
 base::Status write_image(const std::filesystem::path& path, const base::ImageRgba8& image,
                          int jpeg_quality = 90);
-
-base::Result<base::ImageRgba8> read_image(const std::filesystem::path& path);
 
 }  // namespace penumbra::encode

@@ -13,7 +13,9 @@
 #include <penumbra/volume/volume.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +43,8 @@ struct Errors {
     double ssim = 1.0;
 };
 
-// RMSE and PSNR over RGB, SSIM on luma.
+// RMSE and PSNR over RGB, SSIM on luma; NaN each (not measured) in a build without image
+// comparison (imageio::available()), where a sweep only times its frames.
 base::Result<Errors> errors_against(const base::ImageRgbaF& reference,
                                     const base::ImageRgba8& image);
 
@@ -113,7 +116,14 @@ struct Sweep {
     // always measured), each a point of its own.
     std::vector<int> refinement_steps;
     int repeat = 3;
+    // Each point's image written here as PNG (point_image_name), to be looked at or compared
+    // elsewhere: what a build without image comparison measures besides the times.
+    std::optional<std::filesystem::path> images;
 };
+
+// The file a point's image is written to in Sweep::images: every field that tells two points of
+// a sweep apart, e.g. "ch2_nii_gz-az10-el45-sbrc-n128-r256-d0.0039-skip-jitter-k4.png".
+std::string point_image_name(const Point& p);
 
 // One setting of a sweep, measured at every sample distance against the references. A new
 // dimension of the sweep is a list in Sweep, a field here, and its loop in sweep_settings.

@@ -3,7 +3,10 @@
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
 
-namespace penumbra::encode {
+namespace penumbra::imageio {
+
+// Comparing images: OpenImageIO's for differences and resampling (a build without OpenImageIO
+// returns image_io_unavailable from those, imageio.hpp), SSIM written here (OpenImageIO has none).
 
 // Differences over the RGB channels, values in [0, 1]. PSNR is in dB with peak 1 (infinite for
 // identical images).
@@ -15,12 +18,6 @@ struct ImageDifference {
 };
 
 base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
-
-// How much an 8-bit frame changed from `before` to `after`: the RMS difference over the RGB
-// channels, in 8-bit levels (what ends a still's refinement), computed on the bytes themselves
-// (no OpenImageIO on the frame path). Errors: size_mismatch.
-base::Result<double> change_in_levels(const base::ImageRgba8& before,
-                                      const base::ImageRgba8& after);
 
 // The image stretched (or shrunk) to width x height by bilinear interpolation at pixel centres, as
 // a browser draws a smaller frame on a larger canvas: how an interactive frame, rendered at half
@@ -47,4 +44,4 @@ struct SsimParameters {
 // Errors: size_mismatch, image_too_small (a side below the window's 11 pixels).
 base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b);
 
-}  // namespace penumbra::encode
+}  // namespace penumbra::imageio

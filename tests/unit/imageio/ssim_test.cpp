@@ -1,11 +1,11 @@
-#include <penumbra/encode/compare.hpp>
+#include <penumbra/imageio/compare.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 
-namespace penumbra::encode {
+namespace penumbra::imageio {
 namespace {
 
 constexpr double c1 = 0.01 * 0.01;  // (K1 L)^2, L = 1
@@ -175,4 +175,4 @@ TEST(Ssim, RejectsMismatchedAndTooSmallImages) {
 }
 
 }  // namespace
-}  // namespace penumbra::encode
+}  // namespace penumbra::imageio

@@ -1,26 +1,14 @@
-#include "penumbra/encode/compare.hpp"
-
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
-#include <limits>
 #include <string>
 #include <vector>
 
-namespace penumbra::encode {
-namespace {
+#include "penumbra/imageio/compare.hpp"
 
-OIIO::ImageBuf wrap_rgb(const base::ImageRgbaF& image) {
-    OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
-    OIIO::ImageBuf rgba(spec, const_cast<float*>(image.pixels.data()));
-    // Compare colour only: frames are opaque, alpha carries no information.
-    return OIIO::ImageBufAlgo::channels(rgba, 3, {});
-}
+namespace penumbra::imageio {
+namespace {
 
 using Kernel = std::array<double, SsimParameters::window>;
 
@@ -88,60 +76,6 @@ std::vector<double> filter_valid(const std::vector<double>& values, int width, i
 
 }  // namespace
 
-base::Result<ImageDifference> compare_images(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
-    if (a.width != b.width || a.height != b.height) {
-        return base::make_error(base::ErrorCode::size_mismatch, "images differ in size", "compare");
-    }
-    const OIIO::ImageBuf rgb_a = wrap_rgb(a);
-    const OIIO::ImageBuf rgb_b = wrap_rgb(b);
-    const auto result = OIIO::ImageBufAlgo::compare(rgb_a, rgb_b, 1.0f, 1.0f);
-    ImageDifference difference;
-    difference.mean_error = result.meanerror;
-    difference.rms_error = result.rms_error;
-    difference.max_error = result.maxerror;
-    difference.psnr =
-            result.rms_error > 0.0 ? result.PSNR : std::numeric_limits<double>::infinity();
-    return difference;
-}
-
-base::Result<double> change_in_levels(const base::ImageRgba8& before,
-                                      const base::ImageRgba8& after) {
-    // On the frame path (every refinement step): the bytes as they are, no float copies.
-    if (before.width != after.width || before.height != after.height) {
-        return base::make_error(base::ErrorCode::size_mismatch, "images differ in size",
-                                "change_in_levels");
-    }
-    std::uint64_t squares = 0;
-    for (std::size_t i = 0; i < before.pixels.size(); i += 4) {
-        for (std::size_t c = 0; c < 3; ++c) {
-            const int d = int{before.pixels[i + c]} - int{after.pixels[i + c]};
-            squares += static_cast<std::uint64_t>(d * d);
-        }
-    }
-    const std::size_t values = before.pixels.size() / 4 * 3;
-    return values == 0 ? 0.0
-                       : std::sqrt(static_cast<double>(squares) / static_cast<double>(values));
-}
-
-base::Result<base::ImageRgba8> stretched(const base::ImageRgba8& image, int width, int height) {
-    if (width < 1 || height < 1 || image.width < 1 || image.height < 1) {
-        return base::make_error(base::ErrorCode::invalid_argument,
-                                "cannot stretch " + std::to_string(image.width) + "x" +
-                                        std::to_string(image.height) + " to " +
-                                        std::to_string(width) + "x" + std::to_string(height),
-                                "stretched");
-    }
-    const OIIO::ImageSpec from(image.width, image.height, 4, OIIO::TypeDesc::UINT8);
-    const OIIO::ImageBuf source(from, const_cast<std::uint8_t*>(image.pixels.data()));
-    base::ImageRgba8 result(width, height);
-    OIIO::ImageBuf target(OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::UINT8),
-                          result.pixels.data());
-    if (!OIIO::ImageBufAlgo::resample(target, source, /*interpolate=*/true)) {
-        return base::make_error(base::ErrorCode::internal_error, target.geterror(), "stretched");
-    }
-    return result;
-}
-
 base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b) {
     if (a.width != b.width || a.height != b.height) {
         return base::make_error(base::ErrorCode::size_mismatch, "images differ in size", "ssim");
@@ -191,4 +125,4 @@ base::Result<double> ssim(const base::ImageRgbaF& a, const base::ImageRgbaF& b) 
     return sum / static_cast<double>(mu_x.size());
 }
 
-}  // namespace penumbra::encode
+}  // namespace penumbra::imageio

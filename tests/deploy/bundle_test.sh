@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# The portable bundle (scripts/bundle.sh) in a clean root filesystem: Debian 12's debootstrap
+# minbase (scripts/debian-base.sh) with only Mesa's EGL vendor library and its DRI driver added
+# (no libglvnd, no development package, none of Penumbra's libraries), entered with chroot. Inside:
+# ldd finds every library of the binary and of libglvnd's loaders in the bundle, `render` draws a
+# frame on llvmpipe through the bundle's libEGL, `serve` answers `load` (both the bundle's) over
+# WebSocket, and `bench accuracy` writes its images without image comparison.
+# usage: bundle_test.sh SOURCE_DIR WORK_DIR VOLUME
+# Needs root (chroot, mounts) and the Debian mirror (the root and Mesa's packages, made once and
+# kept in $PENUMBRA_DEPLOY_CACHE).
+set -euo pipefail
+source_dir="$1"
+work="$2"
+volume="$3"
+started=$(date +%s)
+step() { echo "[$(($(date +%s) - started)) s] $*"; }
+[ "$(id -u)" = 0 ] || { echo "bundle test: needs root (chroot)" >&2; exit 1; }
+
+root="$work/root"
+cleanup() {
+    if [ -n "${server:-}" ]; then
+        kill "$server" 2>/dev/null || true
+        wait "$server" 2>/dev/null || true
+    fi
+    for mount in proc dev; do
+        if mountpoint -q "$root/$mount"; then
+            umount -l "$root/$mount" || true
+        fi
+    done
+}
+trap cleanup EXIT
+if [ -d "$root" ]; then
+    cleanup
+fi
+rm -rf "$work"
+mkdir -p "$work"
+
+step "the bundle"
+bash "$source_dir/scripts/bundle.sh" "$work/penumbra.tar.xz" > "$work/bundle.log" 2>&1 \
+    || { tail -n 30 "$work/bundle.log" >&2; exit 1; }
+tail -n 1 "$work/bundle.log"
+
+step "the clean root: Debian 12 minbase with Mesa's EGL vendor library"
+cache="${PENUMBRA_DEPLOY_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/penumbra/deploy}"
+mesa_root="$cache/debian-12-minbase-mesa-egl.tar"
+if [ ! -s "$mesa_root" ]; then
+    base=$(bash "$source_dir/scripts/debian-base.sh" "$work")
+    mkdir -p "$root"
+    tar -C "$root" -xf "$base"
+    cp /etc/resolv.conf "$root/etc/resolv.conf"
+    chroot "$root" apt-get update -qq > "$work/apt.log" 2>&1
+    # Mesa's EGL vendor library and the driver llvmpipe lives in; libglvnd (libegl1) is not
+    # installed: the bundle's loaders must do.
+    DEBIAN_FRONTEND=noninteractive chroot "$root" apt-get install -y -qq --no-install-recommends \
+        libegl-mesa0 libgl1-mesa-dri >> "$work/apt.log" 2>&1 \
+        || { tail -n 20 "$work/apt.log" >&2; exit 1; }
+    chroot "$root" apt-get clean
+    rm -rf "$root"/var/lib/apt/lists/*
+    tar -C "$root" -cf "$mesa_root.tmp" .
+    mv "$mesa_root.tmp" "$mesa_root"
+    rm -rf "$root"
+fi
+mkdir -p "$root"
+tar -C "$root" -xf "$mesa_root"
+for package in libegl1 libopengl0 libglvnd0 libepoxy0 libdcmtk17 libturbojpeg0; do
+    if chroot "$root" dpkg-query -W -f '${Status}' "$package" 2>/dev/null | grep -q installed; then
+        echo "bundle test: the clean root has $package" >&2
+        exit 1
+    fi
+done
+mount --bind /proc "$root/proc"
+mount --bind /dev "$root/dev"
+tar -C "$root/opt" -xJf "$work/penumbra.tar.xz"
+mkdir -p "$root/data"
+cp "$volume" "$root/data/"
+penumbra=/opt/penumbra/bin/penumbra
+inside() { chroot "$root" "$@"; }
+
+step "ldd inside: every library in the bundle but glibc's"
+for file in "$penumbra" /opt/penumbra/lib/libEGL.so.1 /opt/penumbra/lib/libOpenGL.so.0; do
+    inside ldd "$file" > "$work/ldd.txt"
+    if grep -q "not found" "$work/ldd.txt"; then
+        echo "bundle test: $file:" >&2
+        cat "$work/ldd.txt" >&2
+        exit 1
+    fi
+    outside=$(awk '/=> \// && $3 !~ "^/opt/penumbra/" {print $1}' "$work/ldd.txt" \
+        | grep -Ev '^(libc|libm|libdl|libpthread|librt)\.so' || true)
+    if [ -n "$outside" ]; then
+        echo "bundle test: $file finds outside the bundle: $outside" >&2
+        exit 1
+    fi
+done
+echo "ldd:      $(grep -c "=> /opt/penumbra/" "$work/ldd.txt" || true) of libOpenGL's and $(inside ldd "$penumbra" | grep -c "=> /opt/penumbra/") of penumbra's libraries from the bundle"
+
+step "render a frame"
+inside "$penumbra" render --volume "/data/$(basename "$volume")" --mode sbrc --size 64x64 \
+    --out /tmp/frame.png > "$work/render.log" 2>&1 || { cat "$work/render.log" >&2; exit 1; }
+grep -E "^(gl|renderer|device):" "$work/render.log" || true
+grep -qi "llvmpipe" "$work/render.log" \
+    || { echo "bundle test: render does not say it drew on llvmpipe" >&2; cat "$work/render.log" >&2; exit 1; }
+test -s "$root/tmp/frame.png"
+cp "$root/tmp/frame.png" "$work/frame.png"
+
+step "serve, and load over WebSocket"
+# `load` asks for frames as fast as they come, two requests each: the per-connection rate limit
+# would answer some with rate_limited on a fast machine.
+inside "$penumbra" serve --port 0 --data /data --no-quality-measure --max-requests-per-second 10000 \
+    > "$work/serve.log" 2>&1 &
+server=$!
+for _ in $(seq 1 300); do
+    grep -q "^serving:" "$work/serve.log" && break
+    kill -0 "$server" 2>/dev/null || { cat "$work/serve.log" >&2; exit 1; }
+    sleep 0.2
+done
+port=$(sed -n 's|^serving: *http://[^:]*:\([0-9]*\)/.*|\1|p' "$work/serve.log")
+[ -n "$port" ] || { cat "$work/serve.log" >&2; exit 1; }
+inside "$penumbra" load --port "$port" --volume "$(basename "$volume")" --clients 2 --seconds 3 \
+    --size 64 > "$work/load.log" 2>&1 || { cat "$work/load.log" "$work/serve.log" >&2; exit 1; }
+cat "$work/load.log"
+/usr/bin/python3 - "$work/load.log" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+frames = re.search(r"^frames: +(\d+) ", text, re.M)
+errors = re.search(r"errors (\d+)", text)
+if not frames or int(frames.group(1)) == 0:
+    sys.exit("bundle test: load received no frames")
+if not errors or int(errors.group(1)) != 0:
+    sys.exit("bundle test: load saw errors")
+PY
+kill "$server"
+wait "$server" 2>/dev/null || true
+server=""
+grep -q "session: closed" "$work/serve.log"
+
+step "bench accuracy writes its images"
+inside "$penumbra" bench accuracy --volumes "/data/$(basename "$volume")" --modes dvr,sbrc \
+    --size 32x32 --sample-distances 0.0078125 --slices-list 32 --light-res-list 32 --repeat 1 \
+    --images /tmp/accuracy > "$work/accuracy.log" 2>&1 || { cat "$work/accuracy.log" >&2; exit 1; }
+grep -q "without OpenImageIO" "$work/accuracy.log"
+images=$(ls "$root/tmp/accuracy"/*.png | wc -l)
+[ "$images" -eq 3 ] || { echo "bundle test: $images images from bench accuracy, not 3" >&2; exit 1; }
+step "bundle test passed: $(tail -n 1 "$work/bundle.log" | sed 's/^bundle: //')"
