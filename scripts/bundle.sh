@@ -6,10 +6,12 @@
 # NVIDIA driver's, which a bare GPU host has even without libglvnd, since the bundle carries
 # libglvnd's loaders (libEGL, libOpenGL, libGLdispatch).
 #   bash scripts/bundle.sh OUT.tar.xz
-# Unpacked, `penumbra/bin/penumbra` runs as it is; `penumbra/BUNDLE.txt` lists what is inside.
+# Unpacked, `penumbra/bin/penumbra` runs as it is; `penumbra/BUNDLE.txt` lists what is inside, and
+# `penumbra/gpu-bench.sh` (scripts/gpu-bench.sh) measures a GPU host with it.
 # Needs what scripts/install-deps.sh installs (its build and deploy groups); builds the web client
 # first where it is missing.
 set -euo pipefail
+unset LD_LIBRARY_PATH  # ldd must see what the loader finds without it
 out="$(realpath -m "${1:?usage: bundle.sh OUT.tar.xz}")"
 cd "$(dirname "$0")/.."
 most_bytes=$((60 * 1024 * 1024))
@@ -25,6 +27,17 @@ trap 'rm -rf "$stage"' EXIT
 root="$stage/penumbra"
 cmake --install build/bundle --prefix "$root" --strip > /dev/null
 mkdir -p "$root/lib"
+# The GPU host's one script, and a volume to serve and measure: Colin27's MRI head from Debian's
+# mricron-data, with its copyright file.
+cp scripts/gpu-bench.sh "$root/gpu-bench.sh"
+templates=/usr/share/mricron/templates
+if [ -f "$templates/ch2.nii.gz" ]; then
+    mkdir -p "$root/share/penumbra/volumes"
+    cp "$templates/ch2.nii.gz" "$root/share/penumbra/volumes/"
+    cp /usr/share/doc/mricron-data/copyright "$root/share/penumbra/volumes/ch2.copyright"
+else
+    echo "bundle: no $templates/ch2.nii.gz (mricron-data): the bundle carries no volume" >&2
+fi
 
 # The C library (glibc's parts, which must match the host's dynamic loader) and the GL vendor
 # drivers (the host's: Mesa or NVIDIA) stay the host's.
@@ -59,14 +72,16 @@ for loader in "${loaders[@]}"; do
     copy_closure "$path"
 done
 strip --strip-unneeded "$root"/lib/*.so*
-# Each library finds its neighbours by itself, also when it is opened rather than linked (libepoxy
-# opening libEGL, libEGL its libGLdispatch).
+# Each library finds its neighbours by itself (RUNPATH $ORIGIN), also when it is opened rather than
+# linked (libepoxy opening libEGL, libEGL its libGLdispatch).
 for library in "$root"/lib/*.so*; do
     patchelf --set-rpath '$ORIGIN' "$library"
 done
 
-# Every library found inside: the executable's RPATH ($ORIGIN/../lib, inherited by what it loads)
-# must resolve each one there, none on the host but those left to it.
+# Every library found inside: the executable's RUNPATH ($ORIGIN/../lib) and each library's
+# ($ORIGIN) must resolve each one there, none on the host but those left to it. RUNPATH, not the
+# older RPATH: a host's own libraries (its EGL vendor's) keep finding theirs on the host, and
+# LD_LIBRARY_PATH still wins where a host sets it to its driver's libglvnd.
 check_inside() {
     local file="$1"
     ldd "$file" | awk '/=> \// {print $1, $3}' | while read -r name path; do
@@ -84,7 +99,8 @@ check_inside "$root/bin/penumbra"
     echo
     echo "bin/penumbra: serve, render, load, info, bench (image comparison left out: bench accuracy"
     echo "  times frames and writes them with --images; errors and truths need a full build)"
-    echo "share/penumbra: shaders, web client, accuracy tables, plot scripts"
+    echo "share/penumbra: shaders, web client, accuracy tables, plot scripts, volumes/ch2.nii.gz"
+    echo "gpu-bench.sh: every GPU figure in one go: bash penumbra/gpu-bench.sh penumbra OUTDIR"
     echo "lib: the shared libraries it needs, found through \$ORIGIN; the host supplies glibc and"
     echo "  the EGL vendor library (Mesa's libEGL_mesa.so.0 or NVIDIA's libEGL_nvidia.so.0 with its"
     echo "  glvnd vendor file; __EGL_VENDOR_LIBRARY_FILENAMES picks one)"

@@ -11,7 +11,11 @@ tarball="$cache/debian-12-minbase.tar"
 if [ ! -s "$tarball" ]; then
     command -v debootstrap >/dev/null || { echo "debian-base: debootstrap is missing: run scripts/install-deps.sh" >&2; exit 1; }
     mkdir -p "$cache"
-    work="${1:-$(mktemp -d)}"
+    work="${1:-}"
+    if [ -z "$work" ]; then
+        work=$(mktemp -d)
+        trap 'rm -rf --one-file-system "$work"' EXIT
+    fi
     mkdir -p "$work"
     rootfs="$work/rootfs"
     rm -rf "$rootfs"
@@ -23,6 +27,6 @@ if [ ! -s "$tarball" ]; then
     rm -rf "$rootfs"/var/lib/apt/lists/*
     tar -C "$rootfs" -cf "$tarball.tmp" .
     mv "$tarball.tmp" "$tarball"
-    rm -rf "$rootfs"
+    rm -rf --one-file-system "$rootfs"
 fi
 echo "$tarball"

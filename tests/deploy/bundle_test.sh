@@ -17,22 +17,26 @@ step() { echo "[$(($(date +%s) - started)) s] $*"; }
 [ "$(id -u)" = 0 ] || { echo "bundle test: needs root (chroot)" >&2; exit 1; }
 
 root="$work/root"
-cleanup() {
-    if [ -n "${server:-}" ]; then
+# The rest runs in a mount namespace of its own: the root's /proc and /dev go with it however it
+# ends (a CTest timeout kills it), so nothing can ever delete through them.
+if [ -z "${PENUMBRA_BUNDLE_TEST_NAMESPACE:-}" ]; then
+    exec env PENUMBRA_BUNDLE_TEST_NAMESPACE=1 unshare --mount --propagation private \
+        bash "$0" "$@"
+fi
+server=""
+stop_server() {
+    if [ -n "$server" ]; then
         kill "$server" 2>/dev/null || true
         wait "$server" 2>/dev/null || true
+        server=""
     fi
-    for mount in proc dev; do
-        if mountpoint -q "$root/$mount"; then
-            umount -l "$root/$mount" || true
-        fi
-    done
 }
-trap cleanup EXIT
-if [ -d "$root" ]; then
-    cleanup
+trap stop_server EXIT
+if [ -d "$work" ] && findmnt -rn -o TARGET | grep -q "^$work/"; then
+    echo "bundle test: something is mounted under $work; unmount it first" >&2
+    exit 1
 fi
-rm -rf "$work"
+rm -rf --one-file-system "$work"
 mkdir -p "$work"
 
 step "the bundle"
@@ -58,7 +62,7 @@ if [ ! -s "$mesa_root" ]; then
     rm -rf "$root"/var/lib/apt/lists/*
     tar -C "$root" -cf "$mesa_root.tmp" .
     mv "$mesa_root.tmp" "$mesa_root"
-    rm -rf "$root"
+    rm -rf --one-file-system "$root"
 fi
 mkdir -p "$root"
 tar -C "$root" -xf "$mesa_root"
@@ -68,8 +72,13 @@ for package in libegl1 libopengl0 libglvnd0 libepoxy0 libdcmtk17 libturbojpeg0; 
         exit 1
     fi
 done
-mount --bind /proc "$root/proc"
-mount --bind /dev "$root/dev"
+# A /proc of its own and a /dev with only what the binary and Mesa open (llvmpipe needs no device).
+mount -t proc proc "$root/proc"
+mount -t tmpfs -o mode=755,size=1m tmpfs "$root/dev"
+for node in "null 1 3" "zero 1 5" "random 1 8" "urandom 1 9"; do
+    set -- $node
+    mknod -m 666 "$root/dev/$1" c "$2" "$3"
+done
 tar -C "$root/opt" -xJf "$work/penumbra.tar.xz"
 mkdir -p "$root/data"
 cp "$volume" "$root/data/"
@@ -105,8 +114,9 @@ cp "$root/tmp/frame.png" "$work/frame.png"
 step "serve, and load over WebSocket"
 # `load` asks for frames as fast as they come, two requests each: the per-connection rate limit
 # would answer some with rate_limited on a fast machine.
-inside "$penumbra" serve --port 0 --data /data --no-quality-measure --max-requests-per-second 10000 \
-    > "$work/serve.log" 2>&1 &
+# chroot itself in the background (not a function's subshell), so that $! is the server.
+chroot "$root" "$penumbra" serve --port 0 --data /data --no-quality-measure \
+    --max-requests-per-second 10000 > "$work/serve.log" 2>&1 &
 server=$!
 for _ in $(seq 1 300); do
     grep -q "^serving:" "$work/serve.log" && break
@@ -128,9 +138,7 @@ if not frames or int(frames.group(1)) == 0:
 if not errors or int(errors.group(1)) != 0:
     sys.exit("bundle test: load saw errors")
 PY
-kill "$server"
-wait "$server" 2>/dev/null || true
-server=""
+stop_server
 grep -q "session: closed" "$work/serve.log"
 
 step "bench accuracy writes its images"
@@ -138,6 +146,18 @@ inside "$penumbra" bench accuracy --volumes "/data/$(basename "$volume")" --mode
     --size 32x32 --sample-distances 0.0078125 --slices-list 32 --light-res-list 32 --repeat 1 \
     --images /tmp/accuracy > "$work/accuracy.log" 2>&1 || { cat "$work/accuracy.log" >&2; exit 1; }
 grep -q "without OpenImageIO" "$work/accuracy.log"
-images=$(ls "$root/tmp/accuracy"/*.png | wc -l)
+images=$(find "$root/tmp/accuracy" -name '*.png' | wc -l)
 [ "$images" -eq 3 ] || { echo "bundle test: $images images from bench accuracy, not 3" >&2; exit 1; }
+
+step "gpu-bench.sh --quick, as on a bare GPU host, on the bundle's own volume"
+inside bash /opt/penumbra/gpu-bench.sh /opt/penumbra /tmp/gpu-bench --quick > "$work/gpu-bench.log" 2>&1 \
+    || { cat "$work/gpu-bench.log" >&2; exit 1; }
+cp -r "$root/tmp/gpu-bench" "$work/gpu-bench"
+cat "$work/gpu-bench/summary.txt"
+for file in host.txt stills/sbrc.png stills/reference.png modes-64.csv modes-96.csv \
+        modes-64-fragment.csv load-sbrc-2.txt; do
+    test -s "$work/gpu-bench/$file" || { echo "bundle test: gpu-bench wrote no $file" >&2; exit 1; }
+done
+grep -Eq "^  sbrc +[0-9.]+ " "$work/gpu-bench/summary.txt" \
+    || { echo "bundle test: gpu-bench's summary has no sbrc time" >&2; exit 1; }
 step "bundle test passed: $(tail -n 1 "$work/bundle.log" | sed 's/^bundle: //')"

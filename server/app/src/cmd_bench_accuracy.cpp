@@ -235,6 +235,14 @@ base::Result<scene::FrameRequest> base_request(const po::variables_map& a,
 
 // Measures the sweep the options ask for and reports its table.
 int measure(const po::variables_map& a, const AccuracyReport& report) {
+    if (!imageio::available() && (report.json || report.plot)) {
+        // Refused before measuring: report_accuracy would refuse them after the whole sweep.
+        return usage_error(base::make_error(base::ErrorCode::image_io_unavailable,
+                                            "this penumbra was built without OpenImageIO: it "
+                                            "times frames and writes them (--csv, --images) but "
+                                            "cannot measure the errors --json and --plot rank by",
+                                            report.json ? "--json" : "--plot"));
+    }
     auto renderer =
             render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
     if (!renderer) {
@@ -249,14 +257,6 @@ int measure(const po::variables_map& a, const AccuracyReport& report) {
     auto sweep = make_sweep(spec_from(a, *accuracy_case), defaults);
     if (!sweep) {
         return usage_error(sweep.error());
-    }
-    if (!imageio::available() && (report.json || report.plot)) {
-        // Refused before measuring: report_accuracy would refuse them after the whole sweep.
-        return usage_error(base::make_error(base::ErrorCode::image_io_unavailable,
-                                            "this penumbra was built without OpenImageIO: it "
-                                            "times frames and writes them (--csv, --images) but "
-                                            "cannot measure the errors --json and --plot rank by",
-                                            report.json ? "--json" : "--plot"));
     }
     if (a.count("images") != 0) {
         sweep->images = a["images"].as<std::string>();

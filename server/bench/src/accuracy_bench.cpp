@@ -77,8 +77,9 @@ base::Status bench_accuracy(render::Renderer& renderer, const quality::Sweep& sw
 base::Status report_accuracy(const quality::Table& table, const AccuracyReport& report,
                              std::FILE* out) {
     // A build without image comparison measures times only (errors NaN): nothing to rank by.
-    const bool compared = std::none_of(table.points.begin(), table.points.end(),
-                                       [](const quality::Point& p) { return std::isnan(p.psnr); });
+    const bool compared = std::none_of(
+            table.points.begin(), table.points.end(),
+            [](const quality::Point& p) { return std::isnan(p.psnr) || std::isnan(p.psnr_truth); });
     if (!compared && (report.json || report.plot)) {
         return base::make_error(base::ErrorCode::image_io_unavailable,
                                 "--json and --plot rank settings by their errors, which a penumbra "

@@ -5,14 +5,16 @@
 
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <utility>
 
 namespace penumbra::bench {
 namespace {
 
+// NaN, printed "nan", where it cannot be measured (a build without image comparison).
 double psnr(const base::ImageRgba8& image, const base::ImageRgbaF& reference) {
     auto difference = imageio::compare_images(base::to_rgba_f(image), reference);
-    return difference ? difference->psnr : 0.0;
+    return difference ? difference->psnr : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Renders `request`, its wall time in `ms`.

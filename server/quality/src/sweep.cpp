@@ -104,13 +104,13 @@ std::string point_image_name(const Point& p) {
     std::replace_if(
             volume.begin(), volume.end(),
             [](unsigned char c) { return std::isalnum(c) == 0 && c != '-'; }, '_');
-    char name[256];
-    std::snprintf(name, sizeof name, "%s-az%g-el%g-%s-n%d-r%d-d%.6g-%s%s-k%d.png", volume.c_str(),
-                  p.light.azimuth, p.light.elevation, std::string(scene::to_string(p.mode)).c_str(),
-                  p.slices, p.resolution, p.sample_distance,
-                  p.empty_space_skipping ? "skip" : "noskip", p.jitter ? "-jitter" : "",
-                  p.refinement_steps);
-    return name;
+    char light[64];
+    std::snprintf(light, sizeof light, "-az%g-el%g-", p.light.azimuth, p.light.elevation);
+    char grid[96];
+    std::snprintf(grid, sizeof grid, "-n%d-r%d-d%.9g-", p.slices, p.resolution, p.sample_distance);
+    return volume + light + std::string(scene::to_string(p.mode)) + grid +
+           (p.empty_space_skipping ? "skip" : "noskip") + (p.jitter ? "-jitter" : "") + "-k" +
+           std::to_string(p.refinement_steps) + ".png";
 }
 
 namespace {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -86,6 +88,47 @@ TEST(SweepSettings, ApplySetsTheSlicesOnlyWhereTheSettingHasThem) {
     EXPECT_EQ(sbrc.settings.mode, scene::Mode::sbrc);
     EXPECT_EQ(sbrc.settings.light_buffer.slices, 64);
     EXPECT_EQ(sbrc.settings.light_buffer.resolution, 128);
+}
+
+// Sweep::images keeps every point's image under its own name: each field that tells two points
+// apart changes the name, and the volume's file name becomes a safe stem.
+TEST(PointImageName, EveryFieldThatTellsPointsApartChangesTheName) {
+    Point p;
+    p.volume = "ch2.nii.gz";
+    p.light = {10.0, 45.0};
+    p.mode = scene::Mode::sbrc;
+    p.slices = 128;
+    p.resolution = 256;
+    p.sample_distance = 1.0 / 256.0;
+    EXPECT_EQ(point_image_name(p), "ch2_nii_gz-az10-el45-sbrc-n128-r256-d0.00390625-skip-k0.png");
+    std::set<std::string> names{point_image_name(p)};
+    const auto differs = [&](Point q) { return names.insert(point_image_name(q)).second; };
+    Point q = p;
+    q.volume = "ch2bet.nii.gz";
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.light.elevation = 30.0;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.mode = scene::Mode::sbrc_cone;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.slices = 64;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.resolution = 512;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.sample_distance = 1.0 / 2048.0;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.empty_space_skipping = false;
+    EXPECT_TRUE(differs(q));
+    q = p;
+    q.jitter = true;
+    EXPECT_TRUE(differs(q));
+    q.refinement_steps = 4;
+    EXPECT_TRUE(differs(q));
 }
 
 }  // namespace

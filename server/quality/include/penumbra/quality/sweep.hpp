@@ -122,7 +122,7 @@ struct Sweep {
 };
 
 // The file a point's image is written to in Sweep::images: every field that tells two points of
-// a sweep apart, e.g. "ch2_nii_gz-az10-el45-sbrc-n128-r256-d0.0039-skip-jitter-k4.png".
+// a sweep apart, e.g. "ch2-az10-el45-sbrc-n128-r256-d0.00390625-skip-jitter-k4.png".
 std::string point_image_name(const Point& p);
 
 // One setting of a sweep, measured at every sample distance against the references. A new
