@@ -143,7 +143,9 @@ int run_bench_stills(const std::vector<std::string>& args) {
                            "unjittered (as it was before stills converged),\nthe interactive "
                            "frame (half the size and light buffer, twice the step, stretched back "
                            "as the\nbrowser shows it), the first jittered still and the still "
-                           "refined until it stops changing.\nPSNR, SSIM and time (the converged "
+                           "refined until it stops changing, and the unjittered still given the "
+                           "converged one's\ntime as before (its step halved while it fits). "
+                           "PSNR, SSIM and time (the converged "
                            "still's: the still's and all its steps'), the truth at the\n"
                            "interactive size stretched back (what no interactive frame can beat), "
                            "then the default mode's\ntargets met or missed.",

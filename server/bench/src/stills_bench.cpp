@@ -15,9 +15,10 @@ struct Measured {
     base::ImageRgba8 image;
     double ms = 0.0;
     int steps = 0;
+    double sample_distance = 0.0;
 };
 
-// The four frames of one mode on the view `view`, in kStillFrames' order.
+// The frames of one mode on the view `view`, in kStillFrames' order.
 base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::AccuracyBench& bench,
                                                                      scene::FrameRequest view,
                                                                      const StillsConfig& config) {
@@ -44,6 +45,20 @@ base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::Ac
     }
     frames[2] = {std::move(still->still.image), still->still.frame_ms, 0};
     frames[3] = {std::move(still->last.image), still->last.frame_ms, still->steps};
+    // A frame's cost grows with its samples, so each halving of the step doubles it.
+    view.settings.jitter = false;
+    for (double ms = frames[0].ms;
+         2.0 * ms <= frames[3].ms &&
+         view.settings.sample_distance / 2.0 >= scene::setting::sample_distance.min;
+         ms *= 2.0) {
+        view.settings.sample_distance /= 2.0;
+    }
+    auto same_time = bench.frame(view);
+    if (!same_time) {
+        return same_time.error();
+    }
+    frames[4] = {std::move(same_time->image), same_time->frame_ms, 0,
+                 view.settings.sample_distance};
     return frames;
 }
 
@@ -55,12 +70,15 @@ base::Status write_png(const std::filesystem::path& path, const base::ImageRgba8
 
 std::string row_text(const StillsRow& row) {
     char line[160];
-    std::snprintf(line, sizeof line, "  %-11s %-12s %8s %8.4f %9.1f", scene::to_string(row.mode),
+    std::snprintf(line, sizeof line, "  %-11s %-20s %8s %8.4f %9.1f", scene::to_string(row.mode),
                   base::to_string(row.frame), psnr_text(row.errors.psnr).c_str(), row.errors.ssim,
                   row.ms);
     std::string text = line;
     if (row.frame == StillFrame::converged) {
         text += "  after " + std::to_string(row.steps) + " steps";
+    }
+    if (row.frame == StillFrame::unjittered_same_time) {
+        text += "  at step " + distance_label(row.sample_distance);
     }
     return text + "\n";
 }
@@ -120,7 +138,7 @@ base::Status measure_case(render::FrameRenderer& renderer, const StillsConfig& c
         !status) {
         return status;
     }
-    std::fprintf(out, "  %-11s %-12s %8s %8s %9s\n", "mode", "frame", "PSNR dB", "SSIM", "ms");
+    std::fprintf(out, "  %-11s %-20s %8s %8s %9s\n", "mode", "frame", "PSNR dB", "SSIM", "ms");
     std::fflush(out);
     if (config.images) {
         if (auto status = write_png(*config.images / (c.name + "_truth.png"), truth->image);
@@ -141,7 +159,9 @@ base::Status measure_case(render::FrameRenderer& renderer, const StillsConfig& c
             if (!errors) {
                 return errors.error();
             }
-            rows.push_back({c.name, mode, kStillFrames[i].value, *errors, m.ms, m.steps});
+            rows.push_back({c.name, mode, kStillFrames[i].value, *errors, m.ms, m.steps,
+                            m.sample_distance > 0.0 ? m.sample_distance
+                                                    : request.settings.sample_distance});
             std::fputs(row_text(rows.back()).c_str(), out);
             if (config.images) {
                 const std::string name = c.name + "_" + scene::to_string(mode) + "_" +
@@ -196,12 +216,12 @@ base::Result<std::vector<StillsRow>> bench_stills(render::FrameRenderer& rendere
 base::Status write_stills_csv(const std::vector<StillsRow>& rows,
                               const std::filesystem::path& path) {
     std::ofstream csv(path);
-    csv << "case,mode,frame,psnr,ssim,rmse,ms,steps\n";
+    csv << "case,mode,frame,psnr,ssim,rmse,ms,steps,sample_distance\n";
     for (const StillsRow& row : rows) {
         csv << row.case_name << ',' << scene::to_string(row.mode) << ','
             << base::to_string(row.frame) << ',' << psnr_text(row.errors.psnr) << ','
-            << row.errors.ssim << ',' << row.errors.rmse << ',' << row.ms << ',' << row.steps
-            << '\n';
+            << row.errors.ssim << ',' << row.errors.rmse << ',' << row.ms << ',' << row.steps << ','
+            << row.sample_distance << '\n';
     }
     if (!csv) {
         return base::make_error(base::ErrorCode::io_error, "cannot write '" + path.string() + "'",

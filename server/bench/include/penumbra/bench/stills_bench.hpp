@@ -32,13 +32,16 @@
 namespace penumbra::bench {
 
 // The frames measured of every mode, in the order they are rendered and printed.
-enum class StillFrame { unjittered, interactive, first, converged };
+// unjittered_same_time: the unjittered still given the converged still's time, spent as before
+// stills converged could spend it: on a finer step (halved while the frame still fits that time).
+enum class StillFrame { unjittered, interactive, first, converged, unjittered_same_time };
 
-inline constexpr std::array<base::EnumName<StillFrame>, 4> kStillFrames{{
+inline constexpr std::array<base::EnumName<StillFrame>, 5> kStillFrames{{
         {StillFrame::unjittered, "unjittered"},
         {StillFrame::interactive, "interactive"},
         {StillFrame::first, "first"},
         {StillFrame::converged, "converged"},
+        {StillFrame::unjittered_same_time, "unjittered_same_time"},
 }};
 static_assert(base::names_each_value(kStillFrames));
 
@@ -72,7 +75,8 @@ struct StillsRow {
     StillFrame frame = StillFrame::first;
     quality::Errors errors;  // against the truth
     double ms = 0.0;
-    int steps = 0;  // refinement steps (converged only)
+    int steps = 0;                 // refinement steps (converged only)
+    double sample_distance = 0.0;  // the frame's step (the still's, or the refinement steps')
 };
 
 // What the default still must reach, by case: the targets for sbrc, the default mode.
@@ -95,7 +99,7 @@ base::Result<std::vector<StillsRow>> bench_stills(render::FrameRenderer& rendere
                                                   const StillsConfig& config, TruthCache& cache,
                                                   std::FILE* out);
 
-// One line per row: case,mode,frame,psnr,ssim,rmse,ms,steps.
+// One line per row: case,mode,frame,psnr,ssim,rmse,ms,steps,sample_distance.
 base::Status write_stills_csv(const std::vector<StillsRow>& rows,
                               const std::filesystem::path& path);
 
