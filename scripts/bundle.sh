@@ -56,7 +56,7 @@ copy_closure() {
         cp -L "$library" "$root/lib/$name"
         chmod 0644 "$root/lib/$name"
     done < <(ldd "$file" | awk '/=> \// {print $3}')
-    if ldd "$file" | grep -q "not found"; then
+    if grep -q "not found" <<< "$(ldd "$file")"; then
         echo "bundle: $file needs a library this host lacks:" >&2
         ldd "$file" | grep "not found" >&2
         exit 1

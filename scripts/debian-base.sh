@@ -18,7 +18,7 @@ if [ ! -s "$tarball" ]; then
     fi
     mkdir -p "$work"
     rootfs="$work/rootfs"
-    rm -rf "$rootfs"
+    rm -rf --one-file-system "$rootfs"
     mirror=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources)
     echo "debian-base: debootstrap Debian 12 (minbase) from $mirror" >&2
     debootstrap --variant=minbase bookworm "$rootfs" "$mirror" > "$work/debootstrap.log"

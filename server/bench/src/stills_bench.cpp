@@ -30,7 +30,8 @@ base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::Ac
     }
     frames[0] = {std::move(unjittered->image), unjittered->frame_ms, 0};
     view.settings.jitter = true;
-    auto interactive = bench.frame(scene::interactive_request(view).first);
+    const scene::FrameRequest small = scene::interactive_request(view).first;
+    auto interactive = bench.frame(small);
     if (!interactive) {
         return interactive.error();
     }
@@ -38,7 +39,7 @@ base::Result<std::array<Measured, kStillFrames.size()>> measure_mode(quality::Ac
     if (!shown) {
         return shown.error();
     }
-    frames[1] = {std::move(*shown), interactive->frame_ms, 0};
+    frames[1] = {std::move(*shown), interactive->frame_ms, 0, small.settings.sample_distance};
     auto still = bench.converged(view, config.max_steps, config.threshold);
     if (!still) {
         return still.error();
