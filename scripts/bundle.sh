@@ -104,6 +104,10 @@ check_inside "$root/bin/penumbra"
     echo "lib: the shared libraries it needs, found through \$ORIGIN; the host supplies glibc and"
     echo "  the EGL vendor library (Mesa's libEGL_mesa.so.0 or NVIDIA's libEGL_nvidia.so.0 with its"
     echo "  glvnd vendor file; __EGL_VENDOR_LIBRARY_FILENAMES picks one)"
+    echo "glibc: 2.34 or newer; the bundled libstdc++ (GCC 12) needs 2.36. On an older one (Ubuntu"
+    echo "  22.04) put links to the host's libstdc++.so.6 and libgcc_s.so.1 (GCC 12 or newer) in a"
+    echo "  folder and name it in LD_LIBRARY_PATH, which the bundle's RUNPATH yields to; gpu-bench.sh"
+    echo "  does so by itself"
     echo
     (cd "$root" && find lib -type f -printf '%s %p\n' | sort -k2 | awk '{printf "%10d  %s\n", $1, $2}')
 } > "$root/BUNDLE.txt"
