@@ -313,18 +313,35 @@ void Scheduler::finish_in_flight(const render::FrameRenderer& renderer) {
     gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
 }
 
+void Scheduler::deliver_in_order(const std::string& session, FrameCallback done,
+                                 FrameOutcome outcome) {
+    {
+        const std::lock_guard lock(encode_mutex_);
+        encode_queue_.push_back(
+                {session, [done = std::move(done), outcome = std::move(outcome)]() mutable {
+                     done(std::move(outcome));
+                 }});
+    }
+    encode_ready_.notify_one();
+}
+
 void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done) {
     const Clock::time_point taken = Clock::now();
     const double queued_ms = milliseconds_between(job.submitted, taken);
     queued_ms_.observe(queued_ms);
+    std::string session;
+    {
+        const std::lock_guard lock(mutex_);
+        session = in_flight_.session;
+    }
     if (auto status = renderer.set_volume(job.volume); !status) {
         failures_.add();
-        done(FrameFailure{status.error(), job.request_id});
+        deliver_in_order(session, std::move(done), FrameFailure{status.error(), job.request_id});
         return;
     }
     if (auto status = renderer.set_labels(job.labels); !status) {
         failures_.add();
-        done(FrameFailure{status.error(), job.request_id});
+        deliver_in_order(session, std::move(done), FrameFailure{status.error(), job.request_id});
         return;
     }
     // A preview is rendered in the still's place; the still follows it.
@@ -362,12 +379,13 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         if (!shutting_down) {
             superseded_.add();
         }
-        done(shutting_down ? Withdrawn::shutting_down : Withdrawn::superseded);
+        deliver_in_order(session, std::move(done),
+                         shutting_down ? Withdrawn::shutting_down : Withdrawn::superseded);
         return;
     }
     if (!rendered) {
         failures_.add();
-        done(FrameFailure{rendered.error(), job.request_id});
+        deliver_in_order(session, std::move(done), FrameFailure{rendered.error(), job.request_id});
         return;
     }
     auto frame = std::make_shared<EncodedFrame>();
@@ -408,10 +426,8 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         frame->refining =
                 scene::refines_after(step, change, job.refinement_steps, job.refinement_threshold);
     }
-    std::string session;
     {
         const std::lock_guard lock(mutex_);
-        session = in_flight_.session;
         if (still_after_preview) {
             queue_still_after_preview(std::move(*still_after_preview), done);
         } else if (frame->refining) {

@@ -216,6 +216,11 @@ private:
     // The render thread is idle again (takes mutex_).
     void finish_in_flight(const render::FrameRenderer& renderer);
 
+    // Hands an outcome that is no frame (a failure, a withdrawal) to `done` after every frame of
+    // `session` already waiting for an encoder, as their requests came: a still that fails after
+    // its preview must not reach the client before the preview does (takes encode_mutex_).
+    void deliver_in_order(const std::string& session, FrameCallback done, FrameOutcome outcome);
+
     SchedulerOptions options_;
     render::RendererInfo renderer_info_;
     mutable std::mutex mutex_;
