@@ -313,16 +313,19 @@ void Scheduler::finish_in_flight(const render::FrameRenderer& renderer) {
     gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
 }
 
-void Scheduler::deliver_in_order(const std::string& session, FrameCallback done,
-                                 FrameOutcome outcome) {
+void Scheduler::queue_in_order(const std::string& session, std::function<void()> task) {
     {
         const std::lock_guard lock(encode_mutex_);
-        encode_queue_.push_back(
-                {session, [done = std::move(done), outcome = std::move(outcome)]() mutable {
-                     done(std::move(outcome));
-                 }});
+        encode_queue_.push_back({session, std::move(task)});
     }
     encode_ready_.notify_one();
+}
+
+void Scheduler::deliver_in_order(const std::string& session, FrameCallback done,
+                                 FrameOutcome outcome) {
+    queue_in_order(session, [done = std::move(done), outcome = std::move(outcome)]() mutable {
+        done(std::move(outcome));
+    });
 }
 
 void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done) {
@@ -442,30 +445,24 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
             queue_refinement(session, std::move(next), done);
         }
     }
-    {
-        const std::lock_guard lock(encode_mutex_);
-        encode_queue_.push_back({std::move(session), [this, frame, image, output = job.output,
-                                                      done = std::move(done)]() mutable {
-                                     const Clock::time_point start = Clock::now();
-                                     auto bytes = encode::encode_image(*image,
-                                                                       image_format(output.format),
-                                                                       output.jpeg_quality);
-                                     if (!bytes) {
-                                         failures_.add();
-                                         done(FrameFailure{bytes.error(), frame->request_id});
-                                         return;
-                                     }
-                                     frame->image = std::move(bytes.value());
-                                     frame->encode_ms = milliseconds_between(start, Clock::now());
-                                     encode_ms_.observe(frame->encode_ms);
-                                     frames_.add();
-                                     if (frame->refinement_step > 0) {
-                                         refinement_frames_.add();
-                                     }
-                                     done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
-                                 }});
-    }
-    encode_ready_.notify_one();
+    queue_in_order(session, [this, frame, image, output = job.output,
+                             done = std::move(done)]() mutable {
+        const Clock::time_point start = Clock::now();
+        auto bytes = encode::encode_image(*image, image_format(output.format), output.jpeg_quality);
+        if (!bytes) {
+            failures_.add();
+            done(FrameFailure{bytes.error(), frame->request_id});
+            return;
+        }
+        frame->image = std::move(bytes.value());
+        frame->encode_ms = milliseconds_between(start, Clock::now());
+        encode_ms_.observe(frame->encode_ms);
+        frames_.add();
+        if (frame->refinement_step > 0) {
+            refinement_frames_.add();
+        }
+        done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+    });
 }
 
 bool Scheduler::in_flight_cancelled() const {

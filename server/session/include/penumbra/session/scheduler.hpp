@@ -216,6 +216,10 @@ private:
     // The render thread is idle again (takes mutex_).
     void finish_in_flight(const render::FrameRenderer& renderer);
 
+    // Queues `task` (an encode, or handing an outcome on) behind the session's tasks already
+    // queued; encoder threads run one task of a session at a time, in order (takes encode_mutex_).
+    void queue_in_order(const std::string& session, std::function<void()> task);
+
     // Hands an outcome that is no frame (a failure, a withdrawal) to `done` after every frame of
     // `session` already waiting for an encoder, as their requests came: a still that fails after
     // its preview must not reach the client before the preview does (takes encode_mutex_).

@@ -1,10 +1,10 @@
+#include "penumbra/imageio/imageio.hpp"
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <string>
 #include <vector>
-
-#include "penumbra/imageio/imageio.hpp"
 
 namespace penumbra::imageio {
 namespace {
