@@ -208,34 +208,54 @@ step "modes-$size" "$cap_modes" "$out/modes-$size.txt" "$penumbra" bench modes -
 threads=$(nproc)
 threads=$((threads > 4 ? threads / 2 : 2))
 threads=$((threads > 64 ? 64 : threads))
-serve_log="$out/serve.log"
-"$penumbra" serve --port 0 --data "$(dirname "$volume")" --no-quality-measure \
-    --max-sessions 256 --max-sessions-per-client 256 --max-connections-per-client 256 \
-    --max-sessions-per-connection 4 --max-requests-per-second 100000 \
-    --encode-threads "$threads" > "$serve_log" 2>&1 &
-server=$!
-port=""
-for _ in $(seq 1 300); do
-    port=$(sed -n 's|^serving: *http://[^:]*:\([0-9]*\)/.*|\1|p' "$serve_log" 2>/dev/null)
-    [ -n "$port" ] && break
-    kill -0 "$server" 2>/dev/null || break
-    sleep 0.2
-done
+# start_server LOG [SERVE OPTION...]: sets `server` and `port` (empty when it did not start).
+start_server() {
+    local log=$1
+    shift
+    "$penumbra" serve --port 0 --data "$(dirname "$volume")" --no-quality-measure \
+        --max-sessions 256 --max-sessions-per-client 256 --max-connections-per-client 256 \
+        --max-sessions-per-connection 4 --max-requests-per-second 100000 \
+        --encode-threads "$threads" "$@" > "$log" 2>&1 &
+    server=$!
+    port=""
+    for _ in $(seq 1 300); do
+        port=$(sed -n 's|^serving: *http://[^:]*:\([0-9]*\)/.*|\1|p' "$log" 2>/dev/null)
+        [ -n "$port" ] && break
+        kill -0 "$server" 2>/dev/null || break
+        sleep 0.2
+    done
+    [ -n "$port" ] || echo "serve failed 0" >> "$out/steps.txt"
+}
+stop_server() {
+    kill "$server" 2>/dev/null
+    for _ in $(seq 1 50); do kill -0 "$server" 2>/dev/null || break; sleep 0.2; done
+    kill -9 "$server" 2>/dev/null
+    server=""
+}
+# load_step NAME MODE CLIENTS: one `penumbra load` run against `port`.
+load_step() {
+    step "$1" "$cap_load" "$out/$1.txt" "$penumbra" load --port "$port" \
+        --volume "$(basename "$volume")" --clients "$3" --seconds "$load_seconds" --mode "$2" \
+        --size "$size" --encoding jpeg
+}
+
+start_server "$out/serve.log"
 if [ -n "$port" ]; then
     for mode in dvr sbrc; do
         for clients in $clients_list; do
-            step "load-$mode-$clients" "$cap_load" "$out/load-$mode-$clients.txt" "$penumbra" load \
-                --port "$port" --volume "$(basename "$volume")" --clients "$clients" \
-                --seconds "$load_seconds" --mode "$mode" --size "$size" --encoding jpeg
+            load_step "load-$mode-$clients" "$mode" "$clients"
         done
     done
-else
-    echo "serve failed 0" >> "$out/steps.txt"
 fi
-kill "$server" 2>/dev/null
-for _ in $(seq 1 50); do kill -0 "$server" 2>/dev/null || break; sleep 0.2; done
-kill -9 "$server" 2>/dev/null
-server=""
+stop_server
+# The same load with one frame in flight (the render thread waits for each frame before it
+# submits the next): what pipelining the GPU frame path buys.
+serial_clients=$(awk '{ print $NF }' <<< "$clients_list")
+start_server "$out/serve-serial.log" --frames-in-flight 1
+if [ -n "$port" ]; then
+    load_step "load-sbrc-$serial_clients-serial" sbrc "$serial_clients"
+fi
+stop_server
 
 step "modes-$large" "$cap_modes" "$out/modes-$large.txt" "$penumbra" bench modes \
     --volume "$volume" --size "${large}x${large}" --slices-list "$slices" \
@@ -247,6 +267,17 @@ step "modes-$size-fragment" "$cap_fragment" "$out/modes-$size-fragment.txt" "$pe
 # The summary: plain awk (mawk or gawk) over what the steps wrote; a file a step did not write
 # (or left empty when its time ran out) leaves its column empty.
 present() { for file in "$@"; do [ -s "$file" ] && echo "$file"; done; }
+# load_row MODE CLIENTS FILE NOTE: a row of the load table from what `penumbra load` printed.
+load_row() {
+    # shellcheck disable=SC2046 # the file if present, one word (no spaces in OUTDIR)
+    awk -v mode="$1" -v clients="$2" -v note="$4" '
+        /^frames:/ { gsub(/\(/, "", $3); fps = $3; errors = $NF }
+        /^latency \(client\)/ { p50 = $3; p99 = $5 }
+        END {
+            if (fps == "") { printf "  %-6s %8d %10s%s\n", mode, clients, "(no run)", note; exit }
+            printf "  %-6s %8d %10s %10s %14.1f %8s%s\n", mode, clients, p50, p99, fps / clients, errors, note }' \
+        $(present "$3") /dev/null
+}
 {
     echo "penumbra gpu-bench, $(date -u +%FT%TZ), $(elapsed) s of ${budget}"
     echo "egl:   $vendor_text"
@@ -296,15 +327,11 @@ present() { for file in "$@"; do [ -s "$file" ] && echo "$file"; done; }
     printf "  %-6s %8s %10s %10s %14s %8s\n" mode clients p50 p99 "frames/s each" errors
     for mode in dvr sbrc; do
         for clients in $clients_list; do
-            awk -v mode="$mode" -v clients="$clients" '
-                /^frames:/ { gsub(/\(/, "", $3); fps = $3; errors = $NF }
-                /^latency \(client\)/ { p50 = $3; p99 = $5 }
-                END {
-                    if (fps == "") { printf "  %-6s %8d %10s\n", mode, clients, "(no run)"; exit }
-                    printf "  %-6s %8d %10s %10s %14.1f %8s\n", mode, clients, p50, p99, fps / clients, errors }' \
-                $(present "$out/load-$mode-$clients.txt") /dev/null
+            load_row "$mode" "$clients" "$out/load-$mode-$clients.txt" ""
         done
     done
+    load_row sbrc "$serial_clients" "$out/load-sbrc-$serial_clients-serial.txt" \
+        "  (one frame in flight)"
     echo
     echo "On an H100 or H200 the graphics pipeline (fragment shaders, rasterised slices: half_angle,"
     echo "the per_slice builder) has a fraction of a graphics GPU's units; read those rows so."

@@ -200,7 +200,9 @@ protected:
                     }
                     return std::unique_ptr<render::FrameRenderer>(std::move(renderer.value()));
                 },
-                {}, *metrics_);
+                // Two frames in flight, as on a GPU, although llvmpipe would take one: every test
+                // here then also proves the pipelined path with the real renderer.
+                session::SchedulerOptions{.frames_in_flight = 2}, *metrics_);
         ASSERT_TRUE(scheduler.ok()) << scheduler.error().to_string();
         scheduler_ = std::move(scheduler.value());
         // A small measured table: sbrc at n=32 fits 50 ms at 64x64, the reference does not.

@@ -89,6 +89,9 @@ po::options_description network_options(ServeOptions& o) {
             "listen address")("io-threads", whole_number(&c.io_threads, 1, 64), "network threads")(
             "encode-threads", whole_number(&o.scheduler.encode_threads, 1, 64),
             "JPEG/PNG encoder threads")(
+            "frames-in-flight", whole_number(&o.scheduler.frames_in_flight, 0, 4),
+            "frames the render thread submits before it waits for the oldest; 0: the device's "
+            "(2 on a GPU, 1 on a software rasteriser)")(
             "max-sessions", whole_number(&limits.max_sessions, 1, 100000), "sessions in all")(
             "max-sessions-per-client", whole_number(&limits.max_sessions_per_client, 1, 100000),
             "sessions one client address may hold")(

@@ -14,6 +14,7 @@ RendererInfo describe_device(const gpu::ContextInfo& context) {
                     info.renderer.find("softpipe") != std::string::npos;
     info.gpu_timer_queries = !info.software;
     info.max_shader_loop_iterations = info.software ? 65535 : 0;
+    info.frames_in_flight = info.software ? 1 : 2;
     return info;
 }
 

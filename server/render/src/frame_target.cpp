@@ -17,12 +17,6 @@ void FrameTarget::ensure(int width, int height) {
     height_ = height;
 }
 
-void FrameTarget::read_back(base::ImageRgba8& image) const {
-    image = base::ImageRgba8(width_, height_);
-    gpu::read_texture(texture_, GL_RGBA, GL_UNSIGNED_BYTE,
-                      std::as_writable_bytes(std::span(image.pixels)));
-}
-
 base::ImageRgba8 transmittance_image(std::span<const float> values, int size) {
     base::ImageRgba8 image(size, size);
     for (int y = 0; y < size; ++y) {

@@ -10,7 +10,7 @@ namespace penumbra::render {
 // The image a frame ends in, rows top to bottom, re-created only when the size changes. Compute
 // passes write it as image unit 0 (format `image_format`); fragment passes draw into its
 // framebuffer. It holds float colour so that progressive stills average the unrounded frames;
-// read_back rounds to 8 bits, as an RGBA8 target would have done.
+// frames are read back as 8 bits (Renderer::complete), as an RGBA8 target would have held them.
 class FrameTarget {
 public:
     static constexpr GLenum image_format = GL_RGBA32F;
@@ -20,8 +20,6 @@ public:
     [[nodiscard]] const gpu::Texture& texture() const { return texture_; }
 
     [[nodiscard]] const gpu::Framebuffer& framebuffer() const { return framebuffer_; }
-
-    void read_back(base::ImageRgba8& image) const;
 
 private:
     gpu::Texture texture_;

@@ -10,8 +10,9 @@
 
 namespace penumbra::render {
 
-KeptStills::KeptStills(std::size_t memory_budget)
-    : means_(memory_budget) {}
+KeptStills::KeptStills(std::size_t memory_budget, bool timer_queries)
+    : means_(memory_budget)
+    , timer_queries_(timer_queries) {}
 
 KeptStills::Key KeptStills::key_of(const scene::FrameRequest& request,
                                    std::uint64_t volume_generation,
@@ -70,7 +71,7 @@ base::Status KeptStills::accumulate(ProgramCache& programs, const scene::FrameRe
                   GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     report.refinement_step = mean->frames;
     ++mean->frames;
-    report.passes.push_back({"accumulate", 0.0, finished_ms_since(start)});
+    report.passes.push_back({"accumulate", 0.0, pass_ms_since(start, timer_queries_)});
     return base::Ok{};
 }
 

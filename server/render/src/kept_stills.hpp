@@ -19,7 +19,8 @@ namespace penumbra::render {
 // used evicted first under a budget (and by the label map drawn inside the volume).
 class KeptStills {
 public:
-    explicit KeptStills(std::size_t memory_budget);
+    // `timer_queries`: whether the device's GPU timers mean anything (RendererInfo).
+    KeptStills(std::size_t memory_budget, bool timer_queries);
 
     // Fails with `refinement_lost` when refinement step `request.refinement.step` (> 0) has no
     // kept still to continue: one of the same volume and request with exactly the steps before
@@ -54,6 +55,7 @@ private:
                       std::uint64_t labels_generation);
 
     base::LruCache<Key, Mean> means_;
+    bool timer_queries_;
 };
 
 }  // namespace penumbra::render

@@ -18,7 +18,8 @@ LightBufferCache::LightBufferCache(ProgramCache& programs, std::size_t memory_bu
 base::Status LightBufferCache::use(LightBufferInputs inputs,
                                    const scene::LightBufferSettings& settings,
                                    const FrameGeometry& g, const gpu::Defines& defines,
-                                   SliceMesh& slices, WorkChunks& chunks, FrameReport& report) {
+                                   SliceMesh& slices, gpu::GpuTimer& timer, WorkChunks& chunks,
+                                   FrameReport& report) {
     const LightBuffer* buffer = buffers_.find(inputs);
     if (buffer != nullptr) {
         report.light_buffer = LightBufferState::reused;
@@ -45,13 +46,12 @@ base::Status LightBufferCache::use(LightBufferInputs inputs,
                                     "light_buffer.resolution");
         }
         if (auto status = builder_.build(built, settings.builder, slices, defines, g.slab_samples,
-                                         timer_, chunks);
+                                         timer, chunks);
             !status) {
             return status;
         }
-        const double wall_ms = finished_ms_since(start);
         report.passes.push_back({std::string("light_buffer_") + scene::to_string(settings.builder),
-                                 gpu_ms(timer_, timer_queries_), wall_ms});
+                                 -1.0, pass_ms_since(start, timer_queries_)});
         buffer = &buffers_.insert(inputs, std::move(built), bytes);
         ++builds_;
         report.light_buffer = LightBufferState::built;

@@ -29,10 +29,11 @@ public:
 
     // Binds on unit 2 the buffer `inputs` define, building it (in chunks, with `defines`) when
     // none is held; `slices` carries the per-slice builder's polygons. A cancelled build leaves a
-    // partial buffer, which is not kept.
+    // partial buffer, which is not kept. A build is timed by `timer`, the frame's own, whose
+    // result the renderer reads when the frame completes (the pass's gpu_ms is -1 until then).
     base::Status use(LightBufferInputs inputs, const scene::LightBufferSettings& settings,
                      const FrameGeometry& g, const gpu::Defines& defines, SliceMesh& slices,
-                     WorkChunks& chunks, FrameReport& report);
+                     gpu::GpuTimer& timer, WorkChunks& chunks, FrameReport& report);
 
     // Drops the buffers of a volume the renderer no longer holds: nothing can reuse them.
     void forget_volume(std::uint64_t volume_generation);
@@ -46,7 +47,6 @@ public:
 
 private:
     LightBufferBuilder builder_;
-    gpu::GpuTimer timer_;
     bool timer_queries_;
     base::LruCache<LightBufferInputs, LightBuffer> buffers_;
     std::optional<LightBufferInputs> last_used_;

@@ -9,8 +9,9 @@
 
 namespace penumbra::render {
 
-PreintegrationTable::PreintegrationTable(int side)
-    : side_(side) {}
+PreintegrationTable::PreintegrationTable(bool timer_queries, int side)
+    : timer_queries_(timer_queries)
+    , side_(side) {}
 
 base::Result<std::optional<double>> PreintegrationTable::update(ProgramCache& programs,
                                                                 std::uint64_t tf_version,
@@ -39,7 +40,7 @@ base::Result<std::optional<double>> PreintegrationTable::update(ProgramCache& pr
                   GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     built_version_ = tf_version;
     built_extinction_ = extinction;
-    return std::optional<double>(finished_ms_since(start));
+    return std::optional<double>(pass_ms_since(start, timer_queries_));
 }
 
 }  // namespace penumbra::render

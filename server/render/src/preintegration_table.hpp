@@ -17,7 +17,8 @@ namespace penumbra::render {
 // version or the compositing changes.
 class PreintegrationTable {
 public:
-    explicit PreintegrationTable(int side = optics::preintegration_table_side);
+    // `timer_queries`: whether the device's GPU timers mean anything (RendererInfo).
+    explicit PreintegrationTable(bool timer_queries, int side = optics::preintegration_table_side);
 
     // Builds the table for the TF texture of `tf_version` bound on unit 1, unless it holds that
     // one already; returns the time taken when it did.
@@ -29,6 +30,7 @@ public:
     [[nodiscard]] int side() const { return side_; }
 
 private:
+    bool timer_queries_;
     int side_;
     gpu::Texture texture_;
     gpu::Buffer cumulative_;

@@ -25,6 +25,7 @@
 #include <penumbra/base/lru_cache.hpp>
 #include <penumbra/gpu/commands.hpp>
 #include <penumbra/gpu/context.hpp>
+#include <penumbra/gpu/readback.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/gpu/timer.hpp>
 
@@ -57,7 +58,6 @@ struct Renderer::Impl {
     RaycastPass raycast;
     HalfAngleSlicer half_angle;
     SliceMesh slices;
-    gpu::GpuTimer render_timer;
     FrameCeilings ceilings;
     double chunk_work = 0.0;
     int brick_voxels = default_brick_voxels;
@@ -66,6 +66,41 @@ struct Renderer::Impl {
     PreintegrationTable preintegration;
     LightBufferCache light_buffers;
     KeptStills stills;
+
+    // A frame between submit() and complete(): what it needs of the GPU until then.
+    struct FrameSlot {
+        std::uint64_t ticket = 0;  // 0: free
+        gpu::AsyncReadback readback;
+        gpu::GpuTimer render_timer;
+        gpu::GpuTimer light_buffer_timer;
+        Frame frame;  // the report so far; complete() adds the image and the last passes
+        int width = 0;
+        int height = 0;
+        Clock::time_point render_start;
+        // Measured in submit() where the renderer waits for each pass; otherwise it runs until
+        // complete() sees the frame's fence.
+        std::optional<double> render_wall_ms;
+        double readback_issue_ms = 0.0;
+        std::optional<std::size_t> light_buffer_pass;  // the index of a build timed by its timer
+        const char* pass_name = "raycast";
+    };
+
+    static constexpr std::size_t max_frames_in_flight = 4;
+    std::vector<std::unique_ptr<FrameSlot>> slots;  // made as needed, reused
+    std::uint64_t next_ticket = 0;
+
+    // A slot for a new frame, or null when max_frames_in_flight wait for complete().
+    FrameSlot* free_slot() {
+        for (auto& slot : slots) {
+            if (slot->ticket == 0) {
+                return slot.get();
+            }
+        }
+        if (slots.size() == max_frames_in_flight) {
+            return nullptr;
+        }
+        return slots.emplace_back(std::make_unique<FrameSlot>()).get();
+    }
     enum class LastInset { none, light_buffer, half_angle } last_inset = LastInset::none;
 
     // Volumes on the GPU, by the volume. The current one always stays; the light buffers of an
@@ -92,8 +127,9 @@ struct Renderer::Impl {
         , chunk_work(options.chunk_work > 0.0 ? options.chunk_work : default_chunk_work(info))
         , brick_voxels(options.brick_voxels > 0 ? options.brick_voxels : default_brick_voxels)
         , gradient_texture(options.gradients == GradientSource::texture)
+        , preintegration(info.gpu_timer_queries)
         , light_buffers(programs, options.light_buffer_memory_budget, info.gpu_timer_queries)
-        , stills(options.refinement_memory_budget)
+        , stills(options.refinement_memory_budget, info.gpu_timer_queries)
         , volumes(options.volume_memory_budget,
                   {.must_stay = [this](const auto& entry) { return entry.key == volume; },
                    .on_evict =
@@ -140,7 +176,8 @@ struct Renderer::Impl {
     // Runs the frame's main pass (the ray caster or half-angle slicing) into the target and
     // returns how many chunks it took.
     base::Result<int> run_pass(const scene::FrameRequest& request, const FramePlan& plan,
-                               const FrameGeometry& g, WorkChunks& chunks) {
+                               const FrameGeometry& g, gpu::GpuTimer& render_timer,
+                               WorkChunks& chunks) {
         const scene::RenderSettings& s = request.settings;
         if (plan.half_angle) {
             const int before = chunks.count();
@@ -259,6 +296,15 @@ std::size_t Renderer::gpu_bytes_held() const {
 
 base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
                                      const CancelPredicate& cancelled) {
+    auto submitted = submit(request, cancelled);
+    if (!submitted) {
+        return submitted.error();
+    }
+    return complete(std::move(submitted.value()));
+}
+
+base::Result<SubmittedFrame> Renderer::submit(const scene::FrameRequest& request,
+                                              const CancelPredicate& cancelled) {
     Impl& impl = *impl_;
     if (!impl.volume) {
         return base::make_error(base::ErrorCode::no_volume, "no volume has been set", "volume");
@@ -294,8 +340,17 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     if (chunks.cancelled()) {
         return cancelled_error();
     }
+    Impl::FrameSlot* slot = impl.free_slot();
+    if (slot == nullptr) {
+        return base::make_error(base::ErrorCode::internal_error,
+                                "more frames were submitted than the renderer holds in flight (" +
+                                        std::to_string(Impl::max_frames_in_flight) + ")",
+                                "render");
+    }
 
-    Frame frame;
+    Frame& frame = slot->frame;
+    frame = {};
+    slot->light_buffer_pass.reset();
     std::vector<PassTiming>& passes = frame.report.passes;
     passes = std::exchange(impl.volume_passes, {});
     if (auto tf_ms = impl.transfer_function.update(table)) {
@@ -323,7 +378,7 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
     }
     if (plan.variant.empty_space_skipping) {
         if (auto status = volume.bind_occupancy(impl.programs, impl.transfer_function.version(),
-                                                frame.report);
+                                                impl.info.gpu_timer_queries, frame.report);
             !status) {
             return status.error();
         }
@@ -339,20 +394,26 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
                     light_buffer_inputs(request, g.region, volume.generation(), table,
                                         g.slab_samples, impl.labels_generation()),
                     request.settings.light_buffer, g, plan.variant.light_buffer_defines(),
-                    impl.slices, chunks, frame.report);
+                    impl.slices, slot->light_buffer_timer, chunks, frame.report);
             !status) {
             return status.error();
+        }
+        if (frame.report.light_buffer == LightBufferState::built) {
+            slot->light_buffer_pass = passes.size() - 1;
         }
         impl.last_inset = Impl::LastInset::light_buffer;
     }
 
-    const auto render_start = Clock::now();
-    auto pass_chunks = impl.run_pass(request, plan, g, chunks);
+    slot->render_start = Clock::now();
+    auto pass_chunks = impl.run_pass(request, plan, g, slot->render_timer, chunks);
     if (!pass_chunks) {
         return pass_chunks.error();
     }
-    // The frame is read back next anyway; finishing here splits render from readback.
-    const double render_wall_ms = finished_ms_since(render_start);
+    // Where wall times are the only measure, finishing here splits render from readback.
+    slot->render_wall_ms.reset();
+    if (!impl.info.gpu_timer_queries) {
+        slot->render_wall_ms = finished_ms_since(slot->render_start);
+    }
     if (request.refinement.keep || request.refinement.step > 0) {
         if (auto status =
                     impl.stills.accumulate(impl.programs, request, volume.generation(),
@@ -362,16 +423,64 @@ base::Result<Frame> Renderer::render(const scene::FrameRequest& request,
         }
     }
     const auto readback_start = Clock::now();
-    impl.target.read_back(frame.image);
-    const double readback_ms = milliseconds_since(readback_start);
-    passes.push_back({plan.half_angle ? "half_angle" : "raycast",
-                      gpu_ms(impl.render_timer, impl.info.gpu_timer_queries), render_wall_ms});
-    passes.push_back({"readback", 0.0, readback_ms});
+    slot->width = request.settings.width;
+    slot->height = request.settings.height;
+    slot->readback.start(impl.target.texture(), GL_RGBA, GL_UNSIGNED_BYTE,
+                         std::size_t{4} * slot->width * slot->height);
+    slot->readback_issue_ms = milliseconds_since(readback_start);
+    slot->pass_name = plan.half_angle ? "half_angle" : "raycast";
     frame.report.variant = plan.variant.key();
     frame.report.stage = plan.half_angle ? "slices" : scene::to_string(plan.variant.stage);
     if (*pass_chunks > 1) {
         frame.report.stage += " (" + std::to_string(*pass_chunks) + " chunks)";
     }
+    if (const GLenum error = gpu::take_error(); error != GL_NO_ERROR) {
+        (void)slot->readback.wait();  // the slot is free again once its copy is no longer pending
+        return base::make_error(base::ErrorCode::gl_error,
+                                "OpenGL reported error " + std::to_string(error), "render");
+    }
+    slot->ticket = ++impl.next_ticket;
+    return SubmittedFrame{.ticket = slot->ticket, .rendered = std::nullopt};
+}
+
+base::Result<Frame> Renderer::complete(SubmittedFrame submitted) {
+    Impl& impl = *impl_;
+    if (submitted.rendered || submitted.ticket == 0) {
+        return FrameRenderer::complete(std::move(submitted));
+    }
+    const auto found = std::ranges::find_if(
+            impl.slots, [&](const auto& slot) { return slot->ticket == submitted.ticket; });
+    if (found == impl.slots.end()) {
+        return FrameRenderer::complete(std::move(submitted));
+    }
+    Impl::FrameSlot& slot = **found;
+    slot.ticket = 0;
+    Frame frame = std::move(slot.frame);
+    const bool timers = impl.info.gpu_timer_queries;
+    const auto wait_start = Clock::now();
+    if (auto status = slot.readback.wait(); !status) {
+        return status.error();
+    }
+    const double render_wall_ms =
+            slot.render_wall_ms.value_or(milliseconds_since(slot.render_start));
+    const auto copy_start = Clock::now();
+    frame.image = base::ImageRgba8(slot.width, slot.height);
+    if (auto status = slot.readback.read(std::as_writable_bytes(std::span(frame.image.pixels)));
+        !status) {
+        return status.error();
+    }
+    // Where the renderer waited in submit(), the wait here is the readback's own.
+    double readback_ms = slot.readback_issue_ms + milliseconds_since(copy_start);
+    if (slot.render_wall_ms) {
+        readback_ms += std::chrono::duration<double, std::milli>(copy_start - wait_start).count();
+    }
+    if (slot.light_buffer_pass && timers) {
+        frame.report.passes.at(*slot.light_buffer_pass).gpu_ms =
+                slot.light_buffer_timer.milliseconds();
+    }
+    frame.report.passes.push_back(
+            {slot.pass_name, gpu_ms(slot.render_timer, timers), render_wall_ms});
+    frame.report.passes.push_back({"readback", 0.0, readback_ms});
     if (const GLenum error = gpu::take_error(); error != GL_NO_ERROR) {
         return base::make_error(base::ErrorCode::gl_error,
                                 "OpenGL reported error " + std::to_string(error), "render");

@@ -37,14 +37,14 @@ std::size_t VolumeEntry::bytes() const {
 }
 
 base::Status VolumeEntry::bind_occupancy(ProgramCache& programs, std::uint64_t tf_version,
-                                         FrameReport& report) {
+                                         bool timer_queries, FrameReport& report) {
     if (classified_tf_version_ != tf_version) {
         const auto start = Clock::now();
         if (auto status = empty_space_.classify(programs); !status) {
             return status;
         }
         classified_tf_version_ = tf_version;
-        report.passes.push_back({"classify_bricks", 0.0, finished_ms_since(start)});
+        report.passes.push_back({"classify_bricks", 0.0, pass_ms_since(start, timer_queries)});
     }
     gpu::bind_texture(3, empty_space_.occupancy());
     return base::Ok{};

@@ -43,9 +43,10 @@ public:
     [[nodiscard]] std::size_t bytes() const;
 
     // Binds the brick occupancy on unit 3, first classifying the bricks against the TF texture on
-    // unit 1 unless its upload number `tf_version` was classified already.
+    // unit 1 unless its upload number `tf_version` was classified already. `timer_queries`:
+    // whether the device's GPU timers mean anything (RendererInfo).
     base::Status bind_occupancy(ProgramCache& programs, std::uint64_t tf_version,
-                                FrameReport& report);
+                                bool timer_queries, FrameReport& report);
 
     // Binds the gradient texture on unit 5, building it the first time (bytes() grows then).
     base::Status bind_gradients(ProgramCache& programs, FrameReport& report);

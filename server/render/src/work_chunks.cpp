@@ -1,9 +1,8 @@
 #include "work_chunks.hpp"
 
-#include <penumbra/gpu/commands.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace penumbra::render {
 
@@ -12,7 +11,11 @@ bool WorkChunks::continue_after_chunk() {
     if (!cancelled_) {
         return true;
     }
-    gpu::finish();
+    gpu::Fence this_chunk;
+    this_chunk.insert();
+    // A fence the GL lost leaves nothing to wait for; a GL error, if any, fails the frame later.
+    (void)previous_chunk_.wait();
+    previous_chunk_ = std::move(this_chunk);
     return !cancelled_();
 }
 

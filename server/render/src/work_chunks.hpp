@@ -1,6 +1,7 @@
 #pragma once
 
 #include <penumbra/base/result.hpp>
+#include <penumbra/gpu/fence.hpp>
 #include <penumbra/render/renderer.hpp>
 
 #include <limits>
@@ -8,8 +9,10 @@
 namespace penumbra::render {
 
 // A frame's GPU work issued in chunks of about `work_per_chunk` inner-loop iterations. After
-// each chunk the renderer waits for the GPU and asks whether the frame is still wanted, so a
-// cancelled frame stops within one chunk instead of holding the render thread to its end.
+// each chunk the renderer waits for the GPU to finish the chunk before it and asks whether the
+// frame is still wanted, so a cancelled frame stops within two chunks instead of holding the
+// render thread to its end, while the GPU always has the latest chunk to work on and the frame's
+// last chunk is left to run behind the next frame's work (Renderer::submit waits for nothing).
 // Without a predicate nobody can cancel the frame: it goes in as few dispatches as the GL allows.
 class WorkChunks {
 public:
@@ -22,8 +25,9 @@ public:
     // Whether the frame was cancelled, without waiting for anything.
     [[nodiscard]] bool cancelled() const { return cancelled_ && cancelled_(); }
 
-    // Called after issuing one chunk: waits until the GPU has finished it (only where someone
-    // may cancel: otherwise the chunks queue up) and returns false when the frame was cancelled.
+    // Called after issuing one chunk: waits until the GPU has finished the chunk before it (only
+    // where someone may cancel: otherwise the chunks queue up) and returns false when the frame
+    // was cancelled.
     [[nodiscard]] bool continue_after_chunk();
 
     // Chunks issued so far.
@@ -33,6 +37,7 @@ private:
     double work_per_chunk_;
     const CancelPredicate& cancelled_;
     int count_ = 0;
+    gpu::Fence previous_chunk_;
 };
 
 // The error a cancelled frame fails with.

@@ -127,6 +127,9 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
         if (in_flight_.session == session) {
             in_flight_.superseded = true;
         }
+        for (InFlight& submitted : submitted_) {
+            submitted.superseded = submitted.superseded || submitted.session == session;
+        }
         drop_refinement(session);  // the view it refines is about to change
         const auto found = pending_.find(session);
         if (found != pending_.end()) {
@@ -157,6 +160,9 @@ void Scheduler::cancel(const std::string& session) {
         if (in_flight_.session == session) {
             in_flight_.closed = true;
         }
+        for (InFlight& submitted : submitted_) {
+            submitted.closed = submitted.closed || submitted.session == session;
+        }
         drop_refinement(session);
         auto found = pending_.find(session);
         if (found == pending_.end()) {
@@ -182,13 +188,13 @@ void Scheduler::enqueue(const std::string& session, Pending pending) {
     queue_depth_.set(static_cast<double>(pending_.size()));
 }
 
-void Scheduler::queue_still_after_preview(RenderJob job, FrameCallback done) {
-    if (stopping_ || in_flight_.closed || in_flight_.superseded ||
-        pending_.contains(in_flight_.session)) {
+void Scheduler::queue_still_after_preview(const InFlight& preview, RenderJob job,
+                                          FrameCallback done) {
+    if (stopping_ || preview.closed || preview.superseded || pending_.contains(preview.session)) {
         return;  // a newer job replaces the view, or nobody is left to see it
     }
     job.submitted = Clock::now();
-    enqueue(in_flight_.session, Pending{std::move(job), std::move(done)});
+    enqueue(preview.session, Pending{std::move(job), std::move(done)});
 }
 
 void Scheduler::unqueue(const std::string& session, const std::string& client) {
@@ -263,54 +269,69 @@ void Scheduler::render_loop(const RendererFactory& factory, std::promise<base::S
     std::unique_ptr<render::FrameRenderer> renderer = std::move(created.value());
     renderer_info_ = renderer->info();
     ready.set_value(base::Ok{});
+    const int depth = std::clamp(options_.frames_in_flight > 0 ? options_.frames_in_flight
+                                                               : renderer_info_.frames_in_flight,
+                                 1, 4);
+    std::deque<Submitted> submitted;  // oldest first
     while (true) {
         Pending next;
+        bool taken = false;
         {
             std::unique_lock lock(mutex_);
-            work_ready_.wait(lock, [&] {
-                return stopping_ || !clients_.empty() || !refinement_order_.empty();
-            });
+            if (submitted.empty()) {
+                work_ready_.wait(lock, [&] {
+                    return stopping_ || !clients_.empty() || !refinement_order_.empty();
+                });
+            }
             if (stopping_) {
                 break;
             }
-            // Nothing else waits: the next session's refinement step, at the lowest priority.
-            if (take_refinement(next)) {
-                lock.unlock();
-                render_one(*renderer, std::move(next.job), std::move(next.done));
-                finish_in_flight(*renderer);
-                continue;
-            }
-            // The client whose turn it is, then that client's session whose turn it is; both go
-            // to the back of their queues.
-            const std::string client = clients_.front();
-            clients_.pop_front();
-            auto& sessions = sessions_of_.at(client);
-            const std::string session = sessions.front();
-            sessions.pop_front();
-            if (sessions.empty()) {
-                sessions_of_.erase(client);
-            } else {
-                clients_.push_back(client);
-            }
-            auto found = pending_.find(session);
-            next = std::move(found->second);
-            pending_.erase(found);
-            queue_depth_.set(static_cast<double>(pending_.size()));
-            in_flight_ = {session, Clock::now()};
+            taken = std::ssize(submitted) < depth && take_next(next);
         }
-        render_one(*renderer, std::move(next.job), std::move(next.done));
-        finish_in_flight(*renderer);
+        if (taken) {
+            if (auto job = submit_one(*renderer, std::move(next.job), std::move(next.done))) {
+                submitted.push_back(std::move(*job));
+            }
+            continue;
+        }
+        // Nothing more to submit now: wait for the oldest frame.
+        complete_one(*renderer, std::move(submitted.front()));
+        submitted.pop_front();
+    }
+    while (!submitted.empty()) {
+        complete_one(*renderer, std::move(submitted.front()));
+        submitted.pop_front();
     }
     // The renderer (and its GL context) is destroyed on the thread that created it.
     renderer.reset();
 }
 
-void Scheduler::finish_in_flight(const render::FrameRenderer& renderer) {
-    {
-        const std::lock_guard lock(mutex_);
-        in_flight_ = {};
+bool Scheduler::take_next(Pending& next) {
+    // Nothing else waits: the next session's refinement step, at the lowest priority.
+    if (take_refinement(next)) {
+        return true;
     }
-    gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
+    if (clients_.empty()) {
+        return false;
+    }
+    // The client whose turn it is, then that client's session whose turn it is; both go to the
+    // back of their queues.
+    const std::string client = clients_.front();
+    clients_.pop_front();
+    auto& sessions = sessions_of_.at(client);
+    const std::string session = sessions.front();
+    sessions.pop_front();
+    if (sessions.empty()) {
+        sessions_of_.erase(client);
+    } else {
+        clients_.push_back(client);
+    }
+    auto found = pending_.find(session);
+    next = std::move(found->second);
+    pending_.erase(found);
+    queue_depth_.set(static_cast<double>(pending_.size()));
+    in_flight_ = {session, Clock::now()};
+    return true;
 }
 
 void Scheduler::queue_in_order(const std::string& session, std::function<void()> task) {
@@ -328,24 +349,14 @@ void Scheduler::deliver_in_order(const std::string& session, FrameCallback done,
     });
 }
 
-void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done) {
-    const Clock::time_point taken = Clock::now();
-    const double queued_ms = milliseconds_between(job.submitted, taken);
+std::optional<Scheduler::Submitted> Scheduler::submit_one(render::FrameRenderer& renderer,
+                                                          RenderJob job, FrameCallback done) {
+    const double queued_ms = milliseconds_between(job.submitted, Clock::now());
     queued_ms_.observe(queued_ms);
     std::string session;
     {
         const std::lock_guard lock(mutex_);
         session = in_flight_.session;
-    }
-    if (auto status = renderer.set_volume(job.volume); !status) {
-        failures_.add();
-        deliver_in_order(session, std::move(done), FrameFailure{status.error(), job.request_id});
-        return;
-    }
-    if (auto status = renderer.set_labels(job.labels); !status) {
-        failures_.add();
-        deliver_in_order(session, std::move(done), FrameFailure{status.error(), job.request_id});
-        return;
     }
     // A preview is rendered in the still's place; the still follows it.
     std::optional<RenderJob> still_after_preview;
@@ -358,43 +369,100 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
         still_after_preview = std::move(job);
         job = std::move(preview);
     }
-    const int step = job.refinement_step;
-    const bool may_refine = !job.interactive && !still_after_preview && step < job.refinement_steps;
-    auto rendered = renderer.render(job.request, [this] { return in_flight_cancelled(); });
-    if (step > 0 && !rendered) {
-        const std::lock_guard lock(mutex_);
-        if (rendered.error().code == base::ErrorCode::cancelled && !in_flight_.closed) {
+    Submitted submitted{.session = session,
+                        .job = std::move(job),
+                        .done = std::move(done),
+                        .frame = std::nullopt,
+                        .outcome = std::nullopt,
+                        .still_after_preview = std::move(still_after_preview),
+                        .queued_ms = queued_ms};
+    const RenderJob& taken = submitted.job;
+    auto result = [&]() -> base::Result<render::SubmittedFrame> {
+        if (auto status = renderer.set_volume(taken.volume); !status) {
+            return status.error();
+        }
+        if (auto status = renderer.set_labels(taken.labels); !status) {
+            return status.error();
+        }
+        return renderer.submit(taken.request, [this] { return in_flight_cancelled(); });
+    }();
+    const std::lock_guard lock(mutex_);
+    const InFlight in_flight = std::exchange(in_flight_, {});
+    if (taken.refinement_step > 0 && !result) {
+        if (result.error().code == base::ErrorCode::cancelled && !in_flight.closed) {
             // Preempted by another job: the step waits for its next turn, unchanged.
-            queue_refinement(in_flight_.session, std::move(job), std::move(done));
-        } else if (rendered.error().code != base::ErrorCode::cancelled) {
+            queue_refinement(session, std::move(submitted.job), std::move(submitted.done));
+        } else if (result.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
-            base::log_warning("session", "refinement of session " + in_flight_.session +
-                                                 " stopped: " + rendered.error().to_string());
+            base::log_warning("session", "refinement of session " + session +
+                                                 " stopped: " + result.error().to_string());
         }
-        return;
+        return std::nullopt;
     }
-    if (!rendered && rendered.error().code == base::ErrorCode::cancelled) {
-        bool shutting_down = false;
-        {
-            const std::lock_guard lock(mutex_);
-            shutting_down = stopping_;
-        }
-        if (!shutting_down) {
+    if (result) {
+        submitted.frame = std::move(result.value());
+    } else if (result.error().code == base::ErrorCode::cancelled) {
+        if (!stopping_) {
             superseded_.add();
         }
-        deliver_in_order(session, std::move(done),
-                         shutting_down ? Withdrawn::shutting_down : Withdrawn::superseded);
-        return;
-    }
-    if (!rendered) {
+        submitted.outcome = stopping_ ? Withdrawn::shutting_down : Withdrawn::superseded;
+    } else {
         failures_.add();
-        deliver_in_order(session, std::move(done), FrameFailure{rendered.error(), job.request_id});
+        submitted.outcome = FrameFailure{result.error(), taken.request_id};
+    }
+    submitted_.push_back(in_flight);
+    return submitted;
+}
+
+void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitted) {
+    std::optional<base::Result<render::Frame>> rendered;
+    if (submitted.frame) {
+        rendered = renderer.complete(std::move(*submitted.frame));
+    }
+    gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
+    InFlight record;
+    bool stopping = false;
+    {
+        const std::lock_guard lock(mutex_);
+        record = std::move(submitted_.front());
+        submitted_.pop_front();
+        stopping = stopping_;
+    }
+    const std::string& session = submitted.session;
+    RenderJob& job = submitted.job;
+    const int step = job.refinement_step;
+    if (submitted.outcome) {
+        deliver_in_order(session, std::move(submitted.done), std::move(*submitted.outcome));
         return;
     }
+    if (stopping || record.closed) {
+        // Rendered, but nobody is left to see it.
+        if (!stopping) {
+            superseded_.add();
+        }
+        deliver_in_order(session, std::move(submitted.done),
+                         stopping ? Withdrawn::shutting_down : Withdrawn::superseded);
+        return;
+    }
+    if (!*rendered) {
+        if (step > 0) {
+            // The still frame stands; only its refinement ends.
+            base::log_warning("session", "refinement of session " + session +
+                                                 " stopped: " + rendered->error().to_string());
+            return;
+        }
+        failures_.add();
+        deliver_in_order(session, std::move(submitted.done),
+                         FrameFailure{rendered->error(), job.request_id});
+        return;
+    }
+    render::Frame& result = rendered->value();
+    const bool may_refine =
+            !job.interactive && !submitted.still_after_preview && step < job.refinement_steps;
     auto frame = std::make_shared<EncodedFrame>();
-    frame->report = std::move(rendered->report);
-    frame->width = rendered->image.width;
-    frame->height = rendered->image.height;
+    frame->report = std::move(result.report);
+    frame->width = result.image.width;
+    frame->height = result.image.height;
     frame->format = job.output.format;
     frame->mode = job.request.settings.mode;
     frame->sample_distance = job.request.settings.sample_distance;
@@ -402,9 +470,9 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     frame->interactive = job.interactive;
     frame->quality = job.quality;
     frame->refinement_step = step;
-    frame->preview = still_after_preview.has_value();
+    frame->preview = submitted.still_after_preview.has_value();
     frame->refining = frame->preview;  // the still follows it
-    frame->queued_ms = queued_ms;
+    frame->queued_ms = submitted.queued_ms;
     for (const auto& pass : frame->report.passes) {
         if (pass.name == "readback") {
             frame->readback_ms += pass.wall_ms;
@@ -418,7 +486,7 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
     }
-    auto image = std::make_shared<const base::ImageRgba8>(std::move(rendered->image));
+    auto image = std::make_shared<const base::ImageRgba8>(std::move(result.image));
     if (may_refine) {
         std::optional<double> change;
         if (job.refined_image) {
@@ -431,9 +499,10 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
     }
     {
         const std::lock_guard lock(mutex_);
-        if (still_after_preview) {
-            queue_still_after_preview(std::move(*still_after_preview), done);
-        } else if (frame->refining) {
+        if (submitted.still_after_preview) {
+            queue_still_after_preview(record, std::move(*submitted.still_after_preview),
+                                      submitted.done);
+        } else if (frame->refining && !record.superseded) {
             RenderJob next = job;
             next.refinement_step = step + 1;
             if (step == 0) {
@@ -442,11 +511,11 @@ void Scheduler::render_one(render::FrameRenderer& renderer, RenderJob job, Frame
                 next.request.refinement = {false, step};
             }
             next.refined_image = image;
-            queue_refinement(session, std::move(next), done);
+            queue_refinement(session, std::move(next), submitted.done);
         }
     }
     queue_in_order(session, [this, frame, image, output = job.output,
-                             done = std::move(done)]() mutable {
+                             done = std::move(submitted.done)]() mutable {
         const Clock::time_point start = Clock::now();
         auto bytes = encode::encode_image(*image, image_format(output.format), output.jpeg_quality);
         if (!bytes) {

@@ -98,7 +98,7 @@ TEST(PreintegrationTable, MatchesNumericalIntegrationInDouble) {
     const gpu::ShaderLibrary shaders(gpu::default_shader_dir());
     ProgramCache programs(shaders);
     TransferFunctionTexture tf_texture;
-    PreintegrationTable table;
+    PreintegrationTable table(false);
     const int side = table.side();
     std::vector<float> entries(std::size_t(side) * side * 4);
     for (const scene::TransferFunction& tf : table_cases()) {

@@ -9,9 +9,13 @@
 namespace penumbra::render {
 
 // One pass that ran for a frame. `gpu_ms` comes from a GL timer query (0 for passes that issue no
-// GPU work, -1 where the GL implementation's timer queries mean nothing); `wall_ms` is the CPU-side
-// time from issuing the pass until the GPU finished it (glFinish), which is the figure to trust on
-// llvmpipe, whose timer queries do not cover compute dispatches.
+// GPU work or are not timed, -1 where the GL implementation's timer queries mean nothing);
+// `wall_ms` is CPU-side. Where timer queries mean nothing (llvmpipe, whose timers do not cover
+// compute dispatches) the renderer waits for each pass, and `wall_ms` runs from issuing it until
+// the GPU finished it: the figure to trust there. Where they work, nothing waits on the way
+// (frames are pipelined): a pass's `wall_ms` is the time to issue it, except the pass that draws
+// the pixels (`raycast`, `half_angle`), whose wall time runs until the frame's fence was seen
+// (Renderer::complete), so that a frame's wall times still add up to its time on the render thread.
 struct PassTiming {
     std::string name;
     double gpu_ms = 0.0;

@@ -83,6 +83,19 @@ struct RendererInfo {
     // LP_MAX_TGSI_LOOP_ITERATIONS); the compute ray caster then marches long rays in several
     // dispatches. 0 = no such limit.
     int max_shader_loop_iterations = 0;
+    // How many frames a scheduler keeps submitted (FrameRenderer::submit) before it waits for the
+    // oldest: 2 on a GPU, so that the CPU issues the next frame while the GPU draws this one; 1
+    // on a software rasteriser, which draws as the frame is issued, so that a second frame in
+    // flight would only hold back the first.
+    int frames_in_flight = 1;
+};
+
+// A frame whose GPU work has been issued (FrameRenderer::submit) and that complete() waits for.
+// Every submitted frame must be completed, in the order it was submitted.
+struct SubmittedFrame {
+    std::uint64_t ticket = 0;  // the renderer's name for the frame in flight
+    // The frame itself, for a renderer that renders it whole in submit().
+    std::optional<Frame> rendered;
 };
 
 // What the scheduler renders through, so that scheduling can be tested with a fake.
@@ -114,6 +127,28 @@ public:
                                        const CancelPredicate& cancelled) = 0;
 
     base::Result<Frame> render(const scene::FrameRequest& request) { return render(request, {}); }
+
+    // Issues the frame's work and its readback without waiting for the GPU, failing as render()
+    // does (`cancelled` is asked between chunks, as there); at most
+    // RendererInfo::frames_in_flight frames (and never more than four) wait for complete() at a
+    // time. A renderer that does not pipeline renders the frame whole here.
+    virtual base::Result<SubmittedFrame> submit(const scene::FrameRequest& request,
+                                                const CancelPredicate& cancelled) {
+        auto frame = render(request, cancelled);
+        if (!frame) {
+            return frame.error();
+        }
+        return SubmittedFrame{.ticket = 0, .rendered = std::move(frame.value())};
+    }
+
+    // Waits for a submitted frame and returns it, its pass times complete.
+    virtual base::Result<Frame> complete(SubmittedFrame submitted) {
+        if (!submitted.rendered) {
+            return base::make_error(base::ErrorCode::internal_error,
+                                    "this renderer has no such frame in flight", "render");
+        }
+        return std::move(*submitted.rendered);
+    }
 
     // Bytes of GPU memory held by cached volume textures and light buffers.
     [[nodiscard]] virtual std::size_t gpu_bytes_held() const = 0;
@@ -149,10 +184,18 @@ public:
     // rotated or reflected (unsupported_orientation).
     base::Status set_labels(std::shared_ptr<const volume::LabelMap> labels) override;
 
-    // Renders one frame of the current volume in any mode of DESIGN.md §1.
+    // Renders one frame of the current volume in any mode of DESIGN.md §1: complete(submit()).
     using FrameRenderer::render;
     base::Result<Frame> render(const scene::FrameRequest& request,
                                const CancelPredicate& cancelled) override;
+
+    // The frame's passes, then its readback into a pixel-pack buffer of its own and a fence; where
+    // timer queries time the GPU, nothing waits for the GPU on the way.
+    base::Result<SubmittedFrame> submit(const scene::FrameRequest& request,
+                                        const CancelPredicate& cancelled) override;
+
+    // Waits for the frame's fence, reads its pixels and its passes' timers.
+    base::Result<Frame> complete(SubmittedFrame submitted) override;
 
     [[nodiscard]] std::size_t gpu_bytes_held() const override;
 

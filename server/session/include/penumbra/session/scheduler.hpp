@@ -138,6 +138,9 @@ struct SchedulerOptions {
     // the newer request, a short one finishes, so a session that asks faster than its frames
     // render still sees frames.
     std::chrono::milliseconds supersede_running_after{500};
+    // Frames submitted to the renderer before the render thread waits for the oldest of them
+    // (render::FrameRenderer::submit), 1 to 4; 0: the device's (RendererInfo::frames_in_flight).
+    int frames_in_flight = 0;
 };
 
 // One render thread owns the renderer (and so the GL context) for all sessions. Each session
@@ -146,8 +149,11 @@ struct SchedulerOptions {
 // in turn, so neither a busy session nor a client with many sessions can starve others.
 // The frame being rendered is cancelled between its chunks when its session is closed, when the
 // scheduler stops, and when a newer request of its session has waited for it long enough
-// (SchedulerOptions::supersede_running_after). Encoding runs on a pool of worker threads,
-// overlapping the next render.
+// (SchedulerOptions::supersede_running_after). On a GPU the render thread submits the next
+// frame before it waits for the one before (SchedulerOptions::frames_in_flight), so that the GPU
+// draws one while the CPU issues the other; frames are completed, and their outcomes handed on,
+// in the order they were taken. Encoding runs on a pool of worker threads, overlapping the next
+// render.
 class Scheduler {
 public:
     using RendererFactory = std::function<base::Result<std::unique_ptr<render::FrameRenderer>>()>;
@@ -182,16 +188,39 @@ public:
 private:
     Scheduler(SchedulerOptions options, metrics::Registry& metrics);
 
-    void render_loop(const RendererFactory& factory, std::promise<base::Status>& ready);
-    void encode_loop();
-    void render_one(render::FrameRenderer& renderer, RenderJob job, FrameCallback done);
-    // Whether the frame in flight should stop; asked by the renderer between chunks.
-    bool in_flight_cancelled() const;
-
     struct Pending {
         RenderJob job;
         FrameCallback done;
     };
+
+    // A job the render thread took, between submit_one and complete_one: its frame in flight on
+    // the renderer, or the outcome it already had (a failure, a withdrawal), which waits here so
+    // that it reaches the client after the frames taken before it.
+    struct Submitted {
+        std::string session;
+        RenderJob job;
+        FrameCallback done;
+        std::optional<render::SubmittedFrame> frame;
+        std::optional<FrameOutcome> outcome;
+        // A preview's: the still that follows it once it is complete.
+        std::optional<RenderJob> still_after_preview;
+        double queued_ms = 0.0;
+    };
+
+    void render_loop(const RendererFactory& factory, std::promise<base::Status>& ready);
+    void encode_loop();
+    // Takes the next job to render into `next` and marks it in flight: a client's in its turn,
+    // or with none waiting a refinement step (under mutex_).
+    bool take_next(Pending& next);
+    // Sets up and submits the job in flight; nothing when there is nothing to hand on (a
+    // refinement step preempted or stopped).
+    std::optional<Submitted> submit_one(render::FrameRenderer& renderer, RenderJob job,
+                                        FrameCallback done);
+    // Waits for the oldest submitted frame and queues its encode, its refinement step or the still
+    // after it.
+    void complete_one(render::FrameRenderer& renderer, Submitted submitted);
+    // Whether the frame in flight should stop; asked by the renderer between chunks.
+    bool in_flight_cancelled() const;
 
     // Takes `session` out of its client's turn (under mutex_).
     void unqueue(const std::string& session, const std::string& client);
@@ -199,9 +228,11 @@ private:
     // Puts the session's job in its client's turn; the session has none pending (under mutex_).
     void enqueue(const std::string& session, Pending pending);
 
-    // Queues the still that follows its preview in its client's turn, as any job of the session,
-    // unless the session was closed or superseded meanwhile (under mutex_).
-    void queue_still_after_preview(RenderJob job, FrameCallback done);
+    struct InFlight;
+
+    // Queues the still that follows its preview (`preview`) in its client's turn, as any job of
+    // the session, unless the session was closed or superseded meanwhile (under mutex_).
+    void queue_still_after_preview(const InFlight& preview, RenderJob job, FrameCallback done);
 
     // Queues the refinement step that follows `job` at the lowest priority (under mutex_).
     void queue_refinement(const std::string& session, RenderJob job, FrameCallback done);
@@ -212,9 +243,6 @@ private:
     // Takes the next refinement step into `next` and marks it in flight, when no client has a
     // job pending (under mutex_).
     bool take_refinement(Pending& next);
-
-    // The render thread is idle again (takes mutex_).
-    void finish_in_flight(const render::FrameRenderer& renderer);
 
     // Queues `task` (an encode, or handing an outcome on) behind the session's tasks already
     // queued; encoder threads run one task of a session at a time, in order (takes encode_mutex_).
@@ -239,16 +267,18 @@ private:
     std::map<std::string, Pending> refinements_;
     std::deque<std::string> refinement_order_;
 
-    // The job on the render thread (guarded by mutex_), so that others can cancel it.
+    // A job on the render thread (guarded by mutex_), so that others can cancel it.
     struct InFlight {
         std::string session;  // empty while the render thread is idle
         Clock::time_point started;
-        bool superseded = false;  // a newer job of the session is pending
+        bool superseded = false;  // a newer job of the session came
         bool closed = false;      // the session was cancelled
         bool refinement = false;  // a refinement step, which yields to any pending job
     };
 
-    InFlight in_flight_;
+    InFlight in_flight_;  // the job being submitted
+    // The jobs submitted and not yet completed, oldest first (the render thread's Submitted).
+    std::deque<InFlight> submitted_;
 
     // Encoding runs on several threads, but one session's frames are encoded one at a time, in
     // the order they were rendered, so that its viewers get them in that order (a refinement
