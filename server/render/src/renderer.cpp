@@ -76,11 +76,8 @@ struct Renderer::Impl {
         Frame frame;  // the report so far; complete() adds the image and the last passes
         int width = 0;
         int height = 0;
-        Clock::time_point render_start;
-        // Measured in submit() where the renderer waits for each pass; otherwise it runs until
-        // complete() sees the frame's fence.
-        std::optional<double> render_wall_ms;
-        double readback_issue_ms = 0.0;
+        double render_wall_ms = 0.0;     // pass_ms_since: issued, or finished without timers
+        double readback_issue_ms = 0.0;  // complete() adds its wait for the fence and the copy
         std::optional<std::size_t> light_buffer_pass;  // the index of a build timed by its timer
         const char* pass_name = "raycast";
     };
@@ -404,16 +401,13 @@ base::Result<SubmittedFrame> Renderer::submit(const scene::FrameRequest& request
         impl.last_inset = Impl::LastInset::light_buffer;
     }
 
-    slot->render_start = Clock::now();
+    const auto render_start = Clock::now();
     auto pass_chunks = impl.run_pass(request, plan, g, slot->render_timer, chunks);
     if (!pass_chunks) {
         return pass_chunks.error();
     }
     // Where wall times are the only measure, finishing here splits render from readback.
-    slot->render_wall_ms.reset();
-    if (!impl.info.gpu_timer_queries) {
-        slot->render_wall_ms = finished_ms_since(slot->render_start);
-    }
+    slot->render_wall_ms = pass_ms_since(render_start, impl.info.gpu_timer_queries);
     if (request.refinement.keep || request.refinement.step > 0) {
         if (auto status =
                     impl.stills.accumulate(impl.programs, request, volume.generation(),
@@ -457,29 +451,21 @@ base::Result<Frame> Renderer::complete(SubmittedFrame submitted) {
     slot.ticket = 0;
     Frame frame = std::move(slot.frame);
     const bool timers = impl.info.gpu_timer_queries;
+    // Where timers work this waits for whatever of the frame the GPU has not done yet, so that
+    // the frame's wall times add up to the time the render thread spent on it.
     const auto wait_start = Clock::now();
-    if (auto status = slot.readback.wait(); !status) {
-        return status.error();
-    }
-    const double render_wall_ms =
-            slot.render_wall_ms.value_or(milliseconds_since(slot.render_start));
-    const auto copy_start = Clock::now();
     frame.image = base::ImageRgba8(slot.width, slot.height);
     if (auto status = slot.readback.read(std::as_writable_bytes(std::span(frame.image.pixels)));
         !status) {
         return status.error();
     }
-    // Where the renderer waited in submit(), the wait here is the readback's own.
-    double readback_ms = slot.readback_issue_ms + milliseconds_since(copy_start);
-    if (slot.render_wall_ms) {
-        readback_ms += std::chrono::duration<double, std::milli>(copy_start - wait_start).count();
-    }
+    const double readback_ms = slot.readback_issue_ms + milliseconds_since(wait_start);
     if (slot.light_buffer_pass && timers) {
         frame.report.passes.at(*slot.light_buffer_pass).gpu_ms =
                 slot.light_buffer_timer.milliseconds();
     }
     frame.report.passes.push_back(
-            {slot.pass_name, gpu_ms(slot.render_timer, timers), render_wall_ms});
+            {slot.pass_name, gpu_ms(slot.render_timer, timers), slot.render_wall_ms});
     frame.report.passes.push_back({"readback", 0.0, readback_ms});
     if (const GLenum error = gpu::take_error(); error != GL_NO_ERROR) {
         return base::make_error(base::ErrorCode::gl_error,

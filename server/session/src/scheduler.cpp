@@ -386,6 +386,7 @@ std::optional<Scheduler::Submitted> Scheduler::submit_one(render::FrameRenderer&
         }
         return renderer.submit(taken.request, [this] { return in_flight_cancelled(); });
     }();
+    gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
     const std::lock_guard lock(mutex_);
     const InFlight in_flight = std::exchange(in_flight_, {});
     if (taken.refinement_step > 0 && !result) {
@@ -420,31 +421,88 @@ void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitte
         rendered = renderer.complete(std::move(*submitted.frame));
     }
     gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
-    InFlight record;
+    const std::string& session = submitted.session;
+    RenderJob& job = submitted.job;
+    const int step = job.refinement_step;
+    // The frame, before its fate is known: what follows it is decided under the same lock that
+    // takes its record, so that a cancel() can never slip in between.
+    std::shared_ptr<EncodedFrame> frame;
+    std::shared_ptr<const base::ImageRgba8> image;
+    if (rendered && *rendered) {
+        render::Frame& result = rendered->value();
+        frame = std::make_shared<EncodedFrame>();
+        frame->report = std::move(result.report);
+        frame->width = result.image.width;
+        frame->height = result.image.height;
+        frame->format = job.output.format;
+        frame->mode = job.request.settings.mode;
+        frame->sample_distance = job.request.settings.sample_distance;
+        frame->request_id = job.request_id;
+        frame->interactive = job.interactive;
+        frame->quality = job.quality;
+        frame->refinement_step = step;
+        frame->preview = submitted.still_after_preview.has_value();
+        frame->refining = frame->preview;  // the still follows it
+        frame->queued_ms = submitted.queued_ms;
+        for (const auto& pass : frame->report.passes) {
+            if (pass.name == "readback") {
+                frame->readback_ms += pass.wall_ms;
+            } else {
+                frame->render_ms += pass.wall_ms;
+            }
+        }
+        image = std::make_shared<const base::ImageRgba8>(std::move(result.image));
+        if (!job.interactive && !submitted.still_after_preview && step < job.refinement_steps) {
+            std::optional<double> change;
+            if (job.refined_image) {
+                if (auto measured = base::change_in_levels(*job.refined_image, *image)) {
+                    change = *measured;
+                }
+            }
+            frame->refining = scene::refines_after(step, change, job.refinement_steps,
+                                                   job.refinement_threshold);
+        }
+    }
     bool stopping = false;
+    InFlight record;
     {
         const std::lock_guard lock(mutex_);
         record = std::move(submitted_.front());
         submitted_.pop_front();
         stopping = stopping_;
+        if (frame && !stopping && !record.closed) {
+            if (submitted.still_after_preview) {
+                queue_still_after_preview(record, std::move(*submitted.still_after_preview),
+                                          submitted.done);
+            } else if (frame->refining && !record.superseded) {
+                RenderJob next = job;
+                next.refinement_step = step + 1;
+                if (step == 0) {
+                    next.request = scene::refinement_step_request(job.request, 1);
+                } else {
+                    next.request.refinement = {false, step};
+                }
+                next.refined_image = image;
+                queue_refinement(session, std::move(next), submitted.done);
+            }
+        }
     }
-    const std::string& session = submitted.session;
-    RenderJob& job = submitted.job;
-    const int step = job.refinement_step;
     if (submitted.outcome) {
         deliver_in_order(session, std::move(submitted.done), std::move(*submitted.outcome));
         return;
     }
     if (stopping || record.closed) {
-        // Rendered, but nobody is left to see it.
-        if (!stopping) {
-            superseded_.add();
+        // Rendered, but nobody is left to see it. A refinement step hands on its frame only.
+        if (step == 0) {
+            if (!stopping) {
+                superseded_.add();
+            }
+            deliver_in_order(session, std::move(submitted.done),
+                             stopping ? Withdrawn::shutting_down : Withdrawn::superseded);
         }
-        deliver_in_order(session, std::move(submitted.done),
-                         stopping ? Withdrawn::shutting_down : Withdrawn::superseded);
         return;
     }
-    if (!*rendered) {
+    if (!frame) {
         if (step > 0) {
             // The still frame stands; only its refinement ends.
             base::log_warning("session", "refinement of session " + session +
@@ -456,63 +514,11 @@ void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitte
                          FrameFailure{rendered->error(), job.request_id});
         return;
     }
-    render::Frame& result = rendered->value();
-    const bool may_refine =
-            !job.interactive && !submitted.still_after_preview && step < job.refinement_steps;
-    auto frame = std::make_shared<EncodedFrame>();
-    frame->report = std::move(result.report);
-    frame->width = result.image.width;
-    frame->height = result.image.height;
-    frame->format = job.output.format;
-    frame->mode = job.request.settings.mode;
-    frame->sample_distance = job.request.settings.sample_distance;
-    frame->request_id = job.request_id;
-    frame->interactive = job.interactive;
-    frame->quality = job.quality;
-    frame->refinement_step = step;
-    frame->preview = submitted.still_after_preview.has_value();
-    frame->refining = frame->preview;  // the still follows it
-    frame->queued_ms = submitted.queued_ms;
-    for (const auto& pass : frame->report.passes) {
-        if (pass.name == "readback") {
-            frame->readback_ms += pass.wall_ms;
-        } else {
-            frame->render_ms += pass.wall_ms;
-        }
-    }
     render_ms_.observe(frame->render_ms);
     if (frame->report.light_buffer == render::LightBufferState::built) {
         light_buffer_built_.add();
     } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
-    }
-    auto image = std::make_shared<const base::ImageRgba8>(std::move(result.image));
-    if (may_refine) {
-        std::optional<double> change;
-        if (job.refined_image) {
-            if (auto measured = base::change_in_levels(*job.refined_image, *image)) {
-                change = *measured;
-            }
-        }
-        frame->refining =
-                scene::refines_after(step, change, job.refinement_steps, job.refinement_threshold);
-    }
-    {
-        const std::lock_guard lock(mutex_);
-        if (submitted.still_after_preview) {
-            queue_still_after_preview(record, std::move(*submitted.still_after_preview),
-                                      submitted.done);
-        } else if (frame->refining && !record.superseded) {
-            RenderJob next = job;
-            next.refinement_step = step + 1;
-            if (step == 0) {
-                next.request = scene::refinement_step_request(job.request, 1);
-            } else {
-                next.request.refinement = {false, step};
-            }
-            next.refined_image = image;
-            queue_refinement(session, std::move(next), submitted.done);
-        }
     }
     queue_in_order(session, [this, frame, image, output = job.output,
                              done = std::move(submitted.done)]() mutable {

@@ -271,7 +271,7 @@ Session::StillCost Session::still_cost_of(const EncodedFrame& frame) {
     for (const auto& pass : frame.report.passes) {
         if (pass.name == "raycast" || pass.name == "half_angle" || pass.name == "accumulate" ||
             pass.name == "readback") {
-            ms += pass.wall_ms;
+            ms += render::measured_ms(pass);
         }
     }
     const double pixels = std::max(1.0, static_cast<double>(frame.width) * frame.height);

@@ -13,14 +13,19 @@ namespace penumbra::render {
 // `wall_ms` is CPU-side. Where timer queries mean nothing (llvmpipe, whose timers do not cover
 // compute dispatches) the renderer waits for each pass, and `wall_ms` runs from issuing it until
 // the GPU finished it: the figure to trust there. Where they work, nothing waits on the way
-// (frames are pipelined): a pass's `wall_ms` is the time to issue it, except the pass that draws
-// the pixels (`raycast`, `half_angle`), whose wall time runs until the frame's fence was seen
-// (Renderer::complete), so that a frame's wall times still add up to its time on the render thread.
+// (frames are pipelined): a pass's `wall_ms` is the time to issue it, and `readback`'s includes
+// the wait for the frame's fence (Renderer::complete); either way a frame's wall times add up to
+// the time the render thread spent on it, and measured_ms is the pass's own cost.
 struct PassTiming {
     std::string name;
     double gpu_ms = 0.0;
     double wall_ms = 0.0;
 };
+
+// What a pass cost: its GPU time where a timer measured it, else its wall time.
+[[nodiscard]] inline double measured_ms(const PassTiming& pass) {
+    return pass.gpu_ms > 0.0 ? pass.gpu_ms : pass.wall_ms;
+}
 
 // What a frame did with the light buffer: `none` (the mode casts no light-buffer shadows),
 // `built`, or `reused` (its inputs had not changed since it was last built: camera moves never
