@@ -316,7 +316,7 @@ base::Result<Geometry> patient_geometry(const std::vector<Frame>& frames, glm::d
         }
     }
     const glm::dvec3 origin = first.position ? lps_to_ras(*first.position) : glm::dvec3(0.0);
-    auto geometry = geometry_from_steps(steps, origin);
+    auto geometry = placed_geometry(steps, origin);
     if (!geometry) {
         base::Error error = geometry.error();
         error.where = frame_label(first, images);

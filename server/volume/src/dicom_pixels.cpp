@@ -314,10 +314,13 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
         error.where = detail::at_file(source);
         return error;
     }
-    volume->axes = geometry->axes;
-    volume->origin = geometry->origin;
-    volume->hounsfield = images.front().hounsfield;
     volume->notes = std::move(notes);
+    if (auto placed = place_volume(*volume, *geometry, options); !placed) {
+        base::Error error = placed.error();
+        error.where = detail::at_file(source);
+        return error;
+    }
+    volume->hounsfield = images.front().hounsfield;
     return volume;
 }
 

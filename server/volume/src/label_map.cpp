@@ -331,7 +331,9 @@ base::Result<LabelMap> load_label_map(const std::filesystem::path& path, const L
     if (!named) {
         return named.error();
     }
-    auto stored = load_volume(path, options);
+    LoadOptions exact = options;
+    exact.resample_sheared = false;  // interpolation would mix the ids
+    auto stored = load_volume(path, exact);
     if (!stored) {
         return stored.error();
     }

@@ -156,21 +156,23 @@ base::Result<Geometry> patient_geometry(const nifti_image& image,
                                                       "xyz"[column], path);
             }
         }
-        return geometry_from_steps(steps, origin);
+        return placed_geometry(steps, origin);
     };
     if (image.sform_code > 0) {
         auto sform = geometry_of(image.sto_xyz);
-        if (sform || image.qform_code <= 0) {
-            if (!sform) {
-                base::Error error = sform.error();
-                error.message = "the sform " + error.message;
-                error.where = detail::at_file(path);
-                return error;
-            }
-            return sform;
+        if (!sform && image.qform_code <= 0) {
+            base::Error error = sform.error();
+            error.message = "the sform " + error.message;
+            error.where = detail::at_file(path);
+            return error;
+        }
+        if (sform && (!sform->sheared_steps || image.qform_code <= 0)) {
+            return sform;  // a sheared sform without a qform is resampled (place_volume)
         }
         base::log_warning(log_component, path.string() + ": the sform is not a rotation (" +
-                                                 sform.error().message + "); using the qform");
+                                                 (sform ? std::string("its axes are sheared")
+                                                        : sform.error().message) +
+                                                 "); using the qform");
     }
     auto qform = geometry_of(image.qto_xyz);
     if (!qform) {
@@ -353,8 +355,11 @@ base::Result<Volume> load_nifti_file(const std::filesystem::path& path,
         error.where = detail::at_file(path);
         return error;
     }
-    volume->axes = geometry->axes;
-    volume->origin = geometry->origin;
+    if (auto placed = place_volume(*volume, *geometry, options); !placed) {
+        base::Error error = placed.error();
+        error.where = detail::at_file(path);
+        return error;
+    }
     // NIfTI has no field for the values' units; intent_name ("name or meaning of data") set to
     // "HU" marks a CT in Hounsfield units.
     const std::string_view intent(image->intent_name);

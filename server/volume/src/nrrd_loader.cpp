@@ -771,7 +771,7 @@ base::Result<Layout> check_header(const Header& header, const std::filesystem::p
             steps[axis][axis] = std::isnan(spacing) ? 1.0 : spacing;
         }
     }
-    auto geometry = geometry_from_steps(steps, origin);
+    auto geometry = placed_geometry(steps, origin);
     if (!geometry) {
         base::Error error = geometry.error();
         error.where = at(header.directions.line);
@@ -1308,8 +1308,11 @@ base::Result<Volume> load_nrrd_file(const std::filesystem::path& path, const Loa
         error.where = detail::at_file(path);
         return error;
     }
-    volume->axes = layout->geometry.axes;
-    volume->origin = layout->geometry.origin;
+    if (auto placed = place_volume(*volume, layout->geometry, options); !placed) {
+        base::Error error = placed.error();
+        error.where = detail::at_file(path);
+        return error;
+    }
     volume->hounsfield = header->hounsfield;
     // Values per voxel count as volumes too: a label map must hold one of each.
     volume->volumes_in_file = layout->volumes * layout->components;

@@ -1,5 +1,6 @@
 #include "fixture_files.hpp"
 
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <gtest/gtest.h>
@@ -257,16 +258,25 @@ TEST(NrrdLoader, ObliqueDirectionsAreKept) {
     EXPECT_EQ(orientation_code(volume->axes), "LPS");
 }
 
-TEST(NrrdLoader, ShearedDirectionsAreRefused) {
+// Slices stepping along a tilted axis (as a gantry-tilted CT's do): resampled onto an orthogonal
+// grid (volume_test has the resampling's exactness), with a note; a label map refuses it.
+TEST(NrrdLoader, ShearedDirectionsAreResampledOntoAnOrthogonalGrid) {
     fixtures::TempDir dir;
-    auto volume = load_attached(dir,
-                                std::string(cube_header) +
-                                        "space: left-posterior-superior\n"
-                                        "space directions: (1,0,0) (0,1,0) (0,0.2,1)\n",
-                                cube_uint8());
-    ASSERT_FALSE(volume.ok());
-    EXPECT_EQ(volume.error().code, base::ErrorCode::sheared_transform);
-    EXPECT_TRUE(contains(volume.error().message, "not perpendicular")) << volume.error().message;
+    const std::string header = std::string(cube_header) +
+                               "space: left-posterior-superior\n"
+                               "space directions: (1,0,0) (0,1,0) (0,0.5,1)\n";
+    auto volume = load_attached(dir, header, cube_uint8());
+    ASSERT_TRUE(volume.ok()) << volume.error().to_string();
+    EXPECT_EQ(volume->dims, glm::uvec3(2, 3, 2));  // the second slice moved by half a row
+    EXPECT_EQ(orientation_code(volume->axes), "LPS");
+    ASSERT_FALSE(volume->notes.empty());
+    EXPECT_TRUE(contains(volume->notes.back(), "degrees apart")) << volume->notes.back();
+
+    fixtures::write_bytes(dir / "labels.nrrd", concat(text_bytes(header + "\n"), cube_uint8()));
+    auto labels = load_label_map(dir / "labels.nrrd", {}, {});
+    ASSERT_FALSE(labels.ok());
+    EXPECT_EQ(labels.error().code, base::ErrorCode::sheared_transform);
+    EXPECT_TRUE(contains(labels.error().message, "not perpendicular")) << labels.error().message;
 }
 
 TEST(NrrdLoader, UnknownSpaceIsRefused) {

@@ -2,6 +2,9 @@
 
 #include <penumbra/volume/volume.hpp>
 
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -254,6 +257,102 @@ TEST(Orientation, ShearedAndDegenerateStepsAreRefused) {
             glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0), glm::dvec3(0, 0, 1)), glm::dvec3(0));
     ASSERT_FALSE(flat.ok());
     EXPECT_EQ(flat.error().code, base::ErrorCode::bad_transform);
+}
+
+// A field linear in patient space, sampled on a grid sheared along every pair of axes (as dipy's
+// S0_10slices.nii.gz is), comes back on the orthogonal grid exactly: trilinear interpolation
+// reproduces a linear field, so every resampled voxel inside the stored ones holds the field at
+// its own centre, and those outside hold the lowest value.
+TEST(Placement, AShearedVolumeIsResampledOntoAnOrthogonalGridHoldingTheSameField) {
+    const glm::dmat3 steps(glm::dvec3(2, 0, 0.2), glm::dvec3(0.3, 1.5, 0), glm::dvec3(1.2, 0.9, 3));
+    const glm::dvec3 origin(-10, 5, 20);
+    const glm::dvec3 gradient(0.5, -0.25, 0.125);
+    const auto field = [&](glm::dvec3 p) { return 100.0 + glm::dot(gradient, p - origin); };
+    const glm::uvec3 dims(9, 7, 5);
+    std::vector<float> values;
+    for (std::uint32_t k = 0; k < dims.z; ++k) {
+        for (std::uint32_t j = 0; j < dims.y; ++j) {
+            for (std::uint32_t i = 0; i < dims.x; ++i) {
+                values.push_back(static_cast<float>(field(origin + steps * glm::dvec3(i, j, k))));
+            }
+        }
+    }
+    auto volume = make_volume("sheared", dims, glm::dvec3(1.0), values);
+    ASSERT_TRUE(volume.ok());
+    auto geometry = placed_geometry(steps, origin);
+    ASSERT_TRUE(geometry.ok()) << geometry.error().to_string();
+    ASSERT_TRUE(geometry->sheared_steps.has_value());
+    const double lowest = volume->range.min;
+    ASSERT_TRUE(place_volume(*volume, *geometry, LoadOptions{}).ok());
+
+    // The grid: i's direction, j's made perpendicular to it, their normal; spacings the steps'
+    // lengths along them; a rotation.
+    EXPECT_NEAR(glm::dot(volume->axes[0], glm::normalize(steps[0])), 1.0, 1e-12);
+    EXPECT_NEAR(glm::dot(volume->axes[0], volume->axes[1]), 0.0, 1e-12);
+    EXPECT_NEAR(glm::dot(volume->axes[1], volume->axes[2]), 0.0, 1e-12);
+    EXPECT_NEAR(glm::determinant(volume->axes), 1.0, 1e-12);
+    EXPECT_NEAR(volume->spacing.x, glm::length(steps[0]), 1e-12);
+    ASSERT_EQ(volume->notes.size(), 1u);
+    EXPECT_NE(volume->notes[0].find("resampled onto an orthogonal grid"), std::string::npos)
+            << volume->notes[0];
+    EXPECT_GT(volume->voxel_count(), std::size_t{dims.x} * dims.y * dims.z);
+
+    const glm::dmat3 to_stored = glm::inverse(steps);
+    std::size_t inside = 0;
+    std::size_t outside = 0;
+    for (std::uint32_t z = 0; z < volume->dims.z; ++z) {
+        for (std::uint32_t y = 0; y < volume->dims.y; ++y) {
+            for (std::uint32_t x = 0; x < volume->dims.x; ++x) {
+                const glm::dvec3 p =
+                        volume->origin + volume->axes * (volume->spacing * glm::dvec3(x, y, z));
+                const glm::dvec3 index = to_stored * (p - origin);
+                const bool within =
+                        glm::all(glm::greaterThanEqual(index, glm::dvec3(-1e-9))) &&
+                        glm::all(glm::lessThanEqual(index, glm::dvec3(dims) - 1.0 + 1e-9));
+                const double want = within ? field(p) : lowest;
+                ASSERT_NEAR(volume->value(x, y, z), want, 1e-3)
+                        << "voxel " << x << "," << y << "," << z
+                        << (within ? " inside" : " outside");
+                (within ? inside : outside) += 1;
+            }
+        }
+    }
+    EXPECT_GT(inside, 100u);
+    EXPECT_GT(outside, 100u);
+}
+
+// A label map's ids must not mix: where the options refuse resampling, a shear is refused as
+// before; steps so nearly coplanar that they span almost no volume are refused whatever the
+// options; a grid that would hold far more than the stored voxels is refused for its size.
+TEST(Placement, ShearIsRefusedWhereResamplingIsNotWantedOrWouldNotBeSound) {
+    auto volume =
+            make_volume("sheared", glm::uvec3(4), glm::dvec3(1.0), std::vector<float>(64, 1.0f));
+    ASSERT_TRUE(volume.ok());
+    const glm::dmat3 tilt(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0.27, 1));
+    auto geometry = placed_geometry(tilt, glm::dvec3(0));
+    ASSERT_TRUE(geometry.ok());
+    LoadOptions exact;
+    exact.resample_sheared = false;
+    auto refused = place_volume(*volume, *geometry, exact);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, base::ErrorCode::sheared_transform);
+    EXPECT_EQ(volume->dims, glm::uvec3(4));
+
+    auto flat = placed_geometry(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(1, 1, 1e-4)),
+            glm::dvec3(0));
+    ASSERT_FALSE(flat.ok());
+    EXPECT_EQ(flat.error().code, base::ErrorCode::sheared_transform);
+    EXPECT_NE(flat.error().message.find("coplanar"), std::string::npos) << flat.error().message;
+
+    // 89 degrees of shear: the grid along i would be about 57 times the stored voxels.
+    auto steep = placed_geometry(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(57.3, 0, 1)),
+            glm::dvec3(0));
+    ASSERT_TRUE(steep.ok()) << steep.error().to_string();
+    auto too_large = place_volume(*volume, *steep, LoadOptions{});
+    ASSERT_FALSE(too_large.ok());
+    EXPECT_EQ(too_large.error().code, base::ErrorCode::out_of_memory);
 }
 
 TEST(Orientation, LpsToRasNegatesXAndY) {

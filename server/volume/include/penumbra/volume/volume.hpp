@@ -132,9 +132,32 @@ struct Geometry {
     glm::dvec3 spacing{1.0};
     glm::dmat3 axes{1.0};
     glm::dvec3 origin{0.0};
+    // Where the file's steps are not perpendicular (placed_geometry): the steps themselves, which
+    // place_volume resamples the voxels from. `spacing` and `axes` are then the columns' lengths
+    // and directions as they are.
+    std::optional<glm::dmat3> sheared_steps;
 };
 
 base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 origin);
+
+// As geometry_from_steps, but steps that are not perpendicular give a Geometry with
+// `sheared_steps` (place_volume resamples such a volume) unless they are degenerate: so nearly
+// coplanar that the voxels span almost no volume (an Error "sheared_transform" still).
+base::Result<Geometry> placed_geometry(const glm::dmat3& steps, glm::dvec3 origin);
+
+struct LoadOptions;
+
+// Puts a loaded volume where `geometry` says: its spacing, axes and origin; or, for a sheared
+// geometry (a gantry-tilted CT, a sheared registration result), its voxels resampled onto an
+// orthogonal grid that holds them all, as 3D Slicer's "harden transform" and dcm2niix's tilt
+// correction do: the grid's first axis is i's, its second j's made perpendicular to i, its third
+// their normal, so the slices of a tilted series stay whole planes of the grid and only move
+// within them (interpolation trilinear, exact across slices there); where the grid reaches past
+// the stored voxels it holds the volume's lowest value; a note says what was done. Fails with
+// "sheared_transform" where `options` refuses resampling (label maps, whose ids must not mix),
+// and with "out_of_memory" when the grid would hold more than options.max_bytes or eight times
+// the stored voxels.
+base::Status place_volume(Volume& volume, const Geometry& geometry, const LoadOptions& options);
 
 // Columns of unit axes may differ from perpendicular by this much (the cosine of their angle):
 // files store directions as float32 or as decimal strings of a few digits, while a gantry tilt
@@ -158,6 +181,9 @@ struct LoadOptions {
     // DICOM: a folder's sub-folders are searched too (a DICOMDIR export root, a study folder
     // with a folder per series), a few levels deep; `serve` walks sub-folders itself.
     bool dicom_subfolders = true;
+    // A sheared index-to-patient transform is resampled onto an orthogonal grid (place_volume);
+    // false refuses it instead (label maps: interpolation would mix their ids).
+    bool resample_sheared = true;
 };
 
 // The memory the machine has available now (MemAvailable), or nullopt where it cannot tell.
