@@ -10,7 +10,8 @@ set -euo pipefail
 build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
-    libopenimageio-dev libturbojpeg0-dev libpng-dev libnifti2-dev libdcmtk-dev zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
+    libopenimageio-dev libturbojpeg0-dev libpng-dev libnifti2-dev libdcmtk-dev libopenjp2-7-dev
+    zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
     libboost-program-options-dev
     libssl-dev nodejs
 )
@@ -18,8 +19,9 @@ test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     clang-14 libfuzzer-14-dev clang-format-14 clang-tidy-14
     mricron-data gnuplot-nox
-    # Other projects' volume files for the conformance test, and the readers it compares with.
-    python3-nibabel insighttoolkit5-examples heudiconv
+    # Other projects' volume files for the conformance test, and the readers it compares with
+    # (pydicom decodes JPEG 2000 through GDCM's Python module).
+    python3-nibabel python3-gdcm insighttoolkit5-examples heudiconv
     # InVesalius' head CT, converted by scripts/cranium-ct.py for the tests, bench and demo data.
     invesalius-examples
     chromium

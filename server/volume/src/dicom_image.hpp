@@ -88,6 +88,8 @@ struct Image {
     // normal of ImageOrientationPatient), read with the header so that a listing can count a
     // series' slices without its pixel data; empty where a frame lacks either.
     std::vector<double> frame_depths;
+    // Pixel words decoded outside DCMTK (JPEG 2000), which the pixel data is read from then.
+    std::vector<std::byte> decoded_words;
 };
 
 enum class Opened { image, not_an_image };

@@ -7,12 +7,14 @@
 //   - Pixel data must be one sample per pixel, 8, 16 or 32 bits allocated; BitsStored, HighBit and
 //     PixelRepresentation (two's complement) are honoured. 32-bit data (RT dose grids) is kept as
 //     float32 with its rescale applied (DoseGridScaling for a dose grid). Compressed transfer
-//     syntaxes are decoded by DCMTK's JPEG, JPEG-LS and RLE codecs; others (JPEG 2000) are an error
-//     naming the transfer syntax.
+//     syntaxes are decoded by DCMTK's JPEG, JPEG-LS and RLE codecs, JPEG 2000 by OpenJPEG (whose
+//     codestream decides the samples' sign and precision where the header disagrees); others are
+//     an error naming the transfer syntax.
 
 #include "dicom_pixels.hpp"
 
 #include "dicom_frames.hpp"
+#include "dicom_jpeg2000.hpp"
 #include "file_io.hpp"
 #include "memory_budget.hpp"
 
@@ -39,11 +41,20 @@ std::uint64_t stored_pixels(const Image& image) {
     return std::uint64_t{image.format.rows} * image.format.columns * image.frame_count;
 }
 
-// The raw pixel words of all frames of one image, decoded to native order.
-base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
+// The raw pixel words of all frames of one image, decoded to native order, in `format` (the
+// image's, which a JPEG 2000 codestream may correct: decode_jpeg2000).
+base::Result<std::span<const std::byte>> pixel_bytes(Image& image, PixelFormat& format) {
     DcmDataset& dataset = *image.file->getDataset();
     const E_TransferSyntax xfer = dataset.getOriginalXfer();
     const DcmXfer syntax(xfer);
+    if (is_jpeg2000(xfer) && !image.mosaic) {
+        auto words = decode_jpeg2000(dataset, image.frame_count, format, image.path);
+        if (!words) {
+            return words.error();
+        }
+        image.decoded_words = std::move(words.value());
+        return std::span<const std::byte>(image.decoded_words);
+    }
     if (syntax.isEncapsulated()) {
         const OFCondition status = dataset.chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
         if (status.bad() || !dataset.canWriteXfer(EXS_LittleEndianExplicit)) {
@@ -51,7 +62,8 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image) {
                                     std::string("pixel data in transfer syntax ") +
                                             syntax.getXferName() + " (" + syntax.getXferID() +
                                             ") cannot be decoded: " + status.text() +
-                                            "; supported: uncompressed, JPEG, JPEG-LS, RLE",
+                                            "; supported: uncompressed, JPEG, JPEG-LS, RLE, "
+                                            "JPEG 2000",
                                     detail::at_file(image.path));
         }
     }
@@ -185,7 +197,7 @@ std::vector<std::byte> narrow_to(std::span<const float> values) {
 
 base::Result<Volume> assemble(std::vector<Image>& images, const std::string& name,
                               const std::filesystem::path& source, const LoadOptions& options) {
-    const PixelFormat& format = images.front().format;
+    PixelFormat format = images.front().format;  // as the pixel data turns out to store it
     for (const Image& image : images) {
         if (!(image.format == format)) {
             return base::make_error(base::ErrorCode::inconsistent_series,
@@ -269,19 +281,31 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     // Decoded as float32 straight into the bytes the volume keeps when no narrower type fits.
     std::vector<std::byte> decoded(static_cast<std::size_t>(voxels) * sizeof(float));
     auto* values = reinterpret_cast<float*>(decoded.data());
+    bool first_read = true;
     for (std::size_t i = 0; i < images.size(); ++i) {
         if (slots[i].empty()) {
             continue;  // a frame of a later volume of the series
         }
-        auto pixels = pixel_bytes(images[i]);
+        PixelFormat stored = images[i].format;
+        auto pixels = pixel_bytes(images[i], stored);
         if (!pixels) {
             return pixels.error();
+        }
+        if (first_read) {
+            format = stored;
+            first_read = false;
+        } else if (!(stored == format)) {
+            return base::make_error(base::ErrorCode::inconsistent_series,
+                                    "the pixel data stores " + stored.describe() +
+                                            ", the series' first image " + format.describe(),
+                                    detail::at_file(images[i].path));
         }
         for (const std::size_t z : slots[i]) {
             decode_frame(*pixels, format, images[i].mosaic, frames[z].index, frames[z], !kept,
                          values + z * slice_voxels);
         }
         images[i].file.reset();  // drops the decoded pixel data
+        images[i].decoded_words = {};
     }
 
     const std::span<const float> all(values, static_cast<std::size_t>(voxels));

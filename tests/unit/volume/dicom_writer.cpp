@@ -4,14 +4,22 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <dcmtk/config/osconfig.h>  // must come before the other DCMTK headers
 #include <dcmtk/dcmdata/dcddirif.h>
 #include <dcmtk/dcmdata/dcdeftag.h>
 #include <dcmtk/dcmdata/dcfilefo.h>
+#include <dcmtk/dcmdata/dcpixel.h>
+#include <dcmtk/dcmdata/dcpixseq.h>
+#include <dcmtk/dcmdata/dcpxitem.h>
 #include <dcmtk/dcmdata/dcuid.h>
+#include <openjpeg.h>
 
 namespace penumbra::volume::fixtures {
 namespace {
@@ -113,13 +121,116 @@ void put_pixels(DcmDataset& dataset, const SeriesSpec& spec,
     }
 }
 
-void save(DcmFileFormat& file, const SeriesSpec& spec, const std::filesystem::path& path) {
+void save(DcmFileFormat& file, const SeriesSpec& spec, const std::filesystem::path& path,
+          E_TransferSyntax syntax = EXS_Unknown) {
     if (spec.edit) {
         spec.edit(*file.getDataset());
     }
-    check(file.saveFile(path.c_str(),
-                        spec.explicit_vr ? EXS_LittleEndianExplicit : EXS_LittleEndianImplicit),
-          path.string());
+    if (syntax == EXS_Unknown) {
+        syntax = spec.explicit_vr ? EXS_LittleEndianExplicit : EXS_LittleEndianImplicit;
+    }
+    check(file.saveFile(path.c_str(), syntax), path.string());
+}
+
+// One frame as a JPEG 2000 codestream (OpenJPEG; lossless unless `ratio` > 0).
+std::vector<std::uint8_t> encode_jpeg2000(const std::uint16_t* words, const SeriesSpec& spec,
+                                          double ratio) {
+    opj_image_cmptparm_t component{};
+    component.dx = component.dy = 1;
+    component.w = spec.dims.x;
+    component.h = spec.dims.y;
+    component.prec = spec.bits_stored;
+    component.sgnd = spec.is_signed ? 1 : 0;
+    std::unique_ptr<opj_image_t, void (*)(opj_image_t*)> image(
+            opj_image_create(1, &component, OPJ_CLRSPC_GRAY), opj_image_destroy);
+    if (!image) {
+        throw std::runtime_error("writing a DICOM fixture: opj_image_create failed");
+    }
+    image->x1 = spec.dims.x;
+    image->y1 = spec.dims.y;
+    const std::size_t pixels = std::size_t{spec.dims.x} * spec.dims.y;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        image->comps[0].data[i] = spec.is_signed ? static_cast<std::int16_t>(words[i]) : words[i];
+    }
+    opj_cparameters_t parameters;
+    opj_set_default_encoder_parameters(&parameters);
+    parameters.tcp_numlayers = 1;
+    parameters.cp_disto_alloc = 1;
+    parameters.tcp_rates[0] = static_cast<float>(ratio);  // 0: lossless
+    parameters.irreversible = ratio > 0.0 ? 1 : 0;
+    // Each resolution halves the image: a small one has fewer than OpenJPEG's default six.
+    while (parameters.numresolution > 1 &&
+           (1u << (parameters.numresolution - 1)) > std::min(spec.dims.x, spec.dims.y)) {
+        --parameters.numresolution;
+    }
+    std::unique_ptr<opj_codec_t, void (*)(opj_codec_t*)> codec(opj_create_compress(OPJ_CODEC_J2K),
+                                                               opj_destroy_codec);
+
+    // The encoder may seek back to fill in a length: a buffer with a write position.
+    struct Output {
+        std::vector<std::uint8_t> bytes;
+        std::size_t position = 0;
+    } output;
+
+    std::unique_ptr<opj_stream_t, void (*)(opj_stream_t*)> stream(
+            opj_stream_create(1 << 16, OPJ_FALSE), opj_stream_destroy);
+    opj_stream_set_user_data(stream.get(), &output, nullptr);
+    opj_stream_set_write_function(stream.get(), [](void* data, OPJ_SIZE_T size, void* user) {
+        auto& out = *static_cast<Output*>(user);
+        out.bytes.resize(std::max(out.bytes.size(), out.position + size));
+        std::memcpy(out.bytes.data() + out.position, data, size);
+        out.position += size;
+        return size;
+    });
+    opj_stream_set_skip_function(stream.get(), [](OPJ_OFF_T count, void* user) -> OPJ_OFF_T {
+        auto& out = *static_cast<Output*>(user);
+        out.position += static_cast<std::size_t>(count);
+        out.bytes.resize(std::max(out.bytes.size(), out.position));
+        return count;
+    });
+    opj_stream_set_seek_function(stream.get(), [](OPJ_OFF_T position, void* user) -> OPJ_BOOL {
+        auto& out = *static_cast<Output*>(user);
+        out.position = static_cast<std::size_t>(position);
+        out.bytes.resize(std::max(out.bytes.size(), out.position));
+        return OPJ_TRUE;
+    });
+    if (opj_setup_encoder(codec.get(), &parameters, image.get()) == OPJ_FALSE ||
+        opj_start_compress(codec.get(), image.get(), stream.get()) == OPJ_FALSE ||
+        opj_encode(codec.get(), stream.get()) == OPJ_FALSE ||
+        opj_end_compress(codec.get(), stream.get()) == OPJ_FALSE) {
+        throw std::runtime_error("writing a DICOM fixture: OpenJPEG could not encode a frame");
+    }
+    return output.bytes;
+}
+
+// The frames as encapsulated JPEG 2000 pixel data, each split over `fragments` fragments.
+void put_jpeg2000_pixels(DcmDataset& dataset, const SeriesSpec& spec,
+                         const std::vector<std::uint16_t>& words,
+                         const std::vector<std::uint32_t>& slices) {
+    const std::size_t slice_words = std::size_t{spec.dims.x} * spec.dims.y;
+    auto* sequence = new DcmPixelSequence(DCM_PixelSequenceTag);
+    sequence->insert(new DcmPixelItem(DCM_PixelItemTag));  // an empty offset table
+    for (const std::uint32_t z : slices) {
+        const auto codestream =
+                encode_jpeg2000(words.data() + z * slice_words, spec, spec.jpeg2000_ratio);
+        const std::size_t parts = static_cast<std::size_t>(spec.jpeg2000_fragments);
+        const std::size_t part = (codestream.size() / parts + 1) & ~std::size_t{1};  // even
+        for (std::size_t begin = 0; begin < codestream.size(); begin += part) {
+            const std::size_t size = std::min(part, codestream.size() - begin);
+            std::vector<Uint8> fragment(codestream.begin() + begin,
+                                        codestream.begin() + begin + size);
+            if (fragment.size() % 2 != 0) {
+                fragment.push_back(0);  // fragments have even lengths
+            }
+            auto* item = new DcmPixelItem(DCM_PixelItemTag);
+            check(item->putUint8Array(fragment.data(), fragment.size()), "a JPEG 2000 fragment");
+            sequence->insert(item);
+        }
+    }
+    auto* pixels = new DcmPixelData(DCM_PixelData);
+    pixels->putOriginalRepresentation(
+            spec.jpeg2000_ratio > 0.0 ? EXS_JPEG2000 : EXS_JPEG2000LosslessOnly, nullptr, sequence);
+    check(dataset.insert(pixels, true), "PixelData");
 }
 
 }  // namespace
@@ -219,8 +330,13 @@ void write_multiframe(const std::filesystem::path& path, const SeriesSpec& origi
               "PlanePositionSequence");
         put(*position, DCM_ImagePositionPatient, position_text(spec, frame_order[f]));
     }
-    put_pixels(dataset, spec, words, frame_order);
-    save(file, spec, path);
+    if (spec.jpeg2000_fragments > 0) {
+        put_jpeg2000_pixels(dataset, spec, words, frame_order);
+        save(file, spec, path, spec.jpeg2000_ratio > 0.0 ? EXS_JPEG2000 : EXS_JPEG2000LosslessOnly);
+    } else {
+        put_pixels(dataset, spec, words, frame_order);
+        save(file, spec, path);
+    }
 }
 
 std::vector<std::uint16_t> ch2_box(glm::uvec3 first, glm::uvec3 dims) {

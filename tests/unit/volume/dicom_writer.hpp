@@ -33,6 +33,11 @@ struct SeriesSpec {
     std::string series_number;       // SeriesNumber, written when set
     std::string series_description;  // SeriesDescription, written when set
     bool explicit_vr = true;         // else implicit VR little endian
+    // write_multiframe: each frame a JPEG 2000 codestream encoded by OpenJPEG, split over this
+    // many fragments (no offset table): 0 writes the pixels uncompressed. Lossless unless
+    // `jpeg2000_ratio` (a compression ratio, e.g. 20) makes it lossy.
+    int jpeg2000_fragments = 0;
+    double jpeg2000_ratio = 0.0;
     // Last changes to each dataset before it is saved (delete a tag, break a value).
     std::function<void(DcmDataset&)> edit;
 };
