@@ -20,8 +20,8 @@ test=(
     clang-14 libfuzzer-14-dev clang-format-14 clang-tidy-14
     mricron-data gnuplot-nox
     # Other projects' volume files for the conformance test, and the readers it compares with
-    # (pydicom decodes JPEG 2000 through GDCM's Python module).
-    python3-nibabel python3-gdcm insighttoolkit5-examples heudiconv
+    # (pydicom decodes JPEG 2000 through GDCM's Python module; teem's unu reads NRRD).
+    python3-nibabel python3-gdcm teem-apps insighttoolkit5-examples heudiconv
     # InVesalius' head CT, converted by scripts/cranium-ct.py for the tests, bench and demo data.
     invesalius-examples
     chromium

@@ -6,8 +6,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 #include <bzlib.h>
 
@@ -866,6 +874,160 @@ TEST(NrrdLoader, KindsSayWhichAxesAreSpace) {
                                     cube_uint8(), "kinds.nrrd");
     ASSERT_FALSE(miscounted.ok());
     EXPECT_EQ(miscounted.error().code, base::ErrorCode::bad_header);
+}
+
+// teem's `unu` (teem-apps), the NRRD format's reference reader, as the reference: each file is
+// rewritten by `unu save` as raw little-endian data, and every voxel Penumbra reads must equal
+// what unu read (for values per voxel, the first value of each voxel).
+struct UnuReading {
+    std::vector<std::size_t> sizes;
+    std::vector<double> values;
+};
+
+base::Result<UnuReading> read_with_unu(const std::filesystem::path& input,
+                                       const std::filesystem::path& output) {
+    const std::string command = "teem-unu save -i '" + input.string() +
+                                "' -f nrrd -e raw -en little -o '" + output.string() + "' 2>&1";
+    if (std::system(command.c_str()) != 0) {
+        return base::make_error(base::ErrorCode::read_failed, "unu could not read it",
+                                input.filename().string());
+    }
+    std::ifstream file(output, std::ios::binary);
+    std::string line;
+    std::string type;
+    UnuReading reading;
+    while (std::getline(file, line) && !line.empty()) {
+        if (line.starts_with("type: ")) {
+            type = line.substr(6);
+        } else if (line.starts_with("sizes: ")) {
+            std::istringstream sizes(line.substr(7));
+            for (std::size_t size = 0; sizes >> size;) {
+                reading.sizes.push_back(size);
+            }
+        }
+    }
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(file)),
+                                  std::istreambuf_iterator<char>());
+    const auto take = [&]<class T>(T /*type*/) {
+        for (std::size_t at = 0; at + sizeof(T) <= bytes.size(); at += sizeof(T)) {
+            T value;
+            std::memcpy(&value, bytes.data() + at, sizeof(T));
+            reading.values.push_back(static_cast<double>(value));
+        }
+    };
+    if (type == "unsigned char") {
+        take(std::uint8_t{});
+    } else if (type == "signed char") {
+        take(std::int8_t{});
+    } else if (type == "short") {
+        take(std::int16_t{});
+    } else if (type == "unsigned short") {
+        take(std::uint16_t{});
+    } else if (type == "int") {
+        take(std::int32_t{});
+    } else if (type == "unsigned int") {
+        take(std::uint32_t{});
+    } else if (type == "float") {
+        take(float{});
+    } else if (type == "double") {
+        take(double{});
+    } else {
+        return base::make_error(base::ErrorCode::unsupported_type, "unu wrote type " + type,
+                                output.filename().string());
+    }
+    return reading;
+}
+
+TEST(NrrdLoader, EveryEncodingTypeAndKindReadsAsTeemsUnuReadsIt) {
+    ASSERT_EQ(std::system("teem-unu about > /dev/null 2>&1"), 0)
+            << "teem's unu is needed as the reference: install teem-apps "
+               "(scripts/install-deps.sh does)";
+    fixtures::TempDir dir;
+    // 5x4x3 voxels of distinct values, some negative, as each type can hold them.
+    constexpr std::size_t voxels = 5 * 4 * 3;
+    const auto value_at = [](std::size_t i) { return static_cast<double>(i * 7 % 61) - 20.0; };
+    const auto samples = [&]<class T>(T /*type*/, std::size_t per_voxel, bool big_endian) {
+        std::vector<std::byte> bytes;
+        for (std::size_t i = 0; i < voxels * per_voxel; ++i) {
+            const T value = static_cast<T>(std::is_signed_v<T> ? value_at(i) : value_at(i) + 20.0);
+            std::array<std::byte, sizeof(T)> word;
+            std::memcpy(word.data(), &value, sizeof(T));
+            if (big_endian) {
+                std::reverse(word.begin(), word.end());
+            }
+            bytes.insert(bytes.end(), word.begin(), word.end());
+        }
+        return bytes;
+    };
+    const auto text = [&](std::size_t per_voxel, bool hex_digits) {
+        std::string digits;
+        for (std::size_t i = 0; i < voxels * per_voxel; ++i) {
+            char word[16];
+            if (hex_digits) {
+                std::snprintf(word, sizeof word, "%02X%c",
+                              static_cast<unsigned>(value_at(i) + 20.0), i % 9 == 8 ? '\n' : ' ');
+            } else {
+                std::snprintf(word, sizeof word, "%g\n", value_at(i) + 0.25);
+            }
+            digits += word;
+        }
+        return text_bytes(digits);
+    };
+
+    struct Case {
+        std::string name;
+        std::string fields;  // after the magic line
+        std::vector<std::byte> data;
+    };
+
+    const std::string grid = "dimension: 3\nsizes: 5 4 3\n";
+    const std::vector<Case> cases{
+            {"uint8_raw", "type: uint8\n" + grid + "encoding: raw\n",
+             samples(std::uint8_t{}, 1, false)},
+            {"int16_big_gzip", "type: int16\n" + grid + "endian: big\nencoding: gzip\n",
+             fixtures::gzip_bytes(samples(std::int16_t{}, 1, true))},
+            {"uint16_bzip2", "type: uint16\n" + grid + "endian: little\nencoding: bzip2\n",
+             bzip2(samples(std::uint16_t{}, 1, false))},
+            {"int32_big", "type: int32\n" + grid + "endian: big\nencoding: raw\n",
+             samples(std::int32_t{}, 1, true)},
+            {"float_raw", "type: float\n" + grid + "endian: little\nencoding: raw\n",
+             samples(float{}, 1, false)},
+            {"double_big", "type: double\n" + grid + "endian: big\nencoding: raw\n",
+             samples(double{}, 1, true)},
+            {"float_ascii", "type: float\n" + grid + "encoding: ascii\n", text(1, false)},
+            {"uint8_hex", "type: uint8\n" + grid + "encoding: hex\n", text(1, true)},
+            {"int16_list_kinds",
+             "type: int16\ndimension: 4\nsizes: 2 5 4 3\nkinds: list domain domain domain\n"
+             "endian: little\nencoding: raw\n",
+             samples(std::int16_t{}, 2, false)},
+            {"uint8_vector_gzip",
+             "type: uint8\ndimension: 4\nsizes: 3 5 4 3\nkinds: vector space space space\n"
+             "space: right-anterior-superior\nspace directions: none (1,0,0) (0,1,0) (0,0,2)\n"
+             "encoding: gzip\n",
+             fixtures::gzip_bytes(samples(std::uint8_t{}, 3, false))},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::filesystem::path input = dir / (c.name + ".nrrd");
+        fixtures::write_bytes(input, concat(text_bytes("NRRD0004\n" + c.fields + "\n"), c.data));
+        auto ours = load_nrrd(input);
+        ASSERT_TRUE(ours.ok()) << ours.error().to_string();
+        auto unu = read_with_unu(input, dir / (c.name + "_unu.nrrd"));
+        ASSERT_TRUE(unu.ok()) << unu.error().to_string();
+        const std::size_t per_voxel = unu->sizes.size() == 4 ? unu->sizes[0] : 1;
+        ASSERT_EQ(unu->values.size(), voxels * per_voxel);
+        ASSERT_EQ(ours->dims, glm::uvec3(5, 4, 3));
+        std::size_t i = 0;
+        for (std::uint32_t z = 0; z < 3; ++z) {
+            for (std::uint32_t y = 0; y < 4; ++y) {
+                for (std::uint32_t x = 0; x < 5; ++x, ++i) {
+                    const double want = unu->values[i * per_voxel];
+                    ASSERT_NEAR(ours->value(x, y, z), want, 1e-6 * std::max(1.0, std::abs(want)))
+                            << "voxel " << x << "," << y << "," << z;
+                }
+            }
+        }
+    }
 }
 
 TEST(NrrdLoader, PenumbraUnitsKeyMarksHounsfieldUnits) {
