@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -97,12 +99,93 @@ bool is_jp2_file(std::span<const std::uint8_t> bytes) {
            std::equal(signature.begin(), signature.end(), bytes.begin());
 }
 
+// What a codestream's SIZ marker says OpenJPEG will allocate for: read by hand before OpenJPEG
+// sees the bytes, since reading its header already allocates per tile and component.
+struct CodestreamSize {
+    std::uint64_t width = 0;
+    std::uint64_t height = 0;
+    std::uint32_t components = 0;
+    std::uint64_t tiles = 0;
+    bool subsampled = false;  // the first component on a coarser grid than the image
+};
+
+// More tiles than any real frame is cut into: each costs OpenJPEG about a kilobyte per component
+// once the header is read.
+constexpr std::uint64_t max_tiles = 4096;
+
+std::uint64_t big_endian(std::span<const std::uint8_t> bytes, std::size_t at, std::size_t count) {
+    std::uint64_t value = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        value = (value << 8) | bytes[at + i];
+    }
+    return value;
+}
+
+// The SIZ marker of a codestream, or of the codestream box (jp2c) of a JP2 file; nothing when
+// neither is where it must be.
+std::optional<CodestreamSize> read_size(std::span<const std::uint8_t> bytes);
+
 // A fragment that starts a codestream (SOC then SIZ) or a JP2 file: where a frame begins when the
 // offset table does not say.
 bool starts_a_frame(std::span<const std::uint8_t> bytes) {
     return (bytes.size() >= 4 && bytes[0] == 0xFF && bytes[1] == 0x4F && bytes[2] == 0xFF &&
             bytes[3] == 0x51) ||
            is_jp2_file(bytes);
+}
+
+std::optional<CodestreamSize> read_size(std::span<const std::uint8_t> bytes) {
+    if (is_jp2_file(bytes)) {
+        std::optional<std::span<const std::uint8_t>> codestream;
+        for (std::size_t at = 0; at + 8 <= bytes.size();) {
+            std::uint64_t length = big_endian(bytes, at, 4);
+            std::size_t header = 8;
+            if (length == 1 && at + 16 <= bytes.size()) {
+                length = big_endian(bytes, at + 8, 8);
+                header = 16;
+            } else if (length == 0) {
+                length = bytes.size() - at;  // the last box runs to the end
+            }
+            if (length < header || length > bytes.size() - at) {
+                return std::nullopt;
+            }
+            if (big_endian(bytes, at + 4, 4) == 0x6A703263) {  // "jp2c"
+                codestream = bytes.subspan(at + header, static_cast<std::size_t>(length) - header);
+                break;
+            }
+            at += static_cast<std::size_t>(length);
+        }
+        if (!codestream) {
+            return std::nullopt;
+        }
+        bytes = *codestream;
+    }
+    // SOC, then SIZ: Lsiz Rsiz Xsiz Ysiz XOsiz YOsiz XTsiz YTsiz XTOsiz YTOsiz Csiz, then Ssiz
+    // XRsiz YRsiz per component.
+    constexpr std::size_t siz = 4;
+    if (bytes.size() < siz + 41 || big_endian(bytes, 0, 4) != 0xFF4FFF51) {
+        return std::nullopt;
+    }
+    const auto field = [&](std::size_t offset) { return big_endian(bytes, siz + offset, 4); };
+    const std::uint64_t x = field(4);
+    const std::uint64_t y = field(8);
+    const std::uint64_t x_origin = field(12);
+    const std::uint64_t y_origin = field(16);
+    const std::uint64_t tile_width = field(20);
+    const std::uint64_t tile_height = field(24);
+    const std::uint64_t tile_x = field(28);
+    const std::uint64_t tile_y = field(32);
+    if (x <= x_origin || y <= y_origin || tile_width == 0 || tile_height == 0 ||
+        tile_x > x_origin || tile_y > y_origin) {
+        return std::nullopt;
+    }
+    CodestreamSize size;
+    size.width = x - x_origin;
+    size.height = y - y_origin;
+    size.components = static_cast<std::uint32_t>(big_endian(bytes, siz + 36, 2));
+    size.tiles = ((x - tile_x + tile_width - 1) / tile_width) *
+                 ((y - tile_y + tile_height - 1) / tile_height);
+    size.subsampled = bytes[siz + 39] != 1 || bytes[siz + 40] != 1;
+    return size;
 }
 
 base::Result<DecodedImage> decode_frame(std::span<const std::uint8_t> bytes,
@@ -113,6 +196,28 @@ base::Result<DecodedImage> decode_frame(std::span<const std::uint8_t> bytes,
                                 "the JPEG 2000 pixel data cannot be decoded: " + why,
                                 detail::at_file(path));
     };
+    const auto size = read_size(bytes);
+    if (!size) {
+        return failed(
+                "no JPEG 2000 codestream (SOC and SIZ markers) starts the frame, or its SIZ "
+                "marker is malformed");
+    }
+    if (size->components != 1) {
+        return failed("it holds " + std::to_string(size->components) +
+                      " components; a scalar volume has one sample per pixel");
+    }
+    if (size->width != format.columns || size->height != format.rows) {
+        return failed("its image is " + std::to_string(size->width) + "x" +
+                      std::to_string(size->height) + ", the header says " +
+                      std::to_string(format.columns) + "x" + std::to_string(format.rows));
+    }
+    if (size->subsampled) {
+        return failed("its samples lie on a coarser grid than its pixels (subsampled)");
+    }
+    if (size->tiles > max_tiles) {
+        return failed("it is cut into " + std::to_string(size->tiles) + " tiles, more than " +
+                      std::to_string(max_tiles));
+    }
     std::unique_ptr<opj_codec_t, CodecDeleter> codec(
             opj_create_decompress(is_jp2_file(bytes) ? OPJ_CODEC_JP2 : OPJ_CODEC_J2K));
     std::unique_ptr<opj_stream_t, StreamDeleter> stream(opj_stream_create(1 << 16, OPJ_TRUE));
@@ -125,6 +230,8 @@ base::Result<DecodedImage> decode_frame(std::span<const std::uint8_t> bytes,
     opj_set_info_handler(codec.get(), ignore_message, nullptr);
     opj_dparameters_t parameters;
     opj_set_default_decoder_parameters(&parameters);
+    // A JP2 file's palette or channel definitions would change the samples after the checks.
+    parameters.flags |= OPJ_DPARAMETERS_IGNORE_PCLR_CMAP_CDEF_FLAG;
     if (opj_setup_decoder(codec.get(), &parameters) == OPJ_FALSE) {
         return failed(error.empty() ? "OpenJPEG refused the decoder's setup" : error);
     }
@@ -140,25 +247,34 @@ base::Result<DecodedImage> decode_frame(std::span<const std::uint8_t> bytes,
         return failed(error.empty() ? "its header is not a JPEG 2000 codestream" : error);
     }
     DecodedImage image(raw);
-    // Checked before decoding, which allocates what the codestream's header asks for.
-    if (image->numcomps != 1) {
-        return failed("it holds " + std::to_string(image->numcomps) +
-                      " components; a scalar volume has one sample per pixel");
-    }
-    const opj_image_comp_t& component = image->comps[0];
-    if (image->x1 - image->x0 != format.columns || image->y1 - image->y0 != format.rows ||
-        component.dx != 1 || component.dy != 1) {
-        return failed("its image is " + std::to_string(image->x1 - image->x0) + "x" +
-                      std::to_string(image->y1 - image->y0) + ", the header says " +
-                      std::to_string(format.columns) + "x" + std::to_string(format.rows));
-    }
-    if (component.prec < 1 || component.prec > format.bits_allocated) {
-        return failed(std::to_string(component.prec) + "-bit samples do not fit the " +
-                      std::to_string(format.bits_allocated) + " bits allocated");
+    // What OpenJPEG read must be what the SIZ marker said, before decoding allocates for it and
+    // again after (nothing may have changed the samples' shape on the way).
+    const auto check = [&]() -> base::Status {
+        if (image->numcomps != 1) {
+            return failed("it holds " + std::to_string(image->numcomps) +
+                          " components; a scalar volume has one sample per pixel");
+        }
+        const opj_image_comp_t& component = image->comps[0];
+        if (image->x1 - image->x0 != format.columns || image->y1 - image->y0 != format.rows ||
+            component.dx != 1 || component.dy != 1 || component.w != format.columns ||
+            component.h != format.rows) {
+            return failed("OpenJPEG read an image of another size than its SIZ marker gives");
+        }
+        if (component.prec < 1 || component.prec > format.bits_allocated) {
+            return failed(std::to_string(component.prec) + "-bit samples do not fit the " +
+                          std::to_string(format.bits_allocated) + " bits allocated");
+        }
+        return base::Ok{};
+    };
+    if (auto status = check(); !status) {
+        return status.error();
     }
     if (opj_decode(codec.get(), stream.get(), image.get()) == OPJ_FALSE ||
         opj_end_decompress(codec.get(), stream.get()) == OPJ_FALSE) {
         return failed(error.empty() ? "the codestream is damaged" : error);
+    }
+    if (auto status = check(); !status) {
+        return status.error();
     }
     if (image->comps[0].data == nullptr) {
         return failed("no samples came out");
@@ -205,7 +321,8 @@ base::Result<std::vector<std::vector<std::uint8_t>>> frame_bytes(
         }
         starts.push_back(item - 1);
     }
-    if (starts.empty() || !std::is_sorted(starts.begin(), starts.end())) {
+    if (starts.empty() ||
+        std::adjacent_find(starts.begin(), starts.end(), std::greater_equal<>()) != starts.end()) {
         starts.clear();
         for (std::size_t i = 0; i < fragments.size(); ++i) {
             if (i == 0 || starts_a_frame(fragments[i])) {

@@ -47,7 +47,12 @@ base::Result<std::span<const std::byte>> pixel_bytes(Image& image, PixelFormat& 
     DcmDataset& dataset = *image.file->getDataset();
     const E_TransferSyntax xfer = dataset.getOriginalXfer();
     const DcmXfer syntax(xfer);
-    if (is_jpeg2000(xfer) && !image.mosaic) {
+    if (is_jpeg2000(xfer) && image.mosaic) {
+        return base::make_error(base::ErrorCode::unsupported_encoding,
+                                "a Siemens mosaic stored as JPEG 2000 is not supported",
+                                detail::at_file(image.path));
+    }
+    if (is_jpeg2000(xfer)) {
         auto words = decode_jpeg2000(dataset, image.frame_count, format, image.path);
         if (!words) {
             return words.error();
@@ -214,8 +219,13 @@ base::Result<Volume> assemble(std::vector<Image>& images, const std::string& nam
     std::uint64_t largest_image = 0;
     for (const Image& image : images) {
         frame_count += image.frame_count;
-        largest_image =
-                std::max(largest_image, stored_pixels(image) * (format.bits_allocated / 8u));
+        std::uint64_t held = stored_pixels(image) * (format.bits_allocated / 8u);
+        if (is_jpeg2000(image.file->getDataset()->getOriginalXfer())) {
+            // Its fragments joined per frame (about its decoded size at most for real data) and
+            // OpenJPEG's 32-bit samples of one frame beside the decoded words.
+            held = 2 * held + std::uint64_t{format.rows} * format.columns * 4;
+        }
+        largest_image = std::max(largest_image, held);
     }
     if (frame_count > max_frames) {
         return base::make_error(base::ErrorCode::too_large,

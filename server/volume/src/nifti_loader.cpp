@@ -133,8 +133,9 @@ double spacing_or_one(double spacing, char axis, const std::filesystem::path& pa
 // The index-to-patient transform, which NIfTI defines in RAS millimetres: the sform when its
 // code is set, else the qform (the library builds it from the quaternion, pixdim and qfac; with
 // qform_code 0 it is diag(dx, dy, dz), NIfTI's "method 1"). A sheared sform falls back to a set
-// qform, which cannot shear, as ITK does; without one it is refused. A zero or non-finite voxel
-// size leaves its axis unrotated with size 1, as spacing_or_one says.
+// qform, which cannot shear, as ITK does; without a usable one the sheared sform is resampled
+// (place_volume). A zero or non-finite voxel size leaves its axis unrotated with size 1, as
+// spacing_or_one says.
 base::Result<Geometry> patient_geometry(const nifti_image& image,
                                         const std::filesystem::path& path) {
     const auto transform = [&](const nifti_dmat44& m) {
@@ -175,6 +176,11 @@ base::Result<Geometry> patient_geometry(const nifti_image& image,
                                                  "); using the qform");
     }
     auto qform = geometry_of(image.qto_xyz);
+    if (!qform && image.sform_code > 0) {
+        if (auto sform = geometry_of(image.sto_xyz)) {
+            return sform;  // sheared, resampled rather than refused for want of a qform
+        }
+    }
     if (!qform) {
         base::Error error = qform.error();
         error.where = detail::at_file(path);

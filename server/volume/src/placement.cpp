@@ -1,6 +1,8 @@
 // Where a loaded volume lies: its geometry as the file gives it, or, for a sheared transform, its
 // voxels resampled onto an orthogonal grid (place_volume in volume.hpp).
 
+#include "memory_budget.hpp"
+
 #include <penumbra/volume/volume.hpp>
 
 #include <glm/common.hpp>
@@ -29,12 +31,20 @@ namespace {
 // degenerate: its voxels would spread over a sliver (a shear of more than about 89.9 degrees).
 constexpr double min_volume_share = 1e-3;
 
+// The most voxels the orthogonal grid may hold, as a multiple of the stored ones: a tilt of a few
+// tens of degrees adds a fraction; more comes only of a shear near 90 degrees.
+constexpr double max_grid_growth = 8.0;
+
 // The grid a sheared volume is resampled onto (place_volume).
 struct OrthogonalGrid {
     glm::dmat3 axes{1.0};  // columns: i's direction, j's made perpendicular to it, their normal
     glm::dvec3 spacing{1.0};
     glm::dvec3 first{0.0};  // the first voxel's centre, relative to the stored origin
-    glm::uvec3 dims{0};
+    // Voxels per axis, as reals: a hostile transform's may exceed any integer type, and is
+    // refused (place_volume) before it becomes one.
+    glm::dvec3 sizes{0.0};
+
+    [[nodiscard]] glm::uvec3 dims() const { return glm::uvec3(sizes); }
 };
 
 OrthogonalGrid grid_holding(const glm::dmat3& steps, glm::uvec3 stored) {
@@ -62,8 +72,7 @@ OrthogonalGrid grid_holding(const glm::dmat3& steps, glm::uvec3 stored) {
     for (int a = 0; a < 3; ++a) {
         // Far enough to hold every stored centre; where they lie whole steps from the first (the
         // slices of a tilt), a hair's tolerance keeps rounding from adding a plane.
-        grid.dims[a] = static_cast<std::uint32_t>(
-                std::ceil((high[a] - low[a]) / grid.spacing[a] - 1e-6) + 1.0);
+        grid.sizes[a] = std::ceil((high[a] - low[a]) / grid.spacing[a] - 1e-6) + 1.0;
     }
     return grid;
 }
@@ -94,11 +103,12 @@ void resample(std::span<const std::byte> in_bytes, glm::uvec3 in_dims, const glm
         }
     };
     const T fill = store(outside);
+    const glm::uvec3 dims = grid.dims();
     std::size_t o = 0;
-    for (std::uint32_t z = 0; z < grid.dims.z; ++z) {
-        for (std::uint32_t y = 0; y < grid.dims.y; ++y) {
+    for (std::uint32_t z = 0; z < dims.z; ++z) {
+        for (std::uint32_t y = 0; y < dims.y; ++y) {
             glm::dvec3 index = start + along_z * double(z) + along_y * double(y);
-            for (std::uint32_t x = 0; x < grid.dims.x; ++x, ++o, index += along_x) {
+            for (std::uint32_t x = 0; x < dims.x; ++x, ++o, index += along_x) {
                 if (glm::any(glm::lessThan(index, glm::dvec3(-hair))) ||
                     glm::any(glm::greaterThan(index, last + hair))) {
                     out[o] = fill;
@@ -155,11 +165,14 @@ base::Result<Geometry> placed_geometry(const glm::dmat3& steps, glm::dvec3 origi
     if (geometry || geometry.error().code != base::ErrorCode::sheared_transform) {
         return geometry;
     }
+    if (!std::isfinite(origin.x + origin.y + origin.z)) {
+        return base::make_error(base::ErrorCode::bad_transform,
+                                "the origin of the index-to-patient transform is not finite", "");
+    }
     const double box = glm::length(steps[0]) * glm::length(steps[1]) * glm::length(steps[2]);
-    if (!(std::abs(glm::determinant(steps)) > min_volume_share * box) ||
-        !std::isfinite(origin.x + origin.y + origin.z)) {
+    if (!(std::abs(glm::determinant(steps)) > min_volume_share * box)) {
         base::Error error = geometry.error();
-        error.message += ", and too nearly coplanar to resample";
+        error.message += ", and so nearly coplanar that its voxels span almost no volume";
         return error;
     }
     Geometry sheared;
@@ -181,26 +194,41 @@ base::Status place_volume(Volume& volume, const Geometry& geometry, const LoadOp
     }
     const glm::dmat3& steps = *geometry.sheared_steps;
     if (!options.resample_sheared) {
-        return geometry_from_steps(steps, geometry.origin).error();
+        return base::make_error(base::ErrorCode::sheared_transform,
+                                "the " + shear_text(steps) +
+                                        " (a gantry tilt or a shear); a label map is drawn on "
+                                        "its own grid and cannot be resampled, which would mix "
+                                        "its ids",
+                                "");
     }
     const OrthogonalGrid grid = grid_holding(steps, volume.dims);
-    const double voxels = double(grid.dims.x) * grid.dims.y * grid.dims.z;
+    const double voxels = grid.sizes.x * grid.sizes.y * grid.sizes.z;
     const double bytes = voxels * double(bytes_per_voxel(volume.type));
-    if (voxels > 8.0 * double(volume.voxel_count()) || bytes > double(options.max_bytes)) {
-        char size[64];
-        std::snprintf(size, sizeof size, "%ux%ux%u", grid.dims.x, grid.dims.y, grid.dims.z);
-        return base::make_error(base::ErrorCode::out_of_memory,
-                                "the sheared volume (" + shear_text(steps) +
-                                        ") would need an orthogonal grid of " + size +
-                                        " voxels to hold it, more than this load may take",
-                                volume.name);
+    char size[96];
+    std::snprintf(size, sizeof size, "%.0fx%.0fx%.0f", grid.sizes.x, grid.sizes.y, grid.sizes.z);
+    constexpr double max_side = double(std::numeric_limits<std::int32_t>::max());
+    if (!(voxels <= max_grid_growth * double(volume.voxel_count())) ||
+        !glm::all(glm::lessThanEqual(grid.sizes, glm::dvec3(max_side)))) {
+        return base::make_error(
+                base::ErrorCode::out_of_memory,
+                "the sheared volume (" + shear_text(steps) + ") would need an orthogonal grid of " +
+                        size + " voxels to hold it, more than " +
+                        std::to_string(int(max_grid_growth)) + " times the voxels it stores",
+                "");
+    }
+    // The stored voxels stay while the grid is filled.
+    if (auto status = detail::check_budget(
+                static_cast<std::uint64_t>(bytes) + volume.data.size(),
+                std::string(size) + " voxels resampled from a sheared grid", volume.name, options);
+        !status) {
+        return status;
     }
     std::vector<std::byte> data;
     try {
         data.resize(static_cast<std::size_t>(bytes));
     } catch (const std::bad_alloc&) {
         return base::make_error(base::ErrorCode::out_of_memory,
-                                "not enough memory to resample the sheared volume", volume.name);
+                                "not enough memory to resample the sheared volume", "");
     }
     const double lowest_stored =
             (volume.range.min - volume.rescale.intercept) / volume.rescale.slope;
@@ -220,12 +248,12 @@ base::Status place_volume(Volume& volume, const Geometry& geometry, const LoadOp
     }
     char line[256];
     std::snprintf(line, sizeof line,
-                  "%s (a gantry tilt or a shear): resampled onto an orthogonal grid of %ux%ux%u "
+                  "%s (a gantry tilt or a shear): resampled onto an orthogonal grid of %s "
                   "voxels (trilinear), as 3D Slicer and dcm2niix do",
-                  shear_text(steps).c_str(), grid.dims.x, grid.dims.y, grid.dims.z);
+                  shear_text(steps).c_str(), size);
     volume.notes.emplace_back(line);
     volume.data = std::move(data);
-    volume.dims = grid.dims;
+    volume.dims = grid.dims();
     volume.spacing = grid.spacing;
     volume.axes = grid.axes;
     volume.origin = geometry.origin + grid.first;

@@ -291,7 +291,7 @@ base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 o
                                 " and " + index_names[static_cast<std::size_t>(b)] + " are " +
                                 angle +
                                 " degrees apart, not perpendicular (a gantry-tilted or sheared "
-                                "acquisition); Penumbra draws volumes only rotated or reflected",
+                                "acquisition)",
                         "");
             }
         }

@@ -299,6 +299,14 @@ TEST(DicomLoader, JpegTwoThousandMultiFrameFilesDecodeLosslessExactlyAndLossyClo
     EXPECT_EQ(lossless->dims, box_dims);
     expect_ch2_voxels(*lossless, words);
 
+    // Some writers wrap each codestream in a JP2 file.
+    spec.jpeg2000_jp2 = true;
+    fixtures::write_multiframe(dir / "jp2.dcm", spec, words, order);
+    auto jp2 = load_volume(dir / "jp2.dcm");
+    ASSERT_TRUE(jp2.ok()) << jp2.error().to_string();
+    expect_ch2_voxels(*jp2, words);
+    spec.jpeg2000_jp2 = false;
+
     spec.jpeg2000_fragments = 1;
     spec.jpeg2000_ratio = 10.0;
     fixtures::write_multiframe(dir / "lossy.dcm", spec, words, order);
@@ -1276,6 +1284,43 @@ TEST(DicomLoader, JpegTwoThousandThatDisagreesWithItsHeaderOrIsCutShortIsRefused
     auto cut = load_volume(dir / "cut_short.dcm");
     ASSERT_FALSE(cut.ok());
     EXPECT_EQ(cut.error().code, base::ErrorCode::decode_failed) << cut.error().to_string();
+
+    // Tiles of one pixel (XTsiz = YTsiz = 1 in every SIZ marker): OpenJPEG would allocate for
+    // each of the 6144 tiles as it reads the header; refused before it does, beyond 4096.
+    const glm::uvec3 wide{128, 48, 2};
+    const auto wide_words = fixtures::ch2_box({20, 80, 70}, wide);
+    SeriesSpec tiled = ch2_spec();
+    tiled.dims = wide;
+    tiled.jpeg2000_fragments = 1;
+    tiled.edit = [](DcmDataset& dataset) {
+        DcmElement* element = nullptr;
+        DcmPixelSequence* sequence = nullptr;
+        ASSERT_TRUE(dataset.findAndGetElement(DCM_PixelData, element).good());
+        ASSERT_TRUE(
+                OFstatic_cast(DcmPixelData*, element)
+                        ->getEncapsulatedRepresentation(EXS_JPEG2000LosslessOnly, nullptr, sequence)
+                        .good());
+        for (unsigned long i = 1; i < sequence->card(); ++i) {
+            DcmPixelItem* item = nullptr;
+            Uint8* bytes = nullptr;
+            ASSERT_TRUE(sequence->getItem(item, i).good());
+            ASSERT_TRUE(item->getUint8Array(bytes).good());
+            ASSERT_EQ(bytes[2], 0xFF);  // SIZ follows SOC
+            ASSERT_EQ(bytes[3], 0x51);
+            std::vector<Uint8> patched(bytes, bytes + item->getLength());
+            for (const std::size_t at : {24u, 28u}) {  // XTsiz, YTsiz: 4 bytes each, big endian
+                patched[at] = patched[at + 1] = patched[at + 2] = 0;
+                patched[at + 3] = 1;
+            }
+            ASSERT_TRUE(item->putUint8Array(patched.data(), patched.size()).good());
+        }
+    };
+    const std::vector<std::uint32_t> two{0, 1};
+    fixtures::write_multiframe(dir / "tiny_tiles.dcm", tiled, wide_words, two);
+    auto tiles = load_volume(dir / "tiny_tiles.dcm");
+    ASSERT_FALSE(tiles.ok());
+    EXPECT_EQ(tiles.error().code, base::ErrorCode::decode_failed);
+    EXPECT_TRUE(contains(tiles.error().message, "6144 tiles")) << tiles.error().to_string();
 }
 
 void expect_axes(const Volume& volume, glm::dvec3 i, glm::dvec3 j, glm::dvec3 k) {

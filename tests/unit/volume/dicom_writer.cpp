@@ -134,7 +134,7 @@ void save(DcmFileFormat& file, const SeriesSpec& spec, const std::filesystem::pa
 
 // One frame as a JPEG 2000 codestream (OpenJPEG; lossless unless `ratio` > 0).
 std::vector<std::uint8_t> encode_jpeg2000(const std::uint16_t* words, const SeriesSpec& spec,
-                                          double ratio) {
+                                          double ratio, bool jp2) {
     opj_image_cmptparm_t component{};
     component.dx = component.dy = 1;
     component.w = spec.dims.x;
@@ -163,8 +163,8 @@ std::vector<std::uint8_t> encode_jpeg2000(const std::uint16_t* words, const Seri
            (1u << (parameters.numresolution - 1)) > std::min(spec.dims.x, spec.dims.y)) {
         --parameters.numresolution;
     }
-    std::unique_ptr<opj_codec_t, void (*)(opj_codec_t*)> codec(opj_create_compress(OPJ_CODEC_J2K),
-                                                               opj_destroy_codec);
+    std::unique_ptr<opj_codec_t, void (*)(opj_codec_t*)> codec(
+            opj_create_compress(jp2 ? OPJ_CODEC_JP2 : OPJ_CODEC_J2K), opj_destroy_codec);
 
     // The encoder may seek back to fill in a length: a buffer with a write position.
     struct Output {
@@ -211,8 +211,8 @@ void put_jpeg2000_pixels(DcmDataset& dataset, const SeriesSpec& spec,
     auto* sequence = new DcmPixelSequence(DCM_PixelSequenceTag);
     sequence->insert(new DcmPixelItem(DCM_PixelItemTag));  // an empty offset table
     for (const std::uint32_t z : slices) {
-        const auto codestream =
-                encode_jpeg2000(words.data() + z * slice_words, spec, spec.jpeg2000_ratio);
+        const auto codestream = encode_jpeg2000(words.data() + z * slice_words, spec,
+                                                spec.jpeg2000_ratio, spec.jpeg2000_jp2);
         const std::size_t parts = static_cast<std::size_t>(spec.jpeg2000_fragments);
         const std::size_t part = (codestream.size() / parts + 1) & ~std::size_t{1};  // even
         for (std::size_t begin = 0; begin < codestream.size(); begin += part) {

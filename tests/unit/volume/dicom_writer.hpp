@@ -38,6 +38,7 @@ struct SeriesSpec {
     // `jpeg2000_ratio` (a compression ratio, e.g. 20) makes it lossy.
     int jpeg2000_fragments = 0;
     double jpeg2000_ratio = 0.0;
+    bool jpeg2000_jp2 = false;  // a JP2 file per frame instead of the bare codestream
     // Last changes to each dataset before it is saved (delete a tag, break a value).
     std::function<void(DcmDataset&)> edit;
 };

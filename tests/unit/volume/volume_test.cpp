@@ -338,12 +338,17 @@ TEST(Placement, ShearIsRefusedWhereResamplingIsNotWantedOrWouldNotBeSound) {
     EXPECT_EQ(refused.error().code, base::ErrorCode::sheared_transform);
     EXPECT_EQ(volume->dims, glm::uvec3(4));
 
+    auto lost = placed_geometry(tilt, glm::dvec3(0.0, std::nan(""), 0.0));
+    ASSERT_FALSE(lost.ok());
+    EXPECT_EQ(lost.error().code, base::ErrorCode::bad_transform);
+
     auto flat = placed_geometry(
             glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(1, 1, 1e-4)),
             glm::dvec3(0));
     ASSERT_FALSE(flat.ok());
     EXPECT_EQ(flat.error().code, base::ErrorCode::sheared_transform);
-    EXPECT_NE(flat.error().message.find("coplanar"), std::string::npos) << flat.error().message;
+    EXPECT_NE(flat.error().message.find("nearly coplanar"), std::string::npos)
+            << flat.error().message;
 
     // 89 degrees of shear: the grid along i would be about 57 times the stored voxels.
     auto steep = placed_geometry(
@@ -353,6 +358,16 @@ TEST(Placement, ShearIsRefusedWhereResamplingIsNotWantedOrWouldNotBeSound) {
     auto too_large = place_volume(*volume, *steep, LoadOptions{});
     ASSERT_FALSE(too_large.ok());
     EXPECT_EQ(too_large.error().code, base::ErrorCode::out_of_memory);
+
+    // A grid of more voxels along one axis than any integer holds: refused, not wrapped around.
+    auto huge = placed_geometry(
+            glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 1e20, 1e20)),
+            glm::dvec3(0));
+    ASSERT_TRUE(huge.ok()) << huge.error().to_string();
+    auto wrapped = place_volume(*volume, *huge, LoadOptions{});
+    ASSERT_FALSE(wrapped.ok());
+    EXPECT_EQ(wrapped.error().code, base::ErrorCode::out_of_memory);
+    EXPECT_EQ(volume->dims, glm::uvec3(4));
 }
 
 TEST(Orientation, LpsToRasNegatesXAndY) {

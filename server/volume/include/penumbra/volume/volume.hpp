@@ -126,8 +126,9 @@ struct PatientBounds {
 // The geometry of a file's index-to-patient transform: the columns of `steps` are the RAS
 // vectors from one voxel centre to the next along i, j and k, so their lengths are the spacing
 // and their directions the axes. A transform whose columns are not perpendicular (a gantry-tilted
-// CT, a sheared registration result) is an Error with code "sheared_transform" and the angle:
-// Penumbra draws a volume only rotated or reflected. Zero or non-finite columns are an Error too.
+// CT, a sheared registration result) is an Error with code "sheared_transform" and the angle: a
+// Volume is only rotated or reflected (placed_geometry and place_volume resample such a volume).
+// Zero or non-finite columns are an Error too.
 struct Geometry {
     glm::dvec3 spacing{1.0};
     glm::dmat3 axes{1.0};
