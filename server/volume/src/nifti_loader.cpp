@@ -170,10 +170,6 @@ base::Result<Geometry> patient_geometry(const nifti_image& image,
         if (sform && (!sform->sheared_steps || image.qform_code <= 0)) {
             return sform;  // a sheared sform without a qform is resampled (place_volume)
         }
-        base::log_warning(log_component, path.string() + ": the sform is not a rotation (" +
-                                                 (sform ? std::string("its axes are sheared")
-                                                        : sform.error().message) +
-                                                 "); using the qform");
     }
     auto qform = geometry_of(image.qto_xyz);
     if (!qform && image.sform_code > 0) {
@@ -185,6 +181,13 @@ base::Result<Geometry> patient_geometry(const nifti_image& image,
         base::Error error = qform.error();
         error.where = detail::at_file(path);
         return error;
+    }
+    if (image.sform_code > 0) {
+        auto sform = geometry_of(image.sto_xyz);
+        qform->note = std::string("the sform is not a rotation (") +
+                      (sform ? std::string("its axes are sheared") : sform.error().message) +
+                      "): the qform places the voxels, as ITK does";
+        base::log_warning(log_component, path.string() + ": " + qform->note);
     }
     return qform;
 }

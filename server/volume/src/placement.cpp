@@ -186,6 +186,9 @@ base::Result<Geometry> placed_geometry(const glm::dmat3& steps, glm::dvec3 origi
 }
 
 base::Status place_volume(Volume& volume, const Geometry& geometry, const LoadOptions& options) {
+    if (!geometry.note.empty()) {
+        volume.notes.push_back(geometry.note);
+    }
     if (!geometry.sheared_steps) {
         volume.spacing = geometry.spacing;
         volume.axes = geometry.axes;

@@ -437,6 +437,8 @@ TEST(NiftiLoader, ShearedSformFallsBackToTheQform) {
     auto volume = load_nifti(dir / "sheared.nii");
     ASSERT_TRUE(volume.ok()) << volume.error().to_string();
     EXPECT_EQ(orientation_code(volume->axes), "RAS");
+    ASSERT_EQ(volume->notes.size(), 1u);
+    EXPECT_TRUE(contains(volume->notes[0], "the qform places the voxels")) << volume->notes[0];
 }
 
 TEST(NiftiLoader, IntegerScaleOnInt16IsKeptAsRescaleAndIntentHuMarksHounsfield) {

@@ -137,6 +137,9 @@ struct Geometry {
     // place_volume resamples the voxels from. `spacing` and `axes` are then the columns' lengths
     // and directions as they are.
     std::optional<glm::dmat3> sheared_steps;
+    // What the loader chose for the user about the transform (a NIfTI's qform used in place of
+    // a sheared sform); place_volume adds it to the volume's notes.
+    std::string note;
 };
 
 base::Result<Geometry> geometry_from_steps(const glm::dmat3& steps, glm::dvec3 origin);
