@@ -68,11 +68,36 @@ struct RayMarch {
     // need no look at the grid. A sample just past a face by rounding is looked at again, which
     // can only keep a sample, never drop one.
     float occupied_until;
+#if LABELS
+    // Whether every sample of that stretch lies in one label (the brick classification found its
+    // brick to be of one), whose tint is then known: its samples fetch no label.
+    bool one_label;
+    LabelTint one_label_tint;
+#endif
+#endif
+#if LABELS
+    // The ray in the label map's index space, where a sample's label is looked up.
+    vec3 label_origin;
+    vec3 label_direction;
 #endif
 #if PREINTEGRATION
     float front;  // the value at the sample before the next one, the front of its segment
 #endif
 };
+
+// A sample `t` along the ray, classified as `classified` by the transfer function, in its label.
+vec4 labelled(RayMarch march, vec4 classified, float t) {
+#if LABELS
+    if (classified.a <= 0.0) return classified;
+#if EMPTY_SPACE_SKIPPING
+    if (march.one_label) return tinted(classified, march.one_label_tint);
+#endif
+    return tinted(classified,
+                  label_tint(label_index_at(march.label_origin + t * march.label_direction)));
+#else
+    return classified;
+#endif
+}
 
 vec3 march_position(RayMarch march, int i) {
     return march.origin + (march.start + (float(i) + march.offset) * march.step_length) *
@@ -119,11 +144,12 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
     if (t >= march.occupied_until) {
         ivec3 brick = brick_of(position);
         float run = distance_out_of_brick(position, march.direction, brick);
-        if (!brick_occupied(brick)) {
+        uint occupancy = brick_occupancy_of(brick);
+        if (occupancy == 0u) {
             int last_in_brick = max(i + 1, i + int(ceil(run / march.step_length))) - 1;
 #if PREINTEGRATION
             float back = sample_value(position);
-            classified = in_label(classify_segment(march.front, back), position);
+            classified = labelled(march, classify_segment(march.front, back), t);
             march.front = last_in_brick > i ? sample_value(march_position(march, last_in_brick))
                                             : back;
             position -= lit_before(march, i) * march.direction;  // as below
@@ -135,17 +161,21 @@ bool classify_sample(inout RayMarch march, inout int i, out vec3 position, out v
 #endif
         }
         march.occupied_until = t + run;
+#if LABELS
+        march.one_label = occupancy >= 2u;
+        if (march.one_label) march.one_label_tint = label_tint(int(occupancy) - 2);
+#endif
     }
 #endif
 #if PREINTEGRATION
     float back = sample_value(position);
-    classified = in_label(classify_segment(march.front, back), position);
+    classified = labelled(march, classify_segment(march.front, back), t);
     march.front = back;
     // The segment is lit and shaded at its middle, where its material is on average: lit at its
     // back, a surface would be lit half a step inside itself and darken under shadows.
     position -= lit_before(march, i) * march.direction;
 #else
-    classified = in_label(classify(sample_value(position)), position);
+    classified = labelled(march, classify(sample_value(position)), t);
 #endif
     return true;
 }
@@ -171,6 +201,14 @@ void march_range(ivec2 pixel, int first, int budget, inout vec4 accumulated) {
     march.offset = ray_start_offset(pixel);
 #if EMPTY_SPACE_SKIPPING
     march.occupied_until = -1.0;
+#if LABELS
+    march.one_label = false;
+    march.one_label_tint = LabelTint(vec4(1.0), 0.0);
+#endif
+#endif
+#if LABELS
+    march.label_origin = label_coordinate(march.origin);
+    march.label_direction = mat3(u.world_to_label) * march.direction;
 #endif
 #if PREINTEGRATION
     march.front = front_value(march, first);

@@ -17,8 +17,13 @@ ivec3 brick_of(vec3 world) {
     return clamp(brick, ivec3(0), grid - 1);
 }
 
+// 0: empty; 1: occupied; 2 + i: occupied, and every sample in it takes label index i (LABELS).
+uint brick_occupancy_of(ivec3 brick) {
+    return texelFetch(brick_occupancy, brick, 0).r;
+}
+
 bool brick_occupied(ivec3 brick) {
-    return texelFetch(brick_occupancy, brick, 0).r != 0u;
+    return brick_occupancy_of(brick) != 0u;
 }
 
 // How far `direction` (unit or not: the result is in its units) goes from `world` before it

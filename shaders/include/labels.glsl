@@ -8,13 +8,18 @@
 #endif
 
 #if LABELS
-layout(binding = 7) uniform usampler3D label_indices;
-// Per index: rgb the label's colour, a its opacity scale. Index 0 is the background (and
-// everything outside the map): the scan as it is.
-layout(binding = 8) uniform sampler1D label_styles;
+#include "include/label_styles.glsl"
 
-int label_index(vec3 world) {
-    ivec3 voxel = ivec3(floor((u.world_to_label * vec4(world, 1.0)).xyz + 0.5));
+layout(binding = 7) uniform usampler3D label_indices;
+
+// `world` in the map's voxel index space (a ray's points there lie on a line as well).
+vec3 label_coordinate(vec3 world) {
+    return (u.world_to_label * vec4(world, 1.0)).xyz;
+}
+
+// The label index of the map's voxel nearest to `coordinate` (label_coordinate), 0 outside it.
+int label_index_at(vec3 coordinate) {
+    ivec3 voxel = ivec3(floor(coordinate + 0.5));
     if (any(lessThan(voxel, ivec3(0))) ||
         any(greaterThanEqual(voxel, textureSize(label_indices, 0)))) {
         return 0;
@@ -22,14 +27,26 @@ int label_index(vec3 world) {
     return int(texelFetch(label_indices, voxel, 0).r);
 }
 
+// What a label does to a classified sample: its style, and how much its colour replaces the
+// transfer function's (none for the background).
+struct LabelTint {
+    vec4 style;
+    float weight;
+};
+
+LabelTint label_tint(int index) {
+    return LabelTint(label_style(index), index == 0 ? 0.0 : u.labels.x);
+}
+
+vec4 tinted(vec4 classified, LabelTint tint) {
+    return vec4(mix(classified.rgb, tint.style.rgb, tint.weight), classified.a * tint.style.a);
+}
+
 // What the transfer function classified at `world`, in the label there. A transparent sample
 // stays transparent: no fetch.
 vec4 in_label(vec4 classified, vec3 world) {
     if (classified.a <= 0.0) return classified;
-    int index = label_index(world);
-    vec4 style = texelFetch(label_styles, index, 0);
-    float weight = index == 0 ? 0.0 : u.labels.x;
-    return vec4(mix(classified.rgb, style.rgb, weight), classified.a * style.a);
+    return tinted(classified, label_tint(label_index_at(label_coordinate(world))));
 }
 #else
 vec4 in_label(vec4 classified, vec3 world) {

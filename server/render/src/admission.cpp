@@ -21,16 +21,17 @@ std::string scientific(double value) {
 }  // namespace
 
 scene::WorkContext work_context(const scene::FrameRequest& request, const EmptySpaceMap& bricks,
-                                const std::vector<glm::vec4>& table, const optics::Region& region) {
+                                const std::vector<glm::vec4>& table, const optics::Region& region,
+                                const LabelVisibility& labels) {
     if (!request.settings.empty_space_skipping) {
         return {};
     }
     // Each frame walks the bricks here: once when nothing is cut away for the light.
-    const scene::OccupiedBricks visible = bricks.occupied_bricks(table);
+    const scene::OccupiedBricks visible = bricks.occupied_bricks(table, {}, labels);
     if (region.count_for(optics::RegionUser::light) == 0) {
         return {bricks.grid(), visible, visible};
     }
-    return {bricks.grid(), bricks.occupied_bricks(table, region), visible};
+    return {bricks.grid(), bricks.occupied_bricks(table, region, labels), visible};
 }
 
 base::Status admit(const scene::FrameRequest& request, const FramePlan& plan,

@@ -25,11 +25,13 @@ struct FrameCeilings {
 // its rays leap the bricks the table leaves transparent, march none that the region (as the
 // light sees it, which holds the camera's) leaves out, and no ray of any camera spends more
 // samples in the visible ones than fit along its longest stretch through them. The light-buffer
-// builders skip by the table alone.
+// builders skip by the table alone. Where a label map is drawn, bricks whose labels `labels`
+// hides are left out by both.
 [[nodiscard]] scene::WorkContext work_context(const scene::FrameRequest& request,
                                               const EmptySpaceMap& bricks,
                                               const std::vector<glm::vec4>& table,
-                                              const optics::Region& region);
+                                              const optics::Region& region,
+                                              const LabelVisibility& labels = {});
 
 // Refuses, before anything runs, a frame over the work ceiling (`too_much_work`) or a light
 // buffer that the budget could never hold (`light_buffer_too_large`).

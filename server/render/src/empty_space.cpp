@@ -1,9 +1,12 @@
 #include "empty_space.hpp"
 
+#include <penumbra/base/assert.hpp>
 #include <penumbra/gpu/commands.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
 #include <glm/common.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -68,7 +71,91 @@ BrickRanges ranges_of(const volume::Volume& volume, int brick_voxels) {
     return out;
 }
 
+// The label indices of `labels` (voxels of type T) nearest to any point of each brick of `grid`
+// over `scan`.
+template <class T>
+BrickLabels labels_of(const volume::Volume& scan, glm::ivec3 grid, const volume::LabelMap& labels) {
+    const volume::Volume& map = labels.indices;
+    // Scan texture coordinate t -> patient (origin + axes ((t dims - 1/2) spacing)) -> the map's
+    // continuous index (axes^T (patient - origin) / spacing), whose nearest voxel is
+    // floor(index + 1/2).
+    const glm::dvec3 scan_dims(scan.dims);
+    const auto to_map_index = [&](glm::dvec3 t) {
+        const glm::dvec3 patient = scan.origin + scan.axes * ((t * scan_dims - 0.5) * scan.spacing);
+        return (glm::transpose(map.axes) * (patient - map.origin)) / map.spacing;
+    };
+    // A thousandth of a voxel on either side, as voxels_read allows, in both grids.
+    constexpr double margin = 1e-3;
+    const glm::dvec3 brick_size = 1.0 / glm::dvec3(grid);
+    const glm::ivec3 map_dims(map.dims);
+    const auto* voxels = reinterpret_cast<const T*>(map.data.data());
+    std::vector<std::uint32_t> seen_in(labels.labels.size() + 1, 0);  // brick number + 1
+    BrickLabels out;
+    out.grid = grid;
+    out.starts.reserve(static_cast<std::size_t>(grid.x) * grid.y * grid.z + 1);
+    std::uint32_t brick_number = 0;
+    for (int bz = 0; bz < grid.z; ++bz) {
+        for (int by = 0; by < grid.y; ++by) {
+            for (int bx = 0; bx < grid.x; ++bx) {
+                ++brick_number;
+                out.starts.push_back(static_cast<std::uint32_t>(out.indices.size()));
+                const glm::dvec3 low = glm::dvec3(bx, by, bz) * brick_size - margin / scan_dims;
+                const glm::dvec3 high = low + brick_size + 2.0 * margin / scan_dims;
+                glm::dvec3 least(std::numeric_limits<double>::max());
+                glm::dvec3 most(std::numeric_limits<double>::lowest());
+                for (int corner = 0; corner < 8; ++corner) {
+                    const glm::dvec3 t((corner & 1) != 0 ? high.x : low.x,
+                                       (corner & 2) != 0 ? high.y : low.y,
+                                       (corner & 4) != 0 ? high.z : low.z);
+                    const glm::dvec3 index = to_map_index(t);
+                    least = glm::min(least, index);
+                    most = glm::max(most, index);
+                }
+                const glm::dvec3 first_voxel = glm::floor(least + 0.5 - margin);
+                const glm::dvec3 last_voxel = glm::floor(most + 0.5 + margin);
+                const auto mark = [&](std::uint32_t index) {
+                    if (seen_in[index] != brick_number) {
+                        seen_in[index] = brick_number;
+                        out.indices.push_back(index);
+                    }
+                };
+                if (glm::any(glm::lessThan(first_voxel, glm::dvec3(0.0))) ||
+                    glm::any(glm::greaterThanEqual(last_voxel, glm::dvec3(map_dims)))) {
+                    mark(0);  // some of the brick lies outside the map
+                }
+                if (glm::any(glm::greaterThan(first_voxel, glm::dvec3(map_dims - 1))) ||
+                    glm::any(glm::lessThan(last_voxel, glm::dvec3(0.0)))) {
+                    continue;  // the brick lies wholly outside the map: its one index is marked
+                }
+                const glm::ivec3 first(glm::max(first_voxel, glm::dvec3(0.0)));
+                const glm::ivec3 last(glm::min(last_voxel, glm::dvec3(map_dims - 1)));
+                for (int z = first.z; z <= last.z; ++z) {
+                    for (int y = first.y; y <= last.y; ++y) {
+                        const std::size_t row = (std::size_t(z) * map_dims.y + y) * map_dims.x;
+                        for (int x = first.x; x <= last.x; ++x) {
+                            mark(voxels[row + x]);
+                        }
+                    }
+                }
+                std::sort(out.indices.begin() + out.starts.back(), out.indices.end());
+            }
+        }
+    }
+    out.starts.push_back(static_cast<std::uint32_t>(out.indices.size()));
+    return out;
+}
+
 }  // namespace
+
+BrickLabels compute_brick_labels(const volume::Volume& scan, glm::ivec3 grid,
+                                 const volume::LabelMap& labels) {
+    if (labels.indices.type == volume::VoxelType::uint8) {
+        return labels_of<std::uint8_t>(scan, grid, labels);
+    }
+    PENUMBRA_ASSERT(labels.indices.type == volume::VoxelType::uint16,
+                    "label indices are 8 or 16 bits");
+    return labels_of<std::uint16_t>(scan, grid, labels);
+}
 
 BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels) {
     switch (volume.type) {
@@ -86,7 +173,7 @@ BrickRanges compute_brick_ranges(const volume::Volume& volume, int brick_voxels)
 
 scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
                                       const std::vector<glm::vec4>& table,
-                                      const optics::Region& region) {
+                                      const optics::Region& region, const LabelVisibility& labels) {
     scene::OccupiedBricks occupied;
     occupied.first = ranges.grid;
     const int entries = static_cast<int>(table.size());
@@ -115,13 +202,26 @@ scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
         return !optics::outside_region(region, low, glm::min(low + brick_size, region.box.max),
                                        optics::RegionUser::light);
     };
+    const auto any_label_shown = [&](std::size_t brick) {
+        if (labels.bricks == nullptr) {
+            return true;
+        }
+        const BrickLabels& bricks = *labels.bricks;
+        for (std::uint32_t k = bricks.starts[brick]; k < bricks.starts[brick + 1]; ++k) {
+            if (bricks.indices[k] < labels.shown.size() && labels.shown[bricks.indices[k]]) {
+                return true;
+            }
+        }
+        return false;
+    };
     std::size_t index = 0;
     for (const glm::vec2& stored : ranges.min_max) {
         const glm::ivec3 brick(static_cast<int>(index % ranges.grid.x),
                                static_cast<int>(index / ranges.grid.x % ranges.grid.y),
                                static_cast<int>(index / ranges.grid.x / ranges.grid.y));
         ++index;
-        if (visible_in_table(stored) && (!cut || inside_region(brick))) {
+        if (visible_in_table(stored) && (!cut || inside_region(brick)) &&
+            any_label_shown(index - 1)) {
             ++occupied.count;
             occupied.first = glm::min(occupied.first, brick);
             occupied.last = glm::max(occupied.last, brick);
@@ -136,7 +236,7 @@ scene::OccupiedBricks occupied_bricks(const BrickRanges& ranges,
 EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
     : ranges_on_cpu_(ranges)
     , ranges_(gpu::create_texture_3d(GL_RG32F, ranges.grid.x, ranges.grid.y, ranges.grid.z))
-    , occupancy_(gpu::create_texture_3d(GL_R8UI, ranges.grid.x, ranges.grid.y, ranges.grid.z))
+    , occupancy_(gpu::create_texture_3d(GL_R16UI, ranges.grid.x, ranges.grid.y, ranges.grid.z))
     , visible_entries_(
               gpu::create_storage_buffer(sizeof(std::uint32_t) * (scene::default_table_size + 1))) {
     const glm::ivec3 grid = ranges.grid;
@@ -146,16 +246,16 @@ EmptySpaceMap::EmptySpaceMap(const BrickRanges& ranges)
     gpu::set_sampling(occupancy_, GL_NEAREST, GL_CLAMP_TO_EDGE);
 }
 
-base::Status EmptySpaceMap::classify(ProgramCache& programs) const {
+base::Status EmptySpaceMap::classify(ProgramCache& programs, bool labels) const {
     const glm::ivec3 grid = ranges_on_cpu_.grid;
-    auto program = programs.compute("brick_classify.comp");
+    auto program = programs.compute("brick_classify.comp", {{"LABELS", labels ? "1" : "0"}});
     if (!program) {
         return program.error();
     }
     const gpu::Program& classify = **program;
     gpu::bind_storage_buffer(0, visible_entries_);
     gpu::bind_texture(4, ranges_);
-    gpu::bind_image(0, occupancy_, GL_WRITE_ONLY, GL_R8UI);
+    gpu::bind_image(0, occupancy_, GL_WRITE_ONLY, GL_R16UI);
     gpu::set_uniform(classify, 0, 0);  // the table's visible entries, into the buffer
     gpu::dispatch(classify, {}, GL_SHADER_STORAGE_BARRIER_BIT);
     gpu::set_uniform(classify, 0, 1);  // each brick against them

@@ -3,6 +3,7 @@
 #include <penumbra/gpu/commands.hpp>
 #include <penumbra/scene/box.hpp>
 
+#include <span>
 #include <string>
 
 namespace penumbra::render {
@@ -60,9 +61,42 @@ void LabelTexture::bind(const optics::LabelStyleTable& styles) {
     if (styles.texels != uploaded_) {
         gpu::upload_1d(styles_, width, GL_RGBA, GL_FLOAT, styles.texels.data());
         uploaded_ = styles.texels;
+        ++styles_version_;
     }
     gpu::bind_texture(7, indices_);
     gpu::bind_texture(8, styles_);
+}
+
+const BrickLabels& LabelTexture::brick_labels(const volume::Volume& scan,
+                                              std::uint64_t scan_generation, glm::ivec3 grid) {
+    if (bricks_of_ != scan_generation || bricks_.grid != grid) {
+        bricks_ = compute_brick_labels(scan, grid, *labels_);
+        const auto upload = [](const std::vector<std::uint32_t>& values) {
+            gpu::Buffer buffer = gpu::create_storage_buffer(sizeof(std::uint32_t) * values.size());
+            gpu::upload(buffer, std::as_bytes(std::span(values)));
+            return buffer;
+        };
+        brick_starts_ = upload(bricks_.starts);
+        brick_indices_ = upload(bricks_.indices);
+        bricks_of_ = scan_generation;
+    }
+    return bricks_;
+}
+
+void LabelTexture::bind_brick_labels() const {
+    gpu::bind_storage_buffer(1, brick_starts_);
+    gpu::bind_storage_buffer(2, brick_indices_);
+}
+
+LabelVisibility LabelTexture::visibility(const scene::Labels& styles, const volume::Volume& scan,
+                                         std::uint64_t scan_generation, glm::ivec3 grid) {
+    LabelVisibility out;
+    out.bricks = &brick_labels(scan, scan_generation, grid);
+    out.generation = generation_;
+    for (const glm::vec4& texel : optics::bake_label_styles(styles).texels) {
+        out.shown.push_back(texel.a > 0.0f);
+    }
+    return out;
 }
 
 }  // namespace penumbra::render

@@ -322,9 +322,16 @@ base::Result<SubmittedFrame> Renderer::submit(const scene::FrameRequest& request
     const std::vector<glm::vec4> table =
             scene::bake(request.transfer_function, scene::default_table_size,
                         {voxels.range.min, voxels.range.max, voxels.hounsfield});
+    LabelVisibility labels_shown;
+    if (LabelTexture* labels = impl.current_labels();
+        labels != nullptr && plan.variant.labels && request.settings.empty_space_skipping) {
+        labels_shown = labels->visibility(request.labels, voxels, volume.generation(),
+                                          volume.empty_space().grid());
+    }
     if (auto status =
                 admit(request, plan, g,
-                      work_context(request, volume.empty_space(), table, g.region), impl.ceilings);
+                      work_context(request, volume.empty_space(), table, g.region, labels_shown),
+                      impl.ceilings);
         !status) {
         return status.error();
     }
@@ -374,8 +381,10 @@ base::Result<SubmittedFrame> Renderer::submit(const scene::FrameRequest& request
         gpu::bind_texture(6, impl.preintegration.texture());
     }
     if (plan.variant.empty_space_skipping) {
-        if (auto status = volume.bind_occupancy(impl.programs, impl.transfer_function.version(),
-                                                impl.info.gpu_timer_queries, frame.report);
+        if (auto status =
+                    volume.bind_occupancy(impl.programs, impl.transfer_function.version(),
+                                          plan.variant.labels ? impl.current_labels() : nullptr,
+                                          impl.info.gpu_timer_queries, frame.report);
             !status) {
             return status.error();
         }

@@ -37,13 +37,20 @@ std::size_t VolumeEntry::bytes() const {
 }
 
 base::Status VolumeEntry::bind_occupancy(ProgramCache& programs, std::uint64_t tf_version,
-                                         bool timer_queries, FrameReport& report) {
-    if (classified_tf_version_ != tf_version) {
+                                         LabelTexture* labels, bool timer_queries,
+                                         FrameReport& report) {
+    const Classified wanted{tf_version, labels != nullptr ? labels->generation() : 0,
+                            labels != nullptr ? labels->styles_version() : 0};
+    if (classified_ != wanted) {
         const auto start = Clock::now();
-        if (auto status = empty_space_.classify(programs); !status) {
+        if (labels != nullptr) {
+            labels->brick_labels(*volume_, generation_, empty_space_.grid());
+            labels->bind_brick_labels();
+        }
+        if (auto status = empty_space_.classify(programs, labels != nullptr); !status) {
             return status;
         }
-        classified_tf_version_ = tf_version;
+        classified_ = wanted;
         report.passes.push_back({"classify_bricks", 0.0, pass_ms_since(start, timer_queries)});
     }
     gpu::bind_texture(3, empty_space_.occupancy());

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "empty_space.hpp"
+#include "label_texture.hpp"
 #include "program_cache.hpp"
 #include "volume_texture.hpp"
 
@@ -43,10 +44,11 @@ public:
     [[nodiscard]] std::size_t bytes() const;
 
     // Binds the brick occupancy on unit 3, first classifying the bricks against the TF texture on
-    // unit 1 unless its upload number `tf_version` was classified already. `timer_queries`:
-    // whether the device's GPU timers mean anything (RendererInfo).
+    // unit 1 (its upload number `tf_version`) and, where the frame draws a label map, `labels`
+    // with its style table bound, unless that was classified already. `timer_queries`: whether
+    // the device's GPU timers mean anything (RendererInfo).
     base::Status bind_occupancy(ProgramCache& programs, std::uint64_t tf_version,
-                                bool timer_queries, FrameReport& report);
+                                LabelTexture* labels, bool timer_queries, FrameReport& report);
 
     // Binds the gradient texture on unit 5, building it the first time (bytes() grows then).
     base::Status bind_gradients(ProgramCache& programs, FrameReport& report);
@@ -61,7 +63,18 @@ private:
     VolumeTexture texture_;
     EmptySpaceMap empty_space_;
     std::vector<PassTiming> upload_passes_;
-    std::uint64_t classified_tf_version_ = 0;  // 0: the bricks were never classified
+
+    // What the bricks were last classified against: the TF's upload number (0: never), the label
+    // map's generation and its style table's version (0, 0: no labels).
+    struct Classified {
+        std::uint64_t tf_version = 0;
+        std::uint64_t labels_generation = 0;
+        std::uint64_t styles_version = 0;
+
+        bool operator==(const Classified&) const = default;
+    };
+
+    Classified classified_;
     gpu::Texture gradients_;
 };
 

@@ -4,22 +4,30 @@
 // transparent to all visible.
 
 #include "empty_space.hpp"
+#include "label_texture.hpp"
 #include "program_cache.hpp"
 
+#include <penumbra/gpu/commands.hpp>
 #include <penumbra/gpu/context.hpp>
 #include <penumbra/gpu/objects.hpp>
 #include <penumbra/gpu/shader_library.hpp>
 #include <penumbra/optics/region.hpp>
+#include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/box.hpp>
 #include <penumbra/scene/transfer_function.hpp>
+#include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <glm/common.hpp>
+#include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,6 +38,17 @@ scene::TransferFunction visible_from(double threshold) {
     return {"from " + std::to_string(threshold),
             {{0.0, {1.0, 1.0, 1.0}}},
             {{0.0, 0.0}, {threshold, 0.0}, {std::min(1.0, threshold + 0.01), 0.3}, {1.0, 0.3}}};
+}
+
+// The occupancy grid the GPU classified, brick by brick (0 empty, 1 occupied, 2 + i one label).
+std::vector<std::uint16_t> read_occupancy(const EmptySpaceMap& map) {
+    const glm::ivec3 grid = map.grid();
+    // The image stores must land before reading.
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    std::vector<std::uint16_t> occupancy(std::size_t(grid.x) * grid.y * grid.z);
+    gpu::read_texture(map.occupancy(), GL_RED_INTEGER, GL_UNSIGNED_SHORT,
+                      std::as_writable_bytes(std::span(occupancy)));
+    return occupancy;
 }
 
 TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
@@ -64,12 +83,7 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
         glTextureSubImage1D(table_texture.name(), 0, 0, scene::default_table_size, GL_RGBA,
                             GL_FLOAT, table.data());
         ASSERT_TRUE(map.classify(programs).ok());
-        // The grid's rows are not 4-byte multiples; the image stores must land before reading.
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        std::vector<std::uint8_t> occupancy(bricks);
-        glGetTextureImage(map.occupancy().name(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
-                          static_cast<GLsizei>(occupancy.size()), occupancy.data());
+        const std::vector<std::uint16_t> occupancy = read_occupancy(map);
         std::size_t marked = 0;
         glm::ivec3 first = grid;
         glm::ivec3 last(-1);
@@ -77,6 +91,7 @@ TEST(BrickOccupancy, TheCpuCountsTheBricksTheGpuMarksOccupied) {
             if (occupancy[i] == 0) {
                 continue;
             }
+            EXPECT_EQ(occupancy[i], 1) << "no labels, so no brick of one label";
             const glm::ivec3 brick(static_cast<int>(i % std::size_t(grid.x)),
                                    static_cast<int>(i / std::size_t(grid.x) % std::size_t(grid.y)),
                                    static_cast<int>(i / std::size_t(grid.x) / std::size_t(grid.y)));
@@ -128,6 +143,119 @@ TEST(BrickOccupancy, BricksTheCutRemovesAreEmptyUnlessTheyCastShadows) {
     const scene::OccupiedBricks context =
             occupied_bricks(ranges, table, optics::region_of(box, left_half, placement));
     EXPECT_EQ(context.count, whole.count);
+}
+
+// The label index a sample at texture coordinate `t` of `scan` takes: the map's voxel nearest to
+// it in the map's own index space (shaders/include/labels.glsl), 0 outside the map.
+std::uint32_t label_at(const volume::Volume& scan, const volume::LabelMap& labels, glm::dvec3 t) {
+    const volume::Volume& map = labels.indices;
+    const glm::dvec3 patient =
+            scan.origin + scan.axes * ((t * glm::dvec3(scan.dims) - 0.5) * scan.spacing);
+    const glm::dvec3 index = (glm::transpose(map.axes) * (patient - map.origin)) / map.spacing;
+    const glm::dvec3 voxel = glm::floor(index + 0.5);
+    if (glm::any(glm::lessThan(voxel, glm::dvec3(0.0))) ||
+        glm::any(glm::greaterThanEqual(voxel, glm::dvec3(map.dims)))) {
+        return 0;
+    }
+    const std::size_t at = (std::size_t(voxel.z) * map.dims.y + std::size_t(voxel.y)) * map.dims.x +
+                           std::size_t(voxel.x);
+    return map.type == volume::VoxelType::uint8
+                   ? std::to_integer<std::uint32_t>(map.data[at])
+                   : reinterpret_cast<const std::uint16_t*>(map.data.data())[at];
+}
+
+// A label map drawn inside the scan: each brick lists every label its samples can take (checked
+// at random points of every brick, on ch2's own grid and on one 1 mm off and stored left-right
+// flipped), the GPU marks empty the bricks whose labels are all hidden and names the label of a
+// brick of one, and the CPU's count for the work estimate is the GPU's.
+TEST(BrickOccupancy, BricksWhoseLabelsAreAllHiddenAreEmptyAndBricksOfOneLabelSayWhich) {
+    auto scan = volume::load_volume("/usr/share/mricron/templates/ch2.nii.gz");
+    ASSERT_TRUE(scan.ok()) << scan.error().to_string();
+    auto context = gpu::Context::create();
+    ASSERT_TRUE(context.ok()) << context.error().to_string();
+    const gpu::ShaderLibrary shaders(gpu::default_shader_dir());
+    ProgramCache programs(shaders);
+    const BrickRanges ranges = compute_brick_ranges(*scan, default_brick_voxels);
+    const EmptySpaceMap map(ranges);
+    const glm::ivec3 grid = map.grid();
+    const std::size_t bricks = std::size_t(grid.x) * grid.y * grid.z;
+
+    gpu::Texture table_texture = gpu::create_texture_1d(GL_RGBA32F, scene::default_table_size);
+    const std::vector<glm::vec4> table =
+            scene::bake(visible_from(0.05), scene::default_table_size,
+                        {scan->range.min, scan->range.max, scan->hounsfield});
+    gpu::upload_1d(table_texture, scene::default_table_size, GL_RGBA, GL_FLOAT, table.data());
+    gpu::bind_texture(1, table_texture);
+
+    for (const char* file : {"aal.nii.gz", "HarvardOxford-cort-maxprob-thr0-1mm.nii.gz"}) {
+        SCOPED_TRACE(file);
+        auto loaded = volume::load_label_map(std::string("/usr/share/mricron/templates/") + file);
+        ASSERT_TRUE(loaded.ok()) << loaded.error().to_string();
+        const auto labels = std::make_shared<const volume::LabelMap>(std::move(loaded.value()));
+        auto texture = LabelTexture::upload(labels, 1, 2048);
+        ASSERT_TRUE(texture.ok()) << texture.error().to_string();
+        const BrickLabels& of_bricks = texture->brick_labels(*scan, 1, grid);
+        ASSERT_EQ(of_bricks.starts.size(), bricks + 1);
+
+        std::mt19937 random(7);
+        std::uniform_real_distribution<double> within(0.0, 1.0);
+        std::size_t one_label = 0;
+        std::size_t missing = 0;
+        for (std::size_t b = 0; b < bricks; ++b) {
+            const glm::dvec3 brick(double(b % grid.x), double(b / grid.x % grid.y),
+                                   double(b / grid.x / grid.y));
+            const auto first = of_bricks.indices.begin() + of_bricks.starts[b];
+            const auto last = of_bricks.indices.begin() + of_bricks.starts[b + 1];
+            ASSERT_TRUE(std::is_sorted(first, last));
+            one_label += last - first == 1 ? 1 : 0;
+            for (int k = 0; k < 24; ++k) {
+                const glm::dvec3 t =
+                        (brick + glm::dvec3(within(random), within(random), within(random))) /
+                        glm::dvec3(grid);
+                missing += std::binary_search(first, last, label_at(*scan, *labels, t)) ? 0 : 1;
+            }
+        }
+        EXPECT_EQ(missing, 0u) << "samples whose label their brick does not list";
+        EXPECT_GT(one_label, bricks / 2) << "bricks of a single label (most are background)";
+
+        // Every third label hidden, and then every label: GPU and CPU leave out the same bricks.
+        scene::Labels styles = render::label_styles(*labels);
+        for (const bool all_hidden : {false, true}) {
+            for (std::size_t i = 0; i < styles.styles.size(); ++i) {
+                styles.styles[i].visible = !all_hidden && i % 3 != 0;
+            }
+            texture->bind(optics::bake_label_styles(styles));
+            texture->bind_brick_labels();
+            ASSERT_TRUE(map.classify(programs, true).ok());
+            const std::vector<std::uint16_t> occupancy = read_occupancy(map);
+            const LabelVisibility shown = texture->visibility(styles, *scan, 1, grid);
+            std::int64_t marked = 0;
+            std::size_t named = 0;
+            for (std::size_t b = 0; b < bricks; ++b) {
+                const std::uint32_t count = of_bricks.starts[b + 1] - of_bricks.starts[b];
+                const std::uint32_t only = of_bricks.indices[of_bricks.starts[b]];
+                marked += occupancy[b] != 0 ? 1 : 0;
+                if (occupancy[b] >= 2) {
+                    ASSERT_EQ(count, 1u);
+                    ASSERT_EQ(occupancy[b] - 2u, only);
+                    ASSERT_TRUE(shown.shown[only]);
+                    ++named;
+                } else if (occupancy[b] == 1) {
+                    EXPECT_GT(count, 1u);
+                }
+            }
+            const scene::OccupiedBricks counted = occupied_bricks(ranges, table, {}, shown);
+            EXPECT_EQ(counted.count, marked);
+            const scene::OccupiedBricks alone = occupied_bricks(ranges, table);
+            if (all_hidden) {
+                // Only the background is left: the scan's bricks inside the labels go.
+                EXPECT_LT(marked, alone.count - 1000);
+            } else {
+                EXPECT_LT(marked, alone.count);
+                EXPECT_GT(named, std::size_t(marked) / 3);
+            }
+        }
+    }
 }
 
 }  // namespace
