@@ -387,6 +387,7 @@ function labelsSpec(): Spec {
       }
     },
     blend: fraction,
+    alone: boolean,
   };
 }
 

@@ -2,6 +2,7 @@ import { afterEach, describe, expect, it, vi } from 'vitest';
 import type GUI from 'lil-gui';
 import {
   allPatch,
+  alonePatch,
   blendPatch,
   cssColor,
   filterLabels,
@@ -133,6 +134,14 @@ describe("the panel's patches", () => {
     expect(Object.values(all.styles).every((s) => s.visible)).toBe(true);
     expect(applied(blendPatch(0.3)).blend).toBe(0.3);
   });
+
+  it('draw the map alone, as surfaces, and inside the scan again', () => {
+    expect(styles.alone).toBe(false);
+    const alone = applied(alonePatch(true));
+    expect(alone.alone).toBe(true);
+    expect(alone.styles).toEqual(styles.styles);
+    expect(applied(alonePatch(false), alone).alone).toBe(false);
+  });
 });
 
 describe('the label maps offered', () => {
@@ -228,6 +237,34 @@ describe('a change of the label map', () => {
     expect([choice.disabled, remove.disabled]).toEqual([false, false]);
     remove.dispatchEvent(new Event('click'));
     expect(asked).toEqual(['add b.nii', 'remove']);
+  });
+
+  it('draws the map alone when asked, and shows it so once the state says it (no blend then)', () => {
+    useFakeDom();
+    const children = new FakeElement('div');
+    const folder = { $children: children, show: () => folder } as unknown as GUI;
+    const sent: StatePatch[] = [];
+    const panel = new LabelsPanel(folder, {
+      change: (patch) => sent.push(patch),
+      add: () => {},
+      remove: () => {},
+    });
+    panel.setEnabled(true);
+    panel.update(added.state, drawn);
+    const alone = find(children, 'labels-alone')!;
+    const blend = find(children, 'labels-blend-row')!;
+    expect(alone.checked).toBe(false);
+    alone.checked = true;
+    alone.dispatchEvent(new Event('change'));
+    expect(sent).toEqual([alonePatch(true)]);
+    const state = { ...added.state, labels: applied(alonePatch(true)) };
+    panel.update(state, drawn);
+    expect(alone.checked).toBe(true);
+    expect(blend.hidden).toBe(true);
+    panel.update(added.state, drawn);
+    expect(blend.hidden).toBe(false);
+    panel.setEnabled(false);
+    expect(alone.disabled).toBe(true);
   });
 });
 

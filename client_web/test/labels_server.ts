@@ -1,5 +1,5 @@
 // What the server does with a `set`'s labels (scene_json.cpp's apply_labels): all, then only,
-// then styles by id, then blend; an id the map does not hold is refused.
+// then styles by id, then blend and alone; an id the map does not hold is refused.
 import type { LabelsPatch, LabelsState } from '../src/protocol/messages';
 
 export function applyLabelsPatch(labels: LabelsState, patch: LabelsPatch): LabelsState {
@@ -20,5 +20,6 @@ export function applyLabelsPatch(labels: LabelsState, patch: LabelsPatch): Label
     Object.assign(styleOf(id), structuredClone(style));
   }
   if (patch.blend !== undefined) out.blend = patch.blend;
+  if (patch.alone !== undefined) out.alone = patch.alone;
   return out;
 }

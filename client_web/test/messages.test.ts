@@ -708,6 +708,8 @@ describe('labels patches', () => {
     { styles: { '46': { visible: true, opacity: 0.2 } } },
     { styles: { '45': { opacity: 0.7 } } },
     { blend: 0.25 },
+    { alone: true },
+    { alone: false, only: [46] },
     { all: { opacity: 1, visible: true }, only: [46], styles: { '46': { opacity: 0.4 } } },
   ];
 
@@ -736,6 +738,11 @@ describe('labels patches', () => {
     const back = labelsPatchBetween(acked.labels!, defaults)!;
     expect(applyLabelsPatch(acked.labels!, back)).toEqual(defaults);
     expect(back.all).toEqual({ visible: true });
+    // A map drawn alone is drawn alone again.
+    const alone = { ...acked.labels!, alone: true };
+    expect(labelsPatchBetween(defaults, alone)!.alone).toBe(true);
+    expect(applyLabelsPatch(defaults, labelsPatchBetween(defaults, alone)!)).toEqual(alone);
+    expect(labelsPatchBetween(alone, acked.labels!)!.alone).toBe(false);
   });
 
   it('between styles of an atlas of hundreds of labels fit in a message', () => {

@@ -793,6 +793,29 @@ try {
   await dragDown(owner, frameBox.x + frameBox.width * 0.8, frameBox.y + frameBox.height * 0.5, 20);
   info = await waitForStill(owner, info);
   check('a drag takes the answer away', !(await owner.locator('.pick-callout').isVisible()));
+  // "Labels only": the atlas drawn by itself as lit surfaces, the head not drawn (the blend, set
+  // aside, hidden); a tap names the surface's label; then inside the head again.
+  const insideHead = await canvasSignature(owner);
+  await showLabelsFolder(owner);
+  await owner.locator('[data-control="labels-alone"]').check();
+  await owner.waitForFunction(() =>
+    document.querySelector('[data-control="labels-blend-row"]')?.hidden === true);
+  info = await waitForStill(owner, info);
+  const surfacesAlone = await canvasSignature(owner);
+  let surfacePick = null;
+  for (const [fx, fy] of [[0.5, 0.5], [0.55, 0.4], [0.45, 0.4], [0.5, 0.35], [0.6, 0.45]]) {
+    surfacePick = await pickAt(owner, fx, fy);
+    if (surfacePick.label) break;
+  }
+  await owner.screenshot({ path: path.join(outDir, '09b_labels_alone.png') });
+  check('"labels only" draws the atlas alone as surfaces, and a tap names one',
+    difference(insideHead, surfacesAlone) > 1 && surfacePick.state === 'hit' &&
+      surfacePick.label !== undefined,
+    `difference ${difference(insideHead, surfacesAlone).toFixed(1)}; ${surfacePick.text}`);
+  await owner.locator('[data-control="labels-alone"]').uncheck();
+  await owner.waitForFunction(() =>
+    document.querySelector('[data-control="labels-blend-row"]')?.hidden === false);
+  info = await waitForStill(owner, info);
   // On a portrait tablet the labels list in the drawer scrolls, its rows big enough for a finger;
   // a label hidden there is hidden in the session.
   await owner.setViewportSize({ width: 768, height: 1024 });

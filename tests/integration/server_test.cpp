@@ -645,6 +645,95 @@ TEST_F(ServerTest, APickNamesTheLabelUnderAPointOfTheView) {
     EXPECT_EQ(field(sessionless, "code"), "no_session") << sessionless;
 }
 
+// How many pixels of a frame are lit (any channel above 40).
+int lit_pixels(const base::ImageRgba8& image) {
+    int lit = 0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const auto* p = image.pixel(x, y);
+            lit += std::max({p[0], p[1], p[2]}) > 40 ? 1 : 0;
+        }
+    }
+    return lit;
+}
+
+// The label map drawn alone in a session: `labels.alone` is answered once the surfaces are made,
+// the next frame shows the atlas without the head around it (fewer pixels lit: the brain, not the
+// scalp), a pick names a left region's surface with the scan's value there, hiding that region
+// (new surfaces, made before the answer) shows another behind it, a viewer sees the same, and
+// drawing the map inside the scan again brings the head back.
+TEST_F(ServerTest, TheLabelMapAloneIsDrawnAsSurfacesAndPicksNameTheirLabels) {
+    for (const char* file : {"aal.nii.gz", "aal.nii.txt", "aal.nii.lut"}) {
+        fs::copy_file(fs::path("/usr/share/mricron/templates") / file, data_ / "heads" / file);
+    }
+    ASSERT_TRUE(volumes_->scan().ok());
+    TestClient owner(port_);
+    owner.open("heads/ch2.nii.gz", 48);
+    ASSERT_EQ(field(owner.request(
+                            R"({"v":1,"type":"add_labels","id":2,"volume":"heads/aal.nii.gz"})"),
+                    "type"),
+              "labels");
+    const std::string view = owner.request(
+            R"({"v":1,"type":"set","id":3,"camera":{"view":"left"},"transfer_function":{"preset":"mri_skin"}})");
+    ASSERT_EQ(field(view, "type"), "ack") << view;
+    const auto frame_lit = [&](TestClient& client, int id) {
+        client.send(R"({"v":1,"type":"render","id":)" + std::to_string(id) + "}");
+        const auto frame = client.next_frame();
+        EXPECT_EQ(frame.header.request, id);
+        auto image = imageio::decode_image(frame.image);
+        EXPECT_TRUE(image.ok());
+        return image.ok() ? lit_pixels(*image) : 0;
+    };
+    const int inside = frame_lit(owner, 4);
+
+    const auto alone = nlohmann::json::parse(
+            owner.request(R"({"v":1,"type":"set","id":5,"labels":{"alone":true}})"));
+    ASSERT_EQ(alone.at("type"), "ack") << alone;
+    EXPECT_EQ(alone.at("state").at("labels").at("alone"), true);
+    const int surfaces = frame_lit(owner, 6);
+    EXPECT_LT(surfaces, inside * 85 / 100) << "the brain's surfaces, without the scalp";
+    EXPECT_GT(surfaces, 48 * 48 / 10);
+    const auto seen =
+            nlohmann::json::parse(owner.request(R"({"v":1,"type":"pick","id":7,"x":0.5,"y":0.5})"));
+    ASSERT_EQ(seen.at("hit"), true) << seen;
+    ASSERT_TRUE(seen.contains("label")) << seen;
+    EXPECT_TRUE(seen.at("label").at("name").get<std::string>().ends_with("_L")) << seen;
+    EXPECT_LT(seen.at("position")[0].get<double>(), -30.0) << "the left hemisphere's surface";
+    EXPECT_GT(seen.at("value").get<double>(), 10.0) << "the scan's value there, not the mask's";
+    const auto label_id = seen.at("label").at("id").get<std::int64_t>();
+
+    TestClient viewer(port_);
+    const std::string joined =
+            viewer.request(R"({"v":1,"type":"join","id":8,"session":")" + owner.session + "\"}");
+    ASSERT_EQ(field(joined, "type"), "joined") << joined;
+    const auto told = nlohmann::json::parse(viewer.next_text(std::chrono::seconds(10)));
+    EXPECT_EQ(told.at("state").at("labels").at("alone"), true) << told;
+    EXPECT_EQ(frame_lit(viewer, 9), surfaces);
+    owner.next_frame();
+
+    const auto hidden = nlohmann::json::parse(
+            owner.request(R"({"v":1,"type":"set","id":10,"labels":{"styles":{")" +
+                          std::to_string(label_id) + R"(":{"visible":false}}}})"));
+    ASSERT_EQ(hidden.at("type"), "ack") << hidden;
+    const auto behind = nlohmann::json::parse(
+            owner.request(R"({"v":1,"type":"pick","id":11,"x":0.5,"y":0.5})"));
+    ASSERT_EQ(behind.at("hit"), true) << behind;
+    ASSERT_TRUE(behind.contains("label")) << behind;
+    EXPECT_NE(behind.at("label").at("id"), label_id) << behind;
+    EXPECT_GT(behind.at("position")[0].get<double>(), seen.at("position")[0].get<double>())
+            << "deeper along the ray: " << seen << behind;
+
+    const auto again = nlohmann::json::parse(
+            owner.request(R"({"v":1,"type":"set","id":12,"labels":{"alone":false}})"));
+    ASSERT_EQ(again.at("type"), "ack") << again;
+    EXPECT_EQ(again.at("state").at("labels").at("alone"), false);
+    const int back = frame_lit(owner, 13);
+    EXPECT_GT(back, surfaces) << "the head drawn again";
+    const std::string refused =
+            owner.request(R"({"v":1,"type":"set","id":14,"labels":{"alone":"yes"}})");
+    EXPECT_EQ(field(refused, "field"), "/labels/alone") << refused;
+}
+
 // Picks as costly as a client can make them (the finest step, the tricubic filter, nothing opaque:
 // every ray crosses the whole volume) sent as fast as it may while another client's session is
 // served: each pick is answered, off the threads that serve the other, which gets its frames.

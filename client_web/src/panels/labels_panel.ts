@@ -2,7 +2,7 @@
 // of the listed label maps adds one (or replaces the one drawn), Remove takes it away; the list of
 // its labels (swatch, name, id, voxels) filters by a search, and each label is shown or hidden,
 // shown alone, or (selected) made more or less opaque; show all, hide all, the blend of the labels'
-// colours. Plain DOM rows, built once per map: an atlas has hundreds of labels. The rows show the
+// colours, and the map drawn by itself (its visible labels as lit surfaces, the scan not drawn). Plain DOM rows, built once per map: an atlas has hundreds of labels. The rows show the
 // state the server answers with; a viewer sees them read-only.
 
 import type GUI from 'lil-gui';
@@ -108,6 +108,11 @@ export function blendPatch(blend: number): StatePatch {
   return { labels: { blend } };
 }
 
+/** The label map drawn alone, as surfaces (true), or inside the scan (false). */
+export function alonePatch(alone: boolean): StatePatch {
+  return { labels: { alone } };
+}
+
 /**
  * The volumes to offer as label maps: those the server says it would draw as one. A server that
  * does not say (older than `label_map`) has each offered, and refuses what is not one.
@@ -154,6 +159,8 @@ export class LabelsPanel {
   private readonly shownCount: HTMLElement;
   private readonly unnamed: HTMLElement;
   private readonly removeButton: HTMLButtonElement;
+  private readonly alone: HTMLInputElement;
+  private readonly blendRow: HTMLElement;
   private readonly blend: HTMLInputElement;
   private readonly blendValue: HTMLOutputElement;
   private readonly search: HTMLInputElement;
@@ -210,7 +217,18 @@ export class LabelsPanel {
     );
     head.append(this.mapName, this.removeButton);
 
+    const aloneRow = element('label', 'labels-alone');
+    aloneRow.title =
+      'draw the label map by itself: each visible label a smooth lit surface in its colour, the scan not drawn';
+    this.alone = element('input', '');
+    this.alone.type = 'checkbox';
+    this.alone.dataset['control'] = 'labels-alone';
+    this.alone.addEventListener('change', () => this.send(alonePatch(this.alone.checked)));
+    aloneRow.append(this.alone, text('span', 'labels only (surfaces, no scan)'));
+
     const blendRow = element('label', 'labels-slider');
+    this.blendRow = blendRow;
+    blendRow.dataset['control'] = 'labels-blend-row';
     blendRow.title = "how much a label's colour replaces the transfer function's";
     this.blend = slider('labels-blend');
     this.blendValue = element('output', '');
@@ -265,6 +283,7 @@ export class LabelsPanel {
       head,
       this.shownCount,
       this.unnamed,
+      aloneRow,
       blendRow,
       this.search,
       bulk,
@@ -298,6 +317,7 @@ export class LabelsPanel {
   setEnabled(enabled: boolean): void {
     this.enabled = enabled;
     for (const control of [
+      this.alone,
       this.blend,
       this.showAll,
       this.hideAll,
@@ -328,6 +348,9 @@ export class LabelsPanel {
     if (!sameLabels) this.build();
     for (const row of rows) this.showRow(row);
     if (labels && this.moving !== this.blend) setSlider(this.blend, this.blendValue, labels.blend);
+    this.alone.checked = labels?.alone ?? false;
+    // Drawn alone, the labels' colours are whole: the blend has nothing to blend.
+    this.blendRow.hidden = this.alone.checked;
     if (this.selected !== null && !rows.some((r) => r.id === this.selected)) this.selected = null;
     this.mapName.textContent = this.drawnVolume || 'label map';
     this.mapName.title = this.drawnVolume;

@@ -122,13 +122,18 @@ export interface LabelStyle {
 export interface LabelsState {
   /** How much a label's colour replaces the transfer function's, 0..1. */
   blend: number;
+  /**
+   * The label map drawn alone, without the scan: each visible label a smooth lit surface in its
+   * colour (the transfer function and the blend set aside). Absent from an older server: false.
+   */
+  alone?: boolean;
   /** Every label's style, keyed by its id written as text. */
   styles: Record<string, LabelStyle>;
 }
 
 /**
- * A `set`'s labels, which the server applies in the order all, only, styles, blend; refused while
- * the session draws no label map.
+ * A `set`'s labels, which the server applies in the order all, only, styles, blend, alone; refused
+ * while the session draws no label map.
  */
 export interface LabelsPatch {
   all?: { opacity?: number; visible?: boolean };
@@ -136,6 +141,7 @@ export interface LabelsPatch {
   only?: number[];
   styles?: Record<string, Partial<LabelStyle>>;
   blend?: number;
+  alone?: boolean;
 }
 
 /** A session's full state as `opened`/`joined`/`state` report it; sending it back restores it. */
@@ -511,6 +517,7 @@ function checkState(v: unknown, at: string): State {
 function checkLabelsState(v: unknown, at: string): void {
   const o = need(isObject(v), v as Record<string, unknown>, 'an object', at);
   num(o, 'blend', at);
+  if (o['alone'] !== undefined) bool(o, 'alone', at);
   const styles = obj(o, 'styles', at);
   for (const [id, style] of Object.entries(styles)) {
     need(/^-?[0-9]+$/.test(id), null, 'label ids as keys', `${at}/styles`);
@@ -719,6 +726,7 @@ export function mergeLabelsPatches(a: LabelsPatch, b: LabelsPatch): LabelsPatch 
     out.styles = styles;
   }
   if (later.blend !== undefined) out.blend = later.blend;
+  if (later.alone !== undefined) out.alone = later.alone;
   if (!out.styles) delete out.styles;
   return out;
 }
@@ -781,6 +789,7 @@ export function labelsPatchBetween(from: LabelsState, to: LabelsState): LabelsPa
   }
   if (Object.keys(styles).length > 0) patch.styles = styles;
   if (from.blend !== to.blend) patch.blend = to.blend;
+  if ((from.alone ?? false) !== (to.alone ?? false)) patch.alone = to.alone ?? false;
   return Object.keys(patch).length > 0 ? patch : null;
 }
 

@@ -236,15 +236,10 @@ base::Result<SurfacesDrawn> label_surfaces_for(const RenderOptions& o) {
     if (!styles) {
         return styles.error();
     }
-    std::vector<bool> visible;
-    for (const scene::LabelStyle& style : styles->styles) {
-        visible.push_back(style.visible);
-    }
-    auto surfaces = volume::label_surfaces(*map, visible);
+    auto surfaces = volume::label_surfaces(*map, scene::visibility(*styles));
     if (!surfaces) {
         return surfaces.error();
     }
-    styles->blend = 1.0;  // the surfaces take their labels' colours whole
     return SurfacesDrawn{std::make_shared<const volume::Volume>(std::move(surfaces->indicator)),
                          std::make_shared<const volume::LabelMap>(std::move(surfaces->labels)),
                          std::move(styles.value())};
@@ -350,9 +345,6 @@ int run_render(const std::vector<std::string>& args) {
     if (!request) {
         return fail(request.error());
     }
-    if (surfaces) {
-        request->transfer_function = scene::label_surface_transfer_function();
-    }
     auto renderer =
             render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
     if (!renderer) {
@@ -371,6 +363,8 @@ int run_render(const std::vector<std::string>& args) {
     if (surfaces) {
         labels = surfaces->labels;
         request->labels = surfaces->styles;
+        request->labels.alone = true;
+        *request = scene::labels_alone_request(std::move(*request));
     } else if (!o.labels.empty()) {
         auto map = load_labels(o);
         if (!map) {

@@ -490,7 +490,29 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
         reply_error(id, changed.error());
         return;
     }
-    send(protocol::set_ack_message(id, *changed));
+    const std::optional<session::LabelSurfacesFor> wanted = session_->surfaces_wanted();
+    if (!wanted) {
+        send(protocol::set_ack_message(id, *changed));
+        return;
+    }
+    // The state draws the label map alone with labels whose surfaces the session lacks: made on a
+    // loader thread (most of a second for a large map), the connection busy meanwhile, so that the
+    // frames it asks for next draw them; the answer comes once they are there.
+    using Made = base::Result<std::shared_ptr<const volume::LabelSurfaces>>;
+    after_load<Made>(
+            [&volumes = context_.services.volumes, wanted](std::function<void(Made)> done) {
+                volumes.read_async([&volumes, wanted, done = std::move(done)] {
+                    done(volumes.label_surfaces(wanted->map, wanted->visible));
+                });
+            },
+            [this, id, session = session_, wanted, state = *changed](const Made& made) {
+                if (!made) {
+                    reply_error(id, made.error());
+                    return;
+                }
+                session->set_surfaces(*wanted, *made);
+                send(protocol::set_ack_message(id, state));
+            });
 }
 
 template <>

@@ -301,10 +301,10 @@ base::Status apply_label_style(const json& j, const std::string& p, scene::Label
 
 // The labels of the session's label map, in the order a user means them: `all` (opacity or
 // visibility of every label), then `only` (these ids visible, the rest hidden), then `styles` by
-// id, then `blend`.
+// id, then `blend` and `alone`.
 base::Status apply_labels(const json& j, const std::string& p, scene::Labels& labels) {
     PENUMBRA_TRY(expect_object(j, p));
-    PENUMBRA_TRY(only_fields(j, p, {"all", "only", "styles", "blend"}));
+    PENUMBRA_TRY(only_fields(j, p, {"all", "only", "styles", "blend", "alone"}));
     if (!labels.shown()) {
         return field_error(base::ErrorCode::invalid_value, p,
                            "the session draws no label map: add_labels first");
@@ -361,6 +361,13 @@ base::Status apply_labels(const json& j, const std::string& p, scene::Labels& la
             return blend.error();
         }
         labels.blend = *blend;
+    }
+    if (j.contains("alone")) {
+        auto alone = boolean(j["alone"], p + "/alone");
+        if (!alone) {
+            return alone.error();
+        }
+        labels.alone = *alone;
     }
     return base::Ok{};
 }
@@ -586,7 +593,7 @@ json labels_json(const scene::Labels& labels) {
                 {"opacity", style.opacity},
                 {"visible", style.visible}};
     }
-    return {{"blend", labels.blend}, {"styles", std::move(styles)}};
+    return {{"blend", labels.blend}, {"alone", labels.alone}, {"styles", std::move(styles)}};
 }
 
 }  // namespace json_fields

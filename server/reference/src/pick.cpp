@@ -9,6 +9,14 @@
 #include <optional>
 
 namespace penumbra::reference {
+namespace {
+
+// A value the sampler gives (the range as [0, 1]) as the volume's real value.
+double real_value(const volume::Volume& volume, double normalized) {
+    return volume.range.min + normalized * (volume.range.max - volume.range.min);
+}
+
+}  // namespace
 
 base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, int x, int y) {
@@ -63,7 +71,7 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
         }
         picked.hit = true;
         picked.patient = placement.to_patient(position);
-        picked.value = volume.range.min + normalized * (volume.range.max - volume.range.min);
+        picked.value = real_value(volume, normalized);
         if (label_lookup) {
             if (const volume::Label* label =
                         label_lookup->label(label_lookup->index_at(position))) {
@@ -74,6 +82,14 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
         break;
     }
     return picked;
+}
+
+double value_at(const volume::Volume& volume, glm::dvec3 patient) {
+    const VolumeSampler sampler(volume, scene::Reconstruction::trilinear,
+                                VolumeSampler::Reading::in_place);
+    const scene::PatientPlacement placement = scene::patient_placement(
+            volume.origin, volume.axes, volume.spacing, glm::dvec3(volume.dims));
+    return real_value(volume, sampler.value(placement.to_world(patient)));
 }
 
 }  // namespace penumbra::reference

@@ -1,3 +1,4 @@
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/labels.hpp>
 
 #include <algorithm>
@@ -69,6 +70,21 @@ TransferFunction label_surface_transfer_function() {
     tf.colors = {{0.0, glm::dvec3(1.0)}, {1.0, glm::dvec3(1.0)}};
     tf.opacities = {{0.0, 0.0}, {0.2, 0.0}, {0.35, 1.0}, {1.0, 1.0}};
     return tf;
+}
+
+std::vector<bool> visibility(const Labels& labels) {
+    std::vector<bool> visible;
+    visible.reserve(labels.styles.size());
+    for (const LabelStyle& style : labels.styles) {
+        visible.push_back(style.visible);
+    }
+    return visible;
+}
+
+FrameRequest labels_alone_request(FrameRequest request) {
+    request.transfer_function = label_surface_transfer_function();
+    request.labels.blend = 1.0;
+    return request;
 }
 
 }  // namespace penumbra::scene

@@ -152,6 +152,10 @@ base::Result<scene::State> Session::change_state_locked(ViewerId viewer, const S
     state_ = std::move(next);
     if (labels) {
         labels_ = std::move(*labels);
+        if (surfaces_for_.map != labels_.map) {
+            surfaces_for_ = {};
+            surfaces_.reset();
+        }
     }
     for (const auto& [other, sinks] : viewers_) {
         if (other != viewer && sinks.state_changed) {
@@ -166,23 +170,60 @@ DrawnLabels Session::labels() const {
     return labels_;
 }
 
+std::optional<LabelSurfacesFor> Session::surfaces_wanted() const {
+    const std::lock_guard lock(mutex_);
+    const scene::Labels& labels = state_.frame.labels;
+    if (!labels.alone || !labels.shown() || !labels_.map) {
+        return std::nullopt;
+    }
+    LabelSurfacesFor wanted{labels_.map, scene::visibility(labels)};
+    if (surfaces_ && surfaces_for_ == wanted) {
+        return std::nullopt;
+    }
+    return wanted;
+}
+
+void Session::set_surfaces(LabelSurfacesFor made_for,
+                           std::shared_ptr<const volume::LabelSurfaces> surfaces) {
+    const std::lock_guard lock(mutex_);
+    if (made_for.map == labels_.map) {
+        surfaces_for_ = std::move(made_for);
+        surfaces_ = std::move(surfaces);
+    }
+}
+
 PickAnswer Session::pick(double x, double y) const {
     if (!volume_) {
         return base::make_error(base::ErrorCode::no_volume, "the session holds no volume", "/type");
     }
     scene::FrameRequest frame;
     DrawnLabels labels;
+    std::shared_ptr<const volume::LabelSurfaces> surfaces;
     {
         const std::lock_guard lock(mutex_);
         frame = state_.frame;
         labels = labels_;
+        if (frame.labels.alone) {
+            surfaces = surfaces_;
+        }
     }
     // The pixel whose square holds the point; the right and bottom edges belong to the last.
     const auto pixel = [](double fraction, int size) {
         return std::clamp(static_cast<int>(std::floor(fraction * size)), 0, size - 1);
     };
-    return reference::pick(*volume_, frame, labels.map.get(), pixel(x, frame.settings.width),
-                           pixel(y, frame.settings.height));
+    const int px = pixel(x, frame.settings.width);
+    const int py = pixel(y, frame.settings.height);
+    if (!surfaces) {
+        return reference::pick(*volume_, frame, labels.map.get(), px, py);
+    }
+    // The view draws the map alone: the surface is the surfaces', the value the scan's there.
+    auto picked = reference::pick(surfaces->indicator, scene::labels_alone_request(frame),
+                                  &surfaces->labels, px, py);
+    if (picked && picked->hit) {
+        picked->value = reference::value_at(*volume_, picked->patient);
+        picked->hounsfield = volume_->hounsfield;
+    }
+    return picked;
 }
 
 base::Result<scene::State> Session::set_labels(ViewerId viewer, std::string labels_id,
@@ -324,6 +365,7 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
                             const quality::Table* quality_table) const {
     scene::State current;
     RenderJob job;
+    job.volume = volume_;
     std::optional<StillCost> still_cost;
     {
         // The state and the label map its labels style, read together.
@@ -332,6 +374,13 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
         still_cost = still_cost_;
         if (current.frame.labels.shown()) {
             job.labels = labels_.map;
+            if (current.frame.labels.alone && surfaces_) {
+                // The map alone: its surfaces are the volume drawn, their labels the map.
+                job.volume =
+                        std::shared_ptr<const volume::Volume>(surfaces_, &surfaces_->indicator);
+                job.labels = std::shared_ptr<const volume::LabelMap>(surfaces_, &surfaces_->labels);
+                current.frame = scene::labels_alone_request(std::move(current.frame));
+            }
         }
     }
     std::string budget_note;
@@ -344,7 +393,6 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
             budget_note = "; " + choice->describe(current.frame_budget_ms);
         }
     }
-    job.volume = volume_;
     job.output = current.output;
     job.request_id = request_id;
     job.interactive = interactive;

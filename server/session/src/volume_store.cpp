@@ -198,6 +198,7 @@ VolumeStore::VolumeStore(std::filesystem::path data_dir, std::size_t memory_budg
                            base::log_info("volumes", "dropped " + entry.key + " (memory budget)");
                        }})
     , labels_(memory_budget, {})
+    , surfaces_(memory_budget, {})
     , loaders_(loader_threads) {
     if (metrics::Registry* registry = scan_options_.metrics) {
         scan_metrics_.emplace(ScanMetrics{
@@ -667,6 +668,28 @@ std::shared_ptr<const std::vector<std::uint64_t>> VolumeStore::histogram(
     ++histograms_computed_;
     histograms_[volume.get()] = {volume, bins};
     return bins;
+}
+
+base::Result<std::shared_ptr<const volume::LabelSurfaces>> VolumeStore::label_surfaces(
+        const std::shared_ptr<const volume::LabelMap>& map, const std::vector<bool>& visible) {
+    SurfacesKey key{map, visible};
+    {
+        const std::lock_guard lock(mutex_);
+        if (const auto* kept = surfaces_.find(key)) {
+            return *kept;
+        }
+    }
+    // Outside the lock, as a histogram is.
+    auto made = volume::label_surfaces(*map, visible);
+    if (!made) {
+        return made.error();
+    }
+    auto surfaces = std::make_shared<const volume::LabelSurfaces>(std::move(made.value()));
+    const std::size_t bytes =
+            surfaces->indicator.data.size() + surfaces->labels.indices.data.size();
+    const std::lock_guard lock(mutex_);
+    surfaces_.insert(std::move(key), surfaces, bytes);
+    return surfaces;
 }
 
 std::string VolumeStore::relative_paths(std::string text) const {

@@ -441,9 +441,9 @@ TEST_F(LabelsTest, LabelsAloneAreSmoothSurfacesAsTheReferenceDrawsThem) {
     request.settings.height = 96;
     request.settings.mode = scene::Mode::phong;
     request.camera.eye = {1.5, 1.1, 2.4};
-    request.transfer_function = scene::label_surface_transfer_function();
     request.labels = label_styles(*labels_);
-    request.labels.blend = 1.0;
+    request.labels.alone = true;
+    request = scene::labels_alone_request(std::move(request));
     request.labels.styles[0].color = {0.9, 0.5, 0.2};
     hide(request.labels, 2);
     const Frame frame = render(request);

@@ -63,7 +63,8 @@ TEST(StateJson, LabelStylesRoundTripAndApplyInTheirOrder) {
                                  {.id = 45, .color = {0.2, 0.2, 0.8}},
                                  {.id = 46, .color = {0.5, 0.1, 0.1}}};
     ASSERT_TRUE(apply_patch(R"({"labels":{"all":{"opacity":0.5},"only":[45,46],
-                                "styles":{"46":{"visible":false,"color":[1,0,0]}},"blend":0.9}})",
+                                "styles":{"46":{"visible":false,"color":[1,0,0]}},"blend":0.9,
+                                "alone":true}})",
                             state, Limits{})
                         .ok());
     const scene::Labels& labels = state.frame.labels;
@@ -73,6 +74,7 @@ TEST(StateJson, LabelStylesRoundTripAndApplyInTheirOrder) {
     EXPECT_EQ(labels.styles[2].color, glm::dvec3(1.0, 0.0, 0.0));
     EXPECT_EQ(labels.styles[0].opacity, 0.5);
     EXPECT_EQ(labels.blend, 0.9);
+    EXPECT_TRUE(labels.alone);
 
     const std::string json = state_to_json(state);
     scene::State copy = preset_state("grey_ramp");

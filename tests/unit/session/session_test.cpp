@@ -105,6 +105,74 @@ TEST(Session, TheLabelMapDrawnReachesTheViewersWithItsState) {
     EXPECT_FALSE(session.set_labels(first_viewer, "aal.nii.gz", map).ok());
 }
 
+// The label map drawn alone: the session asks for surfaces when the state draws the map alone and
+// whenever the labels' visibility changes then (not for an opacity or a colour); once given them,
+// its jobs draw the surfaces (their indicator as the volume, their labels, the surfaces' transfer
+// function, colours whole); a new map drops them; inside the scan the jobs draw the scan.
+TEST(Session, ALabelMapDrawnAloneAsksForItsSurfacesAndItsJobsDrawThem) {
+    const std::filesystem::path templates = "/usr/share/mricron/templates";
+    auto ch2 = volume::load_volume(templates / "ch2.nii.gz");
+    auto aal = volume::load_label_map(templates / "aal.nii.gz");
+    ASSERT_TRUE(ch2.ok() && aal.ok());
+    const auto scan = std::make_shared<const volume::Volume>(std::move(ch2.value()));
+    Session session("s", "v", scan, {}, owner);
+    ASSERT_TRUE(session.add_viewer(owner, {}, {}, {}));
+    const auto map = std::make_shared<const volume::LabelMap>(std::move(aal.value()));
+    ASSERT_TRUE(session.set_labels(owner, "aal.nii.gz", map).ok());
+    const auto change = [&](const std::function<void(scene::Labels&)>& edit) {
+        ASSERT_TRUE(session.change_state(owner, [&](scene::State& state) {
+            edit(state.frame.labels);
+            return base::Status{base::Ok{}};
+        }));
+    };
+    EXPECT_FALSE(session.surfaces_wanted());
+    change([](scene::Labels& labels) { labels.alone = true; });
+    auto wanted = session.surfaces_wanted();
+    ASSERT_TRUE(wanted);
+    EXPECT_EQ(wanted->map, map);
+    EXPECT_EQ(wanted->visible, std::vector<bool>(116, true));
+    // Until they come, the jobs draw the map inside the scan.
+    EXPECT_EQ(session.make_job(1, false).volume, scan);
+
+    auto made = volume::label_surfaces(*map, wanted->visible);
+    ASSERT_TRUE(made.ok());
+    const auto surfaces = std::make_shared<const volume::LabelSurfaces>(std::move(made.value()));
+    session.set_surfaces(*wanted, surfaces);
+    EXPECT_FALSE(session.surfaces_wanted());
+    const RenderJob job = session.make_job(2, false);
+    EXPECT_EQ(job.volume.get(), &surfaces->indicator);
+    EXPECT_EQ(job.labels.get(), &surfaces->labels);
+    EXPECT_EQ(job.request.transfer_function, scene::label_surface_transfer_function());
+    EXPECT_EQ(job.request.labels.blend, 1.0);
+    EXPECT_EQ(session.make_job(3, true).volume.get(), &surfaces->indicator);
+
+    change([](scene::Labels& labels) { labels.styles[3].opacity = 0.5; });
+    EXPECT_FALSE(session.surfaces_wanted()) << "an opacity leaves the surfaces as they are";
+    change([](scene::Labels& labels) { labels.styles[3].visible = false; });
+    wanted = session.surfaces_wanted();
+    ASSERT_TRUE(wanted);
+    EXPECT_FALSE(wanted->visible[3]);
+    EXPECT_EQ(session.make_job(4, false).volume.get(), &surfaces->indicator)
+            << "the surfaces made last, until the new ones come";
+
+    change([](scene::Labels& labels) { labels.alone = false; });
+    EXPECT_FALSE(session.surfaces_wanted());
+    const RenderJob inside = session.make_job(5, false);
+    EXPECT_EQ(inside.volume, scan);
+    EXPECT_EQ(inside.labels, map);
+    EXPECT_NE(inside.request.transfer_function, scene::label_surface_transfer_function());
+
+    // The same map drawn again, every label visible: the surfaces made for that still serve. Those
+    // of a map no longer drawn are not kept.
+    ASSERT_TRUE(session.set_labels(owner, "aal.nii.gz", map).ok());
+    change([](scene::Labels& labels) { labels.alone = true; });
+    EXPECT_FALSE(session.surfaces_wanted());
+    ASSERT_TRUE(session.set_labels(owner, "", nullptr).ok());
+    EXPECT_FALSE(session.surfaces_wanted());
+    session.set_surfaces({map, std::vector<bool>(116, true)}, surfaces);
+    EXPECT_EQ(session.make_job(6, false).volume, scan);
+}
+
 TEST(Session, AStateChangeReachesEveryViewerButTheOneWhoMadeIt) {
     Session session("s", "v", nullptr, state_with_mode(scene::Mode::sbrc), owner);
     Heard by_owner;

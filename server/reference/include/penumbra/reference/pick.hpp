@@ -34,4 +34,9 @@ struct Pick {
 base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, int x, int y);
 
+// The value `volume` holds at `patient` (RAS millimetres) as a frame samples it (trilinear, the
+// edge's value beyond it), in its real values (HU for a CT): what a pick says of the scan where
+// the view draws a label map alone.
+[[nodiscard]] double value_at(const volume::Volume& volume, glm::dvec3 patient);
+
 }  // namespace penumbra::reference

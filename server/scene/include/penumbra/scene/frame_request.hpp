@@ -289,6 +289,11 @@ FrameRequest starting_frame(const Limits& limits);
 // at a quarter of the still's cost. Returns the reduced request and a description of it.
 std::pair<FrameRequest, std::string> interactive_request(const FrameRequest& full);
 
+// The frame `request` as it draws its label map alone (Labels::alone), the volume drawn being
+// the map's surfaces (volume::label_surfaces' indicator): through
+// label_surface_transfer_function, each label in its own colour whole.
+FrameRequest labels_alone_request(FrameRequest request);
+
 // How soon the first frame of a still should be on screen when the session sets no frame budget,
 // wall milliseconds. A default 512x512 still takes 90-200 ms on llvmpipe (`penumbra bench
 // stills`), so it is never previewed there; a portrait tablet's 1536x2048 takes about 2 s.

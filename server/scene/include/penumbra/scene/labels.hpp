@@ -35,6 +35,10 @@ struct Labels {
     // How much a label's colour replaces the transfer function's: 0 the scan's colours, 1 the
     // label's alone (its opacity stays the scan's).
     double blend = 0.6;
+    // The label map drawn alone, without the scan: each visible label a smooth lit surface in its
+    // colour (labels_alone_request, volume::label_surfaces), the transfer function and the blend
+    // set aside meanwhile.
+    bool alone = false;
 
     [[nodiscard]] bool shown() const { return !styles.empty(); }
 
@@ -43,6 +47,10 @@ struct Labels {
 
 // Colours and opacities within [0, 1], at most kMaxStyledLabels styles, each id once.
 base::Status validate(const Labels& labels);
+
+// Whether each label is visible, in the map's order: what its surfaces are made of when the map
+// is drawn alone (volume::label_surfaces).
+[[nodiscard]] std::vector<bool> visibility(const Labels& labels);
 
 // The transfer function that draws a label map alone as surfaces (volume::label_surfaces'
 // indicator, whose values read as 0..1): transparent below 0.2, opaque from 0.35, so the surface

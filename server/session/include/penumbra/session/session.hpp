@@ -77,6 +77,15 @@ struct DrawnLabels {
     std::shared_ptr<const volume::LabelMap> map;
 };
 
+// The surfaces of a label map drawn alone (scene::Labels::alone): `map`'s with the labels
+// `visible` shows (volume::label_surfaces).
+struct LabelSurfacesFor {
+    std::shared_ptr<const volume::LabelMap> map;
+    std::vector<bool> visible;
+
+    bool operator==(const LabelSurfacesFor&) const = default;
+};
+
 // Receives a session's state and, where the label map drawn changed with it (or, welcoming a
 // viewer, where one is drawn), that map: its labels' names and colours, which the state's styles
 // do not carry; else null. Called under the session's lock, so that each viewer learns of the
@@ -148,6 +157,16 @@ public:
     base::Result<scene::State> set_labels(ViewerId viewer, std::string labels_id,
                                           std::shared_ptr<const volume::LabelMap> labels);
 
+    // The surfaces the state draws and the session lacks: where it draws its label map alone and
+    // has no surfaces of that map with the labels' visibility now, what to make (whoever changed
+    // the state makes them off the session's lock, then set_surfaces); else none. Until they come,
+    // frames draw the surfaces made last for the map, or the map inside the volume.
+    [[nodiscard]] std::optional<LabelSurfacesFor> surfaces_wanted() const;
+
+    // Keeps `surfaces`, made for `made_for`, while the session draws that map.
+    void set_surfaces(LabelSurfacesFor made_for,
+                      std::shared_ptr<const volume::LabelSurfaces> surfaces);
+
     // What lies under the point (x, y) of the view as the session's state now draws it, given as
     // fractions of the view's width and height from its top left corner (each within [0, 1]):
     // reference::pick's one ray through the pixel there, on the CPU, reading the volume in place,
@@ -217,6 +236,8 @@ private:
     bool ended_ = false;  // its last viewer left: nobody may come back
     scene::State state_;
     DrawnLabels labels_;
+    LabelSurfacesFor surfaces_for_;
+    std::shared_ptr<const volume::LabelSurfaces> surfaces_;  // null: none made for labels_.map
     std::map<ViewerId, Sinks> viewers_;
     std::atomic<std::uint64_t> frames_{0};
 

@@ -179,6 +179,13 @@ public:
     std::shared_ptr<const std::vector<std::uint64_t>> histogram(
             const std::shared_ptr<const volume::Volume>& volume);
 
+    // The surfaces of label map `map` with the labels `visible` shows (volume::label_surfaces),
+    // what a session drawing the map alone draws: made once per map and visibility while they
+    // stay within the memory budget (a class turning one atlas shares them), most of a second for
+    // a large map, so on a loader thread (read_async).
+    base::Result<std::shared_ptr<const volume::LabelSurfaces>> label_surfaces(
+            const std::shared_ptr<const volume::LabelMap>& map, const std::vector<bool>& visible);
+
     // `text` with every path inside the data directory written relative to it, for messages that
     // leave the server.
     [[nodiscard]] std::string relative_paths(std::string text) const;
@@ -238,6 +245,10 @@ private:
 
     std::map<const volume::Volume*, CachedHistogram> histograms_;
     std::size_t histograms_computed_ = 0;
+
+    // The label surfaces made, by the map (held while they are) and its labels' visibility.
+    using SurfacesKey = std::pair<std::shared_ptr<const volume::LabelMap>, std::vector<bool>>;
+    base::LruCache<SurfacesKey, std::shared_ptr<const volume::LabelSurfaces>> surfaces_;
 
     // What the walk learnt of a folder from its files' contents, kept while the folder's files
     // keep their names, sizes and times (its signature), so a rescan opens none of them: whether
