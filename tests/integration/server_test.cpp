@@ -810,6 +810,52 @@ TEST_F(ServerTest, AskingForLabelMapsAgainAndAgainLeavesAnotherSessionServed) {
     EXPECT_EQ(hostile.next_frame().header.request, 400);
 }
 
+// A hostile owner draws an atlas alone and changes which labels show as fast as it may, each
+// change new surfaces to make, while another client's session is served: every change is answered
+// (or refused for the rate), in order, the other client gets its frames, and the hostile session
+// still renders.
+TEST_F(ServerTest, SurfacesToMakeAgainAndAgainLeaveAnotherSessionServed) {
+    for (const char* file : {"aal.nii.gz", "aal.nii.txt", "aal.nii.lut"}) {
+        fs::copy_file(fs::path("/usr/share/mricron/templates") / file, data_ / "heads" / file);
+    }
+    ASSERT_TRUE(volumes_->scan().ok());
+    TestClient watcher(port_);
+    watcher.open("heads/ch2.nii.gz", 32);
+    TestClient hostile(port_);
+    hostile.open("heads/ch2.nii.gz", 32);
+    ASSERT_EQ(field(hostile.request(
+                            R"({"v":1,"type":"add_labels","id":2,"volume":"heads/aal.nii.gz"})"),
+                    "type"),
+              "labels");
+    ASSERT_EQ(field(hostile.request(R"({"v":1,"type":"set","id":3,"labels":{"alone":true}})"),
+                    "type"),
+              "ack");
+    constexpr int changes = 12;
+    for (int i = 0; i < changes; ++i) {
+        hostile.send(R"({"v":1,"type":"set","id":)" + std::to_string(100 + i) +
+                     R"(,"labels":{"all":{"visible":true},"styles":{")" + std::to_string(i + 1) +
+                     R"(":{"visible":false}}}})");
+    }
+    for (int i = 0; i < 5; ++i) {
+        watcher.send(R"({"v":1,"type":"render","id":)" + std::to_string(300 + i) + "}");
+        EXPECT_EQ(watcher.next_frame().header.request, 300 + i);
+    }
+    int acked = 0;
+    for (int i = 0; i < changes; ++i) {
+        const auto reply = nlohmann::json::parse(hostile.next_text(std::chrono::seconds(60)));
+        if (reply.at("type") == "error") {
+            EXPECT_EQ(reply.at("code"), "rate_limited") << reply;
+            continue;
+        }
+        EXPECT_EQ(reply.at("type"), "ack") << reply;
+        EXPECT_EQ(reply.at("id"), 100 + i) << "answered in order";
+        ++acked;
+    }
+    EXPECT_GT(acked, 0);
+    hostile.send(R"({"v":1,"type":"render","id":400})");
+    EXPECT_EQ(hostile.next_frame().header.request, 400);
+}
+
 TEST_F(ServerTest, ViewersAreToldEachStateTheOwnerSetsAndTheOwnerOnlyGetsItsAck) {
     TestClient owner(port_);
     owner.open("heads/ch2.nii.gz", 32);
