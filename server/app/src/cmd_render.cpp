@@ -4,15 +4,21 @@
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/encode/movie.hpp>
+#include <penumbra/protocol/scene_json.hpp>
 #include <penumbra/quality/sweep.hpp>
 #include <penumbra/reference/pick.hpp>
 #include <penumbra/render/renderer.hpp>
+#include <penumbra/scene/turntable.hpp>
 #include <penumbra/volume/label_map.hpp>
 #include <penumbra/volume/volume.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -45,6 +51,11 @@ struct RenderOptions {
     double label_blend = scene::Labels{}.blend;
     // The label map alone, as smooth surfaces: the segmentation's shape without the scan.
     bool labels_only = false;
+    // A turntable movie instead of a still: this many frames turning the view about its up
+    // direction (a whole turn, or rocking ±rock degrees), each a still, into an MP4.
+    int turntable = 0;
+    double rock = 0.0;
+    encode::MovieOptions movie;
 };
 
 po::options_description render_options(RenderOptions& o) {
@@ -57,7 +68,8 @@ po::options_description render_options(RenderOptions& o) {
             "spacing", po::value<Triple>()->value_name("X,Y,Z"), "override the voxel spacing")(
             "max-load-mb", megabytes(&o.load.max_bytes, 1 << 24),
             "memory the volume load may take (never more than the machine has)")(
-            "out", po::value(&o.out)->value_name("FILE")->default_value(o.out), ".png or .jpg")(
+            "out", po::value(&o.out)->value_name("FILE")->default_value(o.out),
+            ".png or .jpg; .mp4 with --turntable")(
             "quality", whole_number(&o.quality, encode::kMinJpegQuality, encode::kMaxJpegQuality),
             "JPEG quality")("repeat", whole_number(&o.repeat, 1, 10000),
                             "render N times, report median times")(
@@ -90,6 +102,18 @@ po::options_description render_options(RenderOptions& o) {
             "labels-only", po::bool_switch(&o.labels_only),
             "draw the --labels map alone, each visible label a smooth lit surface in its colour "
             "(no scan: --volume and --tf are not used)");
+    options.add_options()("turntable", whole_number(&o.turntable, 0, 3600),
+                          "write a movie (--out X.mp4) of N frames turning the view a whole turn "
+                          "about its up direction, camera and light together, each frame a still "
+                          "(0: a still, no movie)")(
+            "rock", number_within(&o.rock, 0.0, 180.0),
+            "with --turntable: rock the view between -DEG and +DEG instead of a whole turn")(
+            "fps", whole_number(&o.movie.frames_per_second, 1, 120),
+            "with --turntable: the movie's frames per second")(
+            "movie-quality",
+            whole_number(&o.movie.quality, encode::kMinMovieQuality, encode::kMaxMovieQuality),
+            "with --turntable: x264's rate factor, 0 lossless .. 51 (about 18 looks like the "
+            "frames themselves)");
     options.add(frame_options({}, FramePurpose::still));
     return options;
 }
@@ -245,6 +269,67 @@ base::Result<SurfacesDrawn> label_surfaces_for(const RenderOptions& o) {
                          std::move(styles.value())};
 }
 
+// What a PNG written by render keeps of what drew it: the volume and the frame's state as a
+// session's `set` takes it, so the picture can be drawn again (and read by what shows PNG text).
+std::vector<encode::ImageText> frame_text(const volume::Volume& volume,
+                                          const scene::FrameRequest& request,
+                                          const RenderOptions& o) {
+    scene::State state;
+    state.frame = request;
+    state.refinement_steps = o.refinement_steps;
+    state.refinement_threshold = o.refinement_threshold;
+    return {{"Software", "Penumbra"},
+            {"Source", volume.name},
+            {"Penumbra state", protocol::state_to_json(state)}};
+}
+
+// --turntable: each frame the still of the view turned by its angle, into the movie.
+base::Status write_turntable(render::Renderer& renderer, const scene::FrameRequest& request,
+                             bool refines, const RenderOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    auto movie = encode::MovieWriter::create(o.out, request.settings.width, request.settings.height,
+                                             o.movie);
+    if (!movie) {
+        return movie.error();
+    }
+    for (int k = 0; k < o.turntable; ++k) {
+        scene::FrameRequest turned = request;
+        const scene::TurnedView view = scene::turned_view(
+                request.camera, request.light, scene::turntable_degrees(k, o.turntable, o.rock));
+        turned.camera = view.camera;
+        turned.light = view.light;
+        auto frame = renderer.render(turned);
+        if (frame && refines) {
+            frame = refine_still(renderer, turned, std::move(frame.value()), o);
+        }
+        if (!frame) {
+            return frame.error();
+        }
+        if (auto status = movie->add(frame->image); !status) {
+            return status;
+        }
+        if ((k + 1) % std::max(1, o.turntable / 10) == 0 || k + 1 == o.turntable) {
+            std::printf("frames:   %d of %d\n", k + 1, o.turntable);
+            std::fflush(stdout);
+        }
+    }
+    if (auto status = movie->finish(); !status) {
+        return status;
+    }
+    const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(o.out, ec);
+    std::printf("movie:    %s (%d frames of %dx%d, %d frames/s, %s, %.0f KiB) in %.1f s\n",
+                o.out.c_str(), movie->frames(), request.settings.width, request.settings.height,
+                o.movie.frames_per_second,
+                o.rock > 0.0
+                        ? ("rocking ±" + std::to_string(int(std::lround(o.rock))) + "°").c_str()
+                        : "a whole turn",
+                ec ? 0.0 : double(bytes) / 1024.0, seconds);
+    return base::Ok{};
+}
+
 // What --pick X,Y points at in the still's view: printed, as a session's pick answers it.
 base::Status print_pick(const volume::Volume& volume, const scene::FrameRequest& request,
                         const volume::LabelMap* labels, const std::string& pixel) {
@@ -315,10 +400,25 @@ int run_render(const std::vector<std::string>& args) {
         }
         return 0;
     }
-    if (!encode::format_for_path(o.out)) {
+    if (o.turntable > 0 ? std::filesystem::path(o.out).extension() != ".mp4"
+                        : !encode::format_for_path(o.out)) {
+        return report_usage_error(
+                "render",
+                base::make_error(base::ErrorCode::invalid_argument,
+                                 o.turntable > 0 ? "a --turntable movie is written as .mp4"
+                                                 : "output must end in .png or .jpg (.mp4 "
+                                                   "with --turntable)",
+                                 "--out"));
+    }
+    const auto given = [&](const char* option) {
+        return a.count(option) != 0 && !a[option].defaulted();
+    };
+    if (o.turntable == 0 && (given("rock") || given("fps") || given("movie-quality"))) {
         return report_usage_error("render",
                                   base::make_error(base::ErrorCode::invalid_argument,
-                                                   "output must end in .png or .jpg", "--out"));
+                                                   "--rock, --fps and --movie-quality need "
+                                                   "--turntable",
+                                                   "--turntable"));
     }
     if ((o.labels_only || !o.hidden_labels.empty() || !o.label_names.empty()) && o.labels.empty()) {
         return report_usage_error(
@@ -386,6 +486,12 @@ int run_render(const std::vector<std::string>& args) {
     const bool refines =
             settings.jitter && scene::is_ray_cast(settings.mode) && o.refinement_steps > 0;
     request->refinement.keep = refines;
+    if (o.turntable > 0) {
+        if (auto status = write_turntable(**renderer, *request, refines, o); !status) {
+            return fail(status.error());
+        }
+        return 0;
+    }
     auto frame = render_repeated(**renderer, *request, o.repeat);
     if (frame && refines) {
         frame = refine_still(**renderer, *request, std::move(frame.value()), o);
@@ -393,7 +499,9 @@ int run_render(const std::vector<std::string>& args) {
     if (!frame) {
         return fail(frame.error());
     }
-    if (auto status = encode::write_image(o.out, frame->image, o.quality); !status) {
+    if (auto status =
+                encode::write_image(o.out, frame->image, o.quality, frame_text(v, *request, o));
+        !status) {
         return fail(status.error());
     }
     std::printf("light:    buffer %s, %llu build(s) in %d frame(s)\n",

@@ -27,8 +27,11 @@ base::Status bench_encoders(const std::vector<EncodeFrame>& frames, int jpeg_qua
                  "OIIO ms", "ratio", "codec B", "OIIO B", "ratio");
     for (const EncodeFrame& frame : frames) {
         for (const auto format : {encode::ImageFormat::jpeg, encode::ImageFormat::png}) {
-            const std::array<Encoder, 2> encoders{&encode::encode_image,
-                                                  &imageio::encode_image_openimageio};
+            const std::array<Encoder, 2> encoders{
+                    [](const base::ImageRgba8& image, encode::ImageFormat f, int quality) {
+                        return encode::encode_image(image, f, quality);
+                    },
+                    &imageio::encode_image_openimageio};
             std::array<std::vector<double>, 2> ms;
             std::array<std::size_t, 2> bytes{};
             // In turn, so that the machine's load falls on both alike; one warm-up each.

@@ -47,21 +47,33 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
 }
 
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
-                                                     ImageFormat format, int jpeg_quality) {
+                                                     ImageFormat format, int jpeg_quality,
+                                                     std::span<const ImageText> text) {
     if (auto checked = check_encodable(image, jpeg_quality); !checked) {
         return checked.error();
     }
-    return format == ImageFormat::jpeg ? encode_jpeg(image, jpeg_quality) : encode_png(image);
+    for (const ImageText& entry : text) {
+        const bool printable = std::all_of(entry.keyword.begin(), entry.keyword.end(), [](char c) {
+            const auto u = static_cast<unsigned char>(c);
+            return (u >= 32 && u <= 126) || u >= 161;
+        });
+        if (entry.keyword.empty() || entry.keyword.size() > 79 || !printable) {
+            return base::make_error(base::ErrorCode::invalid_value,
+                                    "a text keyword is 1..79 printable characters",
+                                    "text/" + entry.keyword);
+        }
+    }
+    return format == ImageFormat::jpeg ? encode_jpeg(image, jpeg_quality) : encode_png(image, text);
 }
 
 base::Status write_image(const std::filesystem::path& path, const base::ImageRgba8& image,
-                         int jpeg_quality) {
+                         int jpeg_quality, std::span<const ImageText> text) {
     const auto format = format_for_path(path);
     if (!format) {
         return base::make_error(base::ErrorCode::unsupported_format,
                                 "output must end in .png, .jpg or .jpeg", path.string());
     }
-    auto bytes = encode_image(image, *format, jpeg_quality);
+    auto bytes = encode_image(image, *format, jpeg_quality, text);
     if (!bytes) {
         return bytes.error();
     }

@@ -57,7 +57,7 @@ void flush_nothing(png_structp) {}
 
 // libpng reports errors by longjmp: nothing with a destructor may live in this frame.
 const char* write_png(png_structp png, png_infop info, const base::ImageRgba8& image,
-                      PngOutput* output, png_bytepp rows) {
+                      PngOutput* output, png_bytepp rows, png_textp text, int text_count) {
     if (setjmp(png_jmpbuf(png)) != 0) {
         return "libpng failed";
     }
@@ -66,6 +66,9 @@ const char* write_png(png_structp png, png_infop info, const base::ImageRgba8& i
                  static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, 6);
+    if (text_count > 0) {
+        png_set_text(png, info, text, text_count);
+    }
     png_write_info(png, info);
     png_set_filler(png, 0, PNG_FILLER_AFTER);  // rows are RGBA: libpng drops the fourth byte
     png_write_image(png, rows);
@@ -75,7 +78,8 @@ const char* write_png(png_structp png, png_infop info, const base::ImageRgba8& i
 
 }  // namespace
 
-base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image) {
+base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image,
+                                                   std::span<const ImageText> text) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
     if (info == nullptr) {
@@ -87,8 +91,18 @@ base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image
         rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(
                 image.pixels.data() + static_cast<std::size_t>(y) * image.width * 4);
     }
+    // Short text as it is, long text (a frame's settings) compressed.
+    std::vector<png_text> chunks(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        chunks[i].compression =
+                text[i].text.size() > 256 ? PNG_TEXT_COMPRESSION_zTXt : PNG_TEXT_COMPRESSION_NONE;
+        chunks[i].key = const_cast<char*>(text[i].keyword.c_str());
+        chunks[i].text = const_cast<char*>(text[i].text.c_str());
+        chunks[i].text_length = text[i].text.size();
+    }
     PngOutput output;
-    const char* failed = write_png(png, info, image, &output, rows.data());
+    const char* failed = write_png(png, info, image, &output, rows.data(), chunks.data(),
+                                   static_cast<int>(chunks.size()));
     png_destroy_write_struct(&png, &info);
     if (failed != nullptr || output.out_of_memory) {
         return codec_error(failed != nullptr ? failed : "out of memory", "png");

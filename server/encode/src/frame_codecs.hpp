@@ -5,14 +5,17 @@
 
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
+#include <penumbra/encode/encode.hpp>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace penumbra::encode {
 
 base::Result<std::vector<std::uint8_t>> encode_jpeg(const base::ImageRgba8& image, int quality);
 
-base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image);
+base::Result<std::vector<std::uint8_t>> encode_png(const base::ImageRgba8& image,
+                                                   std::span<const ImageText> text = {});
 
 }  // namespace penumbra::encode

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include <png.h>
+
 namespace penumbra::encode {
 namespace {
 
@@ -32,6 +34,56 @@ base::ImageRgba8 gradient_image(int w, int h) {
         }
     }
     return image;
+}
+
+// The text chunks of a PNG, read with libpng as any viewer's would.
+std::vector<std::pair<std::string, std::string>> png_text_of(const std::vector<std::uint8_t>& png) {
+    struct Reader {
+        const std::vector<std::uint8_t>* bytes;
+        std::size_t at = 0;
+    } reader{&png};
+
+    png_structp read = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(read);
+    std::vector<std::pair<std::string, std::string>> out;
+    if (setjmp(png_jmpbuf(read)) == 0) {
+        png_set_read_fn(read, &reader, [](png_structp p, png_bytep data, png_size_t length) {
+            auto* r = static_cast<Reader*>(png_get_io_ptr(p));
+            std::copy_n(r->bytes->data() + r->at, length, data);
+            r->at += length;
+        });
+        png_read_info(read, info);
+        png_textp text = nullptr;
+        int count = 0;
+        png_get_text(read, info, &text, &count);
+        for (int i = 0; i < count; ++i) {
+            out.emplace_back(text[i].key, std::string(text[i].text, text[i].text_length));
+        }
+    }
+    png_destroy_read_struct(&read, &info, nullptr);
+    return out;
+}
+
+// What drew a picture stays with it: a PNG keeps each text given (long text compressed, as a
+// frame's settings are), readable by libpng; a keyword PNG cannot hold is refused.
+TEST(Encode, APngKeepsItsTextAndABadKeywordIsRefused) {
+    base::ImageRgba8 image(8, 4);
+    std::fill(image.pixels.begin(), image.pixels.end(), std::uint8_t{90});
+    const std::string settings(2000, 'x');
+    const std::vector<ImageText> text = {{"Software", "Penumbra"}, {"Penumbra state", settings}};
+    auto png = encode_image(image, ImageFormat::png, 90, text);
+    ASSERT_TRUE(png.ok()) << png.error().to_string();
+    EXPECT_LT(png->size(), settings.size()) << "the long text is compressed";
+    const auto read = png_text_of(*png);
+    ASSERT_EQ(read.size(), 2u);
+    EXPECT_EQ(read[0], std::make_pair(std::string("Software"), std::string("Penumbra")));
+    EXPECT_EQ(read[1], std::make_pair(std::string("Penumbra state"), settings));
+    for (const std::string keyword : {std::string(), std::string(80, 'k'), std::string("tab\t")}) {
+        const std::vector<ImageText> bad = {{keyword, "x"}};
+        auto refused = encode_image(image, ImageFormat::png, 90, bad);
+        ASSERT_FALSE(refused.ok()) << "keyword '" << keyword << "'";
+        EXPECT_EQ(refused.error().code, base::ErrorCode::invalid_value);
+    }
 }
 
 TEST(Encode, PngRoundTripIsLossless) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,14 +27,22 @@ base::Status check_encodable(const base::ImageRgba8& image, int jpeg_quality);
 
 std::optional<ImageFormat> format_for_path(const std::filesystem::path& path);
 
+// Text kept with an image (what drew it): PNG writes each as a text chunk, compressed when long;
+// JPEG keeps none. A keyword is 1..79 printable Latin-1 characters, as PNG allows.
+struct ImageText {
+    std::string keyword;
+    std::string text;
+};
+
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is within
 // kMinJpegQuality..kMaxJpegQuality. JPEG through TurboJPEG straight from the RGBA pixels (4:2:0,
 // the accurate DCT), PNG through libpng.
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
-                                                     ImageFormat format, int jpeg_quality = 90);
+                                                     ImageFormat format, int jpeg_quality = 90,
+                                                     std::span<const ImageText> text = {});
 
 // Writes the image to a .png, .jpg or .jpeg file through the same encoders.
 base::Status write_image(const std::filesystem::path& path, const base::ImageRgba8& image,
-                         int jpeg_quality = 90);
+                         int jpeg_quality = 90, std::span<const ImageText> text = {});
 
 }  // namespace penumbra::encode

@@ -1,0 +1,52 @@
+#pragma once
+
+// Movies to keep (a turntable of the view): frames of one size encoded as H.264 with libavcodec's
+// libx264 into an MP4 file with libavformat, the form every player and browser opens.
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+
+#include <filesystem>
+#include <memory>
+
+namespace penumbra::encode {
+
+// x264's constant rate factors a movie may be written at: 0 lossless .. 51; 23 is x264's default,
+// about 18 looks like the frames themselves.
+inline constexpr int kMinMovieQuality = 0;
+inline constexpr int kMaxMovieQuality = 51;
+
+struct MovieOptions {
+    int frames_per_second = 30;
+    int quality = 20;  // x264's constant rate factor (kMinMovieQuality..kMaxMovieQuality)
+};
+
+class MovieWriter {
+public:
+    // Opens `path` (an .mp4) for frames of width x height, each even (4:2:0 chroma halves both)
+    // and at most 8192. Errors: invalid_argument for a size, rate or quality out of range or
+    // another extension, encode_failed where libavcodec has no H.264 encoder or the file cannot
+    // be written.
+    static base::Result<MovieWriter> create(const std::filesystem::path& path, int width,
+                                            int height, const MovieOptions& options = {});
+
+    MovieWriter(MovieWriter&&) noexcept;
+    MovieWriter& operator=(MovieWriter&&) noexcept;
+    // Closes the file; unless finished, what it holds is no complete movie.
+    ~MovieWriter();
+
+    // Encodes the next frame (RGBA, of the movie's size; alpha is ignored).
+    base::Status add(const base::ImageRgba8& frame);
+
+    // Encodes what the encoder still holds and completes the file. Nothing may be added after.
+    base::Status finish();
+
+    [[nodiscard]] int frames() const;
+
+private:
+    struct Impl;
+    explicit MovieWriter(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace penumbra::encode

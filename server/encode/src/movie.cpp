@@ -1,0 +1,246 @@
+#include <penumbra/encode/movie.hpp>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/log.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include <array>
+#include <mutex>
+#include <string>
+
+namespace penumbra::encode {
+namespace {
+
+constexpr int kMaxMovieSide = 8192;
+
+base::Error movie_error(const std::string& what, int code = 0) {
+    std::string message = what;
+    if (code < 0) {
+        std::array<char, AV_ERROR_MAX_STRING_SIZE> text{};
+        av_strerror(code, text.data(), text.size());
+        message += std::string(": ") + text.data();
+    }
+    return base::make_error(base::ErrorCode::encode_failed, message, "movie");
+}
+
+}  // namespace
+
+struct MovieWriter::Impl {
+    AVFormatContext* format = nullptr;
+    AVCodecContext* codec = nullptr;
+    AVStream* stream = nullptr;
+    SwsContext* convert = nullptr;
+    AVFrame* frame = nullptr;
+    AVPacket* packet = nullptr;
+    int width = 0;
+    int height = 0;
+    int frames = 0;
+    bool finished = false;
+
+    ~Impl() {
+        sws_freeContext(convert);
+        av_frame_free(&frame);
+        av_packet_free(&packet);
+        avcodec_free_context(&codec);
+        if (format != nullptr) {
+            if (format->pb != nullptr) {
+                avio_closep(&format->pb);
+            }
+            avformat_free_context(format);
+        }
+    }
+
+    // Writes every packet the encoder has ready.
+    base::Status drain() {
+        for (;;) {
+            const int received = avcodec_receive_packet(codec, packet);
+            if (received == AVERROR(EAGAIN) || received == AVERROR_EOF) {
+                return base::Ok{};
+            }
+            if (received < 0) {
+                return movie_error("encoding a frame failed", received);
+            }
+            av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
+            packet->stream_index = stream->index;
+            const int written = av_interleaved_write_frame(format, packet);
+            if (written < 0) {
+                return movie_error("writing the movie failed", written);
+            }
+        }
+    }
+};
+
+MovieWriter::MovieWriter(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
+
+MovieWriter::MovieWriter(MovieWriter&&) noexcept = default;
+MovieWriter& MovieWriter::operator=(MovieWriter&&) noexcept = default;
+MovieWriter::~MovieWriter() = default;
+
+base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path& path, int width,
+                                              int height, const MovieOptions& options) {
+    if (path.extension() != ".mp4") {
+        return base::make_error(
+                base::ErrorCode::invalid_argument,
+                "a movie is written as .mp4, not '" + path.filename().string() + "'", "movie");
+    }
+    if (width < 2 || height < 2 || width > kMaxMovieSide || height > kMaxMovieSide ||
+        width % 2 != 0 || height % 2 != 0) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "a movie's width and height must be even (its colour is stored at "
+                                "half the resolution) and within 2.." +
+                                        std::to_string(kMaxMovieSide) + ", not " +
+                                        std::to_string(width) + "x" + std::to_string(height),
+                                "movie");
+    }
+    if (options.frames_per_second < 1 || options.frames_per_second > 120) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "frames per second must be within 1..120", "movie");
+    }
+    if (options.quality < kMinMovieQuality || options.quality > kMaxMovieQuality) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "the movie quality (x264's rate factor) must be within " +
+                                        std::to_string(kMinMovieQuality) + ".." +
+                                        std::to_string(kMaxMovieQuality),
+                                "movie");
+    }
+    // x264 and the muxer report their settings at the info level: only errors reach the log.
+    static std::once_flag quiet;
+    std::call_once(quiet, [] { av_log_set_level(AV_LOG_ERROR); });
+
+    auto impl = std::make_unique<Impl>();
+    impl->width = width;
+    impl->height = height;
+    const std::string file = path.string();
+    int status = avformat_alloc_output_context2(&impl->format, nullptr, "mp4", file.c_str());
+    if (status < 0 || impl->format == nullptr) {
+        return movie_error("no MP4 muxer", status);
+    }
+    const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
+    if (h264 == nullptr) {
+        return movie_error("this libavcodec has no libx264 encoder");
+    }
+    impl->stream = avformat_new_stream(impl->format, nullptr);
+    impl->codec = avcodec_alloc_context3(h264);
+    impl->frame = av_frame_alloc();
+    impl->packet = av_packet_alloc();
+    if (impl->stream == nullptr || impl->codec == nullptr || impl->frame == nullptr ||
+        impl->packet == nullptr) {
+        return movie_error("out of memory");
+    }
+    AVCodecContext& codec = *impl->codec;
+    codec.width = width;
+    codec.height = height;
+    codec.time_base = AVRational{1, options.frames_per_second};
+    codec.framerate = AVRational{options.frames_per_second, 1};
+    codec.pix_fmt = AV_PIX_FMT_YUV420P;
+    codec.gop_size = options.frames_per_second * 2;
+    // What swscale's default conversion writes: BT.601 in the limited range, so players show the
+    // colours the frames had.
+    codec.color_range = AVCOL_RANGE_MPEG;
+    codec.colorspace = AVCOL_SPC_SMPTE170M;
+    codec.color_primaries = AVCOL_PRI_SMPTE170M;
+    codec.color_trc = AVCOL_TRC_SMPTE170M;
+    if ((impl->format->oformat->flags & AVFMT_GLOBALHEADER) != 0) {
+        codec.flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+    }
+    av_opt_set(codec.priv_data, "preset", "medium", 0);
+    av_opt_set_int(codec.priv_data, "crf", options.quality, 0);
+    status = avcodec_open2(&codec, h264, nullptr);
+    if (status < 0) {
+        return movie_error("opening the H.264 encoder failed", status);
+    }
+    status = avcodec_parameters_from_context(impl->stream->codecpar, &codec);
+    if (status < 0) {
+        return movie_error("the stream's parameters", status);
+    }
+    impl->stream->time_base = codec.time_base;
+    impl->stream->avg_frame_rate = codec.framerate;
+    status = avio_open(&impl->format->pb, file.c_str(), AVIO_FLAG_WRITE);
+    if (status < 0) {
+        return movie_error("cannot write '" + file + "'", status);
+    }
+    status = avformat_write_header(impl->format, nullptr);
+    if (status < 0) {
+        return movie_error("writing the MP4 header failed", status);
+    }
+    impl->frame->format = codec.pix_fmt;
+    impl->frame->width = width;
+    impl->frame->height = height;
+    status = av_frame_get_buffer(impl->frame, 0);
+    if (status < 0) {
+        return movie_error("out of memory for a frame", status);
+    }
+    impl->convert = sws_getContext(width, height, AV_PIX_FMT_RGBA, width, height,
+                                   AV_PIX_FMT_YUV420P, SWS_BICUBIC, nullptr, nullptr, nullptr);
+    if (impl->convert == nullptr) {
+        return movie_error("no RGBA to YUV 4:2:0 conversion");
+    }
+    return MovieWriter(std::move(impl));
+}
+
+base::Status MovieWriter::add(const base::ImageRgba8& image) {
+    Impl& impl = *impl_;
+    if (impl.finished) {
+        return movie_error("the movie is finished: no frame may be added");
+    }
+    if (image.width != impl.width || image.height != impl.height) {
+        return base::make_error(base::ErrorCode::invalid_argument,
+                                "a frame of " + std::to_string(image.width) + "x" +
+                                        std::to_string(image.height) + " in a movie of " +
+                                        std::to_string(impl.width) + "x" +
+                                        std::to_string(impl.height),
+                                "movie");
+    }
+    // The encoder may still hold the frame's buffer from the last frame (a reference).
+    const int writable = av_frame_make_writable(impl.frame);
+    if (writable < 0) {
+        return movie_error("out of memory for a frame", writable);
+    }
+    const std::uint8_t* source[1] = {image.pixels.data()};
+    const int stride[1] = {4 * image.width};
+    sws_scale(impl.convert, source, stride, 0, image.height, impl.frame->data,
+              impl.frame->linesize);
+    impl.frame->pts = impl.frames;
+    const int sent = avcodec_send_frame(impl.codec, impl.frame);
+    if (sent < 0) {
+        return movie_error("encoding a frame failed", sent);
+    }
+    ++impl.frames;
+    return impl.drain();
+}
+
+base::Status MovieWriter::finish() {
+    Impl& impl = *impl_;
+    if (impl.finished) {
+        return base::Ok{};
+    }
+    impl.finished = true;
+    const int sent = avcodec_send_frame(impl.codec, nullptr);
+    if (sent < 0) {
+        return movie_error("flushing the encoder failed", sent);
+    }
+    if (auto status = impl.drain(); !status) {
+        return status;
+    }
+    const int written = av_write_trailer(impl.format);
+    if (written < 0) {
+        return movie_error("writing the MP4 index failed", written);
+    }
+    const int closed = avio_closep(&impl.format->pb);
+    if (closed < 0) {
+        return movie_error("closing the movie failed", closed);
+    }
+    return base::Ok{};
+}
+
+int MovieWriter::frames() const {
+    return impl_->frames;
+}
+
+}  // namespace penumbra::encode
