@@ -2,7 +2,8 @@
 // The README's screenshot of the web client: a real `penumbra serve`, Debian's chromium driven by
 // playwright-core, the ch2 head in sbrc_cone; with `cut`, the head CT of the demo folder cut open
 // at the midline by dragging the crop box's left face on the image; with `plane`, cut across the view from the left by the Cut
-// panel's view plane and turned to show the cut.
+// panel's view plane and turned to show the cut; with `labels`, the AAL atlas added to ch2 in the
+// Labels panel and drawn alone ("labels only") as lit surfaces, the left temporal lobe hidden.
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_sbrc_cone.png
 //   node scripts/client-screenshot.mjs build/release/server/app/penumbra docs/images/client_cut.png cut
 import { spawn } from 'node:child_process';
@@ -13,14 +14,16 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const [penumbra, out, scene = 'modes'] = process.argv.slice(2);
-if (!penumbra || !out || !['modes', 'cut', 'plane'].includes(scene)) {
-  console.error('usage: client-screenshot.mjs PENUMBRA OUT.png [modes|cut|plane]');
+if (!penumbra || !out || !['modes', 'cut', 'plane', 'labels'].includes(scene)) {
+  console.error('usage: client-screenshot.mjs PENUMBRA OUT.png [modes|cut|plane|labels]');
   process.exit(2);
 }
 const clientDir = fileURLToPath(new URL('../client_web', import.meta.url));
 const { chromium } = createRequire(path.join(clientDir, 'package.json'))('playwright-core');
 
-const server = spawn(penumbra, ['serve', '--port', '0', '--web-root', path.join(clientDir, 'dist')],
+const data = scene === 'labels' ? ['--data', '/usr/share/mricron/templates'] : [];
+const server = spawn(penumbra,
+  ['serve', '--port', '0', '--web-root', path.join(clientDir, 'dist'), ...data],
   { stdio: ['ignore', 'pipe', 'inherit'] });
 const url = await new Promise((resolve, reject) => {
   let text = '';
@@ -52,7 +55,8 @@ const browser = await chromium.launchPersistentContext(
 try {
   const page = browser.pages()[0] ?? (await browser.newPage());
   page.on('pageerror', (e) => console.error('page error:', String(e)));
-  await page.goto(`${url}?volume=${scene === 'modes' ? 'ch2.nii.gz' : 'cranium_ct.nrrd'}`);
+  const volume = { modes: 'ch2.nii.gz', labels: 'ch2.nii.gz' }[scene] ?? 'cranium_ct.nrrd';
+  await page.goto(`${url}?volume=${volume}`);
   await page.waitForFunction(() => document.querySelector('canvas.frame-canvas')?.dataset.frame !== undefined,
     null, { timeout: 120000 });
   if (scene === 'cut') {
@@ -103,6 +107,28 @@ try {
     await page.mouse.down();
     for (let i = 1; i <= 10; ++i) await page.mouse.move(box.x + box.width / 2 - 12 * i, y);
     await page.mouse.up();
+    await stillShown(page);
+  } else if (scene === 'labels') {
+    // From the left, sbrc_cone; the atlas added and drawn alone; the left temporal lobe's
+    // regions hidden (Temporal_*_L) to show the insula and the hemisphere behind.
+    await page.locator('.view-buttons button', { hasText: 'L' }).first().click();
+    await page.locator('[data-control="mode"] select').selectOption('sbrc_cone');
+    for (const title of ['Volume', 'Shared viewing', 'Transfer function', 'Light', 'Cut']) {
+      await page.locator('.lil-gui .lil-title', { hasText: title }).first().click();
+    }
+    await page.locator('[data-control="labels-add"]').selectOption('aal.nii.gz');
+    await page.waitForFunction(
+      () => /116 of 116 shown/.test(document.querySelector('[data-control="labels-count"]')?.textContent ?? ''),
+      null, { timeout: 120000 });
+    await page.locator('[data-control="labels-alone"]').check();
+    await stillShown(page);
+    await page.locator('[data-control="labels-search"]').fill('Temporal');
+    for (const row of await page.locator('.label-row:visible').all()) {
+      if ((await row.locator('.label-name').textContent()).endsWith('_L')) {
+        await row.locator('input.label-visible').click();
+      }
+    }
+    await page.locator('[data-control="labels-search"]').fill('Temporal_Mid_L');
     await stillShown(page);
   } else {
     await page.locator('[data-control="mode"] select').selectOption('sbrc_cone');
