@@ -14,6 +14,7 @@ build=(
     cmake ninja-build g++ pkg-config git python3
     libglm-dev libepoxy-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri
     libopenimageio-dev libturbojpeg0-dev libpng-dev libnifti2-dev libdcmtk-dev libopenjp2-7-dev
+    libx264-dev libyuv-dev
     zlib1g-dev libbz2-dev nlohmann-json3-dev libboost-dev
     libboost-program-options-dev
     libssl-dev nodejs

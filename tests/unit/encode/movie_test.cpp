@@ -9,6 +9,8 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include "moving_square.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,22 +23,6 @@ namespace penumbra::encode {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Frame k of a test movie: a colour ramp with a square moving across it.
-base::ImageRgba8 moving_square(int width, int height, int k) {
-    base::ImageRgba8 image(width, height);
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            std::uint8_t* p = image.pixel(x, y);
-            const bool square = x >= 4 + 3 * k && x < 20 + 3 * k && y >= 12 && y < 28;
-            p[0] = square ? 240 : static_cast<std::uint8_t>(4 * x);
-            p[1] = square ? 200 : static_cast<std::uint8_t>(5 * y);
-            p[2] = square ? 40 : 120;
-            p[3] = 255;
-        }
-    }
-    return image;
-}
 
 struct ReadMovie {
     std::string codec;
@@ -94,20 +80,6 @@ ReadMovie read_movie(const fs::path& path) {
     avcodec_free_context(&codec);
     avformat_close_input(&format);
     return out;
-}
-
-double psnr(const base::ImageRgba8& a, const base::ImageRgba8& b) {
-    double squared = 0.0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-        if (i % 4 == 3) {
-            continue;
-        }
-        const double d = double(a.pixels[i]) - double(b.pixels[i]);
-        squared += d * d;
-        ++count;
-    }
-    return 10.0 * std::log10(255.0 * 255.0 / std::max(1e-9, squared / double(count)));
 }
 
 class MovieTest : public ::testing::Test {

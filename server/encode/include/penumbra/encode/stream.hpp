@@ -1,0 +1,56 @@
+#pragma once
+
+// A session's frames as a stream: each session owns one (DESIGN.md §4), so that a codec may send
+// what changed since the frame before. JPEG and PNG are intra-only: every frame stands alone. H.264
+// (libx264: no B-frames, no look-ahead, one access unit per frame, Annex B with its parameter sets
+// before every keyframe, the form WebCodecs' VideoDecoder takes) sends most frames as the change
+// from the one before; a frame asked to be independent (a viewer joined, a frame was dropped, a
+// resume) or of another size than the last is a keyframe. H.264 pictures have even sides: an odd
+// side is padded by one column or row, which a client crops by the frame's own size.
+
+#include <penumbra/base/image.hpp>
+#include <penumbra/base/result.hpp>
+#include <penumbra/encode/encode.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace penumbra::encode {
+
+enum class StreamCodec { jpeg, png, h264 };
+
+// x264's constant rate factors a stream may take: 0 lossless .. 51.
+inline constexpr int kMinStreamQuality = 0;
+inline constexpr int kMaxStreamQuality = 51;
+
+struct StreamOptions {
+    StreamCodec codec = StreamCodec::jpeg;
+    int jpeg_quality = 85;  // kMinJpegQuality..kMaxJpegQuality
+    int h264_quality = 23;  // x264's constant rate factor, kMinStreamQuality..kMaxStreamQuality
+    int frames_per_second = 30;  // what the rate control assumes of a stream's pace
+};
+
+struct StreamFrame {
+    std::vector<std::uint8_t> bytes;
+    // Decodable without any frame before it. A frame that is not may be dropped only with every
+    // frame after it up to the next independent one.
+    bool independent = true;
+};
+
+class FrameStream {
+public:
+    virtual ~FrameStream() = default;
+
+    // Encodes the next frame of the stream; `independent` asks for one that decodes alone. A
+    // frame of another size than the one before is independent whatever is asked.
+    virtual base::Result<StreamFrame> encode(const base::ImageRgba8& image, bool independent) = 0;
+
+    [[nodiscard]] virtual StreamCodec codec() const = 0;
+};
+
+// A stream of `options.codec`. Errors: invalid_value for a quality or rate out of range,
+// encode_failed where the encoder cannot start.
+base::Result<std::unique_ptr<FrameStream>> make_stream(const StreamOptions& options);
+
+}  // namespace penumbra::encode
