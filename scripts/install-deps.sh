@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs what Penumbra needs from Debian 12's packages, in groups:
 #   build    compile the server and the web client (the container image's builder stage)
-#   movies   FFmpeg's libraries for the movie writer (PENUMBRA_WITH_MOVIES, on in the release
-#            build; the bundle and the container image leave it out, with the hundred codec
-#            libraries libavcodec brings)
+#   ffmpeg   FFmpeg's libraries for the movie writer and the stream decoder (PENUMBRA_WITH_FFMPEG,
+#            on in the release build; the bundle and the container image leave them out, with the
+#            hundred codec libraries libavcodec brings)
 #   test     what the test suite needs on top of build
 #   deploy   containers for the container test and scripts/deploy.sh (podman, debootstrap,
 #            compose), the portable bundle (scripts/bundle.sh)
@@ -19,7 +19,7 @@ build=(
     libboost-program-options-dev
     libssl-dev nodejs
 )
-movies=(libavcodec-dev libavformat-dev libswscale-dev libavutil-dev)
+ffmpeg=(libavcodec-dev libavformat-dev libswscale-dev libavutil-dev)
 test=(
     libgtest-dev libgmock-dev python3-jsonschema python3-pydicom
     clang-14 libfuzzer-14-dev clang-format-14 clang-tidy-14
@@ -42,18 +42,18 @@ deploy=(
     patchelf xz-utils
 )
 
-groups="build,movies,test,deploy"
+groups="build,ffmpeg,test,deploy"
 if [ "${1:-}" = "--only" ] && [ -n "${2:-}" ]; then
     groups="$2"
 elif [ $# -ne 0 ]; then
-    echo "usage: install-deps.sh [--only build|movies|test|deploy[,...]]" >&2
+    echo "usage: install-deps.sh [--only build|ffmpeg|test|deploy[,...]]" >&2
     exit 2
 fi
 packages=()
 for group in ${groups//,/ }; do
     case "$group" in
         build) packages+=("${build[@]}") ;;
-        movies) packages+=("${movies[@]}") ;;
+        ffmpeg) packages+=("${ffmpeg[@]}") ;;
         test) packages+=("${test[@]}") ;;
         deploy) packages+=("${deploy[@]}") ;;
         *) echo "install-deps: unknown group '$group'" >&2; exit 2 ;;

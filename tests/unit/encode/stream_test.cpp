@@ -1,16 +1,11 @@
 // A session's frame stream as a client decodes it: H.264 access units fed one by one to
-// libavcodec's decoder (what Chromium's WebCodecs runs in software), from the first frame or from
-// a keyframe a joining viewer starts at; JPEG and PNG frames each alone.
+// libavcodec's decoder (encode::StreamDecoder; what Chromium's WebCodecs runs in software), from
+// the first frame or from a keyframe a joining viewer starts at; JPEG and PNG frames each alone.
+
+#include "moving_square.hpp"
 
 #include <penumbra/encode/stream.hpp>
 #include <penumbra/imageio/imageio.hpp>
-
-extern "C" {
-#include <libavcodec/avcodec.h>
-#include <libswscale/swscale.h>
-}
-
-#include "moving_square.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,53 +18,21 @@ extern "C" {
 namespace penumbra::encode {
 namespace {
 
-// libavcodec's H.264 decoder with low delay: each access unit fed gives its frame at once.
+// A client's decoder: each access unit fed gives its picture at once, or nothing.
 class Decoder {
 public:
-    Decoder() {
-        const AVCodec* h264 = avcodec_find_decoder(AV_CODEC_ID_H264);
-        codec_ = avcodec_alloc_context3(h264);
-        codec_->flags |= AV_CODEC_FLAG_LOW_DELAY;
-        EXPECT_EQ(avcodec_open2(codec_, h264, nullptr), 0);
-        packet_ = av_packet_alloc();
-        frame_ = av_frame_alloc();
+    Decoder()
+        : decoder_(StreamDecoder::create()) {
+        EXPECT_TRUE(decoder_.ok()) << (decoder_.ok() ? "" : decoder_.error().to_string());
     }
 
-    ~Decoder() {
-        sws_freeContext(convert_);
-        av_frame_free(&frame_);
-        av_packet_free(&packet_);
-        avcodec_free_context(&codec_);
-    }
-
-    Decoder(const Decoder&) = delete;
-    Decoder& operator=(const Decoder&) = delete;
-
-    // The frame the access unit decodes to, or none (an error, or nothing out).
     std::optional<base::ImageRgba8> decode(const std::vector<std::uint8_t>& unit) {
-        av_new_packet(packet_, static_cast<int>(unit.size()));
-        std::copy(unit.begin(), unit.end(), packet_->data);
-        const int sent = avcodec_send_packet(codec_, packet_);
-        av_packet_unref(packet_);
-        if (sent < 0 || avcodec_receive_frame(codec_, frame_) != 0) {
-            return std::nullopt;
-        }
-        convert_ = sws_getCachedContext(convert_, frame_->width, frame_->height,
-                                        static_cast<AVPixelFormat>(frame_->format), frame_->width,
-                                        frame_->height, AV_PIX_FMT_RGBA, SWS_BICUBIC, nullptr,
-                                        nullptr, nullptr);
-        base::ImageRgba8 image(frame_->width, frame_->height);
-        std::uint8_t* target[1] = {image.pixels.data()};
-        const int stride[1] = {4 * image.width};
-        sws_scale(convert_, frame_->data, frame_->linesize, 0, frame_->height, target, stride);
-        return image;
+        auto image = decoder_->decode(unit);
+        return image.ok() ? std::optional(std::move(image.value())) : std::nullopt;
     }
 
 private:
-    AVCodecContext* codec_ = nullptr;
-    AVPacket* packet_ = nullptr;
-    AVFrame* frame_ = nullptr;
-    SwsContext* convert_ = nullptr;
+    base::Result<StreamDecoder> decoder_;
 };
 
 std::unique_ptr<FrameStream> h264_stream(int quality = 20) {

@@ -24,4 +24,18 @@ struct EncodeFrame {
 base::Status bench_encoders(const std::vector<EncodeFrame>& frames, int jpeg_quality, int repeat,
                             std::FILE* out);
 
+// Frames a client would receive in a row (an orbit of the view), and what they show.
+struct StreamSequence {
+    std::string name;  // e.g. "sbrc 512x512, 3 deg a frame"
+    std::vector<base::ImageRgba8> frames;
+};
+
+// Each sequence as a stream of JPEG frames at `jpeg_quality` and as an H.264 stream
+// (encode::FrameStream) at the largest rate factor (fewest bytes) whose decoded frames reach the
+// JPEG frames' mean SSIM against the rendered ones, both decoded as a client would; prints per
+// sequence the bytes, SSIM and encode milliseconds per frame of each, their ratio of bytes, and
+// what the H.264 stream spends on a frame repeated unchanged.
+base::Status bench_streams(const std::vector<StreamSequence>& sequences, int jpeg_quality,
+                           std::FILE* out);
+
 }  // namespace penumbra::bench

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace penumbra::encode {
@@ -52,5 +53,26 @@ public:
 // A stream of `options.codec`. Errors: invalid_value for a quality or rate out of range,
 // encode_failed where the encoder cannot start.
 base::Result<std::unique_ptr<FrameStream>> make_stream(const StreamOptions& options);
+
+// An H.264 stream's access units decoded one by one as a client's decoder does (libavcodec, low
+// delay: each unit's picture at once), for the tests and the stream benchmark. A build without
+// FFmpeg (PENUMBRA_WITH_FFMPEG off) has none: create() says so.
+class StreamDecoder {
+public:
+    static base::Result<StreamDecoder> create();
+
+    StreamDecoder(StreamDecoder&&) noexcept;
+    StreamDecoder& operator=(StreamDecoder&&) noexcept;
+    ~StreamDecoder();
+
+    // The picture `unit` decodes to, RGBA at the stream's (even) size; an error where it gives
+    // none (it needs a keyframe this decoder has not seen, or is no H.264).
+    base::Result<base::ImageRgba8> decode(std::span<const std::uint8_t> unit);
+
+private:
+    struct Impl;
+    explicit StreamDecoder(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace penumbra::encode

@@ -1,7 +1,8 @@
-// A build without FFmpeg's libraries (PENUMBRA_WITH_MOVIES=OFF: the portable bundle, the container
-// image) writes no movies and says so.
+// A build without FFmpeg's libraries (PENUMBRA_WITH_FFMPEG=OFF: the portable bundle, the container
+// image) writes no movies and decodes no streams, and says so.
 
 #include <penumbra/encode/movie.hpp>
+#include <penumbra/encode/stream.hpp>
 
 namespace penumbra::encode {
 
@@ -18,7 +19,7 @@ base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path&, int,
                                               const MovieOptions&) {
     return base::make_error(base::ErrorCode::unsupported_format,
                             "this build writes no movies: it was built without FFmpeg's "
-                            "libraries (PENUMBRA_WITH_MOVIES=OFF, as the portable bundle and the "
+                            "libraries (PENUMBRA_WITH_FFMPEG=OFF, as the portable bundle and the "
                             "container image are)",
                             "movie");
 }
@@ -34,6 +35,26 @@ base::Status MovieWriter::finish() {
 
 int MovieWriter::frames() const {
     return 0;
+}
+
+struct StreamDecoder::Impl {};
+
+StreamDecoder::StreamDecoder(std::unique_ptr<Impl> impl)
+    : impl_(std::move(impl)) {}
+
+StreamDecoder::StreamDecoder(StreamDecoder&&) noexcept = default;
+StreamDecoder& StreamDecoder::operator=(StreamDecoder&&) noexcept = default;
+StreamDecoder::~StreamDecoder() = default;
+
+base::Result<StreamDecoder> StreamDecoder::create() {
+    return base::make_error(base::ErrorCode::unsupported_format,
+                            "this build decodes no H.264: it was built without FFmpeg's libraries "
+                            "(PENUMBRA_WITH_FFMPEG=OFF)",
+                            "h264");
+}
+
+base::Result<base::ImageRgba8> StreamDecoder::decode(std::span<const std::uint8_t>) {
+    return create().error();
 }
 
 }  // namespace penumbra::encode
