@@ -496,6 +496,7 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
             members(v, at, {
               encoding: oneOf(ENCODINGS),
               jpeg_quality: ranged(ranges, 'output/jpeg_quality'),
+              h264_quality: ranged(ranges, 'output/h264_quality'),
             }),
         });
         break;

@@ -69,6 +69,25 @@ describe('parseFrame', () => {
     expect(Array.from(frame.image)).toEqual([1, 2, 3]);
   });
 
+  it('reads whether an H.264 frame decodes alone, and takes a frame without the member as one that does', () => {
+    const key = parseFrame(
+      packFrame({ ...header, encoding: 'h264', independent: true }, new Uint8Array(3)),
+    );
+    expect([key.header.encoding, key.header.independent, key.mime]).toEqual([
+      'h264',
+      true,
+      'video/h264',
+    ]);
+    const delta = parseFrame(
+      packFrame({ ...header, encoding: 'h264', independent: false }, new Uint8Array(3)),
+    );
+    expect(delta.header.independent).toBe(false);
+    expect(parseFrame(packFrame(header, new Uint8Array(3))).header.independent ?? true).toBe(true);
+    expect(() =>
+      parseFrame(handMade(JSON.stringify({ ...header, independent: 'yes' }), [1])),
+    ).toThrow(FrameError);
+  });
+
   it('ignores header members it does not know', () => {
     const frame = parseFrame(handMade(JSON.stringify({ ...header, future: 1 }), []));
     expect(frame.header.request).toBe(42);

@@ -1,6 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import {
   methodControls,
+  offeredEncodings,
   settingPatch,
   settingUsed,
   settingValue,
@@ -19,6 +20,19 @@ import { recordedHello, recordedMessages, recordedRanges, recordedTerms } from '
 
 const mode = (name: string): ModeCapabilities => recordedHello.modes.find((m) => m.name === name)!;
 const state = (parseServerMessage(recordedMessages[2]!) as OpenedMessage).state;
+
+describe('the frame encodings offered', () => {
+  it("are hello's, H.264 only where the browser has WebCodecs", () => {
+    expect(recordedHello.encodings).toEqual(['jpeg', 'png', 'h264']);
+    expect(offeredEncodings(true)).toEqual(['jpeg', 'png', 'h264']);
+    expect(offeredEncodings(false)).toEqual(['jpeg', 'png']);
+    for (const encoding of offeredEncodings(true)) {
+      expect(
+        checkClientMessage({ v: 1, type: 'set', output: { encoding } }, recordedTerms),
+      ).toBeNull();
+    }
+  });
+});
 
 describe("the method panel's numeric settings", () => {
   it('offers every setting hello announces a range for, placed by its path', () => {

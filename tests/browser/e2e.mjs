@@ -643,6 +643,24 @@ try {
     `checked ${skippingBefore} -> ${await skipping.isChecked()}`);
   await skipping.click();
   info = await waitForStill(owner, info);
+  // H.264: the Image folder's encoding set to h264 (offered: this browser has WebCodecs), the
+  // frames come as one stream that VideoDecoder decodes in order, the same picture as JPEG's.
+  const jpegLook = await canvasSignature(owner);
+  await owner.locator('[data-control="encoding"] select').selectOption('h264');
+  await owner.waitForFunction(
+    () => document.querySelector('canvas.frame-canvas')?.dataset.encoding === 'h264', null,
+    { timeout: 30000 });
+  info = await waitForStill(owner, info);
+  const h264Look = await canvasSignature(owner);
+  check('H.264 frames decode with WebCodecs and show the picture the JPEG frames showed',
+    difference(jpegLook, h264Look) < 2 &&
+      (await owner.locator('.notice.error', { hasText: 'encoding' }).count()) === 0,
+    `mean grey difference ${difference(jpegLook, h264Look).toFixed(2)}`);
+  await owner.locator('[data-control="encoding"] select').selectOption('jpeg');
+  await owner.waitForFunction(
+    () => document.querySelector('canvas.frame-canvas')?.dataset.encoding === 'jpeg', null,
+    { timeout: 30000 });
+  info = await waitForStill(owner, info);
 
   // 4c. Every numeric setting the server's hello announces has a control, labelled by its name, in
   // the folder of its part of the settings (the client lists none of them).

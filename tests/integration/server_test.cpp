@@ -3,6 +3,7 @@
 #include "dicom_writer.hpp"
 
 #include <penumbra/encode/encode.hpp>
+#include <penumbra/encode/stream.hpp>
 #include <penumbra/imageio/compare.hpp>
 #include <penumbra/imageio/imageio.hpp>
 #include <penumbra/metrics/registry.hpp>
@@ -808,6 +809,77 @@ TEST_F(ServerTest, AskingForLabelMapsAgainAndAgainLeavesAnotherSessionServed) {
     }
     hostile.send(R"({"v":1,"type":"render","id":400})");
     EXPECT_EQ(hostile.next_frame().header.request, 400);
+}
+
+// Frames as an H.264 stream: a session asked for h264 sends its first frame as a keyframe and the
+// next ones as changes, which a client's decoder (libavcodec, access unit by access unit) decodes
+// in order; a viewer who joins makes the next frame a keyframe it starts from; a resized view
+// starts afresh; each header says whether its frame stands alone; back to JPEG, frames are JPEG
+// again.
+TEST_F(ServerTest, H264FramesAreOneStreamThatAJoinerStartsAtAKeyframe) {
+    TestClient owner(port_);
+    owner.open("heads/ch2.nii.gz", 48);
+    const std::string set = owner.request(
+            R"({"v":1,"type":"set","id":2,"output":{"encoding":"h264"},"settings":{"refinement_steps":0}})");
+    ASSERT_EQ(field(set, "type"), "ack") << set;
+    auto decoder = encode::StreamDecoder::create();
+    ASSERT_TRUE(decoder.ok()) << decoder.error().to_string();
+    const auto frame_of = [](TestClient& client, int id) {
+        client.send(R"({"v":1,"type":"render","id":)" + std::to_string(id) + "}");
+        return client.next_frame();
+    };
+    const auto decodes = [](encode::StreamDecoder& d, const protocol::UnpackedFrame& frame) {
+        auto picture = d.decode(frame.image);
+        EXPECT_TRUE(picture.ok()) << "frame " << frame.header.frame << ": "
+                                  << (picture.ok() ? "" : picture.error().to_string());
+        if (picture.ok()) {
+            // Even sides: the frame is the picture's top left.
+            EXPECT_EQ(picture->width, frame.header.width + frame.header.width % 2);
+            EXPECT_EQ(picture->height, frame.header.height + frame.header.height % 2);
+        }
+    };
+    for (int i = 0; i < 4; ++i) {
+        const auto frame = frame_of(owner, 10 + i);
+        EXPECT_EQ(frame.header.encoding, "h264");
+        EXPECT_EQ(frame.header.independent, i == 0) << "frame " << i;
+        decodes(*decoder, frame);
+    }
+
+    TestClient viewer(port_);
+    const std::string joined =
+            viewer.request(R"({"v":1,"type":"join","id":3,"session":")" + owner.session + "\"}");
+    ASSERT_EQ(field(joined, "type"), "joined") << joined;
+    const auto for_owner = frame_of(owner, 20);
+    const auto for_viewer = viewer.next_frame();
+    EXPECT_TRUE(for_owner.header.independent) << "a viewer joined: a keyframe";
+    EXPECT_EQ(for_viewer.image, for_owner.image);
+    auto joiner = encode::StreamDecoder::create();
+    ASSERT_TRUE(joiner.ok());
+    decodes(*joiner, for_viewer);
+    decodes(*decoder, for_owner);
+    const auto after = frame_of(owner, 21);
+    EXPECT_FALSE(after.header.independent);
+    decodes(*joiner, viewer.next_frame());
+    decodes(*decoder, after);
+
+    ASSERT_EQ(field(owner.request(R"({"v":1,"type":"set","id":4,"settings":{"size":[51,40]}})"),
+                    "type"),
+              "ack");
+    const auto resized = frame_of(owner, 22);
+    viewer.next_frame();
+    EXPECT_TRUE(resized.header.independent) << "a new size starts afresh";
+    EXPECT_EQ(resized.header.width, 51);
+    auto fresh = encode::StreamDecoder::create();
+    ASSERT_TRUE(fresh.ok());
+    decodes(*fresh, resized);
+
+    ASSERT_EQ(field(owner.request(R"({"v":1,"type":"set","id":5,"output":{"encoding":"jpeg"}})"),
+                    "type"),
+              "ack");
+    const auto jpeg = frame_of(owner, 23);
+    EXPECT_EQ(jpeg.header.encoding, "jpeg");
+    EXPECT_TRUE(jpeg.header.independent);
+    EXPECT_TRUE(imageio::decode_image(jpeg.image).ok());
 }
 
 // A hostile owner draws an atlas alone and changes which labels show as fast as it may, each

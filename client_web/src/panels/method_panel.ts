@@ -74,6 +74,16 @@ export function methodControls(ranges: SettingRanges): SettingControl[] {
 }
 
 /** The `set` patch that gives the setting at `members` (under settings) `value`. */
+/**
+ * The frame encodings this browser can show: H.264 only where it has WebCodecs' VideoDecoder
+ * (which decodes the stream's frames in order); JPEG and PNG everywhere.
+ */
+export function offeredEncodings(
+  webCodecs: boolean = typeof globalThis.VideoDecoder === 'function',
+): Encoding[] {
+  return ENCODINGS.filter((e) => e !== 'h264' || webCodecs);
+}
+
 export function settingPatch(members: string[], value: number | boolean | string): StatePatch {
   return { settings: nestedAt(members, value) as StatePatch['settings'] };
 }
@@ -178,6 +188,7 @@ export class MethodPanel {
     background: [...DEFAULT_SETTINGS.background] as number[],
     encoding: DEFAULT_OUTPUT.encoding as Encoding,
     jpeg_quality: DEFAULT_OUTPUT.jpeg_quality as number,
+    h264_quality: DEFAULT_OUTPUT.h264_quality as number,
     jitter: DEFAULT_SETTINGS.jitter as boolean,
     preintegration: DEFAULT_SETTINGS.preintegration as boolean,
     empty_space_skipping: DEFAULT_SETTINGS.empty_space_skipping as boolean,
@@ -307,7 +318,7 @@ export class MethodPanel {
 
     const output = folder.addFolder('Image');
     add(
-      output.add(p, 'encoding', [...ENCODINGS]),
+      output.add(p, 'encoding', offeredEncodings()),
       'encoding',
       () => ({ output: { encoding: p.encoding } }),
       false,
@@ -317,6 +328,12 @@ export class MethodPanel {
       output.add(p, 'jpeg_quality').step(1).name('JPEG quality'),
       'jpeg_quality',
       () => ({ output: { jpeg_quality: p.jpeg_quality } }),
+      false,
+    );
+    add(
+      output.add(p, 'h264_quality').step(1).name('H.264 rate factor'),
+      'h264_quality',
+      () => ({ output: { h264_quality: p.h264_quality } }),
       false,
     );
     const scale = output.add(p, 'scale', 0.25, 2, 0.05).name('pixels per device px');
@@ -361,8 +378,10 @@ export class MethodPanel {
       const controller = this.addSetting(setting);
       this.ranged.set(setting.path, { setting, controller, announced: true });
     }
-    const quality = ranges['output/jpeg_quality'];
-    if (quality) this.byKey.get('jpeg_quality')?.min(quality.min).max(quality.max);
+    for (const key of ['jpeg_quality', 'h264_quality'] as const) {
+      const quality = ranges[`output/${key}`];
+      if (quality) this.byKey.get(key)?.min(quality.min).max(quality.max);
+    }
     this.showSettings();
     this.greyOut();
   }
@@ -438,6 +457,8 @@ export class MethodPanel {
     p.background = [...s.background];
     p.encoding = state.output.encoding;
     p.jpeg_quality = state.output.jpeg_quality;
+    // A server older than H.264 frames has no rate factor: the default stays.
+    p.h264_quality = state.output.h264_quality ?? DEFAULT_OUTPUT.h264_quality;
     for (const { setting } of this.ranged.values()) {
       const value = settingValue(s, setting.members);
       if (value !== undefined) this.values[setting.path] = value;
@@ -482,6 +503,7 @@ export class MethodPanel {
       dim(controller, settingUsed(mode, setting.part, name, phong));
     }
     dim(this.byKey.get('jpeg_quality'), this.params.encoding === 'jpeg');
+    dim(this.byKey.get('h264_quality'), this.params.encoding === 'h264');
   }
 
   setEnabled(enabled: boolean): void {

@@ -40,6 +40,11 @@ export interface FrameHeader {
   refining?: boolean;
   /** A still's smaller first frame; the still at the requested size follows (absent: false). */
   preview?: boolean;
+  /**
+   * Decodable without the frames before it (absent: true): every JPEG or PNG frame, an H.264
+   * keyframe. An H.264 frame that is not needs every frame since the last keyframe.
+   */
+  independent?: boolean;
 }
 
 export interface Frame {
@@ -64,7 +69,11 @@ function isRecord(v: unknown): v is Record<string, unknown> {
 }
 
 /** How the browser names each format the server writes frames in (a new one fails to compile here). */
-const MIME_TYPES: Record<Encoding, string> = { jpeg: 'image/jpeg', png: 'image/png' };
+const MIME_TYPES: Record<Encoding, string> = {
+  jpeg: 'image/jpeg',
+  png: 'image/png',
+  h264: 'video/h264',
+};
 
 function checkHeader(value: unknown): FrameHeader {
   if (!isRecord(value)) throw new FrameError('frame header is not a JSON object');
@@ -100,6 +109,7 @@ function checkHeader(value: unknown): FrameHeader {
     ['refinement', 'number'],
     ['refining', 'boolean'],
     ['preview', 'boolean'],
+    ['independent', 'boolean'],
   ] as const) {
     if (key in value && typeof value[key] !== type) {
       throw new FrameError(`frame header: "${key}" is not a ${type}`);

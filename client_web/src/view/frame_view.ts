@@ -1,6 +1,8 @@
 // The canvas the frames are drawn on: sized to its container in device pixels (device-pixel-ratio
-// aware), frames decoded off the main thread with createImageBitmap, and replace-if-busy: while
-// one frame decodes, only the newest waiting frame is kept.
+// aware). JPEG and PNG frames are decoded off the main thread with createImageBitmap,
+// replace-if-busy: while one frame decodes, only the newest waiting frame is kept. H.264 frames are
+// one stream, decoded in order by WebCodecs' VideoDecoder (every frame needs the ones before it
+// back to a keyframe, so none is skipped; after a decoder error the frames wait for a keyframe).
 
 import type { Frame, FrameHeader } from '../protocol/frame_header';
 
@@ -34,8 +36,12 @@ export class FrameView {
   private bitmap: ImageBitmap | null = null;
   private resizeListeners: (() => void)[] = [];
   private shownListeners: ((shown: ShownFrame) => void)[] = [];
-  /** Frames dropped because a newer one arrived while decoding. */
+  /** Frames dropped because a newer one arrived while decoding (or an H.264 frame before a keyframe). */
   dropped = 0;
+  private video: VideoDecoder | null = null;
+  /** The H.264 frames given to the decoder and not yet out, by their frame number. */
+  private videoPending = new Map<number, { frame: Frame; receivedAt: number }>();
+  private videoNeedsKeyframe = true;
   background = '#000';
 
   constructor(private readonly container: HTMLElement) {
@@ -106,6 +112,10 @@ export class FrameView {
   /** Shows a frame; if one is being decoded, this one waits, replacing any older waiting one. */
   show(frame: Frame): void {
     const receivedAt = performance.now();
+    if (frame.header.encoding === 'h264') {
+      this.decodeVideo(frame, receivedAt);
+      return;
+    }
     if (this.decoding) {
       if (this.waiting) this.dropped += 1;
       this.waiting = { frame, receivedAt };
@@ -114,25 +124,58 @@ export class FrameView {
     void this.decode(frame, receivedAt);
   }
 
+  /** Feeds an H.264 frame to the decoder, made at the first keyframe (again after an error). */
+  private decodeVideo(frame: Frame, receivedAt: number): void {
+    const independent = frame.header.independent ?? true;
+    if (this.videoNeedsKeyframe && !independent) {
+      this.dropped += 1;
+      return;
+    }
+    if (!this.video || this.video.state === 'closed') {
+      this.video = new VideoDecoder({
+        output: (picture) => void this.videoOut(picture),
+        error: (e) => {
+          console.warn('penumbra: the H.264 stream could not be decoded', e);
+          this.videoNeedsKeyframe = true;
+          this.videoPending.clear();
+        },
+      });
+      // Annex B with its parameter sets in band: no description. High profile, level 5.1 covers
+      // every size the server sends.
+      this.video.configure({ codec: 'avc1.640033', optimizeForLatency: true });
+    }
+    this.videoNeedsKeyframe = false;
+    this.videoPending.set(frame.header.frame, { frame, receivedAt });
+    this.video.decode(
+      new EncodedVideoChunk({
+        type: independent ? 'key' : 'delta',
+        timestamp: frame.header.frame,
+        data: frame.image,
+      }),
+    );
+  }
+
+  private async videoOut(picture: VideoFrame): Promise<void> {
+    const pending = this.videoPending.get(picture.timestamp);
+    this.videoPending.delete(picture.timestamp);
+    try {
+      if (!pending) return;
+      const h = pending.frame.header;
+      // The picture has even sides; the frame is its top left width x height.
+      const bitmap = await createImageBitmap(picture, 0, 0, h.width, h.height);
+      this.present(bitmap, pending.frame, pending.receivedAt);
+    } catch (e) {
+      console.warn('penumbra: could not show a decoded frame', e);
+    } finally {
+      picture.close();
+    }
+  }
+
   private async decode(frame: Frame, receivedAt: number): Promise<void> {
     this.decoding = true;
     try {
       const blob = new Blob([frame.image as Uint8Array<ArrayBuffer>], { type: frame.mime });
-      const bitmap = await createImageBitmap(blob);
-      this.bitmap?.close();
-      this.bitmap = bitmap;
-      this.draw();
-      const c = this.canvas;
-      const h = frame.header;
-      c.dataset['frame'] = String(h.frame);
-      c.dataset['request'] = String(h.request);
-      c.dataset['mode'] = h.mode;
-      c.dataset['interactive'] = String(h.interactive);
-      c.dataset['size'] = `${h.width}x${h.height}`;
-      c.dataset['refinement'] = String(h.refinement ?? 0);
-      c.dataset['refining'] = String(h.refining ?? false);
-      c.dataset['preview'] = String(h.preview ?? false);
-      for (const l of this.shownListeners) l({ header: h, bytes: frame.bytes, receivedAt });
+      this.present(await createImageBitmap(blob), frame, receivedAt);
     } catch (e) {
       console.warn('penumbra: could not decode a frame', e);
     } finally {
@@ -141,6 +184,25 @@ export class FrameView {
       this.waiting = null;
       if (next) void this.decode(next.frame, next.receivedAt);
     }
+  }
+
+  /** Draws a decoded frame and tells the listeners. */
+  private present(bitmap: ImageBitmap, frame: Frame, receivedAt: number): void {
+    this.bitmap?.close();
+    this.bitmap = bitmap;
+    this.draw();
+    const c = this.canvas;
+    const h = frame.header;
+    c.dataset['frame'] = String(h.frame);
+    c.dataset['request'] = String(h.request);
+    c.dataset['mode'] = h.mode;
+    c.dataset['interactive'] = String(h.interactive);
+    c.dataset['size'] = `${h.width}x${h.height}`;
+    c.dataset['refinement'] = String(h.refinement ?? 0);
+    c.dataset['refining'] = String(h.refining ?? false);
+    c.dataset['preview'] = String(h.preview ?? false);
+    c.dataset['encoding'] = h.encoding;
+    for (const l of this.shownListeners) l({ header: h, bytes: frame.bytes, receivedAt });
   }
 
   /** Draws the latest bitmap scaled to fit (letterboxed while the sizes differ after a resize). */

@@ -61,6 +61,7 @@ std::vector<std::uint8_t> pack(const session::SharedFrame& shared) {
     h.width = f.width;
     h.height = f.height;
     h.encoding = scene::to_string(f.format);
+    h.independent = f.independent;
     h.mode = scene::to_string(f.mode);
     h.interactive = f.interactive;
     h.light_buffer = session::light_buffer_name(f);
@@ -213,7 +214,7 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
             connection->send_state(protocol::state_message(session_id, state));
         }
     };
-    auto frames = [weak, context](const session::ViewerOutcome& outcome) {
+    auto frames = [weak, context, session_id](const session::ViewerOutcome& outcome) {
         auto connection = weak.lock();
         if (!connection) {
             return;
@@ -241,7 +242,14 @@ ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session
             context->frame_server_ms.observe(frame.queued_ms + frame.render_ms + frame.readback_ms +
                                              frame.encode_ms);
             return pack(shared);
-        }));
+        }),
+                               shared_frame->frame().independent, [context, session_id] {
+                                   // This viewer lost a frame of the stream: the session's next is
+                                   // a keyframe.
+                                   if (auto session = context->services.sessions.find(session_id)) {
+                                       session->want_keyframe();
+                                   }
+                               });
     };
     return {std::move(frames), std::move(state_changed)};
 }

@@ -136,8 +136,13 @@ public:
     // without a backlog of the steps in between.
     virtual void send_state(std::string text) = 0;
 
-    // A frame may be dropped in favour of a newer one while the client is slow.
-    virtual void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) = 0;
+    // A frame may be dropped while the client is slow, as its stream allows: an `independent`
+    // frame (every JPEG or PNG frame, an H.264 keyframe) takes the place of the frames still
+    // waiting; a frame that needs the ones before it waits behind them, and where too many wait
+    // it is dropped, `gap` is called, and the frames after it are dropped until an independent
+    // one comes (which `gap` asks the session for).
+    virtual void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes,
+                            bool independent, std::function<void()> gap) = 0;
 
     // Closes the connection politely (server shutdown, or a client that stopped reading).
     virtual void close() = 0;

@@ -1,5 +1,7 @@
 #include "websocket_session.hpp"
 
+#include "send_queue.hpp"
+
 #include <penumbra/base/log.hpp>
 
 #include <algorithm>
@@ -178,9 +180,11 @@ void WebSocketSession::send_state(std::string text) {
     });
 }
 
-void WebSocketSession::send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) {
-    asio::post(ws_.get_executor(), [self = shared_from_this(), bytes = std::move(bytes)] {
-        self->enqueue({nullptr, bytes});
+void WebSocketSession::send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes,
+                                  bool independent, std::function<void()> gap) {
+    asio::post(ws_.get_executor(), [self = shared_from_this(), bytes = std::move(bytes),
+                                    independent, gap = std::move(gap)]() mutable {
+        self->enqueue({nullptr, bytes, false, independent, std::move(gap)});
     });
 }
 
@@ -189,25 +193,27 @@ void WebSocketSession::enqueue(Outgoing message) {
         return;
     }
     if (message.frame) {
-        // The element at the front is being written while `writing_`; everything after it waits.
-        const auto first_waiting = queue_.begin() + (writing_ ? 1 : 0);
-        const auto waiting_frame = std::find_if(
-                first_waiting, queue_.end(), [](const Outgoing& o) { return o.frame != nullptr; });
-        if (waiting_frame != queue_.end()) {
-            waiting_frame->frame = std::move(message.frame);  // the newer frame supersedes it
-            context_.frames_dropped.add();
+        std::function<void()> gap = message.gap;
+        const FrameAdmission admitted = admit_frame(
+                queue_, writing_, std::move(message),
+                static_cast<std::size_t>(std::max(1, context_.config.limits.max_send_queue)),
+                awaiting_keyframe_);
+        context_.frames_dropped.add(admitted.dropped);
+        if (admitted.gap && gap) {
+            gap();
+        }
+        if (!admitted.queued) {
             return;
         }
-        const auto frames = static_cast<std::size_t>(
-                std::count_if(queue_.begin(), queue_.end(),
-                              [](const Outgoing& o) { return o.frame != nullptr; }));
-        if (frames >=
-            static_cast<std::size_t>(std::max(1, context_.config.limits.max_send_queue))) {
-            context_.frames_dropped.add();
-            return;
+        if (admitted.dropped == 0) {
+            context_.frames_sent.add();
+            if (!writing_) {
+                do_write();
+            }
         }
-        context_.frames_sent.add();
-    } else if (message.state) {
+        return;
+    }
+    if (message.state) {
         const auto first_waiting = queue_.begin() + (writing_ ? 1 : 0);
         const auto waiting_state = std::find_if(first_waiting, queue_.end(),
                                                 [](const Outgoing& o) { return o.state; });

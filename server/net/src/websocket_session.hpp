@@ -30,7 +30,8 @@ public:
 
     void send_text(std::string text) override;
     void send_state(std::string text) override;
-    void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes) override;
+    void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes, bool independent,
+                    std::function<void()> gap) override;
 
     void close() override;
     void defer(std::function<void()> task) override;
@@ -39,7 +40,9 @@ private:
     struct Outgoing {
         std::shared_ptr<const std::string> text;
         std::shared_ptr<const std::vector<std::uint8_t>> frame;
-        bool state = false;  // a whole state, superseded by a newer one while waiting
+        bool state = false;         // a whole state, superseded by a newer one while waiting
+        bool independent = true;    // a frame decodable without the ones before it
+        std::function<void()> gap;  // a frame's: told when it had to be dropped
     };
 
     void on_accept(beast::error_code ec);
@@ -61,6 +64,8 @@ private:
     beast::flat_buffer buffer_;
     std::deque<Outgoing> queue_;
     bool writing_ = false;
+    // A frame that needed the ones before it was dropped: frames wait for a keyframe.
+    bool awaiting_keyframe_ = false;
     bool finished_ = false;
     std::string client_;
     ClientConnections::Slot slot_;

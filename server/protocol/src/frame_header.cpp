@@ -43,6 +43,7 @@ std::vector<std::uint8_t> pack_frame(const FrameHeader& h, std::span<const std::
             {"width", h.width},
             {"height", h.height},
             {"encoding", h.encoding},
+            {"independent", h.independent},
             {"mode", h.mode},
             {"interactive", h.interactive},
             {"light_buffer", h.light_buffer},
@@ -97,6 +98,7 @@ base::Result<UnpackedFrame> unpack_frame(std::span<const std::uint8_t> bytes) {
         h.width = j.at("width").get<int>();
         h.height = j.at("height").get<int>();
         h.encoding = j.at("encoding").get<std::string>();
+        h.independent = j.value("independent", true);
         h.mode = j.at("mode").get<std::string>();
         h.interactive = j.at("interactive").get<bool>();
         h.light_buffer = j.at("light_buffer").get<std::string>();

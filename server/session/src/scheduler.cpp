@@ -15,15 +15,18 @@ namespace {
 static_assert(scene::setting::jpeg_quality.min == encode::kMinJpegQuality &&
               scene::setting::jpeg_quality.max == encode::kMaxJpegQuality);
 
-// The codec that writes a session's frames in `format`.
-encode::ImageFormat image_format(scene::FrameFormat format) {
-    switch (format) {
-        case scene::FrameFormat::jpeg:
-            return encode::ImageFormat::jpeg;
-        case scene::FrameFormat::png:
-            return encode::ImageFormat::png;
+// A frame through its session's stream; where the job carries none (a job made by hand), a
+// stream of this one frame.
+base::Result<encode::StreamFrame> encode_frame(const base::ImageRgba8& image,
+                                               const scene::Output& output, SessionStream* stream) {
+    if (stream != nullptr) {
+        return stream->encode(image, output);
     }
-    return encode::ImageFormat::jpeg;
+    auto alone = encode::make_stream(stream_options(output));
+    if (!alone) {
+        return alone.error();
+    }
+    return (*alone)->encode(image, true);
 }
 
 double milliseconds_between(Clock::time_point a, Clock::time_point b) {
@@ -520,16 +523,17 @@ void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitte
     } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
     }
-    queue_in_order(session, [this, frame, image, output = job.output,
+    queue_in_order(session, [this, frame, image, output = job.output, stream = job.stream,
                              done = std::move(submitted.done)]() mutable {
         const Clock::time_point start = Clock::now();
-        auto bytes = encode::encode_image(*image, image_format(output.format), output.jpeg_quality);
-        if (!bytes) {
+        auto encoded = encode_frame(*image, output, stream.get());
+        if (!encoded) {
             failures_.add();
-            done(FrameFailure{bytes.error(), frame->request_id});
+            done(FrameFailure{encoded.error(), frame->request_id});
             return;
         }
-        frame->image = std::move(bytes.value());
+        frame->image = std::move(encoded->bytes);
+        frame->independent = encoded->independent;
         frame->encode_ms = milliseconds_between(start, Clock::now());
         encode_ms_.observe(frame->encode_ms);
         frames_.add();

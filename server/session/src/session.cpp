@@ -255,6 +255,7 @@ base::Status Session::add_viewer(ViewerId viewer, ViewerSink frames, StateSink s
                                 "/session");
     }
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
+    stream_->want_keyframe();  // it has seen no frame of the stream yet
     if (welcome) {
         welcome(state_, labels_.map ? &labels_ : nullptr);
     }
@@ -282,6 +283,7 @@ base::Status Session::resume(ViewerId viewer, std::string_view owner_token, View
     }
     owner_ = viewer;
     viewers_[viewer] = {std::move(frames), std::move(state_changed)};
+    stream_->want_keyframe();
     if (welcome) {
         welcome(state_, labels_.map ? &labels_ : nullptr);
     }
@@ -394,6 +396,7 @@ RenderJob Session::make_job(std::int64_t request_id, bool interactive,
         }
     }
     job.output = current.output;
+    job.stream = stream_;
     job.request_id = request_id;
     job.interactive = interactive;
     if (interactive) {

@@ -3,7 +3,7 @@
 // fails while this file differs from what they make. Not edited by hand.
 
 /** The formats frames are written in, the first the default. */
-export const ENCODINGS = ['jpeg', 'png'] as const;
+export const ENCODINGS = ['jpeg', 'png', 'h264'] as const;
 /** The codes an `error` message carries. */
 export const ERROR_CODES = ['malformed_json', 'invalid_message', 'unknown_type', 'unknown_field', 'unsupported_version', 'invalid_value', 'out_of_range', 'message_too_large', 'rate_limited', 'unknown_volume', 'volume_unreadable', 'unknown_session', 'no_session', 'too_many_sessions', 'session_owned', 'render_failed', 'too_much_work', 'internal_error'] as const;
 /** Where the server's listing of its data folder stands (volumes.listing). */
@@ -129,8 +129,9 @@ export const SETTINGS = {
   'settings/scattering/shell_center_weight': { kind: 'number', min: 0, max: 1, summary: "sbrc_shell: the centre's weight" },
   'settings/scattering/cone_angle': { kind: 'number', min: 0.1, max: 80, summary: "sbrc_cone: angle of the cone of samples, in degrees" },
   'settings/scattering/cone_center_weight': { kind: 'number', min: 0, max: 1, summary: "sbrc_cone: the disc centre's weight" },
-  'output/encoding': { kind: 'choice', choices: ['jpeg', 'png'], summary: "the format frames are written in" },
+  'output/encoding': { kind: 'choice', choices: ['jpeg', 'png', 'h264'], summary: "the format frames are written in" },
   'output/jpeg_quality': { kind: 'integer', min: 1, max: 100, summary: "JPEG quality" },
+  'output/h264_quality': { kind: 'integer', min: 0, max: 51, summary: "H.264 frames: x264's rate factor, 0 lossless .. 51 (fewer bytes)" },
 } as const;
 
 /** A session's state as `state` carries it, but for the transfer function. */
@@ -289,9 +290,11 @@ export interface StateSettings {
   };
   output: {
     /** the format frames are written in */
-    encoding: 'jpeg' | 'png';
+    encoding: 'jpeg' | 'png' | 'h264';
     /** JPEG quality */
     jpeg_quality: number;
+    /** H.264 frames: x264's rate factor, 0 lossless .. 51 (fewer bytes) */
+    h264_quality: number;
   };
 }
 
@@ -354,5 +357,6 @@ export const DEFAULT_SETTINGS = {
 /** The output a new session starts from. */
 export const DEFAULT_OUTPUT = {
   encoding: 'jpeg',
+  h264_quality: 22,
   jpeg_quality: 85,
 } as const;

@@ -27,7 +27,10 @@ struct FrameHeader {
     std::string session;
     int width = 0;
     int height = 0;
-    std::string encoding;  // "jpeg" | "png"
+    std::string encoding;  // "jpeg" | "png" | "h264"
+    // Decodable without the frames before it: every JPEG or PNG frame, an H.264 keyframe. An
+    // H.264 frame that is not needs every frame since the last keyframe.
+    bool independent = true;
     std::string mode;
     bool interactive = false;
     std::string light_buffer;  // "none" | "built" | "reused"

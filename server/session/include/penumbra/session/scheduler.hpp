@@ -4,6 +4,7 @@
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/render/renderer.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/session/session_stream.hpp>
 #include <penumbra/volume/volume.hpp>
 
 #include <chrono>
@@ -33,6 +34,8 @@ struct RenderJob {
     std::shared_ptr<const volume::LabelMap> labels;
     scene::FrameRequest request;
     scene::Output output;
+    // The session's stream, which encodes its frames in order (null: each frame alone).
+    std::shared_ptr<SessionStream> stream;
     std::int64_t request_id = -1;  // the id of the request that asked for the frame; -1: none
     bool interactive = false;
     std::string quality;  // how the request was reduced, for the frame header
@@ -65,10 +68,12 @@ struct RenderJob {
 };
 
 struct EncodedFrame {
-    std::vector<std::uint8_t> image;  // JPEG or PNG bytes
+    std::vector<std::uint8_t> image;  // JPEG or PNG bytes, or an H.264 access unit
     int width = 0;
     int height = 0;
     scene::FrameFormat format = scene::FrameFormat::jpeg;
+    // Decodable without the frames before it (every JPEG or PNG frame; an H.264 keyframe).
+    bool independent = true;
     scene::Mode mode = scene::Mode::dvr;
     double sample_distance = 0.0;  // the request's: a ray's samples, so its cost, go as 1 / it
     render::FrameReport report;

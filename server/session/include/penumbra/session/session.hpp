@@ -213,6 +213,10 @@ public:
 
     [[nodiscard]] std::uint64_t frame_count() const { return frames_.load(); }
 
+    // The session's next frame decodes alone (a viewer's connection dropped one of its H.264
+    // frames, so it waits for a keyframe). A viewer joining or resuming asks for one itself.
+    void want_keyframe() { stream_->want_keyframe(); }
+
 private:
     // change_state with mutex_ held; `labels`, where given, is the label map drawn from the
     // changed state on, which the other viewers are given with it.
@@ -236,6 +240,8 @@ private:
     bool ended_ = false;  // its last viewer left: nobody may come back
     scene::State state_;
     DrawnLabels labels_;
+    // Its frames as one stream, in order (SessionStream).
+    const std::shared_ptr<SessionStream> stream_ = std::make_shared<SessionStream>();
     LabelSurfacesFor surfaces_for_;
     std::shared_ptr<const volume::LabelSurfaces> surfaces_;  // null: none made for labels_.map
     std::map<ViewerId, Sinks> viewers_;

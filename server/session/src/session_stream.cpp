@@ -1,0 +1,40 @@
+#include <penumbra/session/session_stream.hpp>
+
+namespace penumbra::session {
+
+static_assert(scene::setting::h264_quality.min == encode::kMinStreamQuality &&
+              scene::setting::h264_quality.max == encode::kMaxStreamQuality);
+
+encode::StreamOptions stream_options(const scene::Output& output) {
+    encode::StreamOptions options;
+    switch (output.format) {
+        case scene::FrameFormat::jpeg:
+            options.codec = encode::StreamCodec::jpeg;
+            break;
+        case scene::FrameFormat::png:
+            options.codec = encode::StreamCodec::png;
+            break;
+        case scene::FrameFormat::h264:
+            options.codec = encode::StreamCodec::h264;
+            break;
+    }
+    options.jpeg_quality = output.jpeg_quality;
+    options.h264_quality = output.h264_quality;
+    return options;
+}
+
+base::Result<encode::StreamFrame> SessionStream::encode(const base::ImageRgba8& image,
+                                                        const scene::Output& output) {
+    const std::lock_guard lock(mutex_);
+    if (!stream_ || made_for_ != output) {
+        auto made = encode::make_stream(stream_options(output));
+        if (!made) {
+            return made.error();
+        }
+        stream_ = std::move(made.value());
+        made_for_ = output;
+    }
+    return stream_->encode(image, keyframe_wanted_.exchange(false));
+}
+
+}  // namespace penumbra::session
