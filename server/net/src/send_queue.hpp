@@ -22,7 +22,7 @@ struct FrameAdmission {
 // frames may be queued. `awaiting_keyframe` carries the stream's state from one call to the next.
 // `Message` has `frame` (true for a frame) and `independent`.
 template <class Message>
-FrameAdmission admit_frame(std::deque<Message>& queue, bool writing, Message&& frame,
+FrameAdmission admit_frame(std::deque<Message>& queue, bool writing, Message frame,
                            std::size_t max_frames, bool& awaiting_keyframe) {
     if (awaiting_keyframe && !frame.independent) {
         return {.queued = false, .dropped = 1, .gap = false};  // only a keyframe mends it
