@@ -303,6 +303,7 @@ connection.on('status', (status) => {
 connection.on('session', (info, restored) => {
   role = info.role;
   pick.clear();
+  view.restartStream(); // an H.264 stream starts anew at the session's next keyframe
   if (!restored || info.role === 'viewer') camera.setFrom(info.state.camera, !restored);
   marker.update(camera.toCamera());
   const [min, max] = info.volume.range;

@@ -42,6 +42,8 @@ export class FrameView {
   /** The H.264 frames given to the decoder and not yet out, by their frame number. */
   private videoPending = new Map<number, { frame: Frame; receivedAt: number }>();
   private videoNeedsKeyframe = true;
+  /** The frame drawn last, by its session and number. */
+  private shown = { session: '', frame: -1 };
   background = '#000';
 
   constructor(private readonly container: HTMLElement) {
@@ -124,6 +126,17 @@ export class FrameView {
     void this.decode(frame, receivedAt);
   }
 
+  /**
+   * The H.264 frames that follow start a stream anew (another session, a reconnection): the
+   * decoder and the frames it holds go, and frames wait for a keyframe.
+   */
+  restartStream(): void {
+    if (this.video && this.video.state !== 'closed') this.video.close();
+    this.video = null;
+    this.videoPending.clear();
+    this.videoNeedsKeyframe = true;
+  }
+
   /** Feeds an H.264 frame to the decoder, made at the first keyframe (again after an error). */
   private decodeVideo(frame: Frame, receivedAt: number): void {
     const independent = frame.header.independent ?? true;
@@ -186,8 +199,17 @@ export class FrameView {
     }
   }
 
-  /** Draws a decoded frame and tells the listeners. */
+  /**
+   * Draws a decoded frame and tells the listeners; not one older than the frame shown (decodes
+   * of JPEG and H.264 frames finish in any order when the encoding changes).
+   */
   private present(bitmap: ImageBitmap, frame: Frame, receivedAt: number): void {
+    const h0 = frame.header;
+    if (h0.session === this.shown.session && h0.frame < this.shown.frame) {
+      bitmap.close();
+      return;
+    }
+    this.shown = { session: h0.session, frame: h0.frame };
     this.bitmap?.close();
     this.bitmap = bitmap;
     this.draw();

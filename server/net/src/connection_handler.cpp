@@ -200,6 +200,11 @@ std::string drawn_labels_message(std::optional<std::int64_t> id, const std::stri
 
 ConnectionHandler::Sinks ConnectionHandler::sinks_for(const std::string& session_id) {
     std::weak_ptr<Connection> weak = connection_;
+    // The session's frames reach this connection from its next keyframe on (the session sends one
+    // to a viewer who joins or resumes).
+    if (auto connection = weak.lock()) {
+        connection->restart_stream();
+    }
     Context* context = &context_;
     auto state_changed = [weak, session_id](const scene::State& state,
                                             const session::DrawnLabels* labels) {
@@ -510,7 +515,13 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::S
     after_load<Made>(
             [&volumes = context_.services.volumes, wanted](std::function<void(Made)> done) {
                 volumes.read_async([&volumes, wanted, done = std::move(done)] {
-                    done(volumes.label_surfaces(wanted->map, wanted->visible));
+                    try {
+                        done(volumes.label_surfaces(wanted->map, wanted->visible));
+                    } catch (const std::bad_alloc&) {
+                        done(base::make_error(base::ErrorCode::out_of_memory,
+                                              "not enough memory for the label map's surfaces",
+                                              "/labels/alone"));
+                    }
                 });
             },
             [this, id, session = session_, wanted, state = *changed](const Made& made) {

@@ -144,6 +144,10 @@ public:
     virtual void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes,
                             bool independent, std::function<void()> gap) = 0;
 
+    // The frames sent after this call start a stream anew (the connection enters a session): until
+    // an independent frame comes, a frame that needs the ones before it is dropped.
+    virtual void restart_stream() = 0;
+
     // Closes the connection politely (server shutdown, or a client that stopped reading).
     virtual void close() = 0;
 

@@ -39,12 +39,10 @@ FrameAdmission admit_frame(std::deque<Message>& queue, bool writing, Message fra
         *waiting_frame = std::move(frame);
         return {.queued = true, .dropped = superseded, .gap = false};
     }
+    // An independent frame that finds no frame waiting supersedes nothing and is queued.
     const auto frames =
             static_cast<std::size_t>(std::count_if(queue.begin(), queue.end(), is_frame));
-    if (frames >= std::max<std::size_t>(1, max_frames)) {
-        if (frame.independent) {
-            return {.queued = false, .dropped = 1, .gap = false};
-        }
+    if (!frame.independent && frames >= std::max<std::size_t>(1, max_frames)) {
         awaiting_keyframe = true;
         return {.queued = false, .dropped = 1, .gap = true};
     }

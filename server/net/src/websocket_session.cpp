@@ -169,14 +169,14 @@ void WebSocketSession::finish() {
 void WebSocketSession::send_text(std::string text) {
     auto shared = std::make_shared<const std::string>(std::move(text));
     asio::post(ws_.get_executor(), [self = shared_from_this(), shared] {
-        self->enqueue({shared, nullptr});
+        self->enqueue({shared, nullptr, false, true, {}});
     });
 }
 
 void WebSocketSession::send_state(std::string text) {
     auto shared = std::make_shared<const std::string>(std::move(text));
     asio::post(ws_.get_executor(), [self = shared_from_this(), shared] {
-        self->enqueue({shared, nullptr, true});
+        self->enqueue({shared, nullptr, true, true, {}});
     });
 }
 
@@ -186,6 +186,11 @@ void WebSocketSession::send_frame(std::shared_ptr<const std::vector<std::uint8_t
                                     independent, gap = std::move(gap)]() mutable {
         self->enqueue({nullptr, bytes, false, independent, std::move(gap)});
     });
+}
+
+void WebSocketSession::restart_stream() {
+    asio::post(ws_.get_executor(),
+               [self = shared_from_this()] { self->awaiting_keyframe_ = true; });
 }
 
 void WebSocketSession::enqueue(Outgoing message) {

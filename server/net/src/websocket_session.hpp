@@ -32,6 +32,7 @@ public:
     void send_state(std::string text) override;
     void send_frame(std::shared_ptr<const std::vector<std::uint8_t>> bytes, bool independent,
                     std::function<void()> gap) override;
+    void restart_stream() override;
 
     void close() override;
     void defer(std::function<void()> task) override;

@@ -34,7 +34,12 @@ base::Result<encode::StreamFrame> SessionStream::encode(const base::ImageRgba8& 
         stream_ = std::move(made.value());
         made_for_ = output;
     }
-    return stream_->encode(image, keyframe_wanted_.exchange(false));
+    auto frame = stream_->encode(image, keyframe_wanted_.exchange(false));
+    if (!frame) {
+        // What the encoder holds is unknown now: the next frame starts a new stream, a keyframe.
+        stream_.reset();
+    }
+    return frame;
 }
 
 }  // namespace penumbra::session

@@ -78,7 +78,7 @@ TEST(Encode, APngKeepsItsTextAndABadKeywordIsRefused) {
     ASSERT_EQ(read.size(), 2u);
     EXPECT_EQ(read[0], std::make_pair(std::string("Software"), std::string("Penumbra")));
     EXPECT_EQ(read[1], std::make_pair(std::string("Penumbra state"), settings));
-    for (const std::string keyword : {std::string(), std::string(80, 'k'), std::string("tab\t")}) {
+    for (const std::string& keyword : {std::string(), std::string(80, 'k'), std::string("tab\t")}) {
         const std::vector<ImageText> bad = {{keyword, "x"}};
         auto refused = encode_image(image, ImageFormat::png, 90, bad);
         ASSERT_FALSE(refused.ok()) << "keyword '" << keyword << "'";

@@ -136,6 +136,11 @@ TEST(FrameStream, JpegAndPngFramesAreEachIndependentImages) {
 
 TEST(FrameStream, QualitiesAndRatesOutOfRangeAreRefused) {
     EXPECT_FALSE(make_stream({.codec = StreamCodec::h264, .h264_quality = 52}).ok());
+    EXPECT_FALSE(make_stream({.codec = StreamCodec::h264, .h264_quality = 0}).ok());
+    // The finest rate factor allowed encodes (the high profile has no lossless).
+    auto finest = make_stream({.codec = StreamCodec::h264, .h264_quality = kMinStreamQuality});
+    ASSERT_TRUE(finest.ok());
+    EXPECT_TRUE((*finest)->encode(moving_square(32, 32, 0), false).ok());
     EXPECT_FALSE(make_stream({.codec = StreamCodec::jpeg, .jpeg_quality = 0}).ok());
     EXPECT_FALSE(make_stream({.codec = StreamCodec::h264, .frames_per_second = 0}).ok());
     auto stream = make_stream({.codec = StreamCodec::h264});

@@ -81,7 +81,9 @@ TEST(SendQueue, AStreamFrameWaitsBehindItsPredecessorsAndAGapWaitsForAKeyframe) 
     EXPECT_EQ(names(queue), "p1 k5 p6");
 }
 
-// A frame that finds no frame waiting goes to the back, after the messages queued before it.
+// A frame that finds no frame waiting goes to the back, after the messages queued before it; a
+// keyframe does so even where the one frame allowed is being written (it supersedes nothing, and
+// the frames after it need it), a frame that needs its predecessor does not.
 TEST(SendQueue, AFrameWhileNoFrameWaitsGoesToTheBack) {
     std::deque<Message> queue;
     bool awaiting = false;
@@ -89,6 +91,14 @@ TEST(SendQueue, AFrameWhileNoFrameWaitsGoesToTheBack) {
     const FrameAdmission a = admit_frame(queue, false, frame("k0", true), 1, awaiting);
     EXPECT_TRUE(a.queued);
     EXPECT_EQ(names(queue), "state k0");
+    queue.pop_front();  // the state written; k0 being written
+    const FrameAdmission p1 = admit_frame(queue, true, frame("p1", false), 1, awaiting);
+    EXPECT_FALSE(p1.queued);
+    EXPECT_TRUE(p1.gap);
+    const FrameAdmission k2 = admit_frame(queue, true, frame("k2", true), 1, awaiting);
+    EXPECT_TRUE(k2.queued);
+    EXPECT_FALSE(awaiting);
+    EXPECT_EQ(names(queue), "k0 k2");
 }
 
 }  // namespace

@@ -131,7 +131,7 @@ export const SETTINGS = {
   'settings/scattering/cone_center_weight': { kind: 'number', min: 0, max: 1, summary: "sbrc_cone: the disc centre's weight" },
   'output/encoding': { kind: 'choice', choices: ['jpeg', 'png', 'h264'], summary: "the format frames are written in" },
   'output/jpeg_quality': { kind: 'integer', min: 1, max: 100, summary: "JPEG quality" },
-  'output/h264_quality': { kind: 'integer', min: 0, max: 51, summary: "H.264 frames: x264's rate factor, 0 lossless .. 51 (fewer bytes)" },
+  'output/h264_quality': { kind: 'integer', min: 1, max: 51, summary: "H.264 frames: x264's rate factor, 1 (nearly lossless) .. 51 (fewer bytes)" },
 } as const;
 
 /** A session's state as `state` carries it, but for the transfer function. */
@@ -293,7 +293,7 @@ export interface StateSettings {
     encoding: 'jpeg' | 'png' | 'h264';
     /** JPEG quality */
     jpeg_quality: number;
-    /** H.264 frames: x264's rate factor, 0 lossless .. 51 (fewer bytes) */
+    /** H.264 frames: x264's rate factor, 1 (nearly lossless) .. 51 (fewer bytes) */
     h264_quality: number;
   };
 }

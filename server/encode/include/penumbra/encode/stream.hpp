@@ -21,8 +21,9 @@ namespace penumbra::encode {
 
 enum class StreamCodec { jpeg, png, h264 };
 
-// x264's constant rate factors a stream may take: 0 lossless .. 51.
-inline constexpr int kMinStreamQuality = 0;
+// x264's constant rate factors a stream may take, 1 .. 51 (fewer bytes): 0 would be lossless,
+// which the high profile (what browsers decode) does not allow.
+inline constexpr int kMinStreamQuality = 1;
 inline constexpr int kMaxStreamQuality = 51;
 
 struct StreamOptions {

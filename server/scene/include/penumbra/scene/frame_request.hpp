@@ -746,12 +746,12 @@ inline constexpr Setting encoding = state_setting(
 inline constexpr Setting jpeg_quality = state_setting(
         "output/jpeg_quality", {.min = 1.0, .max = 100.0, .summary = "JPEG quality"},
         [](auto& s) -> auto& { return s.output.jpeg_quality; });
-// x264's rate factor (0 lossless .. 51); encode's kMinStreamQuality..kMaxStreamQuality.
+// x264's rate factor (1 .. 51); encode's kMinStreamQuality..kMaxStreamQuality.
 inline constexpr Setting h264_quality = state_setting(
         "output/h264_quality",
-        {.min = 0.0,
+        {.min = 1.0,
          .max = 51.0,
-         .summary = "H.264 frames: x264's rate factor, 0 lossless .. 51 (fewer bytes)"},
+         .summary = "H.264 frames: x264's rate factor, 1 (nearly lossless) .. 51 (fewer bytes)"},
         [](auto& s) -> auto& { return s.output.h264_quality; });
 
 }  // namespace setting
