@@ -13,6 +13,13 @@ export interface ShownFrame {
   receivedAt: number;
 }
 
+/** A frame on its way to the canvas: when it arrived, and in which stream (see restartStream). */
+interface Pending {
+  frame: Frame;
+  receivedAt: number;
+  stream: number;
+}
+
 /** Where an image drawn to fit a view lies in it: scaled to fit whole, centred (letterboxed). */
 export function fitImage(
   viewWidth: number,
@@ -32,7 +39,7 @@ export class FrameView {
   readonly canvas: HTMLCanvasElement;
   private readonly context: CanvasRenderingContext2D;
   private decoding = false;
-  private waiting: { frame: Frame; receivedAt: number } | null = null;
+  private waiting: Pending | null = null;
   private bitmap: ImageBitmap | null = null;
   private resizeListeners: (() => void)[] = [];
   private shownListeners: ((shown: ShownFrame) => void)[] = [];
@@ -40,10 +47,15 @@ export class FrameView {
   dropped = 0;
   private video: VideoDecoder | null = null;
   /** The H.264 frames given to the decoder and not yet out, by their frame number. */
-  private videoPending = new Map<number, { frame: Frame; receivedAt: number }>();
+  private videoPending = new Map<number, Pending>();
   private videoNeedsKeyframe = true;
-  /** The frame drawn last, by its session and number. */
+  /**
+   * The frame drawn last, by its session and number. Numbers start again where the stream does
+   * (another replica re-created the session after a failover): `stream` counts those restarts,
+   * and a frame from before one is never drawn after it.
+   */
   private shown = { session: '', frame: -1 };
+  private stream = 0;
   background = '#000';
 
   constructor(private readonly container: HTMLElement) {
@@ -113,24 +125,26 @@ export class FrameView {
 
   /** Shows a frame; if one is being decoded, this one waits, replacing any older waiting one. */
   show(frame: Frame): void {
-    const receivedAt = performance.now();
+    const pending = { frame, receivedAt: performance.now(), stream: this.stream };
     if (frame.header.encoding === 'h264') {
-      this.decodeVideo(frame, receivedAt);
+      this.decodeVideo(pending);
       return;
     }
     if (this.decoding) {
       if (this.waiting) this.dropped += 1;
-      this.waiting = { frame, receivedAt };
+      this.waiting = pending;
       return;
     }
-    void this.decode(frame, receivedAt);
+    void this.decode(pending);
   }
 
   /**
-   * The H.264 frames that follow start a stream anew (another session, a reconnection): the
-   * decoder and the frames it holds go, and frames wait for a keyframe.
+   * The frames that follow start a stream anew (another session, a reconnection): their numbers
+   * start again, the H.264 decoder and the frames it holds go, and frames wait for a keyframe.
    */
   restartStream(): void {
+    this.stream += 1;
+    this.shown = { session: '', frame: -1 };
     if (this.video && this.video.state !== 'closed') this.video.close();
     this.video = null;
     this.videoPending.clear();
@@ -138,7 +152,8 @@ export class FrameView {
   }
 
   /** Feeds an H.264 frame to the decoder, made at the first keyframe (again after an error). */
-  private decodeVideo(frame: Frame, receivedAt: number): void {
+  private decodeVideo(pending: Pending): void {
+    const { frame } = pending;
     const independent = frame.header.independent ?? true;
     if (this.videoNeedsKeyframe && !independent) {
       this.dropped += 1;
@@ -158,7 +173,7 @@ export class FrameView {
       this.video.configure({ codec: 'avc1.640033', optimizeForLatency: true });
     }
     this.videoNeedsKeyframe = false;
-    this.videoPending.set(frame.header.frame, { frame, receivedAt });
+    this.videoPending.set(frame.header.frame, pending);
     this.video.decode(
       new EncodedVideoChunk({
         type: independent ? 'key' : 'delta',
@@ -176,7 +191,7 @@ export class FrameView {
       const h = pending.frame.header;
       // The picture has even sides; the frame is its top left width x height.
       const bitmap = await createImageBitmap(picture, 0, 0, h.width, h.height);
-      this.present(bitmap, pending.frame, pending.receivedAt);
+      this.present(bitmap, pending);
     } catch (e) {
       console.warn('penumbra: could not show a decoded frame', e);
     } finally {
@@ -184,18 +199,19 @@ export class FrameView {
     }
   }
 
-  private async decode(frame: Frame, receivedAt: number): Promise<void> {
+  private async decode(pending: Pending): Promise<void> {
     this.decoding = true;
     try {
+      const { frame } = pending;
       const blob = new Blob([frame.image as Uint8Array<ArrayBuffer>], { type: frame.mime });
-      this.present(await createImageBitmap(blob), frame, receivedAt);
+      this.present(await createImageBitmap(blob), pending);
     } catch (e) {
       console.warn('penumbra: could not decode a frame', e);
     } finally {
       this.decoding = false;
       const next = this.waiting;
       this.waiting = null;
-      if (next) void this.decode(next.frame, next.receivedAt);
+      if (next) void this.decode(next);
     }
   }
 
@@ -203,9 +219,10 @@ export class FrameView {
    * Draws a decoded frame and tells the listeners; not one older than the frame shown (decodes
    * of JPEG and H.264 frames finish in any order when the encoding changes).
    */
-  private present(bitmap: ImageBitmap, frame: Frame, receivedAt: number): void {
+  private present(bitmap: ImageBitmap, { frame, receivedAt, stream }: Pending): void {
     const h0 = frame.header;
-    if (h0.session === this.shown.session && h0.frame < this.shown.frame) {
+    const older = h0.session === this.shown.session && h0.frame < this.shown.frame;
+    if (stream !== this.stream || older) {
       bitmap.close();
       return;
     }

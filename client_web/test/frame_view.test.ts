@@ -1,0 +1,91 @@
+import { beforeEach, describe, expect, it, vi } from 'vitest';
+import type { Frame, FrameHeader } from '../src/protocol/frame_header';
+import { FrameView } from '../src/view/frame_view';
+import { FakeElement, useFakeDom } from './fake_dom';
+
+const header: FrameHeader = {
+  frame: 0,
+  request: 1,
+  session: 'ab12',
+  width: 64,
+  height: 64,
+  encoding: 'jpeg',
+  mode: 'sbrc',
+  interactive: false,
+  light_buffer: 'reused',
+  passes: [],
+  timings: { queued_ms: 0, render_ms: 1, readback_ms: 0, encode_ms: 0 },
+  quality: 'still: full quality',
+};
+
+function jpeg(frame: number): Frame {
+  return { header: { ...header, frame }, image: new Uint8Array(4), mime: 'image/jpeg', bytes: 100 };
+}
+
+/** Decodes finish when the test says so, in the order it says. */
+let decodes: (() => void)[] = [];
+
+beforeEach(() => {
+  useFakeDom();
+  decodes = [];
+  const context = { fillRect: () => {}, drawImage: () => {}, fillStyle: '' };
+  vi.stubGlobal('document', {
+    createElement: (tag: string) =>
+      Object.assign(new FakeElement(tag), { getContext: () => context }),
+  });
+  vi.stubGlobal('window', { devicePixelRatio: 1 });
+  vi.stubGlobal('matchMedia', () => ({ addEventListener: () => {} }));
+  vi.stubGlobal(
+    'createImageBitmap',
+    () =>
+      new Promise((resolve) =>
+        decodes.push(() => resolve({ width: 64, height: 64, close: () => {} })),
+      ),
+  );
+});
+
+async function finishDecode(): Promise<void> {
+  decodes.shift()?.();
+  await new Promise((resolve) => setTimeout(resolve, 0));
+}
+
+function view(): FrameView {
+  return new FrameView(new FakeElement('div') as unknown as HTMLElement);
+}
+
+describe('frame view', () => {
+  it('never draws a frame older than the one it shows', async () => {
+    const v = view();
+    v.show(jpeg(7));
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('7');
+    v.show(jpeg(5));
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('7');
+  });
+
+  it('counts frames again from where a restarted stream starts them (a failover)', async () => {
+    // Another replica re-creates the session under its id; its frames are numbered from 1.
+    const v = view();
+    v.show(jpeg(40));
+    await finishDecode();
+    v.restartStream();
+    v.show(jpeg(1));
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('1');
+  });
+
+  it('does not draw a frame decoded across a restart, which is of the stream before it', async () => {
+    const v = view();
+    v.show(jpeg(40)); // decoding
+    v.restartStream();
+    v.show(jpeg(2)); // waits for the decode of 40
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBeUndefined();
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('2');
+    v.show(jpeg(3));
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('3');
+  });
+});
