@@ -34,7 +34,9 @@ vec2 intersect_box(vec3 origin, vec3 direction) {
 // ratio per pattern index, so that successive refinement steps cover the step evenly.
 float ray_start_offset(ivec2 pixel) {
     if (u.jitter.x <= 0.0) return 0.5;
-    float noise = fract(52.9829189 * fract(dot(vec2(pixel), vec2(0.06711056, 0.00583715))));
+    // A tile's pixel takes the noise of its pixel in the whole image.
+    vec2 image_pixel = vec2(pixel + u.image_size.zw);
+    float noise = fract(52.9829189 * fract(dot(image_pixel, vec2(0.06711056, 0.00583715))));
     return fract(noise + u.jitter.y * 0.6180339887);
 }
 

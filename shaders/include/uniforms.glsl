@@ -17,7 +17,7 @@ layout(std140, binding = 0) uniform FrameUniforms {
     vec4 light_radiance;    // rgb: light colour * intensity
     vec4 light_vector;      // xyz: direction toward a directional light, or point-light position
     vec4 value_map;         // x: scale, y: offset: normalised value = texel * scale + offset
-    ivec4 image_size;       // xy: output size in pixels
+    ivec4 image_size;       // xy: output size in pixels; zw: a tile's top-left pixel in its image
     // The light attenuation buffer (light_buffer.glsl, light_buffer.comp, light_buffer_slice.*).
     mat4 light_view_projection;          // world -> light clip space (paper eq. 9)
     mat4 light_inverse_view_projection;

@@ -55,6 +55,8 @@ struct RenderOptions {
     // direction (a whole turn, or rocking ±rock degrees), each a still, into an MP4.
     int turntable = 0;
     double rock = 0.0;
+    // The still rendered in tiles of at most this many pixels a side (0: in one frame).
+    int tile = 0;
     encode::MovieOptions movie;
 };
 
@@ -113,7 +115,10 @@ po::options_description render_options(RenderOptions& o) {
             "movie-quality",
             whole_number(&o.movie.quality, encode::kMinMovieQuality, encode::kMaxMovieQuality),
             "with --turntable: x264's rate factor, 0 lossless .. 51 (about 18 looks like the "
-            "frames themselves)");
+            "frames themselves)")(
+            "tile", whole_number(&o.tile, 0, scene::kMaxTiledImageSide),
+            "render the still in tiles of at most SIDE pixels a side, each a frame of its own "
+            "refined as the whole would be, the same pixels as one frame (0: one frame)");
     options.add(frame_options({}, FramePurpose::still));
     return options;
 }
@@ -170,16 +175,18 @@ base::Result<render::Frame> render_repeated(render::Renderer& renderer,
     return frame;
 }
 
+// Renders refinement step `step` (1, 2, ...) of the still.
+using RefinementStep = std::function<base::Result<render::Frame>(int step)>;
+
 // The still refined as a session refines it (scene::refines_after): jittered frames averaged
 // until a step changes the image by no more than the threshold, or the step limit.
-base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::FrameRequest request,
-                                         render::Frame still, const RenderOptions& o) {
+base::Result<render::Frame> refine_still(const RefinementStep& step_of, render::Frame still,
+                                         const RenderOptions& o) {
     std::optional<double> change;
     int step = 0;
     while (scene::refines_after(step, change, o.refinement_steps, o.refinement_threshold)) {
         ++step;
-        request.refinement = {false, step};
-        auto refined = renderer.render(request);
+        auto refined = step_of(step);
         if (!refined) {
             return refined.error();
         }
@@ -197,6 +204,34 @@ base::Result<render::Frame> refine_still(render::Renderer& renderer, scene::Fram
                 step, change.value_or(0.0), o.refinement_threshold, o.refinement_steps);
     }
     return still;
+}
+
+// The still (step 0) or its refinement step `step` of `still`, as one frame.
+base::Result<render::Frame> render_step(render::Renderer& renderer, scene::FrameRequest still,
+                                        int step) {
+    if (step > 0) {
+        still.refinement = {false, step};
+    }
+    return renderer.render(still);
+}
+
+// --tile: each step of the still rendered tile by tile into one image, every tile's kept mean
+// held beside the others' (the renderer's refinement memory), so that the image refines as one
+// frame would: the same steps, stopped by the whole image's change.
+base::Result<render::Frame> render_tiles(render::Renderer& renderer,
+                                         const std::vector<scene::FrameRequest>& tiles,
+                                         const scene::RenderSettings& whole, int step) {
+    render::Frame frame;
+    frame.image = base::ImageRgba8(whole.width, whole.height);
+    for (const scene::FrameRequest& tile : tiles) {
+        auto part = render_step(renderer, tile, step);
+        if (!part) {
+            return part.error();
+        }
+        base::paste(frame.image, part->image, tile.tile.x, tile.tile.y);
+        frame.report = std::move(part->report);
+    }
+    return frame;
 }
 
 // The label map --labels names, with the warnings its names files gave.
@@ -300,7 +335,8 @@ base::Status write_turntable(render::Renderer& renderer, const scene::FrameReque
         turned.light = view.light;
         auto frame = renderer.render(turned);
         if (frame && refines) {
-            frame = refine_still(renderer, turned, std::move(frame.value()), o);
+            frame = refine_still([&](int step) { return render_step(renderer, turned, step); },
+                                 std::move(frame.value()), o);
         }
         if (!frame) {
             return frame.error();
@@ -413,6 +449,12 @@ int run_render(const std::vector<std::string>& args) {
     const auto given = [&](const char* option) {
         return a.count(option) != 0 && !a[option].defaulted();
     };
+    if (o.turntable > 0 && o.tile > 0) {
+        return report_usage_error(
+                "render",
+                base::make_error(base::ErrorCode::invalid_argument,
+                                 "--tile renders a still, not a --turntable movie", "--tile"));
+    }
     if (o.turntable == 0 && (given("rock") || given("fps") || given("movie-quality"))) {
         return report_usage_error("render",
                                   base::make_error(base::ErrorCode::invalid_argument,
@@ -445,8 +487,16 @@ int run_render(const std::vector<std::string>& args) {
     if (!request) {
         return fail(request.error());
     }
-    auto renderer =
-            render::Renderer::create({.shader_dir = {}, .debug_context = a.count("debug-gl") != 0});
+    // Tiles refine side by side, each keeping its float mean (16 bytes a pixel): room for all.
+    render::RendererOptions renderer_options;
+    renderer_options.debug_context = a.count("debug-gl") != 0;
+    if (o.tile > 0) {
+        renderer_options.refinement_memory_budget =
+                std::max(renderer_options.refinement_memory_budget,
+                         std::size_t{16} * static_cast<std::size_t>(request->settings.width) *
+                                 static_cast<std::size_t>(request->settings.height));
+    }
+    auto renderer = render::Renderer::create(renderer_options);
     if (!renderer) {
         return fail(renderer.error());
     }
@@ -492,9 +542,17 @@ int run_render(const std::vector<std::string>& args) {
         }
         return 0;
     }
-    auto frame = render_repeated(**renderer, *request, o.repeat);
+    const std::vector<scene::FrameRequest> tiles = scene::image_tiles(*request, o.tile);
+    const RefinementStep step_of = [&](int step) {
+        return tiles.empty() ? render_step(**renderer, *request, step)
+                             : render_tiles(**renderer, tiles, settings, step);
+    };
+    auto frame = tiles.empty() ? render_repeated(**renderer, *request, o.repeat) : step_of(0);
+    if (!tiles.empty()) {
+        std::printf("tiles:    %zu, at most %dx%d each\n", tiles.size(), o.tile, o.tile);
+    }
     if (frame && refines) {
-        frame = refine_still(**renderer, *request, std::move(frame.value()), o);
+        frame = refine_still(step_of, std::move(frame.value()), o);
     }
     if (!frame) {
         return fail(frame.error());

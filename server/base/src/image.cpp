@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace penumbra::base {
 
@@ -31,6 +32,18 @@ ImageRgbaF to_rgba_f(const ImageRgba8& image) {
     std::transform(image.pixels.begin(), image.pixels.end(), out.pixels.begin(),
                    [](std::uint8_t v) { return static_cast<float>(v) / 255.0f; });
     return out;
+}
+
+void paste(ImageRgba8& into, const ImageRgba8& part, int x, int y) {
+    const int left = std::max(0, -x);
+    const int right = std::min(part.width, into.width - x);
+    if (left >= right) {
+        return;
+    }
+    const auto row_bytes = static_cast<std::size_t>(right - left) * 4;
+    for (int row = std::max(0, -y); row < std::min(part.height, into.height - y); ++row) {
+        std::memcpy(into.pixel(x + left, y + row), part.pixel(left, row), row_bytes);
+    }
 }
 
 Result<double> change_in_levels(const ImageRgba8& before, const ImageRgba8& after) {

@@ -137,8 +137,7 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
     // A cut face's gradient is shaded within a voxel of it (optics::gradient_at_cut).
     const glm::dvec3 voxel = sampler.voxel_size();
     const double reach = std::max({voxel.x, voxel.y, voxel.z});
-    const scene::CameraFrame camera =
-            scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
+    const scene::CameraFrame camera = scene::pixel_frame(request);
 
     base::ImageRgbaF image(s.width, s.height);
     for (int y = 0; y < s.height; ++y) {
@@ -151,7 +150,8 @@ base::Result<base::ImageRgbaF> render_cpu(const volume::Volume& volume,
             const optics::Marching marching =
                     hit.hit ? optics::plan_marching(hit.t_near, hit.t_far, s.sample_distance)
                             : optics::Marching{};
-            const double offset = optics::ray_start_offset(s.jitter, x, y, request.refinement.step);
+            const double offset = optics::ray_start_offset(
+                    s.jitter, x + request.tile.x, y + request.tile.y, request.refinement.step);
             // The first segment starts where the ray enters the region (raycast.glsl).
             double front = hit.hit ? sampler.value(camera.eye + hit.t_near * direction) : 0.0;
             for (int i = 0; i < marching.count; ++i) {

@@ -41,8 +41,7 @@ base::Result<Pick> pick(const volume::Volume& volume, const scene::FrameRequest&
     const scene::PatientPlacement placement = scene::patient_placement(
             volume.origin, volume.axes, volume.spacing, glm::dvec3(volume.dims));
     const optics::Region region = optics::region_of(sampler.box(), request.cut, placement);
-    const scene::CameraFrame camera =
-            scene::camera_frame(request.camera, static_cast<double>(s.width) / s.height);
+    const scene::CameraFrame camera = scene::pixel_frame(request);
     const glm::dvec3 direction = optics::pixel_ray_direction(camera, x, y, s.width, s.height);
     const optics::BoxHit hit =
             optics::intersect_region(region, camera.eye, direction, optics::RegionUser::camera);

@@ -41,8 +41,12 @@ base::Result<FrameGeometry> frame_geometry(const scene::FrameRequest& request,
     return g;
 }
 
-glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::CameraFrame& frame,
-                                  double aspect, const scene::Box& box) {
+glm::dmat4 camera_view_projection(const scene::FrameRequest& request, const scene::Box& box) {
+    const scene::Camera& camera = request.camera;
+    const scene::ImageWindow window = scene::image_window(request);
+    const double aspect =
+            (request.settings.width / window.scale.x) / (request.settings.height / window.scale.y);
+    const scene::CameraFrame frame = scene::camera_frame(camera, aspect);
     double far = 0.0;
     for (const auto& corner : optics::box_corners(box)) {
         far = std::max(far, glm::length(corner - camera.eye));
@@ -51,7 +55,12 @@ glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::Came
     const glm::dmat4 view = glm::lookAt(camera.eye, camera.eye + frame.forward, up);
     const glm::dmat4 projection =
             glm::perspective(glm::radians(camera.fov_y_degrees), aspect, 1e-3, far + 1.0);
-    return glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, -1.0, 1.0)) * projection * view;
+    const glm::dmat4 flipped = glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, -1.0, 1.0));
+    // Clip space is flipped vertically here, so the tile's window offset changes sign in y.
+    const glm::dmat4 to_frame =
+            glm::scale(glm::dmat4(1.0), glm::dvec3(1.0 / window.scale, 1.0)) *
+            glm::translate(glm::dmat4(1.0), glm::dvec3(-window.offset.x, window.offset.y, 0.0));
+    return to_frame * flipped * projection * view;
 }
 
 }  // namespace penumbra::render

@@ -38,8 +38,8 @@ base::Result<FrameGeometry> frame_geometry(const scene::FrameRequest& request,
                                            const FramePlan& plan, const volume::Volume& volume);
 
 // The camera's view-projection for rasterised slices, flipped vertically so that image row 0 (the
-// top) lands in framebuffer row 0, like the ray caster's output.
-glm::dmat4 camera_view_projection(const scene::Camera& camera, const scene::CameraFrame& frame,
-                                  double aspect, const scene::Box& box);
+// top) lands in framebuffer row 0, like the ray caster's output; a tile's is the whole image's
+// with the tile's part of it stretched over the frame (scene::image_window).
+glm::dmat4 camera_view_projection(const scene::FrameRequest& request, const scene::Box& box);
 
 }  // namespace penumbra::render

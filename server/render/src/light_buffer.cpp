@@ -43,6 +43,7 @@ LightBufferInputs light_buffer_inputs(const scene::FrameRequest& request,
     s.phong = d.phong;
     s.jitter = d.jitter;
     r.refinement = defaults.refinement;
+    r.tile = defaults.tile;
     r.labels = defaults.labels;  // in `label_opacities`, as the builders see them
     // What the light meets of the cut is the region's half-spaces it clips by: none where the cut
     // tissue still casts shadows, none for a face or plane that is off or cuts nothing (a plane

@@ -24,8 +24,7 @@ FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeom
                              glm::uvec3 dims, glm::vec2 value_map) {
     const scene::RenderSettings& s = request.settings;
     const scene::Box& box = g.box;
-    const double aspect = static_cast<double>(s.width) / s.height;
-    const scene::CameraFrame camera = scene::camera_frame(request.camera, aspect);
+    const scene::CameraFrame camera = scene::pixel_frame(request);
     const scene::Light& light = request.light;
     FrameUniforms u{};
     u.eye = v4(camera.eye);
@@ -42,15 +41,15 @@ FrameUniforms frame_uniforms(const scene::FrameRequest& request, const FrameGeom
     u.light_vector = v4(light.type == scene::LightType::point ? light.position
                                                               : glm::normalize(light.direction));
     u.value_map = glm::vec4(value_map, 0.0f, 0.0f);
-    u.image_size = glm::ivec4(s.width, s.height, 0, 0);
+    // A tile's pixels take the whole image's jitter offsets (ray_start_offset).
+    u.image_size = glm::ivec4(s.width, s.height, request.tile.x, request.tile.y);
     // What the shaders need beyond the request's own settings (the Settings block): the
     // device-bound resolution, the slab samples resolved, the cone's tangent in double.
     u.light_buffer_info = glm::vec4(static_cast<float>(s.light_buffer.resolution),
                                     static_cast<float>(g.slab_samples), 0.0f, 0.0f);
     u.cone = glm::vec4(static_cast<float>(std::tan(glm::radians(s.scattering.cone_angle_degrees))),
                        0.0f, 0.0f, 0.0f);
-    u.camera_view_projection =
-            glm::mat4(camera_view_projection(request.camera, camera, aspect, box));
+    u.camera_view_projection = glm::mat4(camera_view_projection(request, box));
     if (g.light_view) {
         u.light_view_projection = glm::mat4(g.light_view->view_projection);
         u.light_inverse_view_projection = glm::mat4(g.light_view->inverse_view_projection);

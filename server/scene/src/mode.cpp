@@ -78,6 +78,51 @@ FrameRequest refinement_step_request(const FrameRequest& still, int step) {
     return request;
 }
 
+ImageWindow image_window(const FrameRequest& request) {
+    const Tile& t = request.tile;
+    if (t.whole()) {
+        return {};
+    }
+    const RenderSettings& s = request.settings;
+    const glm::dvec2 image(t.image_width, t.image_height);
+    const glm::dvec2 size(s.width, s.height);
+    // A frame pixel p maps to image pixel tile + p: image ndc x = (2 (x + p) + 1) / W - 1, and y
+    // the same from the top down.
+    const glm::dvec2 centre = (2.0 * glm::dvec2(t.x, t.y) + size) / image - 1.0;
+    return {size / image, {centre.x, -centre.y}};
+}
+
+CameraFrame pixel_frame(const FrameRequest& request) {
+    const Tile& t = request.tile;
+    const RenderSettings& s = request.settings;
+    const double aspect = t.whole() ? static_cast<double>(s.width) / s.height
+                                    : static_cast<double>(t.image_width) / t.image_height;
+    CameraFrame frame = camera_frame(request.camera, aspect);
+    const ImageWindow window = image_window(request);
+    frame.forward += window.offset.x * frame.right + window.offset.y * frame.up;
+    frame.right *= window.scale.x;
+    frame.up *= window.scale.y;
+    return frame;
+}
+
+std::vector<FrameRequest> image_tiles(const FrameRequest& whole, int tile_side) {
+    std::vector<FrameRequest> tiles;
+    if (tile_side < 1 || !whole.tile.whole()) {
+        return tiles;
+    }
+    const int width = whole.settings.width;
+    const int height = whole.settings.height;
+    for (int y = 0; y < height; y += tile_side) {
+        for (int x = 0; x < width; x += tile_side) {
+            FrameRequest& tile = tiles.emplace_back(whole);
+            tile.settings.width = std::min(tile_side, width - x);
+            tile.settings.height = std::min(tile_side, height - y);
+            tile.tile = {width, height, x, y};
+        }
+    }
+    return tiles;
+}
+
 FrameRequest starting_frame(const Limits& limits) {
     FrameRequest frame;
     frame.camera = Camera{};
@@ -124,6 +169,17 @@ base::Status validate(const FrameRequest& request, const Limits& limits) {
         if (glm::length(request.cut.planes[i].normal) < 1e-9) {
             return invalid("cut.plane_" + std::to_string(i + 1) + ".normal",
                            "a clip plane needs a non-zero normal");
+        }
+    }
+    if (const Tile& t = request.tile; !t.whole()) {
+        if (t.image_width < 1 || t.image_height < 1 || t.image_width > kMaxTiledImageSide ||
+            t.image_height > kMaxTiledImageSide) {
+            return invalid("tile", "a tiled image's sides must lie within 1.." +
+                                           std::to_string(kMaxTiledImageSide));
+        }
+        if (t.x < 0 || t.y < 0 || t.x + s.width > t.image_width ||
+            t.y + s.height > t.image_height) {
+            return invalid("tile", "a tile must lie inside its image");
         }
     }
     const Camera& c = request.camera;

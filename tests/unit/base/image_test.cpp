@@ -7,6 +7,27 @@
 namespace penumbra::base {
 namespace {
 
+TEST(Image, PasteCopiesAPartInPlaceAndLeavesOutWhatFallsOutside) {
+    ImageRgba8 into(4, 3);
+    ImageRgba8 part(2, 2);
+    for (std::size_t i = 0; i < part.pixels.size(); ++i) {
+        part.pixels[i] = static_cast<std::uint8_t>(i + 1);
+    }
+    paste(into, part, 3, 2);  // only its top-left pixel lands inside
+    EXPECT_EQ(into.pixel(3, 2)[0], 1);
+    EXPECT_EQ(into.pixel(3, 2)[3], 4);
+    paste(into, part, -1, 0);  // its right column lands in column 0
+    EXPECT_EQ(into.pixel(0, 0)[0], 5);
+    EXPECT_EQ(into.pixel(0, 1)[0], 13);
+    EXPECT_EQ(into.pixel(1, 0)[0], 0);
+    paste(into, part, 10, 10);  // wholly outside: nothing
+    std::size_t written = 0;
+    for (const std::uint8_t byte : into.pixels) {
+        written += byte != 0 ? 1 : 0;
+    }
+    EXPECT_EQ(written, 12u);
+}
+
 TEST(Image, ToRgba8RoundsClampsAndMapsNanToZero) {
     ImageRgbaF f(2, 1);
     const float values[8] = {0.0f, 1.0f, 0.5f, -3.0f, 7.0f, std::numeric_limits<float>::quiet_NaN(),

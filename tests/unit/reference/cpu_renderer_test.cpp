@@ -141,6 +141,38 @@ TEST(CpuRenderer, PreintegratedShadowRaysConvergeWithPerSampleOnes) {
     EXPECT_LT(fine, 0.25 * coarse) << "mean red difference: 1/64 " << coarse << ", 1/256 " << fine;
 }
 
+// The reference renders a tile (scene::Tile) as those pixels of the whole image, jitter included.
+TEST(CpuRenderer, ATileIsItsPartOfTheWholeImage) {
+    const volume::Volume volume = test::radial_volume(16);
+    scene::FrameRequest whole = axis_view(20);
+    whole.camera = scene::orbit_camera(35.0, 25.0, 2.2);
+    whole.settings.height = 14;
+    whole.settings.mode = scene::Mode::reference;
+    whole.settings.jitter = true;
+    whole.settings.sample_distance = 1.0 / 32.0;
+    whole.light.direction = scene::direction_from_angles(-40.0, 30.0);
+    whole.transfer_function = {
+            "edge", {{0.0, {1.0, 0.8, 0.6}}}, {{0.0, 0.0}, {0.4, 0.0}, {0.5, 0.8}, {1.0, 0.8}}};
+    const auto one = render_cpu(volume, whole);
+    ASSERT_TRUE(one.ok()) << one.error().to_string();
+    const std::vector<scene::FrameRequest> tiles = scene::image_tiles(whole, 8);
+    ASSERT_EQ(tiles.size(), 6u);  // 8 + 8 + 4 by 8 + 6
+    for (const scene::FrameRequest& tile : tiles) {
+        const auto part = render_cpu(volume, tile);
+        ASSERT_TRUE(part.ok()) << part.error().to_string();
+        for (int y = 0; y < tile.settings.height; ++y) {
+            for (int x = 0; x < tile.settings.width; ++x) {
+                for (int c = 0; c < 4; ++c) {
+                    ASSERT_NEAR(part->pixel(x, y)[c],
+                                one->pixel(tile.tile.x + x, tile.tile.y + y)[c], 1e-5)
+                            << "tile at " << tile.tile.x << "," << tile.tile.y << " pixel " << x
+                            << "," << y;
+                }
+            }
+        }
+    }
+}
+
 TEST(CpuRenderer, RejectsModesItDoesNotImplement) {
     const volume::Volume volume = test::constant_volume({2, 2, 2}, 1.0f);
     scene::FrameRequest request = axis_view(4);

@@ -1,5 +1,6 @@
 #include <penumbra/scene/frame_request.hpp>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,6 +86,22 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
             {"light.direction", [](FrameRequest& r) { r.light.direction = glm::dvec3(0.0); }},
             {"light.intensity", [](FrameRequest& r) { r.light.intensity = -1.0; }},
             {"shading.shininess", [](FrameRequest& r) { r.settings.shading.shininess = 0.0; }},
+            {"tile",
+             [](FrameRequest& r) {
+                 r.tile = {r.settings.width - 1, r.settings.height};
+             }},
+            {"tile",
+             [](FrameRequest& r) {
+                 r.tile = {r.settings.width + 8, r.settings.height, 9, 0};
+             }},
+            {"tile",
+             [](FrameRequest& r) {
+                 r.tile = {1000, 1000, -1, 0};
+             }},
+            {"tile",
+             [](FrameRequest& r) {
+                 r.tile = {kMaxTiledImageSide + 1, 1000, 0, 0};
+             }},
     };
     for (const auto& c : cases) {
         FrameRequest request = valid_request();
@@ -94,6 +111,39 @@ TEST(FrameRequest, RejectsEachBadFieldByName) {
         EXPECT_EQ(status.error().where, c.field);
         EXPECT_EQ(status.error().code, base::ErrorCode::invalid_value);
     }
+}
+
+TEST(Tile, TheTilesCoverTheImageOncePixelForPixelWithTheWholeImagesRays) {
+    FrameRequest whole = valid_request();
+    whole.camera = orbit_camera(20.0, 10.0, 2.5);
+    whole.settings.width = 70;
+    whole.settings.height = 33;
+    const std::vector<FrameRequest> tiles = image_tiles(whole, 32);
+    ASSERT_EQ(tiles.size(), 6u);  // 32 + 32 + 6 by 32 + 1
+    std::vector<int> covered(70 * 33, 0);
+    const CameraFrame whole_rays = pixel_frame(whole);
+    for (const FrameRequest& tile : tiles) {
+        ASSERT_TRUE(validate(tile).ok());
+        const CameraFrame rays = pixel_frame(tile);
+        const int w = tile.settings.width;
+        const int h = tile.settings.height;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                ++covered[static_cast<std::size_t>((tile.tile.y + y) * 70 + tile.tile.x + x)];
+                // The ray through the tile's pixel centre is the whole image's (ray.glsl's ndc).
+                const auto ray = [](const CameraFrame& f, int px, int py, int width, int height) {
+                    return glm::normalize(f.forward + ((px + 0.5) / width * 2.0 - 1.0) * f.right +
+                                          (1.0 - (py + 0.5) / height * 2.0) * f.up);
+                };
+                const glm::dvec3 a = ray(rays, x, y, w, h);
+                const glm::dvec3 b = ray(whole_rays, tile.tile.x + x, tile.tile.y + y, 70, 33);
+                ASSERT_LT(glm::length(a - b), 1e-12) << x << "," << y;
+            }
+        }
+    }
+    EXPECT_TRUE(std::ranges::all_of(covered, [](int n) { return n == 1; }));
+    EXPECT_TRUE(image_tiles(tiles[0], 8).empty());  // a tile is not tiled again
+    EXPECT_TRUE(image_tiles(whole, 0).empty());
 }
 
 TEST(FrameRequest, ModeNamesRoundTrip) {

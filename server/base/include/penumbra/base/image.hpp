@@ -44,6 +44,10 @@ struct ImageRgbaF {
     float* pixel(int x, int y) { return &pixels[(static_cast<std::size_t>(y) * width + x) * 4]; }
 };
 
+// Copies `part` into `into` with its top-left pixel at (x, y); what falls outside `into` is left
+// out (the tiles of a tiled render put together).
+void paste(ImageRgba8& into, const ImageRgba8& part, int x, int y);
+
 // Rounds to 8 bits the way a UNORM8 framebuffer does (clamp, then round to nearest).
 ImageRgba8 to_rgba8(const ImageRgbaF& image);
 

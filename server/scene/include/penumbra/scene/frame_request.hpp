@@ -12,6 +12,7 @@
 #include <penumbra/scene/setting.hpp>
 #include <penumbra/scene/transfer_function.hpp>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -21,6 +22,7 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace penumbra::scene {
 
@@ -207,6 +209,26 @@ inline constexpr double kRefinementStepShare = 0.5;
 // into: its Refinement is {keep, step - 1}.
 FrameRequest refinement_step_request(const FrameRequest& still, int step);
 
+// A frame that is one tile of a larger image: a picture larger than one frame may be (an export
+// of 4096x4096 where a frame holds at most 2048 a side and its work is bounded) is rendered tile by
+// tile, each a frame of its own that other sessions' frames may come between. `settings.width`
+// and `height` are the tile's; here are the whole image's size and where the tile's top-left pixel
+// lies in it. Its pixels are the whole image's exactly: the same rays (pixel_frame) and, jittered,
+// the same sample offsets. A zero-sided image: the frame is the whole image.
+struct Tile {
+    int image_width = 0;
+    int image_height = 0;
+    int x = 0;
+    int y = 0;
+
+    [[nodiscard]] bool whole() const { return image_width == 0 && image_height == 0; }
+
+    bool operator==(const Tile&) const = default;
+};
+
+// The largest side of an image rendered in tiles.
+inline constexpr int kMaxTiledImageSide = 16384;
+
 // Whether a mode marches camera rays, the only ones jitter and refinement change.
 bool is_ray_cast(Mode mode);
 
@@ -260,9 +282,29 @@ struct FrameRequest {
     Cut cut;
     Labels labels;
     Refinement refinement;
+    Tile tile;
 
     bool operator==(const FrameRequest&) const = default;
 };
+
+// The frame's pixel rays, `forward + ndc.x * right + ndc.y * up` over the frame's own pixels: the
+// camera's frame for the whole image (camera_frame at its aspect), narrowed to the tile's part of
+// it.
+[[nodiscard]] CameraFrame pixel_frame(const FrameRequest& request);
+
+// Where the frame's pixels lie in the whole image's normalised device coordinates: ndc_image =
+// offset + scale * ndc_frame per axis (x right, y up); the identity for a whole frame.
+struct ImageWindow {
+    glm::dvec2 scale{1.0};
+    glm::dvec2 offset{0.0};
+};
+
+[[nodiscard]] ImageWindow image_window(const FrameRequest& request);
+
+// The frames that render `whole`'s image in tiles of at most `tile_side` pixels a side, row by row
+// from the top left (the last of a row or column may be narrower): `whole` with its size that of
+// the tile and its Tile set. Empty when `tile_side` < 1 or `whole` is itself a tile.
+[[nodiscard]] std::vector<FrameRequest> image_tiles(const FrameRequest& whole, int tile_side);
 
 // Device limits that bound what a request may ask for.
 struct Limits {
