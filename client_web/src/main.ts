@@ -30,6 +30,7 @@ import { CropBoxOverlay } from './view/crop_box_overlay';
 import { TfEditor } from './panels/tf_editor';
 import { TfModel, tfTerms } from './panels/tf_model';
 import { LabelsPanel } from './panels/labels_panel';
+import { ExportPanel } from './panels/export_panel';
 import { PickOverlay } from './view/pick_overlay';
 import { attachTap } from './interaction/tap';
 
@@ -158,6 +159,12 @@ view.onShown(({ header }) =>
 const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
   scale = s;
   change({ settings: { size: renderSize() } }, false);
+});
+const exportPanel = new ExportPanel(gui.addFolder('Export'), {
+  start: (width, height) => connection.exportStill(width, height),
+  cancel: (id) => connection.cancelExport(id),
+  viewSize: () => view.devicePixels,
+  downloadUrl: (status) => connection.downloadUrl(status),
 });
 const viewFolder = gui.addFolder('View');
 const viewParams = {
@@ -289,6 +296,7 @@ connection.on('status', (status) => {
   if (status.kind === 'connected') {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);
+    exportPanel.setMaxSide(status.hello.limits.max_export_side);
     method.setRanges(status.hello.ranges);
     light.setRanges(status.hello.ranges);
     camera.setRanges(status.hello.ranges);
@@ -385,6 +393,7 @@ connection.on('labels', () => {
 
 connection.on('serverError', (error) => notices.show('error', 'Server error', error.describe()));
 
+connection.on('exportStatus', (status) => exportPanel.show(status));
 connection.on('problem', (message) => notices.show('warning', 'Problem', message));
 
 connection.on('sessionLost', (session, outcome) => {

@@ -439,6 +439,14 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
       case 'pick':
         members(o, '', { ...envelope, x: number(0, 1), y: number(0, 1) }, ['x', 'y']);
         break;
+      case 'export': {
+        const side = integer(1, limits.max_export_side);
+        members(o, '', { ...envelope, width: side, height: side }, ['width', 'height']);
+        break;
+      }
+      case 'cancel_export':
+        members(o, '', { ...envelope, export: textOf(limits, 'cancel_export/export') }, ['export']);
+        break;
       case 'join':
         members(o, '', { ...envelope, session: textOf(limits, 'join/session') }, ['session']);
         break;

@@ -856,6 +856,56 @@ describe('Connection: label maps and picks', () => {
     expect(connection.session?.labels).toBeUndefined();
   });
 
+  it('exports a still: the first status answers, the rest are events, the last its download', async () => {
+    const { socket, connection } = setup({ accessToken: 'a+b' });
+    socket().open();
+    const opened = connection.open('ch2.nii.gz');
+    socket().reply('opened', OPENED);
+    await opened;
+    const told: string[] = [];
+    connection.on('exportStatus', (s) => told.push(`${s.state} ${s.progress}`));
+    const problems: string[] = [];
+    connection.on('problem', (p) => problems.push(p));
+    const status = {
+      export: '5f0c2a9e41d37b88c6e2f01a9b4d7e63',
+      state: 'running',
+      progress: 0,
+      width: 300,
+      height: 200,
+      tiles: 0,
+    };
+    const exporting = connection.exportStill(300, 200);
+    const request = socket().sent.at(-1)!;
+    expect(request).toMatchObject({ type: 'export', width: 300, height: 200 });
+    expect(checkClientMessage(request, recordedTerms)).toBeNull();
+    socket().reply('export_status', status);
+    expect((await exporting).export).toBe(status.export);
+    const later = (extra: Record<string, unknown>) =>
+      socket().receive(
+        JSON.stringify({ v: 1, type: 'export_status', id: request['id'], ...status, ...extra }),
+      );
+    later({ progress: 0.5, tiles: 2 });
+    connection.cancelExport(status.export);
+    expect(socket().sent.at(-1)).toMatchObject({ type: 'cancel_export', export: status.export });
+    expect(checkClientMessage(socket().sent.at(-1)!, recordedTerms)).toBeNull();
+    later({ state: 'done', progress: 1, tiles: 2, url: `/exports/${status.export}`, bytes: 9 });
+    expect(told).toEqual(['running 0.5', 'done 1']);
+    expect(problems).toEqual([]);
+    const url = new URL(
+      connection.downloadUrl({
+        v: 1,
+        type: 'export_status',
+        ...status,
+        state: 'done',
+        url: `/exports/${status.export}`,
+      })!,
+    );
+    expect(url.origin).toBe('http://test');
+    expect(url.pathname).toBe(`/exports/${status.export}`);
+    expect(url.searchParams.get('volume')).toBe('ch2.nii.gz');
+    expect(url.searchParams.get('token')).toBe('a+b');
+  });
+
   it('any viewer picks a point of the view, answered by picked', async () => {
     const { socket, connection } = setup();
     socket().open();

@@ -921,6 +921,44 @@ try {
     difference(ownerImage, viewerImage) < 1,
     `owner #${ownerImage.frame}, viewer #${viewerImage.frame}, difference ${difference(ownerImage, viewerImage).toFixed(2)}`);
   await viewer.close();
+
+  // Export: the view as a PNG larger than its frames, downloaded from the link the panel shows.
+  await owner.locator('.export-panel select').selectOption('1024');
+  await owner.locator('.export-panel').evaluate((e) => e.closest('.lil-gui').scrollIntoView());
+  await owner.locator('.export-start').click();
+  await owner.locator('.export-status[data-state="running"]').waitFor({ timeout: 15000 });
+  await owner.screenshot({ path: path.join(outDir, '05_export_running.png') });
+  await owner.locator('.export-status[data-state="done"]').waitFor({ timeout: 180000 });
+  check('the download link shows once the export is done, not before',
+    await owner.locator('.export-link').isVisible());
+  await owner.screenshot({ path: path.join(outDir, '05_export_done.png') });
+  const exported = await owner.evaluate(async () => {
+    const link = document.querySelector('.export-link');
+    const response = await fetch(link.href);
+    const bytes = new Uint8Array(await response.arrayBuffer());
+    const view = new DataView(bytes.buffer);
+    const text = new TextDecoder('latin1').decode(bytes);
+    return {
+      status: response.status,
+      type: response.headers.get('content-type'),
+      disposition: response.headers.get('content-disposition'),
+      png: bytes[1] === 0x50 && bytes[2] === 0x4e && bytes[3] === 0x47,
+      width: view.getUint32(16),
+      height: view.getUint32(20),
+      state: text.includes('Penumbra state'),
+      line: document.querySelector('.export-status').textContent,
+    };
+  });
+  const [canvasWidth, canvasHeight] = await owner.evaluate(() => {
+    const c = document.querySelector('canvas.frame-canvas');
+    return [c.width, c.height];
+  });
+  check('the export panel downloads a PNG of the view at the size asked for, with its state',
+    exported.status === 200 && exported.png && exported.state &&
+      Math.max(exported.width, exported.height) === 1024 &&
+      Math.abs(exported.width / exported.height - canvasWidth / canvasHeight) < 0.01 &&
+      /attachment; filename="penumbra-.*\.png"/.test(exported.disposition),
+    JSON.stringify(exported));
   check('no page errors so far', consoleErrors.length === 0, consoleErrors.join(' | '));
 
   // 6. The server goes away: a clear message; it comes back: the session is restored.

@@ -658,6 +658,108 @@ int lit_pixels(const base::ImageRgba8& image) {
     return lit;
 }
 
+// An export's statuses up to its last (not `running`), frames passed by.
+std::vector<nlohmann::json> export_statuses(TestClient& client) {
+    std::vector<nlohmann::json> statuses;
+    while (true) {
+        const auto status =
+                nlohmann::json::parse(client.next_text(std::chrono::seconds(120)), nullptr, false);
+        if (!status.is_object() || status.value("type", "") != "export_status") {
+            ADD_FAILURE() << "not an export_status: " << status;
+            return statuses;
+        }
+        statuses.push_back(status);
+        if (status.at("state") != "running") {
+            return statuses;
+        }
+    }
+}
+
+// A still larger than a frame may be: rendered in tiles (frames of at most max_image_side), its
+// statuses rising to done with a URL, the PNG downloaded over HTTP at its size, showing the head
+// and keeping the state that drew it; a client watching its own session meanwhile gets its frames;
+// a cancelled export ends cancelled and leaves nothing to download; bad exports are refused.
+TEST_F(ServerTest, AStillLargerThanAFrameIsExportedInTilesAndDownloaded) {
+    protocol::Limits limits;
+    limits.max_image_side = 48;
+    limits.max_export_side = 160;
+    start(limits);
+    TestClient owner(port_);
+    EXPECT_EQ(nlohmann::json::parse(owner.hello).at("limits").at("max_export_side"), 160);
+    owner.open("heads/ch2.nii.gz", 32);
+    owner.send(R"({"v":1,"type":"render","id":3})");
+    owner.next_frame();
+    owner.send(R"({"v":1,"type":"export","id":4,"width":100,"height":80})");
+    TestClient watcher(port_, "127.0.0.2");
+    watcher.open("heads/ch2.nii.gz", 32);
+    watcher.send(R"({"v":1,"type":"render","id":3,"interactive":true})");
+    EXPECT_EQ(watcher.next_frame().header.request, 3);
+    const auto statuses = export_statuses(owner);
+    ASSERT_GE(statuses.size(), 3u);
+    const auto& done = statuses.back();
+    ASSERT_EQ(done.at("state"), "done") << done;
+    EXPECT_EQ(done.at("id"), 4);
+    EXPECT_EQ(done.at("tiles"), 6);  // 48 + 48 + 4 by 48 + 32
+    EXPECT_EQ(done.at("progress"), 1.0);
+    double progress = 0.0;
+    for (const auto& status : statuses) {
+        EXPECT_EQ(status.at("export"), done.at("export"));
+        EXPECT_GE(status.at("progress").get<double>(), progress);
+        progress = status.at("progress").get<double>();
+    }
+    const std::string url = done.at("url");
+    EXPECT_EQ(url, "/exports/" + done.at("export").get<std::string>());
+    auto download = net::http_get("127.0.0.1", port_, url, std::chrono::seconds(30));
+    ASSERT_TRUE(download.ok()) << download.error().to_string();
+    ASSERT_EQ(download->status, 200) << download->body;
+    EXPECT_EQ(download->content_type, "image/png");
+    EXPECT_EQ(download->body.size(), done.at("bytes").get<std::size_t>());
+    EXPECT_NE(download->body.find("Penumbra state"), std::string::npos) << "the state drawn";
+    const std::vector<std::uint8_t> png(download->body.begin(), download->body.end());
+    auto image = imageio::decode_image(png);
+    ASSERT_TRUE(image.ok()) << image.error().to_string();
+    EXPECT_EQ(image->width, 100);
+    EXPECT_EQ(image->height, 80);
+    EXPECT_GT(lit_pixels(*image), 100 * 80 / 10) << "the head, not an empty frame";
+    EXPECT_EQ(
+            net::http_get("127.0.0.1", port_, "/exports/0123456789abcdef0123456789abcdef")->status,
+            404);
+
+    // Cancelled after its first tile: nothing to download.
+    owner.send(R"({"v":1,"type":"export","id":5,"width":160,"height":160})");
+    auto first = nlohmann::json::parse(owner.next_text());
+    ASSERT_EQ(first.at("type"), "export_status") << first;
+    const std::string busy =
+            owner.request(R"({"v":1,"type":"export","id":6,"width":64,"height":64})");
+    EXPECT_EQ(field(busy, "code"), "rate_limited") << busy;
+    owner.send(R"({"v":1,"type":"cancel_export","id":7,"export":")" +
+               first.at("export").get<std::string>() + "\"}");
+    const auto cancelled = export_statuses(owner).back();
+    EXPECT_EQ(cancelled.at("state"), "cancelled") << cancelled;
+    EXPECT_LT(cancelled.at("progress").get<double>(), 1.0);
+    EXPECT_EQ(net::http_get("127.0.0.1", port_, "/exports/" + first.at("export").get<std::string>())
+                      ->status,
+              404);
+
+    for (const auto& [request, code, where] :
+         {std::tuple{R"({"v":1,"type":"export","id":8,"width":0,"height":10})", "out_of_range",
+                     "/width"},
+          std::tuple{R"({"v":1,"type":"export","id":8,"width":10.5,"height":10})", "invalid_value",
+                     "/width"},
+          std::tuple{R"({"v":1,"type":"export","id":8,"width":10,"height":161})", "out_of_range",
+                     "/width"},
+          std::tuple{R"({"v":1,"type":"cancel_export","id":8,"export":"feed"})", "invalid_value",
+                     "/export"}}) {
+        const std::string refused = owner.request(request);
+        EXPECT_EQ(field(refused, "code"), code) << request << " " << refused;
+        EXPECT_EQ(field(refused, "field"), where) << request << " " << refused;
+    }
+    TestClient stranger(port_, "127.0.0.3");
+    EXPECT_EQ(field(stranger.request(R"({"v":1,"type":"export","id":9,"width":10,"height":10})"),
+                    "code"),
+              "no_session");
+}
+
 // The label map drawn alone in a session: `labels.alone` is answered once the surfaces are made,
 // the next frame shows the atlas without the head around it (fewer pixels lit: the brain, not the
 // scalp), a pick names a left region's surface with the scan's value there, hiding that region

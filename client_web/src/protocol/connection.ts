@@ -18,6 +18,7 @@ import {
   type ClientMessage,
   type ClientRequest,
   type ErrorMessage,
+  type ExportStatusMessage,
   type HelloMessage,
   type LabelsMessage,
   type LabelsState,
@@ -170,6 +171,8 @@ export interface ConnectionEvents {
    * the owner to re-open it (`waiting`), or gave up after `followOwnerMs` (`ended`).
    */
   sessionLost: (session: string, outcome: 'waiting' | 'ended') => void;
+  /** An export of this connection went on or ended (its first status answers `exportStill`). */
+  exportStatus: (status: ExportStatusMessage) => void;
 }
 
 export interface ConnectionOptions {
@@ -219,6 +222,7 @@ export class Connection {
     renderSent: [],
     renderFailed: [],
     sessionLost: [],
+    exportStatus: [],
   };
   private attempt = 0;
   private everConnected = false;
@@ -601,6 +605,10 @@ export class Connection {
       }
       return;
     }
+    if (message.type === 'export_status') {
+      this.emit('exportStatus', message);
+      return;
+    }
     if (message.type === 'error') {
       const render = id !== undefined && this.renderIds.has(id) ? id : undefined;
       const error = new ServerError(message, render !== undefined ? 'render' : undefined);
@@ -770,6 +778,33 @@ export class Connection {
     this.renderIds.add(id);
     this.emit('renderSent', id, interactive);
     return id;
+  }
+
+  /**
+   * Renders the session's view as a PNG still of width x height pixels on the server (in tiles,
+   * at the lowest priority); resolves with its first status, the rest come as `exportStatus`
+   * events, the last with the URL to download it from (downloadUrl).
+   */
+  exportStill(width: number, height: number): Promise<ExportStatusMessage> {
+    return this.request({ type: 'export', width, height });
+  }
+
+  /** Stops an export of this connection; its last status says `cancelled`. */
+  cancelExport(id: string): void {
+    this.sendMessage({ type: 'cancel_export', export: id });
+  }
+
+  /**
+   * Where a finished export is downloaded from: its URL on the server, with the access token and
+   * the session's volume, which a cluster's proxy routes by to the server that holds it.
+   */
+  downloadUrl(status: ExportStatusMessage): string | undefined {
+    if (status.url === undefined) return undefined;
+    const url = new URL(status.url, this.url.replace(/^ws/, 'http'));
+    if (this.route.volume !== undefined) url.searchParams.set('volume', this.route.volume);
+    const token = this.options.accessToken;
+    if (token !== undefined && token !== '') url.searchParams.set('token', token);
+    return url.toString();
   }
 
   /** Draws `volume` (an id from `volumes`) as the session's label map (owner only). */

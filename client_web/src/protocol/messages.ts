@@ -355,6 +355,32 @@ export interface PickedMessage {
   label?: { id: number; name: string };
 }
 
+/** Where an export stands (`export`): at once, after each tile, and when it ends. */
+export interface ExportStatusMessage {
+  v: 1;
+  type: 'export_status';
+  id?: number;
+  /** The export's id, the right to download it. */
+  export: string;
+  state: 'running' | 'done' | 'failed' | 'cancelled';
+  progress: number;
+  width: number;
+  height: number;
+  tiles: number;
+  /** Done: the path to GET the PNG from on the server. */
+  url?: string;
+  bytes?: number;
+  /** Failed: why. */
+  error?: { code: ErrorCode | string; message: string };
+}
+
+export const EXPORT_STATES: readonly ExportStatusMessage['state'][] = [
+  'running',
+  'done',
+  'failed',
+  'cancelled',
+];
+
 export interface ErrorMessage {
   v: 1;
   type: 'error';
@@ -373,6 +399,7 @@ export type ServerMessage =
   | StatsMessage
   | LabelsMessage
   | PickedMessage
+  | ExportStatusMessage
   | ErrorMessage;
 
 // ---- client to server ---------------------------------------------------------------------------
@@ -388,7 +415,9 @@ export type ClientMessage =
   | { v: 1; type: 'resume'; id?: number; session: string; owner_token: string; volume?: string }
   | { v: 1; type: 'add_labels'; id?: number; volume: string }
   | { v: 1; type: 'remove_labels'; id?: number }
-  | { v: 1; type: 'pick'; id?: number; x: number; y: number };
+  | { v: 1; type: 'pick'; id?: number; x: number; y: number }
+  | { v: 1; type: 'export'; id?: number; width: number; height: number }
+  | { v: 1; type: 'cancel_export'; id?: number; export: string };
 
 export type ClientMessageType = ClientMessage['type'];
 
@@ -408,6 +437,10 @@ export const ANSWERS = {
   add_labels: ['labels'],
   remove_labels: ['labels'],
   pick: ['picked'],
+  // The first status; the rest come as the connection's `exportStatus` events.
+  export: ['export_status'],
+  // Answered by the export's own status, `cancelled`.
+  cancel_export: [],
 } as const satisfies Record<ClientMessageType, readonly ServerMessage['type'][]>;
 
 /** The message that answers a request of type `T`. */
@@ -656,6 +689,24 @@ export function parseServerMessage(text: string): ServerMessage {
         str(label, 'name', '/label');
       }
       return o as unknown as PickedMessage;
+    }
+    case 'export_status': {
+      str(o, 'export', '');
+      oneOf(o['state'], EXPORT_STATES, '/state');
+      num(o, 'progress', '');
+      num(o, 'width', '');
+      num(o, 'height', '');
+      num(o, 'tiles', '');
+      if (o['url'] !== undefined) {
+        str(o, 'url', '');
+        num(o, 'bytes', '');
+      }
+      if (o['error'] !== undefined) {
+        const error = obj(o, 'error', '');
+        str(error, 'code', '/error');
+        str(error, 'message', '/error');
+      }
+      return o as unknown as ExportStatusMessage;
     }
     case 'error':
       str(o, 'code', '');

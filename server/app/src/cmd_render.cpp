@@ -313,9 +313,7 @@ std::vector<encode::ImageText> frame_text(const volume::Volume& volume,
     state.frame = request;
     state.refinement_steps = o.refinement_steps;
     state.refinement_threshold = o.refinement_threshold;
-    return {{"Software", "Penumbra"},
-            {"Source", volume.name},
-            {"Penumbra state", protocol::state_to_json(state)}};
+    return encode::still_text(volume.name, protocol::state_to_json(state));
 }
 
 // --turntable: each frame the still of the view turned by its angle, into the movie.

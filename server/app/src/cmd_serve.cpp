@@ -104,6 +104,8 @@ po::options_description network_options(ServeOptions& o) {
             "behind a proxy: the request header naming the client (X-Real-IP, X-Forwarded-For), "
             "for per-client limits and fair render shares; default: the peer's address")(
             "max-image-side", whole_number(&limits.max_image_side, 16, 16384), "pixels")(
+            "max-export-side", whole_number(&limits.max_export_side, 16, 16384),
+            "pixels of an exported still, rendered in tiles")(
             "max-slices", whole_number(&limits.max_slices, 1, 16384), "light slices")(
             "max-light-res", whole_number(&limits.max_light_resolution, 1, 16384),
             "light-buffer resolution")("max-message-bytes",

@@ -46,6 +46,10 @@ std::optional<ImageFormat> format_for_path(const std::filesystem::path& path) {
     return std::nullopt;
 }
 
+std::vector<ImageText> still_text(const std::string& source, const std::string& state_json) {
+    return {{"Software", "Penumbra"}, {"Source", source}, {"Penumbra state", state_json}};
+}
+
 base::Result<std::vector<std::uint8_t>> encode_image(const base::ImageRgba8& image,
                                                      ImageFormat format, int jpeg_quality,
                                                      std::span<const ImageText> text) {

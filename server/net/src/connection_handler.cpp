@@ -6,11 +6,31 @@
 #include <penumbra/protocol/scene_json.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 
 namespace penumbra::net {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// An export's status as the wire carries it; a finished one's URL is its download's
+// (http_session.cpp).
+protocol::ExportSummary export_summary(const session::ExportStatus& status) {
+    protocol::ExportSummary summary;
+    summary.export_id = status.id;
+    summary.state = session::to_string(status.state);
+    summary.progress = status.progress;
+    summary.width = status.width;
+    summary.height = status.height;
+    summary.tiles = status.tiles;
+    summary.bytes = status.bytes;
+    if (status.state == session::ExportState::done) {
+        summary.url = std::string(kExportsPath) + status.id;
+    }
+    summary.error = status.error;
+    return summary;
+}
 
 // A flooding client's refused requests are answered from an allowance of their own: this many at
 // once, refilled at the request rate. So a flood gets a bounded number of error replies per
@@ -271,6 +291,9 @@ void ConnectionHandler::leave_session() {
 }
 
 void ConnectionHandler::on_close() {
+    for (const std::string& id : exports_) {
+        context_.exporter.cancel(id, client_);
+    }
     leave_session();
 }
 
@@ -651,6 +674,75 @@ void ConnectionHandler::answer_pick(std::optional<std::int64_t> id, const std::s
         summary.position[axis] = picked->patient[axis];
     }
     send(protocol::picked_message(id, session_id, summary));
+}
+
+// The session's view as a still of its own size, tile by tile at the lowest priority
+// (session::Exporter); its statuses go to this connection while it is open.
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Export& message) {
+    if (!need_session(id)) {
+        return;
+    }
+    for (const auto& [side, where] :
+         {std::pair{message.width, "/width"}, std::pair{message.height, "/height"}}) {
+        if (side != std::floor(side)) {
+            reply_error(id,
+                        base::make_error(base::ErrorCode::invalid_value,
+                                         "an export's sides are whole numbers of pixels", where));
+            return;
+        }
+    }
+    session::RenderJob still = session_->make_job(-1, false);
+    still.client = client_;
+    still.request.settings.width = static_cast<int>(message.width);
+    still.request.settings.height = static_cast<int>(message.height);
+    const scene::State state = session_->state();
+    const std::string& source = session_->volume()->name;
+    // The volume's name as far as a file name (and a Content-Disposition header) takes it.
+    std::string name = source;
+    std::ranges::replace_if(
+            name,
+            [](char c) {
+                return std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '-' && c != '.';
+            },
+            '_');
+    const std::string file_name = "penumbra-" + name + "-" +
+                                  std::to_string(still.request.settings.width) + "x" +
+                                  std::to_string(still.request.settings.height) + ".png";
+    auto started = context_.exporter.start_still(
+            client_, std::move(still), context_.config.limits.max_image_side, file_name, source,
+            protocol::state_to_json(state),
+            [weak = connection_, id](const session::ExportStatus& status) {
+                if (auto connection = weak.lock()) {
+                    connection->send_text(
+                            protocol::export_status_message(id, export_summary(status)));
+                }
+            });
+    if (!started) {
+        reply_error(id, started.error());
+        return;
+    }
+    std::erase_if(exports_, [&](const std::string& earlier) {
+        return !context_.exporter.is_running(earlier);
+    });
+    exports_.push_back(*started);
+    // The first word: the export's id, before its first tile is done.
+    session::ExportStatus first;
+    first.id = *started;
+    first.width = static_cast<int>(message.width);
+    first.height = static_cast<int>(message.height);
+    send(protocol::export_status_message(id, export_summary(first)));
+}
+
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id,
+                               const protocol::CancelExport& message) {
+    if (std::ranges::find(exports_, message.export_id) == exports_.end() ||
+        !context_.exporter.cancel(message.export_id, client_)) {
+        reply_error(id, base::make_error(base::ErrorCode::invalid_value,
+                                         "no export of this connection with that id is running",
+                                         "/export"));
+    }
 }
 
 void ConnectionHandler::draw_labels(std::optional<std::int64_t> id, const std::string& volume_id,

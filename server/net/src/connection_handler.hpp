@@ -101,7 +101,8 @@ private:
     double refusal_tokens_;  // error replies a flood may still get (connection_handler.cpp)
     std::chrono::steady_clock::time_point last_refill_;
     std::string client_;
-    bool busy_ = false;  // a request is being carried out off the strand
+    bool busy_ = false;                 // a request is being carried out off the strand
+    std::vector<std::string> exports_;  // started by this connection, cancelled when it closes
     std::deque<protocol::Request> waiting_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
+#include <penumbra/session/exporter.hpp>
 
 #include <atomic>
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace penumbra::net {
@@ -64,6 +66,16 @@ private:
 };
 
 // What every connection of one server shares.
+// Where a finished export is downloaded: this followed by its id.
+inline constexpr std::string_view kExportsPath = "/exports/";
+
+// What the server's exports are held to: their size by its limits, the rest by default.
+inline session::ExportLimits export_limits(const protocol::Limits& limits) {
+    session::ExportLimits exports;
+    exports.max_side = limits.max_export_side;
+    return exports;
+}
+
 struct Context {
     ServerConfig config;
     Services services;
@@ -105,7 +117,8 @@ struct Context {
                   "too many connections of their client"))
         , volume_loads(s.metrics.gauge("penumbra_volume_loads",
                                        "Volume files read since the server started (a cluster "
-                                       "that routes by volume reads each once)")) {}
+                                       "that routes by volume reads each once)"))
+        , exporter(s.scheduler, export_limits(config.limits)) {}
 
     // Open connections, so that shutdown can close them.
     void track(std::weak_ptr<Connection> connection) {
@@ -121,6 +134,9 @@ struct Context {
 
     std::mutex connections_mutex;
     std::vector<std::weak_ptr<Connection>> open_connections;
+
+    // Last, so that it goes first: its exports are cancelled while the rest still stands.
+    session::Exporter exporter;
 };
 
 // The sending side of a WebSocket connection. Both calls are thread-safe and never block: they

@@ -5,6 +5,7 @@
 #include "websocket_session.hpp"
 
 #include <penumbra/base/log.hpp>
+#include <penumbra/base/secret.hpp>
 
 #include <chrono>
 
@@ -111,6 +112,9 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
         response_ = std::make_shared<http::response<http::string_body>>(make_response(
                 http::status::ok, version, keep_alive, context_.services.metrics.prometheus_text(),
                 "text/plain; version=0.0.4"));
+    } else if (parsed_target && parsed_target->path.starts_with(kExportsPath)) {
+        response_ = std::make_shared<http::response<http::string_body>>(
+                export_response(*parsed_target, version, keep_alive));
     } else if (auto file = read_static_file(context_.config.web_root, target)) {
         response_ = std::make_shared<http::response<http::string_body>>(make_response(
                 http::status::ok, version, keep_alive, std::move(file->body), file->content_type));
@@ -128,6 +132,34 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
     http::async_write(
             stream_, *response_,
             beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));
+}
+
+// A finished export (session::Exporter), by its id: the id is the right to it, given only to the
+// connection that asked for it; with an access token the request carries that too, as the
+// WebSocket's does.
+http::response<http::string_body> HttpSession::export_response(const RequestTarget& target,
+                                                               unsigned version, bool keep_alive) {
+    const std::string& token = context_.config.access_token;
+    const auto given = target.query.find("token");
+    if (!token.empty() &&
+        (given == target.query.end() || !base::same_secret(given->second, token))) {
+        return make_response(http::status::unauthorized, version, keep_alive,
+                             "this server needs its access token (?token=)\n", "text/plain");
+    }
+    const std::string id = target.path.substr(kExportsPath.size());
+    const auto file = context_.exporter.file(id);
+    if (!file) {
+        return make_response(http::status::not_found, version, keep_alive,
+                             "no such export: it may have expired or never finished\n",
+                             "text/plain");
+    }
+    auto response = make_response(http::status::ok, version, keep_alive,
+                                  std::string(file->bytes->begin(), file->bytes->end()),
+                                  file->content_type);
+    response.set(http::field::content_disposition,
+                 "attachment; filename=\"" + file->file_name + "\"");
+    response.set(http::field::cache_control, "no-store");
+    return response;
 }
 
 void HttpSession::on_write(bool keep_alive, beast::error_code ec, std::size_t /*bytes*/) {

@@ -2,6 +2,7 @@
 
 #include "beast.hpp"
 #include "context.hpp"
+#include "upgrade_policy.hpp"
 
 #include <memory>
 
@@ -19,6 +20,8 @@ private:
     void do_read();
     void on_read(beast::error_code ec, std::size_t bytes);
     void on_write(bool keep_alive, beast::error_code ec, std::size_t bytes);
+    http::response<http::string_body> export_response(const RequestTarget& target, unsigned version,
+                                                      bool keep_alive);
 
     beast::tcp_stream stream_;
     Context& context_;

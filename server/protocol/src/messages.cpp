@@ -314,6 +314,7 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                {"max_requests_per_second", limits.max_requests_per_second},
                {"max_send_queue", limits.max_send_queue},
                {"max_frame_work", limits.max_frame_work},
+               {"max_export_side", limits.max_export_side},
                {"max_json_depth", limits.max_json_depth},
                {"max_transfer_function_points", max_transfer_function_points},
                {"max_hounsfield_position", scene::max_hounsfield_position},
@@ -416,6 +417,22 @@ std::string picked_message(std::optional<std::int64_t> id, const std::string& se
         if (picked.label_id != 0) {
             message["label"] = {{"id", picked.label_id}, {"name", picked.label_name}};
         }
+    }
+    return text_of(with_id(std::move(message), id));
+}
+
+std::string export_status_message(std::optional<std::int64_t> id, const ExportSummary& status) {
+    json message = {{"type", "export_status"}, {"export", status.export_id},
+                    {"state", status.state},   {"progress", status.progress},
+                    {"width", status.width},   {"height", status.height},
+                    {"tiles", status.tiles}};
+    if (!status.url.empty()) {
+        message["url"] = status.url;
+        message["bytes"] = status.bytes;
+    }
+    if (status.error) {
+        message["error"] = {{"code", wire_name(status.error->code)},
+                            {"message", status.error->message}};
     }
     return text_of(with_id(std::move(message), id));
 }

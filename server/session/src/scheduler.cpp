@@ -156,6 +156,21 @@ void Scheduler::submit(const std::string& session, RenderJob job, FrameCallback 
     work_ready_.notify_one();
 }
 
+void Scheduler::submit_background(const std::string& key, RenderJob job, FrameCallback done) {
+    job.refinement_steps = 0;
+    job.refinement_step = 0;
+    job.preview.reset();
+    {
+        const std::lock_guard lock(mutex_);
+        if (stopping_) {
+            done(Withdrawn::shutting_down);
+            return;
+        }
+        queue_refinement(key, std::move(job), std::move(done));
+    }
+    work_ready_.notify_one();
+}
+
 void Scheduler::cancel(const std::string& session) {
     FrameCallback dropped;
     {
@@ -392,11 +407,15 @@ std::optional<Scheduler::Submitted> Scheduler::submit_one(render::FrameRenderer&
     gpu_bytes_.set(static_cast<double>(renderer.gpu_bytes_held()));
     const std::lock_guard lock(mutex_);
     const InFlight in_flight = std::exchange(in_flight_, {});
+    if (!result && result.error().code == base::ErrorCode::cancelled && in_flight.refinement &&
+        !in_flight.closed && !stopping_) {
+        // Preempted by another job: a job of the lowest priority waits for its next turn,
+        // unchanged.
+        queue_refinement(session, std::move(submitted.job), std::move(submitted.done));
+        return std::nullopt;
+    }
     if (taken.refinement_step > 0 && !result) {
-        if (result.error().code == base::ErrorCode::cancelled && !in_flight.closed) {
-            // Preempted by another job: the step waits for its next turn, unchanged.
-            queue_refinement(session, std::move(submitted.job), std::move(submitted.done));
-        } else if (result.error().code != base::ErrorCode::cancelled) {
+        if (result.error().code != base::ErrorCode::cancelled) {
             // The still frame stands; only its refinement ends.
             base::log_warning("session", "refinement of session " + session +
                                                  " stopped: " + result.error().to_string());
@@ -522,6 +541,14 @@ void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitte
         light_buffer_built_.add();
     } else if (frame->report.light_buffer == render::LightBufferState::reused) {
         light_buffer_reused_.add();
+    }
+    if (job.raw) {
+        frame->pixels = image;
+        frames_.add();
+        queue_in_order(session, [frame, done = std::move(submitted.done)]() mutable {
+            done(std::shared_ptr<const EncodedFrame>(std::move(frame)));
+        });
+        return;
     }
     queue_in_order(session, [this, frame, image, output = job.output, stream = job.stream,
                              done = std::move(submitted.done)]() mutable {

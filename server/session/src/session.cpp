@@ -15,12 +15,8 @@
 #include <openssl/hmac.h>
 
 namespace penumbra::session {
-namespace {
-
-// 128 bits straight from the system's entropy source, for session ids (unguessable, so that
-// knowing the server does not let anyone join a session uninvited) and owner tokens. Not a
-// generator seeded once: a single id seen by a viewer would betray its seed, and with it every
-// other id and token.
+// Not a generator seeded once: a single id seen by a viewer would betray its seed, and with it
+// every other id and token.
 std::string random_secret() {
     static std::mutex mutex;
     static std::random_device device;
@@ -33,8 +29,6 @@ std::string random_secret() {
     }
     return text;
 }
-
-}  // namespace
 
 SharedFrame::SharedFrame(std::shared_ptr<const EncodedFrame> frame, std::string session,
                          std::uint64_t number)

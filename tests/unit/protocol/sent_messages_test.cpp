@@ -154,6 +154,25 @@ std::vector<std::string> text_messages() {
                                              .value = 87.0,
                                              .label_id = 1,
                                              .label_name = "Precentral_L"}));
+    ExportSummary export_started;
+    export_started.export_id = "5f0c2a9e41d37b88c6e2f01a9b4d7e63";
+    export_started.state = "running";
+    export_started.width = 4096;
+    export_started.height = 3072;
+    out.push_back(export_status_message(14, export_started));
+    ExportSummary exported = export_started;
+    exported.state = "done";
+    exported.progress = 1.0;
+    exported.tiles = 6;
+    exported.bytes = 9123456;
+    exported.url = "/exports/5f0c2a9e41d37b88c6e2f01a9b4d7e63";
+    out.push_back(export_status_message(14, exported));
+    ExportSummary failed = export_started;
+    failed.state = "failed";
+    failed.progress = 0.25;
+    failed.tiles = 4;
+    failed.error = base::make_error(base::ErrorCode::too_much_work, "a tile asks too much", "size");
+    out.push_back(export_status_message(std::nullopt, failed));
     out.push_back(state_message("s0", labelled));
     out.push_back(set_ack_message(9, labelled));
     out.push_back(stats_message(6, "{}"));

@@ -300,6 +300,7 @@ export interface StateSettings {
 
 /** hello.limits' numbers as a server configured with nothing else sends them. */
 export const DEFAULT_LIMITS = {
+  max_export_side: 4096,
   max_frame_work: 100000000000,
   max_hounsfield_position: 100000,
   max_image_side: 2048,

@@ -34,6 +34,10 @@ struct ImageText {
     std::string text;
 };
 
+// What a still that Penumbra writes keeps of what drew it: the software, the volume's name and the
+// state a `set` takes to draw it again (the protocol's JSON).
+std::vector<ImageText> still_text(const std::string& source, const std::string& state_json);
+
 // Frames are opaque, so both formats store RGB. `jpeg_quality` is within
 // kMinJpegQuality..kMaxJpegQuality. JPEG through TurboJPEG straight from the RGBA pixels (4:2:0,
 // the accurate DCT), PNG through libpng.

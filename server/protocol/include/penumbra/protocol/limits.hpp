@@ -27,6 +27,9 @@ struct Limits {
     // than without skipping): a 512^2 reference frame at sample distance 1/256 of a fully
     // visible volume asks for 5e10, a 2048^2 sbrc_shell frame at the default settings 2e10.
     double max_frame_work = 1e11;
+    // The largest side of an exported still (rendered in tiles of at most max_image_side and
+    // session::ExportLimits::tile_side).
+    int max_export_side = 4096;
     // Containers nested in one JSON text (the message object is 1; the deepest valid message
     // has 5). Checked while parsing, so no deeper document is ever built or walked.
     int max_json_depth = 16;

@@ -169,13 +169,41 @@ struct Pick {
     }
 };
 
+// Renders the session's view, as its state now draws it, as a still of width x height pixels (up
+// to hello.limits.max_export_side a side, larger than a frame may be: in tiles), each tile refined
+// as the session's stills are, into a PNG that keeps the state that drew it; at the lowest
+// priority, so that no session's frames wait for it. Answered by `export_status` as it runs, and
+// when done with the URL the PNG is downloaded from (over HTTP, from this server, while it is
+// kept). Any viewer of the session may ask; a connection's exports end with it.
+struct Export {
+    static constexpr std::string_view type = "export";
+    static constexpr NumberRange side{1.0, 16384.0};
+    double width = 0.0;
+    double height = 0.0;
+
+    static constexpr auto members() {
+        return std::tuple{member("width", &Export::width, side),
+                          member("height", &Export::height, side)};
+    }
+};
+
+// Stops an export the connection started; its export_status then says `cancelled`.
+struct CancelExport {
+    static constexpr std::string_view type = "cancel_export";
+    std::string export_id;
+
+    static constexpr auto members() {
+        return std::tuple{member("export", &CancelExport::export_id, 64)};
+    }
+};
+
 // A new client message is its struct above (its `type` and, for members, `members()`) and its
 // alternative here; its handler, a specialisation of ConnectionHandler::handle in net (without one
 // net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
 // examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
 // and its row into proto/README.md; protocol_test fails until the schema and those agree.
 using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume,
-                                   AddLabels, RemoveLabels, Pick>;
+                                   AddLabels, RemoveLabels, Pick, Export, CancelExport>;
 
 template <typename Variant>
 struct MessageTypes;
@@ -295,6 +323,23 @@ struct PickSummary {
 
 std::string picked_message(std::optional<std::int64_t> id, const std::string& session,
                            const PickSummary& picked);
+
+// Where an export stands (session::ExportStatus as the wire carries it): `url` once done, `error`
+// once failed.
+struct ExportSummary {
+    std::string export_id;
+    std::string state;  // running, done, failed, cancelled
+    double progress = 0.0;
+    int width = 0;
+    int height = 0;
+    int tiles = 0;
+    std::size_t bytes = 0;
+    std::string url;
+    std::optional<base::Error> error;
+};
+
+std::string export_status_message(std::optional<std::int64_t> id, const ExportSummary& status);
+
 std::string ack_message(std::optional<std::int64_t> id, std::string_view what);
 // Answers a `set` with the state as it now is, the patch applied: the client shows what the
 // server made of it (an orbit's eye, a view's pose, a preset's points) without rules of its own.

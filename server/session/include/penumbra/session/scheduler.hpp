@@ -65,10 +65,16 @@ struct RenderJob {
     };
 
     std::optional<Preview> preview;
+
+    // The frame's pixels are handed on as they are (EncodedFrame::pixels), not encoded: a tile of
+    // an export, which the exporter puts together with the others.
+    bool raw = false;
 };
 
 struct EncodedFrame {
     std::vector<std::uint8_t> image;  // JPEG or PNG bytes, or an H.264 access unit
+    // RenderJob::raw: the frame's pixels instead of `image`.
+    std::shared_ptr<const base::ImageRgba8> pixels;
     int width = 0;
     int height = 0;
     scene::FrameFormat format = scene::FrameFormat::jpeg;
@@ -174,8 +180,16 @@ public:
 
     void submit(const std::string& session, RenderJob job, FrameCallback done);
 
+    // Queues `job` at the lowest priority, beside progressive stills' refinement steps: rendered
+    // only while no client has a job waiting, preempted between its chunks by any that comes (and
+    // then rendered again in its next turn). `key` names it as a session does its jobs (cancel);
+    // one job per key waits at a time, a newer replacing it. For work that no one watches frame by
+    // frame: an export's tiles. Its refinement steps, if it asks for any, are not rendered.
+    void submit_background(const std::string& key, RenderJob job, FrameCallback done);
+
     // Drops the session's pending job, if any, and cancels its frame in flight (both end
-    // Withdrawn::superseded).
+    // Withdrawn::superseded); a job of submit_background's `key` the same way, except that one
+    // waiting for its turn is dropped without a word to its callback.
     void cancel(const std::string& session);
 
     [[nodiscard]] const render::RendererInfo& renderer_info() const { return renderer_info_; }

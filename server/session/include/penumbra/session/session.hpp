@@ -23,6 +23,10 @@
 
 namespace penumbra::session {
 
+// 128 bits in hex straight from the system's entropy source, for what must be unguessable: session
+// ids (knowing the server does not let anyone join a session uninvited), owner tokens, exports.
+std::string random_secret();
+
 // A connection that receives a session's frames.
 using ViewerId = std::uint64_t;
 

@@ -1,0 +1,108 @@
+import type GUI from 'lil-gui';
+import { beforeEach, describe, expect, it } from 'vitest';
+import { ExportPanel, exportSize, exportText } from '../src/panels/export_panel';
+import type { ExportStatusMessage } from '../src/protocol/messages';
+import { FakeElement, useFakeDom } from './fake_dom';
+
+const running: ExportStatusMessage = {
+  v: 1,
+  type: 'export_status',
+  id: 4,
+  export: '5f0c2a9e41d37b88c6e2f01a9b4d7e63',
+  state: 'running',
+  progress: 0.25,
+  width: 4096,
+  height: 2731,
+  tiles: 6,
+};
+
+beforeEach(() => useFakeDom());
+
+function find(root: FakeElement, className: string): FakeElement {
+  const all = [root];
+  while (all.length > 0) {
+    const element = all.shift() as FakeElement;
+    if (element.className === className) return element;
+    all.push(...element.children);
+  }
+  throw new Error(`no .${className}`);
+}
+
+describe('export size', () => {
+  it("keeps the view's aspect with the long side asked for, within the server's limit", () => {
+    expect(exportSize(1200, 800, 4096, 4096)).toEqual({ width: 4096, height: 2731 });
+    expect(exportSize(768, 1024, 2048, 4096)).toEqual({ width: 1536, height: 2048 });
+    expect(exportSize(1000, 1000, 8192, 3000)).toEqual({ width: 3000, height: 3000 });
+  });
+});
+
+describe('export panel', () => {
+  it('says how far an export is, then offers its download or says why it failed', () => {
+    expect(exportText(running)).toBe('rendering 4096×2731… 25% (6 tiles)');
+    expect(exportText({ ...running, state: 'done', progress: 1, bytes: 9_100_000 })).toBe(
+      '4096×2731 PNG, 9.1 MB',
+    );
+    expect(
+      exportText({
+        ...running,
+        state: 'failed',
+        error: { code: 'too_much_work', message: 'a tile asks too much' },
+      }),
+    ).toBe('failed: a tile asks too much');
+  });
+
+  it('starts an export at the chosen size, shows its progress and a cancel, then the link', async () => {
+    const root = new FakeElement('div');
+    const folder = { $children: root } as unknown as GUI;
+    const started: [number, number][] = [];
+    const cancelled: string[] = [];
+    const panel = new ExportPanel(folder, {
+      start: (width, height) => {
+        started.push([width, height]);
+        return Promise.resolve({ ...running, progress: 0, tiles: 0 });
+      },
+      cancel: (id) => cancelled.push(id),
+      viewSize: () => [1200, 800],
+      downloadUrl: (status) => `http://server/exports/${status.export}?volume=ch2.nii.gz`,
+    });
+    panel.setMaxSide(2048);
+    const sides = root.children[0]?.children[0]?.children[0] as FakeElement;
+    expect(sides.children.map((o) => o.value)).toEqual(['1024', '2048']);
+    sides.value = '2048';
+    find(root, 'export-start').dispatchEvent(new Event('click'));
+    await Promise.resolve();
+    await Promise.resolve();
+    expect(started).toEqual([[2048, 1365]]);
+    expect(find(root, 'export-start').disabled).toBe(true);
+    expect(find(root, 'export-cancel').hidden).toBe(false);
+
+    panel.show(running);
+    expect(find(root, 'export-status').textContent).toBe('rendering 4096×2731… 25% (6 tiles)');
+    find(root, 'export-cancel').dispatchEvent(new Event('click'));
+    expect(cancelled).toEqual([running.export]);
+
+    panel.show({ ...running, state: 'done', progress: 1, url: '/exports/x', bytes: 5e6 });
+    const link = find(root, 'export-link') as unknown as { hidden: boolean; href: string };
+    expect(link.hidden).toBe(false);
+    expect(link.href).toBe(`http://server/exports/${running.export}?volume=ch2.nii.gz`);
+    expect(find(root, 'export-start').disabled).toBe(false);
+    expect(find(root, 'export-cancel').hidden).toBe(true);
+  });
+
+  it('says why the server refused to start one, and lets the user try again', async () => {
+    const root = new FakeElement('div');
+    const panel = new ExportPanel({ $children: root } as unknown as GUI, {
+      start: () => Promise.reject(new Error('this client already has its 1 export(s) running')),
+      cancel: () => {},
+      viewSize: () => [100, 100],
+      downloadUrl: () => undefined,
+    });
+    expect(panel).toBeDefined();
+    find(root, 'export-start').dispatchEvent(new Event('click'));
+    await new Promise((resolve) => setTimeout(resolve, 0));
+    expect(find(root, 'export-status').textContent).toBe(
+      'not started: this client already has its 1 export(s) running',
+    );
+    expect(find(root, 'export-start').disabled).toBe(false);
+  });
+});
