@@ -293,6 +293,8 @@ view.onResize(() => {
 connection.on('status', (status) => {
   notices.connection(status, wsUrl);
   if (status.kind === 'lost' || status.kind === 'unreachable') pacer.reset();
+  // A connection's exports end with it (the server cancels them); their last word is lost.
+  if (status.kind !== 'connected') exportPanel.connectionEnded();
   if (status.kind === 'connected') {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);

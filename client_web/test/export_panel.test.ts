@@ -89,6 +89,31 @@ describe('export panel', () => {
     expect(find(root, 'export-cancel').hidden).toBe(true);
   });
 
+  it('lets the user start again once the connection is lost, and ignores a late status', () => {
+    const root = new FakeElement('div');
+    const panel = new ExportPanel({ $children: root } as unknown as GUI, {
+      start: () => Promise.resolve(running),
+      cancel: () => {},
+      viewSize: () => [100, 100],
+      downloadUrl: () => 'http://server/x',
+    });
+    panel.show(running);
+    expect(find(root, 'export-start').disabled).toBe(true);
+    panel.connectionEnded();
+    expect(find(root, 'export-start').disabled).toBe(false);
+    expect(find(root, 'export-cancel').hidden).toBe(true);
+    expect(find(root, 'export-status').textContent).toBe(
+      'stopped: the connection to the server was lost',
+    );
+    panel.show({ ...running, progress: 0.5 });
+    expect(find(root, 'export-start').disabled).toBe(false);
+    // An export that failed at once: its first status, come late, does not bring it back.
+    const other = { ...running, export: 'ab'.repeat(16) };
+    panel.show({ ...other, state: 'failed', error: { code: 'render_failed', message: 'gone' } });
+    panel.show(other);
+    expect(find(root, 'export-status').textContent).toBe('failed: gone');
+  });
+
   it('says why the server refused to start one, and lets the user try again', async () => {
     const root = new FakeElement('div');
     const panel = new ExportPanel({ $children: root } as unknown as GUI, {

@@ -747,7 +747,7 @@ TEST_F(ServerTest, AStillLargerThanAFrameIsExportedInTilesAndDownloaded) {
           std::tuple{R"({"v":1,"type":"export","id":8,"width":10.5,"height":10})", "invalid_value",
                      "/width"},
           std::tuple{R"({"v":1,"type":"export","id":8,"width":10,"height":161})", "out_of_range",
-                     "/width"},
+                     "/height"},
           std::tuple{R"({"v":1,"type":"cancel_export","id":8,"export":"feed"})", "invalid_value",
                      "/export"}}) {
         const std::string refused = owner.request(request);

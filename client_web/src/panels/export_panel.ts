@@ -60,6 +60,7 @@ export class ExportPanel {
   private readonly line: HTMLElement;
   private readonly link: HTMLAnchorElement;
   private running: string | null = null;
+  private readonly ended = new Set<string>();
   private maxSide = 4096;
 
   constructor(
@@ -128,9 +129,27 @@ export class ExportPanel {
     }
   }
 
+  /**
+   * The connection closed: the server cancelled the export that was running, and its last status
+   * cannot come.
+   */
+  connectionEnded(): void {
+    if (this.running === null) return;
+    this.ended.add(this.running);
+    this.running = null;
+    this.start.disabled = false;
+    this.cancel.hidden = true;
+    this.bar.hidden = true;
+    this.line.textContent = 'stopped: the connection to the server was lost';
+    this.line.dataset['state'] = 'cancelled';
+  }
+
   /** Shows an export's status: progress while it runs, then the download or why not. */
   show(status: ExportStatusMessage): void {
+    // A status that comes after the export's end (its last word overtook it) changes nothing.
+    if (this.ended.has(status.export)) return;
     const runs = status.state === 'running';
+    if (!runs) this.ended.add(status.export);
     this.running = runs ? status.export : null;
     this.start.disabled = runs;
     this.cancel.hidden = !runs;

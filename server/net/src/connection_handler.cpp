@@ -28,7 +28,15 @@ protocol::ExportSummary export_summary(const session::ExportStatus& status) {
     if (status.state == session::ExportState::done) {
         summary.url = std::string(kExportsPath) + status.id;
     }
-    summary.error = status.error;
+    if (status.state == session::ExportState::failed && status.error) {
+        // As a frame's failure reaches its client: a code of the wire's, else render_failed
+        // saying what went wrong.
+        base::Error error = *status.error;
+        if (std::ranges::find(protocol::kWireCodes, error.code) == protocol::kWireCodes.end()) {
+            error = base::make_error(base::ErrorCode::render_failed, error.to_string(), "export");
+        }
+        summary.error = std::move(error);
+    }
     return summary;
 }
 
@@ -696,7 +704,10 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::E
     still.client = client_;
     still.request.settings.width = static_cast<int>(message.width);
     still.request.settings.height = static_cast<int>(message.height);
-    const scene::State state = session_->state();
+    // What the PNG keeps: the session's state at the export's size.
+    scene::State state = session_->state();
+    state.frame.settings.width = still.request.settings.width;
+    state.frame.settings.height = still.request.settings.height;
     const std::string& source = session_->volume()->name;
     // The volume's name as far as a file name (and a Content-Disposition header) takes it.
     std::string name = source;
@@ -726,12 +737,6 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::E
         return !context_.exporter.is_running(earlier);
     });
     exports_.push_back(*started);
-    // The first word: the export's id, before its first tile is done.
-    session::ExportStatus first;
-    first.id = *started;
-    first.width = static_cast<int>(message.width);
-    first.height = static_cast<int>(message.height);
-    send(protocol::export_status_message(id, export_summary(first)));
 }
 
 template <>

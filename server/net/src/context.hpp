@@ -135,7 +135,8 @@ struct Context {
     std::mutex connections_mutex;
     std::vector<std::weak_ptr<Connection>> open_connections;
 
-    // Last, so that it goes first: its exports are cancelled while the rest still stands.
+    // Its exports end in Server::stop, while the I/O threads still run; last, so that it goes
+    // first in any case.
     session::Exporter exporter;
 };
 

@@ -129,6 +129,8 @@ void HttpSession::on_read(beast::error_code ec, std::size_t /*bytes*/) {
     if (request.method() == http::verb::head) {
         response_->body().clear();
     }
+    // A large body (an export) gets time to go out at 64 KiB/s or faster.
+    stream_.expires_after(std::chrono::seconds(30 + response_->body().size() / (64 * 1024)));
     http::async_write(
             stream_, *response_,
             beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));

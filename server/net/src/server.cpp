@@ -188,6 +188,8 @@ void Server::stop() {
         const std::lock_guard lock(impl_->context.lifeline->mutex);
         impl_->context.lifeline->open = false;
     }
+    // Exports report to connections through the I/O threads: they end while those run.
+    impl_->context.exporter.shutdown();
     asio::post(impl_->acceptor.get_executor(), [impl = impl_.get()] {
         beast::error_code ignored;
         impl->acceptor.close(ignored);

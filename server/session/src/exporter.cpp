@@ -45,7 +45,7 @@ struct Exporter::Job {
     Progress progress;
     ExportStatus status;  // the job's thread's
     std::atomic<bool> cancelled{false};
-    std::atomic<bool> finished{false};
+    Clock::time_point deadline;
     std::thread thread;
 
     // The frame waited for: its number, so that an outcome of an earlier one is not taken for it.
@@ -60,6 +60,10 @@ Exporter::Exporter(Scheduler& scheduler, ExportLimits limits)
     , limits_(limits) {}
 
 Exporter::~Exporter() {
+    shutdown();
+}
+
+void Exporter::shutdown() {
     std::vector<std::pair<std::string, std::string>> jobs;  // id, client
     {
         const std::lock_guard lock(mutex_);
@@ -73,22 +77,24 @@ Exporter::~Exporter() {
     std::unique_lock lock(mutex_);
     idle_.wait(lock, [&] { return running_.empty(); });
     for (std::thread& thread : threads_) {
-        if (thread.joinable()) {
-            thread.join();
-        }
+        thread.join();
     }
+    threads_.clear();
 }
 
 base::Result<std::string> Exporter::start_still(const std::string& client, RenderJob still,
                                                 int max_tile_side, std::string file_name,
                                                 const std::string& source,
                                                 const std::string& state_json, Progress progress) {
-    const scene::RenderSettings& s = still.request.settings;
-    if (s.width < 1 || s.height < 1 || s.width > limits_.max_side || s.height > limits_.max_side) {
-        return base::make_error(
-                base::ErrorCode::out_of_range,
-                "an exported still's sides lie within 1.." + std::to_string(limits_.max_side),
-                "/width");
+    const int width = still.request.settings.width;
+    const int height = still.request.settings.height;
+    for (const auto& [side, where] : {std::pair{width, "/width"}, std::pair{height, "/height"}}) {
+        if (side < 1 || side > limits_.max_side) {
+            return base::make_error(
+                    base::ErrorCode::out_of_range,
+                    "an exported still's sides lie within 1.." + std::to_string(limits_.max_side),
+                    where);
+        }
     }
     // The job's thread may write its status as soon as it starts: its id is read from here.
     const std::string id = random_secret();
@@ -102,8 +108,9 @@ base::Result<std::string> Exporter::start_still(const std::string& client, Rende
     job->max_tile_side = std::max(kSmallestTile, std::min(max_tile_side, limits_.tile_side));
     job->text = encode::still_text(source, state_json);
     job->progress = std::move(progress);
-    job->status.width = s.width;
-    job->status.height = s.height;
+    job->status.width = width;
+    job->status.height = height;
+    job->deadline = Clock::now() + limits_.longest;
     job->status.file_name = std::move(file_name);
     {
         const std::lock_guard lock(mutex_);
@@ -131,6 +138,8 @@ base::Result<std::string> Exporter::start_still(const std::string& client, Rende
         job->status.id = id;
         job->key = "export:" + id;
         running_.emplace(id, job);
+        // Its first word before any other can be said: a fast failure must not overtake it.
+        job->progress(job->status);
         job->thread = std::thread([this, job] { run(job); });
     }
     return id;
@@ -200,9 +209,21 @@ base::Result<std::shared_ptr<const base::ImageRgba8>> Exporter::render(
         shared->changed.notify_all();
     });
     std::unique_lock lock(job.mutex);
-    job.changed.wait(lock, [&] { return job.outcome.has_value() || job.cancelled; });
+    const bool answered = job.changed.wait_until(
+            lock, job.deadline, [&] { return job.outcome.has_value() || job.cancelled; });
     if (job.cancelled) {
         return cancelled_error();
+    }
+    if (!answered) {
+        // A busy server preempts an export's tiles again and again: it gives up in the end
+        // rather than hold its place among the exports.
+        lock.unlock();
+        scheduler_.cancel(job.key);
+        return base::make_error(base::ErrorCode::render_failed,
+                                "the export did not finish in " +
+                                        std::to_string(limits_.longest.count()) +
+                                        " s: the server is busy; try again later, or smaller",
+                                "export");
     }
     FrameOutcome outcome = std::move(*job.outcome);
     if (const auto* frame_done = std::get_if<std::shared_ptr<const EncodedFrame>>(&outcome)) {
@@ -214,6 +235,32 @@ base::Result<std::shared_ptr<const base::ImageRgba8>> Exporter::render(
     return base::make_error(base::ErrorCode::cancelled, "the server is shutting down", "export");
 }
 
+base::Result<Exporter::Refined> Exporter::refine(const std::shared_ptr<Job>& job,
+                                                 const scene::FrameRequest& still, int most_steps,
+                                                 double threshold,
+                                                 const std::function<void(int)>& stepped) {
+    RenderJob frame = job->still;
+    Refined refined;
+    std::optional<double> change;
+    for (int step = 0;; ++step) {
+        frame.request = step == 0 ? still : scene::refinement_step_request(still, step);
+        auto rendered = render(job, frame);
+        if (!rendered) {
+            return rendered.error();
+        }
+        if (refined.image) {
+            if (auto measured = base::change_in_levels(*refined.image, **rendered)) {
+                change = *measured;
+            }
+        }
+        refined = {std::move(rendered.value()), step};
+        if (!scene::refines_after(step, change, most_steps, threshold)) {
+            return refined;
+        }
+        stepped(step);
+    }
+}
+
 base::Result<base::ImageRgba8> Exporter::render_still(const std::shared_ptr<Job>& shared,
                                                       int tile_side) {
     Job& job = *shared;
@@ -221,36 +268,41 @@ base::Result<base::ImageRgba8> Exporter::render_still(const std::shared_ptr<Job>
     const std::vector<scene::FrameRequest> tiles = scene::image_tiles(whole, tile_side);
     job.status.tiles = static_cast<int>(tiles.size());
     const double tile_count = static_cast<double>(tiles.size());
+    // Every tile takes the same refinement steps, lest the grain change at a tile's edge: as many
+    // as the whole view needs, measured on it at a tile's size (a tile stopped by its own change,
+    // mostly background, would stop long before a busy neighbour).
+    int steps = job.still.refinement_steps;
+    if (tiles.size() > 1 && steps > 0 && job.still.refinement_threshold > 0.0) {
+        scene::FrameRequest view = whole;
+        const double shrink =
+                std::min(1.0, static_cast<double>(tile_side) /
+                                      std::max(whole.settings.width, whole.settings.height));
+        view.settings.width = std::max(1, static_cast<int>(whole.settings.width * shrink));
+        view.settings.height = std::max(1, static_cast<int>(whole.settings.height * shrink));
+        auto probe = refine(shared, view, steps, job.still.refinement_threshold, [](int) {});
+        if (!probe) {
+            return probe.error();
+        }
+        steps = probe->steps;
+    }
     base::ImageRgba8 image(whole.settings.width, whole.settings.height);
-    RenderJob frame = job.still;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
-        const scene::FrameRequest& tile = tiles[i];
-        // Refined as the session's still would be, tile by tile: one tile's mean held at a time.
-        std::shared_ptr<const base::ImageRgba8> refined;
-        std::optional<double> change;
-        for (int step = 0;; ++step) {
-            frame.request = step == 0 ? tile : scene::refinement_step_request(tile, step);
-            auto rendered = render(shared, frame);
-            if (!rendered) {
-                return rendered.error();
-            }
-            if (refined) {
-                if (auto measured = base::change_in_levels(*refined, **rendered)) {
-                    change = *measured;
-                }
-            }
-            refined = std::move(rendered.value());
-            if (!scene::refines_after(step, change, job.still.refinement_steps,
-                                      job.still.refinement_threshold)) {
-                break;
-            }
+        const auto stepped = [&](int step) {
             job.status.progress =
-                    (static_cast<double>(i) +
-                     static_cast<double>(step + 1) / (job.still.refinement_steps + 1)) /
+                    (static_cast<double>(i) + static_cast<double>(step + 1) / (steps + 1)) /
                     tile_count;
             job.progress(job.status);
+        };
+        // One tile's mean held at a time; a mean the renderer had to evict (other stills took its
+        // memory) is begun again, once.
+        auto refined = refine(shared, tiles[i], steps, 0.0, stepped);
+        if (!refined && refined.error().code == base::ErrorCode::refinement_lost) {
+            refined = refine(shared, tiles[i], steps, 0.0, stepped);
         }
-        base::paste(image, *refined, tile.tile.x, tile.tile.y);
+        if (!refined) {
+            return refined.error();
+        }
+        base::paste(image, *refined->image, tiles[i].tile.x, tiles[i].tile.y);
         job.status.progress = static_cast<double>(i + 1) / tile_count;
         job.progress(job.status);
     }
@@ -268,18 +320,29 @@ void Exporter::run(const std::shared_ptr<Job>& job) {
         image = render_still(job, side);
     }
     status = job->status;
+    if (job->cancelled) {
+        status.state = ExportState::cancelled;
+        finish(*job, std::move(status));
+        return;
+    }
     if (!image) {
-        status.state = image.error().code == base::ErrorCode::cancelled && job->cancelled
-                               ? ExportState::cancelled
-                               : ExportState::failed;
+        status.state = ExportState::failed;
         status.error = image.error();
         finish(*job, std::move(status));
         return;
     }
     auto png = encode::encode_image(*image, encode::ImageFormat::png, 90, job->text);
-    if (!png) {
-        status.state = ExportState::failed;
-        status.error = png.error();
+    if (png && png->size() > limits_.max_bytes_kept) {
+        png = base::make_error(base::ErrorCode::too_large,
+                               "the PNG (" + std::to_string(png->size() >> 20) +
+                                       " MiB) is larger than the server keeps",
+                               "export");
+    }
+    if (!png || job->cancelled) {
+        status.state = job->cancelled ? ExportState::cancelled : ExportState::failed;
+        if (!png) {
+            status.error = png.error();
+        }
         finish(*job, std::move(status));
         return;
     }

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -23,8 +24,9 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Paints pixel (x, y) of the whole image as (x mod 256, y mod 256, the frame's refinement
-// pattern + 1 where the frame is a refinement step, else 0). Refuses a frame of more pixels than
+// Paints pixel (x, y) of the whole image as (x mod 256, y mod 256, 64 + 128 / (k + 1)) for the
+// still's k-th frame (0: the still; each step moves the image less, as a converging mean does:
+// changes of 64, 22, 10, 7, 4, ... levels in blue). Refuses a frame of more pixels than
 // `most_pixels` with too_much_work, as the renderer's work ceiling does; takes `frame_ms` in 1 ms
 // chunks, asking between them whether to stop; records the sizes and refinements it rendered.
 class TileRenderer final : public render::FrameRenderer {
@@ -65,13 +67,14 @@ public:
         render::Frame frame;
         frame.image = base::ImageRgba8(s.width, s.height);
         const scene::Refinement& r = request.refinement;
-        const int pattern = r.keep || r.step > 0 ? r.step + 1 : 0;
+        const int frame_of_still = r.keep || r.step > 0 ? r.step + 1 : 0;
+        const auto blue = static_cast<std::uint8_t>(64 + 128 / (frame_of_still + 1));
         for (int y = 0; y < s.height; ++y) {
             for (int x = 0; x < s.width; ++x) {
                 std::uint8_t* p = frame.image.pixel(x, y);
                 p[0] = static_cast<std::uint8_t>((request.tile.x + x) % 256);
                 p[1] = static_cast<std::uint8_t>((request.tile.y + y) % 256);
-                p[2] = static_cast<std::uint8_t>(pattern);
+                p[2] = blue;
                 p[3] = 255;
             }
         }
@@ -203,10 +206,61 @@ TEST_F(ExporterTest, AStillIsItsTilesRefinedAndPutTogetherIntoAKeptPng) {
         for (int x = 0; x < 150; ++x) {
             ASSERT_EQ(image->pixel(x, y)[0], x) << x << "," << y;
             ASSERT_EQ(image->pixel(x, y)[1], y) << x << "," << y;
-            ASSERT_EQ(image->pixel(x, y)[2], 3) << "each tile's last step, step 3";
+            ASSERT_EQ(image->pixel(x, y)[2], 64 + 128 / 4) << "each tile's last step, step 3";
         }
     }
     EXPECT_FALSE(exporter.file("0123456789abcdef0123456789abcdef").has_value());
+}
+
+// A tile stopped by its own change would stop where its neighbour goes on (a seam in the grain):
+// every tile takes the steps the whole view needs, measured on it at a tile's size.
+TEST_F(ExporterTest, EveryTileTakesTheStepsTheWholeViewNeeds) {
+    start_scheduler(64 * 64, 0);
+    Exporter exporter(*scheduler_, {});
+    Statuses statuses;
+    RenderJob job = still(150, 100, 32);
+    // Changes of 36.9, 12.7, 5.8, 4.0 levels (RMS over RGB): the fourth step is the last.
+    job.refinement_threshold = 5.0;
+    ASSERT_TRUE(exporter.start_still("client", job, 64, "x.png", "ch2", "{}", statuses.progress())
+                        .ok());
+    const auto last = statuses.last();
+    ASSERT_TRUE(last.has_value());
+    ASSERT_EQ(last->state, ExportState::done);
+    std::map<std::pair<int, int>, int> frames_of_tile;
+    int probe = 0;
+    for (const TileRenderer::Rendered& frame : rendered()) {
+        if (frame.tile.whole()) {
+            ++probe;
+            EXPECT_EQ(frame.width, 64);  // the view at a tile's size
+            EXPECT_EQ(frame.height, 42);
+        } else {
+            ++frames_of_tile[{frame.tile.x, frame.tile.y}];
+        }
+    }
+    EXPECT_EQ(probe, 5);
+    ASSERT_EQ(frames_of_tile.size(), 6u);
+    for (const auto& [tile, frames] : frames_of_tile) {
+        EXPECT_EQ(frames, 5) << tile.first << "," << tile.second;
+    }
+}
+
+TEST_F(ExporterTest, AnExportThatCannotFinishInTimeFailsAndGivesItsPlaceBack) {
+    start_scheduler(1 << 20, 30);
+    ExportLimits limits;
+    limits.longest = std::chrono::seconds(1);
+    Exporter exporter(*scheduler_, limits);
+    Statuses statuses;
+    const auto started = std::chrono::steady_clock::now();
+    ASSERT_TRUE(exporter.start_still("client", still(64, 64, 200), 64, "x.png", "ch2", "{}",
+                                     statuses.progress())
+                        .ok());
+    const auto last = statuses.last();
+    ASSERT_TRUE(last.has_value());
+    EXPECT_EQ(last->state, ExportState::failed);
+    ASSERT_TRUE(last->error.has_value());
+    EXPECT_EQ(last->error->code, base::ErrorCode::render_failed);
+    EXPECT_LT(std::chrono::steady_clock::now() - started, 5s);
+    EXPECT_EQ(exporter.running(), 0);
 }
 
 TEST_F(ExporterTest, TilesShrinkWhereATileAsksForMoreWorkThanAFrameMay) {

@@ -36,6 +36,9 @@ struct ExportLimits {
     // hold more than max_bytes_kept.
     std::chrono::seconds kept{900};
     std::size_t max_bytes_kept = std::size_t{256} << 20;
+    // An export that has not finished in this long fails (a busy server preempts its tiles
+    // again and again), giving its place back.
+    std::chrono::seconds longest{900};
 };
 
 enum class ExportState { running, done, failed, cancelled };
@@ -74,6 +77,10 @@ public:
     // Cancels what runs and waits for it; before the scheduler it renders through goes.
     ~Exporter();
 
+    // Cancels what runs and waits for it (their last statuses said): before the connections they
+    // report to go.
+    void shutdown();
+
     [[nodiscard]] const ExportLimits& limits() const { return limits_; }
 
     // Starts rendering `still` (a session's still job, Session::make_job, its request at the
@@ -107,6 +114,18 @@ private:
     // job is.
     base::Result<std::shared_ptr<const base::ImageRgba8>> render(const std::shared_ptr<Job>& job,
                                                                  RenderJob frame);
+
+    // `still` and its refinement steps until a step changes the image by no more than
+    // `threshold` or `most_steps` (scene::refines_after); `stepped` hears of each step but the
+    // last.
+    struct Refined {
+        std::shared_ptr<const base::ImageRgba8> image;
+        int steps = 0;
+    };
+
+    base::Result<Refined> refine(const std::shared_ptr<Job>& job, const scene::FrameRequest& still,
+                                 int most_steps, double threshold,
+                                 const std::function<void(int)>& stepped);
     base::Result<base::ImageRgba8> render_still(const std::shared_ptr<Job>& job, int tile_side);
     void keep(const std::string& id, ExportFile file);
     void finish(Job& job, ExportStatus status);
