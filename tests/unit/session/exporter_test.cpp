@@ -332,7 +332,11 @@ TEST_F(ExporterTest, ASessionsFramesGoBeforeAnExportsTiles) {
 
 TEST_F(ExporterTest, ExportsAreBoundedBySizePerClientAndForTheServer) {
     start_scheduler(1 << 20, 20);
-    Exporter exporter(*scheduler_, {.max_side = 256, .per_client = 1, .at_once = 2});
+    ExportLimits limits;
+    limits.max_side = 256;
+    limits.per_client = 1;
+    limits.at_once = 2;
+    Exporter exporter(*scheduler_, limits);
     Statuses a;
     Statuses b;
     Statuses c;
