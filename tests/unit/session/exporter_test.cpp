@@ -169,8 +169,9 @@ protected:
 
 TEST_F(ExporterTest, AStillIsItsTilesRefinedAndPutTogetherIntoAKeptPng) {
     start_scheduler(64 * 64, 0);
-    Exporter exporter(*scheduler_, {});
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, {});
     auto id = exporter.start_still("client", still(150, 100, 3), 64, "head.png", "ch2", "{}",
                                    statuses.progress());
     ASSERT_TRUE(id.ok()) << id.error().to_string();
@@ -216,8 +217,9 @@ TEST_F(ExporterTest, AStillIsItsTilesRefinedAndPutTogetherIntoAKeptPng) {
 // every tile takes the steps the whole view needs, measured on it at a tile's size.
 TEST_F(ExporterTest, EveryTileTakesTheStepsTheWholeViewNeeds) {
     start_scheduler(64 * 64, 0);
-    Exporter exporter(*scheduler_, {});
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, {});
     RenderJob job = still(150, 100, 32);
     // Changes of 36.9, 12.7, 5.8, 4.0 levels (RMS over RGB): the fourth step is the last.
     job.refinement_threshold = 5.0;
@@ -248,8 +250,9 @@ TEST_F(ExporterTest, AnExportThatCannotFinishInTimeFailsAndGivesItsPlaceBack) {
     start_scheduler(1 << 20, 30);
     ExportLimits limits;
     limits.longest = std::chrono::seconds(1);
-    Exporter exporter(*scheduler_, limits);
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, limits);
     const auto started = std::chrono::steady_clock::now();
     ASSERT_TRUE(exporter.start_still("client", still(64, 64, 200), 64, "x.png", "ch2", "{}",
                                      statuses.progress())
@@ -265,8 +268,9 @@ TEST_F(ExporterTest, AnExportThatCannotFinishInTimeFailsAndGivesItsPlaceBack) {
 
 TEST_F(ExporterTest, TilesShrinkWhereATileAsksForMoreWorkThanAFrameMay) {
     start_scheduler(40 * 40, 0);
-    Exporter exporter(*scheduler_, {});
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, {});
     ASSERT_TRUE(exporter.start_still("client", still(100, 70, 0), 128, "x.png", "ch2", "{}",
                                      statuses.progress())
                         .ok());
@@ -278,8 +282,9 @@ TEST_F(ExporterTest, TilesShrinkWhereATileAsksForMoreWorkThanAFrameMay) {
 
 TEST_F(ExporterTest, ACancelledExportStopsKeepsNothingAndLeavesTheSchedulerServing) {
     start_scheduler(1 << 20, 30);
-    Exporter exporter(*scheduler_, {});
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, {});
     auto id = exporter.start_still("client", still(64, 64, 200), 64, "x.png", "ch2", "{}",
                                    statuses.progress());
     ASSERT_TRUE(id.ok());
@@ -306,8 +311,9 @@ TEST_F(ExporterTest, ACancelledExportStopsKeepsNothingAndLeavesTheSchedulerServi
 
 TEST_F(ExporterTest, ASessionsFramesGoBeforeAnExportsTiles) {
     start_scheduler(1 << 20, 20);
-    Exporter exporter(*scheduler_, {});
+    // Before the exporter, which may still report to it as it goes.
     Statuses statuses;
+    Exporter exporter(*scheduler_, {});
     ASSERT_TRUE(exporter.start_still("client", still(64, 64, 20), 64, "x.png", "ch2", "{}",
                                      statuses.progress())
                         .ok());
@@ -336,10 +342,11 @@ TEST_F(ExporterTest, ExportsAreBoundedBySizePerClientAndForTheServer) {
     limits.max_side = 256;
     limits.per_client = 1;
     limits.at_once = 2;
-    Exporter exporter(*scheduler_, limits);
+    // Before the exporter, whose destructor cancels what still runs and reports it to them.
     Statuses a;
     Statuses b;
     Statuses c;
+    Exporter exporter(*scheduler_, limits);
     auto too_large =
             exporter.start_still("a", still(257, 10, 0), 64, "x.png", "ch2", "{}", a.progress());
     ASSERT_FALSE(too_large.ok());
