@@ -10,8 +10,12 @@ extern "C" {
 }
 
 #include <array>
+#include <cstring>
+#include <limits>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace penumbra::encode {
 namespace {
@@ -28,6 +32,63 @@ base::Error movie_error(const std::string& what, int code = 0) {
     return base::make_error(base::ErrorCode::encode_failed, message, "movie");
 }
 
+// Where a movie made in memory goes: libavformat writes and seeks in it as in a file (the MP4's
+// index is written last and points back into it).
+struct MemoryOutput {
+    std::vector<std::uint8_t> bytes;
+    std::size_t position = 0;
+    std::size_t max_bytes = 0;
+    bool too_large = false;
+};
+
+// libavformat 61 made the buffer written const.
+#if LIBAVFORMAT_VERSION_MAJOR >= 61
+using WrittenBytes = const std::uint8_t*;
+#else
+using WrittenBytes = std::uint8_t*;
+#endif
+
+int write_to_memory(void* opaque, WrittenBytes data, int size) {
+    auto& out = *static_cast<MemoryOutput*>(opaque);
+    const std::size_t end = out.position + static_cast<std::size_t>(size);
+    if (end > out.max_bytes) {
+        out.too_large = true;
+        return AVERROR(EFBIG);
+    }
+    if (end > out.bytes.size()) {
+        out.bytes.resize(end);
+    }
+    std::memcpy(out.bytes.data() + out.position, data, static_cast<std::size_t>(size));
+    out.position = end;
+    return size;
+}
+
+std::int64_t seek_in_memory(void* opaque, std::int64_t offset, int whence) {
+    auto& out = *static_cast<MemoryOutput*>(opaque);
+    const auto size = static_cast<std::int64_t>(out.bytes.size());
+    std::int64_t position = 0;
+    switch (whence & ~AVSEEK_FORCE) {
+        case AVSEEK_SIZE:
+            return size;
+        case SEEK_SET:
+            position = offset;
+            break;
+        case SEEK_CUR:
+            position = static_cast<std::int64_t>(out.position) + offset;
+            break;
+        case SEEK_END:
+            position = size + offset;
+            break;
+        default:
+            return AVERROR(EINVAL);
+    }
+    if (position < 0) {
+        return AVERROR(EINVAL);
+    }
+    out.position = static_cast<std::size_t>(position);
+    return position;
+}
+
 }  // namespace
 
 struct MovieWriter::Impl {
@@ -41,6 +102,7 @@ struct MovieWriter::Impl {
     int height = 0;
     int frames = 0;
     bool finished = false;
+    std::unique_ptr<MemoryOutput> memory;  // a movie made in memory
 
     ~Impl() {
         sws_freeContext(convert);
@@ -48,11 +110,35 @@ struct MovieWriter::Impl {
         av_packet_free(&packet);
         avcodec_free_context(&codec);
         if (format != nullptr) {
-            if (format->pb != nullptr) {
-                avio_closep(&format->pb);
-            }
+            close_output();
             avformat_free_context(format);
         }
+    }
+
+    int close_output() {
+        if (format->pb == nullptr) {
+            return 0;
+        }
+        if (!memory) {
+            return avio_closep(&format->pb);
+        }
+        avio_flush(format->pb);
+        const int failed = format->pb->error;
+        av_freep(&format->pb->buffer);
+        avio_context_free(&format->pb);
+        return failed;
+    }
+
+    // An error of libavformat's, or the memory's limit reached.
+    base::Error output_error(const std::string& what, int code) const {
+        if (memory && memory->too_large) {
+            return base::make_error(base::ErrorCode::too_large,
+                                    "the movie is larger than " +
+                                            std::to_string(memory->max_bytes >> 20) +
+                                            " MiB: fewer frames, smaller, or a lower quality",
+                                    "movie");
+        }
+        return movie_error(what, code);
     }
 
     // Writes every packet the encoder has ready.
@@ -69,7 +155,7 @@ struct MovieWriter::Impl {
             packet->stream_index = stream->index;
             const int written = av_interleaved_write_frame(format, packet);
             if (written < 0) {
-                return movie_error("writing the movie failed", written);
+                return output_error("writing the movie failed", written);
             }
         }
     }
@@ -89,6 +175,18 @@ base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path& path,
                 base::ErrorCode::invalid_argument,
                 "a movie is written as .mp4, not '" + path.filename().string() + "'", "movie");
     }
+    return open(path, std::nullopt, width, height, options);
+}
+
+base::Result<MovieWriter> MovieWriter::create_in_memory(int width, int height,
+                                                        const MovieOptions& options,
+                                                        std::size_t max_bytes) {
+    return open({}, max_bytes, width, height, options);
+}
+
+base::Result<MovieWriter> MovieWriter::open(const std::filesystem::path& path,
+                                            std::optional<std::size_t> max_bytes_in_memory,
+                                            int width, int height, const MovieOptions& options) {
     if (width < 2 || height < 2 || width > kMaxMovieSide || height > kMaxMovieSide ||
         width % 2 != 0 || height % 2 != 0) {
         return base::make_error(base::ErrorCode::invalid_argument,
@@ -116,8 +214,13 @@ base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path& path,
     auto impl = std::make_unique<Impl>();
     impl->width = width;
     impl->height = height;
+    if (max_bytes_in_memory) {
+        impl->memory = std::make_unique<MemoryOutput>();
+        impl->memory->max_bytes = *max_bytes_in_memory;
+    }
     const std::string file = path.string();
-    int status = avformat_alloc_output_context2(&impl->format, nullptr, "mp4", file.c_str());
+    int status = avformat_alloc_output_context2(&impl->format, nullptr, "mp4",
+                                                file.empty() ? nullptr : file.c_str());
     if (status < 0 || impl->format == nullptr) {
         return movie_error("no MP4 muxer", status);
     }
@@ -161,13 +264,27 @@ base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path& path,
     }
     impl->stream->time_base = codec.time_base;
     impl->stream->avg_frame_rate = codec.framerate;
-    status = avio_open(&impl->format->pb, file.c_str(), AVIO_FLAG_WRITE);
-    if (status < 0) {
-        return movie_error("cannot write '" + file + "'", status);
+    if (impl->memory) {
+        constexpr int kBufferBytes = 64 << 10;
+        auto* buffer = static_cast<unsigned char*>(av_malloc(kBufferBytes));
+        impl->format->pb = buffer == nullptr
+                                   ? nullptr
+                                   : avio_alloc_context(buffer, kBufferBytes, 1, impl->memory.get(),
+                                                        nullptr, write_to_memory, seek_in_memory);
+        if (impl->format->pb == nullptr) {
+            av_free(buffer);
+            return movie_error("out of memory");
+        }
+        impl->format->flags |= AVFMT_FLAG_CUSTOM_IO;
+    } else {
+        status = avio_open(&impl->format->pb, file.c_str(), AVIO_FLAG_WRITE);
+        if (status < 0) {
+            return movie_error("cannot write '" + file + "'", status);
+        }
     }
     status = avformat_write_header(impl->format, nullptr);
     if (status < 0) {
-        return movie_error("writing the MP4 header failed", status);
+        return impl->output_error("writing the MP4 header failed", status);
     }
     impl->frame->format = codec.pix_fmt;
     impl->frame->width = width;
@@ -230,17 +347,24 @@ base::Status MovieWriter::finish() {
     }
     const int written = av_write_trailer(impl.format);
     if (written < 0) {
-        return movie_error("writing the MP4 index failed", written);
+        return impl.output_error("writing the MP4 index failed", written);
     }
-    const int closed = avio_closep(&impl.format->pb);
+    const int closed = impl.close_output();
     if (closed < 0) {
-        return movie_error("closing the movie failed", closed);
+        return impl.output_error("closing the movie failed", closed);
     }
     return base::Ok{};
 }
 
 int MovieWriter::frames() const {
     return impl_->frames;
+}
+
+std::vector<std::uint8_t> MovieWriter::take_bytes() {
+    if (!impl_->memory || !impl_->finished || impl_->format->pb != nullptr) {
+        return {};
+    }
+    return std::exchange(impl_->memory->bytes, {});
 }
 
 }  // namespace penumbra::encode

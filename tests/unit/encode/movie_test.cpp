@@ -16,6 +16,7 @@ extern "C" {
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,52 @@ TEST_F(MovieTest, AnMp4HoldsEveryFrameAtItsSizeAndRateAsGiven) {
                     << "frame " << k;
         }
     }
+}
+
+TEST_F(MovieTest, AMovieMadeInMemoryIsTheSameMp4AndKeepsToItsLimit) {
+    constexpr int frames = 8;
+    auto in_memory = MovieWriter::create_in_memory(64, 48, {.frames_per_second = 24, .quality = 18},
+                                                   std::size_t{1} << 20);
+    ASSERT_TRUE(in_memory.ok()) << in_memory.error().to_string();
+    auto in_file = MovieWriter::create(dir_ / "file.mp4", 64, 48,
+                                       {.frames_per_second = 24, .quality = 18});
+    ASSERT_TRUE(in_file.ok());
+    EXPECT_TRUE(in_memory->take_bytes().empty()) << "nothing before finish";
+    for (int k = 0; k < frames; ++k) {
+        ASSERT_TRUE(in_memory->add(moving_square(64, 48, k)).ok());
+        ASSERT_TRUE(in_file->add(moving_square(64, 48, k)).ok());
+    }
+    ASSERT_TRUE(in_memory->finish().ok());
+    ASSERT_TRUE(in_file->finish().ok());
+    const std::vector<std::uint8_t> bytes = in_memory->take_bytes();
+    ASSERT_FALSE(bytes.empty());
+    EXPECT_EQ(bytes.size(), fs::file_size(dir_ / "file.mp4")) << "the index points back alike";
+    {
+        std::ofstream(dir_ / "memory.mp4", std::ios::binary)
+                .write(reinterpret_cast<const char*>(bytes.data()),
+                       static_cast<std::streamsize>(bytes.size()));
+    }
+    const ReadMovie movie = read_movie(dir_ / "memory.mp4");
+    EXPECT_EQ(movie.width, 64);
+    EXPECT_EQ(movie.height, 48);
+    ASSERT_EQ(movie.frames.size(), std::size_t(frames));
+    for (int k = 0; k < frames; ++k) {
+        EXPECT_GT(psnr(movie.frames[k], moving_square(64, 48, k)), 26.0) << "frame " << k;
+    }
+
+    // A movie larger than its limit fails as too large, however far it got.
+    auto small = MovieWriter::create_in_memory(64, 48, {.quality = 0}, 2048);
+    ASSERT_TRUE(small.ok());
+    base::Status status = base::Ok{};
+    for (int k = 0; k < frames && status.ok(); ++k) {
+        status = small->add(moving_square(64, 48, k));
+    }
+    if (status.ok()) {
+        status = small->finish();
+    }
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, base::ErrorCode::too_large) << status.error().to_string();
+    EXPECT_TRUE(small->take_bytes().empty());
 }
 
 TEST_F(MovieTest, BadSizesRatesQualitiesAndFramesAreRefused) {

@@ -6,8 +6,12 @@
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/result.hpp>
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <vector>
 
 namespace penumbra::encode {
 
@@ -29,6 +33,11 @@ public:
     // be written.
     static base::Result<MovieWriter> create(const std::filesystem::path& path, int width,
                                             int height, const MovieOptions& options = {});
+    // The same movie held in memory (bytes() once finished), for a server that hands it out: at
+    // most `max_bytes`, beyond which add and finish fail with too_large.
+    static base::Result<MovieWriter> create_in_memory(int width, int height,
+                                                      const MovieOptions& options,
+                                                      std::size_t max_bytes);
 
     MovieWriter(MovieWriter&&) noexcept;
     MovieWriter& operator=(MovieWriter&&) noexcept;
@@ -43,9 +52,17 @@ public:
 
     [[nodiscard]] int frames() const;
 
+    // The finished MP4 of a movie made in memory, handed over (empty for a file, and before
+    // finish).
+    [[nodiscard]] std::vector<std::uint8_t> take_bytes();
+
 private:
     struct Impl;
     explicit MovieWriter(std::unique_ptr<Impl> impl);
+    // Into `path`, or into memory of at most `max_bytes_in_memory`.
+    static base::Result<MovieWriter> open(const std::filesystem::path& path,
+                                          std::optional<std::size_t> max_bytes_in_memory, int width,
+                                          int height, const MovieOptions& options);
     std::unique_ptr<Impl> impl_;
 };
 
