@@ -168,6 +168,10 @@ MovieWriter::MovieWriter(MovieWriter&&) noexcept = default;
 MovieWriter& MovieWriter::operator=(MovieWriter&&) noexcept = default;
 MovieWriter::~MovieWriter() = default;
 
+bool writes_movies() {
+    return true;
+}
+
 base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path& path, int width,
                                               int height, const MovieOptions& options) {
     if (path.extension() != ".mp4") {

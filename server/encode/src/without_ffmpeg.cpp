@@ -24,6 +24,15 @@ base::Result<MovieWriter> MovieWriter::create(const std::filesystem::path&, int,
                             "movie");
 }
 
+base::Result<MovieWriter> MovieWriter::create_in_memory(int, int, const MovieOptions&,
+                                                        std::size_t) {
+    return create("movie.mp4", 0, 0, {}).error();
+}
+
+bool writes_movies() {
+    return false;
+}
+
 base::Status MovieWriter::add(const base::ImageRgba8&) {
     return base::make_error(base::ErrorCode::unsupported_format, "this build writes no movies",
                             "movie");
@@ -35,6 +44,10 @@ base::Status MovieWriter::finish() {
 
 int MovieWriter::frames() const {
     return 0;
+}
+
+std::vector<std::uint8_t> MovieWriter::take_bytes() {
+    return {};
 }
 
 struct StreamDecoder::Impl {};

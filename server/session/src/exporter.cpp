@@ -1,6 +1,8 @@
 #include <penumbra/base/image.hpp>
 #include <penumbra/base/log.hpp>
+#include <penumbra/encode/movie.hpp>
 #include <penumbra/scene/frame_request.hpp>
+#include <penumbra/scene/turntable.hpp>
 #include <penumbra/session/exporter.hpp>
 #include <penumbra/session/session.hpp>
 
@@ -40,6 +42,7 @@ struct Exporter::Job {
     std::string client;
     std::string key;  // its frames' name in the scheduler
     RenderJob still;
+    std::optional<MovieSpec> movie;
     int max_tile_side = 0;
     std::vector<encode::ImageText> text;
     Progress progress;
@@ -82,36 +85,90 @@ void Exporter::shutdown() {
     threads_.clear();
 }
 
+namespace {
+
+// The sides of an export's image, checked against its largest.
+base::Status check_sides(const RenderJob& job, int max_side, const std::string& what) {
+    for (const auto& [side, where] : {std::pair{job.request.settings.width, "/width"},
+                                      std::pair{job.request.settings.height, "/height"}}) {
+        if (side < 1 || side > max_side) {
+            return base::make_error(base::ErrorCode::out_of_range,
+                                    what + "'s sides lie within 1.." + std::to_string(max_side),
+                                    where);
+        }
+    }
+    return base::Ok{};
+}
+
+}  // namespace
+
 base::Result<std::string> Exporter::start_still(const std::string& client, RenderJob still,
                                                 int max_tile_side, std::string file_name,
                                                 const std::string& source,
                                                 const std::string& state_json, Progress progress) {
-    const int width = still.request.settings.width;
-    const int height = still.request.settings.height;
-    for (const auto& [side, where] : {std::pair{width, "/width"}, std::pair{height, "/height"}}) {
-        if (side < 1 || side > limits_.max_side) {
-            return base::make_error(
-                    base::ErrorCode::out_of_range,
-                    "an exported still's sides lie within 1.." + std::to_string(limits_.max_side),
-                    where);
-        }
+    if (auto checked = check_sides(still, limits_.max_side, "an exported still"); !checked) {
+        return checked.error();
     }
-    // The job's thread may write its status as soon as it starts: its id is read from here.
-    const std::string id = random_secret();
     auto job = std::make_shared<Job>();
     job->client = client;
     job->still = std::move(still);
+    job->max_tile_side = max_tile_side;
+    job->text = encode::still_text(source, state_json);
+    job->progress = std::move(progress);
+    job->status.file_name = std::move(file_name);
+    return start(std::move(job));
+}
+
+base::Result<std::string> Exporter::start_movie(const std::string& client, RenderJob still,
+                                                MovieSpec movie, int max_tile_side,
+                                                std::string file_name, Progress progress) {
+    if (!encode::writes_movies()) {
+        return base::make_error(base::ErrorCode::invalid_value,
+                                "this server writes no movies: it was built without FFmpeg's "
+                                "libraries",
+                                "/type");
+    }
+    if (auto checked = check_sides(still, limits_.max_movie_side, "a movie"); !checked) {
+        return checked.error();
+    }
+    for (const auto& [side, where] : {std::pair{still.request.settings.width, "/width"},
+                                      std::pair{still.request.settings.height, "/height"}}) {
+        if (side % 2 != 0) {
+            return base::make_error(base::ErrorCode::invalid_value,
+                                    "a movie's sides are even (its colour is stored at half the "
+                                    "resolution)",
+                                    where);
+        }
+    }
+    if (movie.frames < 1 || movie.frames > limits_.max_movie_frames) {
+        return base::make_error(
+                base::ErrorCode::out_of_range,
+                "a movie has 1.." + std::to_string(limits_.max_movie_frames) + " frames",
+                "/frames");
+    }
+    auto job = std::make_shared<Job>();
+    job->client = client;
+    job->still = std::move(still);
+    job->movie = movie;
+    job->max_tile_side = max_tile_side;
+    job->progress = std::move(progress);
+    job->status.file_name = std::move(file_name);
+    job->status.frames = movie.frames;
+    return start(std::move(job));
+}
+
+base::Result<std::string> Exporter::start(std::shared_ptr<Job> job) {
+    // The job's thread may write its status as soon as it starts: its id is read from here.
+    const std::string id = random_secret();
     job->still.raw = true;
     job->still.stream.reset();
     job->still.preview.reset();
     job->still.interactive = false;
-    job->max_tile_side = std::max(kSmallestTile, std::min(max_tile_side, limits_.tile_side));
-    job->text = encode::still_text(source, state_json);
-    job->progress = std::move(progress);
-    job->status.width = width;
-    job->status.height = height;
+    job->max_tile_side = std::max(kSmallestTile, std::min(job->max_tile_side, limits_.tile_side));
+    job->status.width = job->still.request.settings.width;
+    job->status.height = job->still.request.settings.height;
     job->deadline = Clock::now() + limits_.longest;
-    job->status.file_name = std::move(file_name);
+    const std::string& client = job->client;
     {
         const std::lock_guard lock(mutex_);
         // Threads of finished exports are joined here, so that they never pile up: each has
@@ -261,94 +318,142 @@ base::Result<Exporter::Refined> Exporter::refine(const std::shared_ptr<Job>& job
     }
 }
 
-base::Result<base::ImageRgba8> Exporter::render_still(const std::shared_ptr<Job>& shared,
-                                                      int tile_side) {
+base::Result<Exporter::ViewRendered> Exporter::render_view(
+        const std::shared_ptr<Job>& shared, const scene::FrameRequest& view, int tile_side,
+        int steps, double threshold, const std::function<void(double)>& progressed) {
     Job& job = *shared;
-    const scene::FrameRequest& whole = job.still.request;
-    const std::vector<scene::FrameRequest> tiles = scene::image_tiles(whole, tile_side);
+    const std::vector<scene::FrameRequest> tiles = scene::image_tiles(view, tile_side);
     job.status.tiles = static_cast<int>(tiles.size());
     const double tile_count = static_cast<double>(tiles.size());
     // Every tile takes the same refinement steps, lest the grain change at a tile's edge: as many
     // as the whole view needs, measured on it at a tile's size (a tile stopped by its own change,
     // mostly background, would stop long before a busy neighbour).
-    int steps = job.still.refinement_steps;
-    if (tiles.size() > 1 && steps > 0 && job.still.refinement_threshold > 0.0) {
-        scene::FrameRequest view = whole;
+    if (tiles.size() > 1 && steps > 0 && threshold > 0.0) {
+        scene::FrameRequest small = view;
         const double shrink =
                 std::min(1.0, static_cast<double>(tile_side) /
-                                      std::max(whole.settings.width, whole.settings.height));
-        view.settings.width = std::max(1, static_cast<int>(whole.settings.width * shrink));
-        view.settings.height = std::max(1, static_cast<int>(whole.settings.height * shrink));
-        auto probe = refine(shared, view, steps, job.still.refinement_threshold, [](int) {});
+                                      std::max(view.settings.width, view.settings.height));
+        small.settings.width = std::max(1, static_cast<int>(view.settings.width * shrink));
+        small.settings.height = std::max(1, static_cast<int>(view.settings.height * shrink));
+        auto probe = refine(shared, small, steps, threshold, [](int) {});
         if (!probe) {
             return probe.error();
         }
         steps = probe->steps;
+        threshold = 0.0;
     }
-    base::ImageRgba8 image(whole.settings.width, whole.settings.height);
+    ViewRendered rendered{base::ImageRgba8(view.settings.width, view.settings.height), 0};
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const auto stepped = [&](int step) {
-            job.status.progress =
-                    (static_cast<double>(i) + static_cast<double>(step + 1) / (steps + 1)) /
-                    tile_count;
-            job.progress(job.status);
+            progressed((static_cast<double>(i) + static_cast<double>(step + 1) / (steps + 1)) /
+                       tile_count);
         };
         // One tile's mean held at a time; a mean the renderer had to evict (other stills took its
         // memory) is begun again, once.
-        auto refined = refine(shared, tiles[i], steps, 0.0, stepped);
+        auto refined = refine(shared, tiles[i], steps, threshold, stepped);
         if (!refined && refined.error().code == base::ErrorCode::refinement_lost) {
-            refined = refine(shared, tiles[i], steps, 0.0, stepped);
+            refined = refine(shared, tiles[i], steps, threshold, stepped);
         }
         if (!refined) {
             return refined.error();
         }
-        base::paste(image, *refined->image, tiles[i].tile.x, tiles[i].tile.y);
-        job.status.progress = static_cast<double>(i + 1) / tile_count;
-        job.progress(job.status);
+        base::paste(rendered.image, *refined->image, tiles[i].tile.x, tiles[i].tile.y);
+        rendered.steps = std::max(rendered.steps, refined->steps);
+        progressed(static_cast<double>(i + 1) / tile_count);
     }
-    return image;
+    return rendered;
+}
+
+base::Result<ExportFile> Exporter::make_still(const std::shared_ptr<Job>& shared, int tile_side) {
+    Job& job = *shared;
+    auto view = render_view(shared, job.still.request, tile_side, job.still.refinement_steps,
+                            job.still.refinement_threshold, [&](double done) {
+                                job.status.progress = done;
+                                job.progress(job.status);
+                            });
+    if (!view) {
+        return view.error();
+    }
+    auto png = encode::encode_image(view->image, encode::ImageFormat::png, 90, job.text);
+    if (!png) {
+        return png.error();
+    }
+    if (png->size() > limits_.max_bytes_kept) {
+        return base::make_error(base::ErrorCode::too_large,
+                                "the PNG (" + std::to_string(png->size() >> 20) +
+                                        " MiB) is larger than the server keeps",
+                                "export");
+    }
+    return ExportFile{std::make_shared<const std::vector<std::uint8_t>>(std::move(png.value())),
+                      job.status.file_name, "image/png"};
+}
+
+base::Result<ExportFile> Exporter::make_movie(const std::shared_ptr<Job>& shared, int tile_side) {
+    Job& job = *shared;
+    const MovieSpec& spec = *job.movie;
+    const scene::FrameRequest& still = job.still.request;
+    auto movie = encode::MovieWriter::create_in_memory(
+            still.settings.width, still.settings.height,
+            {.frames_per_second = spec.frames_per_second, .quality = spec.quality},
+            limits_.max_bytes_kept);
+    if (!movie) {
+        return movie.error();
+    }
+    // The first frame decides every frame's refinement steps.
+    int steps = job.still.refinement_steps;
+    double threshold = job.still.refinement_threshold;
+    for (int k = 0; k < spec.frames; ++k) {
+        scene::FrameRequest turned = still;
+        const scene::TurnedView view = scene::turned_view(
+                still.camera, still.light, scene::turntable_degrees(k, spec.frames, spec.rock));
+        turned.camera = view.camera;
+        turned.light = view.light;
+        auto frame = render_view(shared, turned, tile_side, steps, threshold, [&](double done) {
+            job.status.progress = (k + done) / spec.frames;
+            job.progress(job.status);
+        });
+        if (!frame) {
+            return frame.error();
+        }
+        steps = frame->steps;
+        threshold = 0.0;
+        if (auto added = movie->add(frame->image); !added) {
+            return added.error();
+        }
+    }
+    if (auto finished = movie->finish(); !finished) {
+        return finished.error();
+    }
+    return ExportFile{std::make_shared<const std::vector<std::uint8_t>>(movie->take_bytes()),
+                      job.status.file_name, "video/mp4"};
 }
 
 void Exporter::run(const std::shared_ptr<Job>& job) {
-    ExportStatus status = job->status;
+    const auto make = [&](int tile_side) {
+        return job->movie ? make_movie(job, tile_side) : make_still(job, tile_side);
+    };
     int side = job->max_tile_side;
-    auto image = render_still(job, side);
+    auto file = make(side);
     // Smaller tiles where one asked for more work than a frame may (a fine step, the reference).
-    while (!image && image.error().code == base::ErrorCode::too_much_work &&
+    while (!file && file.error().code == base::ErrorCode::too_much_work &&
            side / 2 >= kSmallestTile) {
         side /= 2;
-        image = render_still(job, side);
+        file = make(side);
     }
-    status = job->status;
+    ExportStatus status = job->status;
     if (job->cancelled) {
         status.state = ExportState::cancelled;
         finish(*job, std::move(status));
         return;
     }
-    if (!image) {
+    if (!file) {
         status.state = ExportState::failed;
-        status.error = image.error();
+        status.error = file.error();
         finish(*job, std::move(status));
         return;
     }
-    auto png = encode::encode_image(*image, encode::ImageFormat::png, 90, job->text);
-    if (png && png->size() > limits_.max_bytes_kept) {
-        png = base::make_error(base::ErrorCode::too_large,
-                               "the PNG (" + std::to_string(png->size() >> 20) +
-                                       " MiB) is larger than the server keeps",
-                               "export");
-    }
-    if (!png || job->cancelled) {
-        status.state = job->cancelled ? ExportState::cancelled : ExportState::failed;
-        if (!png) {
-            status.error = png.error();
-        }
-        finish(*job, std::move(status));
-        return;
-    }
-    status.bytes = png->size();
-    keep(status.id, {std::make_shared<const std::vector<std::uint8_t>>(std::move(png.value())),
-                     status.file_name, "image/png"});
+    status.bytes = file->bytes->size();
+    keep(status.id, std::move(file.value()));
     status.state = ExportState::done;
     status.progress = 1.0;
     finish(*job, std::move(status));

@@ -6,15 +6,18 @@
 #include <penumbra/imageio/imageio.hpp>
 #include <penumbra/session/exporter.hpp>
 
+#include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <future>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -36,6 +39,7 @@ public:
         scene::Refinement refinement;
         int width = 0;
         int height = 0;
+        glm::dvec3 eye{0.0};
     };
 
     TileRenderer(std::mutex& mutex, std::vector<Rendered>& rendered, int most_pixels, int frame_ms)
@@ -62,7 +66,8 @@ public:
         }
         {
             const std::lock_guard lock(mutex_);
-            rendered_.push_back({request.tile, request.refinement, s.width, s.height});
+            rendered_.push_back(
+                    {request.tile, request.refinement, s.width, s.height, request.camera.eye});
         }
         render::Frame frame;
         frame.image = base::ImageRgba8(s.width, s.height);
@@ -365,6 +370,60 @@ TEST_F(ExporterTest, ExportsAreBoundedBySizePerClientAndForTheServer) {
     EXPECT_EQ(third.error().code, base::ErrorCode::rate_limited);
     EXPECT_EQ(exporter.running(), 2);
     // Destroyed while both run: cancelled, joined.
+}
+
+TEST_F(ExporterTest, AMovieIsTheViewTurnedFrameByFrameEachRefinedAsTheFirstInAnMp4) {
+    start_scheduler(64 * 64, 0);
+    // Before the exporter, which may still report to it as it goes.
+    Statuses statuses;
+    Exporter exporter(*scheduler_, {});
+    RenderJob job = still(100, 48, 32);
+    job.refinement_threshold = 5.0;  // the fourth step is the last (see above)
+    const glm::dvec3 eye = job.request.camera.eye;
+    auto id = exporter.start_movie("client", job, {.frames = 4, .rock = 0.0}, 64, "turn.mp4",
+                                   statuses.progress());
+    ASSERT_TRUE(id.ok()) << id.error().to_string();
+    const auto last = statuses.last();
+    ASSERT_TRUE(last.has_value());
+    ASSERT_EQ(last->state, ExportState::done) << (last->error ? last->error->to_string() : "");
+    EXPECT_EQ(last->frames, 4);
+    EXPECT_EQ(last->tiles, 2);
+    double before = 0.0;
+    for (const ExportStatus& status : statuses.all()) {
+        EXPECT_GE(status.progress, before);
+        before = status.progress;
+    }
+    // The first frame's probe at a tile's size (the still and four steps), then each frame's two
+    // tiles with as many steps; the view turned a quarter each frame about the target.
+    const auto frames = rendered();
+    ASSERT_EQ(frames.size(), 5u + 4u * 2u * 5u);
+    for (std::size_t frame = 0; frame < 4; ++frame) {
+        const glm::dvec3 turned = frames[5 + frame * 10].eye;
+        EXPECT_NEAR(glm::length(turned), glm::length(eye), 1e-9);
+        EXPECT_NEAR(glm::dot(glm::normalize(turned), glm::normalize(eye)),
+                    std::cos(glm::radians(90.0 * static_cast<double>(frame))), 1e-9)
+                << "frame " << frame;
+        for (std::size_t i = 0; i < 10; ++i) {
+            EXPECT_EQ(frames[5 + frame * 10 + i].eye, turned) << "one view a frame";
+        }
+    }
+    const auto file = exporter.file(*id);
+    ASSERT_TRUE(file.has_value());
+    EXPECT_EQ(file->content_type, "video/mp4");
+    EXPECT_EQ(file->file_name, "turn.mp4");
+    ASSERT_GT(file->bytes->size(), 8u);
+    EXPECT_EQ(std::string(file->bytes->begin() + 4, file->bytes->begin() + 8), "ftyp");
+
+    // Odd sides, too many frames, a side too large.
+    const auto refused = [&](RenderJob movie_still, int frames) {
+        auto started = exporter.start_movie("other", std::move(movie_still), {.frames = frames}, 64,
+                                            "x.mp4", statuses.progress());
+        return started.ok() ? std::nullopt : std::optional(started.error().code);
+    };
+    EXPECT_EQ(refused(still(101, 48, 0), 4), base::ErrorCode::invalid_value);
+    EXPECT_EQ(refused(still(100, 48, 0), 721), base::ErrorCode::out_of_range);
+    EXPECT_EQ(refused(still(100, 48, 0), 0), base::ErrorCode::out_of_range);
+    EXPECT_EQ(refused(still(1922, 48, 0), 4), base::ErrorCode::out_of_range);
 }
 
 }  // namespace

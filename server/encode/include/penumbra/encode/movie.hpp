@@ -20,6 +20,10 @@ namespace penumbra::encode {
 inline constexpr int kMinMovieQuality = 0;
 inline constexpr int kMaxMovieQuality = 51;
 
+// Whether this build writes movies: one without FFmpeg's libraries (PENUMBRA_WITH_FFMPEG=OFF, the
+// portable bundle) does not, and MovieWriter::create says so.
+[[nodiscard]] bool writes_movies();
+
 struct MovieOptions {
     int frames_per_second = 30;
     int quality = 20;  // x264's constant rate factor (kMinMovieQuality..kMaxMovieQuality)

@@ -1,9 +1,10 @@
 #pragma once
 
 // Pictures to keep: a session's view as a still larger than its frames may be (up to
-// ExportLimits::max_side a side), rendered in tiles at the lowest priority so that no session's
-// frames wait for it, each tile refined as the session's stills are, put together into a PNG that
-// carries what drew it, and held for download for a while.
+// ExportLimits::max_side a side), or a movie of it turning (a turntable), rendered in tiles at the
+// lowest priority so that no session's frames wait for it, each tile refined as the session's
+// stills are, put together into a PNG that carries what drew it or an MP4, and held for download
+// for a while.
 
 #include <penumbra/base/result.hpp>
 #include <penumbra/encode/encode.hpp>
@@ -27,8 +28,10 @@ namespace penumbra::session {
 
 struct ExportLimits {
     int max_side = 4096;  // a still's largest side
-    int per_client = 1;   // exports a client may have running at a time
-    int at_once = 2;      // exports running at a time, all clients together
+    int max_movie_side = 1920;
+    int max_movie_frames = 720;
+    int per_client = 1;  // exports a client may have running at a time
+    int at_once = 2;     // exports running at a time, all clients together
     // Tiles are at most this large a side: any session's frame preempts an export's tile, which
     // then starts again, so a small tile loses little and an export goes on between frames.
     int tile_side = 1024;
@@ -52,10 +55,21 @@ struct ExportStatus {
     double progress = 0.0;  // 0..1
     int width = 0;
     int height = 0;
-    int tiles = 0;          // the tiles the still is rendered in (more if one did not fit)
+    int tiles = 0;          // the tiles the still (each movie frame) is rendered in (more if one
+                            // did not fit)
+    int frames = 0;         // a movie's
     std::size_t bytes = 0;  // the file's, when done
     std::string file_name;  // what a download saves it as
     std::optional<base::Error> error;  // why it failed
+};
+
+// A turntable: `frames` views turned about the view's up axis through the camera's target, a
+// whole turn, or rocking between -rock and +rock degrees (scene::turntable_degrees).
+struct MovieSpec {
+    int frames = 0;
+    double rock = 0.0;
+    int frames_per_second = 30;
+    int quality = 20;  // x264's rate factor (encode::MovieOptions)
 };
 
 // A finished export, as a download serves it.
@@ -95,6 +109,14 @@ public:
                                           const std::string& source, const std::string& state_json,
                                           Progress progress);
 
+    // Starts rendering `movie`: each frame `still` turned by its angle, into an MP4 (its sides
+    // even, at most limits().max_movie_side, and at most limits().max_movie_frames frames), every
+    // frame refined with the steps the first needed (lest the grain change from frame to frame).
+    // Errors as start_still's, and invalid_value for an odd side.
+    base::Result<std::string> start_movie(const std::string& client, RenderJob still,
+                                          MovieSpec movie, int max_tile_side, std::string file_name,
+                                          Progress progress);
+
     // Stops `client`'s export `id`, which then reports `cancelled`; false when there is no such
     // export running.
     bool cancel(const std::string& id, const std::string& client);
@@ -126,7 +148,22 @@ private:
     base::Result<Refined> refine(const std::shared_ptr<Job>& job, const scene::FrameRequest& still,
                                  int most_steps, double threshold,
                                  const std::function<void(int)>& stepped);
-    base::Result<base::ImageRgba8> render_still(const std::shared_ptr<Job>& job, int tile_side);
+
+    // `view` in tiles of `tile_side`, each refined `steps` times; `threshold` > 0 stops a view of
+    // one tile where its image stops changing, and sets the steps of a view of several by a probe
+    // of it at a tile's size. `progressed` hears how much of the view is done (0..1).
+    struct ViewRendered {
+        base::ImageRgba8 image;
+        int steps = 0;  // the refinement steps each tile took
+    };
+
+    base::Result<ViewRendered> render_view(const std::shared_ptr<Job>& job,
+                                           const scene::FrameRequest& view, int tile_side,
+                                           int steps, double threshold,
+                                           const std::function<void(double)>& progressed);
+    base::Result<ExportFile> make_still(const std::shared_ptr<Job>& job, int tile_side);
+    base::Result<ExportFile> make_movie(const std::shared_ptr<Job>& job, int tile_side);
+    base::Result<std::string> start(std::shared_ptr<Job> job);
     void keep(const std::string& id, ExportFile file);
     void finish(Job& job, ExportStatus status);
 
