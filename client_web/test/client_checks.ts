@@ -444,6 +444,27 @@ export function checkClientMessage(value: unknown, server: ServerTerms): Problem
         members(o, '', { ...envelope, width: side, height: side }, ['width', 'height']);
         break;
       }
+      case 'export_movie': {
+        const side = (value: Json, at: string): void => {
+          integer(2, limits.max_movie_side)(value, at);
+          if ((value as number) % 2 !== 0) {
+            reject('invalid_value', at, "a movie's sides are even");
+          }
+        };
+        members(
+          o,
+          '',
+          {
+            ...envelope,
+            width: side,
+            height: side,
+            frames: integer(1, limits.max_movie_frames),
+            rock: number(0, 180),
+          },
+          ['width', 'height', 'frames', 'rock'],
+        );
+        break;
+      }
       case 'cancel_export':
         members(o, '', { ...envelope, export: textOf(limits, 'cancel_export/export') }, ['export']);
         break;

@@ -1,6 +1,7 @@
 // The service end to end: a real server on 127.0.0.1 and a free port, real WebSocket clients.
 
 #include "dicom_writer.hpp"
+#include "movie_reader.hpp"
 
 #include <penumbra/encode/encode.hpp>
 #include <penumbra/encode/stream.hpp>
@@ -772,6 +773,81 @@ TEST_F(ServerTest, AStillLargerThanAFrameIsExportedInTilesAndDownloaded) {
     EXPECT_EQ(field(stranger.request(R"({"v":1,"type":"export","id":9,"width":10,"height":10})"),
                     "code"),
               "no_session");
+}
+
+// A movie of the session's view turning: its statuses count frames, the MP4 is downloaded and
+// read back as a player would, each frame the head seen from further round.
+TEST_F(ServerTest, AMovieOfTheViewTurningIsExportedAndDownloadedAsAnMp4) {
+    protocol::Limits limits;
+    limits.max_movie_side = 64;
+    limits.max_movie_frames = 6;
+    start(limits);
+    TestClient owner(port_);
+    const auto hello = nlohmann::json::parse(owner.hello).at("limits");
+    EXPECT_EQ(hello.at("max_movie_side"), 64);
+    EXPECT_EQ(hello.at("max_movie_frames"), 6);
+    owner.open("heads/ch2.nii.gz", 32);
+    owner.send(
+            R"({"v":1,"type":"export_movie","id":4,"width":48,"height":32,"frames":4,"rock":0})");
+    const auto statuses = export_statuses(owner);
+    ASSERT_GE(statuses.size(), 2u);
+    const auto& done = statuses.back();
+    ASSERT_EQ(done.at("state"), "done") << done;
+    EXPECT_EQ(done.at("id"), 4);
+    EXPECT_EQ(done.at("frames"), 4);
+    EXPECT_EQ(done.at("width"), 48);
+    double progress = 0.0;
+    for (const auto& status : statuses) {
+        EXPECT_GE(status.at("progress").get<double>(), progress);
+        progress = status.at("progress").get<double>();
+    }
+    auto download = net::http_get("127.0.0.1", port_, done.at("url"), std::chrono::seconds(30));
+    ASSERT_TRUE(download.ok()) << download.error().to_string();
+    ASSERT_EQ(download->status, 200) << download->body;
+    EXPECT_EQ(download->content_type, "video/mp4");
+    EXPECT_EQ(download->body.size(), done.at("bytes").get<std::size_t>());
+    const fs::path file = data_ / "turntable.mp4";
+    std::ofstream(file, std::ios::binary) << download->body;
+    const test::ReadMovie movie = test::read_movie(file);
+    EXPECT_EQ(movie.codec, "h264");
+    EXPECT_EQ(movie.width, 48);
+    EXPECT_EQ(movie.height, 32);
+    ASSERT_EQ(movie.frames.size(), 4u);
+    for (const base::ImageRgba8& frame : movie.frames) {
+        EXPECT_GT(lit_pixels(frame), 48 * 32 / 10) << "the head in every frame";
+    }
+    // A quarter turn a frame: the head from the side is not the head from the front.
+    const auto differ = [](const base::ImageRgba8& a, const base::ImageRgba8& b) {
+        int changed = 0;
+        for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+            changed += std::abs(a.pixels[i] - b.pixels[i]) > 32 ? 1 : 0;
+        }
+        return changed;
+    };
+    EXPECT_GT(differ(movie.frames[0], movie.frames[1]), 48 * 32 / 20);
+
+    for (const auto& [request, code, where] :
+         {std::tuple{
+                  R"({"v":1,"type":"export_movie","id":8,"width":47,"height":32,"frames":4,"rock":0})",
+                  "invalid_value", "/width"},
+          std::tuple{
+                  R"({"v":1,"type":"export_movie","id":8,"width":66,"height":32,"frames":4,"rock":0})",
+                  "out_of_range", "/width"},
+          std::tuple{
+                  R"({"v":1,"type":"export_movie","id":8,"width":48,"height":32,"frames":7,"rock":0})",
+                  "out_of_range", "/frames"},
+          std::tuple{
+                  R"({"v":1,"type":"export_movie","id":8,"width":48,"height":32,"frames":2.5,"rock":0})",
+                  "invalid_value", "/frames"},
+          std::tuple{
+                  R"({"v":1,"type":"export_movie","id":8,"width":48,"height":32,"frames":4,"rock":181})",
+                  "out_of_range", "/rock"},
+          std::tuple{R"({"v":1,"type":"export_movie","id":8,"width":48,"height":32,"frames":4})",
+                     "invalid_message", "/rock"}}) {
+        const std::string refused = owner.request(request);
+        EXPECT_EQ(field(refused, "code"), code) << request << " " << refused;
+        EXPECT_EQ(field(refused, "field"), where) << request << " " << refused;
+    }
 }
 
 // The label map drawn alone in a session: `labels.alone` is answered once the surfaces are made,

@@ -355,7 +355,7 @@ export interface PickedMessage {
   label?: { id: number; name: string };
 }
 
-/** Where an export stands (`export`): at once, after each tile, and when it ends. */
+/** Where an export stands (`export`, `export_movie`): at once, after each tile, and when it ends. */
 export interface ExportStatusMessage {
   v: 1;
   type: 'export_status';
@@ -367,7 +367,9 @@ export interface ExportStatusMessage {
   width: number;
   height: number;
   tiles: number;
-  /** Done: the path to GET the PNG from on the server. */
+  /** A movie's frames. */
+  frames?: number;
+  /** Done: the path to GET the PNG (or the MP4) from on the server. */
   url?: string;
   bytes?: number;
   /** Failed: why. */
@@ -417,6 +419,15 @@ export type ClientMessage =
   | { v: 1; type: 'remove_labels'; id?: number }
   | { v: 1; type: 'pick'; id?: number; x: number; y: number }
   | { v: 1; type: 'export'; id?: number; width: number; height: number }
+  | {
+      v: 1;
+      type: 'export_movie';
+      id?: number;
+      width: number;
+      height: number;
+      frames: number;
+      rock: number;
+    }
   | { v: 1; type: 'cancel_export'; id?: number; export: string };
 
 export type ClientMessageType = ClientMessage['type'];
@@ -439,6 +450,7 @@ export const ANSWERS = {
   pick: ['picked'],
   // The first status; the rest come as the connection's `exportStatus` events.
   export: ['export_status'],
+  export_movie: ['export_status'],
   // Answered by the export's own status, `cancelled`.
   cancel_export: [],
 } as const satisfies Record<ClientMessageType, readonly ServerMessage['type'][]>;
@@ -697,6 +709,9 @@ export function parseServerMessage(text: string): ServerMessage {
       num(o, 'width', '');
       num(o, 'height', '');
       num(o, 'tiles', '');
+      if (o['frames'] !== undefined) {
+        num(o, 'frames', '');
+      }
       if (o['url'] !== undefined) {
         str(o, 'url', '');
         num(o, 'bytes', '');

@@ -6,6 +6,7 @@
 #include <penumbra/base/text.hpp>
 #include <penumbra/cli/frame_options.hpp>
 #include <penumbra/cli/options.hpp>
+#include <penumbra/encode/movie.hpp>
 #include <penumbra/metrics/registry.hpp>
 #include <penumbra/net/server.hpp>
 #include <penumbra/quality/startup.hpp>
@@ -106,6 +107,10 @@ po::options_description network_options(ServeOptions& o) {
             "max-image-side", whole_number(&limits.max_image_side, 16, 16384), "pixels")(
             "max-export-side", whole_number(&limits.max_export_side, 16, 16384),
             "pixels of an exported still, rendered in tiles")(
+            "max-movie-side", whole_number(&limits.max_movie_side, 16, 8192),
+            "pixels of an exported movie's side")("max-movie-frames",
+                                                  whole_number(&limits.max_movie_frames, 1, 100000),
+                                                  "frames of an exported movie")(
             "max-slices", whole_number(&limits.max_slices, 1, 16384), "light slices")(
             "max-light-res", whole_number(&limits.max_light_resolution, 1, 16384),
             "light-buffer resolution")("max-message-bytes",
@@ -213,6 +218,9 @@ base::Status finish_options(const po::variables_map& a, ServeOptions& o) {
     o.config.web_root = o.web_root;
     o.config.port = static_cast<unsigned short>(o.port);
     o.config.limits.max_message_bytes = static_cast<std::size_t>(o.max_message_bytes);
+    if (!encode::writes_movies()) {
+        o.config.limits.max_movie_frames = 0;  // hello says so; export_movie is refused
+    }
     if (a.count("allow-links-to") != 0) {
         for (const std::string& root : base::split_list(a["allow-links-to"].as<std::string>())) {
             // A root that cannot be resolved would allow nothing; the operator hears so now.

@@ -24,6 +24,7 @@ protocol::ExportSummary export_summary(const session::ExportStatus& status) {
     summary.width = status.width;
     summary.height = status.height;
     summary.tiles = status.tiles;
+    summary.frames = status.frames;
     summary.bytes = status.bytes;
     if (status.state == session::ExportState::done) {
         summary.url = std::string(kExportsPath) + status.id;
@@ -684,51 +685,48 @@ void ConnectionHandler::answer_pick(std::optional<std::int64_t> id, const std::s
     send(protocol::picked_message(id, session_id, summary));
 }
 
-// The session's view as a still of its own size, tile by tile at the lowest priority
-// (session::Exporter); its statuses go to this connection while it is open.
-template <>
-void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Export& message) {
+std::optional<ConnectionHandler::ExportRequest> ConnectionHandler::export_request(
+        std::optional<std::int64_t> id, double width, double height, std::string_view extension) {
     if (!need_session(id)) {
-        return;
+        return std::nullopt;
     }
-    for (const auto& [side, where] :
-         {std::pair{message.width, "/width"}, std::pair{message.height, "/height"}}) {
+    for (const auto& [side, where] : {std::pair{width, "/width"}, std::pair{height, "/height"}}) {
         if (side != std::floor(side)) {
             reply_error(id,
                         base::make_error(base::ErrorCode::invalid_value,
                                          "an export's sides are whole numbers of pixels", where));
-            return;
+            return std::nullopt;
         }
     }
-    session::RenderJob still = session_->make_job(-1, false);
+    ExportRequest request{session_->make_job(-1, false), {}};
+    session::RenderJob& still = request.still;
     still.client = client_;
-    still.request.settings.width = static_cast<int>(message.width);
-    still.request.settings.height = static_cast<int>(message.height);
-    // What the PNG keeps: the session's state at the export's size.
-    scene::State state = session_->state();
-    state.frame.settings.width = still.request.settings.width;
-    state.frame.settings.height = still.request.settings.height;
-    const std::string& source = session_->volume()->name;
+    still.request.settings.width = static_cast<int>(width);
+    still.request.settings.height = static_cast<int>(height);
     // The volume's name as far as a file name (and a Content-Disposition header) takes it.
-    std::string name = source;
+    std::string name = session_->volume()->name;
     std::ranges::replace_if(
             name,
             [](char c) {
                 return std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '-' && c != '.';
             },
             '_');
-    const std::string file_name = "penumbra-" + name + "-" +
-                                  std::to_string(still.request.settings.width) + "x" +
-                                  std::to_string(still.request.settings.height) + ".png";
-    auto started = context_.exporter.start_still(
-            client_, std::move(still), context_.config.limits.max_image_side, file_name, source,
-            protocol::state_to_json(state),
-            [weak = connection_, id](const session::ExportStatus& status) {
-                if (auto connection = weak.lock()) {
-                    connection->send_text(
-                            protocol::export_status_message(id, export_summary(status)));
-                }
-            });
+    request.file_name = "penumbra-" + name + "-" + std::to_string(still.request.settings.width) +
+                        "x" + std::to_string(still.request.settings.height) +
+                        std::string(extension);
+    return request;
+}
+
+session::Exporter::Progress ConnectionHandler::export_progress(std::optional<std::int64_t> id) {
+    return [weak = connection_, id](const session::ExportStatus& status) {
+        if (auto connection = weak.lock()) {
+            connection->send_text(protocol::export_status_message(id, export_summary(status)));
+        }
+    };
+}
+
+void ConnectionHandler::track_export(std::optional<std::int64_t> id,
+                                     const base::Result<std::string>& started) {
     if (!started) {
         reply_error(id, started.error());
         return;
@@ -737,6 +735,47 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::E
         return !context_.exporter.is_running(earlier);
     });
     exports_.push_back(*started);
+}
+
+// The session's view as a still of its own size, tile by tile at the lowest priority
+// (session::Exporter); its statuses go to this connection while it is open.
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::Export& message) {
+    auto request = export_request(id, message.width, message.height, ".png");
+    if (!request) {
+        return;
+    }
+    // What the PNG keeps: the session's state at the export's size.
+    scene::State state = session_->state();
+    state.frame.settings.width = request->still.request.settings.width;
+    state.frame.settings.height = request->still.request.settings.height;
+    track_export(
+            id, context_.exporter.start_still(client_, std::move(request->still),
+                                              context_.config.limits.max_image_side,
+                                              request->file_name, session_->volume()->name,
+                                              protocol::state_to_json(state), export_progress(id)));
+}
+
+// The session's view turning, as a movie: as an export of a still, frame by frame.
+template <>
+void ConnectionHandler::handle(std::optional<std::int64_t> id,
+                               const protocol::ExportMovie& message) {
+    if (message.frames != std::floor(message.frames)) {
+        reply_error(id, base::make_error(base::ErrorCode::invalid_value,
+                                         "a movie's frames are a whole number", "/frames"));
+        return;
+    }
+    auto request = export_request(id, message.width, message.height,
+                                  message.rock > 0.0 ? "-rocking.mp4" : "-turntable.mp4");
+    if (!request) {
+        return;
+    }
+    session::MovieSpec movie;
+    movie.frames = static_cast<int>(message.frames);
+    movie.rock = message.rock;
+    track_export(id, context_.exporter.start_movie(client_, std::move(request->still), movie,
+                                                   context_.config.limits.max_image_side,
+                                                   request->file_name, export_progress(id)));
 }
 
 template <>

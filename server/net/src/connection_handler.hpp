@@ -9,6 +9,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -74,6 +75,21 @@ private:
     // Answers a pick in session `session_id` with what Session::pick found, or its error.
     void answer_pick(std::optional<std::int64_t> id, const std::string& session_id,
                      const protocol::Pick& message, const session::PickAnswer& picked);
+
+    // An export's still job: the session's at width x height, and the file's name (`extension`
+    // its end); nullopt, answered, where the connection is in no session or a side is no whole
+    // number.
+    struct ExportRequest {
+        session::RenderJob still;
+        std::string file_name;
+    };
+
+    std::optional<ExportRequest> export_request(std::optional<std::int64_t> id, double width,
+                                                double height, std::string_view extension);
+    // What brings an export's statuses to this connection, answering request `id`.
+    session::Exporter::Progress export_progress(std::optional<std::int64_t> id);
+    // Keeps an export that started, to cancel it when the connection closes; answers an error.
+    void track_export(std::optional<std::int64_t> id, const base::Result<std::string>& started);
     // Replies with no_session and returns false if the connection is in no session.
     bool need_session(std::optional<std::int64_t> id);
     void handle_waiting();

@@ -73,6 +73,8 @@ inline constexpr std::string_view kExportsPath = "/exports/";
 inline session::ExportLimits export_limits(const protocol::Limits& limits) {
     session::ExportLimits exports;
     exports.max_side = limits.max_export_side;
+    exports.max_movie_side = limits.max_movie_side;
+    exports.max_movie_frames = limits.max_movie_frames;
     return exports;
 }
 

@@ -315,6 +315,8 @@ std::string hello_message(const Limits& limits, const RendererSummary& renderer)
                {"max_send_queue", limits.max_send_queue},
                {"max_frame_work", limits.max_frame_work},
                {"max_export_side", limits.max_export_side},
+               {"max_movie_side", limits.max_movie_side},
+               {"max_movie_frames", limits.max_movie_frames},
                {"max_json_depth", limits.max_json_depth},
                {"max_transfer_function_points", max_transfer_function_points},
                {"max_hounsfield_position", scene::max_hounsfield_position},
@@ -426,6 +428,9 @@ std::string export_status_message(std::optional<std::int64_t> id, const ExportSu
                     {"state", status.state},   {"progress", status.progress},
                     {"width", status.width},   {"height", status.height},
                     {"tiles", status.tiles}};
+    if (status.frames > 0) {
+        message["frames"] = status.frames;
+    }
     if (!status.url.empty()) {
         message["url"] = status.url;
         message["bytes"] = status.bytes;

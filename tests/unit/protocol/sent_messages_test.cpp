@@ -173,6 +173,13 @@ std::vector<std::string> text_messages() {
     failed.tiles = 4;
     failed.error = base::make_error(base::ErrorCode::too_much_work, "a tile asks too much", "size");
     out.push_back(export_status_message(std::nullopt, failed));
+    ExportSummary movie = exported;
+    movie.width = 1280;
+    movie.height = 720;
+    movie.tiles = 2;
+    movie.frames = 120;
+    movie.url = "/exports/0d9e8c7b6a5f4e3d2c1b0a9f8e7d6c5b";
+    out.push_back(export_status_message(15, movie));
     out.push_back(state_message("s0", labelled));
     out.push_back(set_ack_message(9, labelled));
     out.push_back(stats_message(6, "{}"));

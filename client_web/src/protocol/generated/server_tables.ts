@@ -307,6 +307,8 @@ export const DEFAULT_LIMITS = {
   max_json_depth: 16,
   max_light_resolution: 1024,
   max_message_bytes: 65536,
+  max_movie_frames: 720,
+  max_movie_side: 1920,
   max_requests_per_second: 120,
   max_send_queue: 4,
   max_sessions: 64,

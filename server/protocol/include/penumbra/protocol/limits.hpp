@@ -30,6 +30,10 @@ struct Limits {
     // The largest side of an exported still (rendered in tiles of at most max_image_side and
     // session::ExportLimits::tile_side).
     int max_export_side = 4096;
+    // A movie's largest side and most frames (export_movie); no frames where the server writes
+    // no movies (a build without FFmpeg's libraries).
+    int max_movie_side = 1920;
+    int max_movie_frames = 720;
     // Containers nested in one JSON text (the message object is 1; the deepest valid message
     // has 5). Checked while parsing, so no deeper document is ever built or walked.
     int max_json_depth = 16;

@@ -187,6 +187,29 @@ struct Export {
     }
 };
 
+// Renders the session's view turning as a movie (a turntable): `frames` frames of width x height
+// (even, up to hello.limits.max_movie_side), the view turned about its up axis through the camera's
+// target a whole turn, or rocking between -rock and +rock degrees where rock > 0, each frame
+// refined as the first needed, into an MP4 (H.264) at 30 frames a second. Otherwise as `export`:
+// the lowest priority, export_status, the download, the limits per client and server.
+struct ExportMovie {
+    static constexpr std::string_view type = "export_movie";
+    static constexpr NumberRange side{2.0, 16384.0};
+    static constexpr NumberRange frame_count{1.0, 100000.0};
+    static constexpr NumberRange rock_degrees{0.0, 180.0};
+    double width = 0.0;
+    double height = 0.0;
+    double frames = 0.0;
+    double rock = 0.0;
+
+    static constexpr auto members() {
+        return std::tuple{member("width", &ExportMovie::width, side),
+                          member("height", &ExportMovie::height, side),
+                          member("frames", &ExportMovie::frames, frame_count),
+                          member("rock", &ExportMovie::rock, rock_degrees)};
+    }
+};
+
 // Stops an export the connection started; its export_status then says `cancelled`.
 struct CancelExport {
     static constexpr std::string_view type = "cancel_export";
@@ -202,8 +225,9 @@ struct CancelExport {
 // net does not compile); and its schema, proto/v1/<type>.schema.json, with a description and
 // examples. scripts/update-schema.sh then writes its name into common.schema.json's client_type
 // and its row into proto/README.md; protocol_test fails until the schema and those agree.
-using ClientMessage = std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume,
-                                   AddLabels, RemoveLabels, Pick, Export, CancelExport>;
+using ClientMessage =
+        std::variant<ListVolumes, Open, Set, Render, Stats, Join, Close, Resume, AddLabels,
+                     RemoveLabels, Pick, Export, ExportMovie, CancelExport>;
 
 template <typename Variant>
 struct MessageTypes;
@@ -333,6 +357,7 @@ struct ExportSummary {
     int width = 0;
     int height = 0;
     int tiles = 0;
+    int frames = 0;  // a movie's; 0 for a still
     std::size_t bytes = 0;
     std::string url;
     std::optional<base::Error> error;
