@@ -161,7 +161,10 @@ const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) =>
   change({ settings: { size: renderSize() } }, false);
 });
 const exportPanel = new ExportPanel(gui.addFolder('Export'), {
-  start: (width, height) => connection.exportStill(width, height),
+  start: (request) =>
+    request.kind === 'still'
+      ? connection.exportStill(request.width, request.height)
+      : connection.exportMovie(request.width, request.height, request.frames, request.rock),
   cancel: (id) => connection.cancelExport(id),
   viewSize: () => view.devicePixels,
   downloadUrl: (status) => connection.downloadUrl(status),
@@ -298,7 +301,7 @@ connection.on('status', (status) => {
   if (status.kind === 'connected') {
     method.setModes(status.hello.modes);
     method.setLimits(status.hello.limits);
-    exportPanel.setMaxSide(status.hello.limits.max_export_side);
+    exportPanel.setLimits(status.hello.limits);
     method.setRanges(status.hello.ranges);
     light.setRanges(status.hello.ranges);
     camera.setRanges(status.hello.ranges);

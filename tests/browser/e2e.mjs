@@ -62,7 +62,9 @@ function startServer(port = 0) {
   const child = spawn(
     options.penumbra,
     ['serve', '--port', String(port), '--address', '127.0.0.1', '--data', options.data,
-     '--web-root', path.join(clientDir, 'dist')],
+     '--web-root', path.join(clientDir, 'dist'),
+     // Movies small enough for llvmpipe: the panel offers what the server's hello allows.
+     '--max-movie-side', '128', '--max-movie-frames', '8'],
     { stdio: ['ignore', 'pipe', 'pipe'] },
   );
   servers.add(child);
@@ -923,7 +925,7 @@ try {
   await viewer.close();
 
   // Export: the view as a PNG larger than its frames, downloaded from the link the panel shows.
-  await owner.locator('.export-panel select').selectOption('1024');
+  await owner.locator('.export-sides').selectOption('1024');
   await owner.locator('.export-panel').evaluate((e) => e.closest('.lil-gui').scrollIntoView());
   await owner.locator('.export-start').click();
   await owner.locator('.export-status[data-state="running"]').waitFor({ timeout: 15000 });
@@ -959,6 +961,43 @@ try {
       Math.abs(exported.width / exported.height - canvasWidth / canvasHeight) < 0.01 &&
       /attachment; filename="penumbra-.*\.png"/.test(exported.disposition),
     JSON.stringify(exported));
+
+  // A movie of the view turning, downloaded and opened by the browser's own video element.
+  await owner.locator('.export-kind').selectOption('turntable');
+  await owner.locator('.export-start').click();
+  await owner.locator('.export-status[data-state="done"]').waitFor({ timeout: 180000 });
+  await owner.screenshot({ path: path.join(outDir, '05_export_movie_done.png') });
+  const movie = await owner.evaluate(async () => {
+    const link = document.querySelector('.export-link');
+    const response = await fetch(link.href);
+    const blob = await response.blob();
+    const bytes = new Uint8Array(await blob.arrayBuffer());
+    const video = document.createElement('video');
+    video.muted = true;
+    const opened = await new Promise((resolve) => {
+      video.onloadedmetadata = () => resolve(true);
+      video.onerror = () => resolve(false);
+      video.src = URL.createObjectURL(blob);
+    });
+    return {
+      status: response.status,
+      type: response.headers.get('content-type'),
+      disposition: response.headers.get('content-disposition'),
+      ftyp: new TextDecoder('latin1').decode(bytes.slice(4, 8)),
+      opened,
+      width: video.videoWidth,
+      height: video.videoHeight,
+      seconds: video.duration,
+      line: document.querySelector('.export-status').textContent,
+    };
+  });
+  check('the export panel downloads a turntable MP4 that the browser plays, at the size offered',
+    movie.status === 200 && movie.type === 'video/mp4' && movie.ftyp === 'ftyp' && movie.opened &&
+      Math.max(movie.width, movie.height) === 128 && movie.width % 2 === 0 &&
+      movie.height % 2 === 0 && Math.abs(movie.seconds - 8 / 30) < 0.05 &&
+      /attachment; filename="penumbra-.*-turntable\.mp4"/.test(movie.disposition) &&
+      movie.line.includes('MP4, 8 frames'),
+    JSON.stringify(movie));
   check('no page errors so far', consoleErrors.length === 0, consoleErrors.join(' | '));
 
   // 6. The server goes away: a clear message; it comes back: the session is restored.

@@ -789,6 +789,19 @@ export class Connection {
     return this.request({ type: 'export', width, height });
   }
 
+  /**
+   * Starts a movie of the session's view turning (`rock` 0: a whole turn, else rocking ±rock°),
+   * `frames` frames of width x height (even): as exportStill, its statuses saying its frames.
+   */
+  exportMovie(
+    width: number,
+    height: number,
+    frames: number,
+    rock: number,
+  ): Promise<ExportStatusMessage> {
+    return this.request({ type: 'export_movie', width, height, frames, rock });
+  }
+
   /** Stops an export of this connection; its last status says `cancelled`. */
   cancelExport(id: string): void {
     this.sendMessage({ type: 'cancel_export', export: id });
