@@ -1006,8 +1006,8 @@ TEST_F(ServerTest, AskingForLabelMapsAgainAndAgainLeavesAnotherSessionServed) {
 // Frames as an H.264 stream: a session asked for h264 sends its first frame as a keyframe and the
 // next ones as changes, which a client's decoder (libavcodec, access unit by access unit) decodes
 // in order; a viewer who joins makes the next frame a keyframe it starts from; a resized view
-// starts afresh; each header says whether its frame stands alone; back to JPEG, frames are JPEG
-// again.
+// starts afresh; each header says whether its frame stands alone; a still's last frame comes as a
+// JPEG and the stream goes on from a keyframe; back to JPEG, frames are JPEG again.
 TEST_F(ServerTest, H264FramesAreOneStreamThatAJoinerStartsAtAKeyframe) {
     TestClient owner(port_);
     owner.open("heads/ch2.nii.gz", 48);
@@ -1016,8 +1016,10 @@ TEST_F(ServerTest, H264FramesAreOneStreamThatAJoinerStartsAtAKeyframe) {
     ASSERT_EQ(field(set, "type"), "ack") << set;
     auto decoder = encode::StreamDecoder::create();
     ASSERT_TRUE(decoder.ok()) << decoder.error().to_string();
+    // Frames while the user drags: the stream's own.
     const auto frame_of = [](TestClient& client, int id) {
-        client.send(R"({"v":1,"type":"render","id":)" + std::to_string(id) + "}");
+        client.send(R"({"v":1,"type":"render","id":)" + std::to_string(id) +
+                    R"(,"interactive":true})");
         return client.next_frame();
     };
     const auto decodes = [](encode::StreamDecoder& d, const protocol::UnpackedFrame& frame) {
@@ -1064,6 +1066,20 @@ TEST_F(ServerTest, H264FramesAreOneStreamThatAJoinerStartsAtAKeyframe) {
     auto fresh = encode::StreamDecoder::create();
     ASSERT_TRUE(fresh.ok());
     decodes(*fresh, resized);
+
+    // The still the user stops at: a JPEG, for both; the stream goes on from a keyframe.
+    owner.send(R"({"v":1,"type":"render","id":30})");
+    const auto still = owner.next_frame();
+    EXPECT_EQ(still.header.encoding, "jpeg");
+    EXPECT_FALSE(still.header.interactive);
+    EXPECT_TRUE(still.header.independent);
+    EXPECT_TRUE(imageio::decode_image(still.image).ok());
+    EXPECT_EQ(viewer.next_frame().header.encoding, "jpeg");
+    const auto moving_again = frame_of(owner, 31);
+    viewer.next_frame();
+    EXPECT_EQ(moving_again.header.encoding, "h264");
+    EXPECT_TRUE(moving_again.header.independent) << "after a still, a keyframe";
+    decodes(*fresh, moving_again);
 
     ASSERT_EQ(field(owner.request(R"({"v":1,"type":"set","id":5,"output":{"encoding":"jpeg"}})"),
                     "type"),

@@ -18,11 +18,14 @@ static_assert(scene::setting::jpeg_quality.min == encode::kMinJpegQuality &&
 // A frame through its session's stream; where the job carries none (a job made by hand), a
 // stream of this one frame.
 base::Result<encode::StreamFrame> encode_frame(const base::ImageRgba8& image,
-                                               const scene::Output& output, SessionStream* stream) {
+                                               const scene::Output& output, SessionStream* stream,
+                                               bool final_still) {
     if (stream != nullptr) {
-        return stream->encode(image, output);
+        return stream->encode(image, output, final_still);
     }
-    auto alone = encode::make_stream(stream_options(output));
+    scene::Output alone_output = output;
+    alone_output.format = frame_format(output, final_still);
+    auto alone = encode::make_stream(stream_options(alone_output));
     if (!alone) {
         return alone.error();
     }
@@ -550,10 +553,12 @@ void Scheduler::complete_one(render::FrameRenderer& renderer, Submitted submitte
         });
         return;
     }
+    const bool final_still = !frame->interactive && !frame->refining && !frame->preview;
+    frame->format = frame_format(job.output, final_still);
     queue_in_order(session, [this, frame, image, output = job.output, stream = job.stream,
-                             done = std::move(submitted.done)]() mutable {
+                             final_still, done = std::move(submitted.done)]() mutable {
         const Clock::time_point start = Clock::now();
-        auto encoded = encode_frame(*image, output, stream.get());
+        auto encoded = encode_frame(*image, output, stream.get(), final_still);
         if (!encoded) {
             failures_.add();
             done(FrameFailure{encoded.error(), frame->request_id});

@@ -1,3 +1,4 @@
+#include <penumbra/encode/encode.hpp>
 #include <penumbra/session/session_stream.hpp>
 
 namespace penumbra::session {
@@ -23,9 +24,23 @@ encode::StreamOptions stream_options(const scene::Output& output) {
     return options;
 }
 
+scene::FrameFormat frame_format(const scene::Output& output, bool final_still) {
+    return final_still && output.format == scene::FrameFormat::h264 ? scene::FrameFormat::jpeg
+                                                                    : output.format;
+}
+
 base::Result<encode::StreamFrame> SessionStream::encode(const base::ImageRgba8& image,
-                                                        const scene::Output& output) {
+                                                        const scene::Output& output,
+                                                        bool final_still) {
     const std::lock_guard lock(mutex_);
+    if (frame_format(output, final_still) != output.format) {
+        auto bytes = encode::encode_image(image, encode::ImageFormat::jpeg, output.jpeg_quality);
+        if (!bytes) {
+            return bytes.error();
+        }
+        keyframe_wanted_.store(true);
+        return encode::StreamFrame{std::move(bytes.value()), true};
+    }
     if (!stream_ || made_for_ != output) {
         auto made = encode::make_stream(stream_options(output));
         if (!made) {
