@@ -127,7 +127,12 @@ describe('export panel', () => {
     const frames = find(root, 'export-frames');
     expect(frames.hidden).toBe(false);
     expect(frames.children.map((o) => o.value)).toEqual(['60']);
+    // An earlier export's end is not what the panel says once the next starts.
+    const earlier = { ...running, export: 'cd'.repeat(16) };
+    panel.show({ ...earlier, state: 'done', progress: 1, url: '/exports/x', bytes: 5e6 });
     find(root, 'export-start').dispatchEvent(new Event('click'));
+    expect(find(root, 'export-status').dataset['state']).toBe('starting');
+    expect(find(root, 'export-link').hidden).toBe(true);
     await Promise.resolve();
     await Promise.resolve();
     expect(started).toEqual([{ kind: 'movie', width: 1024, height: 340, frames: 60, rock: 30 }]);

@@ -972,7 +972,8 @@ try {
   // A movie of the view turning, downloaded and opened by the browser's own video element.
   await owner.locator('.export-kind').selectOption('turntable');
   await owner.locator('.export-start').click();
-  await owner.locator('.export-status[data-state="done"]').waitFor({ timeout: 180000 });
+  await owner.locator('.export-status[data-state="done"]', { hasText: 'MP4' })
+    .waitFor({ timeout: 180000 });
   await owner.screenshot({ path: path.join(outDir, '05_export_movie_done.png') });
   const movie = await owner.evaluate(async () => {
     const link = document.querySelector('.export-link');

@@ -114,13 +114,15 @@ public:
 
     // The first frame that answers `request`, the still or one of its refinement steps: while a
     // reader is slow, the server's send queue lets a step take the place of the still it refines
-    // (the newest view wins), so the still itself may never come. Frames of other requests are
-    // passed by.
+    // (the newest view wins), so the still itself may never come. Steps and previews of other
+    // requests are passed by; any other frame is returned, for the caller to see it is not the
+    // answer.
     protocol::UnpackedFrame frame_answering(std::int64_t request) {
         while (true) {
             auto frame = next_frame_or_step(std::chrono::seconds(60));
-            if (frame.header.session.empty() ||  // nothing came
-                (frame.header.request == request && !frame.header.preview)) {
+            const bool answer = frame.header.request == request && !frame.header.preview;
+            const bool passed_by = frame.header.refinement > 0 || frame.header.preview;
+            if (frame.header.session.empty() || answer || !passed_by) {
                 return frame;
             }
         }

@@ -206,6 +206,9 @@ export class ExportPanel {
     const request = this.request();
     this.start.disabled = true;
     this.link.hidden = true;
+    // The last export's end is no longer what the panel says.
+    this.line.textContent = 'starting…';
+    this.line.dataset['state'] = 'starting';
     try {
       this.show(await this.actions.start(request));
     } catch (e) {

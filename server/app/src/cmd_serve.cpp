@@ -109,8 +109,8 @@ po::options_description network_options(ServeOptions& o) {
             "pixels of an exported still, rendered in tiles")(
             "max-movie-side", whole_number(&limits.max_movie_side, 16, 8192),
             "pixels of an exported movie's side")("max-movie-frames",
-                                                  whole_number(&limits.max_movie_frames, 1, 100000),
-                                                  "frames of an exported movie")(
+                                                  whole_number(&limits.max_movie_frames, 0, 100000),
+                                                  "frames of an exported movie; 0: none")(
             "max-slices", whole_number(&limits.max_slices, 1, 16384), "light slices")(
             "max-light-res", whole_number(&limits.max_light_resolution, 1, 16384),
             "light-buffer resolution")("max-message-bytes",

@@ -258,6 +258,12 @@ base::Result<MovieWriter> MovieWriter::open(const std::filesystem::path& path,
     }
     av_opt_set(codec.priv_data, "preset", "medium", 0);
     av_opt_set_int(codec.priv_data, "crf", options.quality, 0);
+    if (options.threads > 0) {
+        codec.thread_count = options.threads;
+    }
+    if (options.lookahead_frames >= 0) {
+        av_opt_set_int(codec.priv_data, "rc-lookahead", options.lookahead_frames, 0);
+    }
     status = avcodec_open2(&codec, h264, nullptr);
     if (status < 0) {
         return movie_error("opening the H.264 encoder failed", status);

@@ -760,14 +760,14 @@ void ConnectionHandler::handle(std::optional<std::int64_t> id, const protocol::E
 template <>
 void ConnectionHandler::handle(std::optional<std::int64_t> id,
                                const protocol::ExportMovie& message) {
-    if (message.frames != std::floor(message.frames)) {
-        reply_error(id, base::make_error(base::ErrorCode::invalid_value,
-                                         "a movie's frames are a whole number", "/frames"));
-        return;
-    }
     auto request = export_request(id, message.width, message.height,
                                   message.rock > 0.0 ? "-rocking.mp4" : "-turntable.mp4");
     if (!request) {
+        return;
+    }
+    if (message.frames != std::floor(message.frames)) {
+        reply_error(id, base::make_error(base::ErrorCode::invalid_value,
+                                         "a movie's frames are a whole number", "/frames"));
         return;
     }
     session::MovieSpec movie;

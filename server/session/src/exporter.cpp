@@ -48,7 +48,9 @@ struct Exporter::Job {
     Progress progress;
     ExportStatus status;  // the job's thread's
     std::atomic<bool> cancelled{false};
+    std::chrono::seconds longest{0};  // how long it may take: ExportLimits::longest(_movie)
     Clock::time_point deadline;
+    Clock::time_point reported;  // a movie's last status within a frame
     std::thread thread;
 
     // The frame waited for: its number, so that an outcome of an earlier one is not taken for it.
@@ -122,10 +124,9 @@ base::Result<std::string> Exporter::start_still(const std::string& client, Rende
 base::Result<std::string> Exporter::start_movie(const std::string& client, RenderJob still,
                                                 MovieSpec movie, int max_tile_side,
                                                 std::string file_name, Progress progress) {
-    if (!encode::writes_movies()) {
+    if (!encode::writes_movies() || limits_.max_movie_frames < 1) {
         return base::make_error(base::ErrorCode::invalid_value,
-                                "this server writes no movies: it was built without FFmpeg's "
-                                "libraries",
+                                "this server makes no movies (hello.limits.max_movie_frames is 0)",
                                 "/type");
     }
     if (auto checked = check_sides(still, limits_.max_movie_side, "a movie"); !checked) {
@@ -167,7 +168,8 @@ base::Result<std::string> Exporter::start(std::shared_ptr<Job> job) {
     job->max_tile_side = std::max(kSmallestTile, std::min(job->max_tile_side, limits_.tile_side));
     job->status.width = job->still.request.settings.width;
     job->status.height = job->still.request.settings.height;
-    job->deadline = Clock::now() + limits_.longest;
+    job->longest = job->movie ? limits_.longest_movie : limits_.longest;
+    job->deadline = Clock::now() + job->longest;
     const std::string& client = job->client;
     {
         const std::lock_guard lock(mutex_);
@@ -278,7 +280,7 @@ base::Result<std::shared_ptr<const base::ImageRgba8>> Exporter::render(
         scheduler_.cancel(job.key);
         return base::make_error(base::ErrorCode::render_failed,
                                 "the export did not finish in " +
-                                        std::to_string(limits_.longest.count()) +
+                                        std::to_string(job.longest.count()) +
                                         " s: the server is busy; try again later, or smaller",
                                 "export");
     }
@@ -392,10 +394,15 @@ base::Result<ExportFile> Exporter::make_movie(const std::shared_ptr<Job>& shared
     Job& job = *shared;
     const MovieSpec& spec = *job.movie;
     const scene::FrameRequest& still = job.still.request;
+    // One thread and a short look ahead: the encoder works beside the sessions' own.
     auto movie = encode::MovieWriter::create_in_memory(
             still.settings.width, still.settings.height,
-            {.frames_per_second = spec.frames_per_second, .quality = spec.quality},
-            limits_.max_bytes_kept);
+            {.frames_per_second = spec.frames_per_second,
+             .quality = spec.quality,
+             .threads = 1,
+             .lookahead_frames = 8},
+            limits_.max_bytes_kept /
+                    static_cast<std::size_t>(std::max(1, limits_.movie_share_of_kept)));
     if (!movie) {
         return movie.error();
     }
@@ -408,9 +415,15 @@ base::Result<ExportFile> Exporter::make_movie(const std::shared_ptr<Job>& shared
                 still.camera, still.light, scene::turntable_degrees(k, spec.frames, spec.rock));
         turned.camera = view.camera;
         turned.light = view.light;
+        // Its status once a frame, and within one at most once a second: every step of every
+        // tile of hundreds of frames would flood the connection.
         auto frame = render_view(shared, turned, tile_side, steps, threshold, [&](double done) {
             job.status.progress = (k + done) / spec.frames;
-            job.progress(job.status);
+            const Clock::time_point now = Clock::now();
+            if (done >= 1.0 || now - job.reported >= std::chrono::seconds(1)) {
+                job.reported = now;
+                job.progress(job.status);
+            }
         });
         if (!frame) {
             return frame.error();

@@ -251,6 +251,23 @@ TEST_F(ExporterTest, EveryTileTakesTheStepsTheWholeViewNeeds) {
     }
 }
 
+// A still of one tile stops as a session's still does, where a step changes it little.
+TEST_F(ExporterTest, AStillOfOneTileStopsWhereItsImageStopsChanging) {
+    start_scheduler(64 * 64, 0);
+    // Before the exporter, which may still report to it as it goes.
+    Statuses statuses;
+    Exporter exporter(*scheduler_, {});
+    RenderJob job = still(60, 40, 32);
+    job.refinement_threshold = 5.0;  // the fourth step is the last (see above)
+    ASSERT_TRUE(exporter.start_still("client", job, 64, "x.png", "ch2", "{}", statuses.progress())
+                        .ok());
+    const auto last = statuses.last();
+    ASSERT_TRUE(last.has_value());
+    ASSERT_EQ(last->state, ExportState::done);
+    EXPECT_EQ(last->tiles, 1);
+    EXPECT_EQ(rendered().size(), 5u) << "the still and four steps, not 32";
+}
+
 TEST_F(ExporterTest, AnExportThatCannotFinishInTimeFailsAndGivesItsPlaceBack) {
     start_scheduler(1 << 20, 30);
     ExportLimits limits;
@@ -424,6 +441,15 @@ TEST_F(ExporterTest, AMovieIsTheViewTurnedFrameByFrameEachRefinedAsTheFirstInAnM
     EXPECT_EQ(refused(still(100, 48, 0), 721), base::ErrorCode::out_of_range);
     EXPECT_EQ(refused(still(100, 48, 0), 0), base::ErrorCode::out_of_range);
     EXPECT_EQ(refused(still(1922, 48, 0), 4), base::ErrorCode::out_of_range);
+
+    // A server that makes no movies refuses them all.
+    ExportLimits none;
+    none.max_movie_frames = 0;
+    Exporter without_movies(*scheduler_, none);
+    auto started = without_movies.start_movie("other", still(100, 48, 0), {.frames = 1}, 64,
+                                              "x.mp4", statuses.progress());
+    ASSERT_FALSE(started.ok());
+    EXPECT_EQ(started.error().code, base::ErrorCode::invalid_value);
 }
 
 }  // namespace

@@ -27,6 +27,10 @@ inline constexpr int kMaxMovieQuality = 51;
 struct MovieOptions {
     int frames_per_second = 30;
     int quality = 20;  // x264's constant rate factor (kMinMovieQuality..kMaxMovieQuality)
+    // x264's threads (0: its own choice, about 1.5 a core) and frames it looks ahead (-1: the
+    // preset's, 40): a server that makes movies beside its sessions' frames holds both down.
+    int threads = 0;
+    int lookahead_frames = -1;
 };
 
 class MovieWriter {
@@ -37,8 +41,8 @@ public:
     // be written.
     static base::Result<MovieWriter> create(const std::filesystem::path& path, int width,
                                             int height, const MovieOptions& options = {});
-    // The same movie held in memory (bytes() once finished), for a server that hands it out: at
-    // most `max_bytes`, beyond which add and finish fail with too_large.
+    // The same movie held in memory (take_bytes() once finished), for a server that hands it out:
+    // at most `max_bytes`, beyond which add and finish fail with too_large.
     static base::Result<MovieWriter> create_in_memory(int width, int height,
                                                       const MovieOptions& options,
                                                       std::size_t max_bytes);

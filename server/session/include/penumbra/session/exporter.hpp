@@ -42,6 +42,10 @@ struct ExportLimits {
     // An export that has not finished in this long fails (a busy server preempts its tiles
     // again and again), giving its place back.
     std::chrono::seconds longest{900};
+    std::chrono::seconds longest_movie{3600};
+    // A movie is at most this part of what is kept, so that one does not push every other
+    // client's downloads out.
+    int movie_share_of_kept = 4;  // 1/4
 };
 
 enum class ExportState { running, done, failed, cancelled };
