@@ -16,6 +16,7 @@ import {
 import { attachOrbitControls, OrbitCamera } from './interaction/orbit_camera';
 import { RenderPacer } from './interaction/pacing';
 import { FrameView } from './view/frame_view';
+import { canDecodeH264, chooseEncoding } from './view/video_support';
 import { RefinementBadge } from './view/refinement_badge';
 import { StatsOverlay } from './view/stats_overlay';
 import { Notices } from './view/notices';
@@ -35,6 +36,9 @@ import { PickOverlay } from './view/pick_overlay';
 import { attachTap } from './interaction/tap';
 
 const query = new URLSearchParams(location.search);
+// Asked once; sessions are opened after it answers (start).
+const h264Support = canDecodeH264();
+let h264Decodable = false;
 const joinId = query.get('join');
 // The page's ?volume= (with ?join=, the session's volume) routes the first WebSocket to the server
 // that holds it; ?token= is the access token a deployment asks for (README, Deploy).
@@ -343,7 +347,17 @@ connection.on('session', (info, restored) => {
   if (info.role === 'owner') {
     const size = renderSize();
     const [w, h] = info.state.settings.size;
-    if (size[0] !== w || size[1] !== h) change({ settings: { size } }, false);
+    const patch: StatePatch = {};
+    if (size[0] !== w || size[1] !== h) patch.settings = { size };
+    // A session this page opened takes the encoding it chooses; one it got back keeps its own.
+    const encoding = restored
+      ? info.state.output.encoding
+      : chooseEncoding(connection.hello?.encodings ?? [], query.get('encoding'), h264Decodable);
+    if (encoding !== info.state.output.encoding) {
+      patch.output = { encoding };
+      method.update({ ...info.state, output: { ...info.state.output, encoding } });
+    }
+    if (Object.keys(patch).length > 0) change(patch, false);
     else pacer.request(false);
   } else {
     pacer.request(false); // viewers may render: fetch the current frame now
@@ -484,6 +498,7 @@ async function openVolume(id: string): Promise<void> {
 }
 
 async function start(): Promise<void> {
+  h264Decodable = await h264Support;
   // A shared session needs no list first: the list follows.
   if (joinId) {
     try {

@@ -331,7 +331,9 @@ try {
       if (text && window.__badgeTexts.at(-1) !== text) window.__badgeTexts.push(text);
     }).observe(document, { subtree: true, childList: true, attributes: true, characterData: true });
   });
-  await owner.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}`);
+  // JPEG frames for the checks below that read them (the page's choice; the default is H.264
+  // where the browser decodes it: checked on a page of its own in 4b).
+  await owner.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}&encoding=jpeg`);
   let info = await waitForStill(owner, null, 60000);
   let first = await canvasSignature(owner);
   await owner.screenshot({ path: path.join(outDir, '01_loaded.png') });
@@ -670,6 +672,17 @@ try {
     () => document.querySelector('canvas.frame-canvas')?.dataset.encoding === 'jpeg', null,
     { timeout: 30000 });
   info = await waitForStill(owner, info);
+  // A page that asks for nothing: this browser decodes H.264 (VideoDecoder.isConfigSupported),
+  // so its new session's frames come as H.264.
+  const chooser = await context.newPage();
+  await chooser.goto(`${server.url}?volume=${encodeURIComponent(options.volume)}`);
+  const chosen = await chooser.waitForFunction(
+    () => document.querySelector('canvas.frame-canvas')?.dataset.encoding === 'h264', null,
+    { timeout: 60000 }).then(() => true, () => false);
+  check('a new session picks H.264 where the browser can decode it',
+    chosen && (await chooser.locator('[data-control="encoding"] select').inputValue()) === 'h264',
+    await chooser.locator('[data-control="encoding"] select').inputValue());
+  await chooser.close();
 
   // 4c. Every numeric setting the server's hello announces has a control, labelled by its name, in
   // the folder of its part of the settings (the client lists none of them).

@@ -5,6 +5,7 @@
 // back to a keyframe, so none is skipped; after a decoder error the frames wait for a keyframe).
 
 import type { Frame, FrameHeader } from '../protocol/frame_header';
+import { H264_CODEC } from './video_support';
 
 export interface ShownFrame {
   header: FrameHeader;
@@ -170,7 +171,7 @@ export class FrameView {
       });
       // Annex B with its parameter sets in band: no description. High profile, level 5.1 covers
       // every size the server sends.
-      this.video.configure({ codec: 'avc1.640033', optimizeForLatency: true });
+      this.video.configure({ codec: H264_CODEC, optimizeForLatency: true });
     }
     this.videoNeedsKeyframe = false;
     this.videoPending.set(frame.header.frame, pending);
