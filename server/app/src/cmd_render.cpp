@@ -326,11 +326,7 @@ base::Status write_turntable(render::Renderer& renderer, const scene::FrameReque
         return movie.error();
     }
     for (int k = 0; k < o.turntable; ++k) {
-        scene::FrameRequest turned = request;
-        const scene::TurnedView view = scene::turned_view(
-                request.camera, request.light, scene::turntable_degrees(k, o.turntable, o.rock));
-        turned.camera = view.camera;
-        turned.light = view.light;
+        const scene::FrameRequest turned = scene::turntable_frame(request, k, o.turntable, o.rock);
         auto frame = renderer.render(turned);
         if (frame && refines) {
             frame = refine_still([&](int step) { return render_step(renderer, turned, step); },

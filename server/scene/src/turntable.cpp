@@ -26,4 +26,14 @@ double turntable_degrees(int frame, int frames, double rock_degrees) {
     return 360.0 * phase;
 }
 
+FrameRequest turntable_frame(const FrameRequest& request, int frame, int frames,
+                             double rock_degrees) {
+    const TurnedView view = turned_view(request.camera, request.light,
+                                        turntable_degrees(frame, frames, rock_degrees));
+    FrameRequest turned = request;
+    turned.camera = view.camera;
+    turned.light = view.light;
+    return turned;
+}
+
 }  // namespace penumbra::scene

@@ -410,11 +410,7 @@ base::Result<ExportFile> Exporter::make_movie(const std::shared_ptr<Job>& shared
     int steps = job.still.refinement_steps;
     double threshold = job.still.refinement_threshold;
     for (int k = 0; k < spec.frames; ++k) {
-        scene::FrameRequest turned = still;
-        const scene::TurnedView view = scene::turned_view(
-                still.camera, still.light, scene::turntable_degrees(k, spec.frames, spec.rock));
-        turned.camera = view.camera;
-        turned.light = view.light;
+        const scene::FrameRequest turned = scene::turntable_frame(still, k, spec.frames, spec.rock);
         // Its status once a frame, and within one at most once a second: every step of every
         // tile of hundreds of frames would flood the connection.
         auto frame = render_view(shared, turned, tile_side, steps, threshold, [&](double done) {

@@ -49,5 +49,15 @@ TEST(Turntable, AWholeTurnInEqualStepsOrARockingSweep) {
     EXPECT_NEAR(turntable_degrees(6, 8, 30.0), -30.0, 1e-12);
 }
 
+TEST(Turntable, AFrameIsTheRequestWithItsViewTurned) {
+    FrameRequest request;
+    request.settings.width = 48;
+    const FrameRequest third = turntable_frame(request, 2, 8, 0.0);
+    const TurnedView view = turned_view(request.camera, request.light, 90.0);
+    EXPECT_EQ(third.camera, view.camera);
+    EXPECT_EQ(third.light, view.light);
+    EXPECT_EQ(third.settings, request.settings) << "only the view turns";
+}
+
 }  // namespace
 }  // namespace penumbra::scene

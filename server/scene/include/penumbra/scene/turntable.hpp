@@ -4,6 +4,7 @@
 // lights, which is the camera and the lights turned the other way about the view's up direction.
 
 #include <penumbra/scene/camera.hpp>
+#include <penumbra/scene/frame_request.hpp>
 #include <penumbra/scene/light.hpp>
 
 namespace penumbra::scene {
@@ -21,5 +22,10 @@ struct TurnedView {
 // short of the first, so the movie loops), or, with `rock_degrees` above 0, a rocking sweep
 // between -rock_degrees and +rock_degrees that starts and ends at the view itself.
 [[nodiscard]] double turntable_degrees(int frame, int frames, double rock_degrees = 0.0);
+
+// Frame `frame` of a turntable of `frames` frames: `request` with its camera and light turned by
+// turntable_degrees.
+[[nodiscard]] FrameRequest turntable_frame(const FrameRequest& request, int frame, int frames,
+                                           double rock_degrees = 0.0);
 
 }  // namespace penumbra::scene
