@@ -52,6 +52,7 @@ const view = new FrameView(viewElement);
 const stats = new StatsOverlay(viewElement);
 const refinementBadge = new RefinementBadge(viewElement);
 view.onShown((shown) => refinementBadge.show(shown.header));
+view.onShown((shown) => stats.decoded(performance.now() - shown.receivedAt));
 const tfModel = new TfModel();
 const connection = new Connection(wsUrl, {
   accessToken: query.get('token') ?? undefined,

@@ -2,21 +2,9 @@ import { beforeEach, describe, expect, it, vi } from 'vitest';
 import type { Frame, FrameHeader } from '../src/protocol/frame_header';
 import { FrameView } from '../src/view/frame_view';
 import { FakeElement, useFakeDom } from './fake_dom';
+import { stillHeader } from './frame_headers';
 
-const header: FrameHeader = {
-  frame: 0,
-  request: 1,
-  session: 'ab12',
-  width: 64,
-  height: 64,
-  encoding: 'jpeg',
-  mode: 'sbrc',
-  interactive: false,
-  light_buffer: 'reused',
-  passes: [],
-  timings: { queued_ms: 0, render_ms: 1, readback_ms: 0, encode_ms: 0 },
-  quality: 'still: full quality',
-};
+const header: FrameHeader = { ...stillHeader, frame: 0, request: 1 };
 
 function jpeg(frame: number): Frame {
   return { header: { ...header, frame }, image: new Uint8Array(4), mime: 'image/jpeg', bytes: 100 };

@@ -1,21 +1,8 @@
 import { describe, expect, it } from 'vitest';
-import type { FrameHeader } from '../src/protocol/frame_header';
 import { refinementStatus, refinementText } from '../src/view/refinement_badge';
+import { stillHeader } from './frame_headers';
 
-const still: FrameHeader = {
-  frame: 3,
-  request: 9,
-  session: 's',
-  width: 64,
-  height: 64,
-  encoding: 'jpeg',
-  mode: 'sbrc',
-  interactive: false,
-  light_buffer: 'reused',
-  passes: [],
-  timings: { queued_ms: 0, render_ms: 1, readback_ms: 0, encode_ms: 0 },
-  quality: 'still: full quality',
-};
+const still = stillHeader;
 
 describe('refinement badge', () => {
   it('says a still is refining from its first frame until the last step', () => {

@@ -1,6 +1,7 @@
 // The stats overlay over the canvas: frames per second, latency (render request sent → frame
 // shown), the server's time split, passes with their GPU and wall times, bytes per frame and
-// whether the light buffer was reused or rebuilt: all from the frame header.
+// whether the light buffer was reused or rebuilt (all from the frame header), and the browser's
+// own decode time (arrived → drawn) with, for an H.264 stream, its keyframes.
 
 import type { FrameHeader } from '../protocol/frame_header';
 
@@ -39,6 +40,11 @@ export class StatsOverlay {
   private readonly table: HTMLTableElement;
   private samples: FrameSample[] = [];
   private latencies: number[] = [];
+  private decodes: number[] = [];
+  private last: FrameSample | null = null;
+  // H.264 frames since the session's stream began, and how many of them were keyframes.
+  private streamFrames = 0;
+  private keyframes = 0;
 
   constructor(parent: HTMLElement) {
     this.element = document.createElement('div');
@@ -61,10 +67,19 @@ export class StatsOverlay {
   reset(): void {
     this.samples = [];
     this.latencies = [];
+    this.decodes = [];
+    this.last = null;
+    this.streamFrames = 0;
+    this.keyframes = 0;
     this.render(null);
   }
 
   add(sample: FrameSample): void {
+    this.last = sample;
+    if (sample.header.encoding === 'h264') {
+      this.streamFrames += 1;
+      if (sample.header.independent ?? true) this.keyframes += 1;
+    }
     this.samples.push(sample);
     this.samples = this.samples.filter((s) => sample.at - s.at <= WINDOW_MS);
     if (sample.latencyMs !== undefined) {
@@ -72,6 +87,13 @@ export class StatsOverlay {
       if (this.latencies.length > 20) this.latencies.shift();
     }
     this.render(sample);
+  }
+
+  /** A frame was drawn `decodeMs` after it arrived (its image decoded: JPEG, PNG or H.264). */
+  decoded(decodeMs: number): void {
+    this.decodes.push(decodeMs);
+    if (this.decodes.length > 20) this.decodes.shift();
+    this.render(this.last);
   }
 
   private fps(): number {
@@ -110,9 +132,19 @@ export class StatsOverlay {
         ),
       );
       rows.push(row('frame', `#${h.frame} (request ${h.request})`, 'frame'));
+      const kind = h.encoding !== 'h264' ? '' : (h.independent ?? true) ? ' keyframe' : ' delta';
       rows.push(
-        row('image', `${h.width}×${h.height} ${h.encoding} · ${kb(sample.bytes)}`, 'image'),
+        row('image', `${h.width}×${h.height} ${h.encoding}${kind} · ${kb(sample.bytes)}`, 'image'),
       );
+      const decode = this.decodes[this.decodes.length - 1];
+      if (decode !== undefined) {
+        const mean = this.decodes.reduce((a, b) => a + b, 0) / this.decodes.length;
+        const stream =
+          this.streamFrames > 0
+            ? ` · ${this.keyframes} keyframe${this.keyframes === 1 ? '' : 's'} in ${this.streamFrames} H.264 frames`
+            : '';
+        rows.push(row('decode', `${ms(decode)} ms (avg ${ms(mean)})${stream}`, 'decode'));
+      }
       rows.push(row('mode', `${h.mode}${h.interactive ? ' (interactive)' : ' (still)'}`, 'mode'));
       rows.push(row('light buffer', h.light_buffer, 'light_buffer'));
       for (const p of h.passes) {
