@@ -36,9 +36,12 @@ import { PickOverlay } from './view/pick_overlay';
 import { attachTap } from './interaction/tap';
 
 const query = new URLSearchParams(location.search);
-// Asked once; sessions are opened after it answers (start).
+// Asked once; sessions are opened after it answers (openVolume).
 const h264Support = canDecodeH264();
 let h264Decodable = false;
+void h264Support.then((yes) => (h264Decodable = yes));
+// The encoding the user chose in the Image panel: the next session this page opens keeps it.
+let chosenEncoding: string | null = null;
 const joinId = query.get('join');
 // The page's ?volume= (with ?join=, the session's volume) routes the first WebSocket to the server
 // that holds it; ?token= is the access token a deployment asks for (README, Deploy).
@@ -59,6 +62,14 @@ const connection = new Connection(wsUrl, {
   route: { volume: pageVolume, session: joinId ?? undefined },
 });
 const notices = new Notices(document.body, () => connection.retryNow());
+view.onUndecodable(() =>
+  notices.show(
+    'warning',
+    'Frames this browser cannot decode',
+    "This session's frames come as H.264, which this browser cannot decode: it shows the stills only. " +
+      'The owner can choose JPEG in Method & quality → Image.',
+  ),
+);
 
 const camera = new OrbitCamera();
 const marker = new OrientationMarker(viewElement);
@@ -161,10 +172,17 @@ view.onShown(({ header }) =>
     height: header.height,
   }),
 );
-const method = new MethodPanel(gui.addFolder('Method & quality'), change, (s) => {
-  scale = s;
-  change({ settings: { size: renderSize() } }, false);
-});
+const method = new MethodPanel(
+  gui.addFolder('Method & quality'),
+  (patch, interactive) => {
+    if (patch.output?.encoding !== undefined) chosenEncoding = patch.output.encoding;
+    change(patch, interactive);
+  },
+  (s) => {
+    scale = s;
+    change({ settings: { size: renderSize() } }, false);
+  },
+);
 const exportPanel = new ExportPanel(gui.addFolder('Export'), {
   start: (request) =>
     request.kind === 'still'
@@ -353,7 +371,11 @@ connection.on('session', (info, restored) => {
     // A session this page opened takes the encoding it chooses; one it got back keeps its own.
     const encoding = restored
       ? info.state.output.encoding
-      : chooseEncoding(connection.hello?.encodings ?? [], query.get('encoding'), h264Decodable);
+      : chooseEncoding(
+          connection.hello?.encodings ?? [],
+          chosenEncoding ?? query.get('encoding'),
+          h264Decodable,
+        );
     if (encoding !== info.state.output.encoding) {
       patch.output = { encoding };
       method.update({ ...info.state, output: { ...info.state.output, encoding } });
@@ -486,6 +508,8 @@ async function drawLabels(volume: string | null): Promise<void> {
 }
 
 async function openVolume(id: string): Promise<void> {
+  // The session's encoding is chosen once it opens: H.264 only where the browser said it decodes.
+  h264Decodable = await h264Support;
   try {
     pendingPatch = null;
     await connection.open(id);
@@ -499,7 +523,6 @@ async function openVolume(id: string): Promise<void> {
 }
 
 async function start(): Promise<void> {
-  h264Decodable = await h264Support;
   // A shared session needs no list first: the list follows.
   if (joinId) {
     try {

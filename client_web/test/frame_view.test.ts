@@ -42,6 +42,26 @@ function view(): FrameView {
 }
 
 describe('frame view', () => {
+  it('tells once that H.264 frames came that this browser cannot decode, and shows the stills', async () => {
+    vi.stubGlobal('VideoDecoder', undefined);
+    const v = view();
+    let told = 0;
+    v.onUndecodable(() => (told += 1));
+    const h264 = (frame: number): Frame => ({
+      ...jpeg(frame),
+      header: { ...header, frame, encoding: 'h264', interactive: true },
+      mime: 'video/h264',
+    });
+    v.show(h264(1));
+    v.show(h264(2));
+    expect(told).toBe(1);
+    expect(v.canvas.dataset['frame']).toBeUndefined();
+    v.show(jpeg(3)); // the still's last frame, as a JPEG
+    await finishDecode();
+    expect(v.canvas.dataset['frame']).toBe('3');
+    expect(told).toBe(1);
+  });
+
   it('never draws a frame older than the one it shows', async () => {
     const v = view();
     v.show(jpeg(7));

@@ -661,16 +661,20 @@ try {
     h264Look.encoding === 'h264' && difference(jpegLook, h264Look) < 2 &&
       (await owner.locator('.notice.error', { hasText: 'encoding' }).count()) === 0,
     `${h264Look.encoding}: mean grey difference ${difference(jpegLook, h264Look).toFixed(2)}`);
+  const endedAsJpeg = await owner.waitForFunction(() => {
+    const d = document.querySelector('canvas.frame-canvas')?.dataset;
+    return d?.encoding === 'jpeg' && d.interactive === 'false' && d.refining === 'false';
+  }, null, { timeout: 60000 }).then(() => true, () => false);
+  check('on an H.264 stream the still ends as a JPEG, the stream still H.264',
+    endedAsJpeg &&
+      (await owner.locator('[data-control="encoding"] select').inputValue()) === 'h264');
+  info = await waitForStill(owner, info);
+  // Back to JPEG: the refinement steps come as JPEG too (an H.264 stream sends them as H.264).
+  await owner.locator('[data-control="encoding"] select').selectOption('jpeg');
   await owner.waitForFunction(() => {
     const d = document.querySelector('canvas.frame-canvas')?.dataset;
-    return d?.encoding === 'jpeg' && d.interactive === 'false' && d.refining !== 'true';
-  }, null, { timeout: 60000 });
-  check('on an H.264 stream the still ends as a JPEG', true);
-  info = await waitForStill(owner, info);
-  await owner.locator('[data-control="encoding"] select').selectOption('jpeg');
-  await owner.waitForFunction(
-    () => document.querySelector('canvas.frame-canvas')?.dataset.encoding === 'jpeg', null,
-    { timeout: 30000 });
+    return d?.encoding === 'jpeg' && d.refining === 'true';
+  }, null, { timeout: 30000 });
   info = await waitForStill(owner, info);
   // A page that asks for nothing: this browser decodes H.264 (VideoDecoder.isConfigSupported),
   // so its new session's frames come as H.264.

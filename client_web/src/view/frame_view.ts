@@ -44,6 +44,8 @@ export class FrameView {
   private bitmap: ImageBitmap | null = null;
   private resizeListeners: (() => void)[] = [];
   private shownListeners: ((shown: ShownFrame) => void)[] = [];
+  private undecodableListeners: (() => void)[] = [];
+  private undecodableTold = false;
   /** Frames dropped because a newer one arrived while decoding (or an H.264 frame before a keyframe). */
   dropped = 0;
   private video: VideoDecoder | null = null;
@@ -88,6 +90,21 @@ export class FrameView {
 
   onResize(listener: () => void): void {
     this.resizeListeners.push(listener);
+  }
+
+  /**
+   * `listener` hears, once, that H.264 frames came that this browser cannot decode (no WebCodecs,
+   * or its decoder refuses the stream): a viewer of an owner who chose H.264 sees the stills only
+   * (the server sends a still's last frame as a JPEG).
+   */
+  onUndecodable(listener: () => void): void {
+    this.undecodableListeners.push(listener);
+  }
+
+  private undecodable(): void {
+    if (this.undecodableTold) return;
+    this.undecodableTold = true;
+    for (const l of this.undecodableListeners) l();
   }
 
   onShown(listener: (shown: ShownFrame) => void): void {
@@ -156,6 +173,11 @@ export class FrameView {
   private decodeVideo(pending: Pending): void {
     const { frame } = pending;
     const independent = frame.header.independent ?? true;
+    if (typeof globalThis.VideoDecoder !== 'function') {
+      this.dropped += 1;
+      this.undecodable();
+      return;
+    }
     if (this.videoNeedsKeyframe && !independent) {
       this.dropped += 1;
       return;
@@ -167,6 +189,7 @@ export class FrameView {
           console.warn('penumbra: the H.264 stream could not be decoded', e);
           this.videoNeedsKeyframe = true;
           this.videoPending.clear();
+          this.undecodable();
         },
       });
       // Annex B with its parameter sets in band: no description. High profile, level 5.1 covers
