@@ -432,9 +432,10 @@ TEST_F(ExporterTest, AMovieIsTheViewTurnedFrameByFrameEachRefinedAsTheFirstInAnM
     EXPECT_EQ(std::string(file->bytes->begin() + 4, file->bytes->begin() + 8), "ftyp");
 
     // Odd sides, too many frames, a side too large.
-    const auto refused = [&](RenderJob movie_still, int frames) {
-        auto started = exporter.start_movie("other", std::move(movie_still), {.frames = frames}, 64,
-                                            "x.mp4", statuses.progress());
+    const auto refused = [&](RenderJob movie_still, int frame_count) {
+        auto started =
+                exporter.start_movie("other", std::move(movie_still), {.frames = frame_count}, 64,
+                                     "x.mp4", statuses.progress());
         return started.ok() ? std::nullopt : std::optional(started.error().code);
     };
     EXPECT_EQ(refused(still(101, 48, 0), 4), base::ErrorCode::invalid_value);
